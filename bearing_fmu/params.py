@@ -57,7 +57,8 @@ class BearingParams:
     @classmethod
     def from_mapping(cls, data: dict, where: str = "bearing") -> "BearingParams":
         """Build from a mapping whose keys carry their unit (``D_mm``, ``L_mm``, ``CR_um``, ``mu_Pa_s``)."""
-        units = {"D_mm": 1e-3, "L_mm": 1e-3, "CR_um": 1e-6, "mu_Pa_s": 1.0}
+        # divisors, not factors: 31 / 1000 is exactly the float 0.031, 31 * 1e-3 is not
+        units = {"D_mm": 1e3, "L_mm": 1e3, "CR_um": 1e6, "mu_Pa_s": 1.0}
         missing = [k for k in units if k not in data]
         if missing:
             raise KeyError(f"{where}: missing key(s) {', '.join(missing)}; expected {', '.join(units)}")
@@ -65,11 +66,11 @@ class BearingParams:
         if unknown:
             raise KeyError(f"{where}: unknown key(s) {', '.join(unknown)}; expected {', '.join(units)}")
         vals = {}
-        for key, scale in units.items():
+        for key, divisor in units.items():
             v = data[key]
             if isinstance(v, bool) or not isinstance(v, (int, float)):
                 raise ValueError(f"{where}: {key} must be a number, got {v!r}")
-            vals[key.split("_")[0]] = float(v) * scale
+            vals[key.split("_")[0]] = float(v) / divisor
         return cls(**vals)
 
 
