@@ -52,8 +52,10 @@ def short_bearing_estimate(params: BearingParams, load, omega: float) -> tuple[f
     return e * dy, e * dz
 
 
-def _jacobian(internal: Internal, y: float, z: float, vy: float, vz: float, omega: float, rel_step: float):
-    """(F, dF/dq, dF/dv) from the internal's own derivatives or central differences."""
+def film_jacobian(internal: Internal, y: float, z: float, vy: float, vz: float, omega: float,
+                  rel_step: float = 1e-5):
+    """(F (2,), dF/dq (2, 2), dF/dv (2, 2)) from the internal's own ``force_and_jacobian`` or, for an
+    internal without it, central differences with steps rel_step * CR and rel_step * CR * max(|omega|, 1)."""
     fj = getattr(internal, "force_and_jacobian", None)
     if fj is not None:
         f, dq, dv = fj(y, z, vy, vz, omega)
@@ -112,7 +114,7 @@ def equilibrium(
         rn = float(np.hypot(*r))
         if rn <= rtol * w:
             return float(q[0]), float(q[1])
-        _, dq, _ = _jacobian(internal, q[0], q[1], 0.0, 0.0, omega, 1e-5)
+        _, dq, _ = film_jacobian(internal, q[0], q[1], 0.0, 0.0, omega, 1e-5)
         try:
             step = -np.linalg.solve(dq, r)
         except np.linalg.LinAlgError:
@@ -148,5 +150,5 @@ def linearize(internal: Internal, y0: float, z0: float, omega: float, *, rel_ste
     differences with steps rel_step * CR and rel_step * CR * |omega|.
     """
     check_state(internal.params, y0, z0, 0.0, 0.0, omega)
-    _, dq, dv = _jacobian(internal, y0, z0, 0.0, 0.0, omega, rel_step)
+    _, dq, dv = film_jacobian(internal, y0, z0, 0.0, 0.0, omega, rel_step)
     return -dq, -dv

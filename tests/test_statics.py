@@ -1,0 +1,123 @@
+"""equilibrium() and linearize() work for any internal through the protocol.
+
+Independent references:
+* the closed-form short-bearing (Ocvirk) load-eccentricity relation and attitude angle
+  (bearing_fmu.shortbearing, derived from Ocvirk & DuBois 1953 / Hamrock ch. 11), for the
+  equilibrium solver run on the short-bearing force as an internal;
+* the closed-form short-bearing K and C (Childs 1993, eqs. 3.46-3.47) for linearize's central
+  differences on the same internal;
+* physics of the finite bearing (Reynolds internal): the journal is displaced from the load line
+  in the direction of rotation, and the eccentricity rises monotonically with the load.
+"""
+
+import math
+
+import numpy as np
+import pytest
+
+from bearing_fmu.linear import Linear
+from bearing_fmu.params import PAPER_BEARING, BearingParams
+from bearing_fmu.shortbearing import (short_bearing_coefficients, short_bearing_eccentricity,
+                                      short_bearing_force)
+from bearing_fmu.statics import EquilibriumError, equilibrium, linearize
+
+OMEGA = 2 * math.pi * 22.0
+
+
+class ShortBearing:
+    """The closed-form Ocvirk force as an internal (force only: linearize must difference it)."""
+
+    def __init__(self, params):
+        self.params = params
+
+    def force(self, y, z, vy, vz, omega):
+        return short_bearing_force(self.params, y, z, vy, vz, omega)
+
+
+@pytest.fixture(scope="module")
+def reynolds():
+    from bearing_fmu.reynolds import Reynolds
+
+    return Reynolds(PAPER_BEARING)
+
+
+@pytest.mark.parametrize("W", [1.0, 16.7, 200.0, 2000.0])
+@pytest.mark.parametrize("direction_deg", [-90.0, 0.0, 135.0])
+@pytest.mark.parametrize("sign", [1.0, -1.0])
+def test_short_bearing_equilibrium_matches_closed_form(W, direction_deg, sign):
+    p = BearingParams(D=0.031, L=0.005, CR=90e-6, mu=0.05)
+    sb = ShortBearing(p)
+    a = math.radians(direction_deg)
+    load = (W * math.cos(a), W * math.sin(a))
+    y0, z0 = equilibrium(sb, load, sign * OMEGA)
+    f = np.array(sb.force(y0, z0, 0, 0, sign * OMEGA))
+    assert np.hypot(*(f + load)) <= 1e-8 * W
+    eps, phi = short_bearing_eccentricity(p, W, sign * OMEGA)
+    assert math.hypot(y0, z0) / p.CR == pytest.approx(eps, rel=1e-7)
+    # displacement = load direction turned by phi (positive from +y toward +z)
+    assert math.atan2(z0, y0) == pytest.approx(math.remainder(a + phi, 2 * math.pi), abs=1e-7)
+
+
+def test_linearize_finite_differences_match_closed_form_coefficients():
+    p = BearingParams(D=0.031, L=0.005, CR=90e-6, mu=0.05)
+    sb = ShortBearing(p)
+    for W in (5.0, 100.0, 1000.0):
+        y0, z0 = equilibrium(sb, (0.0, -W), OMEGA)
+        K, C = linearize(sb, y0, z0, OMEGA)
+        K_ref, C_ref = short_bearing_coefficients(p, y0, z0, OMEGA)
+        np.testing.assert_allclose(K, K_ref, rtol=1e-5, atol=1e-6 * np.abs(K_ref).max())
+        np.testing.assert_allclose(C, C_ref, rtol=1e-5, atol=1e-6 * np.abs(C_ref).max())
+
+
+def test_reynolds_equilibrium_residual_attitude_and_monotone(reynolds):
+    loads = [0.5, 5.0, 16.7, 100.0, 500.0, 1500.0]
+    eps_prev = 0.0
+    for W in loads:
+        for sign in (1.0, -1.0):
+            y0, z0 = equilibrium(reynolds, (0.0, -W), sign * OMEGA)
+            f = np.array(reynolds.force(y0, z0, 0.0, 0.0, sign * OMEGA))
+            assert np.hypot(f[0], f[1] - W) <= 1e-8 * W
+            # Weight (0, -W), rotation from +y toward +z: the journal sits below the centre,
+            # displaced in the direction of rotation from the load line: y0 > 0 for omega > 0
+            assert z0 < 0 and math.copysign(1.0, y0) == sign
+        eps = math.hypot(y0, z0) / PAPER_BEARING.CR
+        assert eps > eps_prev
+        eps_prev = eps
+    assert eps_prev > 0.9
+
+
+def test_reynolds_equilibrium_reaches_eccentricity_095(reynolds):
+    # find the load that puts the journal at eps = 0.95, then solve for it from the default start
+    y, z = 0.95 * PAPER_BEARING.CR * math.sin(0.3), -0.95 * PAPER_BEARING.CR * math.cos(0.3)
+    f = reynolds.force(y, z, 0.0, 0.0, OMEGA)
+    load = (-f[0], -f[1])
+    y0, z0 = equilibrium(reynolds, load, OMEGA)
+    assert y0 == pytest.approx(y, rel=1e-6) and z0 == pytest.approx(z, rel=1e-6)
+
+
+def test_equilibrium_zero_load_and_errors(reynolds):
+    assert equilibrium(reynolds, (0.0, 0.0), OMEGA) == (0.0, 0.0)
+    with pytest.raises(EquilibriumError, match="omega = 0"):
+        equilibrium(reynolds, (0.0, -10.0), 0.0)
+    with pytest.raises(ValueError, match="load"):
+        equilibrium(reynolds, (0.0, math.nan), OMEGA)
+    with pytest.raises(ValueError, match="omega"):
+        equilibrium(reynolds, (0.0, -1.0), math.inf)
+
+
+def test_linear_internal_reproduces_its_linearisation(reynolds):
+    lin = Linear.at_load(reynolds, (0.0, -16.7), OMEGA)
+    # at the expansion point it balances the load; its Jacobian is -K, -C
+    assert lin.force(lin.y0, lin.z0, 0.0, 0.0, OMEGA) == pytest.approx((0.0, 16.7), abs=1e-7)
+    K, C = linearize(lin, lin.y0, lin.z0, OMEGA)
+    np.testing.assert_allclose(K, lin.K, rtol=1e-6)
+    np.testing.assert_allclose(C, lin.C, rtol=1e-6)
+    # beyond the wall it still evaluates (the paper's linear orbits cross the clearance circle)
+    fy, fz = lin.force(0.0, -1.2 * PAPER_BEARING.CR, 0.0, 0.0, OMEGA)
+    assert math.isfinite(fy) and math.isfinite(fz)
+    with pytest.raises(ValueError, match="linearised at omega"):
+        lin.force(lin.y0, lin.z0, 0.0, 0.0, 2 * OMEGA)
+    with pytest.raises(ValueError, match="vy"):
+        lin.force(lin.y0, lin.z0, math.nan, 0.0, OMEGA)
+    assert Linear.from_dict(lin.to_dict()).force(1e-6, -2e-5, 1e-4, 0.0, OMEGA) == lin.force(
+        1e-6, -2e-5, 1e-4, 0.0, OMEGA)
