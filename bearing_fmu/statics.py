@@ -12,6 +12,7 @@ import numpy as np
 
 from .internals import Internal, check_state
 from .params import BearingParams
+from .shortbearing import short_bearing_eccentricity
 
 
 class EquilibriumError(RuntimeError):
@@ -20,36 +21,19 @@ class EquilibriumError(RuntimeError):
 
 def short_bearing_estimate(params: BearingParams, load, omega: float) -> tuple[float, float]:
     """Journal position (y, z) [m] for a static ``load`` (Wy, Wz) [N] from the closed-form
-    short-bearing (Ocvirk, half-Sommerfeld) theory: a start for Newton, not an answer.
-
-    Ocvirk: W = mu U L^3 / (4 CR^2) * eps / (1 - eps^2)^2 * sqrt(pi^2 (1 - eps^2) + 16 eps^2),
-    attitude tan(phi) = pi sqrt(1 - eps^2) / (4 eps), U = omega R. The journal sits at angle phi
-    from the load line, turned in the direction of rotation (sign of omega).
-    """
+    short-bearing (Ocvirk) theory: a start for Newton, not an answer. The journal sits at the
+    Ocvirk eccentricity, turned from the load line by the attitude angle in the direction of
+    rotation (``shortbearing.short_bearing_eccentricity``)."""
     wy, wz = float(load[0]), float(load[1])
     w = math.hypot(wy, wz)
     if w == 0.0:
         return 0.0, 0.0
-    scale = params.mu * abs(omega) * params.R * params.L**3 / (4.0 * params.CR**2)
-
-    def w_of(eps: float) -> float:
-        return scale * eps / (1 - eps**2) ** 2 * math.sqrt(math.pi**2 * (1 - eps**2) + 16 * eps**2)
-
-    lo, hi = 0.0, 0.999
-    if w_of(hi) < w:
-        eps = hi
-    else:
-        for _ in range(60):  # bisection: W(eps) rises monotonically
-            mid = 0.5 * (lo + hi)
-            lo, hi = (mid, hi) if w_of(mid) < w else (lo, mid)
-        eps = 0.5 * (lo + hi)
-    phi = math.atan2(math.pi * math.sqrt(1 - eps**2), 4 * eps) * math.copysign(1.0, omega)
-    # direction of the load, turned by phi (positive = from +y toward +z)
-    ly, lz = wy / w, wz / w
+    eps, phi = short_bearing_eccentricity(params, w, omega)
+    eps = min(eps, 0.999)
     c, s = math.cos(phi), math.sin(phi)
-    dy, dz = c * ly - s * lz, s * ly + c * lz
+    ly, lz = wy / w, wz / w
     e = eps * params.CR
-    return e * dy, e * dz
+    return e * (c * ly - s * lz), e * (s * ly + c * lz)
 
 
 def film_jacobian(internal: Internal, y: float, z: float, vy: float, vz: float, omega: float,
