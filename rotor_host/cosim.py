@@ -1,0 +1,200 @@
+"""The fmpy master: one bearing FMU instance per bearing, iterated the FMI 2.0 way.
+
+Per time step each instance's state is saved once (fmi2GetFMUstate); every Newton iteration
+then restores it (fmi2SetFMUstate), sets the journal state for the end of the step, calls
+doStep and reads the force and the local tangent. FMI 2.0 co-simulation forbids reading
+outputs after setting inputs without a doStep in between, so this is the conformant way to
+iterate inside a step, and the force is always consistent with the iterate.
+
+A discarded doStep (the FMU logs why, e.g. "eccentricity ratio 1.03 >= 1") becomes
+``StepRejected`` so the integrator cuts the step; every instance is freed on success and on
+error (use ``FMUBearings`` as a context manager or call ``close``).
+"""
+
+from __future__ import annotations
+
+import ctypes
+import shutil
+import tempfile
+from pathlib import Path
+
+import numpy as np
+
+from .bearings import BearingSet
+
+# what the host reads from every bearing FMU, in this order
+_OUT = ("Fy", "Fz", "Kyy", "Kyz", "Kzy", "Kzz", "Cyy", "Cyz", "Czy", "Czz", "eccentricity")
+_IN = ("y", "z", "vy", "vz", "omega")
+_STATIC_PROBE_S = 1e-9  # doStep length of a static evaluation [s], never committed
+_FMI_STATUS = ("ok", "warning", "discard", "error", "fatal", "pending")
+
+
+class FMUError(RuntimeError):
+    """A bearing FMU could not be loaded, set up or initialised."""
+
+
+class FMUBearings(BearingSet):
+    """Bearings as FMU instances (fmpy ``FMU2Slave``), conformant iteration per step.
+
+    fmu_path      : the bearing .fmu (extracted once, shared by all instances)
+    bearing_dofs  : (dof_y, dof_z) per bearing
+    omega         : shaft speed [rad/s]
+    parameters    : one dict per bearing, FMU parameter name -> value (D, L, CR, mu, internal,
+                    surrogate, n_theta, ...); unknown names raise FMUError listing the known ones
+    """
+
+    def __init__(self, fmu_path, bearing_dofs, omega: float, parameters, names=None,
+                 start_time: float = 0.0, log=None):
+        super().__init__(bearing_dofs, omega, names)
+        from fmpy import extract, read_model_description
+        from fmpy.fmi2 import FMU2Slave, fmi2CallbackFunctions, fmi2CallbackLoggerTYPE
+        from fmpy.fmi2 import fmi2CallbackAllocateMemoryTYPE, fmi2CallbackFreeMemoryTYPE
+        from fmpy.fmi1 import FMICallException
+        from fmpy import calloc, free
+
+        self._FMICallException = FMICallException
+        if len(parameters) != self.n:
+            raise ValueError(f"FMUBearings: {len(parameters)} parameter sets for {self.n} bearings")
+        self.fmu_path = Path(fmu_path)
+        if not self.fmu_path.is_file():
+            raise FileNotFoundError(f"bearing FMU {self.fmu_path} not found; build it with `bearing-fmu build -o PATH.fmu`")
+        self.log = log  # optional callable(str) for every FMU log line
+        self.messages: list[list[str]] = [[] for _ in range(self.n)]
+        self._unzip = tempfile.mkdtemp(prefix="bearing_fmu_")
+        self.instances = []
+        self._states = [None] * self.n
+        self._static = False
+        self._h = 0.0
+        try:
+            md = read_model_description(str(self.fmu_path))
+            self._vars = {v.name: v for v in md.modelVariables}
+            missing = [n for n in _IN + _OUT if n not in self._vars]
+            if missing:
+                raise FMUError(f"{self.fmu_path.name} lacks the variable(s) {', '.join(missing)}: not a bearing FMU?")
+            extract(str(self.fmu_path), self._unzip)
+
+            def make_logger(k):
+                def logger(component, instance_name, status, category, message):
+                    text = message.decode("utf-8", "replace") if message else ""
+                    label = _FMI_STATUS[status] if 0 <= status < len(_FMI_STATUS) else str(status)
+                    self.messages[k].append(f"[{label}] {text}")
+                    if self.log is not None:
+                        self.log(f"{self.names[k]} [{label}] {text}")
+                return logger
+
+            # ctypes callbacks must outlive the instances: keep references
+            self._callbacks = []
+            for k in range(self.n):
+                cb = fmi2CallbackFunctions()
+                cb.logger = fmi2CallbackLoggerTYPE(make_logger(k))
+                cb.allocateMemory = fmi2CallbackAllocateMemoryTYPE(calloc)
+                cb.freeMemory = fmi2CallbackFreeMemoryTYPE(free)
+                self._callbacks.append(cb)
+                fmu = FMU2Slave(guid=md.guid, unzipDirectory=self._unzip,
+                                modelIdentifier=md.coSimulation.modelIdentifier,
+                                instanceName=self.names[k].replace(" ", "_"))
+                fmu.instantiate(callbacks=cb, loggingOn=True)
+                self.instances.append(fmu)
+                self._set_parameters(k, fmu, parameters[k])
+                fmu.setupExperiment(startTime=start_time)
+                fmu.enterInitializationMode()
+                fmu.exitInitializationMode()
+                errors = [m for m in self.messages[k] if m.startswith(("[error]", "[fatal]"))]
+                if errors:
+                    raise FMUError(f"{self.names[k]}: FMU initialisation failed: {errors[-1]}")
+            # value references and ctypes buffers, built once: no allocation per iteration
+            self._vr_in = (ctypes.c_uint * len(_IN))(*[self._vars[n].valueReference for n in _IN])
+            self._vr_out = (ctypes.c_uint * len(_OUT))(*[self._vars[n].valueReference for n in _OUT])
+            self._buf_in = (ctypes.c_double * len(_IN))()
+            self._buf_out = (ctypes.c_double * len(_OUT))()
+            self._out = np.frombuffer(self._buf_out, dtype=np.float64)
+        except BaseException:
+            self.close()
+            raise
+
+    def _set_parameters(self, k, fmu, params: dict) -> None:
+        for name, value in params.items():
+            var = self._vars.get(name)
+            if var is None or var.causality != "parameter":
+                known = sorted(v.name for v in self._vars.values() if v.causality == "parameter")
+                raise FMUError(f"{self.names[k]}: {name!r} is not a parameter of {self.fmu_path.name}; "
+                               f"parameters: {', '.join(known)}")
+            vr = [var.valueReference]
+            if var.type == "Real":
+                fmu.setReal(vr, [float(value)])
+            elif var.type == "Integer":
+                fmu.setInteger(vr, [int(value)])
+            elif var.type == "Boolean":
+                fmu.setBoolean(vr, [bool(value)])
+            else:
+                fmu.setString(vr, [str(value)])
+
+    # -- NodalForce protocol -----------------------------------------------------------
+    def begin_step(self, t: float, dt: float) -> None:
+        super().begin_step(t, dt)
+        # dt = 0 marks static evaluations (the rotor's static equilibrium): FMI 2.0 wants a
+        # positive step, so probe with a tiny one and never commit it (accept restores t)
+        self._static = dt == 0.0
+        self._h = _STATIC_PROBE_S if self._static else self.dt
+        for k, fmu in enumerate(self.instances):
+            if self._states[k] is not None:
+                fmu.freeFMUstate(self._states[k])
+            self._states[k] = fmu.getFMUstate()
+
+    def _bearing(self, k, y, z, vy, vz):
+        fmu = self.instances[k]
+        fmu.setFMUstate(self._states[k])
+        b = self._buf_in
+        b[0], b[1], b[2], b[3], b[4] = y, z, vy, vz, self.omega
+        fmu.fmi2SetReal(fmu.component, self._vr_in, len(_IN), b)
+        n_msg = len(self.messages[k])
+        try:
+            fmu.fmi2DoStep(fmu.component, self.t, self._h, 0)
+        except self._FMICallException as exc:
+            new = self.messages[k][n_msg:]
+            raise self._reject(k, new[-1] if new else str(exc)) from None
+        fmu.fmi2GetReal(fmu.component, self._vr_out, len(_OUT), self._buf_out)
+        o = self._out
+        f = o[0:2].copy()
+        # Lund sign in the FMU outputs; the integrator wants raw derivatives
+        dq = -o[2:6].reshape(2, 2)
+        dv = -o[6:10].reshape(2, 2)
+        self.max_eccentricity[k] = max(self.max_eccentricity[k], o[10])
+        return f, dq, dv
+
+    def accept_step(self) -> None:
+        if self._static:
+            self.reject_step()
+        else:
+            self._free_states()
+
+    def reject_step(self) -> None:
+        for k, fmu in enumerate(self.instances):
+            if self._states[k] is not None:
+                fmu.setFMUstate(self._states[k])
+        self._free_states()
+
+    def _free_states(self) -> None:
+        for k, fmu in enumerate(self.instances):
+            if self._states[k] is not None:
+                fmu.freeFMUstate(self._states[k])
+                self._states[k] = None
+
+    def close(self) -> None:
+        """Terminate and free every instance and remove the extracted FMU (idempotent)."""
+        for k, fmu in enumerate(self.instances):
+            try:
+                if self._states[k] is not None:
+                    fmu.freeFMUstate(self._states[k])
+                    self._states[k] = None
+                fmu.terminate()
+            except Exception:  # noqa: BLE001 - free what can be freed
+                pass
+            try:
+                fmu.freeInstance()
+            except Exception:  # noqa: BLE001
+                pass
+        self.instances = []
+        if getattr(self, "_unzip", None):
+            shutil.rmtree(self._unzip, ignore_errors=True)
+            self._unzip = None

@@ -1,0 +1,445 @@
+"""Scenes: one simulation case read from TOML, built with only what it names, run, saved.
+
+A scene names a rotor file, the internal (reynolds | taylor | linear), how the bearings are
+reached (through the FMU, ``via = "fmu"``, or called in-process, ``via = "direct"``), the
+speed, unbalances, static loads, time span and step, and what to record. ``run_scene``
+builds the rotor, the bearings for that internal only (a Taylor scene never imports the
+Reynolds solver), the static equilibrium as the initial state, integrates, and writes
+``<out>/<name>.npz`` plus ``<out>/<name>.json`` (metadata) even when the run fails part-way.
+
+Keys carry their units (``speed_hz``, ``radius_mm``, ``dt_s``); nodes are 1-based as in the
+rotor file.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import platform
+import time
+import tomllib
+from dataclasses import asdict, dataclass, field, replace
+from pathlib import Path
+
+import numpy as np
+
+from .newmark import IntegrationError, Newmark, NewmarkConfig, static_equilibrium
+from .rotor import Rotor
+
+INTERNALS = ("reynolds", "taylor", "linear")
+VIA = ("fmu", "direct")
+G = 9.81
+
+
+class SceneError(ValueError):
+    """A scene file that cannot be used; the message names the file and key."""
+
+
+@dataclass
+class Unbalance:
+    node: int  # 0-based
+    mass_kg: float
+    radius_m: float
+    phase_rad: float = 0.0
+    t_on_s: float = 0.0  # the unbalance acts from this time on (a sudden unbalance)
+
+
+@dataclass
+class Scene:
+    name: str
+    rotor_path: Path
+    speed_hz: float
+    internal: str
+    t_end_s: float
+    dt_s: float
+    via: str = "fmu"
+    description: str = ""
+    unbalances: list[Unbalance] = field(default_factory=list)
+    static_loads: list[tuple[int, float, float]] = field(default_factory=list)  # (node0, Fy, Fz)
+    surrogate: Path | None = None
+    n_theta: int | None = None
+    n_x: int | None = None
+    alpha: float = 0.0
+    initial: str = "static_equilibrium"
+    record_nodes: list[int] = field(default_factory=list)  # 0-based; bearings are always recorded
+    record_every: int = 1
+    fmu: Path | None = None
+    source: Path | None = None
+
+    @property
+    def omega(self) -> float:
+        return 2.0 * math.pi * self.speed_hz
+
+    def with_internal(self, internal: str, **kw) -> "Scene":
+        """The same scene with another internal (and e.g. surrogate, n_theta, n_x, dt_s)."""
+        if internal not in INTERNALS:
+            raise SceneError(f"internal = {internal!r}; choose one of {', '.join(INTERNALS)}")
+        return replace(self, internal=internal, **kw)
+
+
+# ---------------------------------------------------------------------------------- reading
+
+def _num(table, key, where, *, minimum=None, strict=False, default=None, integer=False):
+    if key not in table:
+        if default is not None:
+            return default
+        raise SceneError(f"{where}: missing key {key!r}")
+    v = table[key]
+    if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
+        raise SceneError(f"{where}: {key} must be a finite number, got {v!r}")
+    if integer and int(v) != v:
+        raise SceneError(f"{where}: {key} must be an integer, got {v!r}")
+    if minimum is not None and (v <= minimum if strict else v < minimum):
+        raise SceneError(f"{where}: {key} = {v!r} must be {'>' if strict else '>='} {minimum}")
+    return int(v) if integer else float(v)
+
+
+def _keys(table, allowed, where):
+    unknown = sorted(set(table) - set(allowed))
+    if unknown:
+        raise SceneError(f"{where}: unknown key(s) {', '.join(unknown)}; allowed: {', '.join(sorted(allowed))}")
+
+
+def _node(table, key, n_nodes, where):
+    v = _num(table, key, where, integer=True)
+    if not 1 <= v <= n_nodes:
+        raise SceneError(f"{where}: {key} = {v} is outside the rotor's nodes 1..{n_nodes}")
+    return v - 1
+
+
+def load_scene(path) -> Scene:
+    """Read and check a scene file; paths inside are relative to the scene file."""
+    path = Path(path)
+    try:
+        with path.open("rb") as fh:
+            data = tomllib.load(fh)
+    except FileNotFoundError:
+        raise SceneError(f"scene file {path} not found") from None
+    except tomllib.TOMLDecodeError as exc:
+        raise SceneError(f"{path}: not valid TOML: {exc}") from None
+    where = str(path)
+    _keys(data, {"name", "description", "rotor", "internal", "via", "speed_hz", "surrogate", "fmu",
+                 "time", "initial", "unbalance", "static_loads", "record", "reynolds"}, where)
+    base = path.parent
+    for key in ("rotor", "internal", "speed_hz", "time"):
+        if key not in data:
+            raise SceneError(f"{where}: missing key {key!r}")
+    rotor_path = (base / data["rotor"]).resolve()
+    if not rotor_path.is_file():
+        raise SceneError(f"{where}: rotor = {data['rotor']!r}: file {rotor_path} not found")
+    n_nodes = _count_nodes(rotor_path)
+    internal = data["internal"]
+    if internal not in INTERNALS:
+        raise SceneError(f"{where}: internal = {internal!r}; choose one of {', '.join(INTERNALS)}")
+    via = data.get("via", "fmu")
+    if via not in VIA:
+        raise SceneError(f"{where}: via = {via!r}; choose one of {', '.join(VIA)}")
+    speed = _num(data, "speed_hz", where, minimum=0.0, strict=True)
+
+    tt = data["time"]
+    _keys(tt, {"t_end_s", "dt_s", "hht_alpha"}, f"{where} [time]")
+    t_end = _num(tt, "t_end_s", f"{where} [time]", minimum=0.0, strict=True)
+    dt = _num(tt, "dt_s", f"{where} [time]", minimum=0.0, strict=True)
+    alpha = _num(tt, "hht_alpha", f"{where} [time]", default=0.0)
+    if not -1 / 3 <= alpha <= 0.0:
+        raise SceneError(f"{where} [time]: hht_alpha = {alpha} must lie in [-1/3, 0]")
+    if abs(round(t_end / dt) * dt - t_end) > 1e-9 * t_end:
+        raise SceneError(f"{where} [time]: t_end_s = {t_end} is not a whole number of steps dt_s = {dt}")
+
+    unb = []
+    for i, u in enumerate(data.get("unbalance", [])):
+        w = f"{where} [[unbalance]] {i + 1}"
+        _keys(u, {"node", "mass_kg", "radius_mm", "phase_deg", "t_on_s"}, w)
+        unb.append(Unbalance(node=_node(u, "node", n_nodes, w),
+                             mass_kg=_num(u, "mass_kg", w, minimum=0.0),
+                             radius_m=_num(u, "radius_mm", w, minimum=0.0) / 1e3,
+                             phase_rad=math.radians(_num(u, "phase_deg", w, default=0.0)),
+                             t_on_s=_num(u, "t_on_s", w, minimum=0.0, default=0.0)))
+    loads = []
+    for i, s in enumerate(data.get("static_loads", [])):
+        w = f"{where} [[static_loads]] {i + 1}"
+        _keys(s, {"node", "Fy_N", "Fz_N"}, w)
+        loads.append((_node(s, "node", n_nodes, w), _num(s, "Fy_N", w, default=0.0), _num(s, "Fz_N", w, default=0.0)))
+
+    init = data.get("initial", {})
+    _keys(init, {"state"}, f"{where} [initial]")
+    state = init.get("state", "static_equilibrium")
+    if state not in ("static_equilibrium", "centred"):
+        raise SceneError(f"{where} [initial]: state = {state!r}; choose 'static_equilibrium' or 'centred'")
+
+    rec = data.get("record", {})
+    _keys(rec, {"nodes", "every"}, f"{where} [record]")
+    rec_nodes = []
+    for v in rec.get("nodes", []):
+        if isinstance(v, bool) or not isinstance(v, int) or not 1 <= v <= n_nodes:
+            raise SceneError(f"{where} [record]: nodes entry {v!r} is outside 1..{n_nodes}")
+        rec_nodes.append(v - 1)
+    every = _num(rec, "every", f"{where} [record]", minimum=1, default=1, integer=True)
+
+    rey = data.get("reynolds", {})
+    _keys(rey, {"n_theta", "n_x"}, f"{where} [reynolds]")
+    n_theta = _num(rey, "n_theta", f"{where} [reynolds]", minimum=8, integer=True) if "n_theta" in rey else None
+    n_x = _num(rey, "n_x", f"{where} [reynolds]", minimum=2, integer=True) if "n_x" in rey else None
+
+    surrogate = None
+    if "surrogate" in data:
+        surrogate = (base / data["surrogate"]).resolve()
+    if internal == "taylor" and surrogate is None:
+        raise SceneError(f"{where}: internal = 'taylor' needs the key 'surrogate' (a models/surrogates/*.json file)")
+    fmu = (base / data["fmu"]).resolve() if "fmu" in data else None
+
+    return Scene(name=str(data.get("name", path.stem)), description=str(data.get("description", "")),
+                 rotor_path=rotor_path, speed_hz=speed, internal=internal, via=via, t_end_s=t_end, dt_s=dt,
+                 alpha=alpha, unbalances=unb, static_loads=loads, surrogate=surrogate, n_theta=n_theta,
+                 n_x=n_x, initial=state, record_nodes=rec_nodes, record_every=every, fmu=fmu, source=path)
+
+
+def _count_nodes(rotor_path: Path) -> int:
+    with rotor_path.open("rb") as fh:
+        return len(tomllib.load(fh).get("elements", [])) + 1
+
+
+# ---------------------------------------------------------------------------------- statics
+
+def bearing_loads(rotor: Rotor, f_static: np.ndarray) -> np.ndarray:
+    """Static load (Wy, Wz) [N] on each bearing's journal, shape (n_bearings, 2).
+
+    The reactions of the rotor pinned (y, z held) at its bearing nodes under ``f_static``:
+    K q = f + r with r on the held DOFs only. On two bearings the shaft is statically
+    determinate, so these are the film forces at equilibrium whatever the bearing stiffness;
+    the load on the journal (``bearing_fmu.statics.equilibrium``'s convention) is -r.
+    """
+    q = _start_guess(rotor, f_static, np.zeros((len(rotor.bearing_nodes), 2)))
+    r = rotor.K @ q - f_static
+    fixed = [rotor.dof(nd, d) for nd in rotor.bearing_nodes for d in ("y", "z")]
+    return -r[fixed].reshape(-1, 2)
+
+
+def _start_guess(rotor: Rotor, f_static: np.ndarray, journal: np.ndarray) -> np.ndarray:
+    """Rotor deflection with the bearing nodes held at the given journal positions."""
+    n = rotor.n_dof
+    fixed = np.array([rotor.dof(nd, d) for nd in rotor.bearing_nodes for d in ("y", "z")])
+    free = np.setdiff1d(np.arange(n), fixed)
+    q = np.zeros(n)
+    q[fixed] = journal.reshape(-1)
+    K = rotor.K
+    q[free] = np.linalg.solve(K[np.ix_(free, free)], f_static[free] - K[np.ix_(free, fixed)] @ q[fixed])
+    return q
+
+
+# ---------------------------------------------------------------------------------- building
+
+def _fmu_parameters(scene: Scene, params, load) -> dict:
+    """FMU parameters of one bearing for the scene's internal (only what that internal reads)."""
+    p = {"D": params.D, "L": params.L, "CR": params.CR, "mu": params.mu, "internal": scene.internal}
+    if scene.internal in ("reynolds", "linear"):
+        p["n_theta"] = scene.n_theta or 0
+        p["n_x"] = scene.n_x or 0
+    if scene.internal == "linear":
+        p.update(linear_from="load", load_y=float(load[0]), load_z=float(load[1]), omega_lin=scene.omega)
+    if scene.internal == "taylor":
+        p["surrogate"] = scene.surrogate.name
+    return p
+
+
+def _direct_internal(scene: Scene, params, load):
+    """The scene's internal for one bearing, imported only when used."""
+    if scene.internal == "reynolds":
+        from bearing_fmu.reynolds import Reynolds
+
+        return Reynolds(params, n_theta=scene.n_theta, n_x=scene.n_x)
+    if scene.internal == "linear":
+        from bearing_fmu.linear import Linear
+        from bearing_fmu.reynolds import Reynolds
+
+        return Linear.at_load(Reynolds(params, n_theta=scene.n_theta, n_x=scene.n_x), load, scene.omega)
+    from bearing_fmu.taylor import Taylor
+
+    return Taylor.from_file(scene.surrogate, params)
+
+
+def scene_fmu(scene: Scene, work_dir: Path) -> Path:
+    """The bearing FMU for the scene: its ``fmu`` key, or one built into work_dir (with the
+    scene's surrogate bundled for a Taylor scene)."""
+    if scene.fmu is not None:
+        if not scene.fmu.is_file():
+            raise SceneError(f"{scene.source}: fmu = {scene.fmu}: file not found")
+        return scene.fmu
+    from bearing_fmu.build import build_fmu
+
+    work_dir.mkdir(parents=True, exist_ok=True)
+    surrogate = scene.surrogate if scene.internal == "taylor" else None
+    tag = f"_{surrogate.stem}" if surrogate else ""
+    return Path(build_fmu(work_dir / f"bearing{tag}.fmu", surrogate=surrogate))
+
+
+def build_bearings(scene: Scene, rotor: Rotor, loads: np.ndarray, work_dir: Path):
+    """The BearingSet of the scene: FMU instances (via = fmu) or internals in-process."""
+    pairs = [(rotor.dof(n, "y"), rotor.dof(n, "z")) for n in rotor.bearing_nodes]
+    names = [f"bearing {k + 1} (node {n + 1})" for k, n in enumerate(rotor.bearing_nodes)]
+    if scene.internal == "taylor" and (scene.surrogate is None or not scene.surrogate.is_file()):
+        raise SceneError(f"{scene.source}: surrogate file {scene.surrogate} not found; fit one with `bearing-fmu fit`")
+    if scene.via == "direct":
+        from .bearings import DirectBearings
+
+        internals = [_direct_internal(scene, p, w) for p, w in zip(rotor.bearings, loads)]
+        return DirectBearings(internals, pairs, scene.omega, names)
+    from .cosim import FMUBearings
+
+    fmu = scene_fmu(scene, work_dir)
+    params = [_fmu_parameters(scene, p, w) for p, w in zip(rotor.bearings, loads)]
+    return FMUBearings(fmu, pairs, scene.omega, params, names)
+
+
+def external_force(scene: Scene, rotor: Rotor, f_static: np.ndarray):
+    """f_ext(t): static loads and weight plus the rotating unbalance forces."""
+    om = scene.omega
+    parts = []
+    for u in scene.unbalances:
+        amp = u.mass_kg * u.radius_m * om**2
+        parts.append((rotor.dof(u.node, "y"), rotor.dof(u.node, "z"), amp, u.phase_rad, u.t_on_s))
+    out = np.empty_like(f_static)
+
+    def f_ext(t: float) -> np.ndarray:
+        out[:] = f_static
+        for iy, iz, amp, ph, t_on in parts:
+            if t >= t_on:
+                a = om * t + ph
+                out[iy] += amp * math.cos(a)
+                out[iz] += amp * math.sin(a)
+        return out
+
+    return f_ext
+
+
+def initial_state(scene: Scene, rotor: Rotor, f_static, loads, bearings) -> np.ndarray:
+    """Static equilibrium of the whole rotor with the nonlinear bearing forces (or the rotor
+    undeformed and centred, ``initial.state = "centred"``)."""
+    if scene.initial == "centred":
+        return np.zeros(rotor.n_dof)
+    from bearing_fmu.statics import short_bearing_estimate
+
+    journal = np.array([short_bearing_estimate(p, w, scene.omega) for p, w in zip(rotor.bearings, loads)])
+    # keep the short-bearing start inside the clearance: a finite bearing carries more
+    for k, p in enumerate(rotor.bearings):
+        e = np.hypot(*journal[k]) / p.CR
+        if e > 0.9:
+            journal[k] *= 0.9 / e
+    q0 = _start_guess(rotor, f_static, journal)
+    return static_equilibrium(rotor.K, f_static, bearings, q0, t=0.0)
+
+
+# ---------------------------------------------------------------------------------- running
+
+@dataclass
+class SceneRun:
+    """What a run produced: arrays (as saved in the .npz) and metadata (as in the .json)."""
+
+    arrays: dict
+    meta: dict
+    npz: Path | None = None
+    json: Path | None = None
+
+    @property
+    def ok(self) -> bool:
+        return self.meta["status"] == "ok"
+
+
+def _versions() -> dict:
+    import importlib.metadata as md
+
+    out = {"python": platform.python_version()}
+    for pkg in ("bearing-fmu", "numpy", "scipy", "numba", "fmpy", "pythonfmu"):
+        try:
+            out[pkg] = md.version(pkg)
+        except md.PackageNotFoundError:
+            out[pkg] = None
+    return out
+
+
+def run_scene(scene: Scene, out_dir=None, *, progress: bool = False, stem: str | None = None,
+              work_dir=None) -> SceneRun:
+    """Run a scene; write ``<out_dir>/<stem>.npz`` and ``.json`` (also on failure, with what was
+    computed). Returns the SceneRun; a failed integration has meta["status"] == "failed"."""
+    t_wall0 = time.perf_counter()
+    rotor = Rotor.from_toml(scene.rotor_path)
+    stem = stem or f"{Path(scene.source).stem if scene.source else scene.name}_{scene.internal}"
+    out_dir = Path(out_dir) if out_dir is not None else None
+    work = Path(work_dir) if work_dir is not None else (out_dir or Path("out")) / "fmu"
+    f_static = rotor.weight_vector(G) + rotor.point_load_vector(scene.static_loads)
+    loads = bearing_loads(rotor, f_static)
+    rec_nodes = sorted(set(scene.record_nodes) | set(rotor.bearing_nodes))
+    rec_dofs = [rotor.dof(n, d) for n in rec_nodes for d in ("y", "z")]
+    meta = {
+        "scene": scene.name, "description": scene.description, "source": str(scene.source),
+        "internal": scene.internal, "via": scene.via, "speed_hz": scene.speed_hz, "dt_s": scene.dt_s,
+        "t_end_s": scene.t_end_s, "hht_alpha": scene.alpha,
+        "reynolds_grid": [scene.n_theta, scene.n_x] if scene.internal != "taylor" else None,
+        "surrogate": str(scene.surrogate) if scene.internal == "taylor" else None,
+        "bearing_loads_N": loads.tolist(), "recorded_nodes": [n + 1 for n in rec_nodes],
+        "bearing_nodes": [n + 1 for n in rotor.bearing_nodes],
+        "versions": _versions(), "machine": platform.machine(), "status": "ok", "message": "",
+    }
+    with build_bearings(scene, rotor, loads, work) as bearings:
+        t_setup = time.perf_counter()
+        q0 = initial_state(scene, rotor, f_static, loads, bearings)
+        t_eq = time.perf_counter()
+        integ = Newmark(rotor.M, rotor.K, rotor.C, rotor.G, scene.omega, external_force(scene, rotor, f_static),
+                        bearings, NewmarkConfig(alpha=scene.alpha))
+        bar = None
+        if progress:
+            from tqdm import tqdm
+
+            bar = tqdm(total=scene.t_end_s, unit="s", desc=f"{scene.name} [{scene.internal}]",
+                       bar_format="{l_bar}{bar}| {n:.3f}/{total:.3f} s [{elapsed}<{remaining}]")
+
+        def tick(t):
+            if bar is not None:
+                bar.update(t - bar.n)
+
+        try:
+            res = integ.run(q0, np.zeros(rotor.n_dof), 0.0, scene.t_end_s, scene.dt_s,
+                            record_every=scene.record_every, record_dofs=rec_dofs, progress=tick)
+        except IntegrationError as exc:
+            res = exc.result
+            meta["status"], meta["message"] = "failed", str(exc)
+        finally:
+            if bar is not None:
+                bar.close()
+    t_end = time.perf_counter()
+
+    nb = len(rotor.bearing_nodes)
+    col = {n: i for i, n in enumerate(rec_nodes)}
+    yz = res.q.reshape(len(res.t), len(rec_nodes), 2)
+    vyz = res.v.reshape(len(res.t), len(rec_nodes), 2)
+    fb = res.f_nl.reshape(len(res.t), nb, 2)
+    bcols = [col[n] for n in rotor.bearing_nodes]
+    CR = np.array([p.CR for p in rotor.bearings])
+    ecc = np.hypot(yz[:, bcols, 0], yz[:, bcols, 1]) / CR
+    arrays = {
+        "t": res.t, "nodes": np.array(rec_nodes) + 1,
+        "y": yz[:, :, 0], "z": yz[:, :, 1], "vy": vyz[:, :, 0], "vz": vyz[:, :, 1],
+        "Fy": fb[:, :, 0], "Fz": fb[:, :, 1], "eccentricity": ecc,
+        "bearing_nodes": np.array(rotor.bearing_nodes) + 1, "CR": CR, "q0": q0[rec_dofs],
+    }
+    max_ecc = ecc.max(axis=0) if ecc.size else np.zeros(nb)
+    meta.update({
+        "wall_time_s": t_end - t_wall0, "setup_time_s": t_setup - t_wall0, "equilibrium_time_s": t_eq - t_setup,
+        "integration_time_s": res.wall_time, "steps": int(res.iterations.size),
+        "t_reached_s": float(res.t[-1]) if res.t.size else 0.0,
+        "newton_mean_evaluations_per_step": res.mean_iterations,
+        "newton_max_evaluations_per_step": int(res.iterations.max()) if res.iterations.size else 0,
+        "force_evaluations": int(res.n_evaluations), "step_cuts": int(res.n_cuts),
+        "max_eccentricity": max_ecc.tolist(),
+        "crossed_clearance": bool(np.any(max_ecc >= 1.0)),
+        "equilibrium_eccentricity": (np.hypot(q0[[rotor.dof(n, "y") for n in rotor.bearing_nodes]],
+                                              q0[[rotor.dof(n, "z") for n in rotor.bearing_nodes]]) / CR).tolist(),
+    })
+    run = SceneRun(arrays, meta)
+    if out_dir is not None:
+        out_dir.mkdir(parents=True, exist_ok=True)
+        run.npz = out_dir / f"{stem}.npz"
+        np.savez(run.npz, **arrays)
+        run.json = out_dir / f"{stem}.json"
+        run.json.write_text(json.dumps(meta, indent=2))
+    return run
