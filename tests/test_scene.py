@@ -1,0 +1,153 @@
+"""Scenes: reading with clear errors, bearing loads, initial equilibrium, failure handling.
+
+Expected values come from statics of the rigid rotor (the reactions of a shaft on two
+supports are statically determinate) and from the equilibrium of each bearing alone
+(bearing_fmu.statics.equilibrium), not from the scene code itself.
+"""
+
+import math
+import subprocess
+import sys
+import textwrap
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from bearing_fmu.params import PAPER_BEARING
+from rotor_host.rotor import Rotor
+from rotor_host.scene import SceneError, bearing_loads, load_scene, run_scene
+
+ROOT = Path(__file__).resolve().parents[1]
+SCENES = ROOT / "models" / "scenes"
+ROTOR = ROOT / "models" / "rotor_paper.toml"
+
+
+def write_scene(tmp_path, body: str, name="s.toml") -> Path:
+    p = tmp_path / name
+    p.write_text(f'rotor = "{ROTOR.as_posix()}"\n' + textwrap.dedent(body))
+    return p
+
+
+@pytest.mark.parametrize("path", sorted(SCENES.glob("*.toml")), ids=lambda p: p.stem)
+def test_bundled_scenes_load(path):
+    s = load_scene(path)
+    assert s.speed_hz > 0 and s.dt_s > 0 and s.t_end_s > 0
+
+
+def test_paper_scene_values():
+    # paper section 3: 8.5 g at 37 mm on the disk (node 6) at 22 Hz
+    s = load_scene(SCENES / "paper_22hz.toml")
+    assert s.speed_hz == 22.0 and s.unbalances[0].node == 5
+    assert s.unbalances[0].mass_kg == 8.5e-3 and s.unbalances[0].radius_m == pytest.approx(0.037)
+    # G12.8 (ISO 1940): e * Omega = m r / M_rotor * 2 pi f, in mm/s
+    rotor = Rotor.from_toml(ROTOR)
+    grade = 8.5e-3 * 37.0 / rotor.mass * 2 * math.pi * 22.0
+    assert grade == pytest.approx(12.8, abs=0.1)
+    # 1.7 kg at 37 mm: G1170 at 10 Hz and G2338 at 20 Hz (paper section 3)
+    assert 1.7 * 37.0 / rotor.mass * 2 * math.pi * 10.0 == pytest.approx(1170, rel=0.01)
+    assert 1.7 * 37.0 / rotor.mass * 2 * math.pi * 20.0 == pytest.approx(2338, rel=0.01)
+
+
+@pytest.mark.parametrize("body, match", [
+    ('internal = "reynolds"\nspeed_hz = 22\n', "missing key 'time'"),
+    ('internal = "magic"\nspeed_hz = 22\n[time]\nt_end_s = 0.1\ndt_s = 1e-4\n', "internal = 'magic'"),
+    ('internal = "reynolds"\nspeed_hz = -1\n[time]\nt_end_s = 0.1\ndt_s = 1e-4\n', "speed_hz = -1"),
+    ('internal = "reynolds"\nspeed_hz = 22\n[time]\nt_end_s = 0.1\ndt_s = 1e-4\n[[unbalance]]\nnode = 12\n'
+     'mass_kg = 0.01\nradius_mm = 37\n', "node = 12 is outside the rotor's nodes 1..11"),
+    ('internal = "reynolds"\nspeed_hz = 22\n[time]\nt_end_s = 0.1\ndt_s = 3e-2\n', "whole number of steps"),
+    ('internal = "taylor"\nspeed_hz = 22\n[time]\nt_end_s = 0.1\ndt_s = 1e-4\n', "needs the key 'surrogate'"),
+    ('internal = "reynolds"\nspeed_hz = 22\nspeed = 3\n[time]\nt_end_s = 0.1\ndt_s = 1e-4\n', "unknown key.*speed"),
+])
+def test_bad_scene_files(tmp_path, body, match):
+    with pytest.raises(SceneError, match=match):
+        load_scene(write_scene(tmp_path, body))
+
+
+def test_bearing_loads_are_the_static_reactions():
+    rotor = Rotor.from_toml(ROTOR)
+    f = rotor.weight_vector(9.81) + rotor.point_load_vector([(2, 0.0, -500.0), (8, 30.0, -800.0)])
+    W = bearing_loads(rotor, f)
+    # force balance: the two journals carry the total load
+    assert W[:, 1].sum() == pytest.approx(-(rotor.mass * 9.81 + 1300.0), rel=1e-12)
+    assert W[:, 0].sum() == pytest.approx(30.0, rel=1e-12)
+    # moment balance about bearing 1 (x of node 3): the symmetric weight splits evenly,
+    # a point load at a bearing node goes to that bearing alone
+    assert W[0, 1] == pytest.approx(-(rotor.mass * 9.81 / 2 + 500.0), rel=1e-9)
+    assert W[1, 1] == pytest.approx(-(rotor.mass * 9.81 / 2 + 800.0), rel=1e-9)
+    assert W[1, 0] == pytest.approx(30.0, abs=1e-9)
+
+
+def test_initial_state_puts_each_journal_at_its_own_equilibrium(tmp_path):
+    from bearing_fmu.reynolds import Reynolds
+    from bearing_fmu.statics import equilibrium
+
+    p = write_scene(tmp_path, """
+        internal = "reynolds"
+        via = "direct"
+        speed_hz = 22
+        [reynolds]
+        n_theta = 48
+        n_x = 8
+        [time]
+        t_end_s = 2e-4
+        dt_s = 1e-4
+        """)
+    run = run_scene(load_scene(p))
+    rey = Reynolds(PAPER_BEARING, n_theta=48, n_x=8)
+    W = run.meta["bearing_loads_N"][0]
+    y0, z0 = equilibrium(rey, W, 2 * math.pi * 22)
+    a = run.arrays
+    col = list(a["nodes"]).index(3)
+    assert a["y"][0, col] == pytest.approx(y0, rel=1e-6) and a["z"][0, col] == pytest.approx(z0, rel=1e-6)
+    # no unbalance: the rotor stays at rest at equilibrium
+    assert np.abs(a["y"][:, col] - y0).max() < 1e-6 * PAPER_BEARING.CR
+
+
+def test_failed_run_keeps_what_it_computed(tmp_path):
+    # a huge unbalance drives the Reynolds journal into the wall: the run stops with a
+    # diagnosis naming the bearing and the eccentricity, and the partial result is on disk
+    p = write_scene(tmp_path, """
+        internal = "reynolds"
+        via = "direct"
+        speed_hz = 22
+        [reynolds]
+        n_theta = 32
+        n_x = 4
+        [time]
+        t_end_s = 0.2
+        dt_s = 2e-4
+        [[unbalance]]
+        node = 3
+        mass_kg = 20.0
+        radius_mm = 50
+        """)
+    run = run_scene(load_scene(p), tmp_path / "out")
+    assert run.meta["status"] == "failed"
+    assert "bearing 1" in run.meta["message"] and "eccentricity ratio" in run.meta["message"]
+    saved = np.load(run.npz)
+    assert 1 < len(saved["t"]) < 1001 and saved["t"][-1] == pytest.approx(run.meta["t_reached_s"])
+    assert np.all(np.isfinite(saved["y"]))
+
+
+def test_taylor_scene_does_not_import_reynolds(tmp_path):
+    """Leave out what a scene does not use: a Taylor scene run in-process never imports (or
+    compiles) the Reynolds solver."""
+    surrogates = sorted((ROOT / "models" / "surrogates").glob("paper_22hz*.json"))
+    if not surrogates:
+        pytest.skip("no bundled 22 Hz surrogate")
+    p = write_scene(tmp_path, f"""
+        internal = "taylor"
+        via = "direct"
+        speed_hz = 22
+        surrogate = "{surrogates[0].as_posix()}"
+        [time]
+        t_end_s = 1e-3
+        dt_s = 1e-4
+        """)
+    code = (f"import sys; from rotor_host.scene import load_scene, run_scene; "
+            f"r = run_scene(load_scene({str(p)!r})); assert r.ok, r.meta['message']; "
+            f"print('bearing_fmu.reynolds' in sys.modules)")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT)
+    assert out.returncode == 0, out.stderr
+    assert out.stdout.strip() == "False"
