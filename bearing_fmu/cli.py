@@ -54,7 +54,9 @@ def main(argv: list[str] | None = None) -> int:
 
     p = sub.add_parser("build", help="write the bearing FMU")
     p.add_argument("-o", "--output", required=True, help="path of the .fmu to write")
-    p.add_argument("--surrogate", default=None, help="surrogate JSON file to bundle")
+    p.add_argument("--surrogate", action="append", default=None, metavar="FILE",
+                   help="surrogate JSON file to bundle in resources/surrogates/ (repeat for several; "
+                        "with exactly one, the FMU parameter 'surrogate' defaults to it)")
     p.set_defaults(func=_build)
 
     args = parser.parse_args(argv)

@@ -1,0 +1,375 @@
+"""The bearing FMU: build, validation, fmpy, equality with the internals, conformant
+iteration, errors that leave the process usable, leave-out of unused internals, shadowing.
+
+The FMU is built once per session. Its code cache (BEARING_FMU_CACHE_DIR, where numba's
+cache lives too) is a session temp dir shared with the subprocess tests.
+"""
+
+import importlib.util
+import json
+import math
+import os
+import subprocess
+import sys
+import textwrap
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from bearing_fmu.params import PAPER_BEARING, BearingParams
+
+fmpy = pytest.importorskip("fmpy")
+from fmpy.fmi1 import FMICallException  # noqa: E402
+
+ROOT = Path(__file__).resolve().parents[1]
+P = PAPER_BEARING
+OMEGA = 2 * math.pi * 22.0
+STATE = (10e-6, -40e-6, 1e-3, -2e-4, OMEGA)  # eccentricity 0.46, moving
+IN = ("y", "z", "vy", "vz", "omega")
+TANGENT = ("Kyy", "Kyz", "Kzy", "Kzz", "Cyy", "Cyz", "Czy", "Czz")
+
+
+def _example():
+    spec = importlib.util.spec_from_file_location("drive_fmu_with_fmpy", ROOT / "examples" / "drive_fmu_with_fmpy.py")
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return mod
+
+
+EX = _example()
+
+
+@pytest.fixture(scope="session")
+def code_cache(tmp_path_factory):
+    path = tmp_path_factory.mktemp("fmu_code_cache")
+    old = os.environ.get("BEARING_FMU_CACHE_DIR")
+    os.environ["BEARING_FMU_CACHE_DIR"] = str(path)
+    yield path
+    if old is None:
+        os.environ.pop("BEARING_FMU_CACHE_DIR", None)
+    else:
+        os.environ["BEARING_FMU_CACHE_DIR"] = old
+
+
+@pytest.fixture(scope="session")
+def surrogate_file(tmp_path_factory):
+    """An order-2 surrogate with made-up coefficients: the FMU must reproduce Taylor exactly."""
+    taylor = pytest.importorskip("bearing_fmu.taylor")
+    exps = taylor.exponents(2)
+    rng = np.random.default_rng(1)
+    coef = rng.normal(size=(2, len(exps))) * 0.1
+    coef[:, 0] = (0.0, 1.0)
+    dom = taylor.Domain(ecc_max=0.8, pos_center=(0.0, 0.0), pos_radius=0.3, v_max=0.3,
+                        box_lo=(-0.3,) * 4, box_hi=(0.3,) * 4)
+    sur = taylor.Surrogate(params=P, omega=OMEGA, y0=0.1 * P.CR, z0=-0.4 * P.CR, order=2, exponents=exps,
+                           coef=coef, force_scale=20.0, domain=dom)
+    return taylor.save_surrogate(sur, tmp_path_factory.mktemp("sur") / "paper_22hz.json")
+
+
+@pytest.fixture(scope="session")
+def fmu(tmp_path_factory, code_cache, surrogate_file):
+    from bearing_fmu.build import build_fmu
+
+    return build_fmu(tmp_path_factory.mktemp("fmu") / "bearing.fmu", surrogate=surrogate_file)
+
+
+@pytest.fixture(scope="session")
+def unzip(fmu):
+    return fmpy.extract(str(fmu))
+
+
+def instance(fmu, unzip, **params):
+    return EX.BearingInstance(fmu, params, unzip_dir=unzip)
+
+
+@pytest.fixture(scope="session")
+def reynolds():
+    from bearing_fmu.reynolds import Reynolds
+
+    return Reynolds(P)
+
+
+# ----------------------------------------------------------------------------- build
+
+
+def test_validate_and_model_description(fmu):
+    from fmpy.validation import validate_fmu
+
+    assert validate_fmu(str(fmu)) == []
+    md = fmpy.read_model_description(str(fmu))
+    assert md.coSimulation.canGetAndSetFMUstate and md.coSimulation.canSerializeFMUstate
+    v = {x.name: x for x in md.modelVariables}
+    assert [n for n in IN if v[n].causality == "input"] == list(IN)
+    assert v["Fy"].unit == "N" and v["Kyy"].unit == "N/m" and v["omega"].unit == "rad/s"
+    assert float(v["CR"].start) == 90e-6 and v["internal"].start == "reynolds"
+    assert v["surrogate"].start == "paper_22hz.json"  # the one bundled surrogate
+    inputs = {v[n] for n in IN}
+    assert {u.variable.name for u in md.initialUnknowns} == {x.name for x in md.modelVariables
+                                                            if x.causality == "output"}
+    for u in md.outputs:
+        assert set(u.dependencies) == inputs
+
+
+def test_linux_binary_has_the_exit_fix(fmu):
+    """pythonfmu 0.7.0 releases its interpreter state twice at exit (heap corruption, abort in
+    about half the runs once all instances are freed); the build patches it (see build.py)."""
+    import zipfile
+
+    from bearing_fmu.build import patch_linux_binary
+
+    with zipfile.ZipFile(fmu) as z:
+        data = z.read("binaries/linux64/BearingFMU.so")
+    assert patch_linux_binary(data)[1] == "already patched"
+
+
+def test_cli_build(tmp_path):
+    from bearing_fmu.cli import main
+
+    out = tmp_path / "cli.fmu"
+    assert main(["build", "-o", str(out)]) == 0
+    assert out.is_file()
+    assert main(["build", "-o", str(tmp_path / "x.fmu"), "--surrogate", str(tmp_path / "nope.json")]) == 2
+
+
+# ----------------------------------------------------------------------------- equality with the internals
+
+
+def test_simulate_fmu_with_input_table(fmu, reynolds):
+    """fmpy.simulate_fmu applies the table at the start of each step: row k is the force at
+    the table's state of row k - 1."""
+    sig, res = EX.simulate(fmu, t_end=0.005, dt=1e-3)
+    assert len(res) == len(sig) == 6
+    for k in range(1, len(res)):
+        s = [sig[n][k - 1] for n in IN]
+        assert (res["Fy"][k], res["Fz"][k]) == reynolds.force(*s)
+        assert res["eccentricity"][k] == pytest.approx(math.hypot(s[0], s[1]) / P.CR, rel=1e-15)
+
+
+def test_reynolds_default_and_grid_parameters_reach_the_solver(fmu, unzip, reynolds):
+    from bearing_fmu.reynolds import Reynolds
+
+    inst = instance(fmu, unzip)  # no parameter set: the paper bearing, default grid
+    try:
+        out = inst.step(1e-4, *STATE)
+        F, dq, dv = reynolds.force_and_jacobian(*STATE)
+        assert (out["Fy"], out["Fz"]) == reynolds.force(*STATE)
+        assert [out[n] for n in TANGENT] == pytest.approx(list(-dq.ravel()) + list(-dv.ravel()), rel=1e-14)
+        assert out["h_min"] == pytest.approx(P.CR - math.hypot(*STATE[:2]), rel=1e-14)
+        assert inst.get("out_of_domain") is False
+    finally:
+        inst.close()
+    other = BearingParams(D=0.05, L=0.03, CR=100e-6, mu=0.02)
+    inst = instance(fmu, unzip, D=other.D, L=other.L, CR=other.CR, mu=other.mu, n_theta=40, n_x=6,
+                    cavitation="gumbel", compute_tangent=False)
+    try:
+        out = inst.step(1e-4, *STATE)
+        assert (out["Fy"], out["Fz"]) == Reynolds(other, 40, 6, "gumbel").force(*STATE)
+        assert all(out[n] == 0.0 for n in TANGENT)  # not asked for
+    finally:
+        inst.close()
+
+
+def test_linear_internal_equals_linear(fmu, unzip, reynolds):
+    from bearing_fmu.linear import Linear
+
+    direct = Linear.at_load(reynolds, (0.0, -16.7), OMEGA)
+    inst = instance(fmu, unzip, internal="linear")  # default: at the paper rotor's load and speed
+    try:
+        s = (direct.y0 + 5e-6, direct.z0 - 3e-6, 1e-3, 2e-4, OMEGA)
+        out = inst.step(1e-4, *s)
+        assert (out["Fy"], out["Fz"]) == pytest.approx(direct.force(*s), rel=1e-12)
+        assert [out[n] for n in TANGENT] == pytest.approx(list(direct.K.ravel()) + list(direct.C.ravel()),
+                                                          rel=1e-12)
+        far = (2 * P.CR, 0.0, 0.0, 0.0, OMEGA)  # linear evaluates beyond the wall, as the paper's orbits do
+        assert inst.step(1e-4, *far)["eccentricity"] == 2.0
+    finally:
+        inst.close()
+    coef = dict(internal="linear", linear_from="coefficients", omega_lin=OMEGA, lin_y0=direct.y0,
+                lin_z0=direct.z0, lin_Fy0=direct.F0[0], lin_Fz0=direct.F0[1])
+    coef.update({f"lin_{n}": float(v) for n, v in zip(TANGENT, [*direct.K.ravel(), *direct.C.ravel()])})
+    inst = instance(fmu, unzip, **coef)
+    try:
+        out = inst.step(1e-4, *s)
+        assert (out["Fy"], out["Fz"]) == direct.force(*s)
+    finally:
+        inst.close()
+
+
+def test_taylor_internal_equals_taylor(fmu, unzip, surrogate_file):
+    from bearing_fmu.taylor import Taylor
+
+    direct = Taylor.from_file(surrogate_file, P)
+    inst = instance(fmu, unzip, internal="taylor")  # surrogate defaults to the one bundled file
+    try:
+        inside = (0.12 * P.CR, -0.42 * P.CR, 0.01 * OMEGA * P.CR, 0.0, OMEGA)
+        out = inst.step(1e-4, *inside)
+        assert (out["Fy"], out["Fz"]) == direct.force(*inside) and inst.get("out_of_domain") is False
+        F, dq, dv = direct.force_and_jacobian(*inside)
+        assert [out[n] for n in TANGENT] == pytest.approx(list(-dq.ravel()) + list(-dv.ravel()), rel=1e-14)
+        outside = (0.7 * P.CR, -0.4 * P.CR, 0.0, 0.0, OMEGA)
+        out = inst.step(1e-4, *outside)
+        assert (out["Fy"], out["Fz"]) == direct.force(*outside) and inst.get("out_of_domain") is True
+    finally:
+        inst.close()
+
+
+def test_tangent_matches_linearize(fmu, unzip, reynolds):
+    from bearing_fmu.statics import equilibrium, linearize
+
+    y0, z0 = equilibrium(reynolds, (0.0, -16.7), OMEGA)
+    K, C = linearize(reynolds, y0, z0, OMEGA)
+    inst = instance(fmu, unzip)
+    try:
+        out = inst.step(1e-4, y0, z0, 0.0, 0.0, OMEGA)
+    finally:
+        inst.close()
+    assert [out[n] for n in TANGENT] == pytest.approx([*K.ravel(), *C.ravel()], rel=1e-13)
+    assert (out["Fy"], out["Fz"]) == pytest.approx((0.0, 16.7), abs=1e-6)
+
+
+# ----------------------------------------------------------------------------- conformant iteration
+
+
+def test_conformant_iteration_equals_fresh_steps(fmu, unzip):
+    trials = [STATE, (12e-6, -38e-6, 0.0, 5e-4, OMEGA), (-20e-6, -60e-6, -1e-3, 0.0, OMEGA)]
+    inst = instance(fmu, unzip)
+    try:
+        inst.step(1e-4, 0.0, -30e-6, 0.0, 0.0, OMEGA)
+        inst.t = 1e-4
+        iterated = inst.iterate(1e-4, trials)
+        assert inst.get("y") == trials[-1][0]  # left at the accepted (last) iterate
+        # serialized state round trip: restore t = 1e-4 from bytes and step again
+        saved = inst.fmu.getFMUstate()
+        blob = inst.fmu.serializeFMUstate(saved)
+        inst.fmu.freeFMUstate(saved)
+        restored = inst.fmu.deSerializeFMUstate(blob)
+        inst.fmu.setFMUstate(restored)
+        inst.fmu.freeFMUstate(restored)
+        assert inst.get("y") == trials[-1][0]
+    finally:
+        inst.close()
+    for s, got in zip(trials, iterated):
+        fresh = instance(fmu, unzip)
+        try:
+            assert fresh.step(1e-4, *s) == got
+        finally:
+            fresh.close()
+
+
+# ----------------------------------------------------------------------------- errors leave the process usable
+
+
+def _discarded(inst, h, state):
+    n = len(inst.messages)
+    with pytest.raises(FMICallException) as exc:
+        inst.step(h, *state)
+    assert exc.value.status == 2  # fmi2Discard
+    return inst.messages[n:]
+
+
+def test_invalid_states_discard_with_message_and_recover(fmu, unzip):
+    inst = instance(fmu, unzip)
+    try:
+        good = inst.step(1e-4, *STATE)
+        inst.t = 1e-4
+        saved = inst.fmu.getFMUstate()
+        msgs = _discarded(inst, 1e-4, (math.nan, *STATE[1:]))
+        assert any("bearing input y = nan is not finite at t = 0.0002 s" in m for m in msgs), msgs
+        assert inst.get("Fy") == good["Fy"]  # outputs keep their last valid values
+        inst.fmu.setFMUstate(saved)
+        msgs = _discarded(inst, 1e-4, (0.0, -1.03 * P.CR, 0.0, 0.0, OMEGA))
+        assert any("eccentricity ratio 1.03 >= 1" in m and "at t = 0.0002 s" in m for m in msgs), msgs
+        assert any(m.startswith("[2]") for m in msgs)
+        inst.fmu.setFMUstate(saved)
+        assert inst.step(1e-4, *STATE) == good  # usable again
+        inst.fmu.freeFMUstate(saved)
+    finally:
+        inst.close()
+
+
+@pytest.mark.parametrize("params, expected", [
+    ({"internal": "magic"}, "unknown internal 'magic'; choose one of reynolds, linear, taylor"),
+    ({"internal": "taylor", "surrogate": "missing.json"},
+     "surrogate file 'missing.json' not found in the FMU resources folder surrogates/ (bundled: paper_22hz.json)"),
+    ({"internal": "linear", "linear_from": "guess"}, "unknown linear_from 'guess'"),
+    ({"CR": -1.0}, "BearingParams.CR must be finite and > 0"),
+])
+def test_failed_initialisation_is_logged_and_instance_stays_usable(fmu, unzip, params, expected):
+    inst = instance(fmu, unzip, **params)  # exitInitializationMode itself returns OK (pythonfmu)
+    try:
+        errors = [m for m in inst.messages if m.startswith("[3]")]
+        assert any(expected in m for m in errors), inst.messages
+        msgs = _discarded(inst, 1e-4, STATE)
+        assert any(expected in m for m in msgs), msgs
+        assert inst.get("Fy") == 0.0  # getters still answer
+    finally:
+        inst.close()  # terminate and free cleanly
+
+
+# ----------------------------------------------------------------------------- leave-out, shadowing, code cache
+
+_PROBE = textwrap.dedent("""
+    import json, sys, time
+    sys.path.insert(0, {decoy!r})   # a different 'bearing_fmu' the FMU must not use
+    import bearing_fmu
+    assert bearing_fmu.__version__ == "decoy"
+    sys.path.insert(0, {examples!r})
+    from drive_fmu_with_fmpy import BearingInstance
+    inst = BearingInstance({fmu!r}, json.loads({params!r}))
+    t0 = time.perf_counter()
+    out = inst.step(1e-4, *json.loads({state!r}))
+    first = time.perf_counter() - t0
+    inst.close()
+    assert not any(m.startswith(("[2]", "[3]", "[4]")) for m in inst.messages), inst.messages
+    print(json.dumps(dict(out=out, times=dict(inst.times, first_step=first), modules=sorted(sys.modules))))
+""")
+
+
+def _probe(fmu, tmp_path, params, state):
+    decoy = tmp_path / "decoy"
+    (decoy / "bearing_fmu").mkdir(parents=True)
+    (decoy / "bearing_fmu" / "__init__.py").write_text('__version__ = "decoy"\n')
+    (decoy / "bearing_fmu" / "reynolds.py").write_text('raise ImportError("the decoy was imported")\n')
+    code = _PROBE.format(decoy=str(decoy), examples=str(ROOT / "examples"), fmu=str(fmu),
+                         params=json.dumps(params), state=json.dumps(state))
+    run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120,
+                         env=dict(os.environ, PYTHONPATH=""))
+    assert run.returncode == 0, run.stderr[-3000:]
+    return json.loads(run.stdout.strip().splitlines()[-1])
+
+
+def test_linear_from_coefficients_imports_neither_reynolds_nor_numba(fmu, tmp_path):
+    params = dict(internal="linear", linear_from="coefficients", omega_lin=OMEGA, lin_Kyy=1e5, lin_Kzz=2e5,
+                  lin_Cyy=300.0, lin_Czz=300.0, lin_Fz0=16.7)
+    res = _probe(fmu, tmp_path, params, STATE)
+    mods = res["modules"]
+    assert not [m for m in mods if m.endswith(".reynolds") or m == "numba" or m.startswith("numba.")]
+    assert any(m.startswith("bearing_fmu_v") and m.endswith(".linear") for m in mods)
+    assert res["out"]["Fy"] == pytest.approx(-1e5 * STATE[0] - 300.0 * STATE[2])
+    print("linear (coefficients) times [s]:", res["times"])
+
+
+def test_taylor_does_not_import_reynolds_and_decoy_is_ignored(fmu, tmp_path, surrogate_file):
+    from bearing_fmu.taylor import Taylor
+
+    res = _probe(fmu, tmp_path, {"internal": "taylor"}, STATE)
+    assert not [m for m in res["modules"] if m.endswith(".reynolds")]
+    assert (res["out"]["Fy"], res["out"]["Fz"]) == Taylor.from_file(surrogate_file, P).force(*STATE)
+    print("taylor times [s]:", res["times"])
+
+
+def test_fmu_code_runs_from_the_code_cache_beside_its_numba_cache(fmu, unzip, code_cache):
+    inst = instance(fmu, unzip)
+    try:
+        inst.step(1e-4, *STATE)
+    finally:
+        inst.close()
+    from bearing_fmu.build import package_name
+
+    pkg = package_name()
+    mod = sys.modules[f"{pkg}.reynolds"]
+    src = Path(mod.__file__)
+    assert src.parent == code_cache / pkg
+    assert sys.modules.get("bearing_fmu.reynolds") is not mod  # the installed package is separate
+    assert list((src.parent / "__pycache__").glob("reynolds*.nbi"))  # numba's cache index beside it
