@@ -65,6 +65,7 @@ class FMUBearings(BearingSet):
         self._states = [None] * self.n
         self._static = False
         self._h = 0.0
+        self._fresh = [False] * self.n
         try:
             md = read_model_description(str(self.fmu_path))
             self._vars = {v.name: v for v in md.modelVariables}
@@ -140,10 +141,14 @@ class FMUBearings(BearingSet):
             if self._states[k] is not None:
                 fmu.freeFMUstate(self._states[k])
             self._states[k] = fmu.getFMUstate()
+            self._fresh[k] = True
 
     def _bearing(self, k, y, z, vy, vz):
         fmu = self.instances[k]
-        fmu.setFMUstate(self._states[k])
+        if self._fresh[k]:  # the instance still is in the state just saved: no restore needed
+            self._fresh[k] = False
+        else:
+            fmu.setFMUstate(self._states[k])
         b = self._buf_in
         b[0], b[1], b[2], b[3], b[4] = y, z, vy, vz, self.omega
         fmu.fmi2SetReal(fmu.component, self._vr_in, len(_IN), b)
@@ -172,6 +177,7 @@ class FMUBearings(BearingSet):
         for k, fmu in enumerate(self.instances):
             if self._states[k] is not None:
                 fmu.setFMUstate(self._states[k])
+            self._fresh[k] = False
         self._free_states()
 
     def _free_states(self) -> None:
