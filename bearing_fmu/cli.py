@@ -1,4 +1,4 @@
-"""``bearing-fmu``: the bearing's command line (demo, build)."""
+"""``bearing-fmu``: the bearing's command line (demo, fit, build)."""
 
 from __future__ import annotations
 
@@ -51,6 +51,13 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--load", type=float, default=16.7,
                    help="vertical load on the bearing [N] (default 16.7: half the paper rotor's weight)")
     p.set_defaults(func=_demo)
+
+    from .fit import add_fit_arguments, run_fit
+
+    p = sub.add_parser("fit", help="fit a Taylor surrogate (from a scene's Reynolds series or a designed domain) "
+                                   "and write its JSON file, report and lambda plots")
+    add_fit_arguments(p)
+    p.set_defaults(func=run_fit)
 
     p = sub.add_parser("build", help="write the bearing FMU")
     p.add_argument("-o", "--output", required=True, help="path of the .fmu to write")

@@ -573,7 +573,11 @@ def fit_condition(
         internal = make_reynolds(params, grid)
     params = internal.params
     y0, z0 = expansion_point(internal, load, omega)
-    prov = {"truth": type(internal).__name__}
+    prov = {"truth": type(internal).__name__,
+            "fit_call": {"load": [float(v) for v in load], "speed_hz": float(speed_hz), "ecc_max": ecc_max,
+                         "v_max": v_max, "radius": radius, "n_train": n_train, "n_test": n_test, "seed": seed,
+                         "grid": list(grid) if grid else None, "npz": str(Path(npz).resolve()) if npz else None,
+                         "anchor": anchor, **{k: v for k, v in fit_kw.items() if k in _REFIT_KW}}}
     for attr in ("n_theta", "n_x", "cavitation"):
         if hasattr(internal, attr):
             prov[f"truth_{attr}"] = getattr(internal, attr)
@@ -603,6 +607,25 @@ def fit_condition(
     return res
 
 
+_REFIT_KW = ("lam", "k_folds", "prune", "prune_tol")
+
+
+def refit_order(surrogate_path, order: int, out_path) -> Path:
+    """Refit the surrogate of ``surrogate_path`` at another ``order`` from the same designed
+    domain or time series (the call stored in its provenance); write ``out_path``."""
+    from .taylor import load_surrogate
+
+    base = load_surrogate(surrogate_path)
+    call = dict(base.provenance.get("fit_call") or {})
+    if not call or "speed_hz" not in call:
+        raise ValueError(f"{surrogate_path}: its provenance has no 'fit_call' to refit from "
+                         "(fitted by an older version); fit it again with `bearing-fmu fit`")
+    grid = tuple(call.pop("grid")) if call.get("grid") else None
+    load, speed = call.pop("load"), call.pop("speed_hz")
+    res = fit_condition(tuple(load), speed, order, params=base.params, grid=grid, **call)
+    return save_surrogate(res.surrogate, out_path)
+
+
 # ----------------------------------------------------------------------------- report, plots
 
 def format_report(res: FitResult) -> str:
@@ -628,6 +651,9 @@ def format_report(res: FitResult) -> str:
             f"{e.get('test_nrmse_unpruned', {}).get(c, float('nan')):.3e} | "
             f"{e.get('test_nrmse_ls_unpruned', {}).get(c, float('nan')):.3e} | {r['kept'][c]} / {r['n_terms']} |"
         )
+    for name, o in e.get("other_scenes", {}).items():
+        lines.append(f"held out, scene {name}: NRMSE Fy {o['nrmse']['Fy']:.3e}, Fz {o['nrmse']['Fz']:.3e}; "
+                     f"{o['out_of_domain_fraction']:.1%} of its states outside the fitted domain")
     lines.append(f"fit time {r['fit_seconds']:.1f} s")
     return "\n".join(lines)
 
@@ -727,6 +753,15 @@ def add_fit_arguments(parser: argparse.ArgumentParser) -> argparse.ArgumentParse
     parser.add_argument("--prune-tol", type=float, default=0.05,
                         help="allowed relative increase of the CV RMS error by pruning (default 0.05)")
     parser.add_argument("--from-npz", default=None, help="train on a co-simulation time series (y, z, vy, vz, Fy, Fz)")
+    parser.add_argument("--scene", default=None,
+                        help="train on the Reynolds time series of this scene (models/scenes/*.toml), the paper's "
+                             "way; its speed and bearing load replace --speed-hz/--load-*")
+    parser.add_argument("--test-scene", action="append", default=[], metavar="SCENE",
+                        help="with --scene: another scene at the same speed whose series is held out (repeatable)")
+    parser.add_argument("--bearing", type=int, default=1, help="with --scene: which bearing's series (default 1)")
+    parser.add_argument("--stride", type=int, default=2, help="with --scene: use every stride-th step (default 2)")
+    parser.add_argument("--cache-dir", default=None,
+                        help="with --scene: folder caching the Reynolds series (default: beside --output)")
     parser.add_argument("--plots", default=None, help="directory for the lambda plots")
     parser.add_argument("--note", default=None, help="free text stored in the file's provenance")
     parser.add_argument("-o", "--output", required=True, help="surrogate JSON file to write")
@@ -736,12 +771,30 @@ def add_fit_arguments(parser: argparse.ArgumentParser) -> argparse.ArgumentParse
 def run_fit(args: argparse.Namespace) -> int:
     lam = args.lam if args.lam == "cv" else float(args.lam)
     grid = tuple(args.grid) if args.grid else None
-    res = fit_condition(
+    if args.order < 1:
+        raise ValueError(f"--order {args.order}: the Taylor order must be >= 1")
+    if getattr(args, "scene", None):
+        from rotor_host.training import fit_scene
+
+        cache = Path(args.cache_dir) if args.cache_dir else Path(args.output).resolve().parent / "series"
+        res = fit_scene(args.scene, args.order, bearing=args.bearing, test_scenes=args.test_scene,
+                        stride=args.stride, cache_dir=cache, lam=lam, prune=not args.no_prune,
+                        prune_tol=args.prune_tol, anchor=not args.no_anchor)
+    else:
+        res = _fit_designed(args, lam, grid)
+    return _write_fit(res, args)
+
+
+def _fit_designed(args, lam, grid) -> FitResult:
+    return fit_condition(
         (args.load_y, args.load_z), args.speed_hz, args.order, ecc_max=args.ecc_max, v_max=args.v_max,
         radius=args.radius, n_train=args.n_train, n_test=args.n_test, seed=args.seed, grid=grid,
         npz=args.from_npz, lam=lam, k_folds=args.k_folds, prune=not args.no_prune, prune_tol=args.prune_tol,
         anchor=not args.no_anchor,
     )
+
+
+def _write_fit(res: FitResult, args) -> int:
     if getattr(args, "note", None):
         res.surrogate.provenance["note"] = args.note
     path = save_surrogate(res.surrogate, args.output)
@@ -756,5 +809,5 @@ def run_fit(args: argparse.Namespace) -> int:
 __all__ = [
     "RidgeSVD", "CrossValidation", "select_lambda", "prune_terms", "designed_samples", "load_npz",
     "domain_from_data", "sample_forces", "truth_jacobian", "fit_surrogate", "fit_condition", "expansion_point", "nrmse", "rel_rms",
-    "format_report", "plot_lambda", "add_fit_arguments", "run_fit", "term_names",
+    "format_report", "plot_lambda", "add_fit_arguments", "run_fit", "term_names", "refit_order",
 ]

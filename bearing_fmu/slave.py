@@ -35,6 +35,7 @@ from pythonfmu.default_experiment import DefaultExperiment
 from pythonfmu.enums import Fmi2Status
 
 from . import __version__
+from .guard import DEFAULT_LIMIT
 from .internals import BearingStateError, check_state
 from .params import PAPER_BEARING, BearingParams
 
@@ -82,6 +83,11 @@ VARIABLES = (
      "which internal computes the force: reynolds | linear | taylor"),
     ("surrogate", "String", _PAR, None, "",
      "taylor: surrogate file name inside the FMU resources (folder surrogates/)"),
+    ("domain_action", "String", _PAR, None, "warn",
+     "taylor, state outside the fitted domain: warn (surrogate value, warned once) | "
+     "fallback (Reynolds value for that call) | discard (refuse the step)"),
+    ("domain_limit", "Real", _PAR, "1", DEFAULT_LIMIT,
+     "taylor: refuse states more than this far outside the fitted domain (relative excess over its bounds)"),
     ("n_theta", "Integer", _PAR, None, 0, "reynolds: circumferential grid cells (0 = the solver's default)"),
     ("n_x", "Integer", _PAR, None, 0, "reynolds: axial grid cells (0 = the solver's default)"),
     ("cavitation", "String", _PAR, None, "reynolds",
@@ -166,7 +172,7 @@ class BearingFMU(Fmi2Slave):
         self._internal_name = ""
         self._jacobian = None
         self._wall_check = False  # refuse eccentricity >= 1 (Reynolds)
-        self._domain_check = None  # callable (y, z, vy, vz) -> bool in domain (Taylor)
+        self._guard = None  # the DomainGuard of the Taylor internal
         self._params = None
         self._initialized = False
         self._init_error = None
@@ -213,7 +219,6 @@ class BearingFMU(Fmi2Slave):
             internal = self._linear(params)
         elif kind == "taylor":
             internal = self._taylor(params)
-            self._domain_check = getattr(internal, "in_domain", None)
         else:
             raise ValueError(f"unknown internal {self.internal!r}; choose one of {', '.join(INTERNALS)}")
         self._internal = internal
@@ -249,10 +254,14 @@ class BearingFMU(Fmi2Slave):
         name = str(self.surrogate)
         path = self._resource_file(name)
         try:
+            from .guard import DomainGuard
             from .taylor import Taylor
         except ImportError as exc:
             raise ImportError(f"the taylor internal is not available in this FMU build: {exc}") from None
-        return Taylor.from_file(path, params)
+        self._guard = DomainGuard(Taylor.from_file(path, params), self.domain_action, self.domain_limit,
+                                  truth=lambda: self._reynolds(params),
+                                  on_warn=lambda msg: self._log(f"t = {self._t:.10g} s: {msg}", Fmi2Status.warning))
+        return self._guard
 
     def _resource_file(self, name: str) -> Path:
         folder = Path(self.resources or ".") / SURROGATE_DIR
@@ -323,9 +332,7 @@ class BearingFMU(Fmi2Slave):
             raise BearingStateError(
                 f"the {self._internal_name} internal returned a non-finite force or tangent at "
                 f"y = {y:.6g} m, z = {z:.6g} m, vy = {vy:.6g} m/s, vz = {vz:.6g} m/s, omega = {omega:.6g} rad/s")
-        ood = False
-        if self._domain_check is not None:
-            ood = not bool(self._domain_check(y, z, vy, vz))
+        ood = self._guard.last_out_of_domain if self._guard is not None else False
         # all evaluated: commit the outputs
         self.Fy, self.Fz = fy, fz
         self.eccentricity = eps

@@ -193,6 +193,31 @@ def _force_jac_nb(y, z, vy, vz, omega, meta, exps, coef, out):
     return 0
 
 
+@njit(cache=True)
+def _domain_distance_nb(y, z, vy, vz, dom):
+    """dom = (y0, z0, pos_scale, vel_scale, ecc_max, cy, cz, radius, v_max, lo[4], hi[4]);
+    see Taylor.domain_distance. NaN input gives NaN."""
+    if not (np.isfinite(y) and np.isfinite(z) and np.isfinite(vy) and np.isfinite(vz)):
+        return np.nan
+    cr, vs = dom[2], dom[3]
+    u0, u1, u2, u3 = (y - dom[0]) / cr, (z - dom[1]) / cr, vy / vs, vz / vs
+    ecc_max, cy, cz, r, vmax = dom[4], dom[5], dom[6], dom[7], dom[8]
+    dist = np.hypot(y, z) / cr / ecc_max - 1.0 if ecc_max > 0 else np.inf
+    if r > 0:
+        dist = max(dist, np.hypot(u0 - cy, u1 - cz) / r - 1.0)
+    if vmax > 0:
+        dist = max(dist, np.hypot(u2, u3) / vmax - 1.0)
+    elif u2 != 0.0 or u3 != 0.0:
+        dist = np.inf
+    for v in range(4):
+        lo, hi = dom[9 + v], dom[13 + v]
+        half = 0.5 * (hi - lo)
+        if half > 0:
+            uv = u0 if v == 0 else u1 if v == 1 else u2 if v == 2 else u3
+            dist = max(dist, abs(uv - 0.5 * (hi + lo)) / half - 1.0)
+    return dist
+
+
 # ----------------------------------------------------------------------------- fitted domain
 
 @dataclass(frozen=True)
@@ -491,8 +516,8 @@ class Taylor:
         self._coef = np.ascontiguousarray(s.coef[:, used])
         self._out = np.empty(10)
         d = s.domain
-        self._dom = (d.ecc_max, d.pos_center[0], d.pos_center[1], d.pos_radius, d.v_max,
-                     tuple(d.box_lo), tuple(d.box_hi))
+        self._dom = np.array([s.y0, s.z0, s.pos_scale, s.vel_scale, d.ecc_max, d.pos_center[0], d.pos_center[1],
+                              d.pos_radius, d.v_max, *d.box_lo, *d.box_hi], float)
 
     @classmethod
     def from_file(cls, path: str | Path, params: BearingParams | None = None) -> "Taylor":
@@ -537,23 +562,7 @@ class Taylor:
         its bounds (eccentricity / ecc_max - 1, distance to the position-disc centre / radius
         - 1, |v| / v_max - 1, and the bounding-box excess over the box half width). <= 0
         inside; e.g. 0.1 means 10 % beyond the nearest violated bound."""
-        s = self.surrogate
-        ecc_max, cy, cz, r, vmax, lo, hi = self._dom
-        cr, vs = s.pos_scale, s.vel_scale
-        u = ((y - s.y0) / cr, (z - s.z0) / cr, vy / vs, vz / vs)
-        dist = math.hypot(y, z) / cr / ecc_max - 1.0 if ecc_max > 0 else math.inf
-        if r > 0:
-            dist = max(dist, math.hypot(u[0] - cy, u[1] - cz) / r - 1.0)
-        if vmax > 0:
-            dist = max(dist, math.hypot(u[2], u[3]) / vmax - 1.0)
-        elif u[2] != 0.0 or u[3] != 0.0:
-            dist = max(dist, math.inf)
-        for v in range(4):
-            half = 0.5 * (hi[v] - lo[v])
-            if half > 0:
-                mid = 0.5 * (hi[v] + lo[v])
-                dist = max(dist, abs(u[v] - mid) / half - 1.0)
-        return dist
+        return float(_domain_distance_nb(float(y), float(z), float(vy), float(vz), self._dom))
 
     def in_domain(self, y: float, z: float, vy: float, vz: float) -> bool:
         """True when the state lies inside the fitted domain (see ``domain_distance``)."""

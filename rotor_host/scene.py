@@ -23,6 +23,8 @@ from pathlib import Path
 
 import numpy as np
 
+from bearing_fmu.guard import DEFAULT_LIMIT, DOMAIN_ACTIONS
+
 from .newmark import IntegrationError, Newmark, NewmarkConfig, static_equilibrium
 from .rotor import Rotor
 
@@ -65,6 +67,8 @@ class Scene:
     record_every: int = 1
     fmu: Path | None = None
     source: Path | None = None
+    domain_action: str = "warn"  # taylor: warn | fallback | discard outside the fitted domain
+    domain_limit: float = DEFAULT_LIMIT  # taylor: refuse states this far outside (relative excess)
 
     @property
     def omega(self) -> float:
@@ -119,7 +123,7 @@ def load_scene(path) -> Scene:
         raise SceneError(f"{path}: not valid TOML: {exc}") from None
     where = str(path)
     _keys(data, {"name", "description", "rotor", "internal", "via", "speed_hz", "surrogate", "fmu",
-                 "time", "initial", "unbalance", "static_loads", "record", "reynolds"}, where)
+                 "time", "initial", "unbalance", "static_loads", "record", "reynolds", "taylor"}, where)
     base = path.parent
     for key in ("rotor", "internal", "speed_hz", "time"):
         if key not in data:
@@ -181,6 +185,14 @@ def load_scene(path) -> Scene:
     n_theta = _num(rey, "n_theta", f"{where} [reynolds]", minimum=8, integer=True) if "n_theta" in rey else None
     n_x = _num(rey, "n_x", f"{where} [reynolds]", minimum=2, integer=True) if "n_x" in rey else None
 
+    tay = data.get("taylor", {})
+    _keys(tay, {"domain_action", "domain_limit"}, f"{where} [taylor]")
+    domain_action = tay.get("domain_action", "warn")
+    if domain_action not in DOMAIN_ACTIONS:
+        raise SceneError(f"{where} [taylor]: domain_action = {domain_action!r}; choose one of "
+                         f"{', '.join(DOMAIN_ACTIONS)}")
+    domain_limit = _num(tay, "domain_limit", f"{where} [taylor]", minimum=0.0, strict=True, default=DEFAULT_LIMIT)
+
     surrogate = None
     if "surrogate" in data:
         surrogate = (base / data["surrogate"]).resolve()
@@ -191,7 +203,8 @@ def load_scene(path) -> Scene:
     return Scene(name=str(data.get("name", path.stem)), description=str(data.get("description", "")),
                  rotor_path=rotor_path, speed_hz=speed, internal=internal, via=via, t_end_s=t_end, dt_s=dt,
                  alpha=alpha, unbalances=unb, static_loads=loads, surrogate=surrogate, n_theta=n_theta,
-                 n_x=n_x, initial=state, record_nodes=rec_nodes, record_every=every, fmu=fmu, source=path)
+                 n_x=n_x, initial=state, record_nodes=rec_nodes, record_every=every, fmu=fmu, source=path,
+                 domain_action=domain_action, domain_limit=domain_limit)
 
 
 def _count_nodes(rotor_path: Path) -> int:
@@ -238,7 +251,9 @@ def _fmu_parameters(scene: Scene, params, load) -> dict:
     if scene.internal == "linear":
         p.update(linear_from="load", load_y=float(load[0]), load_z=float(load[1]), omega_lin=scene.omega)
     if scene.internal == "taylor":
-        p["surrogate"] = scene.surrogate.name
+        p.update(surrogate=scene.surrogate.name, domain_action=scene.domain_action, domain_limit=scene.domain_limit)
+        if scene.domain_action == "fallback":
+            p.update(n_theta=scene.n_theta or 0, n_x=scene.n_x or 0)
     return p
 
 
@@ -253,9 +268,16 @@ def _direct_internal(scene: Scene, params, load):
         from bearing_fmu.reynolds import Reynolds
 
         return Linear.at_load(Reynolds(params, n_theta=scene.n_theta, n_x=scene.n_x), load, scene.omega)
+    from bearing_fmu.guard import DomainGuard
     from bearing_fmu.taylor import Taylor
 
-    return Taylor.from_file(scene.surrogate, params)
+    def truth():
+        from bearing_fmu.reynolds import Reynolds
+
+        return Reynolds(params, n_theta=scene.n_theta, n_x=scene.n_x)
+
+    return DomainGuard(Taylor.from_file(scene.surrogate, params), scene.domain_action, scene.domain_limit,
+                       truth=truth)
 
 
 def scene_fmu(scene: Scene, work_dir: Path) -> Path:
@@ -343,6 +365,20 @@ class SceneRun:
     @property
     def ok(self) -> bool:
         return self.meta["status"] == "ok"
+
+
+def _domain_report(scene: Scene, rotor: Rotor, q: np.ndarray, v: np.ndarray) -> dict:
+    """Per bearing: the fraction of recorded states outside the surrogate's fitted domain and
+    the largest relative excess over its bounds (<= 0: always inside)."""
+    from bearing_fmu.taylor import Taylor
+
+    frac, dist = [], []
+    for k, params in enumerate(rotor.bearings):
+        tay = Taylor.from_file(scene.surrogate, params)
+        d = np.array([tay.domain_distance(*q[i, k], *v[i, k]) for i in range(len(q))])
+        frac.append(float(np.mean(d > 1e-12)))
+        dist.append(float(d.max()))
+    return {"out_of_domain_fraction": frac, "max_domain_excess": dist}
 
 
 def _versions() -> dict:
@@ -435,6 +471,8 @@ def run_scene(scene: Scene, out_dir=None, *, progress: bool = False, stem: str |
         "equilibrium_eccentricity": (np.hypot(q0[[rotor.dof(n, "y") for n in rotor.bearing_nodes]],
                                               q0[[rotor.dof(n, "z") for n in rotor.bearing_nodes]]) / CR).tolist(),
     })
+    if scene.internal == "taylor" and ecc.size:
+        meta.update(_domain_report(scene, rotor, yz[:, bcols], vyz[:, bcols]))
     run = SceneRun(arrays, meta)
     if out_dir is not None:
         out_dir.mkdir(parents=True, exist_ok=True)

@@ -207,9 +207,43 @@ def test_taylor_internal_equals_taylor(fmu, unzip, surrogate_file):
         assert (out["Fy"], out["Fz"]) == direct.force(*inside) and inst.get("out_of_domain") is False
         F, dq, dv = direct.force_and_jacobian(*inside)
         assert [out[n] for n in TANGENT] == pytest.approx(list(-dq.ravel()) + list(-dv.ravel()), rel=1e-14)
-        outside = (0.7 * P.CR, -0.4 * P.CR, 0.0, 0.0, OMEGA)
-        out = inst.step(1e-4, *outside)
-        assert (out["Fy"], out["Fz"]) == direct.force(*outside) and inst.get("out_of_domain") is True
+        # the fixture's domain: position disc of radius 0.3 CR about (0.1, -0.4) CR
+        outside = (0.45 * P.CR, -0.4 * P.CR, 0.0, 0.0, OMEGA)  # 1/6 beyond: warn, surrogate value
+        for _ in range(2):
+            out = inst.step(1e-4, *outside)
+            assert (out["Fy"], out["Fz"]) == direct.force(*outside) and inst.get("out_of_domain") is True
+        assert sum("outside the surrogate's fitted domain" in m for m in inst.messages) == 1  # warned once
+        far = (0.7 * P.CR, -0.4 * P.CR, 0.0, 0.0, OMEGA)  # 100 % beyond > domain_limit 0.5: refused
+        with pytest.raises(FMICallException):
+            inst.step(1e-4, *far)
+        assert "100 % beyond the surrogate's fitted domain" in inst.messages[-1]
+        out = inst.step(1e-4, *inside)  # still usable
+        assert (out["Fy"], out["Fz"]) == direct.force(*inside)
+    finally:
+        inst.close()
+
+
+@pytest.mark.parametrize("action", ["fallback", "discard"])
+def test_taylor_domain_actions(fmu, unzip, reynolds, action):
+    """Outside the fitted domain, 'fallback' gives the Reynolds force (default grid) for that
+    call and 'discard' refuses the step; inside, both give the surrogate's force."""
+    from bearing_fmu.taylor import Taylor
+
+    direct = Taylor.from_file(unzip / "resources" / "surrogates" / "paper_22hz.json", P)
+    inst = instance(fmu, unzip, internal="taylor", domain_action=action)
+    try:
+        inside = (0.12 * P.CR, -0.42 * P.CR, 0.0, 0.0, OMEGA)
+        out = inst.step(1e-4, *inside)
+        assert (out["Fy"], out["Fz"]) == direct.force(*inside)
+        outside = (0.45 * P.CR, -0.4 * P.CR, 0.01 * OMEGA * P.CR, 0.0, OMEGA)
+        if action == "fallback":
+            out = inst.step(1e-4, *outside)
+            assert (out["Fy"], out["Fz"]) == pytest.approx(reynolds.force(*outside), rel=1e-12)
+            assert inst.get("out_of_domain") is True
+        else:
+            with pytest.raises(FMICallException):
+                inst.step(1e-4, *outside)
+            assert "domain_action = 'discard'" in inst.messages[-1]
     finally:
         inst.close()
 

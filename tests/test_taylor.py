@@ -301,6 +301,42 @@ def test_outside_domain_evaluates_and_guard_reports():
     np.testing.assert_allclose(t.force(*far, OMEGA), s.predict(np.array([far]))[0], rtol=1e-12)
 
 
+def test_domain_guard_actions():
+    from bearing_fmu.guard import DomainGuard
+
+    s = poly_surrogate(3, scale=0.1)
+    t = Taylor(s)
+    near = (Y0 + 0.35 * P.CR, Z0, 0.0, 0.0)  # 1/6 beyond the 0.3 CR disc
+    far = (Y0 + 0.6 * P.CR, Z0, 0.0, 0.0)  # 100 % beyond
+    warned = []
+    g = DomainGuard(t, "warn", 0.5, on_warn=warned.append)
+    assert g.force(*near, OMEGA) == t.force(*near, OMEGA) and g.last_out_of_domain
+    g.force(*near, OMEGA)
+    assert len(warned) == 1 and "16.7 % beyond" in warned[0]
+    assert g.force(Y0, Z0, 0.0, 0.0, OMEGA) == t.force(Y0, Z0, 0.0, 0.0, OMEGA) and not g.last_out_of_domain
+    with pytest.raises(BearingStateError, match="100 % beyond .* domain_limit = 0.5"):
+        g.force(*far, OMEGA)
+    with pytest.raises(BearingStateError, match="outside .domain_action = 'discard'"):
+        DomainGuard(t, "discard").force(*near, OMEGA)
+    built = []
+    truth = Smooth()
+    fb = DomainGuard(t, "fallback", truth=lambda: built.append(1) or truth, on_warn=warned.append)
+    fb.force(Y0, Z0, 0.0, 0.0, OMEGA)
+    assert built == []  # the truth is built at the first exit only
+    assert fb.force(*near, OMEGA) == truth.force(*near, OMEGA) and built == [1]
+    F_, dq, dv = fb.force_and_jacobian(*near, OMEGA)  # the truth has no Jacobian: differences
+    assert np.allclose(F_, truth.force(*near, OMEGA))
+    wall = (0.0, -1.01 * P.CR, 0.0, 0.0)
+    with pytest.raises(BearingStateError, match="eccentricity ratio 1.01 >= 1"):
+        DomainGuard(t, "warn", 100.0).force(*wall, OMEGA)
+    with pytest.raises(ValueError, match="domain_action = 'ignore'"):
+        DomainGuard(t, "ignore")
+    with pytest.raises(ValueError, match="domain_limit"):
+        DomainGuard(t, "warn", -1.0)
+    with pytest.raises(ValueError, match="needs the truth"):
+        DomainGuard(t, "fallback")
+
+
 # ----------------------------------------------------------------------------- files
 
 def test_file_round_trip(tmp_path):

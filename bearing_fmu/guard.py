@@ -1,0 +1,116 @@
+"""The fitted-domain guard of the Taylor surrogate, shared by the FMU slave and the host.
+
+A polynomial fitted over a domain of journal states is only trustworthy inside it. The guard
+wraps a ``Taylor`` internal (it is itself an internal: ``force``, ``force_and_jacobian``) and,
+at every evaluation, measures how far the state lies outside the fitted domain
+(``Taylor.domain_distance``: the largest relative excess over the domain's bounds):
+
+* inside: the surrogate's value;
+* outside, but less than ``limit`` beyond: depending on ``action``
+    - "warn"     : the surrogate's value; the first exit is reported once (``on_warn``),
+    - "fallback" : the truth's value (the Reynolds internal, built at the first exit only,
+                   so a run that stays inside never imports it),
+    - "discard"  : BearingStateError (the FMU discards the step, the host cuts it);
+* more than ``limit`` beyond, or the journal at or beyond the wall: BearingStateError with
+  the distance, whatever the action -- a polynomial far from its data is not a force.
+
+``last_out_of_domain`` tells the caller (the FMU's ``out_of_domain`` output) about the last
+evaluated state.
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+
+from .internals import BearingStateError
+
+DOMAIN_ACTIONS = ("warn", "fallback", "discard")
+DEFAULT_LIMIT = 0.5  # relative excess over the domain's bounds beyond which the state is refused
+
+
+class DomainGuard:
+    """A Taylor internal behind its domain guard (see the module docstring).
+
+    taylor   : the ``Taylor`` internal
+    action   : "warn" | "fallback" | "discard"
+    limit    : refuse states more than this far outside (relative excess, > 0)
+    truth    : zero-argument callable returning the fallback internal (Reynolds); needed for
+               "fallback", called at the first exit only
+    on_warn  : callable(message) for the one warning per guard (default: warnings.warn)
+    """
+
+    def __init__(self, taylor, action: str = "warn", limit: float = DEFAULT_LIMIT, truth=None, on_warn=None):
+        action = str(action).strip().lower()
+        if action not in DOMAIN_ACTIONS:
+            raise ValueError(f"domain_action = {action!r}; choose one of {', '.join(DOMAIN_ACTIONS)}")
+        if not (math.isfinite(limit) and limit > 0.0):
+            raise ValueError(f"domain_limit = {limit!r} must be a finite number > 0 (relative excess over the "
+                             "fitted domain's bounds, e.g. 0.5 = 50 % beyond)")
+        if action == "fallback" and truth is None:
+            raise ValueError("domain_action = 'fallback' needs the truth internal (Reynolds) to fall back to")
+        self.taylor = taylor
+        self.params = taylor.params
+        self.action = action
+        self.limit = float(limit)
+        self._truth_factory = truth
+        self._truth = None
+        self._on_warn = on_warn or (lambda msg: warnings.warn(msg, stacklevel=3))
+        self.warned = False
+        self.last_out_of_domain = False
+        self.last_distance = -math.inf
+
+    @property
+    def omega(self) -> float:
+        return self.taylor.omega
+
+    def in_domain(self, y: float, z: float, vy: float, vz: float) -> bool:
+        return self.taylor.in_domain(y, z, vy, vz)
+
+    def _select(self, y, z, vy, vz):
+        """The internal that evaluates this state, or raise BearingStateError."""
+        d = self.taylor.domain_distance(y, z, vy, vz)
+        self.last_distance = d
+        ood = not (d <= 1e-12)  # NaN (non-finite input) counts as outside; Taylor names the variable
+        self.last_out_of_domain = ood
+        if not ood:
+            return self.taylor
+        for name, value in (("y", y), ("z", z), ("vy", vy), ("vz", vz)):
+            if not math.isfinite(value):
+                raise BearingStateError(f"bearing input {name} = {value!r} is not finite")
+        ecc = math.hypot(y, z) / self.params.CR
+        where = (f"y = {y:.4g} m, z = {z:.4g} m, vy = {vy:.4g} m/s, vz = {vz:.4g} m/s "
+                 f"(eccentricity ratio {ecc:.3f})")
+        if ecc >= 1.0:
+            raise BearingStateError(f"eccentricity ratio {ecc:.4g} >= 1: the journal is at or beyond the wall "
+                                    f"({where}); the Taylor surrogate does not evaluate there")
+        if d > self.limit or self.action == "discard":
+            why = (f"more than domain_limit = {self.limit:g} beyond" if d > self.limit
+                   else "outside (domain_action = 'discard')")
+            raise BearingStateError(f"state {100 * d:.3g} % beyond the surrogate's fitted domain, {why}: {where}")
+        if not self.warned:
+            self.warned = True
+            what = ("the Reynolds internal evaluates such states" if self.action == "fallback"
+                    else "its value is an extrapolation")
+            self._on_warn(f"state outside the surrogate's fitted domain ({100 * d:.3g} % beyond its bounds) at {where}; "
+                          f"{what} (warned once)")
+        if self.action == "fallback":
+            if self._truth is None:
+                self._truth = self._truth_factory()
+            return self._truth
+        return self.taylor
+
+    def force(self, y: float, z: float, vy: float, vz: float, omega: float):
+        return self._select(y, z, vy, vz).force(y, z, vy, vz, omega)
+
+    def force_and_jacobian(self, y: float, z: float, vy: float, vz: float, omega: float):
+        internal = self._select(y, z, vy, vz)
+        jac = getattr(internal, "force_and_jacobian", None)
+        if jac is None:
+            from .statics import film_jacobian
+
+            return film_jacobian(internal, y, z, vy, vz, omega)
+        return jac(y, z, vy, vz, omega)
+
+
+__all__ = ["DomainGuard", "DOMAIN_ACTIONS", "DEFAULT_LIMIT"]
