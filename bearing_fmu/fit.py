@@ -760,6 +760,13 @@ def add_fit_arguments(parser: argparse.ArgumentParser) -> argparse.ArgumentParse
                         help="with --scene: another scene at the same speed whose series is held out (repeatable)")
     parser.add_argument("--bearing", type=int, default=1, help="with --scene: which bearing's series (default 1)")
     parser.add_argument("--stride", type=int, default=2, help="with --scene: use every stride-th step (default 2)")
+    parser.add_argument("--designed", type=int, default=2000,
+                        help="with --scene: Reynolds samples added over the domain the series spans (default 2000; "
+                             "0 = the series only, the paper's way, which holds on the training orbit only)")
+    parser.add_argument("--designed-ecc-max", type=float, default=None,
+                        help="with --scene: eccentricity bound of the designed samples (default: the series')")
+    parser.add_argument("--designed-v-max", type=float, default=None,
+                        help="with --scene: velocity bound of the designed samples in omega*CR (default: the series')")
     parser.add_argument("--cache-dir", default=None,
                         help="with --scene: folder caching the Reynolds series (default: beside --output)")
     parser.add_argument("--plots", default=None, help="directory for the lambda plots")
@@ -779,7 +786,8 @@ def run_fit(args: argparse.Namespace) -> int:
         cache = Path(args.cache_dir) if args.cache_dir else Path(args.output).resolve().parent / "series"
         res = fit_scene(args.scene, args.order, bearing=args.bearing, test_scenes=args.test_scene,
                         stride=args.stride, cache_dir=cache, lam=lam, prune=not args.no_prune,
-                        prune_tol=args.prune_tol, anchor=not args.no_anchor)
+                        prune_tol=args.prune_tol, anchor=not args.no_anchor, designed=args.designed,
+                        designed_ecc_max=args.designed_ecc_max, designed_v_max=args.designed_v_max, seed=args.seed)
     else:
         res = _fit_designed(args, lam, grid)
     return _write_fit(res, args)
