@@ -53,6 +53,89 @@ def _run(args) -> int:
     return 0 if m["status"] == "ok" else 1
 
 
+def _reference_and_variants(args, scene):
+    from .compare import Variant
+
+    ref_grid = tuple(int(v) for v in args.ref_grid.lower().split("x")) if args.ref_grid else None
+    ref = Variant(f"Reynolds {args.ref_grid}" if ref_grid else "Reynolds default grid", "reynolds", ref_grid)
+    variants = []
+    if ref_grid:
+        variants.append(Variant("Reynolds default grid", "reynolds"))
+    for g in args.grids or []:
+        grid = tuple(int(v) for v in g.lower().split("x"))
+        variants.append(Variant(f"Reynolds {g}", "reynolds", grid))
+    for order, path in _surrogates(args, scene):
+        variants.append(Variant(f"Taylor order {order}", "taylor", surrogate=path, order=order))
+    variants.append(Variant("linear", "linear"))
+    return ref, variants
+
+
+def _surrogates(args, scene):
+    """(order, file) per requested order: the scene's surrogate for its own order, others
+    fitted on the same declared domain into the output folder."""
+    from bearing_fmu.taylor import load_surrogate
+
+    if scene.surrogate is None or not scene.surrogate.is_file():
+        raise FileNotFoundError(f"{scene.source}: surrogate {scene.surrogate} not found; "
+                                "fit one with `bearing-fmu fit` first")
+    base = load_surrogate(scene.surrogate)
+    out = []
+    for order in args.orders:
+        if order == base.order:
+            out.append((order, scene.surrogate))
+            continue
+        path = Path(args.out) / "surrogates" / f"{scene.surrogate.stem}_order{order}.json"
+        if not path.is_file():
+            from .training import refit
+
+            refit(scene.surrogate, order, path, cache_dir=Path(args.out) / "series")
+        out.append((order, path))
+    return out
+
+
+def _compare(args) -> int:
+    from .compare import compare, print_table
+
+    scene = _scene_from_args(args)
+    ref, variants = _reference_and_variants(args, scene)
+    rows = compare(scene, ref, variants, Path(args.out), progress=not args.quiet,
+                   default_label="Reynolds default grid")
+    print(print_table(rows))
+    print(f"wrote {Path(args.out)}/compare_{Path(scene.source).stem}.md/.json/.png")
+    return 0
+
+
+PAPER_SCENES = ("paper_22hz.toml", "paper_44hz.toml")
+
+
+def _paper(args) -> int:
+    """The main job: the paper's 22 Hz and 44 Hz scenes, Reynolds (default grid) against the
+    bundled order-5 Taylor surrogate and the linear model, all through the bearing FMUs."""
+    from .compare import Variant, compare, print_table
+    from .scene import load_scene
+
+    scenes_dir = Path(args.scenes)
+    out = Path(args.out)
+    summary = []
+    for name in PAPER_SCENES:
+        scene = load_scene(scenes_dir / name)
+        if args.t_end:
+            scene.t_end_s = args.t_end
+        if scene.surrogate is None or not scene.surrogate.is_file():
+            raise FileNotFoundError(f"{scene.source}: surrogate {scene.surrogate} not found; "
+                                    "fit it with `bearing-fmu fit` (see README)")
+        ref = Variant("Reynolds default grid", "reynolds")
+        variants = [Variant("Taylor order 5", "taylor", surrogate=scene.surrogate, order=5),
+                    Variant("linear", "linear")]
+        rows = compare(scene, ref, variants, out, progress=not args.quiet, default_label=ref.label)
+        summary.append(f"## {scene.description}\n\n{print_table(rows)}\n")
+    text = "\n".join(summary)
+    (out / "paper_summary.md").write_text(text)
+    print(text)
+    print(f"tables and plots in {out}/ (compare_*.md, compare_*_orbits.png, compare_*_error_vs_time.png)")
+    return 0
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="rotor-host", description=__doc__)
     sub = parser.add_subparsers(dest="command", required=True)
@@ -68,6 +151,28 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--no-plots", action="store_true")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.set_defaults(func=_run)
+
+    p = sub.add_parser("compare", help="error against run time of Reynolds grids, Taylor orders and the linear model")
+    p.add_argument("scene", help="scene TOML file")
+    p.add_argument("--via", choices=("fmu", "direct"), help="bearing FMUs through fmpy (scene default) or in-process")
+    p.add_argument("--ref-grid", default="256x32", help="reference Reynolds grid n_theta x n_x (default 256x32; "
+                   "'' = the default grid is the reference)")
+    p.add_argument("--grids", nargs="*", default=["64x8"], help="coarser Reynolds grids to compare (default 64x8)")
+    p.add_argument("--orders", nargs="*", type=int, default=[1, 3, 5, 7], help="Taylor orders (default 1 3 5 7)")
+    p.add_argument("--t-end", type=float, help="override the end time [s]")
+    p.add_argument("--dt", type=float, help="override the time step [s]")
+    p.add_argument("--out", default="out", help="output folder (default: out)")
+    p.add_argument("--quiet", action="store_true", help="no progress bars")
+    p.set_defaults(func=_compare)
+
+    p = sub.add_parser("paper", help="main job: the paper's 22 Hz and 44 Hz scenes, Reynolds vs Taylor vs "
+                                     "linear through the bearing FMUs, error/run-time table and plots")
+    p.add_argument("--scenes", default=str(Path(__file__).resolve().parents[1] / "models" / "scenes"),
+                   help="folder with paper_22hz.toml and paper_44hz.toml")
+    p.add_argument("--t-end", type=float, help="override the simulated time of both scenes [s]")
+    p.add_argument("--out", default="out/paper", help="output folder (default: out/paper)")
+    p.add_argument("--quiet", action="store_true", help="no progress bars")
+    p.set_defaults(func=_paper)
 
     args = parser.parse_args(argv)
     try:

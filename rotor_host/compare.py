@@ -1,0 +1,150 @@
+"""Error against run time: one scene run with several internals, each measured against a
+Reynolds reference in the same process, on the same time grid.
+
+Each variant is the scene with another internal (Reynolds on some grid, the Taylor surrogate
+of some order, the linear model). A variant that stops (a Reynolds journal at the wall) or
+whose orbit leaves the clearance circle (the linear model, as the paper describes) is
+reported as such, with its errors up to where it got, not as a crash.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from .report import errors_against, markdown_table, plot_runs
+from .scene import Scene, run_scene
+
+
+@dataclass
+class Variant:
+    label: str
+    internal: str
+    grid: tuple[int, int] | None = None  # reynolds / linear: (n_theta, n_x); None = default
+    surrogate: Path | None = None  # taylor
+    order: int | None = None  # taylor, for the table
+
+    def scene(self, base: Scene) -> Scene:
+        kw = {}
+        if self.internal in ("reynolds", "linear"):
+            kw["n_theta"], kw["n_x"] = self.grid if self.grid else (None, None)
+        if self.internal == "taylor":
+            kw["surrogate"] = self.surrogate
+        return base.with_internal(self.internal, **kw)
+
+
+COLUMNS = [
+    ("label", "variant", ""), ("status", "status", ""),
+    ("force_nrmse_pct", "force NRMSE [%]", ".3f"), ("orbit_rms_pct_cr", "orbit RMS [% CR]", ".3f"),
+    ("orbit_max_pct_cr", "orbit max [% CR]", ".3f"), ("max_eccentricity", "max ecc.", ".3f"),
+    ("late_eccentricity", "max ecc. last 20 %", ".3f"),
+    ("integration_s", "run time [s]", ".2f"), ("setup_s", "setup [s]", ".2f"),
+    ("speedup_vs_ref", "speed-up vs ref", ".1f"), ("speedup_vs_default", "speed-up vs Reynolds default", ".1f"),
+    ("evals_per_step", "evals/step", ".2f"),
+]
+
+
+def compare(base: Scene, reference: Variant, variants: list[Variant], out_dir, *, progress: bool = False,
+            default_label: str | None = None, log=print) -> list[dict]:
+    """Run the reference and every variant; write ``compare_<scene>.md/.json/.png`` and the
+    orbit plot into out_dir; return the table rows. ``default_label`` names the variant that
+    is "Reynolds at its default grid", for the second speed-up column."""
+    out_dir = Path(out_dir)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    stem = Path(base.source).stem if base.source else base.name
+    runs = {}
+    rows = []
+    for v in [reference] + list(variants):
+        log(f"running {stem}: {v.label} via {base.via} ...")
+        run = run_scene(v.scene(base), out_dir, progress=progress, stem=f"{stem}_{_slug(v.label)}")
+        runs[v.label] = run
+        m = run.meta
+        status = m["status"]
+        if m["crossed_clearance"]:
+            status = "crossed clearance" if status == "ok" else f"{status}, crossed clearance"
+        row = {"label": v.label, "internal": v.internal, "grid": list(v.grid) if v.grid else None,
+               "order": v.order, "status": status, "message": m["message"],
+               "integration_s": m["integration_time_s"], "setup_s": m["setup_time_s"] + m["equilibrium_time_s"],
+               "wall_s": m["wall_time_s"], "evals_per_step": m["newton_mean_evaluations_per_step"],
+               "max_eccentricity": max(m["max_eccentricity"]), "t_reached_s": m["t_reached_s"]}
+        row["late_eccentricity"] = late_max_eccentricity(run.arrays)
+        if v is not reference:
+            row.update(errors_against(runs[reference.label].arrays, run.arrays))
+        else:
+            row.update(force_nrmse_pct=0.0, orbit_rms_pct_cr=0.0, orbit_max_pct_cr=0.0)
+        rows.append(row)
+        log(f"  {status}: {row['integration_s']:.2f} s, force NRMSE {row['force_nrmse_pct']:.3g} %, "
+            f"orbit RMS {row['orbit_rms_pct_cr']:.3g} % CR")
+    t_ref = rows[0]["integration_s"]
+    t_def = next((r["integration_s"] for r in rows if r["label"] == default_label), None)
+    for r in rows:
+        full = r["t_reached_s"] >= base.t_end_s - 1e-12
+        r["speedup_vs_ref"] = t_ref / r["integration_s"] if full and r["integration_s"] > 0 else None
+        r["speedup_vs_default"] = (t_def / r["integration_s"] if full and t_def and r["integration_s"] > 0 else None)
+
+    table = markdown_table(rows, COLUMNS)
+    header = (f"# {base.description or base.name}\n\nscene {base.source}, via {base.via}, "
+              f"dt = {base.dt_s:g} s, {base.t_end_s:g} s simulated; reference: {reference.label}. "
+              "Force NRMSE = RMS error / RMS of the reference's dynamic force; orbit errors on the "
+              "bearing journals in % of the radial clearance; run time = integration only "
+              "(setup = FMU load, compile, static equilibrium). 'max ecc. last 20 %' sizes a whirl "
+              "limit cycle, which keeps no phase with the reference.\n\n")
+    (out_dir / f"compare_{stem}.md").write_text(header + table + "\n")
+    (out_dir / f"compare_{stem}.json").write_text(json.dumps({"scene": str(base.source), "via": base.via,
+                                                              "rows": rows}, indent=2))
+    plot_error_vs_time(rows, out_dir / f"compare_{stem}_error_vs_time.png", title=base.description or base.name)
+    show = [reference.label] + [v.label for v in variants if v.internal != "reynolds"][:3]
+    plot_runs({k: runs[k].arrays for k in show}, out_dir / f"compare_{stem}_orbits.png",
+              title=base.description or base.name, disk_node=6 if 6 in runs[reference.label].arrays["nodes"] else None,
+              history=True)
+    return rows
+
+
+def late_max_eccentricity(arrays, fraction: float = 0.2) -> float | None:
+    """Largest bearing eccentricity ratio over the last ``fraction`` of the run: the size of a
+    whirl limit cycle, which a pointwise orbit error cannot judge (a self-excited whirl keeps
+    no phase with the reference, so the same cycle shifted in time scores a large error)."""
+    t, ecc = arrays["t"], arrays["eccentricity"]
+    if len(t) < 2:
+        return None
+    late = t >= t[0] + (1.0 - fraction) * (t[-1] - t[0])
+    return float(ecc[late].max())
+
+
+def _slug(label: str) -> str:
+    return "".join(c if c.isalnum() else "_" for c in label).strip("_").lower()
+
+
+def plot_error_vs_time(rows, path, title=""):
+    from .report import _plt
+
+    plt = _plt()
+    fig, ax = plt.subplots(1, 2, figsize=(11, 4))
+    markers = {"reynolds": "o", "taylor": "s", "linear": "^"}
+    for r in rows[1:]:
+        t = r["integration_s"]
+        for a, key in zip(ax, ("orbit_rms_pct_cr", "force_nrmse_pct")):
+            val = r.get(key)
+            if val is None or not math.isfinite(val):
+                continue
+            a.loglog(t, max(val, 1e-4), markers.get(r["internal"], "x"), ms=7)
+            a.annotate(r["label"], (t, max(val, 1e-4)), fontsize=7, xytext=(4, 2), textcoords="offset points")
+    for a, yl in zip(ax, ("orbit RMS error [% CR]", "force NRMSE [%]")):
+        a.axvline(rows[0]["integration_s"], color="k", ls=":", lw=1)
+        a.set_xlabel("run time [s] (dotted: reference)")
+        a.set_ylabel(yl)
+        a.grid(alpha=0.3, which="both")
+    if title:
+        fig.suptitle(title)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path
+
+
+def print_table(rows) -> str:
+    return markdown_table(rows, COLUMNS)
