@@ -321,9 +321,8 @@ class BearingFMU(Fmi2Slave):
                 from .statics import film_jacobian
 
                 f, dq, dv = film_jacobian(internal, y, z, vy, vz, omega)
-            tangent = (-dq[0][0], -dq[0][1], -dq[1][0], -dq[1][1],
-                       -dv[0][0], -dv[0][1], -dv[1][0], -dv[1][1])
-            tangent = tuple(float(v) for v in tangent)
+            tangent = (-float(dq[0, 0]), -float(dq[0, 1]), -float(dq[1, 0]), -float(dq[1, 1]),
+                       -float(dv[0, 0]), -float(dv[0, 1]), -float(dv[1, 0]), -float(dv[1, 1]))
         else:
             f = internal.force(y, z, vy, vz, omega)
             tangent = None

@@ -194,6 +194,26 @@ def _force_jac_nb(y, z, vy, vz, omega, meta, exps, coef, out):
 
 
 @njit(cache=True)
+def _force_jac_si_nb(y, z, vy, vz, omega, meta, exps, coef):
+    """(code, F (2,) [N], dF/dq (2, 2) [N/m], dF/dv (2, 2) [N s/m]): the scaled kernel with
+    the units put back, so the Python wrapper does no array arithmetic."""
+    out = np.empty(10)
+    F = np.zeros(2)
+    dq = np.zeros((2, 2))
+    dv = np.zeros((2, 2))
+    code = _force_jac_nb(y, z, vy, vz, omega, meta, exps, coef, out)
+    if code != 0:
+        return code, F, dq, dv
+    fs = meta[5]
+    gq, gv = fs / meta[3], fs / meta[4]
+    F[0], F[1] = out[0] * fs, out[1] * fs
+    for i in range(2):
+        dq[i, 0], dq[i, 1] = out[2 + 4 * i] * gq, out[3 + 4 * i] * gq
+        dv[i, 0], dv[i, 1] = out[4 + 4 * i] * gv, out[5 + 4 * i] * gv
+    return code, F, dq, dv
+
+
+@njit(cache=True)
 def _domain_distance_nb(y, z, vy, vz, dom):
     """dom = (y0, z0, pos_scale, vel_scale, ecc_max, cy, cz, radius, v_max, lo[4], hi[4]);
     see Taylor.domain_distance. NaN input gives NaN."""
@@ -544,16 +564,10 @@ class Taylor:
         return fy, fz
 
     def force_and_jacobian(self, y: float, z: float, vy: float, vz: float, omega: float):
-        out = self._out
-        code = _force_jac_nb(float(y), float(z), float(vy), float(vz), float(omega),
-                             self._meta, self._exps, self._coef, out)
+        code, F, dF_dq, dF_dv = _force_jac_si_nb(float(y), float(z), float(vy), float(vz), float(omega),
+                                                 self._meta, self._exps, self._coef)
         if code:
             self._raise(code, y, z, vy, vz, omega)
-        fs = self.surrogate.force_scale
-        F = out[0:2] * fs
-        dU = out[2:10].reshape(2, 4)
-        dF_dq = dU[:, 0:2] * (fs / self.surrogate.pos_scale)
-        dF_dv = dU[:, 2:4] * (fs / self.surrogate.vel_scale)
         return F, dF_dq, dF_dv
 
     # ------------------------------------------------------------------ guard
