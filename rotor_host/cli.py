@@ -174,6 +174,12 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--quiet", action="store_true", help="no progress bars")
     p.set_defaults(func=_paper)
 
+    from . import dtstudy
+
+    p = sub.add_parser("dt-study", help="halve dt until the bearing orbit changes by less than 1 %% CR")
+    dtstudy.add_arguments(p)
+    p.set_defaults(func=dtstudy.run)
+
     args = parser.parse_args(argv)
     try:
         return args.func(args)

@@ -1,0 +1,117 @@
+"""Time-step study: halve dt until the bearing orbit stops changing.
+
+A scene is run at dt, dt/2, dt/4, ... with one internal (called directly: the FMU gives the
+same numbers to round-off, tests/test_cosim.py). After each halving the bearing journal
+orbits of the two runs are compared at the coarser run's output times; the study stops when
+the change is below ``tol_pct_cr`` (1 % of the radial clearance, RMS and max both reported;
+the test uses the max) or after ``halvings``. Each row keeps the Newton statistics and the
+run's status, so a case that does not converge is reported with its diagnosis.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+from dataclasses import asdict, dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from .report import markdown_table
+from .scene import load_scene, run_scene
+
+
+def orbit_change(coarse: dict, fine: dict) -> tuple[float, float]:
+    """(RMS, max) over time and bearings of |journal(fine) - journal(coarse)| / CR in %, at
+    the coarse run's times (fine values at those times taken from the fine grid; dt halved,
+    so they coincide) up to where both runs got."""
+    t_c, t_f = coarse["t"], fine["t"]
+    n = int(np.searchsorted(t_c, t_f[-1] + 1e-12))  # coarse times the fine run reached
+    idx = np.searchsorted(t_f, t_c[:n] - 1e-12)
+    idx = np.minimum(idx, len(t_f) - 1)
+    b = [list(coarse["nodes"]).index(k) for k in coarse["bearing_nodes"]]
+    dy = fine["y"][idx][:, b] - coarse["y"][:n][:, b]
+    dz = fine["z"][idx][:, b] - coarse["z"][:n][:, b]
+    d = np.hypot(dy, dz) / np.asarray(coarse["CR"])
+    return 100 * float(np.sqrt(np.mean(d**2))), 100 * float(d.max())
+
+
+@dataclass
+class DtStudy:
+    scene: str
+    internal: str
+    t_end_s: float
+    tol_pct_cr: float
+    rows: list[dict] = field(default_factory=list)
+    converged_dt: float | None = None
+
+    def table(self) -> str:
+        return markdown_table(self.rows, [
+            ("dt_s", "dt [s]", ".3g"), ("status", "status", ""),
+            ("change_rms", "orbit change vs dt*2, RMS [% CR]", ".3f"),
+            ("change_max", "max [% CR]", ".3f"), ("evals_mean", "evals/step", ".2f"),
+            ("evals_max", "max evals/step", "d"), ("cuts", "step cuts", "d"),
+            ("max_ecc", "max ecc.", ".3f"), ("wall_s", "run time [s]", ".1f"),
+        ])
+
+
+def dt_study(scene_path, internal: str = "reynolds", dt: float | None = None, t_end: float | None = None,
+             halvings: int = 3, tol_pct_cr: float = 1.0, progress: bool = False, log=print) -> DtStudy:
+    base = load_scene(scene_path)
+    dt = dt or base.dt_s
+    t_end = t_end or base.t_end_s
+    study = DtStudy(Path(scene_path).name, internal, t_end, tol_pct_cr)
+    prev = None
+    for k in range(halvings + 1):
+        h = dt / 2**k
+        scene = base.with_internal(internal, via="direct", dt_s=h, t_end_s=t_end)
+        log(f"{study.scene} [{internal}] dt = {h:.3g} s ...")
+        run = run_scene(scene, None, progress=progress)
+        m = run.meta
+        row = {"dt_s": h, "status": m["status"] + (", crossed clearance" if m["crossed_clearance"] else ""),
+               "message": m["message"], "evals_mean": m["newton_mean_evaluations_per_step"],
+               "evals_max": m["newton_max_evaluations_per_step"], "cuts": m["step_cuts"],
+               "max_ecc": max(m["max_eccentricity"]) if m["max_eccentricity"] else None,
+               "wall_s": m["integration_time_s"], "t_reached_s": m["t_reached_s"],
+               "change_rms": None, "change_max": None}
+        if prev is not None and len(run.arrays["t"]) > 1:
+            row["change_rms"], row["change_max"] = orbit_change(prev, run.arrays)
+        study.rows.append(row)
+        log(f"  {row['status']}: change {row['change_rms']} / {row['change_max']} % CR, "
+            f"{row['evals_mean']:.2f} evals/step, {row['cuts']} cuts" + (f"; {m['message']}" if m["message"] else ""))
+        if row["change_max"] is not None and row["change_max"] < tol_pct_cr and m["status"] == "ok":
+            study.converged_dt = study.rows[-2]["dt_s"]
+            break
+        prev = run.arrays
+    return study
+
+
+def add_arguments(p: argparse.ArgumentParser) -> argparse.ArgumentParser:
+    p.add_argument("scene", help="scene TOML file")
+    p.add_argument("--internal", choices=("reynolds", "taylor", "linear"), default="reynolds")
+    p.add_argument("--dt", type=float, help="first time step [s] (default: the scene's)")
+    p.add_argument("--t-end", type=float, help="simulated time [s] (default: the scene's)")
+    p.add_argument("--halvings", type=int, default=3, help="at most this many halvings (default 3)")
+    p.add_argument("--tol", type=float, default=1.0, help="orbit change that counts as converged [%% CR] (default 1)")
+    p.add_argument("--out", default="out", help="output folder for dtstudy_<scene>_<internal>.md/.json")
+    p.add_argument("--quiet", action="store_true")
+    return p
+
+
+def run(args) -> int:
+    study = dt_study(args.scene, args.internal, args.dt, args.t_end, args.halvings, args.tol,
+                     progress=not args.quiet)
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    stem = f"dtstudy_{Path(args.scene).stem}_{args.internal}"
+    verdict = (f"converged: dt = {study.converged_dt:g} s changes the orbit by less than {study.tol_pct_cr:g} % CR "
+               "when halved" if study.converged_dt else
+               f"not converged to {study.tol_pct_cr:g} % CR within the halvings")
+    text = f"# dt study: {study.scene} [{study.internal}], {study.t_end_s:g} s\n\n{study.table()}\n\n{verdict}\n"
+    (out / f"{stem}.md").write_text(text)
+    (out / f"{stem}.json").write_text(json.dumps(asdict(study), indent=2))
+    print(text)
+    return 0 if study.converged_dt else 1
+
+
+__all__ = ["orbit_change", "dt_study", "DtStudy", "add_arguments", "run"]
