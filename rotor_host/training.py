@@ -56,8 +56,12 @@ def scene_series(scene: Scene, bearing: int = 1, cache: Path | None = None, log=
 
 
 def holdout_mask(t: np.ndarray, speed_hz: float, every: int = HOLDOUT_EVERY, revs: float = BLOCK_REVS):
-    """True for the samples held out: every ``every``-th block of ``revs`` shaft revolutions."""
-    block = np.floor(np.asarray(t) * speed_hz / revs).astype(int)
+    """True for the samples held out: every ``every``-th block of ``revs`` shaft revolutions
+    (shorter blocks on a short series, so that it has at least 5 * ``every`` blocks)."""
+    t = np.asarray(t)
+    span_revs = (t[-1] - t[0]) * speed_hz if len(t) else 0.0
+    revs = min(revs, span_revs / (5 * every)) if span_revs > 0 else revs
+    block = np.floor((t - t[0]) * speed_hz / revs).astype(int)
     return block % every == every - 1
 
 
@@ -110,7 +114,7 @@ def fit_scene(scene_path, order: int = 5, *, bearing: int = 1, test_scenes=(), s
             "scene_t_end_s": scene.t_end_s, "scene_dt_s": scene.dt_s, "bearing": bearing, "stride": stride,
             "designed_samples": designed, "designed_seed": seed, "designed_ecc_max": designed_ecc_max,
             "designed_v_max": designed_v_max,
-            "held_out": f"every {HOLDOUT_EVERY}th block of {BLOCK_REVS:g} revolutions of the series",
+            "held_out": f"every {HOLDOUT_EVERY}th block of (at most) {BLOCK_REVS:g} revolutions of the series",
             "fit_call": {"scene": str(Path(scene.source).resolve()), "bearing": bearing, "stride": stride,
                          "test_scenes": [str(Path(p).resolve()) for p in test_scenes], "lam": lam,
                          "prune": prune, "prune_tol": prune_tol, "anchor": anchor, "designed": designed,
