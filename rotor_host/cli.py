@@ -75,10 +75,9 @@ def _surrogates(args, scene):
     fitted on the same declared domain into the output folder."""
     from bearing_fmu.taylor import load_surrogate
 
-    if scene.surrogate is None or not scene.surrogate.is_file():
-        raise FileNotFoundError(f"{scene.source}: surrogate {scene.surrogate} not found; "
-                                "fit one with `bearing-fmu fit` first")
-    base = load_surrogate(scene.surrogate)
+    from .scene import require_surrogate
+
+    base = load_surrogate(require_surrogate(scene))
     out = []
     for order in args.orders:
         if order == base.order:
@@ -112,7 +111,7 @@ def _paper(args) -> int:
     """The main job: the paper's 22 Hz and 44 Hz scenes, Reynolds (default grid) against the
     bundled order-5 Taylor surrogate and the linear model, all through the bearing FMUs."""
     from .compare import Variant, compare, print_table
-    from .scene import load_scene
+    from .scene import load_scene, require_surrogate
 
     scenes_dir = Path(args.scenes)
     out = Path(args.out)
@@ -121,9 +120,7 @@ def _paper(args) -> int:
         scene = load_scene(scenes_dir / name)
         if args.t_end:
             scene.t_end_s = args.t_end
-        if scene.surrogate is None or not scene.surrogate.is_file():
-            raise FileNotFoundError(f"{scene.source}: surrogate {scene.surrogate} not found; "
-                                    "fit it with `bearing-fmu fit` (see README)")
+        require_surrogate(scene)
         ref = Variant("Reynolds default grid", "reynolds")
         variants = [Variant("Taylor order 5", "taylor", surrogate=scene.surrogate, order=5),
                     Variant("linear", "linear")]
@@ -180,10 +177,16 @@ def main(argv: list[str] | None = None) -> int:
     dtstudy.add_arguments(p)
     p.set_defaults(func=dtstudy.run)
 
+    from . import study
+
+    p = sub.add_parser("limit-cycle", help="envelope of the bearing eccentricity: does the whirl settle and hold?")
+    study.add_arguments(p)
+    p.set_defaults(func=study.run)
+
     args = parser.parse_args(argv)
     try:
         return args.func(args)
-    except (ValueError, KeyError, FileNotFoundError, RuntimeError) as exc:
+    except (ValueError, KeyError, FileNotFoundError, RuntimeError) as exc:  # SceneError is a ValueError
         print(f"rotor-host {args.command}: error: {exc}", file=sys.stderr)
         return 2
 

@@ -295,12 +295,24 @@ def scene_fmu(scene: Scene, work_dir: Path) -> Path:
     return Path(build_fmu(work_dir / f"bearing{tag}.fmu", surrogate=surrogate))
 
 
+def require_surrogate(scene: Scene) -> Path:
+    """The scene's surrogate file, or a SceneError that says what is missing and how to get it."""
+    if scene.surrogate is None:
+        raise SceneError(f"{scene.source}: the Taylor internal needs a surrogate file, and the scene names "
+                         "none: set `surrogate = \"...json\"` in the scene or pass --surrogate "
+                         "(fit one with `bearing-fmu fit`)")
+    if not scene.surrogate.is_file():
+        raise SceneError(f"{scene.source}: surrogate file {scene.surrogate} not found; fit one with "
+                         "`bearing-fmu fit`")
+    return scene.surrogate
+
+
 def build_bearings(scene: Scene, rotor: Rotor, loads: np.ndarray, work_dir: Path):
     """The BearingSet of the scene: FMU instances (via = fmu) or internals in-process."""
     pairs = [(rotor.dof(n, "y"), rotor.dof(n, "z")) for n in rotor.bearing_nodes]
     names = [f"bearing {k + 1} (node {n + 1})" for k, n in enumerate(rotor.bearing_nodes)]
-    if scene.internal == "taylor" and (scene.surrogate is None or not scene.surrogate.is_file()):
-        raise SceneError(f"{scene.source}: surrogate file {scene.surrogate} not found; fit one with `bearing-fmu fit`")
+    if scene.internal == "taylor":
+        require_surrogate(scene)
     if scene.via == "direct":
         from .bearings import DirectBearings
 

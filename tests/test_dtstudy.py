@@ -41,3 +41,13 @@ def test_short_study_converges():
     assert study.rows[0]["change_max"] is None and study.rows[1]["change_max"] is not None
     assert study.converged_dt == pytest.approx(2e-4)
     assert all(r["status"] == "ok" for r in study.rows)
+
+
+def test_orbit_through_the_wall_is_not_converged():
+    # The linear model on the eccentricity-0.95 scene crosses the clearance circle within 0.15 s
+    # (docs/stability.md); its orbit hardly depends on dt, and that must not read as converged.
+    study = dt_study(SCENES / "harsh_ecc095_10hz.toml", "linear", t_end=0.15, halvings=1, log=lambda *_: None)
+    assert all("crossed clearance" in r["status"] for r in study.rows)
+    assert study.rows[1]["change_max"] < 1.0
+    assert study.converged_dt is None
+    assert [r["steps"] for r in study.rows] == [1500, 3000]

@@ -151,3 +151,10 @@ def test_taylor_scene_does_not_import_reynolds(tmp_path):
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT)
     assert out.returncode == 0, out.stderr
     assert out.stdout.strip() == "False"
+
+
+def test_taylor_override_without_a_surrogate_names_what_is_missing(tmp_path):
+    # `rotor-host run harsh_ecc095_10hz.toml --internal taylor`: the scene names no surrogate
+    scene = load_scene(SCENES / "harsh_ecc095_10hz.toml").with_internal("taylor", via="direct", t_end_s=1e-3)
+    with pytest.raises(SceneError, match="needs a surrogate file, and the scene names none"):
+        run_scene(scene, None)

@@ -1,0 +1,221 @@
+"""Limit-cycle study: the envelope of the bearing eccentricity over time.
+
+The dt study (``rotor_host.dtstudy``, ``rotor-host dt-study``) compares orbits point by
+point in time. On a self-excited whirl that is the wrong yardstick for long runs: the whirl
+phase drifts by O(dt^2) per cycle, so two runs on the *same* limit cycle drift apart point
+by point while the size of the orbit agrees. This module measures what the limit cycle is:
+
+- ``envelope``: the largest and smallest journal eccentricity (over the bearings) in each
+  window of ``revs`` shaft revolutions; its max is the size of the orbit over time;
+- ``settled_since``: the earliest time from which the windowed max stays inside a band of
+  +-``tol_pct_cr`` % of CR to the end of the run (``None`` if it never does), so "the limit
+  cycle holds" means: settled, and held for a while before the end;
+- ``envelope_change``: the largest difference of two runs' envelopes (e.g. dt and dt/2),
+  in % of CR, over the windows both runs completed.
+
+``add_arguments``/``run`` form the command ``rotor-host limit-cycle`` (``SCENE`` or a saved
+``.npz``) that writes the envelope as markdown + json (+ png) to an output folder.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+from dataclasses import asdict, dataclass
+from pathlib import Path
+
+import numpy as np
+
+
+@dataclass
+class Envelope:
+    """Per window of ``period_s``: its end time and the largest/smallest eccentricity ratio
+    (over all bearings) of the samples in it. Only complete windows are kept."""
+
+    t: np.ndarray
+    e_max: np.ndarray
+    e_min: np.ndarray
+    period_s: float
+
+
+def envelope(arrays: dict, period_s: float) -> Envelope:
+    """Windowed max/min of the bearing eccentricity ratio (``arrays["eccentricity"]``,
+    (n_out, n_bearings), as a scene run records it) over windows [k T, (k+1) T)."""
+    t = np.asarray(arrays["t"], dtype=float)
+    e = np.asarray(arrays["eccentricity"], dtype=float)
+    e = e.reshape(len(t), -1).max(axis=1)
+    if not period_s > 0:
+        raise ValueError(f"period_s must be > 0, got {period_s}")
+    k = np.floor((t - t[0]) / period_s + 1e-9).astype(int)
+    n = int(np.floor((t[-1] - t[0]) / period_s + 1e-9)) if len(t) else 0  # complete windows
+    if n < 1:
+        return Envelope(np.empty(0), np.empty(0), np.empty(0), period_s)
+    keep = k < n
+    e_max = np.full(n, -np.inf)
+    e_min = np.full(n, np.inf)
+    np.maximum.at(e_max, k[keep], e[keep])
+    np.minimum.at(e_min, k[keep], e[keep])
+    return Envelope(t[0] + period_s * np.arange(1, n + 1), e_max, e_min, period_s)
+
+
+def settled_since(env: Envelope, tol_pct_cr: float = 1.0) -> float | None:
+    """Earliest window start t_s such that every windowed max from t_s to the end lies within
+    +-tol_pct_cr % of CR of one value (max - min of them <= 2 tol); None for no windows.
+    The last window alone always qualifies: judge the result by how long it is held."""
+    if env.e_max.size == 0:
+        return None
+    hi = np.maximum.accumulate(env.e_max[::-1])[::-1]  # max of e_max[i:]
+    lo = np.minimum.accumulate(env.e_max[::-1])[::-1]
+    ok = (hi - lo) <= 2 * tol_pct_cr / 100 + 1e-12
+    i = int(np.argmax(ok))  # ok is monotone (False..False True..True)
+    return float(env.t[i] - env.period_s)
+
+
+def envelope_change(coarse: Envelope, fine: Envelope) -> float:
+    """Largest |e_max(fine) - e_max(coarse)| in % of CR over the windows both completed
+    (windows must be the same length; the runs start at the same time)."""
+    if not np.isclose(coarse.period_s, fine.period_s):
+        raise ValueError("envelopes with different windows")
+    n = min(coarse.e_max.size, fine.e_max.size)
+    if n == 0:
+        return float("nan")
+    return 100 * float(np.max(np.abs(fine.e_max[:n] - coarse.e_max[:n])))
+
+
+@dataclass
+class LimitCycle:
+    source: str
+    speed_hz: float
+    revs: int
+    tol_pct_cr: float
+    t_end_s: float
+    settled_since_s: float | None
+    held_s: float | None
+    band: tuple[float, float] | None  # e_max range from settled_since to the end
+    final_e_max: float | None
+    drift_pct_cr: float | None  # least-squares trend of the windowed max over the held span, end minus start
+    meta: dict | None = None
+
+    @property
+    def holds(self) -> bool:
+        """Settled, and without a trend across the band (a slow monotone drift that merely has
+        not left the band yet does not count)."""
+        return self.settled_since_s is not None and abs(self.drift_pct_cr) <= self.tol_pct_cr
+
+    def verdict(self) -> str:
+        if self.settled_since_s is None:
+            return "no complete window"
+        s = (f"windowed max eccentricity within +-{self.tol_pct_cr:g} % CR of one value from "
+             f"{self.settled_since_s:.2f} s to the end ({self.t_end_s:g} s; held {self.held_s:.2f} s, "
+             f"band {self.band[0]:.4f}..{self.band[1]:.4f}, trend {self.drift_pct_cr:+.2f} % CR over it)")
+        return s
+
+
+def limit_cycle(arrays: dict, speed_hz: float, *, revs: int = 2, tol_pct_cr: float = 1.0,
+                source: str = "", meta: dict | None = None) -> tuple[LimitCycle, Envelope]:
+    env = envelope(arrays, revs / speed_hz)
+    ts = settled_since(env, tol_pct_cr)
+    t_end = float(np.asarray(arrays["t"])[-1])
+    band = drift = None
+    if ts is not None:
+        m = env.t - env.period_s >= ts - 1e-12
+        band = (float(env.e_max[m].min()), float(env.e_max[m].max()))
+        drift = 0.0
+        if m.sum() > 1:
+            slope = np.polyfit(env.t[m], env.e_max[m], 1)[0]
+            drift = 100 * float(slope * (env.t[m][-1] - env.t[m][0]))
+    lc = LimitCycle(source, speed_hz, revs, tol_pct_cr, t_end, ts,
+                    None if ts is None else float(env.t[-1] - ts), band,
+                    float(env.e_max[-1]) if env.e_max.size else None, drift, meta)
+    return lc, env
+
+
+def plot_envelopes(envs: dict, path, *, title: str = "", tol_band: tuple[float, float] | None = None) -> Path:
+    """Windowed max (solid) and min (thin) eccentricity against time for labelled envelopes."""
+    from .report import _plt
+
+    plt = _plt()
+    fig, ax = plt.subplots(figsize=(9, 4))
+    for label, env in envs.items():
+        (line,) = ax.plot(env.t, env.e_max, lw=1.2, label=f"{label}: max per window")
+        ax.plot(env.t, env.e_min, lw=0.6, color=line.get_color(), alpha=0.6)
+    if tol_band is not None:
+        ax.axhspan(*tol_band, color="grey", alpha=0.15, label="+-1 % CR band")
+    ax.set_xlabel("t [s]")
+    ax.set_ylabel("bearing eccentricity ratio")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    if title:
+        ax.set_title(title, fontsize=10)
+    fig.tight_layout()
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path
+
+
+def add_arguments(p: argparse.ArgumentParser) -> argparse.ArgumentParser:
+    p.add_argument("source", help="scene TOML file (run it, called directly) or a saved run .npz "
+                                  "(then give --speed-hz)")
+    p.add_argument("--internal", choices=("reynolds", "taylor", "linear"), default="reynolds")
+    p.add_argument("--dt", type=float, help="time step [s] (default: the scene's)")
+    p.add_argument("--t-end", type=float, help="simulated time [s] (default: the scene's)")
+    p.add_argument("--speed-hz", type=float, help="shaft speed for a .npz source [Hz]")
+    p.add_argument("--revs", type=int, default=2, help="window length in shaft revolutions (default 2: one "
+                   "period of a half-speed whirl)")
+    p.add_argument("--tol", type=float, default=1.0, help="settling band half-width [%% CR] (default 1)")
+    p.add_argument("--hold", type=float, default=1.0, help="the limit cycle counts as held when settled this "
+                   "long before the end, without a trend across the band [s] (default 1; exit status 1 otherwise)")
+    p.add_argument("--out", default="out", help="output folder for limitcycle_<name>.md/.json/.png")
+    p.add_argument("--quiet", action="store_true")
+    return p
+
+
+def run(args) -> int:
+    src = Path(args.source)
+    meta = None
+    if src.suffix == ".npz":
+        if not args.speed_hz:
+            raise ValueError("a .npz source needs --speed-hz")
+        arrays, speed = dict(np.load(src)), args.speed_hz
+    else:
+        from .scene import load_scene, run_scene
+
+        scene = load_scene(src)
+        kw = {"via": "direct"}
+        if args.dt:
+            kw["dt_s"] = args.dt
+        if args.t_end:
+            kw["t_end_s"] = args.t_end
+        scene = scene.with_internal(args.internal, **kw)
+        r = run_scene(scene, None, progress=not args.quiet)
+        arrays, speed = r.arrays, scene.speed_hz
+        meta = {k: r.meta[k] for k in ("status", "message", "dt_s", "steps", "newton_mean_evaluations_per_step",
+                                       "step_cuts", "integration_time_s", "max_eccentricity", "crossed_clearance")}
+    lc, env = limit_cycle(arrays, speed, revs=args.revs, tol_pct_cr=args.tol, source=str(src), meta=meta)
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    stem = f"limitcycle_{src.stem}"
+    step = max(1, int(round(0.25 / env.period_s))) if env.t.size else 1  # about every 0.25 s
+    rows = "\n".join(f"| {t:.3f} | {a:.4f} | {b:.4f} |" for t, a, b in
+                     zip(env.t[::step], env.e_max[::step], env.e_min[::step]))
+    text = (f"# Limit cycle: {src.name}, {speed:g} Hz, windows of {args.revs} revolutions\n\n"
+            f"| window end [s] | max ecc. | min ecc. |\n|---|---|---|\n{rows}\n\n{lc.verdict()}\n")
+    (out / f"{stem}.md").write_text(text)
+    (out / f"{stem}.json").write_text(json.dumps(
+        {**asdict(lc), "t": env.t.tolist(), "e_max": env.e_max.tolist(), "e_min": env.e_min.tolist()}, indent=1))
+    if env.t.size:
+        plot_envelopes({src.stem: env}, out / f"{stem}.png", title=lc.verdict()[:110])
+    print(text)
+    return 0 if lc.holds and lc.held_s >= args.hold else 1
+
+
+__all__ = ["Envelope", "envelope", "settled_since", "envelope_change", "LimitCycle", "limit_cycle",
+           "plot_envelopes", "add_arguments", "run"]
+
+
+if __name__ == "__main__":
+    import sys
+
+    sys.exit(run(add_arguments(argparse.ArgumentParser(prog="rotor-host limit-cycle")).parse_args()))
