@@ -805,6 +805,10 @@ def _fit_designed(args, lam, grid) -> FitResult:
 def _write_fit(res: FitResult, args) -> int:
     if getattr(args, "note", None):
         res.surrogate.provenance["note"] = args.note
+    if getattr(args, "scene", None):
+        from rotor_host.training import portable_fit_call
+
+        portable_fit_call(res.surrogate, args.output)
     path = save_surrogate(res.surrogate, args.output)
     print(format_report(res))
     print(f"wrote {path}")

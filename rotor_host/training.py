@@ -16,6 +16,7 @@ so refitting at another order does not rerun the scene.
 from __future__ import annotations
 
 import math
+import os
 from pathlib import Path
 
 import numpy as np
@@ -167,12 +168,40 @@ def refit(surrogate_path, order: int, out_path, cache_dir=None, log=print):
     call = base.provenance.get("fit_call")
     if call is None or "scene" not in call:
         return refit_order(surrogate_path, order, out_path)
-    res = fit_scene(call["scene"], order, bearing=call["bearing"], test_scenes=call.get("test_scenes", ()),
+    here = Path(surrogate_path).resolve().parent
+    scene = _locate(call["scene"], here, surrogate_path)
+    tests = [_locate(p, here, surrogate_path) for p in call.get("test_scenes", ())]
+    res = fit_scene(scene, order, bearing=call["bearing"], test_scenes=tests,
                     stride=call["stride"], cache_dir=cache_dir, lam=call["lam"], prune=call["prune"],
                     prune_tol=call["prune_tol"], anchor=call["anchor"], designed=call.get("designed", 0),
                     designed_ecc_max=call.get("designed_ecc_max"), designed_v_max=call.get("designed_v_max"),
                     seed=call.get("seed", 1), log=log)
+    portable_fit_call(res.surrogate, out_path)
     return save_surrogate(res.surrogate, out_path)
 
 
-__all__ = ["scene_series", "holdout_mask", "fit_scene", "refit"]
+def portable_fit_call(surrogate, out_path) -> None:
+    """Store the scene paths of ``provenance["fit_call"]`` relative to the folder of the file
+    the surrogate is written to, so a refit works in another clone or checkout."""
+    call = surrogate.provenance.get("fit_call") or {}
+    if "scene" not in call:
+        return
+    folder = Path(out_path).resolve().parent
+
+    def rel(p):
+        return Path(os.path.relpath(Path(p).resolve(), folder)).as_posix()
+
+    call["scene"] = rel(call["scene"])
+    call["test_scenes"] = [rel(p) for p in call.get("test_scenes", ())]
+
+
+def _locate(path, folder: Path, surrogate_path) -> Path:
+    p = Path(path)
+    p = p if p.is_absolute() else folder / p
+    if not p.is_file():
+        raise FileNotFoundError(f"{surrogate_path}: its fit call names the scene {path}, which is not at {p}; "
+                                "refit it with `bearing-fmu fit --scene ...`")
+    return p
+
+
+__all__ = ["scene_series", "holdout_mask", "fit_scene", "refit", "portable_fit_call"]
