@@ -49,10 +49,8 @@ class FMUBearings(BearingSet):
         from fmpy import extract, read_model_description
         from fmpy.fmi2 import FMU2Slave, fmi2CallbackFunctions, fmi2CallbackLoggerTYPE
         from fmpy.fmi2 import fmi2CallbackAllocateMemoryTYPE, fmi2CallbackFreeMemoryTYPE
-        from fmpy.fmi1 import FMICallException
         from fmpy import calloc, free
 
-        self._FMICallException = FMICallException
         if len(parameters) != self.n:
             raise ValueError(f"FMUBearings: {len(parameters)} parameter sets for {self.n} bearings")
         self.fmu_path = Path(fmu_path)
@@ -109,6 +107,9 @@ class FMUBearings(BearingSet):
             self._buf_in = (ctypes.c_double * len(_IN))()
             self._buf_out = (ctypes.c_double * len(_OUT))()
             self._out = np.frombuffer(self._buf_out, dtype=np.float64)
+            self._f_view = self._out[0:2]
+            self._dq_view = self._out[2:6].reshape(2, 2)
+            self._dv_view = self._out[6:10].reshape(2, 2)
         except BaseException:
             self.close()
             raise
@@ -138,34 +139,49 @@ class FMUBearings(BearingSet):
         self._static = dt == 0.0
         self._h = _STATIC_PROBE_S if self._static else self.dt
         for k, fmu in enumerate(self.instances):
+            c, dll = fmu.component, fmu.dll
             if self._states[k] is not None:
-                fmu.freeFMUstate(self._states[k])
-            self._states[k] = fmu.getFMUstate()
+                self._check(k, "fmi2FreeFMUstate", dll.fmi2FreeFMUstate(c, ctypes.byref(self._states[k])))
+            state = ctypes.c_void_p()
+            self._check(k, "fmi2GetFMUstate", dll.fmi2GetFMUstate(c, ctypes.byref(state)))
+            self._states[k] = state
             self._fresh[k] = True
 
     def _bearing(self, k, y, z, vy, vz):
+        # The raw ctypes functions (fmpy sets their argtypes) with buffers built once: fmpy's
+        # checking wrappers and per-call numpy temporaries cost about as much as the four FMI
+        # calls themselves (benchmarks/bench_fmi_calls.py), so the status is checked here.
         fmu = self.instances[k]
+        c, dll = fmu.component, fmu.dll
         if self._fresh[k]:  # the instance still is in the state just saved: no restore needed
             self._fresh[k] = False
         else:
-            fmu.setFMUstate(self._states[k])
+            self._check(k, "fmi2SetFMUstate", dll.fmi2SetFMUstate(c, self._states[k]))
         b = self._buf_in
         b[0], b[1], b[2], b[3], b[4] = y, z, vy, vz, self.omega
-        fmu.fmi2SetReal(fmu.component, self._vr_in, len(_IN), b)
+        self._check(k, "fmi2SetReal", dll.fmi2SetReal(c, self._vr_in, len(_IN), b))
         n_msg = len(self.messages[k])
-        try:
-            fmu.fmi2DoStep(fmu.component, self.t, self._h, 0)
-        except self._FMICallException as exc:
+        status = dll.fmi2DoStep(c, self.t, self._h, 0)
+        if status > 1:  # discard (or worse): the FMU logged why
             new = self.messages[k][n_msg:]
-            raise self._reject(k, new[-1] if new else str(exc)) from None
-        fmu.fmi2GetReal(fmu.component, self._vr_out, len(_OUT), self._buf_out)
+            raise self._reject(k, new[-1] if new else f"fmi2DoStep returned {self._status_name(status)}")
+        self._check(k, "fmi2GetReal", dll.fmi2GetReal(c, self._vr_out, len(_OUT), self._buf_out))
         o = self._out
-        f = o[0:2].copy()
-        # Lund sign in the FMU outputs; the integrator wants raw derivatives
-        dq = -o[2:6].reshape(2, 2)
-        dv = -o[6:10].reshape(2, 2)
-        self.max_eccentricity[k] = max(self.max_eccentricity[k], o[10])
-        return f, dq, dv
+        if o[10] > self.max_eccentricity[k]:
+            self.max_eccentricity[k] = o[10]
+        # Lund sign in the FMU outputs; the integrator wants raw derivatives. The force view
+        # is copied by the caller (BearingSet.evaluate) before the next call.
+        return self._f_view, -self._dq_view, -self._dv_view
+
+    @staticmethod
+    def _status_name(status: int) -> str:
+        return _FMI_STATUS[status] if 0 <= status < len(_FMI_STATUS) else str(status)
+
+    def _check(self, k: int, call: str, status: int) -> None:
+        if status > 1:
+            new = self.messages[k][-1:] or [""]
+            raise FMUError(f"{self.names[k]}: {call} returned {self._status_name(status)} at t = {self.t:.6g} s "
+                           f"{new[0]}".rstrip())
 
     def accept_step(self) -> None:
         if self._static:
