@@ -19,13 +19,14 @@ the host. Instead
   afterwards is discarded with the same message;
 * getters and setters never raise; an unknown value reference is logged and ignored.
 
-The FMU state (fmi2GetFMUstate) is a small tuple of floats (time, inputs, outputs); the
+The FMU state (fmi2GetFMUstate) is a small tuple (tag, time, inputs and outputs); the
 internal is not part of it (it is fixed after initialisation), so saving and restoring
 costs a few microseconds. In the FMU this file is the pythonfmu slave module: ``build.py``
 rewrites its relative imports to the uniquely named copy of the package (see there).
 """
 
 import math
+import operator
 import os
 import traceback
 from pathlib import Path
@@ -122,8 +123,9 @@ OUTPUTS = tuple(v[0] for v in VARIABLES if v[2] == _OUT)
 PARAMETERS = tuple(v[0] for v in VARIABLES if v[2] == _PAR)
 _REAL_OUTPUTS = tuple(v[0] for v in VARIABLES if v[2] == _OUT and v[1] == "Real")
 _TANGENT = ("Kyy", "Kyz", "Kzy", "Kzz", "Cyy", "Cyz", "Czy", "Czz")
-_STATE_TAG = "bearing_fmu.slave/1"
+_STATE_TAG = "bearing_fmu.slave/2"  # /2: values as one tuple
 _STATE_NAMES = INPUTS + OUTPUTS
+_STATE_VALUES = operator.attrgetter(*_STATE_NAMES)
 _VAR_CLASS = {"Real": Real, "Integer": Integer, "Boolean": Boolean, "String": String}
 _CAST = {"Real": float, "Integer": int, "Boolean": bool, "String": str}
 
@@ -168,6 +170,8 @@ class BearingFMU(Fmi2Slave):
             )
             self.register_variable(var)
             self._by_vr[var.value_reference] = (name, typ, causality)
+        self._real_names = {vr: e[0] for vr, e in self._by_vr.items() if e[1] == "Real"}
+        self._real_inputs = {vr: e[0] for vr, e in self._by_vr.items() if e[1] == "Real" and e[2] == _IN}
         self._internal = None  # built in exit_initialization_mode
         self._internal_name = ""
         self._jacobian = None
@@ -341,17 +345,19 @@ class BearingFMU(Fmi2Slave):
             (self.Kyy, self.Kyz, self.Kzy, self.Kzz, self.Cyy, self.Cyz, self.Czy, self.Czz) = tangent
 
     # ------------------------------------------------------------------ FMU state
+    # A host iterating the FMI way saves the state once per step and restores it at every
+    # iteration, so both run in C where they can (attrgetter, dict.update): a state this
+    # class wrote holds the right types already.
     def _get_fmu_state(self):
         # a fresh immutable tuple: pythonfmu hands this very object back on fmi2SetFMUstate
-        return (_STATE_TAG, self._t) + tuple(getattr(self, n) for n in _STATE_NAMES)
+        return (_STATE_TAG, self._t, _STATE_VALUES(self))
 
     def _set_fmu_state(self, state):
         try:
-            if len(state) != 2 + len(_STATE_NAMES) or state[0] != _STATE_TAG:
+            if len(state) != 3 or state[0] != _STATE_TAG or len(state[2]) != len(_STATE_NAMES):
                 raise ValueError(f"not a {_STATE_TAG} state")
             self._t = float(state[1])
-            for name, value in zip(_STATE_NAMES, state[2:]):
-                setattr(self, name, bool(value) if name == "out_of_domain" else float(value))
+            self.__dict__.update(zip(_STATE_NAMES, state[2]))
         except Exception as exc:  # noqa: BLE001
             self._log(f"fmi2SetFMUstate ignored: {exc}", Fmi2Status.error)
 
@@ -392,7 +398,11 @@ class BearingFMU(Fmi2Slave):
                 self._log(f"set{typ} {name} = {value!r}: {exc}; ignored", Fmi2Status.error)
 
     def get_real(self, vrs):
-        return self._get(vrs, "Real", float, math.nan)
+        try:  # fast path: every reference a Real variable (the host's per-iteration call)
+            names = self._real_names
+            return [float(getattr(self, names[vr])) for vr in vrs]
+        except Exception:  # noqa: BLE001 - the checked path logs what was wrong
+            return self._get(vrs, "Real", float, math.nan)
 
     def get_integer(self, vrs):
         return self._get(vrs, "Integer", int, 0)
@@ -404,7 +414,12 @@ class BearingFMU(Fmi2Slave):
         return self._get(vrs, "String", str, "")
 
     def set_real(self, vrs, values):
-        self._set(vrs, values, "Real", float)
+        try:  # fast path: Real inputs only (the host's per-iteration call); idempotent on fallback
+            names = self._real_inputs
+            for vr, value in zip(vrs, values):
+                setattr(self, names[vr], float(value))
+        except Exception:  # noqa: BLE001 - the checked path applies the rules and logs
+            self._set(vrs, values, "Real", float)
 
     def set_integer(self, vrs, values):
         self._set(vrs, values, "Integer", int)
