@@ -1,0 +1,61 @@
+"""`rotor-host compare`: its error measures against hand computations, and a short real run."""
+
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from rotor_host.compare import Variant, compare, envelope_error, late_max_eccentricity
+from rotor_host.report import errors_against
+from rotor_host.scene import load_scene
+
+SCENES = Path(__file__).resolve().parents[1] / "models" / "scenes"
+CR = 90e-6
+
+
+def _whirl(t, ecc, phase):
+    # one bearing (node 3) on a circular forward whirl at 10 Hz, eccentricity ecc
+    y = ecc * CR * np.cos(2 * np.pi * 10 * t + phase)
+    z = ecc * CR * np.sin(2 * np.pi * 10 * t + phase)
+    return {"t": t, "nodes": np.array([3]), "bearing_nodes": np.array([3]), "CR": np.array([CR]),
+            "y": y[:, None], "z": z[:, None], "Fy": y[:, None], "Fz": z[:, None],
+            "eccentricity": np.full((len(t), 1), ecc)}
+
+
+def test_envelope_error_ignores_whirl_phase_and_sees_size():
+    t = np.arange(0, 1.0, 1e-4)
+    ref = _whirl(t, 0.5, 0.0)
+    # the same whirl half a turn later: pointwise the journals are 2 x 0.5 CR apart ...
+    shifted = _whirl(t, 0.5, np.pi)
+    assert errors_against(ref, shifted)["orbit_max_pct_cr"] == pytest.approx(100.0)
+    # ... but the orbit has the same size: envelope error 0
+    assert envelope_error(ref, shifted, speed_hz=20.0) == pytest.approx(0.0, abs=1e-12)
+    # a whirl 2 % CR larger: envelope error 2 % CR in every window
+    assert envelope_error(ref, _whirl(t, 0.52, 0.0), speed_hz=20.0) == pytest.approx(2.0)
+    assert late_max_eccentricity(_whirl(t, 0.52, 0.0)) == pytest.approx(0.52)
+
+
+def test_short_compare_run(tmp_path):
+    # 20 ms of the 22 Hz scene, called directly: Reynolds default grid as reference, a coarse
+    # grid, the shipped order-5 surrogate and the linear model
+    base = load_scene(SCENES / "paper_22hz.toml").with_internal("reynolds", via="direct", t_end_s=0.02)
+    ref = Variant("Reynolds default grid", "reynolds")
+    variants = [Variant("Reynolds 32x8", "reynolds", (32, 8)),
+                Variant("Taylor order 5", "taylor", surrogate=base.surrogate, order=5),
+                Variant("linear", "linear")]
+    rows = compare(base, ref, variants, tmp_path, default_label=ref.label, log=lambda *_: None)
+    by = {r["label"]: r for r in rows}
+    assert all(r["status"] == "ok" for r in rows)
+    assert by[ref.label]["orbit_rms_pct_cr"] == 0.0 and by[ref.label]["speedup_vs_ref"] == pytest.approx(1.0)
+    # every variant differs from the reference, by little at the start of the run
+    for label in ("Reynolds 32x8", "Taylor order 5", "linear"):
+        assert 0.0 < by[label]["orbit_rms_pct_cr"] < 5.0
+        assert math.isfinite(by[label]["force_nrmse_pct"]) and by[label]["envelope_rms_pct_cr"] is None
+        assert by[label]["speedup_vs_ref"] > 0
+    stem = "compare_paper_22hz"
+    data = json.loads((tmp_path / f"{stem}.json").read_text())
+    assert [r["label"] for r in data["rows"]] == [r["label"] for r in rows]
+    assert "| Taylor order 5 |" in (tmp_path / f"{stem}.md").read_text()
+    assert (tmp_path / f"{stem}_error_vs_time.png").stat().st_size > 0
