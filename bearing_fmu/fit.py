@@ -320,6 +320,38 @@ def designed_samples(internal, y0: float, z0: float, omega: float, ecc_max: floa
     return states, forces, domain
 
 
+def tube_samples(internal, orbit_states, y0: float, z0: float, omega: float, radius: float, n: int,
+                 seed: int = 0, *, ecc_max: float | None = None):
+    """n states in a tube about recorded orbit states and their forces from ``internal``.
+
+    Each sample is a randomly chosen orbit state plus a displacement uniform in the 4-D ball
+    of ``radius`` in scaled units (positions in CR, velocities in omega CR: the units of the
+    surrogate's u); samples beyond eccentricity ``ecc_max`` (default: the orbit's largest) are
+    drawn again. Returns (states (n, 4) [m, m/s], forces (n, 2) [N])."""
+    p = internal.params
+    cr, vs = p.CR, abs(omega) * p.CR
+    orbit = np.asarray(orbit_states, float).reshape(-1, 4)
+    if radius <= 0 or not len(orbit):
+        raise ValueError(f"tube_samples: radius = {radius!r} must be > 0 and the orbit non-empty")
+    ecc_orbit = float(np.max(np.hypot(orbit[:, 0], orbit[:, 1])) / cr)
+    ecc_max = min(ecc_orbit if ecc_max is None else float(ecc_max), 0.999)
+    rng = np.random.default_rng(seed)
+    scale = np.array([cr, cr, vs, vs])
+    out = []
+    have = 0
+    while have < n:
+        m = 2 * (n - have) + 16
+        base = orbit[rng.integers(0, len(orbit), m)]
+        d = rng.normal(size=(m, 4))
+        d *= (radius * rng.uniform(size=m) ** 0.25 / np.linalg.norm(d, axis=1))[:, None]
+        st = base + d * scale
+        st = st[np.hypot(st[:, 0], st[:, 1]) <= ecc_max * cr]
+        out.append(st)
+        have += len(st)
+    states = np.concatenate(out)[:n]
+    return states, sample_forces(internal, states, omega)
+
+
 def sample_forces(internal, states, omega: float) -> np.ndarray:
     states = np.asarray(states, float)
     out = np.empty((len(states), 2))
@@ -384,7 +416,7 @@ def fit_surrogate(
     domain: Domain, lam="cv", k_folds: int = 5, blocked: bool = False, prune: bool = True,
     prune_tol: float = 0.05, force_scale: float | None = None, load=None, seed: int = 0,
     test: tuple[np.ndarray, np.ndarray] | None = None, provenance: dict | None = None,
-    bias_variance: bool = True, anchor=None,
+    bias_variance: bool = True, anchor=None, weights=None,
 ) -> FitResult:
     """Fit both force components; ``lam`` = "cv" (line search), or a number (the same for
     both). ``test`` = (states, forces) held out for the reported errors.
@@ -393,7 +425,11 @@ def fit_surrogate(
     ``force_and_jacobian``) fixes the constant and the order-1 coefficients to them -- the
     Taylor series proper (eq. 6): the surrogate then has the truth's static force and Lund
     coefficients at the expansion point, and only the terms of degree >= 2 are regressed (on
-    the residual). Without it all terms are regressed (a global least-squares polynomial)."""
+    the residual). Without it all terms are regressed (a global least-squares polynomial).
+
+    ``weights`` (M,), >= 0: a weight per training row in the least-squares term,
+    sum_k w_k (f_k - X_k k)^2 (rows of X and f scaled by sqrt(w)); the CV error, lambda choice
+    and pruning then use the same weighted objective. None = all 1."""
     t0 = time.perf_counter()
     exps = exponents(order)
     fs = float(force_scale) if force_scale else natural_force_scale(params, omega)
@@ -423,6 +459,12 @@ def fit_surrogate(
     Nf = N - n_fix
     if M < Nf:
         raise ValueError(f"fit: {M} samples for {Nf} free terms of order {order}; need at least as many samples")
+    if weights is not None:
+        w = np.asarray(weights, float).reshape(-1)
+        if w.shape != (M,) or not np.all(np.isfinite(w)) or np.any(w < 0):
+            raise ValueError(f"fit: weights must be {M} finite values >= 0, got shape {w.shape}")
+        sw = np.sqrt(w)[:, None]
+        Xf, Yr = Xf * sw, Yr * sw  # the regression sees weighted rows; reported errors stay unweighted
     folds = fold_indices(M, k_folds, seed, blocked)
     curves: dict = {}
     sel = None
@@ -477,6 +519,9 @@ def fit_surrogate(
         "cv_nrmse_chosen": dict(zip(COMPONENTS, (np.sqrt(cv_ch) / np.std(Y, axis=0)).tolist())),
         "n_train": int(M),
     }
+    if weights is not None:
+        errors["row_weights"] = {"min": float(np.min(weights)), "max": float(np.max(weights)),
+                                 "note": "cv_nrmse_* are of the weighted rows"}
     if test is not None:
         ts, tf = np.asarray(test[0], float), np.asarray(test[1], float)
         Xt = design_matrix(scaled(ts), exps)
@@ -753,9 +798,10 @@ def add_fit_arguments(parser: argparse.ArgumentParser) -> argparse.ArgumentParse
     parser.add_argument("--prune-tol", type=float, default=0.05,
                         help="allowed relative increase of the CV RMS error by pruning (default 0.05)")
     parser.add_argument("--from-npz", default=None, help="train on a co-simulation time series (y, z, vy, vz, Fy, Fz)")
-    parser.add_argument("--scene", default=None,
+    parser.add_argument("--scene", action="append", default=None, metavar="SCENE",
                         help="train on the Reynolds time series of this scene (models/scenes/*.toml), the paper's "
-                             "way; its speed and bearing load replace --speed-hz/--load-*")
+                             "way; its speed and bearing load replace --speed-hz/--load-*. Repeatable: several "
+                             "scenes (other unbalances, same speed and load) are fitted together")
     parser.add_argument("--test-scene", action="append", default=[], metavar="SCENE",
                         help="with --scene: another scene at the same speed whose series is held out (repeatable)")
     parser.add_argument("--bearing", type=int, default=1, help="with --scene: which bearing's series (default 1)")
@@ -767,6 +813,15 @@ def add_fit_arguments(parser: argparse.ArgumentParser) -> argparse.ArgumentParse
                         help="with --scene: eccentricity bound of the designed samples (default: the series')")
     parser.add_argument("--designed-v-max", type=float, default=None,
                         help="with --scene: velocity bound of the designed samples in omega*CR (default: the series')")
+    parser.add_argument("--designed-weight", type=float, default=1.0,
+                        help="with --scene: weight of a designed row against a series row in the least-squares "
+                             "fit (default 1)")
+    parser.add_argument("--designed-tube", type=float, default=None,
+                        help="with --scene: draw the designed samples in a tube of this radius (CR and omega*CR "
+                             "units) about the training series' states instead of over the discs they span")
+    parser.add_argument("--ecc-weight", type=float, default=0.0, metavar="P",
+                        help="with --scene: weigh each row by (1 - eccentricity^2)^P, so the rows near the wall "
+                             "(forces without bound) do not dominate the fit (default 0: equal weights)")
     parser.add_argument("--cache-dir", default=None,
                         help="with --scene: folder caching the Reynolds series (default: beside --output)")
     parser.add_argument("--plots", default=None, help="directory for the lambda plots")
@@ -784,10 +839,13 @@ def run_fit(args: argparse.Namespace) -> int:
         from rotor_host.training import fit_scene
 
         cache = Path(args.cache_dir) if args.cache_dir else Path(args.output).resolve().parent / "series"
-        res = fit_scene(args.scene, args.order, bearing=args.bearing, test_scenes=args.test_scene,
+        scenes = args.scene if len(args.scene) > 1 else args.scene[0]
+        res = fit_scene(scenes, args.order, bearing=args.bearing, test_scenes=args.test_scene,
                         stride=args.stride, cache_dir=cache, lam=lam, prune=not args.no_prune,
                         prune_tol=args.prune_tol, anchor=not args.no_anchor, designed=args.designed,
-                        designed_ecc_max=args.designed_ecc_max, designed_v_max=args.designed_v_max, seed=args.seed)
+                        designed_ecc_max=args.designed_ecc_max, designed_v_max=args.designed_v_max,
+                        designed_weight=args.designed_weight, designed_tube=args.designed_tube,
+                        ecc_weight=args.ecc_weight, seed=args.seed)
     else:
         res = _fit_designed(args, lam, grid)
     return _write_fit(res, args)
@@ -819,7 +877,7 @@ def _write_fit(res: FitResult, args) -> int:
 
 
 __all__ = [
-    "RidgeSVD", "CrossValidation", "select_lambda", "prune_terms", "designed_samples", "load_npz",
+    "RidgeSVD", "CrossValidation", "select_lambda", "prune_terms", "designed_samples", "tube_samples", "load_npz",
     "domain_from_data", "sample_forces", "truth_jacobian", "fit_surrogate", "fit_condition", "expansion_point", "nrmse", "rel_rms",
     "format_report", "plot_lambda", "add_fit_arguments", "run_fit", "term_names", "refit_order",
 ]

@@ -6,7 +6,8 @@ static equilibrium. The series is cut into blocks of a few shaft revolutions and
 block is held out, so the reported error is measured on states the fit never saw, spread
 over the whole run (a held-out tail would be an extrapolation along a growing orbit). A
 second scene (``test_scenes``) adds held-out data from another trajectory: a surrogate that
-only works on its own training orbit is not worth shipping.
+only works on its own training orbit is not worth shipping. Several training scenes (other
+unbalances at the same speed and load, models/scenes/train_*.toml) can be fitted together.
 
 The series is computed with the internal called directly (identical to the FMU run to
 round-off, see tests/test_cosim.py) and cached as ``<name>_series.npz`` beside the output,
@@ -72,29 +73,70 @@ DESIGNED = 2000  # designed samples added over the domain the series spans
 def fit_scene(scene_path, order: int = 5, *, bearing: int = 1, test_scenes=(), stride: int = 2,
               cache_dir=None, lam="cv", prune: bool = True, prune_tol: float = 0.05, anchor: bool = True,
               designed: int = DESIGNED, designed_ecc_max: float | None = None,
-              designed_v_max: float | None = None, seed: int = 1, log=print):
-    """Fit a Taylor surrogate to the Reynolds series of a scene. Returns the FitResult with
-    the held-out block errors in ``surrogate.errors["test_*"]`` and, per test scene, its
-    NRMSE in ``surrogate.errors["other_scenes"]``."""
+              designed_v_max: float | None = None, designed_weight: float = 1.0,
+              designed_tube: float | None = None, ecc_weight: float = 0.0, seed: int = 1, log=print):
+    """Fit a Taylor surrogate to the Reynolds series of a scene, or of several scenes
+    (``scene_path`` a list) at the same speed and bearing load: other unbalances give other
+    trajectories, so the fit sees more of the state space the rotor can reach. Every fifth
+    block of each series is held out. Returns the FitResult with the held-out block errors
+    (all training scenes together) in ``surrogate.errors["test_*"]`` and, per test scene, its
+    NRMSE in ``surrogate.errors["other_scenes"]``.
+
+    ``designed`` Reynolds samples are added: over the discs the series span (bounded by
+    ``designed_ecc_max``, ``designed_v_max``), or with ``designed_tube`` (scaled units: CR and
+    omega CR) in a tube of that radius about the recorded training states. Each designed row
+    weighs ``designed_weight`` against a series row (1 = equal) in the least-squares fit.
+
+    ``ecc_weight`` = p > 0 weighs every row by (1 - eps^2)^p (eps: its eccentricity ratio):
+    near the wall the film force grows without bound and a polynomial cannot follow it; with
+    equal weights those rows dominate the least squares and spoil the fit where the journal
+    spends its transient (44 Hz: the growth of the whirl, whose phase then drifts)."""
     from bearing_fmu import fit as F
     from bearing_fmu.reynolds import Reynolds
 
-    scene = load_scene(scene_path)
+    paths = [scene_path] if isinstance(scene_path, (str, os.PathLike)) else list(scene_path)
+    if not paths:
+        raise ValueError("fit_scene: no training scene given")
+    if not (ecc_weight >= 0 and math.isfinite(ecc_weight)):
+        raise ValueError(f"fit_scene: ecc_weight = {ecc_weight!r} must be finite and >= 0")
+    if designed_weight < 0 or not math.isfinite(designed_weight):
+        raise ValueError(f"fit_scene: designed_weight = {designed_weight!r} must be finite and >= 0")
+    scenes = [load_scene(p) for p in paths]
+    scene = scenes[0]
     cache_dir = Path(cache_dir) if cache_dir is not None else None
 
     def cached(sc):
         return None if cache_dir is None else cache_dir / f"{Path(sc.source).stem}_b{bearing}_series.npz"
 
-    t, states, forces, load = scene_series(scene, bearing, cached(scene), log)
-    t, states, forces = t[::stride], states[::stride], forces[::stride]
+    def check_speed(other, what):
+        if not math.isclose(other.speed_hz, scene.speed_hz, rel_tol=1e-12):
+            raise ValueError(f"{what} {other.source}: speed {other.speed_hz} Hz differs from the training scene's "
+                             f"{scene.speed_hz} Hz; a surrogate holds at one speed")
+
+    tr_states, tr_forces, ho_states, ho_forces = [], [], [], []
+    load = None
+    for sc in scenes:
+        check_speed(sc, "training scene")
+        t, states, forces, ld = scene_series(sc, bearing, cached(sc), log)
+        if load is None:
+            load = ld
+        elif not np.allclose(ld, load, rtol=1e-9, atol=1e-9 * max(1.0, float(np.max(np.abs(load))))):
+            raise ValueError(f"training scene {sc.source}: bearing {bearing} carries {ld.tolist()} N, the first "
+                             f"training scene's carries {load.tolist()} N; a surrogate holds at one load")
+        t, states, forces = t[::stride], states[::stride], forces[::stride]
+        held = holdout_mask(t, sc.speed_hz)
+        tr_states.append(states[~held])
+        tr_forces.append(forces[~held])
+        ho_states.append(states[held])
+        ho_forces.append(forces[held])
+    s_train, f_train = np.vstack(tr_states), np.vstack(tr_forces)
     params = _bearing_params(scene, bearing)
     truth = Reynolds(params, n_theta=scene.n_theta, n_x=scene.n_x)
     omega = scene.omega
     y0, z0 = F.expansion_point(truth, tuple(load), omega)
-    held = holdout_mask(t, scene.speed_hz)
-    train = ~held
-    domain = F.domain_from_data(states[train], y0, z0, params, omega)
-    s_fit, f_fit = states[train], forces[train]
+    domain = F.domain_from_data(s_train, y0, z0, params, omega)
+    s_fit, f_fit = s_train, f_train
+    weights = None
     if designed:
         # A fit to one orbit alone is exact on it and wild off it (the series spans a thin set
         # of the 4-D state space: cond(X) ~ 1e10), and a rotor run with the surrogate leaves
@@ -104,31 +146,44 @@ def fit_scene(scene_path, order: int = 5, *, bearing: int = 1, test_scenes=(), s
         # there and the designed samples then spoil the fit everywhere: designed_ecc_max and
         # designed_v_max keep them to the inner part of the domain (the series covers the rest).
         ecc_d = min(domain.ecc_max, designed_ecc_max or domain.ecc_max)
-        v_d = min(domain.v_max, designed_v_max or domain.v_max)
-        s_d, f_d, _ = F.designed_samples(truth, y0, z0, omega, ecc_d, v_d, designed, seed,
-                                         radius=domain.pos_radius)
+        if designed_tube:
+            s_d, f_d = F.tube_samples(truth, s_train, y0, z0, omega, designed_tube, designed, seed, ecc_max=ecc_d)
+        else:
+            v_d = min(domain.v_max, designed_v_max or domain.v_max)
+            s_d, f_d, _ = F.designed_samples(truth, y0, z0, omega, ecc_d, v_d, designed, seed,
+                                             radius=domain.pos_radius)
         s_fit, f_fit = np.vstack([s_fit, s_d]), np.vstack([f_fit, f_d])
+        if designed_weight != 1.0:
+            weights = np.concatenate([np.ones(len(s_train)), np.full(len(s_d), float(designed_weight))])
+    if ecc_weight:
+        ecc = np.hypot(s_fit[:, 0], s_fit[:, 1]) / params.CR
+        w_ecc = np.clip(1.0 - ecc**2, 0.0, None) ** ecc_weight
+        weights = w_ecc if weights is None else weights * w_ecc
     anc = F.truth_jacobian(truth, y0, z0, omega) if anchor else None
+    names = ", ".join(Path(sc.source).name for sc in scenes)
     prov = {"truth": "Reynolds", "truth_n_theta": truth.n_theta, "truth_n_x": truth.n_x,
             "truth_cavitation": truth.cavitation,
-            "training_source": f"scene {Path(scene.source).name}",
-            "scene_t_end_s": scene.t_end_s, "scene_dt_s": scene.dt_s, "bearing": bearing, "stride": stride,
+            "training_source": f"scene{'s' if len(scenes) > 1 else ''} {names}",
+            "scene_t_end_s": [sc.t_end_s for sc in scenes] if len(scenes) > 1 else scene.t_end_s,
+            "scene_dt_s": scene.dt_s, "bearing": bearing, "stride": stride,
             "designed_samples": designed, "designed_seed": seed, "designed_ecc_max": designed_ecc_max,
-            "designed_v_max": designed_v_max,
-            "held_out": f"every {HOLDOUT_EVERY}th block of (at most) {BLOCK_REVS:g} revolutions of the series",
-            "fit_call": {"scene": str(Path(scene.source).resolve()), "bearing": bearing, "stride": stride,
-                         "test_scenes": [str(Path(p).resolve()) for p in test_scenes], "lam": lam,
-                         "prune": prune, "prune_tol": prune_tol, "anchor": anchor, "designed": designed,
-                         "designed_ecc_max": designed_ecc_max, "designed_v_max": designed_v_max, "seed": seed}}
+            "designed_v_max": designed_v_max, "designed_weight": designed_weight, "designed_tube": designed_tube,
+            "ecc_weight": ecc_weight,
+            "held_out": f"every {HOLDOUT_EVERY}th block of (at most) {BLOCK_REVS:g} revolutions of each series",
+            "fit_call": {"scenes": [str(Path(sc.source).resolve()) for sc in scenes], "bearing": bearing,
+                         "stride": stride, "test_scenes": [str(Path(p).resolve()) for p in test_scenes],
+                         "lam": lam, "prune": prune, "prune_tol": prune_tol, "anchor": anchor,
+                         "designed": designed, "designed_ecc_max": designed_ecc_max,
+                         "designed_v_max": designed_v_max, "designed_weight": designed_weight,
+                         "designed_tube": designed_tube, "ecc_weight": ecc_weight, "seed": seed}}
     res = F.fit_surrogate(s_fit, f_fit, params, omega, y0, z0, order, domain=domain,
                           lam=lam, blocked=True, prune=prune, prune_tol=prune_tol, load=tuple(load),
-                          test=(states[held], forces[held]), provenance=prov, anchor=anc)
+                          test=(np.vstack(ho_states), np.vstack(ho_forces)), provenance=prov, anchor=anc,
+                          weights=weights)
     others = {}
     for p in test_scenes:
         other = load_scene(p)
-        if not math.isclose(other.speed_hz, scene.speed_hz, rel_tol=1e-12):
-            raise ValueError(f"test scene {p}: speed {other.speed_hz} Hz differs from the training scene's "
-                             f"{scene.speed_hz} Hz; a surrogate holds at one speed")
+        check_speed(other, "test scene")
         _, s2, f2, _ = scene_series(other, bearing, cached(other), log)
         pred = res.surrogate.predict(s2[::stride])
         err = F.nrmse(pred, f2[::stride])
@@ -166,32 +221,43 @@ def refit(surrogate_path, order: int, out_path, cache_dir=None, log=print):
 
     base = load_surrogate(surrogate_path)
     call = base.provenance.get("fit_call")
-    if call is None or "scene" not in call:
+    if call is None or not ("scene" in call or "scenes" in call):
         return refit_order(surrogate_path, order, out_path)
     here = Path(surrogate_path).resolve().parent
-    scene = _locate(call["scene"], here, surrogate_path)
+    scenes = [_locate(p, here, surrogate_path) for p in _call_scenes(call)]
     tests = [_locate(p, here, surrogate_path) for p in call.get("test_scenes", ())]
-    res = fit_scene(scene, order, bearing=call["bearing"], test_scenes=tests,
+    res = fit_scene(scenes if len(scenes) > 1 else scenes[0], order, bearing=call["bearing"], test_scenes=tests,
                     stride=call["stride"], cache_dir=cache_dir, lam=call["lam"], prune=call["prune"],
                     prune_tol=call["prune_tol"], anchor=call["anchor"], designed=call.get("designed", 0),
                     designed_ecc_max=call.get("designed_ecc_max"), designed_v_max=call.get("designed_v_max"),
-                    seed=call.get("seed", 1), log=log)
+                    designed_weight=call.get("designed_weight", 1.0), designed_tube=call.get("designed_tube"),
+                    ecc_weight=call.get("ecc_weight", 0.0), seed=call.get("seed", 1), log=log)
     portable_fit_call(res.surrogate, out_path)
     return save_surrogate(res.surrogate, out_path)
+
+
+def _call_scenes(call: dict) -> list:
+    """The training scenes of a fit call: ``scenes`` (a list), or ``scene`` (files written
+    before several training scenes were possible)."""
+    if "scenes" in call:
+        return list(call["scenes"])
+    return [call["scene"]]
 
 
 def portable_fit_call(surrogate, out_path) -> None:
     """Store the scene paths of ``provenance["fit_call"]`` relative to the folder of the file
     the surrogate is written to, so a refit works in another clone or checkout."""
     call = surrogate.provenance.get("fit_call") or {}
-    if "scene" not in call:
+    if "scene" not in call and "scenes" not in call:
         return
     folder = Path(out_path).resolve().parent
 
     def rel(p):
         return Path(os.path.relpath(Path(p).resolve(), folder)).as_posix()
 
-    call["scene"] = rel(call["scene"])
+    for key in ("scene", "scenes"):
+        if key in call:
+            call[key] = [rel(p) for p in call[key]] if key == "scenes" else rel(call[key])
     call["test_scenes"] = [rel(p) for p in call.get("test_scenes", ())]
 
 

@@ -410,6 +410,41 @@ def test_designed_samples_cover_declared_domain():
     np.testing.assert_array_equal(st, st2)  # seeded
 
 
+def test_tube_samples_stay_in_the_tube():
+    truth = Smooth()
+    orbit = random_states(50, 11, r=0.2, v=0.2)
+    st, f = F.tube_samples(truth, orbit, Y0, Z0, OMEGA, 0.05, 300, seed=4, ecc_max=0.45)
+    assert st.shape == (300, 4) and f.shape == (300, 2)
+    scale = np.array([P.CR, P.CR, OMEGA * P.CR, OMEGA * P.CR])
+    dist = np.linalg.norm((st[:, None, :] - orbit[None, :, :]) / scale, axis=2).min(axis=1)
+    assert dist.max() <= 0.05 * (1 + 1e-12) and dist.mean() > 0.01  # inside the tube, not on the orbit
+    assert np.hypot(st[:, 0], st[:, 1]).max() <= 0.45 * P.CR * (1 + 1e-12)
+    np.testing.assert_allclose(f, [truth.force(*row, OMEGA) for row in st])
+    with pytest.raises(ValueError, match="radius"):
+        F.tube_samples(truth, orbit, Y0, Z0, OMEGA, 0.0, 10)
+
+
+def test_row_weights_are_repeated_rows():
+    # weighted least squares with integer weights = plain least squares on rows repeated that
+    # often; a row of weight 0 is ignored whatever its force
+    truth = Smooth()
+    st = random_states(200, 5)
+    f = np.array([truth.force(*row, OMEGA) for row in st])
+    w = np.random.default_rng(6).integers(1, 4, len(st)).astype(float)
+    kw = dict(domain=BOX, lam=0.0, prune=False, bias_variance=False)
+    a = F.fit_surrogate(st, f, P, OMEGA, Y0, Z0, 3, weights=w, **kw).surrogate
+    rep = np.repeat(np.arange(len(st)), w.astype(int))
+    b = F.fit_surrogate(st[rep], f[rep], P, OMEGA, Y0, Z0, 3, **kw).surrogate
+    np.testing.assert_allclose(a.coef, b.coef, rtol=1e-8, atol=1e-10 * np.abs(b.coef).max())
+    junk = np.vstack([f, np.full((20, 2), 1e6)])
+    w0 = np.concatenate([np.ones(len(st)), np.zeros(20)])
+    c = F.fit_surrogate(np.vstack([st, st[:20]]), junk, P, OMEGA, Y0, Z0, 3, weights=w0, **kw).surrogate
+    d = F.fit_surrogate(st, f, P, OMEGA, Y0, Z0, 3, **kw).surrogate
+    np.testing.assert_allclose(c.coef, d.coef, rtol=1e-8, atol=1e-10 * np.abs(d.coef).max())
+    with pytest.raises(ValueError, match="weights"):
+        F.fit_surrogate(st, f, P, OMEGA, Y0, Z0, 3, weights=-w, **kw)
+
+
 def test_npz_source(tmp_path):
     t = np.linspace(0, 1, 500)
     y, z = Y0 + 0.2 * P.CR * np.cos(20 * t), Z0 + 0.2 * P.CR * np.sin(20 * t)

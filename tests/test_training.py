@@ -82,7 +82,7 @@ def test_scene_fit_holds_out_and_refits_elsewhere(tmp_path):
     portable_fit_call(s, out)
     save_surrogate(s, out)
     call = json.loads(out.read_text())["provenance"]["fit_call"]
-    assert call["scene"] == "../scenes/train.toml" and call["test_scenes"] == ["../scenes/other.toml"]
+    assert call["scenes"] == ["../scenes/train.toml"] and call["test_scenes"] == ["../scenes/other.toml"]
     moved = tmp_path / "moved"
     shutil.copytree(tmp_path / "scenes", moved / "scenes")
     shutil.copytree(tmp_path / "surrogates", moved / "surrogates")
@@ -104,5 +104,67 @@ def test_refit_names_a_missing_scene(tmp_path):
 def test_shipped_fit_calls_point_at_bundled_scenes(name):
     path = ROOT / "models" / "surrogates" / f"{name}.json"
     call = load_surrogate(path).provenance["fit_call"]
-    for p in [call["scene"], *call["test_scenes"]]:
+    for p in [*call.get("scenes", [call.get("scene")]), *call["test_scenes"]]:
         assert not Path(p).is_absolute() and (path.parent / p).is_file()
+
+
+def test_several_training_scenes(tmp_path):
+    # two unbalances at the same speed and load trained together: both series' held-out blocks
+    # are scored, the fit call names both scenes, the CLI takes --scene twice and a refit
+    # (also from a file of the older single-scene form) uses the same data
+    import argparse
+
+    from bearing_fmu import fit as F
+
+    scenes = tmp_path / "scenes"
+    scenes.mkdir()
+    a, b, other = _scene(scenes, "a", 8.5), _scene(scenes, "b", 3.0), _scene(scenes, "other", 6.0)
+    cache = tmp_path / "series"
+    parser = F.add_fit_arguments(argparse.ArgumentParser())
+    out = tmp_path / "surrogates" / "s.json"
+    args = parser.parse_args(["--scene", str(a), "--scene", str(b), "--test-scene", str(other), "--order", "3",
+                              "--designed", "200", "--designed-tube", "0.02", "--ecc-weight", "1",
+                              "--no-prune", "--cache-dir", str(cache), "-o", str(out)])
+    assert F.run_fit(args) == 0
+    s = load_surrogate(out)
+    call = s.provenance["fit_call"]
+    assert call["scenes"] == ["../scenes/a.toml", "../scenes/b.toml"]
+    assert call["designed_tube"] == 0.02 and call["ecc_weight"] == 1.0
+    held = []
+    for name in ("a", "b"):
+        t, st, fo, _ = scene_series(load_scene(scenes / f"{name}.toml"), cache=cache / f"{name}_b1_series.npz")
+        t, st, fo = t[::2], st[::2], fo[::2]
+        m = holdout_mask(t, 22.0)
+        held.append((st[m], fo[m]))
+    st_h, fo_h = np.vstack([h[0] for h in held]), np.vstack([h[1] for h in held])
+    assert s.errors["n_test"] == len(st_h)
+    err = nrmse(s.predict(st_h), fo_h)
+    assert np.allclose(err, [s.errors["test_nrmse"][c] for c in ("Fy", "Fz")], rtol=1e-9)
+    assert err.max() < 0.05 and "other.toml" in s.errors["other_scenes"]
+
+    r = load_surrogate(refit(out, 3, tmp_path / "surrogates" / "r.json", cache_dir=cache, log=lambda *_: None))
+    assert r.provenance["fit_call"]["scenes"] == call["scenes"]
+    np.testing.assert_allclose(r.coef, s.coef, rtol=1e-9, atol=1e-12)  # same data, seed and weights
+    # a file written before several scenes were possible names one "scene"
+    d = json.loads(out.read_text())
+    d["provenance"]["fit_call"].pop("scenes")
+    d["provenance"]["fit_call"]["scene"] = "../scenes/a.toml"
+    old = tmp_path / "surrogates" / "old.json"
+    old.write_text(json.dumps(d))
+    o = load_surrogate(refit(old, 2, tmp_path / "surrogates" / "o.json", cache_dir=cache, log=lambda *_: None))
+    assert o.order == 2 and o.provenance["fit_call"]["scenes"] == ["../scenes/a.toml"]
+
+
+def test_training_scenes_must_share_speed_and_load(tmp_path):
+    a = _scene(tmp_path, "a", 8.5)
+    heavy = tmp_path / "heavy.toml"
+    heavy.write_text(a.read_text().replace('name = "a"', 'name = "heavy"')
+                     + "[[static_loads]]\nnode = 3\nFz_N = -50.0\n")
+    with pytest.raises(ValueError, match="load"):
+        fit_scene([a, heavy], 2, cache_dir=tmp_path / "series", designed=0, prune=False, log=lambda *_: None)
+    fast = tmp_path / "fast.toml"
+    fast.write_text(a.read_text().replace("speed_hz = 22.0", "speed_hz = 30.0"))
+    with pytest.raises(ValueError, match="speed"):
+        fit_scene([a, fast], 2, cache_dir=tmp_path / "series", designed=0, prune=False, log=lambda *_: None)
+    with pytest.raises(ValueError, match="ecc_weight"):
+        fit_scene(a, 2, cache_dir=tmp_path / "series", designed=0, ecc_weight=-1.0, log=lambda *_: None)
