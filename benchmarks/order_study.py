@@ -8,7 +8,10 @@ evaluation time per call. Checks the paper's claim that order 5 is
 the lowest order that fits the instability case.
 
     .venv/bin/python benchmarks/order_study.py [--orders 1 2 3 4 5 6 7] [--cache out/series]
-        [--surrogates models/surrogates/paper_22hz_16.7N.json ...]
+        [--surrogates models/surrogates/paper_22hz_16.7N.json ...] [--closed-loop]
+
+With --closed-loop each order's surrogate also runs the paper scene in closed loop (called
+directly) against one Reynolds run: what a user swapping the surrogate in would see.
 """
 
 from __future__ import annotations
@@ -19,9 +22,11 @@ import tempfile
 import time
 from pathlib import Path
 
-from rotor_host.report import markdown_table
 from bearing_fmu.taylor import load_surrogate
-from rotor_host.training import refit
+from rotor_host.compare import envelope_error, late_max_eccentricity
+from rotor_host.report import errors_against, markdown_table
+from rotor_host.scene import load_scene, run_scene
+from rotor_host.training import refit, training_scenes
 
 ROOT = Path(__file__).resolve().parents[1]
 SURROGATES = [ROOT / "models" / "surrogates" / f"paper_{f}hz_16.7N.json" for f in (22, 44)]
@@ -44,16 +49,24 @@ def main() -> None:
     ap.add_argument("--orders", type=int, nargs="+", default=list(range(1, 8)))
     ap.add_argument("--cache", default=str(ROOT / "out" / "series"), help="folder caching the Reynolds series")
     ap.add_argument("--surrogates", nargs="+", default=[str(p) for p in SURROGATES])
+    ap.add_argument("--closed-loop", action="store_true",
+                    help="also run the first training scene (the paper scene) with each order's surrogate, "
+                         "called directly, against one Reynolds run of it: orbit and envelope errors")
     args = ap.parse_args()
     for path in args.surrogates:
         rows = []
         base = load_surrogate(path)
         name = base.provenance.get("training_source", "?")
         held = None
+        ref = scene = None
+        if args.closed_loop:
+            scene = load_scene(training_scenes(path)[0][0])
+            ref = run_scene(scene.with_internal("reynolds", via="direct"), None).arrays
         for order in args.orders:
             with tempfile.TemporaryDirectory() as tmp:
-                sur = load_surrogate(refit(path, order, Path(tmp) / "s.json", cache_dir=args.cache,
-                                           log=lambda *_: None))
+                fitted = refit(path, order, Path(tmp) / "s.json", cache_dir=args.cache, log=lambda *_: None)
+                sur = load_surrogate(fitted)
+                closed = closed_loop(scene, fitted, ref) if args.closed_loop else {}
             e = sur.errors
             held, other = next(iter(e.get("other_scenes", {"-": {"nrmse": {"Fy": float("nan"),
                                                                          "Fz": float("nan")}}}).items()))
@@ -62,7 +75,7 @@ def main() -> None:
                 "kept": f"{int(sur.kept[0].sum())}/{int(sur.kept[1].sum())}",
                 "blocks_y": 100 * e["test_nrmse"]["Fy"], "blocks_z": 100 * e["test_nrmse"]["Fz"],
                 "other_y": 100 * other["nrmse"]["Fy"], "other_z": 100 * other["nrmse"]["Fz"],
-                "us": 1e6 * time_per_call(sur),
+                "us": 1e6 * time_per_call(sur), **closed,
             })
         print(f"\norder study, {Path(path).name} (training: {name} as recorded in the file; held out: "
               f"every 5th block of 2 revolutions, and the series of {held}); {platform.machine()}, "
@@ -72,7 +85,20 @@ def main() -> None:
             ("blocks_y", "held-out blocks NRMSE Fy [%]", ".3f"), ("blocks_z", "Fz [%]", ".3f"),
             ("other_y", f"{held} NRMSE Fy [%]", ".2f"), ("other_z", "Fz [%]", ".2f"),
             ("us", "force call [us]", ".2f"),
-        ]))
+        ] + ([("status", f"closed loop, {scene.name}", ""), ("orbit", "orbit RMS [% CR]", ".2f"),
+              ("envelope", "envelope RMS [% CR]", ".2f"), ("late", "late max ecc.", ".3f")]
+             if args.closed_loop else [])))
+
+
+def closed_loop(scene, surrogate_path, ref) -> dict:
+    """Run ``scene`` with the surrogate (called directly) and measure it against ``ref``."""
+    run = run_scene(scene.with_internal("taylor", via="direct", surrogate=Path(surrogate_path)), None)
+    m = run.meta
+    status = m["status"] if m["status"] == "ok" else f"{m['status']} at t = {m['t_reached_s']:.3f} s"
+    err = errors_against(ref, run.arrays)
+    return {"status": status, "orbit": err["orbit_rms_pct_cr"],
+            "envelope": envelope_error(ref, run.arrays, scene.speed_hz),
+            "late": late_max_eccentricity(run.arrays)}
 
 
 if __name__ == "__main__":

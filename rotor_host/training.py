@@ -223,9 +223,7 @@ def refit(surrogate_path, order: int, out_path, cache_dir=None, log=print):
     call = base.provenance.get("fit_call")
     if call is None or not ("scene" in call or "scenes" in call):
         return refit_order(surrogate_path, order, out_path)
-    here = Path(surrogate_path).resolve().parent
-    scenes = [_locate(p, here, surrogate_path) for p in _call_scenes(call)]
-    tests = [_locate(p, here, surrogate_path) for p in call.get("test_scenes", ())]
+    scenes, tests = training_scenes(surrogate_path)
     res = fit_scene(scenes if len(scenes) > 1 else scenes[0], order, bearing=call["bearing"], test_scenes=tests,
                     stride=call["stride"], cache_dir=cache_dir, lam=call["lam"], prune=call["prune"],
                     prune_tol=call["prune_tol"], anchor=call["anchor"], designed=call.get("designed", 0),
@@ -234,6 +232,19 @@ def refit(surrogate_path, order: int, out_path, cache_dir=None, log=print):
                     ecc_weight=call.get("ecc_weight", 0.0), seed=call.get("seed", 1), log=log)
     portable_fit_call(res.surrogate, out_path)
     return save_surrogate(res.surrogate, out_path)
+
+
+def training_scenes(surrogate_path) -> tuple[list[Path], list[Path]]:
+    """(training scenes, held-out test scenes) of a scene-trained surrogate file, as paths
+    (its fit call stores them relative to the file); ([], []) for a designed-domain fit."""
+    from bearing_fmu.taylor import load_surrogate
+
+    call = load_surrogate(surrogate_path).provenance.get("fit_call") or {}
+    if "scene" not in call and "scenes" not in call:
+        return [], []
+    here = Path(surrogate_path).resolve().parent
+    return ([_locate(p, here, surrogate_path) for p in _call_scenes(call)],
+            [_locate(p, here, surrogate_path) for p in call.get("test_scenes", ())])
 
 
 def _call_scenes(call: dict) -> list:
@@ -270,4 +281,4 @@ def _locate(path, folder: Path, surrogate_path) -> Path:
     return p
 
 
-__all__ = ["scene_series", "holdout_mask", "fit_scene", "refit", "portable_fit_call"]
+__all__ = ["scene_series", "holdout_mask", "fit_scene", "refit", "portable_fit_call", "training_scenes"]
