@@ -149,8 +149,16 @@ def plot_error_vs_time(rows, path, title=""):
                 continue
             a.loglog(t, max(val, 1e-4), markers.get(r["internal"], "x"), ms=7)
             a.annotate(r["label"], (t, max(val, 1e-4)), fontsize=7, xytext=(4, 2), textcoords="offset points")
+    from matplotlib.ticker import LogLocator, NullFormatter
+
     for a, yl in zip(ax, ("orbit RMS error [% CR]", "force NRMSE [%]")):
         a.axvline(rows[0]["integration_s"], color="k", ls=":", lw=1)
+        a.annotate(rows[0]["label"], (rows[0]["integration_s"], 0.5), xycoords=("data", "axes fraction"),
+                   rotation=90, fontsize=7, ha="right", va="center")
+        a.set_xscale("log")
+        a.set_yscale("log")
+        a.xaxis.set_major_locator(LogLocator(base=10))
+        a.xaxis.set_minor_formatter(NullFormatter())  # labelled minor ticks overlap on a short span
         a.set_xlabel("run time [s] (dotted: reference)")
         a.set_ylabel(yl)
         a.grid(alpha=0.3, which="both")

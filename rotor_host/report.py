@@ -31,13 +31,21 @@ def plot_runs(runs: dict, path, *, bearing: int = 0, disk_node: int | None = 6, 
               history: bool = False) -> Path:
     """One figure like the paper's: (a) Fy vs t, (b) Fz vs t of the bearing, (c) bearing orbit
     with the clearance circle, (d) disk orbit; with ``history`` also (e) y and (f) z of the
-    bearing vs t (Fig. 5e-f). ``runs`` maps a label (e.g. "Reynolds") to run arrays."""
+    bearing vs t (Fig. 5e-f). ``runs`` maps a label (e.g. "Reynolds") to run arrays.
+
+    The axes are scaled to the first run (the reference) and the clearance circle, so a
+    variant whose orbit runs away (the linear model through the wall) cannot shrink the
+    others to a line; such a variant is marked "(off scale)" in the legend."""
     plt = _plt()
     nrow = 3 if history else 2
     fig, axes = plt.subplots(nrow, 2, figsize=(11, 3.6 * nrow))
     ax = axes.ravel()
     styles = ["-", "--", ":", "-."]
+    first = next(iter(runs.values())) if runs else None
+    lims = _reference_limits(first, bearing, disk_node, history) if first is not None else {}
     for i, (label, a) in enumerate(runs.items()):
+        if i > 0 and _off_scale(a, bearing, lims):
+            label = f"{label} (off scale)"
         ls = styles[i % len(styles)]
         t = np.asarray(a["t"])
         bnode = int(np.asarray(a["bearing_nodes"])[bearing])
@@ -54,8 +62,14 @@ def plot_runs(runs: dict, path, *, bearing: int = 0, disk_node: int | None = 6, 
             ax[5].plot(t, np.asarray(a["z"])[:, cb] * 1e6, ls, lw=0.8, label=label)
     th = np.linspace(0, 2 * np.pi, 361)
     ax[2].plot(np.cos(th), np.sin(th), "k-", lw=1.2, label="clearance")
+    for k, lim in lims.items():
+        if k in (2, 3):
+            ax[k].set_xlim(*lim[0])
+            ax[k].set_ylim(*lim[1])
+        else:
+            ax[k].set_ylim(*lim)
     ax[2].set_aspect("equal")
-    ax[3].set_aspect("equal", adjustable="datalim")
+    ax[3].set_aspect("equal", adjustable="box" if 3 in lims else "datalim")
     labels = [("t [s]", "Fy [N]", "(a) horizontal film force"), ("t [s]", "Fz [N]", "(b) vertical film force"),
               ("y / CR", "z / CR", "(c) bearing orbit"), ("y [um]", "z [um]", f"(d) disk orbit (node {disk_node})"),
               ("t [s]", "y [um]", "(e) horizontal bearing displacement"),
@@ -74,6 +88,53 @@ def plot_runs(runs: dict, path, *, bearing: int = 0, disk_node: int | None = 6, 
     fig.savefig(path, dpi=110)
     plt.close(fig)
     return path
+
+
+def _span(v, margin: float = 0.15):
+    v = np.asarray(v, float)
+    v = v[np.isfinite(v)]
+    if v.size == 0:
+        return None
+    lo, hi = float(v.min()), float(v.max())
+    pad = margin * (hi - lo) or max(abs(hi), 1e-12) * margin
+    return lo - pad, hi + pad
+
+
+def _reference_limits(a, bearing: int, disk_node, history: bool) -> dict:
+    """Axis limits per panel from the reference run: {panel: (lo, hi)} or, for the orbits,
+    {panel: ((xlo, xhi), (ylo, yhi))}. The bearing orbit always shows the clearance circle."""
+    bnode = int(np.asarray(a["bearing_nodes"])[bearing])
+    cb = _col(a, bnode)
+    CR = float(np.asarray(a["CR"])[bearing])
+    y, z = np.asarray(a["y"])[:, cb], np.asarray(a["z"])[:, cb]
+    lims = {0: _span(np.asarray(a["Fy"])[:, bearing]), 1: _span(np.asarray(a["Fz"])[:, bearing])}
+    r = max(1.1, 1.1 * float(np.nanmax(np.hypot(y, z))) / CR) if len(y) else 1.1
+    lims[2] = ((-r, r), (-r, r))
+    if disk_node is not None and disk_node in list(np.asarray(a["nodes"])):
+        cd = _col(a, disk_node)
+        yd, zd = _span(np.asarray(a["y"])[:, cd] * 1e6), _span(np.asarray(a["z"])[:, cd] * 1e6)
+        if yd and zd:
+            lims[3] = (yd, zd)
+    if history:
+        lims[4], lims[5] = _span(y * 1e6), _span(z * 1e6)
+    return {k: v for k, v in lims.items() if v is not None}
+
+
+def _off_scale(a, bearing: int, lims: dict) -> bool:
+    """True when the run's bearing force or orbit leaves the reference's axes by far (2x)."""
+    bnode = int(np.asarray(a["bearing_nodes"])[bearing])
+    cb = _col(a, bnode)
+    CR = float(np.asarray(a["CR"])[bearing])
+    checks = [(0, np.asarray(a["Fy"])[:, bearing]), (1, np.asarray(a["Fz"])[:, bearing])]
+    for k, v in checks:
+        if k in lims and v.size:
+            lo, hi = lims[k]
+            if np.nanmax(np.abs(v)) > 2 * max(abs(lo), abs(hi)):
+                return True
+    if 2 in lims and len(a["t"]):
+        r = lims[2][0][1]
+        return bool(np.nanmax(np.hypot(np.asarray(a["y"])[:, cb], np.asarray(a["z"])[:, cb])) / CR > 2 * r)
+    return False
 
 
 def errors_against(ref: dict, run: dict, *, bearing_cols: bool = True) -> dict:
