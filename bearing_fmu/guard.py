@@ -9,7 +9,9 @@ at every evaluation, measures how far the state lies outside the fitted domain
 * outside, but less than ``limit`` beyond: depending on ``action``
     - "warn"     : the surrogate's value; the first exit is reported once (``on_warn``),
     - "fallback" : the truth's value (the Reynolds internal, built at the first exit only,
-                   so a run that stays inside never imports it),
+                   so a run that stays inside never imports it), blended smoothly with the
+                   surrogate's over the first FALLBACK_BAND (10 %) beyond the domain so the
+                   force has no jump at its edge,
     - "discard"  : BearingStateError (the FMU discards the step, the host cuts it);
 * more than ``limit`` beyond, or the journal at or beyond the wall: BearingStateError with
   the distance, whatever the action -- a polynomial far from its data is not a force.
@@ -23,10 +25,13 @@ from __future__ import annotations
 import math
 import warnings
 
+import numpy as np
+
 from .internals import BearingStateError
 
 DOMAIN_ACTIONS = ("warn", "fallback", "discard")
 DEFAULT_LIMIT = 0.5  # relative excess over the domain's bounds beyond which the state is refused
+FALLBACK_BAND = 0.1  # fallback: Taylor and truth blended from the domain's edge to 10 % beyond it
 
 
 class DomainGuard:
@@ -100,17 +105,44 @@ class DomainGuard:
             return self._truth
         return self.taylor
 
+    def _blend_weight(self) -> float:
+        """Weight of the truth in fallback mode for the state just selected: 0 inside the
+        domain, rising smoothly (smoothstep) to 1 at FALLBACK_BAND beyond it."""
+        x = min(max(self.last_distance / FALLBACK_BAND, 0.0), 1.0)
+        return x * x * (3.0 - 2.0 * x)
+
     def force(self, y: float, z: float, vy: float, vz: float, omega: float):
-        return self._select(y, z, vy, vz).force(y, z, vy, vz, omega)
+        internal = self._select(y, z, vy, vz)
+        if internal is self.taylor or internal is not self._truth:
+            return internal.force(y, z, vy, vz, omega)
+        w = self._blend_weight()
+        if w >= 1.0:
+            return internal.force(y, z, vy, vz, omega)
+        f_r, f_t = internal.force(y, z, vy, vz, omega), self.taylor.force(y, z, vy, vz, omega)
+        return tuple((1.0 - w) * a + w * b for a, b in zip(f_t, f_r))
 
     def force_and_jacobian(self, y: float, z: float, vy: float, vz: float, omega: float):
         internal = self._select(y, z, vy, vz)
-        jac = getattr(internal, "force_and_jacobian", None)
-        if jac is None:
-            from .statics import film_jacobian
+        out = _jacobian(internal, y, z, vy, vz, omega)
+        if internal is self.taylor or internal is not self._truth:
+            return out
+        w = self._blend_weight()
+        if w >= 1.0:
+            return out
+        # A hard switch at the domain's edge is a jump in the force, and Newton stalls on a
+        # state that sits on it; blending over a thin band keeps the force continuous. The
+        # weight's own derivative is left out of the tangent (Newton converges a little slower).
+        tay = self.taylor.force_and_jacobian(y, z, vy, vz, omega)
+        return tuple((1.0 - w) * np.asarray(a, float) + w * np.asarray(b, float) for a, b in zip(tay, out))
 
-            return film_jacobian(internal, y, z, vy, vz, omega)
-        return jac(y, z, vy, vz, omega)
+
+def _jacobian(internal, y, z, vy, vz, omega):
+    jac = getattr(internal, "force_and_jacobian", None)
+    if jac is None:
+        from .statics import film_jacobian
+
+        return film_jacobian(internal, y, z, vy, vz, omega)
+    return jac(y, z, vy, vz, omega)
 
 
 __all__ = ["DomainGuard", "DOMAIN_ACTIONS", "DEFAULT_LIMIT"]

@@ -326,6 +326,21 @@ def test_domain_guard_actions():
     assert fb.force(*near, OMEGA) == truth.force(*near, OMEGA) and built == [1]
     F_, dq, dv = fb.force_and_jacobian(*near, OMEGA)  # the truth has no Jacobian: differences
     assert np.allclose(F_, truth.force(*near, OMEGA))
+    # within 10 % beyond the edge the two are blended, so the force has no jump at the edge:
+    # 5 % beyond (half the band) the smoothstep weight is 1/2
+    from bearing_fmu.guard import FALLBACK_BAND
+
+    def at(excess):  # a state `excess` beyond the 0.3 CR position disc
+        return (Y0 + 0.3 * (1 + excess) * P.CR, Z0, 0.0, 0.0)
+
+    half = at(FALLBACK_BAND / 2)
+    expect = 0.5 * np.asarray(t.force(*half, OMEGA)) + 0.5 * np.asarray(truth.force(*half, OMEGA))
+    np.testing.assert_allclose(fb.force(*half, OMEGA), expect, rtol=1e-12)
+    np.testing.assert_allclose(fb.force_and_jacobian(*half, OMEGA)[0], expect, rtol=1e-12)
+    edge_in, edge_out = at(-1e-9), at(1e-9)
+    np.testing.assert_allclose(fb.force(*edge_out, OMEGA), t.force(*edge_in, OMEGA), rtol=1e-6)
+    np.testing.assert_allclose(fb.force(*at(FALLBACK_BAND), OMEGA), truth.force(*at(FALLBACK_BAND), OMEGA),
+                               rtol=1e-12)
     wall = (0.0, -1.01 * P.CR, 0.0, 0.0)
     with pytest.raises(BearingStateError, match="eccentricity ratio 1.01 >= 1"):
         DomainGuard(t, "warn", 100.0).force(*wall, OMEGA)
