@@ -105,11 +105,26 @@ class DomainGuard:
             return self._truth
         return self.taylor
 
-    def _blend_weight(self) -> float:
-        """Weight of the truth in fallback mode for the state just selected: 0 inside the
-        domain, rising smoothly (smoothstep) to 1 at FALLBACK_BAND beyond it."""
-        x = min(max(self.last_distance / FALLBACK_BAND, 0.0), 1.0)
+    def _blend_weight(self, d: float | None = None) -> float:
+        """Weight of the truth in fallback mode at domain distance d (default: the state just
+        selected): 0 inside the domain, rising smoothly (smoothstep) to 1 at FALLBACK_BAND."""
+        x = min(max((self.last_distance if d is None else d) / FALLBACK_BAND, 0.0), 1.0)
         return x * x * (3.0 - 2.0 * x)
+
+    def _blend_gradient(self, y, z, vy, vz):
+        """d(weight)/d(y, z, vy, vz) by central differences of the domain distance (its
+        active bound changes from state to state; 8 cheap compiled calls)."""
+        s = self.taylor.surrogate
+        x = [y, z, vy, vz]
+        h = [1e-7 * s.pos_scale, 1e-7 * s.pos_scale, 1e-7 * s.vel_scale, 1e-7 * s.vel_scale]
+        g = np.empty(4)
+        for i in range(4):
+            hi, lo = list(x), list(x)
+            hi[i] += h[i]
+            lo[i] -= h[i]
+            g[i] = (self._blend_weight(self.taylor.domain_distance(*hi))
+                    - self._blend_weight(self.taylor.domain_distance(*lo))) / (2 * h[i])
+        return g
 
     def force(self, y: float, z: float, vy: float, vz: float, omega: float):
         internal = self._select(y, z, vy, vz)
@@ -130,10 +145,14 @@ class DomainGuard:
         if w >= 1.0:
             return out
         # A hard switch at the domain's edge is a jump in the force, and Newton stalls on a
-        # state that sits on it; blending over a thin band keeps the force continuous. The
-        # weight's own derivative is left out of the tangent (Newton converges a little slower).
+        # state that sits on it; blending over a thin band keeps the force continuous. Across
+        # the band the force changes by F_truth - F_taylor, so the weight's gradient belongs
+        # in the tangent: without it Newton diverges where the two differ by much.
         tay = self.taylor.force_and_jacobian(y, z, vy, vz, omega)
-        return tuple((1.0 - w) * np.asarray(a, float) + w * np.asarray(b, float) for a, b in zip(tay, out))
+        F, dq, dv = ((1.0 - w) * np.asarray(a, float) + w * np.asarray(b, float) for a, b in zip(tay, out))
+        dw = self._blend_gradient(y, z, vy, vz)
+        diff = np.asarray(out[0], float) - np.asarray(tay[0], float)
+        return F, dq + np.outer(diff, dw[:2]), dv + np.outer(diff, dw[2:])
 
 
 def _jacobian(internal, y, z, vy, vz, omega):

@@ -341,6 +341,12 @@ def test_domain_guard_actions():
     np.testing.assert_allclose(fb.force(*edge_out, OMEGA), t.force(*edge_in, OMEGA), rtol=1e-6)
     np.testing.assert_allclose(fb.force(*at(FALLBACK_BAND), OMEGA), truth.force(*at(FALLBACK_BAND), OMEGA),
                                rtol=1e-12)
+    # the tangent inside the band is the derivative of the blended force, weight included
+    # (central differences of fb.force; the state moves along y, across the disc's edge)
+    _, dq, dv = fb.force_and_jacobian(*half, OMEGA)
+    h = 1e-6 * P.CR
+    fd = (np.asarray(fb.force(half[0] + h, *half[1:], OMEGA)) - np.asarray(fb.force(half[0] - h, *half[1:], OMEGA))) / (2 * h)
+    np.testing.assert_allclose(dq[:, 0], fd, rtol=1e-4, atol=1e-6 * np.abs(fd).max())
     wall = (0.0, -1.01 * P.CR, 0.0, 0.0)
     with pytest.raises(BearingStateError, match="eccentricity ratio 1.01 >= 1"):
         DomainGuard(t, "warn", 100.0).force(*wall, OMEGA)
