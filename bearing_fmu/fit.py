@@ -416,7 +416,7 @@ def fit_surrogate(
     domain: Domain, lam="cv", k_folds: int = 5, blocked: bool = False, prune: bool = True,
     prune_tol: float = 0.05, force_scale: float | None = None, load=None, seed: int = 0,
     test: tuple[np.ndarray, np.ndarray] | None = None, provenance: dict | None = None,
-    bias_variance: bool = True, anchor=None, weights=None,
+    bias_variance: bool = True, anchor=None, weights=None, wall_power: float = 0.0,
 ) -> FitResult:
     """Fit both force components; ``lam`` = "cv" (line search), or a number (the same for
     both). ``test`` = (states, forces) held out for the reported errors.
@@ -429,8 +429,17 @@ def fit_surrogate(
 
     ``weights`` (M,), >= 0: a weight per training row in the least-squares term,
     sum_k w_k (f_k - X_k k)^2 (rows of X and f scaled by sqrt(w)); the CV error, lambda choice
-    and pruning then use the same weighted objective. None = all 1."""
+    and pruning then use the same weighted objective. None = all 1.
+
+    ``wall_power`` = p > 0 fits the polynomial to G = F (1 - eps^2)^p (eps: the absolute
+    eccentricity ratio of each row) instead of F, so the surrogate is F = P(u) / (1 - eps^2)^p
+    (see :mod:`bearing_fmu.taylor`); the anchor is transformed consistently,
+    G0 = F0 g0 and dG/dq = g0 dF/dq + F0 dg/dq (g = (1 - eps^2)^p), dG/dv = g0 dF/dv. The CV
+    errors are then of G; train and held-out errors are of F."""
     t0 = time.perf_counter()
+    wall_power = float(wall_power)
+    if not (math.isfinite(wall_power) and wall_power >= 0.0):
+        raise ValueError(f"fit: wall_power = {wall_power!r} must be finite and >= 0")
     exps = exponents(order)
     fs = float(force_scale) if force_scale else natural_force_scale(params, omega)
     cr, vs = params.CR, abs(omega) * params.CR
@@ -440,14 +449,31 @@ def fit_surrogate(
     def scaled(s):
         return np.column_stack([(s[:, 0] - y0) / cr, (s[:, 1] - z0) / cr, s[:, 2] / vs, s[:, 3] / vs])
 
+    def wall_g(s):  # (1 - eps^2)^p, the factor that turns F into the regression target G
+        if wall_power == 0.0:
+            return np.ones(len(s))
+        q = 1.0 - (s[:, 0] ** 2 + s[:, 1] ** 2) / cr**2
+        if np.any(q <= 0.0):
+            raise ValueError(f"fit: {int(np.sum(q <= 0))} state(s) at or beyond the wall (eccentricity >= 1); "
+                             "the wall factor is undefined there")
+        return q**wall_power
+
     X = design_matrix(scaled(states), exps)
-    Y = forces / fs
+    g_train = wall_g(states)
+    Y = forces / fs * g_train[:, None]
     M, N = X.shape
     if anchor is not None:
         if order < 1:
             raise ValueError("fit: an anchored fit needs order >= 1")
         F0, dq, dv = (np.asarray(a, float) for a in anchor)
         F0, dq, dv = F0.reshape(2), dq.reshape(2, 2), dv.reshape(2, 2)
+        if wall_power != 0.0:
+            # G = F g, g = (1 - eps^2)^p: G0 = F0 g0, dG/dq = g0 dF/dq + F0 (dg/dq)^T, dG/dv = g0 dF/dv,
+            # dg/dq = -2 p q / CR^2 (1 - eps^2)^(p - 1)
+            q0 = 1.0 - (y0 * y0 + z0 * z0) / cr**2
+            g0 = q0**wall_power
+            dg = -2.0 * wall_power * np.array([y0, z0]) / cr**2 * q0 ** (wall_power - 1.0)
+            F0, dq, dv = F0 * g0, dq * g0 + np.outer(F0, dg), dv * g0
         # exponents(order) starts with 1, dy, dz, dvy, dvz
         c_fix = np.column_stack([F0 / fs, dq[:, 0] * cr / fs, dq[:, 1] * cr / fs,
                                  dv[:, 0] * vs / fs, dv[:, 1] * vs / fs])
@@ -511,7 +537,7 @@ def fit_surrogate(
             cj[keep] = RidgeSVD(Xf[:, keep], Yr[:, j]).coef(float(lams[j]))[:, 0]
             coef[j, n_fix:] = cj
             prune_info[COMPONENTS[j]] = info
-    train_pred = (X @ coef.T) * fs
+    train_pred = (X @ coef.T) * fs / g_train[:, None]
     errors = {
         "nrmse_definition": "RMS(prediction - truth) / std(truth), per component",
         "train_nrmse": dict(zip(COMPONENTS, nrmse(train_pred, forces).tolist())),
@@ -525,9 +551,10 @@ def fit_surrogate(
     if test is not None:
         ts, tf = np.asarray(test[0], float), np.asarray(test[1], float)
         Xt = design_matrix(scaled(ts), exps)
-        pred = (Xt @ coef.T) * fs
-        pred_ls = (Xt @ coef_ls.T) * fs
-        pred_un = (Xt @ coef_unpruned.T) * fs
+        ht = fs / wall_g(ts)[:, None]
+        pred = (Xt @ coef.T) * ht
+        pred_ls = (Xt @ coef_ls.T) * ht
+        pred_un = (Xt @ coef_unpruned.T) * ht
         errors.update({
             "test_nrmse": dict(zip(COMPONENTS, nrmse(pred, tf).tolist())),
             "test_nrmse_unpruned": dict(zip(COMPONENTS, nrmse(pred_un, tf).tolist())),
@@ -542,6 +569,7 @@ def fit_surrogate(
     prov["package_version"] = __version__
     prov.update(provenance or {})
     prov["anchored"] = anchor is not None
+    prov["wall_power"] = wall_power
     if anchor is not None:
         prov.setdefault("anchor", "constant and order-1 terms fixed to the truth's force and derivatives "
                                   "at the expansion point; degree >= 2 regressed")
@@ -551,7 +579,7 @@ def fit_surrogate(
         params=params, omega=omega, y0=y0, z0=z0, order=order, exponents=exps, coef=coef,
         force_scale=fs, domain=domain, kept=kept, lam=(float(lams[0]), float(lams[1])),
         load=None if load is None else (float(load[0]), float(load[1])),
-        errors=errors, pruning=pruning, provenance=prov,
+        errors=errors, pruning=pruning, provenance=prov, wall_power=wall_power,
     )
     report = {
         "order": order, "n_terms": N, "n_train": M, "cond_X": cond, "k_folds": k_folds,
@@ -652,7 +680,7 @@ def fit_condition(
     return res
 
 
-_REFIT_KW = ("lam", "k_folds", "prune", "prune_tol")
+_REFIT_KW = ("lam", "k_folds", "prune", "prune_tol", "wall_power")
 
 
 def refit_order(surrogate_path, order: int, out_path) -> Path:
@@ -683,7 +711,9 @@ def format_report(res: FitResult) -> str:
         f"(eccentricity {math.hypot(s.y0, s.z0) / s.params.CR:.4f}); force scale {s.force_scale:.4g} N",
         f"domain: ecc <= {s.domain.ecc_max:g}, position disc radius {s.domain.pos_radius:g} CR, "
         f"|v| <= {s.domain.v_max:g} omega CR; {r['n_train']} training samples, cond(X) = {r['cond_X']:.3g}",
-        f"NRMSE = RMS error / std of the truth; {r['k_folds']}-fold CV chooses lambda (per-sample objective)",
+        f"NRMSE = RMS error / std of the truth; {r['k_folds']}-fold CV chooses lambda (per-sample objective)"
+        + (f"; wall factor: the polynomial fits F (1 - eps^2)^{s.wall_power:g} (CV errors of that)"
+           if s.wall_power else ""),
         "| component | lambda chosen | lambda search | train NRMSE | CV NRMSE (LS) | held-out NRMSE | "
         "held-out unpruned | held-out LS (lambda = 0) | terms kept |",
         "|---|---|---|---|---|---|---|---|---|",
@@ -822,6 +852,10 @@ def add_fit_arguments(parser: argparse.ArgumentParser) -> argparse.ArgumentParse
     parser.add_argument("--ecc-weight", type=float, default=0.0, metavar="P",
                         help="with --scene: weigh each row by (1 - eccentricity^2)^P, so the rows near the wall "
                              "(forces without bound) do not dominate the fit (default 0: equal weights)")
+    parser.add_argument("--wall-power", type=float, default=0.0, metavar="P",
+                        help="fit the polynomial to F * (1 - eccentricity^2)^P and evaluate F = polynomial / "
+                             "(1 - eccentricity^2)^P, so it can follow the force's growth near the wall "
+                             "(default 0: the plain polynomial)")
     parser.add_argument("--cache-dir", default=None,
                         help="with --scene: folder caching the Reynolds series (default: beside --output)")
     parser.add_argument("--plots", default=None, help="directory for the lambda plots")
@@ -845,7 +879,7 @@ def run_fit(args: argparse.Namespace) -> int:
                         prune_tol=args.prune_tol, anchor=not args.no_anchor, designed=args.designed,
                         designed_ecc_max=args.designed_ecc_max, designed_v_max=args.designed_v_max,
                         designed_weight=args.designed_weight, designed_tube=args.designed_tube,
-                        ecc_weight=args.ecc_weight, seed=args.seed)
+                        ecc_weight=args.ecc_weight, wall_power=args.wall_power, seed=args.seed)
     else:
         res = _fit_designed(args, lam, grid)
     return _write_fit(res, args)
@@ -856,7 +890,7 @@ def _fit_designed(args, lam, grid) -> FitResult:
         (args.load_y, args.load_z), args.speed_hz, args.order, ecc_max=args.ecc_max, v_max=args.v_max,
         radius=args.radius, n_train=args.n_train, n_test=args.n_test, seed=args.seed, grid=grid,
         npz=args.from_npz, lam=lam, k_folds=args.k_folds, prune=not args.no_prune, prune_tol=args.prune_tol,
-        anchor=not args.no_anchor,
+        anchor=not args.no_anchor, wall_power=args.wall_power,
     )
 
 

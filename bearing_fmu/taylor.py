@@ -11,6 +11,15 @@ order 5, 5 for the linear model of order 1), the constant first, then degree by 
 coefficients of the order-1 terms are the scaled derivatives of the force (Lund's
 coefficients, negated, times CR / F_ref or omega CR / F_ref).
 
+Wall factor (``wall_power`` p, default 0 = the plain polynomial): the force is the polynomial
+divided by (1 - eps^2)^p, eps^2 = (y^2 + z^2) / CR^2 the absolute eccentricity ratio squared,
+
+    F_i / F_ref = (1 - eps^2)^(-p) * sum_k c_ik * u^e_k,
+
+so the polynomial only has to follow G = F (1 - eps^2)^p, which stays bounded as the journal
+approaches the wall where F grows without bound. With p > 0 the force is undefined at
+eps >= 1 (``force`` raises BearingStateError there, as the domain guard does for any p).
+
 This module holds the basis, the compiled evaluation (``Taylor``, an ``Internal`` with
 analytic ``force_and_jacobian``), the fitted-domain guard and the surrogate file. Fitting
 lives in :mod:`bearing_fmu.fit`. It never imports the Reynolds solver.
@@ -96,7 +105,7 @@ def natural_force_scale(params: BearingParams, omega: float) -> float:
 
 # ----------------------------------------------------------------------------- compiled kernels
 # Error codes of the kernels, turned into BearingStateError by the Python wrappers.
-_OK, _BAD_Y, _BAD_Z, _BAD_VY, _BAD_VZ, _BAD_OMEGA, _WRONG_OMEGA = 0, 1, 2, 3, 4, 5, 6
+_OK, _BAD_Y, _BAD_Z, _BAD_VY, _BAD_VZ, _BAD_OMEGA, _WRONG_OMEGA, _AT_WALL = 0, 1, 2, 3, 4, 5, 6, 7
 
 
 @njit(cache=True)
@@ -119,7 +128,8 @@ def _check_nb(y, z, vy, vz, omega, meta):
 
 @njit(cache=True)
 def _force_nb(y, z, vy, vz, omega, meta, exps, coef):
-    """meta = (y0, z0, omega0, pos_scale, vel_scale, force_scale, omega_rtol, order)."""
+    """meta = (y0, z0, omega0, pos_scale, vel_scale, force_scale, omega_rtol, order, wall_power);
+    pos_scale is CR (the wall factor uses it)."""
     code = _check_nb(y, z, vy, vz, omega, meta)
     if code != 0:
         return 0.0, 0.0, code
@@ -143,6 +153,13 @@ def _force_nb(y, z, vy, vz, omega, meta, exps, coef):
         fy += coef[0, k] * m
         fz += coef[1, k] * m
     s = meta[5]
+    p = meta[8]
+    if p != 0.0:  # wall factor (1 - eps^2)^(-p); p = 0 skips it, bit-identical to the plain polynomial
+        cr = meta[3]
+        q = 1.0 - (y * y + z * z) / (cr * cr)
+        if not q > 0.0:
+            return 0.0, 0.0, _AT_WALL
+        s *= q ** (-p)
     return fy * s, fz * s, 0
 
 
@@ -190,6 +207,27 @@ def _force_jac_nb(y, z, vy, vz, omega, meta, exps, coef, out):
             d = e3 * pw[3, e3 - 1] * a0 * a1 * a2
             out[5] += cy * d
             out[9] += cz * d
+    p = meta[8]
+    if p != 0.0:
+        # F = h P with h = (1 - eps^2)^(-p): dF/du = h dP/du + P dh/du, and in scaled positions
+        # (u0 = (y - y0)/CR) dh/du0 = 2 p (y/CR) h / (1 - eps^2), likewise for z; h is independent of v
+        cr = meta[3]
+        yc = y / cr
+        zc = z / cr
+        q = 1.0 - (yc * yc + zc * zc)
+        if not q > 0.0:
+            return _AT_WALL
+        h = q ** (-p)
+        gy = 2.0 * p * yc * h / q
+        gz = 2.0 * p * zc * h / q
+        for i in range(2):
+            P = out[i]
+            b = 2 + 4 * i
+            out[b] = h * out[b] + P * gy
+            out[b + 1] = h * out[b + 1] + P * gz
+            out[b + 2] *= h
+            out[b + 3] *= h
+            out[i] = h * P
     return 0
 
 
@@ -286,7 +324,9 @@ class Surrogate:
 
     coef[i, k] is the scaled coefficient of term ``exponents[k]`` for force component i
     (0: Fy, 1: Fz); F_i = force_scale * sum_k coef[i, k] * prod_v u_v^exponents[k, v].
-    Pruned terms have coef = 0 and kept = False.
+    Pruned terms have coef = 0 and kept = False. With ``wall_power`` p > 0 that sum is divided
+    by (1 - eps^2)^p, eps^2 = (y^2 + z^2) / CR^2 (see the module doc); p = 0 (files without the
+    key) is the plain polynomial.
     """
 
     params: BearingParams
@@ -304,6 +344,7 @@ class Surrogate:
     errors: dict = field(default_factory=dict)
     pruning: dict = field(default_factory=dict)
     provenance: dict = field(default_factory=dict)
+    wall_power: float = 0.0
 
     def __post_init__(self) -> None:
         self.order = int(self.order)
@@ -327,6 +368,9 @@ class Surrogate:
         if not np.all(np.isfinite(self.coef)):
             raise ValueError("Surrogate.coef has non-finite entries")
         self.lam = (float(self.lam[0]), float(self.lam[1]))
+        self.wall_power = float(self.wall_power)
+        if not (math.isfinite(self.wall_power) and self.wall_power >= 0.0):
+            raise ValueError(f"Surrogate.wall_power = {self.wall_power!r} must be finite and >= 0")
 
     @property
     def pos_scale(self) -> float:
@@ -344,10 +388,24 @@ class Surrogate:
             s[:, 2] / self.vel_scale, s[:, 3] / self.vel_scale,
         ])
 
+    def wall_factor(self, states) -> np.ndarray:
+        """(1 - eps^2)^(-wall_power) at raw states (M, 4) -> (M,); ones for wall_power 0
+        (NaN or inf at eps >= 1 for wall_power > 0)."""
+        s = np.atleast_2d(np.asarray(states, float))
+        if self.wall_power == 0.0:
+            return np.ones(len(s))
+        q = 1.0 - (s[:, 0] ** 2 + s[:, 1] ** 2) / self.pos_scale**2
+        with np.errstate(divide="ignore", invalid="ignore"):
+            return np.where(q > 0, q, np.nan) ** (-self.wall_power)
+
     def predict(self, states) -> np.ndarray:
-        """Vectorised numpy evaluation: raw states (M, 4) -> forces (M, 2) [N]. No checks."""
+        """Vectorised numpy evaluation: raw states (M, 4) -> forces (M, 2) [N]. No checks
+        (NaN at eps >= 1 with a wall factor)."""
         X = design_matrix(self.scaled(states), self.exponents)
-        return (X @ self.coef.T) * self.force_scale
+        F = (X @ self.coef.T) * self.force_scale
+        if self.wall_power != 0.0:
+            F *= self.wall_factor(states)[:, None]
+        return F
 
     def n_kept(self) -> tuple[int, int]:
         return int(self.kept[0].sum()), int(self.kept[1].sum())
@@ -369,8 +427,10 @@ class Surrogate:
             "expansion_point": {"y0": self.y0, "z0": self.z0, "vy0": 0.0, "vz0": 0.0},
             "scaling": {
                 "pos_scale": self.pos_scale, "vel_scale": self.vel_scale, "force_scale": self.force_scale,
-                "variables": "u = ((y-y0)/CR, (z-z0)/CR, vy/(omega CR), vz/(omega CR)); F = force_scale * sum coef * u^e",
+                "variables": "u = ((y-y0)/CR, (z-z0)/CR, vy/(omega CR), vz/(omega CR)); F = force_scale * sum coef * u^e"
+                             + ("" if self.wall_power == 0.0 else " / (1 - (y^2 + z^2)/CR^2)^wall_power"),
             },
+            "wall_power": self.wall_power,
             "order": self.order,
             "n_terms": int(self.exponents.shape[0]),
             "exponents": self.exponents.tolist(),
@@ -414,6 +474,7 @@ class Surrogate:
                              _vec(kd, "Fz", exps.shape[0], f"{where}: kept")]).astype(bool)
         lam = d.get("lambda", {"Fy": 0.0, "Fz": 0.0})
         load = d.get("load")
+        wall_power = _num(d, "wall_power", where) if "wall_power" in d else 0.0  # older files: none
         return cls(
             params=params,
             omega=_num(d, "omega", where),
@@ -430,6 +491,7 @@ class Surrogate:
             errors=d.get("errors", {}),
             pruning=d.get("pruning", {}),
             provenance=d.get("provenance", {}),
+            wall_power=wall_power,
         )
 
 
@@ -528,7 +590,7 @@ class Taylor:
         self.params = surrogate.params
         s = surrogate
         self._meta = np.array([s.y0, s.z0, s.omega, s.pos_scale, s.vel_scale, s.force_scale, OMEGA_RTOL,
-                               float(max(s.order, 1))])
+                               float(max(s.order, 1)), s.wall_power])
         # evaluate only the terms kept by either component
         used = s.kept[0] | s.kept[1]
         used[0] = True
@@ -548,6 +610,12 @@ class Taylor:
         return self.surrogate.omega
 
     def _raise(self, code, y, z, vy, vz, omega):
+        if code == _AT_WALL:
+            ecc = math.hypot(y, z) / self.params.CR
+            raise BearingStateError(
+                f"eccentricity ratio {ecc:.4g} >= 1: the journal (y = {y:.4g} m, z = {z:.4g} m) is at or beyond "
+                f"the bearing wall; the surrogate's wall factor (1 - eps^2)^-{self.surrogate.wall_power:g} is undefined there"
+            )
         if code == _WRONG_OMEGA:
             raise BearingStateError(
                 f"Taylor surrogate was fitted at omega = {self.surrogate.omega:.6g} rad/s; got omega = {omega:.6g} rad/s"

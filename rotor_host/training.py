@@ -74,7 +74,8 @@ def fit_scene(scene_path, order: int = 5, *, bearing: int = 1, test_scenes=(), s
               cache_dir=None, lam="cv", prune: bool = True, prune_tol: float = 0.05, anchor: bool = True,
               designed: int = DESIGNED, designed_ecc_max: float | None = None,
               designed_v_max: float | None = None, designed_weight: float = 1.0,
-              designed_tube: float | None = None, ecc_weight: float = 0.0, seed: int = 1, log=print):
+              designed_tube: float | None = None, ecc_weight: float = 0.0, wall_power: float = 0.0,
+              seed: int = 1, log=print):
     """Fit a Taylor surrogate to the Reynolds series of a scene, or of several scenes
     (``scene_path`` a list) at the same speed and bearing load: other unbalances give other
     trajectories, so the fit sees more of the state space the rotor can reach. Every fifth
@@ -90,7 +91,10 @@ def fit_scene(scene_path, order: int = 5, *, bearing: int = 1, test_scenes=(), s
     ``ecc_weight`` = p > 0 weighs every row by (1 - eps^2)^p (eps: its eccentricity ratio):
     near the wall the film force grows without bound and a polynomial cannot follow it; with
     equal weights those rows dominate the least squares and spoil the fit where the journal
-    spends its transient (44 Hz: the growth of the whirl, whose phase then drifts)."""
+    spends its transient (44 Hz: the growth of the whirl, whose phase then drifts).
+
+    ``wall_power`` = p > 0 fits the polynomial to F (1 - eps^2)^p and evaluates
+    F = P(u) / (1 - eps^2)^p (the wall factor, see :mod:`bearing_fmu.taylor`)."""
     from bearing_fmu import fit as F
     from bearing_fmu.reynolds import Reynolds
 
@@ -168,18 +172,19 @@ def fit_scene(scene_path, order: int = 5, *, bearing: int = 1, test_scenes=(), s
             "scene_dt_s": scene.dt_s, "bearing": bearing, "stride": stride,
             "designed_samples": designed, "designed_seed": seed, "designed_ecc_max": designed_ecc_max,
             "designed_v_max": designed_v_max, "designed_weight": designed_weight, "designed_tube": designed_tube,
-            "ecc_weight": ecc_weight,
+            "ecc_weight": ecc_weight, "wall_power": wall_power,
             "held_out": f"every {HOLDOUT_EVERY}th block of (at most) {BLOCK_REVS:g} revolutions of each series",
             "fit_call": {"scenes": [str(Path(sc.source).resolve()) for sc in scenes], "bearing": bearing,
                          "stride": stride, "test_scenes": [str(Path(p).resolve()) for p in test_scenes],
                          "lam": lam, "prune": prune, "prune_tol": prune_tol, "anchor": anchor,
                          "designed": designed, "designed_ecc_max": designed_ecc_max,
                          "designed_v_max": designed_v_max, "designed_weight": designed_weight,
-                         "designed_tube": designed_tube, "ecc_weight": ecc_weight, "seed": seed}}
+                         "designed_tube": designed_tube, "ecc_weight": ecc_weight, "wall_power": wall_power,
+                         "seed": seed}}
     res = F.fit_surrogate(s_fit, f_fit, params, omega, y0, z0, order, domain=domain,
                           lam=lam, blocked=True, prune=prune, prune_tol=prune_tol, load=tuple(load),
                           test=(np.vstack(ho_states), np.vstack(ho_forces)), provenance=prov, anchor=anc,
-                          weights=weights)
+                          weights=weights, wall_power=wall_power)
     others = {}
     for p in test_scenes:
         other = load_scene(p)
@@ -229,7 +234,8 @@ def refit(surrogate_path, order: int, out_path, cache_dir=None, log=print):
                     prune_tol=call["prune_tol"], anchor=call["anchor"], designed=call.get("designed", 0),
                     designed_ecc_max=call.get("designed_ecc_max"), designed_v_max=call.get("designed_v_max"),
                     designed_weight=call.get("designed_weight", 1.0), designed_tube=call.get("designed_tube"),
-                    ecc_weight=call.get("ecc_weight", 0.0), seed=call.get("seed", 1), log=log)
+                    ecc_weight=call.get("ecc_weight", 0.0), wall_power=call.get("wall_power", 0.0),
+                    seed=call.get("seed", 1), log=log)
     portable_fit_call(res.surrogate, out_path)
     return save_surrogate(res.surrogate, out_path)
 

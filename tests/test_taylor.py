@@ -530,3 +530,136 @@ def test_fit_command_writes_file_plots_and_report(tmp_path, capsys):
     assert set(s.errors["test_nrmse"]) == {"Fy", "Fz"}
     assert (tmp_path / "plots" / "s_objective.png").stat().st_size > 0
     assert (tmp_path / "plots" / "s_bias_variance.png").stat().st_size > 0
+
+
+# ----------------------------------------------------------------------------- wall factor
+
+def wall_surrogate(order=3, seed=1, p=1.5, scale=1.0):
+    """A known function F = P(u) / (1 - eps^2)^p: a random polynomial behind the wall factor."""
+    s = poly_surrogate(order, seed, scale)
+    s.wall_power = p
+    return s
+
+
+def test_wall_factor_value_is_polynomial_over_factor():
+    # by hand: F = force_scale * sum c u^e / (1 - (y^2 + z^2)/CR^2)^p
+    s = wall_surrogate(3, seed=2, p=1.5)
+    states = random_states(40, 20, r=0.5, v=0.5)
+    eps2 = (states[:, 0] ** 2 + states[:, 1] ** 2) / P.CR**2
+    poly = design_matrix(s.scaled(states), s.exponents) @ s.coef.T * s.force_scale
+    ref = poly / (1.0 - eps2)[:, None] ** 1.5
+    np.testing.assert_allclose(s.predict(states), ref, rtol=1e-13)
+    t = Taylor(s)
+    got = np.array([t.force(*row, OMEGA) for row in states])
+    np.testing.assert_allclose(got, ref, rtol=1e-12, atol=1e-12 * np.abs(ref).max())
+    got2 = np.array([t.force_and_jacobian(*row, OMEGA)[0] for row in states])
+    np.testing.assert_allclose(got2, ref, rtol=1e-12, atol=1e-12 * np.abs(ref).max())
+
+
+@pytest.mark.parametrize("p", [0.5, 1.0, 2.0])
+def test_wall_factor_known_function_recovered_to_round_off(p):
+    # truth F = P3(u) / (1 - eps^2)^p; fitting order 5 with the same p and lambda = 0 gives
+    # P3's coefficients and zero for every degree-4/5 term, even close to the wall
+    truth = wall_surrogate(3, seed=1, p=p)
+    states = random_states(600, 2, r=0.6)  # eccentricity up to ~0.9
+    assert np.max(np.hypot(states[:, 0], states[:, 1])) / P.CR > 0.8
+    res = F.fit_surrogate(states, truth.predict(states), P, OMEGA, Y0, Z0, 5, domain=BOX, lam=0.0, prune=False,
+                          force_scale=truth.force_scale, wall_power=p)
+    s = res.surrogate
+    assert s.wall_power == p
+    n3 = n_terms(3)
+    np.testing.assert_allclose(s.coef[:, :n3], truth.coef, atol=1e-9)
+    assert np.max(np.abs(s.coef[:, n3:])) < 1e-9
+    test = random_states(200, 3, r=0.6)
+    np.testing.assert_allclose(s.predict(test), truth.predict(test), rtol=1e-9, atol=1e-9)
+    # without the factor (p = 0) the same data is not a polynomial: order 5 does not recover it
+    plain = F.fit_surrogate(states, truth.predict(states), P, OMEGA, Y0, Z0, 5, domain=BOX, lam=0.0, prune=False,
+                            force_scale=truth.force_scale)
+    assert np.max(np.abs(plain.surrogate.predict(test) - truth.predict(test))) > 1e-6
+
+
+@pytest.mark.parametrize("p", [0.5, 1.0, 2.0])
+def test_wall_factor_jacobian_matches_finite_differences(p):
+    # near the wall (eccentricity ~0.85) where dh/dq = 2 p q / CR^2 (1 - eps^2)^(-p-1) matters
+    s = wall_surrogate(5, seed=14, p=p, scale=0.1)
+    t = Taylor(s)
+    x = np.array([0.6 * P.CR, -0.6 * P.CR, 0.05 * OMEGA * P.CR, -0.1 * OMEGA * P.CR])
+    f, dq, dv = t.force_and_jacobian(*x, OMEGA)
+    np.testing.assert_allclose(f, t.force(*x, OMEGA), rtol=1e-13)
+    steps = [1e-7 * P.CR] * 2 + [1e-6 * OMEGA * P.CR] * 2
+    jac = np.empty((2, 4))
+    for j, h in enumerate(steps):
+        xp, xm = x.copy(), x.copy()
+        xp[j] += h
+        xm[j] -= h
+        jac[:, j] = (np.array(t.force(*xp, OMEGA)) - np.array(t.force(*xm, OMEGA))) / (2 * h)
+    np.testing.assert_allclose(np.hstack([dq, dv]), jac, rtol=1e-6, atol=1e-8 * np.abs(jac).max())
+
+
+def test_wall_factor_anchor_keeps_value_and_derivatives():
+    # the anchor is transformed (G0 = F0 g0, dG = g0 dF + F0 dg): the fitted surrogate still has
+    # the truth's force and Jacobian at the expansion point, put back through the wall factor
+    truth = Smooth()
+    states = random_states(500, 16)
+    anchor = F.truth_jacobian(truth, Y0, Z0, OMEGA)
+    res = F.fit_surrogate(states, F.sample_forces(truth, states, OMEGA), P, OMEGA, Y0, Z0, 4, domain=BOX,
+                          anchor=anchor, prune=False, wall_power=1.5)
+    f, dq, dv = Taylor(res.surrogate).force_and_jacobian(Y0, Z0, 0.0, 0.0, OMEGA)
+    np.testing.assert_allclose(f, anchor[0], rtol=1e-12)
+    np.testing.assert_allclose(dq, anchor[1], rtol=1e-10, atol=1e-12 * np.abs(anchor[1]).max())
+    np.testing.assert_allclose(dv, anchor[2], rtol=1e-10, atol=1e-12 * np.abs(anchor[2]).max())
+    assert max(res.report["errors"]["train_nrmse"].values()) < 1e-2
+
+
+def test_wall_factor_undefined_at_the_wall():
+    s = wall_surrogate(3, p=1.0, scale=0.1)
+    t = Taylor(s)
+    for ecc in (1.0, 1.2):
+        with pytest.raises(BearingStateError, match="eccentricity ratio .* >= 1"):
+            t.force(ecc * P.CR, 0.0, 0.0, 0.0, OMEGA)
+        with pytest.raises(BearingStateError, match="wall"):
+            t.force_and_jacobian(0.0, -ecc * P.CR, 0.0, 0.0, OMEGA)
+    s.wall_power = 0.0  # the plain polynomial still evaluates there (the guard refuses it)
+    assert np.all(np.isfinite(Taylor(s).force(1.2 * P.CR, 0.0, 0.0, 0.0, OMEGA)))
+    with pytest.raises(ValueError, match="wall_power"):
+        Surrogate(P, OMEGA, Y0, Z0, 1, exponents(1), np.zeros((2, 5)), 1.0, BOX, wall_power=-1.0)
+    with pytest.raises(ValueError, match="wall_power"):
+        F.fit_surrogate(random_states(100, 1), np.zeros((100, 2)), P, OMEGA, Y0, Z0, 2, domain=BOX,
+                        wall_power=float("nan"))
+
+
+def test_wall_factor_file_round_trip(tmp_path):
+    s = wall_surrogate(4, seed=5, p=1.5, scale=0.1)
+    path = save_surrogate(s, tmp_path / "w.json")
+    assert json.loads(path.read_text())["wall_power"] == 1.5
+    b = load_surrogate(path, P)
+    assert b.wall_power == 1.5
+    x = (0.5 * P.CR, -0.6 * P.CR, 1e-3, -2e-3, OMEGA)
+    assert Taylor(b).force(*x) == Taylor(s).force(*x)
+    f1, q1, v1 = Taylor(b).force_and_jacobian(*x)
+    f2, q2, v2 = Taylor(s).force_and_jacobian(*x)
+    np.testing.assert_array_equal(np.hstack([f1, q1.ravel(), v1.ravel()]), np.hstack([f2, q2.ravel(), v2.ravel()]))
+
+
+def test_file_without_wall_power_is_the_plain_polynomial(tmp_path):
+    # files written before the wall factor have no "wall_power": they load with 0 and evaluate
+    # bit-identically to before (reference values computed by the code preceding the wall factor)
+    s = poly_surrogate(5, seed=21, scale=0.1)
+    d = s.to_dict()
+    d.pop("wall_power")
+    path = tmp_path / "old.json"
+    path.write_text(json.dumps(d))
+    old = load_surrogate(path, P)
+    assert old.wall_power == 0.0
+    t = Taylor(old)
+    x = (Y0 + 0.13 * P.CR, Z0 - 0.21 * P.CR, 0.07 * OMEGA * P.CR, -0.11 * OMEGA * P.CR)
+    assert t.force(*x, OMEGA) == (7.028154553611349, 8.06106590285221)
+    _, dq, dv = t.force_and_jacobian(*x, OMEGA)
+    assert dq.tolist() == [[100467.41512799545, -145866.78687215986], [96851.54093510313, -143477.28148423057]]
+    assert dv.tolist() == [[713.4018390362481, -299.50785184428264], [-442.9496819711803, -350.1029993473691]]
+    # and the shipped files load (with or without the key)
+    from pathlib import Path
+
+    for f in sorted((Path(__file__).resolve().parents[1] / "models" / "surrogates").glob("*.json")):
+        sur = load_surrogate(f)
+        assert sur.wall_power == json.loads(f.read_text()).get("wall_power", 0.0)

@@ -168,3 +168,39 @@ def test_training_scenes_must_share_speed_and_load(tmp_path):
         fit_scene([a, fast], 2, cache_dir=tmp_path / "series", designed=0, prune=False, log=lambda *_: None)
     with pytest.raises(ValueError, match="ecc_weight"):
         fit_scene(a, 2, cache_dir=tmp_path / "series", designed=0, ecc_weight=-1.0, log=lambda *_: None)
+
+
+def test_wall_power_is_recorded_and_refitted(tmp_path):
+    # --wall-power P: the polynomial fits F (1 - eps^2)^P, the file says so, the fit call stores
+    # it and a refit repeats it (same data, same coefficients)
+    import argparse
+
+    from bearing_fmu import fit as F
+
+    scenes = tmp_path / "scenes"
+    scenes.mkdir()
+    a = _scene(scenes, "a", 8.5)
+    cache = tmp_path / "series"
+    out = tmp_path / "surrogates" / "w.json"
+    args = F.add_fit_arguments(argparse.ArgumentParser()).parse_args(
+        ["--scene", str(a), "--order", "3", "--designed", "0", "--wall-power", "1.5", "--no-prune",
+         "--cache-dir", str(cache), "-o", str(out)])
+    assert F.run_fit(args) == 0
+    s = load_surrogate(out)
+    assert s.wall_power == 1.5 and s.provenance["fit_call"]["wall_power"] == 1.5
+    t, st, fo, _ = scene_series(load_scene(a), cache=cache / "a_b1_series.npz")
+    t, st, fo = t[::2], st[::2], fo[::2]
+    m = holdout_mask(t, 22.0)
+    err = nrmse(s.predict(st[m]), fo[m])
+    assert np.allclose(err, [s.errors["test_nrmse"][c] for c in ("Fy", "Fz")], rtol=1e-9)
+    assert err.max() < 0.05
+    r = load_surrogate(refit(out, 3, tmp_path / "surrogates" / "r.json", cache_dir=cache, log=lambda *_: None))
+    assert r.wall_power == 1.5
+    np.testing.assert_allclose(r.coef, s.coef, rtol=1e-9, atol=1e-12)
+    # a fit call without the key (older files) refits with the plain polynomial
+    d = json.loads(out.read_text())
+    d["provenance"]["fit_call"].pop("wall_power")
+    old = tmp_path / "surrogates" / "old.json"
+    old.write_text(json.dumps(d))
+    o = load_surrogate(refit(old, 3, tmp_path / "surrogates" / "o.json", cache_dir=cache, log=lambda *_: None))
+    assert o.wall_power == 0.0
