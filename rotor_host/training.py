@@ -24,6 +24,7 @@ import numpy as np
 
 from .scene import Scene, load_scene, run_scene
 
+SERIES_VERSION = 2  # cache format of scene_series (see there)
 HOLDOUT_EVERY = 5  # every 5th block is held out
 BLOCK_REVS = 2.0  # block length in shaft revolutions
 
@@ -33,7 +34,11 @@ def scene_series(scene: Scene, bearing: int = 1, cache: Path | None = None, log=
     (t (M,), states (M, 4) [m, m/s], forces (M, 2) [N], load (2,) [N]). Cached in ``cache``
     (an .npz path) when given: a cached series of the same scene, grid and span is reused."""
     rey = scene.with_internal("reynolds", via="direct")
-    key = np.array([rey.speed_hz, rey.t_end_s, rey.dt_s, rey.n_theta or 0, rey.n_x or 0, bearing], float)
+    # the last entry versions the cache: series cached before forces were taken from the
+    # bearing's own column (SERIES_VERSION 2) paired another bearing's force with this one's
+    # state whenever the scene also records a node before the bearing, and are recomputed
+    key = np.array([rey.speed_hz, rey.t_end_s, rey.dt_s, rey.n_theta or 0, rey.n_x or 0, bearing, SERIES_VERSION],
+                   float)
     if cache is not None and Path(cache).is_file():
         d = np.load(cache)
         if "key" in d.files and d["key"].shape == key.shape and np.allclose(d["key"], key):
@@ -47,9 +52,10 @@ def scene_series(scene: Scene, bearing: int = 1, cache: Path | None = None, log=
     bnodes = list(a["bearing_nodes"])
     if not 1 <= bearing <= len(bnodes):
         raise ValueError(f"bearing = {bearing}: the rotor has bearings 1..{len(bnodes)}")
-    c = nodes.index(bnodes[bearing - 1])
+    c = nodes.index(bnodes[bearing - 1])  # positions and velocities: one column per recorded node
     states = np.column_stack([a[k][:, c] for k in ("y", "z", "vy", "vz")])
-    forces = np.column_stack([a["Fy"][:, c], a["Fz"][:, c]])
+    # forces: one column per bearing (not per recorded node)
+    forces = np.column_stack([a["Fy"][:, bearing - 1], a["Fz"][:, bearing - 1]])
     load = np.array(run.meta["bearing_loads_N"][bearing - 1], float)
     if cache is not None:
         Path(cache).parent.mkdir(parents=True, exist_ok=True)

@@ -204,3 +204,25 @@ def test_wall_power_is_recorded_and_refitted(tmp_path):
     old.write_text(json.dumps(d))
     o = load_surrogate(refit(old, 3, tmp_path / "surrogates" / "o.json", cache_dir=cache, log=lambda *_: None))
     assert o.wall_power == 0.0
+
+
+def test_series_forces_are_the_bearings_own(tmp_path):
+    # a scene recording a node before the first bearing (node 1, as the 10 Hz scenes do) and an
+    # unbalance near one end, so the two bearings carry different forces: the series must pair
+    # each state with the force of the same bearing -- the truth evaluated at the series states
+    # gives the series forces back (the forces are recorded per bearing, the states per node)
+    from bearing_fmu.reynolds import Reynolds
+    from rotor_host.training import _bearing_params
+
+    p = _scene(tmp_path, "asym", 8.5)
+    text = p.read_text().replace("node = 6", "node = 1") + "[record]\nnodes = [1, 3, 6, 9]\n"
+    p.write_text(text.replace("t_end_s = 0.04", "t_end_s = 0.01"))
+    sc = load_scene(p)
+    for bearing in (1, 2):
+        t, st, fo, _ = scene_series(sc, bearing, cache=tmp_path / f"b{bearing}.npz")
+        truth = Reynolds(_bearing_params(sc, bearing), n_theta=32, n_x=8)
+        for i in (len(t) // 2, len(t) - 1):
+            np.testing.assert_allclose(truth.force(*st[i], sc.omega), fo[i], rtol=1e-6, atol=1e-6)
+    t1, _, f1, _ = scene_series(sc, 1, cache=tmp_path / "b1.npz")
+    t2, _, f2, _ = scene_series(sc, 2, cache=tmp_path / "b2.npz")
+    assert np.max(np.abs(f1 - f2)) > 1e-3 * np.max(np.abs(f1))  # the bearings differ, so the check has teeth
