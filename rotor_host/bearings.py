@@ -29,14 +29,26 @@ class BearingSet:
     bearing_dofs : list of (dof_y, dof_z) global indices, one pair per bearing
     omega        : shaft speed [rad/s] (constant over the run)
     names        : labels used in messages ("bearing 1", ...)
+    tangent      : what ``evaluate`` hands the integrator besides the force (TANGENTS):
+                   "exact"  each bearing's own local tangent at every iterate (exact Newton);
+                   "frozen" the bearings' tangent at the first evaluation of the first time
+                            step (the static equilibrium's Lund coefficients), then always that;
+                   "none"   no tangent (the integrator builds its own, by finite differences or
+                            the linear rotor's), and the bearings skip their Jacobian
     """
 
-    def __init__(self, bearing_dofs, omega: float, names=None):
+    TANGENTS = ("exact", "frozen", "none")
+
+    def __init__(self, bearing_dofs, omega: float, names=None, tangent: str = "exact"):
         pairs = [(int(a), int(b)) for a, b in bearing_dofs]
         self.n = len(pairs)
         self.dofs = np.array([d for pair in pairs for d in pair], dtype=int)
         self.omega = float(omega)
         self.names = list(names) if names is not None else [f"bearing {k + 1}" for k in range(self.n)]
+        if tangent not in self.TANGENTS:
+            raise ValueError(f"tangent = {tangent!r}; choose one of {', '.join(self.TANGENTS)}")
+        self.tangent = tangent
+        self._frozen = None  # (dq, dv) once frozen
         m = 2 * self.n
         self._f = np.zeros(m)
         self._dq = np.zeros((m, m))
@@ -56,9 +68,16 @@ class BearingSet:
             i = 2 * k
             fk, dqk, dvk = self._bearing(k, q[i], q[i + 1], v[i], v[i + 1])
             f[i:i + 2] = fk
-            dq[i:i + 2, i:i + 2] = dqk
-            dv[i:i + 2, i:i + 2] = dvk
-        return f, dq, dv
+            if dqk is not None:
+                dq[i:i + 2, i:i + 2] = dqk
+                dv[i:i + 2, i:i + 2] = dvk
+        if self.tangent == "exact":
+            return f, dq, dv
+        if self.tangent == "frozen" and self.dt > 0.0:  # static evaluations keep exact Newton
+            if self._frozen is None:
+                self._frozen = (dq.copy(), dv.copy())
+            return f, self._frozen[0], self._frozen[1]
+        return (f, dq, dv) if self.tangent == "frozen" else (f, None, None)
 
     def accept_step(self) -> None:
         pass
@@ -78,7 +97,8 @@ class BearingSet:
 
     # -- per bearing -------------------------------------------------------------------
     def _bearing(self, k: int, y: float, z: float, vy: float, vz: float):
-        """(F (2,), dF/dq (2, 2), dF/dv (2, 2)) of bearing k, or raise StepRejected."""
+        """(F (2,), dF/dq (2, 2), dF/dv (2, 2)) of bearing k, or raise StepRejected; the
+        derivatives may be None when ``self.tangent`` is "none"."""
         raise NotImplementedError
 
     def _reject(self, k: int, reason: str) -> StepRejected:
@@ -88,8 +108,8 @@ class BearingSet:
 class DirectBearings(BearingSet):
     """Bearing internals called in-process through their ``force_and_jacobian``."""
 
-    def __init__(self, internals, bearing_dofs, omega: float, names=None):
-        super().__init__(bearing_dofs, omega, names)
+    def __init__(self, internals, bearing_dofs, omega: float, names=None, tangent: str = "exact"):
+        super().__init__(bearing_dofs, omega, names, tangent)
         if len(internals) != self.n:
             raise ValueError(f"DirectBearings: {len(internals)} internals for {self.n} bearing DOF pairs")
         self.internals = list(internals)
@@ -100,6 +120,8 @@ class DirectBearings(BearingSet):
 
     def _bearing(self, k, y, z, vy, vz):
         try:
+            if self.tangent == "none":
+                return self.internals[k].force(y, z, vy, vz, self.omega), None, None
             return self._jac[k](y, z, vy, vz, self.omega)
         except BearingStateError as exc:
             raise self._reject(k, str(exc)) from None

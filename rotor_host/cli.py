@@ -20,6 +20,8 @@ def _scene_from_args(args):
         changes["t_end_s"] = args.t_end
     if getattr(args, "dt", None):
         changes["dt_s"] = args.dt
+    if getattr(args, "tangent", None):
+        changes["newton_tangent"] = args.tangent
     if getattr(args, "surrogate", None):
         changes["surrogate"] = Path(args.surrogate).resolve()
     if changes:
@@ -138,6 +140,8 @@ def _paper(args) -> int:
 
 
 def main(argv: list[str] | None = None) -> int:
+    from .scene import NEWTON_TANGENTS
+
     parser = argparse.ArgumentParser(prog="rotor-host", description=__doc__)
     sub = parser.add_subparsers(dest="command", required=True)
 
@@ -148,6 +152,10 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--surrogate", help="surrogate JSON (taylor)")
     p.add_argument("--t-end", type=float, help="override the end time [s]")
     p.add_argument("--dt", type=float, help="override the time step [s]")
+    p.add_argument("--tangent", choices=NEWTON_TANGENTS,
+                   help="Newton tangent of the bearing forces (default: the scene's, normally 'bearing': "
+                        "the FMUs' own stiffness and damping outputs; 'frozen': those at the static "
+                        "equilibrium; 'fd': finite differences; 'linear': the rotor's without bearings)")
     p.add_argument("--out", default="out", help="output folder (default: out)")
     p.add_argument("--no-plots", action="store_true")
     p.add_argument("--quiet", action="store_true", help="no progress bar")

@@ -44,8 +44,8 @@ class FMUBearings(BearingSet):
     """
 
     def __init__(self, fmu_path, bearing_dofs, omega: float, parameters, names=None,
-                 start_time: float = 0.0, log=None):
-        super().__init__(bearing_dofs, omega, names)
+                 start_time: float = 0.0, log=None, tangent: str = "exact"):
+        super().__init__(bearing_dofs, omega, names, tangent)
         from fmpy import extract, read_model_description
         from fmpy.fmi2 import FMU2Slave, fmi2CallbackFunctions, fmi2CallbackLoggerTYPE
         from fmpy.fmi2 import fmi2CallbackAllocateMemoryTYPE, fmi2CallbackFreeMemoryTYPE
@@ -53,6 +53,8 @@ class FMUBearings(BearingSet):
 
         if len(parameters) != self.n:
             raise ValueError(f"FMUBearings: {len(parameters)} parameter sets for {self.n} bearings")
+        if self.tangent == "none":  # nobody reads K, C: the FMUs need not compute them
+            parameters = [{"compute_tangent": False, **p} for p in parameters]
         self.fmu_path = Path(fmu_path)
         if not self.fmu_path.is_file():
             raise FileNotFoundError(f"bearing FMU {self.fmu_path} not found; build it with `bearing-fmu build -o PATH.fmu`")
@@ -171,6 +173,8 @@ class FMUBearings(BearingSet):
             self.max_eccentricity[k] = o[10]
         # Lund sign in the FMU outputs; the integrator wants raw derivatives. The force view
         # is copied by the caller (BearingSet.evaluate) before the next call.
+        if self.tangent == "none":
+            return self._f_view, None, None
         return self._f_view, -self._dq_view, -self._dv_view
 
     @staticmethod

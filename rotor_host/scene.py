@@ -30,6 +30,18 @@ from .rotor import Rotor
 
 INTERNALS = ("reynolds", "taylor", "linear")
 VIA = ("fmu", "direct")
+# The Newton tangent of the bearing forces (scene key [time] newton_tangent):
+#   bearing: each bearing's own local stiffness and damping at every iterate (the FMU's K, C
+#            outputs; exact Newton, the default)
+#   frozen:  the bearings' stiffness and damping at the static equilibrium (Lund's
+#            coefficients), fixed for the whole run
+#   fd:      the force alone; the integrator builds the tangent by finite differences, keeps
+#            it across steps and refreshes it when Newton slows (the FMUs skip the Jacobian)
+#   linear:  the force alone and the rotor's linear tangent without the bearings, fixed
+NEWTON_TANGENTS = ("bearing", "frozen", "fd", "linear")
+# (Newmark's tangent setting, the BearingSet's) per scene choice
+_NEWMARK_TANGENT = {"bearing": ("auto", "exact"), "frozen": ("auto", "frozen"), "fd": ("fd", "none"),
+                    "linear": ("linear", "none")}
 G = 9.81
 
 
@@ -69,6 +81,7 @@ class Scene:
     source: Path | None = None
     domain_action: str = "warn"  # taylor: warn | fallback | discard outside the fitted domain
     domain_limit: float = DEFAULT_LIMIT  # taylor: refuse states this far outside (relative excess)
+    newton_tangent: str = "bearing"  # bearing | fd | linear: see NEWTON_TANGENTS
 
     @property
     def omega(self) -> float:
@@ -141,12 +154,16 @@ def load_scene(path) -> Scene:
     speed = _num(data, "speed_hz", where, minimum=0.0, strict=True)
 
     tt = data["time"]
-    _keys(tt, {"t_end_s", "dt_s", "hht_alpha"}, f"{where} [time]")
+    _keys(tt, {"t_end_s", "dt_s", "hht_alpha", "newton_tangent"}, f"{where} [time]")
     t_end = _num(tt, "t_end_s", f"{where} [time]", minimum=0.0, strict=True)
     dt = _num(tt, "dt_s", f"{where} [time]", minimum=0.0, strict=True)
     alpha = _num(tt, "hht_alpha", f"{where} [time]", default=0.0)
     if not -1 / 3 <= alpha <= 0.0:
         raise SceneError(f"{where} [time]: hht_alpha = {alpha} must lie in [-1/3, 0]")
+    newton_tangent = tt.get("newton_tangent", "bearing")
+    if newton_tangent not in NEWTON_TANGENTS:
+        raise SceneError(f"{where} [time]: newton_tangent = {newton_tangent!r}; choose one of "
+                         f"{', '.join(NEWTON_TANGENTS)}")
     if abs(round(t_end / dt) * dt - t_end) > 1e-9 * t_end:
         raise SceneError(f"{where} [time]: t_end_s = {t_end} is not a whole number of steps dt_s = {dt}")
 
@@ -204,7 +221,7 @@ def load_scene(path) -> Scene:
                  rotor_path=rotor_path, speed_hz=speed, internal=internal, via=via, t_end_s=t_end, dt_s=dt,
                  alpha=alpha, unbalances=unb, static_loads=loads, surrogate=surrogate, n_theta=n_theta,
                  n_x=n_x, initial=state, record_nodes=rec_nodes, record_every=every, fmu=fmu, source=path,
-                 domain_action=domain_action, domain_limit=domain_limit)
+                 domain_action=domain_action, domain_limit=domain_limit, newton_tangent=newton_tangent)
 
 
 def _count_nodes(rotor_path: Path) -> int:
@@ -317,12 +334,12 @@ def build_bearings(scene: Scene, rotor: Rotor, loads: np.ndarray, work_dir: Path
         from .bearings import DirectBearings
 
         internals = [_direct_internal(scene, p, w) for p, w in zip(rotor.bearings, loads)]
-        return DirectBearings(internals, pairs, scene.omega, names)
+        return DirectBearings(internals, pairs, scene.omega, names, tangent=_NEWMARK_TANGENT[scene.newton_tangent][1])
     from .cosim import FMUBearings
 
     fmu = scene_fmu(scene, work_dir)
     params = [_fmu_parameters(scene, p, w) for p, w in zip(rotor.bearings, loads)]
-    return FMUBearings(fmu, pairs, scene.omega, params, names)
+    return FMUBearings(fmu, pairs, scene.omega, params, names, tangent=_NEWMARK_TANGENT[scene.newton_tangent][1])
 
 
 def external_force(scene: Scene, rotor: Rotor, f_static: np.ndarray):
@@ -421,7 +438,7 @@ def run_scene(scene: Scene, out_dir=None, *, progress: bool = False, stem: str |
     meta = {
         "scene": scene.name, "description": scene.description, "source": str(scene.source),
         "internal": scene.internal, "via": scene.via, "speed_hz": scene.speed_hz, "dt_s": scene.dt_s,
-        "t_end_s": scene.t_end_s, "hht_alpha": scene.alpha,
+        "t_end_s": scene.t_end_s, "hht_alpha": scene.alpha, "newton_tangent": scene.newton_tangent,
         "reynolds_grid": [scene.n_theta, scene.n_x] if scene.internal != "taylor" else None,
         "surrogate": str(scene.surrogate) if scene.internal == "taylor" else None,
         "bearing_loads_N": loads.tolist(), "recorded_nodes": [n + 1 for n in rec_nodes],
@@ -433,7 +450,7 @@ def run_scene(scene: Scene, out_dir=None, *, progress: bool = False, stem: str |
         q0 = initial_state(scene, rotor, f_static, loads, bearings)
         t_eq = time.perf_counter()
         integ = Newmark(rotor.M, rotor.K, rotor.C, rotor.G, scene.omega, external_force(scene, rotor, f_static),
-                        bearings, NewmarkConfig(alpha=scene.alpha))
+                        bearings, NewmarkConfig(alpha=scene.alpha, tangent=_NEWMARK_TANGENT[scene.newton_tangent][0]))
         bar = None
         if progress:
             from tqdm import tqdm

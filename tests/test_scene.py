@@ -58,6 +58,8 @@ def test_paper_scene_values():
     ('internal = "reynolds"\nspeed_hz = 22\n[time]\nt_end_s = 0.1\ndt_s = 3e-2\n', "whole number of steps"),
     ('internal = "taylor"\nspeed_hz = 22\n[time]\nt_end_s = 0.1\ndt_s = 1e-4\n', "needs the key 'surrogate'"),
     ('internal = "reynolds"\nspeed_hz = 22\nspeed = 3\n[time]\nt_end_s = 0.1\ndt_s = 1e-4\n', "unknown key.*speed"),
+    ('internal = "reynolds"\nspeed_hz = 22\n[time]\nt_end_s = 0.1\ndt_s = 1e-4\nnewton_tangent = "exact"\n',
+     "newton_tangent = 'exact'; choose one of bearing, frozen, fd, linear"),
 ])
 def test_bad_scene_files(tmp_path, body, match):
     with pytest.raises(SceneError, match=match):
@@ -158,3 +160,26 @@ def test_taylor_override_without_a_surrogate_names_what_is_missing(tmp_path):
     scene = load_scene(SCENES / "harsh_ecc095_10hz.toml").with_internal("taylor", via="direct", t_end_s=1e-3)
     with pytest.raises(SceneError, match="needs a surrogate file, and the scene names none"):
         run_scene(scene, None)
+
+
+def test_newton_tangents_reach_the_same_orbit_at_their_own_cost():
+    """The Newton tangent changes how the step equations are solved, not which: every
+    tangent that converges must land on the exact-Newton orbit to the Newton tolerance
+    (independent check: the same Newmark equations solved by different iterations). The
+    bearings' own tangent needs the fewest evaluations: the film damping times 2/dt dominates
+    the step tangent, so a tangent frozen at the equilibrium or the rotor's alone converge
+    slowly (benchmarks/bench_tangent.py)."""
+    base = load_scene(SCENES / "paper_22hz.toml").with_internal("taylor", via="direct", t_end_s=0.01)
+    runs = {t: run_scene(base.with_internal("taylor", newton_tangent=t)) for t in ("bearing", "frozen", "linear")}
+    ref = runs["bearing"]
+    assert ref.ok and ref.meta["newton_tangent"] == "bearing"
+    # the increment test stops a slowly contracting chord iteration early: its error is about
+    # the last correction / (1 - contraction), so the linear tangent (contraction ~0.97) lands
+    # 5e-5 CR off where the frozen one (~0.1) lands 2e-10 CR off
+    atol = {"bearing": 0.0, "frozen": 1e-8, "linear": 1e-3}
+    for t, run in runs.items():
+        assert run.ok, (t, run.meta["message"])
+        for c in ("y", "z"):
+            np.testing.assert_allclose(run.arrays[c], ref.arrays[c], rtol=0, atol=atol[t] * PAPER_BEARING.CR)
+    evals = {t: r.meta["newton_mean_evaluations_per_step"] for t, r in runs.items()}
+    assert evals["bearing"] < 2.5 < evals["frozen"] < evals["linear"]
