@@ -71,13 +71,13 @@ class BearingSet:
             if dqk is not None:
                 dq[i:i + 2, i:i + 2] = dqk
                 dv[i:i + 2, i:i + 2] = dvk
-        if self.tangent == "exact":
-            return f, dq, dv
+        if self.tangent == "none":
+            return f, None, None
         if self.tangent == "frozen" and self.dt > 0.0:  # static evaluations keep exact Newton
             if self._frozen is None:
                 self._frozen = (dq.copy(), dv.copy())
             return f, self._frozen[0], self._frozen[1]
-        return (f, dq, dv) if self.tangent == "frozen" else (f, None, None)
+        return f, dq, dv
 
     def accept_step(self) -> None:
         pass

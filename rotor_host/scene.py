@@ -81,7 +81,7 @@ class Scene:
     source: Path | None = None
     domain_action: str = "warn"  # taylor: warn | fallback | discard outside the fitted domain
     domain_limit: float = DEFAULT_LIMIT  # taylor: refuse states this far outside (relative excess)
-    newton_tangent: str = "bearing"  # bearing | fd | linear: see NEWTON_TANGENTS
+    newton_tangent: str = "bearing"  # bearing | frozen | fd | linear: see NEWTON_TANGENTS
 
     @property
     def omega(self) -> float:
@@ -330,16 +330,17 @@ def build_bearings(scene: Scene, rotor: Rotor, loads: np.ndarray, work_dir: Path
     names = [f"bearing {k + 1} (node {n + 1})" for k, n in enumerate(rotor.bearing_nodes)]
     if scene.internal == "taylor":
         require_surrogate(scene)
+    tangent = _NEWMARK_TANGENT[scene.newton_tangent][1]
     if scene.via == "direct":
         from .bearings import DirectBearings
 
         internals = [_direct_internal(scene, p, w) for p, w in zip(rotor.bearings, loads)]
-        return DirectBearings(internals, pairs, scene.omega, names, tangent=_NEWMARK_TANGENT[scene.newton_tangent][1])
+        return DirectBearings(internals, pairs, scene.omega, names, tangent=tangent)
     from .cosim import FMUBearings
 
     fmu = scene_fmu(scene, work_dir)
     params = [_fmu_parameters(scene, p, w) for p, w in zip(rotor.bearings, loads)]
-    return FMUBearings(fmu, pairs, scene.omega, params, names, tangent=_NEWMARK_TANGENT[scene.newton_tangent][1])
+    return FMUBearings(fmu, pairs, scene.omega, params, names, tangent=tangent)
 
 
 def external_force(scene: Scene, rotor: Rotor, f_static: np.ndarray):
