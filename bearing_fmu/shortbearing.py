@@ -55,7 +55,8 @@ bearing coefficients of Friswell, Penny, Garvey & Lees, Dynamics of Rotating Mac
 sec. 5.5.2 (checked in tests/test_shortbearing.py). They are rotated to (y, z) with
 T = [u_r u_t]: K = T K_rt T^T.
 
-This module is pure Python (no numba, no reynolds import).
+This module is pure Python (no numba, no reynolds import); bearing_fmu.taylor compiles
+``short_bearing_kernel`` for the surrogate's shape columns.
 """
 
 from __future__ import annotations
@@ -67,7 +68,8 @@ import numpy as np
 from .internals import check_state
 from .params import BearingParams
 
-__all__ = ["short_bearing_force", "short_bearing_coefficients", "short_bearing_eccentricity",
+__all__ = ["short_bearing_force", "short_bearing_force_and_jacobian", "short_bearing_kernel",
+           "short_bearing_constant", "short_bearing_coefficients", "short_bearing_eccentricity",
            "short_bearing_load"]
 
 
@@ -83,30 +85,107 @@ def _frame(params: BearingParams, y: float, z: float):
     return eps, ur, ut
 
 
-def _gamma_parts(eps: float, phi: float):
-    """Continuous eccentric anomaly gamma(phi) with sin and cos of it."""
-    s = math.sqrt(1.0 - eps * eps)
+def short_bearing_kernel(y, z, vy, vz, omega, cr, c0, jac):
+    """The closed form and, with ``jac``, its analytic Jacobian: plain Python on floats, so
+    that bearing_fmu.taylor can compile this very function with numba (one implementation).
+
+    cr = CR [m], c0 = mu L^3 R / (2 CR^2). No input checks (eps < 1 is the caller's). Returns
+    (Fy, Fz, dFy/dy, dFy/dz, dFy/dvy, dFy/dvz, dFz/dy, dFz/dz, dFz/dvy, dFz/dvz) in SI; the
+    derivatives are 0 without ``jac``.
+
+    Jacobian: F_r, F_t depend on (eps, A, B); the moving limits phi1 = atan2(B, A) contribute
+    nothing (the integrand A sin - B cos vanishes there), so dF/dA and dF/dB are the J
+    integrals themselves and dJ/deps at fixed limits is the difference of dP/deps, with
+    (at fixed phi) dgamma/deps = -sin(gamma)/s^2, dsin(gamma)/deps = -sin cos(gamma)/s^2,
+    dcos(gamma)/deps = sin^2(gamma)/s^2, ds/deps = -eps/s. The frame turns with the journal:
+    du_r/dq = u_t u_t^T / e, du_t/dq = -u_r u_t^T / e. At w = 0 (A = B = 0) the force is 0 and
+    the derivatives are those of the region (0, pi), the limit from A > 0. Within 1e-8 CR of
+    the centre the 1/e frame terms are capped (the position derivatives are not exact there;
+    the force is).
+    """
+    e = math.sqrt(y * y + z * z)
+    eps = e / cr
+    if e > 0.0:
+        ury = y / e
+        urz = z / e
+    else:
+        ury = 0.0
+        urz = -1.0
+    uty = -urz
+    utz = ury
+    vr = vy * ury + vz * urz
+    vt = vy * uty + vz * utz
+    A = eps * omega - 2.0 * vt / cr
+    B = 2.0 * vr / cr
+    phi1 = math.atan2(B, A)
+    s2 = 1.0 - eps * eps
+    s = math.sqrt(s2)
     beta = eps / (1.0 + s)
-    g = phi - 2.0 * math.atan(beta * math.sin(phi) / (1.0 + beta * math.cos(phi)))
-    den = 1.0 + eps * math.cos(phi)
-    return g, s * math.sin(phi) / den, (math.cos(phi) + eps) / den
+    jss = jsc = jcc = 0.0
+    dss = dsc = dcc = 0.0
+    for k in range(2):  # the primitives P at phi2 = phi1 + pi (sign +1) and phi1 (sign -1)
+        phi = phi1 + math.pi if k == 0 else phi1
+        sgn = 1.0 if k == 0 else -1.0
+        sp = math.sin(phi)
+        cp = math.cos(phi)
+        g = phi - 2.0 * math.atan(beta * sp / (1.0 + beta * cp))  # continuous eccentric anomaly
+        den = 1.0 + eps * cp
+        sg = s * sp / den
+        cg = (cp + eps) / den
+        a = 0.5 * g - 0.5 * sg * cg
+        b = 0.5 * sg * sg + eps * cg
+        c = (0.5 + eps * eps) * g + 0.5 * sg * cg - 2.0 * eps * sg
+        jss += sgn * a / s**3
+        jsc += sgn * b / s**4
+        jcc += sgn * c / s**5
+        if jac:
+            a_e = -(sg**3) / s2
+            b_e = -sg * sg * cg / s2 + cg + eps * sg * sg / s2
+            c_e = (2.0 * eps * g - (0.5 + eps * eps) * sg / s2 + 0.5 * sg * (sg * sg - cg * cg) / s2
+                   - 2.0 * sg + 2.0 * eps * sg * cg / s2)
+            dss += sgn * (3.0 * eps * a / s**5 + a_e / s**3)
+            dsc += sgn * (4.0 * eps * b / s**6 + b_e / s**4)
+            dcc += sgn * (5.0 * eps * c / s**7 + c_e / s**5)
+    fr = c0 * (A * jsc - B * jcc)
+    ft = c0 * (A * jss - B * jsc)
+    fy = fr * ury + ft * uty
+    fz = fr * urz + ft * utz
+    if not jac:
+        return fy, fz, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+    # partial derivatives of (F_r, F_t) in eps, A, B
+    fr_e = c0 * (A * dsc - B * dcc)
+    ft_e = c0 * (A * dss - B * dsc)
+    fr_a, fr_b = c0 * jsc, -c0 * jcc
+    ft_a, ft_b = c0 * jss, -c0 * jsc
+    einv = 1.0 / max(e, 1e-8 * cr)
+    # gradients of eps, A, B in (y, z) and (vy, vz)
+    eps_y, eps_z = ury / cr, urz / cr
+    a_y = omega * ury / cr + 2.0 * vr * uty * einv / cr
+    a_z = omega * urz / cr + 2.0 * vr * utz * einv / cr
+    a_vy, a_vz = -2.0 * uty / cr, -2.0 * utz / cr
+    b_y, b_z = 2.0 * vt * uty * einv / cr, 2.0 * vt * utz * einv / cr
+    b_vy, b_vz = 2.0 * ury / cr, 2.0 * urz / cr
+    gr_y = fr_e * eps_y + fr_a * a_y + fr_b * b_y
+    gr_z = fr_e * eps_z + fr_a * a_z + fr_b * b_z
+    gr_vy = fr_a * a_vy + fr_b * b_vy
+    gr_vz = fr_a * a_vz + fr_b * b_vz
+    gt_y = ft_e * eps_y + ft_a * a_y + ft_b * b_y
+    gt_z = ft_e * eps_z + ft_a * a_z + ft_b * b_z
+    gt_vy = ft_a * a_vy + ft_b * b_vy
+    gt_vz = ft_a * a_vz + ft_b * b_vz
+    # F = F_r u_r + F_t u_t: dF/dq = u_r g_r^T + u_t g_t^T + (F_r u_t - F_t u_r) u_t^T / e
+    wy = (fr * uty - ft * ury) * einv
+    wz = (fr * utz - ft * urz) * einv
+    return (fy, fz,
+            ury * gr_y + uty * gt_y + wy * uty, ury * gr_z + uty * gt_z + wy * utz,
+            ury * gr_vy + uty * gt_vy, ury * gr_vz + uty * gt_vz,
+            urz * gr_y + utz * gt_y + wz * uty, urz * gr_z + utz * gt_z + wz * utz,
+            urz * gr_vy + utz * gt_vy, urz * gr_vz + utz * gt_vz)
 
 
-def _j_integrals(eps: float, phi1: float, phi2: float):
-    """(J_ss, J_sc, J_cc) = int_phi1^phi2 (sin^2, sin cos, cos^2) / (1 + eps cos)^3 dphi."""
-    s = math.sqrt(1.0 - eps * eps)
-
-    def prim(phi):
-        g, sg, cg = _gamma_parts(eps, phi)
-        s2g = 2.0 * sg * cg
-        return (
-            (0.5 * g - 0.25 * s2g) / s**3,
-            (0.5 * sg * sg + eps * cg) / s**4,
-            ((0.5 + eps * eps) * g + 0.25 * s2g - 2.0 * eps * sg) / s**5,
-        )
-
-    a, b = prim(phi2), prim(phi1)
-    return a[0] - b[0], a[1] - b[1], a[2] - b[2]
+def short_bearing_constant(params: BearingParams) -> float:
+    """c0 = mu L^3 R / (2 CR^2) [N s]: the force scale of the closed form (module docstring)."""
+    return params.mu * params.L**3 * params.R / (2.0 * params.CR**2)
 
 
 def short_bearing_force(params: BearingParams, y: float, z: float, vy: float, vz: float,
@@ -114,19 +193,19 @@ def short_bearing_force(params: BearingParams, y: float, z: float, vy: float, vz
     """Ocvirk short-bearing film force (Fy, Fz) [N], half-Sommerfeld (pi-film), with the
     squeeze velocities (vy, vz) [m/s]; see the module docstring for the derivation."""
     check_state(params, y, z, vy, vz, omega)
-    eps, ur, ut = _frame(params, y, z)
-    vr = vy * ur[0] + vz * ur[1]
-    vt = vy * ut[0] + vz * ut[1]
-    A = eps * omega - 2.0 * vt / params.CR
-    B = 2.0 * vr / params.CR
-    if A == 0.0 and B == 0.0:
-        return 0.0, 0.0
-    phi1 = math.atan2(B, A)
-    jss, jsc, jcc = _j_integrals(eps, phi1, phi1 + math.pi)
-    c0 = params.mu * params.L**3 * params.R / (2.0 * params.CR**2)
-    fr = c0 * (A * jsc - B * jcc)
-    ft = c0 * (A * jss - B * jsc)
-    return float(fr * ur[0] + ft * ut[0]), float(fr * ur[1] + ft * ut[1])
+    r = short_bearing_kernel(float(y), float(z), float(vy), float(vz), float(omega), params.CR,
+                             short_bearing_constant(params), False)
+    return float(r[0]), float(r[1])
+
+
+def short_bearing_force_and_jacobian(params: BearingParams, y: float, z: float, vy: float, vz: float,
+                                     omega: float):
+    """(F (2,) [N], dF/dq (2, 2) [N/m], dF/dv (2, 2) [N s/m]) of ``short_bearing_force``,
+    analytic (see ``short_bearing_kernel``)."""
+    check_state(params, y, z, vy, vz, omega)
+    r = short_bearing_kernel(float(y), float(z), float(vy), float(vz), float(omega), params.CR,
+                             short_bearing_constant(params), True)
+    return np.array(r[:2]), np.array([r[2:4], r[6:8]]), np.array([r[4:6], r[8:10]])
 
 
 def short_bearing_coefficients(params: BearingParams, y0: float, z0: float, omega: float):

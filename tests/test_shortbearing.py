@@ -16,6 +16,7 @@ from bearing_fmu.shortbearing import (
     short_bearing_coefficients,
     short_bearing_eccentricity,
     short_bearing_force,
+    short_bearing_force_and_jacobian,
     short_bearing_load,
 )
 
@@ -69,6 +70,41 @@ def test_zero_motion_zero_force_and_bad_input():
         short_bearing_force(P, 0.0, -P.CR, 0.0, 0.0, 1.0)
     with pytest.raises(ValueError, match="omega = 0"):
         short_bearing_coefficients(P, 0.0, -0.5 * P.CR, 0.0)
+
+
+@pytest.mark.parametrize("sgn", [1.0, -1.0])
+def test_analytic_jacobian_matches_differences_with_squeeze_velocities(sgn):
+    # Expected values: central differences of the force itself (step 1e-7 CR and 1e-7 omega CR,
+    # truncation ~1e-12 relative, round-off ~1e-8), over eccentricities 0.01-0.95 and squeeze
+    # velocities up to ~2 omega CR, where the moving cavitation limits turn with the velocity.
+    w = sgn * 2 * math.pi * 22
+    vs = abs(w) * P.CR
+    rng = np.random.default_rng(7)
+    for _ in range(60):
+        e, a = rng.uniform(0.01, 0.95), rng.uniform(0, 2 * math.pi)
+        x0 = np.array([e * P.CR * math.sin(a), -e * P.CR * math.cos(a), *rng.normal(0.0, 0.7, 2) * vs])
+        F, dq, dv = short_bearing_force_and_jacobian(P, *x0, w)
+        assert np.allclose(F, short_bearing_force(P, *x0, w), rtol=0, atol=1e-14 * np.abs(F).max())
+        J = np.empty((2, 4))
+        for j in range(4):
+            h = 1e-7 * (P.CR if j < 2 else vs)
+            xp, xm = x0.copy(), x0.copy()
+            xp[j] += h
+            xm[j] -= h
+            J[:, j] = (np.array(short_bearing_force(P, *xp, w)) - np.array(short_bearing_force(P, *xm, w))) / (2 * h)
+        scale = np.abs(J).max()
+        assert np.abs(np.hstack([dq, dv]) - J).max() < 1e-5 * scale
+
+
+def test_analytic_jacobian_at_rest_is_minus_the_closed_form_coefficients():
+    # Expected: the independent closed-form K, C (Childs 1993; checked against Friswell below)
+    w = 2 * math.pi * 44
+    for e, a in ((0.3, 0.4), (0.9, -1.2)):
+        y, z = e * P.CR * math.sin(a), -e * P.CR * math.cos(a)
+        K, C = short_bearing_coefficients(P, y, z, w)
+        _, dq, dv = short_bearing_force_and_jacobian(P, y, z, 0.0, 0.0, w)
+        np.testing.assert_allclose(-dq, K, rtol=1e-12, atol=1e-12 * np.abs(K).max())
+        np.testing.assert_allclose(-dv, C, rtol=1e-12, atol=1e-12 * np.abs(C).max())
 
 
 @pytest.mark.parametrize("sgn", [1.0, -1.0])
