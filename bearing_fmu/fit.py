@@ -28,8 +28,15 @@ Conventions
 * Pruning: terms ranked by their contribution |k_j| * RMS(X[:, j]); the largest number of
   the smallest ones is dropped (bisection, repeated after re-ranking) while the CV RMS error
   stays within (1 + prune_tol) of the unpruned CV RMS error; the kept terms are refitted.
-  The constant is always kept. On more than 6000 samples the pruning decisions use every
+  The constant and the shape columns are always kept. On more than 6000 samples the pruning decisions use every
   stride-th sample (the final refit of the kept terms uses all).
+* Shape columns (``shape_order`` r, optional): the columns g S_y m_j(u) / F_ref and
+  g S_z m_j(u) / F_ref beside the monomials, S the closed-form short-bearing force at the
+  sample, m_j the monomials of order <= r, g the wall factor's (1 - eps^2)^p: the surrogate is
+  F = F_ref P(u) / g + sum_j (a_j^y S_y + a_j^z S_z) m_j(u) (docs/taylor.md). Anchored, each
+  shape column's own degree <= 1 part at the expansion point (exact, from the closed form's
+  analytic Jacobian) is taken out of the column and put back into the polynomial's constant
+  and order-1 coefficients afterwards, so the anchor still fixes the force and Jacobian there.
 * CV folds: a seeded random partition for designed data; for a time series, contiguous
   blocks dealt round-robin to the folds (see ``fold_indices``).
 """
@@ -53,6 +60,7 @@ from .taylor import (
     exponents,
     natural_force_scale,
     save_surrogate,
+    short_bearing_at,
     term_names,
 )
 
@@ -222,10 +230,15 @@ def _cv_mse_cols(X, y, cols, lam, folds) -> float:
 
 
 def prune_terms(X, y, lam: float, folds, tol: float = 0.10, rounds: int = 3,
-                protect_first: bool = True) -> tuple[np.ndarray, dict]:
+                protect_first: bool = True, protect_last: int = 0) -> tuple[np.ndarray, dict]:
     """Boolean mask of the kept columns of X for target y (see module doc); with
-    ``protect_first`` column 0 (the constant) is never dropped."""
+    ``protect_first`` column 0 (the constant) is never dropped, nor are the last
+    ``protect_last`` columns (the shape columns)."""
     N = X.shape[1]
+    protected = np.zeros(N, bool)
+    protected[0] = protect_first
+    if protect_last:
+        protected[N - protect_last:] = True
     keep = np.ones(N, bool)
     base = _cv_mse_cols(X, y, keep, lam, folds)
     limit = (1.0 + tol) ** 2 * base  # on the mean squared error, i.e. (1 + tol) on the RMS error
@@ -235,7 +248,7 @@ def prune_terms(X, y, lam: float, folds, tol: float = 0.10, rounds: int = 3,
         idx = np.flatnonzero(keep)
         k = RidgeSVD(X[:, idx], y).coef(lam)[:, 0]
         contrib = np.abs(k) * rms_col[idx]
-        order = [i for i in np.argsort(contrib) if not (protect_first and idx[i] == 0)]
+        order = [i for i in np.argsort(contrib) if not protected[idx[i]]]
         ranked = idx[order]
 
         def ok(n):
@@ -258,7 +271,7 @@ def prune_terms(X, y, lam: float, folds, tol: float = 0.10, rounds: int = 3,
         keep[ranked[:lo]] = False
         final = best_e
     info = {"cv_rmse_unpruned": math.sqrt(base), "cv_rmse_pruned": math.sqrt(final), "tol": tol,
-            "kept": int(keep.sum()), "of": int(N)}
+            "kept": int(keep.sum() - protect_last), "of": int(N - protect_last)}
     return keep, info
 
 
@@ -417,6 +430,7 @@ def fit_surrogate(
     prune_tol: float = 0.05, force_scale: float | None = None, load=None, seed: int = 0,
     test: tuple[np.ndarray, np.ndarray] | None = None, provenance: dict | None = None,
     bias_variance: bool = True, anchor=None, weights=None, wall_power: float = 0.0,
+    shape_order: int | None = None,
 ) -> FitResult:
     """Fit both force components; ``lam`` = "cv" (line search), or a number (the same for
     both). ``test`` = (states, forces) held out for the reported errors.
@@ -435,12 +449,20 @@ def fit_surrogate(
     eccentricity ratio of each row) instead of F, so the surrogate is F = P(u) / (1 - eps^2)^p
     (see :mod:`bearing_fmu.taylor`); the anchor is transformed consistently,
     G0 = F0 g0 and dG/dq = g0 dF/dq + F0 dg/dq (g = (1 - eps^2)^p), dG/dv = g0 dF/dv. The CV
-    errors are then of G; train and held-out errors are of F."""
+    errors are then of G; train and held-out errors are of F.
+
+    ``shape_order`` = r adds the short-bearing shape columns S_y m_j, S_z m_j (m_j: monomials
+    of order <= r) to the regression (module doc); None = the polynomial alone."""
     t0 = time.perf_counter()
     wall_power = float(wall_power)
     if not (math.isfinite(wall_power) and wall_power >= 0.0):
         raise ValueError(f"fit: wall_power = {wall_power!r} must be finite and >= 0")
+    if shape_order is not None and (isinstance(shape_order, bool) or int(shape_order) != shape_order
+                                    or shape_order < 0):
+        raise ValueError(f"fit: shape_order = {shape_order!r} must be an integer >= 0 (or None: no shape columns)")
     exps = exponents(order)
+    sexps = exponents(shape_order) if shape_order is not None else np.zeros((0, 4), np.int64)
+    Nr = len(sexps)
     fs = float(force_scale) if force_scale else natural_force_scale(params, omega)
     cr, vs = params.CR, abs(omega) * params.CR
     states = np.asarray(states, float)
@@ -458,10 +480,24 @@ def fit_surrogate(
                              "the wall factor is undefined there")
         return q**wall_power
 
+    def shape_cols(s, S, g):  # (M, 2 Nr): g S_y m_j / fs, then g S_z m_j / fs (the regression's units)
+        mj = design_matrix(scaled(s), sexps)
+        gS = S[:, :2] * (g / fs)[:, None]
+        return np.hstack([gS[:, :1] * mj, gS[:, 1:2] * mj])
+
+    def predict(s, S, cp, ca):  # F [N] at raw states s with polynomial coefs cp and shape coefs ca
+        F = (design_matrix(scaled(s), exps) @ cp.T) * fs / wall_g(s)[:, None]
+        if Nr:
+            F += (shape_cols(s, S, np.full(len(s), fs)) @ ca.T)
+        return F
+
     X = design_matrix(scaled(states), exps)
     g_train = wall_g(states)
     Y = forces / fs * g_train[:, None]
     M, N = X.shape
+    S_train = short_bearing_at(params, states, omega)[:, :2] if Nr else None
+    XA = shape_cols(states, S_train, g_train) if Nr else np.zeros((M, 0))
+    lin = np.zeros((2 * Nr, 5))  # each shape column's value and u-gradient at the expansion point
     if anchor is not None:
         if order < 1:
             raise ValueError("fit: an anchored fit needs order >= 1")
@@ -474,17 +510,36 @@ def fit_surrogate(
             g0 = q0**wall_power
             dg = -2.0 * wall_power * np.array([y0, z0]) / cr**2 * q0 ** (wall_power - 1.0)
             F0, dq, dv = F0 * g0, dq * g0 + np.outer(F0, dg), dv * g0
+        else:
+            g0, dg = 1.0, np.zeros(2)
+        if Nr:
+            # column (S_i, m_j) = g S_i m_j / fs: at u = 0 only m_0 = 1 has a value and the degree-1
+            # m_j = u_v a gradient, so its degree <= 1 part is [g0 S_i0, grad_u(g S_i)] / fs for j = 0
+            # and g0 S_i0 / fs along u_v for j = 1 + v (exponents list dy, dz, dvy, dvz first)
+            r0 = short_bearing_at(params, [[y0, z0, 0.0, 0.0]], omega, jac=True)[0]
+            du = np.array([cr, cr, vs, vs])
+            dg_u = np.array([dg[0] * cr, dg[1] * cr, 0.0, 0.0])
+            for i in range(2):
+                S0, dS_u = r0[i], r0[2 + 4 * i:6 + 4 * i] * du
+                lin[i * Nr, 0] = g0 * S0 / fs
+                lin[i * Nr, 1:] = (g0 * dS_u + S0 * dg_u) / fs
+                if shape_order >= 1:
+                    for v in range(4):
+                        lin[i * Nr + 1 + v, 1 + v] = g0 * S0 / fs
+            XA = XA - (lin[:, 0] + scaled(states) @ lin[:, 1:].T)
         # exponents(order) starts with 1, dy, dz, dvy, dvz
         c_fix = np.column_stack([F0 / fs, dq[:, 0] * cr / fs, dq[:, 1] * cr / fs,
                                  dv[:, 0] * vs / fs, dv[:, 1] * vs / fs])
     else:
         c_fix = np.zeros((2, 0))
     n_fix = c_fix.shape[1]
-    Xf = X[:, n_fix:]
+    Xf = np.hstack([X[:, n_fix:], XA])
     Yr = Y - X[:, :n_fix] @ c_fix.T
-    Nf = N - n_fix
+    Np = N - n_fix  # free polynomial terms; the 2 Nr shape columns follow them in Xf
+    Nf = Np + 2 * Nr
     if M < Nf:
-        raise ValueError(f"fit: {M} samples for {Nf} free terms of order {order}; need at least as many samples")
+        raise ValueError(f"fit: {M} samples for {Nf} free terms of order {order}"
+                         + (f" with shape order {shape_order}" if Nr else "") + "; need at least as many samples")
     if weights is not None:
         w = np.asarray(weights, float).reshape(-1)
         if w.shape != (M,) or not np.all(np.isfinite(w)) or np.any(w < 0):
@@ -518,10 +573,10 @@ def fit_surrogate(
             curves["lam_grid"] = g
         coef_f = full.coef(lams).T  # (2, Nf)
         coef_ls_f = full.coef(0.0).T
-    coef = np.hstack([c_fix, coef_f])
+    coef = np.hstack([c_fix, coef_f])  # (2, N + 2 Nr) until the shape part is split off below
     coef_unpruned = coef.copy()
     coef_ls = np.hstack([c_fix, coef_ls_f])
-    kept = np.ones((2, N), bool)
+    kept = np.ones((2, N + 2 * Nr), bool)
     prune_info = {}
     if prune and Nf > 0:
         # the pruning decisions need many CV refits: on long series use every stride-th sample
@@ -530,14 +585,22 @@ def fit_surrogate(
         folds_p = folds if stride == 1 else fold_indices(len(Xp), k_folds, seed, blocked)
         for j in range(2):
             keep, info = prune_terms(Xp, Yp[:, j:j + 1], float(lams[j]), folds_p, prune_tol,
-                                     protect_first=n_fix == 0)
+                                     protect_first=n_fix == 0, protect_last=2 * Nr)
             info["rows_used"] = int(len(Xp))
             kept[j, n_fix:] = keep
             cj = np.zeros(Nf)
             cj[keep] = RidgeSVD(Xf[:, keep], Yr[:, j]).coef(float(lams[j]))[:, 0]
             coef[j, n_fix:] = cj
             prune_info[COMPONENTS[j]] = info
-    train_pred = (X @ coef.T) * fs / g_train[:, None]
+    def split(c):  # (2, N + 2 Nr) -> polynomial (2, N), shape (2, 2 Nr); the anchor's shift put back
+        cp, ca = c[:, :N].copy(), c[:, N:]
+        if Nr and anchor is not None:
+            cp[:, :5] -= ca @ lin
+        return cp, ca
+
+    (coef, coef_aug), (coef_unpruned, aug_unpruned), (coef_ls, aug_ls) = map(split, (coef, coef_unpruned, coef_ls))
+    kept = kept[:, :N]
+    train_pred = predict(states, S_train, coef, coef_aug)
     errors = {
         "nrmse_definition": "RMS(prediction - truth) / std(truth), per component",
         "train_nrmse": dict(zip(COMPONENTS, nrmse(train_pred, forces).tolist())),
@@ -550,11 +613,10 @@ def fit_surrogate(
                                  "note": "cv_nrmse_* are of the weighted rows"}
     if test is not None:
         ts, tf = np.asarray(test[0], float), np.asarray(test[1], float)
-        Xt = design_matrix(scaled(ts), exps)
-        ht = fs / wall_g(ts)[:, None]
-        pred = (Xt @ coef.T) * ht
-        pred_ls = (Xt @ coef_ls.T) * ht
-        pred_un = (Xt @ coef_unpruned.T) * ht
+        St = short_bearing_at(params, ts, omega)[:, :2] if Nr else None
+        pred = predict(ts, St, coef, coef_aug)
+        pred_ls = predict(ts, St, coef_ls, aug_ls)
+        pred_un = predict(ts, St, coef_unpruned, aug_unpruned)
         errors.update({
             "test_nrmse": dict(zip(COMPONENTS, nrmse(pred, tf).tolist())),
             "test_nrmse_unpruned": dict(zip(COMPONENTS, nrmse(pred_un, tf).tolist())),
@@ -570,6 +632,7 @@ def fit_surrogate(
     prov.update(provenance or {})
     prov["anchored"] = anchor is not None
     prov["wall_power"] = wall_power
+    prov["shape_order"] = shape_order
     if anchor is not None:
         prov.setdefault("anchor", "constant and order-1 terms fixed to the truth's force and derivatives "
                                   "at the expansion point; degree >= 2 regressed")
@@ -580,10 +643,11 @@ def fit_surrogate(
         force_scale=fs, domain=domain, kept=kept, lam=(float(lams[0]), float(lams[1])),
         load=None if load is None else (float(load[0]), float(load[1])),
         errors=errors, pruning=pruning, provenance=prov, wall_power=wall_power,
+        shape_order=shape_order, shape_coef=coef_aug.reshape(4, Nr) if Nr else None,
     )
     report = {
         "order": order, "n_terms": N, "n_train": M, "cond_X": cond, "k_folds": k_folds,
-        "anchored": anchor is not None, "n_fixed": n_fix,
+        "anchored": anchor is not None, "n_fixed": n_fix, "shape_order": shape_order, "n_shape_columns": 2 * Nr,
         "lambda": dict(zip(COMPONENTS, [float(v) for v in lams])),
         "lambda_search": None if sel is None else dict(zip(COMPONENTS, sel["lam_search"].tolist())),
         "ls_wins": None if sel is None else dict(zip(COMPONENTS, [bool(v == 0.0) for v in lams])),
@@ -680,7 +744,7 @@ def fit_condition(
     return res
 
 
-_REFIT_KW = ("lam", "k_folds", "prune", "prune_tol", "wall_power")
+_REFIT_KW = ("lam", "k_folds", "prune", "prune_tol", "wall_power", "shape_order")
 
 
 def refit_order(surrogate_path, order: int, out_path) -> Path:
@@ -713,7 +777,9 @@ def format_report(res: FitResult) -> str:
         f"|v| <= {s.domain.v_max:g} omega CR; {r['n_train']} training samples, cond(X) = {r['cond_X']:.3g}",
         f"NRMSE = RMS error / std of the truth; {r['k_folds']}-fold CV chooses lambda (per-sample objective)"
         + (f"; wall factor: the polynomial fits F (1 - eps^2)^{s.wall_power:g} (CV errors of that)"
-           if s.wall_power else ""),
+           if s.wall_power else "")
+        + (f"; short-bearing shape columns of order {s.shape_order} ({r['n_shape_columns']} per component, "
+           "never pruned)" if s.shape_order is not None else ""),
         "| component | lambda chosen | lambda search | train NRMSE | CV NRMSE (LS) | held-out NRMSE | "
         "held-out unpruned | held-out LS (lambda = 0) | terms kept |",
         "|---|---|---|---|---|---|---|---|---|",
@@ -856,6 +922,11 @@ def add_fit_arguments(parser: argparse.ArgumentParser) -> argparse.ArgumentParse
                         help="fit the polynomial to F * (1 - eccentricity^2)^P and evaluate F = polynomial / "
                              "(1 - eccentricity^2)^P, so it can follow the force's growth near the wall "
                              "(default 0: the plain polynomial)")
+    parser.add_argument("--shape-order", type=int, default=None, metavar="R",
+                        help="add the short-bearing shape columns S_y m_j, S_z m_j (S: the closed-form short-bearing "
+                             "force, m_j: monomials of order <= R) to the regression, so the surrogate carries the "
+                             "film's growth at the wall and its dependence on the squeeze direction "
+                             "(default: none; docs/taylor.md)")
     parser.add_argument("--cache-dir", default=None,
                         help="with --scene: folder caching the Reynolds series (default: beside --output)")
     parser.add_argument("--plots", default=None, help="directory for the lambda plots")
@@ -869,6 +940,8 @@ def run_fit(args: argparse.Namespace) -> int:
     grid = tuple(args.grid) if args.grid else None
     if args.order < 1:
         raise ValueError(f"--order {args.order}: the Taylor order must be >= 1")
+    if args.shape_order is not None and args.shape_order < 0:
+        raise ValueError(f"--shape-order {args.shape_order}: must be >= 0 (omit it for no shape columns)")
     if getattr(args, "scene", None):
         from rotor_host.training import fit_scene
 
@@ -879,7 +952,8 @@ def run_fit(args: argparse.Namespace) -> int:
                         prune_tol=args.prune_tol, anchor=not args.no_anchor, designed=args.designed,
                         designed_ecc_max=args.designed_ecc_max, designed_v_max=args.designed_v_max,
                         designed_weight=args.designed_weight, designed_tube=args.designed_tube,
-                        ecc_weight=args.ecc_weight, wall_power=args.wall_power, seed=args.seed)
+                        ecc_weight=args.ecc_weight, wall_power=args.wall_power, shape_order=args.shape_order,
+                        seed=args.seed)
     else:
         res = _fit_designed(args, lam, grid)
     return _write_fit(res, args)
@@ -890,7 +964,7 @@ def _fit_designed(args, lam, grid) -> FitResult:
         (args.load_y, args.load_z), args.speed_hz, args.order, ecc_max=args.ecc_max, v_max=args.v_max,
         radius=args.radius, n_train=args.n_train, n_test=args.n_test, seed=args.seed, grid=grid,
         npz=args.from_npz, lam=lam, k_folds=args.k_folds, prune=not args.no_prune, prune_tol=args.prune_tol,
-        anchor=not args.no_anchor, wall_power=args.wall_power,
+        anchor=not args.no_anchor, wall_power=args.wall_power, shape_order=args.shape_order,
     )
 
 

@@ -39,11 +39,13 @@ from numba import njit
 
 from .internals import BearingStateError
 from .params import BearingParams
+from .shortbearing import short_bearing_constant, short_bearing_kernel
 
 FILE_FORMAT = "bearing-fmu-taylor-surrogate"
 FILE_VERSION = 1
 N_VARS = 4
 VAR_NAMES = ("dy", "dz", "dvy", "dvz")
+SHAPE_ROWS = ("Fy_Sy", "Fy_Sz", "Fz_Sy", "Fz_Sz")  # shape_coef rows: force component by short-bearing component
 OMEGA_RTOL = 1e-9  # the same tolerance the linear internal uses for "omega equals the fitted speed"
 
 
@@ -126,18 +128,12 @@ def _check_nb(y, z, vy, vz, omega, meta):
     return _OK
 
 
+_sb_nb = njit(cache=True)(short_bearing_kernel)  # the shape columns' closed form, compiled
+
+
 @njit(cache=True)
-def _force_nb(y, z, vy, vz, omega, meta, exps, coef):
-    """meta = (y0, z0, omega0, pos_scale, vel_scale, force_scale, omega_rtol, order, wall_power);
-    pos_scale is CR (the wall factor uses it)."""
-    code = _check_nb(y, z, vy, vz, omega, meta)
-    if code != 0:
-        return 0.0, 0.0, code
-    order = int(meta[7])
-    u0 = (y - meta[0]) / meta[3]
-    u1 = (z - meta[1]) / meta[3]
-    u2 = vy / meta[4]
-    u3 = vz / meta[4]
+def _powers(u0, u1, u2, u3, order):
+    """pw[v, p] = u_v^p for p <= order."""
     pw = np.empty((4, order + 1))
     for v in range(4):
         pw[v, 0] = 1.0
@@ -146,6 +142,64 @@ def _force_nb(y, z, vy, vz, omega, meta, exps, coef):
         pw[1, p] = pw[1, p - 1] * u1
         pw[2, p] = pw[2, p - 1] * u2
         pw[3, p] = pw[3, p - 1] * u3
+    return pw
+
+
+@njit(cache=True)
+def _shape_terms(y, z, vy, vz, omega, u0, u1, u2, u3, meta, sexps, scoef, jac, out):
+    """Add the shape columns sum_j (a_ij^y S_y + a_ij^z S_z) m_j(u) to out, in the kernels'
+    scaled units (force / force_scale, derivatives in u): out[0:2] = F, with ``jac`` also
+    out[2:10] = dF/du (2 x 4). scoef rows: (Fy by S_y, Fy by S_z, Fz by S_y, Fz by S_z)."""
+    r = _sb_nb(y, z, vy, vz, omega, meta[3], meta[9], jac)
+    fs = meta[5]
+    pw = _powers(u0, u1, u2, u3, int(meta[10]))
+    M = np.zeros(4)  # the four polynomials M_l(u) = sum_j scoef[l, j] m_j(u)
+    dM = np.zeros((4, 4))  # and their u-gradients
+    for k in range(sexps.shape[0]):
+        e0, e1, e2, e3 = sexps[k, 0], sexps[k, 1], sexps[k, 2], sexps[k, 3]
+        a0, a1, a2, a3 = pw[0, e0], pw[1, e1], pw[2, e2], pw[3, e3]
+        m = a0 * a1 * a2 * a3
+        for l in range(4):
+            M[l] += scoef[l, k] * m
+        if jac:
+            d0 = e0 * pw[0, e0 - 1] * a1 * a2 * a3 if e0 > 0 else 0.0
+            d1 = e1 * pw[1, e1 - 1] * a0 * a2 * a3 if e1 > 0 else 0.0
+            d2 = e2 * pw[2, e2 - 1] * a0 * a1 * a3 if e2 > 0 else 0.0
+            d3 = e3 * pw[3, e3 - 1] * a0 * a1 * a2 if e3 > 0 else 0.0
+            for l in range(4):
+                c = scoef[l, k]
+                dM[l, 0] += c * d0
+                dM[l, 1] += c * d1
+                dM[l, 2] += c * d2
+                dM[l, 3] += c * d3
+    sy, sz = r[0], r[1]
+    for i in range(2):
+        out[i] += (M[2 * i] * sy + M[2 * i + 1] * sz) / fs
+    if jac:
+        # dS/du_v = dS/dx_v * (CR for positions, omega CR for velocities)
+        for v in range(4):
+            sc = meta[3] if v < 2 else meta[4]
+            dsy = r[2 + v] * sc
+            dsz = r[6 + v] * sc
+            for i in range(2):
+                out[2 + 4 * i + v] += (dM[2 * i, v] * sy + M[2 * i] * dsy
+                                       + dM[2 * i + 1, v] * sz + M[2 * i + 1] * dsz) / fs
+
+
+@njit(cache=True)
+def _force_nb(y, z, vy, vz, omega, meta, exps, coef, sexps, scoef):
+    """meta = (y0, z0, omega0, pos_scale, vel_scale, force_scale, omega_rtol, order, wall_power,
+    c0, shape_order); pos_scale is CR (the wall factor and the shape columns use it), c0 the
+    short-bearing constant. sexps / scoef: the shape columns (no rows = none)."""
+    code = _check_nb(y, z, vy, vz, omega, meta)
+    if code != 0:
+        return 0.0, 0.0, code
+    order = int(meta[7])
+    u0 = (y - meta[0]) / meta[3]
+    u1 = (z - meta[1]) / meta[3]
+    u2 = vy / meta[4]
+    u3 = vz / meta[4]
+    pw = _powers(u0, u1, u2, u3, order)
     fy = 0.0
     fz = 0.0
     for k in range(exps.shape[0]):
@@ -154,17 +208,25 @@ def _force_nb(y, z, vy, vz, omega, meta, exps, coef):
         fz += coef[1, k] * m
     s = meta[5]
     p = meta[8]
-    if p != 0.0:  # wall factor (1 - eps^2)^(-p); p = 0 skips it, bit-identical to the plain polynomial
+    if p != 0.0 or sexps.shape[0] > 0:
         cr = meta[3]
         q = 1.0 - (y * y + z * z) / (cr * cr)
         if not q > 0.0:
             return 0.0, 0.0, _AT_WALL
-        s *= q ** (-p)
-    return fy * s, fz * s, 0
+        if p != 0.0:  # wall factor (1 - eps^2)^(-p); p = 0 skips it, bit-identical to the plain polynomial
+            s *= q ** (-p)
+    fy *= s
+    fz *= s
+    if sexps.shape[0] > 0:
+        out = np.zeros(2)
+        _shape_terms(y, z, vy, vz, omega, u0, u1, u2, u3, meta, sexps, scoef, False, out)
+        fy += out[0] * meta[5]
+        fz += out[1] * meta[5]
+    return fy, fz, 0
 
 
 @njit(cache=True)
-def _force_jac_nb(y, z, vy, vz, omega, meta, exps, coef, out):
+def _force_jac_nb(y, z, vy, vz, omega, meta, exps, coef, sexps, scoef, out):
     """Fill out[0:2] = F, out[2:10] = dF/du (row-major, 2 x 4), in scaled units; return code."""
     code = _check_nb(y, z, vy, vz, omega, meta)
     if code != 0:
@@ -175,11 +237,7 @@ def _force_jac_nb(y, z, vy, vz, omega, meta, exps, coef, out):
     u[1] = (z - meta[1]) / meta[3]
     u[2] = vy / meta[4]
     u[3] = vz / meta[4]
-    pw = np.empty((4, order + 1))
-    for v in range(4):
-        pw[v, 0] = 1.0
-        for p in range(1, order + 1):
-            pw[v, p] = pw[v, p - 1] * u[v]
+    pw = _powers(u[0], u[1], u[2], u[3], order)
     for i in range(10):
         out[i] = 0.0
     for k in range(exps.shape[0]):
@@ -208,15 +266,16 @@ def _force_jac_nb(y, z, vy, vz, omega, meta, exps, coef, out):
             out[5] += cy * d
             out[9] += cz * d
     p = meta[8]
-    if p != 0.0:
-        # F = h P with h = (1 - eps^2)^(-p): dF/du = h dP/du + P dh/du, and in scaled positions
-        # (u0 = (y - y0)/CR) dh/du0 = 2 p (y/CR) h / (1 - eps^2), likewise for z; h is independent of v
+    if p != 0.0 or sexps.shape[0] > 0:
         cr = meta[3]
         yc = y / cr
         zc = z / cr
         q = 1.0 - (yc * yc + zc * zc)
         if not q > 0.0:
             return _AT_WALL
+    if p != 0.0:
+        # F = h P with h = (1 - eps^2)^(-p): dF/du = h dP/du + P dh/du, and in scaled positions
+        # (u0 = (y - y0)/CR) dh/du0 = 2 p (y/CR) h / (1 - eps^2), likewise for z; h is independent of v
         h = q ** (-p)
         gy = 2.0 * p * yc * h / q
         gz = 2.0 * p * zc * h / q
@@ -228,18 +287,20 @@ def _force_jac_nb(y, z, vy, vz, omega, meta, exps, coef, out):
             out[b + 2] *= h
             out[b + 3] *= h
             out[i] = h * P
+    if sexps.shape[0] > 0:
+        _shape_terms(y, z, vy, vz, omega, u[0], u[1], u[2], u[3], meta, sexps, scoef, True, out)
     return 0
 
 
 @njit(cache=True)
-def _force_jac_si_nb(y, z, vy, vz, omega, meta, exps, coef):
+def _force_jac_si_nb(y, z, vy, vz, omega, meta, exps, coef, sexps, scoef):
     """(code, F (2,) [N], dF/dq (2, 2) [N/m], dF/dv (2, 2) [N s/m]): the scaled kernel with
     the units put back, so the Python wrapper does no array arithmetic."""
     out = np.empty(10)
     F = np.zeros(2)
     dq = np.zeros((2, 2))
     dv = np.zeros((2, 2))
-    code = _force_jac_nb(y, z, vy, vz, omega, meta, exps, coef, out)
+    code = _force_jac_nb(y, z, vy, vz, omega, meta, exps, coef, sexps, scoef, out)
     if code != 0:
         return code, F, dq, dv
     fs = meta[5]
@@ -249,6 +310,28 @@ def _force_jac_si_nb(y, z, vy, vz, omega, meta, exps, coef):
         dq[i, 0], dq[i, 1] = out[2 + 4 * i] * gq, out[3 + 4 * i] * gq
         dv[i, 0], dv[i, 1] = out[4 + 4 * i] * gv, out[5 + 4 * i] * gv
     return code, F, dq, dv
+
+
+@njit(cache=True)
+def _sb_many_nb(states, omega, cr, c0, jac):
+    out = np.empty((states.shape[0], 10))
+    for k in range(states.shape[0]):
+        r = _sb_nb(states[k, 0], states[k, 1], states[k, 2], states[k, 3], omega, cr, c0, jac)
+        for i in range(10):
+            out[k, i] = r[i]
+    return out
+
+
+def short_bearing_at(params: BearingParams, states, omega: float, jac: bool = False) -> np.ndarray:
+    """The short-bearing closed form at raw states (M, 4) -> (M, 10): Fy, Fz [N] and, with
+    ``jac``, dFy/d(y, z, vy, vz), dFz/d(y, z, vy, vz) in SI (see shortbearing.short_bearing_kernel).
+    Compiled; raises ValueError for a state at or beyond the wall (eccentricity >= 1)."""
+    st = np.ascontiguousarray(np.atleast_2d(np.asarray(states, float)))
+    q = 1.0 - (st[:, 0] ** 2 + st[:, 1] ** 2) / params.CR**2
+    if np.any(~(q > 0.0)):
+        raise ValueError(f"short-bearing shape columns: {int(np.sum(~(q > 0.0)))} state(s) at or beyond the wall "
+                         "(eccentricity >= 1) or not finite; the closed form is undefined there")
+    return _sb_many_nb(st, float(omega), params.CR, short_bearing_constant(params), bool(jac))
 
 
 @njit(cache=True)
@@ -345,6 +428,8 @@ class Surrogate:
     pruning: dict = field(default_factory=dict)
     provenance: dict = field(default_factory=dict)
     wall_power: float = 0.0
+    shape_order: int | None = None
+    shape_coef: np.ndarray | None = None
 
     def __post_init__(self) -> None:
         self.order = int(self.order)
@@ -371,6 +456,28 @@ class Surrogate:
         self.wall_power = float(self.wall_power)
         if not (math.isfinite(self.wall_power) and self.wall_power >= 0.0):
             raise ValueError(f"Surrogate.wall_power = {self.wall_power!r} must be finite and >= 0")
+        if self.shape_order is None:
+            if self.shape_coef is not None:
+                raise ValueError("Surrogate.shape_coef given without shape_order")
+        else:
+            if isinstance(self.shape_order, bool) or int(self.shape_order) != self.shape_order or self.shape_order < 0:
+                raise ValueError(f"Surrogate.shape_order = {self.shape_order!r} must be an integer >= 0")
+            self.shape_order = int(self.shape_order)
+            nr = n_terms(self.shape_order)
+            sc = np.ascontiguousarray(self.shape_coef, dtype=float)
+            if sc.shape != (4, nr):
+                raise ValueError(f"Surrogate.shape_coef must have shape (4, {nr}) for shape_order "
+                                 f"{self.shape_order}, got {sc.shape}")
+            if not np.all(np.isfinite(sc)):
+                raise ValueError("Surrogate.shape_coef has non-finite entries")
+            self.shape_coef = sc
+
+    @property
+    def shape_exponents(self) -> np.ndarray:
+        """Exponents of the monomials m_j that multiply the shape columns ((0, 4) without them)."""
+        if self.shape_order is None:
+            return np.zeros((0, N_VARS), np.int64)
+        return exponents(self.shape_order)
 
     @property
     def pos_scale(self) -> float:
@@ -405,7 +512,21 @@ class Surrogate:
         F = (X @ self.coef.T) * self.force_scale
         if self.wall_power != 0.0:
             F *= self.wall_factor(states)[:, None]
+        if self.shape_order is not None:
+            F += self.shape_part(states)
         return F
+
+    def shape_part(self, states, S=None) -> np.ndarray:
+        """The shape columns' share of the force at raw states (M, 4) -> (M, 2) [N]:
+        sum_j (a_ij^y S_y + a_ij^z S_z) m_j(u). ``S`` (M, >= 2): the short-bearing force there,
+        if the caller has it."""
+        s = np.atleast_2d(np.asarray(states, float))
+        if self.shape_order is None:
+            return np.zeros((len(s), 2))
+        if S is None:
+            S = short_bearing_at(self.params, s, self.omega)
+        Mp = design_matrix(self.scaled(s), self.shape_exponents) @ self.shape_coef.T  # (M, 4)
+        return np.column_stack([Mp[:, 0] * S[:, 0] + Mp[:, 1] * S[:, 1], Mp[:, 2] * S[:, 0] + Mp[:, 3] * S[:, 1]])
 
     def n_kept(self) -> tuple[int, int]:
         return int(self.kept[0].sum()), int(self.kept[1].sum())
@@ -431,6 +552,13 @@ class Surrogate:
                              + ("" if self.wall_power == 0.0 else " / (1 - (y^2 + z^2)/CR^2)^wall_power"),
             },
             "wall_power": self.wall_power,
+            **({} if self.shape_order is None else {"shape": {
+                "order": self.shape_order,
+                "model": "F_i += sum_j (a_ij^y S_y + a_ij^z S_z) m_j(u): S = short-bearing (Ocvirk, pi-film) "
+                         "force [N] at (y, z, vy, vz, omega) (bearing_fmu.shortbearing), m_j(u) = prod_v u_v^e_jv",
+                "exponents": self.shape_exponents.tolist(),
+                "coef": {k: self.shape_coef[i].tolist() for i, k in enumerate(SHAPE_ROWS)},
+            }}),
             "order": self.order,
             "n_terms": int(self.exponents.shape[0]),
             "exponents": self.exponents.tolist(),
@@ -475,6 +603,17 @@ class Surrogate:
         lam = d.get("lambda", {"Fy": 0.0, "Fz": 0.0})
         load = d.get("load")
         wall_power = _num(d, "wall_power", where) if "wall_power" in d else 0.0  # older files: none
+        shape_order = shape_coef = None
+        if "shape" in d:  # older files: none
+            sd = _get(d, "shape", where)
+            shape_order = _get(sd, "order", f"{where}: shape")
+            if isinstance(shape_order, bool) or not isinstance(shape_order, int) or shape_order < 0:
+                raise ValueError(f"{where}: shape: key 'order' must be a non-negative integer, got {shape_order!r}")
+            nr = n_terms(shape_order)
+            if "exponents" in sd and sd["exponents"] != exponents(shape_order).tolist():
+                raise ValueError(f"{where}: shape: key 'exponents' is not the full basis of order {shape_order}")
+            shc = _get(sd, "coef", f"{where}: shape")
+            shape_coef = np.array([_vec(shc, k, nr, f"{where}: shape: coef") for k in SHAPE_ROWS])
         return cls(
             params=params,
             omega=_num(d, "omega", where),
@@ -492,6 +631,8 @@ class Surrogate:
             pruning=d.get("pruning", {}),
             provenance=d.get("provenance", {}),
             wall_power=wall_power,
+            shape_order=shape_order,
+            shape_coef=shape_coef,
         )
 
 
@@ -590,12 +731,15 @@ class Taylor:
         self.params = surrogate.params
         s = surrogate
         self._meta = np.array([s.y0, s.z0, s.omega, s.pos_scale, s.vel_scale, s.force_scale, OMEGA_RTOL,
-                               float(max(s.order, 1)), s.wall_power])
+                               float(max(s.order, 1)), s.wall_power, short_bearing_constant(s.params),
+                               float(s.shape_order or 0)])
         # evaluate only the terms kept by either component
         used = s.kept[0] | s.kept[1]
         used[0] = True
         self._exps = np.ascontiguousarray(s.exponents[used])
         self._coef = np.ascontiguousarray(s.coef[:, used])
+        self._sexps = np.ascontiguousarray(s.shape_exponents)
+        self._scoef = np.ascontiguousarray(s.shape_coef if s.shape_coef is not None else np.zeros((4, 0)))
         self._out = np.empty(10)
         d = s.domain
         self._dom = np.array([s.y0, s.z0, s.pos_scale, s.vel_scale, d.ecc_max, d.pos_center[0], d.pos_center[1],
@@ -612,9 +756,12 @@ class Taylor:
     def _raise(self, code, y, z, vy, vz, omega):
         if code == _AT_WALL:
             ecc = math.hypot(y, z) / self.params.CR
+            what = ([f"wall factor (1 - eps^2)^-{self.surrogate.wall_power:g}"] if self.surrogate.wall_power else []) + (
+                ["short-bearing shape columns"] if self.surrogate.shape_order is not None else [])
             raise BearingStateError(
                 f"eccentricity ratio {ecc:.4g} >= 1: the journal (y = {y:.4g} m, z = {z:.4g} m) is at or beyond "
-                f"the bearing wall; the surrogate's wall factor (1 - eps^2)^-{self.surrogate.wall_power:g} is undefined there"
+                f"the bearing wall; the surrogate's {' and '.join(what)} {'is' if what == what[:1] and self.surrogate.shape_order is None else 'are'} "
+                "undefined there"
             )
         if code == _WRONG_OMEGA:
             raise BearingStateError(
@@ -626,14 +773,14 @@ class Taylor:
 
     def force(self, y: float, z: float, vy: float, vz: float, omega: float) -> tuple[float, float]:
         fy, fz, code = _force_nb(float(y), float(z), float(vy), float(vz), float(omega),
-                                 self._meta, self._exps, self._coef)
+                                 self._meta, self._exps, self._coef, self._sexps, self._scoef)
         if code:
             self._raise(code, y, z, vy, vz, omega)
         return fy, fz
 
     def force_and_jacobian(self, y: float, z: float, vy: float, vz: float, omega: float):
         code, F, dF_dq, dF_dv = _force_jac_si_nb(float(y), float(z), float(vy), float(vz), float(omega),
-                                                 self._meta, self._exps, self._coef)
+                                                 self._meta, self._exps, self._coef, self._sexps, self._scoef)
         if code:
             self._raise(code, y, z, vy, vz, omega)
         return F, dF_dq, dF_dv
@@ -653,5 +800,5 @@ class Taylor:
 
 __all__ = [
     "Domain", "Surrogate", "Taylor", "design_matrix", "exponents", "n_terms", "term_names",
-    "natural_force_scale", "save_surrogate", "load_surrogate", "check_params",
+    "natural_force_scale", "save_surrogate", "load_surrogate", "check_params", "short_bearing_at",
 ]

@@ -81,7 +81,7 @@ def fit_scene(scene_path, order: int = 5, *, bearing: int = 1, test_scenes=(), s
               designed: int = DESIGNED, designed_ecc_max: float | None = None,
               designed_v_max: float | None = None, designed_weight: float = 1.0,
               designed_tube: float | None = None, ecc_weight: float = 0.0, wall_power: float = 0.0,
-              seed: int = 1, log=print):
+              shape_order: int | None = None, seed: int = 1, log=print):
     """Fit a Taylor surrogate to the Reynolds series of a scene, or of several scenes
     (``scene_path`` a list) at the same speed and bearing load: other unbalances give other
     trajectories, so the fit sees more of the state space the rotor can reach. Every fifth
@@ -100,7 +100,10 @@ def fit_scene(scene_path, order: int = 5, *, bearing: int = 1, test_scenes=(), s
     spends its transient (44 Hz: the growth of the whirl, whose phase then drifts).
 
     ``wall_power`` = p > 0 fits the polynomial to F (1 - eps^2)^p and evaluates
-    F = P(u) / (1 - eps^2)^p (the wall factor, see :mod:`bearing_fmu.taylor`)."""
+    F = P(u) / (1 - eps^2)^p (the wall factor, see :mod:`bearing_fmu.taylor`).
+
+    ``shape_order`` = r adds the short-bearing shape columns of order r (see
+    :func:`bearing_fmu.fit.fit_surrogate`); None = the polynomial alone."""
     from bearing_fmu import fit as F
     from bearing_fmu.reynolds import Reynolds
 
@@ -178,7 +181,7 @@ def fit_scene(scene_path, order: int = 5, *, bearing: int = 1, test_scenes=(), s
             "scene_dt_s": scene.dt_s, "bearing": bearing, "stride": stride,
             "designed_samples": designed, "designed_seed": seed, "designed_ecc_max": designed_ecc_max,
             "designed_v_max": designed_v_max, "designed_weight": designed_weight, "designed_tube": designed_tube,
-            "ecc_weight": ecc_weight, "wall_power": wall_power,
+            "ecc_weight": ecc_weight, "wall_power": wall_power, "shape_order": shape_order,
             "held_out": f"every {HOLDOUT_EVERY}th block of (at most) {BLOCK_REVS:g} revolutions of each series",
             "fit_call": {"scenes": [str(Path(sc.source).resolve()) for sc in scenes], "bearing": bearing,
                          "stride": stride, "test_scenes": [str(Path(p).resolve()) for p in test_scenes],
@@ -186,11 +189,11 @@ def fit_scene(scene_path, order: int = 5, *, bearing: int = 1, test_scenes=(), s
                          "designed": designed, "designed_ecc_max": designed_ecc_max,
                          "designed_v_max": designed_v_max, "designed_weight": designed_weight,
                          "designed_tube": designed_tube, "ecc_weight": ecc_weight, "wall_power": wall_power,
-                         "seed": seed}}
+                         "shape_order": shape_order, "seed": seed}}
     res = F.fit_surrogate(s_fit, f_fit, params, omega, y0, z0, order, domain=domain,
                           lam=lam, blocked=True, prune=prune, prune_tol=prune_tol, load=tuple(load),
                           test=(np.vstack(ho_states), np.vstack(ho_forces)), provenance=prov, anchor=anc,
-                          weights=weights, wall_power=wall_power)
+                          weights=weights, wall_power=wall_power, shape_order=shape_order)
     others = {}
     for p in test_scenes:
         other = load_scene(p)
@@ -241,7 +244,7 @@ def refit(surrogate_path, order: int, out_path, cache_dir=None, log=print):
                     designed_ecc_max=call.get("designed_ecc_max"), designed_v_max=call.get("designed_v_max"),
                     designed_weight=call.get("designed_weight", 1.0), designed_tube=call.get("designed_tube"),
                     ecc_weight=call.get("ecc_weight", 0.0), wall_power=call.get("wall_power", 0.0),
-                    seed=call.get("seed", 1), log=log)
+                    shape_order=call.get("shape_order"), seed=call.get("seed", 1), log=log)
     portable_fit_call(res.surrogate, out_path)
     return save_surrogate(res.surrogate, out_path)
 

@@ -663,3 +663,120 @@ def test_file_without_wall_power_is_the_plain_polynomial(tmp_path):
     for f in sorted((Path(__file__).resolve().parents[1] / "models" / "surrogates").glob("*.json")):
         sur = load_surrogate(f)
         assert sur.wall_power == json.loads(f.read_text()).get("wall_power", 0.0)
+
+
+# ----------------------------------------------------------------------------- shape columns
+
+def shape_surrogate(order=3, r=2, seed=31, p=1.25, scale=0.1):
+    """A known function F = P(u) / (1 - eps^2)^p + sum_j (a_j^y S_y + a_j^z S_z) m_j(u), S the
+    short-bearing closed form, random coefficients."""
+    s = wall_surrogate(order, seed, p, scale)
+    s.shape_order = r
+    s.shape_coef = np.random.default_rng(seed + 1).normal(size=(4, n_terms(r))) * 0.3
+    s.__post_init__()
+    return s
+
+
+def test_shape_columns_value_by_hand():
+    # by hand: the polynomial part through the wall factor plus M_l(u) S_k from the closed form
+    from bearing_fmu.shortbearing import short_bearing_force
+
+    s = shape_surrogate(3, 2)
+    states = random_states(30, 40, r=0.5, v=0.5)
+    mp = design_matrix(s.scaled(states), exponents(2)) @ s.shape_coef.T
+    S = np.array([short_bearing_force(P, *row, OMEGA) for row in states])
+    poly = design_matrix(s.scaled(states), s.exponents) @ s.coef.T * s.force_scale
+    eps2 = (states[:, 0] ** 2 + states[:, 1] ** 2) / P.CR**2
+    ref = poly / (1.0 - eps2)[:, None] ** 1.25 + np.column_stack(
+        [mp[:, 0] * S[:, 0] + mp[:, 1] * S[:, 1], mp[:, 2] * S[:, 0] + mp[:, 3] * S[:, 1]])
+    np.testing.assert_allclose(s.predict(states), ref, rtol=1e-12, atol=1e-12 * np.abs(ref).max())
+    t = Taylor(s)
+    for row, want in zip(states, ref):
+        np.testing.assert_allclose(t.force(*row, OMEGA), want, rtol=1e-12, atol=1e-12 * np.abs(ref).max())
+        np.testing.assert_allclose(t.force_and_jacobian(*row, OMEGA)[0], want, rtol=1e-12,
+                                   atol=1e-12 * np.abs(ref).max())
+
+
+@pytest.mark.parametrize("p", [0.0, 1.25])
+def test_shape_columns_jacobian_matches_finite_differences(p):
+    s = shape_surrogate(4, 3, seed=33, p=p)
+    t = Taylor(s)
+    for x in ([0.6 * P.CR, -0.6 * P.CR, 0.05 * OMEGA * P.CR, -0.1 * OMEGA * P.CR],
+              [Y0, Z0, 0.0, 0.0], [-0.2 * P.CR, 0.4 * P.CR, -0.6 * OMEGA * P.CR, 0.3 * OMEGA * P.CR]):
+        x = np.array(x)
+        steps = [1e-7 * P.CR] * 2 + [1e-7 * OMEGA * P.CR] * 2
+        jac = np.empty((2, 4))
+        for j, h in enumerate(steps):
+            xp, xm = x.copy(), x.copy()
+            xp[j] += h
+            xm[j] -= h
+            jac[:, j] = (np.array(t.force(*xp, OMEGA)) - np.array(t.force(*xm, OMEGA))) / (2 * h)
+        _, dq, dv = t.force_and_jacobian(*x, OMEGA)
+        np.testing.assert_allclose(np.hstack([dq, dv]), jac, rtol=1e-6, atol=1e-7 * np.abs(jac).max())
+
+
+@pytest.mark.parametrize("anchored", [False, True])
+def test_shape_columns_known_model_recovered_to_round_off(anchored):
+    # truth = a model of the fitted family (order 3, shape order 2, wall power 1.25): lambda = 0
+    # recovers its coefficients; anchored with the truth's own force and Jacobian at the
+    # expansion point (so the shifted shape columns must be undone exactly)
+    truth = shape_surrogate(3, 2, seed=35)
+    states = random_states(800, 36, r=0.5, v=0.6)  # eccentricity up to ~0.89
+    anchor = Taylor(truth).force_and_jacobian(Y0, Z0, 0.0, 0.0, OMEGA) if anchored else None
+    res = F.fit_surrogate(states, truth.predict(states), P, OMEGA, Y0, Z0, 3, domain=BOX, lam=0.0, prune=False,
+                          force_scale=truth.force_scale, wall_power=1.25, shape_order=2, anchor=anchor)
+    s = res.surrogate
+    np.testing.assert_allclose(s.coef, truth.coef, atol=1e-10 * np.abs(truth.coef).max())
+    np.testing.assert_allclose(s.shape_coef, truth.shape_coef, atol=1e-10 * np.abs(truth.shape_coef).max())
+    assert s.shape_order == 2 and res.report["n_shape_columns"] == 2 * n_terms(2)
+
+
+def test_shape_columns_anchor_keeps_value_and_derivatives():
+    # data outside the model family (Smooth): the anchored fit still has the truth's force and
+    # Jacobian at the expansion point exactly, shape columns and wall factor included
+    truth = Smooth()
+    states = random_states(600, 37)
+    anchor = F.truth_jacobian(truth, Y0, Z0, OMEGA)
+    res = F.fit_surrogate(states, F.sample_forces(truth, states, OMEGA), P, OMEGA, Y0, Z0, 3, domain=BOX,
+                          anchor=anchor, prune=True, wall_power=1.25, shape_order=2)
+    f, dq, dv = Taylor(res.surrogate).force_and_jacobian(Y0, Z0, 0.0, 0.0, OMEGA)
+    np.testing.assert_allclose(f, anchor[0], rtol=1e-10, atol=1e-12 * np.abs(anchor[0]).max())
+    np.testing.assert_allclose(dq, anchor[1], rtol=1e-9, atol=1e-11 * np.abs(anchor[1]).max())
+    np.testing.assert_allclose(dv, anchor[2], rtol=1e-9, atol=1e-11 * np.abs(anchor[2]).max())
+    assert max(res.report["errors"]["train_nrmse"].values()) < 2e-2
+    assert res.report["kept"]["Fy"] <= n_terms(3)  # pruning counts the polynomial terms only
+
+
+def test_shape_columns_file_round_trip_and_bad_files(tmp_path):
+    s = shape_surrogate(3, 3, seed=39)
+    path = save_surrogate(s, tmp_path / "s.json")
+    d = json.loads(path.read_text())
+    assert d["shape"]["order"] == 3 and len(d["shape"]["coef"]["Fz_Sy"]) == n_terms(3)
+    b = load_surrogate(path, P)
+    x = (0.5 * P.CR, -0.6 * P.CR, 1e-3, -2e-3, OMEGA)
+    assert Taylor(b).force(*x) == Taylor(s).force(*x)
+    # a file without the key has no shape columns
+    assert "shape" not in poly_surrogate(3).to_dict()
+    d["shape"]["coef"]["Fy_Sz"] = d["shape"]["coef"]["Fy_Sz"][:-1]
+    (tmp_path / "bad.json").write_text(json.dumps(d))
+    with pytest.raises(ValueError, match="shape: coef: key 'Fy_Sz' must be a list of 35 numbers"):
+        load_surrogate(tmp_path / "bad.json")
+    d["shape"]["order"] = -1
+    (tmp_path / "bad.json").write_text(json.dumps(d))
+    with pytest.raises(ValueError, match="shape: key 'order' must be a non-negative integer"):
+        load_surrogate(tmp_path / "bad.json")
+    # at the wall the closed form is undefined: a clear error, not a NaN
+    with pytest.raises(BearingStateError, match="shape columns are undefined"):
+        Taylor(shape_surrogate(2, 1, p=0.0)).force(0.0, -P.CR, 0.0, 0.0, OMEGA)
+
+
+def test_wall_factor_surrogate_without_shape_is_unchanged():
+    # reference values computed by the code preceding the shape columns (commit f4d2fc4):
+    # a surrogate without them evaluates bit-identically
+    s = wall_surrogate(4, seed=23, p=1.25, scale=0.1)
+    t = Taylor(s)
+    x = (Y0 + 0.13 * P.CR, Z0 - 0.21 * P.CR, 0.07 * OMEGA * P.CR, -0.11 * OMEGA * P.CR)
+    assert t.force(*x, OMEGA) == (2.6549174014247297, -31.772338613919125)
+    _, dq, dv = t.force_and_jacobian(*x, OMEGA)
+    assert dq.tolist() == [[-25568.06110342483, -52041.16345667485], [-466139.0748946777, 337116.68355513946]]
+    assert dv.tolist() == [[-1569.8938915150168, 539.2106530854405], [-716.0699276853098, -1696.909918759464]]
