@@ -528,6 +528,16 @@ class Surrogate:
         Mp = design_matrix(self.scaled(s), self.shape_exponents) @ self.shape_coef.T  # (M, 4)
         return np.column_stack([Mp[:, 0] * S[:, 0] + Mp[:, 1] * S[:, 1], Mp[:, 2] * S[:, 0] + Mp[:, 3] * S[:, 1]])
 
+    @property
+    def recipe(self) -> str:
+        """Short description of the model's form, e.g. 'order 7, wall factor 1.25, shape columns 3'."""
+        parts = [f"order {self.order}"]
+        if self.wall_power:
+            parts.append(f"wall factor {self.wall_power:g}")
+        if self.shape_order is not None:
+            parts.append(f"shape columns {self.shape_order}")
+        return ", ".join(parts)
+
     def n_kept(self) -> tuple[int, int]:
         return int(self.kept[0].sum()), int(self.kept[1].sum())
 

@@ -38,6 +38,7 @@ class BearingSet:
     """
 
     TANGENTS = ("exact", "frozen", "none")
+    lund_sign = False  # True: _bearing returns K = -dF/dq, C = -dF/dv (evaluate negates them)
 
     def __init__(self, bearing_dofs, omega: float, names=None, tangent: str = "exact"):
         pairs = [(int(a), int(b)) for a, b in bearing_dofs]
@@ -73,6 +74,9 @@ class BearingSet:
                 dv[i:i + 2, i:i + 2] = dvk
         if self.tangent == "none":
             return f, None, None
+        if self.lund_sign:  # one in-place negation for all bearings, not two per bearing call
+            np.negative(dq, out=dq)
+            np.negative(dv, out=dv)
         if self.tangent == "frozen" and self.dt > 0.0:  # static evaluations keep exact Newton
             if self._frozen is None:
                 self._frozen = (dq.copy(), dv.copy())

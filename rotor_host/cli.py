@@ -67,7 +67,9 @@ def _reference_and_variants(args, scene):
         grid = tuple(int(v) for v in g.lower().split("x"))
         variants.append(Variant(f"Reynolds {g}", "reynolds", grid))
     for order, path in _surrogates(args, scene):
-        variants.append(Variant(f"Taylor order {order}", "taylor", surrogate=path, order=order))
+        from bearing_fmu.taylor import load_surrogate
+
+        variants.append(Variant(f"Taylor {load_surrogate(path).recipe}", "taylor", surrogate=path, order=order))
     variants.append(Variant("linear", "linear"))
     return ref, variants
 
@@ -126,9 +128,9 @@ def _paper(args) -> int:
         scene = load_scene(scenes_dir / name)
         if args.t_end:
             scene.t_end_s = args.t_end
-        order = load_surrogate(require_surrogate(scene)).order  # 5 at 22 Hz, 7 at 44 Hz (docs/taylor.md)
+        sur = load_surrogate(require_surrogate(scene))  # 22 Hz: order 5; 44 Hz: order 7 with wall factor and shape columns
         ref = Variant("Reynolds default grid", "reynolds")
-        variants = [Variant(f"Taylor order {order}", "taylor", surrogate=scene.surrogate, order=order),
+        variants = [Variant(f"Taylor {sur.recipe}", "taylor", surrogate=scene.surrogate, order=sur.order),
                     Variant("linear", "linear")]
         rows = compare(scene, ref, variants, out, progress=not args.quiet, default_label=ref.label)
         summary.append(f"## {scene.description}\n\n{print_table(rows)}\n")

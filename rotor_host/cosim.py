@@ -43,6 +43,8 @@ class FMUBearings(BearingSet):
                     surrogate, n_theta, ...); unknown names raise FMUError listing the known ones
     """
 
+    lund_sign = True  # the FMU outputs K, C
+
     def __init__(self, fmu_path, bearing_dofs, omega: float, parameters, names=None,
                  start_time: float = 0.0, log=None, tangent: str = "exact"):
         super().__init__(bearing_dofs, omega, names, tangent)
@@ -171,11 +173,11 @@ class FMUBearings(BearingSet):
         o = self._out
         if o[10] > self.max_eccentricity[k]:
             self.max_eccentricity[k] = o[10]
-        # Lund sign in the FMU outputs; the integrator wants raw derivatives. The force view
-        # is copied by the caller (BearingSet.evaluate) before the next call.
+        # Views of the output buffer, copied by the caller (BearingSet.evaluate) before the
+        # next call; K, C in Lund's sign as the FMU gives them (lund_sign: evaluate negates).
         if self.tangent == "none":
             return self._f_view, None, None
-        return self._f_view, -self._dq_view, -self._dv_view
+        return self._f_view, self._dq_view, self._dv_view
 
     @staticmethod
     def _status_name(status: int) -> str:
@@ -202,8 +204,8 @@ class FMUBearings(BearingSet):
 
     def _free_states(self) -> None:
         for k, fmu in enumerate(self.instances):
-            if self._states[k] is not None:
-                fmu.freeFMUstate(self._states[k])
+            if self._states[k] is not None:  # raw call, status checked here (once per step)
+                self._check(k, "fmi2FreeFMUstate", fmu.dll.fmi2FreeFMUstate(fmu.component, ctypes.byref(self._states[k])))
                 self._states[k] = None
 
     def close(self) -> None:
