@@ -503,6 +503,12 @@ def run_scene(scene: Scene, out_dir=None, *, progress: bool = False, stem: str |
     })
     if scene.internal == "taylor" and ecc.size:
         meta.update(_domain_report(scene, rotor, yz[:, bcols], vyz[:, bcols]))
+        worst = max(meta["max_domain_excess"])
+        if meta["status"] != "ok" and worst > 1e-12:
+            # the failure itself may read like a solver problem: say where the surrogate was
+            meta["message"] += (f" [the surrogate had left its fitted domain: up to {100 * worst:.3g} % beyond its "
+                                f"bounds, {100 * max(meta['out_of_domain_fraction']):.3g} % of the recorded states "
+                                "outside; its forces there are extrapolations]")
     run = SceneRun(arrays, meta)
     if out_dir is not None:
         out_dir.mkdir(parents=True, exist_ok=True)

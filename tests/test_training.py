@@ -100,7 +100,7 @@ def test_refit_names_a_missing_scene(tmp_path):
         refit(copy, 3, tmp_path / "o.json", log=lambda *_: None)
 
 
-@pytest.mark.parametrize("name", ["paper_22hz_16.7N", "paper_44hz_16.7N", "paper_10hz_500N"])
+@pytest.mark.parametrize("name", ["paper_22hz_16.7N", "paper_44hz_16.7N", "paper_10hz_500N", "paper_20hz_800N"])
 def test_shipped_fit_calls_point_at_bundled_scenes(name):
     path = ROOT / "models" / "surrogates" / f"{name}.json"
     call = load_surrogate(path).provenance["fit_call"]
