@@ -64,6 +64,19 @@ def poly_surrogate(order=5, seed=0, scale=1.0):
     return Surrogate(P, OMEGA, Y0, Z0, order, e, coef, natural_force_scale(P, OMEGA), BOX)
 
 
+def central_jacobian(force, x, omega, rel):
+    """Independent check: dF/d(y, z, vy, vz) by central differences of ``force``, steps
+    rel * CR and rel * omega * CR; (2, 4)."""
+    steps = [rel * P.CR] * 2 + [rel * omega * P.CR] * 2
+    jac = np.empty((2, 4))
+    for j, h in enumerate(steps):
+        xp, xm = np.array(x, float), np.array(x, float)
+        xp[j] += h
+        xm[j] -= h
+        jac[:, j] = (np.array(force(*xp, omega)) - np.array(force(*xm, omega))) / (2 * h)
+    return jac
+
+
 # ----------------------------------------------------------------------------- basis
 
 @pytest.mark.parametrize("order", range(0, 8))
@@ -258,13 +271,7 @@ def test_jacobian_matches_finite_differences():
     assert isinstance(t, DifferentiableInternal) and isinstance(t, Internal)
     x = np.array([Y0 + 0.1 * P.CR, Z0 - 0.2 * P.CR, 0.05 * OMEGA * P.CR, -0.1 * OMEGA * P.CR])
     f, dq, dv = t.force_and_jacobian(*x, OMEGA)
-    steps = [1e-6 * P.CR] * 2 + [1e-6 * OMEGA * P.CR] * 2
-    jac = np.empty((2, 4))
-    for j, h in enumerate(steps):
-        xp, xm = x.copy(), x.copy()
-        xp[j] += h
-        xm[j] -= h
-        jac[:, j] = (np.array(t.force(*xp, OMEGA)) - np.array(t.force(*xm, OMEGA))) / (2 * h)
+    jac = central_jacobian(t.force, x, OMEGA, 1e-6)
     np.testing.assert_allclose(np.hstack([dq, dv]), jac, rtol=1e-6, atol=1e-8 * np.abs(jac).max())
 
 
@@ -586,13 +593,7 @@ def test_wall_factor_jacobian_matches_finite_differences(p):
     x = np.array([0.6 * P.CR, -0.6 * P.CR, 0.05 * OMEGA * P.CR, -0.1 * OMEGA * P.CR])
     f, dq, dv = t.force_and_jacobian(*x, OMEGA)
     np.testing.assert_allclose(f, t.force(*x, OMEGA), rtol=1e-13)
-    steps = [1e-7 * P.CR] * 2 + [1e-6 * OMEGA * P.CR] * 2
-    jac = np.empty((2, 4))
-    for j, h in enumerate(steps):
-        xp, xm = x.copy(), x.copy()
-        xp[j] += h
-        xm[j] -= h
-        jac[:, j] = (np.array(t.force(*xp, OMEGA)) - np.array(t.force(*xm, OMEGA))) / (2 * h)
+    jac = central_jacobian(t.force, x, OMEGA, 1e-7)
     np.testing.assert_allclose(np.hstack([dq, dv]), jac, rtol=1e-6, atol=1e-8 * np.abs(jac).max())
 
 
@@ -703,14 +704,7 @@ def test_shape_columns_jacobian_matches_finite_differences(p):
     t = Taylor(s)
     for x in ([0.6 * P.CR, -0.6 * P.CR, 0.05 * OMEGA * P.CR, -0.1 * OMEGA * P.CR],
               [Y0, Z0, 0.0, 0.0], [-0.2 * P.CR, 0.4 * P.CR, -0.6 * OMEGA * P.CR, 0.3 * OMEGA * P.CR]):
-        x = np.array(x)
-        steps = [1e-7 * P.CR] * 2 + [1e-7 * OMEGA * P.CR] * 2
-        jac = np.empty((2, 4))
-        for j, h in enumerate(steps):
-            xp, xm = x.copy(), x.copy()
-            xp[j] += h
-            xm[j] -= h
-            jac[:, j] = (np.array(t.force(*xp, OMEGA)) - np.array(t.force(*xm, OMEGA))) / (2 * h)
+        jac = central_jacobian(t.force, x, OMEGA, 1e-7)
         _, dq, dv = t.force_and_jacobian(*x, OMEGA)
         np.testing.assert_allclose(np.hstack([dq, dv]), jac, rtol=1e-6, atol=1e-7 * np.abs(jac).max())
 
