@@ -28,8 +28,8 @@ Conventions
 * Pruning: terms ranked by their contribution |k_j| * RMS(X[:, j]); the largest number of
   the smallest ones is dropped (bisection, repeated after re-ranking) while the CV RMS error
   stays within (1 + prune_tol) of the unpruned CV RMS error; the kept terms are refitted.
-  The constant and the shape columns are always kept. On more than 6000 samples the pruning decisions use every
-  stride-th sample (the final refit of the kept terms uses all).
+  The constant and the shape columns are always kept. On more than 6000 samples the pruning
+  decisions use every stride-th sample (the final refit of the kept terms uses all).
 * Shape columns (``shape_order`` r, optional): the columns g S_y m_j(u) / F_ref and
   g S_z m_j(u) / F_ref beside the monomials, S the closed-form short-bearing force at the
   sample, m_j the monomials of order <= r, g the wall factor's (1 - eps^2)^p: the surrogate is
