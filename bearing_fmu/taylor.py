@@ -187,10 +187,10 @@ def _shape_terms(y, z, vy, vz, omega, u0, u1, u2, u3, meta, sexps, scoef, jac, o
 
 
 @njit(cache=True)
-def _force_nb(y, z, vy, vz, omega, meta, exps, coef, sexps, scoef):
+def _force_nb(y, z, vy, vz, omega, meta, exps, coef):
     """meta = (y0, z0, omega0, pos_scale, vel_scale, force_scale, omega_rtol, order, wall_power,
     c0, shape_order); pos_scale is CR (the wall factor and the shape columns use it), c0 the
-    short-bearing constant. sexps / scoef: the shape columns (no rows = none)."""
+    short-bearing constant (shape kernels only)."""
     code = _check_nb(y, z, vy, vz, omega, meta)
     if code != 0:
         return 0.0, 0.0, code
@@ -208,25 +208,17 @@ def _force_nb(y, z, vy, vz, omega, meta, exps, coef, sexps, scoef):
         fz += coef[1, k] * m
     s = meta[5]
     p = meta[8]
-    if p != 0.0 or sexps.shape[0] > 0:
+    if p != 0.0:  # wall factor (1 - eps^2)^(-p); p = 0 skips it, bit-identical to the plain polynomial
         cr = meta[3]
         q = 1.0 - (y * y + z * z) / (cr * cr)
         if not q > 0.0:
             return 0.0, 0.0, _AT_WALL
-        if p != 0.0:  # wall factor (1 - eps^2)^(-p); p = 0 skips it, bit-identical to the plain polynomial
-            s *= q ** (-p)
-    fy *= s
-    fz *= s
-    if sexps.shape[0] > 0:
-        out = np.zeros(2)
-        _shape_terms(y, z, vy, vz, omega, u0, u1, u2, u3, meta, sexps, scoef, False, out)
-        fy += out[0] * meta[5]
-        fz += out[1] * meta[5]
-    return fy, fz, 0
+        s *= q ** (-p)
+    return fy * s, fz * s, 0
 
 
 @njit(cache=True)
-def _force_jac_nb(y, z, vy, vz, omega, meta, exps, coef, sexps, scoef, out):
+def _force_jac_nb(y, z, vy, vz, omega, meta, exps, coef, out):
     """Fill out[0:2] = F, out[2:10] = dF/du (row-major, 2 x 4), in scaled units; return code."""
     code = _check_nb(y, z, vy, vz, omega, meta)
     if code != 0:
@@ -266,16 +258,15 @@ def _force_jac_nb(y, z, vy, vz, omega, meta, exps, coef, sexps, scoef, out):
             out[5] += cy * d
             out[9] += cz * d
     p = meta[8]
-    if p != 0.0 or sexps.shape[0] > 0:
+    if p != 0.0:
+        # F = h P with h = (1 - eps^2)^(-p): dF/du = h dP/du + P dh/du, and in scaled positions
+        # (u0 = (y - y0)/CR) dh/du0 = 2 p (y/CR) h / (1 - eps^2), likewise for z; h is independent of v
         cr = meta[3]
         yc = y / cr
         zc = z / cr
         q = 1.0 - (yc * yc + zc * zc)
         if not q > 0.0:
             return _AT_WALL
-    if p != 0.0:
-        # F = h P with h = (1 - eps^2)^(-p): dF/du = h dP/du + P dh/du, and in scaled positions
-        # (u0 = (y - y0)/CR) dh/du0 = 2 p (y/CR) h / (1 - eps^2), likewise for z; h is independent of v
         h = q ** (-p)
         gy = 2.0 * p * yc * h / q
         gz = 2.0 * p * zc * h / q
@@ -287,20 +278,16 @@ def _force_jac_nb(y, z, vy, vz, omega, meta, exps, coef, sexps, scoef, out):
             out[b + 2] *= h
             out[b + 3] *= h
             out[i] = h * P
-    if sexps.shape[0] > 0:
-        _shape_terms(y, z, vy, vz, omega, u[0], u[1], u[2], u[3], meta, sexps, scoef, True, out)
     return 0
 
 
 @njit(cache=True)
-def _force_jac_si_nb(y, z, vy, vz, omega, meta, exps, coef, sexps, scoef):
-    """(code, F (2,) [N], dF/dq (2, 2) [N/m], dF/dv (2, 2) [N s/m]): the scaled kernel with
-    the units put back, so the Python wrapper does no array arithmetic."""
-    out = np.empty(10)
+def _to_si(code, out, meta):
+    """(code, F (2,) [N], dF/dq (2, 2) [N/m], dF/dv (2, 2) [N s/m]) from the scaled out[0:10],
+    so the Python wrapper does no array arithmetic."""
     F = np.zeros(2)
     dq = np.zeros((2, 2))
     dv = np.zeros((2, 2))
-    code = _force_jac_nb(y, z, vy, vz, omega, meta, exps, coef, sexps, scoef, out)
     if code != 0:
         return code, F, dq, dv
     fs = meta[5]
@@ -310,6 +297,46 @@ def _force_jac_si_nb(y, z, vy, vz, omega, meta, exps, coef, sexps, scoef):
         dq[i, 0], dq[i, 1] = out[2 + 4 * i] * gq, out[3 + 4 * i] * gq
         dv[i, 0], dv[i, 1] = out[4 + 4 * i] * gv, out[5 + 4 * i] * gv
     return code, F, dq, dv
+
+
+@njit(cache=True)
+def _force_jac_si_nb(y, z, vy, vz, omega, meta, exps, coef):
+    out = np.empty(10)
+    return _to_si(_force_jac_nb(y, z, vy, vz, omega, meta, exps, coef, out), out, meta)
+
+
+# With shape columns: separate entry points, so a surrogate without them never compiles the
+# short-bearing kernel (numba compiles a function's whole call graph on first use).
+@njit(cache=True)
+def _inside_wall(y, z, meta):
+    cr = meta[3]
+    return 1.0 - (y * y + z * z) / (cr * cr) > 0.0
+
+
+@njit(cache=True)
+def _force_shape_nb(y, z, vy, vz, omega, meta, exps, coef, sexps, scoef):
+    fy, fz, code = _force_nb(y, z, vy, vz, omega, meta, exps, coef)
+    if code != 0:
+        return fy, fz, code
+    if not _inside_wall(y, z, meta):
+        return 0.0, 0.0, _AT_WALL
+    out = np.zeros(2)
+    _shape_terms(y, z, vy, vz, omega, (y - meta[0]) / meta[3], (z - meta[1]) / meta[3], vy / meta[4],
+                 vz / meta[4], meta, sexps, scoef, False, out)
+    return fy + out[0] * meta[5], fz + out[1] * meta[5], 0
+
+
+@njit(cache=True)
+def _force_jac_shape_si_nb(y, z, vy, vz, omega, meta, exps, coef, sexps, scoef):
+    out = np.empty(10)
+    code = _force_jac_nb(y, z, vy, vz, omega, meta, exps, coef, out)
+    if code == 0:
+        if _inside_wall(y, z, meta):
+            _shape_terms(y, z, vy, vz, omega, (y - meta[0]) / meta[3], (z - meta[1]) / meta[3], vy / meta[4],
+                         vz / meta[4], meta, sexps, scoef, True, out)
+        else:
+            code = _AT_WALL
+    return _to_si(code, out, meta)
 
 
 @njit(cache=True)
@@ -748,8 +775,13 @@ class Taylor:
         used[0] = True
         self._exps = np.ascontiguousarray(s.exponents[used])
         self._coef = np.ascontiguousarray(s.coef[:, used])
-        self._sexps = np.ascontiguousarray(s.shape_exponents)
-        self._scoef = np.ascontiguousarray(s.shape_coef if s.shape_coef is not None else np.zeros((4, 0)))
+        if s.shape_order is None:
+            self._args = (self._meta, self._exps, self._coef)
+            self._kforce, self._kjac = _force_nb, _force_jac_si_nb
+        else:
+            self._args = (self._meta, self._exps, self._coef, np.ascontiguousarray(s.shape_exponents),
+                          np.ascontiguousarray(s.shape_coef))
+            self._kforce, self._kjac = _force_shape_nb, _force_jac_shape_si_nb
         self._out = np.empty(10)
         d = s.domain
         self._dom = np.array([s.y0, s.z0, s.pos_scale, s.vel_scale, d.ecc_max, d.pos_center[0], d.pos_center[1],
@@ -782,15 +814,13 @@ class Taylor:
         raise BearingStateError(f"bearing input {name} = {value!r} is not finite")
 
     def force(self, y: float, z: float, vy: float, vz: float, omega: float) -> tuple[float, float]:
-        fy, fz, code = _force_nb(float(y), float(z), float(vy), float(vz), float(omega),
-                                 self._meta, self._exps, self._coef, self._sexps, self._scoef)
+        fy, fz, code = self._kforce(float(y), float(z), float(vy), float(vz), float(omega), *self._args)
         if code:
             self._raise(code, y, z, vy, vz, omega)
         return fy, fz
 
     def force_and_jacobian(self, y: float, z: float, vy: float, vz: float, omega: float):
-        code, F, dF_dq, dF_dv = _force_jac_si_nb(float(y), float(z), float(vy), float(vz), float(omega),
-                                                 self._meta, self._exps, self._coef, self._sexps, self._scoef)
+        code, F, dF_dq, dF_dv = self._kjac(float(y), float(z), float(vy), float(vz), float(omega), *self._args)
         if code:
             self._raise(code, y, z, vy, vz, omega)
         return F, dF_dq, dF_dv

@@ -774,3 +774,30 @@ def test_wall_factor_surrogate_without_shape_is_unchanged():
     _, dq, dv = t.force_and_jacobian(*x, OMEGA)
     assert dq.tolist() == [[-25568.06110342483, -52041.16345667485], [-466139.0748946777, 337116.68355513946]]
     assert dv.tolist() == [[-1569.8938915150168, 539.2106530854405], [-716.0699276853098, -1696.909918759464]]
+
+
+def test_surrogate_without_shape_columns_never_compiles_them(tmp_path):
+    # leave out what a scene does not need: numba compiles a kernel's whole call graph, so the
+    # plain kernels must not reach the short-bearing one (cold, that cost ~6 s more). An empty
+    # numba cache makes every compiled callee register its signature (a cached caller does not).
+    import os
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    code = ("import bearing_fmu.taylor as T; "
+            "s = T.load_surrogate('models/surrogates/{}.json'); t = T.Taylor(s); "
+            "t.force(s.y0, s.z0, 0.0, 0.0, s.omega); t.force_and_jacobian(s.y0, s.z0, 0.0, 0.0, s.omega); "
+            "print(sorted(f.__name__ for f in (T._sb_nb, T._shape_terms, T._force_shape_nb, "
+            "T._force_jac_shape_si_nb) if f.signatures))")
+    env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path))
+    root = Path(__file__).resolve().parents[1]
+
+    def compiled(name):
+        return subprocess.run([sys.executable, "-c", code.format(name)], check=True, cwd=root, env=env,
+                              capture_output=True, text=True).stdout.strip()
+
+    assert compiled("paper_22hz_16.7N") == "[]"
+    # the check can fail: a surrogate with shape columns compiles all four
+    assert compiled("paper_44hz_16.7N") == str(sorted(["short_bearing_kernel", "_shape_terms", "_force_shape_nb",
+                                                       "_force_jac_shape_si_nb"]))
