@@ -60,6 +60,7 @@ from .taylor import (
     exponents,
     natural_force_scale,
     save_surrogate,
+    shape_force,
     short_bearing_at,
     term_names,
 )
@@ -488,7 +489,7 @@ def fit_surrogate(
     def predict(s, S, cp, ca):  # F [N] at raw states s with polynomial coefs cp and shape coefs ca
         F = (design_matrix(scaled(s), exps) @ cp.T) * fs / wall_g(s)[:, None]
         if Nr:
-            F += (shape_cols(s, S, np.full(len(s), fs)) @ ca.T)
+            F += shape_force(scaled(s), S, sexps, ca.reshape(4, Nr))  # ca rows: Fy (S_y | S_z), Fz (S_y | S_z)
         return F
 
     X = design_matrix(scaled(states), exps)

@@ -146,6 +146,38 @@ def _powers(u0, u1, u2, u3, order):
 
 
 @njit(cache=True)
+def _poly_grad(pw, exps, coef, out):
+    """Accumulate two polynomials (rows of coef) and their u-gradients, term by term:
+    out[0:2] += value, out[2:6] += d(row 0)/du, out[6:10] += d(row 1)/du; pw from _powers.
+    Two rows written out by hand: the hot path (a loop over rows costs ~40 % here)."""
+    for k in range(exps.shape[0]):
+        e0, e1, e2, e3 = exps[k, 0], exps[k, 1], exps[k, 2], exps[k, 3]
+        a0, a1, a2, a3 = pw[0, e0], pw[1, e1], pw[2, e2], pw[3, e3]
+        m = a0 * a1 * a2 * a3
+        cy = coef[0, k]
+        cz = coef[1, k]
+        out[0] += cy * m
+        out[1] += cz * m
+        # d m / d u_v = e_v u_v^(e_v - 1) * (other factors)
+        if e0 > 0:
+            d = e0 * pw[0, e0 - 1] * a1 * a2 * a3
+            out[2] += cy * d
+            out[6] += cz * d
+        if e1 > 0:
+            d = e1 * pw[1, e1 - 1] * a0 * a2 * a3
+            out[3] += cy * d
+            out[7] += cz * d
+        if e2 > 0:
+            d = e2 * pw[2, e2 - 1] * a0 * a1 * a3
+            out[4] += cy * d
+            out[8] += cz * d
+        if e3 > 0:
+            d = e3 * pw[3, e3 - 1] * a0 * a1 * a2
+            out[5] += cy * d
+            out[9] += cz * d
+
+
+@njit(cache=True)
 def _shape_terms(y, z, vy, vz, omega, u0, u1, u2, u3, meta, sexps, scoef, jac, out):
     """Add the shape columns sum_j (a_ij^y S_y + a_ij^z S_z) m_j(u) to out, in the kernels'
     scaled units (force / force_scale, derivatives in u): out[0:2] = F, with ``jac`` also
@@ -153,28 +185,14 @@ def _shape_terms(y, z, vy, vz, omega, u0, u1, u2, u3, meta, sexps, scoef, jac, o
     r = _sb_nb(y, z, vy, vz, omega, meta[3], meta[9], jac)
     fs = meta[5]
     pw = _powers(u0, u1, u2, u3, int(meta[10]))
-    M = np.zeros(4)  # the four polynomials M_l(u) = sum_j scoef[l, j] m_j(u)
-    dM = np.zeros((4, 4))  # and their u-gradients
-    for k in range(sexps.shape[0]):
-        e0, e1, e2, e3 = sexps[k, 0], sexps[k, 1], sexps[k, 2], sexps[k, 3]
-        a0, a1, a2, a3 = pw[0, e0], pw[1, e1], pw[2, e2], pw[3, e3]
-        m = a0 * a1 * a2 * a3
-        for l in range(4):
-            M[l] += scoef[l, k] * m
-        if jac:
-            d0 = e0 * pw[0, e0 - 1] * a1 * a2 * a3 if e0 > 0 else 0.0
-            d1 = e1 * pw[1, e1 - 1] * a0 * a2 * a3 if e1 > 0 else 0.0
-            d2 = e2 * pw[2, e2 - 1] * a0 * a1 * a3 if e2 > 0 else 0.0
-            d3 = e3 * pw[3, e3 - 1] * a0 * a1 * a2 if e3 > 0 else 0.0
-            for l in range(4):
-                c = scoef[l, k]
-                dM[l, 0] += c * d0
-                dM[l, 1] += c * d1
-                dM[l, 2] += c * d2
-                dM[l, 3] += c * d3
+    # the four polynomials M_l(u) = sum_j scoef[l, j] m_j(u) and their u-gradients, two at a time:
+    # row i of pq holds (M_2i, M_2i+1, dM_2i/du, dM_2i+1/du)
+    pq = np.zeros((2, 10))
+    _poly_grad(pw, sexps, scoef[0:2], pq[0])
+    _poly_grad(pw, sexps, scoef[2:4], pq[1])
     sy, sz = r[0], r[1]
     for i in range(2):
-        out[i] += (M[2 * i] * sy + M[2 * i + 1] * sz) / fs
+        out[i] += (pq[i, 0] * sy + pq[i, 1] * sz) / fs
     if jac:
         # dS/du_v = dS/dx_v * (CR for positions, omega CR for velocities)
         for v in range(4):
@@ -182,8 +200,7 @@ def _shape_terms(y, z, vy, vz, omega, u0, u1, u2, u3, meta, sexps, scoef, jac, o
             dsy = r[2 + v] * sc
             dsz = r[6 + v] * sc
             for i in range(2):
-                out[2 + 4 * i + v] += (dM[2 * i, v] * sy + M[2 * i] * dsy
-                                       + dM[2 * i + 1, v] * sz + M[2 * i + 1] * dsz) / fs
+                out[2 + 4 * i + v] += (pq[i, 2 + v] * sy + pq[i, 0] * dsy + pq[i, 6 + v] * sz + pq[i, 1] * dsz) / fs
 
 
 @njit(cache=True)
@@ -232,31 +249,7 @@ def _force_jac_nb(y, z, vy, vz, omega, meta, exps, coef, out):
     pw = _powers(u[0], u[1], u[2], u[3], order)
     for i in range(10):
         out[i] = 0.0
-    for k in range(exps.shape[0]):
-        e0, e1, e2, e3 = exps[k, 0], exps[k, 1], exps[k, 2], exps[k, 3]
-        a0, a1, a2, a3 = pw[0, e0], pw[1, e1], pw[2, e2], pw[3, e3]
-        m = a0 * a1 * a2 * a3
-        cy = coef[0, k]
-        cz = coef[1, k]
-        out[0] += cy * m
-        out[1] += cz * m
-        # d m / d u_v = e_v u_v^(e_v - 1) * (other factors)
-        if e0 > 0:
-            d = e0 * pw[0, e0 - 1] * a1 * a2 * a3
-            out[2] += cy * d
-            out[6] += cz * d
-        if e1 > 0:
-            d = e1 * pw[1, e1 - 1] * a0 * a2 * a3
-            out[3] += cy * d
-            out[7] += cz * d
-        if e2 > 0:
-            d = e2 * pw[2, e2 - 1] * a0 * a1 * a3
-            out[4] += cy * d
-            out[8] += cz * d
-        if e3 > 0:
-            d = e3 * pw[3, e3 - 1] * a0 * a1 * a2
-            out[5] += cy * d
-            out[9] += cz * d
+    _poly_grad(pw, exps, coef, out)
     p = meta[8]
     if p != 0.0:
         # F = h P with h = (1 - eps^2)^(-p): dF/du = h dP/du + P dh/du, and in scaled positions
@@ -347,6 +340,14 @@ def _sb_many_nb(states, omega, cr, c0, jac):
         for i in range(10):
             out[k, i] = r[i]
     return out
+
+
+def shape_force(u, S, shape_exponents, shape_coef) -> np.ndarray:
+    """The shape columns' force [N] (M, 2): sum_j (a_ij^y S_y + a_ij^z S_z) m_j(u) at scaled
+    states u (M, 4), with S (M, >= 2) the short-bearing force there and shape_coef (4, Nr) in
+    SHAPE_ROWS order. Numpy reference of the compiled _shape_terms."""
+    Mp = design_matrix(u, shape_exponents) @ np.asarray(shape_coef).T  # (M, 4): the polynomials M_l(u)
+    return np.column_stack([Mp[:, 0] * S[:, 0] + Mp[:, 1] * S[:, 1], Mp[:, 2] * S[:, 0] + Mp[:, 3] * S[:, 1]])
 
 
 def short_bearing_at(params: BearingParams, states, omega: float, jac: bool = False) -> np.ndarray:
@@ -552,8 +553,7 @@ class Surrogate:
             return np.zeros((len(s), 2))
         if S is None:
             S = short_bearing_at(self.params, s, self.omega)
-        Mp = design_matrix(self.scaled(s), self.shape_exponents) @ self.shape_coef.T  # (M, 4)
-        return np.column_stack([Mp[:, 0] * S[:, 0] + Mp[:, 1] * S[:, 1], Mp[:, 2] * S[:, 0] + Mp[:, 3] * S[:, 1]])
+        return shape_force(self.scaled(s), S, self.shape_exponents, self.shape_coef)
 
     @property
     def recipe(self) -> str:
@@ -798,12 +798,13 @@ class Taylor:
     def _raise(self, code, y, z, vy, vz, omega):
         if code == _AT_WALL:
             ecc = math.hypot(y, z) / self.params.CR
-            what = ([f"wall factor (1 - eps^2)^-{self.surrogate.wall_power:g}"] if self.surrogate.wall_power else []) + (
-                ["short-bearing shape columns"] if self.surrogate.shape_order is not None else [])
+            s = self.surrogate
+            what = " and ".join(([f"wall factor (1 - eps^2)^-{s.wall_power:g}"] if s.wall_power else [])
+                                + (["short-bearing shape columns"] if s.shape_order is not None else []))
+            verb = "are" if s.shape_order is not None else "is"
             raise BearingStateError(
                 f"eccentricity ratio {ecc:.4g} >= 1: the journal (y = {y:.4g} m, z = {z:.4g} m) is at or beyond "
-                f"the bearing wall; the surrogate's {' and '.join(what)} {'is' if what == what[:1] and self.surrogate.shape_order is None else 'are'} "
-                "undefined there"
+                f"the bearing wall; the surrogate's {what} {verb} undefined there"
             )
         if code == _WRONG_OMEGA:
             raise BearingStateError(
@@ -841,4 +842,5 @@ class Taylor:
 __all__ = [
     "Domain", "Surrogate", "Taylor", "design_matrix", "exponents", "n_terms", "term_names",
     "natural_force_scale", "save_surrogate", "load_surrogate", "check_params", "short_bearing_at",
+    "shape_force",
 ]

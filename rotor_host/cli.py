@@ -66,9 +66,9 @@ def _reference_and_variants(args, scene):
     for g in args.grids or []:
         grid = tuple(int(v) for v in g.lower().split("x"))
         variants.append(Variant(f"Reynolds {g}", "reynolds", grid))
-    for order, path in _surrogates(args, scene):
-        from bearing_fmu.taylor import load_surrogate
+    from bearing_fmu.taylor import load_surrogate
 
+    for order, path in _surrogates(args, scene):
         variants.append(Variant(f"Taylor {load_surrogate(path).recipe}", "taylor", surrogate=path, order=order))
     variants.append(Variant("linear", "linear"))
     return ref, variants
