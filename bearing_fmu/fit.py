@@ -47,6 +47,7 @@ import argparse
 import datetime as _dt
 import math
 import time
+from numbers import Integral
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -458,7 +459,7 @@ def fit_surrogate(
     wall_power = float(wall_power)
     if not (math.isfinite(wall_power) and wall_power >= 0.0):
         raise ValueError(f"fit: wall_power = {wall_power!r} must be finite and >= 0")
-    if shape_order is not None and (isinstance(shape_order, bool) or int(shape_order) != shape_order
+    if shape_order is not None and (isinstance(shape_order, bool) or not isinstance(shape_order, Integral)
                                     or shape_order < 0):
         raise ValueError(f"fit: shape_order = {shape_order!r} must be an integer >= 0 (or None: no shape columns)")
     exps = exponents(order)

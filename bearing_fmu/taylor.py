@@ -32,6 +32,7 @@ import json
 import math
 from dataclasses import dataclass, field
 from itertools import combinations_with_replacement
+from numbers import Integral
 from pathlib import Path
 
 import numpy as np
@@ -488,7 +489,7 @@ class Surrogate:
             if self.shape_coef is not None:
                 raise ValueError("Surrogate.shape_coef given without shape_order")
         else:
-            if isinstance(self.shape_order, bool) or int(self.shape_order) != self.shape_order or self.shape_order < 0:
+            if isinstance(self.shape_order, bool) or not isinstance(self.shape_order, Integral) or self.shape_order < 0:
                 raise ValueError(f"Surrogate.shape_order = {self.shape_order!r} must be an integer >= 0")
             self.shape_order = int(self.shape_order)
             nr = n_terms(self.shape_order)

@@ -771,6 +771,19 @@ def test_wall_factor_surrogate_without_shape_is_unchanged():
     t = Taylor(s)
     x = (Y0 + 0.13 * P.CR, Z0 - 0.21 * P.CR, 0.07 * OMEGA * P.CR, -0.11 * OMEGA * P.CR)
     assert t.force(*x, OMEGA) == (2.6549174014247297, -31.772338613919125)
+    # and those values are the formula F = fs sum_k c_k u^e_k / (1 - eps^2)^p, evaluated here in
+    # plain Python in the kernel's order (powers by repeated products, terms in file order)
+    u = ((x[0] - s.y0) / P.CR, (x[1] - s.z0) / P.CR, x[2] / s.vel_scale, x[3] / s.vel_scale)
+    pw = [[1.0] for _ in range(4)]
+    for v in range(4):
+        for _ in range(s.order):
+            pw[v].append(pw[v][-1] * u[v])
+    sums = [0.0, 0.0]
+    for k, e in enumerate(s.exponents):
+        m = pw[0][e[0]] * pw[1][e[1]] * pw[2][e[2]] * pw[3][e[3]]
+        sums = [sums[0] + s.coef[0, k] * m, sums[1] + s.coef[1, k] * m]
+    scale = s.force_scale * (1.0 - (x[0] * x[0] + x[1] * x[1]) / (P.CR * P.CR)) ** (-1.25)
+    assert (sums[0] * scale, sums[1] * scale) == (2.6549174014247297, -31.772338613919125)
     _, dq, dv = t.force_and_jacobian(*x, OMEGA)
     assert dq.tolist() == [[-25568.06110342483, -52041.16345667485], [-466139.0748946777, 337116.68355513946]]
     assert dv.tolist() == [[-1569.8938915150168, 539.2106530854405], [-716.0699276853098, -1696.909918759464]]
@@ -801,3 +814,13 @@ def test_surrogate_without_shape_columns_never_compiles_them(tmp_path):
     # the check can fail: a surrogate with shape columns compiles all four
     assert compiled("paper_44hz_16.7N") == str(sorted(["short_bearing_kernel", "_shape_terms", "_force_shape_nb",
                                                        "_force_jac_shape_si_nb"]))
+
+
+@pytest.mark.parametrize("bad", ["abc", 2.5, -1, True])
+def test_bad_shape_order_named(bad):
+    s = poly_surrogate(2)
+    with pytest.raises(ValueError, match="Surrogate.shape_order = .* must be an integer >= 0"):
+        Surrogate(P, OMEGA, Y0, Z0, 2, s.exponents, s.coef, s.force_scale, BOX, shape_order=bad,
+                  shape_coef=np.zeros((4, 5)))
+    with pytest.raises(ValueError, match="fit: shape_order = .* must be an integer >= 0"):
+        F.fit_surrogate(random_states(100, 1), np.zeros((100, 2)), P, OMEGA, Y0, Z0, 2, domain=BOX, shape_order=bad)
