@@ -27,10 +27,9 @@ import warnings
 
 import numpy as np
 
-from .internals import BearingStateError
+from .internals import DEFAULT_DOMAIN_LIMIT as DEFAULT_LIMIT
+from .internals import DOMAIN_ACTIONS, BearingStateError, check_finite
 
-DOMAIN_ACTIONS = ("warn", "fallback", "discard")
-DEFAULT_LIMIT = 0.5  # relative excess over the domain's bounds beyond which the state is refused
 FALLBACK_BAND = 0.1  # fallback: Taylor and truth blended from the domain's edge to 10 % beyond it
 
 
@@ -65,6 +64,18 @@ class DomainGuard:
         self.last_out_of_domain = False
         self.last_distance = -math.inf
 
+    @classmethod
+    def from_options(cls, params, options, context) -> "DomainGuard":
+        """The taylor internal from the registry's checked options (``internals.REGISTRY["taylor"]``):
+        the surrogate file (``context.path`` finds it), checked against ``params``, behind its guard;
+        the fallback builds Reynolds from the reynolds options at the first exit only."""
+        if not options["surrogate"]:
+            raise ValueError("internal 'taylor' needs the option surrogate (a surrogate JSON file)")
+        from .taylor import Taylor
+
+        return cls(Taylor.from_file(context.path(options["surrogate"]), params), options["domain_action"],
+                   options["domain_limit"], truth=lambda: _reynolds(params, options), on_warn=context.warn)
+
     @property
     def omega(self) -> float:
         return self.taylor.omega
@@ -80,9 +91,7 @@ class DomainGuard:
         self.last_out_of_domain = ood
         if not ood:
             return self.taylor
-        for name, value in (("y", y), ("z", z), ("vy", vy), ("vz", vz)):
-            if not math.isfinite(value):
-                raise BearingStateError(f"bearing input {name} = {value!r} is not finite")
+        check_finite(y, z, vy, vz, 0.0)
         ecc = math.hypot(y, z) / self.params.CR
         where = (f"y = {y:.4g} m, z = {z:.4g} m, vy = {vy:.4g} m/s, vz = {vz:.4g} m/s "
                  f"(eccentricity ratio {ecc:.3f})")
@@ -153,6 +162,12 @@ class DomainGuard:
         dw = self._blend_gradient(y, z, vy, vz)
         diff = np.asarray(out[0], float) - np.asarray(tay[0], float)
         return F, dq + np.outer(diff, dw[:2]), dv + np.outer(diff, dw[2:])
+
+
+def _reynolds(params, options):
+    from .reynolds import Reynolds
+
+    return Reynolds.from_options(params, options)
 
 
 def _jacobian(internal, y, z, vy, vz, omega):

@@ -7,7 +7,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .internals import BearingStateError, Internal
+from .internals import BearingStateError, Internal, check_finite
 from .params import BearingParams
 
 
@@ -50,10 +50,22 @@ class Linear:
         F0 = np.asarray(internal.force(y0, z0, 0.0, 0.0, omega), float)
         return cls(internal.params, y0, z0, omega, F0, K, C)
 
+    @classmethod
+    def from_options(cls, params: BearingParams, options, context=None) -> "Linear":
+        """From the registry's checked options (``internals.REGISTRY["linear"]``): linearise
+        Reynolds (its grid from the reynolds options) under (load_y, load_z) at omega_lin, or
+        take the lin_* coefficients as given."""
+        o = options
+        if o["linear_from"] == "coefficients":
+            return cls(params, o["lin_y0"], o["lin_z0"], o["omega_lin"], (o["lin_Fy0"], o["lin_Fz0"]),
+                       ((o["lin_Kyy"], o["lin_Kyz"]), (o["lin_Kzy"], o["lin_Kzz"])),
+                       ((o["lin_Cyy"], o["lin_Cyz"]), (o["lin_Czy"], o["lin_Czz"])))
+        from .reynolds import Reynolds
+
+        return cls.at_load(Reynolds.from_options(params, o), (o["load_y"], o["load_z"]), o["omega_lin"])
+
     def _check(self, y, z, vy, vz, omega) -> None:
-        for name, value in (("y", y), ("z", z), ("vy", vy), ("vz", vz), ("omega", omega)):
-            if not math.isfinite(value):
-                raise BearingStateError(f"bearing input {name} = {value!r} is not finite")
+        check_finite(y, z, vy, vz, omega)
         if abs(omega - self.omega0) > 1e-9 * max(abs(self.omega0), 1.0):
             raise BearingStateError(
                 f"linear internal was linearised at omega = {self.omega0:.6g} rad/s; got omega = {omega:.6g} rad/s"

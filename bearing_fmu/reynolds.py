@@ -640,6 +640,12 @@ class Reynolds:
         self._max_iter = 4 * n + 10
         self._grow = max(1, int(round(N / 16)))
 
+    @classmethod
+    def from_options(cls, params: BearingParams, options, context=None) -> "Reynolds":
+        """From the registry's checked options (``internals.REGISTRY["reynolds"]``; grid 0 = default)."""
+        return cls(params, n_theta=options["n_theta"] or None, n_x=options["n_x"] or None,
+                   cavitation=options["cavitation"])
+
     def __repr__(self) -> str:
         return (f"Reynolds({self.params!r}, n_theta={self.n_theta}, n_x={self.n_x}, "
                 f"cavitation={self.cavitation!r})")

@@ -2,9 +2,10 @@
 
 Inputs ``y, z, vy, vz, omega`` (SI) go in; the film force ``Fy, Fz`` and a few diagnostics
 come out, computed in ``do_step`` from the inputs set for the end of the step. Which
-internal computes the force is a parameter (``internal``: "reynolds", "linear", "taylor")
-read once in ``exit_initialization_mode``; only that internal's module is imported, so an
-FMU running the linear or Taylor internal never loads or compiles the Reynolds solver.
+internal computes the force is a parameter (``internal``: a name of ``internals.REGISTRY``)
+read once in ``exit_initialization_mode``; every registered internal's options are FMU
+parameters, and only the chosen internal's module is imported, so an FMU running the
+linear or Taylor internal never loads or compiles the Reynolds solver.
 
 Errors never leave this class as exceptions: pythonfmu turns any Python exception into
 fmi2Fatal and frees the Python object, after which the next call on the instance crashes
@@ -36,22 +37,17 @@ from pythonfmu.default_experiment import DefaultExperiment
 from pythonfmu.enums import Fmi2Status
 
 from . import __version__
-from .guard import DEFAULT_LIMIT
-from .internals import BearingStateError, check_state
+from . import internals as registry
+from .internals import BearingStateError, Context, check_finite
 from .params import PAPER_BEARING, BearingParams
 
-INTERNALS = ("reynolds", "linear", "taylor")
-LINEAR_FROM = ("load", "coefficients")
-SURROGATE_DIR = "surrogates"  # inside the FMU's resources folder
-
-# The paper rotor's bearing load (half its weight) and speed, where the linear internal is
-# made by default: Linear.at_load(Reynolds(paper bearing), (0, -16.7 N), 2 pi 22 rad/s).
-DEFAULT_LOAD_Z = -16.7
-DEFAULT_OMEGA_LIN = 2.0 * math.pi * 22.0
+SURROGATE_DIR = "surrogates"  # inside the FMU's resources folder: the files of file options
 
 # name, type, causality, unit, default, description. The one table of the FMU interface:
-# the slave registers these, build.py writes units and dependencies from it.
+# the slave registers these, build.py writes units and dependencies from it. The internals'
+# parameters come from their registry options.
 _IN, _OUT, _PAR = "input", "output", "parameter"
+_FMI_TYPE = {float: "Real", int: "Integer", bool: "Boolean", str: "String"}
 VARIABLES = (
     # inputs: the journal state at the end of the step
     ("y", "Real", _IN, "m", 0.0, "journal centre displacement from the bearing centre, horizontal"),
@@ -79,43 +75,14 @@ VARIABLES = (
     ("L", "Real", _PAR, "m", PAPER_BEARING.L, "bearing length"),
     ("CR", "Real", _PAR, "m", PAPER_BEARING.CR, "radial clearance"),
     ("mu", "Real", _PAR, "Pa.s", PAPER_BEARING.mu, "dynamic viscosity of the oil"),
-    # parameters: the internal
+    # parameters: which internal, and whether the outputs K.., C.. are computed
     ("internal", "String", _PAR, None, "reynolds",
-     "which internal computes the force: reynolds | linear | taylor"),
-    ("surrogate", "String", _PAR, None, "",
-     "taylor: surrogate file name inside the FMU resources (folder surrogates/)"),
-    ("domain_action", "String", _PAR, None, "warn",
-     "taylor, state outside the fitted domain: warn (surrogate value, warned once) | "
-     "fallback (Reynolds value for that call) | discard (refuse the step)"),
-    ("domain_limit", "Real", _PAR, "1", DEFAULT_LIMIT,
-     "taylor: refuse states more than this far outside the fitted domain (relative excess over its bounds)"),
-    ("n_theta", "Integer", _PAR, None, 0, "reynolds: circumferential grid cells (0 = the solver's default)"),
-    ("n_x", "Integer", _PAR, None, 0, "reynolds: axial grid cells (0 = the solver's default)"),
-    ("cavitation", "String", _PAR, None, "reynolds",
-     "reynolds: cavitation model: reynolds (Swift-Stieber) | gumbel (half-Sommerfeld)"),
+     "which internal computes the force: " + " | ".join(registry.names())),
     ("compute_tangent", "Boolean", _PAR, None, True,
      "compute the outputs K.., C.. from the internal's Jacobian at every step"),
-    # parameters: the linear internal
-    ("linear_from", "String", _PAR, None, "load",
-     "linear: 'load' = linearise Reynolds at its equilibrium under (load_y, load_z) at omega_lin; "
-     "'coefficients' = use lin_* as given (no Reynolds import)"),
-    ("load_y", "Real", _PAR, "N", 0.0, "linear, from load: static external load on the journal, horizontal"),
-    ("load_z", "Real", _PAR, "N", DEFAULT_LOAD_Z,
-     "linear, from load: static external load on the journal, vertical (weight is negative)"),
-    ("omega_lin", "Real", _PAR, "rad/s", DEFAULT_OMEGA_LIN,
-     "linear: shaft speed of the linear model (the input omega must equal it)"),
-    ("lin_y0", "Real", _PAR, "m", 0.0, "linear, from coefficients: expansion point y0"),
-    ("lin_z0", "Real", _PAR, "m", 0.0, "linear, from coefficients: expansion point z0"),
-    ("lin_Fy0", "Real", _PAR, "N", 0.0, "linear, from coefficients: film force Fy at the expansion point"),
-    ("lin_Fz0", "Real", _PAR, "N", 0.0, "linear, from coefficients: film force Fz at the expansion point"),
-    ("lin_Kyy", "Real", _PAR, "N/m", 0.0, "linear, from coefficients: Lund stiffness Kyy"),
-    ("lin_Kyz", "Real", _PAR, "N/m", 0.0, "linear, from coefficients: Lund stiffness Kyz"),
-    ("lin_Kzy", "Real", _PAR, "N/m", 0.0, "linear, from coefficients: Lund stiffness Kzy"),
-    ("lin_Kzz", "Real", _PAR, "N/m", 0.0, "linear, from coefficients: Lund stiffness Kzz"),
-    ("lin_Cyy", "Real", _PAR, "N.s/m", 0.0, "linear, from coefficients: Lund damping Cyy"),
-    ("lin_Cyz", "Real", _PAR, "N.s/m", 0.0, "linear, from coefficients: Lund damping Cyz"),
-    ("lin_Czy", "Real", _PAR, "N.s/m", 0.0, "linear, from coefficients: Lund damping Czy"),
-    ("lin_Czz", "Real", _PAR, "N.s/m", 0.0, "linear, from coefficients: Lund damping Czz"),
+    # parameters: every registered internal's options
+    *((o.name, _FMI_TYPE[o.type], _PAR, o.unit, o.default, o.help if o.type is str else f"{o.help} ({o.allowed()})")
+      for o in registry.all_options()),
 )
 
 INPUTS = tuple(v[0] for v in VARIABLES if v[2] == _IN)
@@ -128,10 +95,11 @@ _STATE_NAMES = INPUTS + OUTPUTS
 _STATE_VALUES = operator.attrgetter(*_STATE_NAMES)
 _VAR_CLASS = {"Real": Real, "Integer": Integer, "Boolean": Boolean, "String": String}
 _CAST = {"Real": float, "Integer": int, "Boolean": bool, "String": str}
+_FILE_OPTIONS = {o.name for o in registry.all_options() if o.file}
 
 
-def _default_surrogate(resources) -> str:
-    """The surrogate file bundled in the FMU when there is exactly one, else ""."""
+def _default_file(resources) -> str:
+    """The file bundled in the FMU when there is exactly one, else "" (the default of a file option)."""
     if not resources:
         return ""
     folder = Path(resources) / SURROGATE_DIR
@@ -155,8 +123,8 @@ class BearingFMU(Fmi2Slave):
         self._kind = {}  # name -> type
         self._by_vr = {}  # value reference -> (name, type, causality)
         for name, typ, causality, _unit, default, desc in VARIABLES:
-            if name == "surrogate":
-                default = _default_surrogate(self.resources)
+            if name in _FILE_OPTIONS:
+                default = _default_file(self.resources)
             setattr(self, name, default)
             var = _VAR_CLASS[typ](
                 name,
@@ -175,8 +143,6 @@ class BearingFMU(Fmi2Slave):
         self._internal = None  # built in exit_initialization_mode
         self._internal_name = ""
         self._jacobian = None
-        self._wall_check = False  # refuse eccentricity >= 1 (Reynolds)
-        self._guard = None  # the DomainGuard of the Taylor internal
         self._params = None
         self._initialized = False
         self._init_error = None
@@ -215,57 +181,14 @@ class BearingFMU(Fmi2Slave):
     def _build_internal(self) -> None:
         params = BearingParams(D=self.D, L=self.L, CR=self.CR, mu=self.mu)
         self._params = params
-        kind = str(self.internal).strip().lower()
-        if kind == "reynolds":
-            internal = self._reynolds(params)
-            self._wall_check = True
-        elif kind == "linear":
-            internal = self._linear(params)
-        elif kind == "taylor":
-            internal = self._taylor(params)
-        else:
-            raise ValueError(f"unknown internal {self.internal!r}; choose one of {', '.join(INTERNALS)}")
+        spec = registry.get(self.internal)
+        options = {o.name: getattr(self, o.name) for o in spec.all_options()}
+        context = Context(resolve=self._resource_file,
+                          warn=lambda msg: self._log(f"t = {self._t:.10g} s: {msg}", Fmi2Status.warning))
+        internal = spec.create(params, options, context, where="FMU parameter")
         self._internal = internal
-        self._internal_name = kind
+        self._internal_name = spec.name
         self._jacobian = getattr(internal, "force_and_jacobian", None)
-
-    def _reynolds(self, params):
-        for name in ("n_theta", "n_x"):
-            if getattr(self, name) < 0:
-                raise ValueError(f"{name} = {getattr(self, name)} must be >= 0 (0 = the solver's default grid)")
-        from .reynolds import Reynolds
-
-        return Reynolds(params, n_theta=self.n_theta or None, n_x=self.n_x or None,
-                        cavitation=str(self.cavitation))
-
-    def _linear(self, params):
-        from .linear import Linear
-
-        how = str(self.linear_from).strip().lower()
-        if how == "coefficients":
-            return Linear(params, self.lin_y0, self.lin_z0, self.omega_lin,
-                          (self.lin_Fy0, self.lin_Fz0),
-                          ((self.lin_Kyy, self.lin_Kyz), (self.lin_Kzy, self.lin_Kzz)),
-                          ((self.lin_Cyy, self.lin_Cyz), (self.lin_Czy, self.lin_Czz)))
-        if how == "load":
-            load = (self.load_y, self.load_z)
-            if not all(math.isfinite(v) for v in (*load, self.omega_lin)):
-                raise ValueError(f"linear internal: load {load} N and omega_lin {self.omega_lin!r} must be finite")
-            return Linear.at_load(self._reynolds(params), load, self.omega_lin)
-        raise ValueError(f"unknown linear_from {self.linear_from!r}; choose one of {', '.join(LINEAR_FROM)}")
-
-    def _taylor(self, params):
-        name = str(self.surrogate)
-        path = self._resource_file(name)
-        try:
-            from .guard import DomainGuard
-            from .taylor import Taylor
-        except ImportError as exc:
-            raise ImportError(f"the taylor internal is not available in this FMU build: {exc}") from None
-        self._guard = DomainGuard(Taylor.from_file(path, params), self.domain_action, self.domain_limit,
-                                  truth=lambda: self._reynolds(params),
-                                  on_warn=lambda msg: self._log(f"t = {self._t:.10g} s: {msg}", Fmi2Status.warning))
-        return self._guard
 
     def _resource_file(self, name: str) -> Path:
         folder = Path(self.resources or ".") / SURROGATE_DIR
@@ -274,11 +197,8 @@ class BearingFMU(Fmi2Slave):
         except OSError:
             bundled = []
         listing = ", ".join(bundled) if bundled else "none"
-        if not name:
-            raise ValueError(f"internal 'taylor' needs the parameter surrogate (a file in the FMU resources "
-                             f"folder {SURROGATE_DIR}/; bundled: {listing})")
         if os.path.isabs(name) or ".." in Path(name).parts:
-            raise ValueError(f"surrogate = {name!r} must be a file name inside the FMU resources, not a path")
+            raise ValueError(f"{name!r} must be a file name inside the FMU resources, not a path")
         path = folder / name
         if not path.is_file():
             raise FileNotFoundError(
@@ -310,13 +230,8 @@ class BearingFMU(Fmi2Slave):
         BearingStateError (outputs untouched)."""
         y, z, vy, vz, omega = self.y, self.z, self.vy, self.vz, self.omega
         params = self._params
-        if self._wall_check:
-            eps = check_state(params, y, z, vy, vz, omega)
-        else:
-            for name, value in (("y", y), ("z", z), ("vy", vy), ("vz", vz), ("omega", omega)):
-                if not math.isfinite(value):
-                    raise BearingStateError(f"bearing input {name} = {value!r} is not finite")
-            eps = math.hypot(y, z) / params.CR
+        check_finite(y, z, vy, vz, omega)  # the internals refuse the wall themselves where they must
+        eps = math.hypot(y, z) / params.CR
         internal = self._internal
         if self.compute_tangent:
             if self._jacobian is not None:
@@ -335,7 +250,7 @@ class BearingFMU(Fmi2Slave):
             raise BearingStateError(
                 f"the {self._internal_name} internal returned a non-finite force or tangent at "
                 f"y = {y:.6g} m, z = {z:.6g} m, vy = {vy:.6g} m/s, vz = {vz:.6g} m/s, omega = {omega:.6g} rad/s")
-        ood = self._guard.last_out_of_domain if self._guard is not None else False
+        ood = getattr(internal, "last_out_of_domain", False)  # the domain guard's verdict on this state
         # all evaluated: commit the outputs
         self.Fy, self.Fz = fy, fz
         self.eccentricity = eps

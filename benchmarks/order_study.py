@@ -92,7 +92,7 @@ def main() -> None:
 
 def closed_loop(scene, surrogate_path, ref) -> dict:
     """Run ``scene`` with the surrogate (called directly) and measure it against ``ref``."""
-    run = run_scene(scene.with_internal("taylor", via="direct", surrogate=Path(surrogate_path)), None)
+    run = run_scene(scene.with_internal("taylor", via="direct", options={"taylor": {"surrogate": Path(surrogate_path)}}), None)
     m = run.meta
     status = m["status"] if m["status"] == "ok" else f"{m['status']} at t = {m['t_reached_s']:.3f} s"
     err = errors_against(ref, run.arrays)

@@ -12,21 +12,22 @@ def _scene_from_args(args):
 
     scene = load_scene(args.scene)
     changes = {}
-    if getattr(args, "internal", None):
-        changes["internal"] = args.internal
-    if getattr(args, "via", None):
-        changes["via"] = args.via
-    if getattr(args, "t_end", None):
-        changes["t_end_s"] = args.t_end
-    if getattr(args, "dt", None):
-        changes["dt_s"] = args.dt
-    if getattr(args, "tangent", None):
-        changes["newton_tangent"] = args.tangent
+    for flag, key in (("via", "via"), ("t_end", "t_end_s"), ("dt", "dt_s"), ("tangent", "newton_tangent")):
+        if getattr(args, flag, None):
+            changes[key] = getattr(args, flag)
+    options = {}
     if getattr(args, "surrogate", None):
-        changes["surrogate"] = Path(args.surrogate).resolve()
-    if changes:
-        scene = scene.with_internal(changes.pop("internal", scene.internal), **changes)
+        options["taylor"] = {"surrogate": Path(args.surrogate).resolve()}
+    internal = getattr(args, "internal", None)
+    if changes or options or internal:
+        scene = scene.with_internal(internal or scene.internal, options=options, **changes)
     return scene
+
+
+def _internal_choices():
+    from bearing_fmu.internals import names
+
+    return names()
 
 
 def _run(args) -> int:
@@ -55,22 +56,30 @@ def _run(args) -> int:
     return 0 if m["status"] == "ok" else 1
 
 
+def _grid_options(grid) -> dict:
+    """Reynolds grid (n_theta, n_x) as variant options; None = the solver's default."""
+    n_theta, n_x = grid if grid else (0, 0)
+    return {"reynolds": {"n_theta": n_theta, "n_x": n_x}}
+
+
 def _reference_and_variants(args, scene):
     from .compare import Variant
 
     ref_grid = tuple(int(v) for v in args.ref_grid.lower().split("x")) if args.ref_grid else None
-    ref = Variant(f"Reynolds {args.ref_grid}" if ref_grid else "Reynolds default grid", "reynolds", ref_grid)
+    ref = Variant(f"Reynolds {args.ref_grid}" if ref_grid else "Reynolds default grid", "reynolds",
+                  _grid_options(ref_grid))
     variants = []
     if ref_grid:
-        variants.append(Variant("Reynolds default grid", "reynolds"))
+        variants.append(Variant("Reynolds default grid", "reynolds", _grid_options(None)))
     for g in args.grids or []:
         grid = tuple(int(v) for v in g.lower().split("x"))
-        variants.append(Variant(f"Reynolds {g}", "reynolds", grid))
+        variants.append(Variant(f"Reynolds {g}", "reynolds", _grid_options(grid)))
     from bearing_fmu.taylor import load_surrogate
 
     for order, path in _surrogates(args, scene):
-        variants.append(Variant(f"Taylor {load_surrogate(path).recipe}", "taylor", surrogate=path, order=order))
-    variants.append(Variant("linear", "linear"))
+        variants.append(Variant(f"Taylor {load_surrogate(path).recipe}", "taylor", {"taylor": {"surrogate": path}},
+                                order=order))
+    variants.append(Variant("linear", "linear", _grid_options(None)))
     return ref, variants
 
 
@@ -79,11 +88,11 @@ def _surrogates(args, scene):
     fitted on the same declared domain into the output folder."""
     from bearing_fmu.taylor import load_surrogate
 
-    from .scene import require_surrogate
+    from .scene import required_file
 
     if not args.orders:  # `--orders` with nothing: no Taylor variant, no surrogate needed
         return []
-    base = load_surrogate(require_surrogate(scene))
+    base = load_surrogate(required_file(scene, "taylor", "surrogate"))
     out = []
     for order in args.orders:
         if order == base.order:
@@ -119,7 +128,7 @@ def _paper(args) -> int:
     from bearing_fmu.taylor import load_surrogate
 
     from .compare import Variant, compare, print_table
-    from .scene import load_scene, require_surrogate
+    from .scene import load_scene, required_file
 
     scenes_dir = Path(args.scenes)
     out = Path(args.out)
@@ -128,10 +137,10 @@ def _paper(args) -> int:
         scene = load_scene(scenes_dir / name)
         if args.t_end:
             scene.t_end_s = args.t_end
-        sur = load_surrogate(require_surrogate(scene))  # 22 Hz: order 5; 44 Hz: order 7 with wall factor and shape columns
+        # 22 Hz: order 5; 44 Hz: order 7 with wall factor and shape columns
+        sur = load_surrogate(required_file(scene, "taylor", "surrogate"))
         ref = Variant("Reynolds default grid", "reynolds")
-        variants = [Variant(f"Taylor {sur.recipe}", "taylor", surrogate=scene.surrogate, order=sur.order),
-                    Variant("linear", "linear")]
+        variants = [Variant(f"Taylor {sur.recipe}", "taylor", order=sur.order), Variant("linear", "linear")]
         rows = compare(scene, ref, variants, out, progress=not args.quiet, default_label=ref.label)
         summary.append(f"## {scene.description}\n\n{print_table(rows)}\n")
     text = "\n".join(summary)
@@ -149,7 +158,7 @@ def main(argv: list[str] | None = None) -> int:
 
     p = sub.add_parser("run", help="run one scene and write results and plots")
     p.add_argument("scene", help="scene TOML file (models/scenes/*.toml)")
-    p.add_argument("--internal", choices=("reynolds", "taylor", "linear"), help="override the scene's internal")
+    p.add_argument("--internal", choices=_internal_choices(), help="override the scene's internal")
     p.add_argument("--via", choices=("fmu", "direct"), help="bearing FMUs through fmpy, or internals in-process")
     p.add_argument("--surrogate", help="surrogate JSON (taylor)")
     p.add_argument("--t-end", type=float, help="override the end time [s]")

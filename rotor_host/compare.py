@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import json
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
@@ -22,19 +22,16 @@ from .scene import Scene, run_scene
 
 @dataclass
 class Variant:
+    """The scene run with ``internal`` and ``options`` ({internal name: {option: value}}, over
+    the scene's own, e.g. {"reynolds": {"n_theta": 64, "n_x": 8}}; a grid of 0 is the default)."""
+
     label: str
     internal: str
-    grid: tuple[int, int] | None = None  # reynolds / linear: (n_theta, n_x); None = default
-    surrogate: Path | None = None  # taylor
+    options: dict = field(default_factory=dict)
     order: int | None = None  # taylor, for the table
 
     def scene(self, base: Scene) -> Scene:
-        kw = {}
-        if self.internal in ("reynolds", "linear"):
-            kw["n_theta"], kw["n_x"] = self.grid if self.grid else (None, None)
-        if self.internal == "taylor":
-            kw["surrogate"] = self.surrogate
-        return base.with_internal(self.internal, **kw)
+        return base.with_internal(self.internal, options=self.options)
 
 
 COLUMNS = [
@@ -66,7 +63,7 @@ def compare(base: Scene, reference: Variant, variants: list[Variant], out_dir, *
         status = m["status"]
         if m["crossed_clearance"]:
             status = "crossed clearance" if status == "ok" else f"{status}, crossed clearance"
-        row = {"label": v.label, "internal": v.internal, "grid": list(v.grid) if v.grid else None,
+        row = {"label": v.label, "internal": v.internal, "options": run.meta["internal_options"],
                "order": v.order, "status": status, "message": m["message"],
                "integration_s": m["integration_time_s"], "setup_s": m["setup_time_s"] + m["equilibrium_time_s"],
                "wall_s": m["wall_time_s"], "evals_per_step": m["newton_mean_evaluations_per_step"],

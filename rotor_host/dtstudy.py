@@ -91,7 +91,9 @@ def dt_study(scene_path, internal: str = "reynolds", dt: float | None = None, t_
 
 def add_arguments(p: argparse.ArgumentParser) -> argparse.ArgumentParser:
     p.add_argument("scene", help="scene TOML file")
-    p.add_argument("--internal", choices=("reynolds", "taylor", "linear"), default="reynolds")
+    from bearing_fmu.internals import names
+
+    p.add_argument("--internal", choices=names(), default="reynolds")
     p.add_argument("--dt", type=float, help="first time step [s] (default: the scene's)")
     p.add_argument("--t-end", type=float, help="simulated time [s] (default: the scene's)")
     p.add_argument("--halvings", type=int, default=3, help="at most this many halvings (default 3)")

@@ -1,8 +1,11 @@
 """Scenes: one simulation case read from TOML, built with only what it names, run, saved.
 
-A scene names a rotor file, the internal (reynolds | taylor | linear), how the bearings are
-reached (through the FMU, ``via = "fmu"``, or called in-process, ``via = "direct"``), the
-speed, unbalances, static loads, time span and step, and what to record. ``run_scene``
+A scene names a rotor file, the internal (a name of ``bearing_fmu.internals.REGISTRY``), how
+the bearings are reached (through the FMU, ``via = "fmu"``, or called in-process,
+``via = "direct"``), the speed, unbalances, static loads, time span and step, and what to
+record. Each internal's options sit in a sub-table named after it (``[reynolds] n_theta``,
+``[taylor] surrogate``), checked against the registry; a scene may hold several, so the same
+scene runs with another internal (``rotor-host compare``, ``--internal``). ``run_scene``
 builds the rotor, the bearings for that internal only (a Taylor scene never imports the
 Reynolds solver), the static equilibrium as the initial state, integrates, and writes
 ``<out>/<name>.npz`` plus ``<out>/<name>.json`` (metadata) even when the run fails part-way.
@@ -23,12 +26,12 @@ from pathlib import Path
 
 import numpy as np
 
-from bearing_fmu.guard import DEFAULT_LIMIT, DOMAIN_ACTIONS
+from bearing_fmu import internals as registry
+from bearing_fmu.internals import Context
 
 from .newmark import IntegrationError, Newmark, NewmarkConfig, static_equilibrium
 from .rotor import Rotor
 
-INTERNALS = ("reynolds", "taylor", "linear")
 VIA = ("fmu", "direct")
 # The Newton tangent of the bearing forces (scene key [time] newton_tangent):
 #   bearing: each bearing's own local stiffness and damping at every iterate (the FMU's K, C
@@ -70,28 +73,49 @@ class Scene:
     description: str = ""
     unbalances: list[Unbalance] = field(default_factory=list)
     static_loads: list[tuple[int, float, float]] = field(default_factory=list)  # (node0, Fy, Fz)
-    surrogate: Path | None = None
-    n_theta: int | None = None
-    n_x: int | None = None
+    # per internal name, the option values the scene sets (checked; file options as absolute paths)
+    options: dict[str, dict] = field(default_factory=dict)
     alpha: float = 0.0
     initial: str = "static_equilibrium"
     record_nodes: list[int] = field(default_factory=list)  # 0-based; bearings are always recorded
     record_every: int = 1
     fmu: Path | None = None
     source: Path | None = None
-    domain_action: str = "warn"  # taylor: warn | fallback | discard outside the fitted domain
-    domain_limit: float = DEFAULT_LIMIT  # taylor: refuse states this far outside (relative excess)
     newton_tangent: str = "bearing"  # bearing | frozen | fd | linear: see NEWTON_TANGENTS
 
     @property
     def omega(self) -> float:
         return 2.0 * math.pi * self.speed_hz
 
-    def with_internal(self, internal: str, **kw) -> "Scene":
-        """The same scene with another internal (and e.g. surrogate, n_theta, n_x, dt_s)."""
-        if internal not in INTERNALS:
-            raise SceneError(f"internal = {internal!r}; choose one of {', '.join(INTERNALS)}")
-        return replace(self, internal=internal, **kw)
+    @property
+    def surrogate(self) -> Path | None:
+        """The taylor internal's surrogate file, if the scene names one."""
+        value = self.options.get("taylor", {}).get("surrogate")
+        return Path(value) if value else None
+
+    def internal_options(self, internal: str | None = None) -> dict:
+        """The options the scene sets for ``internal`` (default: the scene's) and the internals it
+        uses, as one flat dict (what the FMU parameters and ``InternalSpec.create`` take)."""
+        spec = registry.get(internal or self.internal)
+        out = {}
+        for name in (*spec.uses, spec.name):
+            out.update(self.options.get(name, {}))
+        return out
+
+    def with_internal(self, internal: str, *, options: dict | None = None, **kw) -> "Scene":
+        """The same scene with another internal; ``options`` = {internal name: {option: value}}
+        merged into the scene's (e.g. {"reynolds": {"n_theta": 64}}); ``kw`` other fields (via, dt_s, ...)."""
+        try:
+            registry.get(internal)
+        except ValueError as exc:
+            raise SceneError(str(exc)) from None
+        merged = {k: dict(v) for k, v in self.options.items()}
+        for name, values in (options or {}).items():
+            spec = registry.get(name)
+            merged.setdefault(name, {}).update(spec.check_options(
+                {k: (str(v) if isinstance(v, Path) else v) for k, v in values.items()}, f"{name} options",
+                complete=False))
+        return replace(self, internal=registry.get(internal).name, options=merged, **kw)
 
 
 # ---------------------------------------------------------------------------------- reading
@@ -136,7 +160,7 @@ def load_scene(path) -> Scene:
         raise SceneError(f"{path}: not valid TOML: {exc}") from None
     where = str(path)
     _keys(data, {"name", "description", "rotor", "internal", "via", "speed_hz", "surrogate", "fmu",
-                 "time", "initial", "unbalance", "static_loads", "record", "reynolds", "taylor"}, where)
+                 "time", "initial", "unbalance", "static_loads", "record", *registry.names()}, where)
     base = path.parent
     for key in ("rotor", "internal", "speed_hz", "time"):
         if key not in data:
@@ -146,8 +170,8 @@ def load_scene(path) -> Scene:
         raise SceneError(f"{where}: rotor = {data['rotor']!r}: file {rotor_path} not found")
     n_nodes = _count_nodes(rotor_path)
     internal = data["internal"]
-    if internal not in INTERNALS:
-        raise SceneError(f"{where}: internal = {internal!r}; choose one of {', '.join(INTERNALS)}")
+    if internal not in registry.names():
+        raise SceneError(f"{where}: internal = {internal!r}; choose one of {', '.join(registry.names())}")
     via = data.get("via", "fmu")
     if via not in VIA:
         raise SceneError(f"{where}: via = {via!r}; choose one of {', '.join(VIA)}")
@@ -197,31 +221,38 @@ def load_scene(path) -> Scene:
         rec_nodes.append(v - 1)
     every = _num(rec, "every", f"{where} [record]", minimum=1, default=1, integer=True)
 
-    rey = data.get("reynolds", {})
-    _keys(rey, {"n_theta", "n_x"}, f"{where} [reynolds]")
-    n_theta = _num(rey, "n_theta", f"{where} [reynolds]", minimum=8, integer=True) if "n_theta" in rey else None
-    n_x = _num(rey, "n_x", f"{where} [reynolds]", minimum=2, integer=True) if "n_x" in rey else None
-
-    tay = data.get("taylor", {})
-    _keys(tay, {"domain_action", "domain_limit"}, f"{where} [taylor]")
-    domain_action = tay.get("domain_action", "warn")
-    if domain_action not in DOMAIN_ACTIONS:
-        raise SceneError(f"{where} [taylor]: domain_action = {domain_action!r}; choose one of "
-                         f"{', '.join(DOMAIN_ACTIONS)}")
-    domain_limit = _num(tay, "domain_limit", f"{where} [taylor]", minimum=0.0, strict=True, default=DEFAULT_LIMIT)
-
-    surrogate = None
-    if "surrogate" in data:
-        surrogate = (base / data["surrogate"]).resolve()
-    if internal == "taylor" and surrogate is None:
-        raise SceneError(f"{where}: internal = 'taylor' needs the key 'surrogate' (a models/surrogates/*.json file)")
+    options = {name: _internal_options(name, data[name], where, base) for name in registry.names() if name in data}
+    if "surrogate" in data:  # the older form of [taylor] surrogate
+        if "surrogate" in options.get("taylor", {}):
+            raise SceneError(f"{where}: surrogate given twice, at the top and in [taylor]; keep [taylor] surrogate")
+        options.setdefault("taylor", {}).update(_internal_options("taylor", {"surrogate": data["surrogate"]}, where, base))
+    spec = registry.get(internal)
+    for o in spec.options:
+        if o.required and not options.get(internal, {}).get(o.name):
+            raise SceneError(f"{where}: internal = {internal!r} needs the key {o.name!r} in [{internal}] ({o.help})")
     fmu = (base / data["fmu"]).resolve() if "fmu" in data else None
 
     return Scene(name=str(data.get("name", path.stem)), description=str(data.get("description", "")),
                  rotor_path=rotor_path, speed_hz=speed, internal=internal, via=via, t_end_s=t_end, dt_s=dt,
-                 alpha=alpha, unbalances=unb, static_loads=loads, surrogate=surrogate, n_theta=n_theta,
-                 n_x=n_x, initial=state, record_nodes=rec_nodes, record_every=every, fmu=fmu, source=path,
-                 domain_action=domain_action, domain_limit=domain_limit, newton_tangent=newton_tangent)
+                 alpha=alpha, unbalances=unb, static_loads=loads, options=options, initial=state,
+                 record_nodes=rec_nodes, record_every=every, fmu=fmu, source=path, newton_tangent=newton_tangent)
+
+
+def _internal_options(name: str, table, where: str, base: Path) -> dict:
+    """The sub-table [name] of a scene: options of that internal, checked by the registry; file
+    options resolved relative to the scene file."""
+    w = f"{where} [{name}]"
+    if not isinstance(table, dict):
+        raise SceneError(f"{w}: expected a table of {name} options, got {table!r}")
+    spec = registry.get(name)
+    try:
+        opts = spec.check_options(table, w, complete=False)
+    except ValueError as exc:
+        raise SceneError(str(exc)) from None
+    for o in spec.options:
+        if o.file and opts.get(o.name):
+            opts[o.name] = str((base / opts[o.name]).resolve())
+    return opts
 
 
 def _count_nodes(rotor_path: Path) -> int:
@@ -259,47 +290,38 @@ def _start_guess(rotor: Rotor, f_static: np.ndarray, journal: np.ndarray) -> np.
 
 # ---------------------------------------------------------------------------------- building
 
+def _context(scene: Scene, load) -> Context:
+    """What a bearing's internal may take from the run: its static load and the speed."""
+    return Context(load=(float(load[0]), float(load[1])), omega=scene.omega)
+
+
 def _fmu_parameters(scene: Scene, params, load) -> dict:
-    """FMU parameters of one bearing for the scene's internal (only what that internal reads)."""
-    p = {"D": params.D, "L": params.L, "CR": params.CR, "mu": params.mu, "internal": scene.internal}
-    if scene.internal in ("reynolds", "linear"):
-        p["n_theta"] = scene.n_theta or 0
-        p["n_x"] = scene.n_x or 0
-    if scene.internal == "linear":
-        p.update(linear_from="load", load_y=float(load[0]), load_z=float(load[1]), omega_lin=scene.omega)
-    if scene.internal == "taylor":
-        p.update(surrogate=scene.surrogate.name, domain_action=scene.domain_action, domain_limit=scene.domain_limit)
-        if scene.domain_action == "fallback":
-            p.update(n_theta=scene.n_theta or 0, n_x=scene.n_x or 0)
-    return p
+    """FMU parameters of one bearing: the bearing, the internal and all its options (the
+    static load and speed filled in where the internal takes them; files by their name in
+    the FMU's resources)."""
+    spec = registry.get(scene.internal)
+    opts = spec.check_options(scene.internal_options(), str(scene.source), context=_context(scene, load))
+    for o in spec.all_options():
+        if o.file and opts[o.name]:
+            opts[o.name] = Path(opts[o.name]).name
+    return {"D": params.D, "L": params.L, "CR": params.CR, "mu": params.mu, "internal": spec.name, **opts}
 
 
 def _direct_internal(scene: Scene, params, load):
     """The scene's internal for one bearing, imported only when used."""
-    if scene.internal == "reynolds":
-        from bearing_fmu.reynolds import Reynolds
+    return registry.create(scene.internal, params, scene.internal_options(), _context(scene, load),
+                           where=str(scene.source))
 
-        return Reynolds(params, n_theta=scene.n_theta, n_x=scene.n_x)
-    if scene.internal == "linear":
-        from bearing_fmu.linear import Linear
-        from bearing_fmu.reynolds import Reynolds
 
-        return Linear.at_load(Reynolds(params, n_theta=scene.n_theta, n_x=scene.n_x), load, scene.omega)
-    from bearing_fmu.guard import DomainGuard
-    from bearing_fmu.taylor import Taylor
-
-    def truth():
-        from bearing_fmu.reynolds import Reynolds
-
-        return Reynolds(params, n_theta=scene.n_theta, n_x=scene.n_x)
-
-    return DomainGuard(Taylor.from_file(scene.surrogate, params), scene.domain_action, scene.domain_limit,
-                       truth=truth)
+def _files(scene: Scene) -> list[Path]:
+    """The files the scene's internal reads (e.g. the surrogate), each checked to exist."""
+    spec = registry.get(scene.internal)
+    return [required_file(scene, spec.name, o.name) for o in spec.all_options() if o.file]
 
 
 def scene_fmu(scene: Scene, work_dir: Path) -> Path:
     """The bearing FMU for the scene: its ``fmu`` key, or one built into work_dir (with the
-    scene's surrogate bundled for a Taylor scene)."""
+    files of the scene's internal bundled, e.g. the surrogate of a Taylor scene)."""
     if scene.fmu is not None:
         if not scene.fmu.is_file():
             raise SceneError(f"{scene.source}: fmu = {scene.fmu}: file not found")
@@ -307,29 +329,30 @@ def scene_fmu(scene: Scene, work_dir: Path) -> Path:
     from bearing_fmu.build import build_fmu
 
     work_dir.mkdir(parents=True, exist_ok=True)
-    surrogate = scene.surrogate if scene.internal == "taylor" else None
-    tag = f"_{surrogate.stem}" if surrogate else ""
-    return Path(build_fmu(work_dir / f"bearing{tag}.fmu", surrogate=surrogate))
+    files = _files(scene)
+    tag = "".join(f"_{f.stem}" for f in files)
+    return Path(build_fmu(work_dir / f"bearing{tag}.fmu", surrogate=files or None))
 
 
-def require_surrogate(scene: Scene) -> Path:
-    """The scene's surrogate file, or a SceneError that says what is missing and how to get it."""
-    if scene.surrogate is None:
-        raise SceneError(f"{scene.source}: the Taylor internal needs a surrogate file, and the scene names "
-                         "none: set `surrogate = \"...json\"` in the scene or pass --surrogate "
-                         "(fit one with `bearing-fmu fit`)")
-    if not scene.surrogate.is_file():
-        raise SceneError(f"{scene.source}: surrogate file {scene.surrogate} not found; fit one with "
-                         "`bearing-fmu fit`")
-    return scene.surrogate
+def required_file(scene: Scene, internal: str, option: str) -> Path:
+    """The file the scene names for ``option`` of ``internal`` (e.g. taylor's surrogate), or a
+    SceneError that says what is missing and what it is."""
+    value = scene.options.get(internal, {}).get(option)
+    what = next(o.help for o in registry.get(internal).all_options() if o.name == option)
+    if not value:
+        raise SceneError(f"{scene.source}: the {internal} internal needs a {option} file, and the scene names "
+                         f"none: set `{option} = \"...\"` in its [{internal}] table or pass --{option} ({what})")
+    path = Path(value)
+    if not path.is_file():
+        raise SceneError(f"{scene.source}: {option} file {path} not found ({what})")
+    return path
 
 
 def build_bearings(scene: Scene, rotor: Rotor, loads: np.ndarray, work_dir: Path):
     """The BearingSet of the scene: FMU instances (via = fmu) or internals in-process."""
     pairs = [(rotor.dof(n, "y"), rotor.dof(n, "z")) for n in rotor.bearing_nodes]
     names = [f"bearing {k + 1} (node {n + 1})" for k, n in enumerate(rotor.bearing_nodes)]
-    if scene.internal == "taylor":
-        require_surrogate(scene)
+    _files(scene)  # a missing file is named before anything is built
     tangent = _NEWMARK_TANGENT[scene.newton_tangent][1]
     if scene.via == "direct":
         from .bearings import DirectBearings
@@ -440,8 +463,7 @@ def run_scene(scene: Scene, out_dir=None, *, progress: bool = False, stem: str |
         "scene": scene.name, "description": scene.description, "source": str(scene.source),
         "internal": scene.internal, "via": scene.via, "speed_hz": scene.speed_hz, "dt_s": scene.dt_s,
         "t_end_s": scene.t_end_s, "hht_alpha": scene.alpha, "newton_tangent": scene.newton_tangent,
-        "reynolds_grid": [scene.n_theta, scene.n_x] if scene.internal != "taylor" else None,
-        "surrogate": str(scene.surrogate) if scene.internal == "taylor" else None,
+        "internal_options": scene.internal_options(),
         "bearing_loads_N": loads.tolist(), "recorded_nodes": [n + 1 for n in rec_nodes],
         "bearing_nodes": [n + 1 for n in rotor.bearing_nodes],
         "versions": _versions(), "machine": platform.machine(), "status": "ok", "message": "",

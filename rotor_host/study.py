@@ -158,7 +158,9 @@ def plot_envelopes(envs: dict, path, *, title: str = "", tol_band: tuple[float, 
 def add_arguments(p: argparse.ArgumentParser) -> argparse.ArgumentParser:
     p.add_argument("source", help="scene TOML file (run it, called directly) or a saved run .npz "
                                   "(then give --speed-hz)")
-    p.add_argument("--internal", choices=("reynolds", "taylor", "linear"), default="reynolds")
+    from bearing_fmu.internals import names
+
+    p.add_argument("--internal", choices=names(), default="reynolds")
     p.add_argument("--dt", type=float, help="time step [s] (default: the scene's)")
     p.add_argument("--t-end", type=float, help="simulated time [s] (default: the scene's)")
     p.add_argument("--speed-hz", type=float, help="shaft speed for a .npz source [Hz]")

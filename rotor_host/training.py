@@ -22,6 +22,8 @@ from pathlib import Path
 
 import numpy as np
 
+from bearing_fmu import internals as registry
+
 from .scene import Scene, load_scene, run_scene
 
 SERIES_VERSION = 2  # cache format of scene_series (see there)
@@ -37,8 +39,9 @@ def scene_series(scene: Scene, bearing: int = 1, cache: Path | None = None, log=
     # the last entry versions the cache: series cached before forces were taken from the
     # bearing's own column (SERIES_VERSION 2) paired another bearing's force with this one's
     # state whenever the scene also records a node before the bearing, and are recomputed
-    key = np.array([rey.speed_hz, rey.t_end_s, rey.dt_s, rey.n_theta or 0, rey.n_x or 0, bearing, SERIES_VERSION],
-                   float)
+    grid = rey.internal_options()
+    key = np.array([rey.speed_hz, rey.t_end_s, rey.dt_s, grid.get("n_theta", 0), grid.get("n_x", 0), bearing,
+                    SERIES_VERSION], float)
     if cache is not None and Path(cache).is_file():
         d = np.load(cache)
         if "key" in d.files and d["key"].shape == key.shape and np.allclose(d["key"], key):
@@ -144,7 +147,7 @@ def fit_scene(scene_path, order: int = 5, *, bearing: int = 1, test_scenes=(), s
         ho_forces.append(forces[held])
     s_train, f_train = np.vstack(tr_states), np.vstack(tr_forces)
     params = _bearing_params(scene, bearing)
-    truth = Reynolds(params, n_theta=scene.n_theta, n_x=scene.n_x)
+    truth = Reynolds.from_options(params, registry.get("reynolds").check_options(scene.internal_options("reynolds")))
     omega = scene.omega
     y0, z0 = F.expansion_point(truth, tuple(load), omega)
     domain = F.domain_from_data(s_train, y0, z0, params, omega)

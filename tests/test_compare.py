@@ -42,8 +42,8 @@ def test_short_compare_run(tmp_path):
     # grid, the shipped order-5 surrogate and the linear model
     base = load_scene(SCENES / "paper_22hz.toml").with_internal("reynolds", via="direct", t_end_s=0.02)
     ref = Variant("Reynolds default grid", "reynolds")
-    variants = [Variant("Reynolds 32x8", "reynolds", (32, 8)),
-                Variant("Taylor order 5", "taylor", surrogate=base.surrogate, order=5),
+    variants = [Variant("Reynolds 32x8", "reynolds", {"reynolds": {"n_theta": 32, "n_x": 8}}),
+                Variant("Taylor order 5", "taylor", order=5),
                 Variant("linear", "linear")]
     rows = compare(base, ref, variants, tmp_path, default_label=ref.label, log=lambda *_: None)
     by = {r["label"]: r for r in rows}

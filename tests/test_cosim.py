@@ -67,7 +67,7 @@ def test_discarded_fmu_step_becomes_a_diagnosed_stop(tmp_path, fmu):
     s = scene(tmp_path, "reynolds", t_end=0.2)
     s.fmu = fmu
     s.unbalances[0].node, s.unbalances[0].mass_kg, s.unbalances[0].radius_m = 2, 20.0, 0.05
-    s.n_theta, s.n_x, s.dt_s = 32, 4, 2e-4
+    s = s.with_internal("reynolds", options={"reynolds": {"n_theta": 32, "n_x": 4}}, dt_s=2e-4)
     run = run_scene(s, tmp_path / "out")
     assert run.meta["status"] == "failed"
     assert "bearing 1" in run.meta["message"] and "eccentricity ratio" in run.meta["message"]
