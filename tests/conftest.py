@@ -1,0 +1,113 @@
+"""Fixtures shared by the test modules: one bearing FMU per session (with a made-up surrogate
+bundled), its extraction and instances, a scene writer and the central-difference Jacobian."""
+
+import math
+import os
+import textwrap
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from bearing_fmu.params import PAPER_BEARING
+
+ROOT = Path(__file__).resolve().parents[1]
+MODELS = ROOT / "models"
+ROTOR = MODELS / "rotor_paper.toml"
+OMEGA_22HZ = 2 * math.pi * 22.0
+
+
+@pytest.fixture(scope="session")
+def code_cache(tmp_path_factory):
+    """The FMU's code cache (BEARING_FMU_CACHE_DIR, where numba's cache lives too): a session temp dir."""
+    path = tmp_path_factory.mktemp("fmu_code_cache")
+    old = os.environ.get("BEARING_FMU_CACHE_DIR")
+    os.environ["BEARING_FMU_CACHE_DIR"] = str(path)
+    yield path
+    if old is None:
+        os.environ.pop("BEARING_FMU_CACHE_DIR", None)
+    else:
+        os.environ["BEARING_FMU_CACHE_DIR"] = old
+
+
+@pytest.fixture(scope="session")
+def surrogate_file(tmp_path_factory):
+    """An order-2 surrogate of the paper bearing at 22 Hz with made-up coefficients: the FMU
+    must reproduce the Taylor internal exactly, whatever the coefficients."""
+    from bearing_fmu.taylor import Domain, Surrogate, exponents, save_surrogate
+
+    exps = exponents(2)
+    rng = np.random.default_rng(1)
+    coef = rng.normal(size=(2, len(exps))) * 0.1
+    coef[:, 0] = (0.0, 1.0)
+    dom = Domain(ecc_max=0.8, pos_center=(0.0, 0.0), pos_radius=0.3, v_max=0.3, box_lo=(-0.3,) * 4, box_hi=(0.3,) * 4)
+    P = PAPER_BEARING
+    sur = Surrogate(params=P, omega=OMEGA_22HZ, y0=0.1 * P.CR, z0=-0.4 * P.CR, order=2, exponents=exps, coef=coef,
+                    force_scale=20.0, domain=dom)
+    return save_surrogate(sur, tmp_path_factory.mktemp("sur") / "paper_22hz.json")
+
+
+@pytest.fixture(scope="session")
+def fmu(tmp_path_factory, code_cache, surrogate_file):
+    """The bearing FMU, built once, with ``surrogate_file`` bundled."""
+    from bearing_fmu.build import build_fmu
+
+    return build_fmu(tmp_path_factory.mktemp("fmu") / "bearing.fmu", surrogate=surrogate_file)
+
+
+@pytest.fixture(scope="session")
+def unzip(fmu):
+    fmpy = pytest.importorskip("fmpy")
+    return fmpy.extract(str(fmu))
+
+
+def _example(name: str):
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location(name, ROOT / "examples" / f"{name}.py")
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return mod
+
+
+@pytest.fixture(scope="session")
+def fmu_instance(fmu, unzip):
+    """fmu_instance(**parameters): an initialised instance of the session FMU through fmpy
+    (examples/drive_fmu_with_fmpy.py's BearingInstance: set, step, get, messages, close)."""
+    ex = _example("drive_fmu_with_fmpy")
+    return lambda **params: ex.BearingInstance(fmu, params, unzip_dir=unzip)
+
+
+def central_jacobian(force, x, omega, steps):
+    """(dF/dq (2, 2), dF/dv (2, 2)) of ``force(y, z, vy, vz, omega)`` at x = (y, z, vy, vz) by
+    central differences with one step per variable: independent of any analytic Jacobian."""
+    x = np.asarray(x, float)
+    cols = []
+    for j, h in enumerate(steps):
+        xp, xm = x.copy(), x.copy()
+        xp[j] += h
+        xm[j] -= h
+        cols.append((np.array(force(*xp, omega)) - np.array(force(*xm, omega))) / (2 * h))
+    jac = np.column_stack(cols)
+    return jac[:, :2], jac[:, 2:]
+
+
+@pytest.fixture(name="central_jacobian")
+def central_jacobian_fixture():
+    return central_jacobian
+
+
+def write_scene(folder: Path, body: str, name: str = "s.toml", rotor: Path = ROTOR) -> Path:
+    """A scene file in ``folder`` on the paper rotor (unless the body names one) from TOML text."""
+    text = textwrap.dedent(body)
+    if "rotor =" not in text:
+        text = f'rotor = "{rotor.as_posix()}"\n' + text
+    p = Path(folder) / name
+    p.write_text(text)
+    return p
+
+
+@pytest.fixture(name="write_scene")
+def write_scene_fixture(tmp_path):
+    """write_scene(body, name="s.toml"): a scene file in this test's tmp_path."""
+    return lambda body, name="s.toml", **kw: write_scene(tmp_path, body, name, **kw)
