@@ -7,6 +7,18 @@ import tomllib
 from dataclasses import asdict, dataclass
 from pathlib import Path
 
+from .schema import Key, check_keys
+
+# the keys of a bearing file ([bearing] table, or the top level): each carries its unit
+BEARING_KEYS = (
+    Key("D_mm", "bearing (journal) diameter [mm]", allowed="> 0"),
+    Key("L_mm", "bearing length [mm]", allowed="> 0"),
+    Key("CR_um", "radial clearance [um]", allowed="> 0 and < D/2"),
+    Key("mu_Pa_s", "dynamic viscosity of the oil [Pa s]", allowed="> 0"),
+    Key("name", "label", None, "text"),
+    Key("description", "free text", None, "text"),
+)
+
 
 @dataclass(frozen=True)
 class BearingParams:
@@ -59,12 +71,7 @@ class BearingParams:
         """Build from a mapping whose keys carry their unit (``D_mm``, ``L_mm``, ``CR_um``, ``mu_Pa_s``)."""
         # divisors, not factors: 31 / 1000 is exactly the float 0.031, 31 * 1e-3 is not
         units = {"D_mm": 1e3, "L_mm": 1e3, "CR_um": 1e6, "mu_Pa_s": 1.0}
-        missing = [k for k in units if k not in data]
-        if missing:
-            raise KeyError(f"{where}: missing key(s) {', '.join(missing)}; expected {', '.join(units)}")
-        unknown = sorted(set(data) - set(units) - {"name", "description"})
-        if unknown:
-            raise KeyError(f"{where}: unknown key(s) {', '.join(unknown)}; expected {', '.join(units)}")
+        check_keys(data, BEARING_KEYS, where, KeyError)
         vals = {}
         for key, divisor in units.items():
             v = data[key]

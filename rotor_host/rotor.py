@@ -24,8 +24,45 @@ import numpy as np
 import scipy.linalg
 
 from bearing_fmu.params import BearingParams
+from bearing_fmu.schema import Key, check_keys
 
 from . import fe
+
+# the keys of a rotor file, per table (docs/file-formats.md shows these lists)
+ROTOR_KEYS = (
+    Key("elements", "the shaft's beam elements, in order ([[elements]] or an array of inline tables)",
+        allowed="non-empty array of tables"),
+    Key("material", "shaft and disk material ([material])", allowed="table"),
+    Key("name", "label", None, "text"),
+    Key("description", "free text", None, "text"),
+    Key("disks", "rigid disks ([[disks]])", None, "array of tables"),
+    Key("bearings", "bearings ([[bearings]]): where they sit and which bearing file", None, "array of tables"),
+)
+MATERIAL_KEYS = (
+    Key("E_GPa", "elastic modulus [GPa]", allowed="> 0"),
+    Key("density_kg_m3", "density [kg/m^3]", allowed="> 0"),
+    Key("poisson", "Poisson's ratio (shear modulus and shear coefficient)", allowed="> -1 and < 0.5"),
+    Key("damping_beta_s", "stiffness-proportional damping C = beta K [s]", 0.0, ">= 0"),
+)
+ELEMENT_KEYS = (
+    Key("od_mm", "outer diameter [mm]", allowed="> 0"),
+    Key("length_mm", "length [mm]", allowed="> 0"),
+    Key("id_mm", "inner diameter [mm]", 0.0, ">= 0 and < od_mm"),
+    Key("nodes", "the nodes it joins, 1-based", None, "[i, i + 1] for element i"),
+    Key("name", "label", None, "text"),
+)
+DISK_KEYS = (
+    Key("node", "node it sits on, 1-based", allowed="1..number of nodes"),
+    Key("od_mm", "outer diameter [mm]", allowed="> 0"),
+    Key("width_mm", "axial width [mm]", allowed="> 0"),
+    Key("id_mm", "bore diameter [mm]", 0.0, ">= 0 and < od_mm"),
+    Key("name", "label", None, "text"),
+)
+BEARING_ENTRY_KEYS = (
+    Key("node", "node the journal is at, 1-based; one bearing per node", allowed="1..number of nodes"),
+    Key("bearing", "bearing file, relative to the rotor file (keys: [bearing] below)", allowed="file name"),
+    Key("name", "label", None, "text"),
+)
 
 DIRECTIONS = {"y": fe.Y, "z": fe.Z, "ty": fe.TY, "tz": fe.TZ}
 OSCILLATORY = 1e-3  # modes(): keep eigenvalues with Im(lam) > OSCILLATORY * |lam|
@@ -69,20 +106,8 @@ def _element_mass(e: ShaftElement, density: float) -> float:
 
 
 # ----------------------------------------------------------------------------- file reading
-def _check_keys(table, required: Sequence[str], optional: Sequence[str], where: str) -> None:
-    if not isinstance(table, Mapping):
-        raise RotorFileError(f"{where}: expected a table, got {table!r}")
-    missing = [k for k in required if k not in table]
-    if missing:
-        raise RotorFileError(
-            f"{where}: missing key(s) {', '.join(missing)}; required: {', '.join(required)}"
-            + (f"; optional: {', '.join(optional)}" if optional else "")
-        )
-    unknown = sorted(set(table) - set(required) - set(optional))
-    if unknown:
-        raise RotorFileError(
-            f"{where}: unknown key(s) {', '.join(unknown)}; allowed: {', '.join(list(required) + list(optional))}"
-        )
+def _check_keys(table, keys: Sequence[Key], where: str) -> None:
+    check_keys(table, keys, where, RotorFileError)
 
 
 def _number(table, key: str, where: str, *, minimum: float | None = 0.0, strict: bool = True,
@@ -182,11 +207,11 @@ class Rotor:
     @classmethod
     def from_mapping(cls, data: Mapping, *, base_dir: str | Path = ".", where: str = "rotor") -> "Rotor":
         """Build from the parsed TOML mapping; every error names ``where``, the entry and the key."""
-        _check_keys(data, ["elements", "material"], ["name", "description", "disks", "bearings"], where)
+        _check_keys(data, ROTOR_KEYS, where)
 
         mw = f"{where}: [material]"
         mat = data["material"]
-        _check_keys(mat, ["E_GPa", "density_kg_m3", "poisson"], ["damping_beta_s"], mw)
+        _check_keys(mat, MATERIAL_KEYS, mw)
         material = Material(
             E=_number(mat, "E_GPa", mw) * 1e9,
             density=_number(mat, "density_kg_m3", mw),
@@ -200,7 +225,7 @@ class Rotor:
         elements = []
         for i, t in enumerate(raw):
             ew = f"{where}: element {i + 1}"
-            _check_keys(t, ["od_mm", "length_mm"], ["id_mm", "nodes", "name"], ew)
+            _check_keys(t, ELEMENT_KEYS, ew)
             if "nodes" in t and t["nodes"] != [i + 1, i + 2]:
                 raise RotorFileError(
                     f"{ew}: nodes must be [{i + 1}, {i + 2}] (element i joins nodes i and i+1), got {t['nodes']!r}"
@@ -215,7 +240,7 @@ class Rotor:
             raise RotorFileError(f"{where}: disks must be an array of tables ([[disks]]), got {raw_disks!r}")
         for i, t in enumerate(raw_disks):
             dw = f"{where}: disk {i + 1}"
-            _check_keys(t, ["node", "od_mm", "width_mm"], ["id_mm", "name"], dw)
+            _check_keys(t, DISK_KEYS, dw)
             od, idm = _diameters(t, dw)
             disks.append(Disk(node=_node(t, "node", n_nodes, dw), od=od, id=idm, width=_number(t, "width_mm", dw) / 1e3))
 
@@ -225,7 +250,7 @@ class Rotor:
             raise RotorFileError(f"{where}: bearings must be an array of tables ([[bearings]]), got {raw_b!r}")
         for i, t in enumerate(raw_b):
             bw = f"{where}: bearing {i + 1}"
-            _check_keys(t, ["node", "bearing"], ["name"], bw)
+            _check_keys(t, BEARING_ENTRY_KEYS, bw)
             node = _node(t, "node", n_nodes, bw)
             if node in bearing_nodes:
                 raise RotorFileError(f"{bw}: node {node + 1} already has a bearing")

@@ -28,6 +28,7 @@ import numpy as np
 
 from bearing_fmu import internals as registry
 from bearing_fmu.internals import Context
+from bearing_fmu.schema import Key, check_keys
 
 from .newmark import IntegrationError, Newmark, NewmarkConfig, static_equilibrium
 from .rotor import Rotor
@@ -50,6 +51,54 @@ G = 9.81
 
 class SceneError(ValueError):
     """A scene file that cannot be used; the message names the file and key."""
+
+
+# the keys of a scene file, per table (docs/file-formats.md shows these lists); besides them, one
+# sub-table per registered internal holds its options ([reynolds], [taylor], ...)
+SCENE_KEYS = (
+    Key("rotor", "rotor file, relative to the scene file", allowed="file name"),
+    Key("internal", "which internal computes the bearing forces", allowed="a registered internal"),
+    Key("speed_hz", "shaft speed [Hz]", allowed="> 0"),
+    Key("time", "time span and step ([time])", allowed="table"),
+    Key("name", "the scene's name in results and file names", None, "text (default: the file name)"),
+    Key("description", "title of plots and tables", None, "text"),
+    Key("via", "bearings as FMUs through fmpy, or internals called in-process", "fmu", "fmu, direct"),
+    Key("fmu", "a bearing FMU to use instead of building one, relative to the scene file", None, "file name"),
+    Key("initial", "initial state ([initial])", None, "table"),
+    Key("unbalance", "unbalances ([[unbalance]])", None, "array of tables"),
+    Key("static_loads", "static point loads ([[static_loads]]), e.g. to load the bearings", None,
+        "array of tables"),
+    Key("record", "what to record besides the bearing nodes ([record])", None, "table"),
+    Key("surrogate", "older form of [taylor] surrogate", None, "file name"),
+)
+TIME_KEYS = (
+    Key("t_end_s", "simulated time [s]", allowed="> 0, a whole number of steps"),
+    Key("dt_s", "time step [s]", allowed="> 0"),
+    Key("hht_alpha", "HHT-alpha numerical damping (0: trapezoidal Newmark)", 0.0, "-1/3 .. 0"),
+    Key("newton_tangent", "Newton tangent of the bearing forces: the bearings' own K, C (bearing), those at the "
+        "static equilibrium (frozen), finite differences (fd), or the rotor's alone (linear)", "bearing",
+        "bearing, frozen, fd, linear"),
+)
+UNBALANCE_KEYS = (
+    Key("node", "node, 1-based", allowed="1..number of nodes"),
+    Key("mass_kg", "unbalance mass [kg]", allowed=">= 0"),
+    Key("radius_mm", "its radius [mm]", allowed=">= 0"),
+    Key("phase_deg", "angle at t = 0 from +y toward +z [deg]", 0.0, "a number"),
+    Key("t_on_s", "acts from this time on [s] (a sudden unbalance)", 0.0, ">= 0"),
+)
+STATIC_LOAD_KEYS = (
+    Key("node", "node, 1-based", allowed="1..number of nodes"),
+    Key("Fy_N", "horizontal force [N]", 0.0, "a number"),
+    Key("Fz_N", "vertical force [N] (up; the weight is added anyway)", 0.0, "a number"),
+)
+INITIAL_KEYS = (
+    Key("state", "the rotor at its static equilibrium with the nonlinear bearing forces, or undeformed and "
+        "centred", "static_equilibrium", "static_equilibrium, centred"),
+)
+RECORD_KEYS = (
+    Key("nodes", "nodes to record besides the bearing nodes, 1-based", [], "node numbers"),
+    Key("every", "record every n-th step", 1, "integer >= 1"),
+)
 
 
 @dataclass
@@ -135,10 +184,8 @@ def _num(table, key, where, *, minimum=None, strict=False, default=None, integer
     return int(v) if integer else float(v)
 
 
-def _keys(table, allowed, where):
-    unknown = sorted(set(table) - set(allowed))
-    if unknown:
-        raise SceneError(f"{where}: unknown key(s) {', '.join(unknown)}; allowed: {', '.join(sorted(allowed))}")
+def _keys(table, keys, where):
+    check_keys(table, keys, where, SceneError)
 
 
 def _node(table, key, n_nodes, where):
@@ -159,12 +206,12 @@ def load_scene(path) -> Scene:
     except tomllib.TOMLDecodeError as exc:
         raise SceneError(f"{path}: not valid TOML: {exc}") from None
     where = str(path)
-    _keys(data, {"name", "description", "rotor", "internal", "via", "speed_hz", "surrogate", "fmu",
-                 "time", "initial", "unbalance", "static_loads", "record", *registry.names()}, where)
-    base = path.parent
-    for key in ("rotor", "internal", "speed_hz", "time"):
+    for key in (k.name for k in SCENE_KEYS if k.required):
         if key not in data:
             raise SceneError(f"{where}: missing key {key!r}")
+    internals = tuple(Key(n, f"options of the {n} internal ([{n}])", None, "table") for n in registry.names())
+    _keys(data, SCENE_KEYS + internals, where)
+    base = path.parent
     rotor_path = (base / data["rotor"]).resolve()
     if not rotor_path.is_file():
         raise SceneError(f"{where}: rotor = {data['rotor']!r}: file {rotor_path} not found")
@@ -178,7 +225,7 @@ def load_scene(path) -> Scene:
     speed = _num(data, "speed_hz", where, minimum=0.0, strict=True)
 
     tt = data["time"]
-    _keys(tt, {"t_end_s", "dt_s", "hht_alpha", "newton_tangent"}, f"{where} [time]")
+    _keys(tt, TIME_KEYS, f"{where} [time]")
     t_end = _num(tt, "t_end_s", f"{where} [time]", minimum=0.0, strict=True)
     dt = _num(tt, "dt_s", f"{where} [time]", minimum=0.0, strict=True)
     alpha = _num(tt, "hht_alpha", f"{where} [time]", default=0.0)
@@ -194,7 +241,7 @@ def load_scene(path) -> Scene:
     unb = []
     for i, u in enumerate(data.get("unbalance", [])):
         w = f"{where} [[unbalance]] {i + 1}"
-        _keys(u, {"node", "mass_kg", "radius_mm", "phase_deg", "t_on_s"}, w)
+        _keys(u, UNBALANCE_KEYS, w)
         unb.append(Unbalance(node=_node(u, "node", n_nodes, w),
                              mass_kg=_num(u, "mass_kg", w, minimum=0.0),
                              radius_m=_num(u, "radius_mm", w, minimum=0.0) / 1e3,
@@ -203,17 +250,17 @@ def load_scene(path) -> Scene:
     loads = []
     for i, s in enumerate(data.get("static_loads", [])):
         w = f"{where} [[static_loads]] {i + 1}"
-        _keys(s, {"node", "Fy_N", "Fz_N"}, w)
+        _keys(s, STATIC_LOAD_KEYS, w)
         loads.append((_node(s, "node", n_nodes, w), _num(s, "Fy_N", w, default=0.0), _num(s, "Fz_N", w, default=0.0)))
 
     init = data.get("initial", {})
-    _keys(init, {"state"}, f"{where} [initial]")
+    _keys(init, INITIAL_KEYS, f"{where} [initial]")
     state = init.get("state", "static_equilibrium")
     if state not in ("static_equilibrium", "centred"):
         raise SceneError(f"{where} [initial]: state = {state!r}; choose 'static_equilibrium' or 'centred'")
 
     rec = data.get("record", {})
-    _keys(rec, {"nodes", "every"}, f"{where} [record]")
+    _keys(rec, RECORD_KEYS, f"{where} [record]")
     rec_nodes = []
     for v in rec.get("nodes", []):
         if isinstance(v, bool) or not isinstance(v, int) or not 1 <= v <= n_nodes:
