@@ -14,8 +14,3 @@ def test_reference_holds_every_table_of_the_code():
     assert not stale, ("docs/file-formats.md differs from the code in: " + ", ".join(stale)
                        + "; regenerate the tables with `python -m rotor_host.file_formats`")
 
-
-def test_every_registered_internal_has_its_table():
-    from bearing_fmu.internals import names
-
-    assert all(f"Scene file: [{n}]" in reference_tables() for n in names())
