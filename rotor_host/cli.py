@@ -194,17 +194,17 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--quiet", action="store_true", help="no progress bars")
     p.set_defaults(func=_paper)
 
-    from . import dtstudy
+    from . import dt_study
 
     p = sub.add_parser("dt-study", help="halve dt until the bearing orbit changes by less than 1 %% CR")
-    dtstudy.add_arguments(p)
-    p.set_defaults(func=dtstudy.run)
+    dt_study.add_arguments(p)
+    p.set_defaults(func=dt_study.run)
 
-    from . import study
+    from . import limit_cycle
 
     p = sub.add_parser("limit-cycle", help="envelope of the bearing eccentricity: does the whirl settle and hold?")
-    study.add_arguments(p)
-    p.set_defaults(func=study.run)
+    limit_cycle.add_arguments(p)
+    p.set_defaults(func=limit_cycle.run)
 
     args = parser.parse_args(argv)
     try:

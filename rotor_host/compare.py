@@ -116,9 +116,9 @@ def late_max_eccentricity(arrays, fraction: float = 0.2) -> float | None:
 
 def envelope_error(ref, run, speed_hz: float, revs: float = 2.0) -> float | None:
     """RMS difference [% CR] of the two runs' envelopes (largest bearing eccentricity per
-    ``revs`` shaft revolutions, ``rotor_host.study.envelope``) over the windows both completed:
+    ``revs`` shaft revolutions, ``rotor_host.limit_cycle.envelope``) over the windows both completed:
     the orbit's size over time, blind to the whirl phase that pointwise errors punish."""
-    from .study import envelope
+    from .limit_cycle import envelope
 
     period = revs / speed_hz
     a, b = envelope(ref, period), envelope(run, period)

@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from rotor_host.dtstudy import dt_study, orbit_change
+from rotor_host.dt_study import dt_study, orbit_change
 
 from pathlib import Path
 

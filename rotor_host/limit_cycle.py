@@ -1,6 +1,6 @@
 """Limit-cycle study: the envelope of the bearing eccentricity over time.
 
-The dt study (``rotor_host.dtstudy``, ``rotor-host dt-study``) compares orbits point by
+The dt study (``rotor_host.dt_study``, ``rotor-host dt-study``) compares orbits point by
 point in time. On a self-excited whirl that is the wrong yardstick for long runs: the whirl
 phase drifts by O(dt^2) per cycle, so two runs on the *same* limit cycle drift apart point
 by point while the size of the orbit agrees. This module measures what the limit cycle is:
