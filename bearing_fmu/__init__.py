@@ -1,8 +1,28 @@
 """One hydrodynamic journal bearing, as a library and as an FMU.
 
-Import what you need from its modules (``bearing_fmu.reynolds``, ``bearing_fmu.taylor``,
-...): this package file imports nothing heavy, so an FMU whose internal is the surrogate
-never loads or compiles the Reynolds solver.
+=====================  ==============================================================
+module                 what it holds
+=====================  ==============================================================
+params                 BearingParams (D, L, CR, mu; SI; validated), the paper bearing
+schema                 the keys of every file as data (Key, check_keys)
+internals              the Internal protocol, state checks, the registry of internals
+                       and its "how to add an internal" checklist
+reynolds               finite-volume Reynolds solver (the truth)
+linear                 8 Lund coefficients (the order-1 model)
+taylor                 the Taylor-surrogate internal
+guard                  the fitted-domain guard around it
+surrogate, basis,      the surrogate file, the monomial basis, the compiled kernels
+_taylor_kernels
+shortbearing           closed-form short (Ocvirk) bearing
+statics                equilibrium, Lund linearisation, Jacobians of any internal
+fitting/               fitting a surrogate (never bundled into the FMU)
+slave, build           the pythonfmu slave and the FMU build
+cli                    the ``bearing-fmu`` command
+=====================  ==============================================================
+
+Import what you need from its modules: this package file imports nothing heavy, so an FMU
+whose internal is the surrogate never loads or compiles the Reynolds solver. This package
+never imports ``rotor_host``. Layout and data flow: docs/architecture.md.
 """
 
 __version__ = "0.1.0"

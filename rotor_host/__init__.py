@@ -1,3 +1,22 @@
-"""The system around the bearings: FE rotor, Newmark-Newton integrator, fmpy co-simulation."""
+"""The system around the bearings: a flexible rotor integrated with Newmark + Newton,
+co-simulating one bearing per journal (in-process or as FMUs through fmpy).
 
-__version__ = "0.1.0"
+=====================  ==============================================================
+module                 what it holds
+=====================  ==============================================================
+fe, rotor              element matrices; the rotor file and its assembly, loads, modes
+forces                 the NodalForce protocol the integrator sees, Newton tangent words
+newmark,               Newmark / HHT-alpha with Newton and step cutting; its kernels
+_newmark_kernels
+equilibrium            static equilibrium of the rotor on nonlinear bearings
+bearings, cosim        the bearings as one nodal force: in-process, or FMUs (fmpy master)
+scene                  the scene file, load_scene, run_scene
+training               scene-trained Taylor surrogates (``rotor-host fit``)
+compare, report        error against run time; error measures, tables, plots
+limit_cycle, dt_study  the whirl's envelope; the time-step study
+file_formats           the tables of docs/file-formats.md from the key lists
+cli                    the ``rotor-host`` command
+=====================  ==============================================================
+
+Layout and data flow: docs/architecture.md.
+"""
