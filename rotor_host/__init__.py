@@ -20,3 +20,5 @@ cli                    the ``rotor-host`` command
 
 Layout and data flow: docs/architecture.md.
 """
+
+__version__ = "0.1.0"
