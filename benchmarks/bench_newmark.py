@@ -35,6 +35,8 @@ import scipy.linalg as sla
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
+from rotor_host import _newmark_kernels as kernels  # noqa: E402
+from rotor_host import forces  # noqa: E402
 from rotor_host import newmark as nm  # noqa: E402
 
 HZ = 22.0
@@ -138,7 +140,7 @@ def build_cases(M, K, C, G):
         idx = bdofs[i:i + 2]
         Kin[np.ix_(idx, idx)] += KB
         Cin[np.ix_(idx, idx)] += CB
-    lin = nm.LinearForce(bdofs, sla.block_diag(KB, KB), sla.block_diag(CB, CB))
+    lin = forces.LinearForce(bdofs, sla.block_diag(KB, KB), sla.block_diag(CB, CB))
     return {
         "linear-in-K": dict(M=M, K=Kin, C=Cin, G=G, omega=omega, f_ext=f_ext, nodal_force=None),
         "linear-nodal": dict(M=M, K=K, C=C, G=G, omega=omega, f_ext=f_ext, nodal_force=lin),
@@ -168,7 +170,7 @@ def woodbury_vs_refactor(M, K, C, G, bdofs, dt):
     D = C + omega * G
     cfg = nm.NewmarkConfig()
     dofs = np.asarray(bdofs, dtype=np.int64)
-    ops = nm._Ops(dt, M, D, K, dofs, cfg)
+    ops = kernels._Ops(dt, M, D, K, dofs, cfg)
     S0, S0inv, c1 = ops.SS[0], ops.SS[1], ops.c1
     rng = np.random.default_rng(0)
     R = rng.standard_normal(n)
@@ -176,7 +178,7 @@ def woodbury_vs_refactor(M, K, C, G, bdofs, dt):
     Jv = -np.diag(rng.uniform(1e2, 1e3, m))
     x, A, y, Jt, dq = np.zeros(n), np.zeros((m, m)), np.zeros(m), np.zeros((m, m)), np.zeros(n)
     args = (R, Jq, Jv, c1, 1.0, S0inv, dofs, x, A, y, Jt, dq)
-    nm._correction(*args)
+    kernels._correction(*args)
 
     def refactor():
         S = S0.copy()
@@ -185,7 +187,7 @@ def woodbury_vs_refactor(M, K, C, G, bdofs, dt):
 
     np.testing.assert_allclose(dq, refactor(), rtol=1e-8, atol=1e-14 * np.max(np.abs(dq)))
     N = 20000
-    t_w = min(timeit.repeat(lambda: nm._correction(*args), number=N, repeat=3)) / N
+    t_w = min(timeit.repeat(lambda: kernels._correction(*args), number=N, repeat=3)) / N
     t_r = min(timeit.repeat(refactor, number=N // 10, repeat=3)) / (N // 10)
     lu = sla.lu_factor(S0)
     t_s = min(timeit.repeat(lambda: sla.lu_solve(lu, R, check_finite=False), number=N, repeat=3)) / N

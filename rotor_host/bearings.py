@@ -20,7 +20,7 @@ import numpy as np
 from bearing_fmu.internals import BearingStateError
 from bearing_fmu.statics import film_jacobian
 
-from .newmark import StepRejected
+from .forces import StepRejected
 
 
 class BearingSet:

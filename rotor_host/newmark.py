@@ -4,7 +4,8 @@
 
 at constant speed Omega. ``f_ext(t)`` is the full external force vector (unbalance, weight,
 static loads); ``f_nl`` are nonlinear forces (the bearings) acting on a few DOFs through the
-:class:`NodalForce` protocol. This module knows nothing of FMI or of any bearing model.
+:class:`~rotor_host.forces.NodalForce` protocol (``rotor_host.forces``). This module knows
+nothing of FMI or of any bearing model; the static equilibrium is ``rotor_host.equilibrium``.
 
 The scheme
 ----------
@@ -31,7 +32,8 @@ matrix-vector product costs well under a microsecond while a LAPACK triangular s
 from Python costs several (benchmarks/bench_newmark.py measures both). The tangent S0 - (1 + alpha) P^T J P,
 J = df/dq + c1 df/dv, differs from S0 only on the m nonlinear DOFs, so each Newton correction
 uses the Woodbury identity: one n x n product and one m x m solve. The inner linear algebra is
-compiled with numba; Python does the protocol calls and the decisions.
+compiled with numba (``rotor_host._newmark_kernels``); Python does the protocol calls and the
+decisions.
 
 Predictor: the nonlinear force is linearised about the last accepted state with its last
 tangent, and the linearised step is solved exactly. With linear forces (or none) the predictor
@@ -44,8 +46,9 @@ always the last one evaluated: a NodalForce sees ``accept_step()`` right after t
 ``evaluate()`` of the accepted iterate.
 
 Step cutting: when Newton fails (max_iter, non-finite residual, singular tangent) or
-``evaluate`` raises :class:`StepRejected`, ``reject_step()`` is called and the step is done as
-two half steps, recursively up to ``max_halvings`` times; outputs stay on the user's grid.
+``evaluate`` raises :class:`~rotor_host.forces.StepRejected`, ``reject_step()`` is called and
+the step is done as two half steps, recursively up to ``max_halvings`` times; outputs stay on
+the user's grid.
 When even the smallest step fails, :class:`IntegrationError` is raised with the partial result.
 """
 
@@ -55,35 +58,24 @@ import math
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Callable, Protocol, Sequence, runtime_checkable
+from typing import Callable, Sequence
 
 import numpy as np
 import scipy.linalg as sla
-from numba import njit
+
+from ._newmark_kernels import _Q0, _Q1, _k_accept, _k_begin, _k_iter, _Ops
+from .forces import NodalForce, StepRejected, _as_dofs, as_nodal_force
 
 __all__ = [
-    "StepRejected",
     "IntegrationError",
-    "EquilibriumError",
-    "NodalForce",
-    "FunctionForce",
-    "LinearForce",
-    "CompositeForce",
     "NewmarkConfig",
     "NewmarkResult",
     "Newmark",
     "integrate",
-    "static_equilibrium",
 ]
 
 
 # =============================================================================== errors
-
-class StepRejected(Exception):
-    """Raised by ``NodalForce.evaluate`` when the state cannot be evaluated (for example the
-    journal at or beyond the bearing wall). The integrator cuts the step; give a message
-    that says why (it appears in the final error if cutting does not help)."""
-
 
 class IntegrationError(RuntimeError):
     """The integration could not continue. ``result`` holds everything computed so far
@@ -98,379 +90,6 @@ class IntegrationError(RuntimeError):
         self.iterations = iterations
         self.residual = residual
         self.state = state
-
-
-class EquilibriumError(RuntimeError):
-    """static_equilibrium failed; ``q`` is the last iterate, ``residual`` its residual norm."""
-
-    def __init__(self, message: str, q: np.ndarray | None = None, residual: float = math.nan,
-                 iterations: int = 0):
-        super().__init__(message)
-        self.q = q
-        self.residual = residual
-        self.iterations = iterations
-
-
-# =============================================================================== protocol
-
-@runtime_checkable
-class NodalForce(Protocol):
-    """Nonlinear force acting on a few DOFs.
-
-    Call sequence per time step (t, dt): ``begin_step(t, dt)``; then ``evaluate(q, v)`` one or
-    more times with the DOF values at the END of the step (t + dt) of the current iterate;
-    then ``accept_step()`` (the last evaluate was at the accepted state) or ``reject_step()``
-    (the step is abandoned and will be redone in smaller pieces). The arrays passed to
-    ``evaluate`` are fresh copies: the force may keep them; v is the Newmark velocity of the
-    iterate, v = gamma / (beta dt) (q - q0) + ..., so df/dv enters the tangent times
-    gamma / (beta dt). The returned arrays are copied at once: a force may reuse its buffers.
-    The first step's bracket also holds the evaluation at (q0, v0) that gives the initial
-    acceleration. With tangent="fd" some evaluations are at perturbed states; the accepted
-    state is still the last one evaluated before ``accept_step()``.
-    ``static_equilibrium`` brackets its evaluations in ``begin_step(t, 0.0)`` ...
-    ``accept_step()`` (``reject_step()`` on failure); dt = 0.0 marks a static evaluation.
-    """
-
-    dofs: np.ndarray
-
-    def begin_step(self, t: float, dt: float) -> None: ...
-
-    def evaluate(self, q: np.ndarray, v: np.ndarray) -> tuple[np.ndarray, np.ndarray | None, np.ndarray | None]:
-        """Return f (m,), and df/dq (m, m), df/dv (m, m) (raw derivatives) or None."""
-        ...
-
-    def accept_step(self) -> None: ...
-
-    def reject_step(self) -> None: ...
-
-
-def _as_dofs(dofs) -> np.ndarray:
-    d = np.ascontiguousarray(np.asarray(dofs, dtype=np.int64).reshape(-1))
-    if np.unique(d).size != d.size:
-        raise ValueError(f"nonlinear-force DOFs must be distinct, got {d.tolist()}")
-    return d
-
-
-class FunctionForce:
-    """A NodalForce from a plain callable ``fn(q, v) -> (f, dfdq, dfdv)`` (or just ``f``);
-    the step hooks do nothing."""
-
-    def __init__(self, dofs, fn: Callable):
-        self.dofs = _as_dofs(dofs)
-        self.fn = fn
-
-    def begin_step(self, t: float, dt: float) -> None:
-        pass
-
-    def evaluate(self, q, v):
-        out = self.fn(q, v)
-        if isinstance(out, tuple):
-            if len(out) == 3:
-                return out
-            if len(out) == 1:
-                return out[0], None, None
-            raise ValueError("FunctionForce callable must return f or (f, dfdq, dfdv)")
-        return out, None, None
-
-    def accept_step(self) -> None:
-        pass
-
-    def reject_step(self) -> None:
-        pass
-
-
-class LinearForce:
-    """f = f0 - Kb (q - q_ref) - Cb v on ``dofs`` (Lund's sign: Kb, Cb are the stiffness and
-    damping the force opposes the motion with). Exact derivatives. For linear bearings and tests."""
-
-    def __init__(self, dofs, Kb, Cb=None, f0=None, q_ref=None):
-        self.dofs = _as_dofs(dofs)
-        m = self.dofs.size
-        self.Kb = np.array(Kb, dtype=float).reshape(m, m)
-        self.Cb = np.zeros((m, m)) if Cb is None else np.array(Cb, dtype=float).reshape(m, m)
-        self.f0 = np.zeros(m) if f0 is None else np.array(f0, dtype=float).reshape(m)
-        self.q_ref = np.zeros(m) if q_ref is None else np.array(q_ref, dtype=float).reshape(m)
-        self._dq = -self.Kb
-        self._dv = -self.Cb
-
-    def begin_step(self, t: float, dt: float) -> None:
-        pass
-
-    def evaluate(self, q, v):
-        return self.f0 - self.Kb @ (q - self.q_ref) - self.Cb @ v, self._dq, self._dv
-
-    def accept_step(self) -> None:
-        pass
-
-    def reject_step(self) -> None:
-        pass
-
-
-class CompositeForce:
-    """Several NodalForces (e.g. one per bearing) seen as one: DOFs concatenated, derivatives
-    block-diagonal. A member that returns no derivatives contributes zero blocks (its part of
-    the tangent is then the linear one). Hooks are forwarded to every member."""
-
-    def __init__(self, forces: Sequence[NodalForce]):
-        self.forces = list(forces)
-        sizes = [len(np.asarray(f.dofs).reshape(-1)) for f in self.forces]
-        self.dofs = _as_dofs(np.concatenate([np.asarray(f.dofs, dtype=np.int64).reshape(-1) for f in self.forces])
-                             if self.forces else np.zeros(0, np.int64))
-        self._slices = []
-        o = 0
-        for s in sizes:
-            self._slices.append(slice(o, o + s))
-            o += s
-        m = self.dofs.size
-        self._f = np.zeros(m)
-        self._dq = np.zeros((m, m))
-        self._dv = np.zeros((m, m))
-
-    def begin_step(self, t: float, dt: float) -> None:
-        for f in self.forces:
-            f.begin_step(t, dt)
-
-    def evaluate(self, q, v):
-        f_all = np.empty(self.dofs.size)
-        dq_all = np.zeros((self.dofs.size, self.dofs.size))
-        dv_all = np.zeros((self.dofs.size, self.dofs.size))
-        any_dq = any_dv = False
-        for frc, s in zip(self.forces, self._slices):
-            f, dq, dv = frc.evaluate(q[s].copy(), v[s].copy())
-            f_all[s] = f
-            if dq is not None:
-                dq_all[s, s] = dq
-                any_dq = True
-            if dv is not None:
-                dv_all[s, s] = dv
-                any_dv = True
-        return f_all, (dq_all if any_dq else None), (dv_all if any_dv else None)
-
-    def accept_step(self) -> None:
-        for f in self.forces:
-            f.accept_step()
-
-    def reject_step(self) -> None:
-        for f in self.forces:
-            f.reject_step()
-
-
-class _NoForce:
-    dofs = np.zeros(0, dtype=np.int64)
-    _f = np.zeros(0)
-
-    def begin_step(self, t, dt):
-        pass
-
-    def evaluate(self, q, v):
-        return self._f, None, None
-
-    def accept_step(self):
-        pass
-
-    def reject_step(self):
-        pass
-
-
-# =============================================================================== kernels
-
-@njit(cache=True, fastmath={"reassoc", "contract"})  # lets LLVM vectorise the dot products (3x)
-def _matvec(A, x, out):
-    n, k = A.shape
-    for i in range(n):
-        s = 0.0
-        for j in range(k):
-            s += A[i, j] * x[j]
-        out[i] = s
-
-
-@njit(cache=True)
-def _solve_small(A, b):
-    """Solve A x = b in place (x in b) by Gaussian elimination with partial pivoting.
-    Returns False if A is (numerically) singular."""
-    m = b.size
-    for k in range(m):
-        p = k
-        amax = abs(A[k, k])
-        for i in range(k + 1, m):
-            if abs(A[i, k]) > amax:
-                amax = abs(A[i, k])
-                p = i
-        if amax == 0.0 or not np.isfinite(amax):
-            return False
-        if p != k:
-            for j in range(m):
-                tmp = A[k, j]
-                A[k, j] = A[p, j]
-                A[p, j] = tmp
-            tmp = b[k]
-            b[k] = b[p]
-            b[p] = tmp
-        piv = A[k, k]
-        for i in range(k + 1, m):
-            fac = A[i, k] / piv
-            if fac != 0.0:
-                for j in range(k + 1, m):
-                    A[i, j] -= fac * A[k, j]
-                b[i] -= fac * b[k]
-    for k in range(m - 1, -1, -1):
-        s = b[k]
-        for j in range(k + 1, m):
-            s -= A[k, j] * b[j]
-        b[k] = s / A[k, k]
-    return True
-
-
-# Packed buffers (each numba call costs ~0.07 us per argument, so the kernels take few):
-#   SS (2, n, n)  : S0, S0^{-1} for the current step size
-#   cs (7,)       : alpha, c0, c1, h, a3, cv, ca   (see _Ops)
-#   V  (10, n)    : rows below
-#   Pm (4, m)     : qP, vP (the next iterate at the nonlinear DOFs), y, fl (work)
-#   AJ (4, m, m)  : A (capacitance matrix), Jt (scaled tangent), and the raw tangent
-#                   (df/dq, df/dv) of the last evaluated state, the predictor's tangent
-_B, _AH, _VH, _Q0, _Q1, _QS, _R, _X, _DQ, _MA = range(10)
-
-
-@njit(cache=True)
-def _correction(R, Jq, Jv, c1, opa, S0inv, dofs, x, A, y, Jt, dq):
-    """dq = -S^{-1} R with S = S0 - opa P^T (Jq + c1 Jv) P, by the Woodbury identity
-    S^{-1} = S0^{-1} + W (I - Jt WP)^{-1} Jt P S0^{-1}, W = S0^{-1} P^T, WP = P W, Jt = opa J.
-    Returns False if the m x m capacitance matrix is singular."""
-    n = R.size
-    m = dofs.size
-    _matvec(S0inv, R, x)
-    for i in range(m):
-        for j in range(m):
-            Jt[i, j] = opa * (Jq[i, j] + c1 * Jv[i, j])
-    for i in range(m):
-        s = 0.0
-        for j in range(m):
-            s += Jt[i, j] * x[dofs[j]]
-        y[i] = s
-        for j in range(m):
-            acc = 0.0
-            dj = dofs[j]
-            for l in range(m):
-                acc += Jt[i, l] * S0inv[dofs[l], dj]
-            A[i, j] = -acc
-        A[i, i] += 1.0
-    ok = _solve_small(A, y)
-    for i in range(n):
-        s = x[i]
-        for j in range(m):
-            s += S0inv[i, dofs[j]] * y[j]
-        dq[i] = -s
-    return ok
-
-
-@njit(cache=True)
-def _k_begin(X, H, SS, dofs, fe1, fe0, f0, Jq, Jv, cs, V, Pm, AJ):
-    """Start a step from the state X = [q0, v0, a0]: b, ahat, vhat, and the predictor (in
-    V[_Q0]): the step solved exactly with the nonlinear force linearised about the state at t0
-    with tangent (Jq, Jv). Returns (ok, ||fe1||, ||b||)."""
-    alpha, c0, c1, h, a3, cv, ca = cs[0], cs[1], cs[2], cs[3], cs[4], cs[5], cs[6]
-    b, ahat, vhat, q, qstart, R = V[_B], V[_AH], V[_VH], V[_Q0], V[_QS], V[_R]
-    fl = Pm[3]
-    n = b.size
-    m = dofs.size
-    opa = 1.0 + alpha
-    _matvec(H, X, b)
-    fen = 0.0
-    bn = 0.0
-    for i in range(n):
-        b[i] += opa * fe1[i] - alpha * fe0[i]
-        fen += fe1[i] * fe1[i]
-        qi = X[i]
-        vi = X[n + i]
-        ai = X[2 * n + i]
-        ahat[i] = c0 * qi + c0 * h * vi + a3 * ai
-        vhat[i] = c1 * qi + cv * vi + ca * ai
-        qstart[i] = qi + h * vi + 0.5 * h * h * ai
-    if alpha != 0.0:
-        for j in range(m):
-            b[dofs[j]] -= alpha * f0[j]
-    for i in range(n):
-        bn += b[i] * b[i]
-    # linearised force at qstart: fl = f0 + Jq (qs - q0)_P + Jv (vs - v0)_P
-    for i in range(m):
-        s = f0[i]
-        for j in range(m):
-            dj = dofs[j]
-            s += Jq[i, j] * (qstart[dj] - X[dj]) + Jv[i, j] * (c1 * qstart[dj] - vhat[dj] - X[n + dj])
-        fl[i] = s
-    _matvec(SS[0], qstart, R)
-    for i in range(n):
-        R[i] -= b[i]
-    for j in range(m):
-        R[dofs[j]] -= opa * fl[j]
-    ok = _correction(R, Jq, Jv, c1, opa, SS[1], dofs, V[_X], AJ[0], Pm[2], AJ[1], q)
-    for i in range(n):
-        q[i] += qstart[i]
-    qP, vP = Pm[0], Pm[1]
-    for j in range(m):
-        dj = dofs[j]
-        qP[j] = q[dj]
-        vP[j] = c1 * q[dj] - vhat[dj]
-    return ok, math.sqrt(fen), math.sqrt(bn)
-
-
-@njit(cache=True)
-def _k_iter(iq, f, Jq, Jv, SS, dofs, cs, V, Pm, AJ):
-    """Residual at q = V[iq] with force f, Newton correction, next iterate in the other q row
-    (V[_Q0] <-> V[_Q1]) and its (qP, vP) in Pm. Returns (||R||, ||dq||, ||q||, ||f||, ok)."""
-    alpha, c1 = cs[0], cs[2]
-    q = V[iq]
-    qn = V[_Q0 + _Q1 - iq]
-    b, vhat, R, dq = V[_B], V[_VH], V[_R], V[_DQ]
-    n = q.size
-    m = dofs.size
-    opa = 1.0 + alpha
-    _matvec(SS[0], q, R)
-    for i in range(n):
-        R[i] -= b[i]
-    fn = 0.0
-    for j in range(m):
-        R[dofs[j]] -= opa * f[j]
-        fn += f[j] * f[j]
-    rn = 0.0
-    for i in range(n):
-        rn += R[i] * R[i]
-    ok = _correction(R, Jq, Jv, c1, opa, SS[1], dofs, V[_X], AJ[0], Pm[2], AJ[1], dq)
-    # keep the tangent of the state just evaluated: after acceptance it is the predictor's
-    Jql, Jvl = AJ[2], AJ[3]
-    for i in range(m):
-        for j in range(m):
-            Jql[i, j] = Jq[i, j]
-            Jvl[i, j] = Jv[i, j]
-    dn = 0.0
-    qnorm = 0.0
-    for i in range(n):
-        dn += dq[i] * dq[i]
-        qnorm += q[i] * q[i]
-        qn[i] = q[i] + dq[i]
-    qP, vP = Pm[0], Pm[1]
-    for j in range(m):
-        dj = dofs[j]
-        qP[j] = qn[dj]
-        vP[j] = c1 * qn[dj] - vhat[dj]
-    return math.sqrt(rn), math.sqrt(dn), math.sqrt(qnorm), math.sqrt(fn), ok
-
-
-@njit(cache=True)
-def _k_accept(X, iq, cs, V, M):
-    """X <- [q, v(q), a(q)] with q = V[iq]; returns ||M a||."""
-    c0, c1 = cs[1], cs[2]
-    q, ahat, vhat, Ma = V[iq], V[_AH], V[_VH], V[_MA]
-    n = q.size
-    for i in range(n):
-        X[i] = q[i]
-        X[n + i] = c1 * q[i] - vhat[i]
-        X[2 * n + i] = c0 * q[i] - ahat[i]
-    _matvec(M, X[2 * n:], Ma)
-    s = 0.0
-    for i in range(n):
-        s += Ma[i] * Ma[i]
-    return math.sqrt(s)
 
 
 # =============================================================================== config / result
@@ -569,32 +188,6 @@ class NewmarkResult:
 
 # =============================================================================== integrator
 
-class _Ops:
-    """Everything that depends on the step size h only."""
-
-    def __init__(self, h, M, D, K, dofs, cfg: NewmarkConfig):
-        a, b_, g = cfg.alpha, cfg.beta, cfg.gamma
-        opa = 1.0 + a
-        self.h = h
-        self.c0 = 1.0 / (b_ * h * h)
-        self.c1 = g / (b_ * h)
-        self.a3 = 1.0 / (2.0 * b_) - 1.0
-        self.cv = self.c1 * h - 1.0
-        self.ca = g * h * self.a3 - h * (1.0 - g)
-        S0 = self.c0 * M + opa * (self.c1 * D + K)
-        lu = sla.lu_factor(S0, check_finite=True)
-        if np.any(np.diag(lu[0]) == 0.0):
-            raise ValueError(f"the linear Newmark matrix is singular for dt = {h:g}")
-        n = M.shape[0]
-        S0inv = sla.lu_solve(lu, np.eye(n))
-        self.SS = np.ascontiguousarray(np.stack([S0, S0inv]))
-        self.cs = np.array([a, self.c0, self.c1, h, self.a3, self.cv, self.ca])
-        Hq = self.c0 * M + opa * self.c1 * D + a * K
-        Hv = self.c0 * h * M + (opa * self.cv + a) * D
-        Ha = self.a3 * M + opa * self.ca * D
-        self.H = np.ascontiguousarray(np.hstack([Hq, Hv, Ha]))
-
-
 class Newmark:
     """Implicit Newmark / HHT-alpha integrator for M a + (C + omega G) v + K q = f_ext(t) + f_nl.
 
@@ -624,12 +217,7 @@ class Newmark:
         else:
             const = np.asarray(f_ext, dtype=float).reshape(n)
             self.f_ext = lambda t: const
-        if nodal_force is None:
-            self.nf = _NoForce()
-        elif isinstance(nodal_force, (list, tuple)):
-            self.nf = CompositeForce(nodal_force)
-        else:
-            self.nf = nodal_force
+        self.nf = as_nodal_force(nodal_force)
         self.dofs = _as_dofs(self.nf.dofs)
         if self.dofs.size and (self.dofs.min() < 0 or self.dofs.max() >= n):
             raise ValueError(f"nonlinear-force DOFs {self.dofs.tolist()} outside 0..{n - 1}")
@@ -997,110 +585,3 @@ def integrate(M, K, q0, v0, t_span: tuple[float, float], dt: float, *, C=None, G
     """One-call form of ``Newmark(M, K, C, G, omega, f_ext, nodal_force, config).run(...)``."""
     return Newmark(M, K, C=C, G=G, omega=omega, f_ext=f_ext, nodal_force=nodal_force,
                    config=config).run(q0, v0, t_span[0], t_span[1], dt, **run_kw)
-
-
-def static_equilibrium(K, f_static, nodal_force: NodalForce | Sequence[NodalForce] | None, q0, *,
-                       t: float = 0.0, rtol: float = 1e-10, xtol: float = 1e-10, atol_x: float = 0.0,
-                       max_iter: int = 50, max_backtracks: int = 30, fd_rel: float = 1.5e-8,
-                       fd_qtyp: float = 1e-6) -> np.ndarray:
-    """Solve K q = f_static + P^T f_nl(P q, 0) by damped Newton (backtracking line search on
-    ||R||; a state the force rejects with StepRejected shortens the step).
-
-    The tangent is K - P^T df/dq P (finite differences if evaluate returns no df/dq); K alone
-    may be singular (a free shaft held only by its bearings). Converged when
-    ||R|| <= rtol (||f_static|| + ||f_nl|| + ||K q||) and the Newton step
-    ||dq|| <= xtol ||q|| + atol_x. Evaluations are bracketed by begin_step(t, 0.0) and
-    accept_step() (reject_step() on failure). Returns q; raises EquilibriumError."""
-    K = np.asarray(K, dtype=float)
-    n = K.shape[0]
-    fs = np.asarray(f_static, dtype=float).reshape(n)
-    if nodal_force is None:
-        nf = _NoForce()
-    elif isinstance(nodal_force, (list, tuple)):
-        nf = CompositeForce(nodal_force)
-    else:
-        nf = nodal_force
-    dofs = _as_dofs(nf.dofs)
-    m = dofs.size
-    q = np.array(q0, dtype=float).reshape(n)
-    zero_v = np.zeros(m)
-
-    def ev(qq):
-        f, dfq, _ = nf.evaluate(qq[dofs].copy(), zero_v.copy())
-        f = np.array(f, dtype=float).reshape(m)  # copies: forces may reuse their buffers
-        if dfq is not None:
-            dfq = np.array(dfq, dtype=float).reshape(m, m)
-        R = K @ qq - fs
-        R[dofs] -= f
-        return R, f, dfq
-
-    def fail(msg, qq, rn, it):
-        nf.reject_step()
-        raise EquilibriumError(msg, q=qq, residual=rn, iterations=it)
-
-    nf.begin_step(t, 0.0)
-    try:
-        R, f, dfq = ev(q)
-    except StepRejected as e:
-        fail(f"static equilibrium: the start q0 was rejected by the nonlinear force ({e})", q, math.nan, 0)
-    rn = float(np.linalg.norm(R))
-    fs_n = float(np.linalg.norm(fs))
-    for it in range(max_iter + 1):
-        if not math.isfinite(rn):
-            fail(f"static equilibrium: non-finite residual after {it} iterations", q, rn, it)
-        T = K.copy()
-        if m:
-            if dfq is None:
-                J = np.empty((m, m))
-                for j in range(m):
-                    hj = fd_rel * max(abs(q[dofs[j]]), fd_qtyp)
-                    qq = q.copy()
-                    qq[dofs[j]] += hj
-                    try:
-                        try:
-                            fj = np.array(nf.evaluate(qq[dofs].copy(), zero_v.copy())[0], dtype=float)
-                        except StepRejected:  # one-sided the other way
-                            qq[dofs[j]] -= 2 * hj
-                            hj = -hj
-                            fj = np.array(nf.evaluate(qq[dofs].copy(), zero_v.copy())[0], dtype=float)
-                    except StepRejected as e:
-                        fail(f"static equilibrium: finite differences at iteration {it} rejected ({e})", q, rn, it)
-                    J[:, j] = (fj - f) / hj
-            else:
-                J = np.asarray(dfq, dtype=float).reshape(m, m)
-            T[np.ix_(dofs, dofs)] -= J
-        try:
-            dq = np.linalg.solve(T, -R)
-            if not np.all(np.isfinite(dq)):
-                raise np.linalg.LinAlgError
-        except np.linalg.LinAlgError:
-            fail(f"static equilibrium: singular tangent at iteration {it} (residual {rn:.3e}); "
-                 "is every rigid-body motion held by a force?", q, rn, it)
-        scale = fs_n + float(np.linalg.norm(f)) + float(np.linalg.norm(K @ q))
-        dn = float(np.linalg.norm(dq))
-        if rn <= rtol * scale and dn <= xtol * float(np.linalg.norm(q)) + atol_x:
-            if m and dfq is None:
-                ev(q)  # leave the force evaluated at the accepted state, not at a perturbed one
-            nf.accept_step()
-            return q
-        if it == max_iter:
-            break
-        lam = 1.0
-        for _ in range(max_backtracks + 1):
-            q_try = q + lam * dq
-            try:
-                R_try, f_try, dfq_try = ev(q_try)
-                rn_try = float(np.linalg.norm(R_try))
-                if math.isfinite(rn_try) and rn_try <= (1.0 - 1e-4 * lam) * rn:
-                    break
-                if math.isfinite(rn_try) and dn <= 4 * np.finfo(float).eps * float(np.linalg.norm(q)):
-                    break  # stagnation at round-off: take the step and let the test above decide
-            except StepRejected:
-                pass
-            lam *= 0.5
-        else:
-            fail(f"static equilibrium: line search failed at iteration {it} (residual {rn:.3e}, "
-                 f"tolerance {rtol * scale:.3e})", q, rn, it)
-        q, R, f, dfq, rn = q_try, R_try, f_try, dfq_try, rn_try
-    fail(f"static equilibrium did not converge in {max_iter} iterations (residual {rn:.3e}, "
-         f"tolerance {rtol * scale:.3e})", q, rn, max_iter)

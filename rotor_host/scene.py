@@ -30,7 +30,8 @@ from bearing_fmu import internals as registry
 from bearing_fmu.internals import Context
 from bearing_fmu.schema import Key, check_keys
 
-from .newmark import IntegrationError, Newmark, NewmarkConfig, static_equilibrium
+from .equilibrium import static_equilibrium
+from .newmark import IntegrationError, Newmark, NewmarkConfig
 from .rotor import Rotor
 
 VIA = ("fmu", "direct")
