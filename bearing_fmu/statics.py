@@ -16,7 +16,17 @@ from .shortbearing import short_bearing_eccentricity
 
 
 class EquilibriumError(RuntimeError):
-    """No static equilibrium found for the given load and speed."""
+    """No static equilibrium found: of one bearing for a load and speed (``equilibrium``), or of
+    a whole rotor on its bearings (``rotor_host.equilibrium.static_equilibrium``), which also
+    gives ``q`` the last iterate, ``residual`` its residual norm and ``iterations`` the Newton
+    iterations done (None, nan, 0 where not known)."""
+
+    def __init__(self, message: str, q: np.ndarray | None = None, residual: float = math.nan,
+                 iterations: int = 0):
+        super().__init__(message)
+        self.q = q
+        self.residual = residual
+        self.iterations = iterations
 
 
 def short_bearing_estimate(params: BearingParams, load, omega: float) -> tuple[float, float]:

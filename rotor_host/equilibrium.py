@@ -5,7 +5,8 @@
 solved by damped Newton. The host starts every scene from it (``rotor_host.scene``); the
 forces are the same NodalForce objects the integrator uses (``rotor_host.forces``), their
 evaluations bracketed as a static step (``begin_step(t, 0.0)``). Failure raises
-:class:`EquilibriumError` with the last iterate, its residual and the iteration count.
+``bearing_fmu.statics.EquilibriumError`` (the same class a single bearing's equilibrium raises),
+with the last iterate, its residual and the iteration count.
 """
 
 from __future__ import annotations
@@ -15,20 +16,11 @@ from typing import Sequence
 
 import numpy as np
 
+from bearing_fmu.statics import EquilibriumError
+
 from .forces import NodalForce, StepRejected, _as_dofs, as_nodal_force
 
-__all__ = ["EquilibriumError", "static_equilibrium"]
-
-
-class EquilibriumError(RuntimeError):
-    """static_equilibrium failed; ``q`` is the last iterate, ``residual`` its residual norm."""
-
-    def __init__(self, message: str, q: np.ndarray | None = None, residual: float = math.nan,
-                 iterations: int = 0):
-        super().__init__(message)
-        self.q = q
-        self.residual = residual
-        self.iterations = iterations
+__all__ = ["static_equilibrium"]
 
 
 def static_equilibrium(K, f_static, nodal_force: NodalForce | Sequence[NodalForce] | None, q0, *,

@@ -8,7 +8,8 @@ import math
 import numpy as np
 import pytest
 
-from rotor_host.equilibrium import EquilibriumError, static_equilibrium
+from bearing_fmu.statics import EquilibriumError
+from rotor_host.equilibrium import static_equilibrium
 from rotor_host.forces import FunctionForce, StepRejected
 
 
@@ -83,3 +84,17 @@ def test_static_equilibrium_reports_failure():
     sat = FunctionForce([0], lambda q, v: (-q / np.sqrt(1 + q * q), np.diag(-(1 + q * q) ** -1.5), None))
     with pytest.raises(EquilibriumError, match="residual"):
         static_equilibrium(np.zeros((1, 1)), [5.0], sat, [0.0], max_iter=20)
+
+
+def test_one_equilibrium_error_with_the_last_iterate():
+    # the host raises bearing_fmu.statics.EquilibriumError (one class for both statics), with
+    # the last iterate, its residual and the iterations done
+    sat = FunctionForce([0], lambda q, v: (-q / np.sqrt(1 + q * q), np.diag(-(1 + q * q) ** -1.5), None))
+    with pytest.raises(EquilibriumError) as ei:
+        static_equilibrium(np.zeros((1, 1)), [5.0], sat, [0.0], max_iter=20)
+    e = ei.value
+    # |f| < 1 everywhere, so the residual |5 - f| stays above 4
+    assert f"iteration {e.iterations} " in str(e) and 0 < e.iterations <= 20
+    assert e.q.shape == (1,) and e.residual > 4.0 and f"{e.residual:.3e}" in str(e)
+    plain = EquilibriumError("no equilibrium")
+    assert plain.q is None and plain.iterations == 0 and np.isnan(plain.residual)
