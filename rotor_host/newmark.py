@@ -262,7 +262,7 @@ class Newmark:
             progress_every = max(1, n_steps // 200)
 
         self._wall0 = time.perf_counter()
-        st = self._state = _RunState(n, m, n_steps, n_out, rec, cfg.trace)
+        st = self._state = _RunState(n, m, n_steps, n_out, rec, cfg.trace, cfg.tangent)
         st.t0, st.dt, st.record_every = float(t0), dt, record_every
 
         q0 = np.asarray(q0, dtype=float).reshape(n)
@@ -341,7 +341,7 @@ class Newmark:
 
     def _store_tangent(self, dfq, dfv):
         st = self._state
-        if self.cfg.tangent == "linear" or (dfq is None and dfv is None):
+        if st.tangent_linear or (dfq is None and dfv is None):
             st.have_J = False
             return
         st.have_J = True
@@ -389,40 +389,29 @@ class Newmark:
         self._advance(t_m, t_b, level + 1)
 
     def _attempt(self, t_a, t_b, level):
-        """One step from the current state (at t_a) to t_b. Returns (ok, info)."""
+        """One step from the current state (at t_a) to t_b: the predictor, then Newton
+        iterations (evaluate the force at the iterate, residual and correction, convergence
+        test) until an evaluated iterate passes the test and is accepted, or the step is
+        abandoned. Returns (True, None) or (False, (iterations, residual, tolerance, reason,
+        cause))."""
         st = self._state
         cfg = self.cfg
-        nf = self.nf
         dofs = self.dofs
         h = st.dt / (1 << level)
         ops = self._ops_cache.get(h) or self._ops(h)
-        if st.in_first_bracket:
-            st.in_first_bracket = False
-        else:
-            nf.begin_step(t_a, h)
-        fe1 = self.f_ext(t_b)
-        if type(fe1) is not np.ndarray or fe1.shape != st.fe_shape or fe1.dtype != np.float64:
-            fe1 = self._fext(t_b)
-        use_fd = cfg.tangent == "fd"
-        Z = st.Z
-        if st.have_J:
-            Jq0, Jv0 = st.Jq_prev, st.Jv_prev
-        elif use_fd and st.fd_J is not None and st.fd_h == h:
-            Jq0, Jv0 = st.fd_J, Z
-        else:
-            Jq0, Jv0 = Z, Z
-        SS, cs, V, Pm, AJ = ops.SS, ops.cs, st.V, st.Pm, st.AJ
-        ok, fe1n, bn = _k_begin(st.X, ops.H, SS, dofs, fe1, st.fe0, st.f0, Jq0, Jv0, cs, V, Pm, AJ)
+        ok, fe1, fe1n, bn = self._predict(t_a, t_b, h, ops)
         if not ok:
-            nf.reject_step()
+            self.nf.reject_step()
             return False, (0, math.nan, math.nan, "the predictor's tangent is singular", None)
+        # converged: ||R|| <= rtol_force (||f_ext(t_b)|| + ||M a0|| + ||f_nl||) + floor
+        # and ||dq|| <= rtol_disp ||q|| + atol_disp
         fscale = fe1n + st.Ma_norm
         floor = 1e-13 * bn
         rtol_f, rtol_q, atol_q = cfg.rtol_force, cfg.rtol_disp, cfg.atol_disp
-        tangent_linear = cfg.tangent == "linear"
+        SS, cs, V, Pm, AJ = ops.SS, ops.cs, st.V, st.Pm, st.AJ
         trace = [] if st.trace is not None else None
         qP, vP = st.qP, st.vP
-        iq = _Q0
+        iq = _Q0  # the row of V holding the iterate
         rn = tol = math.nan
         reason = f"Newton did not converge in {cfg.max_iter} corrections"
         cause = None
@@ -430,50 +419,24 @@ class Newmark:
         its = 0
         prev_rn = math.inf
         for k in range(cfg.max_iter + 1):
+            # the force at the iterate, given fresh copies (the force may keep them)
             qPe = qP.copy()
             vPe = vP.copy()
             its += 1
             try:
-                f, dfq, dfv = nf.evaluate(qPe, vPe)
+                f, Jq, Jv, exact = self._evaluate(qPe, vPe, h)
             except StepRejected as e:
                 reason = f"the nonlinear force rejected the state ({e})"
                 cause = e
                 break
-            f = np.array(f, dtype=np.float64)  # a copy: forces may hand back a reused buffer
-            if f.shape != st.f_shape:
-                self._fcheck(f)
-            exact = not tangent_linear and (dfq is not None or dfv is not None)
-            if exact:
-                Jq = Z if dfq is None else dfq
-                Jv = Z if dfv is None else dfv
-                if type(Jq) is not np.ndarray or Jq.shape != st.mm:
-                    Jq = self._jcheck(Jq, "df/dq")
-                if type(Jv) is not np.ndarray or Jv.shape != st.mm:
-                    Jv = self._jcheck(Jv, "df/dv")
-            elif use_fd and st.fd_J is not None and st.fd_h == h:
-                Jq, Jv = st.fd_J, Z
-            else:
-                Jq, Jv = Z, Z
+            # residual, Newton correction, and the next iterate in the other row of V
             rn, dn, qnorm, fn, ok = _k_iter(iq, f, Jq, Jv, SS, dofs, cs, V, Pm, AJ)
+            # the convergence test: accept the iterate just evaluated, or see why Newton stops
             tol = rtol_f * (fscale + fn) + floor
             if trace is not None:
                 trace.append(rn)
             if rn <= tol and dn <= rtol_q * qnorm + atol_q:
-                # accept V[iq], the state evaluated last
-                st.Ma_norm = _k_accept(st.X, iq, cs, V, self.M)
-                st.t = t_b
-                if cfg.alpha != 0.0:
-                    st.fe0[:] = fe1
-                st.f0 = f
-                st.have_J = exact  # its tangent is in st.Jq_prev, st.Jv_prev (written by _k_iter)
-                if use_fd and its > max(3, dofs.size):
-                    # the chord iterations cost more than a new FD tangent (m evaluations)
-                    st.fd_stale = True
-                nf.accept_step()
-                st.n_eval += its
-                st.step_its += its
-                if trace is not None:
-                    st.trace.append(np.array(trace))
+                self._accept(iq, t_b, cs, fe1, f, exact, its, trace)
                 return True, None
             if not (math.isfinite(rn) and math.isfinite(dn)):
                 reason = "the residual is not finite"
@@ -483,35 +446,110 @@ class Newmark:
                 break
             if k == cfg.max_iter:
                 break
-            if use_fd and not exact and dofs.size:
-                # refresh the FD tangent when there is none for this h, after a failure, or
-                # when the observed contraction predicts more chord iterations than the m
-                # evaluations a new tangent costs
-                need = st.fd_J is None or st.fd_h != h or (k == 0 and st.fd_stale)
-                if not need and not fd_fresh and k >= 1 and rn > 0.0:
-                    rho = rn / prev_rn
-                    need = rho >= 1.0 or math.log(max(tol, 1e-300) / rn) / math.log(rho) > dofs.size + 1
-                if need:
-                    # finite-difference tangent at the current iterate, then redo the correction
-                    try:
-                        self._fd_tangent(qPe, vPe, f, ops.c1, h)
-                    except StepRejected as e:
-                        reason = f"the nonlinear force rejected a finite-difference state ({e})"
-                        cause = e
-                        break
-                    fd_fresh = True
-                    _k_iter(iq, f, st.fd_J, Z, SS, dofs, cs, V, Pm, AJ)
+            if st.use_fd and not exact and dofs.size and self._fd_tangent_due(k, h, rn, prev_rn, tol, fd_fresh):
+                # a finite-difference tangent at the iterate, then the correction again with it
+                try:
+                    self._fd_tangent(qPe, vPe, f, ops.c1, h)
+                except StepRejected as e:
+                    reason = f"the nonlinear force rejected a finite-difference state ({e})"
+                    cause = e
+                    break
+                fd_fresh = True
+                _k_iter(iq, f, st.fd_J, st.Z, SS, dofs, cs, V, Pm, AJ)
             prev_rn = rn
             iq = _Q0 + _Q1 - iq
-        # failure: the step is abandoned
-        if use_fd:
+        self._abandon(its, trace)
+        return False, (its, rn, tol, reason, cause)
+
+    def _predict(self, t_a, t_b, h, ops):
+        """Open the step (``begin_step``, except for the first step, whose bracket is already
+        open), the external force at t_b, and the predictor: the step solved with the force
+        linearised about the last accepted state with its last tangent (the force's own, else
+        the finite-difference one for this h, else none). The predictor is the first iterate,
+        in V[_Q0] and (qP, vP). Returns (ok, f_ext(t_b), ||f_ext(t_b)||, ||b||); not ok: the
+        predictor's tangent is singular."""
+        st = self._state
+        if st.in_first_bracket:
+            st.in_first_bracket = False
+        else:
+            self.nf.begin_step(t_a, h)
+        fe1 = self.f_ext(t_b)
+        if type(fe1) is not np.ndarray or fe1.shape != st.fe_shape or fe1.dtype != np.float64:
+            fe1 = self._fext(t_b)
+        Z = st.Z
+        if st.have_J:
+            Jq0, Jv0 = st.Jq_prev, st.Jv_prev
+        elif st.use_fd and st.fd_J is not None and st.fd_h == h:
+            Jq0, Jv0 = st.fd_J, Z
+        else:
+            Jq0, Jv0 = Z, Z
+        ok, fe1n, bn = _k_begin(st.X, ops.H, ops.SS, self.dofs, fe1, st.fe0, st.f0, Jq0, Jv0, ops.cs,
+                                st.V, st.Pm, st.AJ)
+        return ok, fe1, fe1n, bn
+
+    def _evaluate(self, qPe, vPe, h):
+        """The nonlinear force at the iterate (qPe, vPe) and the tangent of its Newton correction:
+        the derivatives the force returns (unless tangent = "linear"), else the finite-difference
+        tangent for this h (tangent = "fd"), else none (zero: the linear tangent). Returns
+        (f, Jq, Jv, exact), exact = the force's own derivatives; StepRejected passes through."""
+        st = self._state
+        f, dfq, dfv = self.nf.evaluate(qPe, vPe)
+        f = np.array(f, dtype=np.float64)  # a copy: forces may hand back a reused buffer
+        if f.shape != st.f_shape:
+            self._fcheck(f)
+        Z = st.Z
+        if not st.tangent_linear and (dfq is not None or dfv is not None):
+            Jq = Z if dfq is None else dfq
+            Jv = Z if dfv is None else dfv
+            if type(Jq) is not np.ndarray or Jq.shape != st.mm:
+                Jq = self._jcheck(Jq, "df/dq")
+            if type(Jv) is not np.ndarray or Jv.shape != st.mm:
+                Jv = self._jcheck(Jv, "df/dv")
+            return f, Jq, Jv, True
+        if st.use_fd and st.fd_J is not None and st.fd_h == h:
+            return f, st.fd_J, Z, False
+        return f, Z, Z, False
+
+    def _accept(self, iq, t_b, cs, fe1, f, exact, its, trace):
+        """The iterate in V[iq], the state evaluated last, becomes the state at t_b."""
+        st = self._state
+        st.Ma_norm = _k_accept(st.X, iq, cs, st.V, self.M)
+        st.t = t_b
+        if self.cfg.alpha != 0.0:
+            st.fe0[:] = fe1
+        st.f0 = f
+        st.have_J = exact  # its tangent is in st.Jq_prev, st.Jv_prev (written by _k_iter)
+        if st.use_fd and its > max(3, self.dofs.size):
+            # the chord iterations cost more than a new FD tangent (m evaluations)
             st.fd_stale = True
-        nf.reject_step()
+        self.nf.accept_step()
         st.n_eval += its
         st.step_its += its
         if trace is not None:
             st.trace.append(np.array(trace))
-        return False, (its, rn, tol, reason, cause)
+
+    def _abandon(self, its, trace):
+        """The step failed after ``its`` evaluations: the force hears ``reject_step``."""
+        st = self._state
+        if st.use_fd:
+            st.fd_stale = True
+        self.nf.reject_step()
+        st.n_eval += its
+        st.step_its += its
+        if trace is not None:
+            st.trace.append(np.array(trace))
+
+    def _fd_tangent_due(self, k, h, rn, prev_rn, tol, fd_fresh):
+        """Whether to build a new finite-difference tangent at iteration k: when there is none
+        for this h, after a failure, or when the observed contraction predicts more chord
+        iterations than the m evaluations a new tangent costs."""
+        st = self._state
+        m = self.dofs.size
+        need = st.fd_J is None or st.fd_h != h or (k == 0 and st.fd_stale)
+        if not need and not fd_fresh and k >= 1 and rn > 0.0:
+            rho = rn / prev_rn
+            need = rho >= 1.0 or math.log(max(tol, 1e-300) / rn) / math.log(rho) > m + 1
+        return need
 
     def _fd_tangent(self, qP0, vP0, f, c1, h):
         """Combined tangent J = df/dq + c1 df/dv at (qP0, vP0) where the force is f, by
@@ -534,7 +572,7 @@ class Newmark:
 
 
 class _RunState:
-    def __init__(self, n, m, n_steps, n_out, rec, trace):
+    def __init__(self, n, m, n_steps, n_out, rec, trace, tangent):
         self.X = np.zeros(3 * n)
         self.V = np.zeros((10, n))
         self.Pm = np.zeros((4, m))
@@ -548,6 +586,8 @@ class _RunState:
         self.Z = np.zeros((m, m))
         self.mm = (m, m)
         self.have_J = False
+        self.use_fd = tangent == "fd"  # finite differences where the force returns no tangent
+        self.tangent_linear = tangent == "linear"  # never the force's tangent
         self.fd_J = None
         self.fd_h = None
         self.fd_stale = True
