@@ -20,7 +20,7 @@ import numpy as np
 from bearing_fmu.internals import BearingStateError
 from bearing_fmu.statics import film_jacobian
 
-from .forces import StepRejected
+from .forces import FORCE_TANGENTS, StepRejected, check_tangent
 
 
 class BearingSet:
@@ -29,26 +29,26 @@ class BearingSet:
     bearing_dofs : list of (dof_y, dof_z) global indices, one pair per bearing
     omega        : shaft speed [rad/s] (constant over the run)
     names        : labels used in messages ("bearing 1", ...)
-    tangent      : what ``evaluate`` hands the integrator besides the force (TANGENTS):
-                   "exact"  each bearing's own local tangent at every iterate (exact Newton);
-                   "frozen" the bearings' tangent at the first evaluation of the first time
-                            step (the static equilibrium's Lund coefficients), then always that;
-                   "none"   no tangent (the integrator builds its own, by finite differences or
-                            the linear rotor's), and the bearings skip their Jacobian
+    tangent      : the Newton tangent, one of ``rotor_host.forces.NEWTON_TANGENTS``; what
+                   ``evaluate`` hands the integrator besides the force:
+                   "bearing"  each bearing's own local tangent at every iterate (exact Newton);
+                   "frozen"   the bearings' tangent at the first evaluation of the first time
+                              step (the static equilibrium's Lund coefficients), then always that;
+                   "fd", "linear"  no tangent (the integrator builds its own, by finite
+                              differences or the linear rotor's), and the bearings skip their
+                              Jacobian (``with_jacobian`` is False)
     """
 
-    TANGENTS = ("exact", "frozen", "none")
     lund_sign = False  # True: _bearing returns K = -dF/dq, C = -dF/dv (evaluate negates them)
 
-    def __init__(self, bearing_dofs, omega: float, names=None, tangent: str = "exact"):
+    def __init__(self, bearing_dofs, omega: float, names=None, tangent: str = "bearing"):
         pairs = [(int(a), int(b)) for a, b in bearing_dofs]
         self.n = len(pairs)
         self.dofs = np.array([d for pair in pairs for d in pair], dtype=int)
         self.omega = float(omega)
         self.names = list(names) if names is not None else [f"bearing {k + 1}" for k in range(self.n)]
-        if tangent not in self.TANGENTS:
-            raise ValueError(f"tangent = {tangent!r}; choose one of {', '.join(self.TANGENTS)}")
-        self.tangent = tangent
+        self.tangent = check_tangent(tangent, f"{type(self).__name__} tangent")
+        self.with_jacobian = tangent in FORCE_TANGENTS  # else evaluate returns the force alone
         self._frozen = None  # (dq, dv) once frozen
         m = 2 * self.n
         self._f = np.zeros(m)
@@ -72,7 +72,7 @@ class BearingSet:
             if dqk is not None:
                 dq[i:i + 2, i:i + 2] = dqk
                 dv[i:i + 2, i:i + 2] = dvk
-        if self.tangent == "none":
+        if not self.with_jacobian:
             return f, None, None
         if self.lund_sign:  # one in-place negation for all bearings, not two per bearing call
             np.negative(dq, out=dq)
@@ -102,7 +102,7 @@ class BearingSet:
     # -- per bearing -------------------------------------------------------------------
     def _bearing(self, k: int, y: float, z: float, vy: float, vz: float):
         """(F (2,), dF/dq (2, 2), dF/dv (2, 2)) of bearing k, or raise StepRejected; the
-        derivatives may be None when ``self.tangent`` is "none"."""
+        derivatives may be None when ``self.with_jacobian`` is False."""
         raise NotImplementedError
 
     def _reject(self, k: int, reason: str) -> StepRejected:
@@ -112,7 +112,7 @@ class BearingSet:
 class DirectBearings(BearingSet):
     """Bearing internals called in-process through their ``force_and_jacobian``."""
 
-    def __init__(self, internals, bearing_dofs, omega: float, names=None, tangent: str = "exact"):
+    def __init__(self, internals, bearing_dofs, omega: float, names=None, tangent: str = "bearing"):
         super().__init__(bearing_dofs, omega, names, tangent)
         if len(internals) != self.n:
             raise ValueError(f"DirectBearings: {len(internals)} internals for {self.n} bearing DOF pairs")
@@ -124,7 +124,7 @@ class DirectBearings(BearingSet):
 
     def _bearing(self, k, y, z, vy, vz):
         try:
-            if self.tangent == "none":
+            if not self.with_jacobian:
                 return self.internals[k].force(y, z, vy, vz, self.omega), None, None
             return self._jac[k](y, z, vy, vz, self.omega)
         except BearingStateError as exc:

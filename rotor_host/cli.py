@@ -151,7 +151,7 @@ def _paper(args) -> int:
 
 
 def main(argv: list[str] | None = None) -> int:
-    from .scene import NEWTON_TANGENTS
+    from .forces import NEWTON_TANGENTS
 
     parser = argparse.ArgumentParser(prog="rotor-host", description=__doc__)
     sub = parser.add_subparsers(dest="command", required=True)

@@ -46,7 +46,7 @@ class FMUBearings(BearingSet):
     lund_sign = True  # the FMU outputs K, C
 
     def __init__(self, fmu_path, bearing_dofs, omega: float, parameters, names=None,
-                 start_time: float = 0.0, log=None, tangent: str = "exact"):
+                 start_time: float = 0.0, log=None, tangent: str = "bearing"):
         super().__init__(bearing_dofs, omega, names, tangent)
         from fmpy import extract, read_model_description
         from fmpy.fmi2 import FMU2Slave, fmi2CallbackFunctions, fmi2CallbackLoggerTYPE
@@ -55,7 +55,7 @@ class FMUBearings(BearingSet):
 
         if len(parameters) != self.n:
             raise ValueError(f"FMUBearings: {len(parameters)} parameter sets for {self.n} bearings")
-        if self.tangent == "none":  # nobody reads K, C: the FMUs need not compute them
+        if not self.with_jacobian:  # nobody reads K, C: the FMUs need not compute them
             parameters = [{"compute_tangent": False, **p} for p in parameters]
         self.fmu_path = Path(fmu_path)
         if not self.fmu_path.is_file():
@@ -175,7 +175,7 @@ class FMUBearings(BearingSet):
             self.max_eccentricity[k] = o[10]
         # Views of the output buffer, copied by the caller (BearingSet.evaluate) before the
         # next call; K, C in Lund's sign as the FMU gives them (lund_sign: evaluate negates).
-        if self.tangent == "none":
+        if not self.with_jacobian:
             return self._f_view, None, None
         return self._f_view, self._dq_view, self._dv_view
 

@@ -1,4 +1,5 @@
-"""Nonlinear nodal forces: the protocol the integrator talks to, and its adapters.
+"""Nonlinear nodal forces: the protocol the integrator talks to, its adapters, and the one
+vocabulary of the Newton tangent.
 
 A nonlinear force (the bearings) acts on a few DOFs of the rotor through :class:`NodalForce`:
 the integrator (``rotor_host.newmark``) and the static equilibrium
@@ -7,6 +8,26 @@ internals and bearing FMUs. A force that cannot evaluate a state raises
 :class:`StepRejected`. :class:`FunctionForce`, :class:`LinearForce` and
 :class:`CompositeForce` adapt plain callables, linear springs and dampers, and several forces.
 
+The Newton tangent
+------------------
+One word per choice, the same for the scene key ``[time] newton_tangent``, ``rotor-host run
+--tangent``, :class:`rotor_host.newmark.NewmarkConfig` and :class:`rotor_host.bearings.BearingSet`
+(:data:`NEWTON_TANGENTS`):
+
+``bearing``  each bearing's own local stiffness and damping at every iterate (the FMU's K, C
+             outputs; exact Newton, the default)
+``frozen``   the bearings' stiffness and damping at the static equilibrium (Lund's
+             coefficients), fixed for the whole run
+``fd``       the force alone; the integrator builds the tangent by finite differences, keeps
+             it across steps and refreshes it when Newton slows (the bearings skip their Jacobian)
+``linear``   the force alone and the rotor's linear tangent without the bearings, fixed
+
+Each side reads the word for its own part. The integrator: "bearing" and "frozen" both mean
+"use the tangent the nodal force returns" (the linear one where it returns none), "fd" the
+same but finite differences where it returns none, "linear" never a nonlinear tangent. The
+bearings: "bearing" their tangent at every evaluation, "frozen" the one at the first dynamic
+evaluation, "fd" and "linear" no tangent and no Jacobian computed (:data:`FORCE_TANGENTS`
+are the words under which the force returns one).
 """
 
 from __future__ import annotations
@@ -16,6 +37,9 @@ from typing import Callable, Protocol, Sequence, runtime_checkable
 import numpy as np
 
 __all__ = [
+    "NEWTON_TANGENTS",
+    "FORCE_TANGENTS",
+    "check_tangent",
     "StepRejected",
     "NodalForce",
     "FunctionForce",
@@ -23,6 +47,19 @@ __all__ = [
     "CompositeForce",
     "as_nodal_force",
 ]
+
+
+# =============================================================================== tangent
+
+NEWTON_TANGENTS = ("bearing", "frozen", "fd", "linear")
+FORCE_TANGENTS = ("bearing", "frozen")
+
+
+def check_tangent(tangent: str, setting: str) -> str:
+    """``tangent`` if it is one of NEWTON_TANGENTS; otherwise ValueError naming ``setting``."""
+    if tangent not in NEWTON_TANGENTS:
+        raise ValueError(f"{setting} = {tangent!r}; choose one of {', '.join(NEWTON_TANGENTS)}")
+    return tangent
 
 
 # =============================================================================== errors

@@ -64,7 +64,7 @@ import numpy as np
 import scipy.linalg as sla
 
 from ._newmark_kernels import _Q0, _Q1, _k_accept, _k_begin, _k_iter, _Ops
-from .forces import NodalForce, StepRejected, _as_dofs, as_nodal_force
+from .forces import NodalForce, StepRejected, _as_dofs, as_nodal_force, check_tangent
 
 __all__ = [
     "IntegrationError",
@@ -104,10 +104,12 @@ class NewmarkConfig:
     rtol_disp, atol_disp: tolerance on the Newton correction, relative to ||q|| plus absolute.
     max_iter: Newton corrections allowed per step (force evaluations <= max_iter + 1).
     max_halvings: how many times a step may be halved before IntegrationError.
-    tangent: "auto" = use the derivatives evaluate returns, the linear tangent if it returns
-        none (modified Newton); "fd" = as auto, but finite differences when it returns none
-        (m extra evaluations per tangent, kept across steps and refreshed when the chord
-        iteration gets slow); "linear" = never use the nonlinear tangent.
+    tangent: the Newton tangent, one of ``rotor_host.forces.NEWTON_TANGENTS``. "bearing" and
+        "frozen" = use the derivatives evaluate returns (whether they change or stay fixed is
+        the force's business), the linear tangent if it returns none (modified Newton);
+        "fd" = the same, but finite differences when it returns none (m extra evaluations per
+        tangent, kept across steps and refreshed when the chord iteration gets slow);
+        "linear" = never use the nonlinear tangent.
     fd_rel, fd_qtyp: finite-difference step h_j = fd_rel * max(|q_j|, fd_qtyp) (q units).
     trace: keep each step's residual norms ||R(q_k)|| (one array per attempt) in the result.
     """
@@ -120,7 +122,7 @@ class NewmarkConfig:
     atol_disp: float = 0.0
     max_iter: int = 20
     max_halvings: int = 6
-    tangent: str = "auto"
+    tangent: str = "bearing"
     fd_rel: float = 1.5e-8
     fd_qtyp: float = 1e-6
     trace: bool = False
@@ -134,8 +136,7 @@ class NewmarkConfig:
             self.gamma = 0.5 - self.alpha
         if not self.beta > 0.0:
             raise ValueError(f"Newmark beta must be > 0, got {self.beta}")
-        if self.tangent not in ("auto", "fd", "linear"):
-            raise ValueError(f"tangent must be 'auto', 'fd' or 'linear', got {self.tangent!r}")
+        check_tangent(self.tangent, "NewmarkConfig.tangent")
         if self.max_iter < 1 or self.max_halvings < 0:
             raise ValueError("max_iter must be >= 1 and max_halvings >= 0")
 

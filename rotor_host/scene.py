@@ -31,22 +31,11 @@ from bearing_fmu.internals import Context
 from bearing_fmu.schema import Key, check_keys
 
 from .equilibrium import static_equilibrium
+from .forces import NEWTON_TANGENTS
 from .newmark import IntegrationError, Newmark, NewmarkConfig
 from .rotor import Rotor
 
 VIA = ("fmu", "direct")
-# The Newton tangent of the bearing forces (scene key [time] newton_tangent):
-#   bearing: each bearing's own local stiffness and damping at every iterate (the FMU's K, C
-#            outputs; exact Newton, the default)
-#   frozen:  the bearings' stiffness and damping at the static equilibrium (Lund's
-#            coefficients), fixed for the whole run
-#   fd:      the force alone; the integrator builds the tangent by finite differences, keeps
-#            it across steps and refreshes it when Newton slows (the FMUs skip the Jacobian)
-#   linear:  the force alone and the rotor's linear tangent without the bearings, fixed
-NEWTON_TANGENTS = ("bearing", "frozen", "fd", "linear")
-# (Newmark's tangent setting, the BearingSet's) per scene choice
-_NEWMARK_TANGENT = {"bearing": ("auto", "exact"), "frozen": ("auto", "frozen"), "fd": ("fd", "none"),
-                    "linear": ("linear", "none")}
 G = 9.81
 
 
@@ -78,7 +67,7 @@ TIME_KEYS = (
     Key("hht_alpha", "HHT-alpha numerical damping (0: trapezoidal Newmark)", 0.0, "-1/3 .. 0"),
     Key("newton_tangent", "Newton tangent of the bearing forces: the bearings' own K, C (bearing), those at the "
         "static equilibrium (frozen), finite differences (fd), or the rotor's alone (linear)", "bearing",
-        "bearing, frozen, fd, linear"),
+        ", ".join(NEWTON_TANGENTS)),
 )
 UNBALANCE_KEYS = (
     Key("node", "node, 1-based", allowed="1..number of nodes"),
@@ -131,7 +120,7 @@ class Scene:
     record_every: int = 1
     fmu: Path | None = None
     source: Path | None = None
-    newton_tangent: str = "bearing"  # bearing | frozen | fd | linear: see NEWTON_TANGENTS
+    newton_tangent: str = "bearing"  # bearing | frozen | fd | linear: see rotor_host.forces
 
     @property
     def omega(self) -> float:
@@ -401,17 +390,16 @@ def build_bearings(scene: Scene, rotor: Rotor, loads: np.ndarray, work_dir: Path
     pairs = [(rotor.dof(n, "y"), rotor.dof(n, "z")) for n in rotor.bearing_nodes]
     names = [f"bearing {k + 1} (node {n + 1})" for k, n in enumerate(rotor.bearing_nodes)]
     _files(scene)  # a missing file is named before anything is built
-    tangent = _NEWMARK_TANGENT[scene.newton_tangent][1]
     if scene.via == "direct":
         from .bearings import DirectBearings
 
         internals = [_direct_internal(scene, p, w) for p, w in zip(rotor.bearings, loads)]
-        return DirectBearings(internals, pairs, scene.omega, names, tangent=tangent)
+        return DirectBearings(internals, pairs, scene.omega, names, tangent=scene.newton_tangent)
     from .cosim import FMUBearings
 
     fmu = scene_fmu(scene, work_dir)
     params = [_fmu_parameters(scene, p, w) for p, w in zip(rotor.bearings, loads)]
-    return FMUBearings(fmu, pairs, scene.omega, params, names, tangent=tangent)
+    return FMUBearings(fmu, pairs, scene.omega, params, names, tangent=scene.newton_tangent)
 
 
 def external_force(scene: Scene, rotor: Rotor, f_static: np.ndarray):
@@ -521,7 +509,7 @@ def run_scene(scene: Scene, out_dir=None, *, progress: bool = False, stem: str |
         q0 = initial_state(scene, rotor, f_static, loads, bearings)
         t_eq = time.perf_counter()
         integ = Newmark(rotor.M, rotor.K, rotor.C, rotor.G, scene.omega, external_force(scene, rotor, f_static),
-                        bearings, NewmarkConfig(alpha=scene.alpha, tangent=_NEWMARK_TANGENT[scene.newton_tangent][0]))
+                        bearings, NewmarkConfig(alpha=scene.alpha, tangent=scene.newton_tangent))
         bar = None
         if progress:
             from tqdm import tqdm
