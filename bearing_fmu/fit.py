@@ -3,7 +3,7 @@ bias^2 / variance, pruning, training data (designed or from a co-simulation), re
 
 Conventions
 -----------
-* Regression in scaled units (see :mod:`bearing_fmu.taylor`): the design matrix X (M x N)
+* Regression in scaled units (see :mod:`bearing_fmu.basis`): the design matrix X (M x N)
   holds the monomials of u = ((y-y0)/CR, (z-z0)/CR, vy/(omega CR), vz/(omega CR)), the
   targets are F / force_scale.
 * The ridge objective is written per sample, (1/M) ||f - X k||^2 + lambda ||k||^2, so one
@@ -54,17 +54,9 @@ from pathlib import Path
 import numpy as np
 
 from .params import PAPER_BEARING, BearingParams
-from .taylor import (
-    Domain,
-    Surrogate,
-    design_matrix,
-    exponents,
-    natural_force_scale,
-    save_surrogate,
-    shape_force,
-    short_bearing_at,
-    term_names,
-)
+from ._taylor_kernels import short_bearing_at
+from .basis import design_matrix, exponents, natural_force_scale, shape_force, term_names
+from .surrogate import Domain, Surrogate, save_surrogate
 
 COMPONENTS = ("Fy", "Fz")
 RCOND = 1e-13
@@ -449,7 +441,7 @@ def fit_surrogate(
 
     ``wall_power`` = p > 0 fits the polynomial to G = F (1 - eps^2)^p (eps: the absolute
     eccentricity ratio of each row) instead of F, so the surrogate is F = P(u) / (1 - eps^2)^p
-    (see :mod:`bearing_fmu.taylor`); the anchor is transformed consistently,
+    (see :mod:`bearing_fmu.basis`); the anchor is transformed consistently,
     G0 = F0 g0 and dG/dq = g0 dF/dq + F0 dg/dq (g = (1 - eps^2)^p), dG/dv = g0 dF/dv. The CV
     errors are then of G; train and held-out errors are of F.
 
@@ -752,7 +744,7 @@ _REFIT_KW = ("lam", "k_folds", "prune", "prune_tol", "wall_power", "shape_order"
 def refit_order(surrogate_path, order: int, out_path) -> Path:
     """Refit the surrogate of ``surrogate_path`` at another ``order`` from the same designed
     domain or time series (the call stored in its provenance); write ``out_path``."""
-    from .taylor import load_surrogate
+    from .surrogate import load_surrogate
 
     base = load_surrogate(surrogate_path)
     call = dict(base.provenance.get("fit_call") or {})

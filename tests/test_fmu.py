@@ -55,16 +55,18 @@ def code_cache(tmp_path_factory):
 @pytest.fixture(scope="session")
 def surrogate_file(tmp_path_factory):
     """An order-2 surrogate with made-up coefficients: the FMU must reproduce Taylor exactly."""
-    taylor = pytest.importorskip("bearing_fmu.taylor")
-    exps = taylor.exponents(2)
+    from bearing_fmu import surrogate
+    from bearing_fmu.basis import exponents
+
+    exps = exponents(2)
     rng = np.random.default_rng(1)
     coef = rng.normal(size=(2, len(exps))) * 0.1
     coef[:, 0] = (0.0, 1.0)
-    dom = taylor.Domain(ecc_max=0.8, pos_center=(0.0, 0.0), pos_radius=0.3, v_max=0.3,
+    dom = surrogate.Domain(ecc_max=0.8, pos_center=(0.0, 0.0), pos_radius=0.3, v_max=0.3,
                         box_lo=(-0.3,) * 4, box_hi=(0.3,) * 4)
-    sur = taylor.Surrogate(params=P, omega=OMEGA, y0=0.1 * P.CR, z0=-0.4 * P.CR, order=2, exponents=exps,
+    sur = surrogate.Surrogate(params=P, omega=OMEGA, y0=0.1 * P.CR, z0=-0.4 * P.CR, order=2, exponents=exps,
                            coef=coef, force_scale=20.0, domain=dom)
-    return taylor.save_surrogate(sur, tmp_path_factory.mktemp("sur") / "paper_22hz.json")
+    return surrogate.save_surrogate(sur, tmp_path_factory.mktemp("sur") / "paper_22hz.json")
 
 
 @pytest.fixture(scope="session")

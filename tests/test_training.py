@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from bearing_fmu.fit import nrmse
-from bearing_fmu.taylor import load_surrogate
+from bearing_fmu.surrogate import load_surrogate
 from rotor_host.training import fit_scene, holdout_mask, refit, scene_series
 from rotor_host.scene import load_scene
 
@@ -75,7 +75,7 @@ def test_scene_fit_holds_out_and_refits_elsewhere(tmp_path):
     assert "other.toml" in s.errors["other_scenes"]
 
     # written through the CLI path: scene paths relative to the file, so the pair of folders can move
-    from bearing_fmu.taylor import save_surrogate
+    from bearing_fmu.surrogate import save_surrogate
     from rotor_host.training import portable_fit_call
 
     out = tmp_path / "surrogates" / "s.json"

@@ -26,8 +26,9 @@ from bearing_fmu import fit as F
 from bearing_fmu.internals import BearingStateError, check_state
 from bearing_fmu.reynolds import Reynolds
 from bearing_fmu.shortbearing import short_bearing_force
-from bearing_fmu.taylor import (Surrogate, Taylor, design_matrix, exponents, load_surrogate,
-                                natural_force_scale)
+from bearing_fmu.basis import design_matrix, exponents, natural_force_scale
+from bearing_fmu.surrogate import Surrogate, load_surrogate
+from bearing_fmu.taylor import Taylor
 from rotor_host.scene import load_scene
 from rotor_host.training import _bearing_params, holdout_mask, scene_series
 
