@@ -24,7 +24,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from bearing_fmu import fit as F  # noqa: E402
+from bearing_fmu import fitting as F  # noqa: E402
 from bearing_fmu.params import PAPER_BEARING  # noqa: E402
 from bearing_fmu.statics import equilibrium  # noqa: E402
 from bearing_fmu.taylor import Taylor  # noqa: E402

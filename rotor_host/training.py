@@ -103,8 +103,8 @@ def fit_scene(scene_path, order: int = 5, *, bearing: int = 1, test_scenes=(), s
     F = P(u) / (1 - eps^2)^p (the wall factor, see :mod:`bearing_fmu.surrogate`).
 
     ``shape_order`` = r adds the short-bearing shape columns of order r (see
-    :func:`bearing_fmu.fit.fit_surrogate`); None = the polynomial alone."""
-    from bearing_fmu import fit as F
+    :func:`bearing_fmu.fitting.fit_surrogate`); None = the polynomial alone."""
+    from bearing_fmu import fitting as F
     from bearing_fmu.reynolds import Reynolds
 
     paths = [scene_path] if isinstance(scene_path, (str, os.PathLike)) else list(scene_path)
@@ -230,7 +230,7 @@ def _domain_fraction(surrogate, states) -> float:
 def refit(surrogate_path, order: int, out_path, cache_dir=None, log=print):
     """The surrogate of ``surrogate_path`` refitted at another order from the same data (the
     call stored in its provenance): for order studies. Writes and returns ``out_path``."""
-    from bearing_fmu.fit import refit_order
+    from bearing_fmu.fitting import refit_order
     from bearing_fmu.surrogate import load_surrogate, save_surrogate
 
     base = load_surrogate(surrogate_path)

@@ -11,7 +11,7 @@ import math
 import numpy as np
 import pytest
 
-from bearing_fmu import fit as F
+from bearing_fmu import fitting as F
 from bearing_fmu.internals import BearingStateError, DifferentiableInternal, Internal
 from bearing_fmu.params import PAPER_BEARING, BearingParams
 from bearing_fmu.statics import linearize

@@ -4,7 +4,7 @@ Model (G-space, g = (1 - eps^2)^p, fs = natural force scale):
     F = fs P_n(u) / g + sum_j (a_yj S_y + a_zj S_z) m_j(u)
 S = closed-form short-bearing (Ocvirk, half-Sommerfeld) force (bearing_fmu.shortbearing), m_j the
 monomials of order <= r. One ridge regression per force component on the shared predictor
-matrix (bearing_fmu.fit's RidgeSVD / CrossValidation / select_lambda). Anchored: the constant and
+matrix (bearing_fmu.fitting's RidgeSVD / CrossValidation / select_lambda). Anchored: the constant and
 degree-1 polynomial coefficients are fixed so that the whole model has the truth's force and
 Jacobian at the expansion point; each shape column has its own degree <= 1 Taylor part (central
 differences at u = 0) removed. Results and the plan to build it into bearing_fmu.taylor:
@@ -22,7 +22,7 @@ from pathlib import Path
 
 import numpy as np
 
-from bearing_fmu import fit as F
+from bearing_fmu import fitting as F
 from bearing_fmu.internals import BearingStateError, check_state
 from bearing_fmu.reynolds import Reynolds
 from bearing_fmu.shortbearing import short_bearing_force
