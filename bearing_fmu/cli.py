@@ -52,7 +52,7 @@ def main(argv: list[str] | None = None) -> int:
                    help="vertical load on the bearing [N] (default 16.7: half the paper rotor's weight)")
     p.set_defaults(func=_demo)
 
-    from .fit import add_fit_arguments, run_fit
+    from .fitting.cli import add_fit_arguments, run_fit
 
     p = sub.add_parser("fit", help="fit a Taylor surrogate (from a scene's Reynolds series or a designed domain) "
                                    "and write its JSON file, report and lambda plots")

@@ -55,7 +55,7 @@ bearing coefficients of Friswell, Penny, Garvey & Lees, Dynamics of Rotating Mac
 sec. 5.5.2 (checked in tests/test_shortbearing.py). They are rotated to (y, z) with
 T = [u_r u_t]: K = T K_rt T^T.
 
-This module is pure Python (no numba, no reynolds import); bearing_fmu.taylor compiles
+This module is pure Python (no numba, no reynolds import); bearing_fmu._taylor_kernels compiles
 ``short_bearing_kernel`` for the surrogate's shape columns.
 """
 
@@ -87,7 +87,7 @@ def _frame(params: BearingParams, y: float, z: float):
 
 def short_bearing_kernel(y, z, vy, vz, omega, cr, c0, jac):
     """The closed form and, with ``jac``, its analytic Jacobian: plain Python on floats, so
-    that bearing_fmu.taylor can compile this very function with numba (one implementation).
+    that bearing_fmu._taylor_kernels can compile this very function with numba (one implementation).
 
     cr = CR [m], c0 = mu L^3 R / (2 CR^2). No input checks (eps < 1 is the caller's). Returns
     (Fy, Fz, dFy/dy, dFy/dz, dFy/dvy, dFy/dvz, dFz/dy, dFz/dz, dFz/dvy, dFz/dvz) in SI; the

@@ -24,7 +24,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from bearing_fmu import fit as F  # noqa: E402
+from bearing_fmu import fitting as F  # noqa: E402
 from bearing_fmu.params import PAPER_BEARING  # noqa: E402
 from bearing_fmu.statics import equilibrium  # noqa: E402
 from bearing_fmu.taylor import Taylor  # noqa: E402
@@ -120,7 +120,7 @@ def main(argv=None) -> int:
     print("| internal | terms | time per call [us] | speed-up vs Reynolds |")
     print("|---|---|---|---|")
     print(f"| Reynolds {grid} | - | {rey_time * 1e6:.1f} | 1 |")
-    from bearing_fmu.taylor import n_terms
+    from bearing_fmu.basis import n_terms
 
     for o in args.orders:
         print(f"| Taylor order {o} | {n_terms(o)} | {timing[o] * 1e6:.2f} | {rey_time / timing[o]:.0f} |")

@@ -22,7 +22,7 @@ import tempfile
 import time
 from pathlib import Path
 
-from bearing_fmu.taylor import load_surrogate
+from bearing_fmu.surrogate import load_surrogate
 from rotor_host.compare import envelope_error, late_max_eccentricity
 from rotor_host.report import errors_against, markdown_table
 from rotor_host.scene import load_scene, run_scene

@@ -74,7 +74,7 @@ def _reference_and_variants(args, scene):
     for g in args.grids or []:
         grid = tuple(int(v) for v in g.lower().split("x"))
         variants.append(Variant(f"Reynolds {g}", "reynolds", _grid_options(grid)))
-    from bearing_fmu.taylor import load_surrogate
+    from bearing_fmu.surrogate import load_surrogate
 
     for order, path in _surrogates(args, scene):
         variants.append(Variant(f"Taylor {load_surrogate(path).recipe}", "taylor", {"taylor": {"surrogate": path}},
@@ -86,7 +86,7 @@ def _reference_and_variants(args, scene):
 def _surrogates(args, scene):
     """(order, file) per requested order: the scene's surrogate for its own order, others
     fitted on the same declared domain into the output folder."""
-    from bearing_fmu.taylor import load_surrogate
+    from bearing_fmu.surrogate import load_surrogate
 
     from .scene import required_file
 
@@ -125,7 +125,7 @@ PAPER_SCENES = ("paper_22hz.toml", "paper_44hz.toml")
 def _paper(args) -> int:
     """The main job: the paper's 22 Hz and 44 Hz scenes, Reynolds (default grid) against the
     bundled Taylor surrogate of each scene and the linear model, all through the bearing FMUs."""
-    from bearing_fmu.taylor import load_surrogate
+    from bearing_fmu.surrogate import load_surrogate
 
     from .compare import Variant, compare, print_table
     from .scene import load_scene, required_file

@@ -103,11 +103,11 @@ def fit_scene(scene_path, order: int = 5, *, bearing: int = 1, test_scenes=(), s
     spends its transient (44 Hz: the growth of the whirl, whose phase then drifts).
 
     ``wall_power`` = p > 0 fits the polynomial to F (1 - eps^2)^p and evaluates
-    F = P(u) / (1 - eps^2)^p (the wall factor, see :mod:`bearing_fmu.taylor`).
+    F = P(u) / (1 - eps^2)^p (the wall factor, see :mod:`bearing_fmu.surrogate`).
 
     ``shape_order`` = r adds the short-bearing shape columns of order r (see
-    :func:`bearing_fmu.fit.fit_surrogate`); None = the polynomial alone."""
-    from bearing_fmu import fit as F
+    :func:`bearing_fmu.fitting.fit_surrogate`); None = the polynomial alone."""
+    from bearing_fmu import fitting as F
     from bearing_fmu.reynolds import Reynolds
 
     paths = [scene_path] if isinstance(scene_path, (str, os.PathLike)) else list(scene_path)
@@ -233,8 +233,8 @@ def _domain_fraction(surrogate, states) -> float:
 def refit(surrogate_path, order: int, out_path, cache_dir=None, log=print):
     """The surrogate of ``surrogate_path`` refitted at another order from the same data (the
     call stored in its provenance): for order studies. Writes and returns ``out_path``."""
-    from bearing_fmu.fit import refit_order
-    from bearing_fmu.taylor import load_surrogate, save_surrogate
+    from bearing_fmu.fitting import refit_order
+    from bearing_fmu.surrogate import load_surrogate, save_surrogate
 
     base = load_surrogate(surrogate_path)
     call = base.provenance.get("fit_call")
@@ -255,7 +255,7 @@ def refit(surrogate_path, order: int, out_path, cache_dir=None, log=print):
 def training_scenes(surrogate_path) -> tuple[list[Path], list[Path]]:
     """(training scenes, held-out test scenes) of a scene-trained surrogate file, as paths
     (its fit call stores them relative to the file); ([], []) for a designed-domain fit."""
-    from bearing_fmu.taylor import load_surrogate
+    from bearing_fmu.surrogate import load_surrogate
 
     call = load_surrogate(surrogate_path).provenance.get("fit_call") or {}
     if "scene" not in call and "scenes" not in call:

@@ -34,7 +34,8 @@ def code_cache(tmp_path_factory):
 def surrogate_file(tmp_path_factory):
     """An order-2 surrogate of the paper bearing at 22 Hz with made-up coefficients: the FMU
     must reproduce the Taylor internal exactly, whatever the coefficients."""
-    from bearing_fmu.taylor import Domain, Surrogate, exponents, save_surrogate
+    from bearing_fmu.basis import exponents
+    from bearing_fmu.surrogate import Domain, Surrogate, save_surrogate
 
     exps = exponents(2)
     rng = np.random.default_rng(1)

@@ -15,13 +15,6 @@ ROOT = Path(__file__).resolve().parents[1]
 ROTOR = ROOT / "models" / "rotor_paper.toml"
 
 
-@pytest.fixture(scope="module")
-def fmu(tmp_path_factory):
-    from bearing_fmu.build import build_fmu
-
-    return build_fmu(tmp_path_factory.mktemp("fmu") / "bearing.fmu")
-
-
 def scene(tmp_path, internal, body="", t_end=0.01):
     p = tmp_path / f"{internal}.toml"
     p.write_text(textwrap.dedent(f"""

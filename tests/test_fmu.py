@@ -1,8 +1,8 @@
 """The bearing FMU: build, validation, fmpy, equality with the internals, conformant
 iteration, errors that leave the process usable, leave-out of unused internals, shadowing.
 
-The FMU is built once per session. Its code cache (BEARING_FMU_CACHE_DIR, where numba's
-cache lives too) is a session temp dir shared with the subprocess tests.
+The FMU is built once per session (tests/conftest.py). Its code cache (BEARING_FMU_CACHE_DIR,
+where numba's cache lives too) is a session temp dir shared with the subprocess tests.
 """
 
 import importlib.util
@@ -38,45 +38,6 @@ def _example():
 
 
 EX = _example()
-
-
-@pytest.fixture(scope="session")
-def code_cache(tmp_path_factory):
-    path = tmp_path_factory.mktemp("fmu_code_cache")
-    old = os.environ.get("BEARING_FMU_CACHE_DIR")
-    os.environ["BEARING_FMU_CACHE_DIR"] = str(path)
-    yield path
-    if old is None:
-        os.environ.pop("BEARING_FMU_CACHE_DIR", None)
-    else:
-        os.environ["BEARING_FMU_CACHE_DIR"] = old
-
-
-@pytest.fixture(scope="session")
-def surrogate_file(tmp_path_factory):
-    """An order-2 surrogate with made-up coefficients: the FMU must reproduce Taylor exactly."""
-    taylor = pytest.importorskip("bearing_fmu.taylor")
-    exps = taylor.exponents(2)
-    rng = np.random.default_rng(1)
-    coef = rng.normal(size=(2, len(exps))) * 0.1
-    coef[:, 0] = (0.0, 1.0)
-    dom = taylor.Domain(ecc_max=0.8, pos_center=(0.0, 0.0), pos_radius=0.3, v_max=0.3,
-                        box_lo=(-0.3,) * 4, box_hi=(0.3,) * 4)
-    sur = taylor.Surrogate(params=P, omega=OMEGA, y0=0.1 * P.CR, z0=-0.4 * P.CR, order=2, exponents=exps,
-                           coef=coef, force_scale=20.0, domain=dom)
-    return taylor.save_surrogate(sur, tmp_path_factory.mktemp("sur") / "paper_22hz.json")
-
-
-@pytest.fixture(scope="session")
-def fmu(tmp_path_factory, code_cache, surrogate_file):
-    from bearing_fmu.build import build_fmu
-
-    return build_fmu(tmp_path_factory.mktemp("fmu") / "bearing.fmu", surrogate=surrogate_file)
-
-
-@pytest.fixture(scope="session")
-def unzip(fmu):
-    return fmpy.extract(str(fmu))
 
 
 def instance(fmu, unzip, **params):

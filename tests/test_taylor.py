@@ -11,21 +11,13 @@ import math
 import numpy as np
 import pytest
 
-from bearing_fmu import fit as F
+from bearing_fmu import fitting as F
 from bearing_fmu.internals import BearingStateError, DifferentiableInternal, Internal
 from bearing_fmu.params import PAPER_BEARING, BearingParams
 from bearing_fmu.statics import linearize
-from bearing_fmu.taylor import (
-    Domain,
-    Surrogate,
-    Taylor,
-    design_matrix,
-    exponents,
-    load_surrogate,
-    n_terms,
-    natural_force_scale,
-    save_surrogate,
-)
+from bearing_fmu.basis import design_matrix, exponents, n_terms, natural_force_scale
+from bearing_fmu.surrogate import Domain, Surrogate, load_surrogate, save_surrogate
+from bearing_fmu.taylor import Taylor
 
 P = PAPER_BEARING
 OMEGA = 2 * math.pi * 22.0
@@ -798,11 +790,12 @@ def test_surrogate_without_shape_columns_never_compiles_them(tmp_path):
     import sys
     from pathlib import Path
 
-    code = ("import bearing_fmu.taylor as T; "
-            "s = T.load_surrogate('models/surrogates/{}.json'); t = T.Taylor(s); "
+    code = ("import bearing_fmu._taylor_kernels as K; from bearing_fmu.surrogate import load_surrogate; "
+            "from bearing_fmu.taylor import Taylor; "
+            "s = load_surrogate('models/surrogates/{}.json'); t = Taylor(s); "
             "t.force(s.y0, s.z0, 0.0, 0.0, s.omega); t.force_and_jacobian(s.y0, s.z0, 0.0, 0.0, s.omega); "
-            "print(sorted(f.__name__ for f in (T._sb_nb, T._shape_terms, T._force_shape_nb, "
-            "T._force_jac_shape_si_nb) if f.signatures))")
+            "print(sorted(f.__name__ for f in (K._sb_nb, K._shape_terms, K._force_shape_nb, "
+            "K._force_jac_shape_si_nb) if f.signatures))")
     env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path))
     root = Path(__file__).resolve().parents[1]
 

@@ -9,8 +9,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from bearing_fmu.fit import nrmse
-from bearing_fmu.taylor import load_surrogate
+from bearing_fmu.fitting import nrmse
+from bearing_fmu.surrogate import load_surrogate
 from rotor_host.training import fit_scene, holdout_mask, refit, scene_series
 from rotor_host.scene import load_scene
 
@@ -75,7 +75,7 @@ def test_scene_fit_holds_out_and_refits_elsewhere(tmp_path):
     assert "other.toml" in s.errors["other_scenes"]
 
     # written through the CLI path: scene paths relative to the file, so the pair of folders can move
-    from bearing_fmu.taylor import save_surrogate
+    from bearing_fmu.surrogate import save_surrogate
     from rotor_host.training import portable_fit_call
 
     out = tmp_path / "surrogates" / "s.json"
@@ -114,7 +114,7 @@ def test_several_training_scenes(tmp_path):
     # (also from a file of the older single-scene form) uses the same data
     import argparse
 
-    from bearing_fmu import fit as F
+    from bearing_fmu import fitting as F
 
     scenes = tmp_path / "scenes"
     scenes.mkdir()
@@ -175,7 +175,7 @@ def test_wall_power_is_recorded_and_refitted(tmp_path):
     # it and a refit repeats it (same data, same coefficients)
     import argparse
 
-    from bearing_fmu import fit as F
+    from bearing_fmu import fitting as F
 
     scenes = tmp_path / "scenes"
     scenes.mkdir()
