@@ -93,8 +93,9 @@ def main(argv=None) -> int:
               f"domain {dom}; {args.n_train}+{args.n_test} Reynolds samples in {t_samp:.1f} s", flush=True)
         nrmse[name] = {}
         for order in args.orders:
-            res = F.fit_surrogate(st, fo, PAPER_BEARING, omega, y0, z0, order, domain=domain, prune=False,
-                                  bias_variance=False, test=(ts, tf), load=load, anchor=anchor)
+            recipe = F.FitRecipe(order=order, prune=False, anchor=anchor is not None, seed=0)
+            res = F.fit_surrogate(st, fo, PAPER_BEARING, omega, y0, z0, recipe, domain=domain, anchor=anchor,
+                                  bias_variance=False, test=(ts, tf), load=load)
             e = res.report["errors"]["test_nrmse"]
             lam = res.report["lambda"]
             nrmse[name][order] = (e["Fy"], e["Fz"])

@@ -1,7 +1,7 @@
 """Order study of the scene-trained Taylor surrogate: held-out force NRMSE for orders 1..7.
 
 For each shipped surrogate (models/surrogates/paper_*hz_16.7N.json), the fit it records in its
-provenance (`bearing-fmu fit --scene ...` with its options) is repeated at every order, and
+provenance (its recipe: `rotor-host fit --scene ...` with its options) is repeated at every order, and
 the NRMSE is printed on the held-out blocks of the training series and on the series of the
 held-out scene at the same speed (another unbalance: another trajectory), with the
 evaluation time per call. Checks the paper's claim that order 5 is

@@ -1,4 +1,4 @@
-"""``rotor-host``: run scenes, compare internals, run the paper's main job."""
+"""``rotor-host``: run scenes, compare internals, run the paper's main job, fit scene-trained surrogates."""
 
 from __future__ import annotations
 
@@ -92,6 +92,7 @@ def _surrogates(args, scene):
 
     if not args.orders:  # `--orders` with nothing: no Taylor variant, no surrogate needed
         return []
+    # read once: its order here, its recipe for the refits
     base = load_surrogate(required_file(scene, "taylor", "surrogate"))
     out = []
     for order in args.orders:
@@ -102,7 +103,7 @@ def _surrogates(args, scene):
         if not path.is_file():
             from .training import refit
 
-            refit(scene.surrogate, order, path, cache_dir=Path(args.out) / "series")
+            refit(scene.surrogate, order, path, cache_dir=Path(args.out) / "series", surrogate=base)
         out.append((order, path))
     return out
 
@@ -193,6 +194,13 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--out", default="out/paper", help="output folder (default: out/paper)")
     p.add_argument("--quiet", action="store_true", help="no progress bars")
     p.set_defaults(func=_paper)
+
+    from . import training
+
+    p = sub.add_parser("fit", help="fit a bearing's Taylor surrogate to the Reynolds series of scenes (the paper's way) "
+                                   "and write its JSON file, report and lambda plots")
+    training.add_arguments(p)
+    p.set_defaults(func=training.run)
 
     from . import dt_study
 

@@ -10,19 +10,24 @@ only works on its own training orbit is not worth shipping. Several training sce
 unbalances at the same speed and load, models/scenes/train_*.toml) can be fitted together.
 
 The series is computed with the internal called directly (identical to the FMU run to
-round-off, see tests/test_cosim.py) and cached as ``<name>_series.npz`` beside the output,
-so refitting at another order does not rerun the scene.
+round-off, see tests/test_cosim.py) and cached as ``<name>_b<bearing>_series.npz`` in a folder
+beside the output, so refitting at another order does not rerun the scene.
+
+The settings of a fit are a :class:`bearing_fmu.fitting.FitRecipe` (its scene-training
+part: scenes, test scenes, bearing number, stride, designed samples, row weights), stored in
+the surrogate file; ``refit`` reads it back. The command is ``rotor-host fit`` (``add_arguments``,
+``run``); ``bearing-fmu fit`` keeps the designed-domain fit of one bearing.
 """
 
 from __future__ import annotations
 
 import math
-import os
 from pathlib import Path
 
 import numpy as np
 
 from bearing_fmu import internals as registry
+from bearing_fmu.fitting.recipe import FitRecipe, add_recipe_arguments, recipe_from_args, recipe_of
 
 from .scene import Scene, load_scene, run_scene
 
@@ -76,21 +81,14 @@ def holdout_mask(t: np.ndarray, speed_hz: float, every: int = HOLDOUT_EVERY, rev
     return block % every == every - 1
 
 
-DESIGNED = 2000  # designed samples added over the domain the series spans
-
-
-def fit_scene(scene_path, order: int = 5, *, bearing: int = 1, test_scenes=(), stride: int = 2,
-              cache_dir=None, lam="cv", prune: bool = True, prune_tol: float = 0.05, anchor: bool = True,
-              designed: int = DESIGNED, designed_ecc_max: float | None = None,
-              designed_v_max: float | None = None, designed_weight: float = 1.0,
-              designed_tube: float | None = None, ecc_weight: float = 0.0, wall_power: float = 0.0,
-              shape_order: int | None = None, seed: int = 1, log=print):
-    """Fit a Taylor surrogate to the Reynolds series of a scene, or of several scenes
-    (``scene_path`` a list) at the same speed and bearing load: other unbalances give other
-    trajectories, so the fit sees more of the state space the rotor can reach. Every fifth
-    block of each series is held out. Returns the FitResult with the held-out block errors
-    (all training scenes together) in ``surrogate.errors["test_*"]`` and, per test scene, its
-    NRMSE in ``surrogate.errors["other_scenes"]``.
+def fit_scene(recipe: FitRecipe, *, cache_dir=None, log=print):
+    """Fit a Taylor surrogate to the Reynolds series of the scene-trained ``recipe``: its
+    ``scenes`` at the same speed and bearing load (other unbalances give other trajectories,
+    so the fit sees more of the state space the rotor can reach), bearing number
+    ``recipe.bearing_number``, every ``stride``-th step. Every fifth block of each series is
+    held out. Returns the FitResult with the held-out block errors (all training scenes
+    together) in ``surrogate.errors["test_*"]`` and, per test scene (``test_scenes``), its
+    NRMSE in ``surrogate.errors["other_scenes"]``. Series are cached in ``cache_dir``.
 
     ``designed`` Reynolds samples are added: over the discs the series span (bounded by
     ``designed_ecc_max``, ``designed_v_max``), or with ``designed_tube`` (scaled units: CR and
@@ -102,22 +100,17 @@ def fit_scene(scene_path, order: int = 5, *, bearing: int = 1, test_scenes=(), s
     equal weights those rows dominate the least squares and spoil the fit where the journal
     spends its transient (44 Hz: the growth of the whirl, whose phase then drifts).
 
-    ``wall_power`` = p > 0 fits the polynomial to F (1 - eps^2)^p and evaluates
-    F = P(u) / (1 - eps^2)^p (the wall factor, see :mod:`bearing_fmu.surrogate`).
-
-    ``shape_order`` = r adds the short-bearing shape columns of order r (see
-    :func:`bearing_fmu.fitting.fit_surrogate`); None = the polynomial alone."""
+    The model settings (order, lambda, pruning, wall factor ``wall_power``, short-bearing shape
+    columns ``shape_order``): see :class:`bearing_fmu.fitting.FitRecipe` and
+    :func:`bearing_fmu.fitting.fit_surrogate`."""
     from bearing_fmu import fitting as F
     from bearing_fmu.reynolds import Reynolds
 
-    paths = [scene_path] if isinstance(scene_path, (str, os.PathLike)) else list(scene_path)
-    if not paths:
-        raise ValueError("fit_scene: no training scene given")
-    if not (ecc_weight >= 0 and math.isfinite(ecc_weight)):
-        raise ValueError(f"fit_scene: ecc_weight = {ecc_weight!r} must be finite and >= 0")
-    if designed_weight < 0 or not math.isfinite(designed_weight):
-        raise ValueError(f"fit_scene: designed_weight = {designed_weight!r} must be finite and >= 0")
-    scenes = [load_scene(p) for p in paths]
+    if recipe.kind != "scene":
+        raise ValueError("fit_scene: the recipe names no training scene (scenes)")
+    r = recipe
+    bearing = r.bearing_number
+    scenes = [load_scene(p) for p in r.scenes]
     scene = scenes[0]
     cache_dir = Path(cache_dir) if cache_dir is not None else None
 
@@ -139,7 +132,7 @@ def fit_scene(scene_path, order: int = 5, *, bearing: int = 1, test_scenes=(), s
         elif not np.allclose(ld, load, rtol=1e-9, atol=1e-9 * max(1.0, float(np.max(np.abs(load))))):
             raise ValueError(f"training scene {sc.source}: bearing {bearing} carries {ld.tolist()} N, the first "
                              f"training scene's carries {load.tolist()} N; a surrogate holds at one load")
-        t, states, forces = t[::stride], states[::stride], forces[::stride]
+        t, states, forces = t[::r.stride], states[::r.stride], forces[::r.stride]
         held = holdout_mask(t, sc.speed_hz)
         tr_states.append(states[~held])
         tr_forces.append(forces[~held])
@@ -153,7 +146,7 @@ def fit_scene(scene_path, order: int = 5, *, bearing: int = 1, test_scenes=(), s
     domain = F.domain_from_data(s_train, y0, z0, params, omega)
     s_fit, f_fit = s_train, f_train
     weights = None
-    if designed:
+    if r.designed:
         # A fit to one orbit alone is exact on it and wild off it (the series spans a thin set
         # of the 4-D state space: cond(X) ~ 1e10), and a rotor run with the surrogate leaves
         # that orbit at once. Reynolds forces at states spread over the domain the orbit spans
@@ -161,50 +154,40 @@ def fit_scene(scene_path, order: int = 5, *, bearing: int = 1, test_scenes=(), s
         # Near the wall the film force grows without bound; a polynomial cannot follow it
         # there and the designed samples then spoil the fit everywhere: designed_ecc_max and
         # designed_v_max keep them to the inner part of the domain (the series covers the rest).
-        ecc_d = min(domain.ecc_max, designed_ecc_max or domain.ecc_max)
-        if designed_tube:
-            s_d, f_d = F.tube_samples(truth, s_train, y0, z0, omega, designed_tube, designed, seed, ecc_max=ecc_d)
+        ecc_d = min(domain.ecc_max, r.designed_ecc_max or domain.ecc_max)
+        if r.designed_tube:
+            s_d, f_d = F.tube_samples(truth, s_train, y0, z0, omega, r.designed_tube, r.designed, r.seed,
+                                      ecc_max=ecc_d)
         else:
-            v_d = min(domain.v_max, designed_v_max or domain.v_max)
-            s_d, f_d, _ = F.designed_samples(truth, y0, z0, omega, ecc_d, v_d, designed, seed,
+            v_d = min(domain.v_max, r.designed_v_max or domain.v_max)
+            s_d, f_d, _ = F.designed_samples(truth, y0, z0, omega, ecc_d, v_d, r.designed, r.seed,
                                              radius=domain.pos_radius)
         s_fit, f_fit = np.vstack([s_fit, s_d]), np.vstack([f_fit, f_d])
-        if designed_weight != 1.0:
-            weights = np.concatenate([np.ones(len(s_train)), np.full(len(s_d), float(designed_weight))])
-    if ecc_weight:
+        if r.designed_weight != 1.0:
+            weights = np.concatenate([np.ones(len(s_train)), np.full(len(s_d), float(r.designed_weight))])
+    if r.ecc_weight:
         ecc = np.hypot(s_fit[:, 0], s_fit[:, 1]) / params.CR
-        w_ecc = np.clip(1.0 - ecc**2, 0.0, None) ** ecc_weight
+        w_ecc = np.clip(1.0 - ecc**2, 0.0, None) ** r.ecc_weight
         weights = w_ecc if weights is None else weights * w_ecc
-    anc = F.truth_jacobian(truth, y0, z0, omega) if anchor else None
+    anc = F.truth_jacobian(truth, y0, z0, omega) if r.anchor else None
     names = ", ".join(Path(sc.source).name for sc in scenes)
     prov = {"truth": "Reynolds", "truth_n_theta": truth.n_theta, "truth_n_x": truth.n_x,
             "truth_cavitation": truth.cavitation,
             "training_source": f"scene{'s' if len(scenes) > 1 else ''} {names}",
             "scene_t_end_s": [sc.t_end_s for sc in scenes] if len(scenes) > 1 else scene.t_end_s,
-            "scene_dt_s": scene.dt_s, "bearing": bearing, "stride": stride,
-            "designed_samples": designed, "designed_seed": seed, "designed_ecc_max": designed_ecc_max,
-            "designed_v_max": designed_v_max, "designed_weight": designed_weight, "designed_tube": designed_tube,
-            "ecc_weight": ecc_weight, "wall_power": wall_power, "shape_order": shape_order,
-            "held_out": f"every {HOLDOUT_EVERY}th block of (at most) {BLOCK_REVS:g} revolutions of each series",
-            "fit_call": {"scenes": [str(Path(sc.source).resolve()) for sc in scenes], "bearing": bearing,
-                         "stride": stride, "test_scenes": [str(Path(p).resolve()) for p in test_scenes],
-                         "lam": lam, "prune": prune, "prune_tol": prune_tol, "anchor": anchor,
-                         "designed": designed, "designed_ecc_max": designed_ecc_max,
-                         "designed_v_max": designed_v_max, "designed_weight": designed_weight,
-                         "designed_tube": designed_tube, "ecc_weight": ecc_weight, "wall_power": wall_power,
-                         "shape_order": shape_order, "seed": seed}}
-    res = F.fit_surrogate(s_fit, f_fit, params, omega, y0, z0, order, domain=domain,
-                          lam=lam, blocked=True, prune=prune, prune_tol=prune_tol, load=tuple(load),
-                          test=(np.vstack(ho_states), np.vstack(ho_forces)), provenance=prov, anchor=anc,
-                          weights=weights, wall_power=wall_power, shape_order=shape_order)
+            "scene_dt_s": scene.dt_s,
+            "held_out": f"every {HOLDOUT_EVERY}th block of (at most) {BLOCK_REVS:g} revolutions of each series"}
+    res = F.fit_surrogate(s_fit, f_fit, params, omega, y0, z0, r, domain=domain, anchor=anc, weights=weights,
+                          blocked=True, test=(np.vstack(ho_states), np.vstack(ho_forces)), load=tuple(load),
+                          provenance=prov)
     others = {}
-    for p in test_scenes:
+    for p in r.test_scenes:
         other = load_scene(p)
         check_speed(other, "test scene")
         _, s2, f2, _ = scene_series(other, bearing, cached(other), log)
-        pred = res.surrogate.predict(s2[::stride])
-        err = F.nrmse(pred, f2[::stride])
-        tay_dist = _domain_fraction(res.surrogate, s2[::stride])
+        pred = res.surrogate.predict(s2[::r.stride])
+        err = F.nrmse(pred, f2[::r.stride])
+        tay_dist = _domain_fraction(res.surrogate, s2[::r.stride])
         others[Path(other.source).name] = {"nrmse": dict(zip(F.COMPONENTS, err.tolist())),
                                            "out_of_domain_fraction": tay_dist}
     if others:
@@ -230,73 +213,65 @@ def _domain_fraction(surrogate, states) -> float:
     return float(np.mean([tay.domain_distance(*s) > 1e-12 for s in states]))
 
 
-def refit(surrogate_path, order: int, out_path, cache_dir=None, log=print):
-    """The surrogate of ``surrogate_path`` refitted at another order from the same data (the
-    call stored in its provenance): for order studies. Writes and returns ``out_path``."""
-    from bearing_fmu.fitting import refit_order
-    from bearing_fmu.surrogate import load_surrogate, save_surrogate
+# ----------------------------------------------------------------------------- refit
 
-    base = load_surrogate(surrogate_path)
-    call = base.provenance.get("fit_call")
-    if call is None or not ("scene" in call or "scenes" in call):
-        return refit_order(surrogate_path, order, out_path)
-    scenes, tests = training_scenes(surrogate_path)
-    res = fit_scene(scenes if len(scenes) > 1 else scenes[0], order, bearing=call["bearing"], test_scenes=tests,
-                    stride=call["stride"], cache_dir=cache_dir, lam=call["lam"], prune=call["prune"],
-                    prune_tol=call["prune_tol"], anchor=call["anchor"], designed=call.get("designed", 0),
-                    designed_ecc_max=call.get("designed_ecc_max"), designed_v_max=call.get("designed_v_max"),
-                    designed_weight=call.get("designed_weight", 1.0), designed_tube=call.get("designed_tube"),
-                    ecc_weight=call.get("ecc_weight", 0.0), wall_power=call.get("wall_power", 0.0),
-                    shape_order=call.get("shape_order"), seed=call.get("seed", 1), log=log)
-    portable_fit_call(res.surrogate, out_path)
-    return save_surrogate(res.surrogate, out_path)
+def refit(surrogate_path, order: int, out_path, cache_dir=None, log=print, *, surrogate=None) -> Path:
+    """The surrogate of ``surrogate_path`` refitted at another order from the same data (its
+    recipe, read once): for order studies. Scene-trained files rerun (or read from
+    ``cache_dir``) their scenes' series; designed-domain files their design. Writes and
+    returns ``out_path``. ``surrogate``: the file's content if the caller has read it already."""
+    from bearing_fmu.fitting import refit_order, save_fit
+    from bearing_fmu.surrogate import load_surrogate
+
+    sur = load_surrogate(surrogate_path) if surrogate is None else surrogate
+    recipe = recipe_of(sur, surrogate_path)
+    if recipe.kind != "scene":
+        return refit_order(surrogate_path, order, out_path, surrogate=sur)
+    _scenes_present(recipe, surrogate_path)
+    return save_fit(fit_scene(recipe.with_order(order), cache_dir=cache_dir, log=log), out_path)
 
 
 def training_scenes(surrogate_path) -> tuple[list[Path], list[Path]]:
     """(training scenes, held-out test scenes) of a scene-trained surrogate file, as paths
-    (its fit call stores them relative to the file); ([], []) for a designed-domain fit."""
+    (its recipe stores them relative to the file); ([], []) for a designed-domain fit."""
     from bearing_fmu.surrogate import load_surrogate
 
-    call = load_surrogate(surrogate_path).provenance.get("fit_call") or {}
-    if "scene" not in call and "scenes" not in call:
+    recipe = recipe_of(load_surrogate(surrogate_path), surrogate_path)
+    if recipe.kind != "scene":
         return [], []
-    here = Path(surrogate_path).resolve().parent
-    return ([_locate(p, here, surrogate_path) for p in _call_scenes(call)],
-            [_locate(p, here, surrogate_path) for p in call.get("test_scenes", ())])
+    _scenes_present(recipe, surrogate_path)
+    return [Path(p) for p in recipe.scenes], [Path(p) for p in recipe.test_scenes]
 
 
-def _call_scenes(call: dict) -> list:
-    """The training scenes of a fit call: ``scenes`` (a list), or ``scene`` (files written
-    before several training scenes were possible)."""
-    if "scenes" in call:
-        return list(call["scenes"])
-    return [call["scene"]]
+def _scenes_present(recipe: FitRecipe, surrogate_path) -> None:
+    for p in (*recipe.scenes, *recipe.test_scenes):
+        if not Path(p).is_file():
+            raise FileNotFoundError(f"{surrogate_path}: its fit recipe names the scene {p}, which is not there; "
+                                    "fit it again with `rotor-host fit --scene ...`")
 
 
-def portable_fit_call(surrogate, out_path) -> None:
-    """Store the scene paths of ``provenance["fit_call"]`` relative to the folder of the file
-    the surrogate is written to, so a refit works in another clone or checkout."""
-    call = surrogate.provenance.get("fit_call") or {}
-    if "scene" not in call and "scenes" not in call:
-        return
-    folder = Path(out_path).resolve().parent
+# ----------------------------------------------------------------------------- rotor-host fit
 
-    def rel(p):
-        return Path(os.path.relpath(Path(p).resolve(), folder)).as_posix()
+def add_arguments(parser) -> None:
+    """Options of ``rotor-host fit``: the recipe's model and scene-training settings
+    (generated from FitRecipe), the series cache and the outputs."""
+    from bearing_fmu.fitting.cli import add_output_arguments
 
-    for key in ("scene", "scenes"):
-        if key in call:
-            call[key] = [rel(p) for p in call[key]] if key == "scenes" else rel(call[key])
-    call["test_scenes"] = [rel(p) for p in call.get("test_scenes", ())]
+    add_recipe_arguments(parser, "scene")
+    parser.add_argument("--cache-dir", default=None,
+                        help="folder caching the Reynolds series (default: series/ beside --output)")
+    add_output_arguments(parser)
 
 
-def _locate(path, folder: Path, surrogate_path) -> Path:
-    p = Path(path)
-    p = p if p.is_absolute() else folder / p
-    if not p.is_file():
-        raise FileNotFoundError(f"{surrogate_path}: its fit call names the scene {path}, which is not at {p}; "
-                                "refit it with `bearing-fmu fit --scene ...`")
-    return p
+def run(args) -> int:
+    """``rotor-host fit``: fit, write the file (scene paths relative to it), report, plots."""
+    from bearing_fmu.fitting.cli import write_fit
+
+    if not args.scenes:
+        raise ValueError("--scene: give at least one training scene (models/scenes/*.toml)")
+    recipe = recipe_from_args(args, "scene")
+    cache = Path(args.cache_dir) if args.cache_dir else Path(args.output).resolve().parent / "series"
+    return write_fit(fit_scene(recipe, cache_dir=cache), args.output, plots=args.plots, note=args.note)
 
 
-__all__ = ["scene_series", "holdout_mask", "fit_scene", "refit", "portable_fit_call", "training_scenes"]
+__all__ = ["scene_series", "holdout_mask", "fit_scene", "refit", "training_scenes", "add_arguments", "run"]

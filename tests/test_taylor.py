@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 
 from bearing_fmu import fitting as F
+from bearing_fmu.fitting import FitRecipe
 from bearing_fmu.internals import BearingStateError, DifferentiableInternal, Internal
 from bearing_fmu.params import PAPER_BEARING, BearingParams
 from bearing_fmu.statics import linearize
@@ -21,6 +22,12 @@ from bearing_fmu.taylor import Taylor
 
 P = PAPER_BEARING
 OMEGA = 2 * math.pi * 22.0
+
+
+def R(order, **kw):
+    """The recipe of a direct fit_surrogate call here: not anchored unless asked, random CV folds
+    of seed 0 (fit_surrogate's own defaults before FitRecipe)."""
+    return FitRecipe(order=order, **{"anchor": False, "seed": 0, **kw})
 Y0, Z0 = 0.2 * P.CR, -0.05 * P.CR  # an expansion point near the paper's 22 Hz equilibrium
 BOX = Domain(ecc_max=0.8, pos_center=(0.0, 0.0), pos_radius=0.3, v_max=0.3, box_lo=(-0.3,) * 4, box_hi=(0.3,) * 4)
 
@@ -105,7 +112,7 @@ def test_known_polynomial_recovered_to_round_off():
     truth = poly_surrogate(order=3, seed=1)
     states = random_states(600, 2)
     forces = truth.predict(states)
-    res = F.fit_surrogate(states, forces, P, OMEGA, Y0, Z0, 5, domain=BOX, lam=0.0, prune=False,
+    res = F.fit_surrogate(states, forces, P, OMEGA, Y0, Z0, R(5, lam=0.0, prune=False), domain=BOX,
                           force_scale=truth.force_scale)
     c = res.surrogate.coef
     n3 = n_terms(3)
@@ -122,7 +129,7 @@ def test_order1_fit_gives_lund_coefficients():
     r = 1e-4
     states = random_states(200, 4, r=r, v=r)
     forces = F.sample_forces(truth, states, OMEGA)
-    res = F.fit_surrogate(states, forces, P, OMEGA, Y0, Z0, 1, domain=BOX, lam=0.0, prune=False)
+    res = F.fit_surrogate(states, forces, P, OMEGA, Y0, Z0, R(1, lam=0.0, prune=False), domain=BOX)
     s = res.surrogate
     K, C = linearize(truth, Y0, Z0, OMEGA)
     dq = s.coef[:, 1:3] * s.force_scale / P.CR
@@ -186,7 +193,7 @@ def test_lambda_zero_wins_on_noise_free_polynomial():
     # noise-free data of the basis' own order: LS is exact, any lambda > 0 adds bias
     truth = poly_surrogate(order=2, seed=8)
     states = random_states(300, 9)
-    res = F.fit_surrogate(states, truth.predict(states), P, OMEGA, Y0, Z0, 2, domain=BOX, prune=False,
+    res = F.fit_surrogate(states, truth.predict(states), P, OMEGA, Y0, Z0, R(2, prune=False), domain=BOX,
                           force_scale=truth.force_scale)
     assert res.report["lambda"] == {"Fy": 0.0, "Fz": 0.0}
     assert max(res.report["errors"]["train_nrmse"].values()) < 1e-9
@@ -214,7 +221,7 @@ def test_pruning_drops_absent_terms():
     truth = Surrogate(P, OMEGA, Y0, Z0, 3, e, coef, 10.0, BOX)
     states = random_states(500, 11)
     forces = truth.predict(states) + np.random.default_rng(12).normal(size=(500, 2)) * 1e-3
-    res = F.fit_surrogate(states, forces, P, OMEGA, Y0, Z0, 3, domain=BOX, lam=0.0, prune=True)
+    res = F.fit_surrogate(states, forces, P, OMEGA, Y0, Z0, R(3, lam=0.0, prune=True), domain=BOX)
     kept = res.surrogate.kept
     assert kept[0, [0, 1, 5, 20]].all() and kept[1, [0, 2, 9]].all()
     assert kept[0].sum() <= 8 and kept[1].sum() <= 8
@@ -227,7 +234,8 @@ def test_anchored_fit_keeps_value_and_derivatives():
     states = random_states(500, 16)
     forces = F.sample_forces(truth, states, OMEGA)
     anchor = F.truth_jacobian(truth, Y0, Z0, OMEGA)
-    res = F.fit_surrogate(states, forces, P, OMEGA, Y0, Z0, 4, domain=BOX, anchor=anchor, prune=True)
+    res = F.fit_surrogate(states, forces, P, OMEGA, Y0, Z0, R(4, prune=True, anchor=True), domain=BOX,
+                          anchor=anchor)
     t = Taylor(res.surrogate)
     f, dq, dv = t.force_and_jacobian(Y0, Z0, 0.0, 0.0, OMEGA)
     np.testing.assert_allclose(f, truth.force(Y0, Z0, 0.0, 0.0, OMEGA), rtol=1e-12)
@@ -236,7 +244,7 @@ def test_anchored_fit_keeps_value_and_derivatives():
     assert res.surrogate.kept[:, :5].all()
     assert max(res.report["errors"]["train_nrmse"].values()) < 1e-2  # the smooth truth fits well
     # order 1 anchored is the linear (Lund) model itself: nothing left to regress
-    lin = F.fit_surrogate(states, forces, P, OMEGA, Y0, Z0, 1, domain=BOX, anchor=anchor)
+    lin = F.fit_surrogate(states, forces, P, OMEGA, Y0, Z0, R(1, anchor=True), domain=BOX, anchor=anchor)
     K, C = linearize(truth, Y0, Z0, OMEGA)
     _, dq1, dv1 = Taylor(lin.surrogate).force_and_jacobian(Y0 + 1e-6, Z0, 1e-3, 0.0, OMEGA)
     np.testing.assert_allclose(-dq1, K, rtol=1e-6)
@@ -362,7 +370,7 @@ def test_domain_guard_actions():
 def test_file_round_trip(tmp_path):
     states = random_states(300, 15)
     forces = F.sample_forces(Smooth(), states, OMEGA)
-    res = F.fit_surrogate(states, forces, P, OMEGA, Y0, Z0, 3, domain=BOX, prune=True, load=(0.0, -16.7),
+    res = F.fit_surrogate(states, forces, P, OMEGA, Y0, Z0, R(3, prune=True), domain=BOX, load=(0.0, -16.7),
                           provenance={"training_source": "unit test"})
     path = save_surrogate(res.surrogate, tmp_path / "s.json")
     back = load_surrogate(path, P)
@@ -451,18 +459,19 @@ def test_row_weights_are_repeated_rows():
     st = random_states(200, 5)
     f = np.array([truth.force(*row, OMEGA) for row in st])
     w = np.random.default_rng(6).integers(1, 4, len(st)).astype(float)
-    kw = dict(domain=BOX, lam=0.0, prune=False, bias_variance=False)
-    a = F.fit_surrogate(st, f, P, OMEGA, Y0, Z0, 3, weights=w, **kw).surrogate
+    kw = dict(domain=BOX, bias_variance=False)
+    r3 = R(3, lam=0.0, prune=False)
+    a = F.fit_surrogate(st, f, P, OMEGA, Y0, Z0, r3, weights=w, **kw).surrogate
     rep = np.repeat(np.arange(len(st)), w.astype(int))
-    b = F.fit_surrogate(st[rep], f[rep], P, OMEGA, Y0, Z0, 3, **kw).surrogate
+    b = F.fit_surrogate(st[rep], f[rep], P, OMEGA, Y0, Z0, r3, **kw).surrogate
     np.testing.assert_allclose(a.coef, b.coef, rtol=1e-8, atol=1e-10 * np.abs(b.coef).max())
     junk = np.vstack([f, np.full((20, 2), 1e6)])
     w0 = np.concatenate([np.ones(len(st)), np.zeros(20)])
-    c = F.fit_surrogate(np.vstack([st, st[:20]]), junk, P, OMEGA, Y0, Z0, 3, weights=w0, **kw).surrogate
-    d = F.fit_surrogate(st, f, P, OMEGA, Y0, Z0, 3, **kw).surrogate
+    c = F.fit_surrogate(np.vstack([st, st[:20]]), junk, P, OMEGA, Y0, Z0, r3, weights=w0, **kw).surrogate
+    d = F.fit_surrogate(st, f, P, OMEGA, Y0, Z0, r3, **kw).surrogate
     np.testing.assert_allclose(c.coef, d.coef, rtol=1e-8, atol=1e-10 * np.abs(d.coef).max())
     with pytest.raises(ValueError, match="weights"):
-        F.fit_surrogate(st, f, P, OMEGA, Y0, Z0, 3, weights=-w, **kw)
+        F.fit_surrogate(st, f, P, OMEGA, Y0, Z0, r3, weights=-w, **kw)
 
 
 def test_npz_source(tmp_path):
@@ -489,13 +498,15 @@ def test_reynolds_trained_fit_22hz_coarse_grid():
     from bearing_fmu.reynolds import Reynolds
 
     rey = Reynolds(P, n_theta=32, n_x=8)
-    res = F.fit_condition((0.0, -16.7), 22.0, 5, ecc_max=0.95, v_max=0.1, radius=0.1, n_train=700, n_test=300,
-                          internal=rey, prune=False, bias_variance=False)
+    res = F.fit_condition(FitRecipe(load_y=0.0, load_z=-16.7, speed_hz=22.0, order=5, ecc_max=0.95, v_max=0.1,
+                                    radius=0.1, n_train=700, n_test=300, prune=False),
+                          internal=rey, bias_variance=False)
     e = res.report["errors"]["test_nrmse"]
     assert max(e.values()) < 0.03
     assert 0.15 < res.report["eps0"] < 0.3  # equilibrium eccentricity of the paper's 22 Hz case (~0.21)
-    lin = F.fit_condition((0.0, -16.7), 22.0, 1, ecc_max=0.95, v_max=0.1, radius=0.1, n_train=300, n_test=300,
-                          internal=rey, prune=False, bias_variance=False)
+    lin = F.fit_condition(FitRecipe(load_y=0.0, load_z=-16.7, speed_hz=22.0, order=1, ecc_max=0.95, v_max=0.1,
+                                    radius=0.1, n_train=300, n_test=300, prune=False),
+                          internal=rey, bias_variance=False)
     assert min(lin.report["errors"]["test_nrmse"].values()) > 0.1
     # anchored (the default): the surrogate's statics are the truth's -- the same equilibrium
     # under the same load and Lund's coefficients from Reynolds' own (adjoint) derivatives
@@ -531,6 +542,32 @@ def test_fit_command_writes_file_plots_and_report(tmp_path, capsys):
     assert (tmp_path / "plots" / "s_bias_variance.png").stat().st_size > 0
 
 
+def test_designed_refit_repeats_the_fit_from_its_recipe(tmp_path):
+    # the file's recipe is the whole fit: a refit at its own order gives the same numbers, and so
+    # does a file of the older form (its settings in provenance["fit_call"], read into a recipe)
+    pytest.importorskip("bearing_fmu.reynolds")
+    import argparse
+
+    out = tmp_path / "s.json"
+    args = F.add_fit_arguments(argparse.ArgumentParser()).parse_args(
+        ["--order", "3", "--ecc-max", "0.9", "--radius", "0.1", "--v-max", "0.1", "--n-train", "200", "--n-test", "50",
+         "--grid", "32", "8", "--wall-power", "0.5", "--lambda", "1e-7", "-o", str(out)])
+    assert F.run_fit(args) == 0
+    s = load_surrogate(out)
+    assert s.provenance["recipe"]["grid"] == [32, 8] and s.provenance["recipe"]["lam"] == 1e-7
+    r = load_surrogate(F.refit_order(out, 3, tmp_path / "r.json"))
+    assert r.coef.tolist() == s.coef.tolist() and r.kept.tolist() == s.kept.tolist() and r.errors == s.errors
+    d = json.loads(out.read_text())
+    rec = d["provenance"].pop("recipe")
+    d["provenance"]["fit_call"] = {"load": [rec.pop("load_y"), rec.pop("load_z")], "npz": rec.pop("from_npz"),
+                                   **{k: v for k, v in rec.items() if k != "order"}}
+    (tmp_path / "old.json").write_text(json.dumps(d))
+    o = load_surrogate(F.refit_order(tmp_path / "old.json", 2, tmp_path / "o.json"))
+    r2 = load_surrogate(F.refit_order(out, 2, tmp_path / "r2.json"))
+    assert o.order == 2 and o.coef.tolist() == r2.coef.tolist()
+    assert o.provenance["recipe"] == {**s.provenance["recipe"], "order": 2}
+
+
 # ----------------------------------------------------------------------------- wall factor
 
 def wall_surrogate(order=3, seed=1, p=1.5, scale=1.0):
@@ -562,8 +599,8 @@ def test_wall_factor_known_function_recovered_to_round_off(p):
     truth = wall_surrogate(3, seed=1, p=p)
     states = random_states(600, 2, r=0.6)  # eccentricity up to ~0.9
     assert np.max(np.hypot(states[:, 0], states[:, 1])) / P.CR > 0.8
-    res = F.fit_surrogate(states, truth.predict(states), P, OMEGA, Y0, Z0, 5, domain=BOX, lam=0.0, prune=False,
-                          force_scale=truth.force_scale, wall_power=p)
+    res = F.fit_surrogate(states, truth.predict(states), P, OMEGA, Y0, Z0,
+                          R(5, lam=0.0, prune=False, wall_power=p), domain=BOX, force_scale=truth.force_scale)
     s = res.surrogate
     assert s.wall_power == p
     n3 = n_terms(3)
@@ -572,8 +609,8 @@ def test_wall_factor_known_function_recovered_to_round_off(p):
     test = random_states(200, 3, r=0.6)
     np.testing.assert_allclose(s.predict(test), truth.predict(test), rtol=1e-9, atol=1e-9)
     # without the factor (p = 0) the same data is not a polynomial: order 5 does not recover it
-    plain = F.fit_surrogate(states, truth.predict(states), P, OMEGA, Y0, Z0, 5, domain=BOX, lam=0.0, prune=False,
-                            force_scale=truth.force_scale)
+    plain = F.fit_surrogate(states, truth.predict(states), P, OMEGA, Y0, Z0, R(5, lam=0.0, prune=False),
+                            domain=BOX, force_scale=truth.force_scale)
     assert np.max(np.abs(plain.surrogate.predict(test) - truth.predict(test))) > 1e-6
 
 
@@ -595,8 +632,8 @@ def test_wall_factor_anchor_keeps_value_and_derivatives():
     truth = Smooth()
     states = random_states(500, 16)
     anchor = F.truth_jacobian(truth, Y0, Z0, OMEGA)
-    res = F.fit_surrogate(states, F.sample_forces(truth, states, OMEGA), P, OMEGA, Y0, Z0, 4, domain=BOX,
-                          anchor=anchor, prune=False, wall_power=1.5)
+    res = F.fit_surrogate(states, F.sample_forces(truth, states, OMEGA), P, OMEGA, Y0, Z0,
+                          R(4, prune=False, wall_power=1.5, anchor=True), domain=BOX, anchor=anchor)
     f, dq, dv = Taylor(res.surrogate).force_and_jacobian(Y0, Z0, 0.0, 0.0, OMEGA)
     np.testing.assert_allclose(f, anchor[0], rtol=1e-12)
     np.testing.assert_allclose(dq, anchor[1], rtol=1e-10, atol=1e-12 * np.abs(anchor[1]).max())
@@ -617,8 +654,8 @@ def test_wall_factor_undefined_at_the_wall():
     with pytest.raises(ValueError, match="wall_power"):
         Surrogate(P, OMEGA, Y0, Z0, 1, exponents(1), np.zeros((2, 5)), 1.0, BOX, wall_power=-1.0)
     with pytest.raises(ValueError, match="wall_power"):
-        F.fit_surrogate(random_states(100, 1), np.zeros((100, 2)), P, OMEGA, Y0, Z0, 2, domain=BOX,
-                        wall_power=float("nan"))
+        F.fit_surrogate(random_states(100, 1), np.zeros((100, 2)), P, OMEGA, Y0, Z0,
+                        R(2, wall_power=float("nan")), domain=BOX)
 
 
 def test_wall_factor_file_round_trip(tmp_path):
@@ -709,8 +746,9 @@ def test_shape_columns_known_model_recovered_to_round_off(anchored):
     truth = shape_surrogate(3, 2, seed=35)
     states = random_states(800, 36, r=0.5, v=0.6)  # eccentricity up to ~0.89
     anchor = Taylor(truth).force_and_jacobian(Y0, Z0, 0.0, 0.0, OMEGA) if anchored else None
-    res = F.fit_surrogate(states, truth.predict(states), P, OMEGA, Y0, Z0, 3, domain=BOX, lam=0.0, prune=False,
-                          force_scale=truth.force_scale, wall_power=1.25, shape_order=2, anchor=anchor)
+    res = F.fit_surrogate(states, truth.predict(states), P, OMEGA, Y0, Z0,
+                          R(3, lam=0.0, prune=False, wall_power=1.25, shape_order=2, anchor=anchored), domain=BOX,
+                          force_scale=truth.force_scale, anchor=anchor)
     s = res.surrogate
     np.testing.assert_allclose(s.coef, truth.coef, atol=1e-10 * np.abs(truth.coef).max())
     np.testing.assert_allclose(s.shape_coef, truth.shape_coef, atol=1e-10 * np.abs(truth.shape_coef).max())
@@ -723,8 +761,9 @@ def test_shape_columns_anchor_keeps_value_and_derivatives():
     truth = Smooth()
     states = random_states(600, 37)
     anchor = F.truth_jacobian(truth, Y0, Z0, OMEGA)
-    res = F.fit_surrogate(states, F.sample_forces(truth, states, OMEGA), P, OMEGA, Y0, Z0, 3, domain=BOX,
-                          anchor=anchor, prune=True, wall_power=1.25, shape_order=2)
+    res = F.fit_surrogate(states, F.sample_forces(truth, states, OMEGA), P, OMEGA, Y0, Z0,
+                          R(3, prune=True, wall_power=1.25, shape_order=2, anchor=True), domain=BOX,
+                          anchor=anchor)
     f, dq, dv = Taylor(res.surrogate).force_and_jacobian(Y0, Z0, 0.0, 0.0, OMEGA)
     np.testing.assert_allclose(f, anchor[0], rtol=1e-10, atol=1e-12 * np.abs(anchor[0]).max())
     np.testing.assert_allclose(dq, anchor[1], rtol=1e-9, atol=1e-11 * np.abs(anchor[1]).max())
@@ -816,4 +855,5 @@ def test_bad_shape_order_named(bad):
         Surrogate(P, OMEGA, Y0, Z0, 2, s.exponents, s.coef, s.force_scale, BOX, shape_order=bad,
                   shape_coef=np.zeros((4, 5)))
     with pytest.raises(ValueError, match="fit: shape_order = .* must be an integer >= 0"):
-        F.fit_surrogate(random_states(100, 1), np.zeros((100, 2)), P, OMEGA, Y0, Z0, 2, domain=BOX, shape_order=bad)
+        F.fit_surrogate(random_states(100, 1), np.zeros((100, 2)), P, OMEGA, Y0, Z0, R(2, shape_order=bad),
+                        domain=BOX)

@@ -9,8 +9,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from bearing_fmu.fitting import nrmse
+from bearing_fmu.fitting import FitRecipe, nrmse
 from bearing_fmu.surrogate import load_surrogate
+from rotor_host.cli import main as rotor_host
 from rotor_host.training import fit_scene, holdout_mask, refit, scene_series
 from rotor_host.scene import load_scene
 
@@ -42,6 +43,19 @@ def _scene(folder: Path, name: str, mass_g: float) -> Path:
     return p
 
 
+def _as_fit_call(d: dict) -> dict:
+    """A surrogate file's content as written before FitRecipe: the scene fit's settings in
+    provenance["fit_call"] (the bearing number as "bearing"; no order, no k_folds)."""
+    r = d["provenance"].pop("recipe")
+    call = {"scenes": r["scenes"], "bearing": r["bearing_number"], "stride": r["stride"],
+            "test_scenes": r["test_scenes"]}
+    call.update({k: r[k] for k in ("lam", "prune", "prune_tol", "anchor", "designed", "designed_ecc_max",
+                                   "designed_v_max", "designed_weight", "designed_tube", "ecc_weight", "wall_power",
+                                   "shape_order", "seed")})
+    d["provenance"]["fit_call"] = call
+    return d
+
+
 def test_holdout_blocks_are_every_fifth():
     # 10 s at 10 Hz: blocks of 2 revolutions = 0.2 s, every 5th held out: [0.8, 1.0), [1.8, 2.0), ...
     t = np.arange(0, 10.0, 1e-3)
@@ -60,8 +74,8 @@ def test_scene_fit_holds_out_and_refits_elsewhere(tmp_path):
     scenes.mkdir()
     train = _scene(scenes, "train", 8.5)
     other = _scene(scenes, "other", 6.0)
-    res = fit_scene(train, 3, test_scenes=[other], cache_dir=tmp_path / "series", designed=200,
-                    prune=False, log=lambda *_: None)
+    res = fit_scene(FitRecipe(scenes=[train], order=3, test_scenes=[other], designed=200, prune=False),
+                    cache_dir=tmp_path / "series", log=lambda *_: None)
     s = res.surrogate
     # the held-out blocks are states the fit never saw; the check below recomputes their error
     t, states, forces, _ = scene_series(load_scene(train), cache=tmp_path / "series" / "train_b1_series.npz")
@@ -75,13 +89,11 @@ def test_scene_fit_holds_out_and_refits_elsewhere(tmp_path):
     assert "other.toml" in s.errors["other_scenes"]
 
     # written through the CLI path: scene paths relative to the file, so the pair of folders can move
-    from bearing_fmu.surrogate import save_surrogate
-    from rotor_host.training import portable_fit_call
+    from bearing_fmu.fitting import save_fit
 
     out = tmp_path / "surrogates" / "s.json"
-    portable_fit_call(s, out)
-    save_surrogate(s, out)
-    call = json.loads(out.read_text())["provenance"]["fit_call"]
+    save_fit(res, out)
+    call = json.loads(out.read_text())["provenance"]["recipe"]
     assert call["scenes"] == ["../scenes/train.toml"] and call["test_scenes"] == ["../scenes/other.toml"]
     moved = tmp_path / "moved"
     shutil.copytree(tmp_path / "scenes", moved / "scenes")
@@ -110,24 +122,19 @@ def test_shipped_fit_calls_point_at_bundled_scenes(name):
 
 def test_several_training_scenes(tmp_path):
     # two unbalances at the same speed and load trained together: both series' held-out blocks
-    # are scored, the fit call names both scenes, the CLI takes --scene twice and a refit
-    # (also from a file of the older single-scene form) uses the same data
-    import argparse
-
-    from bearing_fmu import fitting as F
-
+    # are scored, the fit recipe names both scenes, the CLI takes --scene twice and a refit
+    # (also from a file of the older single-scene fit-call form) uses the same data
     scenes = tmp_path / "scenes"
     scenes.mkdir()
     a, b, other = _scene(scenes, "a", 8.5), _scene(scenes, "b", 3.0), _scene(scenes, "other", 6.0)
     cache = tmp_path / "series"
-    parser = F.add_fit_arguments(argparse.ArgumentParser())
     out = tmp_path / "surrogates" / "s.json"
-    args = parser.parse_args(["--scene", str(a), "--scene", str(b), "--test-scene", str(other), "--order", "3",
-                              "--designed", "200", "--designed-tube", "0.02", "--ecc-weight", "1",
-                              "--no-prune", "--cache-dir", str(cache), "-o", str(out)])
-    assert F.run_fit(args) == 0
+    args = ["fit", "--scene", str(a), "--scene", str(b), "--test-scene", str(other), "--order", "3",
+            "--designed", "200", "--designed-tube", "0.02", "--ecc-weight", "1",
+            "--no-prune", "--cache-dir", str(cache), "-o", str(out)]
+    assert rotor_host(args) == 0
     s = load_surrogate(out)
-    call = s.provenance["fit_call"]
+    call = s.provenance["recipe"]
     assert call["scenes"] == ["../scenes/a.toml", "../scenes/b.toml"]
     assert call["designed_tube"] == 0.02 and call["ecc_weight"] == 1.0
     held = []
@@ -143,16 +150,43 @@ def test_several_training_scenes(tmp_path):
     assert err.max() < 0.05 and "other.toml" in s.errors["other_scenes"]
 
     r = load_surrogate(refit(out, 3, tmp_path / "surrogates" / "r.json", cache_dir=cache, log=lambda *_: None))
-    assert r.provenance["fit_call"]["scenes"] == call["scenes"]
+    assert r.provenance["recipe"]["scenes"] == call["scenes"]
     np.testing.assert_allclose(r.coef, s.coef, rtol=1e-9, atol=1e-12)  # same data, seed and weights
     # a file written before several scenes were possible names one "scene"
-    d = json.loads(out.read_text())
+    d = _as_fit_call(json.loads(out.read_text()))
     d["provenance"]["fit_call"].pop("scenes")
     d["provenance"]["fit_call"]["scene"] = "../scenes/a.toml"
     old = tmp_path / "surrogates" / "old.json"
     old.write_text(json.dumps(d))
     o = load_surrogate(refit(old, 2, tmp_path / "surrogates" / "o.json", cache_dir=cache, log=lambda *_: None))
-    assert o.order == 2 and o.provenance["fit_call"]["scenes"] == ["../scenes/a.toml"]
+    assert o.order == 2 and o.provenance["recipe"]["scenes"] == ["../scenes/a.toml"]
+
+
+def test_host_fit_needs_a_scene(capsys):
+    assert rotor_host(["fit", "--order", "3", "-o", "s.json"]) == 2
+    assert "--scene" in capsys.readouterr().err
+
+
+def test_compare_refits_a_scene_surrogate_at_other_orders(tmp_path):
+    # `rotor-host compare --orders`: the scene's surrogate for its own order, the others refitted
+    # from its recipe into the output folder (once: a second call finds them there)
+    from types import SimpleNamespace
+
+    from rotor_host.cli import _surrogates
+
+    scenes = tmp_path / "scenes"
+    scenes.mkdir()
+    a = _scene(scenes, "a", 8.5)
+    sur = tmp_path / "surrogates" / "a.json"
+    assert rotor_host(["fit", "--scene", str(a), "--order", "3", "--designed", "0", "--no-prune",
+                       "--cache-dir", str(tmp_path / "out" / "series"), "-o", str(sur)]) == 0
+    scene = load_scene(a).with_internal("taylor", via="direct", options={"taylor": {"surrogate": sur}})
+    args = SimpleNamespace(orders=[2, 3], out=str(tmp_path / "out"))
+    got = _surrogates(args, scene)
+    assert [o for o, _ in got] == [2, 3] and got[1][1] == sur
+    r = load_surrogate(got[0][1])
+    assert r.order == 2 and r.provenance["recipe"]["scenes"] == ["../../scenes/a.toml"]
+    assert _surrogates(args, scene) == got
 
 
 def test_training_scenes_must_share_speed_and_load(tmp_path):
@@ -161,33 +195,31 @@ def test_training_scenes_must_share_speed_and_load(tmp_path):
     heavy.write_text(a.read_text().replace('name = "a"', 'name = "heavy"')
                      + "[[static_loads]]\nnode = 3\nFz_N = -50.0\n")
     with pytest.raises(ValueError, match="load"):
-        fit_scene([a, heavy], 2, cache_dir=tmp_path / "series", designed=0, prune=False, log=lambda *_: None)
+        fit_scene(FitRecipe(scenes=[a, heavy], order=2, designed=0, prune=False), cache_dir=tmp_path / "series",
+                  log=lambda *_: None)
     fast = tmp_path / "fast.toml"
     fast.write_text(a.read_text().replace("speed_hz = 22.0", "speed_hz = 30.0"))
     with pytest.raises(ValueError, match="speed"):
-        fit_scene([a, fast], 2, cache_dir=tmp_path / "series", designed=0, prune=False, log=lambda *_: None)
+        fit_scene(FitRecipe(scenes=[a, fast], order=2, designed=0, prune=False), cache_dir=tmp_path / "series",
+                  log=lambda *_: None)
     with pytest.raises(ValueError, match="ecc_weight"):
-        fit_scene(a, 2, cache_dir=tmp_path / "series", designed=0, ecc_weight=-1.0, log=lambda *_: None)
+        fit_scene(FitRecipe(scenes=[a], order=2, designed=0, ecc_weight=-1.0), cache_dir=tmp_path / "series",
+                  log=lambda *_: None)
 
 
 def test_wall_power_is_recorded_and_refitted(tmp_path):
-    # --wall-power P: the polynomial fits F (1 - eps^2)^P, the file says so, the fit call stores
+    # --wall-power P: the polynomial fits F (1 - eps^2)^P, the file says so, the fit recipe stores
     # it and a refit repeats it (same data, same coefficients)
-    import argparse
-
-    from bearing_fmu import fitting as F
-
     scenes = tmp_path / "scenes"
     scenes.mkdir()
     a = _scene(scenes, "a", 8.5)
     cache = tmp_path / "series"
     out = tmp_path / "surrogates" / "w.json"
-    args = F.add_fit_arguments(argparse.ArgumentParser()).parse_args(
-        ["--scene", str(a), "--order", "3", "--designed", "0", "--wall-power", "1.5", "--no-prune",
-         "--cache-dir", str(cache), "-o", str(out)])
-    assert F.run_fit(args) == 0
+    args = ["fit", "--scene", str(a), "--order", "3", "--designed", "0", "--wall-power", "1.5", "--no-prune",
+            "--cache-dir", str(cache), "-o", str(out)]
+    assert rotor_host(args) == 0
     s = load_surrogate(out)
-    assert s.wall_power == 1.5 and s.provenance["fit_call"]["wall_power"] == 1.5
+    assert s.wall_power == 1.5 and s.provenance["recipe"]["wall_power"] == 1.5
     t, st, fo, _ = scene_series(load_scene(a), cache=cache / "a_b1_series.npz")
     t, st, fo = t[::2], st[::2], fo[::2]
     m = holdout_mask(t, 22.0)
@@ -198,7 +230,7 @@ def test_wall_power_is_recorded_and_refitted(tmp_path):
     assert r.wall_power == 1.5
     np.testing.assert_allclose(r.coef, s.coef, rtol=1e-9, atol=1e-12)
     # a fit call without the key (older files) refits with the plain polynomial
-    d = json.loads(out.read_text())
+    d = _as_fit_call(json.loads(out.read_text()))
     d["provenance"]["fit_call"].pop("wall_power")
     old = tmp_path / "surrogates" / "old.json"
     old.write_text(json.dumps(d))

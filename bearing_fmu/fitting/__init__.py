@@ -1,25 +1,30 @@
 """Fitting the Taylor surrogate (never bundled into the FMU, which only evaluates it).
 
+    recipe    FitRecipe: every fit setting once (meaning, unit, range), its command-line
+              options and its record in the surrogate file
     ridge     ridge regression through one SVD, cross validation, lambda search, pruning, errors
     sampling  training data: designed samples, tubes about orbits, time series, their domain
-    fit       fit_surrogate (the fit) and fit_condition (a designed domain at one load and speed)
+    fit       fit_surrogate (the fit, step by step), fit_condition (a designed domain at one
+              load and speed), save_fit, refit_order
     report    the report table and the lambda plots
-    cli       ``bearing-fmu fit``
+    cli       ``bearing-fmu fit`` (scene-trained fitting is the host's ``rotor-host fit``)
 
 The names below are re-exported for convenience (``from bearing_fmu import fitting as F``).
 """
 
-from .cli import add_fit_arguments, run_fit
-from .fit import COMPONENTS, FitResult, expansion_point, fit_condition, fit_surrogate, make_reynolds, refit_order, \
-    truth_jacobian
+from .cli import add_fit_arguments, run_fit, write_fit
+from .fit import (COMPONENTS, FitResult, expansion_point, fit_condition, fit_surrogate, make_reynolds, refit_order,
+                  save_fit, truth_jacobian)
+from .recipe import FitRecipe, RecipeError, add_recipe_arguments, recipe_from_args, recipe_of
 from .report import format_report, plot_lambda
 from .ridge import (CrossValidation, RidgeSVD, fold_indices, nrmse, prune_terms, rel_rms, ridge_normal_equations,
                     select_lambda)
 from .sampling import designed_samples, domain_from_data, load_npz, sample_forces, tube_samples
 
 __all__ = [
+    "FitRecipe", "RecipeError", "recipe_of", "add_recipe_arguments", "recipe_from_args",
     "RidgeSVD", "CrossValidation", "select_lambda", "prune_terms", "fold_indices", "nrmse", "rel_rms",
     "ridge_normal_equations", "designed_samples", "tube_samples", "sample_forces", "load_npz", "domain_from_data",
-    "FitResult", "fit_surrogate", "fit_condition", "make_reynolds", "truth_jacobian", "expansion_point",
-    "refit_order", "COMPONENTS", "format_report", "plot_lambda", "add_fit_arguments", "run_fit",
+    "FitResult", "fit_surrogate", "save_fit", "fit_condition", "make_reynolds", "truth_jacobian", "expansion_point",
+    "refit_order", "COMPONENTS", "format_report", "plot_lambda", "add_fit_arguments", "run_fit", "write_fit",
 ]
