@@ -54,8 +54,9 @@ def main(argv: list[str] | None = None) -> int:
 
     from .fitting.cli import add_fit_arguments, run_fit
 
-    p = sub.add_parser("fit", help="fit a Taylor surrogate (from a scene's Reynolds series or a designed domain) "
-                                   "and write its JSON file, report and lambda plots")
+    p = sub.add_parser("fit", help="fit a Taylor surrogate over a designed domain (or to a time series, --from-npz) "
+                                   "and write its JSON file, report and lambda plots; scene-trained fits: "
+                                   "rotor-host fit")
     add_fit_arguments(p)
     p.set_defaults(func=run_fit)
 
