@@ -325,8 +325,10 @@ def fit_surrogate(
     # 4. pruning
     prune_info = {}
     if recipe.prune and Nf > 0:
-        kept[:, n_fix:], coef[:, n_fix:], prune_info = _prune(Xf, Yr, lams, folds, recipe, blocked,
-                                                              protect_first=n_fix == 0, n_shape=2 * Nr)
+        kept_free, coef_free, prune_info = _prune(Xf, Yr, lams, folds, recipe, blocked, protect_first=n_fix == 0,
+                                                  n_shape=2 * Nr)
+        kept[:, n_fix:] = kept_free
+        coef[:, n_fix:] = coef_free
     # 5. the shape part
     anchored = anchor is not None
     fits = {"chosen": _split_shape(coef, N, lin, anchored), "unpruned": _split_shape(coef_unpruned, N, lin, anchored),

@@ -461,7 +461,8 @@ def recipe_from_args(args: argparse.Namespace, group: str) -> FitRecipe:
         return FitRecipe(**{name: getattr(args, name) for name in flags})
     except RecipeError as exc:
         value = exc.value if not isinstance(exc.value, tuple) else " ".join(map(str, exc.value))
-        raise ValueError(f"{flags.get(exc.name, exc.name)} {value}: must be {exc.allowed}") from None
+        allowed = exc.allowed.removesuffix(" or None")  # on the command line: leave the option out
+        raise ValueError(f"{flags.get(exc.name, exc.name)} {value}: must be {allowed}") from None
 
 
 __all__ = ["FitRecipe", "RecipeError", "recipe_of", "add_recipe_arguments", "recipe_from_args", "recipe_fields",
