@@ -15,14 +15,15 @@ surrogate, basis,      the surrogate file, the monomial basis, the compiled kern
 _taylor_kernels
 shortbearing           closed-form short (Ocvirk) bearing
 statics                equilibrium, Lund linearisation, Jacobians of any internal
-fitting/               fitting a surrogate (never bundled into the FMU)
+fitting/               fitting a surrogate: FitRecipe, ridge, sampling, the fit, report,
+                       ``bearing-fmu fit`` (never bundled into the FMU)
 slave, build           the pythonfmu slave and the FMU build
 cli                    the ``bearing-fmu`` command
 =====================  ==============================================================
 
 Import what you need from its modules: this package file imports nothing heavy, so an FMU
 whose internal is the surrogate never loads or compiles the Reynolds solver. This package
-never imports ``rotor_host``. Layout and data flow: docs/architecture.md.
+never imports the host (the package behind ``rotor-host``). Layout and data flow: docs/architecture.md.
 """
 
 __version__ = "0.1.0"

@@ -17,7 +17,7 @@ from .shortbearing import short_bearing_eccentricity
 
 class EquilibriumError(RuntimeError):
     """No static equilibrium found: of one bearing for a load and speed (``equilibrium``), or of
-    a whole rotor on its bearings (``rotor_host.equilibrium.static_equilibrium``), which also
+    a whole rotor on its bearings (the host's ``equilibrium.static_equilibrium``), which also
     gives ``q`` the last iterate, ``residual`` its residual norm and ``iterations`` the Newton
     iterations done (None, nan, 0 where not known)."""
 
