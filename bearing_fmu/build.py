@@ -16,7 +16,10 @@
   changes every time, and numba keys its cache on the source file's directory);
 * the surrogate file(s) in ``resources/surrogates/``;
 * a modelDescription.xml that ``fmpy validate`` accepts: units, InitialUnknowns, output
-  dependencies on the inputs, start values written to round-trip exactly.
+  dependencies on the inputs, start values written to round-trip exactly;
+* pythonfmu's Linux binary patched (``fmu_binary``): no crash at process exit, and honest FMI
+  statuses (fmi2Error for a refused call, the instance kept; fmi2Terminated cleared by a good
+  step or a restore); ``resources/pythonfmu_patches.json`` records what was applied.
 """
 
 from __future__ import annotations
@@ -35,7 +38,7 @@ from xml.etree import ElementTree as ET
 from . import __version__
 
 HERE = Path(__file__).resolve().parent
-NOT_IN_FMU = {"build.py", "cli.py", "slave.py"}  # build tooling; slave.py becomes the slave module
+NOT_IN_FMU = {"build.py", "cli.py", "fmu_binary.py", "slave.py"}  # build tooling; slave.py becomes the slave module
 MODEL_IDENTIFIER = "BearingFMU"
 REQUIREMENTS = "numpy>=1.26\nscipy>=1.11\nnumba>=0.59\n"
 
@@ -269,67 +272,54 @@ def _postprocess(xml_bytes: bytes, pkg: str) -> bytes:
     return parseString(ET.tostring(root, encoding="UTF-8")).toprettyxml(indent="  ", encoding="UTF-8")
 
 
-_UNLOAD_SYMBOL = b"_ZN12_GLOBAL__N_115onLibraryUnloadEv"  # (anonymous namespace)::onLibraryUnload()
-_ENDBR64_JMP = bytes.fromhex("f30f1efae9")
+PATCH_NOTES = "pythonfmu_patches.json"  # in resources/: which binary patches the build applied
 
 
-def patch_linux_binary(data: bytes) -> tuple[bytes, str]:
-    """Fix pythonfmu 0.7.0's double release of its interpreter state at process exit (Linux).
+def patch_linux_binary(data: bytes) -> tuple[bytes, dict[str, str]]:
+    """pythonfmu 0.7.0's Linux binary with the bearing FMU's fixes (``fmu_binary``): the
+    double release of its interpreter state at process exit, and the FMI statuses (a Python
+    exception gives fmi2Error and keeps the instance; a good step or a restore clears
+    fmi2Terminated). Returns (data, notes: patch name -> "patched" | "already patched" | why not)."""
+    from .fmu_binary import patch_pythonfmu_binary
 
-    The library keeps a static ``std::shared_ptr<PyState> pyState`` and also resets it from
-    ``__attribute__((destructor)) onLibraryUnload() -> finalizePythonInterpreter()``. At exit
-    (and at dlclose) the static destructor runs first and frees the PyState; the destructor
-    function then releases the already destroyed shared_ptr again (valgrind: invalid read in
-    finalizePythonInterpreter of a block freed in __run_exit_handlers). Once every instance
-    has been freed this double release corrupts the heap and, depending on the heap layout,
-    aborts the host at exit ("corrupted double-linked list", measured in 11 of 16 runs of a
-    Reynolds FMU). The static destructor alone releases the state correctly, so
-    ``onLibraryUnload`` is turned into ``endbr64; ret``. Returns (data, note).
-    """
-    import struct
-
-    if data[:4] != b"\x7fELF" or data[4] != 2 or data[5] != 1:
-        return data, "not a 64-bit little-endian ELF file; left as is"
-    shoff, = struct.unpack_from("<Q", data, 0x28)
-    shentsize, shnum = struct.unpack_from("<HH", data, 0x3A)
-    sections = [struct.unpack_from("<IIQQQQIIQQ", data, shoff + i * shentsize) for i in range(shnum)]
-    for sh in sections:
-        if sh[1] != 2:  # SHT_SYMTAB
-            continue
-        strtab = sections[sh[6]]
-        for k in range(sh[5] // sh[9]):
-            name_off, _info, _other, shndx, value, _size = struct.unpack_from("<IBBHQQ", data, sh[4] + k * sh[9])
-            start = strtab[4] + name_off
-            if data[start:start + len(_UNLOAD_SYMBOL) + 1] != _UNLOAD_SYMBOL + b"\0":
-                continue
-            text = sections[shndx]
-            off = value - text[3] + text[4]
-            if data[off:off + 5] == _ENDBR64_JMP:
-                return data[:off + 4] + b"\xc3" + data[off + 5:], "patched onLibraryUnload -> ret"
-            if data[off + 4] == 0xC3:
-                return data, "already patched"
-            return data, "onLibraryUnload has unexpected code; left as is"
-    return data, "symbol onLibraryUnload not found (another pythonfmu version?); left as is"
+    return patch_pythonfmu_binary(data)
 
 
 def _rewrite_zip(path: Path, pkg: str) -> None:
+    import json
+
+    from .fmu_binary import STATUS_PATCHES, status_patched
+
     tmp = path.with_name(path.name + ".tmp")
+    notes = {}
     with zipfile.ZipFile(path) as zin, zipfile.ZipFile(tmp, "w", zipfile.ZIP_DEFLATED) as zout:
         for item in zin.infolist():
             data = zin.read(item.filename)
             if item.filename == "modelDescription.xml":
                 data = _postprocess(data, pkg)
             elif item.filename.startswith("binaries/linux64/") and item.filename.endswith(".so"):
-                data, note = patch_linux_binary(data)
-                if not note.startswith(("patched", "already")):
-                    import warnings
-
-                    warnings.warn(f"bearing_fmu.build: {item.filename}: {note}; the FMU may crash its host "
-                                  "at exit after all instances are freed (pythonfmu 0.7.0 bug)", stacklevel=3)
+                data, notes["linux64"] = patch_linux_binary(data)
+                _warn_unpatched(item.filename, notes["linux64"], STATUS_PATCHES, status_patched)
             elif "__pycache__" in item.filename:
                 continue
             zout.writestr(item.filename, data, compress_type=zipfile.ZIP_DEFLATED)
+        # the slave reads this to know whether a Python exception gives fmi2Error (patched) or
+        # fmi2Fatal with a released instance (pythonfmu as is: then it never raises)
+        zout.writestr(f"resources/{PATCH_NOTES}", json.dumps(notes, indent=1, sort_keys=True) + "\n",
+                      compress_type=zipfile.ZIP_DEFLATED)
     os.replace(tmp, path)
+
+
+def _warn_unpatched(name: str, notes: dict, status_names, status_patched) -> None:
+    import warnings
+
+    if not notes.get("exit-unload", "").endswith("patched"):
+        warnings.warn(f"bearing_fmu.build: {name}: {notes.get('exit-unload')}; the FMU may crash its host at "
+                      "exit after all instances are freed (pythonfmu 0.7.0 bug)", stacklevel=4)
+    if not status_patched(notes):
+        why = "; ".join(f"{n}: {notes.get(n)}" for n in status_names if not notes.get(n, "").endswith("patched"))
+        warnings.warn(f"bearing_fmu.build: {name}: the FMI status patches do not apply ({why}); the FMU reports "
+                      "refused calls with fmi2OK and a logged error only (docs/fmu.md, FMI status)", stacklevel=4)
 
 
 def build_fmu(output, surrogate=None) -> Path:

@@ -7,18 +7,25 @@ read once in ``exit_initialization_mode``; every registered internal's options a
 parameters, and only the chosen internal's module is imported, so an FMU running the
 linear or Taylor internal never loads or compiles the Reynolds solver.
 
-Errors never leave this class as exceptions: pythonfmu turns any Python exception into
-fmi2Fatal and frees the Python object, after which the next call on the instance crashes
-the host. Instead
+FMI statuses (docs/fmu.md, "FMI status"). pythonfmu gives a Python slave three outcomes:
+``do_step`` returning False is fmi2Discard, a normal return is fmi2OK, and an exception is
+fmi2Fatal with the instance released. The build patches pythonfmu's binary
+(``fmu_binary``) so that an exception is fmi2Error and leaves the instance intact; then
 
-* ``do_step`` logs the reason (e.g. "eccentricity ratio 1.03 >= 1 ... at t = 0.4123 s")
-  and returns False, which the FMU reports as fmi2Discard; the outputs keep their last
-  valid values and the instance stays usable (restore a state, set valid inputs, step on);
-* a failed initialisation (unknown internal, missing surrogate file, bad parameter) is
-  logged with status fmi2Error in ``exit_initialization_mode`` (pythonfmu 0.7 ignores that
-  method's return value, so the call itself still reports fmi2OK), and every ``do_step``
-  afterwards is discarded with the same message;
-* getters and setters never raise; an unknown value reference is logged and ignored.
+* a refused call raises ``FMIError`` with a one-line reason, which pythonfmu logs with status
+  Error: an invalid parameter (in its setter and again in ``exit_initialization_mode``), an unknown
+  value reference, a parameter set after initialisation, a non-positive or non-finite step
+  size or time, doStep before a successful initialisation;
+* a state the internal cannot evaluate (journal at the wall, a non-finite input) discards
+  the step: ``do_step`` logs why (status Discard) and returns False; the outputs keep their
+  last valid values and the instance stays usable (restore a state, set valid inputs, step
+  on). A good step or a restore clears fmi2Terminated (patched binary);
+* outputs read in Initialization Mode are computed from the inputs and parameters set so far.
+
+Without the patches (``resources/pythonfmu_patches.json`` says which are in; the Windows
+binary is pythonfmu's as is) nothing raises: a refused call is logged with status Error and
+returns fmi2OK, as pythonfmu allows. When the master has logging off, the first warning, the
+first discard and the first error of an instance are also printed to stderr (``_LoggingFlag``).
 
 The FMU state (fmi2GetFMUstate) is a small tuple (tag, time, inputs and outputs); the
 internal is not part of it (it is fixed after initialisation), so saving and restoring
@@ -96,6 +103,25 @@ _STATE_VALUES = operator.attrgetter(*_STATE_NAMES)
 _VAR_CLASS = {"Real": Real, "Integer": Integer, "Boolean": Boolean, "String": String}
 _CAST = {"Real": float, "Integer": int, "Boolean": bool, "String": str}
 _FILE_OPTIONS = {o.name for o in registry.all_options() if o.file}
+_OPTIONS = {o.name: o for o in registry.all_options()}
+_BEARING = ("D", "L", "CR", "mu")  # BearingParams fields; BearingParams checks them together at initialisation
+_UNITS = {v[0]: v[3] for v in VARIABLES}
+_INF = math.inf
+PATCH_NOTES = "pythonfmu_patches.json"  # written by build.py into resources/
+_STATUS_PATCHES = ("keep-instance", "error-status", "error-message", "step-terminated", "restore-terminated")
+_INSTANTIATED, _INIT, _STEP = "Instantiated", "Initialization Mode", "Step Mode"
+_ECHO_HINT = ("logging is off, so this FMU instance prints its first warning, discard and error here; "
+              "instantiate it with loggingOn (fmpy: simulate_fmu(..., debug_logging=True)) to receive every message")
+
+
+class FMIError(Exception):
+    """Raised out of a pythonfmu entry point so that the call returns fmi2Error (patched binary).
+
+    pythonfmu logs ``repr()`` of the exception after "fmi2Error from the Python slave [call]":
+    the repr is the message itself, so that one line says what was refused and why."""
+
+    def __repr__(self) -> str:
+        return str(self)
 
 
 def _default_file(resources) -> str:
@@ -110,6 +136,57 @@ def _default_file(resources) -> str:
     return names[0] if len(names) == 1 else ""
 
 
+def _status_patched(resources) -> bool:
+    """True when the build applied every FMI status patch to this platform's binary."""
+    import json
+    import sys
+
+    if not resources:
+        return False
+    if sys.platform.startswith("linux"):
+        platform = "linux64" if sys.maxsize > 2 ** 32 else "linux32"
+    else:
+        platform = {"win32": "win64", "darwin": "darwin64"}.get(sys.platform, sys.platform)
+    try:
+        notes = json.loads((Path(resources) / PATCH_NOTES).read_text(encoding="utf-8")).get(platform, {})
+    except (OSError, ValueError, AttributeError):
+        return False
+    return all(str(notes.get(n, "")).endswith("patched") for n in _STATUS_PATCHES)
+
+
+class _LoggingFlag:
+    """Whether the master receives this instance's log: pythonfmu's C++ logger's flag.
+
+    pythonfmu keeps ``loggingOn`` (and fmi2SetDebugLogging's later changes) in its C++
+    ``PyLogger`` and passes only that object's address to Python (keyword ``logger``). Its
+    0.7.0 layout: vtable pointer, ``bool debugLogging_`` at +8, ``std::string instanceName_``
+    at +16 (data pointer, then length; a short name sits in the object itself at +32). The
+    layout is trusted only when that string reads back as this instance's name; otherwise
+    ``off`` answers False (nothing is echoed)."""
+
+    def __init__(self, address, instance_name: str):
+        self._flag = None
+        if not isinstance(address, int) or address <= 0 or not isinstance(instance_name, str):
+            return
+        try:
+            import ctypes
+
+            name = instance_name.encode("utf-8")
+            size = ctypes.c_size_t.from_address(address + 24).value
+            data = ctypes.c_void_p.from_address(address + 16).value
+            if size != len(name) or (size < 16 and data != address + 32) or not data:
+                return
+            if ctypes.string_at(data, size) != name:
+                return
+            self._flag = ctypes.c_bool.from_address(address + 8)
+        except Exception:  # noqa: BLE001 - unknown layout: echo nothing
+            self._flag = None
+
+    def off(self) -> bool:
+        """True when the master has logging off (read live: fmi2SetDebugLogging changes it)."""
+        return self._flag is not None and not self._flag.value
+
+
 class BearingFMU(Fmi2Slave):
     """Hydrodynamic journal bearing: film force from the journal state (see module docstring)."""
 
@@ -120,7 +197,6 @@ class BearingFMU(Fmi2Slave):
 
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
-        self._kind = {}  # name -> type
         self._by_vr = {}  # value reference -> (name, type, causality)
         for name, typ, causality, _unit, default, desc in VARIABLES:
             if name in _FILE_OPTIONS:
@@ -139,44 +215,117 @@ class BearingFMU(Fmi2Slave):
             self.register_variable(var)
             self._by_vr[var.value_reference] = (name, typ, causality)
         self._real_names = {vr: e[0] for vr, e in self._by_vr.items() if e[1] == "Real"}
+        # getReal's fast path: outside Step Mode without the outputs, so reading them in
+        # Initialization Mode takes the checked path, which computes them from the inputs
+        self._real_no_outputs = {vr: n for vr, n in self._real_names.items() if self._by_vr[vr][2] != _OUT}
+        self._real_get = self._real_no_outputs
         self._real_inputs = {vr: e[0] for vr, e in self._by_vr.items() if e[1] == "Real" and e[2] == _IN}
-        self._internal = None  # built in exit_initialization_mode
+        self._internal = None  # built in exit_initialization_mode (or by an output read in Initialization Mode)
+        self._built_from = None  # the parameter values it was built from
         self._internal_name = ""
         self._jacobian = None
         self._params = None
-        self._initialized = False
+        self._mode = _INSTANTIATED
+        self._initialized = False  # exit_initialization_mode was called: parameters are fixed
         self._init_error = None
+        self._refused = {}  # parameter name -> why its last set was refused (fails the initialisation)
         self._t = 0.0
+        self._raises = _status_patched(self.resources)  # an exception gives fmi2Error, not fmi2Fatal
+        # the logger's layout is known for the binary the patches verified, and only for that one
+        self._logging = _LoggingFlag(kwargs.get("logger") if self._raises else None, self.instance_name)
+        self._echoed = set()
 
-    # ------------------------------------------------------------------ logging
+    # ------------------------------------------------------------------ logging and refusals
     def _log(self, msg: str, status: Fmi2Status) -> None:
         try:
             self.log(msg, status)
         except Exception:  # logging must never be the thing that fails
             pass
+        self._echo(msg, status)
+
+    def _echo(self, msg: str, status: Fmi2Status) -> None:
+        """When the master has logging off, print the first message of each status to stderr."""
+        if status == Fmi2Status.ok or status in self._echoed or not self._logging.off():
+            return
+        import sys
+
+        self._echoed.add(status)
+        hint = "" if len(self._echoed) > 1 else f"\n  ({_ECHO_HINT})"
+        try:
+            print(f"bearing FMU {self.instance_name!r} [{status.name}]: {msg}{hint}", file=sys.stderr, flush=True)
+        except Exception:  # noqa: BLE001 - no stderr: nothing more to do
+            pass
+
+    def _fail(self, msg: str):
+        """Refuse the current call with ``msg``: raise FMIError, which the patched binary
+        returns as fmi2Error and logs as "fmi2Error from the Python slave [call] ... msg".
+        Without the patches, log ``msg`` with status Error and return None: the caller goes on
+        the way pythonfmu allows (the call returns fmi2OK)."""
+        if not self._raises:
+            self._log(msg, Fmi2Status.error)
+            return None
+        # pythonfmu hands the queued log lines to the master's logger before it fetches the
+        # exception: a Python logger (fmpy) would run with the exception pending and lose it.
+        # So this call's earlier lines travel in the exception's message instead.
+        queued = [f"[{getattr(m.status, 'name', m.status)}] {m.msg}" for m in self.log_queue]
+        self.log_queue.clear()  # the very list pythonfmu holds: cleared in place
+        self._echo(msg, Fmi2Status.error)
+        raise FMIError(msg + (f" (logged before it in this call: {' | '.join(queued)})" if queued else ""))
 
     # ------------------------------------------------------------------ initialisation
+    def setup_experiment(self, start_time, stop_time=None, tolerance=None):
+        if not -_INF < start_time < _INF:
+            return self._fail(f"setupExperiment: startTime = {start_time!r} s must be finite")
+        if stop_time is not None and not start_time <= stop_time < _INF:
+            return self._fail(f"setupExperiment: stopTime = {stop_time!r} s must be finite and >= "
+                              f"startTime = {start_time!r} s")
+        self._t = float(start_time)
+
+    def enter_initialization_mode(self):
+        self._mode = _INIT
+
     def exit_initialization_mode(self):
-        try:
-            self._build_internal()
-        except Exception as exc:  # noqa: BLE001 - turned into a logged error, never raised
-            self._internal = None
-            detail = "" if isinstance(exc, (ValueError, KeyError, FileNotFoundError, ImportError)) \
-                else "\n" + traceback.format_exc()
-            self._init_error = f"bearing FMU initialisation failed: {exc}{detail}"
-            self._log(self._init_error, Fmi2Status.error)
-            self._initialized = True
-            return False
         self._initialized = True
-        # outputs at the start time from the initial inputs, when they can be evaluated
+        try:
+            self._ensure_internal()
+        except Exception as exc:  # noqa: BLE001 - refused with its message, never a bare exception
+            self._internal = None
+            self._init_error = f"bearing FMU initialisation failed: {self._describe(exc)}"
+            return self._fail(self._init_error)
+        self._mode = _STEP
+        self._real_get = self._real_names
+        # outputs at the start time from the initial inputs, when they can be evaluated; a
+        # master may set the inputs only before the first step, so a state the internal
+        # refuses is not an initialisation error
         try:
             self._step_outputs()
         except BearingStateError as exc:
-            self._log(f"outputs at initialisation left at 0: {exc}", Fmi2Status.warning)
+            self._log(f"outputs at the start time left at their start values: {exc}", Fmi2Status.warning)
         except Exception as exc:  # noqa: BLE001
-            self._log(f"outputs at initialisation left at 0: unexpected {type(exc).__name__}: {exc}\n"
-                      f"{traceback.format_exc()}", Fmi2Status.warning)
+            self._log(f"outputs at the start time left at their start values: {self._describe(exc)}",
+                      Fmi2Status.warning)
         return True
+
+    @staticmethod
+    def _describe(exc: BaseException) -> str:
+        """The message of an expected failure; type, message and traceback of anything else."""
+        if isinstance(exc, (ValueError, KeyError, FileNotFoundError, ImportError)):
+            return str(exc)
+        return f"unexpected {type(exc).__name__}: {exc}\n{traceback.format_exc()}"
+
+    def _parameter_values(self) -> tuple:
+        return tuple(getattr(self, n) for n in PARAMETERS)
+
+    def _ensure_internal(self) -> None:
+        """Build the internal from the parameters set so far, unless it already was (or raise)."""
+        if self._refused:
+            raise ValueError("; ".join(self._refused.values()))
+        values = self._parameter_values()
+        if self._internal is not None and self._built_from == values:
+            return
+        self._internal = None
+        self._build_internal()
+        self._built_from = values
 
     def _build_internal(self) -> None:
         params = BearingParams(D=self.D, L=self.L, CR=self.CR, mu=self.mu)
@@ -206,24 +355,52 @@ class BearingFMU(Fmi2Slave):
                 f"(bundled: {listing}); build the FMU with `bearing-fmu build --surrogate FILE`")
         return path
 
+    def _outputs_in_init(self, call: str) -> None:
+        """Initialization Mode: compute the outputs from the inputs and parameters set so far
+        (the model description declares them dependent on both), or refuse the read."""
+        try:
+            self._ensure_internal()
+        except Exception as exc:  # noqa: BLE001
+            return self._fail(f"{call} in {_INIT}: the outputs cannot be computed: bearing FMU initialisation "
+                              f"failed: {self._describe(exc)}")
+        try:
+            self._step_outputs()
+        except BearingStateError as exc:
+            return self._fail(f"{call} in {_INIT}: the outputs cannot be computed at the inputs set: {exc} "
+                              "(set valid inputs and read again)")
+        except Exception as exc:  # noqa: BLE001
+            return self._fail(f"{call} in {_INIT}: the {self._internal_name} internal failed: {self._describe(exc)}")
+        return None
+
     # ------------------------------------------------------------------ stepping
     def do_step(self, current_time, step_size):
         t = current_time + step_size
+        if not (0.0 < step_size < _INF and -_INF < current_time < _INF and t < _INF):
+            return self._bad_step(current_time, step_size)
+        if self._mode is not _STEP:
+            reason = self._init_error or f"doStep in {self._mode}: call exitInitializationMode first"
+            return self._fail(f"step to t = {t:.10g} s refused: {reason}") or False
         try:
-            if self._internal is None:
-                reason = self._init_error or "the FMU was not initialised (call exitInitializationMode first)"
-                self._log(f"step to t = {t:.10g} s discarded: {reason}", Fmi2Status.error)
-                return False
             self._step_outputs()
         except BearingStateError as exc:
             self._log(f"{exc} at t = {t:.10g} s", Fmi2Status.discard)
             return False
-        except Exception as exc:  # noqa: BLE001 - never let an exception reach pythonfmu
-            self._log(f"step to t = {t:.10g} s discarded: unexpected {type(exc).__name__} in the "
-                      f"{self._internal_name} internal: {exc}\n{traceback.format_exc()}", Fmi2Status.error)
-            return False
+        except Exception as exc:  # noqa: BLE001 - a failure of the internal itself, not of the state
+            return self._fail(f"step to t = {t:.10g} s failed: unexpected {type(exc).__name__} in the "
+                              f"{self._internal_name} internal: {exc}\n{traceback.format_exc()}") or False
         self._t = t
         return True
+
+    def _bad_step(self, current_time, step_size) -> bool:
+        if not 0.0 < step_size < _INF:
+            msg = (f"doStep: communicationStepSize = {step_size!r} s must be finite and > 0 "
+                   f"(currentCommunicationPoint = {current_time!r} s)")
+        elif not -_INF < current_time < _INF:
+            msg = f"doStep: currentCommunicationPoint = {current_time!r} s must be finite"
+        else:
+            msg = (f"doStep: currentCommunicationPoint + communicationStepSize = {current_time!r} + "
+                   f"{step_size!r} s is not finite")
+        return self._fail(msg) or False
 
     def _step_outputs(self) -> None:
         """Evaluate the internal at the current inputs and set the outputs, or raise
@@ -270,53 +447,83 @@ class BearingFMU(Fmi2Slave):
     def _set_fmu_state(self, state):
         try:
             if len(state) != 3 or state[0] != _STATE_TAG or len(state[2]) != len(_STATE_NAMES):
-                raise ValueError(f"not a {_STATE_TAG} state")
-            self._t = float(state[1])
-            self.__dict__.update(zip(_STATE_NAMES, state[2]))
+                raise ValueError(f"not a {_STATE_TAG} state of this FMU")
+            t = float(state[1])
         except Exception as exc:  # noqa: BLE001
-            self._log(f"fmi2SetFMUstate ignored: {exc}", Fmi2Status.error)
+            return self._fail(f"setFMUstate: {exc}; the instance keeps its state")
+        self._t = t
+        self.__dict__.update(zip(_STATE_NAMES, state[2]))
 
-    # ------------------------------------------------------------------ getters / setters (never raise)
+    # ------------------------------------------------------------------ getters / setters
     def _get(self, vrs, typ, cast, bad):
-        out = []
+        out, errors, computed = [], [], False
         for vr in vrs:
             entry = self._by_vr.get(vr)
             if entry is None or entry[1] != typ:
-                self._log(f"get{typ}: value reference {vr} is not a {typ} variable of this FMU", Fmi2Status.error)
+                errors.append(f"value reference {vr} is not a {typ} variable of this FMU")
                 out.append(bad)
                 continue
+            if entry[2] == _OUT and self._mode is _INIT and not computed:
+                self._outputs_in_init(f"get{typ} {entry[0]}")  # raises when they cannot be computed
+                computed = True
             try:
                 out.append(cast(getattr(self, entry[0])))
             except Exception as exc:  # noqa: BLE001
-                self._log(f"get{typ} {entry[0]}: {exc}", Fmi2Status.error)
+                errors.append(f"{entry[0]}: {exc}")
                 out.append(bad)
+        if errors:
+            self._fail(f"get{typ}: {'; '.join(errors)}")
         return out
 
     def _set(self, vrs, values, typ, cast):
+        errors = []
         for vr, value in zip(vrs, values):
             entry = self._by_vr.get(vr)
             if entry is None or entry[1] != typ:
-                self._log(f"set{typ}: value reference {vr} is not a {typ} variable of this FMU; ignored",
-                          Fmi2Status.error)
+                errors.append(f"value reference {vr} is not a {typ} variable of this FMU")
                 continue
             name, _, causality = entry
             if causality == _OUT:
-                self._log(f"set{typ}: {name} is an output; ignored", Fmi2Status.error)
+                errors.append(f"{name} is an output and cannot be set")
                 continue
-            if causality == _PAR and self._initialized:
-                self._log(f"set{typ}: parameter {name} is fixed after initialisation; ignored",
-                          Fmi2Status.error)
-                continue
+            if causality == _PAR:
+                if self._initialized:
+                    errors.append(f"parameter {name} is fixed after initialisation (variability fixed); "
+                                  f"it keeps {getattr(self, name)!r}")
+                    continue
+                try:
+                    value = self._check_parameter(name, cast(value))
+                except (ValueError, TypeError) as exc:
+                    self._refused[name] = f"{exc} (refused when it was set)"
+                    errors.append(f"{exc}; {name} keeps {getattr(self, name)!r}")
+                    continue
+                self._refused.pop(name, None)
             try:
                 setattr(self, name, cast(value))
             except Exception as exc:  # noqa: BLE001
-                self._log(f"set{typ} {name} = {value!r}: {exc}; ignored", Fmi2Status.error)
+                errors.append(f"{name} = {value!r}: {exc}")
+        if errors:
+            self._fail(f"set{typ}: {'; '.join(errors)}")
+
+    @staticmethod
+    def _check_parameter(name: str, value):
+        """The value of parameter ``name``, or ValueError naming it, the value and what is allowed.
+        What one value can be checked alone is checked here; BearingParams and the internal
+        check the whole set when it is built."""
+        if name == "internal":
+            registry.get(value)
+        elif name in _BEARING:
+            if not (0.0 < value < _INF):
+                raise ValueError(f"{name} = {value!r} {_UNITS[name]} must be finite and > 0")
+        elif name in _OPTIONS:
+            value = _OPTIONS[name].check(value)
+        return value
 
     def get_real(self, vrs):
         try:  # fast path: every reference a Real variable (the host's per-iteration call)
-            names = self._real_names
+            names = self._real_get
             return [float(getattr(self, names[vr])) for vr in vrs]
-        except Exception:  # noqa: BLE001 - the checked path logs what was wrong
+        except Exception:  # noqa: BLE001 - the checked path computes outputs in Initialization Mode, or refuses
             return self._get(vrs, "Real", float, math.nan)
 
     def get_integer(self, vrs):
@@ -333,7 +540,7 @@ class BearingFMU(Fmi2Slave):
             names = self._real_inputs
             for vr, value in zip(vrs, values):
                 setattr(self, names[vr], float(value))
-        except Exception:  # noqa: BLE001 - the checked path applies the rules and logs
+        except Exception:  # noqa: BLE001 - the checked path applies the rules and refuses
             self._set(vrs, values, "Real", float)
 
     def set_integer(self, vrs, values):

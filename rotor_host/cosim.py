@@ -49,6 +49,7 @@ class FMUBearings(BearingSet):
                  start_time: float = 0.0, log=None, tangent: str = "bearing"):
         super().__init__(bearing_dofs, omega, names, tangent)
         from fmpy import extract, read_model_description
+        from fmpy.fmi1 import FMICallException
         from fmpy.fmi2 import FMU2Slave, fmi2CallbackFunctions, fmi2CallbackLoggerTYPE
         from fmpy.fmi2 import fmi2CallbackAllocateMemoryTYPE, fmi2CallbackFreeMemoryTYPE
         from fmpy import calloc, free
@@ -98,10 +99,15 @@ class FMUBearings(BearingSet):
                                 instanceName=self.names[k].replace(" ", "_"))
                 fmu.instantiate(callbacks=cb, loggingOn=True)
                 self.instances.append(fmu)
-                self._set_parameters(k, fmu, parameters[k])
-                fmu.setupExperiment(startTime=start_time)
-                fmu.enterInitializationMode()
-                fmu.exitInitializationMode()
+                try:  # the FMU refuses a bad parameter or initialisation with fmi2Error, saying why
+                    self._set_parameters(k, fmu, parameters[k])
+                    fmu.setupExperiment(startTime=start_time)
+                    fmu.enterInitializationMode()
+                    fmu.exitInitializationMode()
+                except FMICallException as exc:
+                    errors = [m for m in self.messages[k] if m.startswith(("[error]", "[fatal]"))]
+                    raise FMUError(f"{self.names[k]}: FMU initialisation failed: {errors[0] if errors else exc}") \
+                        from None
                 errors = [m for m in self.messages[k] if m.startswith(("[error]", "[fatal]"))]
                 if errors:
                     raise FMUError(f"{self.names[k]}: FMU initialisation failed: {errors[-1]}")
