@@ -272,23 +272,28 @@ def _postprocess(xml_bytes: bytes, pkg: str) -> bytes:
     return parseString(ET.tostring(root, encoding="UTF-8")).toprettyxml(indent="  ", encoding="UTF-8")
 
 
-PATCH_NOTES = "pythonfmu_patches.json"  # in resources/: which binary patches the build applied
-
-
-def patch_linux_binary(data: bytes) -> tuple[bytes, dict[str, str]]:
+def patch_linux_binary(data: bytes) -> tuple[bytes, str]:
     """pythonfmu 0.7.0's Linux binary with the bearing FMU's fixes (``fmu_binary``): the
     double release of its interpreter state at process exit, and the FMI statuses (a Python
     exception gives fmi2Error and keeps the instance; a good step or a restore clears
-    fmi2Terminated). Returns (data, notes: patch name -> "patched" | "already patched" | why not)."""
+    fmi2Terminated). Returns (data, note): "already patched" when every patch was in,
+    "patched" (plus what was left out, if anything) when the exit fix is in, else why not."""
     from .fmu_binary import patch_pythonfmu_binary
 
-    return patch_pythonfmu_binary(data)
+    data, notes = patch_pythonfmu_binary(data)
+    if set(notes.values()) == {"already patched"}:
+        return data, "already patched"
+    left = "; ".join(f"{name}: {note}" for name, note in notes.items() if not note.endswith("patched"))
+    if notes["exit-unload"].endswith("patched"):
+        return data, "patched" + (f" (not: {left})" if left else "")
+    return data, left
 
 
 def _rewrite_zip(path: Path, pkg: str) -> None:
     import json
 
-    from .fmu_binary import STATUS_PATCHES, status_patched
+    from .fmu_binary import STATUS_PATCHES, patch_pythonfmu_binary, status_patched
+    from .slave import PATCH_NOTES
 
     tmp = path.with_name(path.name + ".tmp")
     notes = {}
@@ -298,7 +303,7 @@ def _rewrite_zip(path: Path, pkg: str) -> None:
             if item.filename == "modelDescription.xml":
                 data = _postprocess(data, pkg)
             elif item.filename.startswith("binaries/linux64/") and item.filename.endswith(".so"):
-                data, notes["linux64"] = patch_linux_binary(data)
+                data, notes["linux64"] = patch_pythonfmu_binary(data)
                 _warn_unpatched(item.filename, notes["linux64"], STATUS_PATCHES, status_patched)
             elif "__pycache__" in item.filename:
                 continue

@@ -108,6 +108,7 @@ _BEARING = ("D", "L", "CR", "mu")  # BearingParams fields; BearingParams checks 
 _UNITS = {v[0]: v[3] for v in VARIABLES}
 _INF = math.inf
 PATCH_NOTES = "pythonfmu_patches.json"  # written by build.py into resources/
+# fmu_binary.STATUS_PATCHES (build tooling, not bundled in the FMU; a test keeps the two equal)
 _STATUS_PATCHES = ("keep-instance", "error-status", "error-message", "step-terminated", "restore-terminated")
 _INSTANTIATED, _INIT, _STEP = "Instantiated", "Initialization Mode", "Step Mode"
 _ECHO_HINT = ("logging is off, so this FMU instance prints its first warning, discard and error here; "

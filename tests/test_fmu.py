@@ -79,11 +79,13 @@ def test_linux_binary_has_the_exit_fix(fmu):
     import zipfile
 
     from bearing_fmu.build import patch_linux_binary
+    from bearing_fmu.fmu_binary import patch_pythonfmu_binary
 
     with zipfile.ZipFile(fmu) as z:
         data = z.read("binaries/linux64/BearingFMU.so")
         recorded = json.loads(z.read("resources/pythonfmu_patches.json"))
-    notes = patch_linux_binary(data)[1]
+    assert patch_linux_binary(data)[1] == "already patched"
+    notes = patch_pythonfmu_binary(data)[1]
     assert set(notes.values()) == {"already patched"} and set(notes) == set(recorded["linux64"])
     assert set(recorded["linux64"].values()) == {"patched"}  # what the build did to pythonfmu's original
 
