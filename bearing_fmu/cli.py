@@ -6,6 +6,8 @@ import argparse
 import math
 import sys
 
+from .exits import EXIT_CODES, add_debug_flag, run_command
+
 
 def _demo(args: argparse.Namespace) -> int:
     import numpy as np
@@ -43,7 +45,8 @@ def _build(args: argparse.Namespace) -> int:
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(prog="bearing-fmu", description=__doc__)
+    parser = argparse.ArgumentParser(prog="bearing-fmu", description=__doc__, epilog=EXIT_CODES,
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
     sub = parser.add_subparsers(dest="command", required=True)
 
     p = sub.add_parser("demo", help="equilibrium and Lund coefficients of the paper bearing")
@@ -67,12 +70,9 @@ def main(argv: list[str] | None = None) -> int:
                         "with exactly one, the FMU parameter 'surrogate' defaults to it)")
     p.set_defaults(func=_build)
 
+    add_debug_flag(parser, sub)
     args = parser.parse_args(argv)
-    try:
-        return args.func(args)
-    except (ValueError, KeyError, FileNotFoundError, RuntimeError) as exc:
-        print(f"bearing-fmu {args.command}: error: {exc}", file=sys.stderr)
-        return 2
+    return run_command("bearing-fmu", args)  # exit codes, interrupts, --debug: .exits
 
 
 if __name__ == "__main__":

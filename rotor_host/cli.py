@@ -6,13 +6,16 @@ import argparse
 import sys
 from pathlib import Path
 
+from bearing_fmu.exits import EXIT_CODES, add_debug_flag, run_command
+
 
 def _scene_from_args(args):
     from .scene import load_scene
 
     scene = load_scene(args.scene)
     changes = {}
-    for flag, key in (("via", "via"), ("t_end", "t_end_s"), ("dt", "dt_s"), ("tangent", "newton_tangent")):
+    for flag, key in (("via", "via"), ("t_end", "t_end_s"), ("dt", "dt_s"), ("tangent", "newton_tangent"),
+                      ("checkpoint_s", "checkpoint_s")):
         if getattr(args, flag, None):
             changes[key] = getattr(args, flag)
     options = {}
@@ -46,7 +49,7 @@ def _run(args) -> int:
           + ("  (the orbit crossed the clearance circle)" if m["crossed_clearance"] else ""))
     if m["status"] != "ok":
         print(f"stopped: {m['message']}")
-    if not args.no_plots:
+    if not args.no_plots and run.arrays["t"].size > 1:
         disk = 6 if 6 in run.arrays["nodes"] else None
         png = plot_runs({scene.internal: run.arrays}, out / f"{run.npz.stem}.png", title=scene.description,
                         disk_node=disk, history=True)
@@ -154,7 +157,8 @@ def _paper(args) -> int:
 def main(argv: list[str] | None = None) -> int:
     from .forces import NEWTON_TANGENTS
 
-    parser = argparse.ArgumentParser(prog="rotor-host", description=__doc__)
+    parser = argparse.ArgumentParser(prog="rotor-host", description=__doc__, epilog=EXIT_CODES,
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
     sub = parser.add_subparsers(dest="command", required=True)
 
     p = sub.add_parser("run", help="run one scene and write results and plots")
@@ -169,6 +173,9 @@ def main(argv: list[str] | None = None) -> int:
                         "the FMUs' own stiffness and damping outputs; 'frozen': those at the static "
                         "equilibrium; 'fd': finite differences; 'linear': the rotor's without bearings)")
     p.add_argument("--out", default="out", help="output folder (default: out)")
+    p.add_argument("--checkpoint-s", type=float,
+                   help="write the partial result every this many seconds of wall time (default: the scene's "
+                        "[record] checkpoint_s, 60)")
     p.add_argument("--no-plots", action="store_true")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.set_defaults(func=_run)
@@ -214,12 +221,9 @@ def main(argv: list[str] | None = None) -> int:
     limit_cycle.add_arguments(p)
     p.set_defaults(func=limit_cycle.run)
 
+    add_debug_flag(parser, sub)
     args = parser.parse_args(argv)
-    try:
-        return args.func(args)
-    except (ValueError, KeyError, FileNotFoundError, RuntimeError) as exc:  # SceneError is a ValueError
-        print(f"rotor-host {args.command}: error: {exc}", file=sys.stderr)
-        return 2
+    return run_command("rotor-host", args)  # exit codes, interrupts, --debug: bearing_fmu.exits
 
 
 if __name__ == "__main__":
