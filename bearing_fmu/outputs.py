@@ -40,6 +40,16 @@ def ensure_writable(folder, option: str = "--out") -> Path:
     return folder
 
 
+def ensure_output_file(path, option: str = "-o") -> Path:
+    """A file the command will write at the end: its folder exists and is writable, and the
+    path is not a folder. Checked before any work."""
+    path = Path(path)
+    if path.is_dir():
+        raise ValueError(f"{option} {path}: is a folder; give a file name")
+    ensure_writable(path.parent if str(path.parent) else Path("."), option)
+    return path
+
+
 def _atomic(path, write) -> Path:
     path = Path(path)
     fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)

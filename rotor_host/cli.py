@@ -7,6 +7,7 @@ import sys
 from pathlib import Path
 
 from bearing_fmu.exits import EXIT_CODES, add_debug_flag, run_command
+from bearing_fmu.outputs import ensure_writable, write_text
 
 
 def _scene_from_args(args):
@@ -129,17 +130,31 @@ PAPER_SCENES = ("paper_22hz.toml", "paper_44hz.toml")
 def _paper(args) -> int:
     """The main job: the paper's 22 Hz and 44 Hz scenes, Reynolds (default grid) against the
     bundled Taylor surrogate of each scene and the linear model, all through the bearing FMUs."""
+    scenes_dir = Path(args.scenes)
+    out = ensure_writable(args.out)
+    summary = []
+    try:
+        _paper_scenes(args, scenes_dir, out, summary)
+    except KeyboardInterrupt:
+        if summary:  # the scenes that finished; compare wrote the interrupted scene's rows
+            write_text(out / "paper_summary.md", "\n".join(summary) + "\n**interrupted: the scenes above finished**\n")
+        raise
+    text = "\n".join(summary)
+    write_text(out / "paper_summary.md", text)
+    print(text)
+    print(f"tables and plots in {out}/ (compare_*.md, compare_*_orbits.png, compare_*_error_vs_time.png)")
+    return 0
+
+
+def _paper_scenes(args, scenes_dir: Path, out: Path, summary: list) -> None:
     from bearing_fmu.surrogate import load_surrogate
 
     from .compare import Variant, compare, print_table
     from .scene import load_scene, required_file
 
-    scenes_dir = Path(args.scenes)
-    out = Path(args.out)
-    summary = []
     for name in PAPER_SCENES:
         scene = load_scene(scenes_dir / name)
-        if args.t_end:
+        if args.t_end is not None:
             scene.t_end_s = args.t_end
         # 22 Hz: order 5; 44 Hz: order 7 with wall factor and shape columns
         sur = load_surrogate(required_file(scene, "taylor", "surrogate"))
@@ -147,11 +162,6 @@ def _paper(args) -> int:
         variants = [Variant(f"Taylor {sur.recipe}", "taylor", order=sur.order), Variant("linear", "linear")]
         rows = compare(scene, ref, variants, out, progress=not args.quiet, default_label=ref.label)
         summary.append(f"## {scene.description}\n\n{print_table(rows)}\n")
-    text = "\n".join(summary)
-    (out / "paper_summary.md").write_text(text)
-    print(text)
-    print(f"tables and plots in {out}/ (compare_*.md, compare_*_orbits.png, compare_*_error_vs_time.png)")
-    return 0
 
 
 def main(argv: list[str] | None = None) -> int:
