@@ -41,6 +41,14 @@ class Interrupted(KeyboardInterrupt):
         return 128 + self.signum
 
 
+def note_kept(exc: BaseException, what: str) -> None:
+    """Record on an interrupt what was written before it went on (``run_command`` prints it)."""
+    kept = getattr(exc, "kept", None)
+    if kept is None:
+        kept = exc.kept = []
+    kept.append(what)
+
+
 def as_interrupted(exc: BaseException) -> Interrupted:
     """A plain KeyboardInterrupt (Ctrl-C without ``handled()``) is a SIGINT."""
     return exc if isinstance(exc, Interrupted) else Interrupted(signal.SIGINT)
@@ -142,13 +150,12 @@ def run_command(prog: str, args) -> int:
     try:
         with handled():
             return args.func(args)
-    except Interrupted as exc:
-        print(f"{name}: interrupted by {exc.signal_name}; what was computed is on disk "
-              "(status \"interrupted\" in its json)", file=sys.stderr)
-        return exc.exit_code
-    except KeyboardInterrupt:
-        print(f"{name}: interrupted", file=sys.stderr)
-        return 128 + signal.SIGINT
+    except KeyboardInterrupt as exc:
+        sig = as_interrupted(exc)
+        kept = getattr(exc, "kept", None)
+        print(f"{name}: interrupted by {sig.signal_name}; "
+              + (f"kept: {'; '.join(kept)}" if kept else "nothing had been computed yet"), file=sys.stderr)
+        return sig.exit_code
     except BAD_INPUT as exc:
         if debug:
             raise

@@ -6,7 +6,7 @@ import argparse
 import sys
 from pathlib import Path
 
-from bearing_fmu.exits import EXIT_CODES, add_debug_flag, run_command
+from bearing_fmu.exits import EXIT_CODES, add_debug_flag, note_kept, run_command
 from bearing_fmu.outputs import ensure_writable, write_text
 
 
@@ -135,9 +135,10 @@ def _paper(args) -> int:
     summary = []
     try:
         _paper_scenes(args, scenes_dir, out, summary)
-    except KeyboardInterrupt:
+    except KeyboardInterrupt as exc:
         if summary:  # the scenes that finished; compare wrote the interrupted scene's rows
             write_text(out / "paper_summary.md", "\n".join(summary) + "\n**interrupted: the scenes above finished**\n")
+            note_kept(exc, f"{out / 'paper_summary.md'} ({len(summary)} finished scene(s))")
         raise
     text = "\n".join(summary)
     write_text(out / "paper_summary.md", text)

@@ -15,7 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
-from bearing_fmu.exits import as_interrupted
+from bearing_fmu.exits import as_interrupted, note_kept
 from bearing_fmu.outputs import ensure_writable, write_json, write_text
 
 from .report import errors_against, markdown_table, plot_runs
@@ -64,6 +64,7 @@ def compare(base: Scene, reference: Variant, variants: list[Variant], out_dir, *
             _write(base, reference, variants, rows, runs, out_dir, stem, default_label,
                    note=f"interrupted by {as_interrupted(exc).signal_name} during "
                         f"{[reference, *variants][len(rows)].label}: the variants below are those that finished")
+            note_kept(exc, f"{out_dir / f'compare_{stem}.md'} (the {len(rows)} variant(s) that finished)")
         raise
     _write(base, reference, variants, rows, runs, out_dir, stem, default_label)
     return rows

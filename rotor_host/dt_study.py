@@ -16,7 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
-from bearing_fmu.exits import as_interrupted
+from bearing_fmu.exits import as_interrupted, note_kept
 from bearing_fmu.outputs import ensure_writable, write_json, write_text
 
 from .report import markdown_table
@@ -124,6 +124,7 @@ def run(args) -> int:
         if getattr(exc, "study", None) is not None:
             _write(exc.study, out, stem, f"interrupted by {as_interrupted(exc).signal_name}: the rows above "
                                          "are the runs that finished")
+            note_kept(exc, f"{out / f'{stem}.md'} ({len(exc.study.rows)} finished run(s))")
         raise
     verdict = (f"converged: dt = {study.converged_dt:g} s changes the orbit by less than {study.tol_pct_cr:g} % CR "
                "when halved" if study.converged_dt else

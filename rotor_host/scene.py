@@ -28,7 +28,7 @@ from pathlib import Path
 import numpy as np
 
 from bearing_fmu import internals as registry
-from bearing_fmu.exits import as_interrupted, handled
+from bearing_fmu.exits import as_interrupted, handled, note_kept
 from bearing_fmu.internals import Context
 from bearing_fmu.outputs import claim, ensure_writable, savez, write_json
 from bearing_fmu.schema import Key, check_keys
@@ -654,7 +654,9 @@ def _run(scene: Scene, holder, work: Path, progress: bool) -> SceneRun:
         sig = as_interrupted(exc).signal_name
         res = integ.partial_result() if integ is not None and integ.started else None
         t = float(res.t[-1]) if res is not None and res.t.size else 0.0
-        out.run(res, "interrupted", f"interrupted by {sig} at t = {t:.6g} s", signal=sig)
+        run = out.run(res, "interrupted", f"interrupted by {sig} at t = {t:.6g} s", signal=sig)
+        if run.json is not None:
+            note_kept(exc, f"{run.npz}, {run.json} (status interrupted, t = {t:.6g} s)")
         raise
     return out.run(res, status, message)
 

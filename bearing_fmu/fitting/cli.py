@@ -9,9 +9,9 @@ given here are refused with a pointer to it.
 from __future__ import annotations
 
 import argparse
-import sys
 from pathlib import Path
 
+from ..exits import note_kept
 from ..outputs import ensure_output_file, ensure_writable, savez
 from .fit import FitResult, fit_condition, save_fit
 from .recipe import add_recipe_arguments, option_name, recipe_fields, recipe_from_args
@@ -52,7 +52,8 @@ def run_fit(args: argparse.Namespace) -> int:
         res = fit_condition(recipe)
     except KeyboardInterrupt as exc:
         if getattr(exc, "samples", None) is not None and len(exc.samples[0]):
-            keep_samples(exc.samples, Path(args.output))
+            path = keep_samples(exc.samples, Path(args.output))
+            note_kept(exc, f"{path} ({len(exc.samples[0])} Reynolds samples; fit them with --from-npz {path})")
         raise
     return write_fit(res, args.output, plots=args.plots, note=args.note)
 
@@ -70,7 +71,6 @@ def keep_samples(samples, output: Path) -> Path:
     path = output.with_name(f"{output.stem}_samples_interrupted.npz")
     savez(path, **{k: states[:, i] for i, k in enumerate(("y", "z", "vy", "vz"))},
           Fy=forces[:, 0], Fz=forces[:, 1])
-    print(f"interrupted: {len(states)} samples kept in {path} (fit them with --from-npz {path})", file=sys.stderr)
     return path
 
 
