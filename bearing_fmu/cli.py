@@ -38,7 +38,9 @@ def _demo(args: argparse.Namespace) -> int:
 
 def _build(args: argparse.Namespace) -> int:
     from .build import build_fmu
+    from .outputs import ensure_output_file
 
+    ensure_output_file(args.output, "-o/--output")
     path = build_fmu(args.output, surrogate=args.surrogate)
     print(f"wrote {path}")
     return 0
