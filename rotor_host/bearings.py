@@ -120,7 +120,7 @@ class DirectBearings(BearingSet):
         if len(internals) != self.n:
             raise ValueError(f"DirectBearings: {len(internals)} internals for {self.n} bearing DOF pairs")
         self.internals = list(internals)
-        self.clearances = [float(i.params.CR) for i in self.internals]
+        self.clearances = [getattr(getattr(i, "params", None), "CR", None) for i in self.internals]
         # each internal's own derivatives where it has them, central differences otherwise
         self._jac = [getattr(i, "force_and_jacobian", None)
                      or (lambda y, z, vy, vz, om, i=i: film_jacobian(i, y, z, vy, vz, om))
