@@ -64,6 +64,7 @@ class FMUBearings(BearingSet):
             raise ValueError(f"FMUBearings: {len(parameters)} parameter sets for {self.n} bearings")
         if not self.with_jacobian:  # nobody reads K, C: the FMUs need not compute them
             parameters = [{"compute_tangent": False, **p} for p in parameters]
+        self.clearances = [float(p["CR"]) if "CR" in p else None for p in parameters]
         self.fmu_path = Path(fmu_path)
         if not self.fmu_path.is_file():
             raise FileNotFoundError(f"bearing FMU {self.fmu_path} not found; build it with `bearing-fmu build -o PATH.fmu`")
