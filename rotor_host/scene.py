@@ -618,7 +618,8 @@ def _run(scene: Scene, holder, work: Path, progress: bool) -> SceneRun:
             try:
                 out.q0 = initial_state(scene, rotor, f_static, loads, bearings)
             except EquilibriumError as exc:
-                return out.run(None, "failed", f"no static equilibrium: {exc}", **_diagnosis(exc))
+                return out.run(None, "failed", str(exc),
+                               equilibrium={k: v for k, v in exc.diagnosis().items() if v is not None})
             out.times["equilibrium_time_s"] = time.perf_counter() - t_setup
             integ = Newmark(rotor.M, rotor.K, rotor.C, rotor.G, scene.omega,
                             external_force(scene, rotor, f_static), bearings,
@@ -666,19 +667,3 @@ def _progress_every(scene: Scene) -> int:
     steps apart so a long run's checkpoints come on time."""
     n_steps = max(1, int(round(scene.t_end_s / scene.dt_s)))
     return max(1, min(n_steps // 200, 50))
-
-
-def _diagnosis(exc) -> dict:
-    """The fields of an EquilibriumError that say why (bearing, load, capacity), for the json."""
-    keys = ("bearing", "load_N", "capacity_N", "speed_hz", "iterations", "residual")
-    out = {}
-    for k in keys:
-        v = getattr(exc, k, None)
-        if v is None:
-            continue
-        if isinstance(v, np.ndarray):
-            v = v.tolist()
-        if isinstance(v, float) and not math.isfinite(v):
-            continue
-        out[f"equilibrium_{k}"] = v
-    return out

@@ -97,6 +97,8 @@ def test_a_run_without_static_equilibrium_still_writes_its_json(tmp_path, write_
     """))
     run = run_scene(s, tmp_path / "out")
     meta = json.loads(run.json.read_text())
-    assert meta["status"] == "failed" and meta["message"].startswith("no static equilibrium")
+    assert meta["status"] == "failed" and "carries at most" in meta["message"]
+    # the disk sits midway between the bearings: each carries half (plus half the weight)
+    assert meta["equilibrium"]["load_N"] == pytest.approx(5e8, rel=1e-6) and meta["equilibrium"]["bearing"]
     assert meta["steps"] == 0 and meta["equilibrium_eccentricity"] is None
     assert np.load(run.npz)["t"].size == 0
