@@ -161,7 +161,12 @@ def run_command(prog: str, args) -> int:
             raise
         print(f"{name}: error: {_one_line(exc)}", file=sys.stderr)
         return EXIT_BAD_INPUT
-    except Exception as exc:  # noqa: BLE001 - a failure, not bad input: one line, exit 1
+    except RuntimeError as exc:  # a failure this code diagnosed (no equilibrium, an FMU error): exit 1
+        if debug:
+            raise
+        print(f"{name}: error: {_one_line(exc)}", file=sys.stderr)
+        return EXIT_FAILED
+    except Exception as exc:  # noqa: BLE001 - unforeseen, most likely a bug: one line and how to see more
         if debug:
             raise
         print(f"{name}: error: {type(exc).__name__}: {_one_line(exc)} (run with --debug for the traceback)",
