@@ -3,21 +3,30 @@
 from __future__ import annotations
 
 import math
-import tomllib
 from dataclasses import asdict, dataclass
 from pathlib import Path
 
-from .schema import Key, check_keys
+from .schema import Key, Number, Text, check_table, read_toml
 
-# the keys of a bearing file ([bearing] table, or the top level): each carries its unit
+# the keys of a bearing file ([bearing] table, or the top level): each carries its unit. The
+# schema checks their types (a finite number, text); the ranges are BearingParams' own.
 BEARING_KEYS = (
-    Key("D_mm", "bearing (journal) diameter [mm]", allowed="> 0"),
-    Key("L_mm", "bearing length [mm]", allowed="> 0"),
-    Key("CR_um", "radial clearance [um]", allowed="> 0 and < D/2"),
-    Key("mu_Pa_s", "dynamic viscosity of the oil [Pa s]", allowed="> 0"),
-    Key("name", "label", None, "text"),
-    Key("description", "free text", None, "text"),
+    Key("D_mm", "bearing (journal) diameter [mm]", allowed="> 0", kind=Number()),
+    Key("L_mm", "bearing length [mm]", allowed="> 0", kind=Number()),
+    Key("CR_um", "radial clearance [um]", allowed="> 0 and < D/2", kind=Number()),
+    Key("mu_Pa_s", "dynamic viscosity of the oil [Pa s]", allowed="> 0", kind=Number()),
+    Key("name", "label", None, "text", kind=Text()),
+    Key("description", "free text", None, "text", kind=Text()),
 )
+
+
+class BearingFileError(KeyError, ValueError):
+    """A bearing file or mapping that cannot be used; one line naming the file and key. A
+    KeyError for callers that catch the missing or unknown key, a ValueError like every
+    input error (the command lines map those to exit status 2)."""
+
+    def __str__(self) -> str:  # a KeyError would show its message in quotes
+        return str(self.args[0]) if self.args else ""
 
 
 @dataclass(frozen=True)
@@ -60,25 +69,24 @@ class BearingParams:
 
     @classmethod
     def from_toml(cls, path: str | Path) -> "BearingParams":
-        """Read a bearing file with keys ``D_mm``, ``L_mm``, ``CR_um``, ``mu_Pa_s`` in ``[bearing]``."""
+        """Read a bearing file with keys ``D_mm``, ``L_mm``, ``CR_um``, ``mu_Pa_s`` in ``[bearing]``
+        (or at the top level); errors are BearingFileError naming the file and key."""
         path = Path(path)
-        with path.open("rb") as fh:
-            data = tomllib.load(fh)
-        return cls.from_mapping(data.get("bearing", data), where=str(path))
+        data = read_toml(path, "bearing file", BearingFileError)
+        if "bearing" in data:
+            return cls.from_mapping(data["bearing"], where=f"{path}: [bearing]")
+        return cls.from_mapping(data, where=str(path))
 
     @classmethod
     def from_mapping(cls, data: dict, where: str = "bearing") -> "BearingParams":
         """Build from a mapping whose keys carry their unit (``D_mm``, ``L_mm``, ``CR_um``, ``mu_Pa_s``)."""
         # divisors, not factors: 31 / 1000 is exactly the float 0.031, 31 * 1e-3 is not
         units = {"D_mm": 1e3, "L_mm": 1e3, "CR_um": 1e6, "mu_Pa_s": 1.0}
-        check_keys(data, BEARING_KEYS, where, KeyError)
-        vals = {}
-        for key, divisor in units.items():
-            v = data[key]
-            if isinstance(v, bool) or not isinstance(v, (int, float)):
-                raise ValueError(f"{where}: {key} must be a number, got {v!r}")
-            vals[key.split("_")[0]] = float(v) / divisor
-        return cls(**vals)
+        d = check_table(data, BEARING_KEYS, where, BearingFileError)
+        try:
+            return cls(**{key.split("_")[0]: d[key] / divisor for key, divisor in units.items()})
+        except ValueError as exc:  # a range of BearingParams: name the file too
+            raise BearingFileError(f"{where}: {exc}") from None
 
 
 # Table 2 of the paper: D = 31 mm, L = 20 mm, CR = 90 um, mu = 50 mPa s.
