@@ -163,8 +163,8 @@ class Scene:
                 complete=False))
         out = replace(self, internal=registry.get(internal).name, options=merged, **kw)
         if {"t_end_s", "dt_s"} & set(kw):  # overrides (--t-end, --dt) meet the checks the file's values met
-            given = ", ".join(f"{k} = {kw[k]!r}" for k in ("t_end_s", "dt_s") if k in kw)
-            where = f"{self.source or self.name} with {given}"
+            given = " and ".join(k for k in ("t_end_s", "dt_s") if k in kw)
+            where = f"{self.source or self.name} (with {given} given)"
             for k in ("t_end_s", "dt_s"):
                 try:
                     Number(0.0, exclusive_minimum=True).parse(getattr(out, k))

@@ -255,10 +255,11 @@ def _scenes_present(recipe: FitRecipe, surrogate_path) -> None:
 def add_arguments(parser) -> None:
     """Options of ``rotor-host fit``: the recipe's model and scene-training settings
     (generated from FitRecipe), the series cache and the outputs."""
+    from bearing_fmu.cliargs import output_dir
     from bearing_fmu.fitting.cli import add_output_arguments
 
     add_recipe_arguments(parser, "scene")
-    parser.add_argument("--cache-dir", default=None,
+    parser.add_argument("--cache-dir", type=output_dir, default=None,
                         help="folder caching the Reynolds series (default: series/ beside --output)")
     add_output_arguments(parser)
 
