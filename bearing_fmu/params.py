@@ -74,19 +74,22 @@ class BearingParams:
         path = Path(path)
         data = read_toml(path, "bearing file", BearingFileError)
         if "bearing" in data:
-            return cls.from_mapping(data["bearing"], where=f"{path}: [bearing]")
+            if not isinstance(data["bearing"], dict):
+                raise BearingFileError(f"{path}: bearing = {data['bearing']!r}: expected a table ([bearing])")
+            return cls.from_mapping(data["bearing"], where=str(path), label="[bearing]")
         return cls.from_mapping(data, where=str(path))
 
     @classmethod
-    def from_mapping(cls, data: dict, where: str = "bearing") -> "BearingParams":
-        """Build from a mapping whose keys carry their unit (``D_mm``, ``L_mm``, ``CR_um``, ``mu_Pa_s``)."""
+    def from_mapping(cls, data: dict, where: str = "bearing", label: str = "") -> "BearingParams":
+        """Build from a mapping whose keys carry their unit (``D_mm``, ``L_mm``, ``CR_um``, ``mu_Pa_s``);
+        errors name ``where`` (the file) and ``label`` (its table, '[bearing]')."""
         # divisors, not factors: 31 / 1000 is exactly the float 0.031, 31 * 1e-3 is not
         units = {"D_mm": 1e3, "L_mm": 1e3, "CR_um": 1e6, "mu_Pa_s": 1.0}
-        d = check_table(data, BEARING_KEYS, where, BearingFileError)
+        d = check_table(data, BEARING_KEYS, where, BearingFileError, label)
         try:
             return cls(**{key.split("_")[0]: d[key] / divisor for key, divisor in units.items()})
         except ValueError as exc:  # a range of BearingParams: name the file too
-            raise BearingFileError(f"{where}: {exc}") from None
+            raise BearingFileError(f"{where}: {label + ': ' if label else ''}{exc}") from None
 
 
 # Table 2 of the paper: D = 31 mm, L = 20 mm, CR = 90 um, mu = 50 mPa s.

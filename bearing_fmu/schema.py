@@ -16,6 +16,7 @@ a TOML syntax error with its line).
 
 from __future__ import annotations
 
+import difflib
 import math
 import tomllib
 from dataclasses import dataclass
@@ -101,7 +102,8 @@ class Number(Kind):
             raise self._bad()
         if self.integer:
             if not isinstance(value, int):
-                raise self._bad("written without a decimal point")
+                raise self._bad("written without a decimal point" if math.isfinite(value) and value == int(value)
+                                else "")
         elif not math.isfinite(value):
             raise self._bad()
         v = value if self.integer else float(value)
@@ -260,13 +262,20 @@ def check_keys(table, keys: Sequence[Key], where: str, error: type[Exception] = 
     names = [k.name for k in keys]
     required = [k.name for k in keys if k.required]
     missing = [k for k in required if k not in table]
-    if missing:
-        optional = [n for n in names if n not in required]
-        raise error(f"{where}: missing key(s) {', '.join(missing)}; required: {', '.join(required)}"
-                    + (f"; optional: {', '.join(optional)}" if optional else ""))
     unknown = sorted(set(table) - set(names))
-    if unknown:
-        raise error(f"{where}: unknown key(s) {', '.join(unknown)}; allowed: {', '.join(names)}")
+    if not (missing or unknown):
+        return
+    parts = []
+    if unknown:  # first: a misspelt key is both unknown and missing, and its spelling is the clue
+        hints = {u: difflib.get_close_matches(u, [n for n in names if n not in table], 1) for u in unknown}
+        parts.append("unknown key(s) " + ", ".join(u + (f" (did you mean {hints[u][0]}?)" if hints[u] else "")
+                                                   for u in unknown))
+    if missing:
+        parts.append(f"missing key(s) {', '.join(missing)}")
+    optional = [n for n in names if n not in required]
+    allowed = (f"required: {', '.join(required)}" + (f"; optional: {', '.join(optional)}" if optional else "")
+               if missing else f"allowed: {', '.join(names)}")
+    raise error(f"{where}: {'; '.join(parts)}; {allowed}")
 
 
 def check_table(table, keys: Sequence[Key], where: str, error: type[Exception] = SchemaError,
