@@ -364,3 +364,14 @@ def test_real_command_exits_2_without_traceback(tmp_path, module, given, words):
     for w in words:
         assert w in r.stderr, (w, r.stderr)
     assert not (tmp_path / "out").exists()
+
+
+def test_good_options_still_parse():
+    # the forms the README and the study records use (docs/studies/*: --ref-grid '' --grids --orders 3)
+    compare = _parsers()["rotor-host compare"]
+    a = compare.parse_args([S, "--ref-grid", "", "--grids", "--orders", "3"])
+    assert a.ref_grid is None and a.grids == [] and a.orders == [3]
+    a = compare.parse_args([S])  # defaults: reference 256x32, one coarser grid 64x8
+    assert a.ref_grid == (256, 32) and a.grids == [(64, 8)] and a.orders == [1, 3, 5, 7]
+    run = _parsers()["rotor-host run"].parse_args([S, "--dt", "2e-4", "--t-end", "1"])
+    assert (run.dt, run.t_end) == (2e-4, 1.0)
