@@ -35,7 +35,7 @@ from xml.etree import ElementTree as ET
 from . import __version__
 
 HERE = Path(__file__).resolve().parent
-NOT_IN_FMU = {"build.py", "cli.py", "slave.py"}  # build tooling; slave.py becomes the slave module
+NOT_IN_FMU = {"build.py", "cli.py", "exits.py", "outputs.py", "slave.py"}  # build tooling; slave.py becomes the slave module
 MODEL_IDENTIFIER = "BearingFMU"
 REQUIREMENTS = "numpy>=1.26\nscipy>=1.11\nnumba>=0.59\n"
 
@@ -341,6 +341,8 @@ def build_fmu(output, surrogate=None) -> Path:
     """
     from pythonfmu import FmuBuilder
 
+    from .outputs import write_bytes
+
     output = Path(output)
     if output.suffix != ".fmu":
         raise ValueError(f"build_fmu: output {str(output)!r} must end in .fmu")
@@ -371,7 +373,7 @@ def build_fmu(output, surrogate=None) -> Path:
             FmuBuilder.build_FMU(script, dest=tmp_fmu, project_files=project,
                                  canGetAndSetFMUstate=True, canSerializeFMUstate=True)
             _rewrite_zip(tmp_fmu, pkg)
-            shutil.copyfile(tmp_fmu, output)
+            write_bytes(output, tmp_fmu.read_bytes())  # atomic: a parallel reader sees one whole FMU
     finally:
         # pythonfmu's builder imported the staged modules and left the stage on sys.path:
         # drop both, or a later FMU load in this process would reuse the deleted staging copy

@@ -6,6 +6,8 @@ import argparse
 import math
 import sys
 
+from .exits import EXIT_CODES, add_debug_flag, run_command
+
 
 def _demo(args: argparse.Namespace) -> int:
     import numpy as np
@@ -36,7 +38,9 @@ def _demo(args: argparse.Namespace) -> int:
 
 def _build(args: argparse.Namespace) -> int:
     from .build import build_fmu
+    from .outputs import ensure_output_file
 
+    ensure_output_file(args.output, "-o/--output")
     path = build_fmu(args.output, surrogate=args.surrogate)
     print(f"wrote {path}")
     return 0
@@ -45,7 +49,8 @@ def _build(args: argparse.Namespace) -> int:
 def main(argv: list[str] | None = None) -> int:
     from .cliargs import existing_file, finite_float, output_file, positive_float
 
-    parser = argparse.ArgumentParser(prog="bearing-fmu", description=__doc__)
+    parser = argparse.ArgumentParser(prog="bearing-fmu", description=__doc__, epilog=EXIT_CODES,
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
     sub = parser.add_subparsers(dest="command", required=True)
 
     p = sub.add_parser("demo", help="equilibrium and Lund coefficients of the paper bearing")
@@ -69,12 +74,9 @@ def main(argv: list[str] | None = None) -> int:
                         "with exactly one, the FMU parameter 'surrogate' defaults to it)")
     p.set_defaults(func=_build)
 
+    add_debug_flag(parser, sub)
     args = parser.parse_args(argv)
-    try:
-        return args.func(args)
-    except (ValueError, KeyError, FileNotFoundError, RuntimeError) as exc:
-        print(f"bearing-fmu {args.command}: error: {exc}", file=sys.stderr)
-        return 2
+    return run_command("bearing-fmu", args)  # exit codes, interrupts, --debug: .exits
 
 
 if __name__ == "__main__":

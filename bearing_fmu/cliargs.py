@@ -10,8 +10,10 @@ says what was expected (with the unit) and what was given:
   raises ValueError (the fit recipe's own settings use it, so the command line and the
   recipe refuse the same values with the same words);
 * Reynolds grids written ``NxM`` (``grid``), checked against the Reynolds options' ranges;
-* paths: ``existing_file``, ``existing_dir``, ``output_dir``, ``output_file`` (an output
-  path whose folder is a file, or that names the wrong kind of thing, is refused up front).
+* paths: ``existing_file``, ``existing_dir``, ``output_dir``, ``output_file``: an output path
+  that names the wrong kind of thing (a file for a folder, a folder for a file, a file in the
+  middle of the path) is refused while parsing; whether the folder accepts files is checked
+  when the command starts (``outputs.ensure_writable``, which creates it).
 
 Choices need nothing here: argparse's ``choices=`` already names the option and the choices.
 Zero is a value like any other: callers test ``is None`` for an option left out, never truth.
@@ -148,43 +150,33 @@ def existing_dir(text: str) -> str:
     raise _refuse("an existing folder", text, "a file" if p.exists() else "not found")
 
 
-def _blocked(p: Path) -> str:
-    """Why nothing can be written at ``p`` ('' if something can): a parent that is a file, or
-    the nearest existing folder not writable."""
+def _file_in_the_way(p: Path) -> str:
+    """'' if the folders above ``p`` exist or can be made, else which one is a file."""
     for parent in p.absolute().parents:
         if parent.exists():
-            if not parent.is_dir():
-                return f"{parent} is a file, not a folder"
-            if not os.access(parent, os.W_OK | os.X_OK):
-                return f"the folder {parent} is not writable"
-            return ""
+            return "" if parent.is_dir() else f"{parent} is a file, not a folder"
     return ""
 
 
 def output_dir(text: str) -> str:
-    """A folder to write into: existing, or one that can be made (no file in its way)."""
+    """A folder to write into: a folder, or a path where one can be made (no file in its way)."""
     p = Path(text)
     if not text.strip():
         raise _refuse("a folder to write into", text)
     if p.exists() and not p.is_dir():
         raise _refuse("a folder to write into", text, "it is a file")
-    if p.is_dir():
-        why = "" if os.access(p, os.W_OK | os.X_OK) else "not writable"
-    else:
-        why = _blocked(p)
+    why = "" if p.is_dir() else _file_in_the_way(p)
     if why:
         raise _refuse("a folder to write into", text, why)
     return text
 
 
 def output_file(text: str) -> str:
-    """A file to write: not a folder, and in a folder that exists or can be made."""
+    """A file to write: not a folder, in a folder that exists or can be made."""
     p = Path(text)
     if not text.strip() or text.endswith(("/", os.sep)) or p.is_dir():
         raise _refuse("a file to write", text, "a directory" if p.is_dir() else "")
-    if p.exists() and not os.access(p, os.W_OK):
-        raise _refuse("a file to write", text, "not writable")
-    why = _blocked(p)
+    why = _file_in_the_way(p)
     if why:
         raise _refuse("a file to write", text, why)
     return text

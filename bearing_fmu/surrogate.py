@@ -371,8 +371,10 @@ def save_surrogate(surrogate: Surrogate, path: str | Path) -> Path:
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     data = surrogate.to_dict()
-    path.write_text(json.dumps(data, indent=1, allow_nan=False) + "\n")
-    return path
+    text = json.dumps(data, indent=1, allow_nan=False) + "\n"
+    from .outputs import write_text  # not bundled in the FMU, which never writes a surrogate
+
+    return write_text(path, text)
 
 
 def check_params(surrogate: Surrogate, params: BearingParams, where: str = "surrogate", rtol: float = 1e-9) -> None:

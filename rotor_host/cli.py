@@ -6,13 +6,17 @@ import argparse
 import sys
 from pathlib import Path
 
+from bearing_fmu.exits import EXIT_CODES, add_debug_flag, note_kept, run_command
+from bearing_fmu.outputs import ensure_writable, write_text
+
 
 def _scene_from_args(args):
     from .scene import load_scene
 
     scene = load_scene(args.scene)
     changes = {}
-    for flag, key in (("via", "via"), ("t_end", "t_end_s"), ("dt", "dt_s"), ("tangent", "newton_tangent")):
+    for flag, key in (("via", "via"), ("t_end", "t_end_s"), ("dt", "dt_s"), ("tangent", "newton_tangent"),
+                      ("checkpoint_s", "checkpoint_s")):
         if getattr(args, flag, None) is not None:  # 0 is a value (refused by its type), not "unset"
             changes[key] = getattr(args, flag)
     options = {}
@@ -46,7 +50,7 @@ def _run(args) -> int:
           + ("  (the orbit crossed the clearance circle)" if m["crossed_clearance"] else ""))
     if m["status"] != "ok":
         print(f"stopped: {m['message']}")
-    if not args.no_plots:
+    if not args.no_plots and run.arrays["t"].size > 1:
         disk = 6 if 6 in run.arrays["nodes"] else None
         png = plot_runs({scene.internal: run.arrays}, out / f"{run.npz.stem}.png", title=scene.description,
                         disk_node=disk, history=True)
@@ -128,14 +132,29 @@ PAPER_SCENES = ("paper_22hz.toml", "paper_44hz.toml")
 def _paper(args) -> int:
     """The main job: the paper's 22 Hz and 44 Hz scenes, Reynolds (default grid) against the
     bundled Taylor surrogate of each scene and the linear model, all through the bearing FMUs."""
+    scenes_dir = Path(args.scenes)
+    out = ensure_writable(args.out)
+    summary = []
+    try:
+        _paper_scenes(args, scenes_dir, out, summary)
+    except KeyboardInterrupt as exc:
+        if summary:  # the scenes that finished; compare wrote the interrupted scene's rows
+            write_text(out / "paper_summary.md", "\n".join(summary) + "\n**interrupted: the scenes above finished**\n")
+            note_kept(exc, f"{out / 'paper_summary.md'} ({len(summary)} finished scene(s))")
+        raise
+    text = "\n".join(summary)
+    write_text(out / "paper_summary.md", text)
+    print(text)
+    print(f"tables and plots in {out}/ (compare_*.md, compare_*_orbits.png, compare_*_error_vs_time.png)")
+    return 0
+
+
+def _paper_scenes(args, scenes_dir: Path, out: Path, summary: list) -> None:
     from bearing_fmu.surrogate import load_surrogate
 
     from .compare import Variant, compare, print_table
     from .scene import load_scene, required_file
 
-    scenes_dir = Path(args.scenes)
-    out = Path(args.out)
-    summary = []
     for name in PAPER_SCENES:
         scene = load_scene(scenes_dir / name)
         if args.t_end is not None:  # checked like the file's own value (a whole number of steps)
@@ -146,11 +165,6 @@ def _paper(args) -> int:
         variants = [Variant(f"Taylor {sur.recipe}", "taylor", order=sur.order), Variant("linear", "linear")]
         rows = compare(scene, ref, variants, out, progress=not args.quiet, default_label=ref.label)
         summary.append(f"## {scene.description}\n\n{print_table(rows)}\n")
-    text = "\n".join(summary)
-    (out / "paper_summary.md").write_text(text)
-    print(text)
-    print(f"tables and plots in {out}/ (compare_*.md, compare_*_orbits.png, compare_*_error_vs_time.png)")
-    return 0
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -159,7 +173,8 @@ def main(argv: list[str] | None = None) -> int:
 
     from .forces import NEWTON_TANGENTS
 
-    parser = argparse.ArgumentParser(prog="rotor-host", description=__doc__)
+    parser = argparse.ArgumentParser(prog="rotor-host", description=__doc__, epilog=EXIT_CODES,
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
     sub = parser.add_subparsers(dest="command", required=True)
 
     p = sub.add_parser("run", help="run one scene and write results and plots")
@@ -174,6 +189,9 @@ def main(argv: list[str] | None = None) -> int:
                         "the FMUs' own stiffness and damping outputs; 'frozen': those at the static "
                         "equilibrium; 'fd': finite differences; 'linear': the rotor's without bearings)")
     p.add_argument("--out", type=output_dir, default="out", help="output folder (default: out)")
+    p.add_argument("--checkpoint-s", type=positive_float("s"),
+                   help="write the partial result every this many seconds of wall time (default: the scene's "
+                        "[record] checkpoint_s, 60)")
     p.add_argument("--no-plots", action="store_true")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.set_defaults(func=_run)
@@ -221,12 +239,9 @@ def main(argv: list[str] | None = None) -> int:
     limit_cycle.add_arguments(p)
     p.set_defaults(func=limit_cycle.run)
 
+    add_debug_flag(parser, sub)
     args = parser.parse_args(argv)
-    try:
-        return args.func(args)
-    except (ValueError, KeyError, FileNotFoundError, RuntimeError) as exc:  # SceneError is a ValueError
-        print(f"rotor-host {args.command}: error: {exc}", file=sys.stderr)
-        return 2
+    return run_command("rotor-host", args)  # exit codes, interrupts, --debug: bearing_fmu.exits
 
 
 if __name__ == "__main__":

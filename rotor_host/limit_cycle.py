@@ -20,11 +20,12 @@ by point while the size of the orbit agrees. This module measures what the limit
 from __future__ import annotations
 
 import argparse
-import json
 from dataclasses import asdict, dataclass
 from pathlib import Path
 
 import numpy as np
+
+from bearing_fmu.outputs import ensure_writable, write_json, write_text
 
 
 @dataclass
@@ -196,6 +197,8 @@ def _saved_run(path: Path) -> dict:
 
 def run(args) -> int:
     src = Path(args.source)
+    out = ensure_writable(args.out)
+    stem = f"limitcycle_{src.stem}"
     meta = None
     if src.suffix == ".npz":
         if args.speed_hz is None:
@@ -211,22 +214,21 @@ def run(args) -> int:
         if args.t_end is not None:
             kw["t_end_s"] = args.t_end
         scene = scene.with_internal(args.internal, **kw)
-        r = run_scene(scene, None, progress=not args.quiet)
+        # the run is kept (<stem>_run.npz/.json, checkpoints while running): an interrupted or
+        # failed run can be analysed later with `limit-cycle <stem>_run.npz --speed-hz ...`
+        r = run_scene(scene, out, progress=not args.quiet, stem=f"{stem}_run")
         arrays, speed = r.arrays, scene.speed_hz
         meta = {k: r.meta[k] for k in ("status", "message", "dt_s", "steps", "newton_mean_evaluations_per_step",
                                        "step_cuts", "integration_time_s", "max_eccentricity", "crossed_clearance")}
     lc, env = limit_cycle(arrays, speed, revs=args.revs, tol_pct_cr=args.tol, source=str(src), meta=meta)
-    out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
-    stem = f"limitcycle_{src.stem}"
     step = max(1, int(round(0.25 / env.period_s))) if env.t.size else 1  # about every 0.25 s
     rows = "\n".join(f"| {t:.3f} | {a:.4f} | {b:.4f} |" for t, a, b in
                      zip(env.t[::step], env.e_max[::step], env.e_min[::step]))
     text = (f"# Limit cycle: {src.name}, {speed:g} Hz, windows of {args.revs} revolutions\n\n"
             f"| window end [s] | max ecc. | min ecc. |\n|---|---|---|\n{rows}\n\n{lc.verdict()}\n")
-    (out / f"{stem}.md").write_text(text)
-    (out / f"{stem}.json").write_text(json.dumps(
-        {**asdict(lc), "t": env.t.tolist(), "e_max": env.e_max.tolist(), "e_min": env.e_min.tolist()}, indent=1))
+    write_text(out / f"{stem}.md", text)
+    write_json(out / f"{stem}.json",
+               {**asdict(lc), "t": env.t.tolist(), "e_max": env.e_max.tolist(), "e_min": env.e_min.tolist()}, indent=1)
     if env.t.size:
         plot_envelopes({src.stem: env}, out / f"{stem}.png", title=lc.verdict()[:110])
     print(text)

@@ -16,8 +16,9 @@ rotor file.
 
 from __future__ import annotations
 
-import json
+import hashlib
 import math
+import os
 import platform
 import time
 from dataclasses import asdict, dataclass, field, replace
@@ -26,7 +27,9 @@ from pathlib import Path
 import numpy as np
 
 from bearing_fmu import internals as registry
+from bearing_fmu.exits import as_interrupted, handled, note_kept
 from bearing_fmu.internals import Context
+from bearing_fmu.outputs import claim, ensure_writable, savez, write_json
 from bearing_fmu.schema import (Choice, FileName, Invalid, Key, List, Number, Table, Tables, Text, check_table,
                                read_toml)
 
@@ -37,6 +40,7 @@ from .rotor import NODE, Rotor
 
 VIA = ("fmu", "direct")
 INITIAL_STATES = ("static_equilibrium", "centred")
+DEFAULT_CHECKPOINT_S = 60.0  # [record] checkpoint_s: wall time between partial results [s]
 G = 9.81
 
 
@@ -77,6 +81,9 @@ RECORD_KEYS = (
     Key("nodes", "nodes to record besides the bearing nodes, 1-based", [], "node numbers",
         kind=List(NODE)),
     Key("every", "record every n-th step", 1, kind=Number(1, integer=True)),
+    Key("checkpoint_s", "write the partial result every this many seconds of wall time while running "
+        "(a kill -9 keeps results up to the last one)", DEFAULT_CHECKPOINT_S, "> 0 s",
+        kind=Number(0.0, exclusive_minimum=True)),
 )
 SCENE_KEYS = (
     Key("rotor", "rotor file, relative to the scene file", kind=FileName()),
@@ -125,6 +132,7 @@ class Scene:
     initial: str = "static_equilibrium"
     record_nodes: list[int] = field(default_factory=list)  # 0-based; bearings are always recorded
     record_every: int = 1
+    checkpoint_s: float = 60.0  # wall time between partial results written while running [s]
     fmu: Path | None = None
     source: Path | None = None
     newton_tangent: str = "bearing"  # bearing | frozen | fd | linear: see rotor_host.forces
@@ -237,7 +245,8 @@ def load_scene(path) -> Scene:
                  rotor_path=rotor_path, speed_hz=data["speed_hz"], internal=internal, via=data["via"],
                  t_end_s=tt["t_end_s"], dt_s=tt["dt_s"], alpha=tt["hht_alpha"], unbalances=unb, static_loads=loads,
                  options=options, initial=data["initial"]["state"], record_nodes=rec_nodes,
-                 record_every=rec["every"], fmu=fmu, source=path, newton_tangent=tt["newton_tangent"])
+                 record_every=rec["every"], checkpoint_s=rec["checkpoint_s"], fmu=fmu, source=path,
+                 newton_tangent=tt["newton_tangent"])
 
 
 def _rotor(name: str, base: Path, where: str) -> tuple[Path, Rotor]:
@@ -354,12 +363,21 @@ def scene_fmu(scene: Scene, work_dir: Path) -> Path:
         if not scene.fmu.is_file():
             raise SceneError(f"{scene.source}: fmu = {scene.fmu}: file not found")
         return scene.fmu
-    from bearing_fmu.build import build_fmu
+    from bearing_fmu.build import build_fmu, package_name
 
     work_dir.mkdir(parents=True, exist_ok=True)
     files = _files(scene)
+    # content-addressed: the code package (its name hashes every bundled source) and the
+    # bundled files' bytes. Runs of the same scene reuse one build, parallel runs never write
+    # into an FMU another run is reading (and build_fmu writes under a temporary name).
+    h = hashlib.sha256(package_name().encode())
+    for f in files:
+        h.update(f.name.encode() + b"\0" + f.read_bytes())
     tag = "".join(f"_{f.stem}" for f in files)
-    return Path(build_fmu(work_dir / f"bearing{tag}.fmu", surrogate=files or None))
+    path = work_dir / f"bearing{tag}_{h.hexdigest()[:12]}.fmu"
+    if path.is_file():
+        return path
+    return Path(build_fmu(path, surrogate=files or None))
 
 
 def required_file(scene: Scene, internal: str, option: str) -> Path:
@@ -475,94 +493,169 @@ def _versions() -> dict:
 
 def run_scene(scene: Scene, out_dir=None, *, progress: bool = False, stem: str | None = None,
               work_dir=None) -> SceneRun:
-    """Run a scene; write ``<out_dir>/<stem>.npz`` and ``.json`` (also on failure, with what was
-    computed). Returns the SceneRun; a failed integration has meta["status"] == "failed"."""
+    """Run a scene; write ``<out_dir>/<stem>.npz`` and ``.json``. Returns the SceneRun.
+
+    What was computed is always written: a failed integration or static equilibrium gives
+    meta["status"] == "failed" (with the message), an interrupt (Ctrl-C, SIGTERM) status
+    "interrupted" and the signal, after which the interrupt is raised again; while running, a
+    checkpoint (status "running") is written every ``scene.checkpoint_s`` of wall time. Files
+    are written under a temporary name and renamed into place; a name another running process
+    holds gets a suffix (``bearing_fmu.outputs.claim``)."""
+    stem = stem or f"{Path(scene.source).stem if scene.source else scene.name}_{scene.internal}"
+    out_dir = ensure_writable(out_dir) if out_dir is not None else None
+    work = Path(work_dir) if work_dir is not None else (out_dir or Path("out")) / "fmu"
+    with handled():
+        holder = claim(out_dir, stem) if out_dir is not None else None
+        try:
+            return _run(scene, holder, work, progress)
+        finally:
+            if holder is not None:
+                holder.release()
+
+
+class _Writer:
+    """Turns the integrator's (partial) result into the run's arrays and metadata and writes
+    them; one instance per run, used for checkpoints, failures, interrupts and the end."""
+
+    def __init__(self, scene: Scene, rotor: Rotor, loads, holder, t_wall0: float):
+        self.scene, self.rotor, self.holder, self.t_wall0 = scene, rotor, holder, t_wall0
+        self.rec_nodes = sorted(set(scene.record_nodes) | set(rotor.bearing_nodes))
+        self.rec_dofs = [rotor.dof(n, d) for n in self.rec_nodes for d in ("y", "z")]
+        self.q0 = None
+        self.times = {"setup_time_s": 0.0, "equilibrium_time_s": 0.0}
+        self.meta = {
+            "scene": scene.name, "description": scene.description, "source": str(scene.source),
+            "internal": scene.internal, "via": scene.via, "speed_hz": scene.speed_hz, "dt_s": scene.dt_s,
+            "t_end_s": scene.t_end_s, "hht_alpha": scene.alpha, "newton_tangent": scene.newton_tangent,
+            "internal_options": scene.internal_options(),
+            "bearing_loads_N": np.asarray(loads).tolist(), "recorded_nodes": [n + 1 for n in self.rec_nodes],
+            "bearing_nodes": [n + 1 for n in rotor.bearing_nodes],
+            "versions": _versions(), "machine": platform.machine(), "pid": os.getpid(),
+            "status": "ok", "message": "",
+        }
+
+    def run(self, res, status: str = "ok", message: str = "", **extra) -> SceneRun:
+        """The SceneRun of ``res`` (a NewmarkResult, or None before the integration started),
+        written to disk when the run has an output folder."""
+        rotor, scene = self.rotor, self.scene
+        nb, n_rec = len(rotor.bearing_nodes), len(self.rec_nodes)
+        if res is None:
+            t = np.zeros(0)
+            q = v = np.zeros((0, 2 * n_rec))
+            f = np.zeros((0, 2 * nb))
+            its, n_cuts, n_eval, wall, mean_its = np.zeros(0, int), 0, 0, 0.0, 0.0
+        else:
+            t, q, v, f = res.t, res.q, res.v, res.f_nl
+            its, n_cuts, n_eval, wall, mean_its = (res.iterations, res.n_cuts, res.n_evaluations, res.wall_time,
+                                                   res.mean_iterations)
+        col = {n: i for i, n in enumerate(self.rec_nodes)}
+        yz = q.reshape(len(t), n_rec, 2)
+        vyz = v.reshape(len(t), n_rec, 2)
+        fb = f.reshape(len(t), nb, 2)
+        bcols = [col[n] for n in rotor.bearing_nodes]
+        CR = np.array([p.CR for p in rotor.bearings])
+        ecc = np.hypot(yz[:, bcols, 0], yz[:, bcols, 1]) / CR
+        q0 = self.q0[self.rec_dofs] if self.q0 is not None else np.full(len(self.rec_dofs), np.nan)
+        arrays = {
+            "t": t, "nodes": np.array(self.rec_nodes) + 1,
+            "y": yz[:, :, 0], "z": yz[:, :, 1], "vy": vyz[:, :, 0], "vz": vyz[:, :, 1],
+            "Fy": fb[:, :, 0], "Fz": fb[:, :, 1], "eccentricity": ecc,
+            "bearing_nodes": np.array(rotor.bearing_nodes) + 1, "CR": CR, "q0": q0,
+        }
+        max_ecc = ecc.max(axis=0) if ecc.size else np.zeros(nb)
+        meta = dict(self.meta)
+        meta.update(status=status, message=message, **extra)
+        meta.update({
+            "wall_time_s": time.perf_counter() - self.t_wall0, **self.times,
+            "integration_time_s": wall, "steps": int(its.size),
+            "t_reached_s": float(t[-1]) if t.size else 0.0,
+            "newton_mean_evaluations_per_step": mean_its,
+            "newton_max_evaluations_per_step": int(its.max()) if its.size else 0,
+            "force_evaluations": int(n_eval), "step_cuts": int(n_cuts),
+            "max_eccentricity": max_ecc.tolist(),
+            "crossed_clearance": bool(np.any(max_ecc >= 1.0)),
+            "equilibrium_eccentricity": (None if self.q0 is None else
+                                         (np.hypot(self.q0[[rotor.dof(n, "y") for n in rotor.bearing_nodes]],
+                                                   self.q0[[rotor.dof(n, "z") for n in rotor.bearing_nodes]])
+                                          / CR).tolist()),
+        })
+        if scene.internal == "taylor" and ecc.size and status != "running":
+            meta.update(_domain_report(scene, rotor, yz[:, bcols], vyz[:, bcols]))
+            worst = max(meta["max_domain_excess"])
+            if meta["status"] != "ok" and worst > 1e-12:
+                # the failure itself may read like a solver problem: say where the surrogate was
+                meta["message"] += (f" [the surrogate had left its fitted domain: up to {100 * worst:.3g} % beyond "
+                                    f"its bounds, {100 * max(meta['out_of_domain_fraction']):.3g} % of the recorded "
+                                    "states outside; its forces there are extrapolations]")
+        run = SceneRun(arrays, meta)
+        if self.holder is not None:
+            run.npz = savez(self.holder.path(".npz"), **arrays)
+            run.json = write_json(self.holder.path(".json"), meta)
+        return run
+
+
+def _run(scene: Scene, holder, work: Path, progress: bool) -> SceneRun:
+    from bearing_fmu.statics import EquilibriumError
+
     t_wall0 = time.perf_counter()
     rotor = Rotor.from_toml(scene.rotor_path)
-    stem = stem or f"{Path(scene.source).stem if scene.source else scene.name}_{scene.internal}"
-    out_dir = Path(out_dir) if out_dir is not None else None
-    work = Path(work_dir) if work_dir is not None else (out_dir or Path("out")) / "fmu"
     f_static = rotor.weight_vector(G) + rotor.point_load_vector(scene.static_loads)
     loads = bearing_loads(rotor, f_static)
-    rec_nodes = sorted(set(scene.record_nodes) | set(rotor.bearing_nodes))
-    rec_dofs = [rotor.dof(n, d) for n in rec_nodes for d in ("y", "z")]
-    meta = {
-        "scene": scene.name, "description": scene.description, "source": str(scene.source),
-        "internal": scene.internal, "via": scene.via, "speed_hz": scene.speed_hz, "dt_s": scene.dt_s,
-        "t_end_s": scene.t_end_s, "hht_alpha": scene.alpha, "newton_tangent": scene.newton_tangent,
-        "internal_options": scene.internal_options(),
-        "bearing_loads_N": loads.tolist(), "recorded_nodes": [n + 1 for n in rec_nodes],
-        "bearing_nodes": [n + 1 for n in rotor.bearing_nodes],
-        "versions": _versions(), "machine": platform.machine(), "status": "ok", "message": "",
-    }
-    with build_bearings(scene, rotor, loads, work) as bearings:
-        t_setup = time.perf_counter()
-        q0 = initial_state(scene, rotor, f_static, loads, bearings)
-        t_eq = time.perf_counter()
-        integ = Newmark(rotor.M, rotor.K, rotor.C, rotor.G, scene.omega, external_force(scene, rotor, f_static),
-                        bearings, NewmarkConfig(alpha=scene.alpha, tangent=scene.newton_tangent))
-        bar = None
-        if progress:
-            from tqdm import tqdm
+    out = _Writer(scene, rotor, loads, holder, t_wall0)
+    integ = None
+    try:
+        with build_bearings(scene, rotor, loads, work) as bearings:
+            t_setup = time.perf_counter()
+            out.times["setup_time_s"] = t_setup - t_wall0
+            try:
+                out.q0 = initial_state(scene, rotor, f_static, loads, bearings)
+            except EquilibriumError as exc:
+                return out.run(None, "failed", str(exc),
+                               equilibrium={k: v for k, v in exc.diagnosis().items() if v is not None})
+            out.times["equilibrium_time_s"] = time.perf_counter() - t_setup
+            integ = Newmark(rotor.M, rotor.K, rotor.C, rotor.G, scene.omega,
+                            external_force(scene, rotor, f_static), bearings,
+                            NewmarkConfig(alpha=scene.alpha, tangent=scene.newton_tangent))
+            bar = None
+            if progress:
+                from tqdm import tqdm
 
-            bar = tqdm(total=scene.t_end_s, unit="s", desc=f"{scene.name} [{scene.internal}]",
-                       bar_format="{l_bar}{bar}| {n:.3f}/{total:.3f} s [{elapsed}<{remaining}]")
+                bar = tqdm(total=scene.t_end_s, unit="s", desc=f"{scene.name} [{scene.internal}]",
+                           bar_format="{l_bar}{bar}| {n:.3f}/{total:.3f} s [{elapsed}<{remaining}]")
+            last = [time.perf_counter()]
 
-        def tick(t):
-            if bar is not None:
-                bar.update(t - bar.n)
+            def tick(t):
+                if bar is not None:
+                    bar.update(t - bar.n)
+                now = time.perf_counter()
+                if holder is not None and now - last[0] >= scene.checkpoint_s:
+                    out.run(integ.partial_result(), "running",
+                            "checkpoint written while running: the run had not finished when this was written")
+                    last[0] = time.perf_counter()
 
-        try:
-            res = integ.run(q0, np.zeros(rotor.n_dof), 0.0, scene.t_end_s, scene.dt_s,
-                            record_every=scene.record_every, record_dofs=rec_dofs, progress=tick)
-        except IntegrationError as exc:
-            res = exc.result
-            meta["status"], meta["message"] = "failed", str(exc)
-        finally:
-            if bar is not None:
-                bar.close()
-    t_end = time.perf_counter()
+            try:
+                res = integ.run(out.q0, np.zeros(rotor.n_dof), 0.0, scene.t_end_s, scene.dt_s,
+                                record_every=scene.record_every, record_dofs=out.rec_dofs, progress=tick,
+                                progress_every=_progress_every(scene))
+                status, message = "ok", ""
+            except IntegrationError as exc:
+                res, status, message = exc.result, "failed", str(exc)
+            finally:
+                if bar is not None:
+                    bar.close()
+    except KeyboardInterrupt as exc:
+        sig = as_interrupted(exc).signal_name
+        res = integ.partial_result() if integ is not None and integ.started else None
+        t = float(res.t[-1]) if res is not None and res.t.size else 0.0
+        run = out.run(res, "interrupted", f"interrupted by {sig} at t = {t:.6g} s", signal=sig)
+        if run.json is not None:
+            note_kept(exc, f"{run.npz}, {run.json} (status interrupted, t = {t:.6g} s)")
+        raise
+    return out.run(res, status, message)
 
-    nb = len(rotor.bearing_nodes)
-    col = {n: i for i, n in enumerate(rec_nodes)}
-    yz = res.q.reshape(len(res.t), len(rec_nodes), 2)
-    vyz = res.v.reshape(len(res.t), len(rec_nodes), 2)
-    fb = res.f_nl.reshape(len(res.t), nb, 2)
-    bcols = [col[n] for n in rotor.bearing_nodes]
-    CR = np.array([p.CR for p in rotor.bearings])
-    ecc = np.hypot(yz[:, bcols, 0], yz[:, bcols, 1]) / CR
-    arrays = {
-        "t": res.t, "nodes": np.array(rec_nodes) + 1,
-        "y": yz[:, :, 0], "z": yz[:, :, 1], "vy": vyz[:, :, 0], "vz": vyz[:, :, 1],
-        "Fy": fb[:, :, 0], "Fz": fb[:, :, 1], "eccentricity": ecc,
-        "bearing_nodes": np.array(rotor.bearing_nodes) + 1, "CR": CR, "q0": q0[rec_dofs],
-    }
-    max_ecc = ecc.max(axis=0) if ecc.size else np.zeros(nb)
-    meta.update({
-        "wall_time_s": t_end - t_wall0, "setup_time_s": t_setup - t_wall0, "equilibrium_time_s": t_eq - t_setup,
-        "integration_time_s": res.wall_time, "steps": int(res.iterations.size),
-        "t_reached_s": float(res.t[-1]) if res.t.size else 0.0,
-        "newton_mean_evaluations_per_step": res.mean_iterations,
-        "newton_max_evaluations_per_step": int(res.iterations.max()) if res.iterations.size else 0,
-        "force_evaluations": int(res.n_evaluations), "step_cuts": int(res.n_cuts),
-        "max_eccentricity": max_ecc.tolist(),
-        "crossed_clearance": bool(np.any(max_ecc >= 1.0)),
-        "equilibrium_eccentricity": (np.hypot(q0[[rotor.dof(n, "y") for n in rotor.bearing_nodes]],
-                                              q0[[rotor.dof(n, "z") for n in rotor.bearing_nodes]]) / CR).tolist(),
-    })
-    if scene.internal == "taylor" and ecc.size:
-        meta.update(_domain_report(scene, rotor, yz[:, bcols], vyz[:, bcols]))
-        worst = max(meta["max_domain_excess"])
-        if meta["status"] != "ok" and worst > 1e-12:
-            # the failure itself may read like a solver problem: say where the surrogate was
-            meta["message"] += (f" [the surrogate had left its fitted domain: up to {100 * worst:.3g} % beyond its "
-                                f"bounds, {100 * max(meta['out_of_domain_fraction']):.3g} % of the recorded states "
-                                "outside; its forces there are extrapolations]")
-    run = SceneRun(arrays, meta)
-    if out_dir is not None:
-        out_dir.mkdir(parents=True, exist_ok=True)
-        run.npz = out_dir / f"{stem}.npz"
-        np.savez(run.npz, **arrays)
-        run.json = out_dir / f"{stem}.json"
-        run.json.write_text(json.dumps(meta, indent=2))
-    return run
+
+def _progress_every(scene: Scene) -> int:
+    """Steps between progress calls (which also write checkpoints): ~200 per run, at most 50
+    steps apart so a long run's checkpoints come on time."""
+    n_steps = max(1, int(round(scene.t_end_s / scene.dt_s)))
+    return max(1, min(n_steps // 200, 50))

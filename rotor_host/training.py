@@ -28,6 +28,7 @@ import numpy as np
 
 from bearing_fmu import internals as registry
 from bearing_fmu.fitting.recipe import FitRecipe, add_recipe_arguments, recipe_from_args, recipe_of
+from bearing_fmu.outputs import savez
 
 from .scene import Scene, load_scene, run_scene
 
@@ -67,7 +68,8 @@ def scene_series(scene: Scene, bearing: int = 1, cache: Path | None = None, log=
     load = np.array(run.meta["bearing_loads_N"][bearing - 1], float)
     if cache is not None:
         Path(cache).parent.mkdir(parents=True, exist_ok=True)
-        np.savez(cache, key=key, t=a["t"], states=states, forces=forces, load=load)
+        # atomic: an interrupted fit keeps every finished series and never a half-written one
+        savez(cache, key=key, t=a["t"], states=states, forces=forces, load=load)
     return a["t"], states, forces, load
 
 
@@ -270,10 +272,11 @@ def add_arguments(parser) -> None:
 
 def run(args) -> int:
     """``rotor-host fit``: fit, write the file (scene paths relative to it), report, plots."""
-    from bearing_fmu.fitting.cli import write_fit
+    from bearing_fmu.fitting.cli import check_outputs, write_fit
 
     if not args.scenes:
         raise ValueError("--scene: give at least one training scene (models/scenes/*.toml)")
+    check_outputs(args)
     recipe = recipe_from_args(args, "scene")
     cache = Path(args.cache_dir) if args.cache_dir else Path(args.output).resolve().parent / "series"
     return write_fit(fit_scene(recipe, cache_dir=cache), args.output, plots=args.plots, note=args.note)
