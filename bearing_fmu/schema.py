@@ -94,7 +94,8 @@ class Number(Kind):
             bounds.append(f"{'>' if self.exclusive_minimum else '>='} {self.minimum:g}")
         if self.maximum is not None:
             bounds.append(f"{'<' if self.exclusive_maximum else '<='} {self.maximum:g}")
-        return ("an integer" if self.integer else "a finite number") + ("" if not bounds else " " + " and ".join(bounds))
+        word = "an integer" if self.integer else "a finite number"
+        return word + ("" if not bounds else " " + " and ".join(bounds))
 
     def parse(self, value):
         """The value as int/float if it is one of this kind, else ``Invalid``."""

@@ -200,7 +200,8 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("scene", type=existing_file, help="scene TOML file")
     p.add_argument("--via", choices=("fmu", "direct"), help="bearing FMUs through fmpy (scene default) or in-process")
     p.add_argument("--ref-grid", type=grid_or_default, default="256x32", metavar="NxM",
-                   help="reference Reynolds grid n_theta x n_x (default 256x32; '' = the default grid is the reference)")
+                   help="reference Reynolds grid n_theta x n_x (default 256x32; '' = the default grid is the "
+                        "reference)")
     p.add_argument("--grids", nargs="*", type=grid, default=[(64, 8)], metavar="NxM",
                    help="coarser Reynolds grids to compare (default 64x8)")
     p.add_argument("--orders", nargs="*", type=positive_int(), default=[1, 3, 5, 7],
@@ -213,7 +214,8 @@ def main(argv: list[str] | None = None) -> int:
 
     p = sub.add_parser("paper", help="main job: the paper's 22 Hz and 44 Hz scenes, Reynolds vs Taylor vs "
                                      "linear through the bearing FMUs, error/run-time table and plots")
-    p.add_argument("--scenes", type=existing_dir, default=str(Path(__file__).resolve().parents[1] / "models" / "scenes"),
+    p.add_argument("--scenes", type=existing_dir,
+                   default=str(Path(__file__).resolve().parents[1] / "models" / "scenes"),
                    help="folder with paper_22hz.toml and paper_44hz.toml")
     p.add_argument("--t-end", type=positive_float("s"), help="override the simulated time of both scenes [s]")
     p.add_argument("--out", type=output_dir, default="out/paper", help="output folder (default: out/paper)")

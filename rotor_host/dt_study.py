@@ -112,7 +112,8 @@ def add_arguments(p: argparse.ArgumentParser) -> argparse.ArgumentParser:
                    help="at most this many halvings, at least 1 (default 3)")
     p.add_argument("--tol", type=positive_float("% CR"), default=1.0,
                    help="orbit change that counts as converged [%% CR] (default 1)")
-    p.add_argument("--out", type=output_dir, default="out", help="output folder for dtstudy_<scene>_<internal>.md/.json")
+    p.add_argument("--out", type=output_dir, default="out",
+                   help="output folder for dtstudy_<scene>_<internal>.md/.json")
     p.add_argument("--quiet", action="store_true")
     return p
 

@@ -272,7 +272,8 @@ def _fmu_file(name: str, base: Path, where: str) -> Path:
 
     p = (base / name).resolve()
     if not p.is_file():
-        raise SceneError(f"{where}: fmu = {name!r}: {p} " + ("is a directory, not a file" if p.is_dir() else "not found"))
+        what = "is a directory, not a file" if p.is_dir() else "not found"
+        raise SceneError(f"{where}: fmu = {name!r}: {p} {what}")
     try:
         with zipfile.ZipFile(p) as z:
             if "modelDescription.xml" not in z.namelist():
