@@ -47,13 +47,15 @@ def _build(args: argparse.Namespace) -> int:
 
 
 def main(argv: list[str] | None = None) -> int:
+    from .cliargs import existing_file, finite_float, output_file, positive_float
+
     parser = argparse.ArgumentParser(prog="bearing-fmu", description=__doc__, epilog=EXIT_CODES,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
     sub = parser.add_subparsers(dest="command", required=True)
 
     p = sub.add_parser("demo", help="equilibrium and Lund coefficients of the paper bearing")
-    p.add_argument("--speed-hz", type=float, default=22.0, help="shaft speed [Hz] (default 22)")
-    p.add_argument("--load", type=float, default=16.7,
+    p.add_argument("--speed-hz", type=positive_float("Hz"), default=22.0, help="shaft speed [Hz] (default 22)")
+    p.add_argument("--load", type=finite_float("N"), default=16.7,
                    help="vertical load on the bearing [N] (default 16.7: half the paper rotor's weight)")
     p.set_defaults(func=_demo)
 
@@ -66,8 +68,8 @@ def main(argv: list[str] | None = None) -> int:
     p.set_defaults(func=run_fit)
 
     p = sub.add_parser("build", help="write the bearing FMU")
-    p.add_argument("-o", "--output", required=True, help="path of the .fmu to write")
-    p.add_argument("--surrogate", action="append", default=None, metavar="FILE",
+    p.add_argument("-o", "--output", type=output_file, required=True, help="path of the .fmu to write")
+    p.add_argument("--surrogate", type=existing_file, action="append", default=None, metavar="FILE",
                    help="surrogate JSON file to bundle in resources/surrogates/ (repeat for several; "
                         "with exactly one, the FMU parameter 'surrogate' defaults to it)")
     p.set_defaults(func=_build)

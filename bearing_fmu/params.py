@@ -3,11 +3,10 @@
 from __future__ import annotations
 
 import math
-import tomllib
 from dataclasses import asdict, dataclass
 from pathlib import Path
 
-from .schema import Key, check_keys
+from .schema import Key, Number, Text, check_table, read_toml, show
 
 # ----------------------------------------------------------------------------- physical ranges
 # What a real plain journal bearing can be; values outside are typos or unit slips (a clearance
@@ -85,17 +84,30 @@ def range_error(name: str, value, D: float | None = None) -> str | None:
 
 
 # the keys of a bearing file ([bearing] table, or the top level): each carries its unit; the
-# allowed values are the physical ranges above, in the file's units
+# schema checks their types (a finite number, text), the allowed values are the physical ranges
+# above, in the file's units (checked by range_error, naming the key)
 BEARING_KEYS = (
     Key("D_mm", "bearing (journal) diameter [mm]",
-        allowed=f"{D_RANGE_M[0] * 1e3:g} .. {D_RANGE_M[1] * 1e3:g}"),
-    Key("L_mm", "bearing length [mm]", allowed=f"L/D {L_OVER_D_RANGE[0]:g} .. {L_OVER_D_RANGE[1]:g}"),
+        allowed=f"{D_RANGE_M[0] * 1e3:g} .. {D_RANGE_M[1] * 1e3:g}", kind=Number()),
+    Key("L_mm", "bearing length [mm]", allowed=f"L/D {L_OVER_D_RANGE[0]:g} .. {L_OVER_D_RANGE[1]:g}",
+        kind=Number()),
     Key("CR_um", "radial clearance [um]",
-        allowed=f"CR/R {CR_OVER_R_RANGE[0]:g} .. {CR_OVER_R_RANGE[1]:g} (R = D/2: the clearance ratio)"),
-    Key("mu_Pa_s", "dynamic viscosity of the oil [Pa s]", allowed=f"{MU_RANGE_PA_S[0]:g} .. {MU_RANGE_PA_S[1]:g}"),
-    Key("name", "label", None, "text"),
-    Key("description", "free text", None, "text"),
+        allowed=f"CR/R {CR_OVER_R_RANGE[0]:g} .. {CR_OVER_R_RANGE[1]:g} (R = D/2: the clearance ratio)",
+        kind=Number()),
+    Key("mu_Pa_s", "dynamic viscosity of the oil [Pa s]", allowed=f"{MU_RANGE_PA_S[0]:g} .. {MU_RANGE_PA_S[1]:g}",
+        kind=Number()),
+    Key("name", "label", None, "text", kind=Text()),
+    Key("description", "free text", None, "text", kind=Text()),
 )
+
+
+class BearingFileError(KeyError, ValueError):
+    """A bearing file or mapping that cannot be used; one line naming the file and key. A
+    KeyError for callers that catch the missing or unknown key, a ValueError like every
+    input error (the command lines map those to exit status 2)."""
+
+    def __str__(self) -> str:  # a KeyError would show its message in quotes
+        return str(self.args[0]) if self.args else ""
 
 
 @dataclass(frozen=True)
@@ -137,28 +149,31 @@ class BearingParams:
 
     @classmethod
     def from_toml(cls, path: str | Path) -> "BearingParams":
-        """Read a bearing file with keys ``D_mm``, ``L_mm``, ``CR_um``, ``mu_Pa_s`` in ``[bearing]``."""
+        """Read a bearing file with keys ``D_mm``, ``L_mm``, ``CR_um``, ``mu_Pa_s`` in ``[bearing]``
+        (or at the top level); errors are BearingFileError naming the file and key."""
         path = Path(path)
-        with path.open("rb") as fh:
-            data = tomllib.load(fh)
-        return cls.from_mapping(data.get("bearing", data), where=str(path))
+        data = read_toml(path, "bearing file", BearingFileError)
+        if "bearing" in data:
+            if not isinstance(data["bearing"], dict):
+                raise BearingFileError(f"{path}: bearing = {data['bearing']!r}: expected a table ([bearing])")
+            return cls.from_mapping(data["bearing"], where=str(path), label="[bearing]")
+        return cls.from_mapping(data, where=str(path))
 
     @classmethod
-    def from_mapping(cls, data: dict, where: str = "bearing") -> "BearingParams":
-        """Build from a mapping whose keys carry their unit (``D_mm``, ``L_mm``, ``CR_um``, ``mu_Pa_s``)."""
+    def from_mapping(cls, data: dict, where: str = "bearing", label: str = "") -> "BearingParams":
+        """Build from a mapping whose keys carry their unit (``D_mm``, ``L_mm``, ``CR_um``, ``mu_Pa_s``);
+        errors name ``where`` (the file) and ``label`` (its table, '[bearing]')."""
         # divisors, not factors: 31 / 1000 is exactly the float 0.031, 31 * 1e-3 is not
         units = {"D_mm": 1e3, "L_mm": 1e3, "CR_um": 1e6, "mu_Pa_s": 1.0}
-        check_keys(data, BEARING_KEYS, where, KeyError)
+        d = check_table(data, BEARING_KEYS, where, BearingFileError, label)
+        prefix = f"{where}: {label + ' ' if label else ''}"
         vals = {}
         for key, divisor in units.items():
-            v = data[key]
-            if isinstance(v, bool) or not isinstance(v, (int, float)):
-                raise ValueError(f"{where}: {key} must be a number, got {v!r}")
             name = key.split("_")[0]
-            vals[name] = float(v) / divisor
+            vals[name] = d[key] / divisor
             error = range_error(name, vals[name], vals.get("D"))
             if error is not None:  # the constructor's words, with the file's key in front
-                raise ValueError(f"{where}: {key} = {v!r}: {error}")
+                raise BearingFileError(f"{prefix}{key} = {show(data[key])}: {error}")
         return cls(**vals)
 
 

@@ -17,10 +17,10 @@ def _scene_from_args(args):
     changes = {}
     for flag, key in (("via", "via"), ("t_end", "t_end_s"), ("dt", "dt_s"), ("tangent", "newton_tangent"),
                       ("checkpoint_s", "checkpoint_s")):
-        if getattr(args, flag, None):
+        if getattr(args, flag, None) is not None:  # 0 is a value (refused by its type), not "unset"
             changes[key] = getattr(args, flag)
     options = {}
-    if getattr(args, "surrogate", None):
+    if getattr(args, "surrogate", None) is not None:
         options["taylor"] = {"surrogate": Path(args.surrogate).resolve()}
     internal = getattr(args, "internal", None)
     if changes or options or internal:
@@ -66,18 +66,20 @@ def _grid_options(grid) -> dict:
     return {"reynolds": {"n_theta": n_theta, "n_x": n_x}}
 
 
+def _grid_label(grid) -> str:
+    return f"Reynolds {grid[0]}x{grid[1]}" if grid else "Reynolds default grid"
+
+
 def _reference_and_variants(args, scene):
     from .compare import Variant
 
-    ref_grid = tuple(int(v) for v in args.ref_grid.lower().split("x")) if args.ref_grid else None
-    ref = Variant(f"Reynolds {args.ref_grid}" if ref_grid else "Reynolds default grid", "reynolds",
-                  _grid_options(ref_grid))
+    ref_grid = args.ref_grid  # (n_theta, n_x), or None: the default grid (parsed by cliargs.grid_or_default)
+    ref = Variant(_grid_label(ref_grid), "reynolds", _grid_options(ref_grid))
     variants = []
     if ref_grid:
-        variants.append(Variant("Reynolds default grid", "reynolds", _grid_options(None)))
-    for g in args.grids or []:
-        grid = tuple(int(v) for v in g.lower().split("x"))
-        variants.append(Variant(f"Reynolds {g}", "reynolds", _grid_options(grid)))
+        variants.append(Variant(_grid_label(None), "reynolds", _grid_options(None)))
+    for grid in args.grids or []:
+        variants.append(Variant(_grid_label(grid), "reynolds", _grid_options(grid)))
     from bearing_fmu.surrogate import load_surrogate
 
     for order, path in _surrogates(args, scene):
@@ -155,8 +157,8 @@ def _paper_scenes(args, scenes_dir: Path, out: Path, summary: list) -> None:
 
     for name in PAPER_SCENES:
         scene = load_scene(scenes_dir / name)
-        if args.t_end is not None:
-            scene.t_end_s = args.t_end
+        if args.t_end is not None:  # checked like the file's own value (a whole number of steps)
+            scene = scene.with_internal(scene.internal, t_end_s=args.t_end)
         # 22 Hz: order 5; 44 Hz: order 7 with wall factor and shape columns
         sur = load_surrogate(required_file(scene, "taylor", "surrogate"))
         ref = Variant("Reynolds default grid", "reynolds")
@@ -166,6 +168,9 @@ def _paper_scenes(args, scenes_dir: Path, out: Path, summary: list) -> None:
 
 
 def main(argv: list[str] | None = None) -> int:
+    from bearing_fmu.cliargs import (existing_dir, existing_file, grid, grid_or_default, output_dir, positive_float,
+                                     positive_int)
+
     from .forces import NEWTON_TANGENTS
 
     parser = argparse.ArgumentParser(prog="rotor-host", description=__doc__, epilog=EXIT_CODES,
@@ -173,18 +178,18 @@ def main(argv: list[str] | None = None) -> int:
     sub = parser.add_subparsers(dest="command", required=True)
 
     p = sub.add_parser("run", help="run one scene and write results and plots")
-    p.add_argument("scene", help="scene TOML file (models/scenes/*.toml)")
+    p.add_argument("scene", type=existing_file, help="scene TOML file (models/scenes/*.toml)")
     p.add_argument("--internal", choices=_internal_choices(), help="override the scene's internal")
     p.add_argument("--via", choices=("fmu", "direct"), help="bearing FMUs through fmpy, or internals in-process")
-    p.add_argument("--surrogate", help="surrogate JSON (taylor)")
-    p.add_argument("--t-end", type=float, help="override the end time [s]")
-    p.add_argument("--dt", type=float, help="override the time step [s]")
+    p.add_argument("--surrogate", type=existing_file, help="surrogate JSON (taylor)")
+    p.add_argument("--t-end", type=positive_float("s"), help="override the end time [s]")
+    p.add_argument("--dt", type=positive_float("s"), help="override the time step [s]")
     p.add_argument("--tangent", choices=NEWTON_TANGENTS,
                    help="Newton tangent of the bearing forces (default: the scene's, normally 'bearing': "
                         "the FMUs' own stiffness and damping outputs; 'frozen': those at the static "
                         "equilibrium; 'fd': finite differences; 'linear': the rotor's without bearings)")
-    p.add_argument("--out", default="out", help="output folder (default: out)")
-    p.add_argument("--checkpoint-s", type=float,
+    p.add_argument("--out", type=output_dir, default="out", help="output folder (default: out)")
+    p.add_argument("--checkpoint-s", type=positive_float("s"),
                    help="write the partial result every this many seconds of wall time (default: the scene's "
                         "[record] checkpoint_s, 60)")
     p.add_argument("--no-plots", action="store_true")
@@ -192,24 +197,28 @@ def main(argv: list[str] | None = None) -> int:
     p.set_defaults(func=_run)
 
     p = sub.add_parser("compare", help="error against run time of Reynolds grids, Taylor orders and the linear model")
-    p.add_argument("scene", help="scene TOML file")
+    p.add_argument("scene", type=existing_file, help="scene TOML file")
     p.add_argument("--via", choices=("fmu", "direct"), help="bearing FMUs through fmpy (scene default) or in-process")
-    p.add_argument("--ref-grid", default="256x32", help="reference Reynolds grid n_theta x n_x (default 256x32; "
-                   "'' = the default grid is the reference)")
-    p.add_argument("--grids", nargs="*", default=["64x8"], help="coarser Reynolds grids to compare (default 64x8)")
-    p.add_argument("--orders", nargs="*", type=int, default=[1, 3, 5, 7], help="Taylor orders (default 1 3 5 7)")
-    p.add_argument("--t-end", type=float, help="override the end time [s]")
-    p.add_argument("--dt", type=float, help="override the time step [s]")
-    p.add_argument("--out", default="out", help="output folder (default: out)")
+    p.add_argument("--ref-grid", type=grid_or_default, default="256x32", metavar="NxM",
+                   help="reference Reynolds grid n_theta x n_x (default 256x32; '' = the default grid is the "
+                        "reference)")
+    p.add_argument("--grids", nargs="*", type=grid, default=[(64, 8)], metavar="NxM",
+                   help="coarser Reynolds grids to compare (default 64x8)")
+    p.add_argument("--orders", nargs="*", type=positive_int(), default=[1, 3, 5, 7],
+                   help="Taylor orders (default 1 3 5 7)")
+    p.add_argument("--t-end", type=positive_float("s"), help="override the end time [s]")
+    p.add_argument("--dt", type=positive_float("s"), help="override the time step [s]")
+    p.add_argument("--out", type=output_dir, default="out", help="output folder (default: out)")
     p.add_argument("--quiet", action="store_true", help="no progress bars")
     p.set_defaults(func=_compare)
 
     p = sub.add_parser("paper", help="main job: the paper's 22 Hz and 44 Hz scenes, Reynolds vs Taylor vs "
                                      "linear through the bearing FMUs, error/run-time table and plots")
-    p.add_argument("--scenes", default=str(Path(__file__).resolve().parents[1] / "models" / "scenes"),
+    p.add_argument("--scenes", type=existing_dir,
+                   default=str(Path(__file__).resolve().parents[1] / "models" / "scenes"),
                    help="folder with paper_22hz.toml and paper_44hz.toml")
-    p.add_argument("--t-end", type=float, help="override the simulated time of both scenes [s]")
-    p.add_argument("--out", default="out/paper", help="output folder (default: out/paper)")
+    p.add_argument("--t-end", type=positive_float("s"), help="override the simulated time of both scenes [s]")
+    p.add_argument("--out", type=output_dir, default="out/paper", help="output folder (default: out/paper)")
     p.add_argument("--quiet", action="store_true", help="no progress bars")
     p.set_defaults(func=_paper)
 

@@ -64,8 +64,8 @@ def dt_study(scene_path, internal: str = "reynolds", dt: float | None = None, t_
     (``dtstudy_<scene>_<internal>_<k>.npz/.json``). An interrupt is raised again with the rows
     done so far as its ``study`` attribute."""
     base = load_scene(scene_path)
-    dt = dt or base.dt_s
-    t_end = t_end or base.t_end_s
+    dt = base.dt_s if dt is None else dt  # None: the scene's (0 is a value, refused by the scene's checks)
+    t_end = base.t_end_s if t_end is None else t_end
     study = DtStudy(Path(scene_path).name, internal, t_end, tol_pct_cr)
     prev = None
     for k in range(halvings + 1):
@@ -101,15 +101,19 @@ def dt_study(scene_path, internal: str = "reynolds", dt: float | None = None, t_
 
 
 def add_arguments(p: argparse.ArgumentParser) -> argparse.ArgumentParser:
-    p.add_argument("scene", help="scene TOML file")
+    from bearing_fmu.cliargs import existing_file, output_dir, positive_float, positive_int
     from bearing_fmu.internals import names
 
+    p.add_argument("scene", type=existing_file, help="scene TOML file")
     p.add_argument("--internal", choices=names(), default="reynolds")
-    p.add_argument("--dt", type=float, help="first time step [s] (default: the scene's)")
-    p.add_argument("--t-end", type=float, help="simulated time [s] (default: the scene's)")
-    p.add_argument("--halvings", type=int, default=3, help="at most this many halvings (default 3)")
-    p.add_argument("--tol", type=float, default=1.0, help="orbit change that counts as converged [%% CR] (default 1)")
-    p.add_argument("--out", default="out", help="output folder for dtstudy_<scene>_<internal>.md/.json")
+    p.add_argument("--dt", type=positive_float("s"), help="first time step [s] (default: the scene's)")
+    p.add_argument("--t-end", type=positive_float("s"), help="simulated time [s] (default: the scene's)")
+    p.add_argument("--halvings", type=positive_int(), default=3,
+                   help="at most this many halvings, at least 1 (default 3)")
+    p.add_argument("--tol", type=positive_float("% CR"), default=1.0,
+                   help="orbit change that counts as converged [%% CR] (default 1)")
+    p.add_argument("--out", type=output_dir, default="out",
+                   help="output folder for dtstudy_<scene>_<internal>.md/.json")
     p.add_argument("--quiet", action="store_true")
     return p
 

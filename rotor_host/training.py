@@ -114,6 +114,7 @@ def fit_scene(recipe: FitRecipe, *, cache_dir=None, log=print):
     bearing = r.bearing_number
     scenes = [load_scene(p) for p in r.scenes]
     scene = scenes[0]
+    params = _bearing_params(scene, bearing)  # before any run: a bearing number the rotor lacks is named now
     cache_dir = Path(cache_dir) if cache_dir is not None else None
 
     def cached(sc):
@@ -141,7 +142,6 @@ def fit_scene(recipe: FitRecipe, *, cache_dir=None, log=print):
         ho_states.append(states[held])
         ho_forces.append(forces[held])
     s_train, f_train = np.vstack(tr_states), np.vstack(tr_forces)
-    params = _bearing_params(scene, bearing)
     truth = Reynolds.from_options(params, registry.get("reynolds").check_options(scene.internal_options("reynolds")))
     omega = scene.omega
     y0, z0 = F.expansion_point(truth, tuple(load), omega)
@@ -202,9 +202,13 @@ def fit_scene(recipe: FitRecipe, *, cache_dir=None, log=print):
 
 
 def _bearing_params(scene: Scene, bearing: int):
+    """The BearingParams of bearing number ``bearing`` (1-based) of the scene's rotor."""
     from .rotor import Rotor
 
     rotor = Rotor.from_toml(scene.rotor_path)
+    if not 1 <= bearing <= len(rotor.bearings):
+        raise ValueError(f"--bearing-number {bearing}: the rotor of {scene.source} has bearings "
+                         f"1..{len(rotor.bearings)}")
     return rotor.bearings[bearing - 1]
 
 
@@ -257,10 +261,11 @@ def _scenes_present(recipe: FitRecipe, surrogate_path) -> None:
 def add_arguments(parser) -> None:
     """Options of ``rotor-host fit``: the recipe's model and scene-training settings
     (generated from FitRecipe), the series cache and the outputs."""
+    from bearing_fmu.cliargs import output_dir
     from bearing_fmu.fitting.cli import add_output_arguments
 
     add_recipe_arguments(parser, "scene")
-    parser.add_argument("--cache-dir", default=None,
+    parser.add_argument("--cache-dir", type=output_dir, default=None,
                         help="folder caching the Reynolds series (default: series/ beside --output)")
     add_output_arguments(parser)
 

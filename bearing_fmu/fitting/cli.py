@@ -30,9 +30,11 @@ class _Moved(argparse.Action):
 
 def add_output_arguments(parser: argparse.ArgumentParser) -> argparse.ArgumentParser:
     """The options of both fit commands that are not fit settings: output, plots, note."""
-    parser.add_argument("--plots", default=None, help="directory for the lambda plots")
+    from ..cliargs import output_dir, output_file
+
+    parser.add_argument("--plots", type=output_dir, default=None, help="directory for the lambda plots")
     parser.add_argument("--note", default=None, help="free text stored in the file's provenance")
-    parser.add_argument("-o", "--output", required=True, help="surrogate JSON file to write")
+    parser.add_argument("-o", "--output", type=output_file, required=True, help="surrogate JSON file to write")
     return parser
 
 
