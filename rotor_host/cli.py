@@ -20,12 +20,28 @@ def _scene_from_args(args):
         if getattr(args, flag, None) is not None:  # 0 is a value (refused by its type), not "unset"
             changes[key] = getattr(args, flag)
     options = {}
-    if getattr(args, "surrogate", None) is not None:
-        options["taylor"] = {"surrogate": Path(args.surrogate).resolve()}
+    for internal, option in _file_options():  # --surrogate FILE, --map FILE, ...
+        if getattr(args, option, None) is not None:
+            options.setdefault(internal, {})[option] = Path(getattr(args, option)).resolve()
     internal = getattr(args, "internal", None)
     if changes or options or internal:
         scene = scene.with_internal(internal or scene.internal, options=options, **changes)
     return scene
+
+
+def _file_options() -> list[tuple[str, str]]:
+    """(internal, option) of every file option in the registry: each is a command-line flag."""
+    from bearing_fmu.internals import REGISTRY
+
+    return [(spec.name, o.name) for spec in REGISTRY.values() for o in spec.options if o.file]
+
+
+def _add_file_flags(p) -> None:
+    from bearing_fmu.cliargs import existing_file
+
+    for internal, option in _file_options():
+        p.add_argument(f"--{option}", type=existing_file, metavar="FILE",
+                       help=f"the {internal} internal's {option} file (over the scene's [{internal}] {option})")
 
 
 def _internal_choices():
@@ -181,7 +197,7 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("scene", type=existing_file, help="scene TOML file (models/scenes/*.toml)")
     p.add_argument("--internal", choices=_internal_choices(), help="override the scene's internal")
     p.add_argument("--via", choices=("fmu", "direct"), help="bearing FMUs through fmpy, or internals in-process")
-    p.add_argument("--surrogate", type=existing_file, help="surrogate JSON (taylor)")
+    _add_file_flags(p)
     p.add_argument("--t-end", type=positive_float("s"), help="override the end time [s]")
     p.add_argument("--dt", type=positive_float("s"), help="override the time step [s]")
     p.add_argument("--tangent", choices=NEWTON_TANGENTS,
