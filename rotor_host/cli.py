@@ -96,6 +96,7 @@ def _reference_and_variants(args, scene):
         variants.append(Variant(_grid_label(None), "reynolds", _grid_options(None)))
     for grid in args.grids or []:
         variants.append(Variant(_grid_label(grid), "reynolds", _grid_options(grid)))
+    variants += _map_variants(args.maps if args.maps is not None else _scene_map(scene))
     from bearing_fmu.surrogate import load_surrogate
 
     for order, path in _surrogates(args, scene):
@@ -103,6 +104,26 @@ def _reference_and_variants(args, scene):
                                 order=order))
     variants.append(Variant("linear", "linear", _grid_options(None)))
     return ref, variants
+
+
+def _scene_map(scene) -> list[Path]:
+    """The scene's force map as the one map variant, if it names one."""
+    value = scene.options.get("map", {}).get("map")
+    return [Path(value)] if value else []
+
+
+def _map_variants(paths) -> list:
+    """One compare variant per force map file, labelled with its resolution and truth grid."""
+    from bearing_fmu.forcemap import load_map
+
+    from .compare import Variant
+
+    out = []
+    for path in paths:
+        t = load_map(path)
+        out.append(Variant(f"map {t.n_eps}x{t.n_beta} (Reynolds {t.n_theta}x{t.n_x})", "map",
+                           {"map": {"map": Path(path).resolve()}}))
+    return out
 
 
 def _surrogates(args, scene):
@@ -147,7 +168,8 @@ PAPER_SCENES = ("paper_22hz.toml", "paper_44hz.toml")
 
 def _paper(args) -> int:
     """The main job: the paper's 22 Hz and 44 Hz scenes, Reynolds (default grid) against the
-    bundled Taylor surrogate of each scene and the linear model, all through the bearing FMUs."""
+    force map, the bundled Taylor surrogate of each scene and the linear model, all through the
+    bearing FMUs."""
     scenes_dir = Path(args.scenes)
     out = ensure_writable(args.out)
     summary = []
@@ -178,7 +200,8 @@ def _paper_scenes(args, scenes_dir: Path, out: Path, summary: list) -> None:
         # 22 Hz: order 5; 44 Hz: order 7 with wall factor and shape columns
         sur = load_surrogate(required_file(scene, "taylor", "surrogate"))
         ref = Variant("Reynolds default grid", "reynolds")
-        variants = [Variant(f"Taylor {sur.recipe}", "taylor", order=sur.order), Variant("linear", "linear")]
+        variants = [*_map_variants(_scene_map(scene)), Variant(f"Taylor {sur.recipe}", "taylor", order=sur.order),
+                    Variant("linear", "linear")]
         rows = compare(scene, ref, variants, out, progress=not args.quiet, default_label=ref.label)
         summary.append(f"## {scene.description}\n\n{print_table(rows)}\n")
 
@@ -222,13 +245,16 @@ def main(argv: list[str] | None = None) -> int:
                    help="coarser Reynolds grids to compare (default 64x8)")
     p.add_argument("--orders", nargs="*", type=positive_int(), default=[1, 3, 5, 7],
                    help="Taylor orders (default 1 3 5 7)")
+    p.add_argument("--maps", nargs="*", type=existing_file, default=None, metavar="FILE",
+                   help="force map files to compare, e.g. several resolutions (default: the scene's [map] map; "
+                        "'--maps' with none: no map variant)")
     p.add_argument("--t-end", type=positive_float("s"), help="override the end time [s]")
     p.add_argument("--dt", type=positive_float("s"), help="override the time step [s]")
     p.add_argument("--out", type=output_dir, default="out", help="output folder (default: out)")
     p.add_argument("--quiet", action="store_true", help="no progress bars")
     p.set_defaults(func=_compare)
 
-    p = sub.add_parser("paper", help="main job: the paper's 22 Hz and 44 Hz scenes, Reynolds vs Taylor vs "
+    p = sub.add_parser("paper", help="main job: the paper's 22 Hz and 44 Hz scenes, Reynolds vs map vs Taylor vs "
                                      "linear through the bearing FMUs, error/run-time table and plots")
     p.add_argument("--scenes", type=existing_dir,
                    default=str(Path(__file__).resolve().parents[1] / "models" / "scenes"),

@@ -159,7 +159,7 @@ def plot_error_vs_time(rows, path, title=""):
 
     plt = _plt()
     fig, ax = plt.subplots(1, 2, figsize=(11, 4))
-    markers = {"reynolds": "o", "taylor": "s", "linear": "^"}
+    markers = {"reynolds": "o", "taylor": "s", "linear": "^", "map": "D"}
     for r in rows[1:]:
         t = r["integration_s"]
         for a, key in zip(ax, ("orbit_rms_pct_cr", "force_nrmse_pct")):
