@@ -83,6 +83,7 @@ class MapTable:
     wall_exponent: float
     H: np.ndarray
     provenance: dict = field(default_factory=dict)
+    coefficients: tuple | None = field(default=None, repr=False)  # (ts, tb, C) of ``spline``
 
     def __post_init__(self):
         self.H = np.asarray(self.H, float)
@@ -114,7 +115,13 @@ class MapTable:
         return -math.pi + 2.0 * math.pi * np.arange(self.n_beta) / self.n_beta
 
     def spline(self):
-        """(ts, tb, C): knots in s and beta and the tensor spline coefficients C (ns, nb, 2)."""
+        """(ts, tb, C): knots in s and beta and the tensor spline coefficients C (ns, nb, 2);
+        stored in the file, so loading needs no scipy (0.6 s of import)."""
+        if self.coefficients is None:
+            self.coefficients = self._fit_spline()
+        return self.coefficients
+
+    def _fit_spline(self):
         from scipy.interpolate import make_interp_spline
 
         s, beta = self.s, self.beta
@@ -132,7 +139,9 @@ class MapTable:
                 "n_eps": self.n_eps, "n_beta": self.n_beta,
                 "grid": "s = -ln(1 - eps) uniform on [0, -ln(1 - eps_max)]; beta = -pi + j 2 pi / n_beta",
                 "meaning": "H[i][j] = (G_r, G_t) (1 - eps_i)^wall_exponent; F = mu R L (R/CR)^2 r (G_r u + G_t w)",
-                "H": np.round(self.H, 12).tolist(), "provenance": self.provenance}
+                "H": np.round(self.H, 12).tolist(),
+                "spline": dict(zip(("knots_s", "knots_beta", "coefficients"), (a.tolist() for a in self.spline()))),
+                "provenance": self.provenance}
 
 
 def tabulate(params: BearingParams, *, n_eps: int = DEFAULT_N_EPS, n_beta: int = DEFAULT_N_BETA,
@@ -242,6 +251,18 @@ def load_map(path) -> MapTable:
     if (table.n_eps, table.n_beta) != (data.get("n_eps"), data.get("n_beta")):
         raise ValueError(f"force map file {path}: table shape {table.H.shape[:2]} differs from n_eps, n_beta = "
                          f"{data.get('n_eps')}, {data.get('n_beta')}")
+    sp = data.get("spline")
+    if sp is not None:  # written by save_map from this table; checked for shape and finiteness
+        try:
+            ts, tb, C = (np.ascontiguousarray(np.array(sp[k], float))
+                         for k in ("knots_s", "knots_beta", "coefficients"))
+        except (KeyError, TypeError, ValueError) as exc:
+            raise ValueError(f"force map file {path}: 'spline' is incomplete ({exc})") from None
+        if (C.shape != (table.n_eps, table.n_beta + 3, 2) or ts.shape != (table.n_eps + 4,)
+                or tb.shape != (table.n_beta + 7,) or not all(np.all(np.isfinite(a)) for a in (ts, tb, C))):
+            raise ValueError(f"force map file {path}: 'spline' does not match the table ({table.n_eps} x "
+                             f"{table.n_beta}): rebuild the map")
+        table.coefficients = (ts, tb, C)
     return table
 
 
