@@ -2,8 +2,19 @@
 
 A polynomial fitted over a domain of journal states is only trustworthy inside it. The guard
 wraps a ``Taylor`` internal (it is itself an internal: ``force``, ``force_and_jacobian``) and,
-at every evaluation, measures how far the state lies outside the fitted domain
-(``Taylor.domain_distance``: the largest relative excess over the domain's bounds):
+at every evaluation, measures how far the state lies outside the fitted domain, one number
+``d`` (``Taylor.domain_distance``), the larger of
+
+* the relative excess over the domain's bounds (eccentricity, position and velocity discs,
+  bounding box: ``Taylor.bounds_distance``), and
+* the relative excess of the distance to the nearest stored training state over its radius,
+  nn / radius - 1 in the scaled state space u (``NearestTraining``, a KD-tree of the states
+  the file stores; files without them: bounds only, said once in a warning). The bounds
+  enclose the training orbits loosely; this part flags a state inside them but far from
+  every orbit the fit saw (22 Hz: (0, -0.5 CR, 0, 0), Fy -15130 N where Reynolds gives 50 N).
+
+d <= 0 is inside; d = 0.1 is 10 % beyond the nearest violated bound, or 1.1 times the radius
+from the nearest training state. Then:
 
 * inside: the surrogate's value;
 * outside, but less than ``limit`` beyond: depending on ``action``
@@ -31,6 +42,54 @@ from .internals import DEFAULT_DOMAIN_LIMIT as DEFAULT_LIMIT
 from .internals import DOMAIN_ACTIONS, BearingStateError, check_finite
 
 FALLBACK_BAND = 0.1  # fallback: Taylor and truth blended from the domain's edge to 10 % beyond it
+
+
+class NearestTraining:
+    """Distance of a journal state to the nearest training state a surrogate file stores
+    (``Surrogate.neighbours``: points in the scaled state space u, and a radius).
+
+    ``distance`` is nn / radius - 1 (<= 0 within the radius of a stored state), nn the
+    Euclidean distance in u = ((y - y0)/CR, (z - z0)/CR, vy/(omega CR), vz/(omega CR)). It
+    asks scipy's cKDTree (one query, ~9 us) unless the state lies within the radius of the
+    stored point nearest to the previous state queried: then nn <= that distance <= radius,
+    the state is inside, and that bound, <= 0, is returned (~1 us; successive evaluations of
+    a run lie close together). So a result > 0 is always exact; one <= 0 may be an upper bound.
+    """
+
+    def __init__(self, surrogate):
+        from scipy.spatial import cKDTree
+
+        nb = surrogate.neighbours
+        if nb is None:
+            raise ValueError("NearestTraining: the surrogate stores no training states (key 'neighbours')")
+        self.radius = nb.radius
+        self.points = nb.points
+        self._rows = [tuple(map(float, row)) for row in nb.points]
+        self._tree = cKDTree(nb.points)
+        self._shift = (surrogate.y0, surrogate.z0)
+        self._scale = (surrogate.pos_scale, surrogate.vel_scale)
+        self._last = None  # the stored point nearest to the last state queried
+        self.queries = 0  # KD-tree queries so far (benchmarks/bench_guard.py reports the share skipped)
+
+    def scaled(self, y: float, z: float, vy: float, vz: float) -> tuple[float, float, float, float]:
+        """The state in u (see the class doc)."""
+        cr, vs = self._scale
+        return (y - self._shift[0]) / cr, (z - self._shift[1]) / cr, vy / vs, vz / vs
+
+    def nearest(self, y: float, z: float, vy: float, vz: float) -> tuple[float, np.ndarray]:
+        """(nn, the nearest stored point in u): one exact KD-tree query."""
+        nn, i = self._tree.query(self.scaled(y, z, vy, vz))
+        self.queries += 1
+        self._last = self._rows[i]
+        return float(nn), self.points[i]
+
+    def distance(self, y: float, z: float, vy: float, vz: float) -> float:
+        """nn / radius - 1: exact when > 0 (outside), else <= 0 (see the class doc)."""
+        if self._last is not None:
+            bound = math.dist(self.scaled(y, z, vy, vz), self._last)
+            if bound <= self.radius:
+                return bound / self.radius - 1.0
+        return self.nearest(y, z, vy, vz)[0] / self.radius - 1.0
 
 
 class DomainGuard:
@@ -68,13 +127,21 @@ class DomainGuard:
     def from_options(cls, params, options, context) -> "DomainGuard":
         """The taylor internal from the registry's checked options (``internals.REGISTRY["taylor"]``):
         the surrogate file (``context.path`` finds it), checked against ``params``, behind its guard;
-        the fallback builds Reynolds from the reynolds options at the first exit only."""
+        the fallback builds Reynolds from the reynolds options at the first exit only. A file
+        without stored training states (written before them) is guarded by its bounds only,
+        which the warning sink hears once, here."""
         if not options["surrogate"]:
             raise ValueError("internal 'taylor' needs the option surrogate (a surrogate JSON file)")
         from .taylor import Taylor
 
-        return cls(Taylor.from_file(context.path(options["surrogate"]), params), options["domain_action"],
-                   options["domain_limit"], truth=lambda: _reynolds(params, options), on_warn=context.warn)
+        guard = cls(Taylor.from_file(context.path(options["surrogate"]), params), options["domain_action"],
+                    options["domain_limit"], truth=lambda: _reynolds(params, options), on_warn=context.warn)
+        if guard.taylor.surrogate.neighbours is None:
+            guard._on_warn(f"surrogate {options['surrogate']!r} stores no training states (key 'neighbours', "
+                           "written before the nearest-neighbour guard): its domain guard checks the fitted "
+                           "domain's bounds only, so a state inside them but far from every training orbit is not "
+                           "flagged; fit it again, or add them (benchmarks/add_neighbours.py)")
+        return guard
 
     @property
     def omega(self) -> float:
@@ -101,18 +168,33 @@ class DomainGuard:
         if d > self.limit or self.action == "discard":
             why = (f"more than domain_limit = {self.limit:g} beyond" if d > self.limit
                    else "outside (domain_action = 'discard')")
-            raise BearingStateError(f"state {100 * d:.3g} % beyond the surrogate's fitted domain, {why}: {where}")
+            raise BearingStateError(f"state {100 * d:.3g} % beyond the surrogate's fitted domain "
+                                    f"({self._reasons(y, z, vy, vz)}), {why}: {where}")
         if not self.warned:
             self.warned = True
             what = ("the Reynolds internal evaluates such states" if self.action == "fallback"
                     else "its value is an extrapolation")
-            self._on_warn(f"state outside the surrogate's fitted domain ({100 * d:.3g} % beyond its bounds) at {where}; "
+            self._on_warn(f"state outside the surrogate's fitted domain ({self._reasons(y, z, vy, vz)}) at {where}; "
                           f"{what} (warned once)")
         if self.action == "fallback":
             if self._truth is None:
                 self._truth = self._truth_factory()
             return self._truth
         return self.taylor
+
+    def _reasons(self, y, z, vy, vz) -> str:
+        """Which part of the domain distance the state violates, in words (for messages)."""
+        parts = []
+        b = self.taylor.bounds_distance(y, z, vy, vz)
+        if b > 1e-12:
+            parts.append(f"{100 * b:.3g} % beyond its bounds")
+        near = self.taylor.neighbours
+        if near is not None:
+            nn, _ = near.nearest(y, z, vy, vz)
+            if nn > near.radius:
+                parts.append(f"nearest training state {nn:.3g} away in the scaled state u, {nn / near.radius:.3g} x "
+                             f"the radius {near.radius:.3g}")
+        return " and ".join(parts) or "at its edge"
 
     def _blend_weight(self, d: float | None = None) -> float:
         """Weight of the truth in fallback mode at domain distance d (default: the state just
@@ -179,4 +261,4 @@ def _jacobian(internal, y, z, vy, vz, omega):
     return jac(y, z, vy, vz, omega)
 
 
-__all__ = ["DomainGuard", "DOMAIN_ACTIONS", "DEFAULT_LIMIT"]
+__all__ = ["DomainGuard", "NearestTraining", "DOMAIN_ACTIONS", "DEFAULT_LIMIT"]
