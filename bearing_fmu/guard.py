@@ -7,14 +7,15 @@ at every evaluation, measures how far the state lies outside the fitted domain, 
 
 * the relative excess over the domain's bounds (eccentricity, position and velocity discs,
   bounding box: ``Taylor.bounds_distance``), and
-* the relative excess of the distance to the nearest stored training state over its radius,
-  nn / radius - 1 in the scaled state space u (``NearestTraining``, a KD-tree of the states
-  the file stores; files without them: bounds only, said once in a warning). The bounds
-  enclose the training orbits loosely; this part flags a state inside them but far from
-  every orbit the fit saw (22 Hz: (0, -0.5 CR, 0, 0), Fy -15130 N where Reynolds gives 50 N).
+* the excess of the distance nn to the nearest stored training state over their radius, in
+  the scaled state space u, as a fraction of the domain's size: (nn - radius) / (half the
+  diagonal of the domain's box) (``NearestTraining``, a KD-tree of the states the file
+  stores; files without them: bounds only, said once in a warning). The bounds enclose the
+  training orbits loosely; this part flags a state inside them but off every orbit the fit
+  saw (22 Hz: (0, -0.5 CR, 0, 0), Fy -15130 N where Reynolds gives 50 N).
 
-d <= 0 is inside; d = 0.1 is 10 % beyond the nearest violated bound, or 1.1 times the radius
-from the nearest training state. Then:
+d <= 0 is inside; d = 0.1 is 10 % beyond the nearest violated bound, or a tenth of the
+domain's size beyond the training states' radius. Then:
 
 * inside: the surrogate's value;
 * outside, but less than ``limit`` beyond: depending on ``action``
@@ -48,12 +49,19 @@ class NearestTraining:
     """Distance of a journal state to the nearest training state a surrogate file stores
     (``Surrogate.neighbours``: points in the scaled state space u, and a radius).
 
-    ``distance`` is nn / radius - 1 (<= 0 within the radius of a stored state), nn the
-    Euclidean distance in u = ((y - y0)/CR, (z - z0)/CR, vy/(omega CR), vz/(omega CR)). It
-    asks scipy's cKDTree (one query, ~9 us) unless the state lies within the radius of the
-    stored point nearest to the previous state queried: then nn <= that distance <= radius,
-    the state is inside, and that bound, <= 0, is returned (~1 us; successive evaluations of
-    a run lie close together). So a result > 0 is always exact; one <= 0 may be an upper bound.
+    nn is the Euclidean distance in u = ((y - y0)/CR, (z - z0)/CR, vy/(omega CR), vz/(omega CR))
+    to the nearest stored point; ``distance`` = (nn - radius) / size: <= 0 within the radius
+    of a stored state, and beyond it the excess as a fraction of the fitted domain's size (half
+    the diagonal of its bounding box in u), the way the bounds' part measures its excess
+    relative to each bound's size. So d = 0.5 (the default domain_limit) is half the domain's
+    size beyond the radius: the radius (a few orbit spacings) flags a state off the training
+    orbits, the limit refuses one far from them.
+
+    One scipy cKDTree query (~10 us). The guard, which needs the exact value only outside,
+    skips it (``exact=False``) when the state lies within the radius of the stored point
+    nearest to the previous state queried: then nn <= that distance <= radius, the state is
+    inside, and that bound gives a result <= 0 (~1.5 us; successive evaluations of a run lie
+    close together). So its result is exact when > 0, an upper bound when <= 0.
     """
 
     def __init__(self, surrogate):
@@ -63,6 +71,9 @@ class NearestTraining:
         if nb is None:
             raise ValueError("NearestTraining: the surrogate stores no training states (key 'neighbours')")
         self.radius = nb.radius
+        d = surrogate.domain
+        size = 0.5 * math.dist(d.box_lo, d.box_hi)
+        self.size = size if size > 0.0 else self.radius  # a degenerate box (one state): in radii
         self.points = nb.points
         self._rows = [tuple(map(float, row)) for row in nb.points]
         self._tree = cKDTree(nb.points)
@@ -83,13 +94,14 @@ class NearestTraining:
         self._last = self._rows[i]
         return float(nn), self.points[i]
 
-    def distance(self, y: float, z: float, vy: float, vz: float) -> float:
-        """nn / radius - 1: exact when > 0 (outside), else <= 0 (see the class doc)."""
-        if self._last is not None:
+    def distance(self, y: float, z: float, vy: float, vz: float, exact: bool = True) -> float:
+        """(nn - radius) / size. ``exact=False`` (the guard, at every evaluation) may skip the
+        query for a state inside: the result is then an upper bound <= 0 (see the class doc)."""
+        if not exact and self._last is not None:
             bound = math.dist(self.scaled(y, z, vy, vz), self._last)
             if bound <= self.radius:
-                return bound / self.radius - 1.0
-        return self.nearest(y, z, vy, vz)[0] / self.radius - 1.0
+                return (bound - self.radius) / self.size
+        return (self.nearest(y, z, vy, vz)[0] - self.radius) / self.size
 
 
 class DomainGuard:
@@ -150,9 +162,18 @@ class DomainGuard:
     def in_domain(self, y: float, z: float, vy: float, vz: float) -> bool:
         return self.taylor.in_domain(y, z, vy, vz)
 
+    def distance(self, y: float, z: float, vy: float, vz: float) -> float:
+        """The state's domain distance d (``Taylor.domain_distance``: bounds and nearest training
+        state), skipping the KD-tree query inside where it can: exact when > 0, else <= 0."""
+        d = self.taylor.bounds_distance(y, z, vy, vz)
+        near = self.taylor.neighbours
+        if near is None or d != d:
+            return d
+        return max(d, near.distance(y, z, vy, vz, exact=False))
+
     def _select(self, y, z, vy, vz):
         """The internal that evaluates this state, or raise BearingStateError."""
-        d = self.taylor.domain_distance(y, z, vy, vz)
+        d = self.distance(y, z, vy, vz)
         self.last_distance = d
         ood = not (d <= 1e-12)  # NaN (non-finite input) counts as outside; Taylor names the variable
         self.last_out_of_domain = ood
@@ -193,7 +214,8 @@ class DomainGuard:
             nn, _ = near.nearest(y, z, vy, vz)
             if nn > near.radius:
                 parts.append(f"nearest training state {nn:.3g} away in the scaled state u, {nn / near.radius:.3g} x "
-                             f"the radius {near.radius:.3g}")
+                             f"their radius {near.radius:.3g}, {100 * (nn - near.radius) / near.size:.3g} % of the "
+                             f"domain's size {near.size:.3g} beyond it")
         return " and ".join(parts) or "at its edge"
 
     def _blend_weight(self, d: float | None = None) -> float:
@@ -204,7 +226,8 @@ class DomainGuard:
 
     def _blend_gradient(self, y, z, vy, vz):
         """d(weight)/d(y, z, vy, vz) by central differences of the domain distance (its
-        active bound changes from state to state; 8 cheap compiled calls)."""
+        active bound or nearest training state changes from state to state; 8 calls, in the
+        band only)."""
         s = self.taylor.surrogate
         x = [y, z, vy, vz]
         h = [1e-7 * s.pos_scale, 1e-7 * s.pos_scale, 1e-7 * s.vel_scale, 1e-7 * s.vel_scale]
@@ -213,8 +236,7 @@ class DomainGuard:
             hi, lo = list(x), list(x)
             hi[i] += h[i]
             lo[i] -= h[i]
-            g[i] = (self._blend_weight(self.taylor.domain_distance(*hi))
-                    - self._blend_weight(self.taylor.domain_distance(*lo))) / (2 * h[i])
+            g[i] = (self._blend_weight(self.distance(*hi)) - self._blend_weight(self.distance(*lo))) / (2 * h[i])
         return g
 
     def force(self, y: float, z: float, vy: float, vz: float, omega: float):

@@ -157,9 +157,12 @@ class Neighbours:
         if not isinstance(d, dict):
             raise ValueError(f"{where}: expected a JSON object, got {d!r:.60}")
         pts = _get(d, "points", where)
-        if not isinstance(pts, list) or not pts or not all(
-                isinstance(row, list) and len(row) == N_VARS and all(_is_number(x) for x in row) for row in pts):
-            raise ValueError(f"{where}: key 'points' must be a non-empty list of [u1, u2, u3, u4] rows of numbers")
+        rows_ok = [isinstance(row, list) and len(row) == N_VARS and all(_is_number(x) for x in row)
+                   for row in pts] if isinstance(pts, list) else []
+        if not all(rows_ok) or not rows_ok:
+            bad = f"; row {rows_ok.index(False)} is {pts[rows_ok.index(False)]!r:.60}" if not all(rows_ok) else ""
+            raise ValueError(f"{where}: key 'points' must be a non-empty list of [u1, u2, u3, u4] rows of finite "
+                             f"numbers{bad}")
         if "n_points" in d and d["n_points"] != len(pts):
             raise ValueError(f"{where}: key 'n_points' is {d['n_points']!r} but 'points' has {len(pts)} rows "
                              "(a truncated or edited file)")
@@ -509,9 +512,13 @@ def _int(d: dict, key: str, where: str) -> int:
 
 def _vec(d: dict, key: str, n: int, where: str) -> list[float]:
     v = _get(d, key, where)
-    if not isinstance(v, list) or len(v) != n or not all(_is_number(x) for x in v):
+    if not isinstance(v, list) or len(v) != n:
         got = f"{len(v)} entries" if isinstance(v, list) else repr(v)[:60]
         raise ValueError(f"{where}: key {key!r} must be a list of {n} numbers, each finite, got {got}")
+    bad = next((i for i, x in enumerate(v) if not _is_number(x)), None)
+    if bad is not None:
+        raise ValueError(f"{where}: key {key!r} must be a list of {n} numbers, each finite; entry {bad} is "
+                         f"{v[bad]!r:.60}")
     return [float(x) for x in v]
 
 
@@ -545,12 +552,13 @@ def _scaling(d: dict, params: BearingParams, omega: float, where: str) -> float:
 
 def _exponents(d: dict, key: str, order: int, where: str) -> np.ndarray:
     v = _get(d, key, where)
-    ok = isinstance(v, list) and all(
-        isinstance(row, list) and len(row) == N_VARS
-        and all(isinstance(e, int) and not isinstance(e, bool) and e >= 0 for e in row) for row in v)
-    if not ok:
+    rows_ok = [isinstance(row, list) and len(row) == N_VARS
+               and all(isinstance(e, int) and not isinstance(e, bool) and e >= 0 for e in row)
+               for row in v] if isinstance(v, list) else [False]
+    if not all(rows_ok):
+        bad = f"; row {rows_ok.index(False)} is {v[rows_ok.index(False)]!r:.60}" if isinstance(v, list) else ""
         raise ValueError(f"{where}: key {key!r} must be a list of [e_dy, e_dz, e_dvy, e_dvz] rows of "
-                         "non-negative integers")
+                         f"non-negative integers{bad}")
     exps = np.array(v, np.int64).reshape(-1, N_VARS)
     if len(exps) and int(exps.sum(axis=1).max()) > order:
         raise ValueError(f"{where}: key {key!r} has a term of degree {int(exps.sum(axis=1).max())} above "
