@@ -320,3 +320,41 @@ def test_shipped_coefficients_are_unchanged(name):
         pytest.skip("the commit that added the training states is not in this clone's history")
     assert "neighbours" not in json.loads(before)
     _same(_model(_git("show", f"{added[-1]}:{rel}"), "with states"), _model(before, "before"))
+
+
+# ----------------------------------------------------------------------------- through the FMU
+
+@pytest.mark.slow
+def test_fmu_flags_and_discards_the_22hz_state(tmp_path, code_cache):
+    """The bundled 22 Hz surrogate in the FMU: out_of_domain at the issue's state with 'warn'
+    (the surrogate's value, as called directly), fmi2Discard with 'discard', and a training
+    state (the equilibrium every run starts from) passes."""
+    import importlib.util
+
+    fmpy = pytest.importorskip("fmpy")
+    from fmpy.fmi1 import FMICallException
+
+    from bearing_fmu.build import build_fmu
+
+    spec = importlib.util.spec_from_file_location("drive_fmu_with_fmpy", ROOT / "examples" / "drive_fmu_with_fmpy.py")
+    ex = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(ex)
+    fmu = build_fmu(tmp_path / "b.fmu", surrogate=S22)
+    unzip = fmpy.extract(str(fmu))
+    t = Taylor.from_file(S22)
+    eq = (t.surrogate.y0, t.surrogate.z0, 0.0, 0.0, OMEGA)
+    for action in ("warn", "discard"):
+        inst = ex.BearingInstance(fmu, {"internal": "taylor", "domain_action": action}, unzip_dir=unzip)
+        try:
+            inst.step(1e-4, *eq)
+            assert inst.get("out_of_domain") is False
+            if action == "warn":
+                out = inst.step(1e-4, *BAD_22HZ, OMEGA)
+                assert inst.get("out_of_domain") is True and out["Fy"] == t.force(*BAD_22HZ, OMEGA)[0]
+                assert any("nearest training state" in m for m in inst.messages)
+            else:
+                with pytest.raises(FMICallException) as err:
+                    inst.step(1e-4, *BAD_22HZ, OMEGA)
+                assert err.value.status == 2 and "nearest training state" in inst.messages[-1]  # fmi2Discard
+        finally:
+            inst.close()
