@@ -127,7 +127,8 @@ class Neighbours:
              surrogate was fitted to (bearing_fmu.fitting.neighbours: farthest-point thinning,
              rounded)
     radius : in units of u; a state whose nearest stored point lies farther than ``radius``
-             is outside the fitted domain (relative excess nn / radius - 1, see guard.py)
+             is outside the fitted domain (its excess (nn - radius) / the domain's size:
+             guard.NearestTraining)
     info   : how points and radius were chosen (rule, counts, covering radius, spacing), kept
              in the file as written
     """

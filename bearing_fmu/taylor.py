@@ -34,8 +34,9 @@ class Taylor:
     """The Taylor-surrogate internal: ``force`` and ``force_and_jacobian`` from a Surrogate.
 
     Evaluates everywhere inside the bearing (also outside the fitted domain, returning the
-    polynomial value); ``in_domain`` / ``domain_distance`` tell the caller where the fit's
-    bounds hold (the guard adds the distance to the training data: :mod:`bearing_fmu.guard`).
+    polynomial value); ``in_domain`` / ``domain_distance`` tell the caller where the fit holds:
+    inside its bounds (``bounds_distance``) and near its stored training states
+    (``neighbours``); the guard (:mod:`bearing_fmu.guard`) acts on them.
     Refuses, like Reynolds, with ``BearingStateError``: non-finite inputs (named), the journal
     at or beyond the wall (eccentricity ratio >= 1, where a polynomial's value is no film
     force), and ``omega`` other than the fitted speed (relative tolerance 1e-9).

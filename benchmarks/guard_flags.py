@@ -13,7 +13,6 @@ blocks the fit held out and the rest. The 22 Hz state (0, -0.5 CR, 0, 0) is eval
 from __future__ import annotations
 
 import argparse
-import math
 import sys
 import tomllib
 from pathlib import Path
