@@ -14,7 +14,9 @@
   ``code_cache_root``) and imports it from there: numba's on-disk cache then lives beside
   that stable copy and survives fresh extractions of the FMU (the extraction directory
   changes every time, and numba keys its cache on the source file's directory);
-* the surrogate file(s) in ``resources/surrogates/``;
+* the surrogate file(s) in ``resources/surrogates/``, each checked completely first
+  (``check_surrogate_file``: the loader the FMU uses), so a truncated or inconsistent file is
+  refused at build time, naming the file and the key, not when the FMU initialises;
 * a modelDescription.xml that ``fmpy validate`` accepts: units, InitialUnknowns, output
   dependencies on the inputs, start values written to round-trip exactly.
 """
@@ -332,6 +334,21 @@ def _rewrite_zip(path: Path, pkg: str) -> None:
     os.replace(tmp, path)
 
 
+def check_surrogate_file(path) -> None:
+    """Refuse a surrogate file the FMU could not use: read it with the FMU's own loader
+    (``load_surrogate``: every key, type, shape, range and consistency; a JSON error with its
+    line and column), build the Taylor internal behind its guard as the FMU does (with the
+    stored training states' KD-tree). Raises ValueError / KeyError naming the file and key."""
+    from .guard import DomainGuard
+    from .surrogate import load_surrogate
+    from .taylor import Taylor
+
+    taylor = Taylor(load_surrogate(path))
+    DomainGuard(taylor)
+    if taylor.neighbours is not None:
+        taylor.neighbours.nearest(taylor.surrogate.y0, taylor.surrogate.z0, 0.0, 0.0)
+
+
 def build_fmu(output, surrogate=None) -> Path:
     """Write the bearing FMU to ``output`` (a ``.fmu`` path) and return its path.
 
@@ -355,6 +372,7 @@ def build_fmu(output, surrogate=None) -> Path:
     for s in surrogates:
         if not s.is_file():
             raise FileNotFoundError(f"build_fmu: surrogate file {str(s)!r} not found")
+        check_surrogate_file(s)
     names = [s.name for s in surrogates]
     if len(set(names)) != len(names):
         raise ValueError(f"build_fmu: surrogate file names must be distinct, got {names}")
