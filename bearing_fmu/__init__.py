@@ -4,7 +4,9 @@
 module                 what it holds
 =====================  ==============================================================
 params                 BearingParams (D, L, CR, mu; SI; validated), the paper bearing
-schema                 the keys of every file as data (Key, check_keys)
+schema                 the keys of every file as typed data (Key, its Kind, check_table,
+                       read_toml): each file checked once, one-line errors
+cliargs                typed command-line values (argparse types naming the option)
 internals              the Internal protocol, state checks, the registry of internals
                        and its "how to add an internal" checklist
 reynolds               finite-volume Reynolds solver (the truth)

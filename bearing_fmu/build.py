@@ -14,7 +14,9 @@
   ``code_cache_root``) and imports it from there: numba's on-disk cache then lives beside
   that stable copy and survives fresh extractions of the FMU (the extraction directory
   changes every time, and numba keys its cache on the source file's directory);
-* the surrogate file(s) in ``resources/surrogates/``;
+* the surrogate file(s) in ``resources/surrogates/``, each checked completely first
+  (``check_surrogate_file``: the loader the FMU uses), so a truncated or inconsistent file is
+  refused at build time, naming the file and the key, not when the FMU initialises;
 * a modelDescription.xml that ``fmpy validate`` accepts: units, InitialUnknowns, output
   dependencies on the inputs, start values written to round-trip exactly;
 * pythonfmu's Linux binary patched (``fmu_binary``): no crash at process exit, and honest FMI
@@ -38,7 +40,7 @@ from xml.etree import ElementTree as ET
 from . import __version__
 
 HERE = Path(__file__).resolve().parent
-NOT_IN_FMU = {"build.py", "cli.py", "fmu_binary.py", "slave.py"}  # build tooling; slave.py becomes the slave module
+NOT_IN_FMU = {"build.py", "cli.py", "exits.py", "fmu_binary.py", "outputs.py", "slave.py"}  # build tooling; slave.py becomes the slave module
 MODEL_IDENTIFIER = "BearingFMU"
 REQUIREMENTS = "numpy>=1.26\nscipy>=1.11\nnumba>=0.59\n"
 
@@ -327,6 +329,21 @@ def _warn_unpatched(name: str, notes: dict, status_names, status_patched) -> Non
                       "refused calls with fmi2OK and a logged error only (docs/fmu.md, FMI status)", stacklevel=4)
 
 
+def check_surrogate_file(path) -> None:
+    """Refuse a surrogate file the FMU could not use: read it with the FMU's own loader
+    (``load_surrogate``: every key, type, shape, range and consistency; a JSON error with its
+    line and column), build the Taylor internal behind its guard as the FMU does (with the
+    stored training states' KD-tree). Raises ValueError / KeyError naming the file and key."""
+    from .guard import DomainGuard
+    from .surrogate import load_surrogate
+    from .taylor import Taylor
+
+    taylor = Taylor(load_surrogate(path))
+    DomainGuard(taylor)
+    if taylor.neighbours is not None:
+        taylor.neighbours.nearest(taylor.surrogate.y0, taylor.surrogate.z0, 0.0, 0.0)
+
+
 def build_fmu(output, surrogate=None) -> Path:
     """Write the bearing FMU to ``output`` (a ``.fmu`` path) and return its path.
 
@@ -335,6 +352,8 @@ def build_fmu(output, surrogate=None) -> Path:
     The default internal stays ``reynolds`` (the paper bearing at the solver's default grid).
     """
     from pythonfmu import FmuBuilder
+
+    from .outputs import write_bytes
 
     output = Path(output)
     if output.suffix != ".fmu":
@@ -348,6 +367,7 @@ def build_fmu(output, surrogate=None) -> Path:
     for s in surrogates:
         if not s.is_file():
             raise FileNotFoundError(f"build_fmu: surrogate file {str(s)!r} not found")
+        check_surrogate_file(s)
     names = [s.name for s in surrogates]
     if len(set(names)) != len(names):
         raise ValueError(f"build_fmu: surrogate file names must be distinct, got {names}")
@@ -366,7 +386,7 @@ def build_fmu(output, surrogate=None) -> Path:
             FmuBuilder.build_FMU(script, dest=tmp_fmu, project_files=project,
                                  canGetAndSetFMUstate=True, canSerializeFMUstate=True)
             _rewrite_zip(tmp_fmu, pkg)
-            shutil.copyfile(tmp_fmu, output)
+            write_bytes(output, tmp_fmu.read_bytes())  # atomic: a parallel reader sees one whole FMU
     finally:
         # pythonfmu's builder imported the staged modules and left the stage on sys.path:
         # drop both, or a later FMU load in this process would reuse the deleted staging copy

@@ -6,6 +6,8 @@ import argparse
 import math
 import sys
 
+from .exits import EXIT_CODES, add_debug_flag, run_command
+
 
 def _demo(args: argparse.Namespace) -> int:
     import numpy as np
@@ -36,19 +38,65 @@ def _demo(args: argparse.Namespace) -> int:
 
 def _build(args: argparse.Namespace) -> int:
     from .build import build_fmu
+    from .outputs import ensure_output_file
 
+    ensure_output_file(args.output, "-o/--output")
     path = build_fmu(args.output, surrogate=args.surrogate)
     print(f"wrote {path}")
     return 0
 
 
+def _map(args: argparse.Namespace) -> int:
+    """``bearing-fmu map``: tabulate the force map of a bearing's L/D and write its file."""
+    import os
+
+    from .forcemap import save_map, tabulate
+    from .outputs import ensure_output_file
+    from .params import PAPER_BEARING, BearingParams
+
+    ensure_output_file(args.output, "-o/--output")
+    params = BearingParams.from_toml(args.bearing) if args.bearing else PAPER_BEARING
+    n_eps, n_beta = args.resolution
+    n_theta, n_x = args.grid if args.grid else (None, None)
+    workers = args.workers if args.workers is not None else min(os.cpu_count() or 1, max(1, n_eps // 8))
+    bar = None
+    if not args.quiet:
+        from tqdm import tqdm
+
+        bar = tqdm(total=n_eps, unit="row", desc=f"force map L/D {params.L / params.D:.4g}")
+    try:
+        table = tabulate(params, n_eps=n_eps, n_beta=n_beta, eps_max=args.eps_max, n_theta=n_theta, n_x=n_x,
+                         cavitation=args.cavitation, n_phase=args.phases, workers=workers,
+                         progress=(lambda k: bar.update(k - bar.n)) if bar is not None else None)
+    finally:
+        if bar is not None:
+            bar.close()
+    table.provenance["bearing_file"] = str(args.bearing) if args.bearing else "paper bearing (Table 2)"
+    path = save_map(table, args.output)
+    print(f"force map for L/D = {table.L_over_D:.6g}: {n_eps} x {n_beta} points, eps <= {table.eps_max:g}, Reynolds "
+          f"{table.n_theta} x {table.n_x} ({table.cavitation}), {table.provenance['solves']} solves in "
+          f"{table.provenance['built_s']:.1f} s on {workers} process(es); wrote {path} "
+          f"({path.stat().st_size / 1e3:.0f} kB)")
+    return 0
+
+
+def _resolution(text: str) -> tuple[int, int]:
+    n_eps, n_beta = (int(v) for v in text.lower().split("x"))
+    if not (4 <= n_eps <= 2000 and 8 <= n_beta <= 4000):
+        raise ValueError(text)
+    return n_eps, n_beta
+
+
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(prog="bearing-fmu", description=__doc__)
+    from .cliargs import existing_file, finite_float, output_file, positive_float
+
+    parser = argparse.ArgumentParser(prog="bearing-fmu", description=__doc__, epilog=EXIT_CODES,
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
     sub = parser.add_subparsers(dest="command", required=True)
 
     p = sub.add_parser("demo", help="equilibrium and Lund coefficients of the paper bearing")
-    p.add_argument("--speed-hz", type=float, default=22.0, help="shaft speed [Hz] (default 22)")
-    p.add_argument("--load", type=float, default=16.7,
+    p.add_argument("--speed-hz", type=positive_float("Hz"), default=22.0, help="shaft speed [Hz] (default 22)")
+    p.add_argument("--load", type=finite_float("N"), default=16.7,
                    help="vertical load on the bearing [N] (default 16.7: half the paper rotor's weight)")
     p.set_defaults(func=_demo)
 
@@ -61,18 +109,38 @@ def main(argv: list[str] | None = None) -> int:
     p.set_defaults(func=run_fit)
 
     p = sub.add_parser("build", help="write the bearing FMU")
-    p.add_argument("-o", "--output", required=True, help="path of the .fmu to write")
-    p.add_argument("--surrogate", action="append", default=None, metavar="FILE",
+    p.add_argument("-o", "--output", type=output_file, required=True, help="path of the .fmu to write")
+    p.add_argument("--surrogate", type=existing_file, action="append", default=None, metavar="FILE",
                    help="surrogate JSON file to bundle in resources/surrogates/ (repeat for several; "
                         "with exactly one, the FMU parameter 'surrogate' defaults to it)")
     p.set_defaults(func=_build)
 
+    from .cliargs import grid, int_at_least, number, typed
+    from .forcemap import DEFAULT_EPS_MAX, DEFAULT_N_BETA, DEFAULT_N_EPS, DEFAULT_N_PHASE
+
+    p = sub.add_parser("map", help="tabulate the force map of a bearing's L/D from the Reynolds solver "
+                                   "(docs/forcemap.md) and write its JSON file")
+    p.add_argument("--bearing", type=existing_file, help="bearing TOML file (default: the paper bearing); the map "
+                   "serves every bearing of the same L/D")
+    p.add_argument("-o", "--output", type=output_file, required=True, help="map JSON file to write")
+    p.add_argument("--resolution", type=typed("N_EPSxN_BETA, n_eps 4..2000 and n_beta 8..4000 (e.g. 48x96)",
+                                               _resolution), default=(DEFAULT_N_EPS, DEFAULT_N_BETA), metavar="N_EPSxN_BETA",
+                   help=f"table points in -ln(1 - eps) x beta (default {DEFAULT_N_EPS}x{DEFAULT_N_BETA})")
+    p.add_argument("--grid", type=grid, default=None, metavar="N_THETAxN_X",
+                   help="Reynolds grid of the truth (default: the solver's default)")
+    p.add_argument("--cavitation", choices=("reynolds", "gumbel"), default="reynolds")
+    p.add_argument("--eps-max", type=number("", 0.5, 0.999), default=DEFAULT_EPS_MAX,
+                   help=f"last tabulated eccentricity ratio; the map refuses states beyond (default {DEFAULT_EPS_MAX})")
+    p.add_argument("--phases", type=int_at_least(1), default=DEFAULT_N_PHASE,
+                   help=f"attitudes per point averaged over one Reynolds cell (default {DEFAULT_N_PHASE})")
+    p.add_argument("--workers", type=int_at_least(1), default=None,
+                   help="processes (default: the cores, for tables of 16 rows and more)")
+    p.add_argument("--quiet", action="store_true", help="no progress bar")
+    p.set_defaults(func=_map)
+
+    add_debug_flag(parser, sub)
     args = parser.parse_args(argv)
-    try:
-        return args.func(args)
-    except (ValueError, KeyError, FileNotFoundError, RuntimeError) as exc:
-        print(f"bearing-fmu {args.command}: error: {exc}", file=sys.stderr)
-        return 2
+    return run_command("bearing-fmu", args)  # exit codes, interrupts, --debug: .exits
 
 
 if __name__ == "__main__":

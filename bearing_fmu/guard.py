@@ -2,8 +2,20 @@
 
 A polynomial fitted over a domain of journal states is only trustworthy inside it. The guard
 wraps a ``Taylor`` internal (it is itself an internal: ``force``, ``force_and_jacobian``) and,
-at every evaluation, measures how far the state lies outside the fitted domain
-(``Taylor.domain_distance``: the largest relative excess over the domain's bounds):
+at every evaluation, measures how far the state lies outside the fitted domain, one number
+``d`` (``Taylor.domain_distance``), the larger of
+
+* the relative excess over the domain's bounds (eccentricity, position and velocity discs,
+  bounding box: ``Taylor.bounds_distance``), and
+* the excess of the distance nn to the nearest stored training state over their radius, in
+  the scaled state space u, as a fraction of the domain's size: (nn - radius) / (half the
+  diagonal of the domain's box) (``NearestTraining``, a KD-tree of the states the file
+  stores; files without them: bounds only, said once in a warning). The bounds enclose the
+  training orbits loosely; this part flags a state inside them but off every orbit the fit
+  saw (22 Hz: (0, -0.5 CR, 0, 0), Fy -15130 N where Reynolds gives 50 N).
+
+d <= 0 is inside; d = 0.1 is 10 % beyond the nearest violated bound, or a tenth of the
+domain's size beyond the training states' radius. Then:
 
 * inside: the surrogate's value;
 * outside, but less than ``limit`` beyond: depending on ``action``
@@ -31,6 +43,65 @@ from .internals import DEFAULT_DOMAIN_LIMIT as DEFAULT_LIMIT
 from .internals import DOMAIN_ACTIONS, BearingStateError, check_finite
 
 FALLBACK_BAND = 0.1  # fallback: Taylor and truth blended from the domain's edge to 10 % beyond it
+
+
+class NearestTraining:
+    """Distance of a journal state to the nearest training state a surrogate file stores
+    (``Surrogate.neighbours``: points in the scaled state space u, and a radius).
+
+    nn is the Euclidean distance in u = ((y - y0)/CR, (z - z0)/CR, vy/(omega CR), vz/(omega CR))
+    to the nearest stored point; ``distance`` = (nn - radius) / size: <= 0 within the radius
+    of a stored state, and beyond it the excess as a fraction of the fitted domain's size (half
+    the diagonal of its bounding box in u), the way the bounds' part measures its excess
+    relative to each bound's size. So d = 0.5 (the default domain_limit) is half the domain's
+    size beyond the radius: the radius (a few orbit spacings) flags a state off the training
+    orbits, the limit refuses one far from them.
+
+    One scipy cKDTree query (~10 us). The guard, which needs the exact value only outside,
+    skips it (``exact=False``) when the state lies within the radius of the stored point
+    nearest to the previous state queried: then nn <= that distance <= radius, the state is
+    inside, and that bound gives a result <= 0 (~1.5 us; successive evaluations of a run lie
+    close together). So its result is exact when > 0, an upper bound when <= 0.
+    """
+
+    def __init__(self, surrogate):
+        from scipy.spatial import cKDTree
+
+        nb = surrogate.neighbours
+        if nb is None:
+            raise ValueError("NearestTraining: the surrogate stores no training states (key 'neighbours')")
+        self.radius = nb.radius
+        d = surrogate.domain
+        size = 0.5 * math.dist(d.box_lo, d.box_hi)
+        self.size = size if size > 0.0 else self.radius  # a degenerate box (one state): in radii
+        self.points = nb.points
+        self._rows = [tuple(map(float, row)) for row in nb.points]
+        self._tree = cKDTree(nb.points)
+        self._shift = (surrogate.y0, surrogate.z0)
+        self._scale = (surrogate.pos_scale, surrogate.vel_scale)
+        self._last = None  # the stored point nearest to the last state queried
+        self.queries = 0  # KD-tree queries so far (benchmarks/bench_guard.py reports the share skipped)
+
+    def scaled(self, y: float, z: float, vy: float, vz: float) -> tuple[float, float, float, float]:
+        """The state in u (see the class doc)."""
+        cr, vs = self._scale
+        return (y - self._shift[0]) / cr, (z - self._shift[1]) / cr, vy / vs, vz / vs
+
+    def nearest(self, y: float, z: float, vy: float, vz: float) -> tuple[float, np.ndarray]:
+        """(nn, the nearest stored point in u): one exact KD-tree query."""
+        nn, i = self._tree.query(self.scaled(y, z, vy, vz))
+        self.queries += 1
+        self._last = self._rows[i]
+        return float(nn), self.points[i]
+
+    def distance(self, y: float, z: float, vy: float, vz: float, exact: bool = True) -> float:
+        """(nn - radius) / size. ``exact=False`` (the guard, at every evaluation) may skip the
+        query for a state inside: the result is then an upper bound <= 0 (see the class doc)."""
+        if not exact and self._last is not None:
+            bound = math.dist(self.scaled(y, z, vy, vz), self._last)
+            if bound <= self.radius:
+                return (bound - self.radius) / self.size
+        return (self.nearest(y, z, vy, vz)[0] - self.radius) / self.size
 
 
 class DomainGuard:
@@ -68,13 +139,21 @@ class DomainGuard:
     def from_options(cls, params, options, context) -> "DomainGuard":
         """The taylor internal from the registry's checked options (``internals.REGISTRY["taylor"]``):
         the surrogate file (``context.path`` finds it), checked against ``params``, behind its guard;
-        the fallback builds Reynolds from the reynolds options at the first exit only."""
+        the fallback builds Reynolds from the reynolds options at the first exit only. A file
+        without stored training states (written before them) is guarded by its bounds only,
+        which the warning sink hears once, here."""
         if not options["surrogate"]:
             raise ValueError("internal 'taylor' needs the option surrogate (a surrogate JSON file)")
         from .taylor import Taylor
 
-        return cls(Taylor.from_file(context.path(options["surrogate"]), params), options["domain_action"],
-                   options["domain_limit"], truth=lambda: _reynolds(params, options), on_warn=context.warn)
+        guard = cls(Taylor.from_file(context.path(options["surrogate"]), params), options["domain_action"],
+                    options["domain_limit"], truth=lambda: _reynolds(params, options), on_warn=context.warn)
+        if guard.taylor.surrogate.neighbours is None:
+            guard._on_warn(f"surrogate {options['surrogate']!r} stores no training states (key 'neighbours', "
+                           "written before the nearest-neighbour guard): its domain guard checks the fitted "
+                           "domain's bounds only, so a state inside them but far from every training orbit is not "
+                           "flagged; fit it again, or add them (benchmarks/add_neighbours.py)")
+        return guard
 
     @property
     def omega(self) -> float:
@@ -83,9 +162,18 @@ class DomainGuard:
     def in_domain(self, y: float, z: float, vy: float, vz: float) -> bool:
         return self.taylor.in_domain(y, z, vy, vz)
 
+    def distance(self, y: float, z: float, vy: float, vz: float) -> float:
+        """The state's domain distance d (``Taylor.domain_distance``: bounds and nearest training
+        state), skipping the KD-tree query inside where it can: exact when > 0, else <= 0."""
+        d = self.taylor.bounds_distance(y, z, vy, vz)
+        near = self.taylor.neighbours
+        if near is None or d != d:
+            return d
+        return max(d, near.distance(y, z, vy, vz, exact=False))
+
     def _select(self, y, z, vy, vz):
         """The internal that evaluates this state, or raise BearingStateError."""
-        d = self.taylor.domain_distance(y, z, vy, vz)
+        d = self.distance(y, z, vy, vz)
         self.last_distance = d
         ood = not (d <= 1e-12)  # NaN (non-finite input) counts as outside; Taylor names the variable
         self.last_out_of_domain = ood
@@ -101,18 +189,34 @@ class DomainGuard:
         if d > self.limit or self.action == "discard":
             why = (f"more than domain_limit = {self.limit:g} beyond" if d > self.limit
                    else "outside (domain_action = 'discard')")
-            raise BearingStateError(f"state {100 * d:.3g} % beyond the surrogate's fitted domain, {why}: {where}")
+            raise BearingStateError(f"state {100 * d:.3g} % beyond the surrogate's fitted domain "
+                                    f"({self._reasons(y, z, vy, vz)}), {why}: {where}")
         if not self.warned:
             self.warned = True
             what = ("the Reynolds internal evaluates such states" if self.action == "fallback"
                     else "its value is an extrapolation")
-            self._on_warn(f"state outside the surrogate's fitted domain ({100 * d:.3g} % beyond its bounds) at {where}; "
+            self._on_warn(f"state outside the surrogate's fitted domain ({self._reasons(y, z, vy, vz)}) at {where}; "
                           f"{what} (warned once)")
         if self.action == "fallback":
             if self._truth is None:
                 self._truth = self._truth_factory()
             return self._truth
         return self.taylor
+
+    def _reasons(self, y, z, vy, vz) -> str:
+        """Which part of the domain distance the state violates, in words (for messages)."""
+        parts = []
+        b = self.taylor.bounds_distance(y, z, vy, vz)
+        if b > 1e-12:
+            parts.append(f"{100 * b:.3g} % beyond its bounds")
+        near = self.taylor.neighbours
+        if near is not None:
+            nn, _ = near.nearest(y, z, vy, vz)
+            if nn > near.radius:
+                parts.append(f"nearest training state {nn:.3g} away in the scaled state u, {nn / near.radius:.3g} x "
+                             f"their radius {near.radius:.3g}, {100 * (nn - near.radius) / near.size:.3g} % of the "
+                             f"domain's size {near.size:.3g} beyond it")
+        return " and ".join(parts) or "at its edge"
 
     def _blend_weight(self, d: float | None = None) -> float:
         """Weight of the truth in fallback mode at domain distance d (default: the state just
@@ -122,7 +226,8 @@ class DomainGuard:
 
     def _blend_gradient(self, y, z, vy, vz):
         """d(weight)/d(y, z, vy, vz) by central differences of the domain distance (its
-        active bound changes from state to state; 8 cheap compiled calls)."""
+        active bound or nearest training state changes from state to state; 8 calls, in the
+        band only)."""
         s = self.taylor.surrogate
         x = [y, z, vy, vz]
         h = [1e-7 * s.pos_scale, 1e-7 * s.pos_scale, 1e-7 * s.vel_scale, 1e-7 * s.vel_scale]
@@ -131,8 +236,7 @@ class DomainGuard:
             hi, lo = list(x), list(x)
             hi[i] += h[i]
             lo[i] -= h[i]
-            g[i] = (self._blend_weight(self.taylor.domain_distance(*hi))
-                    - self._blend_weight(self.taylor.domain_distance(*lo))) / (2 * h[i])
+            g[i] = (self._blend_weight(self.distance(*hi)) - self._blend_weight(self.distance(*lo))) / (2 * h[i])
         return g
 
     def force(self, y: float, z: float, vy: float, vz: float, omega: float):
@@ -179,4 +283,4 @@ def _jacobian(internal, y, z, vy, vz, omega):
     return jac(y, z, vy, vz, omega)
 
 
-__all__ = ["DomainGuard", "DOMAIN_ACTIONS", "DEFAULT_LIMIT"]
+__all__ = ["DomainGuard", "NearestTraining", "DOMAIN_ACTIONS", "DEFAULT_LIMIT"]

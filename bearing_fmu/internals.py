@@ -14,6 +14,7 @@ name       module                    what it is
 reynolds   reynolds.Reynolds         finite-volume Reynolds solver (the truth)
 linear     linear.Linear             8 Lund coefficients about a static equilibrium
 taylor     guard.DomainGuard         fitted Taylor surrogate behind its domain guard
+map        forcemap.ForceMap         the Reynolds force as a 2-D table per L/D (any state)
 =========  ========================  ================================================
 
 How to add an internal
@@ -387,4 +388,13 @@ register(InternalSpec(
                "fitted domain (relative excess over its bounds)", "1", minimum=0.0, exclusive_minimum=True),
     ),
     uses=("reynolds",),
+))
+
+register(InternalSpec(
+    "map", "forcemap:ForceMap.from_options", "force map: the Reynolds force reduced exactly to a 2-D table of "
+    "eccentricity and one angle (any speed, load and velocity; docs/forcemap.md)",
+    options=(
+        Option("map", str, "", "map: the force map JSON file, built by `bearing-fmu map` for the bearing's L/D "
+               "(in the FMU: a file name in its resources folder surrogates/)", file=True, required=True),
+    ),
 ))

@@ -1,50 +1,335 @@
-"""The keys of the project's files, as data: one list of ``Key`` per table of a file kind.
+"""The keys of the project's files, as data: one typed list of ``Key`` per table of a file kind.
 
-The loaders check a table's keys with ``check_keys`` (missing and unknown keys named with the
-allowed ones), and the file-format reference (docs/file-formats.md) shows the same lists as
-tables (``markdown_table``; a test keeps the two equal), so neither can drift from the code.
-The values themselves are checked by each loader, which names the file, table and key.
+A ``Key`` carries its name (with its unit), meaning, default and the ``Kind`` of value it takes
+(``Number``, ``Text``, ``Choice``, ``FileName``, ``Table``, ``Tables``, ``List``). The loaders
+check a whole file once, at the edge, with ``check_table``: a table that is not a table, a
+missing or unknown key, a value of the wrong type, shape or range each give one line naming
+the file, the table path and key (``[time] dt_s``, ``[[unbalance]] 2 mass_kg``), what was
+expected and what was given. What depends on more than one value (a node number against the
+rotor's nodes, a clearance against the diameter) is checked by the loader after that.
+
+The file-format reference (docs/file-formats.md) shows the same lists as tables
+(``markdown_table``; a test keeps the two equal), so neither can drift from the code.
+``read_toml`` reads a file with the same one-line errors (not found, a directory, not text,
+a TOML syntax error with its line).
 """
 
 from __future__ import annotations
 
+import difflib
+import math
+import tomllib
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Any, Mapping, Sequence
 
 REQUIRED = object()  # the default of a key that must be given
 
 
+class SchemaError(ValueError):
+    """A file that does not follow its schema (when the caller names no error type)."""
+
+
+# ----------------------------------------------------------------------------- showing values
+
+def show(value, limit: int = 60) -> str:
+    """A value as it is written in TOML (true, 'text', 1.5, [1, 2], {a = 1}), cut at ``limit``."""
+    if isinstance(value, bool):
+        text = "true" if value else "false"
+    elif isinstance(value, Mapping):
+        text = "{" + ", ".join(f"{k} = {show(v, limit)}" for k, v in value.items()) + "}"
+    elif isinstance(value, (list, tuple)):
+        text = "[" + ", ".join(show(v, limit) for v in value) + "]"
+    else:
+        text = repr(value)
+    return text if len(text) <= limit else text[: limit - 3] + "..."
+
+
+class Invalid(Exception):
+    """Raised by a ``Kind``: the value is wrong; ``tail`` completes '<key> = <value>' (e.g.
+    ' must be a finite number > 0')."""
+
+    def __init__(self, tail: str):
+        super().__init__(tail)
+        self.tail = tail
+
+
+# ----------------------------------------------------------------------------- kinds of value
+
+class Kind:
+    """The values a key takes. ``check`` returns the value (normalised: ints to float for a
+    number) or raises ``Invalid``; a table kind checks its own keys and raises ``error``."""
+
+    def expected(self) -> str:
+        raise NotImplementedError
+
+    def check(self, value, where: str, label: str, error: type[Exception]):
+        raise NotImplementedError
+
+    def absent(self, default):
+        """The value of an optional key that is not given."""
+        return list(default) if isinstance(default, list) else default
+
+    def _bad(self, hint: str = "") -> Invalid:
+        return Invalid(f" must be {self.expected()}" + (f" ({hint})" if hint else ""))
+
+
+@dataclass(frozen=True)
+class Number(Kind):
+    """A finite number (TOML integers are accepted; true/false, inf and nan are not), or with
+    ``integer`` a TOML integer; optionally bounded. ``words`` replaces the generated text."""
+
+    minimum: float | None = None
+    maximum: float | None = None
+    exclusive_minimum: bool = False
+    exclusive_maximum: bool = False
+    integer: bool = False
+    words: str = ""
+
+    def expected(self) -> str:
+        if self.words:
+            return self.words
+        bounds = []
+        if self.minimum is not None:
+            bounds.append(f"{'>' if self.exclusive_minimum else '>='} {self.minimum:g}")
+        if self.maximum is not None:
+            bounds.append(f"{'<' if self.exclusive_maximum else '<='} {self.maximum:g}")
+        word = "an integer" if self.integer else "a finite number"
+        return word + ("" if not bounds else " " + " and ".join(bounds))
+
+    def parse(self, value):
+        """The value as int/float if it is one of this kind, else ``Invalid``."""
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            raise self._bad()
+        if self.integer:
+            if not isinstance(value, int):
+                raise self._bad("written without a decimal point" if math.isfinite(value) and value == int(value)
+                                else "")
+        elif not math.isfinite(value):
+            raise self._bad()
+        v = value if self.integer else float(value)
+        lo, hi = self.minimum, self.maximum
+        if lo is not None and (v <= lo if self.exclusive_minimum else v < lo):
+            raise self._bad()
+        if hi is not None and (v >= hi if self.exclusive_maximum else v > hi):
+            raise self._bad()
+        return v
+
+    def check(self, value, where, label, error):
+        return self.parse(value)
+
+
+@dataclass(frozen=True)
+class Text(Kind):
+    """A TOML string."""
+
+    def expected(self) -> str:
+        return "text in quotes"
+
+    def check(self, value, where, label, error):
+        if not isinstance(value, str):
+            raise self._bad()
+        return value
+
+
+@dataclass(frozen=True)
+class FileName(Kind):
+    """A non-empty string naming a file (the loader resolves it and checks it is there)."""
+
+    def expected(self) -> str:
+        return "a file name in quotes"
+
+    def check(self, value, where, label, error):
+        if not isinstance(value, str) or not value.strip():
+            raise self._bad()
+        return value
+
+
+@dataclass(frozen=True)
+class Choice(Kind):
+    """One of a few words."""
+
+    choices: tuple[str, ...]
+
+    def expected(self) -> str:
+        return "one of " + ", ".join(self.choices)
+
+    def check(self, value, where, label, error):
+        if not isinstance(value, str) or value not in self.choices:
+            raise Invalid(f"; choose one of {', '.join(self.choices)}")
+        return value
+
+
+@dataclass(frozen=True)
+class List(Kind):
+    """A TOML array of values of one kind; ``length``: exactly that many."""
+
+    item: Kind
+    length: int | None = None
+
+    def expected(self) -> str:
+        n = f"{self.length} " if self.length else ""
+        return f"an array of {n}values, each {self.item.expected()}"
+
+    def check(self, value, where, label, error):
+        if not isinstance(value, list) or (self.length is not None and len(value) != self.length):
+            raise self._bad()
+        out = []
+        for i, v in enumerate(value):
+            try:
+                out.append(self.item.check(v, where, label, error))
+            except Invalid as exc:
+                raise Invalid(f": entry {i + 1} = {show(v)}{exc.tail}") from None
+        return out
+
+
+@dataclass(frozen=True)
+class Table(Kind):
+    """A sub-table ``[name]`` with its keys (``keys=None``: any keys, checked by the loader)."""
+
+    keys: Sequence["Key"] | None = None
+
+    def expected(self) -> str:
+        return "a table"
+
+    def check(self, value, where, label, error):
+        if not isinstance(value, Mapping):
+            raise Invalid(f" must be a table ({label} followed by its keys)")
+        if self.keys is None:
+            return dict(value)
+        return check_table(value, self.keys, where, error, label)
+
+    def absent(self, default):
+        return None if self.keys is None else check_table({}, self.keys, "", SchemaError)
+
+
+@dataclass(frozen=True)
+class Tables(Kind):
+    """An array of tables ``[[name]]``, each with these keys; ``nonempty``: at least one."""
+
+    keys: Sequence["Key"]
+    nonempty: bool = False
+
+    def expected(self) -> str:
+        return ("a non-empty " if self.nonempty else "an ") + "array of tables"
+
+    def check(self, value, where, label, error):
+        name = label.strip("[]")
+        if isinstance(value, Mapping):
+            raise Invalid(f" must be an array of tables: write [[{name}]] above each entry (a single [{name}] "
+                          "is one table, not an array)")
+        if not isinstance(value, list) or (self.nonempty and not value):
+            raise self._bad(f"[[{name}]] above each entry")
+        out = []
+        for i, t in enumerate(value):
+            if not isinstance(t, Mapping):
+                raise Invalid(f": entry {i + 1} = {show(t)} must be a table")
+            out.append(check_table(t, self.keys, where, error, f"{label} {i + 1}"))
+        return out
+
+    def absent(self, default):
+        return []
+
+
+# ----------------------------------------------------------------------------- keys
+
 @dataclass(frozen=True)
 class Key:
     """One key of a file table: its name (carrying its unit, e.g. ``speed_hz``), what it means,
-    its default (REQUIRED: must be given) and the allowed values in words."""
+    its default (REQUIRED: must be given), the allowed values in words (default: from its
+    kind) and its ``kind`` (None: any value, checked elsewhere)."""
 
     name: str
     help: str
     default: Any = REQUIRED
     allowed: str = ""
+    kind: Kind | None = None
 
     @property
     def required(self) -> bool:
         return self.default is REQUIRED
+
+    @property
+    def words(self) -> str:
+        """The allowed values in words, for the reference."""
+        return self.allowed or (self.kind.expected() if self.kind is not None else "")
 
 
 def check_keys(table, keys: Sequence[Key], where: str, error: type[Exception] = ValueError) -> None:
     """Raise ``error`` naming ``where`` if ``table`` is not a table, lacks a required key or has
     an unknown one (listing the allowed keys)."""
     if not isinstance(table, Mapping):
-        raise error(f"{where}: expected a table, got {table!r}")
+        raise error(f"{where}: expected a table, got {show(table)}")
     names = [k.name for k in keys]
     required = [k.name for k in keys if k.required]
     missing = [k for k in required if k not in table]
-    if missing:
-        optional = [n for n in names if n not in required]
-        raise error(f"{where}: missing key(s) {', '.join(missing)}; required: {', '.join(required)}"
-                    + (f"; optional: {', '.join(optional)}" if optional else ""))
     unknown = sorted(set(table) - set(names))
-    if unknown:
-        raise error(f"{where}: unknown key(s) {', '.join(unknown)}; allowed: {', '.join(names)}")
+    if not (missing or unknown):
+        return
+    parts = []
+    if unknown:  # first: a misspelt key is both unknown and missing, and its spelling is the clue
+        hints = {u: difflib.get_close_matches(u, [n for n in names if n not in table], 1) for u in unknown}
+        parts.append("unknown key(s) " + ", ".join(u + (f" (did you mean {hints[u][0]}?)" if hints[u] else "")
+                                                   for u in unknown))
+    if missing:
+        parts.append(f"missing key(s) {', '.join(missing)}")
+    optional = [n for n in names if n not in required]
+    allowed = (f"required: {', '.join(required)}" + (f"; optional: {', '.join(optional)}" if optional else "")
+               if missing else f"allowed: {', '.join(names)}")
+    raise error(f"{where}: {'; '.join(parts)}; {allowed}")
 
+
+def check_table(table, keys: Sequence[Key], where: str, error: type[Exception] = SchemaError,
+                label: str = "") -> dict:
+    """Check a table against its keys and return its values, each checked by its kind and
+    optional ones filled with their defaults. ``where`` names the file, ``label`` the table's
+    path in it ('[time]', '[[unbalance]] 2'; '' for the top level). Every fault raises
+    ``error`` with one line: '<file>: <label> <key> = <value> must be <expected>'."""
+    check_keys(table, keys, f"{where}: {label}" if label else where, error)
+    prefix = f"{where}: {label + ' ' if label else ''}"
+    out = {}
+    for k in keys:
+        sub = f"{label} [{k.name}]".strip() if isinstance(k.kind, Table) else (
+            f"{label} [[{k.name}]]".strip() if isinstance(k.kind, Tables) else label)
+        if k.name not in table:
+            out[k.name] = None if k.required else (k.kind.absent(k.default) if k.kind else k.default)
+            continue
+        v = table[k.name]
+        if k.kind is None:
+            out[k.name] = v
+            continue
+        try:
+            out[k.name] = k.kind.check(v, where, sub if isinstance(k.kind, (Table, Tables)) else label, error)
+        except Invalid as exc:
+            raise error(f"{prefix}{k.name} = {show(v)}{exc.tail}") from None
+    return out
+
+
+# ----------------------------------------------------------------------------- reading
+
+def read_toml(path, what: str, error: type[Exception] = SchemaError) -> dict:
+    """The parsed TOML file at ``path``, or ``error`` in one line: '<what> <path> not found',
+    '... is a directory', not readable, not text, or '<path>: not valid TOML: <why> (at line
+    L, column C)'."""
+    path = Path(path)
+    try:
+        with path.open("rb") as fh:
+            return tomllib.load(fh)
+    except FileNotFoundError:
+        raise error(f"{what} {path} not found") from None
+    except IsADirectoryError:
+        raise error(f"{what} {path} is a directory, not a file") from None
+    except PermissionError:
+        raise error(f"{what} {path} cannot be read (permission denied)") from None
+    except UnicodeDecodeError:
+        raise error(f"{what} {path} is not a text (UTF-8 TOML) file") from None
+    except tomllib.TOMLDecodeError as exc:
+        raise error(f"{path}: not valid TOML: {exc}") from None
+    except OSError as exc:
+        raise error(f"{what} {path} cannot be read: {exc.strerror or exc}") from None
+
+
+# ----------------------------------------------------------------------------- the reference
 
 def _cell(value) -> str:
     return str(value).replace("|", "\\|")
@@ -55,7 +340,7 @@ def markdown_table(keys: Sequence[Key]) -> str:
     rows = ["| key | meaning | default | allowed |", "|---|---|---|---|"]
     for k in keys:
         default = "required" if k.required else ("none" if k.default is None else f"`{k.default!r}`")
-        rows.append(f"| `{k.name}` | {_cell(k.help)} | {default} | {_cell(k.allowed)} |")
+        rows.append(f"| `{k.name}` | {_cell(k.help)} | {default} | {_cell(k.words)} |")
     return "\n".join(rows)
 
 

@@ -16,9 +16,16 @@ Shape columns (``shape_order`` r, optional): F_i += sum_j (a_ij^y S_y + a_ij^z S
 S the closed-form short-bearing force (:mod:`bearing_fmu.shortbearing`), m_j the monomials of
 order <= r (docs/taylor.md).
 
+Training states (``neighbours``, optional): a compact subset of the states the surrogate was
+fitted to, in u, and a radius; the domain guard (:mod:`bearing_fmu.guard`) measures the
+distance of a state to its nearest stored point, so a state inside the bounds but far from
+every training orbit is out of domain too (docs/taylor.md).
+
 The file: ``save_surrogate`` / ``load_surrogate`` (format ``bearing-fmu-taylor-surrogate``,
-version 1; older files without ``wall_power`` or ``shape`` load as the plain polynomial),
-``check_params`` refuses a file fitted for another bearing. The evaluation is
+version 1; older files without ``wall_power``, ``shape`` or ``neighbours`` load as the plain
+polynomial, without shape columns, guarded by the bounds only). ``load_surrogate`` checks the
+whole file (every key the evaluation needs, its type, shape, range and consistency) and names
+the file and the key; ``check_params`` refuses a file fitted for another bearing. The evaluation is
 :class:`bearing_fmu.taylor.Taylor`; fitting lives in :mod:`bearing_fmu.fitting`.
 """
 
@@ -35,6 +42,7 @@ import numpy as np
 
 from .basis import N_VARS, design_matrix, exponents, n_terms, shape_force
 from .params import BearingParams
+from .schema import Key, check_keys
 
 FILE_FORMAT = "bearing-fmu-taylor-surrogate"
 FILE_VERSION = 1
@@ -63,6 +71,27 @@ class Domain:
     box_lo: tuple[float, float, float, float]
     box_hi: tuple[float, float, float, float]
 
+    def __post_init__(self) -> None:
+        problem = self.problem()
+        if problem:
+            raise ValueError(f"Domain: {problem}")
+
+    def problem(self) -> str | None:
+        """What makes these bounds inconsistent (non-finite, ecc_max outside (0, 1], a negative
+        radius, box_lo > box_hi), or None."""
+        values = [self.ecc_max, *self.pos_center, self.pos_radius, self.v_max, *self.box_lo, *self.box_hi]
+        if not all(math.isfinite(float(v)) for v in values):
+            return f"every bound must be finite, got {self.to_dict()}"
+        if not 0.0 < self.ecc_max <= 1.0:
+            return f"ecc_max = {self.ecc_max!r} must lie in (0, 1] (an eccentricity ratio)"
+        for name in ("pos_radius", "v_max"):
+            if getattr(self, name) < 0.0:
+                return f"{name} = {getattr(self, name)!r} must be >= 0"
+        for i, (lo, hi) in enumerate(zip(self.box_lo, self.box_hi)):
+            if lo > hi:
+                return f"box_lo[{i}] = {lo!r} > box_hi[{i}] = {hi!r}; the box needs box_lo <= box_hi"
+        return None
+
     def to_dict(self) -> dict:
         return {
             "ecc_max": self.ecc_max, "pos_center": list(self.pos_center), "pos_radius": self.pos_radius,
@@ -71,7 +100,7 @@ class Domain:
 
     @classmethod
     def from_dict(cls, d: dict, where: str = "domain") -> "Domain":
-        return cls(
+        values = dict(
             ecc_max=_num(d, "ecc_max", where),
             pos_center=tuple(_vec(d, "pos_center", 2, where)),
             pos_radius=_num(d, "pos_radius", where),
@@ -79,6 +108,71 @@ class Domain:
             box_lo=tuple(_vec(d, "box_lo", 4, where)),
             box_hi=tuple(_vec(d, "box_hi", 4, where)),
         )
+        try:
+            return cls(**values)
+        except ValueError as exc:
+            raise ValueError(f"{where}: {str(exc).removeprefix('Domain: ')}") from None
+
+
+# ----------------------------------------------------------------------------- training states
+
+NEIGHBOURS_SPACE = "u (scaling.variables); Euclidean distance"
+
+
+@dataclass(eq=False)
+class Neighbours:
+    """Training states for the nearest-neighbour part of the domain guard.
+
+    points : (K, 4) scaled states u (see ``Surrogate.scaled``) chosen from the states the
+             surrogate was fitted to (bearing_fmu.fitting.neighbours: farthest-point thinning,
+             rounded)
+    radius : in units of u; a state whose nearest stored point lies farther than ``radius``
+             is outside the fitted domain (its excess (nn - radius) / the domain's size:
+             guard.NearestTraining)
+    info   : how points and radius were chosen (rule, counts, covering radius, spacing), kept
+             in the file as written
+    """
+
+    points: np.ndarray
+    radius: float
+    info: dict = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        p = np.ascontiguousarray(self.points, dtype=float)
+        if p.ndim != 2 or p.shape[1] != N_VARS or p.shape[0] == 0:
+            raise ValueError(f"Neighbours: points must be a non-empty list of [u1, u2, u3, u4] rows, got shape "
+                             f"{p.shape}")
+        if not np.all(np.isfinite(p)):
+            raise ValueError("Neighbours: points has non-finite entries")
+        r = float(self.radius)
+        if not (math.isfinite(r) and r > 0.0):
+            raise ValueError(f"Neighbours: radius = {self.radius!r} must be finite and > 0 (units of u)")
+        self.points, self.radius, self.info = p, r, dict(self.info)
+
+    def to_dict(self) -> dict:
+        return {"space": NEIGHBOURS_SPACE, "radius": self.radius, **_json_clean(self.info),
+                "n_points": int(len(self.points)), "points": self.points.tolist()}
+
+    @classmethod
+    def from_dict(cls, d, where: str = "neighbours") -> "Neighbours":
+        if not isinstance(d, dict):
+            raise ValueError(f"{where}: expected a JSON object, got {d!r:.60}")
+        pts = _get(d, "points", where)
+        rows_ok = [isinstance(row, list) and len(row) == N_VARS and all(_is_number(x) for x in row)
+                   for row in pts] if isinstance(pts, list) else []
+        if not all(rows_ok) or not rows_ok:
+            bad = f"; row {rows_ok.index(False)} is {pts[rows_ok.index(False)]!r:.60}" if not all(rows_ok) else ""
+            raise ValueError(f"{where}: key 'points' must be a non-empty list of [u1, u2, u3, u4] rows of finite "
+                             f"numbers{bad}")
+        if "n_points" in d and d["n_points"] != len(pts):
+            raise ValueError(f"{where}: key 'n_points' is {d['n_points']!r} but 'points' has {len(pts)} rows "
+                             "(a truncated or edited file)")
+        radius = _num(d, "radius", where)
+        info = {k: v for k, v in d.items() if k not in ("space", "radius", "points", "n_points")}
+        try:
+            return cls(np.array(pts, float), radius, info)
+        except ValueError as exc:
+            raise ValueError(f"{where}: {str(exc).removeprefix('Neighbours: ')}") from None
 
 
 # ----------------------------------------------------------------------------- surrogate
@@ -112,6 +206,7 @@ class Surrogate:
     wall_power: float = 0.0
     shape_order: int | None = None
     shape_coef: np.ndarray | None = None
+    neighbours: Neighbours | None = None
 
     def __post_init__(self) -> None:
         self.order = int(self.order)
@@ -153,6 +248,8 @@ class Surrogate:
             if not np.all(np.isfinite(sc)):
                 raise ValueError("Surrogate.shape_coef has non-finite entries")
             self.shape_coef = sc
+        if self.neighbours is not None and not isinstance(self.neighbours, Neighbours):
+            raise ValueError(f"Surrogate.neighbours must be a Neighbours or None, got {type(self.neighbours).__name__}")
 
     @property
     def shape_exponents(self) -> np.ndarray:
@@ -262,71 +359,109 @@ class Surrogate:
             "errors": _json_clean(self.errors),
             "pruning": _json_clean(self.pruning),
             "provenance": _json_clean(prov),
+            **({} if self.neighbours is None else {"neighbours": self.neighbours.to_dict()}),
         }
 
     @classmethod
     def from_dict(cls, d: dict, where: str = "surrogate") -> "Surrogate":
+        """The surrogate of a file's content, every key checked (type, shape, range, consistency);
+        errors name ``where`` and the key."""
         if not isinstance(d, dict):
             raise ValueError(f"{where}: expected a JSON object at the top level")
+        check_keys(d, FILE_KEYS, where, SurrogateKeyError)
         fmt = d.get("format")
         if fmt != FILE_FORMAT:
             raise ValueError(f"{where}: key 'format' is {fmt!r}, expected {FILE_FORMAT!r}")
         if d.get("version") != FILE_VERSION:
             raise ValueError(f"{where}: key 'version' is {d.get('version')!r}, this reader knows {FILE_VERSION}")
-        p = _get(d, "params", where)
-        try:
-            params = BearingParams(**{k: _num(p, k, f"{where}: params") for k in ("D", "L", "CR", "mu")})
-        except TypeError as exc:  # pragma: no cover - _num already names missing keys
-            raise ValueError(f"{where}: params: {exc}") from None
+        params = _params(d, where)
+        omega = _num(d, "omega", where)
+        if omega == 0.0:
+            raise ValueError(f"{where}: key 'omega' must be nonzero (velocities are scaled by omega * CR)")
+        if "speed_hz" in d and not _close(_num(d, "speed_hz", where), omega / (2 * math.pi)):
+            raise ValueError(f"{where}: key 'speed_hz' = {d['speed_hz']!r} disagrees with omega = {omega!r} rad/s "
+                             f"({omega / (2 * math.pi)!r} Hz)")
         ep = _get(d, "expansion_point", where)
-        sc = _get(d, "scaling", where)
-        order = _get(d, "order", where)
-        if isinstance(order, bool) or not isinstance(order, int) or order < 0:
-            raise ValueError(f"{where}: key 'order' must be a non-negative integer, got {order!r}")
-        exps = np.asarray(_get(d, "exponents", where))
-        if exps.ndim != 2 or exps.shape[1] != N_VARS or not np.issubdtype(exps.dtype, np.integer):
-            raise ValueError(f"{where}: key 'exponents' must be a list of [e_dy, e_dz, e_dvy, e_dvz] integer rows")
+        y0, z0 = _num(ep, "y0", f"{where}: expansion_point"), _num(ep, "z0", f"{where}: expansion_point")
+        if math.hypot(y0, z0) >= params.CR:
+            raise ValueError(f"{where}: expansion_point (y0, z0) = ({y0!r}, {z0!r}) m is at or beyond the wall "
+                             f"(CR = {params.CR!r} m)")
+        force_scale = _scaling(d, params, omega, where)
+        order = _int(d, "order", where)
+        exps = _exponents(d, "exponents", order, where)
+        n = len(exps)
+        if "n_terms" in d and _int(d, "n_terms", where) != n:
+            raise ValueError(f"{where}: key 'n_terms' is {d['n_terms']!r} but 'exponents' has {n} rows")
         c = _get(d, "coef", where)
-        coef = np.array([_vec(c, "Fy", exps.shape[0], f"{where}: coef"), _vec(c, "Fz", exps.shape[0], f"{where}: coef")])
+        coef = np.array([_vec(c, k, n, f"{where}: coef") for k in COMPONENTS])
         kept = None
         if "kept" in d:
-            kd = d["kept"]
-            kept = np.array([_vec(kd, "Fy", exps.shape[0], f"{where}: kept"),
-                             _vec(kd, "Fz", exps.shape[0], f"{where}: kept")]).astype(bool)
-        lam = d.get("lambda", {"Fy": 0.0, "Fz": 0.0})
+            kd = _get(d, "kept", where)
+            kept = np.array([_vec(kd, k, n, f"{where}: kept") for k in COMPONENTS])
+            if not np.all((kept == 0) | (kept == 1)):
+                raise ValueError(f"{where}: kept: every entry must be 0 or 1")
+            kept = kept.astype(bool)
+        lam = (0.0, 0.0)
+        if "lambda" in d:
+            ld = _get(d, "lambda", where)
+            lam = tuple(_num(ld, k, f"{where}: lambda", minimum=0.0) for k in COMPONENTS)
         load = d.get("load")
-        wall_power = _num(d, "wall_power", where) if "wall_power" in d else 0.0  # older files: none
+        if load is not None:
+            load = tuple(_vec(d, "load", 2, where))
+        wall_power = _num(d, "wall_power", where, minimum=0.0) if "wall_power" in d else 0.0  # older files: none
         shape_order = shape_coef = None
         if "shape" in d:  # older files: none
             sd = _get(d, "shape", where)
-            shape_order = _get(sd, "order", f"{where}: shape")
-            if isinstance(shape_order, bool) or not isinstance(shape_order, int) or shape_order < 0:
-                raise ValueError(f"{where}: shape: key 'order' must be a non-negative integer, got {shape_order!r}")
+            shape_order = _int(sd, "order", f"{where}: shape")
             nr = n_terms(shape_order)
             if "exponents" in sd and sd["exponents"] != exponents(shape_order).tolist():
                 raise ValueError(f"{where}: shape: key 'exponents' is not the full basis of order {shape_order}")
             shc = _get(sd, "coef", f"{where}: shape")
             shape_coef = np.array([_vec(shc, k, nr, f"{where}: shape: coef") for k in SHAPE_ROWS])
-        return cls(
-            params=params,
-            omega=_num(d, "omega", where),
-            y0=_num(ep, "y0", f"{where}: expansion_point"),
-            z0=_num(ep, "z0", f"{where}: expansion_point"),
-            order=order,
-            exponents=exps,
-            coef=coef,
-            force_scale=_num(sc, "force_scale", f"{where}: scaling"),
-            domain=Domain.from_dict(_get(d, "domain", where), f"{where}: domain"),
-            kept=kept,
-            lam=(float(lam.get("Fy", 0.0)), float(lam.get("Fz", 0.0))),
-            load=None if load is None else (float(load[0]), float(load[1])),
-            errors=d.get("errors", {}),
-            pruning=d.get("pruning", {}),
-            provenance=d.get("provenance", {}),
-            wall_power=wall_power,
-            shape_order=shape_order,
-            shape_coef=shape_coef,
-        )
+        domain = Domain.from_dict(_get(d, "domain", where), f"{where}: domain")
+        neighbours = Neighbours.from_dict(d["neighbours"], f"{where}: neighbours") if "neighbours" in d else None
+        meta = {k: _table(d, k, where) for k in ("errors", "pruning", "provenance")}
+        try:
+            return cls(params=params, omega=omega, y0=y0, z0=z0, order=order, exponents=exps, coef=coef,
+                       force_scale=force_scale, domain=domain, kept=kept, lam=lam, load=load, **meta,
+                       wall_power=wall_power, shape_order=shape_order, shape_coef=shape_coef, neighbours=neighbours)
+        except ValueError as exc:  # what only the whole model can check (e.g. an exponent beyond the order)
+            raise ValueError(f"{where}: {exc}") from None
+
+
+COMPONENTS = ("Fy", "Fz")
+
+# The top-level keys of a surrogate file (docs/taylor.md, File); the loader checks each value.
+FILE_KEYS = (
+    Key("format", "file format name", allowed=repr(FILE_FORMAT)),
+    Key("version", "file format version", allowed=str(FILE_VERSION)),
+    Key("params", "the bearing: D, L, CR [m], mu [Pa s]", allowed="numbers > 0, CR < D/2"),
+    Key("omega", "shaft speed the surrogate was fitted at [rad/s]", allowed="a finite nonzero number"),
+    Key("speed_hz", "omega / 2 pi [Hz], for readers", None, "equal to omega / 2 pi"),
+    Key("load", "static bearing load (Wy, Wz) [N]", None, "two numbers or null"),
+    Key("expansion_point", "y0, z0 [m] (vy0, vz0 = 0)", allowed="inside the clearance"),
+    Key("scaling", "pos_scale = CR, vel_scale = |omega| CR, force_scale [N]", allowed="force_scale > 0"),
+    Key("wall_power", "wall factor exponent p", 0.0, ">= 0"),
+    Key("shape", "short-bearing shape columns: order, exponents, coef", None, "a table"),
+    Key("order", "total degree of the polynomial", allowed="an integer >= 0"),
+    Key("n_terms", "number of monomials (rows of exponents)", None, "equal to the rows of exponents"),
+    Key("exponents", "the monomials' powers of (u1, u2, u3, u4)", allowed="integer rows of 4, degree <= order"),
+    Key("coef", "coefficients Fy, Fz per monomial", allowed="n_terms finite numbers each"),
+    Key("kept", "terms kept by pruning, Fy, Fz", None, "n_terms 0/1 each"),
+    Key("lambda", "ridge penalty Fy, Fz", None, "numbers >= 0"),
+    Key("domain", "the fitted domain's bounds", allowed="see Domain"),
+    Key("errors", "the fit's errors", None, "a table"),
+    Key("pruning", "the pruning's record", None, "a table"),
+    Key("provenance", "truth, training data, recipe, date, version", None, "a table"),
+    Key("neighbours", "training states for the nearest-neighbour guard: radius, points in u", None, "a table"),
+)
+
+
+class SurrogateKeyError(KeyError):
+    """A missing or unknown key of a surrogate file (a KeyError whose text reads as a sentence)."""
+
+    def __str__(self) -> str:
+        return str(self.args[0]) if self.args else ""
 
 
 def _json_clean(obj):
@@ -344,35 +479,113 @@ def _json_clean(obj):
     return obj
 
 
+def _is_number(x) -> bool:
+    return isinstance(x, (int, float)) and not isinstance(x, bool) and math.isfinite(x)
+
+
+def _close(a: float, b: float, rtol: float = 1e-9) -> bool:
+    return abs(a - b) <= rtol * max(abs(a), abs(b))
+
+
 def _get(d: dict, key: str, where: str):
-    if not isinstance(d, dict) or key not in d:
-        raise KeyError(f"{where}: missing key {key!r}")
+    if not isinstance(d, dict):
+        raise ValueError(f"{where}: expected a JSON object, got {d!r:.60}")
+    if key not in d:
+        raise SurrogateKeyError(f"{where}: missing key {key!r}")
     return d[key]
 
 
-def _num(d: dict, key: str, where: str) -> float:
+def _num(d: dict, key: str, where: str, minimum: float | None = None) -> float:
     v = _get(d, key, where)
-    if isinstance(v, bool) or not isinstance(v, (int, float)):
-        raise ValueError(f"{where}: key {key!r} must be a number, got {v!r}")
+    if not _is_number(v):
+        raise ValueError(f"{where}: key {key!r} must be a finite number, got {v!r:.60}")
+    if minimum is not None and v < minimum:
+        raise ValueError(f"{where}: key {key!r} = {v!r} must be >= {minimum:g}")
     return float(v)
+
+
+def _int(d: dict, key: str, where: str) -> int:
+    v = _get(d, key, where)
+    if isinstance(v, bool) or not isinstance(v, int) or v < 0:
+        raise ValueError(f"{where}: key {key!r} must be a non-negative integer, got {v!r:.60}")
+    return v
 
 
 def _vec(d: dict, key: str, n: int, where: str) -> list[float]:
     v = _get(d, key, where)
-    if not isinstance(v, list) or len(v) != n or not all(
-        isinstance(x, (int, float)) and not isinstance(x, bool) for x in v
-    ):
-        raise ValueError(f"{where}: key {key!r} must be a list of {n} numbers")
+    if not isinstance(v, list) or len(v) != n:
+        got = f"{len(v)} entries" if isinstance(v, list) else repr(v)[:60]
+        raise ValueError(f"{where}: key {key!r} must be a list of {n} numbers, each finite, got {got}")
+    bad = next((i for i, x in enumerate(v) if not _is_number(x)), None)
+    if bad is not None:
+        raise ValueError(f"{where}: key {key!r} must be a list of {n} numbers, each finite; entry {bad} is "
+                         f"{v[bad]!r:.60}")
     return [float(x) for x in v]
+
+
+def _table(d: dict, key: str, where: str) -> dict:
+    v = d.get(key, {})
+    if not isinstance(v, dict):
+        raise ValueError(f"{where}: key {key!r} must be a JSON object, got {v!r:.60}")
+    return v
+
+
+def _params(d: dict, where: str) -> BearingParams:
+    p = _get(d, "params", where)
+    values = {k: _num(p, k, f"{where}: params") for k in ("D", "L", "CR", "mu")}
+    try:
+        return BearingParams(**values)
+    except ValueError as exc:
+        raise ValueError(f"{where}: params: {exc}") from None
+
+
+def _scaling(d: dict, params: BearingParams, omega: float, where: str) -> float:
+    """The force scale, after checking the stored position and velocity scales are CR and |omega| CR."""
+    sc = _get(d, "scaling", where)
+    fs = _num(sc, "force_scale", f"{where}: scaling")
+    if fs <= 0.0:
+        raise ValueError(f"{where}: scaling: key 'force_scale' = {fs!r} must be > 0")
+    for key, want, what in (("pos_scale", params.CR, "CR"), ("vel_scale", abs(omega) * params.CR, "|omega| CR")):
+        if key in sc and not _close(_num(sc, key, f"{where}: scaling"), want):
+            raise ValueError(f"{where}: scaling: key {key!r} = {sc[key]!r} disagrees with {what} = {want!r}")
+    return fs
+
+
+def _exponents(d: dict, key: str, order: int, where: str) -> np.ndarray:
+    v = _get(d, key, where)
+    rows_ok = [isinstance(row, list) and len(row) == N_VARS
+               and all(isinstance(e, int) and not isinstance(e, bool) and e >= 0 for e in row)
+               for row in v] if isinstance(v, list) else [False]
+    if not all(rows_ok):
+        bad = f"; row {rows_ok.index(False)} is {v[rows_ok.index(False)]!r:.60}" if isinstance(v, list) else ""
+        raise ValueError(f"{where}: key {key!r} must be a list of [e_dy, e_dz, e_dvy, e_dvz] rows of "
+                         f"non-negative integers{bad}")
+    exps = np.array(v, np.int64).reshape(-1, N_VARS)
+    if len(exps) and int(exps.sum(axis=1).max()) > order:
+        raise ValueError(f"{where}: key {key!r} has a term of degree {int(exps.sum(axis=1).max())} above "
+                         f"the order {order}")
+    return exps
+
+
+def surrogate_json(data: dict) -> str:
+    """The text of a surrogate file: ``json.dumps(data, indent=1)`` (one value a line, as
+    every file so far), except the neighbours' points, one [u1, u2, u3, u4] row a line."""
+    nb = data.get("neighbours")
+    if not isinstance(nb, dict) or "points" not in nb:
+        return json.dumps(data, indent=1, allow_nan=False) + "\n"
+    mark = "@@neighbour-points@@"
+    rows = ",\n".join("   " + json.dumps(row, allow_nan=False) for row in nb["points"])
+    text = json.dumps({**data, "neighbours": {**nb, "points": mark}}, indent=1, allow_nan=False)
+    return text.replace(json.dumps(mark), "[\n" + rows + "\n  ]") + "\n"
 
 
 def save_surrogate(surrogate: Surrogate, path: str | Path) -> Path:
     """Write the surrogate JSON file (creating its directory)."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    data = surrogate.to_dict()
-    path.write_text(json.dumps(data, indent=1, allow_nan=False) + "\n")
-    return path
+    from .outputs import write_text  # not bundled in the FMU, which never writes a surrogate
+
+    return write_text(path, surrogate_json(surrogate.to_dict()))
 
 
 def check_params(surrogate: Surrogate, params: BearingParams, where: str = "surrogate", rtol: float = 1e-9) -> None:
@@ -389,21 +602,23 @@ def check_params(surrogate: Surrogate, params: BearingParams, where: str = "surr
 def load_surrogate(path: str | Path, params: BearingParams | None = None) -> Surrogate:
     """Read a surrogate file; with ``params`` also check it belongs to that bearing."""
     path = Path(path)
+    where = f"surrogate file {str(path)!r}"
     try:
-        text = path.read_text()
+        text = path.read_text(encoding="utf-8")
     except FileNotFoundError:
-        raise FileNotFoundError(f"surrogate file {str(path)!r} not found") from None
+        raise FileNotFoundError(f"{where} not found") from None
+    except (OSError, UnicodeDecodeError) as exc:
+        raise ValueError(f"{where} cannot be read as text: {getattr(exc, 'strerror', None) or exc}") from None
     try:
         data = json.loads(text)
     except json.JSONDecodeError as exc:
-        raise ValueError(f"surrogate file {str(path)!r} is not valid JSON: {exc}") from None
-    where = f"surrogate file {str(path)!r}"
+        raise ValueError(f"{where} is not valid JSON (truncated or damaged?): line {exc.lineno}, column {exc.colno}: "
+                         f"{exc.msg}") from None
     sur = Surrogate.from_dict(data, where)
     if params is not None:
         check_params(sur, params, where)
     return sur
 
 
-
-__all__ = ["FILE_FORMAT", "FILE_VERSION", "SHAPE_ROWS", "Domain", "Surrogate", "save_surrogate", "load_surrogate",
-           "check_params"]
+__all__ = ["FILE_FORMAT", "FILE_VERSION", "FILE_KEYS", "SHAPE_ROWS", "Domain", "Neighbours", "Surrogate",
+           "SurrogateKeyError", "save_surrogate", "load_surrogate", "surrogate_json", "check_params"]

@@ -29,7 +29,8 @@ def states(sur, tay, n, seed):
         y = sur.y0 + (d.pos_center[0] + r * math.cos(a)) * sur.pos_scale
         z = sur.z0 + (d.pos_center[1] + r * math.sin(a)) * sur.pos_scale
         x = (y, z, v * math.cos(b) * sur.vel_scale, v * math.sin(b) * sur.vel_scale)
-        if tay.in_domain(*x):
+        # the bounds (Taylor.domain_distance before the nearest-neighbour guard), so both checkouts draw the same states
+        if getattr(tay, "bounds_distance", tay.domain_distance)(*x) <= 1e-12:
             out.append(x)
     return np.array(out)
 

@@ -29,6 +29,8 @@ class BearingSet:
     bearing_dofs : list of (dof_y, dof_z) global indices, one pair per bearing
     omega        : shaft speed [rad/s] (constant over the run)
     names        : labels used in messages ("bearing 1", ...)
+    clearances   : radial clearance CR [m] per bearing (None where not known), set by the
+                   subclass: the static equilibrium's diagnosis places journals near the wall
     tangent      : the Newton tangent, one of ``rotor_host.forces.NEWTON_TANGENTS``; what
                    ``evaluate`` hands the integrator besides the force:
                    "bearing"  each bearing's own local tangent at every iterate (exact Newton);
@@ -47,6 +49,7 @@ class BearingSet:
         self.dofs = np.array([d for pair in pairs for d in pair], dtype=int)
         self.omega = float(omega)
         self.names = list(names) if names is not None else [f"bearing {k + 1}" for k in range(self.n)]
+        self.clearances: list[float | None] = [None] * self.n
         self.tangent = check_tangent(tangent, f"{type(self).__name__} tangent")
         self.with_jacobian = tangent in FORCE_TANGENTS  # else evaluate returns the force alone
         self._frozen = None  # (dq, dv) once frozen
@@ -117,6 +120,7 @@ class DirectBearings(BearingSet):
         if len(internals) != self.n:
             raise ValueError(f"DirectBearings: {len(internals)} internals for {self.n} bearing DOF pairs")
         self.internals = list(internals)
+        self.clearances = [getattr(getattr(i, "params", None), "CR", None) for i in self.internals]
         # each internal's own derivatives where it has them, central differences otherwise
         self._jac = [getattr(i, "force_and_jacobian", None)
                      or (lambda y, z, vy, vz, om, i=i: film_jacobian(i, y, z, vy, vz, om))

@@ -9,12 +9,14 @@ reported as such, with its errors up to where it got, not as a crash.
 
 from __future__ import annotations
 
-import json
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
+
+from bearing_fmu.exits import as_interrupted, note_kept
+from bearing_fmu.outputs import ensure_writable, write_json, write_text
 
 from .report import errors_against, markdown_table, plot_runs
 from .scene import Scene, run_scene
@@ -50,33 +52,51 @@ def compare(base: Scene, reference: Variant, variants: list[Variant], out_dir, *
     """Run the reference and every variant; write ``compare_<scene>.md/.json/.png`` and the
     orbit plot into out_dir; return the table rows. ``default_label`` names the variant that
     is "Reynolds at its default grid", for the second speed-up column."""
-    out_dir = Path(out_dir)
-    out_dir.mkdir(parents=True, exist_ok=True)
+    out_dir = ensure_writable(out_dir)
     stem = Path(base.source).stem if base.source else base.name
     runs = {}
     rows = []
-    for v in [reference] + list(variants):
-        log(f"running {stem}: {v.label} via {base.via} ...")
-        run = run_scene(v.scene(base), out_dir, progress=progress, stem=f"{stem}_{_slug(v.label)}")
-        runs[v.label] = run
-        m = run.meta
-        status = m["status"]
-        if m["crossed_clearance"]:
-            status = "crossed clearance" if status == "ok" else f"{status}, crossed clearance"
-        row = {"label": v.label, "internal": v.internal, "options": run.meta["internal_options"],
-               "order": v.order, "status": status, "message": m["message"],
-               "integration_s": m["integration_time_s"], "setup_s": m["setup_time_s"] + m["equilibrium_time_s"],
-               "wall_s": m["wall_time_s"], "evals_per_step": m["newton_mean_evaluations_per_step"],
-               "max_eccentricity": max(m["max_eccentricity"]), "t_reached_s": m["t_reached_s"]}
-        row["late_eccentricity"] = late_max_eccentricity(run.arrays)
-        if v is not reference:
-            row.update(errors_against(runs[reference.label].arrays, run.arrays))
-            row["envelope_rms_pct_cr"] = envelope_error(runs[reference.label].arrays, run.arrays, base.speed_hz)
-        else:
-            row.update(force_nrmse_pct=0.0, orbit_rms_pct_cr=0.0, orbit_max_pct_cr=0.0, envelope_rms_pct_cr=0.0)
-        rows.append(row)
-        log(f"  {status}: {row['integration_s']:.2f} s, force NRMSE {row['force_nrmse_pct']:.3g} %, "
-            f"orbit RMS {row['orbit_rms_pct_cr']:.3g} % CR")
+    try:
+        for v in [reference] + list(variants):
+            _run_variant(base, reference, v, out_dir, stem, runs, rows, progress, log)
+    except KeyboardInterrupt as exc:  # the table of what finished, then stop
+        if rows:
+            _write(base, reference, variants, rows, runs, out_dir, stem, default_label,
+                   note=f"interrupted by {as_interrupted(exc).signal_name} during "
+                        f"{[reference, *variants][len(rows)].label}: the variants below are those that finished")
+            note_kept(exc, f"{out_dir / f'compare_{stem}.md'} (the {len(rows)} variant(s) that finished)")
+        raise
+    _write(base, reference, variants, rows, runs, out_dir, stem, default_label)
+    return rows
+
+
+def _run_variant(base, reference, v, out_dir, stem, runs, rows, progress, log) -> None:
+    """Run one variant; append its row (errors against the reference's run) to ``rows``."""
+    log(f"running {stem}: {v.label} via {base.via} ...")
+    run = run_scene(v.scene(base), out_dir, progress=progress, stem=f"{stem}_{_slug(v.label)}")
+    runs[v.label] = run
+    m = run.meta
+    status = m["status"]
+    if m["crossed_clearance"]:
+        status = "crossed clearance" if status == "ok" else f"{status}, crossed clearance"
+    row = {"label": v.label, "internal": v.internal, "options": run.meta["internal_options"],
+           "order": v.order, "status": status, "message": m["message"],
+           "integration_s": m["integration_time_s"], "setup_s": m["setup_time_s"] + m["equilibrium_time_s"],
+           "wall_s": m["wall_time_s"], "evals_per_step": m["newton_mean_evaluations_per_step"],
+           "max_eccentricity": max(m["max_eccentricity"]), "t_reached_s": m["t_reached_s"]}
+    row["late_eccentricity"] = late_max_eccentricity(run.arrays)
+    if v is not reference:
+        row.update(errors_against(runs[reference.label].arrays, run.arrays))
+        row["envelope_rms_pct_cr"] = envelope_error(runs[reference.label].arrays, run.arrays, base.speed_hz)
+    else:
+        row.update(force_nrmse_pct=0.0, orbit_rms_pct_cr=0.0, orbit_max_pct_cr=0.0, envelope_rms_pct_cr=0.0)
+    rows.append(row)
+    log(f"  {status}: {row['integration_s']:.2f} s, force NRMSE {row['force_nrmse_pct']:.3g} %, "
+        f"orbit RMS {row['orbit_rms_pct_cr']:.3g} % CR")
+
+
+def _write(base, reference, variants, rows, runs, out_dir, stem, default_label, note: str = "") -> None:
+    """compare_<stem>.md/.json and the two plots, from the rows there are."""
     t_ref = rows[0]["integration_s"]
     t_def = next((r["integration_s"] for r in rows if r["label"] == default_label), None)
     for r in rows:
@@ -92,15 +112,17 @@ def compare(base: Scene, reference: Variant, variants: list[Variant], out_dir, *
               "(setup = FMU load, compile, static equilibrium). Envelope = largest bearing eccentricity per "
               "2 shaft revolutions; its RMS difference and 'max ecc. last 20 %' size a whirl, which "
               "keeps no phase with the reference.\n\n")
-    (out_dir / f"compare_{stem}.md").write_text(header + table + "\n")
-    (out_dir / f"compare_{stem}.json").write_text(json.dumps({"scene": str(base.source), "via": base.via,
-                                                              "rows": rows}, indent=2))
+    if note:
+        header += f"**{note}**\n\n"
+    write_text(out_dir / f"compare_{stem}.md", header + table + "\n")
+    write_json(out_dir / f"compare_{stem}.json", {"scene": str(base.source), "via": base.via,
+                                                  "status": "interrupted" if note else "ok", "note": note,
+                                                  "rows": rows})
     plot_error_vs_time(rows, out_dir / f"compare_{stem}_error_vs_time.png", title=base.description or base.name)
-    show = [reference.label] + [v.label for v in variants if v.internal != "reynolds"][:3]
+    show = [reference.label] + [v.label for v in variants if v.internal != "reynolds" and v.label in runs][:3]
     plot_runs({k: runs[k].arrays for k in show}, out_dir / f"compare_{stem}_orbits.png",
               title=base.description or base.name, disk_node=6 if 6 in runs[reference.label].arrays["nodes"] else None,
               history=True)
-    return rows
 
 
 def late_max_eccentricity(arrays, fraction: float = 0.2) -> float | None:
@@ -137,7 +159,7 @@ def plot_error_vs_time(rows, path, title=""):
 
     plt = _plt()
     fig, ax = plt.subplots(1, 2, figsize=(11, 4))
-    markers = {"reynolds": "o", "taylor": "s", "linear": "^"}
+    markers = {"reynolds": "o", "taylor": "s", "linear": "^", "map": "D"}
     for r in rows[1:]:
         t = r["integration_s"]
         for a, key in zip(ax, ("orbit_rms_pct_cr", "force_nrmse_pct")):

@@ -7,8 +7,13 @@ outputs after setting inputs without a doStep in between, so this is the conform
 iterate inside a step, and the force is always consistent with the iterate.
 
 A discarded doStep (the FMU logs why, e.g. "eccentricity ratio 1.03 >= 1") becomes
-``StepRejected`` so the integrator cuts the step; every instance is freed on success and on
+``StepRejected`` so the integrator cuts the step; only fmi2Discard does: an error or fatal
+status is an ``FMUError`` that stops the run. Every instance is freed on success and on
 error (use ``FMUBearings`` as a context manager or call ``close``).
+
+A pythonfmu FMU runs its slave in this interpreter: a Ctrl-C raised inside it would come back
+as an FMI error, so signals are held while an FMU call runs (``bearing_fmu.exits.deferred``)
+and raised as ``Interrupted`` right after it.
 """
 
 from __future__ import annotations
@@ -19,6 +24,8 @@ import tempfile
 from pathlib import Path
 
 import numpy as np
+
+from bearing_fmu.exits import deferred, enter_deferred, leave_deferred
 
 from .bearings import BearingSet
 
@@ -49,7 +56,6 @@ class FMUBearings(BearingSet):
                  start_time: float = 0.0, log=None, tangent: str = "bearing"):
         super().__init__(bearing_dofs, omega, names, tangent)
         from fmpy import extract, read_model_description
-        from fmpy.fmi1 import FMICallException
         from fmpy.fmi2 import FMU2Slave, fmi2CallbackFunctions, fmi2CallbackLoggerTYPE
         from fmpy.fmi2 import fmi2CallbackAllocateMemoryTYPE, fmi2CallbackFreeMemoryTYPE
         from fmpy import calloc, free
@@ -58,6 +64,7 @@ class FMUBearings(BearingSet):
             raise ValueError(f"FMUBearings: {len(parameters)} parameter sets for {self.n} bearings")
         if not self.with_jacobian:  # nobody reads K, C: the FMUs need not compute them
             parameters = [{"compute_tangent": False, **p} for p in parameters]
+        self.clearances = [float(p["CR"]) if "CR" in p else None for p in parameters]
         self.fmu_path = Path(fmu_path)
         if not self.fmu_path.is_file():
             raise FileNotFoundError(f"bearing FMU {self.fmu_path} not found; build it with `bearing-fmu build -o PATH.fmu`")
@@ -97,17 +104,20 @@ class FMUBearings(BearingSet):
                 fmu = FMU2Slave(guid=md.guid, unzipDirectory=self._unzip,
                                 modelIdentifier=md.coSimulation.modelIdentifier,
                                 instanceName=self.names[k].replace(" ", "_"))
-                fmu.instantiate(callbacks=cb, loggingOn=True)
-                self.instances.append(fmu)
-                try:  # the FMU refuses a bad parameter or initialisation with fmi2Error, saying why
-                    self._set_parameters(k, fmu, parameters[k])
-                    fmu.setupExperiment(startTime=start_time)
-                    fmu.enterInitializationMode()
-                    fmu.exitInitializationMode()
-                except FMICallException as exc:
-                    errors = [m for m in self.messages[k] if m.startswith(("[error]", "[fatal]"))]
-                    raise FMUError(f"{self.names[k]}: FMU initialisation failed: {errors[0] if errors else exc}") \
-                        from None
+                with deferred():  # loading and initialising run the slave's Python
+                    fmu.instantiate(callbacks=cb, loggingOn=True)
+                    self.instances.append(fmu)
+                    try:
+                        self._set_parameters(k, fmu, parameters[k])
+                        fmu.setupExperiment(startTime=start_time)
+                        fmu.enterInitializationMode()
+                        fmu.exitInitializationMode()
+                    except FMUError:
+                        raise
+                    except Exception as exc:  # noqa: BLE001 - fmpy raises on an error status; say why
+                        errors = [m for m in self.messages[k] if m.startswith(("[error]", "[fatal]"))]
+                        raise FMUError(f"{self.names[k]}: FMU initialisation failed: "
+                                       f"{errors[-1] if errors else exc}") from None
                 errors = [m for m in self.messages[k] if m.startswith(("[error]", "[fatal]"))]
                 if errors:
                     raise FMUError(f"{self.names[k]}: FMU initialisation failed: {errors[-1]}")
@@ -148,14 +158,15 @@ class FMUBearings(BearingSet):
         # positive step, so probe with a tiny one and never commit it (accept restores t)
         self._static = dt == 0.0
         self._h = _STATIC_PROBE_S if self._static else self.dt
-        for k, fmu in enumerate(self.instances):
-            c, dll = fmu.component, fmu.dll
-            if self._states[k] is not None:
-                self._check(k, "fmi2FreeFMUstate", dll.fmi2FreeFMUstate(c, ctypes.byref(self._states[k])))
-            state = ctypes.c_void_p()
-            self._check(k, "fmi2GetFMUstate", dll.fmi2GetFMUstate(c, ctypes.byref(state)))
-            self._states[k] = state
-            self._fresh[k] = True
+        with deferred():
+            for k, fmu in enumerate(self.instances):
+                c, dll = fmu.component, fmu.dll
+                if self._states[k] is not None:
+                    self._check(k, "fmi2FreeFMUstate", dll.fmi2FreeFMUstate(c, ctypes.byref(self._states[k])))
+                state = ctypes.c_void_p()
+                self._check(k, "fmi2GetFMUstate", dll.fmi2GetFMUstate(c, ctypes.byref(state)))
+                self._states[k] = state
+                self._fresh[k] = True
 
     def _bearing(self, k, y, z, vy, vz):
         # The raw ctypes functions (fmpy sets their argtypes) with buffers built once: fmpy's
@@ -163,19 +174,24 @@ class FMUBearings(BearingSet):
         # calls themselves (benchmarks/bench_fmi_calls.py), so the status is checked here.
         fmu = self.instances[k]
         c, dll = fmu.component, fmu.dll
-        if self._fresh[k]:  # the instance still is in the state just saved: no restore needed
-            self._fresh[k] = False
-        else:
-            self._check(k, "fmi2SetFMUstate", dll.fmi2SetFMUstate(c, self._states[k]))
-        b = self._buf_in
-        b[0], b[1], b[2], b[3], b[4] = y, z, vy, vz, self.omega
-        self._check(k, "fmi2SetReal", dll.fmi2SetReal(c, self._vr_in, len(_IN), b))
-        n_msg = len(self.messages[k])
-        status = dll.fmi2DoStep(c, self.t, self._h, 0)
-        if status > 1:  # discard (or worse): the FMU logged why
-            new = self.messages[k][n_msg:]
-            raise self._reject(k, new[-1] if new else f"fmi2DoStep returned {self._status_name(status)}")
-        self._check(k, "fmi2GetReal", dll.fmi2GetReal(c, self._vr_out, len(_OUT), self._buf_out))
+        enter_deferred()  # a signal waits until the FMU has returned (module docstring)
+        try:
+            if self._fresh[k]:  # the instance still is in the state just saved: no restore needed
+                self._fresh[k] = False
+            else:
+                self._check(k, "fmi2SetFMUstate", dll.fmi2SetFMUstate(c, self._states[k]))
+            b = self._buf_in
+            b[0], b[1], b[2], b[3], b[4] = y, z, vy, vz, self.omega
+            self._check(k, "fmi2SetReal", dll.fmi2SetReal(c, self._vr_in, len(_IN), b))
+            n_msg = len(self.messages[k])
+            status = dll.fmi2DoStep(c, self.t, self._h, 0)
+            if status == 2:  # discard: the FMU refused this state and logged why; cut the step
+                new = self.messages[k][n_msg:]
+                raise self._reject(k, new[-1] if new else "fmi2DoStep returned discard")
+            self._check(k, "fmi2DoStep", status)  # error / fatal: not a refused step, a failure
+            self._check(k, "fmi2GetReal", dll.fmi2GetReal(c, self._vr_out, len(_OUT), self._buf_out))
+        finally:
+            leave_deferred()
         o = self._out
         if o[10] > self.max_eccentricity[k]:
             self.max_eccentricity[k] = o[10]
@@ -202,20 +218,28 @@ class FMUBearings(BearingSet):
             self._free_states()
 
     def reject_step(self) -> None:
-        for k, fmu in enumerate(self.instances):
-            if self._states[k] is not None:
-                fmu.setFMUstate(self._states[k])
-            self._fresh[k] = False
-        self._free_states()
+        with deferred():
+            for k, fmu in enumerate(self.instances):
+                if self._states[k] is not None:
+                    fmu.setFMUstate(self._states[k])
+                self._fresh[k] = False
+            self._free_states()
 
     def _free_states(self) -> None:
-        for k, fmu in enumerate(self.instances):
-            if self._states[k] is not None:  # raw call, status checked here (once per step)
-                self._check(k, "fmi2FreeFMUstate", fmu.dll.fmi2FreeFMUstate(fmu.component, ctypes.byref(self._states[k])))
-                self._states[k] = None
+        with deferred():
+            for k, fmu in enumerate(self.instances):
+                if self._states[k] is not None:  # raw call, status checked here (once per step)
+                    self._check(k, "fmi2FreeFMUstate",
+                                fmu.dll.fmi2FreeFMUstate(fmu.component, ctypes.byref(self._states[k])))
+                    self._states[k] = None
 
     def close(self) -> None:
-        """Terminate and free every instance and remove the extracted FMU (idempotent)."""
+        """Terminate and free every instance and remove the extracted FMU (idempotent; a second
+        Ctrl-C waits until this is done)."""
+        with deferred():
+            self._close()
+
+    def _close(self) -> None:
         for k, fmu in enumerate(self.instances):
             try:
                 if self._states[k] is not None:

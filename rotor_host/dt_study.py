@@ -11,11 +11,13 @@ run's status, so a case that does not converge is reported with its diagnosis.
 from __future__ import annotations
 
 import argparse
-import json
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
 import numpy as np
+
+from bearing_fmu.exits import as_interrupted, note_kept
+from bearing_fmu.outputs import ensure_writable, write_json, write_text
 
 from .report import markdown_table
 from .scene import load_scene, run_scene
@@ -56,17 +58,26 @@ class DtStudy:
 
 
 def dt_study(scene_path, internal: str = "reynolds", dt: float | None = None, t_end: float | None = None,
-             halvings: int = 3, tol_pct_cr: float = 1.0, progress: bool = False, log=print) -> DtStudy:
+             halvings: int = 3, tol_pct_cr: float = 1.0, progress: bool = False, log=print,
+             out_dir=None) -> DtStudy:
+    """The study (see the module docstring); with ``out_dir`` each run is kept there
+    (``dtstudy_<scene>_<internal>_<k>.npz/.json``). An interrupt is raised again with the rows
+    done so far as its ``study`` attribute."""
     base = load_scene(scene_path)
-    dt = dt or base.dt_s
-    t_end = t_end or base.t_end_s
+    dt = base.dt_s if dt is None else dt  # None: the scene's (0 is a value, refused by the scene's checks)
+    t_end = base.t_end_s if t_end is None else t_end
     study = DtStudy(Path(scene_path).name, internal, t_end, tol_pct_cr)
     prev = None
     for k in range(halvings + 1):
         h = dt / 2**k
         scene = base.with_internal(internal, via="direct", dt_s=h, t_end_s=t_end)
         log(f"{study.scene} [{internal}] dt = {h:.3g} s ...")
-        run = run_scene(scene, None, progress=progress)
+        try:
+            run = run_scene(scene, out_dir, progress=progress,
+                            stem=f"dtstudy_{Path(scene_path).stem}_{internal}_{k}")
+        except KeyboardInterrupt as exc:
+            exc.study = study
+            raise
         m = run.meta
         row = {"dt_s": h, "steps": m["steps"], "status": m["status"] + (", crossed clearance" if m["crossed_clearance"] else ""),
                "message": m["message"], "evals_mean": m["newton_mean_evaluations_per_step"],
@@ -90,35 +101,49 @@ def dt_study(scene_path, internal: str = "reynolds", dt: float | None = None, t_
 
 
 def add_arguments(p: argparse.ArgumentParser) -> argparse.ArgumentParser:
-    p.add_argument("scene", help="scene TOML file")
+    from bearing_fmu.cliargs import existing_file, output_dir, positive_float, positive_int
     from bearing_fmu.internals import names
 
+    p.add_argument("scene", type=existing_file, help="scene TOML file")
     p.add_argument("--internal", choices=names(), default="reynolds")
-    p.add_argument("--dt", type=float, help="first time step [s] (default: the scene's)")
-    p.add_argument("--t-end", type=float, help="simulated time [s] (default: the scene's)")
-    p.add_argument("--halvings", type=int, default=3, help="at most this many halvings (default 3)")
-    p.add_argument("--tol", type=float, default=1.0, help="orbit change that counts as converged [%% CR] (default 1)")
-    p.add_argument("--out", default="out", help="output folder for dtstudy_<scene>_<internal>.md/.json")
+    p.add_argument("--dt", type=positive_float("s"), help="first time step [s] (default: the scene's)")
+    p.add_argument("--t-end", type=positive_float("s"), help="simulated time [s] (default: the scene's)")
+    p.add_argument("--halvings", type=positive_int(), default=3,
+                   help="at most this many halvings, at least 1 (default 3)")
+    p.add_argument("--tol", type=positive_float("% CR"), default=1.0,
+                   help="orbit change that counts as converged [%% CR] (default 1)")
+    p.add_argument("--out", type=output_dir, default="out",
+                   help="output folder for dtstudy_<scene>_<internal>.md/.json")
     p.add_argument("--quiet", action="store_true")
     return p
 
 
 def run(args) -> int:
-    study = dt_study(args.scene, args.internal, args.dt, args.t_end, args.halvings, args.tol,
-                     progress=not args.quiet)
-    out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
+    out = ensure_writable(args.out)
     stem = f"dtstudy_{Path(args.scene).stem}_{args.internal}"
+    try:
+        study = dt_study(args.scene, args.internal, args.dt, args.t_end, args.halvings, args.tol,
+                         progress=not args.quiet, out_dir=out)
+    except KeyboardInterrupt as exc:
+        if getattr(exc, "study", None) is not None:
+            _write(exc.study, out, stem, f"interrupted by {as_interrupted(exc).signal_name}: the rows above "
+                                         "are the runs that finished")
+            note_kept(exc, f"{out / f'{stem}.md'} ({len(exc.study.rows)} finished run(s))")
+        raise
     verdict = (f"converged: dt = {study.converged_dt:g} s changes the orbit by less than {study.tol_pct_cr:g} % CR "
                "when halved" if study.converged_dt else
                "not converged: the orbit crosses the clearance circle (a model failure no dt fixes)"
                if study.rows and all("crossed clearance" in r["status"] for r in study.rows) else
                f"not converged to {study.tol_pct_cr:g} % CR within the halvings")
-    text = f"# dt study: {study.scene} [{study.internal}], {study.t_end_s:g} s\n\n{study.table()}\n\n{verdict}\n"
-    (out / f"{stem}.md").write_text(text)
-    (out / f"{stem}.json").write_text(json.dumps(asdict(study), indent=2))
-    print(text)
+    print(_write(study, out, stem, verdict))
     return 0 if study.converged_dt else 1
+
+
+def _write(study: DtStudy, out: Path, stem: str, verdict: str) -> str:
+    text = f"# dt study: {study.scene} [{study.internal}], {study.t_end_s:g} s\n\n{study.table()}\n\n{verdict}\n"
+    write_text(out / f"{stem}.md", text)
+    write_json(out / f"{stem}.json", {**asdict(study), "verdict": verdict})
+    return text
 
 
 __all__ = ["orbit_change", "dt_study", "DtStudy", "add_arguments", "run"]

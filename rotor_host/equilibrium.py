@@ -6,7 +6,9 @@ solved by damped Newton. The host starts every scene from it (``rotor_host.scene
 forces are the same NodalForce objects the integrator uses (``rotor_host.forces``), their
 evaluations bracketed as a static step (``begin_step(t, 0.0)``). Failure raises
 ``bearing_fmu.statics.EquilibriumError`` (the same class a single bearing's equilibrium raises),
-with the last iterate, its residual and the iteration count.
+with the last iterate, its residual and the iteration count. Before it blames Newton, a failure
+checks whether a bearing is simply asked for more than it carries (``bearing_overload``): then
+the error names that bearing, its static load and its load capacity near the wall.
 """
 
 from __future__ import annotations
@@ -16,11 +18,81 @@ from typing import Sequence
 
 import numpy as np
 
-from bearing_fmu.statics import EquilibriumError
+from bearing_fmu.statics import (CAPACITY_ECCENTRICITY, EquilibriumError, capacity_message, format_newtons,
+                                  journal_at_eccentricity)
 
 from .forces import NodalForce, StepRejected, _as_dofs, as_nodal_force
 
-__all__ = ["static_equilibrium"]
+__all__ = ["static_equilibrium", "pinned_loads", "bearing_overload"]
+
+
+def pinned_loads(K, f_static, dofs) -> np.ndarray:
+    """Static load [N] on each (y, z) pair of ``dofs``: the reactions of the structure pinned
+    at those DOFs under ``f_static`` (K q = f + r, q = 0 there), as loads on the journal (-r),
+    shape (len(dofs) // 2, 2). On two bearings a shaft is statically determinate, so these are
+    the film forces at any equilibrium. Raises numpy's LinAlgError if the pinned structure is
+    not held (a free part)."""
+    K = np.asarray(K, dtype=float)
+    fs = np.asarray(f_static, dtype=float).reshape(K.shape[0])
+    dofs = np.asarray(dofs, dtype=int)
+    free = np.setdiff1d(np.arange(K.shape[0]), dofs)
+    q = np.zeros(K.shape[0])
+    if free.size:
+        q[free] = np.linalg.solve(K[np.ix_(free, free)], fs[free])
+    return -(K @ q - fs)[dofs].reshape(-1, 2)
+
+
+def bearing_overload(K, f_static, bearings) -> dict | None:
+    """The bearing asked for more than it carries at eccentricity ``CAPACITY_ECCENTRICITY``
+    (the largest load / capacity ratio), or None when every bearing carries its static load or
+    it cannot be told: ``bearings`` is not a bearing set (``rotor_host.bearings.BearingSet``:
+    ``names``, ``omega``, ``clearances`` [m]), the structure pinned at the bearings is not held,
+    or the force refuses the probe. The capacities come from one evaluation of the force with
+    every journal at that eccentricity, placed to push back against its load
+    (``journal_at_eccentricity``); call it inside a static ``begin_step`` bracket. Returns
+    {"bearing", "load_N", "capacity_N", "speed_hz", "others"} with ``others`` the other
+    overloaded bearings as (name, load_N, capacity_N)."""
+    names = getattr(bearings, "names", None)
+    omega = getattr(bearings, "omega", None)
+    clearances = getattr(bearings, "clearances", None)
+    dofs = _as_dofs(bearings.dofs)
+    n = dofs.size // 2
+    if names is None or omega is None or clearances is None or len(names) != n or len(clearances) != n \
+            or any(c is None for c in clearances):
+        return None
+    try:
+        loads = pinned_loads(K, f_static, dofs)
+    except np.linalg.LinAlgError:
+        return None
+    w = np.hypot(loads[:, 0], loads[:, 1])
+    if omega == 0.0:
+        caps = np.zeros(n)
+    else:
+        probe = np.array([journal_at_eccentricity(loads[k], omega, CAPACITY_ECCENTRICITY, clearances[k])
+                          for k in range(n)]).reshape(-1)
+        try:
+            f = np.array(bearings.evaluate(probe, np.zeros(2 * n))[0], dtype=float).reshape(n, 2)
+        except (StepRejected, ValueError, RuntimeError, ArithmeticError):  # no diagnosis, not a second failure
+            return None
+        caps = np.hypot(f[:, 0], f[:, 1])
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ratio = np.where(w > caps, w / caps, 0.0)
+    over = [int(k) for k in np.argsort(-ratio, kind="stable") if ratio[k] > 0.0]  # ties: first bearing first
+    if not over:
+        return None
+    k = over[0]
+    return {"bearing": names[k], "load_N": float(w[k]), "capacity_N": float(caps[k]),
+            "speed_hz": float(f"{omega / (2.0 * math.pi):.12g}"),  # 22, not 21.999999999999996
+            "others": [(names[j], float(w[j]), float(caps[j])) for j in over[1:]]}
+
+
+def _overload_message(d: dict, newton: str) -> str:
+    """One line: the overloaded bearing(s) first, then what Newton did."""
+    msg = "static equilibrium: " + capacity_message(d["bearing"], d["load_N"], d["capacity_N"], d["speed_hz"])
+    for name, w, cap in d["others"]:
+        carries = f"at most ~{format_newtons(cap)}, " if d["speed_hz"] != 0.0 else ""
+        msg += f" (also {name}: {carries}asked for {format_newtons(w)})"
+    return f"{msg}; no equilibrium found: {newton}"
 
 
 def static_equilibrium(K, f_static, nodal_force: NodalForce | Sequence[NodalForce] | None, q0, *,
@@ -54,8 +126,14 @@ def static_equilibrium(K, f_static, nodal_force: NodalForce | Sequence[NodalForc
         return R, f, dfq
 
     def fail(msg, qq, rn, it):
+        # a load beyond a bearing's capacity explains any failure below better than Newton does
+        d = bearing_overload(K, fs, nf)
         nf.reject_step()
-        raise EquilibriumError(msg, q=qq, residual=rn, iterations=it)
+        if d is None:
+            raise EquilibriumError(msg, q=qq, residual=rn, iterations=it)
+        raise EquilibriumError(_overload_message(d, msg.removeprefix("static equilibrium: ")), q=qq, residual=rn,
+                               iterations=it, bearing=d["bearing"], load_N=d["load_N"], capacity_N=d["capacity_N"],
+                               speed_hz=d["speed_hz"])
 
     nf.begin_step(t, 0.0)
     try:
@@ -121,5 +199,5 @@ def static_equilibrium(K, f_static, nodal_force: NodalForce | Sequence[NodalForc
             fail(f"static equilibrium: line search failed at iteration {it} (residual {rn:.3e}, "
                  f"tolerance {rtol * scale:.3e})", q, rn, it)
         q, R, f, dfq, rn = q_try, R_try, f_try, dfq_try, rn_try
-    fail(f"static equilibrium did not converge in {max_iter} iterations (residual {rn:.3e}, "
+    fail(f"static equilibrium: no convergence in {max_iter} iterations (residual {rn:.3e}, "
          f"tolerance {rtol * scale:.3e})", q, rn, max_iter)

@@ -1,11 +1,17 @@
 """The tables of docs/file-formats.md, made from the key lists the loaders check.
 
-``python -m rotor_host.file_formats`` prints every table under its heading; the reference
-must contain each of them verbatim (tests/test_file_formats.py), so adding or changing a key
-in code without the reference fails a test. The prose around the tables is written by hand.
+``python -m rotor_host.file_formats`` prints every table under its heading; with ``--write``
+it puts them into docs/file-formats.md in place (each table under its existing heading). The
+reference must contain each of them verbatim (tests/test_file_formats.py), so adding or
+changing a key in code without the reference fails a test. The prose around the tables is
+written by hand.
 """
 
 from __future__ import annotations
+
+import re
+import sys
+from pathlib import Path
 
 from bearing_fmu import internals as registry
 from bearing_fmu.params import BEARING_KEYS
@@ -37,7 +43,30 @@ def reference_tables() -> dict[str, str]:
     return out
 
 
-def main() -> None:
+DOC = Path(__file__).resolve().parents[1] / "docs" / "file-formats.md"
+
+
+def write_reference(path: Path = DOC) -> list[str]:
+    """Replace the table under each heading of the reference with the code's; return the
+    headings that are missing from it (to be added by hand, with their prose)."""
+    text = path.read_text()
+    missing = []
+    for heading, table in reference_tables().items():
+        pattern = re.compile(rf"(^### {re.escape(heading)}\n\n)(?:\|.*\n)+", re.M)
+        text, n = pattern.subn(lambda m: m.group(1) + table + "\n", text)
+        if not n:
+            missing.append(heading)
+    path.write_text(text)
+    return missing
+
+
+def main(argv: list[str] | None = None) -> None:
+    argv = sys.argv[1:] if argv is None else argv
+    if argv == ["--write"]:
+        missing = write_reference()
+        print(f"wrote the tables into {DOC}" + (f"; add these headings by hand: {', '.join(missing)}" if missing
+                                               else ""))
+        return
     for heading, table in reference_tables().items():
         print(f"### {heading}\n\n{table}\n")
 

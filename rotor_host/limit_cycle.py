@@ -20,11 +20,12 @@ by point while the size of the orbit agrees. This module measures what the limit
 from __future__ import annotations
 
 import argparse
-import json
 from dataclasses import asdict, dataclass
 from pathlib import Path
 
 import numpy as np
+
+from bearing_fmu.outputs import ensure_writable, write_json, write_text
 
 
 @dataclass
@@ -156,57 +157,78 @@ def plot_envelopes(envs: dict, path, *, title: str = "", tol_band: tuple[float, 
 
 
 def add_arguments(p: argparse.ArgumentParser) -> argparse.ArgumentParser:
-    p.add_argument("source", help="scene TOML file (run it, called directly) or a saved run .npz "
-                                  "(then give --speed-hz)")
+    from bearing_fmu.cliargs import existing_file, nonneg_float, output_dir, positive_float, positive_int
     from bearing_fmu.internals import names
 
+    p.add_argument("source", type=existing_file, help="scene TOML file (run it, called directly) or a saved run "
+                   ".npz (then give --speed-hz)")
     p.add_argument("--internal", choices=names(), default="reynolds")
-    p.add_argument("--dt", type=float, help="time step [s] (default: the scene's)")
-    p.add_argument("--t-end", type=float, help="simulated time [s] (default: the scene's)")
-    p.add_argument("--speed-hz", type=float, help="shaft speed for a .npz source [Hz]")
-    p.add_argument("--revs", type=int, default=2, help="window length in shaft revolutions (default 2: one "
-                   "period of a half-speed whirl)")
-    p.add_argument("--tol", type=float, default=1.0, help="settling band half-width [%% CR] (default 1)")
-    p.add_argument("--hold", type=float, default=1.0, help="the limit cycle counts as held when settled this "
-                   "long before the end, without a trend across the band [s] (default 1; exit status 1 otherwise)")
-    p.add_argument("--out", default="out", help="output folder for limitcycle_<name>.md/.json/.png")
+    p.add_argument("--dt", type=positive_float("s"), help="time step [s] (default: the scene's)")
+    p.add_argument("--t-end", type=positive_float("s"), help="simulated time [s] (default: the scene's)")
+    p.add_argument("--speed-hz", type=positive_float("Hz"), help="shaft speed for a .npz source [Hz]")
+    p.add_argument("--revs", type=positive_int(), default=2, help="window length in shaft revolutions (default 2: "
+                   "one period of a half-speed whirl)")
+    p.add_argument("--tol", type=positive_float("% CR"), default=1.0,
+                   help="settling band half-width [%% CR] (default 1)")
+    p.add_argument("--hold", type=nonneg_float("s"), default=1.0, help="the limit cycle counts as held when settled "
+                   "this long before the end, without a trend across the band [s] (default 1; exit status 1 "
+                   "otherwise)")
+    p.add_argument("--out", type=output_dir, default="out", help="output folder for limitcycle_<name>.md/.json/.png")
     p.add_argument("--quiet", action="store_true")
     return p
 
 
+def _saved_run(path: Path) -> dict:
+    """The arrays of a saved run (``rotor-host run``'s .npz), or ValueError naming the file and
+    what it lacks."""
+    import zipfile
+
+    try:
+        arrays = dict(np.load(path))
+    except (ValueError, OSError, zipfile.BadZipFile, EOFError) as exc:
+        raise ValueError(f"{path}: not a saved run (.npz of rotor-host run): {exc}") from None
+    missing = [k for k in ("t", "eccentricity") if k not in arrays]
+    if missing:
+        raise ValueError(f"{path}: a saved run needs the arrays t and eccentricity; missing: {', '.join(missing)}")
+    if len(arrays["t"]) < 2:
+        raise ValueError(f"{path}: the saved run holds {len(arrays['t'])} time step(s); an envelope needs more")
+    return arrays
+
+
 def run(args) -> int:
     src = Path(args.source)
+    out = ensure_writable(args.out)
+    stem = f"limitcycle_{src.stem}"
     meta = None
     if src.suffix == ".npz":
-        if not args.speed_hz:
-            raise ValueError("a .npz source needs --speed-hz")
-        arrays, speed = dict(np.load(src)), args.speed_hz
+        if args.speed_hz is None:
+            raise ValueError(f"--speed-hz: a .npz source ({src}) needs the shaft speed it was run at [Hz]")
+        arrays, speed = _saved_run(src), args.speed_hz
     else:
         from .scene import load_scene, run_scene
 
         scene = load_scene(src)
         kw = {"via": "direct"}
-        if args.dt:
+        if args.dt is not None:
             kw["dt_s"] = args.dt
-        if args.t_end:
+        if args.t_end is not None:
             kw["t_end_s"] = args.t_end
         scene = scene.with_internal(args.internal, **kw)
-        r = run_scene(scene, None, progress=not args.quiet)
+        # the run is kept (<stem>_run.npz/.json, checkpoints while running): an interrupted or
+        # failed run can be analysed later with `limit-cycle <stem>_run.npz --speed-hz ...`
+        r = run_scene(scene, out, progress=not args.quiet, stem=f"{stem}_run")
         arrays, speed = r.arrays, scene.speed_hz
         meta = {k: r.meta[k] for k in ("status", "message", "dt_s", "steps", "newton_mean_evaluations_per_step",
                                        "step_cuts", "integration_time_s", "max_eccentricity", "crossed_clearance")}
     lc, env = limit_cycle(arrays, speed, revs=args.revs, tol_pct_cr=args.tol, source=str(src), meta=meta)
-    out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
-    stem = f"limitcycle_{src.stem}"
     step = max(1, int(round(0.25 / env.period_s))) if env.t.size else 1  # about every 0.25 s
     rows = "\n".join(f"| {t:.3f} | {a:.4f} | {b:.4f} |" for t, a, b in
                      zip(env.t[::step], env.e_max[::step], env.e_min[::step]))
     text = (f"# Limit cycle: {src.name}, {speed:g} Hz, windows of {args.revs} revolutions\n\n"
             f"| window end [s] | max ecc. | min ecc. |\n|---|---|---|\n{rows}\n\n{lc.verdict()}\n")
-    (out / f"{stem}.md").write_text(text)
-    (out / f"{stem}.json").write_text(json.dumps(
-        {**asdict(lc), "t": env.t.tolist(), "e_max": env.e_max.tolist(), "e_min": env.e_min.tolist()}, indent=1))
+    write_text(out / f"{stem}.md", text)
+    write_json(out / f"{stem}.json",
+               {**asdict(lc), "t": env.t.tolist(), "e_max": env.e_max.tolist(), "e_min": env.e_min.tolist()}, indent=1)
     if env.t.size:
         plot_envelopes({src.stem: env}, out / f"{stem}.png", title=lc.verdict()[:110])
     print(text)

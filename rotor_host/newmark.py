@@ -365,6 +365,17 @@ class Newmark:
         st.out_f[i] = st.f0
         st.n_rec = i + 1
 
+    @property
+    def started(self) -> bool:
+        """True once ``run`` has recorded its initial state (a partial result exists)."""
+        st = getattr(self, "_state", None)
+        return st is not None and st.n_rec > 0
+
+    def partial_result(self, status: str = "ok", message: str = "") -> NewmarkResult:
+        """What the current (or last) ``run`` has recorded so far: for checkpoints and for
+        keeping the result of an interrupted run."""
+        return self._partial(status, message)
+
     def _partial(self, status="ok", message="") -> NewmarkResult:
         st = self._state
         k = st.n_rec

@@ -15,7 +15,6 @@ Nodes are 0-based in this API; rotor files number nodes and elements from 1 (Tab
 from __future__ import annotations
 
 import math
-import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Iterable, Mapping, Sequence
@@ -24,44 +23,49 @@ import numpy as np
 import scipy.linalg
 
 from bearing_fmu.params import BearingParams
-from bearing_fmu.schema import Key, check_keys
+from bearing_fmu.schema import FileName, Key, List, Number, Table, Tables, Text, check_table, read_toml
 
 from . import fe
 
-# the keys of a rotor file, per table (docs/file-formats.md shows these lists)
-ROTOR_KEYS = (
-    Key("elements", "the shaft's beam elements, in order ([[elements]] or an array of inline tables)",
-        allowed="non-empty array of tables"),
-    Key("material", "shaft and disk material ([material])", allowed="table"),
-    Key("name", "label", None, "text"),
-    Key("description", "free text", None, "text"),
-    Key("disks", "rigid disks ([[disks]])", None, "array of tables"),
-    Key("bearings", "bearings ([[bearings]]): where they sit and which bearing file", None, "array of tables"),
-)
+# the keys of a rotor file, per table, with the kind of value each takes (docs/file-formats.md
+# shows these lists; Rotor.from_mapping checks a file against them once)
+POSITIVE = Number(0.0, exclusive_minimum=True)
+NODE = Number(integer=True, words="an integer node number")  # its range: the loader, against the rotor
 MATERIAL_KEYS = (
-    Key("E_GPa", "elastic modulus [GPa]", allowed="> 0"),
-    Key("density_kg_m3", "density [kg/m^3]", allowed="> 0"),
-    Key("poisson", "Poisson's ratio (shear modulus and shear coefficient)", allowed="> -1 and < 0.5"),
-    Key("damping_beta_s", "stiffness-proportional damping C = beta K [s]", 0.0, ">= 0"),
+    Key("E_GPa", "elastic modulus [GPa]", kind=POSITIVE),
+    Key("density_kg_m3", "density [kg/m^3]", kind=POSITIVE),
+    Key("poisson", "Poisson's ratio (shear modulus and shear coefficient)",
+        kind=Number(-1.0, 0.5, exclusive_minimum=True, exclusive_maximum=True)),
+    Key("damping_beta_s", "stiffness-proportional damping C = beta K [s]", 0.0, kind=Number(0.0)),
 )
 ELEMENT_KEYS = (
-    Key("od_mm", "outer diameter [mm]", allowed="> 0"),
-    Key("length_mm", "length [mm]", allowed="> 0"),
-    Key("id_mm", "inner diameter [mm]", 0.0, ">= 0 and < od_mm"),
-    Key("nodes", "the nodes it joins, 1-based", None, "[i, i + 1] for element i"),
-    Key("name", "label", None, "text"),
+    Key("od_mm", "outer diameter [mm]", kind=POSITIVE),
+    Key("length_mm", "length [mm]", kind=POSITIVE),
+    Key("id_mm", "inner diameter [mm]", 0.0, "a finite number >= 0 and < od_mm", kind=Number(0.0)),
+    Key("nodes", "the nodes it joins, 1-based", None, "[i, i + 1] for element i", kind=List(NODE, 2)),
+    Key("name", "label", None, kind=Text()),
 )
 DISK_KEYS = (
-    Key("node", "node it sits on, 1-based", allowed="1..number of nodes"),
-    Key("od_mm", "outer diameter [mm]", allowed="> 0"),
-    Key("width_mm", "axial width [mm]", allowed="> 0"),
-    Key("id_mm", "bore diameter [mm]", 0.0, ">= 0 and < od_mm"),
-    Key("name", "label", None, "text"),
+    Key("node", "node it sits on, 1-based", allowed="1..number of nodes", kind=NODE),
+    Key("od_mm", "outer diameter [mm]", kind=POSITIVE),
+    Key("width_mm", "axial width [mm]", kind=POSITIVE),
+    Key("id_mm", "bore diameter [mm]", 0.0, "a finite number >= 0 and < od_mm", kind=Number(0.0)),
+    Key("name", "label", None, kind=Text()),
 )
 BEARING_ENTRY_KEYS = (
-    Key("node", "node the journal is at, 1-based; one bearing per node", allowed="1..number of nodes"),
-    Key("bearing", "bearing file, relative to the rotor file (keys: [bearing] below)", allowed="file name"),
-    Key("name", "label", None, "text"),
+    Key("node", "node the journal is at, 1-based; one bearing per node", allowed="1..number of nodes", kind=NODE),
+    Key("bearing", "bearing file, relative to the rotor file (keys: [bearing] below)", kind=FileName()),
+    Key("name", "label", None, kind=Text()),
+)
+ROTOR_KEYS = (
+    Key("elements", "the shaft's beam elements, in order ([[elements]] or an array of inline tables)",
+        kind=Tables(ELEMENT_KEYS, nonempty=True)),
+    Key("material", "shaft and disk material ([material])", kind=Table(MATERIAL_KEYS)),
+    Key("name", "label", None, kind=Text()),
+    Key("description", "free text", None, kind=Text()),
+    Key("disks", "rigid disks ([[disks]])", None, kind=Tables(DISK_KEYS)),
+    Key("bearings", "bearings ([[bearings]]): where they sit and which bearing file", None,
+        kind=Tables(BEARING_ENTRY_KEYS)),
 )
 
 DIRECTIONS = {"y": fe.Y, "z": fe.Z, "ty": fe.TY, "tz": fe.TZ}
@@ -106,38 +110,19 @@ def _element_mass(e: ShaftElement, density: float) -> float:
 
 
 # ----------------------------------------------------------------------------- file reading
-def _check_keys(table, keys: Sequence[Key], where: str) -> None:
-    check_keys(table, keys, where, RotorFileError)
+def _node(value: int, n_nodes: int, what: str) -> int:
+    """A 1-based node number (its type checked by the schema) against the rotor's nodes, 0-based."""
+    if not 1 <= value <= n_nodes:
+        raise RotorFileError(f"{what} = {value} is outside the rotor's nodes 1..{n_nodes}")
+    return value - 1
 
 
-def _number(table, key: str, where: str, *, minimum: float | None = 0.0, strict: bool = True,
-            maximum: float | None = None, default: float | None = None) -> float:
-    v = table.get(key, default)
-    if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
-        raise RotorFileError(f"{where}: {key} must be a finite number, got {v!r}")
-    v = float(v)
-    if minimum is not None and (v <= minimum if strict else v < minimum):
-        rel = ">" if strict else ">="
-        raise RotorFileError(f"{where}: {key} must be {rel} {minimum:g}, got {v!r}")
-    if maximum is not None and v >= maximum:
-        raise RotorFileError(f"{where}: {key} must be < {maximum:g}, got {v!r}")
-    return v
-
-
-def _node(table, key: str, n_nodes: int, where: str) -> int:
-    """Read a 1-based node number and return it 0-based."""
-    v = table[key]
-    if isinstance(v, bool) or not isinstance(v, int) or not 1 <= v <= n_nodes:
-        raise RotorFileError(f"{where}: {key} must be an integer node number in 1..{n_nodes}, got {v!r}")
-    return v - 1
-
-
-def _diameters(table, where: str) -> tuple[float, float]:
-    od = _number(table, "od_mm", where) / 1e3
-    idm = _number(table, "id_mm", where, strict=False, default=0.0) / 1e3
+def _diameters(table: dict, what: str) -> tuple[float, float]:
+    """(od, id) [m] of a checked element or disk table; the bore must be smaller than the outside."""
+    od, idm = table["od_mm"], table["id_mm"]
     if idm >= od:
-        raise RotorFileError(f"{where}: id_mm must be < od_mm = {od * 1e3:g}, got {idm * 1e3:g}")
-    return od, idm
+        raise RotorFileError(f"{what} id_mm = {idm:g} must be < od_mm = {od:g}")
+    return od / 1e3, idm / 1e3
 
 
 # ----------------------------------------------------------------------------- assembly
@@ -200,76 +185,50 @@ class Rotor:
     def from_toml(cls, path: str | Path) -> "Rotor":
         """Read a rotor file (see models/rotor_paper.toml); bearing paths are relative to it."""
         path = Path(path)
-        with path.open("rb") as fh:
-            data = tomllib.load(fh)
+        data = read_toml(path, "rotor file", RotorFileError)
         return cls.from_mapping(data, base_dir=path.parent, where=str(path))
 
     @classmethod
     def from_mapping(cls, data: Mapping, *, base_dir: str | Path = ".", where: str = "rotor") -> "Rotor":
-        """Build from the parsed TOML mapping; every error names ``where``, the entry and the key."""
-        _check_keys(data, ROTOR_KEYS, where)
+        """Build from the parsed TOML mapping, checked against ROTOR_KEYS at once; every error is a
+        RotorFileError of one line naming ``where``, the table and key ('[[elements]] 2 od_mm')."""
+        d = check_table(data, ROTOR_KEYS, where, RotorFileError)
+        mat = d["material"]
+        material = Material(E=mat["E_GPa"] * 1e9, density=mat["density_kg_m3"], poisson=mat["poisson"],
+                            beta=mat["damping_beta_s"])
 
-        mw = f"{where}: [material]"
-        mat = data["material"]
-        _check_keys(mat, MATERIAL_KEYS, mw)
-        material = Material(
-            E=_number(mat, "E_GPa", mw) * 1e9,
-            density=_number(mat, "density_kg_m3", mw),
-            poisson=_number(mat, "poisson", mw, minimum=-1.0, maximum=0.5),
-            beta=_number(mat, "damping_beta_s", mw, strict=False, default=0.0),
-        )
-
-        raw = data["elements"]
-        if not isinstance(raw, list) or not raw:
-            raise RotorFileError(f"{where}: elements must be a non-empty array of tables, got {raw!r}")
         elements = []
-        for i, t in enumerate(raw):
-            ew = f"{where}: element {i + 1}"
-            _check_keys(t, ELEMENT_KEYS, ew)
-            if "nodes" in t and t["nodes"] != [i + 1, i + 2]:
-                raise RotorFileError(
-                    f"{ew}: nodes must be [{i + 1}, {i + 2}] (element i joins nodes i and i+1), got {t['nodes']!r}"
-                )
+        for i, t in enumerate(d["elements"]):
+            ew = f"{where}: [[elements]] {i + 1}"
+            if t["nodes"] is not None and t["nodes"] != [i + 1, i + 2]:
+                raise RotorFileError(f"{ew} nodes = {t['nodes']!r} must be [{i + 1}, {i + 2}] (element i joins "
+                                     "nodes i and i+1)")
             od, idm = _diameters(t, ew)
-            elements.append(ShaftElement(length=_number(t, "length_mm", ew) / 1e3, od=od, id=idm))
+            elements.append(ShaftElement(length=t["length_mm"] / 1e3, od=od, id=idm))
         n_nodes = len(elements) + 1
 
         disks = []
-        raw_disks = data.get("disks", [])
-        if not isinstance(raw_disks, list):
-            raise RotorFileError(f"{where}: disks must be an array of tables ([[disks]]), got {raw_disks!r}")
-        for i, t in enumerate(raw_disks):
-            dw = f"{where}: disk {i + 1}"
-            _check_keys(t, DISK_KEYS, dw)
+        for i, t in enumerate(d["disks"]):
+            dw = f"{where}: [[disks]] {i + 1}"
             od, idm = _diameters(t, dw)
-            disks.append(Disk(node=_node(t, "node", n_nodes, dw), od=od, id=idm, width=_number(t, "width_mm", dw) / 1e3))
+            disks.append(Disk(node=_node(t["node"], n_nodes, f"{dw} node"), od=od, id=idm, width=t["width_mm"] / 1e3))
 
         bearing_nodes, bearings = [], []
-        raw_b = data.get("bearings", [])
-        if not isinstance(raw_b, list):
-            raise RotorFileError(f"{where}: bearings must be an array of tables ([[bearings]]), got {raw_b!r}")
-        for i, t in enumerate(raw_b):
-            bw = f"{where}: bearing {i + 1}"
-            _check_keys(t, BEARING_ENTRY_KEYS, bw)
-            node = _node(t, "node", n_nodes, bw)
+        for i, t in enumerate(d["bearings"]):
+            bw = f"{where}: [[bearings]] {i + 1}"
+            node = _node(t["node"], n_nodes, f"{bw} node")
             if node in bearing_nodes:
-                raise RotorFileError(f"{bw}: node {node + 1} already has a bearing")
-            ref = t["bearing"]
-            if not isinstance(ref, str) or not ref:
-                raise RotorFileError(f"{bw}: bearing must be a file name (relative to the rotor file), got {ref!r}")
-            bpath = Path(base_dir) / ref
+                raise RotorFileError(f"{bw} node = {node + 1}: that node already has a bearing")
+            bpath = Path(base_dir) / t["bearing"]
             try:
                 params = BearingParams.from_toml(bpath)
-            except FileNotFoundError:
-                raise RotorFileError(f"{bw}: bearing file {str(bpath)!r} not found") from None
-            except (KeyError, ValueError, tomllib.TOMLDecodeError) as exc:
-                raise RotorFileError(f"{bw}: bearing file {str(bpath)!r}: {exc}") from exc
+            except ValueError as exc:  # the bearing file's own one-line error (not found, key, value)
+                raise RotorFileError(f"{bw} bearing = {t['bearing']!r}: {exc}") from None
             bearing_nodes.append(node)
             bearings.append(params)
 
-        name = data.get("name", "")
         return cls(elements=elements, material=material, disks=disks,
-                   bearing_nodes=bearing_nodes, bearings=bearings, name=str(name))
+                   bearing_nodes=bearing_nodes, bearings=bearings, name=d["name"] or "")
 
     # ------------------------------------------------------------------ sizes and indexing
     @property

@@ -16,26 +16,31 @@ rotor file.
 
 from __future__ import annotations
 
-import json
+import hashlib
 import math
+import os
 import platform
 import time
-import tomllib
 from dataclasses import asdict, dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
 
 from bearing_fmu import internals as registry
+from bearing_fmu.exits import as_interrupted, handled, note_kept
 from bearing_fmu.internals import Context
-from bearing_fmu.schema import Key, check_keys
+from bearing_fmu.outputs import claim, ensure_writable, savez, write_json
+from bearing_fmu.schema import (Choice, FileName, Invalid, Key, List, Number, Table, Tables, Text, check_table,
+                               read_toml)
 
 from .equilibrium import static_equilibrium
 from .forces import NEWTON_TANGENTS
 from .newmark import IntegrationError, Newmark, NewmarkConfig
-from .rotor import Rotor
+from .rotor import NODE, Rotor
 
 VIA = ("fmu", "direct")
+INITIAL_STATES = ("static_equilibrium", "centred")
+DEFAULT_CHECKPOINT_S = 60.0  # [record] checkpoint_s: wall time between partial results [s]
 G = 9.81
 
 
@@ -43,51 +48,60 @@ class SceneError(ValueError):
     """A scene file that cannot be used; the message names the file and key."""
 
 
-# the keys of a scene file, per table (docs/file-formats.md shows these lists); besides them, one
-# sub-table per registered internal holds its options ([reynolds], [taylor], ...)
-SCENE_KEYS = (
-    Key("rotor", "rotor file, relative to the scene file", allowed="file name"),
-    Key("internal", "which internal computes the bearing forces", allowed="a registered internal"),
-    Key("speed_hz", "shaft speed [Hz]", allowed="> 0"),
-    Key("time", "time span and step ([time])", allowed="table"),
-    Key("name", "the scene's name in results and file names", None, "text (default: the file name)"),
-    Key("description", "title of plots and tables", None, "text"),
-    Key("via", "bearings as FMUs through fmpy, or internals called in-process", "fmu", "fmu, direct"),
-    Key("fmu", "a bearing FMU to use instead of building one, relative to the scene file", None, "file name"),
-    Key("initial", "initial state ([initial])", None, "table"),
-    Key("unbalance", "unbalances ([[unbalance]])", None, "array of tables"),
-    Key("static_loads", "static point loads ([[static_loads]]), e.g. to load the bearings", None,
-        "array of tables"),
-    Key("record", "what to record besides the bearing nodes ([record])", None, "table"),
-    Key("surrogate", "older form of [taylor] surrogate", None, "file name"),
-)
+# the keys of a scene file, per table, with the kind of value each takes (docs/file-formats.md
+# shows these lists; load_scene checks a file against them once); besides them, one sub-table
+# per registered internal holds its options ([reynolds], [taylor], ...)
 TIME_KEYS = (
-    Key("t_end_s", "simulated time [s]", allowed="> 0, a whole number of steps"),
-    Key("dt_s", "time step [s]", allowed="> 0"),
-    Key("hht_alpha", "HHT-alpha numerical damping (0: trapezoidal Newmark)", 0.0, "-1/3 .. 0"),
+    Key("t_end_s", "simulated time [s]", allowed="> 0, a whole number of steps",
+        kind=Number(0.0, exclusive_minimum=True)),
+    Key("dt_s", "time step [s]", kind=Number(0.0, exclusive_minimum=True)),
+    Key("hht_alpha", "HHT-alpha numerical damping (0: trapezoidal Newmark)", 0.0, "-1/3 .. 0",
+        kind=Number(-1 / 3, 0.0, words="a finite number in [-1/3, 0]")),
     Key("newton_tangent", "Newton tangent of the bearing forces: the bearings' own K, C (bearing), those at the "
         "static equilibrium (frozen), finite differences (fd), or the rotor's alone (linear)", "bearing",
-        ", ".join(NEWTON_TANGENTS)),
+        ", ".join(NEWTON_TANGENTS), kind=Choice(NEWTON_TANGENTS)),
 )
 UNBALANCE_KEYS = (
-    Key("node", "node, 1-based", allowed="1..number of nodes"),
-    Key("mass_kg", "unbalance mass [kg]", allowed=">= 0"),
-    Key("radius_mm", "its radius [mm]", allowed=">= 0"),
-    Key("phase_deg", "angle at t = 0 from +y toward +z [deg]", 0.0, "a number"),
-    Key("t_on_s", "acts from this time on [s] (a sudden unbalance)", 0.0, ">= 0"),
+    Key("node", "node, 1-based", allowed="1..number of nodes", kind=NODE),
+    Key("mass_kg", "unbalance mass [kg]", kind=Number(0.0)),
+    Key("radius_mm", "its radius [mm]", kind=Number(0.0)),
+    Key("phase_deg", "angle at t = 0 from +y toward +z [deg]", 0.0, kind=Number()),
+    Key("t_on_s", "acts from this time on [s] (a sudden unbalance)", 0.0, kind=Number(0.0)),
 )
 STATIC_LOAD_KEYS = (
-    Key("node", "node, 1-based", allowed="1..number of nodes"),
-    Key("Fy_N", "horizontal force [N]", 0.0, "a number"),
-    Key("Fz_N", "vertical force [N] (up; the weight is added anyway)", 0.0, "a number"),
+    Key("node", "node, 1-based", allowed="1..number of nodes", kind=NODE),
+    Key("Fy_N", "horizontal force [N]", 0.0, kind=Number()),
+    Key("Fz_N", "vertical force [N] (up; the weight is added anyway)", 0.0, kind=Number()),
 )
 INITIAL_KEYS = (
     Key("state", "the rotor at its static equilibrium with the nonlinear bearing forces, or undeformed and "
-        "centred", "static_equilibrium", "static_equilibrium, centred"),
+        "centred", "static_equilibrium", ", ".join(INITIAL_STATES), kind=Choice(INITIAL_STATES)),
 )
 RECORD_KEYS = (
-    Key("nodes", "nodes to record besides the bearing nodes, 1-based", [], "node numbers"),
-    Key("every", "record every n-th step", 1, "integer >= 1"),
+    Key("nodes", "nodes to record besides the bearing nodes, 1-based", [], "node numbers",
+        kind=List(NODE)),
+    Key("every", "record every n-th step", 1, kind=Number(1, integer=True)),
+    Key("checkpoint_s", "write the partial result every this many seconds of wall time while running "
+        "(a kill -9 keeps results up to the last one)", DEFAULT_CHECKPOINT_S, "> 0 s",
+        kind=Number(0.0, exclusive_minimum=True)),
+)
+SCENE_KEYS = (
+    Key("rotor", "rotor file, relative to the scene file", kind=FileName()),
+    Key("internal", "which internal computes the bearing forces", allowed="a registered internal", kind=Text()),
+    Key("speed_hz", "shaft speed [Hz]", kind=Number(0.0, exclusive_minimum=True)),
+    Key("time", "time span and step ([time])", kind=Table(TIME_KEYS)),
+    Key("name", "the scene's name in results and file names", None, "text (default: the file name)", kind=Text()),
+    Key("description", "title of plots and tables", None, kind=Text()),
+    Key("via", "bearings as FMUs through fmpy, or internals called in-process", "fmu", ", ".join(VIA),
+        kind=Choice(VIA)),
+    Key("fmu", "a bearing FMU to use instead of building one, relative to the scene file", None,
+        "file name of an .fmu", kind=FileName()),
+    Key("initial", "initial state ([initial])", None, kind=Table(INITIAL_KEYS)),
+    Key("unbalance", "unbalances ([[unbalance]])", None, kind=Tables(UNBALANCE_KEYS)),
+    Key("static_loads", "static point loads ([[static_loads]]), e.g. to load the bearings", None,
+        kind=Tables(STATIC_LOAD_KEYS)),
+    Key("record", "what to record besides the bearing nodes ([record])", None, kind=Table(RECORD_KEYS)),
+    Key("surrogate", "older form of [taylor] surrogate", None, kind=FileName()),
 )
 
 
@@ -118,6 +132,7 @@ class Scene:
     initial: str = "static_equilibrium"
     record_nodes: list[int] = field(default_factory=list)  # 0-based; bearings are always recorded
     record_every: int = 1
+    checkpoint_s: float = 60.0  # wall time between partial results written while running [s]
     fmu: Path | None = None
     source: Path | None = None
     newton_tangent: str = "bearing"  # bearing | frozen | fd | linear: see rotor_host.forces
@@ -154,112 +169,68 @@ class Scene:
             merged.setdefault(name, {}).update(spec.check_options(
                 {k: (str(v) if isinstance(v, Path) else v) for k, v in values.items()}, f"{name} options",
                 complete=False))
-        return replace(self, internal=registry.get(internal).name, options=merged, **kw)
+        out = replace(self, internal=registry.get(internal).name, options=merged, **kw)
+        if {"t_end_s", "dt_s"} & set(kw):  # overrides (--t-end, --dt) meet the checks the file's values met
+            given = " and ".join(k for k in ("t_end_s", "dt_s") if k in kw)
+            where = f"{self.source or self.name} (with {given} given)"
+            for k in ("t_end_s", "dt_s"):
+                try:
+                    Number(0.0, exclusive_minimum=True).parse(getattr(out, k))
+                except Invalid as exc:
+                    raise SceneError(f"{where}: {k} = {getattr(out, k)!r}{exc.tail}") from None
+            check_time(out.t_end_s, out.dt_s, where)
+        return out
 
 
 # ---------------------------------------------------------------------------------- reading
 
-def _num(table, key, where, *, minimum=None, strict=False, default=None, integer=False):
-    if key not in table:
-        if default is not None:
-            return default
-        raise SceneError(f"{where}: missing key {key!r}")
-    v = table[key]
-    if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
-        raise SceneError(f"{where}: {key} must be a finite number, got {v!r}")
-    if integer and int(v) != v:
-        raise SceneError(f"{where}: {key} must be an integer, got {v!r}")
-    if minimum is not None and (v <= minimum if strict else v < minimum):
-        raise SceneError(f"{where}: {key} = {v!r} must be {'>' if strict else '>='} {minimum}")
-    return int(v) if integer else float(v)
+def check_time(t_end: float, dt: float, where: str) -> None:
+    """Refuse a span that is not a whole number of steps (what the integrator would silently
+    round); both values are already > 0."""
+    if abs(round(t_end / dt) * dt - t_end) > 1e-9 * t_end:
+        raise SceneError(f"{where}: t_end_s = {t_end:g} is not a whole number of steps dt_s = {dt:g}")
 
 
-def _keys(table, keys, where):
-    check_keys(table, keys, where, SceneError)
+def _node(value: int, n_nodes: int, what: str) -> int:
+    """A 1-based node number (its type checked by the schema) against the rotor's nodes, 0-based."""
+    if not 1 <= value <= n_nodes:
+        raise SceneError(f"{what} = {value} is outside the rotor's nodes 1..{n_nodes}")
+    return value - 1
 
 
-def _node(table, key, n_nodes, where):
-    v = _num(table, key, where, integer=True)
-    if not 1 <= v <= n_nodes:
-        raise SceneError(f"{where}: {key} = {v} is outside the rotor's nodes 1..{n_nodes}")
-    return v - 1
+def _internal_keys() -> tuple[Key, ...]:
+    """One key per registered internal: its options' sub-table (checked by the registry)."""
+    return tuple(Key(n, f"options of the {n} internal ([{n}])", None, kind=Table()) for n in registry.names())
 
 
 def load_scene(path) -> Scene:
-    """Read and check a scene file; paths inside are relative to the scene file."""
+    """Read and check a scene file; paths inside are relative to the scene file. Every fault
+    is a SceneError of one line naming the file, the table and key, what was expected and what
+    was given."""
     path = Path(path)
-    try:
-        with path.open("rb") as fh:
-            data = tomllib.load(fh)
-    except FileNotFoundError:
-        raise SceneError(f"scene file {path} not found") from None
-    except tomllib.TOMLDecodeError as exc:
-        raise SceneError(f"{path}: not valid TOML: {exc}") from None
     where = str(path)
-    for key in (k.name for k in SCENE_KEYS if k.required):
-        if key not in data:
-            raise SceneError(f"{where}: missing key {key!r}")
-    internals = tuple(Key(n, f"options of the {n} internal ([{n}])", None, "table") for n in registry.names())
-    _keys(data, SCENE_KEYS + internals, where)
+    data = check_table(read_toml(path, "scene file", SceneError), SCENE_KEYS + _internal_keys(), where, SceneError)
     base = path.parent
-    rotor_path = (base / data["rotor"]).resolve()
-    if not rotor_path.is_file():
-        raise SceneError(f"{where}: rotor = {data['rotor']!r}: file {rotor_path} not found")
-    n_nodes = _count_nodes(rotor_path)
+    rotor_path, rotor = _rotor(data["rotor"], base, where)
+    n_nodes = rotor.n_nodes
     internal = data["internal"]
     if internal not in registry.names():
         raise SceneError(f"{where}: internal = {internal!r}; choose one of {', '.join(registry.names())}")
-    via = data.get("via", "fmu")
-    if via not in VIA:
-        raise SceneError(f"{where}: via = {via!r}; choose one of {', '.join(VIA)}")
-    speed = _num(data, "speed_hz", where, minimum=0.0, strict=True)
 
     tt = data["time"]
-    _keys(tt, TIME_KEYS, f"{where} [time]")
-    t_end = _num(tt, "t_end_s", f"{where} [time]", minimum=0.0, strict=True)
-    dt = _num(tt, "dt_s", f"{where} [time]", minimum=0.0, strict=True)
-    alpha = _num(tt, "hht_alpha", f"{where} [time]", default=0.0)
-    if not -1 / 3 <= alpha <= 0.0:
-        raise SceneError(f"{where} [time]: hht_alpha = {alpha} must lie in [-1/3, 0]")
-    newton_tangent = tt.get("newton_tangent", "bearing")
-    if newton_tangent not in NEWTON_TANGENTS:
-        raise SceneError(f"{where} [time]: newton_tangent = {newton_tangent!r}; choose one of "
-                         f"{', '.join(NEWTON_TANGENTS)}")
-    if abs(round(t_end / dt) * dt - t_end) > 1e-9 * t_end:
-        raise SceneError(f"{where} [time]: t_end_s = {t_end} is not a whole number of steps dt_s = {dt}")
+    check_time(tt["t_end_s"], tt["dt_s"], f"{where}: [time]")
+    unb = [Unbalance(node=_node(u["node"], n_nodes, f"{where}: [[unbalance]] {i + 1} node"),
+                     mass_kg=u["mass_kg"], radius_m=u["radius_mm"] / 1e3, phase_rad=math.radians(u["phase_deg"]),
+                     t_on_s=u["t_on_s"])
+           for i, u in enumerate(data["unbalance"])]
+    loads = [(_node(s["node"], n_nodes, f"{where}: [[static_loads]] {i + 1} node"), s["Fy_N"], s["Fz_N"])
+             for i, s in enumerate(data["static_loads"])]
+    rec = data["record"]
+    rec_nodes = [_node(v, n_nodes, f"{where}: [record] nodes entry {i + 1}") for i, v in enumerate(rec["nodes"])]
 
-    unb = []
-    for i, u in enumerate(data.get("unbalance", [])):
-        w = f"{where} [[unbalance]] {i + 1}"
-        _keys(u, UNBALANCE_KEYS, w)
-        unb.append(Unbalance(node=_node(u, "node", n_nodes, w),
-                             mass_kg=_num(u, "mass_kg", w, minimum=0.0),
-                             radius_m=_num(u, "radius_mm", w, minimum=0.0) / 1e3,
-                             phase_rad=math.radians(_num(u, "phase_deg", w, default=0.0)),
-                             t_on_s=_num(u, "t_on_s", w, minimum=0.0, default=0.0)))
-    loads = []
-    for i, s in enumerate(data.get("static_loads", [])):
-        w = f"{where} [[static_loads]] {i + 1}"
-        _keys(s, STATIC_LOAD_KEYS, w)
-        loads.append((_node(s, "node", n_nodes, w), _num(s, "Fy_N", w, default=0.0), _num(s, "Fz_N", w, default=0.0)))
-
-    init = data.get("initial", {})
-    _keys(init, INITIAL_KEYS, f"{where} [initial]")
-    state = init.get("state", "static_equilibrium")
-    if state not in ("static_equilibrium", "centred"):
-        raise SceneError(f"{where} [initial]: state = {state!r}; choose 'static_equilibrium' or 'centred'")
-
-    rec = data.get("record", {})
-    _keys(rec, RECORD_KEYS, f"{where} [record]")
-    rec_nodes = []
-    for v in rec.get("nodes", []):
-        if isinstance(v, bool) or not isinstance(v, int) or not 1 <= v <= n_nodes:
-            raise SceneError(f"{where} [record]: nodes entry {v!r} is outside 1..{n_nodes}")
-        rec_nodes.append(v - 1)
-    every = _num(rec, "every", f"{where} [record]", minimum=1, default=1, integer=True)
-
-    options = {name: _internal_options(name, data[name], where, base) for name in registry.names() if name in data}
-    if "surrogate" in data:  # the older form of [taylor] surrogate
+    options = {name: _internal_options(name, data[name], where, base) for name in registry.names()
+               if data.get(name) is not None}
+    if data["surrogate"] is not None:  # the older form of [taylor] surrogate
         if "surrogate" in options.get("taylor", {}):
             raise SceneError(f"{where}: surrogate given twice, at the top and in [taylor]; keep [taylor] surrogate")
         options.setdefault("taylor", {}).update(_internal_options("taylor", {"surrogate": data["surrogate"]}, where, base))
@@ -267,35 +238,65 @@ def load_scene(path) -> Scene:
     for o in spec.options:
         if o.required and not options.get(internal, {}).get(o.name):
             raise SceneError(f"{where}: internal = {internal!r} needs the key {o.name!r} in [{internal}] ({o.help})")
-    fmu = (base / data["fmu"]).resolve() if "fmu" in data else None
+    fmu = _fmu_file(data["fmu"], base, where) if data["fmu"] is not None else None
 
-    return Scene(name=str(data.get("name", path.stem)), description=str(data.get("description", "")),
-                 rotor_path=rotor_path, speed_hz=speed, internal=internal, via=via, t_end_s=t_end, dt_s=dt,
-                 alpha=alpha, unbalances=unb, static_loads=loads, options=options, initial=state,
-                 record_nodes=rec_nodes, record_every=every, fmu=fmu, source=path, newton_tangent=newton_tangent)
+    return Scene(name=data["name"] if data["name"] is not None else path.stem,
+                 description=data["description"] or "",
+                 rotor_path=rotor_path, speed_hz=data["speed_hz"], internal=internal, via=data["via"],
+                 t_end_s=tt["t_end_s"], dt_s=tt["dt_s"], alpha=tt["hht_alpha"], unbalances=unb, static_loads=loads,
+                 options=options, initial=data["initial"]["state"], record_nodes=rec_nodes,
+                 record_every=rec["every"], checkpoint_s=rec["checkpoint_s"], fmu=fmu, source=path,
+                 newton_tangent=tt["newton_tangent"])
 
 
-def _internal_options(name: str, table, where: str, base: Path) -> dict:
+def _rotor(name: str, base: Path, where: str) -> tuple[Path, Rotor]:
+    """The scene's rotor file, read and checked whole (so a bad rotor file is named now, and
+    node numbers are checked against the rotor's own nodes); it must hold a bearing."""
+    rotor_path = (base / name).resolve()
+    if not rotor_path.is_file():
+        what = "is a directory, not a file" if rotor_path.is_dir() else "not found"
+        raise SceneError(f"{where}: rotor = {name!r}: {rotor_path} {what}")
+    try:
+        rotor = Rotor.from_toml(rotor_path)
+    except ValueError as exc:  # RotorFileError, a bearing file's error: they name their file and key
+        raise SceneError(f"{where}: rotor = {name!r}: {exc}") from None
+    if not rotor.bearing_nodes:
+        raise SceneError(f"{where}: rotor = {name!r}: the rotor has no bearings; a scene needs at least one "
+                         "[[bearings]] entry (node, bearing file) in the rotor file")
+    return rotor_path, rotor
+
+
+def _fmu_file(name: str, base: Path, where: str) -> Path:
+    """The scene's own bearing FMU: there, and an FMU (a zip archive holding modelDescription.xml)."""
+    import zipfile
+
+    p = (base / name).resolve()
+    if not p.is_file():
+        what = "is a directory, not a file" if p.is_dir() else "not found"
+        raise SceneError(f"{where}: fmu = {name!r}: {p} {what}")
+    try:
+        with zipfile.ZipFile(p) as z:
+            if "modelDescription.xml" not in z.namelist():
+                raise SceneError(f"{where}: fmu = {name!r}: {p} is not an FMU (a zip archive without "
+                                 "modelDescription.xml); build one with `bearing-fmu build -o FILE.fmu`")
+    except (zipfile.BadZipFile, OSError):
+        raise SceneError(f"{where}: fmu = {name!r}: {p} is not an FMU (not a zip archive); build one with "
+                         "`bearing-fmu build -o FILE.fmu`") from None
+    return p
+
+
+def _internal_options(name: str, table: dict, where: str, base: Path) -> dict:
     """The sub-table [name] of a scene: options of that internal, checked by the registry; file
     options resolved relative to the scene file."""
-    w = f"{where} [{name}]"
-    if not isinstance(table, dict):
-        raise SceneError(f"{w}: expected a table of {name} options, got {table!r}")
     spec = registry.get(name)
     try:
-        opts = spec.check_options(table, w, complete=False)
+        opts = spec.check_options(table, f"{where}: [{name}]", complete=False)
     except ValueError as exc:
         raise SceneError(str(exc)) from None
     for o in spec.options:
         if o.file and opts.get(o.name):
             opts[o.name] = str((base / opts[o.name]).resolve())
     return opts
-
-
-def _count_nodes(rotor_path: Path) -> int:
-    with rotor_path.open("rb") as fh:
-        return len(tomllib.load(fh).get("elements", [])) + 1
-
 
 # ---------------------------------------------------------------------------------- statics
 
@@ -363,12 +364,21 @@ def scene_fmu(scene: Scene, work_dir: Path) -> Path:
         if not scene.fmu.is_file():
             raise SceneError(f"{scene.source}: fmu = {scene.fmu}: file not found")
         return scene.fmu
-    from bearing_fmu.build import build_fmu
+    from bearing_fmu.build import build_fmu, package_name
 
     work_dir.mkdir(parents=True, exist_ok=True)
     files = _files(scene)
+    # content-addressed: the code package (its name hashes every bundled source) and the
+    # bundled files' bytes. Runs of the same scene reuse one build, parallel runs never write
+    # into an FMU another run is reading (and build_fmu writes under a temporary name).
+    h = hashlib.sha256(package_name().encode())
+    for f in files:
+        h.update(f.name.encode() + b"\0" + f.read_bytes())
     tag = "".join(f"_{f.stem}" for f in files)
-    return Path(build_fmu(work_dir / f"bearing{tag}.fmu", surrogate=files or None))
+    path = work_dir / f"bearing{tag}_{h.hexdigest()[:12]}.fmu"
+    if path.is_file():
+        return path
+    return Path(build_fmu(path, surrogate=files or None))
 
 
 def required_file(scene: Scene, internal: str, option: str) -> Path:
@@ -484,94 +494,169 @@ def _versions() -> dict:
 
 def run_scene(scene: Scene, out_dir=None, *, progress: bool = False, stem: str | None = None,
               work_dir=None) -> SceneRun:
-    """Run a scene; write ``<out_dir>/<stem>.npz`` and ``.json`` (also on failure, with what was
-    computed). Returns the SceneRun; a failed integration has meta["status"] == "failed"."""
+    """Run a scene; write ``<out_dir>/<stem>.npz`` and ``.json``. Returns the SceneRun.
+
+    What was computed is always written: a failed integration or static equilibrium gives
+    meta["status"] == "failed" (with the message), an interrupt (Ctrl-C, SIGTERM) status
+    "interrupted" and the signal, after which the interrupt is raised again; while running, a
+    checkpoint (status "running") is written every ``scene.checkpoint_s`` of wall time. Files
+    are written under a temporary name and renamed into place; a name another running process
+    holds gets a suffix (``bearing_fmu.outputs.claim``)."""
+    stem = stem or f"{Path(scene.source).stem if scene.source else scene.name}_{scene.internal}"
+    out_dir = ensure_writable(out_dir) if out_dir is not None else None
+    work = Path(work_dir) if work_dir is not None else (out_dir or Path("out")) / "fmu"
+    with handled():
+        holder = claim(out_dir, stem) if out_dir is not None else None
+        try:
+            return _run(scene, holder, work, progress)
+        finally:
+            if holder is not None:
+                holder.release()
+
+
+class _Writer:
+    """Turns the integrator's (partial) result into the run's arrays and metadata and writes
+    them; one instance per run, used for checkpoints, failures, interrupts and the end."""
+
+    def __init__(self, scene: Scene, rotor: Rotor, loads, holder, t_wall0: float):
+        self.scene, self.rotor, self.holder, self.t_wall0 = scene, rotor, holder, t_wall0
+        self.rec_nodes = sorted(set(scene.record_nodes) | set(rotor.bearing_nodes))
+        self.rec_dofs = [rotor.dof(n, d) for n in self.rec_nodes for d in ("y", "z")]
+        self.q0 = None
+        self.times = {"setup_time_s": 0.0, "equilibrium_time_s": 0.0}
+        self.meta = {
+            "scene": scene.name, "description": scene.description, "source": str(scene.source),
+            "internal": scene.internal, "via": scene.via, "speed_hz": scene.speed_hz, "dt_s": scene.dt_s,
+            "t_end_s": scene.t_end_s, "hht_alpha": scene.alpha, "newton_tangent": scene.newton_tangent,
+            "internal_options": scene.internal_options(),
+            "bearing_loads_N": np.asarray(loads).tolist(), "recorded_nodes": [n + 1 for n in self.rec_nodes],
+            "bearing_nodes": [n + 1 for n in rotor.bearing_nodes],
+            "versions": _versions(), "machine": platform.machine(), "pid": os.getpid(),
+            "status": "ok", "message": "",
+        }
+
+    def run(self, res, status: str = "ok", message: str = "", **extra) -> SceneRun:
+        """The SceneRun of ``res`` (a NewmarkResult, or None before the integration started),
+        written to disk when the run has an output folder."""
+        rotor, scene = self.rotor, self.scene
+        nb, n_rec = len(rotor.bearing_nodes), len(self.rec_nodes)
+        if res is None:
+            t = np.zeros(0)
+            q = v = np.zeros((0, 2 * n_rec))
+            f = np.zeros((0, 2 * nb))
+            its, n_cuts, n_eval, wall, mean_its = np.zeros(0, int), 0, 0, 0.0, 0.0
+        else:
+            t, q, v, f = res.t, res.q, res.v, res.f_nl
+            its, n_cuts, n_eval, wall, mean_its = (res.iterations, res.n_cuts, res.n_evaluations, res.wall_time,
+                                                   res.mean_iterations)
+        col = {n: i for i, n in enumerate(self.rec_nodes)}
+        yz = q.reshape(len(t), n_rec, 2)
+        vyz = v.reshape(len(t), n_rec, 2)
+        fb = f.reshape(len(t), nb, 2)
+        bcols = [col[n] for n in rotor.bearing_nodes]
+        CR = np.array([p.CR for p in rotor.bearings])
+        ecc = np.hypot(yz[:, bcols, 0], yz[:, bcols, 1]) / CR
+        q0 = self.q0[self.rec_dofs] if self.q0 is not None else np.full(len(self.rec_dofs), np.nan)
+        arrays = {
+            "t": t, "nodes": np.array(self.rec_nodes) + 1,
+            "y": yz[:, :, 0], "z": yz[:, :, 1], "vy": vyz[:, :, 0], "vz": vyz[:, :, 1],
+            "Fy": fb[:, :, 0], "Fz": fb[:, :, 1], "eccentricity": ecc,
+            "bearing_nodes": np.array(rotor.bearing_nodes) + 1, "CR": CR, "q0": q0,
+        }
+        max_ecc = ecc.max(axis=0) if ecc.size else np.zeros(nb)
+        meta = dict(self.meta)
+        meta.update(status=status, message=message, **extra)
+        meta.update({
+            "wall_time_s": time.perf_counter() - self.t_wall0, **self.times,
+            "integration_time_s": wall, "steps": int(its.size),
+            "t_reached_s": float(t[-1]) if t.size else 0.0,
+            "newton_mean_evaluations_per_step": mean_its,
+            "newton_max_evaluations_per_step": int(its.max()) if its.size else 0,
+            "force_evaluations": int(n_eval), "step_cuts": int(n_cuts),
+            "max_eccentricity": max_ecc.tolist(),
+            "crossed_clearance": bool(np.any(max_ecc >= 1.0)),
+            "equilibrium_eccentricity": (None if self.q0 is None else
+                                         (np.hypot(self.q0[[rotor.dof(n, "y") for n in rotor.bearing_nodes]],
+                                                   self.q0[[rotor.dof(n, "z") for n in rotor.bearing_nodes]])
+                                          / CR).tolist()),
+        })
+        if scene.internal == "taylor" and ecc.size and status != "running":
+            meta.update(_domain_report(scene, rotor, yz[:, bcols], vyz[:, bcols]))
+            worst = max(meta["max_domain_excess"])
+            if meta["status"] != "ok" and worst > 1e-12:
+                # the failure itself may read like a solver problem: say where the surrogate was
+                meta["message"] += (f" [the surrogate had left its fitted domain: up to {100 * worst:.3g} % beyond "
+                                    f"its bounds, {100 * max(meta['out_of_domain_fraction']):.3g} % of the recorded "
+                                    "states outside; its forces there are extrapolations]")
+        run = SceneRun(arrays, meta)
+        if self.holder is not None:
+            run.npz = savez(self.holder.path(".npz"), **arrays)
+            run.json = write_json(self.holder.path(".json"), meta)
+        return run
+
+
+def _run(scene: Scene, holder, work: Path, progress: bool) -> SceneRun:
+    from bearing_fmu.statics import EquilibriumError
+
     t_wall0 = time.perf_counter()
     rotor = Rotor.from_toml(scene.rotor_path)
-    stem = stem or f"{Path(scene.source).stem if scene.source else scene.name}_{scene.internal}"
-    out_dir = Path(out_dir) if out_dir is not None else None
-    work = Path(work_dir) if work_dir is not None else (out_dir or Path("out")) / "fmu"
     f_static = rotor.weight_vector(G) + rotor.point_load_vector(scene.static_loads)
     loads = bearing_loads(rotor, f_static)
-    rec_nodes = sorted(set(scene.record_nodes) | set(rotor.bearing_nodes))
-    rec_dofs = [rotor.dof(n, d) for n in rec_nodes for d in ("y", "z")]
-    meta = {
-        "scene": scene.name, "description": scene.description, "source": str(scene.source),
-        "internal": scene.internal, "via": scene.via, "speed_hz": scene.speed_hz, "dt_s": scene.dt_s,
-        "t_end_s": scene.t_end_s, "hht_alpha": scene.alpha, "newton_tangent": scene.newton_tangent,
-        "internal_options": scene.internal_options(),
-        "bearing_loads_N": loads.tolist(), "recorded_nodes": [n + 1 for n in rec_nodes],
-        "bearing_nodes": [n + 1 for n in rotor.bearing_nodes],
-        "versions": _versions(), "machine": platform.machine(), "status": "ok", "message": "",
-    }
-    with build_bearings(scene, rotor, loads, work) as bearings:
-        t_setup = time.perf_counter()
-        q0 = initial_state(scene, rotor, f_static, loads, bearings)
-        t_eq = time.perf_counter()
-        integ = Newmark(rotor.M, rotor.K, rotor.C, rotor.G, scene.omega, external_force(scene, rotor, f_static),
-                        bearings, NewmarkConfig(alpha=scene.alpha, tangent=scene.newton_tangent))
-        bar = None
-        if progress:
-            from tqdm import tqdm
+    out = _Writer(scene, rotor, loads, holder, t_wall0)
+    integ = None
+    try:
+        with build_bearings(scene, rotor, loads, work) as bearings:
+            t_setup = time.perf_counter()
+            out.times["setup_time_s"] = t_setup - t_wall0
+            try:
+                out.q0 = initial_state(scene, rotor, f_static, loads, bearings)
+            except EquilibriumError as exc:
+                return out.run(None, "failed", str(exc),
+                               equilibrium={k: v for k, v in exc.diagnosis().items() if v is not None})
+            out.times["equilibrium_time_s"] = time.perf_counter() - t_setup
+            integ = Newmark(rotor.M, rotor.K, rotor.C, rotor.G, scene.omega,
+                            external_force(scene, rotor, f_static), bearings,
+                            NewmarkConfig(alpha=scene.alpha, tangent=scene.newton_tangent))
+            bar = None
+            if progress:
+                from tqdm import tqdm
 
-            bar = tqdm(total=scene.t_end_s, unit="s", desc=f"{scene.name} [{scene.internal}]",
-                       bar_format="{l_bar}{bar}| {n:.3f}/{total:.3f} s [{elapsed}<{remaining}]")
+                bar = tqdm(total=scene.t_end_s, unit="s", desc=f"{scene.name} [{scene.internal}]",
+                           bar_format="{l_bar}{bar}| {n:.3f}/{total:.3f} s [{elapsed}<{remaining}]")
+            last = [time.perf_counter()]
 
-        def tick(t):
-            if bar is not None:
-                bar.update(t - bar.n)
+            def tick(t):
+                if bar is not None:
+                    bar.update(t - bar.n)
+                now = time.perf_counter()
+                if holder is not None and now - last[0] >= scene.checkpoint_s:
+                    out.run(integ.partial_result(), "running",
+                            "checkpoint written while running: the run had not finished when this was written")
+                    last[0] = time.perf_counter()
 
-        try:
-            res = integ.run(q0, np.zeros(rotor.n_dof), 0.0, scene.t_end_s, scene.dt_s,
-                            record_every=scene.record_every, record_dofs=rec_dofs, progress=tick)
-        except IntegrationError as exc:
-            res = exc.result
-            meta["status"], meta["message"] = "failed", str(exc)
-        finally:
-            if bar is not None:
-                bar.close()
-    t_end = time.perf_counter()
+            try:
+                res = integ.run(out.q0, np.zeros(rotor.n_dof), 0.0, scene.t_end_s, scene.dt_s,
+                                record_every=scene.record_every, record_dofs=out.rec_dofs, progress=tick,
+                                progress_every=_progress_every(scene))
+                status, message = "ok", ""
+            except IntegrationError as exc:
+                res, status, message = exc.result, "failed", str(exc)
+            finally:
+                if bar is not None:
+                    bar.close()
+    except KeyboardInterrupt as exc:
+        sig = as_interrupted(exc).signal_name
+        res = integ.partial_result() if integ is not None and integ.started else None
+        t = float(res.t[-1]) if res is not None and res.t.size else 0.0
+        run = out.run(res, "interrupted", f"interrupted by {sig} at t = {t:.6g} s", signal=sig)
+        if run.json is not None:
+            note_kept(exc, f"{run.npz}, {run.json} (status interrupted, t = {t:.6g} s)")
+        raise
+    return out.run(res, status, message)
 
-    nb = len(rotor.bearing_nodes)
-    col = {n: i for i, n in enumerate(rec_nodes)}
-    yz = res.q.reshape(len(res.t), len(rec_nodes), 2)
-    vyz = res.v.reshape(len(res.t), len(rec_nodes), 2)
-    fb = res.f_nl.reshape(len(res.t), nb, 2)
-    bcols = [col[n] for n in rotor.bearing_nodes]
-    CR = np.array([p.CR for p in rotor.bearings])
-    ecc = np.hypot(yz[:, bcols, 0], yz[:, bcols, 1]) / CR
-    arrays = {
-        "t": res.t, "nodes": np.array(rec_nodes) + 1,
-        "y": yz[:, :, 0], "z": yz[:, :, 1], "vy": vyz[:, :, 0], "vz": vyz[:, :, 1],
-        "Fy": fb[:, :, 0], "Fz": fb[:, :, 1], "eccentricity": ecc,
-        "bearing_nodes": np.array(rotor.bearing_nodes) + 1, "CR": CR, "q0": q0[rec_dofs],
-    }
-    max_ecc = ecc.max(axis=0) if ecc.size else np.zeros(nb)
-    meta.update({
-        "wall_time_s": t_end - t_wall0, "setup_time_s": t_setup - t_wall0, "equilibrium_time_s": t_eq - t_setup,
-        "integration_time_s": res.wall_time, "steps": int(res.iterations.size),
-        "t_reached_s": float(res.t[-1]) if res.t.size else 0.0,
-        "newton_mean_evaluations_per_step": res.mean_iterations,
-        "newton_max_evaluations_per_step": int(res.iterations.max()) if res.iterations.size else 0,
-        "force_evaluations": int(res.n_evaluations), "step_cuts": int(res.n_cuts),
-        "max_eccentricity": max_ecc.tolist(),
-        "crossed_clearance": bool(np.any(max_ecc >= 1.0)),
-        "equilibrium_eccentricity": (np.hypot(q0[[rotor.dof(n, "y") for n in rotor.bearing_nodes]],
-                                              q0[[rotor.dof(n, "z") for n in rotor.bearing_nodes]]) / CR).tolist(),
-    })
-    if scene.internal == "taylor" and ecc.size:
-        meta.update(_domain_report(scene, rotor, yz[:, bcols], vyz[:, bcols]))
-        worst = max(meta["max_domain_excess"])
-        if meta["status"] != "ok" and worst > 1e-12:
-            # the failure itself may read like a solver problem: say where the surrogate was
-            meta["message"] += (f" [the surrogate had left its fitted domain: up to {100 * worst:.3g} % beyond its "
-                                f"bounds, {100 * max(meta['out_of_domain_fraction']):.3g} % of the recorded states "
-                                "outside; its forces there are extrapolations]")
-    run = SceneRun(arrays, meta)
-    if out_dir is not None:
-        out_dir.mkdir(parents=True, exist_ok=True)
-        run.npz = out_dir / f"{stem}.npz"
-        np.savez(run.npz, **arrays)
-        run.json = out_dir / f"{stem}.json"
-        run.json.write_text(json.dumps(meta, indent=2))
-    return run
+
+def _progress_every(scene: Scene) -> int:
+    """Steps between progress calls (which also write checkpoints): ~200 per run, at most 50
+    steps apart so a long run's checkpoints come on time."""
+    n_steps = max(1, int(round(scene.t_end_s / scene.dt_s)))
+    return max(1, min(n_steps // 200, 50))

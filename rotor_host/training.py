@@ -28,6 +28,7 @@ import numpy as np
 
 from bearing_fmu import internals as registry
 from bearing_fmu.fitting.recipe import FitRecipe, add_recipe_arguments, recipe_from_args, recipe_of
+from bearing_fmu.outputs import savez
 
 from .scene import Scene, load_scene, run_scene
 
@@ -67,7 +68,8 @@ def scene_series(scene: Scene, bearing: int = 1, cache: Path | None = None, log=
     load = np.array(run.meta["bearing_loads_N"][bearing - 1], float)
     if cache is not None:
         Path(cache).parent.mkdir(parents=True, exist_ok=True)
-        np.savez(cache, key=key, t=a["t"], states=states, forces=forces, load=load)
+        # atomic: an interrupted fit keeps every finished series and never a half-written one
+        savez(cache, key=key, t=a["t"], states=states, forces=forces, load=load)
     return a["t"], states, forces, load
 
 
@@ -112,6 +114,7 @@ def fit_scene(recipe: FitRecipe, *, cache_dir=None, log=print):
     bearing = r.bearing_number
     scenes = [load_scene(p) for p in r.scenes]
     scene = scenes[0]
+    params = _bearing_params(scene, bearing)  # before any run: a bearing number the rotor lacks is named now
     cache_dir = Path(cache_dir) if cache_dir is not None else None
 
     def cached(sc):
@@ -139,7 +142,6 @@ def fit_scene(recipe: FitRecipe, *, cache_dir=None, log=print):
         ho_states.append(states[held])
         ho_forces.append(forces[held])
     s_train, f_train = np.vstack(tr_states), np.vstack(tr_forces)
-    params = _bearing_params(scene, bearing)
     truth = Reynolds.from_options(params, registry.get("reynolds").check_options(scene.internal_options("reynolds")))
     omega = scene.omega
     y0, z0 = F.expansion_point(truth, tuple(load), omega)
@@ -200,9 +202,13 @@ def fit_scene(recipe: FitRecipe, *, cache_dir=None, log=print):
 
 
 def _bearing_params(scene: Scene, bearing: int):
+    """The BearingParams of bearing number ``bearing`` (1-based) of the scene's rotor."""
     from .rotor import Rotor
 
     rotor = Rotor.from_toml(scene.rotor_path)
+    if not 1 <= bearing <= len(rotor.bearings):
+        raise ValueError(f"--bearing-number {bearing}: the rotor of {scene.source} has bearings "
+                         f"1..{len(rotor.bearings)}")
     return rotor.bearings[bearing - 1]
 
 
@@ -255,20 +261,22 @@ def _scenes_present(recipe: FitRecipe, surrogate_path) -> None:
 def add_arguments(parser) -> None:
     """Options of ``rotor-host fit``: the recipe's model and scene-training settings
     (generated from FitRecipe), the series cache and the outputs."""
+    from bearing_fmu.cliargs import output_dir
     from bearing_fmu.fitting.cli import add_output_arguments
 
     add_recipe_arguments(parser, "scene")
-    parser.add_argument("--cache-dir", default=None,
+    parser.add_argument("--cache-dir", type=output_dir, default=None,
                         help="folder caching the Reynolds series (default: series/ beside --output)")
     add_output_arguments(parser)
 
 
 def run(args) -> int:
     """``rotor-host fit``: fit, write the file (scene paths relative to it), report, plots."""
-    from bearing_fmu.fitting.cli import write_fit
+    from bearing_fmu.fitting.cli import check_outputs, write_fit
 
     if not args.scenes:
         raise ValueError("--scene: give at least one training scene (models/scenes/*.toml)")
+    check_outputs(args)
     recipe = recipe_from_args(args, "scene")
     cache = Path(args.cache_dir) if args.cache_dir else Path(args.output).resolve().parent / "series"
     return write_fit(fit_scene(recipe, cache_dir=cache), args.output, plots=args.plots, note=args.note)

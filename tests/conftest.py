@@ -48,12 +48,24 @@ def surrogate_file(tmp_path_factory):
     return save_surrogate(sur, tmp_path_factory.mktemp("sur") / "paper_22hz.json")
 
 
+COARSE_MAP = {"n_theta": 32, "n_x": 4, "n_eps": 12, "n_beta": 16, "n_phase": 1}  # a contract, not accuracy
+
+
 @pytest.fixture(scope="session")
-def fmu(tmp_path_factory, code_cache, surrogate_file):
-    """The bearing FMU, built once, with ``surrogate_file`` bundled."""
+def map_file(tmp_path_factory):
+    """A coarse force map of the paper bearing (Reynolds 32 x 4, table 12 x 16): quick to build;
+    its accuracy is the business of tests/test_forcemap.py."""
+    from bearing_fmu.forcemap import save_map, tabulate
+
+    return save_map(tabulate(PAPER_BEARING, **COARSE_MAP), tmp_path_factory.mktemp("map") / "paper_map.json")
+
+
+@pytest.fixture(scope="session")
+def fmu(tmp_path_factory, code_cache, surrogate_file, map_file):
+    """The bearing FMU, built once, with ``surrogate_file`` and ``map_file`` bundled."""
     from bearing_fmu.build import build_fmu
 
-    return build_fmu(tmp_path_factory.mktemp("fmu") / "bearing.fmu", surrogate=surrogate_file)
+    return build_fmu(tmp_path_factory.mktemp("fmu") / "bearing.fmu", surrogate=[surrogate_file, map_file])
 
 
 @pytest.fixture(scope="session")

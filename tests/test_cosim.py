@@ -95,3 +95,37 @@ def test_fmu_without_tangent_gives_the_force_alone(fmu):
     assert out["fd"][1] is None and out["fd"][2] is None
     assert np.abs(out["bearing"][1]).max() > 1e4  # a real film stiffness [N/m]
     np.testing.assert_array_equal(out["fd"][0], out["bearing"][0])
+
+
+class _StatusDll:
+    """The FMU's library with fmi2DoStep answering a fixed status (the rest passes through)."""
+
+    def __init__(self, dll, status):
+        self._dll, self._status = dll, status
+
+    def fmi2DoStep(self, *args):
+        return self._status
+
+    def __getattr__(self, name):
+        return getattr(self._dll, name)
+
+
+@pytest.mark.parametrize("status, error", [(2, "StepRejected"), (3, "FMUError"), (4, "FMUError")])
+def test_only_a_discard_cuts_the_step(fmu, status, error):
+    # FMI 2.0: fmi2Discard = this step is refused, try another; fmi2Error / fmi2Fatal = the
+    # instance failed. Before, every status > OK became a step cut and the integrator halved
+    # the step on a real error (a Ctrl-C inside the slave came back as one) and carried on.
+    from rotor_host import cosim
+    from rotor_host.forces import StepRejected
+
+    expected = {"StepRejected": StepRejected, "FMUError": cosim.FMUError}[error]
+    with cosim.FMUBearings(fmu, [(0, 1)], 2 * np.pi * 22, [{"n_theta": 32, "n_x": 4}]) as b:
+        real = b.instances[0].dll
+        b.begin_step(0.0, 1e-4)
+        b.instances[0].dll = _StatusDll(real, status)
+        try:
+            with pytest.raises(expected, match="bearing 1|doStep"):
+                b.evaluate(np.array([1e-5, -2e-5]), np.zeros(2))
+        finally:
+            b.instances[0].dll = real
+        assert issubclass(cosim.FMUError, RuntimeError) and not issubclass(cosim.FMUError, StepRejected)

@@ -1,15 +1,18 @@
 """Static equilibrium of a structure held by nonlinear nodal forces (rotor_host.equilibrium)
 against closed forms: Cardano's root of a cubic spring chain, the root of a spring stiffening
-to a wall, and the failures it must name.
+to a wall, and the failures it must name (an overloaded bearing against an independent estimate
+of its load capacity, zero speed).
 """
 
 import math
+import textwrap
+from pathlib import Path
 
 import numpy as np
 import pytest
 
-from bearing_fmu.statics import EquilibriumError
-from rotor_host.equilibrium import static_equilibrium
+from bearing_fmu.statics import EquilibriumError, format_newtons
+from rotor_host.equilibrium import pinned_loads, static_equilibrium
 from rotor_host.forces import FunctionForce, StepRejected
 
 
@@ -98,3 +101,92 @@ def test_one_equilibrium_error_with_the_last_iterate():
     assert e.q.shape == (1,) and e.residual > 4.0 and f"{e.residual:.3e}" in str(e)
     plain = EquilibriumError("no equilibrium")
     assert plain.q is None and plain.iterations == 0 and np.isnan(plain.residual)
+
+
+ROOT = Path(__file__).resolve().parents[1]
+OMEGA = 2 * math.pi * 22.0
+
+
+def capacity_estimate(p, eps, omega):
+    """The short-bearing (Ocvirk) load less the circumferential flow it drops; derivation and
+    the factor 1.5 in tests/test_statics.py (capacity_estimate)."""
+    from bearing_fmu.shortbearing import short_bearing_load
+
+    return short_bearing_load(p, eps, omega) / (1.0 + (p.L / p.D) ** 2 * eps / (2.0 * (1.0 - eps)))
+
+
+def test_pinned_loads_are_the_scenes_bearing_loads():
+    # the equilibrium's own bearing loads (reactions of the rotor pinned at the force's DOFs)
+    # are the scene's (rotor_host.scene.bearing_loads, checked against statics in test_scene.py)
+    from rotor_host.rotor import Rotor
+    from rotor_host.scene import bearing_loads
+
+    rotor = Rotor.from_toml(ROOT / "models" / "rotor_paper.toml")
+    f = rotor.weight_vector(9.81) + rotor.point_load_vector([(8, 30.0, -800.0)])
+    dofs = [rotor.dof(n, d) for n in rotor.bearing_nodes for d in ("y", "z")]
+    np.testing.assert_allclose(pinned_loads(rotor.K, f, dofs), bearing_loads(rotor, f), rtol=1e-9, atol=1e-9)
+
+
+def test_overloaded_rotor_bearing_is_named_before_newton(tmp_path):
+    # 1e9 N on node 9 (bearing 2): the paper rotor's static equilibrium, as a scene starts it,
+    # names bearing 2, its load and what it carries near the wall; bearing 1 (half the
+    # weight, 16.7 N) is not blamed.
+    from bearing_fmu.params import PAPER_BEARING
+    from rotor_host.rotor import Rotor
+    from rotor_host.scene import G, bearing_loads, build_bearings, initial_state, load_scene
+
+    scene_file = tmp_path / "s.toml"
+    scene_file.write_text(f'rotor = "{(ROOT / "models" / "rotor_paper.toml").as_posix()}"\n' + textwrap.dedent("""
+        internal = "reynolds"
+        via = "direct"
+        speed_hz = 22
+        [reynolds]
+        n_theta = 48
+        n_x = 8
+        [time]
+        t_end_s = 2e-4
+        dt_s = 1e-4
+        [[static_loads]]
+        node = 9
+        Fz_N = -1e9
+        """))
+    scene = load_scene(scene_file)
+    rotor = Rotor.from_toml(scene.rotor_path)
+    f_static = rotor.weight_vector(G) + rotor.point_load_vector(scene.static_loads)
+    loads = bearing_loads(rotor, f_static)
+    with build_bearings(scene, rotor, loads, tmp_path / "fmu") as bearings:
+        with pytest.raises(EquilibriumError) as ei:
+            initial_state(scene, rotor, f_static, loads, bearings)
+    e = ei.value
+    msg = str(e)
+    assert "\n" not in msg and msg.startswith("static equilibrium: bearing 2 (node 9) carries at most ~")
+    assert "at 22 Hz at eccentricity 0.95; asked for 1e+09 N" in msg and "bearing 1" not in msg
+    assert "no equilibrium found: " in msg  # what Newton did, after the diagnosis
+    assert e.bearing == "bearing 2 (node 9)" and e.speed_hz == 22.0
+    assert e.load_N == pytest.approx(1e9, rel=1e-6)
+    assert f"~{format_newtons(e.capacity_N)} " in msg
+    assert 1 / 1.5 < e.capacity_N / capacity_estimate(PAPER_BEARING, 0.95, OMEGA) < 1.5
+    assert e.q is not None and e.iterations >= 0
+
+
+def test_rotor_at_zero_speed_carries_no_load():
+    # omega = 0: the films carry nothing, the tangent is singular; the error says why
+    from bearing_fmu.params import PAPER_BEARING
+    from bearing_fmu.reynolds import Reynolds
+    from rotor_host.bearings import DirectBearings
+    from rotor_host.rotor import Rotor
+
+    rotor = Rotor.from_toml(ROOT / "models" / "rotor_paper.toml")
+    f = rotor.weight_vector(9.81)
+    pairs = [(rotor.dof(n, "y"), rotor.dof(n, "z")) for n in rotor.bearing_nodes]
+    names = [f"bearing {k + 1} (node {n + 1})" for k, n in enumerate(rotor.bearing_nodes)]
+    rey = Reynolds(PAPER_BEARING, n_theta=32, n_x=4)
+    bearings = DirectBearings([rey, rey], pairs, 0.0, names)
+    with pytest.raises(EquilibriumError) as ei:
+        static_equilibrium(rotor.K, f, bearings, np.zeros(rotor.n_dof))
+    msg = str(ei.value)
+    # half the rotor's weight on each bearing (symmetric rotor)
+    half = format_newtons(rotor.mass * 9.81 / 2)
+    assert msg.startswith("static equilibrium: bearing 1 (node 3) carries no load at omega = 0 "), msg
+    assert f"asked for {half} (also bearing 2 (node 9): asked for {half}); no equilibrium found: " in msg
+    assert ei.value.capacity_N == 0.0 and ei.value.speed_hz == 0.0 and ei.value.bearing == "bearing 1 (node 3)"

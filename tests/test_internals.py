@@ -9,6 +9,7 @@ the package docstring says, from outside the package, and run a scene with it.
 """
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -22,7 +23,7 @@ OMEGA = 2 * math.pi * 22.0
 GRID = {"n_theta": 32, "n_x": 4}  # coarse: the contract, not the accuracy, is checked here
 
 
-def _case(name, surrogate_file):
+def _case(name, files):
     """(options, a state (y, z, vy, vz) inside what the internal answers for, what it does
     beyond the wall: "refuses" or "evaluates")."""
     moving = (10e-6, -40e-6, 1e-3, -2e-4)  # eccentricity 0.46
@@ -31,23 +32,30 @@ def _case(name, surrogate_file):
     if name == "linear":  # the paper's linear orbits cross the wall: it evaluates there
         return {**GRID, "load_z": -16.7, "omega_lin": OMEGA}, moving, "evaluates"
     if name == "taylor":  # the made-up surrogate of conftest: expansion point (0.1, -0.4) CR
-        return {"surrogate": str(surrogate_file), **GRID}, (0.15 * P.CR, -0.35 * P.CR, 1e-3, -2e-3), "refuses"
+        return {"surrogate": str(files["surrogate"]), **GRID}, (0.15 * P.CR, -0.35 * P.CR, 1e-3, -2e-3), "refuses"
+    if name == "map":  # the coarse map of conftest
+        return {"map": str(files["map"])}, moving, "refuses"
     raise KeyError(name)
 
 
-BUILTIN = ("reynolds", "linear", "taylor")
+BUILTIN = ("reynolds", "linear", "taylor", "map")
 
 
-def test_every_registered_internal_has_a_contract_case(surrogate_file):
+@pytest.fixture
+def files(surrogate_file, map_file):
+    return {"surrogate": surrogate_file, "map": map_file}
+
+
+def test_every_registered_internal_has_a_contract_case(files):
     for name in registry.names():
-        _case(name, surrogate_file)  # KeyError: add the new internal's case above
-    assert registry.names()[:3] == BUILTIN
+        _case(name, files)  # KeyError: add the new internal's case above
+    assert registry.names()[:4] == BUILTIN
 
 
 @pytest.fixture(params=BUILTIN)
-def case(request, surrogate_file):
+def case(request, files):
     name = request.param
-    options, state, wall = _case(name, surrogate_file)
+    options, state, wall = _case(name, files)
     return name, registry.create(name, P, options), options, state, wall
 
 
@@ -87,8 +95,9 @@ def test_beyond_the_wall_refused_or_finite_never_nan(case):
 
 def test_fmu_equals_the_direct_call(case, fmu_instance):
     name, internal, options, state, _ = case
-    if "surrogate" in options:  # in the FMU: the bundled file by its name
-        options = {**options, "surrogate": "paper_22hz.json"}
+    for key in ("surrogate", "map"):  # in the FMU: the bundled file by its name
+        if key in options:
+            options = {**options, key: Path(options[key]).name}
     inst = fmu_instance(internal=name, **options)
     try:
         out = inst.step(1e-4, *state, OMEGA)
@@ -128,7 +137,7 @@ def test_option_checks_name_the_option_and_the_range():
 
 
 def test_unknown_internal_and_option_name_the_allowed_ones():
-    with pytest.raises(ValueError, match="unknown internal 'magic'; choose one of reynolds, linear, taylor"):
+    with pytest.raises(ValueError, match="unknown internal 'magic'; choose one of reynolds, linear, taylor, map"):
         registry.get("magic")
     with pytest.raises(ValueError, match=r"unknown option\(s\) grid of the reynolds internal; allowed: n_theta, n_x"):
         registry.create("reynolds", P, {"grid": 3})

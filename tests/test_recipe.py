@@ -100,13 +100,17 @@ def test_options_are_generated_from_the_fields(group):
     for f in recipe_fields(group):
         text = f.metadata["flag_help"] or f.metadata["help"]  # a true/false setting: the option that flips it
         assert text[:20].replace("%", "%%") in options[f.name].help
-    args = p.parse_args(["--scene", "a.toml"] if group == "scene" else [])
-    expect = FitRecipe(scenes=("a.toml",)) if group == "scene" else FitRecipe()
+    scene = __file__  # --scene takes an existing file
+    args = p.parse_args(["--scene", scene] if group == "scene" else [])
+    expect = FitRecipe(scenes=(scene,)) if group == "scene" else FitRecipe()
     assert recipe_from_args(args, group) == expect  # the defaults are the recipe's
-    with pytest.raises(ValueError, match=r"--order 0: must be an integer >= 1"):
-        recipe_from_args(p.parse_args(["--order", "0"]), group)
-    with pytest.raises(ValueError, match=r"--shape-order -1: must be an integer >= 0"):
-        recipe_from_args(p.parse_args(["--shape-order", "-1"]), group)
+    # argparse refuses these by their type (tests/test_bad_inputs.py); values set otherwise are refused here
+    for flag, dest, bad, match in (("--order", "order", 0, r"--order 0: must be an integer >= 1"),
+                                   ("--shape-order", "shape_order", -1, r"--shape-order -1: must be an integer >= 0")):
+        with pytest.raises(SystemExit):
+            p.parse_args([flag, str(bad)])
+        with pytest.raises(ValueError, match=match):
+            recipe_from_args(argparse.Namespace(**{**vars(args), dest: bad}), group)
 
 
 def test_bearing_fit_points_scene_training_to_the_host(capsys):

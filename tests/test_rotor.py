@@ -182,15 +182,18 @@ def _variant(tmp_path, old, new):
     "old, new, pattern",
     [
         ("density_kg_m3 = 7850.0\n", "", r"\[material\].*missing key.*density_kg_m3"),
-        ("od_mm = 12.0, length_mm = 40.0", "od_mm = -12.0, length_mm = 40.0", r"element 1: od_mm must be > 0"),
-        ("id_mm = 0.0, od_mm = 31.0", "id_mm = 35.0, od_mm = 31.0", r"element 2: id_mm must be < od_mm"),
-        ("length_mm = 266.5 }", "length_mm = 0 }", r"element 4: length_mm must be > 0"),
-        ("node = 9\n", "node = 12\n", r"bearing 2: node must be an integer node number in 1\.\.11, got 12"),
-        ("node = 6\n", "node = 0\n", r"disk 1: node must be an integer node number in 1\.\.11, got 0"),
-        ("width_mm = 47.0\n", "width_mm = 47.0\ncolour = 'red'\n", r"disk 1: unknown key.*colour"),
-        ("nodes = [6, 7]", "nodes = [6, 8]", r"element 6: nodes must be \[6, 7\]"),
-        ('bearing = "bearing_paper.toml"', 'bearing = "nope.toml"', r"bearing 1: bearing file .*nope\.toml.* not found"),
-        ("poisson = 0.3", "poisson = 0.7", r"poisson must be < 0\.5"),
+        ("od_mm = 12.0, length_mm = 40.0", "od_mm = -12.0, length_mm = 40.0",
+         r"\[\[elements\]\] 1 od_mm = -12.0 must be a finite number > 0"),
+        ("id_mm = 0.0, od_mm = 31.0", "id_mm = 35.0, od_mm = 31.0",
+         r"\[\[elements\]\] 2 id_mm = 35 must be < od_mm = 31"),
+        ("length_mm = 266.5 }", "length_mm = 0 }", r"\[\[elements\]\] 4 length_mm = 0 must be a finite number > 0"),
+        ("node = 9\n", "node = 12\n", r"\[\[bearings\]\] 2 node = 12 is outside the rotor's nodes 1\.\.11"),
+        ("node = 6\n", "node = 0\n", r"\[\[disks\]\] 1 node = 0 is outside the rotor's nodes 1\.\.11"),
+        ("width_mm = 47.0\n", "width_mm = 47.0\ncolour = 'red'\n", r"\[\[disks\]\] 1: unknown key.*colour"),
+        ("nodes = [6, 7]", "nodes = [6, 8]", r"\[\[elements\]\] 6 nodes = \[6, 8\] must be \[6, 7\]"),
+        ('bearing = "bearing_paper.toml"', 'bearing = "nope.toml"',
+         r"\[\[bearings\]\] 1 bearing = .nope\.toml.: bearing file .*nope\.toml not found"),
+        ("poisson = 0.3", "poisson = 0.7", r"\[material\] poisson = 0\.7 must be a finite number > -1 and < 0\.5"),
         ('name = "paper rotor (Table 1)"', 'name = "x"\nspeed_Hz = 3', r"unknown key.*speed_Hz"),
     ],
 )
@@ -214,5 +217,6 @@ def test_elements_after_a_table_header_are_reported(tmp_path):
 def test_bad_bearing_file_is_reported_with_the_rotor_entry(tmp_path):
     p = _variant(tmp_path, "node = 3\n", "node = 3\n")
     (tmp_path / "bearing_paper.toml").write_text("[bearing]\nD_mm = 31.0\nL_mm = 20.0\nCR_um = 90.0\n")
-    with pytest.raises(RotorFileError, match=r"bearing 1: bearing file .*mu_Pa_s"):
+    with pytest.raises(RotorFileError,
+                       match=r"\[\[bearings\]\] 1 bearing = .*bearing_paper\.toml: \[bearing\]: missing key.*mu_Pa_s"):
         Rotor.from_toml(p)

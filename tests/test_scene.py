@@ -50,7 +50,7 @@ def test_paper_scene_values():
 
 
 @pytest.mark.parametrize("body, match", [
-    ('internal = "reynolds"\nspeed_hz = 22\n', "missing key 'time'"),
+    ('internal = "reynolds"\nspeed_hz = 22\n', r"missing key\(s\) time"),
     ('internal = "magic"\nspeed_hz = 22\n[time]\nt_end_s = 0.1\ndt_s = 1e-4\n', "internal = 'magic'"),
     ('internal = "reynolds"\nspeed_hz = -1\n[time]\nt_end_s = 0.1\ndt_s = 1e-4\n', "speed_hz = -1"),
     ('internal = "reynolds"\nspeed_hz = 22\n[time]\nt_end_s = 0.1\ndt_s = 1e-4\n[[unbalance]]\nnode = 12\n'

@@ -10,7 +10,9 @@ Independent references:
   in the direction of rotation, and the eccentricity rises monotonically with the load.
 """
 
+import json
 import math
+import re
 
 import numpy as np
 import pytest
@@ -18,8 +20,8 @@ import pytest
 from bearing_fmu.linear import Linear
 from bearing_fmu.params import PAPER_BEARING, BearingParams
 from bearing_fmu.shortbearing import (short_bearing_coefficients, short_bearing_eccentricity,
-                                      short_bearing_force)
-from bearing_fmu.statics import EquilibriumError, equilibrium, linearize
+                                      short_bearing_force, short_bearing_load)
+from bearing_fmu.statics import EquilibriumError, equilibrium, linearize, load_capacity
 
 OMEGA = 2 * math.pi * 22.0
 
@@ -121,3 +123,58 @@ def test_linear_internal_reproduces_its_linearisation(reynolds):
         lin.force(lin.y0, lin.z0, math.nan, 0.0, OMEGA)
     assert Linear.from_dict(lin.to_dict()).force(1e-6, -2e-5, 1e-4, 0.0, OMEGA) == lin.force(
         1e-6, -2e-5, 1e-4, 0.0, OMEGA)
+
+
+def capacity_estimate(p, eps, omega):
+    """Independent estimate of a finite bearing's load at eccentricity eps: the short-bearing
+    (Ocvirk) load, less the circumferential pressure flow Ocvirk drops. Near the wall the
+    pressure peak is Delta-theta ~ sqrt(2 (1 - eps) / eps) wide (where h = CR (1 - eps cos)
+    doubles), so the dropped term is ~ (L/2)^2 / (R Delta-theta)^2 = (L/D)^2 eps / (2 (1 - eps))
+    of the kept one: W ~ W_Ocvirk / (1 + (L/D)^2 eps / (2 (1 - eps))). A scaling argument (O(1)
+    constant taken as 1): asserted within a factor 1.5."""
+    return short_bearing_load(p, eps, omega) / (1.0 + (p.L / p.D) ** 2 * eps / (2.0 * (1.0 - eps)))
+
+
+def newtons_in(message: str, after: str) -> float:
+    """The force written right after ``after`` in a message ('~1.98 kN', '1e+09 N') [N]."""
+    m = re.search(re.escape(after) + r"([-+0-9.e]+) (kN|N|mN)\b", message)
+    assert m, (after, message)
+    return float(m.group(1)) * {"kN": 1e3, "N": 1.0, "mN": 1e-3}[m.group(2)]
+
+
+# the paper bearing far overloaded; a short one (L/D 0.1); the paper bearing with the thinnest
+# fluid allowed (mu 1e-5 Pa s, about air's) under 100 N
+@pytest.mark.parametrize("W, L, mu", [(1e9, 0.020, 0.05), (1e6, 0.0031, 0.05), (100.0, 0.020, 1e-5)])
+def test_overloaded_bearing_names_its_load_and_capacity(W, L, mu):
+    p = BearingParams(D=0.031, L=L, CR=90e-6, mu=mu)
+    from bearing_fmu.reynolds import Reynolds
+
+    rey = Reynolds(p)
+    with pytest.raises(EquilibriumError) as ei:
+        equilibrium(rey, (0.0, -W), OMEGA, name="bearing 1")
+    e = ei.value
+    msg = str(e)
+    assert "\n" not in msg and "bearing 1 carries at most ~" in msg and "at 22 Hz at eccentricity 0.95" in msg
+    assert newtons_in(msg, "asked for ") == pytest.approx(W, rel=1e-3)
+    cap = newtons_in(msg, "carries at most ~")
+    assert 1 / 1.5 < cap / capacity_estimate(p, 0.95, OMEGA) < 1.5
+    # the fields the host's json takes, the same numbers
+    assert (e.bearing, e.load_N, e.speed_hz) == ("bearing 1", W, 22.0)
+    assert e.capacity_N == pytest.approx(cap, rel=5e-3)
+    assert json.loads(json.dumps(e.diagnosis()))["capacity_N"] == e.capacity_N
+
+
+def test_capacity_is_a_diagnosis_not_a_limit(reynolds):
+    # 1.5 times what the bearing carries at eccentricity 0.95 still has an equilibrium, closer
+    # to the wall (the film force grows without bound there)
+    W = 1.5 * load_capacity(reynolds, (0.0, -1.0), OMEGA)
+    y0, z0 = equilibrium(reynolds, (0.0, -W), OMEGA)
+    assert 0.95 < math.hypot(y0, z0) / PAPER_BEARING.CR < 1.0
+
+
+def test_zero_speed_carries_no_load(reynolds):
+    with pytest.raises(EquilibriumError) as ei:
+        equilibrium(reynolds, (0.0, -16.7), 0.0, name="bearing 2")
+    e = ei.value
+    assert "bearing 2 carries no load at omega = 0" in str(e) and "asked for 16.7 N" in str(e)
+    assert (e.bearing, e.load_N, e.capacity_N, e.speed_hz) == ("bearing 2", 16.7, 0.0, 0.0)

@@ -649,8 +649,9 @@ def test_wall_factor_undefined_at_the_wall():
             t.force(ecc * P.CR, 0.0, 0.0, 0.0, OMEGA)
         with pytest.raises(BearingStateError, match="wall"):
             t.force_and_jacobian(0.0, -ecc * P.CR, 0.0, 0.0, OMEGA)
-    s.wall_power = 0.0  # the plain polynomial still evaluates there (the guard refuses it)
-    assert np.all(np.isfinite(Taylor(s).force(1.2 * P.CR, 0.0, 0.0, 0.0, OMEGA)))
+    s.wall_power = 0.0  # the plain polynomial is refused there too, as Reynolds refuses it (tests/test_guard.py)
+    with pytest.raises(BearingStateError, match="eccentricity ratio 1.2 >= 1"):
+        Taylor(s).force(1.2 * P.CR, 0.0, 0.0, 0.0, OMEGA)
     with pytest.raises(ValueError, match="wall_power"):
         Surrogate(P, OMEGA, Y0, Z0, 1, exponents(1), np.zeros((2, 5)), 1.0, BOX, wall_power=-1.0)
     with pytest.raises(ValueError, match="wall_power"):

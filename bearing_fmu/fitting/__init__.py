@@ -4,6 +4,7 @@
               options and its record in the surrogate file
     ridge     ridge regression through one SVD, cross validation, lambda search, pruning, errors
     sampling  training data: designed samples, tubes about orbits, time series, their domain
+    neighbours  the training states stored for the domain guard's nearest-neighbour distance
     fit       fit_surrogate (the fit, step by step), fit_condition (a designed domain at one
               load and speed), save_fit, refit_order
     report    the report table and the lambda plots
@@ -15,6 +16,7 @@ The names below are re-exported for convenience (``from bearing_fmu import fitti
 from .cli import add_fit_arguments, run_fit, write_fit
 from .fit import (COMPONENTS, FitResult, expansion_point, fit_condition, fit_surrogate, make_reynolds, refit_order,
                   save_fit, truth_jacobian)
+from .neighbours import neighbours_for_fit
 from .recipe import FitRecipe, RecipeError, add_recipe_arguments, recipe_from_args, recipe_of
 from .report import format_report, plot_lambda
 from .ridge import (CrossValidation, RidgeSVD, fold_indices, nrmse, prune_terms, rel_rms, ridge_normal_equations,
@@ -26,5 +28,6 @@ __all__ = [
     "RidgeSVD", "CrossValidation", "select_lambda", "prune_terms", "fold_indices", "nrmse", "rel_rms",
     "ridge_normal_equations", "designed_samples", "tube_samples", "sample_forces", "load_npz", "domain_from_data",
     "FitResult", "fit_surrogate", "save_fit", "fit_condition", "make_reynolds", "truth_jacobian", "expansion_point",
-    "refit_order", "COMPONENTS", "format_report", "plot_lambda", "add_fit_arguments", "run_fit", "write_fit",
+    "refit_order", "COMPONENTS", "neighbours_for_fit", "format_report", "plot_lambda", "add_fit_arguments",
+    "run_fit", "write_fit",
 ]

@@ -11,6 +11,8 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
+from ..exits import note_kept
+from ..outputs import ensure_output_file, ensure_writable, savez
 from .fit import FitResult, fit_condition, save_fit
 from .recipe import add_recipe_arguments, option_name, recipe_fields, recipe_from_args
 from .report import format_report, plot_lambda
@@ -28,9 +30,11 @@ class _Moved(argparse.Action):
 
 def add_output_arguments(parser: argparse.ArgumentParser) -> argparse.ArgumentParser:
     """The options of both fit commands that are not fit settings: output, plots, note."""
-    parser.add_argument("--plots", default=None, help="directory for the lambda plots")
+    from ..cliargs import output_dir, output_file
+
+    parser.add_argument("--plots", type=output_dir, default=None, help="directory for the lambda plots")
     parser.add_argument("--note", default=None, help="free text stored in the file's provenance")
-    parser.add_argument("-o", "--output", required=True, help="surrogate JSON file to write")
+    parser.add_argument("-o", "--output", type=output_file, required=True, help="surrogate JSON file to write")
     return parser
 
 
@@ -44,7 +48,32 @@ def add_fit_arguments(parser: argparse.ArgumentParser) -> argparse.ArgumentParse
 
 
 def run_fit(args: argparse.Namespace) -> int:
-    return write_fit(fit_condition(recipe_from_args(args, "designed")), args.output, plots=args.plots, note=args.note)
+    check_outputs(args)
+    recipe = recipe_from_args(args, "designed")
+    try:
+        res = fit_condition(recipe)
+    except KeyboardInterrupt as exc:
+        if getattr(exc, "samples", None) is not None and len(exc.samples[0]):
+            path = keep_samples(exc.samples, Path(args.output))
+            note_kept(exc, f"{path} ({len(exc.samples[0])} Reynolds samples; fit them with --from-npz {path})")
+        raise
+    return write_fit(res, args.output, plots=args.plots, note=args.note)
+
+
+def check_outputs(args) -> None:
+    """The output file and plot folder can be written: checked before the fit's work."""
+    ensure_output_file(args.output, "-o/--output")
+    if args.plots:
+        ensure_writable(args.plots, "--plots")
+
+
+def keep_samples(samples, output: Path) -> Path:
+    """The Reynolds samples of an interrupted fit, as an npz that ``--from-npz`` reads."""
+    states, forces = samples
+    path = output.with_name(f"{output.stem}_samples_interrupted.npz")
+    savez(path, **{k: states[:, i] for i, k in enumerate(("y", "z", "vy", "vz"))},
+          Fy=forces[:, 0], Fz=forces[:, 1])
+    return path
 
 
 def write_fit(res: FitResult, output, *, plots=None, note: str | None = None) -> int:
@@ -61,4 +90,4 @@ def write_fit(res: FitResult, output, *, plots=None, note: str | None = None) ->
     return 0
 
 
-__all__ = ["add_fit_arguments", "add_output_arguments", "run_fit", "write_fit"]
+__all__ = ["add_fit_arguments", "add_output_arguments", "check_outputs", "keep_samples", "run_fit", "write_fit"]

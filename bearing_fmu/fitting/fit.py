@@ -33,6 +33,7 @@ from .._taylor_kernels import short_bearing_at
 from ..basis import design_matrix, exponents, natural_force_scale, shape_force
 from ..params import PAPER_BEARING, BearingParams
 from ..surrogate import Domain, Surrogate, load_surrogate, save_surrogate
+from .neighbours import neighbours_for_fit
 from .recipe import FitRecipe, recipe_of
 from .ridge import CrossValidation, RidgeSVD, fold_indices, nrmse, prune_terms, rel_rms, select_lambda
 from .sampling import designed_samples, domain_from_data, load_npz
@@ -268,7 +269,8 @@ def fit_surrogate(
     (M, 2) [N] at ``states`` (M, 4) [m, m/s], about the expansion point (y0, z0) at omega.
 
     Steps: the design (1), the anchor (2), lambda (3), pruning (4), the shape part split off
-    (5), the errors (6); see the module doc.
+    (5), the errors (6), the training states stored for the guard's nearest-neighbour distance
+    (7, :mod:`.neighbours`: radius from these CV folds); see the module doc.
 
     ``anchor`` = (F0 (2,), dF_dq (2, 2), dF_dv (2, 2)) at the expansion point (a truth's
     ``force_and_jacobian``), given exactly when ``recipe.anchor``: it fixes the constant and
@@ -337,6 +339,8 @@ def fit_surrogate(
     kept = kept[:, :N]
     # 6. the errors
     errors = _errors(u, states, forces, S_train, Y, ridge, weights, test, fits)
+    # 7. the training states the guard measures distances to (fitting.neighbours)
+    neighbours = neighbours_for_fit(u.scaled(states), folds)
 
     from .. import __version__
 
@@ -353,7 +357,7 @@ def fit_surrogate(
         force_scale=u.fs, domain=domain, kept=kept, lam=(float(lams[0]), float(lams[1])),
         load=None if load is None else (float(load[0]), float(load[1])),
         errors=errors, pruning=pruning, provenance=prov, wall_power=recipe.wall_power,
-        shape_order=recipe.shape_order, shape_coef=coef_aug.reshape(4, Nr) if Nr else None,
+        shape_order=recipe.shape_order, shape_coef=coef_aug.reshape(4, Nr) if Nr else None, neighbours=neighbours,
     )
     sel = ridge.selection
     report = {
@@ -364,6 +368,8 @@ def fit_surrogate(
         "ls_wins": None if sel is None else dict(zip(COMPONENTS, [bool(v == 0.0) for v in lams])),
         "kept": dict(zip(COMPONENTS, [int(kept[0].sum()), int(kept[1].sum())])),
         "errors": errors, "fit_seconds": time.perf_counter() - t0,
+        "neighbours": {"n_points": int(len(neighbours.points)), "radius": neighbours.radius,
+                       "covering_radius": neighbours.info["covering_radius"]},
     }
     return FitResult(sur, report, ridge.curves, recipe)
 

@@ -28,6 +28,9 @@ from dataclasses import MISSING, dataclass, field, fields, replace
 from numbers import Integral, Real
 from pathlib import Path
 
+from ..cliargs import existing_file, grid_words, parse_grid, typed
+from ..schema import Invalid
+
 GROUPS = {
     "model": "the model and its regression (both fit commands)",
     "designed": "designed domain (bearing-fmu fit)",
@@ -83,7 +86,7 @@ class _Int(_Kind):
         return int(v)
 
     def cli(self):
-        return {"type": int}
+        return {"type": typed(self.describe(), int, self.check)}
 
 
 class _Float(_Kind):
@@ -112,7 +115,7 @@ class _Float(_Kind):
         return v
 
     def cli(self):
-        return {"type": float}
+        return {"type": typed(self.describe(), float, self.check)}
 
 
 class _Flag(_Kind):
@@ -135,15 +138,7 @@ class _Lambda(_Kind):
         return "cv" if v == "cv" else self._number.check(v)
 
     def cli(self):
-        def parse(s: str):
-            if s == "cv":
-                return s
-            try:
-                return float(s)
-            except ValueError:
-                raise argparse.ArgumentTypeError(f"{s!r} is not 'cv' or a number") from None
-
-        return {"type": parse}
+        return {"type": typed(self.describe(), lambda s: s if s == "cv" else float(s), self.check)}
 
 
 class _Paths(_Kind):
@@ -164,7 +159,7 @@ class _Paths(_Kind):
         return out
 
     def cli(self):
-        return {"action": "append"}
+        return {"action": "append", "type": existing_file}
 
     def to_json(self, v, folder):
         return [_portable(p, folder) for p in v]
@@ -187,6 +182,9 @@ class _Path(_Kind):
             raise ValueError
         return os.fspath(v)
 
+    def cli(self):
+        return {"type": existing_file}
+
     def to_json(self, v, folder):
         return None if v is None else _portable(v, folder)
 
@@ -195,20 +193,26 @@ class _Path(_Kind):
 
 
 class _Grid(_Kind):
+    """A Reynolds grid (n_theta, n_x) within the solver's own ranges (its options n_theta, n_x)."""
+
     optional = True
 
     def describe(self):
-        return "two integers >= 1 (n_theta, n_x)"
+        return "n_theta, n_x with " + grid_words().split(": ", 1)[1].replace(", n_x", " and n_x")
 
     def check(self, v):
         if v is None:
             return None
         if isinstance(v, (str, bytes)) or not hasattr(v, "__len__") or len(v) != 2:
             raise ValueError
-        return tuple(_Int(1).check(n) for n in v)
+        n_theta, n_x = (_Int(1).check(n) for n in v)
+        try:
+            return parse_grid(f"{n_theta}x{n_x}")
+        except Invalid:
+            raise ValueError from None
 
     def cli(self):
-        return {"type": int, "nargs": 2, "metavar": ("N_THETA", "N_X")}
+        return {"type": typed("an integer >= 1", int, _Int(1).check), "nargs": 2, "metavar": ("N_THETA", "N_X")}
 
     def to_json(self, v, folder):
         return None if v is None else list(v)
@@ -460,7 +464,7 @@ def recipe_from_args(args: argparse.Namespace, group: str) -> FitRecipe:
     try:
         return FitRecipe(**{name: getattr(args, name) for name in flags})
     except RecipeError as exc:
-        value = exc.value if not isinstance(exc.value, tuple) else " ".join(map(str, exc.value))
+        value = exc.value if not isinstance(exc.value, (tuple, list)) else " ".join(map(str, exc.value))
         allowed = exc.allowed.removesuffix(" or None")  # on the command line: leave the option out
         raise ValueError(f"{flags.get(exc.name, exc.name)} {value}: must be {allowed}") from None
 

@@ -41,6 +41,11 @@ def format_report(res: FitResult) -> str:
     for name, o in e.get("other_scenes", {}).items():
         lines.append(f"held out, scene {name}: NRMSE Fy {o['nrmse']['Fy']:.3e}, Fz {o['nrmse']['Fz']:.3e}; "
                      f"{o['out_of_domain_fraction']:.1%} of its states outside the fitted domain")
+    if s.neighbours is not None:
+        nb = s.neighbours
+        lines.append(f"domain guard: {len(nb.points)} training states stored, radius {nb.radius:.4g} in u "
+                     f"(covering radius {nb.info.get('covering_radius', float('nan')):.3g}); a state farther "
+                     "than the radius from all of them is outside the fitted domain")
     lines.append(f"fit time {r['fit_seconds']:.1f} s")
     return "\n".join(lines)
 

@@ -102,10 +102,17 @@ def tube_samples(internal, orbit_states, y0: float, z0: float, omega: float, rad
 
 
 def sample_forces(internal, states, omega: float) -> np.ndarray:
+    """The internal's force [N] at each state (rows y, z, vy, vz). An interrupt is raised again
+    with the pairs computed so far as its ``samples`` attribute (states, forces)."""
     states = np.asarray(states, float)
     out = np.empty((len(states), 2))
-    for i, (y, z, vy, vz) in enumerate(states):
-        out[i] = internal.force(y, z, vy, vz, omega)
+    i = 0
+    try:
+        for i, (y, z, vy, vz) in enumerate(states):
+            out[i] = internal.force(y, z, vy, vz, omega)
+    except KeyboardInterrupt as exc:
+        exc.samples = (states[:i].copy(), out[:i].copy())
+        raise
     if not np.all(np.isfinite(out)):
         raise ValueError("training forces contain non-finite values")
     return out

@@ -1,0 +1,192 @@
+"""numba kernels of the force map (``forcemap.py``): tensor cubic B-spline evaluation and the
+film force with its Jacobian from the map's reduced variables.
+
+Reduced variables (derivation in docs/forcemap.md, DESIGN.md conventions): the journal centre
+at (y, z) = e (cos phi, sin phi); eps = e / CR; radial and tangential velocities
+v_r = v . u, v_t = v . w with u = (cos phi, sin phi), w = (-sin phi, cos phi);
+a = eps omega - 2 v_t / CR  (= eps (omega - 2 phidot)),  c = 2 v_r / CR  (= 2 epsdot);
+r = hypot(a, c), beta = atan2(c, a). The force is F = S r (G_r(eps, beta) u + G_t(eps, beta) w)
+with S = mu R L (R / CR)^2; the table holds H = G (1 - eps)^k on s = -ln(1 - eps).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+TWO_PI = 2.0 * math.pi
+
+
+@njit(cache=True)
+def _span(t, n, x):
+    """Knot span i (3 <= i <= n - 1) with t[i] <= x < t[i + 1], clamped to the base interval."""
+    if x >= t[n]:
+        return n - 1
+    if x <= t[3]:
+        return 3
+    lo, hi = 3, n
+    while hi - lo > 1:
+        mid = (lo + hi) // 2
+        if x >= t[mid]:
+            lo = mid
+        else:
+            hi = mid
+    return lo
+
+
+@njit(cache=True)
+def _basis(t, i, x, N, dN):
+    """The four non-zero cubic B-splines N_{i-3..i} at x and their derivatives (Cox-de Boor,
+    Piegl & Tiller, The NURBS Book, A2.2; derivatives from the degree-2 values)."""
+    left = np.empty(4)
+    right = np.empty(4)
+    N[0] = 1.0
+    N2 = np.zeros(3)
+    for j in range(1, 4):
+        left[j] = x - t[i + 1 - j]
+        right[j] = t[i + j] - x
+        saved = 0.0
+        for r in range(j):
+            temp = N[r] / (right[r + 1] + left[j - r])
+            N[r] = saved + right[r + 1] * temp
+            saved = left[j - r] * temp
+        N[j] = saved
+        if j == 2:
+            N2[0], N2[1], N2[2] = N[0], N[1], N[2]
+    for r in range(4):
+        d = 0.0
+        if r >= 1:
+            d += N2[r - 1] / (t[i + r] - t[i - 3 + r])
+        if r <= 2:
+            d -= N2[r] / (t[i + 1 + r] - t[i - 2 + r])
+        dN[r] = 3.0 * d
+
+
+@njit(cache=True)
+def spline2(ts, tb, C, ns, nb, s, beta, out):
+    """Tensor cubic spline: out = (value, d/ds, d/dbeta) of the components C[:, :, k]
+    (out shape (n_components, 3)); beta periodic over the base interval of tb."""
+    period = tb[nb] - tb[3]
+    b = tb[3] + ((beta - tb[3]) % period)
+    i = _span(ts, ns, s)
+    j = _span(tb, nb, b)
+    Ns, dNs, Nb, dNb = np.empty(4), np.empty(4), np.empty(4), np.empty(4)
+    _basis(ts, i, s, Ns, dNs)
+    _basis(tb, j, b, Nb, dNb)
+    for k in range(C.shape[2]):
+        v = 0.0
+        vs = 0.0
+        vb = 0.0
+        for p in range(4):
+            row_v = 0.0
+            row_b = 0.0
+            for q in range(4):
+                c = C[i - 3 + p, j - 3 + q, k]
+                row_v += Nb[q] * c
+                row_b += dNb[q] * c
+            v += Ns[p] * row_v
+            vs += dNs[p] * row_v
+            vb += Ns[p] * row_b
+        out[k, 0] = v
+        out[k, 1] = vs
+        out[k, 2] = vb
+
+
+@njit(cache=True)
+def _g(ts, tb, C, ns, nb, kwall, eps, beta, g):
+    """G(eps, beta) = H(s, beta) / (1 - eps)^k and its eps and beta derivatives:
+    g[k] = (G_k, dG_k/deps, dG_k/dbeta) for the radial (k = 0) and tangential (k = 1) parts."""
+    s = -math.log1p(-eps)
+    spline2(ts, tb, C, ns, nb, s, beta, g)
+    grow = math.exp(kwall * s)  # (1 - eps)^-k
+    dsde = math.exp(s)  # ds/deps = 1 / (1 - eps)
+    for k in range(2):
+        h, hs, hb = g[k, 0], g[k, 1], g[k, 2]
+        g[k, 0] = h * grow
+        g[k, 1] = (hs + kwall * h) * grow * dsde
+        g[k, 2] = hb * grow
+
+
+@njit(cache=True)
+def map_force(ts, tb, C, ns, nb, kwall, eps_min, scale, CR, y, z, vy, vz, omega, want_jac, F, J):
+    """Film force F (2,) [N] and, with want_jac, J (2, 4) = dF/d(y, z, vy, vz); returns eps.
+
+    eps below eps_min is evaluated at eps_min along the same direction (+y at the centre):
+    the frame (u, w) turns with phi, whose derivatives carry 1/e; the force is continuous
+    there, and the shift moves it by less than its stiffness times eps_min CR."""
+    e = math.hypot(y, z)
+    if e > 0.0:
+        cp, sp = y / e, z / e
+    else:
+        cp, sp = 1.0, 0.0
+    eps = e / CR
+    eps_eval = max(eps, eps_min)
+    vr = vy * cp + vz * sp
+    vt = -vy * sp + vz * cp
+    a = eps_eval * omega - 2.0 * vt / CR
+    c = 2.0 * vr / CR
+    r = math.hypot(a, c)
+    g = np.empty((2, 3))
+    if r > 0.0:
+        beta = math.atan2(c, a)
+        _g(ts, tb, C, ns, nb, kwall, eps_eval, beta, g)
+        cb, sb = a / r, c / r
+        Pr, Pt = r * g[0, 0], r * g[1, 0]
+        # d(r G)/da = cos(beta) G - sin(beta) G_beta ; d(r G)/dc = sin(beta) G + cos(beta) G_beta
+        Pr_a = cb * g[0, 0] - sb * g[0, 2]
+        Pr_c = sb * g[0, 0] + cb * g[0, 2]
+        Pt_a = cb * g[1, 0] - sb * g[1, 2]
+        Pt_c = sb * g[1, 0] + cb * g[1, 2]
+        Pr_e, Pt_e = r * g[0, 1], r * g[1, 1]
+    else:
+        # no film source (e.g. whirling at exactly half speed, no radial velocity): no force;
+        # the derivative is the odd part (F(d) - F(-d)) / 2 of the directional response,
+        # what central differences converge to (as the Reynolds internal reports it)
+        Pr = Pt = Pr_e = Pt_e = 0.0
+        g2 = np.empty((2, 3))
+        _g(ts, tb, C, ns, nb, kwall, eps_eval, 0.0, g)
+        _g(ts, tb, C, ns, nb, kwall, eps_eval, math.pi, g2)
+        Pr_a = 0.5 * (g[0, 0] - g2[0, 0])
+        Pt_a = 0.5 * (g[1, 0] - g2[1, 0])
+        _g(ts, tb, C, ns, nb, kwall, eps_eval, 0.5 * math.pi, g)
+        _g(ts, tb, C, ns, nb, kwall, eps_eval, -0.5 * math.pi, g2)
+        Pr_c = 0.5 * (g[0, 0] - g2[0, 0])
+        Pt_c = 0.5 * (g[1, 0] - g2[1, 0])
+    F[0] = scale * (Pr * cp - Pt * sp)
+    F[1] = scale * (Pr * sp + Pt * cp)
+    if not want_jac:
+        return eps
+    # chain rule through (eps, phi, a, c); phi enters through u, w and v_r, v_t:
+    # da/dphi = 2 v_r / CR = c, dc/dphi = 2 v_t / CR = eps omega - a (at fixed eps)
+    da_dphi = c
+    dc_dphi = eps_eval * omega - a
+    dPr_dphi = Pr_a * da_dphi + Pr_c * dc_dphi
+    dPt_dphi = Pt_a * da_dphi + Pt_c * dc_dphi
+    # d(Pr u + Pt w)/dphi = dPr u + Pr w + dPt w - Pt u
+    dFphi_y = scale * ((dPr_dphi - Pt) * cp - (dPt_dphi + Pr) * sp)
+    dFphi_z = scale * ((dPr_dphi - Pt) * sp + (dPt_dphi + Pr) * cp)
+    # d/deps at fixed phi and v (a depends on eps through eps omega)
+    dPr_de = Pr_e + Pr_a * omega
+    dPt_de = Pt_e + Pt_a * omega
+    dFe_y = scale * (dPr_de * cp - dPt_de * sp)
+    dFe_z = scale * (dPr_de * sp + dPt_de * cp)
+    e_eval = eps_eval * CR
+    # eps = e / CR: deps/dy = cos(phi) / CR ; dphi/dy = -sin(phi) / e
+    J[0, 0] = dFe_y * cp / CR - dFphi_y * sp / e_eval
+    J[1, 0] = dFe_z * cp / CR - dFphi_z * sp / e_eval
+    J[0, 1] = dFe_y * sp / CR + dFphi_y * cp / e_eval
+    J[1, 1] = dFe_z * sp / CR + dFphi_z * cp / e_eval
+    # velocities: a = eps omega - 2 v_t / CR, c = 2 v_r / CR
+    # dv_r/dvy = cos, dv_r/dvz = sin ; dv_t/dvy = -sin, dv_t/dvz = cos
+    for col in range(2):
+        dvr = cp if col == 0 else sp
+        dvt = -sp if col == 0 else cp
+        da = -2.0 * dvt / CR
+        dc = 2.0 * dvr / CR
+        dPr = Pr_a * da + Pr_c * dc
+        dPt = Pt_a * da + Pt_c * dc
+        J[0, 2 + col] = scale * (dPr * cp - dPt * sp)
+        J[1, 2 + col] = scale * (dPr * sp + dPt * cp)
+    return eps

@@ -1,0 +1,182 @@
+"""How a command ends: interrupts (SIGINT, SIGTERM) and exit codes, for both command lines.
+
+Interrupts. ``handled()`` turns SIGINT and SIGTERM into :class:`Interrupted` (a
+``KeyboardInterrupt``, so ``except Exception`` never swallows it) raised in the main thread.
+Code that calls into a foreign layer that must not see a Python exception -- a bearing FMU
+built with pythonfmu runs its Python slave in this same interpreter, and an exception raised
+there comes back as an FMI error status, not as the interrupt -- wraps the call in
+``deferred()``: a signal arriving inside is held and raised by ``check()`` (or at the end of
+the block) in the caller's code. Whoever catches ``Interrupted`` writes what was computed and
+re-raises; ``run_command`` maps it to exit code 128 + signal (130 for SIGINT, 143 for SIGTERM).
+
+Exit codes (``run_command``): 0 done, 1 the run failed (its results say why), 2 bad input
+(a file, key or option named in one line), 130 / 143 interrupted. No traceback unless
+``--debug``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import contextlib
+import signal
+import sys
+import threading
+
+SIGNALS = (signal.SIGINT, signal.SIGTERM)
+
+
+class Interrupted(KeyboardInterrupt):
+    """The run was stopped by a signal; ``signum`` says which."""
+
+    def __init__(self, signum: int = signal.SIGINT):
+        self.signum = int(signum)
+        super().__init__(self.signal_name)
+
+    @property
+    def signal_name(self) -> str:
+        return signal.Signals(self.signum).name
+
+    @property
+    def exit_code(self) -> int:
+        return 128 + self.signum
+
+
+def note_kept(exc: BaseException, what: str) -> None:
+    """Record on an interrupt what was written before it went on (``run_command`` prints it)."""
+    kept = getattr(exc, "kept", None)
+    if kept is None:
+        kept = exc.kept = []
+    kept.append(what)
+
+
+def as_interrupted(exc: BaseException) -> Interrupted:
+    """A plain KeyboardInterrupt (Ctrl-C without ``handled()``) is a SIGINT."""
+    return exc if isinstance(exc, Interrupted) else Interrupted(signal.SIGINT)
+
+
+_defer_depth = 0
+_pending: int | None = None
+_installed = 0
+
+
+def _handler(signum, frame):
+    global _pending
+    if _defer_depth > 0:
+        _pending = signum  # raised by check() once the foreign call has returned
+        return
+    raise Interrupted(signum)
+
+
+@contextlib.contextmanager
+def handled():
+    """SIGINT and SIGTERM raise Interrupted inside this block (nestable; a no-op outside the
+    main thread, where Python cannot install signal handlers)."""
+    global _installed
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    old = {s: signal.getsignal(s) for s in SIGNALS} if _installed == 0 else None
+    if old is not None:
+        for s in SIGNALS:
+            signal.signal(s, _handler)
+    _installed += 1
+    try:
+        yield
+    finally:
+        _installed -= 1
+        if old is not None:
+            for s, h in old.items():
+                signal.signal(s, h)
+
+
+def check() -> None:
+    """Raise the Interrupted a signal left pending during a deferred block."""
+    global _pending
+    if _pending is not None and _defer_depth == 0:
+        signum, _pending = _pending, None
+        raise Interrupted(signum)
+
+
+@contextlib.contextmanager
+def deferred():
+    """Hold signals while foreign code runs (see the module docstring); raise on leaving."""
+    global _defer_depth
+    _defer_depth += 1
+    try:
+        yield
+    finally:
+        _defer_depth -= 1
+    check()
+
+
+def enter_deferred() -> None:
+    """``deferred()`` without the context manager, for hot paths (pair with ``leave_deferred``)."""
+    global _defer_depth
+    _defer_depth += 1
+
+
+def leave_deferred() -> None:
+    global _defer_depth
+    _defer_depth -= 1
+    if _pending is not None:
+        check()
+
+
+# ------------------------------------------------------------------------- exit codes
+EXIT_FAILED, EXIT_BAD_INPUT = 1, 2
+# what a user can fix by changing a file or an option: one line, exit 2
+BAD_INPUT = (ValueError, KeyError, OSError)
+
+
+EXIT_CODES = """exit codes: 0 done; 1 the run failed (its json says why); 2 bad input (the file, key or
+option is named); 130 / 143 interrupted by SIGINT / SIGTERM (what was computed is written,
+status "interrupted"). Add --debug for the Python traceback of an error."""
+
+
+def add_debug_flag(parser, subparsers=None) -> None:
+    """``--debug`` before or after the subcommand (a subparser's own default must not
+    overwrite the main parser's value, hence SUPPRESS there)."""
+    help_ = "show the Python traceback of an error"
+    parser.add_argument("--debug", action="store_true", help=help_)
+    for p in (subparsers.choices.values() if subparsers is not None else ()):
+        p.add_argument("--debug", action="store_true", default=argparse.SUPPRESS, help=help_)
+
+
+def run_command(prog: str, args) -> int:
+    """Run ``args.func(args)`` under ``handled()``; map its end to an exit code and one line
+    on stderr (see the module docstring). ``args.debug`` re-raises with the traceback."""
+    debug = getattr(args, "debug", False)
+    name = f"{prog} {getattr(args, 'command', '')}".strip()
+    try:
+        with handled():
+            return args.func(args)
+    except KeyboardInterrupt as exc:
+        sig = as_interrupted(exc)
+        kept = getattr(exc, "kept", None)
+        print(f"{name}: interrupted by {sig.signal_name}; "
+              + (f"kept: {'; '.join(kept)}" if kept else "nothing had been computed yet"), file=sys.stderr)
+        return sig.exit_code
+    except BAD_INPUT as exc:
+        if debug:
+            raise
+        print(f"{name}: error: {_one_line(exc)}", file=sys.stderr)
+        return EXIT_BAD_INPUT
+    except RuntimeError as exc:  # a failure this code diagnosed (no equilibrium, an FMU error): exit 1
+        if debug:
+            raise
+        print(f"{name}: error: {_one_line(exc)}", file=sys.stderr)
+        return EXIT_FAILED
+    except Exception as exc:  # noqa: BLE001 - unforeseen, most likely a bug: one line and how to see more
+        if debug:
+            raise
+        print(f"{name}: error: {type(exc).__name__}: {_one_line(exc)} (run with --debug for the traceback)",
+              file=sys.stderr)
+        return EXIT_FAILED
+
+
+def _one_line(exc: BaseException) -> str:
+    if isinstance(exc, KeyError) and exc.args:
+        return str(exc.args[0])  # str(KeyError) adds quotes
+    if isinstance(exc, OSError) and exc.filename is not None and exc.strerror:
+        return f"{exc.filename}: {exc.strerror}"
+    return str(exc)

@@ -1,0 +1,104 @@
+"""Result files that cannot collide or vanish (bearing_fmu.outputs) and what run_scene leaves
+on disk when it cannot even start integrating."""
+
+import json
+import os
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from bearing_fmu import outputs
+
+
+def test_claim_gives_a_running_name_to_one_process_only(tmp_path):
+    a = outputs.claim(tmp_path, "run")
+    b = outputs.claim(tmp_path, "run")  # held by this (live) process: the next free name
+    assert (a.stem, b.stem) == ("run", "run-2")
+    assert a.path(".npz") == tmp_path / "run.npz"
+    a.release()
+    with outputs.claim(tmp_path, "run") as c:  # released: the name is free again
+        assert c.stem == "run"
+    assert not (tmp_path / "run.lock").exists()
+    b.release()
+
+
+def test_a_dead_process_does_not_hold_its_name(tmp_path):
+    # a run killed with -9 leaves its lock; the pid in it is gone, so the name is taken over
+    dead = subprocess.run([sys.executable, "-c", "import os; print(os.getpid())"], capture_output=True, text=True)
+    (tmp_path / "run.lock").write_text(dead.stdout.strip())
+    with outputs.claim(tmp_path, "run") as c:
+        assert c.stem == "run"
+        assert (tmp_path / "run.lock").read_text() == str(os.getpid())
+
+
+def test_atomic_writes_leave_the_old_file_or_the_new_one(tmp_path):
+    path = tmp_path / "a.json"
+    outputs.write_json(path, {"x": 1})
+    assert json.loads(path.read_text()) == {"x": 1}
+
+    class Boom(Exception):
+        pass
+
+    def fail(f):
+        f.write(b"{half")
+        raise Boom
+
+    with pytest.raises(Boom):
+        outputs._atomic(path, fail)
+    assert json.loads(path.read_text()) == {"x": 1}  # untouched
+    assert [p.name for p in tmp_path.iterdir()] == ["a.json"]  # no temporary left
+    outputs.savez(tmp_path / "b.npz", t=np.arange(3.0))
+    assert np.load(tmp_path / "b.npz")["t"].tolist() == [0.0, 1.0, 2.0]
+
+
+@pytest.mark.parametrize("case", ["file", "under_file"])
+def test_an_output_folder_that_cannot_be_one_is_named(tmp_path, case):
+    f = tmp_path / "f"
+    f.write_text("")
+    target = f if case == "file" else f / "sub"
+    with pytest.raises(ValueError, match=r"--out .*f.*(is a file|part of this path is a file)"):
+        outputs.ensure_writable(target, "--out")
+    with pytest.raises(ValueError, match="-o .* is a folder"):
+        outputs.ensure_output_file(tmp_path, "-o")
+
+
+@pytest.mark.skipif(os.geteuid() == 0, reason="root writes into read-only folders")
+def test_an_unwritable_folder_is_refused_before_any_work(tmp_path):
+    ro = tmp_path / "ro"
+    ro.mkdir()
+    ro.chmod(0o555)
+    try:
+        with pytest.raises(ValueError, match="--out .*not writable"):
+            outputs.ensure_writable(ro / "x", "--out")
+    finally:
+        ro.chmod(0o755)
+
+
+def test_a_run_without_static_equilibrium_still_writes_its_json(tmp_path, write_scene):
+    # a load far beyond what the bearings carry (1e9 N on the disk): no equilibrium; the run
+    # says so in its json (status failed) instead of stopping without a file
+    from rotor_host.scene import load_scene, run_scene
+
+    s = load_scene(write_scene("""
+        internal = "reynolds"
+        via = "direct"
+        speed_hz = 22.0
+        [reynolds]
+        n_theta = 32
+        n_x = 4
+        [time]
+        t_end_s = 0.001
+        dt_s = 1e-4
+        [[static_loads]]
+        node = 6
+        Fz_N = -1e9
+    """))
+    run = run_scene(s, tmp_path / "out")
+    meta = json.loads(run.json.read_text())
+    assert meta["status"] == "failed" and "carries at most" in meta["message"]
+    # the disk sits midway between the bearings: each carries half (plus half the weight)
+    assert meta["equilibrium"]["load_N"] == pytest.approx(5e8, rel=1e-6) and meta["equilibrium"]["bearing"]
+    assert meta["steps"] == 0 and meta["equilibrium_eccentricity"] is None
+    assert np.load(run.npz)["t"].size == 0
