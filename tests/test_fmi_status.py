@@ -381,7 +381,9 @@ _ECHO = textwrap.dedent("""
     v = {x.name: x.valueReference for x in md.modelVariables}
     unzip = fmpy.extract(sys.argv[1])
     statuses = []
-    for name, logging in (("quiet", False), ("logged", True), ("switched", False)):
+    # a name longer than 15 bytes: pythonfmu's std::string keeps it on the heap (the short one
+    # 'BearingFMU' in test_simulate_fmu_... sits in the string object itself)
+    for name, logging in (("quiet_instance_of_the_bearing", False), ("logged", True), ("switched", False)):
         f = FMU2Slave(guid=md.guid, unzipDirectory=unzip, modelIdentifier=md.coSimulation.modelIdentifier,
                       instanceName=name)
         f.instantiate(loggingOn=logging)
@@ -415,11 +417,11 @@ def test_without_logging_the_first_warning_discard_and_error_reach_stderr(fmu):
     hint = ("  (logging is off, so this FMU instance prints its first warning, discard and error here; instantiate "
             "it with loggingOn (fmpy: simulate_fmu(..., debug_logging=True)) to receive every message)")
     assert lines == [
-        "bearing FMU 'quiet' [warning]: outputs at the start time left at their start values: linear internal was "
+        "bearing FMU 'quiet_instance_of_the_bearing' [warning]: outputs at the start time left at their start values: linear internal was "
         "linearised at omega = 138.23 rad/s; got omega = 0 rad/s",
         hint,
-        "bearing FMU 'quiet' [discard]: bearing input y = nan is not finite at t = 0.0002 s",
-        "bearing FMU 'quiet' [error]: doStep: communicationStepSize = 0.0 s must be finite and > 0 "
+        "bearing FMU 'quiet_instance_of_the_bearing' [discard]: bearing input y = nan is not finite at t = 0.0002 s",
+        "bearing FMU 'quiet_instance_of_the_bearing' [error]: doStep: communicationStepSize = 0.0 s must be finite and > 0 "
         "(currentCommunicationPoint = 0.0001 s)",
     ], run.stderr  # 'logged' and 'switched' deliver to the logger (fmpy's default prints nothing here)
 
