@@ -344,6 +344,22 @@ def check_surrogate_file(path) -> None:
         taylor.neighbours.nearest(taylor.surrogate.y0, taylor.surrogate.z0, 0.0, 0.0)
 
 
+def check_data_file(path) -> None:
+    """Refuse a data file (surrogate, force map) the FMU could not use, with the loader the FMU
+    uses for the option that reads it (``internals.option_for_file``)."""
+    from .internals import option_for_file
+
+    option = option_for_file(path)
+    if option.name == "surrogate":
+        check_surrogate_file(path)
+    elif option.name == "map":
+        from .forcemap import load_map
+
+        load_map(path).spline()
+    else:  # pragma: no cover - a new file option adds its check here
+        raise ValueError(f"{path}: no build check for the {option.name} option's files")
+
+
 def build_fmu(output, surrogate=None) -> Path:
     """Write the bearing FMU to ``output`` (a ``.fmu`` path) and return its path.
 
@@ -366,8 +382,8 @@ def build_fmu(output, surrogate=None) -> Path:
         surrogates = [Path(s) for s in surrogate]
     for s in surrogates:
         if not s.is_file():
-            raise FileNotFoundError(f"build_fmu: surrogate file {str(s)!r} not found")
-        check_surrogate_file(s)
+            raise FileNotFoundError(f"build_fmu: data file {str(s)!r} not found")
+        check_data_file(s)
     names = [s.name for s in surrogates]
     if len(set(names)) != len(names):
         raise ValueError(f"build_fmu: surrogate file names must be distinct, got {names}")

@@ -41,7 +41,7 @@ def _build(args: argparse.Namespace) -> int:
     from .outputs import ensure_output_file
 
     ensure_output_file(args.output, "-o/--output")
-    path = build_fmu(args.output, surrogate=args.surrogate)
+    path = build_fmu(args.output, surrogate=[*(args.surrogate or []), *(args.map or [])] or None)
     print(f"wrote {path}")
     return 0
 
@@ -113,6 +113,9 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--surrogate", type=existing_file, action="append", default=None, metavar="FILE",
                    help="surrogate JSON file to bundle in resources/surrogates/ (repeat for several; "
                         "with exactly one, the FMU parameter 'surrogate' defaults to it)")
+    p.add_argument("--map", type=existing_file, action="append", default=None, metavar="FILE",
+                   help="force map JSON file to bundle beside the surrogates (repeat for several; with exactly "
+                        "one, the FMU parameter 'map' defaults to it)")
     p.set_defaults(func=_build)
 
     from .cliargs import grid, int_at_least, number, typed

@@ -102,6 +102,33 @@ def check_state(params: BearingParams, y: float, z: float, vy: float, vz: float,
     return eps
 
 
+def file_format(path) -> str:
+    """The "format" value of a JSON data file (surrogate, force map), or "" if it has none;
+    ValueError naming the file (and line, column) when it is not JSON."""
+    import json
+
+    try:
+        data = json.loads(Path(path).read_text())
+    except json.JSONDecodeError as exc:
+        raise ValueError(f"{path}: is not valid JSON (truncated or damaged?): line {exc.lineno}, "
+                         f"column {exc.colno}: {exc.msg}") from None
+    except (OSError, UnicodeDecodeError) as exc:
+        raise ValueError(f"{path}: cannot be read as a JSON data file ({exc})") from None
+    return str(data.get("format", "")) if isinstance(data, dict) else ""
+
+
+def option_for_file(path) -> "Option":
+    """The file option whose files look like ``path`` (by the JSON "format" key); ValueError
+    naming the file and the formats known when none does."""
+    fmt = file_format(path)
+    opts = [o for o in all_options() if o.file and o.file_format]
+    for o in opts:
+        if o.file_format == fmt:
+            return o
+    raise ValueError(f"{path}: not a file any internal reads (its JSON 'format' is {fmt!r}; known: "
+                     f"{', '.join(f'{o.file_format} ({o.name})' for o in opts)})")
+
+
 # ----------------------------------------------------------------------------- options
 
 _TYPE_WORD = {float: "a number", int: "an integer", str: "a string", bool: "true or false"}
@@ -120,6 +147,7 @@ class Option:
     even     : an integer must be even
     special  : values allowed besides the range, with their meaning (e.g. {0: "the solver's default"})
     file     : the value names a file (a scene resolves it relative to itself, the FMU bundles it)
+    file_format : the "format" value inside such a (JSON) file: an FMU build sorts bundled files by it
     required : a scene using the internal must set it (the FMU's default may still serve)
     context  : fills the value from the run's ``Context`` when nobody set it (e.g. the static load)
     """
@@ -136,6 +164,7 @@ class Option:
     even: bool = False
     special: Mapping[Any, str] = field(default_factory=dict)
     file: bool = False
+    file_format: str = ""  # the "format" key of such a file's JSON: tells a bundled file's option
     required: bool = False
     context: Callable[["Context"], Any] | None = None
 
@@ -380,12 +409,14 @@ register(InternalSpec(
     "taylor", "guard:DomainGuard.from_options", "fitted Taylor surrogate (the paper's method) behind its domain guard",
     options=(
         Option("surrogate", str, "", "taylor: the surrogate JSON file, fitted by `bearing-fmu fit` or `rotor-host "
-               "fit` (in the FMU: a file name in its resources folder surrogates/)", file=True, required=True),
+               "fit` (in the FMU: a file name in its resources folder surrogates/)", file=True, required=True,
+               file_format="bearing-fmu-taylor-surrogate"),
         Option("domain_action", str, "warn", "taylor, state outside the fitted domain: warn (surrogate value, "
                "warned once) | fallback (Reynolds value for that call) | discard (refuse the step)",
                choices=DOMAIN_ACTIONS),
         Option("domain_limit", float, DEFAULT_DOMAIN_LIMIT, "taylor: refuse states more than this far outside the "
-               "fitted domain (relative excess over its bounds)", "1", minimum=0.0, exclusive_minimum=True),
+               "fitted domain (relative excess over its bounds, or the distance to the nearest training state "
+               "beyond the guard radius over the domain's size)", "1", minimum=0.0, exclusive_minimum=True),
     ),
     uses=("reynolds",),
 ))
@@ -395,6 +426,7 @@ register(InternalSpec(
     "eccentricity and one angle (any speed, load and velocity; docs/forcemap.md)",
     options=(
         Option("map", str, "", "map: the force map JSON file, built by `bearing-fmu map` for the bearing's L/D "
-               "(in the FMU: a file name in its resources folder surrogates/)", file=True, required=True),
+               "(in the FMU: a file name in its resources folder surrogates/)", file=True, required=True,
+               file_format="bearing-fmu-force-map"),
     ),
 ))
