@@ -125,15 +125,29 @@ class FMIError(Exception):
         return str(self)
 
 
-def _default_file(resources) -> str:
-    """The file bundled in the FMU when there is exactly one, else "" (the default of a file option)."""
+_BUNDLED_FORMATS: dict[str, dict[str, str]] = {}  # resources folder -> {file name: JSON "format"}, read once
+
+
+def _default_file(resources, option) -> str:
+    """The default of a file option: the one bundled file of its format (surrogate, force map),
+    else "" (none, or several to choose from)."""
     if not resources:
         return ""
     folder = Path(resources) / SURROGATE_DIR
-    try:
-        names = sorted(p.name for p in folder.iterdir() if p.is_file())
-    except OSError:
-        return ""
+    key = str(folder)
+    if key not in _BUNDLED_FORMATS:
+        formats = {}
+        try:
+            for p in sorted(folder.iterdir()):
+                if p.is_file():
+                    try:
+                        formats[p.name] = registry.file_format(p)
+                    except ValueError:  # not JSON: the option's loader names it if it is chosen
+                        formats[p.name] = ""
+        except OSError:
+            pass
+        _BUNDLED_FORMATS[key] = formats
+    names = [n for n, f in _BUNDLED_FORMATS[key].items() if not option.file_format or f == option.file_format]
     return names[0] if len(names) == 1 else ""
 
 
@@ -201,7 +215,7 @@ class BearingFMU(Fmi2Slave):
         self._by_vr = {}  # value reference -> (name, type, causality)
         for name, typ, causality, _unit, default, desc in VARIABLES:
             if name in _FILE_OPTIONS:
-                default = _default_file(self.resources)
+                default = _default_file(self.resources, _OPTIONS[name])
             setattr(self, name, default)
             var = _VAR_CLASS[typ](
                 name,

@@ -23,6 +23,8 @@ from fmpy.fmi1 import FMICallException  # noqa: E402
 from fmpy.fmi2 import (FMU2Slave, fmi2CallbackAllocateMemoryTYPE, fmi2CallbackFreeMemoryTYPE,  # noqa: E402
                        fmi2CallbackFunctions, fmi2CallbackLoggerTYPE)
 
+from bearing_fmu.internals import names as internal_names  # noqa: E402
+
 OK, DISCARD, ERROR = 0, 2, 3
 FMI2_TERMINATED = 3  # fmi2StatusKind fmi2Terminated
 OMEGA = 2 * math.pi * 22.0
@@ -128,13 +130,14 @@ def raw(fmu, unzip):
 @pytest.mark.parametrize("params, refused_by, expected", [
     ({"D": -1.0}, "D", "D = -1.0 m must be finite and > 0"),
     ({"mu": 0.0}, "mu", "mu = 0.0 Pa.s must be finite and > 0"),
-    ({"internal": "magic"}, "internal", "unknown internal 'magic'; choose one of reynolds, linear, taylor"),
+    ({"internal": "magic"}, "internal", f"unknown internal 'magic'; choose one of {', '.join(internal_names())}"),
     ({"n_theta": 3}, "n_theta", "n_theta = 3 must be an integer >= 8 and <= 100000"),
     ({"internal": "linear", "linear_from": "guess"}, "linear_from", "unknown linear_from 'guess'"),
     # valid one by one, refused together (BearingParams) or only where the file is looked for
-    ({"CR": 0.02}, None, "BearingParams.CR = 0.02 m must be smaller than the radius D/2 = 0.0155 m"),
+    ({"CR": 0.02}, None, "BearingParams.CR = 20 mm is outside the physical range"),  # its range depends on D
     ({"internal": "taylor", "surrogate": "missing.json"}, None,
-     "surrogate file 'missing.json' not found in the FMU resources folder surrogates/ (bundled: paper_22hz.json)"),
+     "surrogate file 'missing.json' not found in the FMU resources folder surrogates/ (bundled: paper_22hz.json, "
+     "paper_map.json)"),
 ])
 def test_invalid_parameter_is_an_error_in_its_setter_and_the_initialisation(raw, params, refused_by, expected):
     r = raw()
@@ -200,10 +203,10 @@ def test_simulate_fmu_without_logging_raises_and_prints_the_reason(fmu):
     assert lines == [
         "bearing FMU 'BearingFMU' [error]: setReal: D = -1.0 m must be finite and > 0; D keeps 0.031",
         "bearing FMU 'BearingFMU' [error]: setReal: mu = 0.0 Pa.s must be finite and > 0; mu keeps 0.05",
-        "bearing FMU 'BearingFMU' [error]: setString: unknown internal 'magic'; choose one of reynolds, linear, "
-        "taylor; internal keeps 'reynolds'",
+        f"bearing FMU 'BearingFMU' [error]: setString: unknown internal 'magic'; choose one of "
+        f"{', '.join(internal_names())}; internal keeps 'reynolds'",
         "bearing FMU 'BearingFMU' [error]: bearing FMU initialisation failed: surrogate file 'missing.json' not "
-        "found in the FMU resources folder surrogates/ (bundled: paper_22hz.json); build the FMU with "
+        "found in the FMU resources folder surrogates/ (bundled: paper_22hz.json, paper_map.json); build the FMU with "
         "`bearing-fmu build --surrogate FILE`"], err
     assert err.count("logging is off") == 4  # the hint, once per instance
     # a good run: every row, and nothing printed
