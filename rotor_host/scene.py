@@ -468,7 +468,9 @@ class SceneRun:
 
 def _domain_report(scene: Scene, rotor: Rotor, q: np.ndarray, v: np.ndarray) -> dict:
     """Per bearing: the fraction of recorded states outside the surrogate's fitted domain and
-    the largest relative excess over its bounds (<= 0: always inside)."""
+    the largest distance outside it (``Taylor.domain_distance``: relative excess over its bounds
+    or, with stored training states, the distance beyond their radius over the domain's size;
+    <= 0: always inside)."""
     from bearing_fmu.taylor import Taylor
 
     frac, dist = [], []
@@ -585,8 +587,8 @@ class _Writer:
             worst = max(meta["max_domain_excess"])
             if meta["status"] != "ok" and worst > 1e-12:
                 # the failure itself may read like a solver problem: say where the surrogate was
-                meta["message"] += (f" [the surrogate had left its fitted domain: up to {100 * worst:.3g} % beyond "
-                                    f"its bounds, {100 * max(meta['out_of_domain_fraction']):.3g} % of the recorded "
+                meta["message"] += (f" [the surrogate had left its fitted domain: up to {100 * worst:.3g} % of its "
+                                    f"size beyond it, {100 * max(meta['out_of_domain_fraction']):.3g} % of the recorded "
                                     "states outside; its forces there are extrapolations]")
         run = SceneRun(arrays, meta)
         if self.holder is not None:
