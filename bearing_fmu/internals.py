@@ -387,8 +387,8 @@ register(InternalSpec(
     "linear", "linear:Linear.from_options", "8 Lund coefficients about a static equilibrium (order-1 model)",
     options=(
         Option("linear_from", str, "load", "linear: 'load' = linearise Reynolds at its equilibrium under "
-               "(load_y, load_z) at omega_lin; 'coefficients' = use lin_* as given (no Reynolds import)",
-               choices=("load", "coefficients")),
+               "(load_y, load_z) at omega_lin; 'map' = the same from the force map (the map option's file; no "
+               "Reynolds import or compile); 'coefficients' = use lin_* as given", choices=("load", "map", "coefficients")),
         Option("load_y", float, 0.0, "linear, from load: static external load on the journal, horizontal", "N",
                context=lambda c: None if c.load is None else float(c.load[0])),
         Option("load_z", float, DEFAULT_LOAD_Z, "linear, from load: static external load on the journal, vertical "
@@ -402,7 +402,7 @@ register(InternalSpec(
         *(_lund(f"K{ij}", "N/m", f"Lund stiffness K{ij}") for ij in ("yy", "yz", "zy", "zz")),
         *(_lund(f"C{ij}", "N.s/m", f"Lund damping C{ij}") for ij in ("yy", "yz", "zy", "zz")),
     ),
-    uses=("reynolds",),
+    uses=("reynolds", "map"),
 ))
 
 register(InternalSpec(

@@ -53,13 +53,18 @@ class Linear:
     @classmethod
     def from_options(cls, params: BearingParams, options, context=None) -> "Linear":
         """From the registry's checked options (``internals.REGISTRY["linear"]``): linearise
-        Reynolds (its grid from the reynolds options) under (load_y, load_z) at omega_lin, or
-        take the lin_* coefficients as given."""
+        Reynolds (its grid from the reynolds options) or the force map (``linear_from = "map"``,
+        the map option's file) under (load_y, load_z) at omega_lin, or take the lin_*
+        coefficients as given."""
         o = options
         if o["linear_from"] == "coefficients":
             return cls(params, o["lin_y0"], o["lin_z0"], o["omega_lin"], (o["lin_Fy0"], o["lin_Fz0"]),
                        ((o["lin_Kyy"], o["lin_Kyz"]), (o["lin_Kzy"], o["lin_Kzz"])),
                        ((o["lin_Cyy"], o["lin_Cyz"]), (o["lin_Czy"], o["lin_Czz"])))
+        if o["linear_from"] == "map":  # the force map: no Reynolds import or compile (milliseconds)
+            from .forcemap import ForceMap
+
+            return cls.at_load(ForceMap.from_options(params, o, context), (o["load_y"], o["load_z"]), o["omega_lin"])
         from .reynolds import Reynolds
 
         return cls.at_load(Reynolds.from_options(params, o), (o["load_y"], o["load_z"]), o["omega_lin"])

@@ -352,9 +352,16 @@ def _direct_internal(scene: Scene, params, load):
 
 
 def _files(scene: Scene) -> list[Path]:
-    """The files the scene's internal reads (e.g. the surrogate), each checked to exist."""
+    """The files the scene's internal reads, each checked to exist: its own file options (the
+    surrogate, the map) and those of the internals it uses that the scene sets (linear's map)."""
     spec = registry.get(scene.internal)
-    return [required_file(scene, spec.name, o.name) for o in spec.all_options() if o.file]
+    opts = scene.internal_options()
+    out = []
+    for name in (spec.name, *spec.uses):
+        for o in registry.get(name).options:
+            if o.file and (name == spec.name or opts.get(o.name)):
+                out.append(required_file(scene, name, o.name))
+    return out
 
 
 def scene_fmu(scene: Scene, work_dir: Path) -> Path:

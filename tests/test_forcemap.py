@@ -189,3 +189,24 @@ def test_compiled_spline_equals_scipy(table):
         cb = BSpline(tb, np.moveaxis(C, 1, 0), 3, extrapolate="periodic")(b)  # (ns, 2)
         want = BSpline(ts, cb, 3)(s)
         np.testing.assert_allclose(out[:, 0], want, rtol=1e-12, atol=1e-14)
+
+
+def test_linear_from_the_map_needs_no_reynolds(table, tmp_path):
+    # linear_from = "map": the Lund coefficients from the map's analytic Jacobian, within the
+    # map's accuracy of those from Reynolds, without importing the solver (a fresh process)
+    import subprocess
+    import sys
+
+    from bearing_fmu import internals as registry
+
+    path = save_map(table, tmp_path / "m.json")
+    opts = {"load_z": -16.7, "omega_lin": OMEGA, **GRID}
+    lin_map = registry.create("linear", P, {**opts, "linear_from": "map", "map": str(path)})
+    lin_rey = registry.create("linear", P, opts)
+    assert np.abs(lin_map.K - lin_rey.K).max() < 5e-3 * np.abs(lin_rey.K).max()
+    assert np.abs(lin_map.C - lin_rey.C).max() < 5e-3 * np.abs(lin_rey.C).max()
+    code = ("import sys; from bearing_fmu import internals as r; from bearing_fmu.params import PAPER_BEARING as P; "
+            f"r.create('linear', P, {{'linear_from': 'map', 'map': {str(path)!r}, 'load_z': -16.7, "
+            f"'omega_lin': {OMEGA!r}}}); print('bearing_fmu.reynolds' in sys.modules)")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "False"
