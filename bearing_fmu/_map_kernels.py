@@ -122,6 +122,8 @@ def map_force(ts, tb, C, ns, nb, kwall, eps_min, scale, CR, y, z, vy, vz, omega,
     else:
         cp, sp = 1.0, 0.0
     eps = e / CR
+    if not eps < 1.0:  # at or beyond the wall, or not finite: the caller refuses it
+        return eps
     eps_eval = max(eps, eps_min)
     vr = vy * cp + vz * sp
     vt = -vy * sp + vz * cp

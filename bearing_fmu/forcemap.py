@@ -285,6 +285,12 @@ class ForceMap:
         self._scale = scale(params)
         self._F = np.zeros(2)
         self._J = np.zeros((2, 4))
+        from ._map_kernels import map_force  # numba, compiled (or loaded from its cache) here
+
+        self._kernel = map_force
+        self._args = (self._ts, self._tb, self._C, self._ns, self._nb, float(table.wall_exponent), EPS_MIN,
+                      self._scale, float(params.CR))
+        self._eps_max = float(table.eps_max)
 
     @classmethod
     def from_file(cls, path, params: BearingParams) -> "ForceMap":
@@ -304,19 +310,19 @@ class ForceMap:
 
     def _run(self, y, z, vy, vz, omega, want_jac):
         y, z, vy, vz, omega = float(y), float(z), float(vy), float(vz), float(omega)
+        # the kernel returns eps; a non-finite input or a state beyond the table is checked after
+        # it (cheaper than before: one call on the good path) and refused before anything is used
+        eps = self._kernel(*self._args, y, z, vy, vz, omega, want_jac, self._F, self._J)
+        if not eps < self._eps_max or not math.isfinite(vy + vz + omega):
+            self._refuse(y, z, vy, vz, omega, eps)
+
+    def _refuse(self, y, z, vy, vz, omega, eps):
         check_finite(y, z, vy, vz, omega)
         CR = self.params.CR
-        eps = math.hypot(y, z) / CR
-        if eps >= self.table.eps_max:
-            why = "at or beyond the bearing wall" if eps >= 1.0 else "beyond the force map's last point"
-            raise BearingStateError(
-                f"eccentricity ratio {eps:.4g} >= {1.0 if eps >= 1.0 else self.table.eps_max:g}: the journal "
-                f"(y = {y:.4g} m, z = {z:.4g} m) is {why} (CR = {CR:.4g} m; the map covers eps < "
-                f"{self.table.eps_max:g})")
-        from ._map_kernels import map_force
-
-        map_force(self._ts, self._tb, self._C, self._ns, self._nb, self.table.wall_exponent, EPS_MIN,
-                  self._scale, CR, y, z, vy, vz, omega, want_jac, self._F, self._J)
+        why = "at or beyond the bearing wall" if eps >= 1.0 else "beyond the force map's last point"
+        raise BearingStateError(
+            f"eccentricity ratio {eps:.4g} >= {1.0 if eps >= 1.0 else self._eps_max:g}: the journal "
+            f"(y = {y:.4g} m, z = {z:.4g} m) is {why} (CR = {CR:.4g} m; the map covers eps < {self._eps_max:g})")
 
     def force(self, y: float, z: float, vy: float, vz: float, omega: float) -> tuple[float, float]:
         """Film force (Fy, Fz) [N]."""
