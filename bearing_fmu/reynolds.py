@@ -42,9 +42,25 @@ p (A p - b) = 0, solved exactly by a primal-dual active-set method (Hintermuelle
 Kunisch 2003, SIAM J. Optim. 13:865): on the active (cavitated) set p = 0, on the rest
 A p = b is solved directly; the sets are updated from the sign of p and of the multiplier
 A p - b until they repeat. For an M-matrix this terminates in finitely many steps
-(monotonically after the first), typically 3-9. The start is computed from the inputs only
-(cavitated where the cell source b <= 0, less a margin of n_theta/16 columns on either side
-of the positive-source arc), so the result does not depend on the call history.
+(monotonically after the first) from any start, in at most n + 1 passes (the method is the
+Newton-min iteration; Ben Gharbia & Gilbert 2009, INRIA RR-7160, recall the bound), each pass
+one banded Cholesky factorization.
+
+Start. Cold: computed from the inputs only (cavitated where the cell source b <= 0, less a
+margin of n_theta/16 columns on either side of the positive-source arc), 3-9 passes. Warm
+(the default, ``warm_start=True``): the cavitated set of the last converged call, moved by
+extrapolating w = p - (A p - b) (p on free cells, minus the multiplier on cavitated ones)
+linearly through the last call and an earlier one; 1-2 passes when the state moves little
+between calls, as between the Newton iterates and time steps of a transient. The cold start
+is used instead when the source direction turned by more than WARM_MAX_TURN_CELLS cells or
+|ln(1 - eps)| changed by more than WARM_MAX_DLOG since the last call (beyond that a warm start
+took more passes than the cold one), and a warm start not settled within n_theta/16 + 4
+passes is abandoned for the cold start. Whatever the start, the LCP's unique solution comes
+out, and with the same converged set the last pass factors the same matrix, so results do not
+depend on the call history: bit for bit in every sequence measured (docs/studies,
+2026-11-24). Only a cell degenerate to round-off (p and A p - b both ~0) could settle on
+either side; the force would then differ at round-off and the Jacobian take the other
+one-sided value.
 "gumbel": the full (uncavitated) system, then p < 0 clipped to 0 (half-Sommerfeld).
 
 Derivatives
@@ -59,7 +75,8 @@ still, or whirling at exactly half speed) p = 0 and the force is only directiona
 differentiable; there the derivative reported is the odd part (F(db) - F(-db)) / 2 of the
 first-order film response, which is what central differences converge to.
 
-Work arrays live in the object: one Reynolds instance is not re-entrant (use one per thread).
+Work arrays and the remembered calls live in the object: one Reynolds instance is not
+re-entrant (use one per thread); copying or pickling it copies them too.
 """
 
 from __future__ import annotations
