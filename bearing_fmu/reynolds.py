@@ -52,10 +52,11 @@ margin of n_theta/16 columns on either side of the positive-source arc), 3-9 pas
 extrapolating w = p - (A p - b) (p on free cells, minus the multiplier on cavitated ones)
 linearly through the last call and an earlier one; 1-2 passes when the state moves little
 between calls, as between the Newton iterates and time steps of a transient. The cold start
-is used instead when the source direction turned by more than WARM_MAX_TURN_CELLS cells or
-|ln(1 - eps)| changed by more than WARM_MAX_DLOG since the last call (beyond that a warm start
-took more passes than the cold one), and a warm start not settled within n_theta/16 + 4
-passes is abandoned for the cold start. Whatever the start, the LCP's unique solution comes
+is used instead when the source direction is more than WARM_MAX_TURN_CELLS cells from the one
+expected (the last call's, extrapolated like w) or |ln(1 - eps)| changed by more than
+WARM_MAX_DLOG since the last call (beyond that a warm start took more passes than the cold
+one), and a warm start not settled within n_theta/16 + 4 passes is abandoned for the cold
+start. Whatever the start, the LCP's unique solution comes
 out, and with the same converged set the last pass factors the same matrix, so results do not
 depend on the call history: bit for bit in every sequence measured (docs/studies,
 2026-11-24). Only a cell degenerate to round-off (p and A p - b both ~0) could settle on
@@ -97,12 +98,12 @@ DEFAULT_N_X = 16
 CAVITATION_MODELS = ("reynolds", "gumbel")
 _MODE = {"gumbel": 0, "reynolds": 1}
 # Warm start (docs/studies/2026-11-24-reynolds-warm-start.md): converged calls remembered, and
-# the cold start whenever the source direction turned by more than WARM_MAX_TURN_CELLS theta
-# cells or |ln(1 - eps)| changed by more than WARM_MAX_DLOG since the last call (beyond these
-# a warm start took more passes than the cold one on average).
+# the cold start whenever the source direction is more than WARM_MAX_TURN_CELLS theta cells
+# from the one expected or |ln(1 - eps)| changed by more than WARM_MAX_DLOG since the last
+# call (beyond these a warm start took more passes than the cold one on average).
 WARM_HISTORY = 4
 WARM_MAX_TURN_CELLS = 2.0
-WARM_MAX_DLOG = 0.5
+WARM_MAX_DLOG = 1.0
 
 
 # ----------------------------------------------------------------------------------------
@@ -435,45 +436,49 @@ def _warm_start(N, m, y, z, vy, vz, omega, CR, act, hs, order, nvalid, wring, ma
     complementarity variable w (p on free nodes, -(A p - b) on cavitated ones), order the
     slots newest first, nvalid[0] how many are valid. The source b is a sinusoid in theta whose
     phase is the direction of u = (omega y - 2 vz, omega z + 2 vy) (and the LCP is positively
-    homogeneous in b), so the cavitated region turns with u: warm only if u turned by at most
-    max_turn [rad] since the newest call and |ln(1 - eps)| changed by at most max_dlog
-    (docs/studies/2026-11-24-reynolds-warm-start.md). The start is the newest set, moved by the
-    linear extrapolation of w through the newest and an earlier call:
-    cavitated where w_a + alpha (w_a - w_b) <= 0, alpha = the projection of the position step
-    on the earlier one, in [0, 2] (a time-step's first Newton iterate continues the last step's
-    motion; a Newton correction gets alpha ~ 0).
+    homogeneous in b), so the cavitated region turns with u. The start is the newest set (call
+    a), moved by the linear extrapolation of w through a and an earlier call b: cavitated where
+    w_a + alpha (w_a - w_b) <= 0, alpha = the projection of the position step on the step from
+    b to a, in [0, 2] (a time step's first Newton iterate continues the last step's motion; a
+    Newton correction gets alpha ~ 0). Warm only if u is at most max_turn [rad] from
+    u_a + alpha (u_a - u_b), the direction the extrapolated set belongs to, and |ln(1 - eps)|
+    changed by at most max_dlog since a (docs/studies/2026-11-24-reynolds-warm-start.md).
     """
     if nvalid[0] == 0:
         return False
     a = order[0]
-    uy = omega * y - 2.0 * vz
-    uz = omega * z + 2.0 * vy
-    cu = math.sqrt(uy * uy + uz * uz)
-    pu = math.sqrt(hs[a, 2] * hs[a, 2] + hs[a, 3] * hs[a, 3])
     qy = y / CR
     qz = z / CR
-    eps = math.sqrt(qy * qy + qz * qz)
-    eps_a = math.sqrt(hs[a, 0] * hs[a, 0] + hs[a, 1] * hs[a, 1])
-    if cu == 0.0 or pu == 0.0 or abs(math.log1p(-eps) - math.log1p(-eps_a)) > max_dlog \
-            or (uy * hs[a, 2] + uz * hs[a, 3]) < math.cos(max_turn) * cu * pu:
-        nvalid[0] = 0
-        return False
+    # the anchor: the most recent earlier call at least a quarter of this step away
     dy = qy - hs[a, 0]
     dz = qz - hs[a, 1]
     dd = dy * dy + dz * dz
+    alpha = 0.0
+    bslot = a
     for r in range(1, nvalid[0]):
         bslot = order[r]
         ey = hs[a, 0] - hs[bslot, 0]
         ez = hs[a, 1] - hs[bslot, 1]
         ee = ey * ey + ez * ez
         if ee > 0.0 and ee >= 0.0625 * dd:
-            # the most recent earlier call at least a quarter of this step away
-            alpha = (dy * ey + dz * ez) / ee
-            alpha = min(max(alpha, 0.0), 2.0)
-            if alpha > 0.0:
-                for k in range(N * m):
-                    act[k] = wring[a, k] + alpha * (wring[a, k] - wring[bslot, k]) <= 0.0
+            alpha = min(max((dy * ey + dz * ez) / ee, 0.0), 2.0)
             break
+    # the source direction expected at this call (extrapolated like w) against the actual one
+    uy = omega * y - 2.0 * vz
+    uz = omega * z + 2.0 * vy
+    ey = hs[a, 2] + alpha * (hs[a, 2] - hs[bslot, 2])
+    ez = hs[a, 3] + alpha * (hs[a, 3] - hs[bslot, 3])
+    cu = math.sqrt(uy * uy + uz * uz)
+    pu = math.sqrt(ey * ey + ez * ez)
+    eps = math.sqrt(qy * qy + qz * qz)
+    eps_a = math.sqrt(hs[a, 0] * hs[a, 0] + hs[a, 1] * hs[a, 1])
+    if cu == 0.0 or pu == 0.0 or abs(math.log1p(-eps) - math.log1p(-eps_a)) > max_dlog \
+            or (uy * ey + uz * ez) < math.cos(max_turn) * cu * pu:
+        nvalid[0] = 0
+        return False
+    if alpha > 0.0:
+        for k in range(N * m):
+            act[k] = wring[a, k] + alpha * (wring[a, k] - wring[bslot, k]) <= 0.0
     return True
 
 

@@ -476,12 +476,13 @@ def test_warm_start_cuts_passes_on_an_orbit(grid):
 
 
 def test_cold_start_after_a_jump():
-    """The cold start is used when the source turned by more than 2 theta cells or |ln(1 - eps)|
-    changed by more than 0.5 since the last call (limits measured in the study), after a
-    state without source, after forget(), and for gumbel (no LCP); the results are the same."""
+    """The cold start is used when the source direction is more than 2 theta cells from the
+    one expected (the last call's, extrapolated along the motion of the last calls) or
+    |ln(1 - eps)| changed by more than 1 since the last call (limits measured in the study),
+    after a state without source, after forget(), and for gumbel (no LCP); same results."""
     from bearing_fmu.reynolds import WARM_MAX_DLOG, WARM_MAX_TURN_CELLS
 
-    assert (WARM_MAX_TURN_CELLS, WARM_MAX_DLOG) == (2.0, 0.5)  # the limits this test probes
+    assert (WARM_MAX_TURN_CELLS, WARM_MAX_DLOG) == (2.0, 1.0)  # the limits this test probes
     n = 64
     r, ref = Reynolds(P, n, 8), Reynolds(P, n, 8, warm_start=False)
     cell = 2 * math.pi / n
@@ -493,11 +494,12 @@ def test_cold_start_after_a_jump():
 
     assert not call(state(P, 0.5, 1.0))  # nothing remembered yet
     assert call(state(P, 0.5, 1.0 + 1.5 * cell))  # turned by 1.5 cells (v = 0: u turns with q)
-    assert not call(state(P, 0.5, 1.0 + 4.0 * cell))  # 2.5 cells from the last call
-    assert call(state(P, 0.62, 1.0 + 4.0 * cell))  # ln(0.5 / 0.38) = 0.27
-    assert not call(state(P, 0.85, 1.0 + 4.0 * cell))  # ln(0.38 / 0.15) = 0.93
+    assert call(state(P, 0.5, 1.0 + 4.0 * cell))  # 2.5 cells more, but along the motion
+    assert not call(state(P, 0.5, 1.0 + 1.0 * cell))  # back by 3 cells: against the motion
+    assert call(state(P, 0.62, 1.0 + 1.0 * cell))  # |ln(0.5 / 0.38)| = 0.27
+    assert not call(state(P, 0.9, 1.0 + 1.0 * cell))  # |ln(0.38 / 0.1)| = 1.34
     # the source direction, not the position, decides: same position, velocity turns u by 90 deg
-    y, z, _, _ = state(P, 0.85, 1.0 + 4.0 * cell)
+    y, z, _, _ = state(P, 0.9, 1.0 + 1.0 * cell)
     assert not call((y, z, -0.5 * OMEGA * z, 0.5 * OMEGA * y))
     assert not call((0.0, 0.0, 0.0, 0.0))  # no source: p = 0, nothing to warm-start from
     assert not call(state(P, 0.3, 2.0))
