@@ -7,6 +7,8 @@ from the inputs, as before the warm start) and once on the warm start (the defau
 prints per scene, over the integration's bearing calls (static equilibrium left out):
 
 * active-set passes (banded Cholesky factorizations) per call, cold and warm;
+* in the warm run: calls that took the cold start (a jump, or the first call) and warm starts
+  abandoned for the cold start;
 * wall time per call inside the solver (force_and_jacobian / force) and of the integration;
 * whether the two runs are identical (every recorded array equal bit for bit).
 
@@ -50,11 +52,11 @@ def cpu() -> str:
 class Recorder:
     """While the scene runs: every Reynolds instance the registry builds gets ``warm_start`` set,
     and each of its calls made during Newmark.run is recorded as (t of the step, passes, wall
-    time of the call [s]). Patches are undone on exit."""
+    time of the call [s], started warm, warm start abandoned). Patches are undone on exit."""
 
     def __init__(self, warm: bool):
         self.warm = warm
-        self.rows: list[tuple[float, int, float]] = []
+        self.rows: list[tuple[float, int, float, bool, bool]] = []
         self._t = 0.0
         self._active = False
         self._saved = []
@@ -101,7 +103,7 @@ class Recorder:
             t0 = clock()
             out = fn(*a)
             if self._active:
-                rows.append((self._t, int(info[3]), clock() - t0))
+                rows.append((self._t, int(info[3]), clock() - t0, bool(info[4]), bool(info[5])))
             return out
         return call
 
@@ -122,7 +124,8 @@ def run_once(scene, warm: bool):
 def summary(rows: np.ndarray, t0: float | None = None) -> dict:
     sel = rows if t0 is None else rows[rows[:, 0] >= t0]
     return {"calls": len(sel), "passes": float(sel[:, 1].mean()), "us": 1e6 * float(sel[:, 2].mean()),
-            "max_passes": int(sel[:, 1].max())}
+            "max_passes": int(sel[:, 1].max()), "cold": int(len(sel) - sel[:, 3].sum()),
+            "fallbacks": int(sel[:, 4].sum())}
 
 
 def identical(a, b) -> bool:
@@ -160,6 +163,7 @@ def main() -> None:
             rows.append({
                 "scene": name, "window": label, "calls": c["calls"],
                 "p_cold": c["passes"], "p_warm": w["passes"], "max_warm": w["max_passes"],
+                "cold_in_warm": w["cold"], "fallbacks": w["fallbacks"],
                 "us_cold": c["us"], "us_warm": w["us"], "call_speedup": c["us"] / w["us"],
                 "run_cold": rc.meta["integration_time_s"] if t0 is None else float("nan"),
                 "run_warm": rw.meta["integration_time_s"] if t0 is None else float("nan"),
@@ -171,7 +175,8 @@ def main() -> None:
     print(markdown_table(rows, [
         ("scene", "scene", ""), ("window", "calls at t in", ""), ("calls", "bearing calls", "d"),
         ("p_cold", "passes/call cold", ".3f"), ("p_warm", "passes/call warm", ".3f"),
-        ("max_warm", "max passes warm", "d"),
+        ("max_warm", "max passes warm", "d"), ("cold_in_warm", "cold starts in warm run", "d"),
+        ("fallbacks", "warm starts abandoned", "d"),
         ("us_cold", "us/call cold", ".1f"), ("us_warm", "us/call warm", ".1f"),
         ("call_speedup", "per-call speed-up", ".2f"),
         ("run_cold", "integration cold [s]", ".2f"), ("run_warm", "integration warm [s]", ".2f"),
