@@ -42,9 +42,26 @@ p (A p - b) = 0, solved exactly by a primal-dual active-set method (Hintermuelle
 Kunisch 2003, SIAM J. Optim. 13:865): on the active (cavitated) set p = 0, on the rest
 A p = b is solved directly; the sets are updated from the sign of p and of the multiplier
 A p - b until they repeat. For an M-matrix this terminates in finitely many steps
-(monotonically after the first), typically 3-9. The start is computed from the inputs only
-(cavitated where the cell source b <= 0, less a margin of n_theta/16 columns on either side
-of the positive-source arc), so the result does not depend on the call history.
+(monotonically after the first) from any start, in at most n + 1 passes (the method is the
+Newton-min iteration; Ben Gharbia & Gilbert 2009, INRIA RR-7160, recall the bound), each pass
+one banded Cholesky factorization.
+
+Start. Cold: computed from the inputs only (cavitated where the cell source b <= 0, less a
+margin of n_theta/16 columns on either side of the positive-source arc), 3-9 passes. Warm
+(the default, ``warm_start=True``): the cavitated set of the last converged call, moved by
+extrapolating w = p - (A p - b) (p on free cells, minus the multiplier on cavitated ones)
+linearly through the last call and an earlier one; 1-2 passes when the state moves little
+between calls, as between the Newton iterates and time steps of a transient. The cold start
+is used instead when the source direction is more than WARM_MAX_TURN_CELLS cells from the one
+expected (the last call's, extrapolated like w) or |ln(1 - eps)| changed by more than
+WARM_MAX_DLOG since the last call (beyond that a warm start took more passes than the cold
+one), and a warm start not settled within n_theta/16 + 4 passes is abandoned for the cold
+start. Whatever the start, the LCP's unique solution comes
+out, and with the same converged set the last pass factors the same matrix, so results do not
+depend on the call history: bit for bit in every sequence measured (docs/studies,
+2026-11-24). Only a cell degenerate to round-off (p and A p - b both ~0) could settle on
+either side; the force would then differ at round-off and the Jacobian take the other
+one-sided value.
 "gumbel": the full (uncavitated) system, then p < 0 clipped to 0 (half-Sommerfeld).
 
 Derivatives
@@ -59,7 +76,8 @@ still, or whirling at exactly half speed) p = 0 and the force is only directiona
 differentiable; there the derivative reported is the odd part (F(db) - F(-db)) / 2 of the
 first-order film response, which is what central differences converge to.
 
-Work arrays live in the object: one Reynolds instance is not re-entrant (use one per thread).
+Work arrays and the remembered calls live in the object: one Reynolds instance is not
+re-entrant (use one per thread); copying or pickling it copies them too.
 """
 
 from __future__ import annotations
@@ -79,6 +97,13 @@ DEFAULT_N_THETA = 128
 DEFAULT_N_X = 16
 CAVITATION_MODELS = ("reynolds", "gumbel")
 _MODE = {"gumbel": 0, "reynolds": 1}
+# Warm start (docs/studies/2026-11-24-reynolds-warm-start.md): converged calls remembered, and
+# the cold start whenever the source direction is more than WARM_MAX_TURN_CELLS theta cells
+# from the one expected or |ln(1 - eps)| changed by more than WARM_MAX_DLOG since the last
+# call (beyond these a warm start took more passes than the cold one on average).
+WARM_HISTORY = 4
+WARM_MAX_TURN_CELLS = 2.0
+WARM_MAX_DLOG = 1.0
 
 
 # ----------------------------------------------------------------------------------------
@@ -303,12 +328,14 @@ def _pick_start(N, m, act):
 
 
 @njit(cache=True)
-def _film(mode, N, m, at, ax, tdiag, rs, b, grow, max_iter,
+def _film(mode, N, m, at, ax, tdiag, rs, b, grow, max_iter, warm,
           act, diag, cxo, cto, Lb, Y, S, zb, z2, p, pf, rhs, tmp, info):
     """Pressure p for the column source b (A p = rs b per cell) with the cavitation model.
 
     Leaves the factorization of the final (modified) matrix in Lb, Y, S and returns
-    (s0, has_border, iterations) with iterations = -1 if the active-set loop did not settle.
+    (s0, has_border, iterations) with iterations = -1 if the active-set loop did not settle
+    within max_iter passes. warm (reynolds only): start from the set already in act (the
+    previous call's converged set) instead of the cold start computed from b.
     gumbel: pf = full solution, p = max(pf, 0), act = False everywhere.
     """
     n = N * m
@@ -330,18 +357,21 @@ def _film(mode, N, m, at, ax, tdiag, rs, b, grow, max_iter,
         info[2] = 0.0
         return 0, hb, 1
     # Reynolds (Swift-Stieber) LCP by the primal-dual active-set method.
-    # Start: cavitated where the source is not positive, minus a margin of `grow` columns on
-    # either side of every positive-source run (the Reynolds film extends beyond the
+    # Cold start: cavitated where the source is not positive, minus a margin of `grow` columns
+    # on either side of every positive-source run (the Reynolds film extends beyond the
     # converging part; the iteration frees cavitated nodes only one layer per step).
-    for i in range(N):
-        free = False
-        for d in range(-grow, grow + 1):
-            ii = (i + d) % N
-            if b[ii] > 0.0:
-                free = True
-                break
-        for j in range(m):
-            act[i * m + j] = not free
+    # Warm start: act as left by the previous call. The LCP of an M-matrix has one solution
+    # and the method reaches it from any start (Hintermueller, Ito & Kunisch 2003, Thm 3.1).
+    if not warm:
+        for i in range(N):
+            free = False
+            for d in range(-grow, grow + 1):
+                ii = (i + d) % N
+                if b[ii] > 0.0:
+                    free = True
+                    break
+            for j in range(m):
+                act[i * m + j] = not free
     iters = 0
     s0 = 0
     hb = False
@@ -399,6 +429,80 @@ def _film(mode, N, m, at, ax, tdiag, rs, b, grow, max_iter,
 
 
 @njit(cache=True)
+def _warm_start(N, m, y, z, vy, vz, omega, CR, act, hs, order, nvalid, wring, max_turn, max_dlog):
+    """Start set of a warm call, or False for the cold start (then the history is dropped).
+
+    hs[slot] = (y/CR, z/CR, uy, uz) of a remembered converged call, wring[slot] its
+    complementarity variable w (p on free nodes, -(A p - b) on cavitated ones), order the
+    slots newest first, nvalid[0] how many are valid. The source b is a sinusoid in theta whose
+    phase is the direction of u = (omega y - 2 vz, omega z + 2 vy) (and the LCP is positively
+    homogeneous in b), so the cavitated region turns with u. The start is the newest set (call
+    a), moved by the linear extrapolation of w through a and an earlier call b: cavitated where
+    w_a + alpha (w_a - w_b) <= 0, alpha = the projection of the position step on the step from
+    b to a, in [0, 2] (a time step's first Newton iterate continues the last step's motion; a
+    Newton correction gets alpha ~ 0). Warm only if u is at most max_turn [rad] from
+    u_a + alpha (u_a - u_b), the direction the extrapolated set belongs to, and |ln(1 - eps)|
+    changed by at most max_dlog since a (docs/studies/2026-11-24-reynolds-warm-start.md).
+    """
+    if nvalid[0] == 0:
+        return False
+    a = order[0]
+    qy = y / CR
+    qz = z / CR
+    # the anchor: the most recent earlier call at least a quarter of this step away
+    dy = qy - hs[a, 0]
+    dz = qz - hs[a, 1]
+    dd = dy * dy + dz * dz
+    alpha = 0.0
+    bslot = a
+    for r in range(1, nvalid[0]):
+        bslot = order[r]
+        ey = hs[a, 0] - hs[bslot, 0]
+        ez = hs[a, 1] - hs[bslot, 1]
+        ee = ey * ey + ez * ez
+        if ee > 0.0 and ee >= 0.0625 * dd:
+            alpha = min(max((dy * ey + dz * ez) / ee, 0.0), 2.0)
+            break
+    # the source direction expected at this call (extrapolated like w) against the actual one
+    uy = omega * y - 2.0 * vz
+    uz = omega * z + 2.0 * vy
+    ey = hs[a, 2] + alpha * (hs[a, 2] - hs[bslot, 2])
+    ez = hs[a, 3] + alpha * (hs[a, 3] - hs[bslot, 3])
+    cu = math.sqrt(uy * uy + uz * uz)
+    pu = math.sqrt(ey * ey + ez * ez)
+    eps = math.sqrt(qy * qy + qz * qz)
+    eps_a = math.sqrt(hs[a, 0] * hs[a, 0] + hs[a, 1] * hs[a, 1])
+    if cu == 0.0 or pu == 0.0 or abs(math.log1p(-eps) - math.log1p(-eps_a)) > max_dlog \
+            or (uy * ey + uz * ez) < math.cos(max_turn) * cu * pu:
+        nvalid[0] = 0
+        return False
+    if alpha > 0.0:
+        for k in range(N * m):
+            act[k] = wring[a, k] + alpha * (wring[a, k] - wring[bslot, k]) <= 0.0
+    return True
+
+
+@njit(cache=True)
+def _remember(N, m, y, z, vy, vz, omega, CR, rs, b, act, p, tmp, hs, order, nvalid, wring):
+    """Store the converged call (tmp = A p of the final pass) as the newest history entry."""
+    H = order.shape[0]
+    slot = order[H - 1]
+    for r in range(H - 1, 0, -1):
+        order[r] = order[r - 1]
+    order[0] = slot
+    if nvalid[0] < H:
+        nvalid[0] += 1
+    hs[slot, 0] = y / CR
+    hs[slot, 1] = z / CR
+    hs[slot, 2] = omega * y - 2.0 * vz
+    hs[slot, 3] = omega * z + 2.0 * vy
+    for i in range(N):
+        for j in range(m):
+            k = i * m + j
+            wring[slot, k] = -(tmp[k] - rs[j] * b[i]) if act[k] else p[k]
+
+
+@njit(cache=True)
 def _integrate(N, m, p, sin_c, cos_c, qw, wr, F):
     """F = 2 sum_i sum_j qw_j p_ij (sin th_i, -cos th_i) R dth (both halves of the length)."""
     fy = 0.0
@@ -430,16 +534,37 @@ def _kernel(
     sin_c, cos_c, sin_f, cos_f, ds, dc, tdiag, rs, qw,
     at, ax, b, db, dat, dax, diag, cxo, cto, act, Lb, Y, S, zb, z2,
     p, pf, rhs, tmp, mu_y, mu_z, F, dFq, dFv, Ft, info, max_iter, grow,
+    use_warm, warm_cap, max_turn, max_dlog, hs, order, nvalid, wring,
 ):
+    """One call. info = [passes of the converged solve (-1: not converged), cavitated fraction,
+    complementarity residual, banded factorizations in all, warm start used, warm start
+    abandoned for the cold start]. use_warm: remember converged calls and start from them
+    (reynolds cavitation only; see _warm_start)."""
     N = sin_c.shape[0]
     n = N * m
     wr = 2.0 * R * dth
     _assemble(y, z, vy, vz, omega, CR, mu, R, dth, dx, sin_c, cos_c, sin_f, cos_f, ds, dc, at, ax, b)
-    s0, hb, iters = _film(mode, N, m, at, ax, tdiag, rs, b, grow, max_iter,
+    use_warm = use_warm and mode == 1
+    if not use_warm:
+        nvalid[0] = 0  # act is overwritten below: nothing remembered stays valid
+    warm = use_warm and _warm_start(N, m, y, z, vy, vz, omega, CR, act, hs, order, nvalid, wring,
+                                    max_turn, max_dlog)
+    info[4] = 1.0 if warm else 0.0
+    s0, hb, iters = _film(mode, N, m, at, ax, tdiag, rs, b, grow, warm_cap if warm else max_iter, warm,
                           act, diag, cxo, cto, Lb, Y, S, zb, z2, p, pf, rhs, tmp, info)
+    if warm and iters < 0:
+        # not settled within warm_cap passes from the previous set: today's cold start
+        info[3] += warm_cap
+        info[5] = 1.0
+        s0, hb, iters = _film(mode, N, m, at, ax, tdiag, rs, b, grow, max_iter, False,
+                              act, diag, cxo, cto, Lb, Y, S, zb, z2, p, pf, rhs, tmp, info)
     info[0] = iters
     if iters < 0:
+        nvalid[0] = 0
         return
+    info[3] += iters
+    if use_warm:
+        _remember(N, m, y, z, vy, vz, omega, CR, rs, b, act, p, tmp, hs, order, nvalid, wring)
     _integrate(N, m, p, sin_c, cos_c, qw, wr, F)
     nact = 0
     for k in range(n):
@@ -467,11 +592,12 @@ def _kernel(
             for sgn in (1.0, -1.0):
                 for i in range(N):
                     dat[i] = sgn * db[q, i]
-                it2 = _film(mode, N, m, at, ax, tdiag, rs, dat, grow, max_iter,
+                it2 = _film(mode, N, m, at, ax, tdiag, rs, dat, grow, max_iter, False,
                             act, diag, cxo, cto, Lb, Y, S, zb, z2, p, pf, rhs, tmp, info)[2]
                 if it2 < 0:
                     info[0] = -1.0
                     return
+                info[3] += it2
                 _integrate(N, m, p, sin_c, cos_c, qw, wr, Ft)
                 cy += 0.5 * sgn * Ft[0]
                 cz += 0.5 * sgn * Ft[1]
@@ -481,7 +607,8 @@ def _kernel(
             else:
                 dFv[0, q - 2] = cy
                 dFv[1, q - 2] = cz
-        # restore the state's own (zero) film
+        # restore the state's own (zero) film; no source to warm-start from
+        nvalid[0] = 0
         for k in range(n):
             p[k] = 0.0
             pf[k] = 0.0
@@ -573,10 +700,14 @@ class Reynolds:
               default DEFAULT_N_X
     cavitation : "reynolds" (Swift-Stieber, exact complementarity) or "gumbel"
               (half-Sommerfeld: full solution clipped at 0)
+    warm_start : start the active-set method from the last converged calls' cavitated set
+              (reynolds cavitation; the result is the same whatever the start, see the
+              module docstring); False = always the cold start computed from the inputs.
+              ``counts()`` sums calls and passes; ``forget()`` drops what was remembered.
     """
 
     def __init__(self, params: BearingParams, n_theta: int | None = None, n_x: int | None = None,
-                 cavitation: str = "reynolds"):
+                 cavitation: str = "reynolds", warm_start: bool = True):
         if not isinstance(params, BearingParams):
             raise TypeError(f"Reynolds: params must be a BearingParams, got {type(params).__name__}")
         if not isinstance(cavitation, str) or cavitation.lower() not in CAVITATION_MODELS:
@@ -636,9 +767,19 @@ class Reynolds:
         self._mu_y, self._mu_z = f(n), f(n)
         self._F, self._dFq, self._dFv, self._Ft = f(2), f((2, 2)), f((2, 2)), f(2)
         self._db = f((4, N))
-        self._info = f(3)
+        self._info = f(6)
         self._max_iter = 4 * n + 10
         self._grow = max(1, int(round(N / 16)))
+        self.warm_start = bool(warm_start)
+        # warm start (see _warm_start): the last WARM_HISTORY converged calls, and the limits
+        # beyond which the cold start is used (measured, docs/studies/2026-11-24-reynolds-warm-start.md)
+        self._hs = f((WARM_HISTORY, 4))
+        self._order = np.arange(WARM_HISTORY, dtype=np.int64)
+        self._nvalid = np.zeros(1, dtype=np.int64)
+        self._wring = f((WARM_HISTORY, n))
+        self._max_turn = min(WARM_MAX_TURN_CELLS * self._dth, math.pi)
+        self._warm_cap = self._grow + 4
+        self.reset_counts()
 
     @classmethod
     def from_options(cls, params: BearingParams, options, context=None) -> "Reynolds":
@@ -649,6 +790,30 @@ class Reynolds:
     def __repr__(self) -> str:
         return (f"Reynolds({self.params!r}, n_theta={self.n_theta}, n_x={self.n_x}, "
                 f"cavitation={self.cavitation!r})")
+
+    # -- warm start and counters ------------------------------------------------------------
+    def forget(self) -> None:
+        """Drop the remembered calls: the next call starts cold (results do not change)."""
+        self._nvalid[0] = 0
+
+    def reset_counts(self) -> None:
+        """Zero the call and pass counters of ``counts``."""
+        self._n_calls = 0
+        self._n_passes = 0
+        self._n_warm = 0
+        self._n_fallback = 0
+
+    def counts(self) -> dict:
+        """Counters since construction or ``reset_counts``: calls, banded factorizations
+        (active-set passes) in all, calls started warm, warm starts abandoned for the cold start."""
+        return {"calls": self._n_calls, "passes": self._n_passes, "warm_starts": self._n_warm,
+                "cold_fallbacks": self._n_fallback}
+
+    def _count(self) -> None:
+        self._n_calls += 1
+        self._n_passes += int(self._info[3])
+        self._n_warm += bool(self._info[4])
+        self._n_fallback += bool(self._info[5])
 
     def _run(self, y, z, vy, vz, omega, want_jac):
         y, z, vy, vz, omega = float(y), float(z), float(vy), float(vz), float(omega)
@@ -663,7 +828,10 @@ class Reynolds:
             self._act, self._Lb, self._Y, self._S, self._zb, self._z2,
             self._p, self._pf, self._rhs, self._tmp, self._mu_y, self._mu_z,
             self._F, self._dFq, self._dFv, self._Ft, self._info, self._max_iter, self._grow,
+            self.warm_start, self._warm_cap, self._max_turn, WARM_MAX_DLOG,
+            self._hs, self._order, self._nvalid, self._wring,
         )
+        self._count()
         if self._info[0] < 0:  # pragma: no cover - not observed; guards against cycling
             raise RuntimeError(
                 f"Reynolds: active-set iteration did not converge in {self._max_iter} steps at "
@@ -694,11 +862,17 @@ class Reynolds:
         return self._theta.copy(), self._x.copy(), p
 
     def diagnostics(self, y: float, z: float, vy: float, vz: float, omega: float) -> dict:
-        """Solver statistics at a state: active-set iterations, cavitated fraction of the cells,
-        and (for "reynolds") the scaled complementarity residual max|min(p, A p - b)| / scale."""
+        """Solver statistics of a call at a state: active-set iterations of the converged solve,
+        banded factorizations in all (``passes``: more than ``iterations`` only when a warm
+        start was abandoned for the cold one, ``cold_fallback``), whether the start was the
+        remembered set (``warm_start``), cavitated fraction of the cells, and (for "reynolds")
+        the scaled complementarity residual max|min(p, A p - b)| / scale."""
         self._run(y, z, vy, vz, omega, False)
         return {
             "iterations": int(self._info[0]),
+            "passes": int(self._info[3]),
+            "warm_start": bool(self._info[4]),
+            "cold_fallback": bool(self._info[5]),
             "cavitated_fraction": float(self._info[1]),
             "complementarity_residual": float(self._info[2]),
         }

@@ -404,3 +404,166 @@ def test_jacobian_at_the_centre_at_rest(cav):
     assert np.allclose(K, [[0, k], [-k, 0]], atol=1e-12 * k) and np.allclose(C, [[c, 0], [0, c]], atol=1e-12 * c)
     # the state's own pressure stays zero after the derivative solves
     assert r.pressure(0.0, 0.0, 0.0, 0.0, OMEGA)[2].max() == 0.0
+
+
+# ------------------------------------------------------------------------ warm start
+
+
+def _orbit_calls(n_steps, e0, a, whirl, dt=1e-4, omega=OMEGA):
+    """Newton-like call sequence on a circular orbit of radius a CR about a point at e0 CR:
+    per time step the predictor state and a slightly corrected one (as Newmark + Newton call)."""
+    c = e0 * P.CR * np.array([0.3, -1.0]) / math.hypot(0.3, 1.0)
+    w = whirl * omega
+    calls = []
+    for k in range(n_steps):
+        t = k * dt
+        q = c + a * P.CR * np.array([math.cos(w * t), math.sin(w * t)])
+        v = a * P.CR * w * np.array([-math.sin(w * t), math.cos(w * t)])
+        calls.append((*q, *v))
+        calls.append((*(q + 1e-6 * P.CR), *(v * (1 + 1e-5))))
+    return calls
+
+
+def _random_calls(n, seed):
+    rng = np.random.default_rng(seed)
+    return [state(P, rng.uniform(0, 0.97), rng.uniform(0, 2 * math.pi),
+                  *(rng.normal(size=2) * P.CR * OMEGA * rng.choice([0.0, 0.05, 0.5]))) for _ in range(n)]
+
+
+def _jacobians(r, calls):
+    return np.array([np.hstack([a.ravel() for a in r.force_and_jacobian(*s, OMEGA)]) for s in calls])
+
+
+@pytest.mark.parametrize("kind", ["orbit", "orbit near the wall", "random", "random small steps"])
+def test_warm_start_gives_the_cold_result(kind):
+    """The LCP of an M-matrix has one solution and the active-set method reaches it from any
+    start (Hintermueller, Ito & Kunisch 2003; Ben Gharbia & Gilbert 2009), and with the same
+    converged set the last pass factors the same matrix: force and Jacobian equal the cold
+    start's to 1e-12 relative (measured: bit for bit, docs/studies/2026-11-24-reynolds-warm-start.md)."""
+    calls = {
+        "orbit": lambda: _orbit_calls(150, 0.4, 0.3, 1.0),
+        "orbit near the wall": lambda: _orbit_calls(150, 0.9, 0.07, 0.5),
+        "random": lambda: _random_calls(150, 7),
+        # random states each a small step from the last one: warm starts from an unrelated history
+        "random small steps": lambda: [tuple(np.array(s0) + 0.01 * np.array(s1)) for s0, s1 in
+                                       zip(_orbit_calls(75, 0.5, 0.2, 1.0), _random_calls(150, 8))],
+    }[kind]()
+    warm, cold = Reynolds(P, 48, 8), Reynolds(P, 48, 8, warm_start=False)
+    Jw, Jc = _jacobians(warm, calls), _jacobians(cold, calls)
+    scale = np.abs(Jc).max(axis=1, keepdims=True)
+    assert np.all(np.abs(Jw - Jc) <= 1e-12 * scale)
+    assert warm.counts()["warm_starts"] > 0 and cold.counts()["warm_starts"] == 0
+
+
+@pytest.mark.parametrize("grid", [(48, 8), (128, 16)])
+def test_warm_start_cuts_passes_on_an_orbit(grid):
+    """Orbit of 0.4 CR at 50 Hz, Newton-like calls (2 per step): measured (2026-11-24) 3.02 / 4.67
+    passes per call cold and 1.09 / 1.35 warm on 48 x 8 / 128 x 16; asserted with margin:
+    warm <= 1.6, cold >= 2.5 (the cold start is what the module computed before the warm start)."""
+    calls = _orbit_calls(200, 0.5, 0.4, 1.0)
+    warm, cold = Reynolds(P, *grid), Reynolds(P, *grid, warm_start=False)
+    for s in calls:
+        warm.force(*s, OMEGA)
+        cold.force(*s, OMEGA)
+    cw, cc = warm.counts(), cold.counts()
+    assert cw["calls"] == cc["calls"] == len(calls)
+    # the first call is cold, and a few where the source direction swings fast (|u| small)
+    assert cw["warm_starts"] >= 0.95 * len(calls) and cw["cold_fallbacks"] == 0, cw
+    assert cw["passes"] / len(calls) <= 1.6, cw
+    assert cc["passes"] / len(calls) >= 2.5, cc
+    warm.reset_counts()
+    assert warm.counts() == {"calls": 0, "passes": 0, "warm_starts": 0, "cold_fallbacks": 0}
+
+
+def test_cold_start_after_a_jump():
+    """The cold start is used when the source direction is more than 2 theta cells from the
+    one expected (the last call's, extrapolated along the motion of the last calls) or
+    |ln(1 - eps)| changed by more than 1 since the last call (limits measured in the study),
+    after a state without source, after forget(), and for gumbel (no LCP); same results."""
+    from bearing_fmu.reynolds import WARM_MAX_DLOG, WARM_MAX_TURN_CELLS
+
+    assert (WARM_MAX_TURN_CELLS, WARM_MAX_DLOG) == (2.0, 1.0)  # the limits this test probes
+    n = 64
+    r, ref = Reynolds(P, n, 8), Reynolds(P, n, 8, warm_start=False)
+    cell = 2 * math.pi / n
+
+    def call(s):
+        d = r.diagnostics(*s, OMEGA)
+        assert r.force(*s, OMEGA) == ref.force(*s, OMEGA)  # same bits whatever the start
+        return d["warm_start"]
+
+    assert not call(state(P, 0.5, 1.0))  # nothing remembered yet
+    assert call(state(P, 0.5, 1.0 + 1.5 * cell))  # turned by 1.5 cells (v = 0: u turns with q)
+    assert call(state(P, 0.5, 1.0 + 4.0 * cell))  # 2.5 cells more, but along the motion
+    assert not call(state(P, 0.5, 1.0 + 1.0 * cell))  # back by 3 cells: against the motion
+    assert call(state(P, 0.62, 1.0 + 1.0 * cell))  # |ln(0.5 / 0.38)| = 0.27
+    assert not call(state(P, 0.9, 1.0 + 1.0 * cell))  # |ln(0.38 / 0.1)| = 1.34
+    # the source direction, not the position, decides: same position, velocity turns u by 90 deg
+    y, z, _, _ = state(P, 0.9, 1.0 + 1.0 * cell)
+    assert not call((y, z, -0.5 * OMEGA * z, 0.5 * OMEGA * y))
+    assert not call((0.0, 0.0, 0.0, 0.0))  # no source: p = 0, nothing to warm-start from
+    assert not call(state(P, 0.3, 2.0))
+    r.forget()
+    assert not call(state(P, 0.3, 2.0))
+    g = Reynolds(P, n, 8, cavitation="gumbel")
+    g.force(*state(P, 0.3, 2.0), OMEGA)
+    assert not g.diagnostics(*state(P, 0.3, 2.0), OMEGA)["warm_start"]
+
+
+def test_abandoned_warm_start_falls_back_to_the_cold_start():
+    """A warm start that has not settled within its cap (grow + 4 passes; never hit in the paper
+    scenes) is abandoned for the cold start: here the cap is cut to 1 pass so that any change of
+    the set triggers it. The result is the cold one; the passes of both attempts are counted."""
+    r, ref = Reynolds(P, 64, 8), Reynolds(P, 64, 8, warm_start=False)
+    r._warm_cap = 1  # test hook: the cap is grow + 4 = 8 at n_theta = 64
+    r.force(*state(P, 0.5, 1.0), OMEGA)
+    s = state(P, 0.5, 1.0 + 1.5 * 2 * math.pi / 64)
+    d = r.diagnostics(*s, OMEGA)
+    dc = ref.diagnostics(*s, OMEGA)
+    assert d["warm_start"] and d["cold_fallback"]
+    assert d["passes"] == 1 + dc["iterations"] and d["iterations"] == dc["iterations"]
+    assert r.force_and_jacobian(*s, OMEGA)[0].tolist() == list(ref.force(*s, OMEGA))
+    assert r.counts()["cold_fallbacks"] >= 1
+
+
+def test_copy_and_pickle_keep_results():
+    """A copied or unpickled solver carries its remembered calls; its results are the cold ones."""
+    import copy
+    import pickle
+
+    r, ref = Reynolds(P, 48, 8), Reynolds(P, 48, 8, warm_start=False)
+    calls = _orbit_calls(20, 0.6, 0.2, 1.0)
+    for s in calls[:-1]:
+        r.force(*s, OMEGA)
+    for c in (copy.deepcopy(r), pickle.loads(pickle.dumps(r))):
+        d = c.diagnostics(*calls[-1], OMEGA)
+        assert d["warm_start"] and c.force(*calls[-1], OMEGA) == ref.force(*calls[-1], OMEGA)
+
+
+def test_fmu_state_restore_with_warm_start():
+    """The FMU slave's state (fmi2Get/SetFMUstate) holds inputs and outputs, not the internal:
+    the Reynolds object keeps what it remembered across a restore. A host iterating the FMI way
+    (save, then restore + set + doStep per Newton iterate, also after a rejected far iterate)
+    gets exactly the force and tangent of a fresh solver."""
+    from bearing_fmu.slave import _STATE_NAMES, BearingFMU
+
+    fmu = BearingFMU(instance_name="warm-start test")
+    fmu.n_theta, fmu.n_x = 48, 8
+    fmu.exit_initialization_mode()
+    ref = Reynolds(P, 48, 8, warm_start=False)
+    calls = _orbit_calls(30, 0.5, 0.3, 1.0, omega=OMEGA)
+    far = state(P, 0.9, 4.0, 0.01, 0.0)  # an iterate far away, then back to the orbit
+    t = 0.0
+    for k in range(0, len(calls), 2):
+        saved = fmu._get_fmu_state()
+        assert all(not isinstance(v, Reynolds) for v in saved[2]) and len(saved[2]) == len(_STATE_NAMES)
+        for s in (calls[k], far, calls[k + 1]) if k % 10 == 0 else (calls[k], calls[k + 1]):
+            fmu._set_fmu_state(saved)
+            fmu.y, fmu.z, fmu.vy, fmu.vz, fmu.omega = *s, OMEGA
+            assert fmu.do_step(t, 1e-4)
+            F, dq, dv = ref.force_and_jacobian(*s, OMEGA)
+            assert (fmu.Fy, fmu.Fz) == tuple(F.tolist())
+            assert [fmu.Kyy, fmu.Kyz, fmu.Kzy, fmu.Kzz] == (-dq).ravel().tolist()
+            assert [fmu.Cyy, fmu.Cyz, fmu.Czy, fmu.Czz] == (-dv).ravel().tolist()
+        t += 1e-4
+    assert fmu._internal.counts()["warm_starts"] > len(calls) // 2
