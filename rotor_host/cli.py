@@ -1,4 +1,4 @@
-"""``rotor-host``: run scenes, compare internals, run the paper's main job, fit scene-trained surrogates."""
+"""``rotor-host``: run scenes, compare internals, run the paper's main job, fit scene-trained surrogates, sweep."""
 
 from __future__ import annotations
 
@@ -282,6 +282,13 @@ def main(argv: list[str] | None = None) -> int:
     p = sub.add_parser("limit-cycle", help="envelope of the bearing eccentricity: does the whirl settle and hold?")
     limit_cycle.add_arguments(p)
     p.set_defaults(func=limit_cycle.run)
+
+    from . import sweep
+
+    p = sub.add_parser("sweep", help="run a scene at many speeds or unbalances in parallel on Dask: summary table "
+                                     "and bifurcation diagram")
+    sweep.add_arguments(p)
+    p.set_defaults(func=sweep.run)
 
     add_debug_flag(parser, sub)
     args = parser.parse_args(argv)
