@@ -1,0 +1,252 @@
+"""rotor-host sweep: the swept values, what a run leaves in the summary, and sweeps on Dask.
+
+The Dask tests (marked slow: a cluster takes a few seconds to start) run the paper rotor with
+the shipped force map called directly for 0.02 s per run, on a LocalCluster of 2 worker
+processes (the default path) and on an existing cluster named by --scheduler; one run of the
+speed sweep fails honestly (0.01 Hz: the film cannot carry the rotor's weight), one test
+interrupts a sweep as Ctrl-C does.
+"""
+
+import argparse
+import json
+import math
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from conftest import MODELS, ROOT
+from rotor_host.sweep import Point, points, run_point, settled_metrics, sweep_values, write_summary
+
+SCENE = MODELS / "scenes" / "paper_22hz.toml"
+CHEAP = ["--internal", "map", "--via", "direct", "--t-end", "0.02", "--quiet"]
+
+
+def _cli(*argv):
+    from rotor_host.cli import main
+
+    return main([str(a) for a in argv])
+
+
+# ------------------------------------------------------------------ the values swept
+
+def test_ranges_include_both_ends():
+    speeds = sweep_values("Hz", 0.0, True)
+    # 12.5, 15, ..., 60: (60 - 12.5) / 2.5 + 1 = 20 values, 60 reached despite rounding
+    v = speeds("12.5:60:2.5")
+    assert len(v) == 20 and v[0] == 12.5 and v[-1] == 60.0 and np.allclose(np.diff(v), 2.5)
+    assert speeds("10:60:2.5")[-1] == 60.0 and len(speeds("10:60:2.5")) == 21
+    assert speeds("0.1:0.3:0.1") == [0.1, 0.2, 0.3]  # 0.1 + 2 * 0.1 = 0.30000000000000004 rounded
+    assert speeds("44") == [44.0] and speeds("5:5:1") == [5.0]
+    assert sweep_values("g", 0.0, False)("0:8:4") == [0.0, 4.0, 8.0]  # a mass may be 0
+
+
+@pytest.mark.parametrize("text", ["60:10:2", "10:60:0", "10:60:-1", "0:10:1", "0", "abc", "1:2", "1:2:3:4", "nan",
+                                  "1:1e9:1e-3", "inf:5:1"])
+def test_bad_ranges_are_refused_by_what_was_expected(text):
+    with pytest.raises(argparse.ArgumentTypeError, match=r"expected a number > 0 Hz or START:STOP:STEP.*got"):
+        sweep_values("Hz", 0.0, True)(text)
+
+
+def test_bad_input_names_the_option_before_any_work(tmp_path, capsys, write_scene):
+    with pytest.raises(SystemExit) as e:
+        _cli("sweep", SCENE, "--speeds-hz", "60:10:2")
+    assert e.value.code == 2 and "--speeds-hz" in capsys.readouterr().err
+    with pytest.raises(SystemExit):  # one of the two is required, not both
+        _cli("sweep", SCENE, "--speeds-hz", "20", "--unbalance-g", "4")
+    assert "not allowed with" in capsys.readouterr().err
+    for extra, words in ((["--settle-s", "0.02"], "--settle-s 0.02: must be less than"),
+                         (["--scheduler", "tcp://127.0.0.1:1", "--workers", "2"], "--workers: sets the size")):
+        assert _cli("sweep", SCENE, "--speeds-hz", "20", *CHEAP, "--out", tmp_path, *extra) == 2
+        assert words in capsys.readouterr().err
+    no_unbalance = write_scene(f"""
+        internal = "map"
+        speed_hz = 22.0
+        [map]
+        map = "{MODELS.as_posix()}/maps/paper_bearing.json"
+        [time]
+        t_end_s = 0.02
+        dt_s = 1e-4
+    """)
+    assert _cli("sweep", no_unbalance, "--unbalance-g", "4", "--out", tmp_path, "--quiet") == 2
+    assert "--unbalance-g: the scene" in capsys.readouterr().err
+    assert not list(tmp_path.glob("sweep_*"))
+
+
+def test_points_have_distinct_stems():
+    from rotor_host.scene import load_scene
+
+    scene = load_scene(SCENE).with_internal("map")
+    pts = points(scene, [10.0, 12.5, 60.0])
+    assert [p.stem for p in pts] == ["paper_22hz_map_10hz", "paper_22hz_map_12.5hz", "paper_22hz_map_60hz"]
+    pts = points(scene, unbalance_g=[0.0, 8.5])
+    assert [p.stem for p in pts] == ["paper_22hz_map_0g", "paper_22hz_map_8.5g"]
+    assert all(p.speed_hz == 22.0 for p in pts)
+
+
+# ------------------------------------------------------------- what a run leaves
+
+def test_settled_metrics_by_hand():
+    """A bearing eccentricity 0.3 + 0.1 sin(2 pi 5 t) and a disk circling its static position
+    at 40 um, shaft at 5 Hz: after t = 0.5 s the range is 0.2..0.4 and the once-per-revolution
+    samples all fall on 0.3 (synchronous: one point); the disk's distance is 40 um throughout."""
+    t = np.arange(0, 1.0 + 1e-12, 1e-4)
+    ecc = 0.3 + 0.1 * np.sin(2 * np.pi * 5 * t)
+    q0 = np.array([1e-6, -2e-6, 3e-6, -4e-6])  # nodes 3 and 6: (y, z) each
+    arrays = {"t": t, "nodes": np.array([3, 6]), "bearing_nodes": np.array([3]), "eccentricity": ecc[:, None],
+              "q0": q0, "y": np.column_stack([np.zeros_like(t), q0[2] + 40e-6 * np.cos(2 * np.pi * 5 * t)]),
+              "z": np.column_stack([np.zeros_like(t), q0[3] + 40e-6 * np.sin(2 * np.pi * 5 * t)])}
+    m = settled_metrics(arrays, 0.5, 5.0, [6])
+    (b,), (d,) = m["bearings"], m["disks"]
+    assert b["node"] == 3 and b["ecc_max"] == pytest.approx(0.4, abs=1e-6) and b["ecc_min"] == pytest.approx(0.2, abs=1e-6)
+    assert len(b["once_per_rev"]) == 3 and np.allclose(b["once_per_rev"], 0.3, atol=1e-9)  # t = 0.5, 0.7, 0.9
+    assert d["node"] == 6 and d["amp_max_um"] == pytest.approx(40.0) and d["amp_min_um"] == pytest.approx(40.0)
+    assert m["settled_samples"] == 5001
+    # a run that stopped before the settled part: nothing to report, no NaN
+    short = {k: (v[:100] if k in ("t", "eccentricity", "y", "z") else v) for k, v in arrays.items()}
+    assert settled_metrics(short, 0.5, 5.0, [6]) == {"settled_samples": 0, "bearings": [], "disks": []}
+
+
+def test_an_exception_in_the_worker_is_a_row(tmp_path):
+    """A run that raises (here: the scene's force map missing on the worker) is reported as a
+    row with status error and the exception named, not a lost task."""
+    from dataclasses import replace
+
+    from rotor_host.scene import load_scene
+
+    scene = load_scene(SCENE).with_internal("map", via="direct", t_end_s=0.02)
+    scene = replace(scene, options={**scene.options, "map": {"map": str(tmp_path / "gone.json")}})
+    row = run_point(scene, Point(22.0, None, "gone_22hz"), str(tmp_path), 0.01, [6])
+    assert row["status"] == "error" and row["message"].startswith("SceneError: ") and "gone.json" in row["message"]
+    assert row["bearings"] == [] and "\n" not in row["message"]
+
+
+def test_summary_names_failed_runs(tmp_path):
+    from rotor_host.scene import load_scene
+
+    scene = load_scene(SCENE).with_internal("map", via="direct", t_end_s=0.02)
+    ok = {"speed_hz": 22.0, "unbalance_g": None, "status": "ok", "message": "", "wall_s": 1.0, "integration_s": 0.5,
+          "static_eccentricity": [0.21, 0.21],
+          "bearings": [{"node": 3, "ecc_max": 0.25, "ecc_min": 0.2, "once_per_rev": [0.22]},
+                       {"node": 9, "ecc_max": 0.25, "ecc_min": 0.2, "once_per_rev": [0.22]}],
+          "disks": [{"node": 6, "amp_max_um": 150.0, "amp_min_um": 80.0, "once_per_rev_um": [100.0]}]}
+    bad = {"speed_hz": 0.01, "unbalance_g": None, "status": "failed", "message": "static equilibrium: no",
+           "wall_s": 0.1, "bearings": [], "disks": []}
+    info = {"cluster": "local cluster", "workers": 2, "wall_s": 3.0, "run_s": 1.1}
+    files = write_summary(tmp_path / "s", scene, [bad, ok], settle_s=0.01, bearing_nodes=[3, 9], disk_nodes=[6],
+                          unbalance=False, info=info)
+    md = files[0].read_text()
+    assert "| 0.01 | failed | - |" in md and "| 22 | ok | 0.250 | 0.200 | 0.250 | 0.200 | 150.0 | 80.0 |" in md
+    assert "- 0.01 Hz: failed: static equilibrium: no" in md
+    assert json.loads(files[1].read_text())["rows"][0]["status"] == "failed"
+    assert files[2].suffix == ".png" and files[2].stat().st_size > 10_000
+
+
+# ------------------------------------------------------------------ sweeps on Dask
+
+def _row(summary, speed):
+    return next(r for r in summary["rows"] if r["speed_hz"] == speed)
+
+
+@pytest.mark.slow
+def test_speed_sweep_on_a_local_cluster(tmp_path, capsys):
+    out = tmp_path / "out"
+    assert _cli("sweep", SCENE, "--speeds-hz", "0.01", "22", "44", *CHEAP, "--workers", "2", "--out", out) == 0
+    text = capsys.readouterr().out
+    assert "2 of 3 runs ok" in text and "on 2 worker(s)" in text
+    summary = json.loads((out / "sweep_paper_22hz_map.json").read_text())
+    assert summary["workers"] == 2 and summary["settle_s"] == pytest.approx(0.01)  # default: the second half
+    # 0.01 Hz: the film carries under 1 N at that speed (the run's own diagnosis), the weight
+    # puts 16.7 N on each bearing, so there is no static equilibrium: a failed run, reported
+    bad = _row(summary, 0.01)
+    assert bad["status"] == "failed" and "static equilibrium" in bad["message"] and bad["bearings"] == []
+    md = (out / "sweep_paper_22hz_map.md").read_text()
+    assert "- 0.01 Hz: failed: static equilibrium" in md
+    assert (out / "sweep_paper_22hz_map.png").stat().st_size > 10_000
+    pids = set()
+    for speed in (0.01, 22.0, 44.0):
+        row, stem = _row(summary, speed), f"paper_22hz_map_{speed:g}hz"
+        meta = json.loads((out / f"{stem}.json").read_text())
+        assert meta["speed_hz"] == speed and meta["status"] == row["status"]  # each run kept, by its own name
+        pids.add(row["pid"])
+        if row["status"] != "ok":
+            continue
+        # the summary's values are those of the kept run: recomputed here from its npz
+        a = np.load(out / f"{stem}.npz")
+        late = a["t"] >= 0.01 - 1e-12
+        assert [b["ecc_max"] for b in row["bearings"]] == pytest.approx(a["eccentricity"][late].max(axis=0).tolist())
+        assert [b["ecc_min"] for b in row["bearings"]] == pytest.approx(a["eccentricity"][late].min(axis=0).tolist())
+        c = list(a["nodes"]).index(6)  # the disk, recorded although the scene's [record] may omit it
+        r = 1e6 * np.hypot(a["y"][late, c] - a["q0"][2 * c], a["z"][late, c] - a["q0"][2 * c + 1])
+        assert row["disks"][0]["node"] == 6 and row["disks"][0]["amp_max_um"] == pytest.approx(r.max())
+        assert len(row["bearings"][0]["once_per_rev"]) == math.floor(0.01 * speed + 1e-9) + 1
+    assert os.getpid() not in pids  # the runs ran in the worker processes
+
+
+@pytest.fixture(scope="module")
+def scheduler():
+    """An existing Dask cluster (2 worker processes, one thread each), as a user would start one."""
+    import logging
+
+    from dask.distributed import LocalCluster
+
+    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None,
+                      silence_logs=logging.CRITICAL) as cluster:
+        yield cluster.scheduler_address
+
+
+@pytest.mark.slow
+def test_unbalance_sweep_on_an_existing_cluster(tmp_path, scheduler):
+    out = tmp_path / "out"
+    assert _cli("sweep", SCENE, "--unbalance-g", "0:8:4", *CHEAP, "--scheduler", scheduler, "--out", out) == 0
+    summary = json.loads((out / "sweep_paper_22hz_map_unbalance.json").read_text())
+    assert summary["cluster"] == scheduler and summary["swept"] == "unbalance_g"
+    amp = {r["unbalance_g"]: r["disks"][0]["amp_max_um"] for r in summary["rows"]}
+    assert all(r["status"] == "ok" and r["speed_hz"] == 22.0 for r in summary["rows"])
+    for m in (0, 4, 8):
+        assert json.loads((out / f"paper_22hz_map_{m}g.json").read_text())["status"] == "ok"
+    # without unbalance the rotor stays at its static equilibrium (it starts there)
+    assert amp[0.0] < 1e-3
+    # a small orbit on a nearly linear film: the response is proportional to the unbalance
+    assert amp[8.0] / amp[4.0] == pytest.approx(2.0, rel=0.02)
+
+
+@pytest.mark.slow
+def test_ctrl_c_keeps_the_runs_that_finished(tmp_path):
+    """SIGINT to the whole process group (as Ctrl-C does, workers included) once the first run
+    is written: exit 130, the summary of what finished, no worker process left behind."""
+    out = tmp_path / "out"
+    env = {**os.environ, "PYTHONPATH": str(ROOT), "MPLBACKEND": "Agg"}
+    proc = subprocess.Popen([sys.executable, "-m", "rotor_host.cli", "sweep", str(SCENE), "--speeds-hz", "20:24:2",
+                             "--internal", "map", "--via", "direct", "--t-end", "3", "--workers", "1",
+                             "--out", str(out), "--quiet"], cwd=ROOT, env=env, start_new_session=True,
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    first = out / "paper_22hz_map_20hz.json"
+    t0 = time.monotonic()
+    while not first.is_file() and proc.poll() is None and time.monotonic() - t0 < 120:
+        time.sleep(0.05)
+    assert proc.poll() is None, proc.communicate()
+    os.killpg(proc.pid, signal.SIGINT)
+    _, err = proc.communicate(timeout=60)
+    assert proc.returncode == 130, err
+    assert "interrupted by SIGINT; kept:" in err and "Traceback" not in err
+    summary = json.loads((out / "sweep_paper_22hz_map.json").read_text())
+    assert summary["status"] == "interrupted" and "interrupted by SIGINT" in summary["note"]
+    assert [r["speed_hz"] for r in summary["rows"]][:1] == [20.0] and len(summary["rows"]) < 3
+    assert all(r["status"] == "ok" for r in summary["rows"])
+    assert not list(out.glob("*.lock"))
+    t0 = time.monotonic()  # the worker processes end with the command (multiprocessing's resource
+    while time.monotonic() - t0 < 5:  # tracker, reparented, may take a moment to be reaped)
+        try:
+            os.killpg(proc.pid, 0)
+        except ProcessLookupError:
+            break
+        time.sleep(0.1)
+    else:
+        pytest.fail("a process of the sweep outlived it: " + subprocess.run(
+            ["ps", "-g", str(proc.pid), "-o", "pid,stat,cmd"], capture_output=True, text=True).stdout)
