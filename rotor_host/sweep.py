@@ -367,14 +367,14 @@ def plot_bifurcation(rows: list[dict], path, *, unbalance: bool = False, title: 
     """Bearing eccentricity (top) and disk amplitude (bottom) against the swept value: per run
     the range from the smallest to the largest value after the transient (bar with end
     markers), the once-per-revolution samples (dots: one point for an orbit synchronous with
-    the shaft, a spread for a whirl), the static equilibrium (dashed) and failed runs (x)."""
+    the shaft, a spread for a whirl), the static equilibrium (dashed) and failed runs (x on the axis)."""
     from .report import _plt
 
     plt = _plt()
     key = "unbalance_g" if unbalance else "speed_hz"
     good = [r for r in rows if r["status"] == "ok" and r.get("bearings")]
     has_disk = any(r.get("disks") for r in good)
-    fig, axes = plt.subplots(2 if has_disk else 1, 1, figsize=(9, 7.5 if has_disk else 4.5), sharex=True,
+    fig, axes = plt.subplots(2 if has_disk else 1, 1, figsize=(11, 7.5 if has_disk else 4.5), sharex=True,
                              squeeze=False)
     ax_b = axes[0, 0]
     colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
@@ -399,14 +399,14 @@ def plot_bifurcation(rows: list[dict], path, *, unbalance: bool = False, title: 
                     [r["disks"][k]["amp_min_um"] for r in g], [r["disks"][k]["once_per_rev_um"] for r in g],
                     colors[(n_b + k) % len(colors)], f"disk (node {g[0]['disks'][k]['node']})", filled=True)
         ax_d.set_ylabel("disk amplitude from static position [um]")
-        ax_d.set_ylim(bottom=0)
+        _amplitude_scale(ax_d, [v for r in good for d in r["disks"] for v in (d["amp_max_um"], d["amp_min_um"])])
     failed = [r for r in rows if r not in good]
     for ax in axes[:, 0]:
         for i, r in enumerate(failed):
-            ax.plot(r[key], 0, "x", color="red", ms=9, mew=2, clip_on=False,
+            ax.plot(r[key], 0, "x", color="red", ms=9, mew=2, clip_on=False, transform=ax.get_xaxis_transform(),
                     label="failed or stopped (see the summary)" if i == 0 else None)
-        ax.grid(alpha=0.3)
-        ax.legend(fontsize=8, loc="upper left")
+        ax.grid(alpha=0.3, which="both")
+        ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0)
     axes[-1, 0].set_xlabel("unbalance mass [g]" if unbalance else "shaft speed [Hz]")
     if title:
         fig.suptitle(title, fontsize=10)
@@ -414,6 +414,16 @@ def plot_bifurcation(rows: list[dict], path, *, unbalance: bool = False, title: 
     fig.savefig(path, dpi=110)
     plt.close(fig)
     return Path(path)
+
+
+def _amplitude_scale(ax, values) -> None:
+    """A log scale when the amplitudes span more than 30x (a resonance or a whirl next to small
+    synchronous orbits), else linear from 0."""
+    pos = [v for v in values if v > 0]
+    if pos and max(pos) > 30 * min(pos) and min(values) > 0:
+        ax.set_yscale("log")
+    else:
+        ax.set_ylim(bottom=0)
 
 
 def _ranges(ax, xs, hi, lo, samples, color, label, filled) -> None:
