@@ -469,6 +469,26 @@ def add_arguments(p: argparse.ArgumentParser) -> argparse.ArgumentParser:
     return p
 
 
+def check_taylor_speeds(scene, speeds_hz) -> None:
+    """A Taylor surrogate answers at the one speed it was fitted at (and refuses any other):
+    refuse a speed sweep with it before any run, naming what does sweep speeds."""
+    if scene.internal != "taylor":
+        return
+    from bearing_fmu.surrogate import load_surrogate
+    from bearing_fmu.taylor import OMEGA_RTOL
+
+    from .scene import required_file
+
+    path = required_file(scene, "taylor", "surrogate")
+    f0 = load_surrogate(path).omega / (2 * math.pi)
+    other = [f for f in speeds_hz if abs(f - f0) > OMEGA_RTOL * f0]
+    if other:
+        raise ValueError(f"--speeds-hz: the taylor internal answers only at the speed its surrogate was fitted at "
+                         f"({f0:g} Hz, {path.name}), not at {', '.join(f'{f:g}' for f in other[:4])}"
+                         f"{' ...' if len(other) > 4 else ''} Hz; sweep speeds with --internal map (any speed of "
+                         f"the bearing's L/D) or reynolds, or sweep --unbalance-g at {f0:g} Hz")
+
+
 def _settle(args, scene) -> float:
     settle = scene.t_end_s / 2 if args.settle_s is None else args.settle_s
     if settle >= scene.t_end_s:
@@ -504,6 +524,7 @@ def run(args) -> int:
     out = ensure_writable(Path(args.out).resolve())
     unbalance = args.unbalance_g is not None
     pts = points(scene, None if unbalance else _flat(args.speeds_hz), _flat(args.unbalance_g) if unbalance else None)
+    check_taylor_speeds(scene, [p.speed_hz for p in pts])
     rotor = Rotor.from_toml(scene.rotor_path)
     bearing_nodes = [n + 1 for n in rotor.bearing_nodes]
     disk_nodes = sorted({d.node + 1 for d in rotor.disks})
@@ -542,4 +563,4 @@ def run(args) -> int:
 
 
 __all__ = ["expand_range", "sweep_values", "Point", "run_base", "points", "point_scene", "settled_metrics", "run_point",
-           "dask_client", "sweep", "write_summary", "plot_bifurcation", "add_arguments", "run"]
+           "check_taylor_speeds", "dask_client", "sweep", "write_summary", "plot_bifurcation", "add_arguments", "run"]
