@@ -418,9 +418,9 @@ def plot_bifurcation(rows: list[dict], path, *, unbalance: bool = False, title: 
 
 def _amplitude_scale(ax, values) -> None:
     """A log scale when the amplitudes span more than 30x (a resonance or a whirl next to small
-    synchronous orbits), else linear from 0."""
-    pos = [v for v in values if v > 0]
-    if pos and max(pos) > 30 * min(pos) and min(values) > 0:
+    synchronous orbits), else linear from 0; also linear when one is round-off (< 1 nm: a run
+    without unbalance stays at rest), which a log axis would stretch over ten decades."""
+    if values and min(values) >= 1e-3 and max(values) > 30 * min(values):
         ax.set_yscale("log")
     else:
         ax.set_ylim(bottom=0)
