@@ -32,6 +32,7 @@ from __future__ import annotations
 import argparse
 import math
 import os
+import re
 import signal
 import time
 from contextlib import contextmanager
@@ -40,6 +41,7 @@ from pathlib import Path
 
 import numpy as np
 
+from bearing_fmu.cliargs import typed
 from bearing_fmu.exits import as_interrupted, note_kept
 from bearing_fmu.outputs import claim, ensure_writable, write_json, write_text
 
@@ -59,7 +61,6 @@ def sweep_values(unit: str, minimum: float, exclusive_minimum: bool):
     """An argparse type: a number or a range ``START:STOP:STEP`` (both ends included), each
     value within the bound; returns a list of floats. (Defined here rather than in
     bearing_fmu.cliargs while other commands settle on their range type.)"""
-    from bearing_fmu.cliargs import typed
     from bearing_fmu.schema import Number
 
     bound = Number(minimum, exclusive_minimum=exclusive_minimum)
@@ -79,6 +80,20 @@ def sweep_values(unit: str, minimum: float, exclusive_minimum: bool):
         return expand_range(start, stop, step)
 
     return typed(words, convert)
+
+
+_ADDRESS = re.compile(r"^(?:[a-z]+://)?[^\s/:]+:\d{1,5}$|^[a-z]+://\S+$")
+
+
+def _address(text: str) -> str:
+    if not _ADDRESS.match(text.strip()):
+        raise ValueError(text)
+    return text.strip()
+
+
+# An argparse type: a Dask scheduler address, ``tcp://HOST:PORT`` (or ``HOST:PORT``); that a
+# scheduler answers there is checked when the sweep connects.
+scheduler_address = typed("a Dask scheduler address such as tcp://10.0.0.5:8786", str, _address)
 
 
 @dataclass(frozen=True)
@@ -206,16 +221,18 @@ def error_fields(exc: BaseException) -> dict:
 # ------------------------------------------------------------------ running on Dask
 
 @contextmanager
-def dask_client(scheduler: str | None, workers: int | None, quiet: bool = False):
-    """A dask.distributed Client: on the scheduler at ``scheduler``, or on a LocalCluster of
-    ``workers`` processes (default: the cores) with one thread each, closed on leaving."""
+def dask_client(scheduler: str | None, workers: int | None, connect_timeout_s: float = 15.0):
+    """A dask.distributed Client: on the scheduler at ``scheduler`` (refused in one line if
+    none answers within ``connect_timeout_s`` [s] or it has no worker within 30 s), or on a
+    LocalCluster of ``workers`` processes (default: the cores) with one thread each, closed on
+    leaving."""
     import logging
 
     from dask.distributed import Client, LocalCluster
 
     if scheduler:
         try:
-            client = Client(scheduler, timeout=15)
+            client = Client(scheduler, timeout=connect_timeout_s)
         except (OSError, TimeoutError) as exc:
             raise ValueError(f"--scheduler {scheduler}: no Dask scheduler answered there "
                              f"({type(exc).__name__}: {' '.join(str(exc).split())[:200]})") from None
@@ -460,7 +477,7 @@ def add_arguments(p: argparse.ArgumentParser) -> argparse.ArgumentParser:
     p.add_argument("--dt", type=positive_float("s"), help="override the time step [s]")
     p.add_argument("--settle-s", type=nonneg_float("s"),
                    help="the transient ends here: the summary and diagram use t >= this [s] (default: half the run)")
-    p.add_argument("--scheduler", metavar="ADDRESS",
+    p.add_argument("--scheduler", type=scheduler_address, metavar="ADDRESS",
                    help="a running Dask scheduler (e.g. tcp://10.0.0.5:8786) whose workers run the sweep; default: "
                         "a local cluster on this machine")
     p.add_argument("--workers", type=positive_int(), help="worker processes of the local cluster (default: the cores)")

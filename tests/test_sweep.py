@@ -75,11 +75,22 @@ def test_bad_input_names_the_option_before_any_work(tmp_path, capsys, write_scen
     """)
     assert _cli("sweep", no_unbalance, "--unbalance-g", "4", "--out", tmp_path, "--quiet") == 2
     assert "--unbalance-g: the scene" in capsys.readouterr().err
+    with pytest.raises(SystemExit):
+        _cli("sweep", SCENE, "--speeds-hz", "20", "--scheduler", "localhost")
+    assert "argument --scheduler: expected a Dask scheduler address such as tcp://" in capsys.readouterr().err
     # a Taylor surrogate answers at its own speed only (44 Hz here): a speed sweep with it is refused
     assert _cli("sweep", MODELS / "scenes" / "paper_44hz.toml", "--speeds-hz", "40", "44", "--internal", "taylor",
                 "--out", tmp_path, "--quiet") == 2
     assert "the taylor internal answers only at the speed its surrogate was fitted at (44 Hz" in capsys.readouterr().err
     assert not list(tmp_path.glob("sweep_*"))
+
+
+def test_no_scheduler_there_is_one_line():
+    from rotor_host.sweep import dask_client
+
+    with pytest.raises(ValueError, match=r"^--scheduler tcp://127.0.0.1:1: no Dask scheduler answered there"):
+        with dask_client("tcp://127.0.0.1:1", None, connect_timeout_s=0.5):
+            pass
 
 
 def test_points_have_distinct_stems():
