@@ -34,6 +34,7 @@ import math
 import os
 import re
 import signal
+import threading
 import time
 from contextlib import contextmanager
 from dataclasses import dataclass, replace
@@ -106,11 +107,6 @@ class Point:
     stem: str
 
     @property
-    def value(self) -> float:
-        """The swept value: the mass in an unbalance sweep, else the speed."""
-        return self.speed_hz if self.unbalance_g is None else self.unbalance_g
-
-    @property
     def label(self) -> str:
         return f"{self.speed_hz:g} Hz" if self.unbalance_g is None else f"{self.unbalance_g:g} g"
 
@@ -133,8 +129,8 @@ def points(scene, speeds_hz=None, unbalance_g=None) -> list[Point]:
         if not scene.unbalances:
             raise ValueError(f"--unbalance-g: the scene {scene.source} has no [[unbalance]] entry to vary; "
                              "add one (node, mass_kg, radius_mm) or sweep --speeds-hz")
-        return [Point(scene.speed_hz, m, f"{base}_{m:g}g") for m in unbalance_g]
-    return [Point(f, None, f"{base}_{f:g}hz") for f in speeds_hz]
+        return [Point(scene.speed_hz, m, f"{base}_{m:.10g}g") for m in unbalance_g]
+    return [Point(f, None, f"{base}_{f:.10g}hz") for f in speeds_hz]  # distinct: values are rounded to 10 decimals
 
 
 def point_scene(scene, point: Point, disk_nodes: list[int]):
@@ -158,7 +154,8 @@ def settled_metrics(arrays: dict, settle_s: float, speed_hz: float, disk_nodes: 
       from its static equilibrium position [um], and the same once per revolution.
 
     Empty lists when fewer than two recorded steps lie in the window (a run that stopped
-    before it). No NaN: a value that cannot be computed is None."""
+    before it), and no disk entry without a static position to measure from: nothing that
+    cannot be computed is reported, so no NaN."""
     t = np.asarray(arrays["t"], float)
     win = t >= settle_s - 1e-12
     out = {"settled_samples": int(win.sum()), "bearings": [], "disks": []}
@@ -248,12 +245,15 @@ def dask_client(scheduler: str | None, workers: int | None, connect_timeout_s: f
     # The workers ignore SIGINT (an ignored signal stays ignored in a spawned process): Ctrl-C
     # reaches every process of the terminal's group, and only this one must act on it (cancel,
     # write the summary, close the workers), not print a traceback from each worker.
-    old = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    # (Python sets signal handlers in the main thread only; from another thread they keep SIGINT.)
+    main = threading.current_thread() is threading.main_thread()
+    old = signal.signal(signal.SIGINT, signal.SIG_IGN) if main else None
     try:
         cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None,
                                silence_logs=logging.CRITICAL)
     finally:
-        signal.signal(signal.SIGINT, old)
+        if main:
+            signal.signal(signal.SIGINT, old)
     with cluster, Client(cluster) as client:
         try:
             yield client
@@ -270,7 +270,7 @@ def _stop_workers(cluster) -> None:
         pid = getattr(nanny, "pid", None)
         if not pid:
             continue
-        nanny.close_gracefully(reason="sweep interrupted")
+        nanny.close_gracefully()
         try:
             os.kill(pid, signal.SIGTERM)
         except ProcessLookupError:
@@ -296,7 +296,7 @@ def sweep(client, scene, pts: list[Point], out_dir: Path, settle_s: float, disk_
             rows[p] = _result(fut, p)
             bar.update(1)
             bar.set_postfix_str(f"{p.label}: {rows[p]['status']}")
-            if rows[p]["status"] not in ("ok",):
+            if rows[p]["status"] != "ok":
                 (bar.write if progress else log)(f"  {p.label}: {rows[p]['status']}: {rows[p]['message'][:300]}")
     except KeyboardInterrupt as exc:
         for fut, p in futures.items():  # finished but not yet collected: they count
