@@ -264,3 +264,35 @@ def test_ctrl_c_keeps_the_runs_that_finished(tmp_path):
     else:
         pytest.fail("a process of the sweep outlived it: " + subprocess.run(
             ["ps", "-g", str(proc.pid), "-o", "pid,stat,cmd"], capture_output=True, text=True).stdout)
+
+
+@pytest.mark.slow
+def test_fmu_sweep_equals_direct_sweep(tmp_path, scheduler, fmu, map_file, write_scene):
+    """The same two speeds through the bearing FMUs (loaded in the workers) and called directly:
+    the FMU gives the direct call's forces to round-off (tests/test_cosim.py), so the summaries agree."""
+    scene = write_scene(f"""
+        internal = "map"
+        via = "fmu"
+        fmu = "{Path(fmu).as_posix()}"
+        speed_hz = 22.0
+        [map]
+        map = "{Path(map_file).as_posix()}"
+        [time]
+        t_end_s = 0.02
+        dt_s = 1e-4
+        [[unbalance]]
+        node = 6
+        mass_kg = 8.5e-3
+        radius_mm = 37.0
+    """)
+    rows = {}
+    for via in ("fmu", "direct"):
+        out = tmp_path / via
+        assert _cli("sweep", scene, "--speeds-hz", "22", "44", "--via", via, "--scheduler", scheduler, "--out", out,
+                    "--quiet") == 0
+        rows[via] = json.loads((out / "sweep_s_map.json").read_text())["rows"]
+        assert json.loads((out / "s_map_44hz.json").read_text())["via"] == via
+    for a, b in zip(rows["fmu"], rows["direct"]):
+        assert a["status"] == b["status"] == "ok"
+        assert a["bearings"][0]["ecc_max"] == pytest.approx(b["bearings"][0]["ecc_max"], rel=1e-9)
+        assert a["disks"][0]["amp_max_um"] == pytest.approx(b["disks"][0]["amp_max_um"], rel=1e-9)
