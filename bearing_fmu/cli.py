@@ -40,9 +40,43 @@ def _build(args: argparse.Namespace) -> int:
     from .build import build_fmu
     from .outputs import ensure_output_file
 
+    if args.native:
+        return _build_native(args)
+    for flag, value in (("--internal", args.internal), ("--bearing", args.bearing), ("--cmake", args.cmake or None)):
+        if value is not None:
+            raise ValueError(f"{flag} is an option of the native FMU: add --native (the Python FMU chooses its "
+                             "internal by its parameter 'internal' and takes the bearing as parameters)")
     ensure_output_file(args.output, "-o/--output")
     path = build_fmu(args.output, surrogate=[*(args.surrogate or []), *(args.map or [])] or None)
     print(f"wrote {path}")
+    return 0
+
+
+def _build_native(args: argparse.Namespace) -> int:
+    """``bearing-fmu build --native``: the internal compiled to C, one data file compiled in."""
+    from .native.build import build_native_fmu
+    from .outputs import ensure_output_file
+    from .params import BearingParams
+
+    surrogates, maps = args.surrogate or [], args.map or []
+    internal = args.internal or ("taylor" if surrogates else "map" if maps else None)
+    if internal is None:
+        raise ValueError("--native needs --internal taylor|map|linear (taylor with --surrogate FILE, map with "
+                         "--map FILE)")
+    if len(surrogates) > 1 or len(maps) > 1:
+        raise ValueError("--native compiles one data file in: give --surrogate or --map once")
+    if internal == "taylor" and (not surrogates or maps):
+        raise ValueError("--native --internal taylor needs --surrogate FILE (and no --map)")
+    if internal == "map" and (not maps or surrogates):
+        raise ValueError("--native --internal map needs --map FILE (and no --surrogate)")
+    if internal == "linear" and surrogates:
+        raise ValueError("--native --internal linear takes no --surrogate (--map FILE: linearise on that force map "
+                         "instead of the Reynolds solver)")
+    ensure_output_file(args.output, "-o/--output")
+    bearing = BearingParams.from_toml(args.bearing) if args.bearing else None
+    path = build_native_fmu(args.output, internal, surrogate=surrogates[0] if surrogates else None,
+                            map=maps[0] if maps else None, bearing=bearing, cmake=args.cmake)
+    print(f"wrote {path} (native FMU, {internal} internal, Model Exchange and Co-Simulation, no Python)")
     return 0
 
 
@@ -116,6 +150,17 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--map", type=existing_file, action="append", default=None, metavar="FILE",
                    help="force map JSON file to bundle beside the surrogates (repeat for several; with exactly "
                         "one, the FMU parameter 'map' defaults to it)")
+    p.add_argument("--native", action="store_true",
+                   help="a native FMU: the internal compiled to C (Model Exchange and Co-Simulation, no Python at run "
+                        "time; needs a C compiler now); taylor, map or linear")
+    p.add_argument("--internal", choices=("taylor", "map", "linear"), default=None,
+                   help="--native: the internal (default: taylor with --surrogate, map with --map)")
+    p.add_argument("--bearing", type=existing_file, default=None, metavar="BEARING.toml",
+                   help="--native: the bearing of the parameters' start values (default: the surrogate's bearing for "
+                        "taylor, else the paper bearing)")
+    p.add_argument("--cmake", action="store_true",
+                   help="--native: compile through fmpy's CMake project (as `fmpy compile` does) instead of calling the "
+                        "C compiler directly")
     p.set_defaults(func=_build)
 
     from .cliargs import grid, int_at_least, number, typed
