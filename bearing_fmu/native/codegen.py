@@ -9,10 +9,9 @@ its options (registry ``Option``s the native FMU keeps) and two generated header
   start, range or choices) and the value references the C code uses (``VR_OPT_<NAME>``,
   ``S_OPT_<NAME>``);
 * ``model_data.h``: the internal's data. Taylor: the same arrays ``taylor.Taylor`` hands its
-  numba kernels (meta, domain, only the kept terms) and the polynomials as straight-line C,
-  one statement per term in the file's order, so every sum is accumulated in the order the
-  Python kernel accumulates it (the C force equals the Python one to rounding, usually to
-  the bit); the stored training states. Map: the spline's knots and coefficients. Linear:
+  numba kernels (meta, domain, only the kept terms), the polynomials as coefficient rows over
+  their monomials (``taylor_polynomials``: the C kernel sums them as vectorised dot
+  products), the stored training states. Map: the spline's knots and coefficients. Linear:
   nothing (its coefficients are parameters).
 
 Every double is written as a C99 hexadecimal literal (``float.hex``): exact.
@@ -216,42 +215,93 @@ def _config(internal: str, params: BearingParams, starts: dict, inputs, guid_see
 
 # ----------------------------------------------------------------------------- taylor
 
-def _product(factors: list[str]) -> str:
-    """Left-to-right product of the factors (factors equal to 1 dropped: x * 1.0 == x exactly)."""
-    return " * ".join(factors) if factors else "1.0"
-
-
-def poly_code(name: str, exps: np.ndarray, coef: np.ndarray, grad: bool) -> str:
-    """C function ``name(pw, out)``: out[0:2] += the two polynomials (rows of coef) and, with
-    ``grad``, out[2:6], out[6:10] += their u-gradients, term by term in the order of exps,
-    written as _taylor_kernels._poly_grad / _force_nb compute them."""
-    body = ["    double m, d;"] if grad else ["    double m;"]
-    n_out = 10 if grad else 2
-    body.append("    double " + ", ".join(f"o{i} = out[{i}]" for i in range(n_out)) + ";")
+def _rows(exps: np.ndarray, coef: np.ndarray, index: dict, n: int) -> tuple[np.ndarray, np.ndarray]:
+    """The value rows (2, n) and gradient rows (8, n) of two polynomials (rows of coef over
+    the exponents exps) on the monomials ``index`` (exponent tuple -> column): the gradient
+    is a polynomial too, d/du_v sum_k c_k u^e_k = sum_k e_kv c_k u^(e_k - 1_v)."""
+    val, grad = np.zeros((2, n)), np.zeros((8, n))
     for k, e in enumerate(np.asarray(exps, int)):
-        cy, cz = float(coef[0, k]), float(coef[1, k])
-        if cy == 0.0 and cz == 0.0:
-            continue  # adding 0 * m changes no sum
-        a = [f"pw[{v}][{e[v]}]" if e[v] > 0 else None for v in range(4)]
-        body.append(f"    m = {_product([f for f in a if f])};")
-        if cy != 0.0:
-            body.append(f"    o0 += {c_double(cy)} * m;")
-        if cz != 0.0:
-            body.append(f"    o1 += {c_double(cz)} * m;")
-        if not grad:
+        c = coef[:, k]
+        if not np.any(c):
             continue
+        val[:, index[tuple(int(x) for x in e)]] += c
         for v in range(4):
-            if e[v] == 0:
-                continue
-            factors = ([] if e[v] == 1 else [f"{float(e[v])!r}"]) + ([] if e[v] == 1 else [f"pw[{v}][{e[v] - 1}]"])
-            factors += [a[w] for w in range(4) if w != v and a[w]]
-            body.append(f"    d = {_product(factors)};")
-            if cy != 0.0:
-                body.append(f"    o{2 + v} += {c_double(cy)} * d;")
-            if cz != 0.0:
-                body.append(f"    o{6 + v} += {c_double(cz)} * d;")
-    body.append("    " + " ".join(f"out[{i}] = o{i};" for i in range(n_out)))
-    return f"static void {name}(const double pw[4][TAY_NPW], double out[{n_out}]) {{\n" + "\n".join(body) + "\n}\n"
+            if e[v] > 0:
+                low = tuple(int(x) - (1 if w == v else 0) for w, x in enumerate(e))
+                grad[[v, 4 + v], index[low]] += e[v] * c
+    return val, grad
+
+
+def _monomials(*exponent_sets) -> list[tuple]:
+    """Every monomial the polynomials and their gradients need, with the chain of parents to
+    the constant, in graded order (constant first): each is its parent times one u_v."""
+    needed = {(0, 0, 0, 0)}
+    for exps in exponent_sets:
+        for e in np.asarray(exps, int):
+            e = tuple(int(x) for x in e)
+            needed.add(e)
+            for v in range(4):
+                if e[v] > 0:
+                    needed.add(tuple(x - (1 if w == v else 0) for w, x in enumerate(e)))
+    for mono in list(needed):
+        m = list(mono)
+        while sum(m) > 0:
+            v = next(i for i in range(4) if m[i] > 0)
+            m[v] -= 1
+            needed.add(tuple(m))
+    return sorted(needed, key=lambda m: (sum(m), tuple(-x for x in m)))
+
+
+def _used(rows: np.ndarray) -> int:
+    """Columns up to the last non-zero one, rounded up to a multiple of 8 (the kernel's stride)."""
+    nz = np.nonzero(np.any(rows != 0.0, axis=0))[0]
+    n = int(nz[-1]) + 1 if nz.size else 0
+    return -(-n // 8) * 8
+
+
+def taylor_polynomials(exps, coef, shape_exps=None, shape_coef=None) -> str:
+    """The polynomials of the Taylor internal as data for the C kernel (internal_taylor.c):
+    the monomials (``monomials(u, M)``: m_j = m_parent * u_var, graded order, padded with
+    zeros to TAY_NM, a multiple of 8) and the coefficient rows over them: TAY_VAL (Fy, Fz),
+    TAY_GRAD (dFy/du_0..3, dFz/du_0..3) and, with shape columns, TAY_SVAL (the four M_l) and
+    TAY_SGRAD (dM_l/du_v, l-major). Each group's rows are used up to its last non-zero column
+    (TAY_N_VAL, ...). Summed as dot products, the force rounds differently from the Python
+    kernels' term-by-term order: they agree to ~1e-15 relative (tests: 1e-12)."""
+    sets = [exps] + ([shape_exps] if shape_exps is not None else [])
+    monos = _monomials(*sets)
+    nm = -(-len(monos) // 8) * 8
+    index = {m: j for j, m in enumerate(monos)}
+    val, grad = _rows(exps, np.asarray(coef, float), index, nm)
+    parent, var = [0], [0]
+    for m in monos[1:]:
+        lst = list(m)
+        v = next(i for i in range(4) if lst[i] > 0)
+        lst[v] -= 1
+        parent.append(index[tuple(lst)])
+        var.append(v)
+    lines = ["    M[0] = 1.0;"] + [f"    M[{j}] = M[{parent[j]}] * u[{var[j]}];" for j in range(1, len(monos))]
+    lines += [f"    M[{j}] = 0.0;" for j in range(len(monos), nm)]
+    out = [f"#define TAY_NMONO {len(monos)}", f"#define TAY_NM {nm}",
+           f"#define TAY_N_VAL {_used(val)}", f"#define TAY_N_GRAD {_used(grad)}",
+           "/* the monomials m_j = m_parent * u_v, graded order; zeros up to TAY_NM */",
+           "static void monomials(const double u[4], double M[TAY_NM]) {\n" + "\n".join(lines) + "\n}",
+           c_matrix("TAY_VAL", val), c_matrix("TAY_GRAD", grad)]
+    if shape_exps is not None:
+        sc = np.asarray(shape_coef, float)
+        v01, g01 = _rows(shape_exps, sc[0:2], index, nm)
+        v23, g23 = _rows(shape_exps, sc[2:4], index, nm)
+        sval = np.vstack([v01, v23])  # M_0..M_3
+        sgrad = np.vstack([g01[0:4], g01[4:8], g23[0:4], g23[4:8]])  # dM_l/du_v, l-major
+        out += [f"#define TAY_N_SVAL {_used(sval)}", f"#define TAY_N_SGRAD {_used(sgrad)}",
+                c_matrix("TAY_SVAL", sval), c_matrix("TAY_SGRAD", sgrad)]
+    return "\n".join(out) + "\n"
+
+
+def c_matrix(name: str, rows: np.ndarray) -> str:
+    """A (R, n) matrix as a static, 32-byte aligned C array (the kernel loads 4 doubles at a time)."""
+    rows = np.asarray(rows, float)
+    body = ",\n    ".join("{" + ", ".join(c_double(x) for x in r) + "}" for r in rows)
+    return (f"static const double {name}[{rows.shape[0]}][{rows.shape[1]}] BN_ALIGN32 = {{\n    {body}}};\n")
 
 
 def _taylor(params: BearingParams, surrogate, map_path, options: dict) -> NativeModel:
@@ -265,9 +315,7 @@ def _taylor(params: BearingParams, surrogate, map_path, options: dict) -> Native
     tay = Taylor(sur)
     params = sur.params
     exps, coef = tay._exps, tay._coef  # the kept terms, exactly what the numba kernels evaluate
-    order = int(tay._meta[7])
     shape = sur.shape_order is not None
-    npw = max(order, sur.shape_order or 0) + 1
     what = " and ".join(([f"wall factor (1 - eps^2)^-{sur.wall_power:g}"] if sur.wall_power else [])
                         + (["short-bearing shape columns"] if shape else []))
     wall_why = (f"; the surrogate's {what} {'are' if shape else 'is'} undefined there" if what else "")
@@ -281,7 +329,6 @@ def _taylor(params: BearingParams, surrogate, map_path, options: dict) -> Native
         f"{path.name} ({sur.recipe}). Do not edit. */",
         "#ifndef MODEL_DATA_H", "#define MODEL_DATA_H",
         f"#define TAY_SOURCE {c_string(path.name)}",
-        f"#define TAY_NPW {npw}",
         f"#define TAY_SHAPE {int(shape)}",
         f"#define TAY_NN {0 if nb is None else len(nb.points)}",
         f"#define TAY_NN_RADIUS {c_double(nb.radius if nb is not None else 1.0)}",
@@ -292,15 +339,8 @@ def _taylor(params: BearingParams, surrogate, map_path, options: dict) -> Native
         c_array("TAY_DOM", tay._dom),
         c_array("TAY_PARAMS", (params.D, params.L, params.CR, params.mu)),
         c_array("TAY_NN_POINTS", nb.points if nb is not None else [0.0, 0.0, 0.0, 0.0]),
-        poly_code("tay_poly", exps, coef, grad=False),
-        poly_code("tay_poly_grad", exps, coef, grad=True),
+        taylor_polynomials(exps, coef, *((sur.shape_exponents, sur.shape_coef) if shape else ())),
     ]
-    if shape:
-        sexps, scoef = sur.shape_exponents, sur.shape_coef
-        parts.append(poly_code("tay_shape_01", sexps, scoef[0:2], grad=True))
-        parts.append(poly_code("tay_shape_23", sexps, scoef[2:4], grad=True))
-        parts.append("static void tay_shape(const double pw[4][TAY_NPW], double pq[2][10]) {\n"
-                     "    tay_shape_01(pw, pq[0]);\n    tay_shape_23(pw, pq[1]);\n}\n")
     parts.append("#endif\n")
     starts = {"surrogate": path.name, "domain_action": "warn", "domain_limit": registry.DEFAULT_DOMAIN_LIMIT}
     for name in ("domain_action", "domain_limit"):

@@ -15,6 +15,25 @@
 #define M_PI 3.14159265358979323846
 #endif
 
+/* Vector kernels (internal_taylor.c): 2-lane doubles through gcc's and clang's vector extension
+ * (SSE2, NEON), and on x86-64 a 4-lane AVX2 version chosen at run time when the CPU has it;
+ * plain C with other compilers. */
+#if defined(__GNUC__) || defined(__clang__)
+#define BN_ALIGN32 __attribute__((aligned(32)))
+#define BN_VEC 1
+typedef double bn_v2 __attribute__((vector_size(16), may_alias));
+#if defined(__x86_64__) && !defined(BN_NO_AVX)
+#define BN_AVX 1
+typedef double bn_v4 __attribute__((vector_size(32), may_alias));
+#else
+#define BN_AVX 0
+#endif
+#else
+#define BN_ALIGN32
+#define BN_VEC 0
+#define BN_AVX 0
+#endif
+
 enum {
     VR_Y, VR_Z, VR_VY, VR_VZ, VR_OMEGA,                  /* inputs: journal state */
     VR_FY, VR_FZ, VR_ECC, VR_HMIN,                       /* outputs */
@@ -39,6 +58,7 @@ typedef struct {
     int last_nn;      /* taylor: index of the stored training state nearest to the last state queried, -1: none */
     int warned;       /* taylor: the out-of-domain warning was given */
     double scale;     /* map: S = mu R L (R / CR)^2 [N s] */
+    int avx;          /* taylor: the CPU runs the AVX2 kernels */
 } Work;
 
 typedef struct {

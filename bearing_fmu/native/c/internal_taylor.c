@@ -5,8 +5,9 @@
  *   F_i = force_scale (1 - eps^2)^-p sum_k c_ik u^e_k  +  sum_j (a_ij^y S_y + a_ij^z S_z) m_j(u)
  *
  * u the scaled state about the expansion point, p the wall power, S the short-bearing
- * (Ocvirk) force. The polynomials are generated straight-line code in model_data.h
- * (tay_poly, tay_poly_grad, tay_shape: one line per kept term, in the file's order).
+ * (Ocvirk) force. The polynomials are coefficient rows over their monomials in model_data.h
+ * (codegen.taylor_polynomials): each monomial is computed once, by one multiplication from
+ * its parent, and the force and its u-gradient are dot products of rows with them.
  *
  * Guard: d = max(excess over the fitted domain's bounds, (nn - radius) / size), nn the
  * distance in u to the nearest stored training state (brute force, skipped while the state
@@ -31,14 +32,69 @@
 #define WALLP TAY_META[8]
 #define C0 TAY_META[9]
 
-static void powers(double u0, double u1, double u2, double u3, double pw[4][TAY_NPW]) {
-    for (int v = 0; v < 4; v++) pw[v][0] = 1.0;
-    for (int p = 1; p < TAY_NPW; p++) {
-        pw[0][p] = pw[0][p - 1] * u0;
-        pw[1][p] = pw[1][p - 1] * u1;
-        pw[2][p] = pw[2][p - 1] * u2;
-        pw[3][p] = pw[3][p - 1] * u3;
+/* out[r] += sum_{j < n} W[r][j] M[j] for r < R (R even, n a multiple of 8), two rows per pass */
+#if BN_AVX
+__attribute__((target("avx2"))) static void dots_avx(const double *W, int R, int n, const double *M, double *out) {
+    for (int r = 0; r + 1 < R; r += 2) {
+        const double *w0 = W + (size_t)r * TAY_NM, *w1 = w0 + TAY_NM;
+        bn_v4 a0 = {0.0, 0.0, 0.0, 0.0}, b0 = a0, a1 = a0, b1 = a0;
+        for (int j = 0; j < n; j += 8) {
+            bn_v4 m0 = *(const bn_v4 *)(M + j), m1 = *(const bn_v4 *)(M + j + 4);
+            a0 += *(const bn_v4 *)(w0 + j) * m0;
+            b0 += *(const bn_v4 *)(w0 + j + 4) * m1;
+            a1 += *(const bn_v4 *)(w1 + j) * m0;
+            b1 += *(const bn_v4 *)(w1 + j + 4) * m1;
+        }
+        bn_v4 s0 = a0 + b0, s1 = a1 + b1;
+        out[r] += (s0[0] + s0[1]) + (s0[2] + s0[3]);
+        out[r + 1] += (s1[0] + s1[1]) + (s1[2] + s1[3]);
     }
+}
+#endif
+
+static void dots_plain(const double *W, int R, int n, const double *M, double *out) {
+    for (int r = 0; r + 1 < R; r += 2) {
+        const double *w0 = W + (size_t)r * TAY_NM, *w1 = w0 + TAY_NM;
+#if BN_VEC
+        /* the same four partial sums per row as the AVX2 kernel: lanes 0-1 of a, 2-3 of c, ... */
+        bn_v2 a0 = {0.0, 0.0}, c0 = a0, b0 = a0, d0 = a0, a1 = a0, c1 = a0, b1 = a0, d1 = a0;
+        for (int j = 0; j < n; j += 8) {
+            bn_v2 m0 = *(const bn_v2 *)(M + j), m2 = *(const bn_v2 *)(M + j + 2);
+            bn_v2 m4 = *(const bn_v2 *)(M + j + 4), m6 = *(const bn_v2 *)(M + j + 6);
+            a0 += *(const bn_v2 *)(w0 + j) * m0;
+            c0 += *(const bn_v2 *)(w0 + j + 2) * m2;
+            b0 += *(const bn_v2 *)(w0 + j + 4) * m4;
+            d0 += *(const bn_v2 *)(w0 + j + 6) * m6;
+            a1 += *(const bn_v2 *)(w1 + j) * m0;
+            c1 += *(const bn_v2 *)(w1 + j + 2) * m2;
+            b1 += *(const bn_v2 *)(w1 + j + 4) * m4;
+            d1 += *(const bn_v2 *)(w1 + j + 6) * m6;
+        }
+        bn_v2 s0 = a0 + b0, t0 = c0 + d0, s1 = a1 + b1, t1 = c1 + d1;
+        out[r] += (s0[0] + s0[1]) + (t0[0] + t0[1]);
+        out[r + 1] += (s1[0] + s1[1]) + (t1[0] + t1[1]);
+#else
+        double s0 = 0.0, s1 = 0.0;
+        for (int j = 0; j < n; j++) {
+            s0 += w0[j] * M[j];
+            s1 += w1[j] * M[j];
+        }
+        out[r] += s0;
+        out[r + 1] += s1;
+#endif
+    }
+}
+
+static void dots(const Instance *m, const double *W, int R, int n, const double *M, double *out) {
+#if BN_AVX
+    if (m->work.avx) {
+        dots_avx(W, R, n, M, out);
+        return;
+    }
+#else
+    (void)m;
+#endif
+    dots_plain(W, R, n, M, out);
 }
 
 #if TAY_SHAPE
@@ -126,21 +182,24 @@ static void short_bearing(double y, double z, double vy, double vz, double omega
     out[9] = urz * gr_vz + utz * gt_vz;
 }
 
-/* _shape_terms: add the shape columns to out (scaled units), with jac also dF/du */
-static void shape_terms(double y, double z, double vy, double vz, double omega, const double pw[4][TAY_NPW], int jac,
-                        double out[10]) {
-    double r[10], pq[2][10];
+/* _shape_terms: add the shape columns sum_l M_l(u) S to out (scaled units), with jac also dF/du;
+ * M_0..M_3 multiply (Fy by S_y, Fy by S_z, Fz by S_y, Fz by S_z) */
+static void shape_terms(const Instance *m, double y, double z, double vy, double vz, double omega, const double *M,
+                        int jac, double out[10]) {
+    double r[10], sv[4] = {0, 0, 0, 0}, sg[16];
     short_bearing(y, z, vy, vz, omega, POS, C0, jac, r);
-    memset(pq, 0, sizeof pq);
-    tay_shape(pw, pq);
+    dots(m, &TAY_SVAL[0][0], 4, TAY_N_SVAL, M, sv);
     double sy = r[0], sz = r[1];
-    for (int i = 0; i < 2; i++) out[i] += (pq[i][0] * sy + pq[i][1] * sz) / FS;
-    if (jac)
-        for (int v = 0; v < 4; v++) {
-            double sc = v < 2 ? POS : VEL, dsy = r[2 + v] * sc, dsz = r[6 + v] * sc;
-            for (int i = 0; i < 2; i++)
-                out[2 + 4 * i + v] += (pq[i][2 + v] * sy + pq[i][0] * dsy + pq[i][6 + v] * sz + pq[i][1] * dsz) / FS;
-        }
+    for (int i = 0; i < 2; i++) out[i] += (sv[2 * i] * sy + sv[2 * i + 1] * sz) / FS;
+    if (!jac) return;
+    for (int k = 0; k < 16; k++) sg[k] = 0.0;
+    dots(m, &TAY_SGRAD[0][0], 16, TAY_N_SGRAD, M, sg);
+    for (int v = 0; v < 4; v++) {
+        double sc = v < 2 ? POS : VEL, dsy = r[2 + v] * sc, dsz = r[6 + v] * sc;
+        for (int i = 0; i < 2; i++)
+            out[2 + 4 * i + v] += (sg[4 * (2 * i) + v] * sy + sv[2 * i] * dsy + sg[4 * (2 * i + 1) + v] * sz
+                                   + sv[2 * i + 1] * dsz) / FS;
+    }
 }
 #endif
 
@@ -241,6 +300,10 @@ static void reasons(double y, double z, double vy, double vz, char *out, size_t 
 
 int bn_setup(Instance *m) {
     static const char *const names[4] = {"D", "L", "CR", "mu"};
+#if BN_AVX
+    __builtin_cpu_init();
+    m->work.avx = __builtin_cpu_supports("avx2") != 0;
+#endif
     for (int i = 0; i < 4; i++) {
         double a = TAY_PARAMS[i], b = m->r[VR_D + i];
         if (fabs(a - b) > 1e-9 * fmax(fabs(a), fabs(b))) {
@@ -312,12 +375,12 @@ int bn_eval(Instance *m, const double x[5], int want_jac, double F[2], double J[
     /* _check_nb: the inputs are finite (the FMI layer checked them); the speed */
     if (fabs(omega - OMEGA0) > RTOL * fmax(fabs(OMEGA0), 1.0)) return refuse_taylor(m, 1, x);
     if (!(y * y + z * z < TAY_CR2)) return refuse_taylor(m, 0, x);
-    double pw[4][TAY_NPW];
-    double u0 = (y - Y0) / POS, u1 = (z - Z0) / POS, u2 = vy / VEL, u3 = vz / VEL;
-    powers(u0, u1, u2, u3, pw);
+    double u[4], M[TAY_NM] BN_ALIGN32;
+    scaled(y, z, vy, vz, u);
+    monomials(u, M);
     if (!want_jac) { /* _force_nb (+ _force_shape_nb) */
         double f[2] = {0.0, 0.0};
-        tay_poly(pw, f);
+        dots(m, &TAY_VAL[0][0], 2, TAY_N_VAL, M, f);
         double s = FS;
         if (WALLP != 0.0) {
             double cr = POS, q = 1.0 - (y * y + z * z) / (cr * cr);
@@ -331,7 +394,7 @@ int bn_eval(Instance *m, const double x[5], int want_jac, double F[2], double J[
             double cr = POS;
             if (!(1.0 - (y * y + z * z) / (cr * cr) > 0.0)) return refuse_taylor(m, 0, x);
             double out[10] = {0.0, 0.0};
-            shape_terms(y, z, vy, vz, omega, pw, 0, out);
+            shape_terms(m, y, z, vy, vz, omega, M, 0, out);
             F[0] = F[0] + out[0] * FS;
             F[1] = F[1] + out[1] * FS;
         }
@@ -341,7 +404,8 @@ int bn_eval(Instance *m, const double x[5], int want_jac, double F[2], double J[
     /* _force_jac_nb (+ shape terms), then _to_si */
     double out[10];
     for (int i = 0; i < 10; i++) out[i] = 0.0;
-    tay_poly_grad(pw, out);
+    dots(m, &TAY_VAL[0][0], 2, TAY_N_VAL, M, out);
+    dots(m, &TAY_GRAD[0][0], 8, TAY_N_GRAD, M, out + 2);
     if (WALLP != 0.0) {
         double cr = POS, yc = y / cr, zc = z / cr, q = 1.0 - (yc * yc + zc * zc);
         if (!(q > 0.0)) return refuse_taylor(m, 0, x);
@@ -360,7 +424,7 @@ int bn_eval(Instance *m, const double x[5], int want_jac, double F[2], double J[
     {
         double cr = POS;
         if (!(1.0 - (y * y + z * z) / (cr * cr) > 0.0)) return refuse_taylor(m, 0, x);
-        shape_terms(y, z, vy, vz, omega, pw, 1, out);
+        shape_terms(m, y, z, vy, vz, omega, M, 1, out);
     }
 #endif
     double gq = FS / POS, gv = FS / VEL;
