@@ -163,9 +163,16 @@ static int in_choices(const char *value, const char *choices) {
 }
 
 static void choices_words(const char *choices, char *out, size_t n) {
-    snprintf(out, n, "%s", choices);
-    for (char *p = out; *p; p++)
-        if (*p == '|') *p = ',';
+    size_t k = 0;
+    for (const char *p = choices; *p && k + 3 < n; p++) {
+        if (*p == '|') {
+            out[k++] = ',';
+            out[k++] = ' ';
+        } else {
+            out[k++] = *p;
+        }
+    }
+    out[k] = 0;
 }
 
 /* ------------------------------------------------------------------------------ values */
