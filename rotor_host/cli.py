@@ -19,6 +19,8 @@ def _scene_from_args(args):
                       ("checkpoint_s", "checkpoint_s")):
         if getattr(args, flag, None) is not None:  # 0 is a value (refused by its type), not "unset"
             changes[key] = getattr(args, flag)
+    if getattr(args, "native", False):
+        changes["fmu_kind"] = "native"
     options = {}
     for internal, option in _file_options():  # --surrogate FILE, --map FILE, ...
         if getattr(args, option, None) is not None:
@@ -58,7 +60,8 @@ def _run(args) -> int:
     out = Path(args.out)
     run = run_scene(scene, out, progress=not args.quiet)
     m = run.meta
-    print(f"{scene.name} [{scene.internal} via {scene.via}]: {m['status']}, {m['steps']} steps to "
+    via = f"{scene.via}, native" if scene.via == "fmu" and scene.fmu_kind == "native" else scene.via
+    print(f"{scene.name} [{scene.internal} via {via}]: {m['status']}, {m['steps']} steps to "
           f"t = {m['t_reached_s']:.4g} s in {m['wall_time_s']:.1f} s "
           f"(setup {m['setup_time_s']:.1f} s), {m['newton_mean_evaluations_per_step']:.2f} force "
           f"evaluations per step, {m['step_cuts']} step cuts")
@@ -220,6 +223,9 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("scene", type=existing_file, help="scene TOML file (models/scenes/*.toml)")
     p.add_argument("--internal", choices=_internal_choices(), help="override the scene's internal")
     p.add_argument("--via", choices=("fmu", "direct"), help="bearing FMUs through fmpy, or internals in-process")
+    p.add_argument("--native", action="store_true",
+                   help="through native bearing FMUs (the internal compiled to C, no Python in the FMU: linear, map, "
+                        "taylor; built with the C compiler): the scene key fmu_kind = \"native\"")
     _add_file_flags(p)
     p.add_argument("--t-end", type=positive_float("s"), help="override the end time [s]")
     p.add_argument("--dt", type=positive_float("s"), help="override the time step [s]")

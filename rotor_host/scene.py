@@ -39,6 +39,7 @@ from .newmark import IntegrationError, Newmark, NewmarkConfig
 from .rotor import NODE, Rotor
 
 VIA = ("fmu", "direct")
+FMU_KINDS = ("python", "native")  # the pythonfmu FMU (any internal), or the compiled one (linear, map, taylor)
 INITIAL_STATES = ("static_equilibrium", "centred")
 DEFAULT_CHECKPOINT_S = 60.0  # [record] checkpoint_s: wall time between partial results [s]
 G = 9.81
@@ -94,6 +95,9 @@ SCENE_KEYS = (
     Key("description", "title of plots and tables", None, kind=Text()),
     Key("via", "bearings as FMUs through fmpy, or internals called in-process", "fmu", ", ".join(VIA),
         kind=Choice(VIA)),
+    Key("fmu_kind", "via = fmu: the Python FMU (any internal) or the native one (the internal compiled to C, no "
+        "Python at run time: linear, map, taylor; needs a C compiler at build time)", "python",
+        ", ".join(FMU_KINDS), kind=Choice(FMU_KINDS)),
     Key("fmu", "a bearing FMU to use instead of building one, relative to the scene file", None,
         "file name of an .fmu", kind=FileName()),
     Key("initial", "initial state ([initial])", None, kind=Table(INITIAL_KEYS)),
@@ -136,6 +140,7 @@ class Scene:
     fmu: Path | None = None
     source: Path | None = None
     newton_tangent: str = "bearing"  # bearing | frozen | fd | linear: see rotor_host.forces
+    fmu_kind: str = "python"  # python | native: which bearing FMU via = fmu builds (bearing_fmu/native)
 
     @property
     def omega(self) -> float:
@@ -246,7 +251,7 @@ def load_scene(path) -> Scene:
                  t_end_s=tt["t_end_s"], dt_s=tt["dt_s"], alpha=tt["hht_alpha"], unbalances=unb, static_loads=loads,
                  options=options, initial=data["initial"]["state"], record_nodes=rec_nodes,
                  record_every=rec["every"], checkpoint_s=rec["checkpoint_s"], fmu=fmu, source=path,
-                 newton_tangent=tt["newton_tangent"])
+                 newton_tangent=tt["newton_tangent"], fmu_kind=data["fmu_kind"])
 
 
 def _rotor(name: str, base: Path, where: str) -> tuple[Path, Rotor]:
@@ -336,7 +341,16 @@ def _context(scene: Scene, load) -> Context:
 def _fmu_parameters(scene: Scene, params, load) -> dict:
     """FMU parameters of one bearing: the bearing, the internal and all its options (the
     static load and speed filled in where the internal takes them; files by their name in
-    the FMU's resources)."""
+    the FMU's resources). A native FMU takes the options it keeps (``native_parameters``:
+    the linear model's coefficients are made here, per bearing)."""
+    if scene.fmu_kind == "native":
+        from bearing_fmu.native import native_parameters
+
+        try:
+            return native_parameters(scene.internal, params, scene.internal_options(), _context(scene, load),
+                                     where=f"{scene.source}: fmu_kind = 'native'")
+        except ValueError as exc:
+            raise SceneError(str(exc)) from None
     spec = registry.get(scene.internal)
     opts = spec.check_options(scene.internal_options(), str(scene.source), context=_context(scene, load))
     for o in spec.all_options():
@@ -371,6 +385,8 @@ def scene_fmu(scene: Scene, work_dir: Path) -> Path:
         if not scene.fmu.is_file():
             raise SceneError(f"{scene.source}: fmu = {scene.fmu}: file not found")
         return scene.fmu
+    if scene.fmu_kind == "native":
+        return _native_fmu(scene, work_dir)
     from bearing_fmu.build import build_fmu, package_name
 
     work_dir.mkdir(parents=True, exist_ok=True)
@@ -386,6 +402,29 @@ def scene_fmu(scene: Scene, work_dir: Path) -> Path:
     if path.is_file():
         return path
     return Path(build_fmu(path, surrogate=files or None))
+
+
+def _native_fmu(scene: Scene, work_dir: Path) -> Path:
+    """The scene's native FMU, built into work_dir under a name that hashes the C sources, the
+    generator and the internal's data file, so runs of the same scene share one build. The
+    linear FMU holds no data: the host sets each bearing's coefficients."""
+    from bearing_fmu.native import INTERNALS
+    from bearing_fmu.native.build import C_DIR, build_native_fmu
+
+    if scene.internal not in INTERNALS:
+        raise SceneError(f"{scene.source}: fmu_kind = 'native' computes one of {', '.join(INTERNALS)}, not internal = "
+                         f"{scene.internal!r} (it needs its solver at run time): use fmu_kind = 'python'")
+    work_dir.mkdir(parents=True, exist_ok=True)
+    data = {"taylor": ("surrogate", "surrogate"), "map": ("map", "map")}.get(scene.internal)
+    path = required_file(scene, scene.internal, data[0]) if data else None
+    h = hashlib.sha256(scene.internal.encode())
+    for f in sorted(C_DIR.glob("*")) + sorted(C_DIR.parent.glob("*.py")) + ([path] if path else []):
+        h.update(f.name.encode() + b"\0" + f.read_bytes())
+    out = work_dir / f"bearing_native_{scene.internal}{'_' + path.stem if path else ''}_{h.hexdigest()[:12]}.fmu"
+    if out.is_file():
+        return out
+    options = {"linear_from": "coefficients"} if scene.internal == "linear" else None
+    return Path(build_native_fmu(out, scene.internal, options=options, **({data[1]: path} if data else {})))
 
 
 def required_file(scene: Scene, internal: str, option: str) -> Path:
@@ -511,7 +550,8 @@ def run_scene(scene: Scene, out_dir=None, *, progress: bool = False, stem: str |
     checkpoint (status "running") is written every ``scene.checkpoint_s`` of wall time. Files
     are written under a temporary name and renamed into place; a name another running process
     holds gets a suffix (``bearing_fmu.outputs.claim``)."""
-    stem = stem or f"{Path(scene.source).stem if scene.source else scene.name}_{scene.internal}"
+    native = "_native" if scene.via == "fmu" and scene.fmu_kind == "native" else ""
+    stem = stem or f"{Path(scene.source).stem if scene.source else scene.name}_{scene.internal}{native}"
     out_dir = ensure_writable(out_dir) if out_dir is not None else None
     work = Path(work_dir) if work_dir is not None else (out_dir or Path("out")) / "fmu"
     with handled():
@@ -535,7 +575,8 @@ class _Writer:
         self.times = {"setup_time_s": 0.0, "equilibrium_time_s": 0.0}
         self.meta = {
             "scene": scene.name, "description": scene.description, "source": str(scene.source),
-            "internal": scene.internal, "via": scene.via, "speed_hz": scene.speed_hz, "dt_s": scene.dt_s,
+            "internal": scene.internal, "via": scene.via, "fmu_kind": scene.fmu_kind, "speed_hz": scene.speed_hz,
+            "dt_s": scene.dt_s,
             "t_end_s": scene.t_end_s, "hht_alpha": scene.alpha, "newton_tangent": scene.newton_tangent,
             "internal_options": scene.internal_options(),
             "bearing_loads_N": np.asarray(loads).tolist(), "recorded_nodes": [n + 1 for n in self.rec_nodes],

@@ -567,3 +567,55 @@ def test_a_map_for_another_length_to_diameter_is_refused(tmp_path):
 
     with pytest.raises(ValueError, match="L/D"):
         build_native_fmu(tmp_path / "x.fmu", "map", map=MAPS[0], bearing=BearingParams(0.031, 0.031, 90e-6, 0.05))
+
+
+# ----------------------------------------------------------------------------- the rotor host
+
+def test_native_parameters_of_a_scene(write_scene):
+    """The host's parameters for a native FMU: the options it keeps; the linear model made per
+    bearing by the Python Linear internal (its coefficients), fallback refused in one line."""
+    from rotor_host.scene import SceneError, _fmu_parameters, load_scene
+
+    sc = load_scene(write_scene(f"""
+        internal = "linear"
+        speed_hz = 22.0
+        fmu_kind = "native"
+        [time]
+        t_end_s = 0.01
+        dt_s = 1e-4
+        [linear]
+        linear_from = "map"
+        [map]
+        map = "{MAPS[0].as_posix()}"
+        [taylor]
+        surrogate = "{SURROGATES[1].as_posix()}"
+        domain_action = "fallback"
+        """))
+    assert sc.fmu_kind == "native"
+    p = _fmu_parameters(sc, PAPER_BEARING, (0.0, -16.7))
+    lin = registry.create("linear", PAPER_BEARING, {"linear_from": "map", "map": str(MAPS[0])},
+                          registry.Context(load=(0.0, -16.7), omega=sc.omega))
+    assert p["lin_Kyz"] == lin.K[0, 1] and p["lin_Czz"] == lin.C[1, 1] and p["omega_lin"] == sc.omega
+    assert "n_theta" not in p and "linear_from" not in p  # options a native FMU does not have
+    with pytest.raises(SceneError, match="domain_action = 'fallback': the fallback evaluates the Reynolds"):
+        _fmu_parameters(sc.with_internal("taylor"), PAPER_BEARING, (0.0, -16.7))
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("internal", ["map", "taylor"])
+def test_rotor_host_runs_native_fmus_like_the_direct_internal(tmp_path, internal):
+    """rotor-host run --native: the paper's 22 Hz scene through native FMUs (fmpy, the conformant
+    iteration of rotor_host/cosim.py) follows the run with the internal called in-process."""
+    from rotor_host.cli import main
+    from rotor_host.scene import load_scene, run_scene
+
+    scene_file = ROOT / "models" / "scenes" / "paper_22hz.toml"
+    assert main(["run", str(scene_file), "--internal", internal, "--native", "--t-end", "0.01", "--out",
+                 str(tmp_path), "--no-plots", "--quiet"]) == 0
+    native = np.load(tmp_path / f"paper_22hz_{internal}_native.npz")
+    direct = run_scene(load_scene(scene_file).with_internal(internal, via="direct", t_end_s=0.01), tmp_path,
+                       stem="direct")
+    assert direct.ok and len(native["t"]) == len(direct.arrays["t"]) == 101
+    CR = PAPER_BEARING.CR
+    for key in ("y", "z"):  # forces equal to ~1e-14, so the same Newton iterates: orbits to 1e-9 CR
+        assert np.max(np.abs(native[key] - direct.arrays[key])) < 1e-9 * CR
