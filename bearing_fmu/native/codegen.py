@@ -338,7 +338,9 @@ def _taylor(params: BearingParams, surrogate, map_path, options: dict) -> Native
         c_array("TAY_META", tay._meta),
         c_array("TAY_DOM", tay._dom),
         c_array("TAY_PARAMS", (params.D, params.L, params.CR, params.mu)),
-        c_array("TAY_NN_POINTS", nb.points if nb is not None else [0.0, 0.0, 0.0, 0.0]),
+        # sorted by u_0: the C search sweeps outward from the query in that order (internal_taylor.c: nearest)
+        c_array("TAY_NN_POINTS", nb.points[np.argsort(nb.points[:, 0], kind="stable")] if nb is not None
+                else [0.0, 0.0, 0.0, 0.0]),
         taylor_polynomials(exps, coef, *((sur.shape_exponents, sur.shape_coef) if shape else ())),
     ]
     parts.append("#endif\n")

@@ -10,7 +10,7 @@
  * its parent, and the force and its u-gradient are dot products of rows with them.
  *
  * Guard: d = max(excess over the fitted domain's bounds, (nn - radius) / size), nn the
- * distance in u to the nearest stored training state (brute force, skipped while the state
+ * distance in u to the nearest stored training state (a sweep over the points sorted by u_0, skipped while the state
  * stays within the radius of the point nearest to the previous one, as guard.NearestTraining
  * does). Outside (d > 1e-12): refused beyond domain_limit or with domain_action = discard,
  * else warned once. "fallback" (Reynolds) does not exist natively: refused when set. */
@@ -238,17 +238,39 @@ static double point_distance(const double u[4], int i) {
     return sqrt(a * a + b * b + c * c + d * d);
 }
 
-/* the nearest stored state: distance, index (brute force) */
+/* the nearest stored state: distance, index. The points are sorted by their first coordinate
+ * (codegen), so the search sweeps outward from the query's place in that order and stops on
+ * each side once the first coordinate alone is farther than the best distance so far. */
 static double nearest(const double u[4], int *index) {
+    int lo = 0, hi = TAY_NN;
+    while (lo < hi) { /* first point with p0 >= u0 */
+        int mid = (lo + hi) / 2;
+        if (TAY_NN_POINTS[4 * mid] < u[0])
+            lo = mid + 1;
+        else
+            hi = mid;
+    }
     double best = INFINITY;
-    int k = 0;
-    for (int i = 0; i < TAY_NN; i++) {
-        const double *p = TAY_NN_POINTS + 4 * i;
-        double a = u[0] - p[0], b = u[1] - p[1], c = u[2] - p[2], d = u[3] - p[3];
-        double s = a * a + b * b + c * c + d * d;
-        if (s < best) {
-            best = s;
-            k = i;
+    int k = 0, up = lo, down = lo - 1;
+    while (up < TAY_NN || down >= 0) {
+        for (int side = 0; side < 2; side++) {
+            int i = side == 0 ? up : down;
+            if (i < 0 || i >= TAY_NN) continue;
+            const double *p = TAY_NN_POINTS + 4 * i;
+            double a = u[0] - p[0];
+            if (a * a >= best) { /* every point beyond on this side is farther */
+                if (side == 0) up = TAY_NN;
+                else down = -1;
+                continue;
+            }
+            double b = u[1] - p[1], c = u[2] - p[2], d = u[3] - p[3];
+            double s = a * a + b * b + c * c + d * d;
+            if (s < best) {
+                best = s;
+                k = i;
+            }
+            if (side == 0) up++;
+            else down--;
         }
     }
     *index = k;
