@@ -306,6 +306,9 @@ def test_archive_holds_sources_documentation_and_both_interfaces(native):
     assert {"y", "z", "vy", "vz", "omega", "Fy", "Fz", "eccentricity", "h_min", "out_of_domain", "Kyy", "Czz",
             "D", "L", "CR", "mu", "internal", "compute_tangent", "surrogate", "domain_action",
             "domain_limit"} <= names
+    xml = zipfile.ZipFile(fmu).read("modelDescription.xml").decode()
+    # display units for a system-simulation engineer: um for displacements, rpm for the speed
+    assert '<DisplayUnit name="rpm" factor="9.549296585513721"/>' in xml and 'displayUnit="um"' in xml
     omega = next(v for v in md.modelVariables if v.name == "omega")
     assert float(omega.start) == load_surrogate(SURROGATES[1]).omega or float(omega.start) > 0  # fitted speed
 

@@ -22,6 +22,7 @@ kernels' do (the tests compare them to 1e-12). The binary links only the C libra
 from __future__ import annotations
 
 import datetime as _dt
+import math
 import os
 import shutil
 import subprocess
@@ -41,6 +42,12 @@ COMMON_SOURCES = ("bearing_native.h", "fmi2_bearing.c")
 C_FLAGS = ("-O2", "-ffp-contract=off", "-fvisibility=hidden", "-fPIC", "-std=c99")
 AUTHOR = "bearing_fmu (native build)"
 LICENSE = "the bearing_fmu project's license; the data file's provenance is recorded in documentation/index.html"
+
+
+# display units a system-simulation engineer reads (FMI 2.0 DisplayUnit: shown = factor * value)
+DISPLAY_UNITS = {"m": {"um": 1e6, "mm": 1e3}, "m/s": {"mm/s": 1e3}, "rad/s": {"rpm": 60.0 / (2.0 * math.pi)}}
+DISPLAY = {"y": "um", "z": "um", "h_min": "um", "CR": "um", "lin_y0": "um", "lin_z0": "um", "D": "mm", "L": "mm",
+           "vy": "mm/s", "vz": "mm/s", "omega": "rpm", "omega_lin": "rpm"}
 
 
 class NativeBuildError(RuntimeError):
@@ -133,6 +140,8 @@ def model_description(model: NativeModel) -> bytes:
     for u in used:
         unit = ET.SubElement(units, "Unit", name=u)
         ET.SubElement(unit, "BaseUnit", {k: str(v) for k, v in UNITS[u].items()})
+        for name, factor in DISPLAY_UNITS.get(u, {}).items():
+            ET.SubElement(unit, "DisplayUnit", name=name, factor=repr(factor))
     cats = ET.SubElement(root, "LogCategories")
     for name, what in (("warning", "a state outside the fitted domain (warned once), outputs left at their start "
                         "values"), ("discard", "a state the internal refuses (the wall, a non-finite input, far "
@@ -154,6 +163,8 @@ def model_description(model: NativeModel) -> bytes:
                               ("true" if v.start else "false") if v.type == "Boolean" else str(v.start))
         if v.type == "Real" and v.unit:
             typed["unit"] = v.unit
+            if v.name in DISPLAY:
+                typed["displayUnit"] = DISPLAY[v.name]
         ET.SubElement(sv, v.type, typed)
     inputs = [index[v.name] for v in model.variables if v.causality == "input"]
     outputs = [index[v.name] for v in model.variables if v.causality == "output"]
