@@ -310,7 +310,8 @@ def test_archive_holds_sources_documentation_and_both_interfaces(native):
     # display units for a system-simulation engineer: um for displacements, rpm for the speed
     assert '<DisplayUnit name="rpm" factor="9.549296585513721"/>' in xml and 'displayUnit="um"' in xml
     omega = next(v for v in md.modelVariables if v.name == "omega")
-    assert float(omega.start) == load_surrogate(SURROGATES[1]).omega or float(omega.start) > 0  # fitted speed
+    s44 = load_surrogate(ROOT / "models" / "surrogates" / "paper_44hz_16.7N.json")
+    assert float(omega.start) == s44.omega  # the fitted speed: initialisation evaluates without a warning
 
 
 def _needed(path: Path) -> list[str]:
