@@ -66,6 +66,21 @@ def _run(args) -> int:
           + ("  (the orbit crossed the clearance circle)" if m["crossed_clearance"] else ""))
     if m["status"] != "ok":
         print(f"stopped: {m['message']}")
+    if scene.speed_profile is not None and not args.no_plots and run.arrays["t"].size > 1:
+        from .waterfall import default_nodes, plot_waterfall, spectra, summary
+
+        try:
+            nodes = default_nodes(run.arrays)
+            png = plot_waterfall(run.arrays, out / f"{run.npz.stem}_waterfall.png", nodes=nodes,
+                                 title=f"{scene.description or scene.name}: {scene.speed_profile.describe()}")
+            for n in nodes:
+                s = summary(spectra(run.arrays, n))
+                whirl = (f"whirl from {s['whirl_onset_hz']:.1f} Hz at {s['whirl_hz']:.1f} Hz "
+                         f"({s['whirl_ratio']:.2f}x)" if s["whirl_onset_hz"] else "no subsynchronous whirl")
+                print(f"node {n}: resonance at {s['resonance_hz']:.1f} Hz; {whirl}")
+            print(f"wrote {png}")
+        except ValueError as exc:  # a run too short for a spectrum: say so, keep the run
+            print(f"no waterfall: {exc}")
     if not args.no_plots and run.arrays["t"].size > 1:
         disk = 6 if 6 in run.arrays["nodes"] else None
         png = plot_runs({scene.internal: run.arrays}, out / f"{run.npz.stem}.png", title=scene.description,
@@ -276,6 +291,13 @@ def main(argv: list[str] | None = None) -> int:
     p = sub.add_parser("dt-study", help="halve dt until the bearing orbit changes by less than 1 %% CR")
     dt_study.add_arguments(p)
     p.set_defaults(func=dt_study.run)
+
+    from . import waterfall
+
+    p = sub.add_parser("waterfall", help="response spectra against speed of a run-up or coast-down run "
+                                         "(a scene with [speed_profile]), with 1x and 0.5x lines and orbits")
+    waterfall.add_arguments(p)
+    p.set_defaults(func=waterfall.run)
 
     from . import limit_cycle
 
