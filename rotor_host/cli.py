@@ -82,9 +82,8 @@ def _run(args) -> int:
         except ValueError as exc:  # a run too short for a spectrum: say so, keep the run
             print(f"no waterfall: {exc}")
     if not args.no_plots and run.arrays["t"].size > 1:
-        disk = 6 if 6 in run.arrays["nodes"] else None
         png = plot_runs({scene.internal: run.arrays}, out / f"{run.npz.stem}.png", title=scene.description,
-                        disk_node=disk, history=True)
+                        history=True)
         print(f"wrote {run.npz}, {run.json}, {png}")
     else:
         print(f"wrote {run.npz}, {run.json}")

@@ -581,7 +581,8 @@ class _Writer:
 
     def __init__(self, scene: Scene, rotor: Rotor, loads, holder, t_wall0: float):
         self.scene, self.rotor, self.holder, self.t_wall0 = scene, rotor, holder, t_wall0
-        self.rec_nodes = sorted(set(scene.record_nodes) | set(rotor.bearing_nodes))
+        # the bearings and the disks always: the plots and reports show them
+        self.rec_nodes = sorted(set(scene.record_nodes) | set(rotor.bearing_nodes) | {d.node for d in rotor.disks})
         self.rec_dofs = [rotor.dof(n, d) for n in self.rec_nodes for d in ("y", "z")]
         self.q0 = None
         self.times = {"setup_time_s": 0.0, "equilibrium_time_s": 0.0}
@@ -624,6 +625,7 @@ class _Writer:
             "y": yz[:, :, 0], "z": yz[:, :, 1], "vy": vyz[:, :, 0], "vz": vyz[:, :, 1],
             "Fy": fb[:, :, 0], "Fz": fb[:, :, 1], "eccentricity": ecc,
             "bearing_nodes": np.array(rotor.bearing_nodes) + 1, "CR": CR, "q0": q0,
+            "disk_nodes": np.array([d.node for d in rotor.disks], dtype=int) + 1,
             "speed_hz": np.array([scene.speed.hz(x) for x in t]) if scene.speed_profile is not None
             else np.full(len(t), scene.speed_hz),
         }
