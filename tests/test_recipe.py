@@ -86,6 +86,12 @@ def test_a_truth_map_that_would_serve_no_sample_is_refused():
                                          r"no designed samples"):
         FitRecipe(scenes=("a.toml",), designed=0, truth_map="m.json")
     assert FitRecipe(scenes=("a.toml",), designed=10, truth_map="m.json").truth_map == "m.json"
+    # on the command line: the option, "left out" and why
+    args = add_recipe_arguments(argparse.ArgumentParser(), "scene").parse_args(
+        ["--scene", __file__, "--designed", "0", "--truth-map", __file__])
+    with pytest.raises(ValueError, match=r"^--truth-map .*test_recipe\.py: must be left out \(designed = 0: the fit "
+                                         r"draws no designed samples"):
+        recipe_from_args(args, "scene")
 
 
 @pytest.mark.parametrize("path", SHIPPED, ids=lambda p: p.stem)

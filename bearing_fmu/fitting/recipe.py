@@ -48,7 +48,7 @@ class RecipeError(ValueError):
     """A setting outside its allowed values; names the field, the value and the range."""
 
     def __init__(self, name: str, value, allowed: str, why: str = ""):
-        self.name, self.value, self.allowed = name, value, allowed
+        self.name, self.value, self.allowed, self.why = name, value, allowed, why
         super().__init__(f"fit: {name} = {value!r} must be {allowed}" + (f" ({why})" if why else ""))
 
 
@@ -281,9 +281,10 @@ class FitRecipe:
     # the truth of the samples: both fit commands
     truth_map: str | None = _setting(None, "truth", _Path(), "draw the designed and tube samples (and the designed "
                                      "held-out samples) from this force map (models/maps/*.json, built by "
-                                     "`bearing-fmu map` for the bearing's L/D) instead of the Reynolds solver: about "
-                                     "100x cheaper per sample; a scene's series, the equilibrium and the anchor stay "
-                                     "Reynolds", metavar="MAP", default_text="none: the Reynolds solver")
+                                     "`bearing-fmu map` for the bearing's L/D) instead of the Reynolds solver: "
+                                     "50-100x cheaper per sample; a scene's series, the equilibrium and the anchor "
+                                     "stay Reynolds, on the map's grid", metavar="MAP",
+                                     default_text="none: the Reynolds solver")
 
     # designed domain: bearing-fmu fit
     speed_hz: float = _setting(22.0, "designed", _Float(nonzero=True), "shaft speed [Hz]")
@@ -488,7 +489,9 @@ def recipe_from_args(args: argparse.Namespace, group: str) -> FitRecipe:
     except RecipeError as exc:
         value = exc.value if not isinstance(exc.value, (tuple, list)) else " ".join(map(str, exc.value))
         allowed = exc.allowed.removesuffix(" or None")  # on the command line: leave the option out
-        raise ValueError(f"{flags.get(exc.name, exc.name)} {value}: must be {allowed}") from None
+        allowed = "left out" if allowed == "None" else allowed
+        raise ValueError(f"{flags.get(exc.name, exc.name)} {value}: must be {allowed}"
+                         + (f" ({exc.why})" if exc.why else "")) from None
 
 
 __all__ = ["FitRecipe", "RecipeError", "recipe_of", "add_recipe_arguments", "recipe_from_args", "recipe_fields",

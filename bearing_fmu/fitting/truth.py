@@ -7,8 +7,9 @@ A fit asks its truth two things:
   so an anchored surrogate keeps Reynolds' static force and Lund coefficients exactly;
 * the samples: the designed samples, the tube samples about a scene's series and the designed
   held-out samples. Reynolds' too, unless the recipe names a ``truth_map``: then the force map
-  (bearing_fmu/forcemap.py, docs/forcemap.md) answers them, about 90x cheaper per sample (2.8 us
-  against 260 us on the default 128 x 16 grid) and within the map's accuracy of Reynolds.
+  (bearing_fmu/forcemap.py, docs/forcemap.md) answers them, 50-100x cheaper per sample (3-10 us
+  against 250-700 us on the default 128 x 16 grid, docs/taylor.md) and within the map's accuracy
+  of Reynolds.
 
 A scene's series stay the scene's Reynolds run. The map is checked before any solver work: it
 must serve the bearing (its L/D, the map's own check), be tabulated from the same Reynolds grid
@@ -84,9 +85,10 @@ def truth_line(provenance: dict, map_shown: str | None = None, scene: bool = Fal
     ``map_shown``: the map's path as the user gave it (default: the stored file name); ``scene``:
     a scene-trained fit (its series are Reynolds)."""
     prov = provenance or {}
+    if "truth" not in prov:  # a direct fit_surrogate call records no truth
+        return "truth: not recorded"
     grid = (prov.get("truth_n_theta"), prov.get("truth_n_x"))
-    statics = (_reynolds_words(*grid, prov.get("truth_cavitation")) if None not in grid
-               else str(prov.get("truth", "unknown")))
+    statics = _reynolds_words(*grid, prov.get("truth_cavitation")) if None not in grid else str(prov["truth"])
     m = prov.get("truth_map")
     if prov.get("truth") != "force map" or not isinstance(m, dict):
         return f"truth: {statics}"
