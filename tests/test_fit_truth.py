@@ -113,8 +113,13 @@ def _other_ld_map(folder: Path) -> Path:
     return save_map(tabulate(other, n_theta=16, n_x=4, n_eps=4, n_beta=8, n_phase=1), folder / "ld08.json")
 
 
-def test_a_map_of_another_bearing_is_refused_by_name(tmp_path, capsys):
+def test_a_map_of_another_bearing_is_refused_by_name(tmp_path, capsys, monkeypatch):
     path = _other_ld_map(tmp_path)
+
+    def no_solver(*_a, **_k):
+        raise AssertionError("the Reynolds solver was built before the map was checked")
+
+    monkeypatch.setattr("bearing_fmu.fitting.fit.make_reynolds", no_solver)
     with pytest.raises(ValueError, match=r"^fit: truth_map: force map .*ld08\.json is for L/D = 0\.8, the bearing "
                                          r"has L/D = 0\.645161"):
         F.fit_condition(FitRecipe(**SMALL, truth_map=str(path)))
