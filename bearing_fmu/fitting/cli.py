@@ -55,7 +55,8 @@ def run_fit(args: argparse.Namespace) -> int:
     except KeyboardInterrupt as exc:
         if getattr(exc, "samples", None) is not None and len(exc.samples[0]):
             path = keep_samples(exc.samples, Path(args.output))
-            note_kept(exc, f"{path} ({len(exc.samples[0])} Reynolds samples; fit them with --from-npz {path})")
+            note_kept(exc, f"{path} ({len(exc.samples[0])} samples of the truth; fit them with --from-npz "
+                                f"{path})")
         raise
     return write_fit(res, args.output, plots=args.plots, note=args.note)
 
@@ -68,7 +69,7 @@ def check_outputs(args) -> None:
 
 
 def keep_samples(samples, output: Path) -> Path:
-    """The Reynolds samples of an interrupted fit, as an npz that ``--from-npz`` reads."""
+    """The truth's samples of an interrupted fit, as an npz that ``--from-npz`` reads."""
     states, forces = samples
     path = output.with_name(f"{output.stem}_samples_interrupted.npz")
     savez(path, **{k: states[:, i] for i, k in enumerate(("y", "z", "vy", "vz"))},
