@@ -295,7 +295,10 @@ def run(args) -> int:
     check_outputs(args)
     recipe = recipe_from_args(args, "scene")
     cache = Path(args.cache_dir) if args.cache_dir else Path(args.output).resolve().parent / "series"
-    return write_fit(fit_scene(recipe, cache_dir=cache), args.output, plots=args.plots, note=args.note)
+    res = fit_scene(recipe, cache_dir=cache)
+    scene = load_scene(args.scenes[0])
+    res.surrogate.provenance["bearing"] = f"bearing {recipe.bearing_number} of {scene.rotor_path.name}"
+    return write_fit(res, args.output, plots=args.plots, note=args.note)
 
 
 __all__ = ["scene_series", "holdout_mask", "fit_scene", "refit", "training_scenes", "add_arguments", "run"]

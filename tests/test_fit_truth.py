@@ -247,3 +247,24 @@ def test_scene_fit_refuses_a_map_of_another_grid_before_running(tmp_path, map_fi
         fit_scene(FitRecipe(scenes=[scene], designed=50, truth_map=str(map_file)), cache_dir=tmp_path / "series",
                   log=lambda *_: None)
     assert not (tmp_path / "series").exists()  # refused before the scene ran
+
+
+def test_fit_takes_the_users_bearing_and_says_why_it_draws_no_plots(tmp_path, capsys):
+    # `bearing-fmu fit --bearing FILE`: the surrogate belongs to that bearing (its file says so
+    # and the host refuses it on another), the report names it; --plots with a fixed --lambda
+    # says why there is nothing to plot
+    from bearing_fmu.cli import main
+    from bearing_fmu.params import BearingParams
+    from bearing_fmu.surrogate import load_surrogate
+
+    f = tmp_path / "b.toml"
+    f.write_text("[bearing]\nD_mm = 40.0\nL_mm = 20.0\nCR_um = 60.0\nmu_Pa_s = 0.02\n")
+    out = tmp_path / "s.json"
+    assert main(["fit", "--bearing", str(f), "--speed-hz", "50", "--load-z", "-32.7", "--order", "2",
+                 "--n-train", "200", "--n-test", "100", "--grid", "32", "4", "--lambda", "1e-8",
+                 "--plots", str(tmp_path / "plots"), "-o", str(out)]) == 0
+    text = capsys.readouterr().out
+    assert f"bearing: {f}: D 40 mm, L 20 mm, CR 60 um, mu 0.02 Pa s" in text
+    assert "no lambda plots" in text and "--lambda" in text
+    sur = load_surrogate(out)
+    assert sur.params == BearingParams.from_toml(f) and sur.provenance["bearing"] == str(f)

@@ -15,9 +15,12 @@ from .truth import truth_line
 def format_report(res: FitResult) -> str:
     r, e = res.report, res.report["errors"]
     s = res.surrogate
+    b = s.params
     lines = [
         f"Taylor surrogate, order {r['order']} ({r['n_terms']} terms), speed {s.omega / (2 * math.pi):g} Hz, "
         f"load {list(s.load) if s.load else None} N",
+        f"bearing: {s.provenance.get('bearing', 'given by the caller')}: D {b.D * 1e3:g} mm, L {b.L * 1e3:g} mm, "
+        f"CR {b.CR * 1e6:g} um, mu {b.mu:g} Pa s",
         f"expansion point y0 = {s.y0 * 1e6:.3f} um, z0 = {s.z0 * 1e6:.3f} um "
         f"(eccentricity {math.hypot(s.y0, s.z0) / s.params.CR:.4f}); force scale {s.force_scale:.4g} N",
         f"domain: ecc <= {s.domain.ecc_max:g}, position disc radius {s.domain.pos_radius:g} CR, "
