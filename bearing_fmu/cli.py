@@ -48,7 +48,16 @@ def _build(args: argparse.Namespace) -> int:
     from .outputs import ensure_output_file
 
     ensure_output_file(args.output, "-o/--output")
-    path = build_fmu(args.output, surrogate=[*(args.surrogate or []), *(args.map or [])] or None)
+    bearing = None
+    if args.bearing:
+        from .params import BearingParams
+
+        bearing = BearingParams.from_toml(args.bearing)
+    path = build_fmu(args.output, surrogate=[*(args.surrogate or []), *(args.map or [])] or None,
+                     bearing=bearing, bearing_source=args.bearing or "")
+    if bearing is not None:
+        print(f"the FMU's default bearing: {args.bearing} (D {bearing.D * 1e3:g} mm, L {bearing.L * 1e3:g} mm, "
+              f"CR {bearing.CR * 1e6:g} um, mu {bearing.mu:g} Pa s)")
     print(f"wrote {path}")
     return 0
 
@@ -126,6 +135,9 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--surrogate", type=existing_file, action="append", default=None, metavar="FILE",
                    help="surrogate JSON file to bundle in resources/surrogates/ (repeat for several; "
                         "with exactly one, the FMU parameter 'surrogate' defaults to it)")
+    p.add_argument("--bearing", type=existing_file, default=None, metavar="FILE",
+                   help="bearing TOML file whose D, L, CR, mu become the FMU's defaults (default: the paper "
+                        "bearing's); a master that sets no parameters gets this bearing's force")
     p.add_argument("--map", type=existing_file, action="append", default=None, metavar="FILE",
                    help="force map JSON file to bundle beside the surrogates (repeat for several; with exactly "
                         "one, the FMU parameter 'map' defaults to it)")
