@@ -5,7 +5,7 @@ At each speed of a range (``rotor-host stability ROTOR.toml --speeds-hz 10:70:1`
 1. the static equilibrium of the rotor on its nonlinear bearings, under its weight and any
    static point loads, as a scene starts (``scene.bearing_loads``, ``scene.initial_state``,
    ``equilibrium.static_equilibrium``); from the second speed on, Newton starts from the
-   previous speed's equilibrium (continuation: 2-3 iterations instead of a fresh start);
+   previous speed's equilibrium (continuation; a fresh start if that fails);
 2. each bearing linearised there with the internal's own analytic Jacobian
    (``bearing_fmu.statics.linearize``: Lund's K = -dF/dq, C = -dF/dv);
 3. the damped eigenvalues of the rotor with those bearings, its shaft damping and the
@@ -22,8 +22,9 @@ How an engineer reads the figures: docs/campbell.md.
 
 Only the bearings are nonlinear here; the rotor is the linear FE model of ``rotor_host.rotor``.
 The internals are built through the registry (``bearing_fmu.internals.create``) once for
-the whole sweep: ``reynolds`` (any bearing; about 0.6 ms per force and Jacobian at 128 x 16)
-or ``map`` (a force map of the bearing's L/D; microseconds).
+the whole sweep: ``reynolds`` (any bearing; a fraction of a millisecond per force and
+Jacobian at 128 x 16) or ``map`` (a force map of the bearing's L/D; microseconds). For the
+paper rotor the eigenvalues cost more than the equilibria (docs/studies/2026-11-24-stability-threshold.md).
 """
 
 from __future__ import annotations
