@@ -149,6 +149,10 @@ class StabilityResult:
             return (f"no threshold in {speeds}: already unstable at {p.speed_hz:g} Hz (log dec {p.least_log_dec:.3g} "
                     f"at {p.freq_hz[p.least]:.2f} Hz); the threshold lies below the range")
         p = min(pts, key=lambda q: q.least_log_dec)
+        if p.least_log_dec <= 0.0:  # the crossing lies across speeds without an equilibrium
+            first = next(q for q in pts if q.least_log_dec <= 0.0)
+            return (f"no threshold refined in {speeds}: unstable at {first.speed_hz:g} Hz (log dec "
+                    f"{first.least_log_dec:.3g}), but the speed before it has no static equilibrium; see the table")
         return (f"no threshold in {speeds}: every mode stays stable (least log dec {p.least_log_dec:.3g} at "
                 f"{p.speed_hz:g} Hz)" + ("" if self.status == "ok" else f" [{self.status}]"))
 
@@ -648,8 +652,8 @@ def add_arguments(p: argparse.ArgumentParser) -> argparse.ArgumentParser:
     p.add_argument("--static-load", type=node_load, nargs="+", action="extend", default=[], metavar="NODE:FY:FZ",
                    help="static point loads [N] on 1-based nodes, besides the weight (applied as in a scene)")
     p.add_argument("--modes", type=positive_int(), default=DEFAULT_MODES,
-                   help=f"lowest modes shown in the Campbell diagram and the json (default {DEFAULT_MODES}; "
-                        "the threshold looks at all)")
+                   help=f"lowest modes shown in the Campbell diagram and the json and searched for critical "
+                        f"speeds (default {DEFAULT_MODES}; the threshold looks at every mode)")
     p.add_argument("--out", type=output_dir, default="out", help="output folder (default: out) for "
                    "stability_<rotor>_<internal>.md/.json and _campbell/_logdec/_mode.png")
     p.add_argument("--no-plots", action="store_true")

@@ -288,6 +288,12 @@ def test_verdicts_without_a_threshold():
     above = stability(ROTOR, [50.0, 60.0], "map", {"map": str(PAPER_MAP)})
     assert above.threshold is None and above.unstable_from_start
     assert "already unstable at 50 Hz" in above.verdict() and "below the range" in above.verdict()
+    # a crossing across a speed without an equilibrium is not refined, and not called stable
+    gap = stability(ROTOR, [40.0, 43.0, 44.0], "map", {"map": str(PAPER_MAP)})
+    gap.points[1] = SpeedPoint(43.0, "no equilibrium", "made up for the test")
+    gap.threshold, gap.unstable_from_start = Stability(Rotor.from_toml(ROTOR), "map", {"map": str(PAPER_MAP)})._threshold(
+        gap.points, [None] * 3)
+    assert gap.threshold is None and gap.verdict().startswith("no threshold refined in 40-44 Hz: unstable at 44 Hz")
 
 
 def test_speed_without_equilibrium_is_reported_and_the_sweep_goes_on():
