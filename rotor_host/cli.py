@@ -1,4 +1,5 @@
-"""``rotor-host``: run scenes, compare internals, run the paper's main job, fit scene-trained surrogates."""
+"""``rotor-host``: run scenes, compare internals, run the paper's main job, fit scene-trained surrogates,
+find a rotor's stability threshold (Campbell diagram)."""
 
 from __future__ import annotations
 
@@ -303,6 +304,13 @@ def main(argv: list[str] | None = None) -> int:
     p = sub.add_parser("limit-cycle", help="envelope of the bearing eccentricity: does the whirl settle and hold?")
     limit_cycle.add_arguments(p)
     p.set_defaults(func=limit_cycle.run)
+
+    from . import stability
+
+    p = sub.add_parser("stability", help="Campbell diagram and stability threshold: equilibrium, linearised "
+                                         "bearings and damped modes at each speed of a range")
+    stability.add_arguments(p)
+    p.set_defaults(func=stability.run)
 
     add_debug_flag(parser, sub)
     args = parser.parse_args(argv)
