@@ -1,4 +1,5 @@
-"""``rotor-host``: run scenes, compare internals, run the paper's main job, fit scene-trained surrogates."""
+"""``rotor-host``: run scenes, compare internals, run the paper's main job, fit scene-trained surrogates,
+find a rotor's stability threshold (Campbell diagram)."""
 
 from __future__ import annotations
 
@@ -69,10 +70,24 @@ def _run(args) -> int:
           + ("  (the orbit crossed the clearance circle)" if m["crossed_clearance"] else ""))
     if m["status"] != "ok":
         print(f"stopped: {m['message']}")
+    if scene.speed_profile is not None and not args.no_plots and run.arrays["t"].size > 1:
+        from .waterfall import default_nodes, plot_waterfall, spectra, summary
+
+        try:
+            nodes = default_nodes(run.arrays)
+            png = plot_waterfall(run.arrays, out / f"{run.npz.stem}_waterfall.png", nodes=nodes,
+                                 title=f"{scene.description or scene.name}: {scene.speed_profile.describe()}")
+            for n in nodes:
+                s = summary(spectra(run.arrays, n))
+                whirl = (f"whirl from {s['whirl_onset_hz']:.1f} Hz at {s['whirl_hz']:.1f} Hz "
+                         f"({s['whirl_ratio']:.2f}x)" if s["whirl_onset_hz"] else "no subsynchronous whirl")
+                print(f"node {n}: resonance at {s['resonance_hz']:.1f} Hz; {whirl}")
+            print(f"wrote {png}")
+        except ValueError as exc:  # a run too short for a spectrum: say so, keep the run
+            print(f"no waterfall: {exc}")
     if not args.no_plots and run.arrays["t"].size > 1:
-        disk = 6 if 6 in run.arrays["nodes"] else None
         png = plot_runs({scene.internal: run.arrays}, out / f"{run.npz.stem}.png", title=scene.description,
-                        disk_node=disk, history=True)
+                        history=True)
         print(f"wrote {run.npz}, {run.json}, {png}")
     else:
         print(f"wrote {run.npz}, {run.json}")
@@ -283,11 +298,25 @@ def main(argv: list[str] | None = None) -> int:
     dt_study.add_arguments(p)
     p.set_defaults(func=dt_study.run)
 
+    from . import waterfall
+
+    p = sub.add_parser("waterfall", help="response spectra against speed of a run-up or coast-down run "
+                                         "(a scene with [speed_profile]), with 1x and 0.5x lines and orbits")
+    waterfall.add_arguments(p)
+    p.set_defaults(func=waterfall.run)
+
     from . import limit_cycle
 
     p = sub.add_parser("limit-cycle", help="envelope of the bearing eccentricity: does the whirl settle and hold?")
     limit_cycle.add_arguments(p)
     p.set_defaults(func=limit_cycle.run)
+
+    from . import stability
+
+    p = sub.add_parser("stability", help="Campbell diagram and stability threshold: equilibrium, linearised "
+                                         "bearings and damped modes at each speed of a range")
+    stability.add_arguments(p)
+    p.set_defaults(func=stability.run)
 
     add_debug_flag(parser, sub)
     args = parser.parse_args(argv)
