@@ -2,7 +2,7 @@
 (Friswell, Penny, Garvey & Lees, Dynamics of Rotating Machines, CUP 2010, Example 5.9.6:
 models/rotor_friswell.toml on models/bearing_friswell.toml) against its sources.
 
-    python benchmarks/second_machine.py                      # statics, modes, bearing, stability (~10 s)
+    python benchmarks/second_machine.py                      # statics, modes, bearing, stability (seconds)
     python benchmarks/second_machine.py --run25 out/friswell_25hz_map.npz --run40 out/friswell_40hz_map.npz
 
 Prints: the rotor's mass and weight split; its natural frequencies on the 1 MN/m bearings of
