@@ -221,11 +221,15 @@ def _stage(stage: Path, surrogates: list[Path]) -> tuple[Path, str, list[Path]]:
     return script, pkg, project
 
 
-def _postprocess(xml_bytes: bytes, pkg: str) -> bytes:
-    """Units, start values that round-trip, InitialUnknowns and output dependencies."""
+def _postprocess(xml_bytes: bytes, pkg: str, bearing: dict | None = None) -> bytes:
+    """Units, start values that round-trip (the built-in bearing's D, L, CR, mu from
+    ``bearing`` when given), InitialUnknowns and output dependencies."""
     from .slave import VARIABLES
 
     table = {v[0]: v for v in VARIABLES}
+    for k, v in (bearing or {}).items():
+        if k in table:
+            table[k] = (*table[k][:4], v, *table[k][5:])
     root = ET.fromstring(xml_bytes)
     root.set("generationTool", f"bearing_fmu {__version__} build ({root.get('generationTool', 'PythonFMU')})")
     root.set("description", root.get("description", "") + f" [code package {pkg}]")
@@ -291,11 +295,11 @@ def patch_linux_binary(data: bytes) -> tuple[bytes, str]:
     return data, left
 
 
-def _rewrite_zip(path: Path, pkg: str) -> None:
+def _rewrite_zip(path: Path, pkg: str, bearing: dict | None = None) -> None:
     import json
 
     from .fmu_binary import STATUS_PATCHES, patch_pythonfmu_binary, status_patched
-    from .slave import PATCH_NOTES
+    from .slave import BEARING_DEFAULTS, PATCH_NOTES
 
     tmp = path.with_name(path.name + ".tmp")
     notes = {}
@@ -303,7 +307,7 @@ def _rewrite_zip(path: Path, pkg: str) -> None:
         for item in zin.infolist():
             data = zin.read(item.filename)
             if item.filename == "modelDescription.xml":
-                data = _postprocess(data, pkg)
+                data = _postprocess(data, pkg, bearing)
             elif item.filename.startswith("binaries/linux64/") and item.filename.endswith(".so"):
                 data, notes["linux64"] = patch_pythonfmu_binary(data)
                 _warn_unpatched(item.filename, notes["linux64"], STATUS_PATCHES, status_patched)
@@ -314,6 +318,9 @@ def _rewrite_zip(path: Path, pkg: str) -> None:
         # fmi2Fatal with a released instance (pythonfmu as is: then it never raises)
         zout.writestr(f"resources/{PATCH_NOTES}", json.dumps(notes, indent=1, sort_keys=True) + "\n",
                       compress_type=zipfile.ZIP_DEFLATED)
+        if bearing:  # the slave's defaults for D, L, CR, mu (build --bearing)
+            zout.writestr(f"resources/{BEARING_DEFAULTS}", json.dumps(bearing, indent=1) + "\n",
+                          compress_type=zipfile.ZIP_DEFLATED)
     os.replace(tmp, path)
 
 
@@ -360,12 +367,14 @@ def check_data_file(path) -> None:
         raise ValueError(f"{path}: no build check for the {option.name} option's files")
 
 
-def build_fmu(output, surrogate=None) -> Path:
+def build_fmu(output, surrogate=None, bearing=None, bearing_source: str = "") -> Path:
     """Write the bearing FMU to ``output`` (a ``.fmu`` path) and return its path.
 
     ``surrogate``: one path or a list of paths of surrogate JSON files to bundle in
     ``resources/surrogates/``; with exactly one, the parameter ``surrogate`` defaults to it.
-    The default internal stays ``reynolds`` (the paper bearing at the solver's default grid).
+    The default internal stays ``reynolds`` (at the solver's default grid).
+    ``bearing``: a BearingParams whose D, L, CR, mu become the FMU's defaults (the paper
+    bearing's without), recorded with ``bearing_source`` (e.g. the bearing file) in the FMU.
     """
     from pythonfmu import FmuBuilder
 
@@ -401,7 +410,10 @@ def build_fmu(output, surrogate=None) -> Path:
             tmp_fmu = Path(tmp) / f"{MODEL_IDENTIFIER}.fmu"
             FmuBuilder.build_FMU(script, dest=tmp_fmu, project_files=project,
                                  canGetAndSetFMUstate=True, canSerializeFMUstate=True)
-            _rewrite_zip(tmp_fmu, pkg)
+            defaults = None
+            if bearing is not None:
+                defaults = {**bearing.as_dict(), "source": str(bearing_source) or "given to build_fmu"}
+            _rewrite_zip(tmp_fmu, pkg, defaults)
             write_bytes(output, tmp_fmu.read_bytes())  # atomic: a parallel reader sees one whole FMU
     finally:
         # pythonfmu's builder imported the staged modules and left the stage on sys.path:

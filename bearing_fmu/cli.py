@@ -10,25 +10,32 @@ from .exits import EXIT_CODES, add_debug_flag, run_command
 
 
 def _demo(args: argparse.Namespace) -> int:
+    """Equilibrium, attitude, minimum film and Lund coefficients of a bearing (the paper's by
+    default) under a static load at one speed, from the Reynolds solver."""
     import numpy as np
 
-    from .params import PAPER_BEARING
+    from .params import PAPER_BEARING, BearingParams
     from .reynolds import Reynolds
     from .statics import equilibrium, linearize
 
-    rey = Reynolds(PAPER_BEARING)
+    params = BearingParams.from_toml(args.bearing) if args.bearing else PAPER_BEARING
+    rey = Reynolds(params)
     omega = 2 * math.pi * args.speed_hz
-    load = (0.0, -args.load)
+    load = (args.load_y, -args.load if args.load is not None else args.load_z)
     y0, z0 = equilibrium(rey, load, omega)
     K, C = linearize(rey, y0, z0, omega)
-    eps = math.hypot(y0, z0) / PAPER_BEARING.CR
-    att = math.degrees(math.atan2(y0, -z0))
+    eps = math.hypot(y0, z0) / params.CR
+    # attitude: the angle from the load's direction to the journal's displacement (positive: the
+    # journal turned from the load line toward +z from +y, the sense of positive omega)
+    att = math.degrees(math.atan2(load[0] * z0 - load[1] * y0, load[0] * y0 + load[1] * z0))
+    name = (f"{args.bearing}" if args.bearing else "Paper bearing (Table 2)")
     np.set_printoptions(precision=4)
-    print(f"Paper bearing (Table 2: D 31 mm, L 20 mm, CR 90 um, mu 0.05 Pa s), "
-          f"Reynolds grid {rey.n_theta} x {rey.n_x}, Swift-Stieber cavitation")
-    print(f"speed {args.speed_hz:g} Hz, vertical load {args.load:g} N")
-    print(f"equilibrium: y0 = {y0 * 1e6:.3f} um, z0 = {z0 * 1e6:.3f} um, "
-          f"eccentricity ratio {eps:.4f}, attitude angle {att:.2f} deg")
+    print(f"{name}: D {params.D * 1e3:g} mm, L {params.L * 1e3:g} mm (L/D {params.L / params.D:.3g}), "
+          f"CR {params.CR * 1e6:g} um, mu {params.mu:g} Pa s; Reynolds grid {rey.n_theta} x {rey.n_x}, "
+          "Swift-Stieber cavitation")
+    print(f"speed {args.speed_hz:g} Hz, static load (Wy, Wz) = ({load[0]:g}, {load[1]:g}) N")
+    print(f"equilibrium: y0 = {y0 * 1e6:.3f} um, z0 = {z0 * 1e6:.3f} um, eccentricity ratio {eps:.4f}, "
+          f"attitude angle {att:.2f} deg, minimum film {params.CR * (1 - eps) * 1e6:.3f} um")
     print("stiffness K [N/m] (K_ij = -dF_i/dq_j):")
     print(K)
     print("damping C [N s/m] (C_ij = -dF_i/dqdot_j):")
@@ -40,9 +47,52 @@ def _build(args: argparse.Namespace) -> int:
     from .build import build_fmu
     from .outputs import ensure_output_file
 
+    if args.native:
+        return _build_native(args)
+    for flag, value in (("--internal", args.internal), ("--cmake", args.cmake or None)):
+        if value is not None:
+            raise ValueError(f"{flag} is an option of the native FMU: add --native (the Python FMU chooses its "
+                             "internal by its parameter 'internal')")
     ensure_output_file(args.output, "-o/--output")
-    path = build_fmu(args.output, surrogate=[*(args.surrogate or []), *(args.map or [])] or None)
+    bearing = None
+    if args.bearing:
+        from .params import BearingParams
+
+        bearing = BearingParams.from_toml(args.bearing)
+    path = build_fmu(args.output, surrogate=[*(args.surrogate or []), *(args.map or [])] or None,
+                     bearing=bearing, bearing_source=args.bearing or "")
+    if bearing is not None:
+        print(f"the FMU's default bearing: {args.bearing} (D {bearing.D * 1e3:g} mm, L {bearing.L * 1e3:g} mm, "
+              f"CR {bearing.CR * 1e6:g} um, mu {bearing.mu:g} Pa s)")
     print(f"wrote {path}")
+    return 0
+
+
+def _build_native(args: argparse.Namespace) -> int:
+    """``bearing-fmu build --native``: the internal compiled to C, one data file compiled in."""
+    from .native.build import build_native_fmu
+    from .outputs import ensure_output_file
+    from .params import BearingParams
+
+    surrogates, maps = args.surrogate or [], args.map or []
+    internal = args.internal or ("taylor" if surrogates else "map" if maps else None)
+    if internal is None:
+        raise ValueError("--native needs --internal taylor|map|linear (taylor with --surrogate FILE, map with "
+                         "--map FILE)")
+    if len(surrogates) > 1 or len(maps) > 1:
+        raise ValueError("--native compiles one data file in: give --surrogate or --map once")
+    if internal == "taylor" and (not surrogates or maps):
+        raise ValueError("--native --internal taylor needs --surrogate FILE (and no --map)")
+    if internal == "map" and (not maps or surrogates):
+        raise ValueError("--native --internal map needs --map FILE (and no --surrogate)")
+    if internal == "linear" and surrogates:
+        raise ValueError("--native --internal linear takes no --surrogate (--map FILE: linearise on that force map "
+                         "instead of the Reynolds solver)")
+    ensure_output_file(args.output, "-o/--output")
+    bearing = BearingParams.from_toml(args.bearing) if args.bearing else None
+    path = build_native_fmu(args.output, internal, surrogate=surrogates[0] if surrogates else None,
+                            map=maps[0] if maps else None, bearing=bearing, cmake=args.cmake)
+    print(f"wrote {path} (native FMU, {internal} internal, Model Exchange and Co-Simulation, no Python)")
     return 0
 
 
@@ -94,10 +144,16 @@ def main(argv: list[str] | None = None) -> int:
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
     sub = parser.add_subparsers(dest="command", required=True)
 
-    p = sub.add_parser("demo", help="equilibrium and Lund coefficients of the paper bearing")
+    p = sub.add_parser("demo", help="equilibrium, attitude, minimum film and Lund coefficients of a bearing "
+                                    "(the paper's by default) under a static load")
+    p.add_argument("--bearing", type=existing_file, help="bearing TOML file (default: the paper bearing)")
     p.add_argument("--speed-hz", type=positive_float("Hz"), default=22.0, help="shaft speed [Hz] (default 22)")
-    p.add_argument("--load", type=finite_float("N"), default=16.7,
-                   help="vertical load on the bearing [N] (default 16.7: half the paper rotor's weight)")
+    p.add_argument("--load-z", type=finite_float("N"), default=-16.7,
+                   help="static load on the journal, vertical [N] (weight is negative; default -16.7: half the "
+                        "paper rotor's weight)")
+    p.add_argument("--load-y", type=finite_float("N"), default=0.0, help="static load, horizontal [N] (default 0)")
+    p.add_argument("--load", type=finite_float("N"), default=None,
+                   help="downward load magnitude [N], the same as --load-z -LOAD (the older form)")
     p.set_defaults(func=_demo)
 
     from .fitting.cli import add_fit_arguments, run_fit
@@ -113,9 +169,21 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--surrogate", type=existing_file, action="append", default=None, metavar="FILE",
                    help="surrogate JSON file to bundle in resources/surrogates/ (repeat for several; "
                         "with exactly one, the FMU parameter 'surrogate' defaults to it)")
+    p.add_argument("--bearing", type=existing_file, default=None, metavar="FILE",
+                   help="bearing TOML file whose D, L, CR, mu become the FMU's defaults (default: the paper "
+                        "bearing's; --native taylor: the surrogate's); a master that sets no parameters gets this "
+                        "bearing's force")
     p.add_argument("--map", type=existing_file, action="append", default=None, metavar="FILE",
                    help="force map JSON file to bundle beside the surrogates (repeat for several; with exactly "
                         "one, the FMU parameter 'map' defaults to it)")
+    p.add_argument("--native", action="store_true",
+                   help="a native FMU: the internal compiled to C (Model Exchange and Co-Simulation, no Python at run "
+                        "time; needs a C compiler now); taylor, map or linear")
+    p.add_argument("--internal", choices=("taylor", "map", "linear"), default=None,
+                   help="--native: the internal (default: taylor with --surrogate, map with --map)")
+    p.add_argument("--cmake", action="store_true",
+                   help="--native: compile through fmpy's CMake project (as `fmpy compile` does) instead of calling the "
+                        "C compiler directly")
     p.set_defaults(func=_build)
 
     from .cliargs import grid, int_at_least, number, typed

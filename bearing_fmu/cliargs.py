@@ -10,6 +10,8 @@ says what was expected (with the unit) and what was given:
   raises ValueError (the fit recipe's own settings use it, so the command line and the
   recipe refuse the same values with the same words);
 * Reynolds grids written ``NxM`` (``grid``), checked against the Reynolds options' ranges;
+* ranges written ``START:STOP:STEP`` (``float_range``: the values, both ends included) and
+  point loads written ``NODE:FY:FZ`` (``node_load``);
 * paths: ``existing_file``, ``existing_dir``, ``output_dir``, ``output_file``: an output path
   that names the wrong kind of thing (a file for a folder, a folder for a file, a file in the
   middle of the path) is refused while parsing; whether the folder accepts files is checked
@@ -22,6 +24,7 @@ Zero is a value like any other: callers test ``is None`` for an option left out,
 from __future__ import annotations
 
 import argparse
+import math
 import os
 import re
 from pathlib import Path
@@ -132,6 +135,62 @@ def grid_or_default(text: str) -> tuple[int, int] | None:
         raise _refuse(grid_words() + ", or '' for the default grid", text) from None
 
 
+# ----------------------------------------------------------------------------- ranges and loads
+
+MAX_RANGE_VALUES = 100_000  # a range longer than this is a typo (a step in the wrong unit), not a study
+
+
+def float_range(unit: str = "", minimum: float = 0.0, *, exclusive_minimum: bool = True):
+    """An argparse type: ``START:STOP:STEP`` -> the values START, START + STEP, ... up to STOP
+    (included when the steps reach it to round-off), a list of floats; a single number is one
+    value. START > ``minimum`` (or >= without ``exclusive_minimum``), STOP >= START, STEP > 0, at
+    most MAX_RANGE_VALUES values. Values are START + i STEP rounded to 12 significant digits, so
+    10:70:0.1 gives 22.3, not 22.300000000000004."""
+    lo = Number(minimum, exclusive_minimum=exclusive_minimum)
+    step_kind = Number(0.0, exclusive_minimum=True)
+    u = f" {unit}" if unit else ""
+    expected = (f"START:STOP:STEP{u} (e.g. 10:70:1) or one number, with START {lo.expected().removeprefix('a finite number ')}"
+                f", STOP >= START, STEP > 0, at most {MAX_RANGE_VALUES} values")
+
+    def parse(text: str) -> list[float]:
+        parts = text.split(":")
+        try:
+            if len(parts) == 1:
+                return [lo.parse(float(parts[0]))]
+            if len(parts) != 3:
+                raise ValueError(text)
+            start, stop, step = (float(p) for p in parts)
+            start, step = lo.parse(start), step_kind.parse(step)
+            stop = Number().parse(stop)
+        except (ValueError, Invalid):
+            raise _refuse(expected, text) from None
+        if stop < start:
+            raise _refuse(expected, text, f"STOP {stop:g} < START {start:g}")
+        n = int(math.floor((stop - start) / step * (1.0 + 1e-12) + 1e-9)) + 1
+        if n > MAX_RANGE_VALUES:
+            raise _refuse(expected, text, f"{n} values")
+        return [float(f"{start + i * step:.12g}") for i in range(n)]
+
+    parse.__name__ = "START:STOP:STEP"
+    parse.expected = expected
+    return parse
+
+
+def node_load(text: str) -> tuple[int, float, float]:
+    """An argparse type: ``NODE:FY:FZ`` -> (node, Fy, Fz): a static point load [N] on a 1-based
+    node (its range is checked against the rotor by the command that reads the rotor)."""
+    expected = "NODE:FY:FZ (a node number >= 1 and two finite forces [N], e.g. 6:0:-50)"
+    parts = text.split(":")
+    try:
+        if len(parts) != 3:
+            raise ValueError(text)
+        node = Number(1, integer=True).parse(int(parts[0]))
+        fy, fz = (Number().parse(float(p)) for p in parts[1:])
+    except (ValueError, Invalid):
+        raise _refuse(expected, text) from None
+    return node, fy, fz
+
+
 # ----------------------------------------------------------------------------- paths
 
 def existing_file(text: str) -> str:
@@ -183,5 +242,5 @@ def output_file(text: str) -> str:
 
 
 __all__ = ["typed", "number", "positive_float", "nonneg_float", "finite_float", "int_at_least", "positive_int",
-           "grid", "grid_or_default", "parse_grid", "grid_words", "existing_file", "existing_dir", "output_dir",
+           "grid", "grid_or_default", "parse_grid", "grid_words", "float_range", "node_load", "existing_file", "existing_dir", "output_dir",
            "output_file"]

@@ -156,6 +156,14 @@ def run_command(prog: str, args) -> int:
         print(f"{name}: interrupted by {sig.signal_name}; "
               + (f"kept: {'; '.join(kept)}" if kept else "nothing had been computed yet"), file=sys.stderr)
         return sig.exit_code
+    except BrokenPipeError:  # the reader went away (`... | head`): no message, the shell's SIGPIPE code
+        import os
+
+        try:
+            os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        except OSError:
+            pass
+        return 128 + signal.SIGPIPE
     except BAD_INPUT as exc:
         if debug:
             raise

@@ -200,7 +200,11 @@ class Table(Kind):
         return check_table(value, self.keys, where, error, label)
 
     def absent(self, default):
-        return None if self.keys is None else check_table({}, self.keys, "", SchemaError)
+        """An absent table: its defaults, or None when it has required keys (an optional table
+        that, once given, must be whole, e.g. [speed_profile])."""
+        if self.keys is None or any(k.required for k in self.keys):
+            return None
+        return check_table({}, self.keys, "", SchemaError)
 
 
 @dataclass(frozen=True)

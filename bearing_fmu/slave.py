@@ -202,6 +202,22 @@ class _LoggingFlag:
         return self._flag is not None and not self._flag.value
 
 
+BEARING_DEFAULTS = "bearing.json"  # in resources/: D, L, CR, mu of `bearing-fmu build --bearing FILE`
+
+
+def _bearing_defaults(resources) -> dict:
+    """The built-in bearing's D, L, CR, mu [SI] when the FMU was built for one, else {}."""
+    import json
+
+    if not resources:
+        return {}
+    try:
+        data = json.loads((Path(resources) / BEARING_DEFAULTS).read_text())
+    except (OSError, ValueError):
+        return {}
+    return {k: float(data[k]) for k in _BEARING if k in data}
+
+
 class BearingFMU(Fmi2Slave):
     """Hydrodynamic journal bearing: film force from the journal state (see module docstring)."""
 
@@ -213,9 +229,12 @@ class BearingFMU(Fmi2Slave):
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
         self._by_vr = {}  # value reference -> (name, type, causality)
+        built_in = _bearing_defaults(self.resources)
         for name, typ, causality, _unit, default, desc in VARIABLES:
             if name in _FILE_OPTIONS:
                 default = _default_file(self.resources, _OPTIONS[name])
+            elif name in built_in:
+                default = built_in[name]
             setattr(self, name, default)
             var = _VAR_CLASS[typ](
                 name,

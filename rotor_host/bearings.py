@@ -27,7 +27,7 @@ class BearingSet:
     """Common part: DOF mapping, stacking, per-bearing bookkeeping.
 
     bearing_dofs : list of (dof_y, dof_z) global indices, one pair per bearing
-    omega        : shaft speed [rad/s] (constant over the run)
+    omega        : shaft speed [rad/s]; ``speed`` (t -> omega), when set, updates it at each step
     names        : labels used in messages ("bearing 1", ...)
     clearances   : radial clearance CR [m] per bearing (None where not known), set by the
                    subclass: the static equilibrium's diagnosis places journals near the wall
@@ -48,6 +48,7 @@ class BearingSet:
         self.n = len(pairs)
         self.dofs = np.array([d for pair in pairs for d in pair], dtype=int)
         self.omega = float(omega)
+        self.speed = None  # callable t -> omega [rad/s] for a speed that changes (set by the scene)
         self.names = list(names) if names is not None else [f"bearing {k + 1}" for k in range(self.n)]
         self.clearances: list[float | None] = [None] * self.n
         self.tangent = check_tangent(tangent, f"{type(self).__name__} tangent")
@@ -65,6 +66,8 @@ class BearingSet:
     # -- NodalForce protocol -----------------------------------------------------------
     def begin_step(self, t: float, dt: float) -> None:
         self.t, self.dt = float(t), float(dt)
+        if self.speed is not None:  # a run-up: the bearings see the speed at the end of the step
+            self.omega = float(self.speed(self.t + self.dt))
 
     def evaluate(self, q: np.ndarray, v: np.ndarray):
         f, dq, dv = self._f, self._dq, self._dv

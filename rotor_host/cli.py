@@ -1,4 +1,5 @@
-"""``rotor-host``: run scenes, compare internals, run the paper's main job, fit scene-trained surrogates, sweep."""
+"""``rotor-host``: run scenes, compare internals, run the paper's main job, fit scene-trained surrogates,
+find a rotor's stability threshold (Campbell diagram), sweep a scene over speeds or unbalances on Dask."""
 
 from __future__ import annotations
 
@@ -19,6 +20,8 @@ def _scene_from_args(args):
                       ("checkpoint_s", "checkpoint_s")):
         if getattr(args, flag, None) is not None:  # 0 is a value (refused by its type), not "unset"
             changes[key] = getattr(args, flag)
+    if getattr(args, "native", False):
+        changes["fmu_kind"] = "native"
     options = {}
     for internal, option in _file_options():  # --surrogate FILE, --map FILE, ...
         if getattr(args, option, None) is not None:
@@ -58,7 +61,8 @@ def _run(args) -> int:
     out = Path(args.out)
     run = run_scene(scene, out, progress=not args.quiet)
     m = run.meta
-    print(f"{scene.name} [{scene.internal} via {scene.via}]: {m['status']}, {m['steps']} steps to "
+    via = f"{scene.via}, native" if scene.via == "fmu" and scene.fmu_kind == "native" else scene.via
+    print(f"{scene.name} [{scene.internal} via {via}]: {m['status']}, {m['steps']} steps to "
           f"t = {m['t_reached_s']:.4g} s in {m['wall_time_s']:.1f} s "
           f"(setup {m['setup_time_s']:.1f} s), {m['newton_mean_evaluations_per_step']:.2f} force "
           f"evaluations per step, {m['step_cuts']} step cuts")
@@ -66,10 +70,24 @@ def _run(args) -> int:
           + ("  (the orbit crossed the clearance circle)" if m["crossed_clearance"] else ""))
     if m["status"] != "ok":
         print(f"stopped: {m['message']}")
+    if scene.speed_profile is not None and not args.no_plots and run.arrays["t"].size > 1:
+        from .waterfall import default_nodes, plot_waterfall, spectra, summary
+
+        try:
+            nodes = default_nodes(run.arrays)
+            png = plot_waterfall(run.arrays, out / f"{run.npz.stem}_waterfall.png", nodes=nodes,
+                                 title=f"{scene.description or scene.name}: {scene.speed_profile.describe()}")
+            for n in nodes:
+                s = summary(spectra(run.arrays, n))
+                whirl = (f"whirl from {s['whirl_onset_hz']:.1f} Hz at {s['whirl_hz']:.1f} Hz "
+                         f"({s['whirl_ratio']:.2f}x)" if s["whirl_onset_hz"] else "no subsynchronous whirl")
+                print(f"node {n}: resonance at {s['resonance_hz']:.1f} Hz; {whirl}")
+            print(f"wrote {png}")
+        except ValueError as exc:  # a run too short for a spectrum: say so, keep the run
+            print(f"no waterfall: {exc}")
     if not args.no_plots and run.arrays["t"].size > 1:
-        disk = 6 if 6 in run.arrays["nodes"] else None
         png = plot_runs({scene.internal: run.arrays}, out / f"{run.npz.stem}.png", title=scene.description,
-                        disk_node=disk, history=True)
+                        history=True)
         print(f"wrote {run.npz}, {run.json}, {png}")
     else:
         print(f"wrote {run.npz}, {run.json}")
@@ -220,6 +238,9 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("scene", type=existing_file, help="scene TOML file (models/scenes/*.toml)")
     p.add_argument("--internal", choices=_internal_choices(), help="override the scene's internal")
     p.add_argument("--via", choices=("fmu", "direct"), help="bearing FMUs through fmpy, or internals in-process")
+    p.add_argument("--native", action="store_true",
+                   help="through native bearing FMUs (the internal compiled to C, no Python in the FMU: linear, map, "
+                        "taylor; built with the C compiler): the scene key fmu_kind = \"native\"")
     _add_file_flags(p)
     p.add_argument("--t-end", type=positive_float("s"), help="override the end time [s]")
     p.add_argument("--dt", type=positive_float("s"), help="override the time step [s]")
@@ -277,11 +298,25 @@ def main(argv: list[str] | None = None) -> int:
     dt_study.add_arguments(p)
     p.set_defaults(func=dt_study.run)
 
+    from . import waterfall
+
+    p = sub.add_parser("waterfall", help="response spectra against speed of a run-up or coast-down run "
+                                         "(a scene with [speed_profile]), with 1x and 0.5x lines and orbits")
+    waterfall.add_arguments(p)
+    p.set_defaults(func=waterfall.run)
+
     from . import limit_cycle
 
     p = sub.add_parser("limit-cycle", help="envelope of the bearing eccentricity: does the whirl settle and hold?")
     limit_cycle.add_arguments(p)
     p.set_defaults(func=limit_cycle.run)
+
+    from . import stability
+
+    p = sub.add_parser("stability", help="Campbell diagram and stability threshold: equilibrium, linearised "
+                                         "bearings and damped modes at each speed of a range")
+    stability.add_arguments(p)
+    p.set_defaults(func=stability.run)
 
     from . import sweep
 

@@ -85,6 +85,9 @@ def _run_variant(base, reference, v, out_dir, stem, runs, rows, progress, log) -
            "wall_s": m["wall_time_s"], "evals_per_step": m["newton_mean_evaluations_per_step"],
            "max_eccentricity": max(m["max_eccentricity"]), "t_reached_s": m["t_reached_s"]}
     row["late_eccentricity"] = late_max_eccentricity(run.arrays)
+    if "max_domain_excess" in m:  # a surrogate: how far it left its fitted domain
+        row["out_of_domain_pct"] = 100.0 * max(m["out_of_domain_fraction"])
+        row["domain_excess_pct"] = 100.0 * max(m["max_domain_excess"])
     if v is not reference:
         row.update(errors_against(runs[reference.label].arrays, run.arrays))
         row["envelope_rms_pct_cr"] = envelope_error(runs[reference.label].arrays, run.arrays, base.speed_hz)
@@ -104,7 +107,7 @@ def _write(base, reference, variants, rows, runs, out_dir, stem, default_label, 
         r["speedup_vs_ref"] = t_ref / r["integration_s"] if full and r["integration_s"] > 0 else None
         r["speedup_vs_default"] = (t_def / r["integration_s"] if full and t_def and r["integration_s"] > 0 else None)
 
-    table = markdown_table(rows, COLUMNS)
+    table = print_table(rows)
     header = (f"# {base.description or base.name}\n\nscene {base.source}, via {base.via}, "
               f"dt = {base.dt_s:g} s, {base.t_end_s:g} s simulated; reference: {reference.label}. "
               "Force NRMSE = RMS error / RMS of the reference's dynamic force; orbit errors on the "
@@ -121,8 +124,7 @@ def _write(base, reference, variants, rows, runs, out_dir, stem, default_label, 
     plot_error_vs_time(rows, out_dir / f"compare_{stem}_error_vs_time.png", title=base.description or base.name)
     show = [reference.label] + [v.label for v in variants if v.internal != "reynolds" and v.label in runs][:3]
     plot_runs({k: runs[k].arrays for k in show}, out_dir / f"compare_{stem}_orbits.png",
-              title=base.description or base.name, disk_node=6 if 6 in runs[reference.label].arrays["nodes"] else None,
-              history=True)
+              title=base.description or base.name, history=True)
 
 
 def late_max_eccentricity(arrays, fraction: float = 0.2) -> float | None:
@@ -190,4 +192,13 @@ def plot_error_vs_time(rows, path, title=""):
 
 
 def print_table(rows) -> str:
-    return markdown_table(rows, COLUMNS)
+    """The table, then one line per variant that did not end well (its reason) or whose
+    surrogate left its fitted domain (how often and how far)."""
+    notes = []
+    for r in rows:
+        if r["status"] != "ok":
+            notes.append(f"- {r['label']}: {r['status']}" + (f": {r['message']}" if r.get("message") else ""))
+        if r.get("out_of_domain_pct"):
+            notes.append(f"- {r['label']}: {r['out_of_domain_pct']:.3g} % of the recorded states outside the "
+                         f"surrogate's fitted domain, up to {r['domain_excess_pct']:.3g} % of its size beyond it")
+    return markdown_table(rows, COLUMNS) + ("\n\n" + "\n".join(notes) if notes else "")

@@ -18,7 +18,8 @@ from bearing_fmu.params import BEARING_KEYS
 from bearing_fmu.schema import markdown_table, option_keys
 
 from .rotor import BEARING_ENTRY_KEYS, DISK_KEYS, ELEMENT_KEYS, MATERIAL_KEYS, ROTOR_KEYS
-from .scene import INITIAL_KEYS, RECORD_KEYS, SCENE_KEYS, STATIC_LOAD_KEYS, TIME_KEYS, UNBALANCE_KEYS
+from .scene import (INITIAL_KEYS, RECORD_KEYS, SCENE_KEYS, SPEED_PROFILE_KEYS, STATIC_LOAD_KEYS, TIME_KEYS,
+                    UNBALANCE_KEYS)
 
 
 def reference_tables() -> dict[str, str]:
@@ -31,6 +32,7 @@ def reference_tables() -> dict[str, str]:
         "Rotor file: [[disks]]": DISK_KEYS,
         "Rotor file: [[bearings]]": BEARING_ENTRY_KEYS,
         "Scene file: top level": SCENE_KEYS,
+        "Scene file: [speed_profile]": SPEED_PROFILE_KEYS,
         "Scene file: [time]": TIME_KEYS,
         "Scene file: [[unbalance]]": UNBALANCE_KEYS,
         "Scene file: [[static_loads]]": STATIC_LOAD_KEYS,

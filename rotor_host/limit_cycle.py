@@ -96,24 +96,45 @@ class LimitCycle:
     final_e_max: float | None
     drift_pct_cr: float | None  # least-squares trend of the windowed max over the held span, end minus start
     meta: dict | None = None
+    # the whirl's size (windowed max - min eccentricity) over the last half of the run, and its
+    # trend there relative to that size: a whirl dying away (or growing) slowly inside the
+    # absolute band is no limit cycle
+    amplitude: float | None = None
+    amplitude_trend_pct: float | None = None
+    rel_tol_pct: float = 10.0
 
     @property
     def holds(self) -> bool:
-        """Settled, and without a trend across the band (a slow monotone drift that merely has
-        not left the band yet does not count)."""
-        return self.settled_since_s is not None and abs(self.drift_pct_cr) <= self.tol_pct_cr
+        """Settled, without a trend across the band (a slow monotone drift that merely has not
+        left the band yet does not count), and the whirl's size steady relative to itself."""
+        return (self.settled_since_s is not None and abs(self.drift_pct_cr) <= self.tol_pct_cr
+                and (self.amplitude_trend_pct is None or abs(self.amplitude_trend_pct) <= self.rel_tol_pct))
+
+    @property
+    def kind(self) -> str:
+        """'holds', 'dies out', 'grows' or 'not settled'."""
+        if self.holds:
+            return "holds"
+        if self.amplitude_trend_pct is not None and abs(self.amplitude_trend_pct) > self.rel_tol_pct:
+            return "dies out" if self.amplitude_trend_pct < 0 else "grows"
+        return "not settled"
 
     def verdict(self) -> str:
+        """One line: what the envelope does, with the numbers that say so."""
         if self.settled_since_s is None:
-            return "no complete window"
-        s = (f"windowed max eccentricity within +-{self.tol_pct_cr:g} % CR of one value from "
-             f"{self.settled_since_s:.2f} s to the end ({self.t_end_s:g} s; held {self.held_s:.2f} s, "
-             f"band {self.band[0]:.4f}..{self.band[1]:.4f}, trend {self.drift_pct_cr:+.2f} % CR over it)")
-        return s
+            return "verdict: no complete window (the run is shorter than one window)"
+        size = (f"whirl size {self.amplitude:.4f} (max - min eccentricity per window), trend "
+                f"{self.amplitude_trend_pct:+.1f} % of it over the last half" if self.amplitude is not None else "")
+        band = (f"max eccentricity {self.band[0]:.4f}..{self.band[1]:.4f} from {self.settled_since_s:.2f} s "
+                f"(held {self.held_s:.2f} s, trend {self.drift_pct_cr:+.2f} % CR)")
+        head = {"holds": "the limit cycle holds", "dies out": "no limit cycle: the whirl dies out",
+                "grows": "no limit cycle yet: the whirl grows",
+                "not settled": f"not settled within +-{self.tol_pct_cr:g} % CR"}[self.kind]
+        return f"verdict: {head}: {band}; {size}".rstrip("; ")
 
 
 def limit_cycle(arrays: dict, speed_hz: float, *, revs: int = 2, tol_pct_cr: float = 1.0,
-                source: str = "", meta: dict | None = None) -> tuple[LimitCycle, Envelope]:
+                source: str = "", meta: dict | None = None, rel_tol_pct: float = 10.0) -> tuple[LimitCycle, Envelope]:
     env = envelope(arrays, revs / speed_hz)
     ts = settled_since(env, tol_pct_cr)
     t_end = float(np.asarray(arrays["t"])[-1])
@@ -125,9 +146,17 @@ def limit_cycle(arrays: dict, speed_hz: float, *, revs: int = 2, tol_pct_cr: flo
         if m.sum() > 1:
             slope = np.polyfit(env.t[m], env.e_max[m], 1)[0]
             drift = 100 * float(slope * (env.t[m][-1] - env.t[m][0]))
+    amp = trend = None
+    half = env.t >= env.t[0] + 0.5 * (env.t[-1] - env.t[0]) if env.t.size else np.zeros(0, bool)
+    if half.sum() >= 2:
+        a = env.e_max[half] - env.e_min[half]
+        amp = float(a.mean())
+        if amp > 0.0:
+            slope = np.polyfit(env.t[half], a, 1)[0]
+            trend = 100 * float(slope * (env.t[half][-1] - env.t[half][0])) / amp
     lc = LimitCycle(source, speed_hz, revs, tol_pct_cr, t_end, ts,
                     None if ts is None else float(env.t[-1] - ts), band,
-                    float(env.e_max[-1]) if env.e_max.size else None, drift, meta)
+                    float(env.e_max[-1]) if env.e_max.size else None, drift, meta, amp, trend, rel_tol_pct)
     return lc, env
 
 
@@ -173,6 +202,9 @@ def add_arguments(p: argparse.ArgumentParser) -> argparse.ArgumentParser:
     p.add_argument("--hold", type=nonneg_float("s"), default=1.0, help="the limit cycle counts as held when settled "
                    "this long before the end, without a trend across the band [s] (default 1; exit status 1 "
                    "otherwise)")
+    p.add_argument("--rel-tol", type=positive_float("%"), default=10.0,
+                   help="largest trend of the whirl's size over the last half of the run, in %% of that size, for "
+                        "a held limit cycle (default 10): a whirl dying away slowly inside the band is not one")
     p.add_argument("--out", type=output_dir, default="out", help="output folder for limitcycle_<name>.md/.json/.png")
     p.add_argument("--quiet", action="store_true")
     return p
@@ -220,7 +252,8 @@ def run(args) -> int:
         arrays, speed = r.arrays, scene.speed_hz
         meta = {k: r.meta[k] for k in ("status", "message", "dt_s", "steps", "newton_mean_evaluations_per_step",
                                        "step_cuts", "integration_time_s", "max_eccentricity", "crossed_clearance")}
-    lc, env = limit_cycle(arrays, speed, revs=args.revs, tol_pct_cr=args.tol, source=str(src), meta=meta)
+    lc, env = limit_cycle(arrays, speed, revs=args.revs, tol_pct_cr=args.tol, source=str(src), meta=meta,
+                          rel_tol_pct=args.rel_tol)
     step = max(1, int(round(0.25 / env.period_s))) if env.t.size else 1  # about every 0.25 s
     rows = "\n".join(f"| {t:.3f} | {a:.4f} | {b:.4f} |" for t, a, b in
                      zip(env.t[::step], env.e_max[::step], env.e_min[::step]))
@@ -232,7 +265,10 @@ def run(args) -> int:
     if env.t.size:
         plot_envelopes({src.stem: env}, out / f"{stem}.png", title=lc.verdict()[:110])
     print(text)
-    return 0 if lc.holds and lc.held_s >= args.hold else 1
+    held = lc.holds and lc.held_s >= args.hold
+    if lc.holds and not held:
+        print(f"(held {lc.held_s:.2f} s < --hold {args.hold:g} s: not counted as held; exit status 1)")
+    return 0 if held else 1
 
 
 __all__ = ["Envelope", "envelope", "settled_since", "envelope_change", "LimitCycle", "limit_cycle",

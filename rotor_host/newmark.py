@@ -2,7 +2,8 @@
 
     M a + (C + Omega G) v + K q = f_ext(t) + f_nl(q, v)            (paper eq. 1)
 
-at constant speed Omega. ``f_ext(t)`` is the full external force vector (unbalance, weight,
+at constant speed Omega, or a speed Omega(t) that changes slowly (a run-up: ``omega`` a callable;
+D follows it to OMEGA_RTOL). ``f_ext(t)`` is the full external force vector (unbalance, weight,
 static loads); ``f_nl`` are nonlinear forces (the bearings) acting on a few DOFs through the
 :class:`~rotor_host.forces.NodalForce` protocol (``rotor_host.forces``). This module knows
 nothing of FMI or of any bearing model; the static equilibrium is ``rotor_host.equilibrium``.
@@ -64,6 +65,8 @@ import numpy as np
 import scipy.linalg as sla
 
 from ._newmark_kernels import _Q0, _Q1, _k_accept, _k_begin, _k_iter, _Ops
+
+OMEGA_RTOL = 1e-3  # a varying speed rebuilds D = C + Omega G when Omega has moved by this fraction
 from .forces import NodalForce, StepRejected, _as_dofs, as_nodal_force, check_tangent
 
 __all__ = [
@@ -192,7 +195,8 @@ class NewmarkResult:
 class Newmark:
     """Implicit Newmark / HHT-alpha integrator for M a + (C + omega G) v + K q = f_ext(t) + f_nl.
 
-    M, K, C, G: (n, n) arrays (C, G default zero); omega: constant speed [rad/s];
+    M, K, C, G: (n, n) arrays (C, G default zero);
+    omega: constant speed [rad/s], or a callable t -> Omega(t) [rad/s] (a run-up);
     f_ext: callable t -> (n,) array, a constant (n,) array, or None (zero);
     nodal_force: a NodalForce, a sequence of them (combined with CompositeForce), or None.
     """
@@ -207,7 +211,10 @@ class Newmark:
         self.K = self._mat(K, n, "K")
         self.C = self._mat(C, n, "C")
         self.G = self._mat(G, n, "G")
-        self.omega = float(omega)
+        # a speed that changes over the run (a run-up): D = C + Omega G is rebuilt, with the
+        # step operators, whenever Omega (at the step's middle) has moved by OMEGA_RTOL
+        self.omega_of_t = omega if callable(omega) else None
+        self.omega = float(omega(0.0)) if callable(omega) else float(omega)
         self.D = self.C + self.omega * self.G
         self.n = n
         if f_ext is None:
@@ -413,6 +420,8 @@ class Newmark:
         cfg = self.cfg
         dofs = self.dofs
         h = st.dt / (1 << level)
+        if self.omega_of_t is not None:
+            self._follow_speed(0.5 * (t_a + t_b))
         ops = self._ops_cache.get(h) or self._ops(h)
         ok, fe1, fe1n, bn = self._predict(t_a, t_b, h, ops)
         if not ok:
@@ -475,6 +484,15 @@ class Newmark:
             iq = _Q0 + _Q1 - iq
         self._abandon(its, trace)
         return False, (its, rn, tol, reason, cause)
+
+    def _follow_speed(self, t: float) -> None:
+        """A varying speed: D = C + Omega(t) G and the step operators follow it once it has
+        moved by OMEGA_RTOL (the gyroscopic term then lags by less than that fraction)."""
+        om = float(self.omega_of_t(t))
+        if abs(om - self.omega) > OMEGA_RTOL * max(abs(self.omega), 1.0):
+            self.omega = om
+            self.D = self.C + om * self.G
+            self._ops_cache.clear()
 
     def _predict(self, t_a, t_b, h, ops):
         """Open the step (``begin_step``, except for the first step, whose bracket is already

@@ -27,16 +27,35 @@ def _col(arrays, node: int) -> int:
     return nodes.index(node)
 
 
-def plot_runs(runs: dict, path, *, bearing: int = 0, disk_node: int | None = 6, title: str = "",
+def disk_node_of(arrays) -> int | None:
+    """The node (1-based) the disk-orbit panel shows: the rotor's first disk when recorded
+    (runs keep ``disk_nodes``), else the recorded non-bearing node that moves most, else None."""
+    nodes = [int(n) for n in np.asarray(arrays["nodes"]).ravel()]
+    for n in np.asarray(arrays.get("disk_nodes", [])).ravel():
+        if int(n) in nodes:
+            return int(n)
+    bearings = {int(n) for n in np.asarray(arrays["bearing_nodes"]).ravel()}
+    others = [n for n in nodes if n not in bearings]
+    if not others or not len(arrays["t"]):
+        return None
+    size = [float(np.ptp(arrays["y"][:, nodes.index(n)]) + np.ptp(arrays["z"][:, nodes.index(n)])) for n in others]
+    return others[int(np.argmax(size))]
+
+
+def plot_runs(runs: dict, path, *, bearing: int = 0, disk_node: int | None = None, title: str = "",
               history: bool = False) -> Path:
     """One figure like the paper's: (a) Fy vs t, (b) Fz vs t of the bearing, (c) bearing orbit
-    with the clearance circle, (d) disk orbit; with ``history`` also (e) y and (f) z of the
+    (with the clearance circle when it comes near it), (d) disk orbit (``disk_node``, default
+    the rotor's first disk: ``disk_node_of``); with ``history`` also (e) y and (f) z of the
     bearing vs t (Fig. 5e-f). ``runs`` maps a label (e.g. "Reynolds") to run arrays.
 
-    The axes are scaled to the first run (the reference) and the clearance circle, so a
-    variant whose orbit runs away (the linear model through the wall) cannot shrink the
-    others to a line; such a variant is marked "(off scale)" in the legend."""
+    The axes are scaled to the first run (the reference), so a variant whose orbit runs away
+    (the linear model through the wall) cannot shrink the others to a line; such a variant is
+    marked "(off scale)" in the legend. A small bearing orbit fills its panel (in units of CR)
+    instead of sitting as a dot in the full clearance circle."""
     plt = _plt()
+    if disk_node is None and runs:
+        disk_node = disk_node_of(next(iter(runs.values())))
     nrow = 3 if history else 2
     fig, axes = plt.subplots(nrow, 2, figsize=(11, 3.6 * nrow))
     ax = axes.ravel()
@@ -60,9 +79,12 @@ def plot_runs(runs: dict, path, *, bearing: int = 0, disk_node: int | None = 6, 
         if history:
             ax[4].plot(t, np.asarray(a["y"])[:, cb] * 1e6, ls, lw=0.8, label=label)
             ax[5].plot(t, np.asarray(a["z"])[:, cb] * 1e6, ls, lw=0.8, label=label)
-    th = np.linspace(0, 2 * np.pi, 361)
-    ax[2].plot(np.cos(th), np.sin(th), "k-", lw=1.2, label="clearance")
+    if lims.get("clearance", True):
+        th = np.linspace(0, 2 * np.pi, 361)
+        ax[2].plot(np.cos(th), np.sin(th), "k-", lw=1.2, label="clearance")
     for k, lim in lims.items():
+        if k == "clearance":
+            continue
         if k in (2, 3):
             ax[k].set_xlim(*lim[0])
             ax[k].set_ylim(*lim[1])
@@ -71,7 +93,9 @@ def plot_runs(runs: dict, path, *, bearing: int = 0, disk_node: int | None = 6, 
     ax[2].set_aspect("equal")
     ax[3].set_aspect("equal", adjustable="box" if 3 in lims else "datalim")
     labels = [("t [s]", "Fy [N]", "(a) horizontal film force"), ("t [s]", "Fz [N]", "(b) vertical film force"),
-              ("y / CR", "z / CR", "(c) bearing orbit"), ("y [um]", "z [um]", f"(d) disk orbit (node {disk_node})"),
+              ("y / CR", "z / CR", "(c) bearing orbit" + ("" if lims.get("clearance", True) else
+                                                      " (zoomed: the clearance circle is |y, z| / CR = 1)")),
+              ("y [um]", "z [um]", f"(d) disk orbit (node {disk_node})" if disk_node else "(d) no disk recorded"),
               ("t [s]", "y [um]", "(e) horizontal bearing displacement"),
               ("t [s]", "z [um]", "(f) vertical bearing displacement")]
     for a_, (xl, yl, tl) in zip(ax, labels):
@@ -108,8 +132,16 @@ def _reference_limits(a, bearing: int, disk_node, history: bool) -> dict:
     CR = float(np.asarray(a["CR"])[bearing])
     y, z = np.asarray(a["y"])[:, cb], np.asarray(a["z"])[:, cb]
     lims = {0: _span(np.asarray(a["Fy"])[:, bearing]), 1: _span(np.asarray(a["Fz"])[:, bearing])}
-    r = max(1.1, 1.1 * float(np.nanmax(np.hypot(y, z))) / CR) if len(y) else 1.1
-    lims[2] = ((-r, r), (-r, r))
+    e_max = float(np.nanmax(np.hypot(y, z))) / CR if len(y) else 0.0
+    if e_max >= NEAR_WALL or not len(y):  # near the wall: show the clearance circle (and beyond)
+        r = max(1.1, 1.1 * e_max)
+        lims[2] = ((-r, r), (-r, r))
+    else:  # a small orbit: fill the panel with it, equal scales
+        (ylo, yhi), (zlo, zhi) = _span(y / CR), _span(z / CR)
+        half = 0.5 * max(yhi - ylo, zhi - zlo, 1e-3)
+        yc, zc = 0.5 * (ylo + yhi), 0.5 * (zlo + zhi)
+        lims[2] = ((yc - half, yc + half), (zc - half, zc + half))
+        lims["clearance"] = False
     if disk_node is not None and disk_node in list(np.asarray(a["nodes"])):
         cd = _col(a, disk_node)
         yd, zd = _span(np.asarray(a["y"])[:, cd] * 1e6), _span(np.asarray(a["z"])[:, cd] * 1e6)
@@ -118,6 +150,9 @@ def _reference_limits(a, bearing: int, disk_node, history: bool) -> dict:
     if history:
         lims[4], lims[5] = _span(y * 1e6), _span(z * 1e6)
     return {k: v for k, v in lims.items() if v is not None}
+
+
+NEAR_WALL = 0.7  # a bearing orbit reaching this eccentricity ratio is drawn with the clearance circle
 
 
 def _off_scale(a, bearing: int, lims: dict) -> bool:
@@ -132,7 +167,7 @@ def _off_scale(a, bearing: int, lims: dict) -> bool:
             if np.nanmax(np.abs(v)) > 2 * max(abs(lo), abs(hi)):
                 return True
     if 2 in lims and len(a["t"]):
-        r = lims[2][0][1]
+        r = max(abs(x) for pair in lims[2] for x in pair)
         return bool(np.nanmax(np.hypot(np.asarray(a["y"])[:, cb], np.asarray(a["z"])[:, cb])) / CR > 2 * r)
     return False
 

@@ -37,8 +37,10 @@ from .equilibrium import static_equilibrium
 from .forces import NEWTON_TANGENTS
 from .newmark import IntegrationError, Newmark, NewmarkConfig
 from .rotor import NODE, Rotor
+from .speed import SpeedProfile
 
 VIA = ("fmu", "direct")
+FMU_KINDS = ("python", "native")  # the pythonfmu FMU (any internal), or the compiled one (linear, map, taylor)
 INITIAL_STATES = ("static_equilibrium", "centred")
 DEFAULT_CHECKPOINT_S = 60.0  # [record] checkpoint_s: wall time between partial results [s]
 G = 9.81
@@ -85,15 +87,27 @@ RECORD_KEYS = (
         "(a kill -9 keeps results up to the last one)", DEFAULT_CHECKPOINT_S, "> 0 s",
         kind=Number(0.0, exclusive_minimum=True)),
 )
+SPEED_PROFILE_KEYS = (
+    Key("times_s", "times of the profile's points [s], increasing", kind=List(Number(0.0))),
+    Key("speeds_hz", "shaft speed at those times [Hz]; linear in between, constant before the first and after "
+        "the last (two points: a linear ramp)", kind=List(Number(0.0, exclusive_minimum=True))),
+)
+
 SCENE_KEYS = (
     Key("rotor", "rotor file, relative to the scene file", kind=FileName()),
     Key("internal", "which internal computes the bearing forces", allowed="a registered internal", kind=Text()),
-    Key("speed_hz", "shaft speed [Hz]", kind=Number(0.0, exclusive_minimum=True)),
+    Key("speed_hz", "shaft speed [Hz] (with [speed_profile]: its speed at t = 0, which may be left out)", None,
+        "a finite number > 0; required without [speed_profile]", kind=Number(0.0, exclusive_minimum=True)),
+    Key("speed_profile", "run-up or coast-down: the speed over time ([speed_profile])", None,
+        kind=Table(SPEED_PROFILE_KEYS)),
     Key("time", "time span and step ([time])", kind=Table(TIME_KEYS)),
     Key("name", "the scene's name in results and file names", None, "text (default: the file name)", kind=Text()),
     Key("description", "title of plots and tables", None, kind=Text()),
     Key("via", "bearings as FMUs through fmpy, or internals called in-process", "fmu", ", ".join(VIA),
         kind=Choice(VIA)),
+    Key("fmu_kind", "via = fmu: the Python FMU (any internal) or the native one (the internal compiled to C, no "
+        "Python at run time: linear, map, taylor; needs a C compiler at build time)", "python",
+        ", ".join(FMU_KINDS), kind=Choice(FMU_KINDS)),
     Key("fmu", "a bearing FMU to use instead of building one, relative to the scene file", None,
         "file name of an .fmu", kind=FileName()),
     Key("initial", "initial state ([initial])", None, kind=Table(INITIAL_KEYS)),
@@ -136,6 +150,13 @@ class Scene:
     fmu: Path | None = None
     source: Path | None = None
     newton_tangent: str = "bearing"  # bearing | frozen | fd | linear: see rotor_host.forces
+    fmu_kind: str = "python"  # python | native: which bearing FMU via = fmu builds (bearing_fmu/native)
+    speed_profile: SpeedProfile | None = None  # run-up / coast-down; None: speed_hz throughout
+
+    @property
+    def speed(self) -> SpeedProfile:
+        """The speed over time (constant speed_hz without a profile)."""
+        return self.speed_profile or SpeedProfile.constant(self.speed_hz)
 
     @property
     def omega(self) -> float:
@@ -219,6 +240,7 @@ def load_scene(path) -> Scene:
 
     tt = data["time"]
     check_time(tt["t_end_s"], tt["dt_s"], f"{where}: [time]")
+    speed_hz, profile = _speed(data, where)
     unb = [Unbalance(node=_node(u["node"], n_nodes, f"{where}: [[unbalance]] {i + 1} node"),
                      mass_kg=u["mass_kg"], radius_m=u["radius_mm"] / 1e3, phase_rad=math.radians(u["phase_deg"]),
                      t_on_s=u["t_on_s"])
@@ -242,11 +264,32 @@ def load_scene(path) -> Scene:
 
     return Scene(name=data["name"] if data["name"] is not None else path.stem,
                  description=data["description"] or "",
-                 rotor_path=rotor_path, speed_hz=data["speed_hz"], internal=internal, via=data["via"],
+                 rotor_path=rotor_path, speed_hz=speed_hz, speed_profile=profile, internal=internal, via=data["via"],
                  t_end_s=tt["t_end_s"], dt_s=tt["dt_s"], alpha=tt["hht_alpha"], unbalances=unb, static_loads=loads,
                  options=options, initial=data["initial"]["state"], record_nodes=rec_nodes,
                  record_every=rec["every"], checkpoint_s=rec["checkpoint_s"], fmu=fmu, source=path,
-                 newton_tangent=tt["newton_tangent"])
+                 newton_tangent=tt["newton_tangent"], fmu_kind=data["fmu_kind"])
+
+
+def _speed(data: dict, where: str) -> tuple[float, SpeedProfile | None]:
+    """(speed at t = 0 [Hz], the profile or None) from speed_hz and [speed_profile]."""
+    sp, f0 = data["speed_profile"], data["speed_hz"]
+    if sp is None:
+        if f0 is None:
+            raise SceneError(f"{where}: missing key 'speed_hz' (the shaft speed [Hz]; or a [speed_profile])")
+        return f0, None
+    if len(sp["times_s"]) != len(sp["speeds_hz"]) or not sp["times_s"]:
+        raise SceneError(f"{where}: [speed_profile] times_s and speeds_hz must have the same length >= 1, got "
+                         f"{len(sp['times_s'])} and {len(sp['speeds_hz'])}")
+    try:
+        profile = SpeedProfile(tuple(sp["times_s"]), tuple(sp["speeds_hz"]))
+    except ValueError as exc:
+        raise SceneError(f"{where}: [{exc}]".replace("[speed profile:", "[speed_profile]")) from None
+    start = profile.hz(0.0)
+    if f0 is not None and abs(f0 - start) > 1e-9 * start:
+        raise SceneError(f"{where}: speed_hz = {f0:g} differs from the [speed_profile] speed at t = 0, {start:g} Hz; "
+                         "leave speed_hz out or make them equal")
+    return start, profile
 
 
 def _rotor(name: str, base: Path, where: str) -> tuple[Path, Rotor]:
@@ -336,7 +379,16 @@ def _context(scene: Scene, load) -> Context:
 def _fmu_parameters(scene: Scene, params, load) -> dict:
     """FMU parameters of one bearing: the bearing, the internal and all its options (the
     static load and speed filled in where the internal takes them; files by their name in
-    the FMU's resources)."""
+    the FMU's resources). A native FMU takes the options it keeps (``native_parameters``:
+    the linear model's coefficients are made here, per bearing)."""
+    if scene.fmu_kind == "native":
+        from bearing_fmu.native import native_parameters
+
+        try:
+            return native_parameters(scene.internal, params, scene.internal_options(), _context(scene, load),
+                                     where=f"{scene.source}: fmu_kind = 'native'")
+        except ValueError as exc:
+            raise SceneError(str(exc)) from None
     spec = registry.get(scene.internal)
     opts = spec.check_options(scene.internal_options(), str(scene.source), context=_context(scene, load))
     for o in spec.all_options():
@@ -371,6 +423,8 @@ def scene_fmu(scene: Scene, work_dir: Path) -> Path:
         if not scene.fmu.is_file():
             raise SceneError(f"{scene.source}: fmu = {scene.fmu}: file not found")
         return scene.fmu
+    if scene.fmu_kind == "native":
+        return _native_fmu(scene, work_dir)
     from bearing_fmu.build import build_fmu, package_name
 
     work_dir.mkdir(parents=True, exist_ok=True)
@@ -386,6 +440,29 @@ def scene_fmu(scene: Scene, work_dir: Path) -> Path:
     if path.is_file():
         return path
     return Path(build_fmu(path, surrogate=files or None))
+
+
+def _native_fmu(scene: Scene, work_dir: Path) -> Path:
+    """The scene's native FMU, built into work_dir under a name that hashes the C sources, the
+    generator and the internal's data file, so runs of the same scene share one build. The
+    linear FMU holds no data: the host sets each bearing's coefficients."""
+    from bearing_fmu.native import INTERNALS
+    from bearing_fmu.native.build import C_DIR, build_native_fmu
+
+    if scene.internal not in INTERNALS:
+        raise SceneError(f"{scene.source}: fmu_kind = 'native' computes one of {', '.join(INTERNALS)}, not internal = "
+                         f"{scene.internal!r} (it needs its solver at run time): use fmu_kind = 'python'")
+    work_dir.mkdir(parents=True, exist_ok=True)
+    data = {"taylor": ("surrogate", "surrogate"), "map": ("map", "map")}.get(scene.internal)
+    path = required_file(scene, scene.internal, data[0]) if data else None
+    h = hashlib.sha256(scene.internal.encode())
+    for f in sorted(C_DIR.glob("*")) + sorted(C_DIR.parent.glob("*.py")) + ([path] if path else []):
+        h.update(f.name.encode() + b"\0" + f.read_bytes())
+    out = work_dir / f"bearing_native_{scene.internal}{'_' + path.stem if path else ''}_{h.hexdigest()[:12]}.fmu"
+    if out.is_file():
+        return out
+    options = {"linear_from": "coefficients"} if scene.internal == "linear" else None
+    return Path(build_native_fmu(out, scene.internal, options=options, **({data[1]: path} if data else {})))
 
 
 def required_file(scene: Scene, internal: str, option: str) -> Path:
@@ -420,24 +497,38 @@ def build_bearings(scene: Scene, rotor: Rotor, loads: np.ndarray, work_dir: Path
 
 
 def external_force(scene: Scene, rotor: Rotor, f_static: np.ndarray):
-    """f_ext(t): static loads and weight plus the rotating unbalance forces."""
+    """f_ext(t): static loads and weight plus the rotating unbalance forces. Under a speed
+    profile the mass sits at the integrated shaft angle and, besides m r Omega^2 outward, pulls
+    back with m r dOmega/dt against the turning (the reaction to its tangential acceleration)."""
     om = scene.omega
     parts = []
     for u in scene.unbalances:
-        amp = u.mass_kg * u.radius_m * om**2
-        parts.append((rotor.dof(u.node, "y"), rotor.dof(u.node, "z"), amp, u.phase_rad, u.t_on_s))
+        parts.append((rotor.dof(u.node, "y"), rotor.dof(u.node, "z"), u.mass_kg * u.radius_m, u.phase_rad, u.t_on_s))
     out = np.empty_like(f_static)
+    profile = scene.speed_profile
 
     def f_ext(t: float) -> np.ndarray:
         out[:] = f_static
-        for iy, iz, amp, ph, t_on in parts:
+        for iy, iz, mr, ph, t_on in parts:
             if t >= t_on:
                 a = om * t + ph
+                amp = mr * om * om
                 out[iy] += amp * math.cos(a)
                 out[iz] += amp * math.sin(a)
         return out
 
-    return f_ext
+    def f_ext_profile(t: float) -> np.ndarray:
+        out[:] = f_static
+        if parts:
+            w, dw, th = profile.omega(t), profile.alpha(t), profile.angle(t)
+            for iy, iz, mr, ph, t_on in parts:
+                if t >= t_on:
+                    c, s = math.cos(th + ph), math.sin(th + ph)
+                    out[iy] += mr * (w * w * c + dw * s)
+                    out[iz] += mr * (w * w * s - dw * c)
+        return out
+
+    return f_ext if profile is None else f_ext_profile
 
 
 def initial_state(scene: Scene, rotor: Rotor, f_static, loads, bearings) -> np.ndarray:
@@ -511,7 +602,8 @@ def run_scene(scene: Scene, out_dir=None, *, progress: bool = False, stem: str |
     checkpoint (status "running") is written every ``scene.checkpoint_s`` of wall time. Files
     are written under a temporary name and renamed into place; a name another running process
     holds gets a suffix (``bearing_fmu.outputs.claim``)."""
-    stem = stem or f"{Path(scene.source).stem if scene.source else scene.name}_{scene.internal}"
+    native = "_native" if scene.via == "fmu" and scene.fmu_kind == "native" else ""
+    stem = stem or f"{Path(scene.source).stem if scene.source else scene.name}_{scene.internal}{native}"
     out_dir = ensure_writable(out_dir) if out_dir is not None else None
     work = Path(work_dir) if work_dir is not None else (out_dir or Path("out")) / "fmu"
     with handled():
@@ -529,13 +621,15 @@ class _Writer:
 
     def __init__(self, scene: Scene, rotor: Rotor, loads, holder, t_wall0: float):
         self.scene, self.rotor, self.holder, self.t_wall0 = scene, rotor, holder, t_wall0
-        self.rec_nodes = sorted(set(scene.record_nodes) | set(rotor.bearing_nodes))
+        # the bearings and the disks always: the plots and reports show them
+        self.rec_nodes = sorted(set(scene.record_nodes) | set(rotor.bearing_nodes) | {d.node for d in rotor.disks})
         self.rec_dofs = [rotor.dof(n, d) for n in self.rec_nodes for d in ("y", "z")]
         self.q0 = None
         self.times = {"setup_time_s": 0.0, "equilibrium_time_s": 0.0}
         self.meta = {
             "scene": scene.name, "description": scene.description, "source": str(scene.source),
-            "internal": scene.internal, "via": scene.via, "speed_hz": scene.speed_hz, "dt_s": scene.dt_s,
+            "internal": scene.internal, "via": scene.via, "fmu_kind": scene.fmu_kind, "speed_hz": scene.speed_hz,
+            "speed_profile": None if scene.speed_profile is None else scene.speed_profile.describe(), "dt_s": scene.dt_s,
             "t_end_s": scene.t_end_s, "hht_alpha": scene.alpha, "newton_tangent": scene.newton_tangent,
             "internal_options": scene.internal_options(),
             "bearing_loads_N": np.asarray(loads).tolist(), "recorded_nodes": [n + 1 for n in self.rec_nodes],
@@ -571,6 +665,9 @@ class _Writer:
             "y": yz[:, :, 0], "z": yz[:, :, 1], "vy": vyz[:, :, 0], "vz": vyz[:, :, 1],
             "Fy": fb[:, :, 0], "Fz": fb[:, :, 1], "eccentricity": ecc,
             "bearing_nodes": np.array(rotor.bearing_nodes) + 1, "CR": CR, "q0": q0,
+            "disk_nodes": np.array([d.node for d in rotor.disks], dtype=int) + 1,
+            "speed_hz": np.array([scene.speed.hz(x) for x in t]) if scene.speed_profile is not None
+            else np.full(len(t), scene.speed_hz),
         }
         max_ecc = ecc.max(axis=0) if ecc.size else np.zeros(nb)
         meta = dict(self.meta)
@@ -623,7 +720,10 @@ def _run(scene: Scene, holder, work: Path, progress: bool) -> SceneRun:
                 return out.run(None, "failed", str(exc),
                                equilibrium={k: v for k, v in exc.diagnosis().items() if v is not None})
             out.times["equilibrium_time_s"] = time.perf_counter() - t_setup
-            integ = Newmark(rotor.M, rotor.K, rotor.C, rotor.G, scene.omega,
+            if scene.speed_profile is not None:  # a run-up: the bearings and D follow the speed
+                bearings.speed = scene.speed_profile.omega
+            integ = Newmark(rotor.M, rotor.K, rotor.C, rotor.G,
+                            scene.omega if scene.speed_profile is None else scene.speed_profile.omega,
                             external_force(scene, rotor, f_static), bearings,
                             NewmarkConfig(alpha=scene.alpha, tangent=scene.newton_tangent))
             bar = None

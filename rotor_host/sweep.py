@@ -51,36 +51,13 @@ MAX_RUNS = 1000  # a range that expands to more is a typo (a step in the wrong u
 
 # ------------------------------------------------------------------ the values swept
 
-def expand_range(start: float, stop: float, step: float) -> list[float]:
-    """START, START + STEP, ... up to STOP inclusive (within 1e-9 of a step, so 10:60:2.5
-    ends at 60 despite rounding); each value rounded to 10 decimals."""
-    n = int(math.floor((stop - start) / step + 1e-9))
-    return [round(start + k * step, 10) for k in range(n + 1)]
-
-
-def sweep_values(unit: str, minimum: float, exclusive_minimum: bool):
-    """An argparse type: a number or a range ``START:STOP:STEP`` (both ends included), each
-    value within the bound; returns a list of floats. (Defined here rather than in
-    bearing_fmu.cliargs while other commands settle on their range type.)"""
-    from bearing_fmu.schema import Number
-
-    bound = Number(minimum, exclusive_minimum=exclusive_minimum)
-    words = (f"a number {bound.expected().removeprefix('a finite number ')} {unit} or START:STOP:STEP "
-             f"(e.g. 10:60:2.5; both ends included, START <= STOP, STEP > 0, at most {MAX_RUNS} values)")
-
-    def convert(text: str) -> list[float]:
-        parts = text.split(":")
-        if len(parts) == 1:
-            return [bound.parse(float(text))]
-        if len(parts) != 3:
-            raise ValueError(text)
-        start, stop = (bound.parse(float(p)) for p in parts[:2])
-        step = Number(0.0, exclusive_minimum=True).parse(float(parts[2]))
-        if stop < start or (stop - start) / step + 1 > MAX_RUNS:
-            raise ValueError(text)
-        return expand_range(start, stop, step)
-
-    return typed(words, convert)
+def _flat(groups, option: str) -> list[float]:
+    """The values of several command-line items (each a list: ``cliargs.float_range``), sorted,
+    each once, at most MAX_RUNS of them."""
+    values = sorted({v for g in groups for v in g})
+    if len(values) > MAX_RUNS:
+        raise ValueError(f"{option}: {len(values)} runs; a sweep takes at most {MAX_RUNS} (a step in the wrong unit?)")
+    return values
 
 
 _ADDRESS = re.compile(r"^(?:[a-z]+://)?[^\s/:]+:\d{1,5}$|^[a-z]+://\S+$")
@@ -111,11 +88,6 @@ class Point:
         return f"{self.speed_hz:g} Hz" if self.unbalance_g is None else f"{self.unbalance_g:g} g"
 
 
-def _flat(groups) -> list[float]:
-    """The values of several command-line items (each a list), sorted, each once."""
-    return sorted({v for g in groups for v in g})
-
-
 def run_base(scene) -> str:
     """``<scene file stem>_<internal>``: the start of every file name of a sweep of ``scene``."""
     return f"{Path(scene.source).stem if scene.source else scene.name}_{scene.internal}"
@@ -123,14 +95,19 @@ def run_base(scene) -> str:
 
 def points(scene, speeds_hz=None, unbalance_g=None) -> list[Point]:
     """The runs of a speed sweep (``speeds_hz``) or an unbalance sweep (``unbalance_g``: masses
-    [g] on the scene's first [[unbalance]], at the scene's speed)."""
+    [g] on the scene's first [[unbalance]], at the scene's speed). Each run is at one constant
+    speed: a scene with a [speed_profile] (a run-up) is refused."""
     base = run_base(scene)
+    if getattr(scene, "speed_profile", None) is not None:
+        option = "--unbalance-g" if unbalance_g is not None else "--speeds-hz"
+        raise ValueError(f"{option}: the scene {scene.source} has a [speed_profile] (a run-up or coast-down); a sweep "
+                         "runs each speed constant, from the static equilibrium: use a scene with speed_hz alone")
     if unbalance_g is not None:
         if not scene.unbalances:
             raise ValueError(f"--unbalance-g: the scene {scene.source} has no [[unbalance]] entry to vary; "
                              "add one (node, mass_kg, radius_mm) or sweep --speeds-hz")
-        return [Point(scene.speed_hz, m, f"{base}_{m:.10g}g") for m in unbalance_g]
-    return [Point(f, None, f"{base}_{f:.10g}hz") for f in speeds_hz]  # distinct: values are rounded to 10 decimals
+        return [Point(scene.speed_hz, m, f"{base}_{m:.12g}g") for m in unbalance_g]
+    return [Point(f, None, f"{base}_{f:.12g}hz") for f in speeds_hz]  # distinct: float_range rounds to 12 digits
 
 
 def point_scene(scene, point: Point, disk_nodes: list[int]):
@@ -459,19 +436,24 @@ def _ranges(ax, xs, hi, lo, samples, color, label, filled) -> None:
 # ------------------------------------------------------------------------ command line
 
 def add_arguments(p: argparse.ArgumentParser) -> argparse.ArgumentParser:
-    from bearing_fmu.cliargs import existing_file, nonneg_float, output_dir, positive_float, positive_int
+    from bearing_fmu.cliargs import (existing_file, float_range, nonneg_float, output_dir, positive_float,
+                                     positive_int)
     from bearing_fmu.internals import names
 
     from .cli import _add_file_flags
 
     p.add_argument("scene", type=existing_file, help="scene TOML file (models/scenes/*.toml)")
     what = p.add_mutually_exclusive_group(required=True)
-    what.add_argument("--speeds-hz", nargs="+", type=sweep_values("Hz", 0.0, True), metavar="F|START:STOP:STEP",
+    what.add_argument("--speeds-hz", nargs="+", type=float_range("Hz", 0.0), metavar="F|START:STOP:STEP",
                       help="shaft speeds [Hz]: numbers and ranges, e.g. 10:60:2.5 (both ends included)")
-    what.add_argument("--unbalance-g", nargs="+", type=sweep_values("g", 0.0, False), metavar="M|START:STOP:STEP",
+    what.add_argument("--unbalance-g", nargs="+", type=float_range("g", 0.0, exclusive_minimum=False),
+                      metavar="M|START:STOP:STEP",
                       help="masses [g] of the scene's first [[unbalance]] (at its radius and the scene's speed)")
     p.add_argument("--internal", choices=names(), help="override the scene's internal (map or taylor: cheap)")
     p.add_argument("--via", choices=("fmu", "direct"), help="bearing FMUs through fmpy, or internals in-process")
+    p.add_argument("--native", action="store_true",
+                   help="through native bearing FMUs (the internal compiled to C: linear, map, taylor): the scene key "
+                        "fmu_kind = \"native\"")
     _add_file_flags(p)
     p.add_argument("--t-end", type=positive_float("s"), help="override each run's simulated time [s]")
     p.add_argument("--dt", type=positive_float("s"), help="override the time step [s]")
@@ -540,7 +522,8 @@ def run(args) -> int:
     settle_s = _settle(args, scene)
     out = ensure_writable(Path(args.out).resolve())
     unbalance = args.unbalance_g is not None
-    pts = points(scene, None if unbalance else _flat(args.speeds_hz), _flat(args.unbalance_g) if unbalance else None)
+    pts = (points(scene, unbalance_g=_flat(args.unbalance_g, "--unbalance-g")) if unbalance
+           else points(scene, _flat(args.speeds_hz, "--speeds-hz")))
     check_taylor_speeds(scene, [p.speed_hz for p in pts])
     rotor = Rotor.from_toml(scene.rotor_path)
     bearing_nodes = [n + 1 for n in rotor.bearing_nodes]
@@ -579,5 +562,5 @@ def run(args) -> int:
     return 0 if n_ok else 1
 
 
-__all__ = ["expand_range", "sweep_values", "Point", "run_base", "points", "point_scene", "settled_metrics", "run_point",
+__all__ = ["scheduler_address", "Point", "run_base", "points", "point_scene", "settled_metrics", "run_point",
            "check_taylor_speeds", "dask_client", "sweep", "write_summary", "plot_bifurcation", "add_arguments", "run"]

@@ -22,6 +22,7 @@ the surrogate file; ``refit`` reads it back. The command is ``rotor-host fit`` (
 from __future__ import annotations
 
 import math
+import time
 from pathlib import Path
 
 import numpy as np
@@ -104,8 +105,13 @@ def fit_scene(recipe: FitRecipe, *, cache_dir=None, log=print):
 
     The model settings (order, lambda, pruning, wall factor ``wall_power``, short-bearing shape
     columns ``shape_order``): see :class:`bearing_fmu.fitting.FitRecipe` and
-    :func:`bearing_fmu.fitting.fit_surrogate`."""
+    :func:`bearing_fmu.fitting.fit_surrogate`.
+
+    ``truth_map``: the designed (or tube) samples come from that force map instead of Reynolds
+    (bearing_fmu.fitting.truth); the series, the equilibrium and the anchor stay Reynolds. The
+    map is checked before any scene runs."""
     from bearing_fmu import fitting as F
+    from bearing_fmu.fitting.truth import fit_truth
     from bearing_fmu.reynolds import Reynolds
 
     if recipe.kind != "scene":
@@ -115,6 +121,10 @@ def fit_scene(recipe: FitRecipe, *, cache_dir=None, log=print):
     scenes = [load_scene(p) for p in r.scenes]
     scene = scenes[0]
     params = _bearing_params(scene, bearing)  # before any run: a bearing number the rotor lacks is named now
+    truth = Reynolds.from_options(params, registry.get("reynolds").check_options(scene.internal_options("reynolds")))
+    # before any run too: a map that does not serve this bearing or grid is named now
+    samples_truth = fit_truth(r, params, truth, grid_hint="build a map on the scenes' Reynolds grid "
+                                                          "(`bearing-fmu map --grid N_THETAxN_X`)")
     cache_dir = Path(cache_dir) if cache_dir is not None else None
 
     def cached(sc):
@@ -142,12 +152,12 @@ def fit_scene(recipe: FitRecipe, *, cache_dir=None, log=print):
         ho_states.append(states[held])
         ho_forces.append(forces[held])
     s_train, f_train = np.vstack(tr_states), np.vstack(tr_forces)
-    truth = Reynolds.from_options(params, registry.get("reynolds").check_options(scene.internal_options("reynolds")))
     omega = scene.omega
     y0, z0 = F.expansion_point(truth, tuple(load), omega)
     domain = F.domain_from_data(s_train, y0, z0, params, omega)
     s_fit, f_fit = s_train, f_train
     weights = None
+    t_samples = 0.0
     if r.designed:
         # A fit to one orbit alone is exact on it and wild off it (the series spans a thin set
         # of the 4-D state space: cond(X) ~ 1e10), and a rotor run with the surrogate leaves
@@ -157,13 +167,20 @@ def fit_scene(recipe: FitRecipe, *, cache_dir=None, log=print):
         # there and the designed samples then spoil the fit everywhere: designed_ecc_max and
         # designed_v_max keep them to the inner part of the domain (the series covers the rest).
         ecc_d = min(domain.ecc_max, r.designed_ecc_max or domain.ecc_max)
+        samples_truth.check_reach(ecc_d, "the designed samples' eccentricity bound (designed_ecc_max, else the "
+                                         "series' largest)")
+        if not r.designed_tube:
+            from scipy.stats import qmc  # noqa: F401 -- the design's sampler, imported before the clock
+
+        t0 = time.perf_counter()
         if r.designed_tube:
-            s_d, f_d = F.tube_samples(truth, s_train, y0, z0, omega, r.designed_tube, r.designed, r.seed,
-                                      ecc_max=ecc_d)
+            s_d, f_d = F.tube_samples(samples_truth.samples, s_train, y0, z0, omega, r.designed_tube, r.designed,
+                                      r.seed, ecc_max=ecc_d)
         else:
             v_d = min(domain.v_max, r.designed_v_max or domain.v_max)
-            s_d, f_d, _ = F.designed_samples(truth, y0, z0, omega, ecc_d, v_d, r.designed, r.seed,
+            s_d, f_d, _ = F.designed_samples(samples_truth.samples, y0, z0, omega, ecc_d, v_d, r.designed, r.seed,
                                              radius=domain.pos_radius)
+        t_samples = time.perf_counter() - t0
         s_fit, f_fit = np.vstack([s_fit, s_d]), np.vstack([f_fit, f_d])
         if r.designed_weight != 1.0:
             weights = np.concatenate([np.ones(len(s_train)), np.full(len(s_d), float(r.designed_weight))])
@@ -173,8 +190,7 @@ def fit_scene(recipe: FitRecipe, *, cache_dir=None, log=print):
         weights = w_ecc if weights is None else weights * w_ecc
     anc = F.truth_jacobian(truth, y0, z0, omega) if r.anchor else None
     names = ", ".join(Path(sc.source).name for sc in scenes)
-    prov = {"truth": "Reynolds", "truth_n_theta": truth.n_theta, "truth_n_x": truth.n_x,
-            "truth_cavitation": truth.cavitation,
+    prov = {**samples_truth.provenance(),
             "training_source": f"scene{'s' if len(scenes) > 1 else ''} {names}",
             "scene_t_end_s": [sc.t_end_s for sc in scenes] if len(scenes) > 1 else scene.t_end_s,
             "scene_dt_s": scene.dt_s,
@@ -197,7 +213,7 @@ def fit_scene(recipe: FitRecipe, *, cache_dir=None, log=print):
         res.report["errors"]["other_scenes"] = others
     eq = math.hypot(y0, z0) / params.CR
     res.report.update({"speed_hz": scene.speed_hz, "load": list(load), "equilibrium": [y0, z0], "eps0": eq,
-                       "domain": domain.to_dict()})
+                       "domain": domain.to_dict(), "sampling_seconds": t_samples})
     return res
 
 
@@ -279,7 +295,10 @@ def run(args) -> int:
     check_outputs(args)
     recipe = recipe_from_args(args, "scene")
     cache = Path(args.cache_dir) if args.cache_dir else Path(args.output).resolve().parent / "series"
-    return write_fit(fit_scene(recipe, cache_dir=cache), args.output, plots=args.plots, note=args.note)
+    res = fit_scene(recipe, cache_dir=cache)
+    scene = load_scene(args.scenes[0])
+    res.surrogate.provenance["bearing"] = f"bearing {recipe.bearing_number} of {scene.rotor_path.name}"
+    return write_fit(res, args.output, plots=args.plots, note=args.note)
 
 
 __all__ = ["scene_series", "holdout_mask", "fit_scene", "refit", "training_scenes", "add_arguments", "run"]

@@ -360,3 +360,27 @@ def test_fmu_code_runs_from_the_code_cache_beside_its_numba_cache(fmu, tmp_path,
     assert src.parent == code_cache / pkg
     assert "bearing_fmu.reynolds" not in res["files"]  # the installed package is separate
     assert list((src.parent / "__pycache__").glob("reynolds*.nbi"))  # numba's cache index beside it
+
+
+@pytest.mark.slow
+def test_build_with_a_users_bearing_makes_it_the_default(tmp_path, code_cache):
+    # `bearing-fmu build --bearing FILE`: a master that sets no parameters gets that bearing's
+    # force (before: the paper bearing's, silently); the model description's start values say so
+    import fmpy
+
+    from bearing_fmu.cli import main
+    from bearing_fmu.params import BearingParams
+    from bearing_fmu.reynolds import Reynolds
+
+    f = tmp_path / "b.toml"
+    f.write_text("[bearing]\nD_mm = 40.0\nL_mm = 20.0\nCR_um = 60.0\nmu_Pa_s = 0.02\n")
+    out = tmp_path / "b.fmu"
+    assert main(["build", "--bearing", str(f), "-o", str(out)]) == 0
+    starts = {v.name: float(v.start) for v in fmpy.read_model_description(str(out)).modelVariables
+              if v.name in ("D", "L", "CR", "mu")}
+    params = BearingParams.from_toml(f)
+    assert starts == {"D": params.D, "L": params.L, "CR": params.CR, "mu": params.mu}
+    res = fmpy.simulate_fmu(str(out), stop_time=1e-3, output_interval=1e-3, output=["Fy", "Fz"],
+                            start_values={"y": 1e-5, "z": -2e-5, "omega": 314.0})
+    want = Reynolds(params).force(1e-5, -2e-5, 0.0, 0.0, 314.0)
+    np.testing.assert_allclose([res["Fy"][-1], res["Fz"][-1]], want, rtol=1e-12)

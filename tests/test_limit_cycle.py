@@ -70,3 +70,19 @@ def test_command_on_a_short_scene(tmp_path):
     assert 0.21 < max(data["e_max"]) <= max(data["meta"]["max_eccentricity"]) + 1e-12
     assert (tmp_path / "limitcycle_paper_22hz.md").exists() and (tmp_path / "limitcycle_paper_22hz.png").exists()
     assert rc in (0, 1)
+
+
+def test_a_dying_whirl_is_not_a_limit_cycle():
+    # a whirl of size 0.004 (max - min eccentricity) decaying by half over the run stays inside
+    # +-1 % CR of one value, the absolute band, but its size falls by ~40 % over the last half:
+    # judged relative to its size it dies out
+    t = np.linspace(0, 10, 100001)
+    size = 0.004 * np.exp(-t * np.log(2) / 10)
+    ecc = 0.5 + size * np.sin(2 * np.pi * 10 * t)
+    lc, _ = limit_cycle(_arrays_from_envelope(t, ecc), 10.0, revs=2)
+    assert lc.settled_since_s == pytest.approx(0.0, abs=0.3)  # the absolute band alone would call it settled
+    assert lc.amplitude_trend_pct < -10 and not lc.holds and lc.kind == "dies out"
+    assert lc.verdict().startswith("verdict: no limit cycle: the whirl dies out")
+    steady, _ = limit_cycle(_arrays_from_envelope(t, 0.5 + 0.004 * np.sin(2 * np.pi * 10 * t)), 10.0, revs=2)
+    assert steady.holds and steady.kind == "holds" and abs(steady.amplitude_trend_pct) < 1
+    assert steady.verdict().startswith("verdict: the limit cycle holds")

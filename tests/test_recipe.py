@@ -33,7 +33,7 @@ def test_every_field_says_its_meaning_group_and_range():
     ("shape_order", "2"), ("seed", -1), ("speed_hz", 0.0), ("load_z", math.nan), ("ecc_max", 1.0),
     ("ecc_max", 0.0), ("v_max", -1.0), ("radius", 0.0), ("n_train", 0), ("grid", (32,)), ("grid", (32, 0)),
     ("bearing_number", 0), ("stride", 0), ("designed", -1), ("designed_ecc_max", 1.2), ("designed_v_max", 0.0),
-    ("designed_weight", -1.0), ("designed_tube", 0.0), ("ecc_weight", -1.0),
+    ("designed_weight", -1.0), ("designed_tube", 0.0), ("ecc_weight", -1.0), ("truth_map", 3),
 ])
 def test_a_value_out_of_range_is_refused_naming_field_and_range(name, bad):
     f = {f.name: f for f in dataclasses.fields(FitRecipe)}[name]
@@ -65,6 +65,33 @@ def test_round_trip_with_paths_relative_to_the_file(tmp_path):
     assert FitRecipe.from_dict(d, folder=tmp_path) == designed
     with pytest.raises(ValueError, match="unknown setting.*bearing"):
         FitRecipe.from_dict({"bearing": 1})
+
+
+def test_truth_map_is_stored_relative_to_the_file_for_both_kinds(tmp_path):
+    # a shared setting (group "truth"): both kinds store it, relative to the surrogate's folder
+    for r in (FitRecipe(truth_map=str(tmp_path / "maps" / "m.json")),
+              FitRecipe(scenes=(str(tmp_path / "a.toml"),), truth_map=tmp_path / "maps" / "m.json")):
+        d = r.to_dict(relative_to=tmp_path / "surrogates")
+        assert d["truth_map"] == "../maps/m.json"
+        assert FitRecipe.from_dict(json.loads(json.dumps(d)), folder=tmp_path / "surrogates") == r
+    assert FitRecipe().to_dict()["truth_map"] is None  # absent: the Reynolds solver
+    assert FitRecipe.from_dict({}).truth_map is None  # files written before the setting: Reynolds
+
+
+def test_a_truth_map_that_would_serve_no_sample_is_refused():
+    with pytest.raises(ValueError, match=r"^fit: truth_map = 'm.json' must be None \(from_npz gives the training "
+                                         r"forces"):
+        FitRecipe(truth_map="m.json", from_npz="ts.npz")
+    with pytest.raises(ValueError, match=r"^fit: truth_map = 'm.json' must be None \(designed = 0: the fit draws "
+                                         r"no designed samples"):
+        FitRecipe(scenes=("a.toml",), designed=0, truth_map="m.json")
+    assert FitRecipe(scenes=("a.toml",), designed=10, truth_map="m.json").truth_map == "m.json"
+    # on the command line: the option, "left out" and why
+    args = add_recipe_arguments(argparse.ArgumentParser(), "scene").parse_args(
+        ["--scene", __file__, "--designed", "0", "--truth-map", __file__])
+    with pytest.raises(ValueError, match=r"^--truth-map .*test_recipe\.py: must be left out \(designed = 0: the fit "
+                                         r"draws no designed samples"):
+        recipe_from_args(args, "scene")
 
 
 @pytest.mark.parametrize("path", SHIPPED, ids=lambda p: p.stem)

@@ -178,3 +178,26 @@ def test_zero_speed_carries_no_load(reynolds):
     e = ei.value
     assert "bearing 2 carries no load at omega = 0" in str(e) and "asked for 16.7 N" in str(e)
     assert (e.bearing, e.load_N, e.capacity_N, e.speed_hz) == ("bearing 2", 16.7, 0.0, 0.0)
+
+
+def test_demo_on_a_users_bearing(tmp_path, capsys):
+    # `bearing-fmu demo --bearing FILE`: that bearing, not the paper's; the printed equilibrium
+    # is the statics' own and the minimum film is CR (1 - eps) of it
+    import re
+
+    from bearing_fmu.cli import main
+    from bearing_fmu.params import BearingParams
+    from bearing_fmu.reynolds import Reynolds
+    from bearing_fmu.statics import equilibrium
+
+    f = tmp_path / "b.toml"
+    f.write_text("[bearing]\nD_mm = 40.0\nL_mm = 20.0\nCR_um = 60.0\nmu_Pa_s = 0.02\n")
+    assert main(["demo", "--bearing", str(f), "--speed-hz", "50", "--load-z", "-32.7"]) == 0
+    out = capsys.readouterr().out
+    assert "D 40 mm, L 20 mm (L/D 0.5), CR 60 um" in out
+    params = BearingParams.from_toml(f)
+    y0, z0 = equilibrium(Reynolds(params), (0.0, -32.7), 2 * math.pi * 50)
+    eps = math.hypot(y0, z0) / params.CR
+    assert f"eccentricity ratio {eps:.4f}" in out
+    film = float(re.search(r"minimum film ([\d.]+) um", out).group(1))
+    assert film == pytest.approx(params.CR * (1 - eps) * 1e6, abs=1e-3)

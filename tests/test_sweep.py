@@ -21,7 +21,7 @@ import numpy as np
 import pytest
 
 from conftest import MODELS, ROOT
-from rotor_host.sweep import Point, points, run_point, settled_metrics, sweep_values, write_summary
+from rotor_host.sweep import Point, points, run_point, settled_metrics, write_summary
 
 SCENE = MODELS / "scenes" / "paper_22hz.toml"
 CHEAP = ["--internal", "map", "--via", "direct", "--t-end", "0.02", "--quiet"]
@@ -35,22 +35,32 @@ def _cli(*argv):
 
 # ------------------------------------------------------------------ the values swept
 
+def _args(*argv):
+    """The sweep's parsed arguments (its parser as the command line builds it)."""
+    from rotor_host import sweep
+
+    return sweep.add_arguments(argparse.ArgumentParser()).parse_args([str(a) for a in argv])
+
+
 def test_ranges_include_both_ends():
-    speeds = sweep_values("Hz", 0.0, True)
+    from rotor_host.sweep import _flat
+
     # 12.5, 15, ..., 60: (60 - 12.5) / 2.5 + 1 = 20 values, 60 reached despite rounding
-    v = speeds("12.5:60:2.5")
+    v = _flat(_args(SCENE, "--speeds-hz", "12.5:60:2.5").speeds_hz, "--speeds-hz")
     assert len(v) == 20 and v[0] == 12.5 and v[-1] == 60.0 and np.allclose(np.diff(v), 2.5)
-    assert speeds("10:60:2.5")[-1] == 60.0 and len(speeds("10:60:2.5")) == 21
-    assert speeds("0.1:0.3:0.1") == [0.1, 0.2, 0.3]  # 0.1 + 2 * 0.1 = 0.30000000000000004 rounded
-    assert speeds("44") == [44.0] and speeds("5:5:1") == [5.0]
-    assert sweep_values("g", 0.0, False)("0:8:4") == [0.0, 4.0, 8.0]  # a mass may be 0
+    # items are merged, sorted, each value once
+    assert _flat(_args(SCENE, "--speeds-hz", "44", "20:24:2", "22").speeds_hz, "--speeds-hz") == [20, 22, 24, 44]
+    assert _args(SCENE, "--unbalance-g", "0:8:4").unbalance_g == [[0.0, 4.0, 8.0]]  # a mass may be 0
+    with pytest.raises(ValueError, match=r"^--speeds-hz: 1001 runs; a sweep takes at most 1000"):
+        _flat(_args(SCENE, "--speeds-hz", "1:11:0.01").speeds_hz, "--speeds-hz")
 
 
-@pytest.mark.parametrize("text", ["60:10:2", "10:60:0", "10:60:-1", "0:10:1", "0", "abc", "1:2", "1:2:3:4", "nan",
-                                  "1:1e9:1e-3", "inf:5:1"])
-def test_bad_ranges_are_refused_by_what_was_expected(text):
-    with pytest.raises(argparse.ArgumentTypeError, match=r"expected a number > 0 Hz or START:STOP:STEP.*got"):
-        sweep_values("Hz", 0.0, True)(text)
+@pytest.mark.parametrize("text", ["60:10:2", "10:60:0", "0:10:1", "0", "abc", "1:2", "nan"])
+def test_bad_ranges_are_refused_by_the_option(text, capsys):
+    with pytest.raises(SystemExit) as e:
+        _args(SCENE, "--speeds-hz", text)
+    assert e.value.code == 2
+    assert f"argument --speeds-hz: expected START:STOP:STEP Hz" in capsys.readouterr().err
 
 
 def test_bad_input_names_the_option_before_any_work(tmp_path, capsys, write_scene):
@@ -78,6 +88,10 @@ def test_bad_input_names_the_option_before_any_work(tmp_path, capsys, write_scen
     with pytest.raises(SystemExit):
         _cli("sweep", SCENE, "--speeds-hz", "20", "--scheduler", "localhost")
     assert "argument --scheduler: expected a Dask scheduler address such as tcp://" in capsys.readouterr().err
+    # each run is at one constant speed: a run-up scene is refused
+    assert _cli("sweep", MODELS / "scenes" / "paper_runup_10_60hz.toml", "--speeds-hz", "20", "--out", tmp_path,
+                "--quiet") == 2
+    assert "--speeds-hz: the scene" in (err := capsys.readouterr().err) and "has a [speed_profile]" in err
     # a Taylor surrogate answers at its own speed only (44 Hz here): a speed sweep with it is refused
     assert _cli("sweep", MODELS / "scenes" / "paper_44hz.toml", "--speeds-hz", "40", "44", "--internal", "taylor",
                 "--out", tmp_path, "--quiet") == 2

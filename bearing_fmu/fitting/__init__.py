@@ -4,6 +4,8 @@
               options and its record in the surrogate file
     ridge     ridge regression through one SVD, cross validation, lambda search, pruning, errors
     sampling  training data: designed samples, tubes about orbits, time series, their domain
+    truth     the truth of a fit: Reynolds for the statics, Reynolds or a force map (truth_map)
+              for the samples; its record in the file and its line in the report
     neighbours  the training states stored for the domain guard's nearest-neighbour distance
     fit       fit_surrogate (the fit, step by step), fit_condition (a designed domain at one
               load and speed), save_fit, refit_order
@@ -22,6 +24,7 @@ from .report import format_report, plot_lambda
 from .ridge import (CrossValidation, RidgeSVD, fold_indices, nrmse, prune_terms, rel_rms, ridge_normal_equations,
                     select_lambda)
 from .sampling import designed_samples, domain_from_data, load_npz, sample_forces, tube_samples
+from .truth import Truth, fit_truth, truth_line
 
 __all__ = [
     "FitRecipe", "RecipeError", "recipe_of", "add_recipe_arguments", "recipe_from_args",
@@ -29,5 +32,5 @@ __all__ = [
     "ridge_normal_equations", "designed_samples", "tube_samples", "sample_forces", "load_npz", "domain_from_data",
     "FitResult", "fit_surrogate", "save_fit", "fit_condition", "make_reynolds", "truth_jacobian", "expansion_point",
     "refit_order", "COMPONENTS", "neighbours_for_fit", "format_report", "plot_lambda", "add_fit_arguments",
-    "run_fit", "write_fit",
+    "run_fit", "write_fit", "Truth", "fit_truth", "truth_line",
 ]

@@ -44,19 +44,29 @@ def add_fit_arguments(parser: argparse.ArgumentParser) -> argparse.ArgumentParse
     moved = [option_name(f) for f in recipe_fields("scene") if f.metadata["group"] == "scene"] + ["--cache-dir"]
     for flag in moved:
         parser.add_argument(flag, nargs="*", action=_Moved, default=argparse.SUPPRESS, help=argparse.SUPPRESS)
+    from ..cliargs import existing_file
+
+    parser.add_argument("--bearing", type=existing_file, default=None, metavar="FILE",
+                        help="bearing TOML file to fit (default: the paper bearing, Table 2); its name and geometry "
+                             "go into the report and the surrogate file")
     return add_output_arguments(parser)
 
 
 def run_fit(args: argparse.Namespace) -> int:
     check_outputs(args)
     recipe = recipe_from_args(args, "designed")
+    from ..params import PAPER_BEARING, BearingParams
+
+    params = BearingParams.from_toml(args.bearing) if args.bearing else PAPER_BEARING
     try:
-        res = fit_condition(recipe)
+        res = fit_condition(recipe, params=params)
     except KeyboardInterrupt as exc:
         if getattr(exc, "samples", None) is not None and len(exc.samples[0]):
             path = keep_samples(exc.samples, Path(args.output))
-            note_kept(exc, f"{path} ({len(exc.samples[0])} Reynolds samples; fit them with --from-npz {path})")
+            note_kept(exc, f"{path} ({len(exc.samples[0])} samples of the truth; fit them with --from-npz "
+                                f"{path})")
         raise
+    res.surrogate.provenance["bearing"] = str(args.bearing) if args.bearing else "paper bearing (Table 2)"
     return write_fit(res, args.output, plots=args.plots, note=args.note)
 
 
@@ -68,7 +78,7 @@ def check_outputs(args) -> None:
 
 
 def keep_samples(samples, output: Path) -> Path:
-    """The Reynolds samples of an interrupted fit, as an npz that ``--from-npz`` reads."""
+    """The truth's samples of an interrupted fit, as an npz that ``--from-npz`` reads."""
     states, forces = samples
     path = output.with_name(f"{output.stem}_samples_interrupted.npz")
     savez(path, **{k: states[:, i] for i, k in enumerate(("y", "z", "vy", "vz"))},
@@ -85,8 +95,12 @@ def write_fit(res: FitResult, output, *, plots=None, note: str | None = None) ->
     print(format_report(res))
     print(f"wrote {path}")
     if plots:
-        for p in plot_lambda(res, plots, Path(output).stem):
+        written = plot_lambda(res, plots, Path(output).stem)
+        for p in written:
             print(f"wrote {p}")
+        if not written:  # say why rather than write nothing without a word
+            print(f"no lambda plots in {plots}: lambda was fixed (--lambda), so there was no search to plot; "
+                  "leave --lambda out to choose it by cross-validation and plot the search")
     return 0
 
 

@@ -6,8 +6,8 @@ A recipe holds every setting of a fit with its meaning, unit, default and allowe
 * the checks: ``FitRecipe(...)`` refuses a value outside its range, naming the field and
   the range;
 * the command lines: the options of ``bearing-fmu fit`` (group "designed") and of
-  ``rotor-host fit`` (group "scene"), both with the model settings (group "model"), are
-  generated from the fields (``add_recipe_arguments`` / ``recipe_from_args``);
+  ``rotor-host fit`` (group "scene"), both with the shared settings (groups "model" and
+  "truth"), are generated from the fields (``add_recipe_arguments`` / ``recipe_from_args``);
 * the provenance: ``to_dict`` is stored in the surrogate file as ``provenance["recipe"]``
   and ``recipe_of`` reads it back for a refit. Files written before the recipe store
   ``provenance["fit_call"]`` instead; ``from_fit_call`` is the one place that reads those.
@@ -15,8 +15,12 @@ A recipe holds every setting of a fit with its meaning, unit, default and allowe
 A recipe is designed-domain (no ``scenes``: the fit over declared position and velocity
 discs at one load and speed, or a co-simulation time series ``from_npz``) or scene-trained
 (``scenes`` given: the Reynolds series of those scenes, fitted by the host: ``rotor-host fit``); the
-settings of the other kind must keep their defaults. Paths (scenes, the npz) are stored
-relative to the surrogate file, so a file and the scenes beside it can move together.
+settings of the other kind must keep their defaults. Paths (scenes, the npz, the truth map)
+are stored relative to the surrogate file, so a file and the files beside it can move together.
+
+The truth (group "truth", both kinds): the Reynolds solver, or with ``truth_map`` a force map
+(bearing_fmu/forcemap.py) for the designed and tube samples and the designed held-out samples
+(``fitting.truth``); a scene's series, the equilibrium and the anchor stay Reynolds.
 """
 
 from __future__ import annotations
@@ -33,16 +37,18 @@ from ..schema import Invalid
 
 GROUPS = {
     "model": "the model and its regression (both fit commands)",
+    "truth": "the truth the designed and tube samples are drawn from (both fit commands)",
     "designed": "designed domain (bearing-fmu fit)",
     "scene": "scene training (rotor-host fit)",
 }
+SHARED = ("model", "truth")  # the groups of both kinds of recipe
 
 
 class RecipeError(ValueError):
     """A setting outside its allowed values; names the field, the value and the range."""
 
     def __init__(self, name: str, value, allowed: str, why: str = ""):
-        self.name, self.value, self.allowed = name, value, allowed
+        self.name, self.value, self.allowed, self.why = name, value, allowed, why
         super().__init__(f"fit: {name} = {value!r} must be {allowed}" + (f" ({why})" if why else ""))
 
 
@@ -272,6 +278,14 @@ class FitRecipe:
     seed: int = _setting(1, "model", _Int(0), "seed of the designed samples (the held-out design uses seed + 1000) "
                          "and of random cross-validation folds")
 
+    # the truth of the samples: both fit commands
+    truth_map: str | None = _setting(None, "truth", _Path(), "draw the designed and tube samples (and the designed "
+                                     "held-out samples) from this force map (models/maps/*.json, built by "
+                                     "`bearing-fmu map` for the bearing's L/D) instead of the Reynolds solver: "
+                                     "50-100x cheaper per sample; a scene's series, the equilibrium and the anchor "
+                                     "stay Reynolds, on the map's grid", metavar="MAP",
+                                     default_text="none: the Reynolds solver")
+
     # designed domain: bearing-fmu fit
     speed_hz: float = _setting(22.0, "designed", _Float(nonzero=True), "shaft speed [Hz]")
     load_y: float = _setting(0.0, "designed", _Float(), "static load on the journal, y [N]")
@@ -285,8 +299,9 @@ class FitRecipe:
                                     default_text="the whole disc eccentricity <= ecc-max")
     n_train: int = _setting(3000, "designed", _Int(1), "designed training samples")
     n_test: int = _setting(1500, "designed", _Int(1), "designed held-out samples")
-    grid: tuple[int, int] | None = _setting(None, "designed", _Grid(), "Reynolds grid of the truth",
-                                            default_text="the solver's default")
+    grid: tuple[int, int] | None = _setting(None, "designed", _Grid(), "Reynolds grid of the truth (with "
+                                            "truth_map: the map's, leave it out)",
+                                            default_text="the solver's default, or the map's")
     from_npz: str | None = _setting(None, "designed", _Path(), "train on a co-simulation time series "
                                     "(.npz with y, z, vy, vz, Fy, Fz) instead of designed samples: the first 80 % "
                                     "trains, the last 20 % is held out", metavar="NPZ", default_text="none")
@@ -331,9 +346,17 @@ class FitRecipe:
         own = self.kind
         for f in fields(self):
             g = f.metadata["group"]
-            if g not in ("model", own) and getattr(self, f.name) != f.default:
+            if g not in (*SHARED, own) and getattr(self, f.name) != f.default:
                 raise RecipeError(f.name, getattr(self, f.name), f"left at its default {f.default!r}",
                                   f"a {GROUPS[g]} setting; this recipe is {GROUPS[own]}")
+        if self.truth_map is not None:
+            # a map that would serve no sample is refused rather than recorded as the truth
+            if self.from_npz is not None:
+                raise RecipeError("truth_map", self.truth_map, "None", "from_npz gives the training forces: "
+                                  "no sample is drawn from a truth")
+            if own == "scene" and not self.designed:
+                raise RecipeError("truth_map", self.truth_map, "None", "designed = 0: the fit draws no designed "
+                                  "samples, its series and held-out blocks are the scenes' Reynolds runs")
 
     # ------------------------------------------------------------------ kinds
     @property
@@ -351,11 +374,11 @@ class FitRecipe:
 
     # ------------------------------------------------------------------ provenance
     def to_dict(self, relative_to: str | Path | None = None) -> dict:
-        """The recipe for JSON: the model settings and those of its kind; paths relative to
+        """The recipe for JSON: the shared settings and those of its kind; paths relative to
         the folder ``relative_to`` (the surrogate file's), else absolute."""
         folder = None if relative_to is None else Path(relative_to).resolve()
         return {f.name: f.metadata["allowed"].to_json(getattr(self, f.name), folder)
-                for f in fields(self) if f.metadata["group"] in ("model", self.kind)}
+                for f in fields(self) if f.metadata["group"] in (*SHARED, self.kind)}
 
     @classmethod
     def from_dict(cls, d: dict, where: str = "recipe", folder: str | Path | None = None) -> "FitRecipe":
@@ -429,12 +452,12 @@ def option_name(f) -> str:
 
 
 def recipe_fields(group: str):
-    """The fields of a command's recipe: the model settings and those of ``group``."""
-    return [f for f in fields(FitRecipe) if f.metadata["group"] in ("model", group)]
+    """The fields of a command's recipe: the shared settings (model, truth) and those of ``group``."""
+    return [f for f in fields(FitRecipe) if f.metadata["group"] in (*SHARED, group)]
 
 
 def add_recipe_arguments(parser: argparse.ArgumentParser, group: str) -> argparse.ArgumentParser:
-    """Options for the recipe fields of ``group`` ('designed' or 'scene') and the model's:
+    """Options for the recipe fields of ``group`` ('designed' or 'scene') and the shared ones:
     name, default and help from the fields."""
     for f in recipe_fields(group):
         allowed: _Kind = f.metadata["allowed"]
@@ -466,7 +489,9 @@ def recipe_from_args(args: argparse.Namespace, group: str) -> FitRecipe:
     except RecipeError as exc:
         value = exc.value if not isinstance(exc.value, (tuple, list)) else " ".join(map(str, exc.value))
         allowed = exc.allowed.removesuffix(" or None")  # on the command line: leave the option out
-        raise ValueError(f"{flags.get(exc.name, exc.name)} {value}: must be {allowed}") from None
+        allowed = "left out" if allowed == "None" else allowed
+        raise ValueError(f"{flags.get(exc.name, exc.name)} {value}: must be {allowed}"
+                         + (f" ({exc.why})" if exc.why else "")) from None
 
 
 __all__ = ["FitRecipe", "RecipeError", "recipe_of", "add_recipe_arguments", "recipe_from_args", "recipe_fields",

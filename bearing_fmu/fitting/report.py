@@ -9,18 +9,23 @@ from pathlib import Path
 import numpy as np
 
 from .fit import COMPONENTS, FitResult
+from .truth import truth_line
 
 
 def format_report(res: FitResult) -> str:
     r, e = res.report, res.report["errors"]
     s = res.surrogate
+    b = s.params
     lines = [
         f"Taylor surrogate, order {r['order']} ({r['n_terms']} terms), speed {s.omega / (2 * math.pi):g} Hz, "
         f"load {list(s.load) if s.load else None} N",
+        f"bearing: {s.provenance.get('bearing', 'given by the caller')}: D {b.D * 1e3:g} mm, L {b.L * 1e3:g} mm, "
+        f"CR {b.CR * 1e6:g} um, mu {b.mu:g} Pa s",
         f"expansion point y0 = {s.y0 * 1e6:.3f} um, z0 = {s.z0 * 1e6:.3f} um "
         f"(eccentricity {math.hypot(s.y0, s.z0) / s.params.CR:.4f}); force scale {s.force_scale:.4g} N",
         f"domain: ecc <= {s.domain.ecc_max:g}, position disc radius {s.domain.pos_radius:g} CR, "
         f"|v| <= {s.domain.v_max:g} omega CR; {r['n_train']} training samples, cond(X) = {r['cond_X']:.3g}",
+        _truth(res),
         f"NRMSE = RMS error / std of the truth; {r['k_folds']}-fold CV chooses lambda (per-sample objective)"
         + (f"; wall factor: the polynomial fits F (1 - eps^2)^{s.wall_power:g} (CV errors of that)"
            if s.wall_power else "")
@@ -46,8 +51,25 @@ def format_report(res: FitResult) -> str:
         lines.append(f"domain guard: {len(nb.points)} training states stored, radius {nb.radius:.4g} in u "
                      f"(covering radius {nb.info.get('covering_radius', float('nan')):.3g}); a state farther "
                      "than the radius from all of them is outside the fitted domain")
-    lines.append(f"fit time {r['fit_seconds']:.1f} s")
+    lines.append(_timing(r))
     return "\n".join(lines)
+
+
+def _truth(res: FitResult) -> str:
+    """The truth line: from the file's provenance, the map's path as the user gave it."""
+    rec = res.recipe
+    return truth_line(res.surrogate.provenance, map_shown=None if rec is None else rec.truth_map,
+                      scene=rec is not None and rec.kind == "scene")
+
+
+def _timing(r: dict) -> str:
+    """'fit time' (the regression) and, where measured, the truth's samples and the whole fit."""
+    text = f"fit time {r['fit_seconds']:.1f} s"
+    if "sampling_seconds" in r:
+        text += f"; the truth's samples {r['sampling_seconds']:.2f} s"
+    if "total_seconds" in r:
+        text += f"; whole fit {r['total_seconds']:.1f} s"
+    return text
 
 
 def plot_lambda(res: FitResult, outdir: str | Path, stem: str = "fit") -> list[Path]:

@@ -1,0 +1,285 @@
+"""Write a native bearing FMU: FMI 2.0 Model Exchange and Co-Simulation in one archive, C
+sources in ``sources/``, the binary for this platform compiled from them, no Python inside.
+
+``build_native_fmu(output, internal, ...)``:
+
+1. ``codegen.native_model``: the internal's data as C headers, its variables and options;
+2. stage ``sources/`` (``bearing_native.h``, ``fmi2_bearing.c``, ``internal_<name>.c`` from
+   ``bearing_fmu/native/c/`` and the two generated headers), ``modelDescription.xml``
+   (both interfaces, units, output dependencies, the source files) and ``documentation/``;
+3. compile ``binaries/<platform>/<modelIdentifier>.<so|dylib|dll>``: by default with the C
+   compiler directly (``$CC``, else ``cc``, ``gcc`` or ``clang``: one command, about a second),
+   or with ``cmake=True`` through fmpy's source-FMU build (``fmpy.build.build_platform_binary``:
+   fmpy's CMake project and FMI headers; the ``cmake`` executable of the pip package fmpy
+   depends on, else the one on PATH), which is also how a user rebuilds the FMU for another
+   platform from its sources (``fmpy compile X.fmu``);
+4. zip, written atomically.
+
+Flags: ``-O2 -ffp-contract=off``: no fused multiply-add, so the sums round as the Python
+kernels' do (the tests compare them to 1e-12). The binary links only the C library and libm.
+"""
+
+from __future__ import annotations
+
+import datetime as _dt
+import math
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+import zipfile
+from pathlib import Path
+from xml.dom.minidom import parseString
+from xml.etree import ElementTree as ET
+
+from .. import __version__
+from ..params import PAPER_BEARING, BearingParams
+from .codegen import NativeModel, native_model
+
+C_DIR = Path(__file__).resolve().parent / "c"
+COMMON_SOURCES = ("bearing_native.h", "fmi2_bearing.c")
+C_FLAGS = ("-O2", "-ffp-contract=off", "-fvisibility=hidden", "-fPIC", "-std=c99")
+AUTHOR = "bearing_fmu (native build)"
+LICENSE = "the bearing_fmu project's license; the data file's provenance is recorded in documentation/index.html"
+
+
+# display units a system-simulation engineer reads (FMI 2.0 DisplayUnit: shown = factor * value)
+DISPLAY_UNITS = {"m": {"um": 1e6, "mm": 1e3}, "m/s": {"mm/s": 1e3}, "rad/s": {"rpm": 60.0 / (2.0 * math.pi)}}
+DISPLAY = {"y": "um", "z": "um", "h_min": "um", "CR": "um", "lin_y0": "um", "lin_z0": "um", "D": "mm", "L": "mm",
+           "vy": "mm/s", "vz": "mm/s", "omega": "rpm", "omega_lin": "rpm"}
+
+
+class NativeBuildError(RuntimeError):
+    """The binary could not be compiled (no compiler, a compiler error): one line saying what to install."""
+
+
+def build_native_fmu(output, internal: str, *, surrogate=None, map=None, bearing: BearingParams | None = None,
+                     options: dict | None = None, cmake: bool = False) -> Path:
+    """Write the native FMU of ``internal`` (taylor | map | linear) to ``output`` (.fmu).
+
+    surrogate : taylor: the surrogate JSON file compiled in (the bearing defaults to its own)
+    map       : map: the force map JSON file; linear: linearise on this map (no Reynolds)
+    bearing   : the bearing (default: the surrogate's for taylor, else the paper bearing)
+    options   : registry options: taylor's domain_action / domain_limit start values, linear's
+                linear_from, load_y, load_z, omega_lin, lin_* (the coefficients' start values)
+    cmake     : compile through fmpy's CMake project instead of the C compiler directly
+    """
+    output = Path(output)
+    if output.suffix != ".fmu":
+        raise ValueError(f"build_native_fmu: output {str(output)!r} must end in .fmu")
+    for label, path in (("surrogate", surrogate), ("map", map)):
+        if path is not None and not Path(path).is_file():
+            raise FileNotFoundError(f"build_native_fmu: {label} file {str(path)!r} not found")
+    params = bearing if bearing is not None else (None if str(internal).lower() == "taylor" else PAPER_BEARING)
+    model = native_model(internal, params, surrogate=surrogate, map=map, options=options)
+    from ..outputs import write_bytes
+
+    with tempfile.TemporaryDirectory(prefix="bearing_native_") as tmp:
+        root = Path(tmp) / "fmu"
+        stage(model, root)
+        compile_binary(root, model, cmake=cmake)
+        archive = Path(tmp) / "out.fmu"
+        _zip(root, archive)
+        output.parent.mkdir(parents=True, exist_ok=True)
+        write_bytes(output, archive.read_bytes())
+    return output
+
+
+def source_files(model: NativeModel) -> list[str]:
+    """The C files the compiler builds (the headers are included by them)."""
+    return ["fmi2_bearing.c", f"internal_{model.internal}.c"]
+
+
+def stage(model: NativeModel, root: Path) -> None:
+    """Write sources/, modelDescription.xml and documentation/ of ``model`` under ``root``."""
+    src = root / "sources"
+    src.mkdir(parents=True)
+    for name in (*COMMON_SOURCES, f"internal_{model.internal}.c"):
+        shutil.copyfile(C_DIR / name, src / name)
+    (src / "model_config.h").write_text(model.config_h, encoding="ascii")
+    (src / "model_data.h").write_text(model.data_h, encoding="ascii")
+    (root / "binaries").mkdir()
+    (root / "modelDescription.xml").write_bytes(model_description(model))
+    from .docs import write_documentation
+
+    write_documentation(model, root / "documentation")
+
+
+# ----------------------------------------------------------------------------- model description
+
+def model_description(model: NativeModel) -> bytes:
+    """modelDescription.xml: FMI 2.0, Model Exchange and Co-Simulation, same variables."""
+    from ..build import UNITS
+
+    guid = model.info["guid"]
+    root = ET.Element("fmiModelDescription", {
+        "fmiVersion": "2.0",
+        "modelName": f"BearingFMU native {model.internal}" + (f" ({model.source.stem})" if model.source else ""),
+        "guid": guid,
+        "description": model.description,
+        "author": AUTHOR,
+        "version": __version__,
+        "license": LICENSE,
+        "generationTool": f"bearing_fmu {__version__} native build",
+        "generationDateAndTime": _dt.datetime.now(_dt.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ"),
+        "variableNamingConvention": "flat",
+        "numberOfEventIndicators": "0",
+    })
+    common = {"modelIdentifier": model.model_identifier, "canGetAndSetFMUstate": "true",
+              "canSerializeFMUstate": "true", "providesDirectionalDerivative": "true",
+              "canNotUseMemoryManagementFunctions": "false"}
+    me = ET.SubElement(root, "ModelExchange", {**common, "completedIntegratorStepNotNeeded": "true"})
+    cs = ET.SubElement(root, "CoSimulation", {**common, "canHandleVariableCommunicationStepSize": "true"})
+    for node in (me, cs):
+        files = ET.SubElement(node, "SourceFiles")
+        for name in source_files(model):
+            ET.SubElement(files, "File", name=name)
+    used = sorted({v.unit for v in model.variables if v.unit})
+    units = ET.SubElement(root, "UnitDefinitions")
+    for u in used:
+        unit = ET.SubElement(units, "Unit", name=u)
+        ET.SubElement(unit, "BaseUnit", {k: str(v) for k, v in UNITS[u].items()})
+        for name, factor in DISPLAY_UNITS.get(u, {}).items():
+            ET.SubElement(unit, "DisplayUnit", name=name, factor=repr(factor))
+    cats = ET.SubElement(root, "LogCategories")
+    for name, what in (("warning", "a state outside the fitted domain (warned once), outputs left at their start "
+                        "values"), ("discard", "a state the internal refuses (the wall, a non-finite input, far "
+                                    "outside the fitted domain)"), ("error", "a refused call")):
+        ET.SubElement(cats, "Category", name=name, description=what)
+    ET.SubElement(root, "DefaultExperiment", startTime="0.0", stopTime="0.1", stepSize="0.0001")
+    mvars = ET.SubElement(root, "ModelVariables")
+    index = {}
+    for k, v in enumerate(model.variables, start=1):
+        index[v.name] = k
+        attrs = {"name": v.name, "valueReference": str(v.vr), "description": v.description,
+                 "causality": v.causality, "variability": v.variability}
+        if v.causality == "output":
+            attrs["initial"] = "calculated"
+        sv = ET.SubElement(mvars, "ScalarVariable", attrs)
+        typed = {}
+        if v.causality != "output":
+            typed["start"] = (repr(float(v.start)) if v.type == "Real" else
+                              ("true" if v.start else "false") if v.type == "Boolean" else str(v.start))
+        if v.type == "Real" and v.unit:
+            typed["unit"] = v.unit
+            if v.name in DISPLAY:
+                typed["displayUnit"] = DISPLAY[v.name]
+        ET.SubElement(sv, v.type, typed)
+    inputs = [index[v.name] for v in model.variables if v.causality == "input"]
+    outputs = [index[v.name] for v in model.variables if v.causality == "output"]
+    params = [index[v.name] for v in model.variables if v.causality == "parameter"]
+    structure = ET.SubElement(root, "ModelStructure")
+    node = ET.SubElement(structure, "Outputs")
+    for i in outputs:
+        ET.SubElement(node, "Unknown", index=str(i), dependencies=" ".join(map(str, inputs)),
+                      dependenciesKind=" ".join(["dependent"] * len(inputs)))
+    node = ET.SubElement(structure, "InitialUnknowns")
+    deps = sorted(inputs + params)
+    for i in outputs:
+        ET.SubElement(node, "Unknown", index=str(i), dependencies=" ".join(map(str, deps)),
+                      dependenciesKind=" ".join(["dependent"] * len(deps)))
+    return parseString(ET.tostring(root, encoding="UTF-8")).toprettyxml(indent="  ", encoding="UTF-8")
+
+
+# ----------------------------------------------------------------------------- compiling
+
+def platform_folder() -> tuple[str, str]:
+    """(binaries/ folder name, shared library extension) of this platform, as fmpy names them."""
+    import fmpy
+
+    return fmpy.platform, fmpy.sharedLibraryExtension
+
+
+def fmi_headers() -> Path:
+    """The FMI 2.0 headers fmpy ships (fmpy/c-code)."""
+    import fmpy
+
+    path = Path(fmpy.__file__).resolve().parent / "c-code"
+    if not (path / "fmi2Functions.h").is_file():
+        raise NativeBuildError(f"fmpy's FMI headers are not at {path} (fmpy/c-code/fmi2Functions.h): reinstall fmpy")
+    return path
+
+
+def find_compiler() -> str:
+    """The C compiler: $CC, else cc, gcc or clang on PATH; NativeBuildError saying what to install."""
+    cc = os.environ.get("CC")
+    if cc:
+        return cc
+    for name in ("cc", "gcc", "clang"):
+        path = shutil.which(name)
+        if path:
+            return path
+    raise NativeBuildError("no C compiler found (set CC, or install one: Debian/Ubuntu `apt-get install gcc`, "
+                           "macOS `xcode-select --install`; on Windows build with --cmake and Visual Studio): a "
+                           "native FMU is compiled at build time only")
+
+
+def compile_binary(root: Path, model: NativeModel, cmake: bool = False) -> Path:
+    """Compile ``root``/sources into ``root``/binaries/<platform>/; returns the binary's path."""
+    folder, ext = platform_folder()
+    target = root / "binaries" / folder / f"{model.model_identifier}{ext}"
+    target.parent.mkdir(parents=True, exist_ok=True)
+    if cmake:
+        _compile_cmake(root)
+    else:
+        _compile_cc(root, model, target)
+    if not target.is_file():
+        raise NativeBuildError(f"the build wrote no {target.relative_to(root)}")
+    return target
+
+
+def _compile_cc(root: Path, model: NativeModel, target: Path) -> None:
+    if sys.platform == "win32":
+        raise NativeBuildError("building with the C compiler directly is for Linux and macOS; on Windows use "
+                               "--cmake (fmpy's CMake project with Visual Studio)")
+    src = root / "sources"
+    cmd = [find_compiler(), *C_FLAGS, "-shared", "-I", str(src), "-I", str(fmi_headers()),
+           *(str(src / f) for f in source_files(model)), "-o", str(target), "-lm"]
+    try:
+        done = subprocess.run(cmd, capture_output=True, text=True, timeout=600)
+    except OSError as exc:
+        raise NativeBuildError(f"cannot run the C compiler {cmd[0]!r}: {exc}") from None
+    if done.returncode != 0:
+        tail = (done.stderr or done.stdout).strip().splitlines()[-12:]
+        raise NativeBuildError(f"the C compiler failed (exit {done.returncode}): {' '.join(cmd)}\n" + "\n".join(tail))
+
+
+def cmake_executable_dir() -> str | None:
+    """The folder of the cmake executable of the ``cmake`` pip package (a dependency of fmpy), if installed."""
+    try:
+        import cmake  # noqa: PLC0415
+
+        return str(cmake.CMAKE_BIN_DIR)
+    except (ImportError, AttributeError):
+        return None
+
+
+def _compile_cmake(root: Path) -> None:
+    from fmpy.build import build_platform_binary
+
+    path = os.environ.get("PATH", "")
+    bin_dir = cmake_executable_dir()
+    env_path = (bin_dir + os.pathsep + path) if bin_dir else path
+    if not shutil.which("cmake", path=env_path):
+        raise NativeBuildError("cmake not found: `pip install cmake` (fmpy depends on it) or install it with the "
+                               "system's packages; or build without --cmake (the C compiler directly)")
+    old = os.environ.get("PATH")
+    os.environ["PATH"] = env_path
+    try:
+        with tempfile.TemporaryDirectory(prefix="bearing_native_cmake_") as build_dir:
+            build_platform_binary(root, build_dir, cmake_options={"CMAKE_C_FLAGS:STRING": "-ffp-contract=off"})
+    except subprocess.CalledProcessError as exc:
+        raise NativeBuildError(f"fmpy's CMake build failed ({exc}); see its output above") from None
+    finally:
+        if old is None:
+            os.environ.pop("PATH", None)
+        else:
+            os.environ["PATH"] = old
+
+
+def _zip(root: Path, archive: Path) -> None:
+    with zipfile.ZipFile(archive, "w", zipfile.ZIP_DEFLATED) as z:
+        for p in sorted(root.rglob("*")):
+            if p.is_file():
+                z.write(p, p.relative_to(root).as_posix())

@@ -1,0 +1,102 @@
+/* The native bearing FMU: what the FMI layer (fmi2_bearing.c) and the internal
+ * (internal_<name>.c) share. Generated per build: model_config.h (the internal's name, its
+ * options and value references, start values, the GUID) and model_data.h (the internal's
+ * data as static arrays). Units are SI throughout (m, m/s, rad/s, N, Pa s).
+ *
+ * Value references: Reals 0..; Booleans from 1000; Strings from 2000 (no Integers). */
+#ifndef BEARING_NATIVE_H
+#define BEARING_NATIVE_H
+
+#include <stddef.h>
+#include "fmi2Functions.h"
+#include "model_config.h"
+
+#ifndef M_PI
+#define M_PI 3.14159265358979323846
+#endif
+
+/* Vector kernels (internal_taylor.c): 2-lane doubles through gcc's and clang's vector extension
+ * (SSE2, NEON), and on x86-64 a 4-lane AVX2 version chosen at run time when the CPU has it;
+ * plain C with other compilers. */
+#if defined(__GNUC__) || defined(__clang__)
+#define BN_ALIGN32 __attribute__((aligned(32)))
+#define BN_VEC 1
+typedef double bn_v2 __attribute__((vector_size(16), may_alias));
+#if defined(__x86_64__) && !defined(BN_NO_AVX)
+#define BN_AVX 1
+typedef double bn_v4 __attribute__((vector_size(32), may_alias));
+#else
+#define BN_AVX 0
+#endif
+#else
+#define BN_ALIGN32
+#define BN_VEC 0
+#define BN_AVX 0
+#endif
+
+enum {
+    VR_Y, VR_Z, VR_VY, VR_VZ, VR_OMEGA,                  /* inputs: journal state */
+    VR_FY, VR_FZ, VR_ECC, VR_HMIN,                       /* outputs */
+    VR_KYY, VR_KYZ, VR_KZY, VR_KZZ, VR_CYY, VR_CYZ, VR_CZY, VR_CZZ,
+    VR_D, VR_L, VR_CR, VR_MU,                            /* parameters: the bearing */
+    VR_REAL_OPTIONS                                      /* the internal's Real options follow */
+};
+#define N_INPUTS 5
+#define N_OUTPUTS_REAL (VR_D - VR_FY)
+#define N_REAL (VR_REAL_OPTIONS + BN_N_REAL_OPTIONS)
+#define VR_BOOL0 1000
+enum { B_OUT_OF_DOMAIN, B_COMPUTE_TANGENT, N_BOOL };
+#define VR_STRING0 2000
+#define S_INTERNAL 0                                     /* then the internal's String options */
+#define N_STRING (1 + BN_N_STRING_OPTIONS)
+#define STRING_MAX 256
+
+typedef enum { MODE_INSTANTIATED, MODE_INIT, MODE_STEP, MODE_EVENT, MODE_CONTINUOUS, MODE_TERMINATED } Mode;
+
+/* what an internal keeps between calls (not part of the FMU state: caches and warn-once flags) */
+typedef struct {
+    int last_nn;      /* taylor: index of the stored training state nearest to the last state queried, -1: none */
+    int warned;       /* taylor: the out-of-domain warning was given */
+    double scale;     /* map: S = mu R L (R / CR)^2 [N s] */
+    int avx;          /* taylor: the CPU runs the AVX2 kernels */
+} Work;
+
+typedef struct {
+    double r[N_REAL];
+    int b[N_BOOL];
+    char s[N_STRING][STRING_MAX];
+    double t;
+    Mode mode;
+    fmi2Type type;
+    int initialized;            /* exitInitializationMode was called: parameters are fixed */
+    int terminated;             /* fmi2Terminated: set by a discarded step, cleared by a good step or a restore */
+    int dirty;                  /* ME: inputs changed since the outputs were computed */
+    int refused[N_REAL + N_BOOL + N_STRING];  /* a parameter whose last set was refused */
+    char refused_msg[N_REAL + N_BOOL + N_STRING][512];
+    char init_error[2400];
+    char msg[2048];             /* the internal's reason for a refused state */
+    int logging_on;
+    int echoed;                 /* bit mask of statuses already echoed to stderr (logging off) */
+    char name[STRING_MAX];
+    fmi2CallbackFunctions cb;
+    Work work;
+} Instance;
+
+/* the internal (internal_<name>.c) */
+/* Check the parameters together and prepare; 0, or 1 with the reason in m->msg. */
+int bn_setup(Instance *m);
+/* Film force F [N] at x = (y, z, vy, vz, omega) and, with want_jac, J = dF/d(y, z, vy, vz)
+ * row-major (2 x 4) and dw = dF/domega (2). 0, or 1 with the reason in m->msg (state refused).
+ * *ood: the state lies outside the fitted domain (taylor). */
+int bn_eval(Instance *m, const double x[5], int want_jac, double F[2], double J[8], double dw[2], int *ood);
+
+/* the FMI layer: log one line (printf-style) with a status */
+void bn_log(Instance *m, fmi2Status status, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 3, 4)))
+#endif
+    ;
+/* a double the way Python's %.{digits}g writes it, into buf */
+const char *bn_num(char *buf, size_t n, double x, int digits);
+
+#endif

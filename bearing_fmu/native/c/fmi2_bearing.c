@@ -1,0 +1,938 @@
+/* The FMI 2.0 layer of the native bearing FMU (Co-Simulation and Model Exchange in one binary).
+ *
+ * The journal state (y, z, vy, vz, omega) goes in, the film force and its tangent come out,
+ * computed by the internal compiled beside this file (internal_<name>.c). It has no state of
+ * its own apart from its inputs and outputs, so fmi2GetFMUstate is a copy of those.
+ *
+ * Statuses (docs/fmu.md, "FMI status"), as the Python FMU gives them:
+ *   a parameter that can never be valid        -> that fmi2SetX: fmi2Error, value not stored, and
+ *                                                 exitInitializationMode fails until a valid one is set
+ *   parameters valid alone but not together     -> fmi2ExitInitializationMode: fmi2Error
+ *   an unknown value reference, setting an output, a parameter after initialisation,
+ *   a bad step size or time, doStep before initialisation, a foreign FMU state -> fmi2Error
+ *   a state the internal refuses (non-finite input, the wall, far outside a surrogate's domain)
+ *                                               -> doStep (CS) / getReal of an output (ME): fmi2Discard,
+ *                                                 outputs keep their last values, logged with the reason
+ * After an error the instance stays usable. With logging off, the first warning, discard and
+ * error of each instance are printed to stderr, so a user of a master without a logger still
+ * learns the first thing that went wrong. */
+#define BN_FMI_LAYER 1
+#include <ctype.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "bearing_native.h"
+
+typedef struct {
+    const char *name;
+    double start;
+    double minimum;         /* -INFINITY: none */
+    int exclusive_minimum;
+    double maximum;         /* INFINITY: none */
+    const char *allowed;    /* in words, for messages */
+} RealOption;
+
+typedef struct {
+    const char *name;
+    const char *start;
+    const char *choices;    /* "a|b|c": allowed values (lower-case); NULL: see file */
+    int file;               /* the value names the data compiled in: "" or exactly `start` */
+    const char *refuse;     /* a value refused with its own reason (NULL: none) */
+    const char *refuse_why;
+} StringOption;
+
+#if BN_N_REAL_OPTIONS > 0
+static const RealOption REAL_OPTIONS[BN_N_REAL_OPTIONS] = { BN_REAL_OPTION_TABLE };
+#else
+static const RealOption *REAL_OPTIONS = NULL;
+#endif
+#if BN_N_STRING_OPTIONS > 0
+static const StringOption STRING_OPTIONS[BN_N_STRING_OPTIONS] = { BN_STRING_OPTION_TABLE };
+#else
+static const StringOption *STRING_OPTIONS = NULL;
+#endif
+
+static const char *const CORE_NAMES[VR_REAL_OPTIONS] = {
+    "y", "z", "vy", "vz", "omega", "Fy", "Fz", "eccentricity", "h_min",
+    "Kyy", "Kyz", "Kzy", "Kzz", "Cyy", "Cyz", "Czy", "Czz", "D", "L", "CR", "mu"};
+static const char *const CORE_UNITS[VR_REAL_OPTIONS] = {
+    "m", "m", "m/s", "m/s", "rad/s", "N", "N", "1", "m",
+    "N/m", "N/m", "N/m", "N/m", "N.s/m", "N.s/m", "N.s/m", "N.s/m", "m", "m", "m", "Pa.s"};
+static const double START_INPUTS[N_INPUTS] = BN_START_INPUTS;
+static const double START_BEARING[4] = BN_START_BEARING;
+static const char *const BOOL_NAMES[N_BOOL] = {"out_of_domain", "compute_tangent"};
+static const char *const MODE_NAMES[] = {"Instantiated", "Initialization Mode", "Step Mode", "Event Mode",
+                                         "Continuous-Time Mode", "Terminated"};
+static const char *const STATUS_NAMES[] = {"ok", "warning", "discard", "error", "fatal", "pending"};
+
+#define STATE_TAG "bearing-native/1"
+typedef struct {
+    char tag[24];
+    char guid[64];
+    double t;
+    double values[VR_D];    /* inputs and Real outputs */
+    int out_of_domain;
+} State;
+
+/* ------------------------------------------------------------------------------ helpers */
+
+const char *bn_num(char *buf, size_t n, double x, int digits) {
+    if (isnan(x))
+        snprintf(buf, n, "nan");
+    else if (isinf(x))
+        snprintf(buf, n, x > 0 ? "inf" : "-inf");
+    else
+        snprintf(buf, n, "%.*g", digits, x);
+    return buf;
+}
+
+static const char *real_name(int vr) {
+    return vr < VR_REAL_OPTIONS ? CORE_NAMES[vr] : REAL_OPTIONS[vr - VR_REAL_OPTIONS].name;
+}
+
+static const char *string_name(int k) {
+    return k == S_INTERNAL ? "internal" : STRING_OPTIONS[k - 1].name;
+}
+
+static void echo(Instance *m, fmi2Status status, const char *text) {
+    /* logging off: print the first warning, discard and error of this instance to stderr */
+    int bit = 1 << (int)status;
+    if (m->logging_on || status == fmi2OK || (m->echoed & bit)) return;
+    int first = m->echoed == 0;
+    m->echoed |= bit;
+    fprintf(stderr, "bearing FMU '%s' [%s]: %s\n", m->name, STATUS_NAMES[status], text);
+    if (first)
+        fprintf(stderr, "  (logging is off, so this FMU instance prints its first warning, discard and error "
+                        "here; instantiate it with loggingOn (fmpy: simulate_fmu(..., debug_logging=True)) to "
+                        "receive every message)\n");
+    fflush(stderr);
+}
+
+void bn_log(Instance *m, fmi2Status status, const char *fmt, ...) {
+    char text[2048];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(text, sizeof text, fmt, ap);
+    va_end(ap);
+    /* the logger takes a printf format: no '%' may reach it (messages never write one; names might) */
+    for (char *p = text; *p; p++)
+        if (*p == '%') *p = '?';
+    if (m->logging_on && m->cb.logger)
+        m->cb.logger(m->cb.componentEnvironment, m->name, status, STATUS_NAMES[status], text);
+    echo(m, status, text);
+}
+
+static fmi2Status fail(Instance *m, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 2, 3)))
+#endif
+    ;
+
+static fmi2Status fail(Instance *m, const char *fmt, ...) {
+    char text[2048];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(text, sizeof text, fmt, ap);
+    va_end(ap);
+    bn_log(m, fmi2Error, "%s", text);
+    return fmi2Error;
+}
+
+static void lower_strip(const char *in, char *out, size_t n) {
+    while (*in && isspace((unsigned char)*in)) in++;
+    size_t k = 0;
+    for (; *in && k + 1 < n; in++) out[k++] = (char)tolower((unsigned char)*in);
+    while (k > 0 && isspace((unsigned char)out[k - 1])) k--;
+    out[k] = 0;
+}
+
+static int in_choices(const char *value, const char *choices) {
+    size_t n = strlen(value);
+    for (const char *p = choices; *p;) {
+        const char *bar = strchr(p, '|');
+        size_t len = bar ? (size_t)(bar - p) : strlen(p);
+        if (len == n && strncmp(p, value, n) == 0) return 1;
+        if (!bar) break;
+        p = bar + 1;
+    }
+    return 0;
+}
+
+static void choices_words(const char *choices, char *out, size_t n) {
+    size_t k = 0;
+    for (const char *p = choices; *p && k + 3 < n; p++) {
+        if (*p == '|') {
+            out[k++] = ',';
+            out[k++] = ' ';
+        } else {
+            out[k++] = *p;
+        }
+    }
+    out[k] = 0;
+}
+
+/* ------------------------------------------------------------------------------ values */
+
+static void set_starts(Instance *m) {
+    memset(m->r, 0, sizeof m->r);
+    for (int i = 0; i < N_INPUTS; i++) m->r[i] = START_INPUTS[i];
+    for (int i = 0; i < 4; i++) m->r[VR_D + i] = START_BEARING[i];
+    for (int i = 0; i < BN_N_REAL_OPTIONS; i++) m->r[VR_REAL_OPTIONS + i] = REAL_OPTIONS[i].start;
+    m->b[B_OUT_OF_DOMAIN] = 0;
+    m->b[B_COMPUTE_TANGENT] = 1;
+    snprintf(m->s[S_INTERNAL], STRING_MAX, "%s", BN_INTERNAL);
+    for (int i = 0; i < BN_N_STRING_OPTIONS; i++) snprintf(m->s[1 + i], STRING_MAX, "%s", STRING_OPTIONS[i].start);
+    memset(m->refused, 0, sizeof m->refused);
+    m->init_error[0] = 0;
+    m->t = 0.0;
+    m->initialized = 0;
+    m->terminated = 0;
+    m->dirty = 1;
+    m->work.last_nn = -1;
+    m->work.warned = 0;
+}
+
+/* A Real parameter's value alone: 0, or 1 with the reason in why. */
+static int check_real_parameter(int vr, double v, char *why, size_t n) {
+    char a[32];
+    if (vr >= VR_D && vr <= VR_MU) {
+        if (!(v > 0.0 && v < INFINITY)) {
+            snprintf(why, n, "%s = %s %s must be finite and > 0", CORE_NAMES[vr], bn_num(a, sizeof a, v, 17),
+                     CORE_UNITS[vr]);
+            return 1;
+        }
+        return 0;
+    }
+    const RealOption *o = &REAL_OPTIONS[vr - VR_REAL_OPTIONS];
+    int bad = !isfinite(v) || (o->exclusive_minimum ? v <= o->minimum : v < o->minimum) || v > o->maximum;
+    if (bad) snprintf(why, n, "%s = %s must be %s", o->name, bn_num(a, sizeof a, v, 17), o->allowed);
+    return bad;
+}
+
+/* A String parameter's value alone: 0 (normalised into out), or 1 with the reason in why. */
+static int check_string_parameter(int k, const char *value, char *out, char *why, size_t n) {
+    char v[STRING_MAX];
+    if (strlen(value) >= STRING_MAX) {
+        snprintf(why, n, "%s: a value of %zu characters is longer than the %d this FMU keeps", string_name(k),
+                 strlen(value), STRING_MAX - 1);
+        return 1;
+    }
+    if (k == S_INTERNAL) {
+        lower_strip(value, v, sizeof v);
+        if (strcmp(v, BN_INTERNAL) != 0) {
+            snprintf(why, n, "internal = '%s': this native FMU computes the %s internal only; for another build "
+                     "one with `bearing-fmu build --native --internal NAME` (reynolds: the Python FMU, "
+                     "`bearing-fmu build`)", value, BN_INTERNAL);
+            return 1;
+        }
+        snprintf(out, STRING_MAX, "%s", v);
+        return 0;
+    }
+    const StringOption *o = &STRING_OPTIONS[k - 1];
+    if (o->file) {
+        if (value[0] && strcmp(value, o->start) != 0) {
+            snprintf(why, n, "%s = '%s': this native FMU has its %s file compiled in ('%s'); build another FMU "
+                     "for another file (bearing-fmu build --native)", o->name, value, o->name, o->start);
+            return 1;
+        }
+        snprintf(out, STRING_MAX, "%s", o->start);
+        return 0;
+    }
+    lower_strip(value, v, sizeof v);
+    if (o->refuse && strcmp(v, o->refuse) == 0) {
+        snprintf(why, n, "%s = '%s': %s", o->name, value, o->refuse_why);
+        return 1;
+    }
+    if (!in_choices(v, o->choices)) {
+        char words[256];
+        choices_words(o->choices, words, sizeof words);
+        snprintf(why, n, "unknown %s '%s'; choose one of %s", o->name, value, words);
+        return 1;
+    }
+    snprintf(out, STRING_MAX, "%s", v);
+    return 0;
+}
+
+/* The bearing's physical ranges (bearing_fmu/params.py, BearingParams): 0, or 1 with why. */
+static int check_bearing(const Instance *m, char *why, size_t n) {
+    double D = m->r[VR_D], L = m->r[VR_L], CR = m->r[VR_CR], mu = m->r[VR_MU];
+    char a[32], b[32], c[32];
+    if (!(D >= 1e-3 && D <= 5.0)) {
+        snprintf(why, n, "D = %s m is outside the physical range 1 mm .. 5 m", bn_num(a, sizeof a, D, 4));
+        return 1;
+    }
+    if (!(L >= 0.05 * D && L <= 5.0 * D)) {
+        snprintf(why, n, "L = %s m is outside the physical range %s .. %s m (L/D 0.05 .. 5 at D = %s m)",
+                 bn_num(a, sizeof a, L, 4), bn_num(b, sizeof b, 0.05 * D, 4), bn_num(c, sizeof c, 5.0 * D, 4),
+                 bn_num(c, sizeof c, D, 4));
+        return 1;
+    }
+    if (!(CR >= 1e-5 * 0.5 * D && CR <= 0.05 * 0.5 * D)) {
+        snprintf(why, n, "CR = %s m is outside the physical range %s .. %s m (CR/R 1e-05 .. 0.05 at D = %s m)",
+                 bn_num(a, sizeof a, CR, 4), bn_num(b, sizeof b, 1e-5 * 0.5 * D, 4),
+                 bn_num(c, sizeof c, 0.05 * 0.5 * D, 4), bn_num(c, sizeof c, D, 4));
+        return 1;
+    }
+    if (!(mu >= 1e-5 && mu <= 10.0)) {
+        snprintf(why, n, "mu = %s Pa s is outside the physical range 1e-05 .. 10 Pa s", bn_num(a, sizeof a, mu, 4));
+        return 1;
+    }
+    return 0;
+}
+
+/* Parameters checked together and the internal prepared: 0, or 1 with m->init_error set. */
+static int setup(Instance *m) {
+    char why[2048];
+    size_t off = 0;
+    why[0] = 0;
+    for (int i = 0; i < N_REAL + N_BOOL + N_STRING; i++)
+        if (m->refused[i])
+            off += (size_t)snprintf(why + off, off < sizeof why ? sizeof why - off : 0, "%s%s (refused when it was set)",
+                                    off ? "; " : "", m->refused_msg[i]);
+    if (!why[0] && check_bearing(m, why, sizeof why) == 0) {
+        if (bn_setup(m) == 0) {
+            m->init_error[0] = 0;
+            return 0;
+        }
+        snprintf(why, sizeof why, "%s", m->msg);
+    }
+    snprintf(m->init_error, sizeof m->init_error, "bearing FMU initialisation failed: %s", why);
+    return 1;
+}
+
+/* Evaluate the internal at the inputs and set the outputs: 0, or 1 with the reason in m->msg
+ * (outputs untouched). */
+static int evaluate(Instance *m) {
+    static const char *const in_names[5] = {"y", "z", "vy", "vz", "omega"};
+    double x[5], F[2], J[8], dw[2];
+    int ood = 0;
+    char a[32], b[32], c[32], d[32], e[32];
+    for (int i = 0; i < 5; i++) {
+        x[i] = m->r[i];
+        if (!isfinite(x[i])) {
+            snprintf(m->msg, sizeof m->msg, "bearing input %s = %s is not finite", in_names[i],
+                     bn_num(a, sizeof a, x[i], 17));
+            return 1;
+        }
+    }
+    int jac = m->b[B_COMPUTE_TANGENT];
+    if (bn_eval(m, x, jac, F, J, dw, &ood)) return 1;
+    int finite = isfinite(F[0]) && isfinite(F[1]);
+    for (int i = 0; jac && i < 8; i++) finite = finite && isfinite(J[i]);
+    if (!finite) {
+        snprintf(m->msg, sizeof m->msg, "the %s internal returned a non-finite force or tangent at y = %s m, "
+                 "z = %s m, vy = %s m/s, vz = %s m/s, omega = %s rad/s", BN_INTERNAL, bn_num(a, 32, x[0], 6),
+                 bn_num(b, 32, x[1], 6), bn_num(c, 32, x[2], 6), bn_num(d, 32, x[3], 6), bn_num(e, 32, x[4], 6));
+        return 1;
+    }
+    double eps = hypot(x[0], x[1]) / m->r[VR_CR];
+    m->r[VR_FY] = F[0];
+    m->r[VR_FZ] = F[1];
+    m->r[VR_ECC] = eps;
+    m->r[VR_HMIN] = m->r[VR_CR] * (1.0 - eps);
+    m->b[B_OUT_OF_DOMAIN] = ood;
+    if (jac) { /* Lund's sign: K = -dF/dq, C = -dF/dv */
+        m->r[VR_KYY] = -J[0]; m->r[VR_KYZ] = -J[1]; m->r[VR_CYY] = -J[2]; m->r[VR_CYZ] = -J[3];
+        m->r[VR_KZY] = -J[4]; m->r[VR_KZZ] = -J[5]; m->r[VR_CZY] = -J[6]; m->r[VR_CZZ] = -J[7];
+    }
+    m->dirty = 0;
+    return 0;
+}
+
+static int is_output_real(fmi2ValueReference vr) { return vr >= VR_FY && vr < VR_D; }
+
+/* Outputs requested: Initialization Mode computes them from the inputs and parameters set so
+ * far; Model Exchange after initialisation computes them when the inputs changed. */
+static fmi2Status outputs_for_get(Instance *m, const char *call, const char *name) {
+    if (m->mode == MODE_INIT) {
+        if (setup(m))
+            return fail(m, "%s %s in Initialization Mode: the outputs cannot be computed: %s", call, name,
+                        m->init_error);
+        if (evaluate(m))
+            return fail(m, "%s %s in Initialization Mode: the outputs cannot be computed at the inputs set: %s "
+                        "(set valid inputs and read again)", call, name, m->msg);
+        return fmi2OK;
+    }
+    if ((m->mode == MODE_EVENT || m->mode == MODE_CONTINUOUS) && m->dirty) {
+        if (evaluate(m)) {
+            char t[32];
+            bn_log(m, fmi2Discard, "%s at t = %s s", m->msg, bn_num(t, sizeof t, m->t, 10));
+            return fmi2Discard;
+        }
+    }
+    return fmi2OK;
+}
+
+/* ------------------------------------------------------------------------------ FMI: common */
+
+const char *fmi2GetTypesPlatform(void) { return fmi2TypesPlatform; }
+const char *fmi2GetVersion(void) { return fmi2Version; }
+
+fmi2Status fmi2SetDebugLogging(fmi2Component c, fmi2Boolean loggingOn, size_t nCategories,
+                               const fmi2String categories[]) {
+    (void)nCategories;
+    (void)categories;
+    if (!c) return fmi2Error;
+    ((Instance *)c)->logging_on = loggingOn != 0;
+    return fmi2OK;
+}
+
+fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType, fmi2String fmuGUID,
+                              fmi2String fmuResourceLocation, const fmi2CallbackFunctions *functions,
+                              fmi2Boolean visible, fmi2Boolean loggingOn) {
+    (void)fmuResourceLocation;
+    (void)visible;
+    const char *name = instanceName ? instanceName : "";
+    if (!fmuGUID || strcmp(fmuGUID, BN_GUID) != 0) {
+        if (functions && functions->logger)
+            functions->logger(functions->componentEnvironment, name, fmi2Error, "error",
+                              "fmi2Instantiate: the GUID given is not this FMU's (" BN_GUID ")");
+        else
+            fprintf(stderr, "bearing FMU '%s' [error]: fmi2Instantiate: the GUID given is not this FMU's\n", name);
+        return NULL;
+    }
+    Instance *m = (functions && functions->allocateMemory) ? functions->allocateMemory(1, sizeof(Instance))
+                                                           : calloc(1, sizeof(Instance));
+    if (!m) return NULL;
+    memset(m, 0, sizeof *m);
+    if (functions) m->cb = *functions;
+    m->type = fmuType;
+    m->logging_on = loggingOn != 0;
+    snprintf(m->name, sizeof m->name, "%s", name);
+    set_starts(m);
+    m->mode = MODE_INSTANTIATED;
+    return m;
+}
+
+void fmi2FreeInstance(fmi2Component c) {
+    Instance *m = c;
+    if (!m) return;
+    if (m->cb.freeMemory) {
+        fmi2CallbackFreeMemory release = m->cb.freeMemory;
+        release(m);
+    } else {
+        free(m);
+    }
+}
+
+fmi2Status fmi2SetupExperiment(fmi2Component c, fmi2Boolean toleranceDefined, fmi2Real tolerance,
+                               fmi2Real startTime, fmi2Boolean stopTimeDefined, fmi2Real stopTime) {
+    Instance *m = c;
+    char a[32], b[32];
+    (void)toleranceDefined;
+    (void)tolerance;
+    if (!m) return fmi2Error;
+    if (!isfinite(startTime))
+        return fail(m, "setupExperiment: startTime = %s s must be finite", bn_num(a, 32, startTime, 17));
+    if (stopTimeDefined && !(startTime <= stopTime && stopTime < INFINITY))
+        return fail(m, "setupExperiment: stopTime = %s s must be finite and >= startTime = %s s",
+                    bn_num(a, 32, stopTime, 17), bn_num(b, 32, startTime, 17));
+    m->t = startTime;
+    return fmi2OK;
+}
+
+fmi2Status fmi2EnterInitializationMode(fmi2Component c) {
+    Instance *m = c;
+    if (!m) return fmi2Error;
+    if (m->initialized)
+        return fail(m, "enterInitializationMode in %s: the instance is initialised already (fmi2Reset first)",
+                    MODE_NAMES[m->mode]);
+    m->mode = MODE_INIT;
+    return fmi2OK;
+}
+
+fmi2Status fmi2ExitInitializationMode(fmi2Component c) {
+    Instance *m = c;
+    if (!m) return fmi2Error;
+    m->initialized = 1;
+    if (setup(m)) return fail(m, "%s", m->init_error);
+    m->mode = m->type == fmi2ModelExchange ? MODE_EVENT : MODE_STEP;
+    /* outputs at the start time from the initial inputs, when they can be evaluated: a master
+     * may set the inputs only before the first step, so a refused state is no initialisation error */
+    if (evaluate(m)) {
+        bn_log(m, fmi2Warning, "outputs at the start time left at their start values: %s", m->msg);
+        m->dirty = 1;
+    }
+    return fmi2OK;
+}
+
+fmi2Status fmi2Terminate(fmi2Component c) {
+    Instance *m = c;
+    if (!m) return fmi2Error;
+    m->mode = MODE_TERMINATED;
+    return fmi2OK;
+}
+
+fmi2Status fmi2Reset(fmi2Component c) {
+    Instance *m = c;
+    if (!m) return fmi2Error;
+    set_starts(m);
+    m->mode = MODE_INSTANTIATED;
+    return fmi2OK;
+}
+
+/* ------------------------------------------------------------------------------ getters and setters */
+
+fmi2Status fmi2GetReal(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, fmi2Real value[]) {
+    Instance *m = c;
+    if (!m) return fmi2Error;
+    fmi2Status status = fmi2OK;
+    int computed = 0;
+    for (size_t i = 0; i < nvr; i++) {
+        if (vr[i] >= (fmi2ValueReference)N_REAL)
+            return fail(m, "getReal: value reference %u is not a Real variable of this FMU", vr[i]);
+        if (is_output_real(vr[i]) && !computed) {
+            computed = 1;
+            fmi2Status s = outputs_for_get(m, "getReal", real_name((int)vr[i]));
+            if (s == fmi2Error) return s;
+            if (s > status) status = s;
+        }
+        value[i] = m->r[vr[i]];
+    }
+    return status;
+}
+
+fmi2Status fmi2GetInteger(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, fmi2Integer value[]) {
+    Instance *m = c;
+    (void)value;
+    if (!m) return fmi2Error;
+    if (nvr > 0) return fail(m, "getInteger: value reference %u is not an Integer variable of this FMU", vr[0]);
+    return fmi2OK;
+}
+
+fmi2Status fmi2GetBoolean(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, fmi2Boolean value[]) {
+    Instance *m = c;
+    if (!m) return fmi2Error;
+    fmi2Status status = fmi2OK;
+    for (size_t i = 0; i < nvr; i++) {
+        if (vr[i] < VR_BOOL0 || vr[i] >= VR_BOOL0 + N_BOOL)
+            return fail(m, "getBoolean: value reference %u is not a Boolean variable of this FMU", vr[i]);
+        if (vr[i] == VR_BOOL0 + B_OUT_OF_DOMAIN) {
+            fmi2Status s = outputs_for_get(m, "getBoolean", "out_of_domain");
+            if (s == fmi2Error) return s;
+            if (s > status) status = s;
+        }
+        value[i] = m->b[vr[i] - VR_BOOL0] ? fmi2True : fmi2False;
+    }
+    return status;
+}
+
+fmi2Status fmi2GetString(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, fmi2String value[]) {
+    Instance *m = c;
+    if (!m) return fmi2Error;
+    for (size_t i = 0; i < nvr; i++) {
+        if (vr[i] < VR_STRING0 || vr[i] >= VR_STRING0 + N_STRING)
+            return fail(m, "getString: value reference %u is not a String variable of this FMU", vr[i]);
+        value[i] = m->s[vr[i] - VR_STRING0];
+    }
+    return fmi2OK;
+}
+
+/* a parameter set after initialisation: refused (1, logged), else 0 */
+static int parameter_fixed(Instance *m, const char *call, const char *name, const char *keeps) {
+    if (!m->initialized) return 0;
+    fail(m, "%s: parameter %s is fixed after initialisation (variability fixed); it keeps %s", call, name, keeps);
+    return 1;
+}
+
+fmi2Status fmi2SetReal(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, const fmi2Real value[]) {
+    Instance *m = c;
+    if (!m) return fmi2Error;
+    fmi2Status status = fmi2OK;
+    char a[32], why[512];
+    for (size_t i = 0; i < nvr; i++) {
+        fmi2ValueReference k = vr[i];
+        if (k < N_INPUTS) { /* inputs: any value; a non-finite one is refused when evaluated */
+            m->r[k] = value[i];
+            m->dirty = 1;
+            continue;
+        }
+        if (k >= (fmi2ValueReference)N_REAL) {
+            status = fail(m, "setReal: value reference %u is not a Real variable of this FMU", k);
+            continue;
+        }
+        if (is_output_real(k)) {
+            status = fail(m, "setReal: %s is an output and cannot be set", real_name((int)k));
+            continue;
+        }
+        if (parameter_fixed(m, "setReal", real_name((int)k), bn_num(a, sizeof a, m->r[k], 17))) {
+            status = fmi2Error;
+            continue;
+        }
+        if (check_real_parameter((int)k, value[i], why, sizeof why)) {
+            m->refused[k] = 1;
+            snprintf(m->refused_msg[k], sizeof m->refused_msg[k], "%s", why);
+            status = fail(m, "setReal: %s; %s keeps %s", why, real_name((int)k), bn_num(a, sizeof a, m->r[k], 17));
+            continue;
+        }
+        m->refused[k] = 0;
+        m->r[k] = value[i];
+    }
+    return status;
+}
+
+fmi2Status fmi2SetInteger(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, const fmi2Integer value[]) {
+    Instance *m = c;
+    (void)value;
+    if (!m) return fmi2Error;
+    if (nvr > 0) return fail(m, "setInteger: value reference %u is not an Integer variable of this FMU", vr[0]);
+    return fmi2OK;
+}
+
+fmi2Status fmi2SetBoolean(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, const fmi2Boolean value[]) {
+    Instance *m = c;
+    if (!m) return fmi2Error;
+    fmi2Status status = fmi2OK;
+    for (size_t i = 0; i < nvr; i++) {
+        if (vr[i] < VR_BOOL0 || vr[i] >= VR_BOOL0 + N_BOOL) {
+            status = fail(m, "setBoolean: value reference %u is not a Boolean variable of this FMU", vr[i]);
+            continue;
+        }
+        int k = (int)(vr[i] - VR_BOOL0);
+        if (k == B_OUT_OF_DOMAIN) {
+            status = fail(m, "setBoolean: out_of_domain is an output and cannot be set");
+            continue;
+        }
+        if (parameter_fixed(m, "setBoolean", BOOL_NAMES[k], m->b[k] ? "True" : "False")) {
+            status = fmi2Error;
+            continue;
+        }
+        m->b[k] = value[i] != fmi2False;
+    }
+    return status;
+}
+
+fmi2Status fmi2SetString(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, const fmi2String value[]) {
+    Instance *m = c;
+    if (!m) return fmi2Error;
+    fmi2Status status = fmi2OK;
+    char why[512], out[STRING_MAX], keeps[STRING_MAX + 2];
+    for (size_t i = 0; i < nvr; i++) {
+        if (vr[i] < VR_STRING0 || vr[i] >= VR_STRING0 + N_STRING) {
+            status = fail(m, "setString: value reference %u is not a String variable of this FMU", vr[i]);
+            continue;
+        }
+        int k = (int)(vr[i] - VR_STRING0);
+        int slot = N_REAL + N_BOOL + k;
+        snprintf(keeps, sizeof keeps, "'%s'", m->s[k]);
+        if (parameter_fixed(m, "setString", string_name(k), keeps)) {
+            status = fmi2Error;
+            continue;
+        }
+        if (check_string_parameter(k, value[i] ? value[i] : "", out, why, sizeof why)) {
+            m->refused[slot] = 1;
+            snprintf(m->refused_msg[slot], sizeof m->refused_msg[slot], "%s", why);
+            status = fail(m, "setString: %s; %s keeps %s", why, string_name(k), keeps);
+            continue;
+        }
+        m->refused[slot] = 0;
+        snprintf(m->s[k], STRING_MAX, "%s", out);
+    }
+    return status;
+}
+
+/* ------------------------------------------------------------------------------ FMU state */
+
+fmi2Status fmi2GetFMUstate(fmi2Component c, fmi2FMUstate *FMUstate) {
+    Instance *m = c;
+    if (!m || !FMUstate) return fmi2Error;
+    State *s = *FMUstate;
+    if (!s) {
+        s = m->cb.allocateMemory ? m->cb.allocateMemory(1, sizeof(State)) : calloc(1, sizeof(State));
+        if (!s) return fail(m, "getFMUstate: out of memory");
+        *FMUstate = s;
+    }
+    memset(s, 0, sizeof *s);
+    snprintf(s->tag, sizeof s->tag, "%s", STATE_TAG);
+    snprintf(s->guid, sizeof s->guid, "%s", BN_GUID);
+    s->t = m->t;
+    memcpy(s->values, m->r, sizeof s->values);
+    s->out_of_domain = m->b[B_OUT_OF_DOMAIN];
+    return fmi2OK;
+}
+
+static int valid_state(const State *s) {
+    return s && strncmp(s->tag, STATE_TAG, sizeof s->tag) == 0 && strncmp(s->guid, BN_GUID, sizeof s->guid) == 0;
+}
+
+fmi2Status fmi2SetFMUstate(fmi2Component c, fmi2FMUstate FMUstate) {
+    Instance *m = c;
+    const State *s = FMUstate;
+    if (!m) return fmi2Error;
+    if (!valid_state(s))
+        return fail(m, "setFMUstate: not a %s state of this FMU; the instance keeps its state", STATE_TAG);
+    m->t = s->t;
+    memcpy(m->r, s->values, sizeof s->values);
+    m->b[B_OUT_OF_DOMAIN] = s->out_of_domain;
+    m->terminated = 0;
+    m->dirty = 1;
+    return fmi2OK;
+}
+
+fmi2Status fmi2FreeFMUstate(fmi2Component c, fmi2FMUstate *FMUstate) {
+    Instance *m = c;
+    if (!m || !FMUstate) return fmi2Error;
+    if (*FMUstate) {
+        if (m->cb.freeMemory)
+            m->cb.freeMemory(*FMUstate);
+        else
+            free(*FMUstate);
+    }
+    *FMUstate = NULL;
+    return fmi2OK;
+}
+
+fmi2Status fmi2SerializedFMUstateSize(fmi2Component c, fmi2FMUstate FMUstate, size_t *size) {
+    (void)FMUstate;
+    if (!c || !size) return fmi2Error;
+    *size = sizeof(State);
+    return fmi2OK;
+}
+
+fmi2Status fmi2SerializeFMUstate(fmi2Component c, fmi2FMUstate FMUstate, fmi2Byte serializedState[], size_t size) {
+    Instance *m = c;
+    if (!m) return fmi2Error;
+    if (!valid_state(FMUstate)) return fail(m, "serializeFMUstate: not a %s state of this FMU", STATE_TAG);
+    if (size < sizeof(State))
+        return fail(m, "serializeFMUstate: a buffer of %zu bytes is smaller than the state (%zu bytes)", size,
+                    sizeof(State));
+    memcpy(serializedState, FMUstate, sizeof(State));
+    return fmi2OK;
+}
+
+fmi2Status fmi2DeSerializeFMUstate(fmi2Component c, const fmi2Byte serializedState[], size_t size,
+                                   fmi2FMUstate *FMUstate) {
+    Instance *m = c;
+    if (!m || !FMUstate) return fmi2Error;
+    if (size != sizeof(State) || !valid_state((const State *)(const void *)serializedState))
+        return fail(m, "deSerializeFMUstate: %zu bytes are not a serialised %s state of this FMU", size, STATE_TAG);
+    fmi2FMUstate s = *FMUstate;
+    if (!s) {
+        s = m->cb.allocateMemory ? m->cb.allocateMemory(1, sizeof(State)) : calloc(1, sizeof(State));
+        if (!s) return fail(m, "deSerializeFMUstate: out of memory");
+    }
+    memcpy(s, serializedState, sizeof(State));
+    *FMUstate = s;
+    return fmi2OK;
+}
+
+/* ------------------------------------------------------------------------------ derivatives */
+
+fmi2Status fmi2GetDirectionalDerivative(fmi2Component c, const fmi2ValueReference vUnknown_ref[], size_t nUnknown,
+                                        const fmi2ValueReference vKnown_ref[], size_t nKnown,
+                                        const fmi2Real dvKnown[], fmi2Real dvUnknown[]) {
+    Instance *m = c;
+    if (!m) return fmi2Error;
+    if (m->mode == MODE_INSTANTIATED || m->mode == MODE_TERMINATED)
+        return fail(m, "getDirectionalDerivative in %s: initialise the instance first", MODE_NAMES[m->mode]);
+    if (m->mode == MODE_INIT && setup(m))
+        return fail(m, "getDirectionalDerivative in Initialization Mode: %s", m->init_error);
+    /* the direction in the inputs */
+    double dx[5] = {0, 0, 0, 0, 0};
+    for (size_t j = 0; j < nKnown; j++) {
+        if (vKnown_ref[j] >= N_INPUTS)
+            return fail(m, "getDirectionalDerivative: known %s (value reference %u) is not an input; the outputs "
+                        "depend on y, z, vy, vz, omega", vKnown_ref[j] < (fmi2ValueReference)N_REAL
+                        ? real_name((int)vKnown_ref[j]) : "?", vKnown_ref[j]);
+        dx[vKnown_ref[j]] += dvKnown[j];
+    }
+    double x[5], F[2], J[8], dw[2];
+    int ood;
+    for (int i = 0; i < 5; i++) x[i] = m->r[i];
+    for (int i = 0; i < 5; i++)
+        if (!isfinite(x[i])) {
+            char a[32];
+            bn_log(m, fmi2Discard, "getDirectionalDerivative: bearing input %s = %s is not finite", CORE_NAMES[i],
+                   bn_num(a, 32, x[i], 17));
+            return fmi2Discard;
+        }
+    if (bn_eval(m, x, 1, F, J, dw, &ood)) {
+        bn_log(m, fmi2Discard, "getDirectionalDerivative: %s", m->msg);
+        return fmi2Discard;
+    }
+    double e = hypot(x[0], x[1]), CR = m->r[VR_CR];
+    double decc = e > 0.0 ? (x[0] * dx[0] + x[1] * dx[1]) / (e * CR) : 0.0;
+    for (size_t i = 0; i < nUnknown; i++) {
+        fmi2ValueReference u = vUnknown_ref[i];
+        if (u == VR_FY || u == VR_FZ) {
+            const double *row = J + 4 * (u - VR_FY);
+            dvUnknown[i] = row[0] * dx[0] + row[1] * dx[1] + row[2] * dx[2] + row[3] * dx[3] + dw[u - VR_FY] * dx[4];
+        } else if (u == VR_ECC) {
+            dvUnknown[i] = decc;
+        } else if (u == VR_HMIN) {
+            dvUnknown[i] = -CR * decc;
+        } else {
+            return fail(m, "getDirectionalDerivative: unknown %s (value reference %u): only Fy, Fz, eccentricity "
+                        "and h_min have derivatives (K.., C.. would need the force's second derivatives)",
+                        u < (fmi2ValueReference)N_REAL ? real_name((int)u) : "?", u);
+        }
+    }
+    return fmi2OK;
+}
+
+/* ------------------------------------------------------------------------------ FMI: Co-Simulation */
+
+fmi2Status fmi2SetRealInputDerivatives(fmi2Component c, const fmi2ValueReference vr[], size_t nvr,
+                                       const fmi2Integer order[], const fmi2Real value[]) {
+    (void)vr; (void)nvr; (void)order; (void)value;
+    if (!c) return fmi2Error;
+    return fail(c, "setRealInputDerivatives: not supported (canInterpolateInputs is false)");
+}
+
+fmi2Status fmi2GetRealOutputDerivatives(fmi2Component c, const fmi2ValueReference vr[], size_t nvr,
+                                        const fmi2Integer order[], fmi2Real value[]) {
+    (void)vr; (void)nvr; (void)order; (void)value;
+    if (!c) return fmi2Error;
+    return fail(c, "getRealOutputDerivatives: not supported (maxOutputDerivativeOrder is 0)");
+}
+
+fmi2Status fmi2DoStep(fmi2Component c, fmi2Real currentCommunicationPoint, fmi2Real communicationStepSize,
+                      fmi2Boolean noSetFMUStatePriorToCurrentPoint) {
+    Instance *m = c;
+    (void)noSetFMUStatePriorToCurrentPoint;
+    if (!m) return fmi2Error;
+    double t0 = currentCommunicationPoint, h = communicationStepSize, t = t0 + h;
+    char a[32], b[32];
+    if (!(h > 0.0 && h < INFINITY))
+        return fail(m, "doStep: communicationStepSize = %s s must be finite and > 0 (currentCommunicationPoint = %s s)",
+                    bn_num(a, 32, h, 17), bn_num(b, 32, t0, 17));
+    if (!isfinite(t0))
+        return fail(m, "doStep: currentCommunicationPoint = %s s must be finite", bn_num(a, 32, t0, 17));
+    if (!isfinite(t))
+        return fail(m, "doStep: currentCommunicationPoint + communicationStepSize = %s + %s s is not finite",
+                    bn_num(a, 32, t0, 17), bn_num(b, 32, h, 17));
+    if (m->mode != MODE_STEP) {
+        if (m->init_error[0])
+            return fail(m, "step to t = %s s refused: %s", bn_num(a, 32, t, 10), m->init_error);
+        return fail(m, "step to t = %s s refused: doStep in %s: %s", bn_num(a, 32, t, 10), MODE_NAMES[m->mode],
+                    m->type == fmi2ModelExchange ? "this instance is a Model Exchange one"
+                                                 : "call exitInitializationMode first");
+    }
+    if (evaluate(m)) {
+        bn_log(m, fmi2Discard, "%s at t = %s s", m->msg, bn_num(a, 32, t, 10));
+        m->terminated = 1;
+        return fmi2Discard;
+    }
+    m->t = t;
+    m->terminated = 0;
+    return fmi2OK;
+}
+
+fmi2Status fmi2CancelStep(fmi2Component c) {
+    if (!c) return fmi2Error;
+    return fail(c, "cancelStep: doStep never runs asynchronously here");
+}
+
+fmi2Status fmi2GetStatus(fmi2Component c, const fmi2StatusKind s, fmi2Status *value) {
+    (void)value;
+    if (!c) return fmi2Error;
+    return fail(c, "getStatus: status kind %d is not provided (doStep never returns fmi2Pending)", (int)s);
+}
+
+fmi2Status fmi2GetRealStatus(fmi2Component c, const fmi2StatusKind s, fmi2Real *value) {
+    Instance *m = c;
+    if (!m) return fmi2Error;
+    if (s != fmi2LastSuccessfulTime) return fail(m, "getRealStatus: status kind %d is not provided", (int)s);
+    *value = m->t;
+    return fmi2OK;
+}
+
+fmi2Status fmi2GetIntegerStatus(fmi2Component c, const fmi2StatusKind s, fmi2Integer *value) {
+    (void)value;
+    if (!c) return fmi2Error;
+    return fail(c, "getIntegerStatus: status kind %d is not provided", (int)s);
+}
+
+fmi2Status fmi2GetBooleanStatus(fmi2Component c, const fmi2StatusKind s, fmi2Boolean *value) {
+    Instance *m = c;
+    if (!m) return fmi2Error;
+    if (s != fmi2Terminated) return fail(m, "getBooleanStatus: status kind %d is not provided", (int)s);
+    *value = m->terminated ? fmi2True : fmi2False;
+    return fmi2OK;
+}
+
+fmi2Status fmi2GetStringStatus(fmi2Component c, const fmi2StatusKind s, fmi2String *value) {
+    (void)value;
+    if (!c) return fmi2Error;
+    return fail(c, "getStringStatus: status kind %d is not provided", (int)s);
+}
+
+/* ------------------------------------------------------------------------------ FMI: Model Exchange */
+/* No continuous states and no event indicators: the outputs are a direct feedthrough of the
+ * inputs, computed when read (outputs_for_get). */
+
+fmi2Status fmi2EnterEventMode(fmi2Component c) {
+    Instance *m = c;
+    if (!m) return fmi2Error;
+    m->mode = MODE_EVENT;
+    return fmi2OK;
+}
+
+fmi2Status fmi2NewDiscreteStates(fmi2Component c, fmi2EventInfo *info) {
+    if (!c || !info) return fmi2Error;
+    info->newDiscreteStatesNeeded = fmi2False;
+    info->terminateSimulation = fmi2False;
+    info->nominalsOfContinuousStatesChanged = fmi2False;
+    info->valuesOfContinuousStatesChanged = fmi2False;
+    info->nextEventTimeDefined = fmi2False;
+    info->nextEventTime = 0.0;
+    return fmi2OK;
+}
+
+fmi2Status fmi2EnterContinuousTimeMode(fmi2Component c) {
+    Instance *m = c;
+    if (!m) return fmi2Error;
+    m->mode = MODE_CONTINUOUS;
+    return fmi2OK;
+}
+
+fmi2Status fmi2CompletedIntegratorStep(fmi2Component c, fmi2Boolean noSetFMUStatePriorToCurrentPoint,
+                                       fmi2Boolean *enterEventMode, fmi2Boolean *terminateSimulation) {
+    (void)noSetFMUStatePriorToCurrentPoint;
+    if (!c) return fmi2Error;
+    if (enterEventMode) *enterEventMode = fmi2False;
+    if (terminateSimulation) *terminateSimulation = fmi2False;
+    return fmi2OK;
+}
+
+fmi2Status fmi2SetTime(fmi2Component c, fmi2Real time) {
+    Instance *m = c;
+    if (!m) return fmi2Error;
+    m->t = time;
+    return fmi2OK;
+}
+
+static fmi2Status no_states(fmi2Component c, const char *call, size_t n, const char *what) {
+    if (!c) return fmi2Error;
+    if (n != 0) return fail(c, "%s: this FMU has no %s, got %zu", call, what, n);
+    return fmi2OK;
+}
+
+fmi2Status fmi2SetContinuousStates(fmi2Component c, const fmi2Real x[], size_t nx) {
+    (void)x;
+    return no_states(c, "setContinuousStates", nx, "continuous states");
+}
+
+fmi2Status fmi2GetDerivatives(fmi2Component c, fmi2Real derivatives[], size_t nx) {
+    (void)derivatives;
+    return no_states(c, "getDerivatives", nx, "continuous states");
+}
+
+fmi2Status fmi2GetEventIndicators(fmi2Component c, fmi2Real eventIndicators[], size_t ni) {
+    (void)eventIndicators;
+    return no_states(c, "getEventIndicators", ni, "event indicators");
+}
+
+fmi2Status fmi2GetContinuousStates(fmi2Component c, fmi2Real x[], size_t nx) {
+    (void)x;
+    return no_states(c, "getContinuousStates", nx, "continuous states");
+}
+
+fmi2Status fmi2GetNominalsOfContinuousStates(fmi2Component c, fmi2Real x_nominal[], size_t nx) {
+    (void)x_nominal;
+    return no_states(c, "getNominalsOfContinuousStates", nx, "continuous states");
+}

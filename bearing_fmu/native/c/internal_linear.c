@@ -1,0 +1,36 @@
+/* The linear internal (bearing_fmu/linear.py): F = F0 - K (q - q0) - C v with Lund's K, C,
+ * valid at the speed omega_lin; its 12 coefficients and omega_lin are parameters. Like the
+ * Python internal it evaluates beyond the clearance circle (the host reports a crossing);
+ * only a speed other than omega_lin is refused. */
+#include <math.h>
+#include <stdio.h>
+
+#include "bearing_native.h"
+
+#define P(name) (m->r[VR_OPT_##name])
+
+int bn_setup(Instance *m) {
+    (void)m;
+    return 0; /* every coefficient was checked finite when set */
+}
+
+int bn_eval(Instance *m, const double x[5], int want_jac, double F[2], double J[8], double dw[2], int *ood) {
+    double omega0 = P(OMEGA_LIN);
+    *ood = 0;
+    if (fabs(x[4] - omega0) > 1e-9 * fmax(fabs(omega0), 1.0)) {
+        char a[32], b[32];
+        snprintf(m->msg, sizeof m->msg, "linear internal was linearised at omega = %s rad/s; got omega = %s rad/s",
+                 bn_num(a, sizeof a, omega0, 6), bn_num(b, sizeof b, x[4], 6));
+        return 1;
+    }
+    double dy = x[0] - P(LIN_Y0), dz = x[1] - P(LIN_Z0), vy = x[2], vz = x[3];
+    /* the same order of operations as Linear.force */
+    F[0] = P(LIN_FY0) - P(LIN_KYY) * dy - P(LIN_KYZ) * dz - P(LIN_CYY) * vy - P(LIN_CYZ) * vz;
+    F[1] = P(LIN_FZ0) - P(LIN_KZY) * dy - P(LIN_KZZ) * dz - P(LIN_CZY) * vy - P(LIN_CZZ) * vz;
+    if (want_jac) {
+        J[0] = -P(LIN_KYY); J[1] = -P(LIN_KYZ); J[2] = -P(LIN_CYY); J[3] = -P(LIN_CYZ);
+        J[4] = -P(LIN_KZY); J[5] = -P(LIN_KZZ); J[6] = -P(LIN_CZY); J[7] = -P(LIN_CZZ);
+        dw[0] = dw[1] = 0.0; /* the model has no speed in it (it refuses any other speed) */
+    }
+    return 0;
+}

@@ -1,0 +1,204 @@
+/* The force-map internal (bearing_fmu/forcemap.py, _map_kernels.py): the Reynolds force
+ * reduced to G(eps, beta), tabulated and interpolated by a tensor cubic B-spline in
+ * s = -ln(1 - eps) and beta (periodic), F = S r (G_r u + G_t w), S = mu R L (R / CR)^2.
+ * The knots and coefficients are model_data.h (MAP_TS, MAP_TB, MAP_C); this file is a line-by-line
+ * port of map_force, so the force and Jacobian equal the Python internal's to rounding.
+ * States at or beyond the table's last eccentricity (MAP_EPS_MAX) are refused. */
+#include <math.h>
+#include <stdio.h>
+
+#include "bearing_native.h"
+#include "model_data.h"
+
+/* knot span i (3 <= i <= n - 1) with t[i] <= x < t[i + 1], clamped to the base interval */
+static int span(const double *t, int n, double x) {
+    if (x >= t[n]) return n - 1;
+    if (x <= t[3]) return 3;
+    int lo = 3, hi = n;
+    while (hi - lo > 1) {
+        int mid = (lo + hi) / 2;
+        if (x >= t[mid])
+            lo = mid;
+        else
+            hi = mid;
+    }
+    return lo;
+}
+
+/* the four non-zero cubic B-splines at x and their derivatives (Piegl & Tiller A2.2) */
+static void basis(const double *t, int i, double x, double N[4], double dN[4]) {
+    double left[4], right[4], N2[3] = {0, 0, 0};
+    N[0] = 1.0;
+    for (int j = 1; j < 4; j++) {
+        left[j] = x - t[i + 1 - j];
+        right[j] = t[i + j] - x;
+        double saved = 0.0;
+        for (int r = 0; r < j; r++) {
+            double temp = N[r] / (right[r + 1] + left[j - r]);
+            N[r] = saved + right[r + 1] * temp;
+            saved = left[j - r] * temp;
+        }
+        N[j] = saved;
+        if (j == 2) {
+            N2[0] = N[0];
+            N2[1] = N[1];
+            N2[2] = N[2];
+        }
+    }
+    for (int r = 0; r < 4; r++) {
+        double d = 0.0;
+        if (r >= 1) d += N2[r - 1] / (t[i + r] - t[i - 3 + r]);
+        if (r <= 2) d -= N2[r] / (t[i + 1 + r] - t[i - 2 + r]);
+        dN[r] = 3.0 * d;
+    }
+}
+
+/* Python's float modulo: the result has the sign of the divisor */
+static double py_mod(double x, double p) {
+    double r = fmod(x, p);
+    if (r != 0.0) {
+        if ((p < 0) != (r < 0)) r += p;
+    } else {
+        r = copysign(0.0, p);
+    }
+    return r;
+}
+
+/* out[k] = (value, d/ds, d/dbeta) of the two components */
+static void spline2(double s, double beta, double out[2][3]) {
+    const double *ts = MAP_TS, *tb = MAP_TB;
+    int ns = MAP_NS, nb = MAP_NB;
+    double period = tb[nb] - tb[3];
+    double b = tb[3] + py_mod(beta - tb[3], period);
+    int i = span(ts, ns, s), j = span(tb, nb, b);
+    double Ns[4], dNs[4], Nb[4], dNb[4];
+    basis(ts, i, s, Ns, dNs);
+    basis(tb, j, b, Nb, dNb);
+    for (int k = 0; k < 2; k++) {
+        double v = 0.0, vs = 0.0, vb = 0.0;
+        for (int p = 0; p < 4; p++) {
+            double row_v = 0.0, row_b = 0.0;
+            for (int q = 0; q < 4; q++) {
+                double c = MAP_C[((i - 3 + p) * nb + (j - 3 + q)) * 2 + k];
+                row_v += Nb[q] * c;
+                row_b += dNb[q] * c;
+            }
+            v += Ns[p] * row_v;
+            vs += dNs[p] * row_v;
+            vb += Ns[p] * row_b;
+        }
+        out[k][0] = v;
+        out[k][1] = vs;
+        out[k][2] = vb;
+    }
+}
+
+/* G = H / (1 - eps)^k and its eps and beta derivatives */
+static void gfun(double eps, double beta, double g[2][3]) {
+    double s = -log1p(-eps);
+    spline2(s, beta, g);
+    double grow = exp(MAP_WALL_EXPONENT * s), dsde = exp(s);
+    for (int k = 0; k < 2; k++) {
+        double h = g[k][0], hs = g[k][1], hb = g[k][2];
+        g[k][0] = h * grow;
+        g[k][1] = (hs + MAP_WALL_EXPONENT * h) * grow * dsde;
+        g[k][2] = hb * grow;
+    }
+}
+
+int bn_setup(Instance *m) {
+    double D = m->r[VR_D], L = m->r[VR_L], CR = m->r[VR_CR], mu = m->r[VR_MU];
+    double ld = L / D;
+    if (fabs(ld - MAP_L_OVER_D) > MAP_LD_RTOL * MAP_L_OVER_D) {
+        char a[32], b[32], c[32], d[32];
+        snprintf(m->msg, sizeof m->msg, "force map %s is for L/D = %s, the bearing has L/D = %s (L = %s m, D = %s m): "
+                 "build a map for it with `bearing-fmu map --bearing FILE -o MAP`", MAP_SOURCE,
+                 bn_num(a, 32, MAP_L_OVER_D, 6), bn_num(b, 32, ld, 6), bn_num(c, 32, L, 6), bn_num(d, 32, D, 6));
+        return 1;
+    }
+    double R = 0.5 * D;
+    m->work.scale = mu * R * L * pow(R / CR, 2.0); /* forcemap.scale, in its order of operations */
+    return 0;
+}
+
+int bn_eval(Instance *m, const double x[5], int want_jac, double F[2], double J[8], double dw[2], int *ood) {
+    const double y = x[0], z = x[1], vy = x[2], vz = x[3], omega = x[4];
+    const double CR = m->r[VR_CR], scale = m->work.scale;
+    *ood = 0;
+    double e = hypot(y, z), cp, sp;
+    if (e > 0.0) {
+        cp = y / e;
+        sp = z / e;
+    } else {
+        cp = 1.0;
+        sp = 0.0;
+    }
+    double eps = e / CR;
+    if (!(eps < MAP_EPS_MAX)) {
+        char a[32], b[32], c[32], d[32], f[32];
+        int wall = eps >= 1.0;
+        snprintf(m->msg, sizeof m->msg, "eccentricity ratio %s >= %s: the journal (y = %s m, z = %s m) is %s (CR = %s m; "
+                 "the map covers eps < %s)", bn_num(a, 32, eps, 4), wall ? "1" : bn_num(b, 32, MAP_EPS_MAX, 6),
+                 bn_num(c, 32, y, 4), bn_num(d, 32, z, 4),
+                 wall ? "at or beyond the bearing wall" : "beyond the force map's last point",
+                 bn_num(f, 32, CR, 4), bn_num(b, 32, MAP_EPS_MAX, 6));
+        return 1;
+    }
+    double eps_eval = fmax(eps, MAP_EPS_MIN);
+    double vr = vy * cp + vz * sp, vt = -vy * sp + vz * cp;
+    double a = eps_eval * omega - 2.0 * vt / CR, c = 2.0 * vr / CR;
+    double r = hypot(a, c);
+    double g[2][3], g2[2][3];
+    double Pr, Pt, Pr_a, Pr_c, Pt_a, Pt_c, Pr_e, Pt_e;
+    if (r > 0.0) {
+        double beta = atan2(c, a);
+        gfun(eps_eval, beta, g);
+        double cb = a / r, sb = c / r;
+        Pr = r * g[0][0];
+        Pt = r * g[1][0];
+        Pr_a = cb * g[0][0] - sb * g[0][2];
+        Pr_c = sb * g[0][0] + cb * g[0][2];
+        Pt_a = cb * g[1][0] - sb * g[1][2];
+        Pt_c = sb * g[1][0] + cb * g[1][2];
+        Pr_e = r * g[0][1];
+        Pt_e = r * g[1][1];
+    } else { /* no film source: no force; the derivative is the odd part of the directional response */
+        Pr = Pt = Pr_e = Pt_e = 0.0;
+        gfun(eps_eval, 0.0, g);
+        gfun(eps_eval, M_PI, g2);
+        Pr_a = 0.5 * (g[0][0] - g2[0][0]);
+        Pt_a = 0.5 * (g[1][0] - g2[1][0]);
+        gfun(eps_eval, 0.5 * M_PI, g);
+        gfun(eps_eval, -0.5 * M_PI, g2);
+        Pr_c = 0.5 * (g[0][0] - g2[0][0]);
+        Pt_c = 0.5 * (g[1][0] - g2[1][0]);
+    }
+    F[0] = scale * (Pr * cp - Pt * sp);
+    F[1] = scale * (Pr * sp + Pt * cp);
+    if (!want_jac) return 0;
+    double da_dphi = c, dc_dphi = eps_eval * omega - a;
+    double dPr_dphi = Pr_a * da_dphi + Pr_c * dc_dphi;
+    double dPt_dphi = Pt_a * da_dphi + Pt_c * dc_dphi;
+    double dFphi_y = scale * ((dPr_dphi - Pt) * cp - (dPt_dphi + Pr) * sp);
+    double dFphi_z = scale * ((dPr_dphi - Pt) * sp + (dPt_dphi + Pr) * cp);
+    double dPr_de = Pr_e + Pr_a * omega, dPt_de = Pt_e + Pt_a * omega;
+    double dFe_y = scale * (dPr_de * cp - dPt_de * sp);
+    double dFe_z = scale * (dPr_de * sp + dPt_de * cp);
+    double e_eval = eps_eval * CR;
+    J[0] = dFe_y * cp / CR - dFphi_y * sp / e_eval;
+    J[4] = dFe_z * cp / CR - dFphi_z * sp / e_eval;
+    J[1] = dFe_y * sp / CR + dFphi_y * cp / e_eval;
+    J[5] = dFe_z * sp / CR + dFphi_z * cp / e_eval;
+    for (int col = 0; col < 2; col++) {
+        double dvr = col == 0 ? cp : sp, dvt = col == 0 ? -sp : cp;
+        double da = -2.0 * dvt / CR, dc = 2.0 * dvr / CR;
+        double dPr = Pr_a * da + Pr_c * dc, dPt = Pt_a * da + Pt_c * dc;
+        J[2 + col] = scale * (dPr * cp - dPt * sp);
+        J[6 + col] = scale * (dPr * sp + dPt * cp);
+    }
+    /* the speed enters through a = eps omega - 2 v_t / CR only */
+    double dPr_w = Pr_a * eps_eval, dPt_w = Pt_a * eps_eval;
+    dw[0] = scale * (dPr_w * cp - dPt_w * sp);
+    dw[1] = scale * (dPr_w * sp + dPt_w * cp);
+    return 0;
+}
