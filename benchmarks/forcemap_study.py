@@ -28,11 +28,15 @@ import argparse
 import math
 import os
 import platform
+import sys
 import tempfile
 import time
+from pathlib import Path
 
 import numpy as np
 from numba import njit
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # this checkout's packages, not the installed ones
 
 from bearing_fmu.forcemap import (DEFAULT_EPS_MAX, DEFAULT_N_BETA, DEFAULT_N_EPS, DEFAULT_N_PHASE,
                                   DEFAULT_WALL_EXPONENT, ForceMap, _row, load_map, reduced, save_map, scale,
@@ -44,14 +48,19 @@ OMEGA = 2 * math.pi * 22.0
 BANDS = ((0.0, 0.95), (0.0, 0.98), (0.98, 0.99))  # eccentricity ranges of the random state sets
 TARGETS = {BANDS[0]: 1e-3, BANDS[1]: 5e-3}  # issue 15: force within 0.1 % (eps <= 0.95), 0.5 % (eps <= 0.98)
 DEFAULT = (DEFAULT_N_EPS, DEFAULT_N_BETA, DEFAULT_N_PHASE, DEFAULT_EPS_MAX, DEFAULT_WALL_EXPONENT)
-# (n_eps, n_beta, attitudes, eps_max, k): the resolution ladder at the default attitudes, eps_max
-# and k, then each of those varied alone around the default
-TABLES = [(24, 48, 4, 0.99, 2.0), (32, 64, 4, 0.99, 2.0), DEFAULT, (64, 128, 4, 0.99, 2.0),
+PREVIOUS = (48, 96, 4, 0.99, 2.0)  # the default before this study
+# (n_eps, n_beta, attitudes, eps_max, k): the resolution ladder at k = 2 around the previous
+# default with its attitudes, eps_max and k varied alone; then the ladder at k = 0 up to the
+# default and the default's attitudes, eps_max and k varied alone
+TABLES = [(24, 48, 4, 0.99, 2.0), (32, 64, 4, 0.99, 2.0), PREVIOUS, (64, 128, 4, 0.99, 2.0),
           (96, 192, 4, 0.99, 2.0), (48, 192, 4, 0.99, 2.0), (96, 96, 4, 0.99, 2.0),
           (48, 96, 1, 0.99, 2.0), (48, 96, 2, 0.99, 2.0), (48, 96, 8, 0.99, 2.0),
           (48, 96, 4, 0.98, 2.0), (48, 96, 4, 0.995, 2.0),
-          (48, 96, 4, 0.99, 0.0), (48, 96, 4, 0.99, 1.0), (48, 96, 4, 0.99, 3.0)]
-QUICK = [(24, 48, 1, 0.99, 2.0), DEFAULT]
+          (48, 96, 4, 0.99, 0.0), (48, 96, 4, 0.99, 1.0), (48, 96, 4, 0.99, 3.0),
+          (64, 96, 4, 0.99, 0.0), (80, 96, 4, 0.99, 0.0), DEFAULT, (96, 192, 4, 0.99, 0.0),
+          (96, 96, 1, 0.99, 0.0), (96, 96, 8, 0.99, 0.0), (96, 96, 4, 0.98, 0.0), (96, 96, 4, 0.995, 0.0),
+          (96, 96, 4, 0.99, 1.0)]
+QUICK = [(24, 48, 1, 0.99, 2.0), PREVIOUS, DEFAULT]
 # Lund coefficients: (speed [Hz], load on one bearing [N]) of the paper scenes' equilibria (half the
 # rotor weight 16.7 N plus the static load on the bearing node) and the harsh 0.95 scene
 EQUILIBRIA = [(10.0, 16.7), (22.0, 16.7), (44.0, 16.7), (10.0, 516.7), (20.0, 816.7), (10.0, 896.7)]
@@ -138,7 +147,7 @@ def resolution_table(rey, sets, grid):
         cols = " | ".join(q(e[b]) for b in BANDS)
         over = " / ".join(f"{100 * np.mean(e[b] > tol):.1f}" for b, tol in TARGETS.items())
         interp = q(interpolation_errors(fmap, rey, sets[BANDS[1]][: len(sets[BANDS[1]]) // 2]))
-        mark = " (default)" if (ne, nb, nph, em, k) == DEFAULT else ""
+        mark = {DEFAULT: " (default)", PREVIOUS: " (previous default)"}.get((ne, nb, nph, em, k), "")
         print(f"| {ne} x {nb}{mark} | {nph} | {em:g} | {k:g} | {built:.1f} | {size:.0f} | {cols} | {over} | {interp} |",
               flush=True)
 
@@ -237,9 +246,17 @@ def main():
     ap.add_argument("--quick", action="store_true", help="fewer states and tables")
     ap.add_argument("--map", default="models/maps/paper_bearing.json",
                     help="the map for the Lund coefficients and the speed (default: the shipped one)")
+    ap.add_argument("--speed-only", nargs="*", metavar="MAP",
+                    help="only the cost per call, of these map files (default: --map)")
     args = ap.parse_args()
     n = 100 if args.quick else 400
     rey = Reynolds(P)
+    if args.speed_only is not None:
+        for path in args.speed_only or [args.map]:
+            fmap = ForceMap.from_file(path, P)
+            print(f"{fmap!r}: ", end="")
+            speed(fmap, rey)
+        return
     sets = {b: states(n, *b, seed=i + 1) for i, b in enumerate(BANDS)}
     print(f"# force map study, {time.strftime('%Y-%m-%d')}, {platform.processor() or platform.machine()}, "
           f"{os.cpu_count()} cores, load {os.getloadavg()[0]:.1f}; Reynolds {rey.n_theta} x {rey.n_x}, "
