@@ -32,10 +32,13 @@ from .params import BearingParams
 
 FORMAT = "bearing-fmu-force-map"
 VERSION = 1
-DEFAULT_N_EPS = 48  # table points in s = -ln(1 - eps) (docs/forcemap.md: convergence study)
+# defaults from the resolution study (docs/studies/2026-11-24-forcemap-resolution.md): 96 points in
+# s and k = 0 take the interpolation error near the centre, where a growing 44 Hz whirl spends its
+# first seconds, from 1.4e-3 (48 points, k = 2) to 5e-5; the held-out 44 Hz orbit from 0.059 to 0.002 % CR
+DEFAULT_N_EPS = 96  # table points in s = -ln(1 - eps)
 DEFAULT_N_BETA = 96  # table points in beta over one period
 DEFAULT_EPS_MAX = 0.99  # last table point: beyond it the map refuses the state
-DEFAULT_WALL_EXPONENT = 2.0  # k in H = G (1 - eps)^k
+DEFAULT_WALL_EXPONENT = 0.0  # k in H = G (1 - eps)^k (the s axis already follows the wall growth)
 DEFAULT_N_PHASE = 4  # attitudes per table point, spread over one Reynolds cell (averaged)
 EPS_MIN = 1e-6  # below: evaluated at EPS_MIN along the same direction (kernel docstring: 1/e in the
 # attitude derivatives would amplify round-off; the shift moves the force by ~1e-6 of S omega)
