@@ -194,7 +194,7 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--bearing", type=existing_file, help="bearing TOML file (default: the paper bearing); the map "
                    "serves every bearing of the same L/D")
     p.add_argument("-o", "--output", type=output_file, required=True, help="map JSON file to write")
-    p.add_argument("--resolution", type=typed("N_EPSxN_BETA, n_eps 4..2000 and n_beta 8..4000 (e.g. 48x96)",
+    p.add_argument("--resolution", type=typed("N_EPSxN_BETA, n_eps 4..2000 and n_beta 8..4000 (e.g. 96x96)",
                                                _resolution), default=(DEFAULT_N_EPS, DEFAULT_N_BETA), metavar="N_EPSxN_BETA",
                    help=f"table points in -ln(1 - eps) x beta (default {DEFAULT_N_EPS}x{DEFAULT_N_BETA})")
     p.add_argument("--grid", type=grid, default=None, metavar="N_THETAxN_X",

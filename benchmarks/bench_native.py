@@ -52,7 +52,7 @@ def c_host_costs(tmp: Path, repeat: int, n: int = 200_000) -> list[dict]:
         cases.append((f"taylor {name} ({s.recipe}, {s.neighbours.points.shape[0] if s.neighbours else 0} "
                       "training states)", "taylor", {"surrogate": SURROGATES / f"{name}.json"},
                       (s.y0, s.z0, 0.0, 0.0, s.omega)))
-    cases.append(("map paper_bearing (48 x 96)", "map", {"map": MAP}, (s22.y0, s22.z0, 0.0, 0.0, s22.omega)))
+    cases.append(("map paper_bearing (96 x 96)", "map", {"map": MAP}, (s22.y0, s22.z0, 0.0, 0.0, s22.omega)))
     cases.append(("linear", "linear", {"options": {"linear_from": "map", "map": str(MAP)}},
                   (s22.y0, s22.z0, 0.0, 0.0, 2 * 3.141592653589793 * 22.0)))
     rows = []

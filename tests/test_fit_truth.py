@@ -64,7 +64,7 @@ def test_map_truth_draws_training_and_held_out_samples_from_the_map(map_file):
 
 
 def test_paper_map_samples_are_within_its_accuracy_of_reynolds():
-    # the shipped map (48 x 96 from Reynolds 128 x 16) against Reynolds 128 x 16 at the README's
+    # the shipped map (96 x 96 from Reynolds 128 x 16) against Reynolds 128 x 16 at the README's
     # designed samples (22 Hz, ecc <= 0.6, |v| <= 0.4 omega CR). Measured 2026-11-24 on 200
     # samples: NRMSE 7.4e-5 (Fy) / 3.9e-5 (Fz), largest error 7.2e-4 of max(|F|, S omega);
     # docs/forcemap.md gives the map's accuracy over the whole table. Bounds: 4x margin.

@@ -24,12 +24,13 @@ from fmpy.fmi2 import (FMU2Model, FMU2Slave, fmi2CallbackAllocateMemoryTYPE,  # 
                        fmi2CallbackFreeMemoryTYPE, fmi2CallbackFunctions, fmi2CallbackLoggerTYPE)
 
 from bearing_fmu import internals as registry  # noqa: E402
-from bearing_fmu.params import PAPER_BEARING  # noqa: E402
+from bearing_fmu.params import PAPER_BEARING, BearingParams  # noqa: E402
 from bearing_fmu.surrogate import load_surrogate  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 SURROGATES = sorted((ROOT / "models" / "surrogates").glob("*.json"))
 MAPS = sorted((ROOT / "models" / "maps").glob("*.json"))
+PAPER_MAP = ROOT / "models" / "maps" / "paper_bearing.json"  # the paper bearing's L/D
 OK, WARNING, DISCARD, ERROR = 0, 1, 2, 3
 FMI2_TERMINATED = 3
 IN = ("y", "z", "vy", "vz", "omega")
@@ -55,16 +56,27 @@ def native(tmp_path_factory):
     out = {}
     for path in MAPS:
         fmu = folder / f"map_{path.stem}.fmu"
-        assert main(["build", "--native", "--internal", "map", "--map", str(path), "-o", str(fmu)]) == 0
-        out[f"map:{path.stem}"] = (fmu, registry.create("map", PAPER_BEARING, {"map": str(path)}), PAPER_BEARING)
+        bearing = _map_bearing(path)  # a map serves its own L/D: the bearing it was built for
+        extra = ["--bearing", str(bearing)] if bearing else []
+        params = BearingParams.from_toml(bearing) if bearing else PAPER_BEARING
+        assert main(["build", "--native", "--internal", "map", "--map", str(path), *extra, "-o", str(fmu)]) == 0
+        out[f"map:{path.stem}"] = (fmu, registry.create("map", params, {"map": str(path)}), params)
     for path in SURROGATES:
         fmu = build_native_fmu(folder / f"taylor_{path.stem}.fmu", "taylor", surrogate=path)
         params = load_surrogate(path).params
         out[f"taylor:{path.stem}"] = (fmu, registry.create("taylor", params, {"surrogate": str(path)}), params)
-    lin_opts = {"linear_from": "map", "map": str(MAPS[0])}
+    lin_opts = {"linear_from": "map", "map": str(PAPER_MAP)}
     fmu = build_native_fmu(folder / "linear.fmu", "linear", options=lin_opts)
     out["linear"] = (fmu, registry.create("linear", PAPER_BEARING, lin_opts), PAPER_BEARING)
     return {k: (fmu, fmpy.extract(str(fmu)), py, params) for k, (fmu, py, params) in out.items()}
+
+
+def _map_bearing(path: Path) -> Path | None:
+    """The bearing file a shipped map was built for (its provenance), None for the paper bearing."""
+    import json
+
+    name = json.loads(path.read_text()).get("provenance", {}).get("bearing_file", "")
+    return ROOT / name if name.endswith(".toml") and (ROOT / name).is_file() else None
 
 
 class Raw:
@@ -537,7 +549,7 @@ def test_fmpy_cmake_project_builds_the_same_binary(native, tmp_path):
     an FMU that gives the same force."""
     from bearing_fmu.native.build import build_native_fmu
 
-    fmu = build_native_fmu(tmp_path / "cmake.fmu", "map", map=MAPS[0], cmake=True)
+    fmu = build_native_fmu(tmp_path / "cmake.fmu", "map", map=PAPER_MAP, cmake=True)
     _f, _u, py, params = native["map:paper_bearing"]
     raw = Raw(fmu, fmpy.extract(str(fmu)))
     try:
@@ -570,7 +582,7 @@ def test_a_map_for_another_length_to_diameter_is_refused(tmp_path):
     from bearing_fmu.params import BearingParams
 
     with pytest.raises(ValueError, match="L/D"):
-        build_native_fmu(tmp_path / "x.fmu", "map", map=MAPS[0], bearing=BearingParams(0.031, 0.031, 90e-6, 0.05))
+        build_native_fmu(tmp_path / "x.fmu", "map", map=PAPER_MAP, bearing=BearingParams(0.031, 0.031, 90e-6, 0.05))
 
 
 # ----------------------------------------------------------------------------- the rotor host
@@ -590,14 +602,14 @@ def test_native_parameters_of_a_scene(write_scene):
         [linear]
         linear_from = "map"
         [map]
-        map = "{MAPS[0].as_posix()}"
+        map = "{PAPER_MAP.as_posix()}"
         [taylor]
         surrogate = "{SURROGATES[1].as_posix()}"
         domain_action = "fallback"
         """))
     assert sc.fmu_kind == "native"
     p = _fmu_parameters(sc, PAPER_BEARING, (0.0, -16.7))
-    lin = registry.create("linear", PAPER_BEARING, {"linear_from": "map", "map": str(MAPS[0])},
+    lin = registry.create("linear", PAPER_BEARING, {"linear_from": "map", "map": str(PAPER_MAP)},
                           registry.Context(load=(0.0, -16.7), omega=sc.omega))
     assert p["lin_Kyz"] == lin.K[0, 1] and p["lin_Czz"] == lin.C[1, 1] and p["omega_lin"] == sc.omega
     assert "n_theta" not in p and "linear_from" not in p  # options a native FMU does not have

@@ -217,7 +217,7 @@ def test_paper_rotor_onset_near_43_hz():
 
 
 def test_map_threshold_equals_reynolds():
-    """The shipped force map (models/maps/paper_bearing.json, 48 x 96, from Reynolds 128 x 16)
+    """The shipped force map (models/maps/paper_bearing.json, 96 x 96, from Reynolds 128 x 16)
     reproduces the Reynolds force to 4e-3 at most (docs/forcemap.md, the solver's own scatter),
     and the threshold depends on ratios of the coefficients: 0.1 Hz (0.25 %) for the threshold
     and the whirl (measured 0.004 and 0.002 Hz); the critical speeds to 0.05 Hz."""
