@@ -244,7 +244,8 @@ class BearingFMU(Fmi2Slave):
     """Hydrodynamic journal bearing: film force from the journal state (see module docstring)."""
 
     description = ("Hydrodynamic journal bearing (plain cylindrical): film force on the journal from its "
-                   "position, velocity and speed; internal: Reynolds solver, Taylor surrogate or linear")
+                   "position, velocity and speed; internal: Reynolds solver, linear model, Taylor surrogate or "
+                   "force map")
     version = __version__
     default_experiment = DefaultExperiment(start_time=0.0, stop_time=0.1, step_size=1e-4)
 
