@@ -53,6 +53,10 @@ _INTERFACE = {
 }
 
 
+_CHOICE = {"python": "The parameter internal (or internal_enum) chooses what computes the force.",
+           "native": "This native FMU computes one internal, compiled in."}
+
+
 def _variables(root: ET.Element) -> str:
     rows = []
     for sv in root.find("ModelVariables"):
@@ -77,10 +81,11 @@ def _enumerations(root: ET.Element) -> str:
                           + (f" ({_E(i.get('description'))})" if i.get("description") else "")
                           for i in simple.iter("Item"))
         out.append(f"<li><b>{_E(simple.get('name'))}</b>: {items}</li>")
-    return ("<p>Each choice parameter is declared twice: as a String (its name) and as an enumeration (its "
-            "number; a drop-down in tools that show one). Set either; a value away from its start value wins, "
-            "and if both are set away from their start values they must agree (else the initialisation fails, "
-            "naming both).</p>\n<ul>\n" + "\n".join(out) + "\n</ul>")
+    return ("<p>Each choice parameter is declared twice: as a String (its name) and as an enumeration "
+            "&lt;name&gt;_enum (its number; a drop-down in tools that show one). Set either: an enumeration set "
+            "away from its start value wins over the String, and if both are set away from their start values "
+            "they must agree (else the initialisation fails, naming both).</p>\n<ul>\n" + "\n".join(out)
+            + "\n</ul>")
 
 
 def _bearing(rec: dict) -> str:
@@ -127,7 +132,7 @@ journal centre's displacement (y, z) from the bearing centre [m], its velocity (
 shaft speed omega [rad/s] (right-handed about the shaft axis x, z up, gravity along -z); the outputs are
 the film force on the journal (Fy, Fz) [N], the eccentricity ratio, the minimum film thickness and the
 film stiffness and damping K<sub>ij</sub> = -dF<sub>i</sub>/dq<sub>j</sub>, C<sub>ij</sub> =
--dF<sub>i</sub>/dv<sub>j</sub> (Lund's sign). The parameter internal chooses what computes the force.</p>
+-dF<sub>i</sub>/dv<sub>j</sub> (Lund's sign). {_E(_CHOICE[kind])}</p>
 <p>{_E(_INTERFACE[kind])}</p>
 <h2>Internals and where each is valid</h2>
 <ul>

@@ -20,7 +20,6 @@ from __future__ import annotations
 
 import hashlib
 import math
-import re
 from pathlib import Path
 from xml.etree import ElementTree as ET
 
@@ -252,7 +251,7 @@ def data_file_record(path) -> dict:
 
         s = load_surrogate(path)
         rec.update(holds="Taylor surrogate", recipe=s.recipe, order=s.order, omega=s.omega,
-                   speed_hz=s.omega / (2 * math.pi), expansion_point=[s.y0, s.z0], wall_power=s.wall_power,
+                   speed_hz=float(f"{s.omega / (2 * math.pi):.12g}"), expansion_point=[s.y0, s.z0], wall_power=s.wall_power,
                    shape_order=s.shape_order, bearing=s.params.as_dict(), provenance=s.provenance)
     elif option.name == "map":
         from .forcemap import load_map
@@ -267,13 +266,9 @@ def model_name(kind: str, internal: str, files, bearing: str) -> str:
     """A model name per build: 'BearingFMU <what computes> <data files> (<bearing>)', e.g.
     'BearingFMU taylor paper_22hz_16.7N native (paper bearing)' or
     'BearingFMU python paper_22hz_16.7N paper_bearing (bearing_paper)'."""
-    what = internal + " native" if kind == "native" else "python"
     stems = [Path(f).stem for f in files]
-    if kind == "native" and stems:
-        what = f"{internal} {' '.join(stems)} native"
-    elif stems:
-        what += " " + " ".join(stems)
-    return f"BearingFMU {what} ({bearing})"
+    words = [internal, *stems, "native"] if kind == "native" else ["python", *stems]
+    return f"BearingFMU {' '.join(words)} ({bearing})"
 
 
 def build_record(kind: str, internals, default_internal: str, params: BearingParams, bearing_source="",
@@ -329,8 +324,3 @@ def strip_whitespace(root: ET.Element) -> None:
             el.text = None
         if el.tail is not None and not el.tail.strip():
             el.tail = None
-
-
-def safe_name(text: str) -> str:
-    """``text`` with anything but letters, digits and . _ - + ( ) space replaced (model names)."""
-    return re.sub(r"[^\w.+() -]", "_", text)

@@ -195,6 +195,25 @@ def test_enumeration_parameters_choose_like_their_string(fmu, unzip, surrogate_f
     assert any("internal_enum = 9 must be one of 1 (reynolds), 2 (linear), 3 (taylor), 4 (map)" in m for m in msgs)
 
 
+def test_rotor_host_sets_an_enumeration_by_name_or_number(fmu, map_file):
+    """rotor_host/cosim.py (FMUBearings): an enumeration parameter given as its item's name or its
+    number; an unknown name is refused naming the items."""
+    from bearing_fmu import internals as registry
+    from rotor_host.cosim import FMUBearings, FMUError
+
+    q, v = np.array(STATE[:2]), np.array(STATE[2:4])
+    want = registry.create("map", P, {"map": str(map_file)}).force(*q, *v, OMEGA)
+    for value in ("map", 4):
+        with FMUBearings(fmu, [(0, 1)], OMEGA, [{"internal_enum": value}]) as b:
+            b.begin_step(0.0, 1e-4)
+            f, _dq, _dv = b.evaluate(q, v)
+            assert tuple(f) == pytest.approx(want, rel=1e-14), value
+            b.accept_step()
+    with pytest.raises(FMUError, match=r"internal_enum = 'magic' is not an item of .*BearingFMU.Internal; "
+                                       r"items: reynolds = 1, linear = 2, taylor = 3, map = 4"):
+        FMUBearings(fmu, [(0, 1)], OMEGA, [{"internal_enum": "magic"}])
+
+
 def test_nothing_set_initialises_without_a_warning(fmu):
     """fmpy.simulate_fmu with nothing set (and with every start value written): the default
     internal (Reynolds) at the start values (journal centred, omega 0) evaluates without a
