@@ -20,6 +20,8 @@ statics                equilibrium, Lund linearisation, Jacobians of any interna
 fitting/               fitting a surrogate: FitRecipe, ridge, sampling, the fit, report,
                        ``bearing-fmu fit`` (never bundled into the FMU)
 slave, build           the pythonfmu slave and the FMU build
+fmu_meta, fmu_docs     both FMUs' model-description extras (display units, bounds,
+                       enumerations, build record) and documentation/index.html
 cli                    the ``bearing-fmu`` command
 =====================  ==============================================================
 

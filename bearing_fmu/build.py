@@ -38,23 +38,14 @@ from xml.dom.minidom import parseString
 from xml.etree import ElementTree as ET
 
 from . import __version__
+from .fmu_meta import UNITS  # noqa: F401 - the unit definitions (shared with the native build)
 
 HERE = Path(__file__).resolve().parent
-NOT_IN_FMU = {"build.py", "cli.py", "exits.py", "fmu_binary.py", "outputs.py", "slave.py"}  # build tooling; slave.py becomes the slave module
+NOT_IN_FMU = {"build.py", "cli.py", "exits.py", "fmu_binary.py", "fmu_docs.py", "fmu_meta.py", "outputs.py",
+              "slave.py"}  # build tooling; slave.py becomes the slave module
 MODEL_IDENTIFIER = "BearingFMU"
 REQUIREMENTS = "numpy>=1.26\nscipy>=1.11\nnumba>=0.59\n"
 
-# unit name -> SI base-unit exponents (FMI 2.0 BaseUnit attributes)
-UNITS = {
-    "m": {"m": 1},
-    "m/s": {"m": 1, "s": -1},
-    "rad/s": {"rad": 1, "s": -1},
-    "N": {"kg": 1, "m": 1, "s": -2},
-    "N/m": {"kg": 1, "s": -2},
-    "N.s/m": {"kg": 1, "s": -1},
-    "Pa.s": {"kg": 1, "m": -1, "s": -1},
-    "1": {},
-}
 
 _ABS_IMPORT = re.compile(r"^\s*import\s+bearing_fmu\b", re.M)
 _ABS_FROM = re.compile(r"^(\s*)from\s+bearing_fmu(?=[.\s])", re.M)
@@ -221,45 +212,59 @@ def _stage(stage: Path, surrogates: list[Path]) -> tuple[Path, str, list[Path]]:
     return script, pkg, project
 
 
-def _postprocess(xml_bytes: bytes, pkg: str, bearing: dict | None = None) -> bytes:
-    """Units, start values that round-trip (the built-in bearing's D, L, CR, mu from
-    ``bearing`` when given), InitialUnknowns and output dependencies."""
-    from .slave import VARIABLES
+def _postprocess(xml_bytes: bytes, pkg: str, bearing: dict | None = None, record: dict | None = None) -> bytes:
+    """The model description a system-simulation engineer expects (``fmu_meta``): start values
+    that round-trip (the built-in bearing's D, L, CR, mu from ``bearing`` when given), units and
+    display units, min / max / nominal, the choice parameters as enumerations, author and
+    license, the model name and description of the build ``record``, InitialUnknowns and output
+    dependencies."""
+    from . import fmu_meta
+    from .params import BearingParams
+    from .slave import ENUMERATIONS, VARIABLES, BearingFMU
 
     table = {v[0]: v for v in VARIABLES}
     for k, v in (bearing or {}).items():
         if k in table:
             table[k] = (*table[k][:4], v, *table[k][5:])
+    params = BearingParams(*(table[k][4] for k in ("D", "L", "CR", "mu")))
+    omega_ref = fmu_meta.reference_speed(table["omega"][4])
     root = ET.fromstring(xml_bytes)
+    fmu_meta.strip_whitespace(root)
     root.set("generationTool", f"bearing_fmu {__version__} build ({root.get('generationTool', 'PythonFMU')})")
-    root.set("description", root.get("description", "") + f" [code package {pkg}]")
+    summary = BearingFMU.description
+    if record is not None:
+        root.set("modelName", record["model_name"])
+        summary = fmu_meta.description_text(summary, record)
+    root.set("description", summary + f" [code package {pkg}]")
+    fmu_meta.set_author_and_license(root)
 
     mvars = root.find("ModelVariables")
-    inputs, outputs, params = [], [], []
+    inputs, outputs, params_idx = [], [], []
     used_units = set()
     for index, sv in enumerate(mvars.findall("ScalarVariable"), start=1):
         name = sv.get("name")
         entry = table.get(name)
         causality = sv.get("causality")
-        {"input": inputs, "output": outputs, "parameter": params}.get(causality, []).append(index)
-        real = sv.find("Real")
+        {"input": inputs, "output": outputs, "parameter": params_idx}.get(causality, []).append(index)
+        real, integer = sv.find("Real"), sv.find("Integer")
         if real is not None:
             if "start" in real.attrib:  # pythonfmu writes %.16g, which does not round-trip 9e-05
                 start = entry[4] if entry is not None else real.get("start")
                 real.set("start", repr(float(start)))
-            if entry is not None and entry[3]:
-                real.set("unit", entry[3])
-                used_units.add(entry[3])
+            if entry is not None:
+                real.attrib.update(fmu_meta.real_attributes(name, entry[3], params, omega_ref))
+                if entry[3]:
+                    used_units.add(entry[3])
+        elif integer is not None and name in ENUMERATIONS:  # FMI 2.0: an Integer-valued enumeration
+            integer.tag = "Enumeration"
+            integer.set("declaredType", fmu_meta.enum_type_name(ENUMERATIONS[name][0]))
+        elif integer is not None:
+            integer.attrib.update(fmu_meta.integer_attributes(name))
 
-    # UnitDefinitions go right after the CoSimulation element
     if used_units:
-        units = ET.Element("UnitDefinitions")
-        for u in sorted(used_units):
-            unit = ET.SubElement(units, "Unit", name=u)
-            ET.SubElement(unit, "BaseUnit", {k: str(v) for k, v in UNITS[u].items()})
-        children = list(root)
-        pos = next(i for i, c in enumerate(children) if c.tag == "CoSimulation") + 1
-        root.insert(pos, units)
+        fmu_meta.place(root, fmu_meta.unit_definitions(used_units))
+    fmu_meta.place(root, fmu_meta.type_definitions(
+        [(string, list(enumerate(items, start=1))) for string, items in ENUMERATIONS.values()]))
 
     structure = root.find("ModelStructure")
     for child in list(structure):
@@ -270,7 +275,7 @@ def _postprocess(xml_bytes: bytes, pkg: str, bearing: dict | None = None) -> byt
     for i in outputs:
         ET.SubElement(out_node, "Unknown", index=str(i), dependencies=deps, dependenciesKind=kinds)
     # at initialisation the outputs are computed from the inputs and the parameters
-    init_deps = sorted(inputs + params)
+    init_deps = sorted(inputs + params_idx)
     init_node = ET.SubElement(structure, "InitialUnknowns")
     for i in outputs:
         ET.SubElement(init_node, "Unknown", index=str(i), dependencies=" ".join(map(str, init_deps)),
@@ -295,11 +300,12 @@ def patch_linux_binary(data: bytes) -> tuple[bytes, str]:
     return data, left
 
 
-def _rewrite_zip(path: Path, pkg: str, bearing: dict | None = None) -> None:
+def _rewrite_zip(path: Path, pkg: str, bearing: dict | None = None, record: dict | None = None) -> None:
     import json
 
     from .fmu_binary import STATUS_PATCHES, patch_pythonfmu_binary, status_patched
-    from .slave import BEARING_DEFAULTS, PATCH_NOTES
+    from .fmu_docs import documentation_html
+    from .slave import BEARING_DEFAULTS, BUILD_INFO, PATCH_NOTES
 
     tmp = path.with_name(path.name + ".tmp")
     notes = {}
@@ -307,7 +313,12 @@ def _rewrite_zip(path: Path, pkg: str, bearing: dict | None = None) -> None:
         for item in zin.infolist():
             data = zin.read(item.filename)
             if item.filename == "modelDescription.xml":
-                data = _postprocess(data, pkg, bearing)
+                data = _postprocess(data, pkg, bearing, record)
+                if record is not None:  # the page is made from the model description just written
+                    zout.writestr("documentation/index.html", documentation_html(data, record),
+                                  compress_type=zipfile.ZIP_DEFLATED)
+                    zout.writestr(f"resources/{BUILD_INFO}", json.dumps(record, indent=1, default=str) + "\n",
+                                  compress_type=zipfile.ZIP_DEFLATED)
             elif item.filename.startswith("binaries/linux64/") and item.filename.endswith(".so"):
                 data, notes["linux64"] = patch_pythonfmu_binary(data)
                 _warn_unpatched(item.filename, notes["linux64"], STATUS_PATCHES, status_patched)
@@ -378,7 +389,10 @@ def build_fmu(output, surrogate=None, bearing=None, bearing_source: str = "") ->
     """
     from pythonfmu import FmuBuilder
 
+    from . import fmu_meta
+    from . import internals as registry
     from .outputs import write_bytes
+    from .params import PAPER_BEARING
 
     output = Path(output)
     if output.suffix != ".fmu":
@@ -413,7 +427,9 @@ def build_fmu(output, surrogate=None, bearing=None, bearing_source: str = "") ->
             defaults = None
             if bearing is not None:
                 defaults = {**bearing.as_dict(), "source": str(bearing_source) or "given to build_fmu"}
-            _rewrite_zip(tmp_fmu, pkg, defaults)
+            record = fmu_meta.build_record("python", registry.names(), "reynolds", bearing or PAPER_BEARING,
+                                           bearing_source, surrogates)
+            _rewrite_zip(tmp_fmu, pkg, defaults, record)
             write_bytes(output, tmp_fmu.read_bytes())  # atomic: a parallel reader sees one whole FMU
     finally:
         # pythonfmu's builder imported the staged modules and left the stage on sys.path:

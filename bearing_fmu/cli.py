@@ -91,7 +91,8 @@ def _build_native(args: argparse.Namespace) -> int:
     ensure_output_file(args.output, "-o/--output")
     bearing = BearingParams.from_toml(args.bearing) if args.bearing else None
     path = build_native_fmu(args.output, internal, surrogate=surrogates[0] if surrogates else None,
-                            map=maps[0] if maps else None, bearing=bearing, cmake=args.cmake)
+                            map=maps[0] if maps else None, bearing=bearing, cmake=args.cmake,
+                            bearing_source=args.bearing or "")
     print(f"wrote {path} (native FMU, {internal} internal, Model Exchange and Co-Simulation, no Python)")
     return 0
 

@@ -55,6 +55,22 @@ SURROGATE_DIR = "surrogates"  # inside the FMU's resources folder: the files of 
 # parameters come from their registry options.
 _IN, _OUT, _PAR = "input", "output", "parameter"
 _FMI_TYPE = {float: "Real", int: "Integer", bool: "Boolean", str: "String"}
+_DEFAULT_INTERNAL = "reynolds"
+# Enumeration parameters: each String parameter with choices again as an FMI 2.0 enumeration (an
+# Integer whose values are item k + 1 of the choices; build.py declares its TypeDefinition), for
+# masters that show one as a drop-down. name -> (its String parameter, the items). Set either; a
+# value away from its start wins, and if both are set away from their starts they must agree
+# (BearingFMU._choices). New internals and choices go at the end: the numbers stay.
+ENUMERATIONS = {"internal_enum": ("internal", registry.names()),
+                **{f"{o.name}_enum": (o.name, o.choices) for o in registry.all_options() if o.choices}}
+_STRING_DEFAULTS = {"internal": _DEFAULT_INTERNAL, **{o.name: o.default for o in registry.all_options()}}
+
+
+def enum_value(name: str, item: str) -> int:
+    """The value of ``item`` in enumeration parameter ``name`` (1 for the first choice)."""
+    return ENUMERATIONS[name][1].index(item) + 1
+
+
 VARIABLES = (
     # inputs: the journal state at the end of the step
     ("y", "Real", _IN, "m", 0.0, "journal centre displacement from the bearing centre, horizontal"),
@@ -83,13 +99,18 @@ VARIABLES = (
     ("CR", "Real", _PAR, "m", PAPER_BEARING.CR, "radial clearance"),
     ("mu", "Real", _PAR, "Pa.s", PAPER_BEARING.mu, "dynamic viscosity of the oil"),
     # parameters: which internal, and whether the outputs K.., C.. are computed
-    ("internal", "String", _PAR, None, "reynolds",
-     "which internal computes the force: " + " | ".join(registry.names())),
+    ("internal", "String", _PAR, None, _DEFAULT_INTERNAL,
+     "which internal computes the force: " + " | ".join(registry.names()) + " (or internal_enum)"),
     ("compute_tangent", "Boolean", _PAR, None, True,
      "compute the outputs K.., C.. from the internal's Jacobian at every step"),
     # parameters: every registered internal's options
     *((o.name, _FMI_TYPE[o.type], _PAR, o.unit, o.default, o.help if o.type is str else f"{o.help} ({o.allowed()})")
       for o in registry.all_options()),
+    # parameters: the choices again as enumerations (after the rest: the value references stay)
+    *((name, "Integer", _PAR, None, enum_value(name, _STRING_DEFAULTS[string]),
+       f"{string} as an enumeration ({', '.join(f'{k + 1} = {c}' for k, c in enumerate(items))}): the same choice "
+       f"as the String parameter {string}; set either (set both, they must agree)")
+      for name, (string, items) in ENUMERATIONS.items()),
 )
 
 INPUTS = tuple(v[0] for v in VARIABLES if v[2] == _IN)
@@ -203,6 +224,7 @@ class _LoggingFlag:
 
 
 BEARING_DEFAULTS = "bearing.json"  # in resources/: D, L, CR, mu of `bearing-fmu build --bearing FILE`
+BUILD_INFO = "build_info.json"  # in resources/: what the FMU was built from (bearing, data files, hashes)
 
 
 def _bearing_defaults(resources) -> dict:
@@ -222,7 +244,8 @@ class BearingFMU(Fmi2Slave):
     """Hydrodynamic journal bearing: film force from the journal state (see module docstring)."""
 
     description = ("Hydrodynamic journal bearing (plain cylindrical): film force on the journal from its "
-                   "position, velocity and speed; internal: Reynolds solver, Taylor surrogate or linear")
+                   "position, velocity and speed; internal: Reynolds solver, linear model, Taylor surrogate or "
+                   "force map")
     version = __version__
     default_experiment = DefaultExperiment(start_time=0.0, stop_time=0.1, step_size=1e-4)
 
@@ -257,6 +280,7 @@ class BearingFMU(Fmi2Slave):
         self._internal = None  # built in exit_initialization_mode (or by an output read in Initialization Mode)
         self._built_from = None  # the parameter values it was built from
         self._internal_name = ""
+        self._choices_built = {}  # the String choices the internal was built with (_choices)
         self._jacobian = None
         self._params = None
         self._mode = _INSTANTIATED
@@ -328,6 +352,10 @@ class BearingFMU(Fmi2Slave):
             return self._fail(self._init_error)
         self._mode = _STEP
         self._real_get = self._real_names
+        for name, (string, items) in ENUMERATIONS.items():  # both show the choice that counts
+            choice = self._choices_built[string]
+            setattr(self, string, choice)
+            setattr(self, name, enum_value(name, choice))
         # outputs at the start time from the initial inputs, when they can be evaluated; a
         # master may set the inputs only before the first step, so a state the internal
         # refuses is not an initialisation error
@@ -361,11 +389,27 @@ class BearingFMU(Fmi2Slave):
         self._build_internal()
         self._built_from = values
 
+    def _choices(self) -> dict:
+        """The String choice parameters as they count: each one's value, or its enumeration's
+        item where only the enumeration was set away from its start; ValueError naming both when
+        both were and they disagree."""
+        out = {}
+        for name, (string, items) in ENUMERATIONS.items():
+            value, text = getattr(self, name), str(getattr(self, string)).strip().lower()
+            enum_set = value != enum_value(name, _STRING_DEFAULTS[string])
+            if enum_set and text != _STRING_DEFAULTS[string] and text != items[value - 1]:
+                raise ValueError(f"{string} = {getattr(self, string)!r} and {name} = {value} ({items[value - 1]}) "
+                                 f"disagree: set one of them ({name} is the same choice as an enumeration)")
+            out[string] = items[value - 1] if enum_set else text
+        return out
+
     def _build_internal(self) -> None:
         params = BearingParams(D=self.D, L=self.L, CR=self.CR, mu=self.mu)
         self._params = params
-        spec = registry.get(self.internal)
-        options = {o.name: getattr(self, o.name) for o in spec.all_options()}
+        choices = self._choices()
+        self._choices_built = choices
+        spec = registry.get(choices["internal"])
+        options = {o.name: choices.get(o.name, getattr(self, o.name)) for o in spec.all_options()}
         context = Context(resolve=self._resource_file,
                           warn=lambda msg: self._log(f"t = {self._t:.10g} s: {msg}", Fmi2Status.warning))
         internal = spec.create(params, options, context, where="FMU parameter")
@@ -546,6 +590,11 @@ class BearingFMU(Fmi2Slave):
         check the whole set when it is built."""
         if name == "internal":
             registry.get(value)
+        elif name in ENUMERATIONS:
+            items = ENUMERATIONS[name][1]
+            if not 1 <= value <= len(items):
+                raise ValueError(f"{name} = {value!r} must be one of "
+                                 + ", ".join(f"{k + 1} ({c})" for k, c in enumerate(items)))
         elif name in _BEARING:
             if not (0.0 < value < _INF):
                 raise ValueError(f"{name} = {value!r} {_UNITS[name]} must be finite and > 0")

@@ -146,10 +146,22 @@ class FMUBearings(BearingSet):
                 fmu.setReal(vr, [float(value)])
             elif var.type == "Integer":
                 fmu.setInteger(vr, [int(value)])
+            elif var.type == "Enumeration":  # FMI 2.0: Integer-valued; given by its number or its item's name
+                fmu.setInteger(vr, [self._enum_value(k, var, value)])
             elif var.type == "Boolean":
                 fmu.setBoolean(vr, [bool(value)])
             else:
                 fmu.setString(vr, [str(value)])
+
+    def _enum_value(self, k, var, value) -> int:
+        """The number of an enumeration parameter's value (a number, or an item's name)."""
+        if isinstance(value, str):
+            items = {i.name.lower(): int(i.value) for i in var.declaredType.items}
+            if value.strip().lower() not in items:
+                raise FMUError(f"{self.names[k]}: {var.name} = {value!r} is not an item of {self.fmu_path.name}'s "
+                               f"{var.declaredType.name}; items: {', '.join(f'{n} = {v}' for n, v in items.items())}")
+            return items[value.strip().lower()]
+        return int(value)
 
     # -- NodalForce protocol -----------------------------------------------------------
     def begin_step(self, t: float, dt: float) -> None:

@@ -72,6 +72,185 @@ def test_validate_and_model_description(fmu):
         assert set(u.dependencies) == inputs
 
 
+# ----------------------------------------------------------------------------- what a system-simulation engineer reads
+
+
+def test_model_description_units_ranges_and_names(fmu, surrogate_file, map_file):
+    import hashlib
+    import tomllib
+
+    md = fmpy.read_model_description(str(fmu))
+    v = {x.name: x for x in md.modelVariables}
+    # display units where natural (the issue's list: um for y, z, CR; mm for D, L; rpm for omega)
+    assert {n: v[n].displayUnit for n in ("y", "z", "CR", "h_min", "D", "L", "omega", "omega_lin", "vy")} == {
+        "y": "um", "z": "um", "CR": "um", "h_min": "um", "D": "mm", "L": "mm", "omega": "rpm", "omega_lin": "rpm",
+        "vy": "mm/s"}
+    factors = {(u.name, d.name): d.factor for u in md.unitDefinitions for d in u.displayUnits}
+    assert factors[("m", "um")] == 1e6 and factors[("m", "mm")] == 1e3
+    assert factors[("rad/s", "rpm")] == pytest.approx(60 / (2 * math.pi), rel=1e-15)
+    # bounds: the physical ranges of bearing_fmu/params.py (D 1 mm .. 5 m, L/D 0.05 .. 5, CR/R 1e-5 .. 0.05,
+    # mu 1e-5 .. 10 Pa s), for any D (the ratios are checked at initialisation)
+    bounds = {n: (float(v[n].min), float(v[n].max)) for n in ("D", "L", "CR", "mu")}
+    assert bounds["D"] == (1e-3, 5.0) and bounds["mu"] == (1e-5, 10.0)
+    assert bounds["L"] == pytest.approx((0.05 * 1e-3, 5 * 5.0), rel=1e-15)
+    assert bounds["CR"] == pytest.approx((1e-5 * 0.5e-3, 0.05 * 2.5), rel=1e-15)
+    assert float(v["D"].nominal) == P.D and float(v["y"].nominal) == P.CR  # the bearing's scales
+    # the registry's ranges: n_theta >= 8 or 0 (the solver's default), at most 100000
+    assert (v["n_theta"].min, v["n_theta"].max) == ("0", "100000")
+    assert float(v["domain_limit"].min) == 0.0 and float(v["eccentricity"].min) == 0.0
+    # author and license: the project's (pyproject.toml), or the fallback when it names no author
+    project = tomllib.loads((ROOT / "pyproject.toml").read_text())["project"]
+    authors = ", ".join(a.get("name") or a.get("email", "") for a in project.get("authors", []))
+    assert md.author == (authors or "bearing_fmu maintainers")
+    lic = project.get("license")
+    assert md.license == ((lic.get("text") or lic.get("file")) if isinstance(lic, dict) else lic)
+    # a model name per build: what computes, the bundled files, the bearing (fmu_meta.model_name)
+    assert md.modelName == "BearingFMU python paper_22hz paper_map (paper bearing)"
+    # the bearing's geometry and the bundled files with their hashes in the description
+    assert "bearing D 31 mm, L 20 mm, CR 90 um, mu 0.05 Pa.s (paper bearing (Table 2))" in md.description
+    for f in (surrogate_file, map_file):
+        assert f"{f.name} sha256 {hashlib.sha256(f.read_bytes()).hexdigest()[:12]}" in md.description
+
+
+def test_choice_parameters_are_also_enumerations(fmu):
+    """FMI 2.0 enumerations (Integer-valued TypeDefinitions) beside the String parameters: the
+    items are the registry's choices in its order, numbered from 1; the start is the String's."""
+    from bearing_fmu import internals as registry
+
+    md = fmpy.read_model_description(str(fmu))
+    v = {x.name: x for x in md.modelVariables}
+    expected = {"internal": registry.names(), **{o.name: o.choices for o in registry.all_options() if o.choices}}
+    assert set(expected) == {"internal", "cavitation", "linear_from", "domain_action"}
+    for string, items in expected.items():
+        e = v[f"{string}_enum"]
+        assert (e.type, e.causality, e.variability) == ("Enumeration", "parameter", "fixed")
+        assert [(i.name, int(i.value)) for i in e.declaredType.items] == [(c, k + 1) for k, c in enumerate(items)]
+        assert int(e.start) == items.index(v[string].start) + 1
+        assert v[string].type == "String"  # kept: masters and rotor_host/cosim.py set it by name
+
+
+class _Instance(EX.BearingInstance):
+    """examples/drive_fmu_with_fmpy.py's BearingInstance, also setting and reading enumerations."""
+
+    def set(self, name, value):
+        v = self.vars[name]
+        if v.type != "Enumeration":
+            return super().set(name, value)
+        self.fmu.setInteger([v.valueReference], [value])
+
+    def get(self, name):
+        v = self.vars[name]
+        return self.fmu.getInteger([v.valueReference])[0] if v.type == "Enumeration" else super().get(name)
+
+
+def _simulate_all_starts(fmu, start_values: dict):
+    """One step of fmpy.simulate_fmu as a master that writes every start value and then the
+    user's (apply_default_start_values): (result, or the FMICallException; messages >= warning)."""
+    msgs = []
+
+    def logger(_component, _name, status, _category, message):
+        if status >= 1:
+            msgs.append(message.decode())
+
+    try:
+        res = fmpy.simulate_fmu(str(fmu), stop_time=1e-4, output_interval=1e-4, start_values=start_values,
+                                apply_default_start_values=True, debug_logging=True, logger=logger,
+                                output=["Fy", "Fz"])
+    except FMICallException as exc:
+        res = exc
+    return res, msgs
+
+
+def test_enumeration_parameters_choose_like_their_string(fmu, unzip, surrogate_file, map_file):
+    from bearing_fmu import internals as registry
+    from bearing_fmu.taylor import Taylor
+
+    inside = (0.12 * P.CR, -0.42 * P.CR, 0.0, 0.0, OMEGA)  # the fixture surrogate's fitted domain
+    inst = _Instance(fmu, {"internal_enum": 3}, unzip_dir=unzip)  # 3 = taylor
+    try:
+        out = inst.step(1e-4, *inside)
+        assert (out["Fy"], out["Fz"]) == Taylor.from_file(surrogate_file, P).force(*inside)
+        assert (inst.get("internal"), inst.get("internal_enum")) == (b"taylor", 3)  # both show the choice (fmpy: bytes)
+    finally:
+        inst.close()
+    inst = _Instance(fmu, {"internal": "taylor", "domain_action_enum": 3}, unzip_dir=unzip)  # 3 = discard
+    try:
+        with pytest.raises(FMICallException):
+            inst.step(1e-4, 0.45 * P.CR, -0.4 * P.CR, 0.0, 0.0, OMEGA)
+        assert "domain_action = 'discard'" in inst.messages[-1] and inst.get("domain_action") == b"discard"
+    finally:
+        inst.close()
+    # a master that writes every start value (the String's "reynolds" too): the enumeration set away
+    # from its start wins
+    res, msgs = _simulate_all_starts(fmu, {"internal_enum": 4, "y": STATE[0], "z": STATE[1], "omega": OMEGA})
+    want = registry.create("map", P, {"map": str(map_file)}).force(STATE[0], STATE[1], 0.0, 0.0, OMEGA)
+    assert (res["Fy"][-1], res["Fz"][-1]) == pytest.approx(want, rel=1e-14) and not msgs
+    # both set away from their starts: they must agree
+    res, msgs = _simulate_all_starts(fmu, {"internal": "map", "internal_enum": 3})
+    assert isinstance(res, FMICallException)
+    assert any("internal = 'map' and internal_enum = 3 (taylor) disagree: set one of them" in m for m in msgs), msgs
+    res, msgs = _simulate_all_starts(fmu, {"internal": "taylor", "internal_enum": 3})
+    assert not isinstance(res, FMICallException), msgs
+    res, msgs = _simulate_all_starts(fmu, {"internal_enum": 9})
+    assert any("internal_enum = 9 must be one of 1 (reynolds), 2 (linear), 3 (taylor), 4 (map)" in m for m in msgs)
+
+
+def test_rotor_host_sets_an_enumeration_by_name_or_number(fmu, map_file):
+    """rotor_host/cosim.py (FMUBearings): an enumeration parameter given as its item's name or its
+    number; an unknown name is refused naming the items."""
+    from bearing_fmu import internals as registry
+    from rotor_host.cosim import FMUBearings, FMUError
+
+    q, v = np.array(STATE[:2]), np.array(STATE[2:4])
+    want = registry.create("map", P, {"map": str(map_file)}).force(*q, *v, OMEGA)
+    for value in ("map", 4):
+        with FMUBearings(fmu, [(0, 1)], OMEGA, [{"internal_enum": value}]) as b:
+            b.begin_step(0.0, 1e-4)
+            f, _dq, _dv = b.evaluate(q, v)
+            assert tuple(f) == pytest.approx(want, rel=1e-14), value
+            b.accept_step()
+    with pytest.raises(FMUError, match=r"internal_enum = 'magic' is not an item of .*BearingFMU.Internal; "
+                                       r"items: reynolds = 1, linear = 2, taylor = 3, map = 4"):
+        FMUBearings(fmu, [(0, 1)], OMEGA, [{"internal_enum": "magic"}])
+
+
+def test_nothing_set_initialises_without_a_warning(fmu):
+    """fmpy.simulate_fmu with nothing set (and with every start value written): the default
+    internal (Reynolds) at the start values (journal centred, omega 0) evaluates without a
+    warning or an error; the centred journal carries no force."""
+    msgs = []
+    res = fmpy.simulate_fmu(str(fmu), stop_time=2e-4, debug_logging=True,
+                            logger=lambda _c, _n, status, _k, m: status >= 1 and msgs.append(m.decode()))
+    assert not msgs and len(res) == 3 and set(res["Fy"]) | set(res["Fz"]) == {0.0}
+    res, msgs = _simulate_all_starts(fmu, {})
+    assert not msgs and not isinstance(res, FMICallException)
+
+
+def test_documentation_and_build_record(fmu, surrogate_file, map_file):
+    """documentation/index.html (one generator for both FMUs, bearing_fmu/fmu_docs.py) lists every
+    variable of the model description and where the data came from; resources/build_info.json
+    records the bearing and the files with their SHA-256."""
+    import hashlib
+    import zipfile
+
+    from bearing_fmu import internals as registry
+
+    with zipfile.ZipFile(fmu) as z:
+        page = z.read("documentation/index.html").decode()
+        info = json.loads(z.read("resources/build_info.json"))
+    md = fmpy.read_model_description(str(fmu))
+    for v in md.modelVariables:
+        assert f"<tr><td>{v.name}</td><td>{v.causality}</td>" in page, v.name
+    assert md.modelName in page and "BearingFMU.Internal" in page and "<b>taylor</b>" in page
+    for f in (surrogate_file, map_file):
+        sha = hashlib.sha256(f.read_bytes()).hexdigest()
+        assert sha in page
+        assert next(d for d in info["data_files"] if d["name"] == f.name)["sha256"] == sha
+    assert {k: info["bearing"][k] for k in ("D", "L", "CR", "mu")} == P.as_dict()
+    assert info["bearing"]["source"] == "paper bearing (Table 2)"
+    assert info["internals"] == list(registry.names()) and info["model_name"] == md.modelName
+
+
 def test_linux_binary_has_the_exit_fix(fmu):
     """pythonfmu 0.7.0 releases its interpreter state twice at exit (heap corruption, abort in
     about half the runs once all instances are freed); the build patches it, and the FMI status
@@ -380,6 +559,14 @@ def test_build_with_a_users_bearing_makes_it_the_default(tmp_path, code_cache):
               if v.name in ("D", "L", "CR", "mu")}
     params = BearingParams.from_toml(f)
     assert starts == {"D": params.D, "L": params.L, "CR": params.CR, "mu": params.mu}
+    # the bearing file recorded: its name in the model name, its hash in the description and the build record
+    import hashlib
+    import zipfile
+
+    md = fmpy.read_model_description(str(out))
+    sha = hashlib.sha256(f.read_bytes()).hexdigest()
+    assert md.modelName == "BearingFMU python (b)" and f"(b.toml sha256 {sha[:12]})" in md.description
+    assert json.loads(zipfile.ZipFile(out).read("resources/build_info.json"))["bearing"]["sha256"] == sha
     res = fmpy.simulate_fmu(str(out), stop_time=1e-3, output_interval=1e-3, output=["Fy", "Fz"],
                             start_values={"y": 1e-5, "z": -2e-5, "omega": 314.0})
     want = Reynolds(params).force(1e-5, -2e-5, 0.0, 0.0, 314.0)

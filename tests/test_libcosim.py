@@ -7,8 +7,11 @@
     settles at the static equilibrium of bearing_fmu.statics.
 (c) The same loop with a too large step diverges, as the one-step force lag of an explicit
     (Jacobi) master predicts.
+(d) The native FMU (bearing_fmu/native: the force map compiled to C, Model Exchange and
+    Co-Simulation in one archive) alone: Fy, Fz equal the map internal called directly; and in
+    the closed loop with the journal mass, where it settles at the map's static equilibrium.
 
-Both FMUs are built once per module into tmp; the bearing FMU's code cache
+The FMUs are built once per module into tmp; the bearing FMU's code cache
 (BEARING_FMU_CACHE_DIR, where numba's cache lives) is a module temp dir, so the Reynolds
 kernels compile once per run (~6 s, counted in the runtime).
 """
@@ -83,6 +86,29 @@ def fmus(tmp_path_factory):
             os.environ["BEARING_FMU_CACHE_DIR"] = old
 
 
+MAP = ROOT / "models" / "maps" / "paper_bearing.json"  # the shipped force map of the paper bearing's L/D
+
+
+@pytest.fixture(scope="module")
+def native_map(tmp_path_factory):
+    """The native FMU of the map internal with the shipped map compiled in (one C compile)."""
+    import shutil
+
+    from bearing_fmu.native.build import build_native_fmu
+
+    if not (shutil.which("cc") or shutil.which("gcc") or os.environ.get("CC")):
+        pytest.skip("no C compiler: the native FMU is compiled at build time")
+    return build_native_fmu(tmp_path_factory.mktemp("libcosim_native") / "native_map.fmu", "map", map=MAP)
+
+
+@pytest.fixture(scope="module")
+def map_internal():
+    """The map internal called in this process: what the native FMU must give."""
+    from bearing_fmu import internals
+
+    return internals.create("map", P, {"map": str(MAP)})
+
+
 @pytest.fixture(scope="module")
 def reynolds():
     from bearing_fmu.reynolds import Reynolds
@@ -139,8 +165,9 @@ def test_bearing_force_in_libcosim_equals_reynolds(fmus, reynolds):
 
 
 def _loop(fmus, h, m=MASS, load=(0.0, -W)):
-    """The two FMUs connected in a libcosim fixed-step execution: journal state -> bearing
-    inputs, film force -> journal inputs; the journal starts at rest at the bearing centre."""
+    """The two FMUs (bearing, journal mass) connected in a libcosim fixed-step execution: journal
+    state -> bearing inputs, film force -> journal inputs; the journal starts at rest at the
+    bearing centre."""
     bearing_fmu, mass_fmu = fmus
     ex = CosimExecution.from_step_size(round(h * NS))
     b, vb = _add(ex, bearing_fmu, "bearing")
@@ -158,16 +185,12 @@ def _loop(fmus, h, m=MASS, load=(0.0, -W)):
     return ex, observer, (b, vb), (j, vj)
 
 
-def test_closed_loop_in_libcosim_settles_at_the_static_equilibrium(fmus, reynolds):
-    from bearing_fmu.statics import equilibrium
-
-    h, chunk, t_end = 1e-5, 1e-3, 0.2
-    # expected: Newton on the Reynolds force alone (no co-simulation, no dynamics)
-    y_eq, z_eq = equilibrium(reynolds, (0.0, -W), OMEGA)
+def _settle(fmus, h, t_end, chunk=1e-3):
+    """Run the closed loop to t_end; (history rows (t, y, z, Fy, Fz) every chunk, wall time [s])."""
     ex, observer, (b, vb), (j, vj) = _loop(fmus, h)
     t0 = time.perf_counter()
     n_chunk = round(chunk / h)
-    history = []  # (t, y, z, Fy, Fz) every chunk
+    history = []
     for k in range(round(t_end / chunk)):
         assert ex.step(n_chunk), f"libcosim step failed at t = {k * chunk:.4f} s: {ex.status()}"
         y, z = observer.last_real_values(j, [vj["y"], vj["z"]])
@@ -176,7 +199,16 @@ def test_closed_loop_in_libcosim_settles_at_the_static_equilibrium(fmus, reynold
     wall = time.perf_counter() - t0
     assert ex.status().current_time == round(t_end / h) * round(h * NS)
     del ex
-    hist = np.array(history)
+    return np.array(history), wall
+
+
+def test_closed_loop_in_libcosim_settles_at_the_static_equilibrium(fmus, reynolds):
+    from bearing_fmu.statics import equilibrium
+
+    h, chunk, t_end = 1e-5, 1e-3, 0.2
+    # expected: Newton on the Reynolds force alone (no co-simulation, no dynamics)
+    y_eq, z_eq = equilibrium(reynolds, (0.0, -W), OMEGA)
+    hist, wall = _settle(fmus, h, t_end, chunk)  # (t, y, z, Fy, Fz) every chunk
     err = np.hypot(hist[:, 1] - y_eq, hist[:, 2] - z_eq) / P.CR
     t, y, z, fy, fz = hist[-1]
     print(f"\nlibcosim loop h = {h:g} s, m = {MASS} kg, {t_end} s simulated in {wall:.1f} s wall "
@@ -217,3 +249,55 @@ def test_closed_loop_with_too_large_a_step_diverges(fmus, h):
     assert k < n // 2, f"diverged only after {k} steps"
     assert math.hypot(y, z) >= P.CR
     print(f"\nh = {h:g} s: libcosim stopped after {k} steps at e = {math.hypot(y, z) / P.CR:.2f}")
+
+
+# ----------------------------------------------------------------------------- (d) the native FMU
+
+
+def test_native_fmu_force_in_libcosim_equals_the_map_internal(native_map, map_internal):
+    """The native FMU (C, no Python) in libcosim: inputs as initial values, then through the
+    override manipulator; Fy, Fz equal the map internal called in this process (the native FMU
+    equals it to 1e-12 relative: tests/test_native_fmu.py). libcosim loads the Co-Simulation
+    interface of the two in the archive; it ignores FMI 2.0 enumerations (it logs a warning for
+    internal_enum), so a libcosim user sets the String parameters."""
+    h = 1e-4
+    ex = CosimExecution.from_step_size(round(h * NS))
+    b, vb = _add(ex, native_map, "native")
+    assert "internal_enum" not in vb and "internal" in vb  # libcosim 0.x: enumerations not supported
+    observer = CosimObserver.create_last_value()
+    assert ex.add_observer(observer)
+    manipulator = CosimManipulator.create_override()
+    assert ex.add_manipulator(manipulator)
+    names = ("y", "z", "vy", "vz", "omega")
+    s1 = (10e-6, -40e-6, 1e-3, -2e-4, OMEGA)
+    for n, v in zip(names, s1):
+        assert ex.real_initial_value(b, vb[n], v)
+    assert ex.string_initial_value(b, vb["internal"], "map")  # its one internal, by name (accepted)
+    assert ex.step(3)
+    got = observer.last_real_values(b, [vb["Fy"], vb["Fz"]])
+    assert got == pytest.approx(map_internal.force(*s1), rel=1e-12)
+    s2 = (-25e-6, -55e-6, -3e-4, 8e-4, 2.5 * OMEGA)  # another speed: the map holds every one
+    assert manipulator.slave_real_values(b, [vb[n] for n in names], list(s2))
+    assert ex.step(2)
+    got = observer.last_real_values(b, [vb["Fy"], vb["Fz"]])
+    assert got == pytest.approx(map_internal.force(*s2), rel=1e-12)
+    assert got != pytest.approx(map_internal.force(*s1), rel=1e-3)  # it did change
+    del ex
+
+
+def test_native_fmu_closed_loop_in_libcosim_settles_at_the_map_equilibrium(fmus, native_map, map_internal):
+    """The native map FMU and the journal mass in libcosim's fixed-step master (the loop of (b),
+    its stable step 1e-5 s, 0.1 s): the journal dropped at the bearing centre approaches the
+    static equilibrium of the map internal (bearing_fmu.statics, no co-simulation)."""
+    from bearing_fmu.statics import equilibrium
+
+    h, t_end = 1e-5, 0.1
+    y_eq, z_eq = equilibrium(map_internal, (0.0, -W), OMEGA)
+    hist, wall = _settle((native_map, fmus[1]), h, t_end)
+    err = np.hypot(hist[:, 1] - y_eq, hist[:, 2] - z_eq) / P.CR
+    print(f"\nlibcosim native map loop h = {h:g} s: {t_end} s in {wall:.1f} s wall "
+          f"({1e6 * wall * h / t_end:.0f} us/step, journal mass FMU included); distance to the equilibrium "
+          f"{err[0]:.3f} CR at 1 ms, {err[49]:.2e} at 50 ms, {err[-1]:.2e} CR at {t_end} s")
+    assert err[0] > 0.15  # it started far away (the centre is ~0.2 CR from the equilibrium)
+    assert err[-1] < 0.05 and err[-1] < err[49] < err[9]  # and approaches it, as the Reynolds loop of (b) does
+    assert np.all(np.hypot(hist[:, 1], hist[:, 2]) < P.CR)  # never near the wall

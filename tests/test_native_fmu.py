@@ -82,7 +82,7 @@ def _map_bearing(path: Path) -> Path | None:
 class Raw:
     """One instance through fmpy's raw ctypes functions (the exact fmi2Status of every call)."""
 
-    _ARRAY = {"Real": ctypes.c_double, "Boolean": ctypes.c_int, "String": ctypes.c_char_p}
+    _ARRAY = {"Real": ctypes.c_double, "Boolean": ctypes.c_int, "String": ctypes.c_char_p, "Integer": ctypes.c_int}
 
     def __init__(self, fmu, unzip, logging=True, kind="CS", name="native"):
         md = fmpy.read_model_description(str(fmu))
@@ -103,14 +103,16 @@ class Raw:
 
     def set(self, name, value) -> int:
         v = self.vars[name]
-        value = value.encode() if v.type == "String" else value
-        return self.call(f"fmi2Set{v.type}", (ctypes.c_uint * 1)(v.valueReference), 1, (self._ARRAY[v.type] * 1)(value))
+        typ = "Integer" if v.type == "Enumeration" else v.type  # FMI 2.0: an enumeration is set as an Integer
+        value = value.encode() if typ == "String" else value
+        return self.call(f"fmi2Set{typ}", (ctypes.c_uint * 1)(v.valueReference), 1, (self._ARRAY[typ] * 1)(value))
 
     def get(self, name):
         v = self.vars[name]
-        out = (self._ARRAY[v.type] * 1)()
-        status = self.call(f"fmi2Get{v.type}", (ctypes.c_uint * 1)(v.valueReference), 1, out)
-        return status, (out[0].decode() if v.type == "String" else out[0])
+        typ = "Integer" if v.type == "Enumeration" else v.type
+        out = (self._ARRAY[typ] * 1)()
+        status = self.call(f"fmi2Get{typ}", (ctypes.c_uint * 1)(v.valueReference), 1, out)
+        return status, (out[0].decode() if typ == "String" else out[0])
 
     def set_inputs(self, state) -> int:
         vrs = (ctypes.c_uint * 5)(*[self.vars[n].valueReference for n in IN])
@@ -324,6 +326,106 @@ def test_archive_holds_sources_documentation_and_both_interfaces(native):
     omega = next(v for v in md.modelVariables if v.name == "omega")
     s44 = load_surrogate(ROOT / "models" / "surrogates" / "paper_44hz_16.7N.json")
     assert float(omega.start) == s44.omega  # the fitted speed: initialisation evaluates without a warning
+
+
+def test_model_names_and_the_data_recorded(native):
+    """A model name per build (the internal, the data file, the bearing); the data file's SHA-256
+    in the description, resources/build_info.json and documentation/index.html."""
+    import hashlib
+    import json
+
+    names = set()
+    for key, (fmu, unzip, _py, _params) in native.items():
+        md = fmpy.read_model_description(str(fmu))
+        names.add(md.modelName)
+        internal, _, stem = key.partition(":")
+        # the shipped files are all the paper bearing's; linear was linearised on the first map
+        stem = stem or MAPS[0].stem
+        assert md.modelName == f"BearingFMU {internal} {stem} native (paper bearing)", key
+        source = next(p for p in SURROGATES + MAPS if p.stem == stem)
+        sha = hashlib.sha256(source.read_bytes()).hexdigest()
+        assert f"{source.name} sha256 {sha[:12]}" in md.description and "D 31 mm, L 20 mm, CR 90 um" in md.description
+        info = json.loads(Path(unzip, "resources", "build_info.json").read_text())
+        assert [(f["name"], f["sha256"]) for f in info["data_files"]] == [(source.name, sha)]
+        assert info["internals"] == [internal] and info["model_name"] == md.modelName
+        page = Path(unzip, "documentation", "index.html").read_text()
+        assert sha in page and all(f"<tr><td>{v.name}</td>" in page for v in md.modelVariables), key
+    assert len(names) == len(native)
+
+
+def _bounded(v) -> bool:
+    """A variable's start value lies within its min and max (FMI 2.0: min <= start <= max)."""
+    if v.start is None or v.type not in ("Real", "Integer"):
+        return True
+    x = float(v.start)
+    return (v.min is None or float(v.min) <= x) and (v.max is None or x <= float(v.max))
+
+
+def test_python_and_native_fmus_declare_the_same(native, fmu):
+    """Both FMUs come from one definition (bearing_fmu/fmu_meta.py): every variable they share has the
+    same type, causality, unit, display unit and bounds; the native enumerations are the Python
+    FMU's items it accepts, with the same numbers; every start value is within its bounds."""
+    py = {v.name: v for v in fmpy.read_model_description(str(fmu)).modelVariables}
+    assert all(_bounded(v) for v in py.values())
+    for key, (path, *_rest) in native.items():
+        nat = {v.name: v for v in fmpy.read_model_description(str(path)).modelVariables}
+        assert set(nat) <= set(py), (key, set(nat) - set(py))
+        assert all(_bounded(v) for v in nat.values()), key
+        for name, v in nat.items():
+            w = py[name]
+            assert (v.type, v.causality, v.unit, v.displayUnit, v.min, v.max) == \
+                   (w.type, w.causality, w.unit, w.displayUnit, w.min, w.max), (key, name)
+            if v.type == "Enumeration":
+                items = {(i.name, i.value) for i in v.declaredType.items}
+                assert v.declaredType.name == w.declaredType.name and items
+                assert items <= {(i.name, i.value) for i in w.declaredType.items}, (key, name)
+        internal = key.partition(":")[0]
+        assert [i.name for i in nat["internal_enum"].declaredType.items] == [internal]
+
+
+def test_enumerations_choose_like_their_string(native):
+    fmu, unzip, py, params = native["taylor:paper_22hz_16.7N"]
+    s = py.taylor.surrogate
+    outside = (s.y0 + 0.1 * s.params.CR, s.z0 - 0.1 * s.params.CR, 0.0, 0.0, s.omega)  # just outside: warned
+    raw = Raw(fmu, unzip)
+    try:
+        assert raw.get("domain_action_enum") == (OK, 1) and raw.get("internal_enum") == (OK, 3)  # the starts
+        assert raw.set("internal_enum", 4) == ERROR  # 4 = map: not what this FMU computes
+        assert "internal_enum = 4 means internal = 'map': this native FMU computes the taylor internal only" \
+            in raw.last()
+        assert raw.set("domain_action_enum", 2) == ERROR and "means domain_action = 'fallback'" in raw.last()
+        assert raw.set("domain_action_enum", 7) == ERROR
+        assert "domain_action_enum = 7 must be one of 1 (warn), 3 (discard)" in raw.last()
+        assert raw.set("domain_action_enum", 3) == OK  # discard, given as the enumeration alone
+        assert raw.set("internal_enum", 3) == OK  # a valid value withdraws the refusal (else init fails)
+        assert raw.init() == OK
+        assert raw.get("domain_action") == (OK, "discard")  # both show the choice that counts
+        raw.set_inputs(outside)
+        assert raw.step() == DISCARD and "outside (domain_action = 'discard')" in raw.last(DISCARD)
+        assert raw.call("fmi2GetInteger", (ctypes.c_uint * 1)(3999), 1, (ctypes.c_int * 1)()) == ERROR
+        assert "value reference 3999 is not an Integer variable" in raw.last()
+    finally:
+        raw.close()
+    raw = Raw(fmu, unzip)
+    try:  # a master writing every start value: the String's start does not undo the enumeration
+        assert raw.set("domain_action_enum", 3) == OK and raw.set("domain_action", "warn") == OK
+        assert raw.init() == OK and raw.get("domain_action") == (OK, "discard")
+    finally:
+        raw.close()
+
+
+@pytest.mark.parametrize("key", [f"taylor:{p.stem}" for p in SURROGATES] + [f"map:{p.stem}" for p in MAPS]
+                         + ["linear"])
+def test_nothing_set_initialises_and_steps_without_a_warning(native, key):
+    """The start values (the surrogate's expansion point and fitted speed; the linear model's
+    point and speed; the map: centred, at rest) are a state the internal evaluates."""
+    fmu, unzip, *_ = native[key]
+    raw = Raw(fmu, unzip)
+    try:
+        assert raw.init() == OK and raw.step() == OK
+        assert [m for status, m in raw.messages if status != OK] == []
+    finally:
+        raw.close()
 
 
 def _needed(path: Path) -> list[str]:

@@ -6,7 +6,9 @@ sources in ``sources/``, the binary for this platform compiled from them, no Pyt
 1. ``codegen.native_model``: the internal's data as C headers, its variables and options;
 2. stage ``sources/`` (``bearing_native.h``, ``fmi2_bearing.c``, ``internal_<name>.c`` from
    ``bearing_fmu/native/c/`` and the two generated headers), ``modelDescription.xml``
-   (both interfaces, units, output dependencies, the source files) and ``documentation/``;
+   (both interfaces, units, output dependencies, the source files; what a system-simulation
+   engineer reads in it: ``bearing_fmu.fmu_meta``), ``documentation/`` (``bearing_fmu.fmu_docs``)
+   and ``resources/build_info.json`` (the bearing, the data file and its SHA-256);
 3. compile ``binaries/<platform>/<modelIdentifier>.<so|dylib|dll>``: by default with the C
    compiler directly (``$CC``, else ``cc``, ``gcc`` or ``clang``: one command, about a second),
    or with ``cmake=True`` through fmpy's source-FMU build (``fmpy.build.build_platform_binary``:
@@ -22,7 +24,6 @@ kernels' do (the tests compare them to 1e-12). The binary links only the C libra
 from __future__ import annotations
 
 import datetime as _dt
-import math
 import os
 import shutil
 import subprocess
@@ -40,27 +41,19 @@ from .codegen import NativeModel, native_model
 C_DIR = Path(__file__).resolve().parent / "c"
 COMMON_SOURCES = ("bearing_native.h", "fmi2_bearing.c")
 C_FLAGS = ("-O2", "-ffp-contract=off", "-fvisibility=hidden", "-fPIC", "-std=c99")
-AUTHOR = "bearing_fmu (native build)"
-LICENSE = "the bearing_fmu project's license; the data file's provenance is recorded in documentation/index.html"
-
-
-# display units a system-simulation engineer reads (FMI 2.0 DisplayUnit: shown = factor * value)
-DISPLAY_UNITS = {"m": {"um": 1e6, "mm": 1e3}, "m/s": {"mm/s": 1e3}, "rad/s": {"rpm": 60.0 / (2.0 * math.pi)}}
-DISPLAY = {"y": "um", "z": "um", "h_min": "um", "CR": "um", "lin_y0": "um", "lin_z0": "um", "D": "mm", "L": "mm",
-           "vy": "mm/s", "vz": "mm/s", "omega": "rpm", "omega_lin": "rpm"}
-
 
 class NativeBuildError(RuntimeError):
     """The binary could not be compiled (no compiler, a compiler error): one line saying what to install."""
 
 
 def build_native_fmu(output, internal: str, *, surrogate=None, map=None, bearing: BearingParams | None = None,
-                     options: dict | None = None, cmake: bool = False) -> Path:
+                     options: dict | None = None, cmake: bool = False, bearing_source="") -> Path:
     """Write the native FMU of ``internal`` (taylor | map | linear) to ``output`` (.fmu).
 
     surrogate : taylor: the surrogate JSON file compiled in (the bearing defaults to its own)
     map       : map: the force map JSON file; linear: linearise on this map (no Reynolds)
     bearing   : the bearing (default: the surrogate's for taylor, else the paper bearing)
+    bearing_source : where ``bearing`` came from (its file: recorded with its SHA-256)
     options   : registry options: taylor's domain_action / domain_limit start values, linear's
                 linear_from, load_y, load_z, omega_lin, lin_* (the coefficients' start values)
     cmake     : compile through fmpy's CMake project instead of the C compiler directly
@@ -75,9 +68,10 @@ def build_native_fmu(output, internal: str, *, surrogate=None, map=None, bearing
     model = native_model(internal, params, surrogate=surrogate, map=map, options=options)
     from ..outputs import write_bytes
 
+    record = build_record(model, bearing_source if bearing is not None else "")
     with tempfile.TemporaryDirectory(prefix="bearing_native_") as tmp:
         root = Path(tmp) / "fmu"
-        stage(model, root)
+        stage(model, root, record)
         compile_binary(root, model, cmake=cmake)
         archive = Path(tmp) / "out.fmu"
         _zip(root, archive)
@@ -91,8 +85,27 @@ def source_files(model: NativeModel) -> list[str]:
     return ["fmi2_bearing.c", f"internal_{model.internal}.c"]
 
 
-def stage(model: NativeModel, root: Path) -> None:
-    """Write sources/, modelDescription.xml and documentation/ of ``model`` under ``root``."""
+def build_record(model: NativeModel, bearing_source="") -> dict:
+    """What the FMU was built from (``fmu_meta.build_record``): the bearing (its file, or the
+    surrogate it was fitted for), the data file compiled in or linearised on, what was compiled."""
+    from ..fmu_meta import build_record as record
+
+    source, is_file = bearing_source, True
+    if not bearing_source and model.internal == "taylor":
+        source, is_file = f"the bearing the surrogate {model.source.name} was fitted for", False
+    compiled = {k: v for k, v in model.info.items() if k not in ("provenance", "source")}
+    return record("native", [model.internal], model.internal, model.params, source,
+                  [model.source] if model.source else [], is_file, {"compiled": compiled})
+
+
+def stage(model: NativeModel, root: Path, record: dict | None = None) -> None:
+    """Write sources/, modelDescription.xml, documentation/ and resources/build_info.json of
+    ``model`` under ``root``."""
+    import json
+
+    from ..fmu_docs import write_documentation
+
+    record = record if record is not None else build_record(model)
     src = root / "sources"
     src.mkdir(parents=True)
     for name in (*COMMON_SOURCES, f"internal_{model.internal}.c"):
@@ -100,32 +113,34 @@ def stage(model: NativeModel, root: Path) -> None:
     (src / "model_config.h").write_text(model.config_h, encoding="ascii")
     (src / "model_data.h").write_text(model.data_h, encoding="ascii")
     (root / "binaries").mkdir()
-    (root / "modelDescription.xml").write_bytes(model_description(model))
-    from .docs import write_documentation
-
-    write_documentation(model, root / "documentation")
+    xml = model_description(model, record)
+    (root / "modelDescription.xml").write_bytes(xml)
+    write_documentation(root / "documentation", xml, record)
+    (root / "resources").mkdir()
+    (root / "resources" / "build_info.json").write_text(json.dumps(record, indent=1, default=str) + "\n")
 
 
 # ----------------------------------------------------------------------------- model description
 
-def model_description(model: NativeModel) -> bytes:
-    """modelDescription.xml: FMI 2.0, Model Exchange and Co-Simulation, same variables."""
-    from ..build import UNITS
+def model_description(model: NativeModel, record: dict) -> bytes:
+    """modelDescription.xml: FMI 2.0, Model Exchange and Co-Simulation, same variables; units,
+    display units, ranges, enumerations, author, license, name and description (``fmu_meta``)."""
+    from .. import fmu_meta
+    from .codegen import native_enumerations
 
     guid = model.info["guid"]
     root = ET.Element("fmiModelDescription", {
         "fmiVersion": "2.0",
-        "modelName": f"BearingFMU native {model.internal}" + (f" ({model.source.stem})" if model.source else ""),
+        "modelName": record["model_name"],
         "guid": guid,
-        "description": model.description,
-        "author": AUTHOR,
+        "description": fmu_meta.description_text(model.description, record),
         "version": __version__,
-        "license": LICENSE,
         "generationTool": f"bearing_fmu {__version__} native build",
         "generationDateAndTime": _dt.datetime.now(_dt.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ"),
         "variableNamingConvention": "flat",
         "numberOfEventIndicators": "0",
     })
+    fmu_meta.set_author_and_license(root)
     common = {"modelIdentifier": model.model_identifier, "canGetAndSetFMUstate": "true",
               "canSerializeFMUstate": "true", "providesDirectionalDerivative": "true",
               "canNotUseMemoryManagementFunctions": "false"}
@@ -135,13 +150,8 @@ def model_description(model: NativeModel) -> bytes:
         files = ET.SubElement(node, "SourceFiles")
         for name in source_files(model):
             ET.SubElement(files, "File", name=name)
-    used = sorted({v.unit for v in model.variables if v.unit})
-    units = ET.SubElement(root, "UnitDefinitions")
-    for u in used:
-        unit = ET.SubElement(units, "Unit", name=u)
-        ET.SubElement(unit, "BaseUnit", {k: str(v) for k, v in UNITS[u].items()})
-        for name, factor in DISPLAY_UNITS.get(u, {}).items():
-            ET.SubElement(unit, "DisplayUnit", name=name, factor=repr(factor))
+    root.append(fmu_meta.unit_definitions({v.unit for v in model.variables if v.unit}))
+    root.append(fmu_meta.type_definitions([(string, items) for _n, string, items in native_enumerations(model.internal)]))
     cats = ET.SubElement(root, "LogCategories")
     for name, what in (("warning", "a state outside the fitted domain (warned once), outputs left at their start "
                         "values"), ("discard", "a state the internal refuses (the wall, a non-finite input, far "
@@ -149,6 +159,7 @@ def model_description(model: NativeModel) -> bytes:
         ET.SubElement(cats, "Category", name=name, description=what)
     ET.SubElement(root, "DefaultExperiment", startTime="0.0", stopTime="0.1", stepSize="0.0001")
     mvars = ET.SubElement(root, "ModelVariables")
+    omega_ref = fmu_meta.reference_speed(next(v.start for v in model.variables if v.name == "omega"))
     index = {}
     for k, v in enumerate(model.variables, start=1):
         index[v.name] = k
@@ -157,14 +168,12 @@ def model_description(model: NativeModel) -> bytes:
         if v.causality == "output":
             attrs["initial"] = "calculated"
         sv = ET.SubElement(mvars, "ScalarVariable", attrs)
-        typed = {}
+        typed = {"declaredType": v.declared_type} if v.declared_type else {}
         if v.causality != "output":
             typed["start"] = (repr(float(v.start)) if v.type == "Real" else
                               ("true" if v.start else "false") if v.type == "Boolean" else str(v.start))
-        if v.type == "Real" and v.unit:
-            typed["unit"] = v.unit
-            if v.name in DISPLAY:
-                typed["displayUnit"] = DISPLAY[v.name]
+        if v.type == "Real":
+            typed.update(fmu_meta.real_attributes(v.name, v.unit, model.params, omega_ref))
         ET.SubElement(sv, v.type, typed)
     inputs = [index[v.name] for v in model.variables if v.causality == "input"]
     outputs = [index[v.name] for v in model.variables if v.causality == "output"]

@@ -30,7 +30,7 @@ from .. import internals as registry
 from ..params import BearingParams
 
 INTERNALS = ("linear", "map", "taylor")  # what a native FMU can compute (no solver at run time)
-REAL_BASE, BOOL_BASE, STRING_BASE = 0, 1000, 2000  # value references by type (bearing_native.h)
+REAL_BASE, BOOL_BASE, STRING_BASE, ENUM_BASE = 0, 1000, 2000, 3000  # value references by type (bearing_native.h)
 CORE_REALS = ("y", "z", "vy", "vz", "omega", "Fy", "Fz", "eccentricity", "h_min", "Kyy", "Kyz", "Kzy", "Kzz",
               "Cyy", "Cyz", "Czy", "Czz", "D", "L", "CR", "mu")
 FALLBACK_WHY = ("the fallback evaluates the Reynolds solver, which a native FMU does not have; use warn or discard, "
@@ -80,11 +80,12 @@ class Variable:
 
     name: str
     vr: int
-    type: str  # Real | Boolean | String
+    type: str  # Real | Boolean | String | Enumeration (an Integer, FMI 2.0)
     causality: str  # input | output | parameter
     start: object
     unit: str | None
     description: str
+    declared_type: str | None = None  # an Enumeration's TypeDefinition
 
     @property
     def variability(self) -> str:
@@ -165,6 +166,32 @@ def _variables(internal: str, params: BearingParams, starts: dict, inputs: tuple
         elif o.file:
             desc = f"{o.name} file compiled into this FMU ('' or its name)"
         out.append(Variable(o.name, STRING_BASE + 1 + k, "String", "parameter", str(starts[o.name]), None, desc))
+    from ..fmu_meta import enum_type_name  # noqa: PLC0415
+
+    for k, (name, string, items) in enumerate(native_enumerations(internal)):
+        start = internal if string == "internal" else str(starts[string])
+        value = next(v for v, item in items if item == start)
+        words = ", ".join(f"{v} = {item}" for v, item in items)
+        out.append(Variable(name, ENUM_BASE + k, "Enumeration", "parameter", value, None,
+                            f"{string} as an enumeration ({words}): the same choice as the String parameter {string}; "
+                            "set either (set both, they must agree)", enum_type_name(string)))
+    return out
+
+
+def native_enumerations(internal: str) -> list[tuple[str, str, list[tuple[int, str]]]]:
+    """(enumeration parameter, its String parameter, [(value, item), ...]) of the native FMU of
+    ``internal``: the Python FMU's enumerations (``slave.ENUMERATIONS``, the same numbers) of the
+    String parameters it has, with the items it accepts (internal: its own; domain_action: not
+    fallback)."""
+    from ..slave import ENUMERATIONS  # noqa: PLC0415
+
+    strings = ["internal"] + [n for n in NATIVE_OPTIONS[internal] if registry_option(n).choices]
+    out = []
+    for name, (string, items) in ENUMERATIONS.items():
+        if string in strings:
+            allowed = [internal] if string == "internal" else [c for c in items if not (
+                string == "domain_action" and c == "fallback")]
+            out.append((name, string, [(items.index(c) + 1, c) for c in allowed]))
     return out
 
 
@@ -209,6 +236,19 @@ def _config(internal: str, params: BearingParams, starts: dict, inputs, guid_see
                         + (f"{c_string(refuse[0])}, {c_string(refuse[1])}}}" if refuse else "NULL, NULL}"))
     lines.append("#define BN_STRING_OPTION_TABLE \\\n" + ", \\\n".join(rows) if rows else
                  "#define BN_STRING_OPTION_TABLE")
+    # the enumerations: name, the String they mirror (index: 0 internal, 1 + k the k-th String
+    # option), start value, every choice of the type ("a|b|c", value k + 1 for the k-th)
+    from ..slave import ENUMERATIONS  # noqa: PLC0415
+
+    rows = []
+    string_names = ["internal"] + [o.name for o in strings]
+    for name, string, items in native_enumerations(internal):
+        start = internal if string == "internal" else str(starts[string])
+        value = next(v for v, item in items if item == start)
+        rows.append(f"    {{{c_string(name)}, {string_names.index(string)}, {value}, "
+                    f"{c_string('|'.join(ENUMERATIONS[name][1]))}}}")
+    lines.append(f"#define BN_N_ENUMS {len(rows)}")
+    lines.append("#define BN_ENUM_TABLE \\\n" + ", \\\n".join(rows))
     lines.append("#endif\n")
     return "\n".join(lines), guid
 
@@ -421,6 +461,9 @@ def _linear(params: BearingParams, surrogate, map_path, options: dict) -> Native
     inputs = (0.0, 0.0, 0.0, 0.0, starts["omega_lin"])
     config_h, guid = _config("linear", params, starts, inputs, repr(sorted(starts.items())) + repr(params))
     info = {"from": options.get("linear_from", "load"), "omega_lin": starts["omega_lin"], "guid": guid}
-    return NativeModel("linear", params, _variables("linear", params, starts, inputs), config_h, data_h, None,
+    # the coefficients' source: a force map file when linearised on one (recorded with its hash)
+    source = Path(options["map"]) if options.get("linear_from") == "map" and options.get("map") else None
+    return NativeModel("linear", params, _variables("linear", params, starts, inputs), config_h, data_h, source,
                        "hydrodynamic journal bearing, linear model F = F0 - K (q - q0) - C v (8 Lund coefficients as "
-                       "parameters), compiled (no Python)", info)
+                       "parameters" + (f", linearised on the force map {source.name}" if source else "")
+                       + "), compiled (no Python)", info)

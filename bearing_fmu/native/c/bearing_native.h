@@ -3,7 +3,8 @@
  * options and value references, start values, the GUID) and model_data.h (the internal's
  * data as static arrays). Units are SI throughout (m, m/s, rad/s, N, Pa s).
  *
- * Value references: Reals 0..; Booleans from 1000; Strings from 2000 (no Integers). */
+ * Value references: Reals 0..; Booleans from 1000; Strings from 2000; Integers (the enumerations,
+ * each the same choice as a String parameter) from 3000. */
 #ifndef BEARING_NATIVE_H
 #define BEARING_NATIVE_H
 
@@ -50,6 +51,9 @@ enum { B_OUT_OF_DOMAIN, B_COMPUTE_TANGENT, N_BOOL };
 #define S_INTERNAL 0                                     /* then the internal's String options */
 #define N_STRING (1 + BN_N_STRING_OPTIONS)
 #define STRING_MAX 256
+#define VR_INT0 3000
+#define N_ENUM BN_N_ENUMS                                /* internal_enum, then the String options' */
+#define N_PARAM_SLOTS (N_REAL + N_BOOL + N_STRING + N_ENUM)
 
 typedef enum { MODE_INSTANTIATED, MODE_INIT, MODE_STEP, MODE_EVENT, MODE_CONTINUOUS, MODE_TERMINATED } Mode;
 
@@ -65,14 +69,16 @@ typedef struct {
     double r[N_REAL];
     int b[N_BOOL];
     char s[N_STRING][STRING_MAX];
+    int e[N_ENUM];              /* the enumerations as set */
+    char eff[N_STRING][STRING_MAX]; /* the String choices as they count (a String, or its enumeration): setup() */
     double t;
     Mode mode;
     fmi2Type type;
     int initialized;            /* exitInitializationMode was called: parameters are fixed */
     int terminated;             /* fmi2Terminated: set by a discarded step, cleared by a good step or a restore */
     int dirty;                  /* ME: inputs changed since the outputs were computed */
-    int refused[N_REAL + N_BOOL + N_STRING];  /* a parameter whose last set was refused */
-    char refused_msg[N_REAL + N_BOOL + N_STRING][512];
+    int refused[N_PARAM_SLOTS]; /* a parameter whose last set was refused */
+    char refused_msg[N_PARAM_SLOTS][512];
     char init_error[2400];
     char msg[2048];             /* the internal's reason for a refused state */
     int logging_on;

@@ -45,6 +45,18 @@ typedef struct {
     const char *refuse_why;
 } StringOption;
 
+/* An enumeration parameter (FMI 2.0: Integer-valued): the same choice as a String parameter, for
+ * masters that show a drop-down. A value away from its start wins over the String; if both are
+ * set away from their starts they must agree (resolve_choices). */
+typedef struct {
+    const char *name;       /* e.g. "internal_enum" */
+    int string;             /* the String parameter it mirrors: index into m->s */
+    int start;
+    const char *all;        /* every choice of its type "a|b|c": value k + 1 is the k-th (the Python FMU's) */
+} EnumOption;
+
+static const EnumOption ENUMS[BN_N_ENUMS] = { BN_ENUM_TABLE };
+
 #if BN_N_REAL_OPTIONS > 0
 static const RealOption REAL_OPTIONS[BN_N_REAL_OPTIONS] = { BN_REAL_OPTION_TABLE };
 #else
@@ -186,6 +198,8 @@ static void set_starts(Instance *m) {
     m->b[B_COMPUTE_TANGENT] = 1;
     snprintf(m->s[S_INTERNAL], STRING_MAX, "%s", BN_INTERNAL);
     for (int i = 0; i < BN_N_STRING_OPTIONS; i++) snprintf(m->s[1 + i], STRING_MAX, "%s", STRING_OPTIONS[i].start);
+    for (int i = 0; i < N_STRING; i++) snprintf(m->eff[i], STRING_MAX, "%s", m->s[i]);
+    for (int i = 0; i < N_ENUM; i++) m->e[i] = ENUMS[i].start;
     memset(m->refused, 0, sizeof m->refused);
     m->init_error[0] = 0;
     m->t = 0.0;
@@ -257,6 +271,63 @@ static int check_string_parameter(int k, const char *value, char *out, char *why
     return 0;
 }
 
+static const char *string_start(int k) { return k == S_INTERNAL ? BN_INTERNAL : STRING_OPTIONS[k - 1].start; }
+
+/* The choice with value v of an enumeration (v = k + 1 for the k-th of o->all) into out: 1, or 0 if none. */
+static int enum_choice(const EnumOption *o, int v, char *out, size_t n) {
+    const char *p = o->all;
+    for (int k = 1; p && *p; k++) {
+        const char *bar = strchr(p, '|');
+        size_t len = bar ? (size_t)(bar - p) : strlen(p);
+        if (k == v) {
+            snprintf(out, n, "%.*s", (int)len, p);
+            return 1;
+        }
+        p = bar ? bar + 1 : NULL;
+    }
+    return 0;
+}
+
+/* An enumeration parameter's value alone: 0, or 1 with the reason in why (the String's reason for
+ * a choice this FMU does not take, else the values it takes). */
+static int check_enum_parameter(int j, int v, char *why, size_t n) {
+    const EnumOption *o = &ENUMS[j];
+    char item[STRING_MAX], out[STRING_MAX], sub[512];
+    if (enum_choice(o, v, item, sizeof item)) {
+        if (check_string_parameter(o->string, item, out, sub, sizeof sub) == 0) return 0;
+        snprintf(why, n, "%s = %d means %s", o->name, v, sub);
+        return 1;
+    }
+    size_t off = (size_t)snprintf(why, n, "%s = %d must be one of", o->name, v);
+    const char *sep = " ";
+    for (int k = 1; enum_choice(o, k, item, sizeof item) && off < n; k++)
+        if (check_string_parameter(o->string, item, out, sub, sizeof sub) == 0) {
+            off += (size_t)snprintf(why + off, n - off, "%s%d (%s)", sep, k, item);
+            sep = ", ";
+        }
+    return 1;
+}
+
+/* The String choices as they count, into m->eff: each String's value, or its enumeration's item
+ * where only the enumeration was set away from its start. 0, or 1 with why when both were set
+ * away from their starts and disagree. */
+static int resolve_choices(Instance *m, char *why, size_t n) {
+    char item[STRING_MAX];
+    for (int k = 0; k < N_STRING; k++) snprintf(m->eff[k], STRING_MAX, "%s", m->s[k]);
+    for (int j = 0; j < N_ENUM; j++) {
+        const EnumOption *o = &ENUMS[j];
+        if (m->e[j] == o->start || !enum_choice(o, m->e[j], item, sizeof item)) continue;
+        const char *text = m->s[o->string];
+        if (strcmp(text, string_start(o->string)) != 0 && strcmp(text, item) != 0) {
+            snprintf(why, n, "%s = '%s' and %s = %d (%s) disagree: set one of them (%s is the same choice as an "
+                     "enumeration)", string_name(o->string), text, o->name, m->e[j], item, o->name);
+            return 1;
+        }
+        snprintf(m->eff[o->string], STRING_MAX, "%s", item);
+    }
+    return 0;
+}
+
 /* The bearing's physical ranges (bearing_fmu/params.py, BearingParams): 0, or 1 with why. */
 static int check_bearing(const Instance *m, char *why, size_t n) {
     double D = m->r[VR_D], L = m->r[VR_L], CR = m->r[VR_CR], mu = m->r[VR_MU];
@@ -289,11 +360,11 @@ static int setup(Instance *m) {
     char why[2048];
     size_t off = 0;
     why[0] = 0;
-    for (int i = 0; i < N_REAL + N_BOOL + N_STRING; i++)
+    for (int i = 0; i < N_PARAM_SLOTS; i++)
         if (m->refused[i])
             off += (size_t)snprintf(why + off, off < sizeof why ? sizeof why - off : 0, "%s%s (refused when it was set)",
                                     off ? "; " : "", m->refused_msg[i]);
-    if (!why[0] && check_bearing(m, why, sizeof why) == 0) {
+    if (!why[0] && resolve_choices(m, why, sizeof why) == 0 && check_bearing(m, why, sizeof why) == 0) {
         if (bn_setup(m) == 0) {
             m->init_error[0] = 0;
             return 0;
@@ -451,6 +522,13 @@ fmi2Status fmi2ExitInitializationMode(fmi2Component c) {
     m->initialized = 1;
     if (setup(m)) return fail(m, "%s", m->init_error);
     m->mode = m->type == fmi2ModelExchange ? MODE_EVENT : MODE_STEP;
+    /* both the String and its enumeration show the choice that counts */
+    for (int k = 0; k < N_STRING; k++) snprintf(m->s[k], STRING_MAX, "%s", m->eff[k]);
+    for (int j = 0; j < N_ENUM; j++) {
+        char item[STRING_MAX];
+        for (int v = 1; enum_choice(&ENUMS[j], v, item, sizeof item); v++)
+            if (strcmp(item, m->s[ENUMS[j].string]) == 0) m->e[j] = v;
+    }
     /* outputs at the start time from the initial inputs, when they can be evaluated: a master
      * may set the inputs only before the first step, so a refused state is no initialisation error */
     if (evaluate(m)) {
@@ -498,9 +576,12 @@ fmi2Status fmi2GetReal(fmi2Component c, const fmi2ValueReference vr[], size_t nv
 
 fmi2Status fmi2GetInteger(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, fmi2Integer value[]) {
     Instance *m = c;
-    (void)value;
     if (!m) return fmi2Error;
-    if (nvr > 0) return fail(m, "getInteger: value reference %u is not an Integer variable of this FMU", vr[0]);
+    for (size_t i = 0; i < nvr; i++) {
+        if (vr[i] < VR_INT0 || vr[i] >= VR_INT0 + N_ENUM)
+            return fail(m, "getInteger: value reference %u is not an Integer variable of this FMU", vr[i]);
+        value[i] = m->e[vr[i] - VR_INT0];
+    }
     return fmi2OK;
 }
 
@@ -577,10 +658,31 @@ fmi2Status fmi2SetReal(fmi2Component c, const fmi2ValueReference vr[], size_t nv
 
 fmi2Status fmi2SetInteger(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, const fmi2Integer value[]) {
     Instance *m = c;
-    (void)value;
     if (!m) return fmi2Error;
-    if (nvr > 0) return fail(m, "setInteger: value reference %u is not an Integer variable of this FMU", vr[0]);
-    return fmi2OK;
+    fmi2Status status = fmi2OK;
+    char why[512], keeps[32];
+    for (size_t i = 0; i < nvr; i++) {
+        if (vr[i] < VR_INT0 || vr[i] >= VR_INT0 + N_ENUM) {
+            status = fail(m, "setInteger: value reference %u is not an Integer variable of this FMU", vr[i]);
+            continue;
+        }
+        int j = (int)(vr[i] - VR_INT0);
+        int slot = N_REAL + N_BOOL + N_STRING + j;
+        snprintf(keeps, sizeof keeps, "%d", m->e[j]);
+        if (parameter_fixed(m, "setInteger", ENUMS[j].name, keeps)) {
+            status = fmi2Error;
+            continue;
+        }
+        if (check_enum_parameter(j, value[i], why, sizeof why)) {
+            m->refused[slot] = 1;
+            snprintf(m->refused_msg[slot], sizeof m->refused_msg[slot], "%s", why);
+            status = fail(m, "setInteger: %s; %s keeps %s", why, ENUMS[j].name, keeps);
+            continue;
+        }
+        m->refused[slot] = 0;
+        m->e[j] = value[i];
+    }
+    return status;
 }
 
 fmi2Status fmi2SetBoolean(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, const fmi2Boolean value[]) {

@@ -370,7 +370,7 @@ static int guard(Instance *m, const double x[5], int *ood) {
         return 1;
     }
     double limit = m->r[VR_OPT_DOMAIN_LIMIT];
-    int discard = strcmp(m->s[S_OPT_DOMAIN_ACTION], "discard") == 0;
+    int discard = strcmp(m->eff[S_OPT_DOMAIN_ACTION], "discard") == 0;  /* domain_action or its enumeration */
     if (d > limit || discard) {
         reasons(y, z, vy, vz, why, sizeof why);
         char lim[200];
