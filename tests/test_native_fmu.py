@@ -339,12 +339,15 @@ def test_model_names_and_the_data_recorded(native):
         md = fmpy.read_model_description(str(fmu))
         names.add(md.modelName)
         internal, _, stem = key.partition(":")
-        # the shipped files are all the paper bearing's; linear was linearised on the first map
-        stem = stem or MAPS[0].stem
-        assert md.modelName == f"BearingFMU {internal} {stem} native (paper bearing)", key
+        # linear was linearised on the paper map; a map built for another bearing names it
+        stem = stem or PAPER_MAP.stem
         source = next(p for p in SURROGATES + MAPS if p.stem == stem)
+        bearing = _map_bearing(source) if internal == "map" else None
+        label = bearing.stem if bearing else "paper bearing"
+        assert md.modelName == f"BearingFMU {internal} {stem} native ({label})", key
         sha = hashlib.sha256(source.read_bytes()).hexdigest()
-        assert f"{source.name} sha256 {sha[:12]}" in md.description and "D 31 mm, L 20 mm, CR 90 um" in md.description
+        geometry = "D 31 mm, L 20 mm, CR 90 um" if bearing is None else "D 100 mm, L 30 mm"
+        assert f"{source.name} sha256 {sha[:12]}" in md.description and geometry in md.description, key
         info = json.loads(Path(unzip, "resources", "build_info.json").read_text())
         assert [(f["name"], f["sha256"]) for f in info["data_files"]] == [(source.name, sha)]
         assert info["internals"] == [internal] and info["model_name"] == md.modelName
