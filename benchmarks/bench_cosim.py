@@ -21,7 +21,8 @@ import time
 from pathlib import Path
 
 from rotor_host.report import markdown_table
-from rotor_host.scene import load_scene, run_scene
+from rotor_host.scene import load_scene
+from rotor_host.run import run_scene
 
 ROOT = Path(__file__).resolve().parents[1]
 

@@ -31,7 +31,8 @@ from bench_cosim import StepSplit, cpu  # noqa: E402
 
 from bearing_fmu.surrogate import load_surrogate  # noqa: E402
 from rotor_host.report import markdown_table  # noqa: E402
-from rotor_host.scene import load_scene, run_scene  # noqa: E402
+from rotor_host.scene import load_scene
+from rotor_host.run import run_scene  # noqa: E402
 
 SURROGATES = ROOT / "models" / "surrogates"
 MAP = ROOT / "models" / "maps" / "paper_bearing.json"

@@ -23,7 +23,8 @@ from bench_cosim import cpu
 
 from rotor_host.forces import NEWTON_TANGENTS
 from rotor_host.report import errors_against, markdown_table
-from rotor_host.scene import load_scene, run_scene
+from rotor_host.scene import load_scene
+from rotor_host.run import run_scene
 
 ROOT = Path(__file__).resolve().parents[1]
 SCENES = ("paper_22hz.toml", "paper_10hz_500N.toml")

@@ -35,7 +35,8 @@ from bearing_fmu import reynolds as rey  # noqa: E402
 from rotor_host import bearings as brg  # noqa: E402
 from rotor_host import newmark  # noqa: E402
 from rotor_host.report import markdown_table  # noqa: E402
-from rotor_host.scene import load_scene, run_scene  # noqa: E402
+from rotor_host.scene import load_scene
+from rotor_host.run import run_scene  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 SCENES = ("paper_22hz", "paper_44hz")

@@ -25,7 +25,8 @@ from pathlib import Path
 from bearing_fmu.surrogate import load_surrogate
 from rotor_host.compare import envelope_error, late_max_eccentricity
 from rotor_host.report import errors_against, markdown_table
-from rotor_host.scene import load_scene, run_scene
+from rotor_host.scene import load_scene
+from rotor_host.run import run_scene
 from rotor_host.training import refit, training_scenes
 
 ROOT = Path(__file__).resolve().parents[1]

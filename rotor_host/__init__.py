@@ -10,10 +10,15 @@ newmark,               Newmark / HHT-alpha with Newton and step cutting; its ker
 _newmark_kernels
 equilibrium            static equilibrium of the rotor on nonlinear bearings
 bearings, cosim        the bearings as one nodal force: in-process, or FMUs (fmpy master)
-scene                  the scene file, load_scene, run_scene
+speed                  constant speed or a run-up / coast-down profile
+scene                  the scene file, load_scene
+run                    run_scene: bearings, equilibrium, integration, result files
 training               scene-trained Taylor surrogates (``rotor-host fit``)
 compare, report        error against run time; error measures, tables, plots
 limit_cycle, dt_study  the whirl's envelope; the time-step study
+stability              damped modes over speed: Campbell diagram, threshold
+waterfall              response spectra of a run-up against speed
+sweep                  a scene at many speeds or unbalances on Dask; bifurcation diagram
 file_formats           the tables of docs/file-formats.md from the key lists
 cli                    the ``rotor-host`` command
 =====================  ==============================================================

@@ -55,7 +55,7 @@ def _internal_choices():
 
 def _run(args) -> int:
     from .report import plot_runs
-    from .scene import run_scene
+    from .run import run_scene
 
     scene = _scene_from_args(args)
     out = Path(args.out)

@@ -19,7 +19,8 @@ from bearing_fmu.exits import as_interrupted, note_kept
 from bearing_fmu.outputs import ensure_writable, write_json, write_text
 
 from .report import errors_against, markdown_table, plot_runs
-from .scene import Scene, run_scene
+from .scene import Scene
+from .run import run_scene
 
 
 @dataclass

@@ -20,7 +20,8 @@ from bearing_fmu.exits import as_interrupted, note_kept
 from bearing_fmu.outputs import ensure_writable, write_json, write_text
 
 from .report import markdown_table
-from .scene import load_scene, run_scene
+from .scene import load_scene
+from .run import run_scene
 
 
 def orbit_change(coarse: dict, fine: dict) -> tuple[float, float]:

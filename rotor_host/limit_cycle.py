@@ -237,7 +237,8 @@ def run(args) -> int:
             raise ValueError(f"--speed-hz: a .npz source ({src}) needs the shaft speed it was run at [Hz]")
         arrays, speed = _saved_run(src), args.speed_hz
     else:
-        from .scene import load_scene, run_scene
+        from .scene import load_scene
+        from .run import run_scene
 
         scene = load_scene(src)
         kw = {"via": "direct"}

@@ -3,7 +3,7 @@
 At each speed of a range (``rotor-host stability ROTOR.toml --speeds-hz 10:70:1``):
 
 1. the static equilibrium of the rotor on its nonlinear bearings, under its weight and any
-   static point loads, as a scene starts (``scene.bearing_loads``, ``scene.initial_state``,
+   static point loads, as a scene starts (``run.bearing_loads``, ``run.initial_state``,
    ``equilibrium.static_equilibrium``); from the second speed on, Newton starts from the
    previous speed's equilibrium (continuation; a fresh start if that fails);
 2. each bearing linearised there with the internal's own analytic Jacobian
@@ -172,7 +172,8 @@ class Stability:
 
     def __init__(self, rotor: Rotor, internal: str = "reynolds", options: dict | None = None,
                  static_loads=(), g: float | None = None, where: str = ""):
-        from .scene import G, bearing_loads
+        from .scene import G
+        from .run import bearing_loads
 
         if not rotor.bearing_nodes:
             raise ValueError(f"{where or 'rotor'}: the rotor has no bearings; a stability analysis needs at "
@@ -212,7 +213,7 @@ class Stability:
 
         from .bearings import DirectBearings
         from .equilibrium import static_equilibrium
-        from .scene import initial_state
+        from .run import initial_state
 
         t0 = time.perf_counter()
         try:
@@ -452,7 +453,7 @@ def markdown(res: StabilityResult, title: str = "") -> str:
 def to_json(res: StabilityResult, rotor_path=None) -> dict:
     """Everything a later reader needs, without NaN: per speed the equilibrium, K and C and
     the lowest ``n_modes`` modes; the threshold with the least stable mode's shape."""
-    from .scene import _versions
+    from .run import _versions
 
     def point(p: SpeedPoint) -> dict:
         d = {"speed_hz": p.speed_hz, "status": p.status, "message": p.message}

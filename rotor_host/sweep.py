@@ -4,7 +4,7 @@
 ``--unbalance-g 0 4 8.5 17``, once per mass of the scene's first ``[[unbalance]]``) as tasks
 of a ``dask.distributed`` cluster: a ``LocalCluster`` on this machine by default (one worker
 process per core, one thread each: the runs hold the GIL), or an existing cluster whose
-scheduler ``--scheduler`` names. Each task is ``scene.run_scene`` in a worker process; it
+scheduler ``--scheduler`` names. Each task is ``run.run_scene`` in a worker process; it
 writes its own ``<scene>_<internal>_<speed>hz.npz/.json`` into the output folder and returns
 one summary row (small, so nothing large crosses the network). The client collects the rows
 as the runs finish (progress bar), and writes
@@ -171,7 +171,7 @@ def run_point(scene, point: Point, out_dir: str, settle_s: float, disk_nodes: li
     t0 = time.perf_counter()
     row = {"speed_hz": point.speed_hz, "unbalance_g": point.unbalance_g, "stem": point.stem, "pid": os.getpid()}
     try:
-        from .scene import run_scene
+        from .run import run_scene
 
         run = run_scene(scene, out_dir, stem=point.stem, work_dir=Path(out_dir) / "fmu")
     except Exception as exc:  # noqa: BLE001 - reported in the summary, the sweep goes on
@@ -513,7 +513,7 @@ def _drop_stale_locks(out: Path, pts: list[Point]) -> None:
 def run(args) -> int:
     from .cli import _scene_from_args
     from .rotor import Rotor
-    from .scene import scene_fmu
+    from .run import scene_fmu
 
     if args.scheduler and args.workers:
         raise ValueError("--workers: sets the size of the local cluster; with --scheduler the cluster's own "

@@ -31,7 +31,9 @@ from bearing_fmu import internals as registry
 from bearing_fmu.fitting.recipe import FitRecipe, add_recipe_arguments, recipe_from_args, recipe_of
 from bearing_fmu.outputs import savez
 
-from .scene import Scene, load_scene, run_scene
+from .scene import Scene, load_scene
+
+from .run import run_scene
 
 SERIES_VERSION = 2  # cache format of scene_series (see there)
 HOLDOUT_EVERY = 5  # every 5th block is held out

@@ -8,7 +8,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from rotor_host.scene import load_scene, run_scene
+from rotor_host.scene import load_scene
+
+from rotor_host.run import run_scene
 
 pytest.importorskip("fmpy")
 ROOT = Path(__file__).resolve().parents[1]

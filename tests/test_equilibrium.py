@@ -117,9 +117,9 @@ def capacity_estimate(p, eps, omega):
 
 def test_pinned_loads_are_the_scenes_bearing_loads():
     # the equilibrium's own bearing loads (reactions of the rotor pinned at the force's DOFs)
-    # are the scene's (rotor_host.scene.bearing_loads, checked against statics in test_scene.py)
+    # are the scene's (rotor_host.run.bearing_loads, checked against statics in test_scene.py)
     from rotor_host.rotor import Rotor
-    from rotor_host.scene import bearing_loads
+    from rotor_host.run import bearing_loads
 
     rotor = Rotor.from_toml(ROOT / "models" / "rotor_paper.toml")
     f = rotor.weight_vector(9.81) + rotor.point_load_vector([(8, 30.0, -800.0)])
@@ -133,7 +133,8 @@ def test_overloaded_rotor_bearing_is_named_before_newton(tmp_path):
     # weight, 16.7 N) is not blamed.
     from bearing_fmu.params import PAPER_BEARING
     from rotor_host.rotor import Rotor
-    from rotor_host.scene import G, bearing_loads, build_bearings, initial_state, load_scene
+    from rotor_host.scene import G, load_scene
+    from rotor_host.run import bearing_loads, build_bearings, initial_state
 
     scene_file = tmp_path / "s.toml"
     scene_file.write_text(f'rotor = "{(ROOT / "models" / "rotor_paper.toml").as_posix()}"\n' + textwrap.dedent("""

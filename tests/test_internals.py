@@ -225,7 +225,8 @@ def test_an_internal_added_from_outside_keeps_the_contract(spring, central_jacob
 def test_a_scene_runs_with_an_internal_added_from_outside(spring, tmp_path, write_scene):
     # the scene loader, the CLI choices and the run know it from the registry alone; at rest
     # (no unbalance) each journal sits at W / k, W its bearing's static load
-    from rotor_host.scene import load_scene, run_scene
+    from rotor_host.scene import load_scene
+    from rotor_host.run import run_scene
 
     k = 4e6
     scene = load_scene(write_scene(f"""

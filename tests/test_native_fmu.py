@@ -695,7 +695,8 @@ def test_a_map_for_another_length_to_diameter_is_refused(tmp_path):
 def test_native_parameters_of_a_scene(write_scene):
     """The host's parameters for a native FMU: the options it keeps; the linear model made per
     bearing by the Python Linear internal (its coefficients), fallback refused in one line."""
-    from rotor_host.scene import SceneError, _fmu_parameters, load_scene
+    from rotor_host.scene import SceneError, load_scene
+    from rotor_host.run import _fmu_parameters
 
     sc = load_scene(write_scene(f"""
         internal = "linear"
@@ -728,7 +729,8 @@ def test_rotor_host_runs_native_fmus_like_the_direct_internal(tmp_path, internal
     """rotor-host run --native: the paper's 22 Hz scene through native FMUs (fmpy, the conformant
     iteration of rotor_host/cosim.py) follows the run with the internal called in-process."""
     from rotor_host.cli import main
-    from rotor_host.scene import load_scene, run_scene
+    from rotor_host.scene import load_scene
+    from rotor_host.run import run_scene
 
     scene_file = ROOT / "models" / "scenes" / "paper_22hz.toml"
     assert main(["run", str(scene_file), "--internal", internal, "--native", "--t-end", "0.01", "--out",

@@ -79,7 +79,8 @@ def test_an_unwritable_folder_is_refused_before_any_work(tmp_path):
 def test_a_run_without_static_equilibrium_still_writes_its_json(tmp_path, write_scene):
     # a load far beyond what the bearings carry (1e9 N on the disk): no equilibrium; the run
     # says so in its json (status failed) instead of stopping without a file
-    from rotor_host.scene import load_scene, run_scene
+    from rotor_host.scene import load_scene
+    from rotor_host.run import run_scene
 
     s = load_scene(write_scene("""
         internal = "reynolds"

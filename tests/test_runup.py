@@ -12,7 +12,9 @@ import math
 import numpy as np
 import pytest
 
-from rotor_host.scene import SceneError, external_force, load_scene
+from rotor_host.scene import SceneError, load_scene
+
+from rotor_host.run import external_force
 from rotor_host.speed import SpeedProfile
 from rotor_host.waterfall import spectra, summary
 
@@ -101,7 +103,7 @@ def test_paper_rotor_run_up_through_the_critical_into_oil_whip(write_scene, tmp_
     # forward whirl near 0.4-0.5x, locked near the first critical, takes over well above the
     # ~43 Hz threshold of the steady analysis (it needs time to grow during the run-up)
     from conftest import MODELS
-    from rotor_host.scene import run_scene
+    from rotor_host.run import run_scene
 
     scene = load_scene(write_scene(RUNUP.format(t0=0.0, t1=6.0, f0=10.0, f1=60.0,
                                                 map=MODELS / "maps" / "paper_bearing.json", t_end=6.0)))

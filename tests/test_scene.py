@@ -16,7 +16,8 @@ import pytest
 
 from bearing_fmu.params import PAPER_BEARING
 from rotor_host.rotor import Rotor
-from rotor_host.scene import SceneError, bearing_loads, load_scene, run_scene
+from rotor_host.scene import SceneError, load_scene
+from rotor_host.run import bearing_loads, run_scene
 
 ROOT = Path(__file__).resolve().parents[1]
 SCENES = ROOT / "models" / "scenes"
@@ -147,7 +148,7 @@ def test_taylor_scene_does_not_import_reynolds(tmp_path):
         t_end_s = 1e-3
         dt_s = 1e-4
         """)
-    code = (f"import sys; from rotor_host.scene import load_scene, run_scene; "
+    code = (f"import sys; from rotor_host.scene import load_scene; from rotor_host.run import run_scene; "
             f"r = run_scene(load_scene({str(p)!r})); assert r.ok, r.meta['message']; "
             f"print('bearing_fmu.reynolds' in sys.modules)")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT)
