@@ -39,7 +39,7 @@ from numba import njit
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # this checkout's packages, not the installed ones
 
 from bearing_fmu.forcemap import (DEFAULT_EPS_MAX, DEFAULT_N_BETA, DEFAULT_N_EPS, DEFAULT_N_PHASE,
-                                  DEFAULT_WALL_EXPONENT, ForceMap, _row, load_map, reduced, save_map, scale,
+                                  DEFAULT_WALL_EXPONENT, ForceMap, _row, reduced, save_map, scale,
                                   state_for, tabulate)
 from bearing_fmu.params import PAPER_BEARING as P
 from bearing_fmu.reynolds import Reynolds

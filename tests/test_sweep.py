@@ -60,7 +60,7 @@ def test_bad_ranges_are_refused_by_the_option(text, capsys):
     with pytest.raises(SystemExit) as e:
         _args(SCENE, "--speeds-hz", text)
     assert e.value.code == 2
-    assert f"argument --speeds-hz: expected START:STOP:STEP Hz" in capsys.readouterr().err
+    assert "argument --speeds-hz: expected START:STOP:STEP Hz" in capsys.readouterr().err
 
 
 def test_bad_input_names_the_option_before_any_work(tmp_path, capsys, write_scene):
