@@ -197,13 +197,19 @@ def external_force(scene: Scene, rotor: Rotor, f_static: np.ndarray):
 
 
 def initial_state(scene: Scene, rotor: Rotor, f_static, loads, bearings) -> np.ndarray:
-    """Static equilibrium of the whole rotor with the nonlinear bearing forces (or the rotor
-    undeformed and centred, ``initial.state = "centred"``)."""
+    """The scene's initial state: the static equilibrium (``static_start``) or, with
+    ``[initial] state = "centred"``, the rotor undeformed and centred."""
     if scene.initial == "centred":
         return np.zeros(rotor.n_dof)
+    return static_start(rotor, f_static, loads, bearings, scene.omega)
+
+
+def static_start(rotor: Rotor, f_static, loads, bearings, omega: float) -> np.ndarray:
+    """Static equilibrium of the whole rotor on its nonlinear bearings at ``omega`` [rad/s],
+    from the short-bearing (Ocvirk) journal positions under each bearing's ``loads``."""
     from bearing_fmu.statics import short_bearing_estimate
 
-    journal = np.array([short_bearing_estimate(p, w, scene.omega) for p, w in zip(rotor.bearings, loads)])
+    journal = np.array([short_bearing_estimate(p, w, omega) for p, w in zip(rotor.bearings, loads)])
     # keep the short-bearing start inside the clearance: a finite bearing carries more
     for k, p in enumerate(rotor.bearings):
         e = np.hypot(*journal[k]) / p.CR

@@ -3,7 +3,7 @@
 At each speed of a range (``rotor-host stability ROTOR.toml --speeds-hz 10:70:1``):
 
 1. the static equilibrium of the rotor on its nonlinear bearings, under its weight and any
-   static point loads, as a scene starts (``run.bearing_loads``, ``run.initial_state``,
+   static point loads, as a scene starts (``run.bearing_loads``, ``run.static_start``,
    ``equilibrium.static_equilibrium``); from the second speed on, Newton starts from the
    previous speed's equilibrium (continuation; a fresh start if that fails);
 2. each bearing linearised there with the internal's own analytic Jacobian
@@ -34,7 +34,6 @@ import math
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
-from types import SimpleNamespace
 
 import numpy as np
 
@@ -207,13 +206,13 @@ class Stability:
     # -- one speed ---------------------------------------------------------------------------
     def equilibrium(self, omega: float, q0: np.ndarray | None = None) -> np.ndarray:
         """Static equilibrium q [m, rad] at ``omega`` [rad/s]: Newton from ``q0`` (continuation),
-        and if that fails (or no q0) from the start a scene uses (``scene.initial_state``: the
+        and if that fails (or no q0) from the start a scene uses (``run.static_start``: the
         short-bearing estimate, the rotor deflected onto it). Raises EquilibriumError."""
         from bearing_fmu.statics import EquilibriumError
 
         from .bearings import DirectBearings
         from .equilibrium import static_equilibrium
-        from .run import initial_state
+        from .run import static_start
 
         t0 = time.perf_counter()
         try:
@@ -223,8 +222,7 @@ class Stability:
                     return static_equilibrium(self.rotor.K, self.f_static, bearings, q0)
                 except EquilibriumError:
                     pass  # the previous speed's equilibrium was too far: start afresh, as a scene does
-            at = SimpleNamespace(initial="static_equilibrium", omega=omega)  # what initial_state reads of a scene
-            return initial_state(at, self.rotor, self.f_static, self.loads, bearings)
+            return static_start(self.rotor, self.f_static, self.loads, bearings, omega)
         finally:
             self.timings["equilibrium"] += time.perf_counter() - t0
 
