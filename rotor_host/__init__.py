@@ -16,7 +16,7 @@ run                    run_scene: bearings, equilibrium, integration, result fil
 training               scene-trained Taylor surrogates (``rotor-host fit``)
 compare, report        error against run time; error measures, tables, plots
 limit_cycle, dt_study  the whirl's envelope; the time-step study
-stability              damped modes over speed: Campbell diagram, threshold
+stability, campbell    damped modes over speed and the threshold; the Campbell figures
 waterfall              response spectra of a run-up against speed
 sweep                  a scene at many speeds or unbalances on Dask; bifurcation diagram
 file_formats           the tables of docs/file-formats.md from the key lists
