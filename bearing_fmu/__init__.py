@@ -9,7 +9,9 @@ schema                 the keys of every file as typed data (Key, its Kind, chec
 cliargs                typed command-line values (argparse types naming the option)
 internals              the Internal protocol, state checks, the registry of internals
                        and its "how to add an internal" checklist
-reynolds               finite-volume Reynolds solver (the truth)
+reynolds,              finite-volume Reynolds solver (the truth), its compiled kernels
+_reynolds_kernels
+forcemap, _map_kernels the force map: the Reynolds force as a 2-D table per L/D
 linear                 8 Lund coefficients (the order-1 model)
 taylor                 the Taylor-surrogate internal
 guard                  the fitted-domain guard around it
@@ -19,7 +21,10 @@ shortbearing           closed-form short (Ocvirk) bearing
 statics                equilibrium, Lund linearisation, Jacobians of any internal
 fitting/               fitting a surrogate: FitRecipe, ridge, sampling, the fit, report,
                        ``bearing-fmu fit`` (never bundled into the FMU)
-slave, build           the pythonfmu slave and the FMU build
+slave, build,          the pythonfmu slave, the FMU build, the checked patches of
+fmu_binary             pythonfmu's binary for honest FMI statuses
+native/                the native (C) FMU of the linear, map and Taylor internals
+exits, outputs         how commands end (signals, exit codes); result files written safely
 fmu_meta, fmu_docs     both FMUs' model-description extras (display units, bounds,
                        enumerations, build record) and documentation/index.html
 cli                    the ``bearing-fmu`` command
