@@ -29,9 +29,7 @@ def ensure_writable(folder, option: str = "--out") -> Path:
         fd, probe = tempfile.mkstemp(prefix=".write_probe_", dir=folder)
         os.close(fd)
         os.unlink(probe)
-    except FileExistsError:
-        raise ValueError(f"{option} {folder}: a part of this path is a file, not a folder") from None
-    except NotADirectoryError:
+    except (FileExistsError, NotADirectoryError):
         raise ValueError(f"{option} {folder}: a part of this path is a file, not a folder") from None
     except PermissionError:
         raise ValueError(f"{option} {folder}: not writable (permission denied); choose another folder") from None

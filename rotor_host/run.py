@@ -337,8 +337,7 @@ class _Writer:
             "Fy": fb[:, :, 0], "Fz": fb[:, :, 1], "eccentricity": ecc,
             "bearing_nodes": np.array(rotor.bearing_nodes) + 1, "CR": CR, "q0": q0,
             "disk_nodes": np.array([d.node for d in rotor.disks], dtype=int) + 1,
-            "speed_hz": np.array([scene.speed.hz(x) for x in t]) if scene.speed_profile is not None
-            else np.full(len(t), scene.speed_hz),
+            "speed_hz": np.asarray(scene.speed.hz(t), float),  # at every recorded time, one interp
         }
         max_ecc = ecc.max(axis=0) if ecc.size else np.zeros(nb)
         meta = dict(self.meta)

@@ -53,8 +53,10 @@ class SpeedProfile:
     def is_constant(self) -> bool:
         return len(set(self.speeds_hz)) == 1
 
-    def hz(self, t: float) -> float:
-        return float(np.interp(t, self.times_s, self.speeds_hz))
+    def hz(self, t):
+        """Shaft speed [Hz] at t [s]: a float, or an array for an array of times."""
+        v = np.interp(t, self.times_s, self.speeds_hz)
+        return float(v) if np.ndim(v) == 0 else v
 
     def omega(self, t: float) -> float:
         """Shaft speed [rad/s] at t."""
