@@ -6,7 +6,7 @@ import argparse
 import math
 import sys
 
-from .exits import EXIT_CODES, add_debug_flag, run_command
+from .io.exits import EXIT_CODES, add_debug_flag, run_command
 
 
 def _demo(args: argparse.Namespace) -> int:
@@ -14,9 +14,9 @@ def _demo(args: argparse.Namespace) -> int:
     default) under a static load at one speed, from the Reynolds solver."""
     import numpy as np
 
-    from .params import PAPER_BEARING, BearingParams
-    from .reynolds import Reynolds
-    from .statics import equilibrium, linearize
+    from .physics.params import PAPER_BEARING, BearingParams
+    from .physics.reynolds import Reynolds
+    from .physics.statics import equilibrium, linearize
 
     params = BearingParams.from_toml(args.bearing) if args.bearing else PAPER_BEARING
     rey = Reynolds(params)
@@ -44,8 +44,8 @@ def _demo(args: argparse.Namespace) -> int:
 
 
 def _build(args: argparse.Namespace) -> int:
-    from .build import build_fmu
-    from .outputs import ensure_output_file
+    from .fmu.build import build_fmu
+    from .io.outputs import ensure_output_file
 
     if args.native:
         return _build_native(args)
@@ -56,7 +56,7 @@ def _build(args: argparse.Namespace) -> int:
     ensure_output_file(args.output, "-o/--output")
     bearing = None
     if args.bearing:
-        from .params import BearingParams
+        from .physics.params import BearingParams
 
         bearing = BearingParams.from_toml(args.bearing)
     path = build_fmu(args.output, surrogate=[*(args.surrogate or []), *(args.map or [])] or None,
@@ -70,9 +70,9 @@ def _build(args: argparse.Namespace) -> int:
 
 def _build_native(args: argparse.Namespace) -> int:
     """``bearing-fmu build --native``: the internal compiled to C, one data file compiled in."""
-    from .native.build import build_native_fmu
-    from .outputs import ensure_output_file
-    from .params import BearingParams
+    from .fmu.native.build import build_native_fmu
+    from .io.outputs import ensure_output_file
+    from .physics.params import BearingParams
 
     surrogates, maps = args.surrogate or [], args.map or []
     internal = args.internal or ("taylor" if surrogates else "map" if maps else None)
@@ -101,9 +101,9 @@ def _map(args: argparse.Namespace) -> int:
     """``bearing-fmu map``: tabulate the force map of a bearing's L/D and write its file."""
     import os
 
-    from .forcemap import save_map, tabulate
-    from .outputs import ensure_output_file
-    from .params import PAPER_BEARING, BearingParams
+    from .internals.forcemap import save_map, tabulate
+    from .io.outputs import ensure_output_file
+    from .physics.params import PAPER_BEARING, BearingParams
 
     ensure_output_file(args.output, "-o/--output")
     params = BearingParams.from_toml(args.bearing) if args.bearing else PAPER_BEARING
@@ -139,7 +139,7 @@ def _resolution(text: str) -> tuple[int, int]:
 
 
 def main(argv: list[str] | None = None) -> int:
-    from .cliargs import existing_file, finite_float, output_file, positive_float
+    from .io.cliargs import existing_file, finite_float, output_file, positive_float
 
     parser = argparse.ArgumentParser(prog="bearing-fmu", description=__doc__, epilog=EXIT_CODES,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -187,8 +187,8 @@ def main(argv: list[str] | None = None) -> int:
                         "C compiler directly")
     p.set_defaults(func=_build)
 
-    from .cliargs import grid, int_at_least, number, typed
-    from .forcemap import DEFAULT_EPS_MAX, DEFAULT_N_BETA, DEFAULT_N_EPS, DEFAULT_N_PHASE
+    from .internals.forcemap import DEFAULT_EPS_MAX, DEFAULT_N_BETA, DEFAULT_N_EPS, DEFAULT_N_PHASE
+    from .io.cliargs import grid, int_at_least, number, typed
 
     p = sub.add_parser("map", help="tabulate the force map of a bearing's L/D from the Reynolds solver "
                                    "(docs/forcemap.md) and write its JSON file")

@@ -3,7 +3,7 @@ written before it, leaving every other byte of the file as it was (coefficients 
 
 The training states are regenerated from the file's own recipe (``provenance``: ``recipe``
 or the older ``fit_call``): the file is refitted the way it was fitted (scene-trained:
-``rotor_host.training.fit_scene``, which reruns the training scenes with Reynolds, or reads
+``rotor_host.analyses.training.fit_scene``, which reruns the training scenes with Reynolds, or reads
 their series from ``--cache-dir``; designed-domain: ``fit_condition``), and only the refit's
 ``neighbours`` are written into the file. The refit's coefficients, training-row count and
 domain are compared with the file's and printed: they agree to round-off when the training
@@ -30,12 +30,12 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # this checkout's 
 def regenerate(path: Path, cache_dir: Path):
     """The refit of the file at ``path`` from its recipe (a FitResult)."""
     from bearing_fmu.fitting import fit_condition, recipe_of
-    from bearing_fmu.surrogate import load_surrogate
+    from bearing_fmu.surrogates.surrogate import load_surrogate
 
     sur = load_surrogate(path)
     recipe = recipe_of(sur, path)
     if recipe.kind == "scene":
-        from rotor_host.training import fit_scene
+        from rotor_host.analyses.training import fit_scene
 
         return sur, fit_scene(recipe, cache_dir=cache_dir, log=lambda m: print("  " + m, flush=True))
     return sur, fit_condition(recipe, params=sur.params, bias_variance=False)
@@ -58,7 +58,7 @@ def compare(old, new) -> dict:
 
 
 def add(path: Path, cache_dir: Path, force: bool) -> dict | None:
-    from bearing_fmu.surrogate import load_surrogate, surrogate_json
+    from bearing_fmu.surrogates.surrogate import load_surrogate, surrogate_json
 
     data = json.loads(path.read_text())
     if "neighbours" in data and not force:

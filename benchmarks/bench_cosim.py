@@ -20,9 +20,9 @@ import tempfile
 import time
 from pathlib import Path
 
-from rotor_host.report import markdown_table
-from rotor_host.scene import load_scene
-from rotor_host.run import run_scene
+from rotor_host.analyses.report import markdown_table
+from rotor_host.scenes.run import run_scene
+from rotor_host.scenes.scene import load_scene
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -42,9 +42,9 @@ class StepSplit:
     GROUPS = {"evaluate": "evaluate", "begin_step": "step", "accept_step": "step", "reject_step": "step"}
 
     def __enter__(self):
-        from rotor_host.bearings import BearingSet, DirectBearings
-        from rotor_host.cosim import FMUBearings
-        from rotor_host.newmark import Newmark
+        from rotor_host.coupling.bearings import BearingSet, DirectBearings
+        from rotor_host.coupling.cosim import FMUBearings
+        from rotor_host.integrate.newmark import Newmark
 
         self.acc = {"evaluate": 0.0, "step": 0.0}
         self._depth = 0

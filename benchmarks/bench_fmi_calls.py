@@ -46,7 +46,7 @@ def per_call_us(fn, n: int) -> float:
 def training_state(path) -> tuple[float, float, float, float]:
     """A state the surrogate was trained on (one of the training states its file stores, inside
     its bounds too), so the domain guard lets it through; (y, z, vy, vz) [m, m/s]."""
-    from bearing_fmu.taylor import Taylor
+    from bearing_fmu.internals.taylor import Taylor
 
     tay = Taylor.from_file(path)
     s = tay.surrogate
@@ -67,13 +67,13 @@ def main() -> None:
     args = ap.parse_args()
     n = args.calls
 
-    from bearing_fmu.build import build_fmu
-    from bearing_fmu.guard import DomainGuard
-    from bearing_fmu.params import PAPER_BEARING
-    from bearing_fmu.reynolds import Reynolds
-    from bearing_fmu.slave import BearingFMU
-    from bearing_fmu.taylor import Taylor
-    from rotor_host.cosim import FMUBearings
+    from bearing_fmu.fmu.build import build_fmu
+    from bearing_fmu.fmu.slave import BearingFMU
+    from bearing_fmu.internals.guard import DomainGuard
+    from bearing_fmu.internals.taylor import Taylor
+    from bearing_fmu.physics.params import PAPER_BEARING
+    from bearing_fmu.physics.reynolds import Reynolds
+    from rotor_host.coupling.cosim import FMUBearings
 
     omega = 2 * math.pi * 22.0
     state = training_state(SURROGATE)

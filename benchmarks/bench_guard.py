@@ -1,7 +1,7 @@
 """Cost of the domain guard's nearest-neighbour distance per evaluation.
 
 For the shipped 22 and 44 Hz surrogates, at the states of their held-out scene's Reynolds
-orbit (heldout_22hz_6g, heldout_44hz_4g; series from rotor_host.training.scene_series,
+orbit (heldout_22hz_6g, heldout_44hz_4g; series from rotor_host.analyses.training.scene_series,
 cached in --cache-dir), in a plain Python loop as the FMU slave calls them:
 
 * one cKDTree query of the stored training states (the exact distance);
@@ -42,8 +42,8 @@ def per_call_us(fn, states, calls: int) -> float:
 
 
 def orbit(scene_stem: str, cache_dir: Path) -> np.ndarray:
-    from rotor_host.scene import load_scene
-    from rotor_host.training import scene_series
+    from rotor_host.analyses.training import scene_series
+    from rotor_host.scenes.scene import load_scene
 
     sc = load_scene(ROOT / "models" / "scenes" / f"{scene_stem}.toml")
     return scene_series(sc, 1, cache_dir / f"{scene_stem}_b1_series.npz")[1]
@@ -52,9 +52,9 @@ def orbit(scene_stem: str, cache_dir: Path) -> np.ndarray:
 def main() -> None:
     import dataclasses
 
-    from bearing_fmu.guard import DomainGuard, NearestTraining
-    from bearing_fmu.surrogate import load_surrogate
-    from bearing_fmu.taylor import Taylor
+    from bearing_fmu.internals.guard import DomainGuard, NearestTraining
+    from bearing_fmu.internals.taylor import Taylor
+    from bearing_fmu.surrogates.surrogate import load_surrogate
 
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--cache-dir", type=Path, required=True, help="folder of the scenes' Reynolds series (reused)")

@@ -1,13 +1,13 @@
 """Native bearing FMUs (bearing_fmu/native): what one doStep costs, and what the rotor host pays.
 
-1. C host: bearing_fmu/native/c/example_host.c, compiled here, started with an empty
+1. C host: bearing_fmu/fmu/native/c/example_host.c, compiled here, started with an empty
    environment, loads each native FMU's binary and times doStep at states moving on a small
    circle around the surrogate's expansion point (the map and linear: the 22 Hz one), and one
    conformant iteration (restore the state saved at the step's start, set the inputs, doStep,
    get the 11 outputs). Best of --repeat runs of 200 000 calls.
 2. Rotor host: a paper scene (default paper_22hz) for --t-end s with each internal called
    in-process (direct), through the Python FMU and through the native FMU (fmpy, the
-   conformant iteration of rotor_host/cosim.py); integration time only, best of --repeat. The
+   conformant iteration of rotor_host/coupling/cosim.py); integration time only, best of --repeat. The
    step split (bearing evaluations, the per-step FMU state bookkeeping, the integrator) is
    bench_cosim.StepSplit's. Reynolds runs through the Python FMU (it has no native FMU) for
    the Reynolds/Taylor and Reynolds/map ratios of the same run.
@@ -29,10 +29,10 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 from bench_cosim import StepSplit, cpu  # noqa: E402
 
-from bearing_fmu.surrogate import load_surrogate  # noqa: E402
-from rotor_host.report import markdown_table  # noqa: E402
-from rotor_host.scene import load_scene
-from rotor_host.run import run_scene  # noqa: E402
+from bearing_fmu.surrogates.surrogate import load_surrogate  # noqa: E402
+from rotor_host.analyses.report import markdown_table  # noqa: E402
+from rotor_host.scenes.run import run_scene  # noqa: E402
+from rotor_host.scenes.scene import load_scene
 
 SURROGATES = ROOT / "models" / "surrogates"
 MAP = ROOT / "models" / "maps" / "paper_bearing.json"
@@ -41,7 +41,7 @@ MAP = ROOT / "models" / "maps" / "paper_bearing.json"
 def c_host_costs(tmp: Path, repeat: int, n: int = 200_000) -> list[dict]:
     import fmpy
 
-    from bearing_fmu.native.build import C_DIR, build_native_fmu, find_compiler, fmi_headers
+    from bearing_fmu.fmu.native.build import C_DIR, build_native_fmu, find_compiler, fmi_headers
 
     exe = tmp / "example_host"
     subprocess.run([find_compiler(), "-O2", str(C_DIR / "example_host.c"), "-I", str(fmi_headers()), "-o", str(exe),

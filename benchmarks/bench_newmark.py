@@ -2,7 +2,7 @@
 
     .venv/bin/python benchmarks/bench_newmark.py [--t-end 0.2] [--dt 1e-4] [--no-profile]
 
-Rotor: the paper rotor (models/rotor_paper.toml through rotor_host.rotor.Rotor) when it can be
+Rotor: the paper rotor (models/rotor_paper.toml through rotor_host.model.rotor.Rotor) when it can be
 built, otherwise a 44-DOF Euler-Bernoulli beam chain of similar size (11 nodes, disk at node 6).
 Bearings at nodes 3 and 9 (1-based), DOFs y, z. Cases, dt = 1e-4 s over 0.2 s at 22 Hz with
 the paper's unbalance (8.5 g at 37 mm on the disk) and weight:
@@ -21,7 +21,6 @@ from __future__ import annotations
 
 import argparse
 import cProfile
-import io
 import math
 import pstats
 import sys
@@ -35,9 +34,9 @@ import scipy.linalg as sla
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from rotor_host import _newmark_kernels as kernels  # noqa: E402
-from rotor_host import forces  # noqa: E402
-from rotor_host import newmark as nm  # noqa: E402
+from rotor_host.integrate import forces  # noqa: E402
+from rotor_host.integrate import newmark as nm  # noqa: E402
+from rotor_host.integrate import newmark_kernels as kernels  # noqa: E402
 
 HZ = 22.0
 UNBALANCE = (8.5e-3, 37e-3)  # kg, m (paper, section 3)
@@ -80,7 +79,7 @@ def beam_chain():
 
 def load_rotor():
     try:
-        from rotor_host.rotor import Rotor
+        from rotor_host.model.rotor import Rotor
         r = Rotor.from_toml(ROOT / "models" / "rotor_paper.toml")
         M, K, C, G = (np.asarray(a, dtype=float) for a in (r.M, r.K, r.C, r.G))
         if M.shape != (44, 44):
@@ -170,7 +169,7 @@ def woodbury_vs_refactor(M, K, C, G, bdofs, dt):
     D = C + omega * G
     cfg = nm.NewmarkConfig()
     dofs = np.asarray(bdofs, dtype=np.int64)
-    ops = kernels._Ops(dt, M, D, K, dofs, cfg)
+    ops = kernels.StepOps(dt, M, D, K, dofs, cfg)
     S0, S0inv, c1 = ops.SS[0], ops.SS[1], ops.c1
     rng = np.random.default_rng(0)
     R = rng.standard_normal(n)

@@ -22,9 +22,9 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from bearing_fmu.reynolds import Reynolds  # noqa: E402
-from bearing_fmu.surrogate import load_surrogate  # noqa: E402
-from bearing_fmu.taylor import Taylor  # noqa: E402
+from bearing_fmu.internals.taylor import Taylor  # noqa: E402
+from bearing_fmu.physics.reynolds import Reynolds  # noqa: E402
+from bearing_fmu.surrogates.surrogate import load_surrogate  # noqa: E402
 
 
 def states_in_domain(sur, n: int, seed: int = 0) -> np.ndarray:

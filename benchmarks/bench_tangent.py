@@ -1,6 +1,6 @@
 """Newton tangent of the bearing forces: the FMUs' own stiffness and damping against fixed ones.
 
-Runs paper scenes through the bearing FMUs with each ``newton_tangent`` (rotor_host.scene):
+Runs paper scenes through the bearing FMUs with each ``newton_tangent`` (rotor_host.scenes.scene):
 ``bearing`` (the FMU's K, C outputs at every iterate: exact Newton), ``frozen`` (those at the
 static equilibrium, fixed: Lund's coefficients), ``fd`` (finite differences by the
 integrator, refreshed when Newton slows; the FMUs skip their Jacobian) and ``linear`` (the
@@ -21,10 +21,10 @@ from pathlib import Path
 
 from bench_cosim import cpu
 
-from rotor_host.forces import NEWTON_TANGENTS
-from rotor_host.report import errors_against, markdown_table
-from rotor_host.scene import load_scene
-from rotor_host.run import run_scene
+from rotor_host.analyses.report import errors_against, markdown_table
+from rotor_host.integrate.forces import NEWTON_TANGENTS
+from rotor_host.scenes.run import run_scene
+from rotor_host.scenes.scene import load_scene
 
 ROOT = Path(__file__).resolve().parents[1]
 SCENES = ("paper_22hz.toml", "paper_10hz_500N.toml")

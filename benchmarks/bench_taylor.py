@@ -20,14 +20,12 @@ import sys
 import time
 from pathlib import Path
 
-import numpy as np
-
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from bearing_fmu import fitting as F  # noqa: E402
-from bearing_fmu.params import PAPER_BEARING  # noqa: E402
-from bearing_fmu.statics import equilibrium  # noqa: E402
-from bearing_fmu.taylor import Taylor  # noqa: E402
+from bearing_fmu.internals.taylor import Taylor  # noqa: E402
+from bearing_fmu.physics.params import PAPER_BEARING  # noqa: E402
+from bearing_fmu.physics.statics import equilibrium  # noqa: E402
 
 # name: (load (Wy, Wz) [N], speed [Hz], domain keywords of designed_samples)
 # 22, 44: the domains of the shipped surrogates (models/surrogates/paper_*hz_16.7N.json);
@@ -121,7 +119,7 @@ def main(argv=None) -> int:
     print("| internal | terms | time per call [us] | speed-up vs Reynolds |")
     print("|---|---|---|---|")
     print(f"| Reynolds {grid} | - | {rey_time * 1e6:.1f} | 1 |")
-    from bearing_fmu.basis import n_terms
+    from bearing_fmu.surrogates.basis import n_terms
 
     for o in args.orders:
         print(f"| Taylor order {o} | {n_terms(o)} | {timing[o] * 1e6:.2f} | {rey_time / timing[o]:.0f} |")

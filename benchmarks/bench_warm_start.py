@@ -31,12 +31,12 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from bearing_fmu import reynolds as rey  # noqa: E402
-from rotor_host import bearings as brg  # noqa: E402
-from rotor_host import newmark  # noqa: E402
-from rotor_host.report import markdown_table  # noqa: E402
-from rotor_host.scene import load_scene
-from rotor_host.run import run_scene  # noqa: E402
+from bearing_fmu.physics import reynolds as rey  # noqa: E402
+from rotor_host.analyses.report import markdown_table  # noqa: E402
+from rotor_host.coupling import bearings as brg  # noqa: E402
+from rotor_host.integrate import newmark  # noqa: E402
+from rotor_host.scenes.run import run_scene  # noqa: E402
+from rotor_host.scenes.scene import load_scene
 
 ROOT = Path(__file__).resolve().parents[1]
 SCENES = ("paper_22hz", "paper_44hz")

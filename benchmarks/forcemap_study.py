@@ -38,11 +38,11 @@ from numba import njit
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # this checkout's packages, not the installed ones
 
-from bearing_fmu.forcemap import (DEFAULT_EPS_MAX, DEFAULT_N_BETA, DEFAULT_N_EPS, DEFAULT_N_PHASE,
-                                  DEFAULT_WALL_EXPONENT, ForceMap, _row, reduced, save_map, scale,
-                                  state_for, tabulate)
-from bearing_fmu.params import PAPER_BEARING as P
-from bearing_fmu.reynolds import Reynolds
+from bearing_fmu.internals.forcemap import (DEFAULT_EPS_MAX, DEFAULT_N_BETA, DEFAULT_N_EPS, DEFAULT_N_PHASE,
+                                            DEFAULT_WALL_EXPONENT, ForceMap, _row, reduced, save_map, scale,
+                                            state_for, tabulate)
+from bearing_fmu.physics.params import PAPER_BEARING as P
+from bearing_fmu.physics.reynolds import Reynolds
 
 OMEGA = 2 * math.pi * 22.0
 BANDS = ((0.0, 0.95), (0.0, 0.98), (0.98, 0.99))  # eccentricity ranges of the random state sets
@@ -162,7 +162,7 @@ def lund(fmap, rey, n_turn=8):
     (the same state and load turned with the grid by a fraction of a cell, coefficients turned
     back: the largest difference over ``n_turn`` turns) and the map against the solver's
     coefficients averaged over those turns. Differences: max |dK| / max |K| (the same for C)."""
-    from bearing_fmu.statics import equilibrium, linearize
+    from bearing_fmu.physics.statics import equilibrium, linearize
 
     print("| speed [Hz] | load [N] | eps | equilibrium shift [% CR] | map vs Reynolds: K / C | "
           "Reynolds turned within a cell vs itself: K / C | map vs Reynolds averaged over the turns: K / C |")

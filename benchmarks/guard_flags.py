@@ -1,7 +1,7 @@
 """How many states of Reynolds trajectories the domain guard of each shipped surrogate flags.
 
 For every surrogate in models/surrogates/ and every scene in models/scenes/ that names it
-(``[taylor] surrogate``), the scene's Reynolds series of bearing 1 (rotor_host.training.
+(``[taylor] surrogate``), the scene's Reynolds series of bearing 1 (rotor_host.analyses.training.
 scene_series, cached in --cache-dir) is passed state by state through the surrogate's domain
 distance (``Taylor.domain_distance``: bounds and nearest training state) and counted:
 flagged (d > 0, out_of_domain), by which part (bounds, nearest-neighbour), and refused under
@@ -50,10 +50,10 @@ def count(tay, states) -> dict:
 
 def main(argv=None) -> int:
     from bearing_fmu.fitting import recipe_of
-    from bearing_fmu.surrogate import load_surrogate
-    from bearing_fmu.taylor import Taylor
-    from rotor_host.scene import load_scene
-    from rotor_host.training import holdout_mask, scene_series
+    from bearing_fmu.internals.taylor import Taylor
+    from bearing_fmu.surrogates.surrogate import load_surrogate
+    from rotor_host.analyses.training import holdout_mask, scene_series
+    from rotor_host.scenes.scene import load_scene
 
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--cache-dir", type=Path, required=True, help="folder of the scenes' Reynolds series (reused)")

@@ -22,19 +22,19 @@ import tempfile
 import time
 from pathlib import Path
 
-from bearing_fmu.surrogate import load_surrogate
-from rotor_host.compare import envelope_error, late_max_eccentricity
-from rotor_host.report import errors_against, markdown_table
-from rotor_host.scene import load_scene
-from rotor_host.run import run_scene
-from rotor_host.training import refit, training_scenes
+from bearing_fmu.surrogates.surrogate import load_surrogate
+from rotor_host.analyses.compare import envelope_error, late_max_eccentricity
+from rotor_host.analyses.report import errors_against, markdown_table
+from rotor_host.analyses.training import refit, training_scenes
+from rotor_host.scenes.run import run_scene
+from rotor_host.scenes.scene import load_scene
 
 ROOT = Path(__file__).resolve().parents[1]
 SURROGATES = [ROOT / "models" / "surrogates" / f"paper_{f}hz_16.7N.json" for f in (22, 44)]
 
 
 def time_per_call(surrogate, n: int = 20000) -> float:
-    from bearing_fmu.taylor import Taylor
+    from bearing_fmu.internals.taylor import Taylor
 
     t = Taylor(surrogate)
     y, z, om = surrogate.y0, surrogate.z0, surrogate.omega

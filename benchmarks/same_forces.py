@@ -4,7 +4,7 @@ its fitted domain (the expansion point, then seeded random states over its posit
 velocity discs), saved from one checkout and compared exactly (==, bytes) with another's.
 
 Run ``save`` with the checkout to test as the working directory (its code is imported, also
-an older one whose load_surrogate still lives in bearing_fmu.taylor), e.g. against main:
+an older one whose load_surrogate still lives in bearing_fmu.internals.taylor), e.g. against main:
 
     git worktree add --detach ../base main
     (cd ../base && python /path/to/benchmarks/same_forces.py save /tmp/base.npz)
@@ -37,11 +37,11 @@ def states(sur, tay, n, seed):
 
 def save(out):
     sys.path.insert(0, str(Path.cwd()))
-    from bearing_fmu.taylor import Taylor
+    from bearing_fmu.internals.taylor import Taylor
     try:
-        from bearing_fmu.surrogate import load_surrogate
-    except ImportError:  # a checkout before the split of bearing_fmu/taylor.py
-        from bearing_fmu.taylor import load_surrogate
+        from bearing_fmu.surrogates.surrogate import load_surrogate
+    except ImportError:  # a checkout before the split of bearing_fmu/internals/taylor.py
+        from bearing_fmu.internals.taylor import load_surrogate
     import bearing_fmu
     print("code:", bearing_fmu.__file__)
     res = {}

@@ -191,7 +191,7 @@ def main(argv=None) -> int:
     fmu = args.fmu
     if fmu is None:
         sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-        from bearing_fmu.build import build_fmu
+        from bearing_fmu.fmu.build import build_fmu
 
         fmu = build_fmu(Path(tempfile.mkdtemp()) / "bearing.fmu", surrogate=args.surrogate)
     params = {"internal": args.internal}

@@ -19,7 +19,7 @@ Build (plain pythonfmu, no bearing_fmu code goes into the FMU):
     python examples/journal_mass_fmu.py -o JournalMass.fmu     # same, plus the exit-crash fix
 
 ``build()`` (the second form) calls pythonfmu's ``FmuBuilder.build_FMU`` and then applies
-``bearing_fmu.build.patch_linux_binary`` to the Linux binary: pythonfmu 0.7.0's library
+``bearing_fmu.fmu.build.patch_linux_binary`` to the Linux binary: pythonfmu 0.7.0's library
 releases its interpreter state twice at process exit (see docs/fmu.md), and a host that
 loads this FMU as well as the bearing FMU would otherwise abort at exit in some runs.
 """
@@ -105,7 +105,7 @@ class JournalMass(Fmi2Slave):
 
 def build(output="JournalMass.fmu"):
     """Build this file into an FMU with pythonfmu and fix pythonfmu 0.7.0's exit crash in the
-    Linux binary (``bearing_fmu.build.patch_linux_binary``). Returns the FMU path."""
+    Linux binary (``bearing_fmu.fmu.build.patch_linux_binary``). Returns the FMU path."""
     import os
     import sys
     import zipfile
@@ -113,7 +113,7 @@ def build(output="JournalMass.fmu"):
 
     from pythonfmu import FmuBuilder
 
-    from bearing_fmu.build import patch_linux_binary
+    from bearing_fmu.fmu.build import patch_linux_binary
 
     output = Path(output)
     output.parent.mkdir(parents=True, exist_ok=True)

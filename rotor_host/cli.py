@@ -7,12 +7,12 @@ import argparse
 import sys
 from pathlib import Path
 
-from bearing_fmu.exits import EXIT_CODES, add_debug_flag, note_kept, run_command
-from bearing_fmu.outputs import ensure_writable, write_text
+from bearing_fmu.io.exits import EXIT_CODES, add_debug_flag, note_kept, run_command
+from bearing_fmu.io.outputs import ensure_writable, write_text
 
 
 def _scene_from_args(args):
-    from .scene import load_scene
+    from .scenes.scene import load_scene
 
     scene = load_scene(args.scene)
     changes = {}
@@ -34,13 +34,13 @@ def _scene_from_args(args):
 
 def _file_options() -> list[tuple[str, str]]:
     """(internal, option) of every file option in the registry: each is a command-line flag."""
-    from bearing_fmu.internals import REGISTRY
+    from bearing_fmu.internals.registry import REGISTRY
 
     return [(spec.name, o.name) for spec in REGISTRY.values() for o in spec.options if o.file]
 
 
 def _add_file_flags(p) -> None:
-    from bearing_fmu.cliargs import existing_file
+    from bearing_fmu.io.cliargs import existing_file
 
     for internal, option in _file_options():
         p.add_argument(f"--{option}", type=existing_file, metavar="FILE",
@@ -48,14 +48,14 @@ def _add_file_flags(p) -> None:
 
 
 def _internal_choices():
-    from bearing_fmu.internals import names
+    from bearing_fmu.internals.registry import names
 
     return names()
 
 
 def _run(args) -> int:
-    from .report import plot_runs
-    from .run import run_scene
+    from .analyses.report import plot_runs
+    from .scenes.run import run_scene
 
     scene = _scene_from_args(args)
     out = Path(args.out)
@@ -71,7 +71,7 @@ def _run(args) -> int:
     if m["status"] != "ok":
         print(f"stopped: {m['message']}")
     if scene.speed_profile is not None and not args.no_plots and run.arrays["t"].size > 1:
-        from .waterfall import default_nodes, plot_waterfall, spectra, summary
+        from .analyses.waterfall import default_nodes, plot_waterfall, spectra, summary
 
         try:
             nodes = default_nodes(run.arrays)
@@ -105,7 +105,7 @@ def _grid_label(grid) -> str:
 
 
 def _reference_and_variants(args, scene):
-    from .compare import Variant
+    from .analyses.compare import Variant
 
     ref_grid = args.ref_grid  # (n_theta, n_x), or None: the default grid (parsed by cliargs.grid_or_default)
     ref = Variant(_grid_label(ref_grid), "reynolds", _grid_options(ref_grid))
@@ -115,7 +115,7 @@ def _reference_and_variants(args, scene):
     for grid in args.grids or []:
         variants.append(Variant(_grid_label(grid), "reynolds", _grid_options(grid)))
     variants += _map_variants(args.maps if args.maps is not None else _scene_map(scene))
-    from bearing_fmu.surrogate import load_surrogate
+    from bearing_fmu.surrogates.surrogate import load_surrogate
 
     for order, path in _surrogates(args, scene):
         variants.append(Variant(f"Taylor {load_surrogate(path).recipe}", "taylor", {"taylor": {"surrogate": path}},
@@ -132,9 +132,9 @@ def _scene_map(scene) -> list[Path]:
 
 def _map_variants(paths) -> list:
     """One compare variant per force map file, labelled with its resolution and truth grid."""
-    from bearing_fmu.forcemap import load_map
+    from bearing_fmu.internals.forcemap import load_map
 
-    from .compare import Variant
+    from .analyses.compare import Variant
 
     out = []
     for path in paths:
@@ -147,9 +147,9 @@ def _map_variants(paths) -> list:
 def _surrogates(args, scene):
     """(order, file) per requested order: the scene's surrogate for its own order, others
     fitted on the same declared domain into the output folder."""
-    from bearing_fmu.surrogate import load_surrogate
+    from bearing_fmu.surrogates.surrogate import load_surrogate
 
-    from .scene import required_file
+    from .scenes.scene import required_file
 
     if not args.orders:  # `--orders` with nothing: no Taylor variant, no surrogate needed
         return []
@@ -162,7 +162,7 @@ def _surrogates(args, scene):
             continue
         path = Path(args.out) / "surrogates" / f"{scene.surrogate.stem}_order{order}.json"
         if not path.is_file():
-            from .training import refit
+            from .analyses.training import refit
 
             refit(scene.surrogate, order, path, cache_dir=Path(args.out) / "series", surrogate=base)
         out.append((order, path))
@@ -170,7 +170,7 @@ def _surrogates(args, scene):
 
 
 def _compare(args) -> int:
-    from .compare import compare, print_table
+    from .analyses.compare import compare, print_table
 
     scene = _scene_from_args(args)
     ref, variants = _reference_and_variants(args, scene)
@@ -206,10 +206,10 @@ def _paper(args) -> int:
 
 
 def _paper_scenes(args, scenes_dir: Path, out: Path, summary: list) -> None:
-    from bearing_fmu.surrogate import load_surrogate
+    from bearing_fmu.surrogates.surrogate import load_surrogate
 
-    from .compare import Variant, compare, print_table
-    from .scene import load_scene, required_file
+    from .analyses.compare import Variant, compare, print_table
+    from .scenes.scene import load_scene, required_file
 
     for name in PAPER_SCENES:
         scene = load_scene(scenes_dir / name)
@@ -225,10 +225,10 @@ def _paper_scenes(args, scenes_dir: Path, out: Path, summary: list) -> None:
 
 
 def main(argv: list[str] | None = None) -> int:
-    from bearing_fmu.cliargs import (existing_dir, existing_file, grid, grid_or_default, output_dir, positive_float,
-                                     positive_int)
+    from bearing_fmu.io.cliargs import (existing_dir, existing_file, grid, grid_or_default, output_dir,
+                                        positive_float, positive_int)
 
-    from .forces import NEWTON_TANGENTS
+    from .integrate.forces import NEWTON_TANGENTS
 
     parser = argparse.ArgumentParser(prog="rotor-host", description=__doc__, epilog=EXIT_CODES,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -285,40 +285,40 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--quiet", action="store_true", help="no progress bars")
     p.set_defaults(func=_paper)
 
-    from . import training
+    from .analyses import training
 
     p = sub.add_parser("fit", help="fit a bearing's Taylor surrogate to the Reynolds series of scenes (the paper's way) "
                                    "and write its JSON file, report and lambda plots")
     training.add_arguments(p)
     p.set_defaults(func=training.run)
 
-    from . import dt_study
+    from .analyses import dt_study
 
     p = sub.add_parser("dt-study", help="halve dt until the bearing orbit changes by less than 1 %% CR")
     dt_study.add_arguments(p)
     p.set_defaults(func=dt_study.run)
 
-    from . import waterfall
+    from .analyses import waterfall
 
     p = sub.add_parser("waterfall", help="response spectra against speed of a run-up or coast-down run "
                                          "(a scene with [speed_profile]), with 1x and 0.5x lines and orbits")
     waterfall.add_arguments(p)
     p.set_defaults(func=waterfall.run)
 
-    from . import limit_cycle
+    from .analyses import limit_cycle
 
     p = sub.add_parser("limit-cycle", help="envelope of the bearing eccentricity: does the whirl settle and hold?")
     limit_cycle.add_arguments(p)
     p.set_defaults(func=limit_cycle.run)
 
-    from . import stability
+    from .analyses import stability
 
     p = sub.add_parser("stability", help="Campbell diagram and stability threshold: equilibrium, linearised "
                                          "bearings and damped modes at each speed of a range")
     stability.add_arguments(p)
     p.set_defaults(func=stability.run)
 
-    from . import sweep
+    from .analyses import sweep
 
     p = sub.add_parser("sweep", help="run a scene at many speeds or unbalances in parallel on Dask: summary table "
                                      "and bifurcation diagram")
@@ -327,7 +327,7 @@ def main(argv: list[str] | None = None) -> int:
 
     add_debug_flag(parser, sub)
     args = parser.parse_args(argv)
-    return run_command("rotor-host", args)  # exit codes, interrupts, --debug: bearing_fmu.exits
+    return run_command("rotor-host", args)  # exit codes, interrupts, --debug: bearing_fmu.io.exits
 
 
 if __name__ == "__main__":

@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from bearing_fmu.params import PAPER_BEARING
+from bearing_fmu.physics.params import PAPER_BEARING
 
 ROOT = Path(__file__).resolve().parents[1]
 MODELS = ROOT / "models"
@@ -34,8 +34,8 @@ def code_cache(tmp_path_factory):
 def surrogate_file(tmp_path_factory):
     """An order-2 surrogate of the paper bearing at 22 Hz with made-up coefficients: the FMU
     must reproduce the Taylor internal exactly, whatever the coefficients."""
-    from bearing_fmu.basis import exponents
-    from bearing_fmu.surrogate import Domain, Surrogate, save_surrogate
+    from bearing_fmu.surrogates.basis import exponents
+    from bearing_fmu.surrogates.surrogate import Domain, Surrogate, save_surrogate
 
     exps = exponents(2)
     rng = np.random.default_rng(1)
@@ -55,7 +55,7 @@ COARSE_MAP = {"n_theta": 32, "n_x": 4, "n_eps": 12, "n_beta": 16, "n_phase": 1} 
 def map_file(tmp_path_factory):
     """A coarse force map of the paper bearing (Reynolds 32 x 4, table 12 x 16): quick to build;
     its accuracy is the business of tests/test_forcemap.py."""
-    from bearing_fmu.forcemap import save_map, tabulate
+    from bearing_fmu.internals.forcemap import save_map, tabulate
 
     return save_map(tabulate(PAPER_BEARING, **COARSE_MAP), tmp_path_factory.mktemp("map") / "paper_map.json")
 
@@ -63,7 +63,7 @@ def map_file(tmp_path_factory):
 @pytest.fixture(scope="session")
 def fmu(tmp_path_factory, code_cache, surrogate_file, map_file):
     """The bearing FMU, built once, with ``surrogate_file`` and ``map_file`` bundled."""
-    from bearing_fmu.build import build_fmu
+    from bearing_fmu.fmu.build import build_fmu
 
     return build_fmu(tmp_path_factory.mktemp("fmu") / "bearing.fmu", surrogate=[surrogate_file, map_file])
 

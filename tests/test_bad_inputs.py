@@ -17,9 +17,9 @@ from pathlib import Path
 
 import pytest
 
-from bearing_fmu.params import BearingParams
-from rotor_host.rotor import Rotor, RotorFileError
-from rotor_host.scene import SceneError, load_scene
+from bearing_fmu.physics.params import BearingParams
+from rotor_host.model.rotor import Rotor, RotorFileError
+from rotor_host.scenes.scene import SceneError, load_scene
 
 ROOT = Path(__file__).resolve().parents[1]
 MODELS = ROOT / "models"

@@ -7,9 +7,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from rotor_host.compare import Variant, compare, envelope_error, late_max_eccentricity
-from rotor_host.report import errors_against
-from rotor_host.scene import load_scene
+from rotor_host.analyses.compare import Variant, compare, envelope_error, late_max_eccentricity
+from rotor_host.analyses.report import errors_against
+from rotor_host.scenes.scene import load_scene
 
 SCENES = Path(__file__).resolve().parents[1] / "models" / "scenes"
 CR = 90e-6

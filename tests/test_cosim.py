@@ -8,9 +8,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from rotor_host.scene import load_scene
-
-from rotor_host.run import run_scene
+from rotor_host.scenes.run import run_scene
+from rotor_host.scenes.scene import load_scene
 
 pytest.importorskip("fmpy")
 ROOT = Path(__file__).resolve().parents[1]
@@ -70,7 +69,7 @@ def test_discarded_fmu_step_becomes_a_diagnosed_stop(tmp_path, fmu):
 
 
 def test_bad_fmu_parameter_names_the_parameter(tmp_path, fmu):
-    from rotor_host.cosim import FMUBearings, FMUError
+    from rotor_host.coupling.cosim import FMUBearings, FMUError
 
     with pytest.raises(FMUError, match="'viscosity' is not a parameter"):
         FMUBearings(fmu, [(0, 1)], 100.0, [{"viscosity": 0.05}])
@@ -82,7 +81,7 @@ def test_fmu_without_tangent_gives_the_force_alone(fmu):
     # newton_tangent 'fd' / 'linear': the host reads no K, C, so the FMUs are told not to
     # compute them (compute_tangent = false) and evaluate hands back the force alone, equal
     # to the force of an instance that does compute its tangent
-    from rotor_host.cosim import FMUBearings
+    from rotor_host.coupling.cosim import FMUBearings
 
     params = [{"internal": "reynolds", "n_theta": 32, "n_x": 4}]
     q, v = np.array([2e-5, -3e-5]), np.array([1e-3, 2e-3])
@@ -117,8 +116,8 @@ def test_only_a_discard_cuts_the_step(fmu, status, error):
     # FMI 2.0: fmi2Discard = this step is refused, try another; fmi2Error / fmi2Fatal = the
     # instance failed. Before, every status > OK became a step cut and the integrator halved
     # the step on a real error (a Ctrl-C inside the slave came back as one) and carried on.
-    from rotor_host import cosim
-    from rotor_host.forces import StepRejected
+    from rotor_host.coupling import cosim
+    from rotor_host.integrate.forces import StepRejected
 
     expected = {"StepRejected": StepRejected, "FMUError": cosim.FMUError}[error]
     with cosim.FMUBearings(fmu, [(0, 1)], 2 * np.pi * 22, [{"n_theta": 32, "n_x": 4}]) as b:

@@ -1,11 +1,11 @@
 """The dt study: its orbit-change measure against a hand computation, and a short real study."""
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 
-from rotor_host.dt_study import dt_study, orbit_change
-
-from pathlib import Path
+from rotor_host.analyses.dt_study import dt_study, orbit_change
 
 SCENES = Path(__file__).resolve().parents[1] / "models" / "scenes"
 

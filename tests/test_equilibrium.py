@@ -1,4 +1,4 @@
-"""Static equilibrium of a structure held by nonlinear nodal forces (rotor_host.equilibrium)
+"""Static equilibrium of a structure held by nonlinear nodal forces (rotor_host.integrate.equilibrium)
 against closed forms: Cardano's root of a cubic spring chain, the root of a spring stiffening
 to a wall, and the failures it must name (an overloaded bearing against an independent estimate
 of its load capacity, zero speed).
@@ -11,9 +11,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from bearing_fmu.statics import EquilibriumError, format_newtons
-from rotor_host.equilibrium import pinned_loads, static_equilibrium
-from rotor_host.forces import FunctionForce, StepRejected
+from bearing_fmu.physics.statics import EquilibriumError, format_newtons
+from rotor_host.integrate.equilibrium import pinned_loads, static_equilibrium
+from rotor_host.integrate.forces import FunctionForce, StepRejected
 
 
 class Recorder:
@@ -90,7 +90,7 @@ def test_static_equilibrium_reports_failure():
 
 
 def test_one_equilibrium_error_with_the_last_iterate():
-    # the host raises bearing_fmu.statics.EquilibriumError (one class for both statics), with
+    # the host raises bearing_fmu.physics.statics.EquilibriumError (one class for both statics), with
     # the last iterate, its residual and the iterations done
     sat = FunctionForce([0], lambda q, v: (-q / np.sqrt(1 + q * q), np.diag(-(1 + q * q) ** -1.5), None))
     with pytest.raises(EquilibriumError) as ei:
@@ -110,16 +110,16 @@ OMEGA = 2 * math.pi * 22.0
 def capacity_estimate(p, eps, omega):
     """The short-bearing (Ocvirk) load less the circumferential flow it drops; derivation and
     the factor 1.5 in tests/test_statics.py (capacity_estimate)."""
-    from bearing_fmu.shortbearing import short_bearing_load
+    from bearing_fmu.physics.shortbearing import short_bearing_load
 
     return short_bearing_load(p, eps, omega) / (1.0 + (p.L / p.D) ** 2 * eps / (2.0 * (1.0 - eps)))
 
 
 def test_pinned_loads_are_the_scenes_bearing_loads():
     # the equilibrium's own bearing loads (reactions of the rotor pinned at the force's DOFs)
-    # are the scene's (rotor_host.run.bearing_loads, checked against statics in test_scene.py)
-    from rotor_host.rotor import Rotor
-    from rotor_host.run import bearing_loads
+    # are the scene's (rotor_host.scenes.run.bearing_loads, checked against statics in test_scene.py)
+    from rotor_host.model.rotor import Rotor
+    from rotor_host.scenes.run import bearing_loads
 
     rotor = Rotor.from_toml(ROOT / "models" / "rotor_paper.toml")
     f = rotor.weight_vector(9.81) + rotor.point_load_vector([(8, 30.0, -800.0)])
@@ -131,10 +131,10 @@ def test_overloaded_rotor_bearing_is_named_before_newton(tmp_path):
     # 1e9 N on node 9 (bearing 2): the paper rotor's static equilibrium, as a scene starts it,
     # names bearing 2, its load and what it carries near the wall; bearing 1 (half the
     # weight, 16.7 N) is not blamed.
-    from bearing_fmu.params import PAPER_BEARING
-    from rotor_host.rotor import Rotor
-    from rotor_host.scene import G, load_scene
-    from rotor_host.run import bearing_loads, build_bearings, initial_state
+    from bearing_fmu.physics.params import PAPER_BEARING
+    from rotor_host.model.rotor import Rotor
+    from rotor_host.scenes.run import bearing_loads, build_bearings, initial_state
+    from rotor_host.scenes.scene import G, load_scene
 
     scene_file = tmp_path / "s.toml"
     scene_file.write_text(f'rotor = "{(ROOT / "models" / "rotor_paper.toml").as_posix()}"\n' + textwrap.dedent("""
@@ -172,10 +172,10 @@ def test_overloaded_rotor_bearing_is_named_before_newton(tmp_path):
 
 def test_rotor_at_zero_speed_carries_no_load():
     # omega = 0: the films carry nothing, the tangent is singular; the error says why
-    from bearing_fmu.params import PAPER_BEARING
-    from bearing_fmu.reynolds import Reynolds
-    from rotor_host.bearings import DirectBearings
-    from rotor_host.rotor import Rotor
+    from bearing_fmu.physics.params import PAPER_BEARING
+    from bearing_fmu.physics.reynolds import Reynolds
+    from rotor_host.coupling.bearings import DirectBearings
+    from rotor_host.model.rotor import Rotor
 
     rotor = Rotor.from_toml(ROOT / "models" / "rotor_paper.toml")
     f = rotor.weight_vector(9.81)

@@ -10,8 +10,8 @@ import numpy as np
 import pytest
 import scipy.linalg
 
-from rotor_host import fe
-from rotor_host.rotor import Disk, Material, Rotor, ShaftElement, assemble
+from rotor_host.model import fe
+from rotor_host.model.rotor import Material, Rotor, ShaftElement, assemble
 
 E, RHO, NU = 200e9, 7850.0, 0.3
 STEEL = Material(E=E, density=RHO, poisson=NU)

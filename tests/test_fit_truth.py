@@ -18,10 +18,10 @@ import pytest
 from bearing_fmu import fitting as F
 from bearing_fmu.cli import main as bearing_fmu
 from bearing_fmu.fitting import FitRecipe
-from bearing_fmu.forcemap import ForceMap, load_map, save_map, scale, tabulate
-from bearing_fmu.params import PAPER_BEARING as P
-from bearing_fmu.params import BearingParams
-from bearing_fmu.surrogate import load_surrogate
+from bearing_fmu.internals.forcemap import ForceMap, load_map, save_map, scale, tabulate
+from bearing_fmu.physics.params import PAPER_BEARING as P
+from bearing_fmu.physics.params import BearingParams
+from bearing_fmu.surrogates.surrogate import load_surrogate
 
 ROOT = Path(__file__).resolve().parents[1]
 PAPER_MAP = ROOT / "models" / "maps" / "paper_bearing.json"
@@ -198,8 +198,8 @@ def _scene(folder: Path, n_x: int) -> Path:
 
 
 def test_scene_fit_draws_its_tube_from_the_map_and_refits_with_it(tmp_path, map_file, capsys, monkeypatch):
+    from rotor_host.analyses.training import refit
     from rotor_host.cli import main as rotor_host
-    from rotor_host.training import refit
 
     drawn = []  # (internal, states, forces) of each tube_samples call of the fits below
 
@@ -239,7 +239,7 @@ def test_scene_fit_draws_its_tube_from_the_map_and_refits_with_it(tmp_path, map_
 
 
 def test_scene_fit_refuses_a_map_of_another_grid_before_running(tmp_path, map_file):
-    from rotor_host.training import fit_scene
+    from rotor_host.analyses.training import fit_scene
 
     scene = _scene(tmp_path, 8)  # Reynolds 32 x 8, the map is 32 x 4
     with pytest.raises(ValueError, match=r"paper_map\.json is tabulated from Reynolds 32x4.* is Reynolds 32x8.*"
@@ -254,8 +254,8 @@ def test_fit_takes_the_users_bearing_and_says_why_it_draws_no_plots(tmp_path, ca
     # and the host refuses it on another), the report names it; --plots with a fixed --lambda
     # says why there is nothing to plot
     from bearing_fmu.cli import main
-    from bearing_fmu.params import BearingParams
-    from bearing_fmu.surrogate import load_surrogate
+    from bearing_fmu.physics.params import BearingParams
+    from bearing_fmu.surrogates.surrogate import load_surrogate
 
     f = tmp_path / "b.toml"
     f.write_text("[bearing]\nD_mm = 40.0\nL_mm = 20.0\nCR_um = 60.0\nmu_Pa_s = 0.02\n")

@@ -1,6 +1,6 @@
 """FMI statuses of the bearing FMU as any master sees them (docs/fmu.md, "FMI status").
 
-Every call goes through the raw ctypes function of fmpy's FMU2Slave (as rotor_host/cosim.py
+Every call goes through the raw ctypes function of fmpy's FMU2Slave (as rotor_host/coupling/cosim.py
 calls them), so the test sees the exact fmi2Status: 0 OK, 1 Warning, 2 Discard, 3 Error.
 The expected statuses and messages are the table in docs/fmu.md; the expected forces come from
 the linear internal's formula F = F0 - K (q - q0) - C v written out here, not from the FMU.
@@ -20,10 +20,15 @@ import pytest
 fmpy = pytest.importorskip("fmpy")
 from fmpy import calloc, free  # noqa: E402
 from fmpy.fmi1 import FMICallException  # noqa: E402
-from fmpy.fmi2 import (FMU2Slave, fmi2CallbackAllocateMemoryTYPE, fmi2CallbackFreeMemoryTYPE,  # noqa: E402
-                       fmi2CallbackFunctions, fmi2CallbackLoggerTYPE)
+from fmpy.fmi2 import (  # noqa: E402
+    FMU2Slave,
+    fmi2CallbackAllocateMemoryTYPE,
+    fmi2CallbackFreeMemoryTYPE,
+    fmi2CallbackFunctions,
+    fmi2CallbackLoggerTYPE,
+)
 
-from bearing_fmu.internals import names as internal_names  # noqa: E402
+from bearing_fmu.internals.registry import names as internal_names  # noqa: E402
 
 OK, DISCARD, ERROR = 0, 2, 3
 FMI2_TERMINATED = 3  # fmi2StatusKind fmi2Terminated
@@ -37,7 +42,7 @@ STATE = (2e-5, -3e-5, 1e-3, -2e-3, OMEGA)
 
 
 def linear_force(y, z, vy, vz):
-    """F = F0 - K (q - q0) - C v with LIN's coefficients (bearing_fmu/linear.py's definition)."""
+    """F = F0 - K (q - q0) - C v with LIN's coefficients (bearing_fmu/internals/linear.py's definition)."""
     dy, dz = y - LIN["y0"], z - LIN["z0"]
     fy = LIN["Fy0"] - LIN["Kyy"] * dy - LIN["Kyz"] * dz - LIN["Cyy"] * vy - LIN["Cyz"] * vz
     fz = LIN["Fz0"] - LIN["Kzy"] * dy - LIN["Kzz"] * dz - LIN["Czy"] * vy - LIN["Czz"] * vz
@@ -369,7 +374,7 @@ def test_bad_state_restore_is_an_error_and_changes_nothing(raw):
     assert r.call("fmi2DeSerializeFMUstate", buf, len(blob), ctypes.byref(state)) == OK
     n = len(r.messages)
     assert r.call("fmi2SetFMUstate", state) == ERROR
-    assert any("setFMUstate: not a bearing_fmu.slave/2 state of this FMU" in m for m in r.errors(n))
+    assert any("setFMUstate: not a bearing_fmu.fmu.slave/2 state of this FMU" in m for m in r.errors(n))
     assert r.get("Fy") == (OK, linear_force(*STATE[:4])[0])
     assert r.call("fmi2FreeFMUstate", ctypes.byref(state)) == OK
 
@@ -438,8 +443,8 @@ def test_status_patches_are_all_or_nothing_and_idempotent():
 
     import pythonfmu
 
-    from bearing_fmu import slave
-    from bearing_fmu.fmu_binary import _HANDLE, STATUS_PATCHES, _Elf, patch_pythonfmu_binary, status_patched
+    from bearing_fmu.fmu import slave
+    from bearing_fmu.fmu.binary import _HANDLE, STATUS_PATCHES, _Elf, patch_pythonfmu_binary, status_patched
 
     assert slave._STATUS_PATCHES == STATUS_PATCHES  # what the slave looks for is what the build applies
 

@@ -17,7 +17,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from bearing_fmu.params import PAPER_BEARING, BearingParams
+from bearing_fmu.physics.params import PAPER_BEARING, BearingParams
 
 fmpy = pytest.importorskip("fmpy")
 from fmpy.fmi1 import FMICallException  # noqa: E402
@@ -46,7 +46,7 @@ def instance(fmu, unzip, **params):
 
 @pytest.fixture(scope="session")
 def reynolds():
-    from bearing_fmu.reynolds import Reynolds
+    from bearing_fmu.physics.reynolds import Reynolds
 
     return Reynolds(P)
 
@@ -88,7 +88,7 @@ def test_model_description_units_ranges_and_names(fmu, surrogate_file, map_file)
     factors = {(u.name, d.name): d.factor for u in md.unitDefinitions for d in u.displayUnits}
     assert factors[("m", "um")] == 1e6 and factors[("m", "mm")] == 1e3
     assert factors[("rad/s", "rpm")] == pytest.approx(60 / (2 * math.pi), rel=1e-15)
-    # bounds: the physical ranges of bearing_fmu/params.py (D 1 mm .. 5 m, L/D 0.05 .. 5, CR/R 1e-5 .. 0.05,
+    # bounds: the physical ranges of bearing_fmu/physics/params.py (D 1 mm .. 5 m, L/D 0.05 .. 5, CR/R 1e-5 .. 0.05,
     # mu 1e-5 .. 10 Pa s), for any D (the ratios are checked at initialisation)
     bounds = {n: (float(v[n].min), float(v[n].max)) for n in ("D", "L", "CR", "mu")}
     assert bounds["D"] == (1e-3, 5.0) and bounds["mu"] == (1e-5, 10.0)
@@ -115,7 +115,7 @@ def test_model_description_units_ranges_and_names(fmu, surrogate_file, map_file)
 def test_choice_parameters_are_also_enumerations(fmu):
     """FMI 2.0 enumerations (Integer-valued TypeDefinitions) beside the String parameters: the
     items are the registry's choices in its order, numbered from 1; the start is the String's."""
-    from bearing_fmu import internals as registry
+    from bearing_fmu.internals import registry
 
     md = fmpy.read_model_description(str(fmu))
     v = {x.name: x for x in md.modelVariables}
@@ -126,7 +126,7 @@ def test_choice_parameters_are_also_enumerations(fmu):
         assert (e.type, e.causality, e.variability) == ("Enumeration", "parameter", "fixed")
         assert [(i.name, int(i.value)) for i in e.declaredType.items] == [(c, k + 1) for k, c in enumerate(items)]
         assert int(e.start) == items.index(v[string].start) + 1
-        assert v[string].type == "String"  # kept: masters and rotor_host/cosim.py set it by name
+        assert v[string].type == "String"  # kept: masters and rotor_host/coupling/cosim.py set it by name
 
 
 class _Instance(EX.BearingInstance):
@@ -162,8 +162,8 @@ def _simulate_all_starts(fmu, start_values: dict):
 
 
 def test_enumeration_parameters_choose_like_their_string(fmu, unzip, surrogate_file, map_file):
-    from bearing_fmu import internals as registry
-    from bearing_fmu.taylor import Taylor
+    from bearing_fmu.internals import registry
+    from bearing_fmu.internals.taylor import Taylor
 
     inside = (0.12 * P.CR, -0.42 * P.CR, 0.0, 0.0, OMEGA)  # the fixture surrogate's fitted domain
     inst = _Instance(fmu, {"internal_enum": 3}, unzip_dir=unzip)  # 3 = taylor
@@ -196,10 +196,10 @@ def test_enumeration_parameters_choose_like_their_string(fmu, unzip, surrogate_f
 
 
 def test_rotor_host_sets_an_enumeration_by_name_or_number(fmu, map_file):
-    """rotor_host/cosim.py (FMUBearings): an enumeration parameter given as its item's name or its
+    """rotor_host/coupling/cosim.py (FMUBearings): an enumeration parameter given as its item's name or its
     number; an unknown name is refused naming the items."""
-    from bearing_fmu import internals as registry
-    from rotor_host.cosim import FMUBearings, FMUError
+    from bearing_fmu.internals import registry
+    from rotor_host.coupling.cosim import FMUBearings, FMUError
 
     q, v = np.array(STATE[:2]), np.array(STATE[2:4])
     want = registry.create("map", P, {"map": str(map_file)}).force(*q, *v, OMEGA)
@@ -227,13 +227,13 @@ def test_nothing_set_initialises_without_a_warning(fmu):
 
 
 def test_documentation_and_build_record(fmu, surrogate_file, map_file):
-    """documentation/index.html (one generator for both FMUs, bearing_fmu/fmu_docs.py) lists every
+    """documentation/index.html (one generator for both FMUs, bearing_fmu/fmu/docs.py) lists every
     variable of the model description and where the data came from; resources/build_info.json
     records the bearing and the files with their SHA-256."""
     import hashlib
     import zipfile
 
-    from bearing_fmu import internals as registry
+    from bearing_fmu.internals import registry
 
     with zipfile.ZipFile(fmu) as z:
         page = z.read("documentation/index.html").decode()
@@ -254,11 +254,11 @@ def test_documentation_and_build_record(fmu, surrogate_file, map_file):
 def test_linux_binary_has_the_exit_fix(fmu):
     """pythonfmu 0.7.0 releases its interpreter state twice at exit (heap corruption, abort in
     about half the runs once all instances are freed); the build patches it, and the FMI status
-    patches with it (bearing_fmu/fmu_binary.py; their effect: tests/test_fmi_status.py)."""
+    patches with it (bearing_fmu/fmu/binary.py; their effect: tests/test_fmi_status.py)."""
     import zipfile
 
-    from bearing_fmu.build import patch_linux_binary
-    from bearing_fmu.fmu_binary import patch_pythonfmu_binary
+    from bearing_fmu.fmu.binary import patch_pythonfmu_binary
+    from bearing_fmu.fmu.build import patch_linux_binary
 
     with zipfile.ZipFile(fmu) as z:
         data = z.read("binaries/linux64/BearingFMU.so")
@@ -295,7 +295,7 @@ def test_simulate_fmu_with_input_table(fmu, reynolds):
 
 
 def test_reynolds_default_and_grid_parameters_reach_the_solver(fmu, unzip, reynolds):
-    from bearing_fmu.reynolds import Reynolds
+    from bearing_fmu.physics.reynolds import Reynolds
 
     inst = instance(fmu, unzip)  # no parameter set: the paper bearing, default grid
     try:
@@ -319,7 +319,7 @@ def test_reynolds_default_and_grid_parameters_reach_the_solver(fmu, unzip, reyno
 
 
 def test_linear_internal_equals_linear(fmu, unzip, reynolds):
-    from bearing_fmu.linear import Linear
+    from bearing_fmu.internals.linear import Linear
 
     direct = Linear.at_load(reynolds, (0.0, -16.7), OMEGA)
     inst = instance(fmu, unzip, internal="linear")  # default: at the paper rotor's load and speed
@@ -345,7 +345,7 @@ def test_linear_internal_equals_linear(fmu, unzip, reynolds):
 
 
 def test_taylor_internal_equals_taylor(fmu, unzip, surrogate_file):
-    from bearing_fmu.taylor import Taylor
+    from bearing_fmu.internals.taylor import Taylor
 
     direct = Taylor.from_file(surrogate_file, P)
     inst = instance(fmu, unzip, internal="taylor")  # surrogate defaults to the one bundled file
@@ -375,7 +375,7 @@ def test_taylor_internal_equals_taylor(fmu, unzip, surrogate_file):
 def test_taylor_domain_actions(fmu, unzip, reynolds, action):
     """Outside the fitted domain, 'fallback' gives the Reynolds force (default grid) for that
     call and 'discard' refuses the step; inside, both give the surrogate's force."""
-    from bearing_fmu.taylor import Taylor
+    from bearing_fmu.internals.taylor import Taylor
 
     direct = Taylor.from_file(unzip / "resources" / "surrogates" / "paper_22hz.json", P)
     inst = instance(fmu, unzip, internal="taylor", domain_action=action)
@@ -397,7 +397,7 @@ def test_taylor_domain_actions(fmu, unzip, reynolds, action):
 
 
 def test_tangent_matches_linearize(fmu, unzip, reynolds):
-    from bearing_fmu.statics import equilibrium, linearize
+    from bearing_fmu.physics.statics import equilibrium, linearize
 
     y0, z0 = equilibrium(reynolds, (0.0, -16.7), OMEGA)
     K, C = linearize(reynolds, y0, z0, OMEGA)
@@ -521,7 +521,7 @@ def test_linear_from_coefficients_imports_neither_reynolds_nor_numba(fmu, tmp_pa
 
 
 def test_taylor_does_not_import_reynolds_and_decoy_is_ignored(fmu, tmp_path, surrogate_file):
-    from bearing_fmu.taylor import Taylor
+    from bearing_fmu.internals.taylor import Taylor
 
     res = _probe(fmu, tmp_path, {"internal": "taylor"}, STATE)
     assert not [m for m in res["modules"] if m.endswith(".reynolds")]
@@ -532,13 +532,13 @@ def test_taylor_does_not_import_reynolds_and_decoy_is_ignored(fmu, tmp_path, sur
 def test_fmu_code_runs_from_the_code_cache_beside_its_numba_cache(fmu, tmp_path, code_cache):
     # in a fresh interpreter: this process may hold the bundle imported from another cache
     res = _probe(fmu, tmp_path, {}, STATE)
-    from bearing_fmu.build import package_name
+    from bearing_fmu.fmu.build import package_name
 
     pkg = package_name()
-    src = Path(res["files"][f"{pkg}.reynolds"])
-    assert src.parent == code_cache / pkg
-    assert "bearing_fmu.reynolds" not in res["files"]  # the installed package is separate
-    assert list((src.parent / "__pycache__").glob("_reynolds_kernels*.nbi"))  # numba's cache index of the kernels beside it
+    src = Path(res["files"][f"{pkg}.physics.reynolds"])
+    assert src.parent == code_cache / pkg / "physics"
+    assert "bearing_fmu.physics.reynolds" not in res["files"]  # the installed package is separate
+    assert list((src.parent / "__pycache__").glob("reynolds_kernels*.nbi"))  # numba's cache index of the kernels beside it
 
 
 @pytest.mark.slow
@@ -548,8 +548,8 @@ def test_build_with_a_users_bearing_makes_it_the_default(tmp_path, code_cache):
     import fmpy
 
     from bearing_fmu.cli import main
-    from bearing_fmu.params import BearingParams
-    from bearing_fmu.reynolds import Reynolds
+    from bearing_fmu.physics.params import BearingParams
+    from bearing_fmu.physics.reynolds import Reynolds
 
     f = tmp_path / "b.toml"
     f.write_text("[bearing]\nD_mm = 40.0\nL_mm = 20.0\nCR_um = 60.0\nmu_Pa_s = 0.02\n")

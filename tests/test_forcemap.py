@@ -15,10 +15,10 @@ import math
 import numpy as np
 import pytest
 
-from bearing_fmu.forcemap import ForceMap, load_map, reduced, save_map, scale, state_for, tabulate
-from bearing_fmu.internals import BearingStateError
-from bearing_fmu.params import PAPER_BEARING, BearingParams
-from bearing_fmu.reynolds import Reynolds
+from bearing_fmu.internals.forcemap import ForceMap, load_map, reduced, save_map, scale, state_for, tabulate
+from bearing_fmu.internals.registry import BearingStateError
+from bearing_fmu.physics.params import PAPER_BEARING, BearingParams
+from bearing_fmu.physics.reynolds import Reynolds
 
 P = PAPER_BEARING
 OMEGA = 2 * math.pi * 22.0
@@ -127,7 +127,7 @@ def test_force_scales_with_speed_and_velocity_together(fmap):
 def test_lund_coefficients_from_the_map(table):
     # at the paper bearing's 22 Hz equilibrium under half the rotor weight: K and C from the
     # map's analytic Jacobian against linearize on Reynolds at the same grid
-    from bearing_fmu.statics import equilibrium, linearize
+    from bearing_fmu.physics.statics import equilibrium, linearize
 
     rey = Reynolds(P, **GRID)
     fmap = ForceMap(P, table)
@@ -178,7 +178,7 @@ def test_compiled_spline_equals_scipy(table):
     # the numba tensor spline against scipy's BSpline evaluated axis by axis
     from scipy.interpolate import BSpline
 
-    from bearing_fmu._map_kernels import spline2
+    from bearing_fmu.internals.map_kernels import spline2
 
     ts, tb, C = table.spline()
     rng = np.random.default_rng(3)
@@ -197,7 +197,7 @@ def test_linear_from_the_map_needs_no_reynolds(table, tmp_path):
     import subprocess
     import sys
 
-    from bearing_fmu import internals as registry
+    from bearing_fmu.internals import registry
 
     path = save_map(table, tmp_path / "m.json")
     opts = {"load_z": -16.7, "omega_lin": OMEGA, **GRID}
@@ -205,8 +205,8 @@ def test_linear_from_the_map_needs_no_reynolds(table, tmp_path):
     lin_rey = registry.create("linear", P, opts)
     assert np.abs(lin_map.K - lin_rey.K).max() < 5e-3 * np.abs(lin_rey.K).max()
     assert np.abs(lin_map.C - lin_rey.C).max() < 5e-3 * np.abs(lin_rey.C).max()
-    code = ("import sys; from bearing_fmu import internals as r; from bearing_fmu.params import PAPER_BEARING as P; "
+    code = ("import sys; from bearing_fmu import internals as r; from bearing_fmu.physics.params import PAPER_BEARING as P; "
             f"r.create('linear', P, {{'linear_from': 'map', 'map': {str(path)!r}, 'load_z': -16.7, "
-            f"'omega_lin': {OMEGA!r}}}); print('bearing_fmu.reynolds' in sys.modules)")
+            f"'omega_lin': {OMEGA!r}}}); print('bearing_fmu.physics.reynolds' in sys.modules)")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "False"

@@ -12,11 +12,11 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from bearing_fmu.forcemap import save_map, tabulate
-from bearing_fmu.params import PAPER_BEARING
-from rotor_host.report import errors_against
-from rotor_host.scene import load_scene
-from rotor_host.run import run_scene
+from bearing_fmu.internals.forcemap import save_map, tabulate
+from bearing_fmu.physics.params import PAPER_BEARING
+from rotor_host.analyses.report import errors_against
+from rotor_host.scenes.run import run_scene
+from rotor_host.scenes.scene import load_scene
 
 ROOT = Path(__file__).resolve().parents[1]
 SCENE = ROOT / "models" / "scenes" / "paper_22hz.toml"

@@ -1,14 +1,14 @@
-"""The one vocabulary of the Newton tangent (rotor_host.forces) and how each side reads it:
+"""The one vocabulary of the Newton tangent (rotor_host.integrate.forces) and how each side reads it:
 the integrator uses the force's own tangent for "bearing" and "frozen" alike, the bearings
 compute no Jacobian for "fd" and "linear"; any other word is refused by name."""
 
 import numpy as np
 import pytest
 
-from rotor_host.bearings import DirectBearings
-from rotor_host.forces import FORCE_TANGENTS, NEWTON_TANGENTS, FunctionForce
-from rotor_host.newmark import NewmarkConfig, integrate
-from rotor_host.scene import Scene
+from rotor_host.coupling.bearings import DirectBearings
+from rotor_host.integrate.forces import FORCE_TANGENTS, NEWTON_TANGENTS, FunctionForce
+from rotor_host.integrate.newmark import NewmarkConfig, integrate
+from rotor_host.scenes.scene import Scene
 
 
 class SpringInternal:

@@ -19,15 +19,15 @@ import numpy as np
 import pytest
 
 from bearing_fmu import fitting as F
-from bearing_fmu.basis import exponents, natural_force_scale
-from bearing_fmu.build import check_surrogate_file
 from bearing_fmu.fitting import FitRecipe
 from bearing_fmu.fitting.ridge import fold_indices
-from bearing_fmu.guard import DomainGuard, NearestTraining
-from bearing_fmu.internals import STATE_NAMES, BearingStateError, Context, create, wall_error
-from bearing_fmu.params import PAPER_BEARING
-from bearing_fmu.surrogate import Domain, Surrogate, SurrogateKeyError, load_surrogate, save_surrogate
-from bearing_fmu.taylor import Taylor
+from bearing_fmu.fmu.build import check_surrogate_file
+from bearing_fmu.internals.guard import DomainGuard, NearestTraining
+from bearing_fmu.internals.registry import STATE_NAMES, BearingStateError, Context, create, wall_error
+from bearing_fmu.internals.taylor import Taylor
+from bearing_fmu.physics.params import PAPER_BEARING
+from bearing_fmu.surrogates.basis import exponents, natural_force_scale
+from bearing_fmu.surrogates.surrogate import Domain, Surrogate, SurrogateKeyError, load_surrogate, save_surrogate
 
 ROOT = Path(__file__).resolve().parents[1]
 SURROGATES = ROOT / "models" / "surrogates"
@@ -108,8 +108,8 @@ def test_states_on_the_training_orbits_are_not_flagged():
 @pytest.mark.slow
 def test_held_out_22hz_orbit_is_not_flagged(tmp_path):
     # the Reynolds orbit of the scene the 22 Hz fit never saw (heldout_22hz_6g, 6 g at 120 deg)
-    from rotor_host.scene import load_scene
-    from rotor_host.training import scene_series
+    from rotor_host.analyses.training import scene_series
+    from rotor_host.scenes.scene import load_scene
 
     _, states, _, _ = scene_series(load_scene(ROOT / "models" / "scenes" / "heldout_22hz_6g.toml"), 1, None,
                                    log=lambda m: None)
@@ -334,7 +334,7 @@ def test_fmu_flags_and_discards_the_22hz_state(tmp_path, code_cache):
     fmpy = pytest.importorskip("fmpy")
     from fmpy.fmi1 import FMICallException
 
-    from bearing_fmu.build import build_fmu
+    from bearing_fmu.fmu.build import build_fmu
 
     spec = importlib.util.spec_from_file_location("drive_fmu_with_fmpy", ROOT / "examples" / "drive_fmu_with_fmpy.py")
     ex = importlib.util.module_from_spec(spec)

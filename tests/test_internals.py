@@ -14,9 +14,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from bearing_fmu import internals as registry
-from bearing_fmu.internals import BearingStateError, Context, InternalSpec, Option
-from bearing_fmu.params import PAPER_BEARING
+from bearing_fmu.internals import registry
+from bearing_fmu.internals.registry import BearingStateError, Context, InternalSpec, Option
+from bearing_fmu.physics.params import PAPER_BEARING
 
 P = PAPER_BEARING
 OMEGA = 2 * math.pi * 22.0
@@ -146,8 +146,8 @@ def test_unknown_internal_and_option_name_the_allowed_ones():
 def test_options_of_used_internals_reach_the_builder():
     # linear builds Reynolds with the reynolds options: its coefficients differ between grids
     # exactly as Reynolds' own derivatives do (Lund's K = -dF/dq at the equilibrium)
-    from bearing_fmu.reynolds import Reynolds
-    from bearing_fmu.statics import equilibrium
+    from bearing_fmu.physics.reynolds import Reynolds
+    from bearing_fmu.physics.statics import equilibrium
 
     lin = registry.create("linear", P, {"n_theta": 32, "n_x": 4}, Context(load=(0.0, -16.7), omega=OMEGA))
     rey = Reynolds(P, n_theta=32, n_x=4)
@@ -225,8 +225,8 @@ def test_an_internal_added_from_outside_keeps_the_contract(spring, central_jacob
 def test_a_scene_runs_with_an_internal_added_from_outside(spring, tmp_path, write_scene):
     # the scene loader, the CLI choices and the run know it from the registry alone; at rest
     # (no unbalance) each journal sits at W / k, W its bearing's static load
-    from rotor_host.scene import load_scene
-    from rotor_host.run import run_scene
+    from rotor_host.scenes.run import run_scene
+    from rotor_host.scenes.scene import load_scene
 
     k = 4e6
     scene = load_scene(write_scene(f"""

@@ -4,7 +4,7 @@
     and then its override manipulator; Fy, Fz equal the direct library call.
 (b) The bearing FMU coupled to a journal-mass FMU (examples/journal_mass_fmu.py, plain
     pythonfmu) in libcosim's own fixed-step master: the journal dropped at the bearing centre
-    settles at the static equilibrium of bearing_fmu.statics.
+    settles at the static equilibrium of bearing_fmu.physics.statics.
 (c) The same loop with a too large step diverges, as the one-step force lag of an explicit
     (Jacobi) master predicts.
 (d) The native FMU (bearing_fmu/native: the force map compiled to C, Model Exchange and
@@ -18,7 +18,6 @@ kernels compile once per run (~6 s, counted in the runtime).
 
 import math
 import os
-import sys
 import time
 from pathlib import Path
 
@@ -41,7 +40,7 @@ from libcosimpy.CosimManipulator import CosimManipulator  # noqa: E402
 from libcosimpy.CosimObserver import CosimObserver  # noqa: E402
 from libcosimpy.CosimSlave import CosimLocalSlave  # noqa: E402
 
-from bearing_fmu.params import PAPER_BEARING as P  # noqa: E402
+from bearing_fmu.physics.params import PAPER_BEARING as P  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 OMEGA = 2 * math.pi * 22.0
@@ -69,7 +68,7 @@ def _load_example():
 @pytest.fixture(scope="module")
 def fmus(tmp_path_factory):
     """(bearing.fmu, JournalMass.fmu), with the bearing's code cache in a module temp dir."""
-    from bearing_fmu.build import build_fmu
+    from bearing_fmu.fmu.build import build_fmu
 
     cache = tmp_path_factory.mktemp("libcosim_code_cache")
     old = os.environ.get("BEARING_FMU_CACHE_DIR")
@@ -94,7 +93,7 @@ def native_map(tmp_path_factory):
     """The native FMU of the map internal with the shipped map compiled in (one C compile)."""
     import shutil
 
-    from bearing_fmu.native.build import build_native_fmu
+    from bearing_fmu.fmu.native.build import build_native_fmu
 
     if not (shutil.which("cc") or shutil.which("gcc") or os.environ.get("CC")):
         pytest.skip("no C compiler: the native FMU is compiled at build time")
@@ -104,14 +103,14 @@ def native_map(tmp_path_factory):
 @pytest.fixture(scope="module")
 def map_internal():
     """The map internal called in this process: what the native FMU must give."""
-    from bearing_fmu import internals
+    from bearing_fmu.internals import registry as internals
 
     return internals.create("map", P, {"map": str(MAP)})
 
 
 @pytest.fixture(scope="module")
 def reynolds():
-    from bearing_fmu.reynolds import Reynolds
+    from bearing_fmu.physics.reynolds import Reynolds
 
     return Reynolds(P)
 
@@ -203,7 +202,7 @@ def _settle(fmus, h, t_end, chunk=1e-3):
 
 
 def test_closed_loop_in_libcosim_settles_at_the_static_equilibrium(fmus, reynolds):
-    from bearing_fmu.statics import equilibrium
+    from bearing_fmu.physics.statics import equilibrium
 
     h, chunk, t_end = 1e-5, 1e-3, 0.2
     # expected: Newton on the Reynolds force alone (no co-simulation, no dynamics)
@@ -288,8 +287,8 @@ def test_native_fmu_force_in_libcosim_equals_the_map_internal(native_map, map_in
 def test_native_fmu_closed_loop_in_libcosim_settles_at_the_map_equilibrium(fmus, native_map, map_internal):
     """The native map FMU and the journal mass in libcosim's fixed-step master (the loop of (b),
     its stable step 1e-5 s, 0.1 s): the journal dropped at the bearing centre approaches the
-    static equilibrium of the map internal (bearing_fmu.statics, no co-simulation)."""
-    from bearing_fmu.statics import equilibrium
+    static equilibrium of the map internal (bearing_fmu.physics.statics, no co-simulation)."""
+    from bearing_fmu.physics.statics import equilibrium
 
     h, t_end = 1e-5, 0.1
     y_eq, z_eq = equilibrium(map_internal, (0.0, -W), OMEGA)

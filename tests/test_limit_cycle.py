@@ -1,4 +1,4 @@
-"""The limit-cycle envelope (rotor_host.limit_cycle) against hand computations, and its command on a
+"""The limit-cycle envelope (rotor_host.analyses.limit_cycle) against hand computations, and its command on a
 short real run. The dt study itself is tested in tests/test_dt_study.py."""
 
 import argparse
@@ -8,8 +8,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from rotor_host.limit_cycle import (Envelope, add_arguments, envelope, envelope_change, limit_cycle, run,
-                              settled_since)
+from rotor_host.analyses.limit_cycle import (Envelope, add_arguments, envelope, envelope_change, limit_cycle,
+                                             run, settled_since)
 
 SCENES = Path(__file__).resolve().parents[1] / "models" / "scenes"
 

@@ -20,12 +20,18 @@ import pytest
 
 fmpy = pytest.importorskip("fmpy")
 from fmpy import calloc, free  # noqa: E402
-from fmpy.fmi2 import (FMU2Model, FMU2Slave, fmi2CallbackAllocateMemoryTYPE,  # noqa: E402
-                       fmi2CallbackFreeMemoryTYPE, fmi2CallbackFunctions, fmi2CallbackLoggerTYPE)
+from fmpy.fmi2 import (  # noqa: E402
+    FMU2Model,
+    FMU2Slave,
+    fmi2CallbackAllocateMemoryTYPE,
+    fmi2CallbackFreeMemoryTYPE,
+    fmi2CallbackFunctions,
+    fmi2CallbackLoggerTYPE,
+)
 
-from bearing_fmu import internals as registry  # noqa: E402
-from bearing_fmu.params import PAPER_BEARING, BearingParams  # noqa: E402
-from bearing_fmu.surrogate import load_surrogate  # noqa: E402
+from bearing_fmu.internals import registry  # noqa: E402
+from bearing_fmu.physics.params import PAPER_BEARING, BearingParams  # noqa: E402
+from bearing_fmu.surrogates.surrogate import load_surrogate  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 SURROGATES = sorted((ROOT / "models" / "surrogates").glob("*.json"))
@@ -50,7 +56,7 @@ def native(tmp_path_factory):
     """name -> (fmu path, extracted dir, python internal, params): every shipped surrogate and map,
     and the linear model linearised on the shipped map; built once."""
     from bearing_fmu.cli import main
-    from bearing_fmu.native.build import build_native_fmu
+    from bearing_fmu.fmu.native.build import build_native_fmu
 
     folder = tmp_path_factory.mktemp("native")
     out = {}
@@ -178,7 +184,7 @@ def rounding_scale(py, state) -> np.ndarray:
     C kernel sums the same terms in another order (dot products; the Python kernel term by
     term), so where the polynomial cancels strongly (terms of 1e6 N giving 70 N inside the 22 Hz
     domain) the two agree only to ~eps times this. Zeros for the other internals."""
-    from bearing_fmu.basis import design_matrix
+    from bearing_fmu.surrogates.basis import design_matrix
 
     taylor = getattr(py, "taylor", None)
     if taylor is None:
@@ -316,7 +322,7 @@ def test_archive_holds_sources_documentation_and_both_interfaces(native):
     md = fmpy.read_model_description(str(fmu))
     assert md.coSimulation.canGetAndSetFMUstate and md.modelExchange.providesDirectionalDerivative
     names = {v.name for v in md.modelVariables}
-    # the Python FMU's variables where they apply (bearing_fmu/slave.py VARIABLES)
+    # the Python FMU's variables where they apply (bearing_fmu/fmu/slave.py VARIABLES)
     assert {"y", "z", "vy", "vz", "omega", "Fy", "Fz", "eccentricity", "h_min", "out_of_domain", "Kyy", "Czz",
             "D", "L", "CR", "mu", "internal", "compute_tangent", "surrogate", "domain_action",
             "domain_limit"} <= names
@@ -365,7 +371,7 @@ def _bounded(v) -> bool:
 
 
 def test_python_and_native_fmus_declare_the_same(native, fmu):
-    """Both FMUs come from one definition (bearing_fmu/fmu_meta.py): every variable they share has the
+    """Both FMUs come from one definition (bearing_fmu/fmu/meta.py): every variable they share has the
     same type, causality, unit, display unit and bounds; the native enumerations are the Python
     FMU's items it accepts, with the same numbers; every start value is within its bounds."""
     py = {v.name: v for v in fmpy.read_model_description(str(fmu)).modelVariables}
@@ -433,7 +439,7 @@ def test_nothing_set_initialises_and_steps_without_a_warning(native, key):
 
 def _needed(path: Path) -> list[str]:
     """DT_NEEDED entries of an ELF shared library (its .dynamic section read with struct)."""
-    from bearing_fmu.fmu_binary import _Elf
+    from bearing_fmu.fmu.binary import _Elf
 
     data = path.read_bytes()
     elf = _Elf(data)
@@ -461,8 +467,8 @@ def test_binary_links_no_python(native):
 
 @pytest.fixture(scope="session")
 def c_host(tmp_path_factory):
-    """bearing_fmu/native/c/example_host.c compiled with the system compiler."""
-    from bearing_fmu.native.build import C_DIR, find_compiler, fmi_headers
+    """bearing_fmu/fmu/native/c/example_host.c compiled with the system compiler."""
+    from bearing_fmu.fmu.native.build import C_DIR, find_compiler, fmi_headers
 
     exe = tmp_path_factory.mktemp("host") / "example_host"
     subprocess.run([find_compiler(), "-O2", str(C_DIR / "example_host.c"), "-I", str(fmi_headers()), "-o", str(exe),
@@ -652,7 +658,7 @@ def test_fmpy_simulates_it(native, fmi_type):
 def test_fmpy_cmake_project_builds_the_same_binary(native, tmp_path):
     """The sources build with fmpy's CMake project (how a user rebuilds for another platform) into
     an FMU that gives the same force."""
-    from bearing_fmu.native.build import build_native_fmu
+    from bearing_fmu.fmu.native.build import build_native_fmu
 
     fmu = build_native_fmu(tmp_path / "cmake.fmu", "map", map=PAPER_MAP, cmake=True)
     _f, _u, py, params = native["map:paper_bearing"]
@@ -683,8 +689,8 @@ def test_build_command_refuses_what_a_native_fmu_cannot_be(tmp_path, capsys, arg
 
 
 def test_a_map_for_another_length_to_diameter_is_refused(tmp_path):
-    from bearing_fmu.native.build import build_native_fmu
-    from bearing_fmu.params import BearingParams
+    from bearing_fmu.fmu.native.build import build_native_fmu
+    from bearing_fmu.physics.params import BearingParams
 
     with pytest.raises(ValueError, match="L/D"):
         build_native_fmu(tmp_path / "x.fmu", "map", map=PAPER_MAP, bearing=BearingParams(0.031, 0.031, 90e-6, 0.05))
@@ -695,8 +701,8 @@ def test_a_map_for_another_length_to_diameter_is_refused(tmp_path):
 def test_native_parameters_of_a_scene(write_scene):
     """The host's parameters for a native FMU: the options it keeps; the linear model made per
     bearing by the Python Linear internal (its coefficients), fallback refused in one line."""
-    from rotor_host.scene import SceneError, load_scene
-    from rotor_host.run import _fmu_parameters
+    from rotor_host.scenes.run import _fmu_parameters
+    from rotor_host.scenes.scene import SceneError, load_scene
 
     sc = load_scene(write_scene(f"""
         internal = "linear"
@@ -727,10 +733,10 @@ def test_native_parameters_of_a_scene(write_scene):
 @pytest.mark.parametrize("internal", ["map", "taylor"])
 def test_rotor_host_runs_native_fmus_like_the_direct_internal(tmp_path, internal):
     """rotor-host run --native: the paper's 22 Hz scene through native FMUs (fmpy, the conformant
-    iteration of rotor_host/cosim.py) follows the run with the internal called in-process."""
+    iteration of rotor_host/coupling/cosim.py) follows the run with the internal called in-process."""
     from rotor_host.cli import main
-    from rotor_host.scene import load_scene
-    from rotor_host.run import run_scene
+    from rotor_host.scenes.run import run_scene
+    from rotor_host.scenes.scene import load_scene
 
     scene_file = ROOT / "models" / "scenes" / "paper_22hz.toml"
     assert main(["run", str(scene_file), "--internal", internal, "--native", "--t-end", "0.01", "--out",

@@ -1,4 +1,4 @@
-"""Newmark / HHT-alpha + Newton integrator (rotor_host.newmark) against exact solutions.
+"""Newmark / HHT-alpha + Newton integrator (rotor_host.integrate.newmark) against exact solutions.
 
 Sources of the expected values are written next to each check. Reference for the scheme's
 properties: Hughes, "The Finite Element Method", Dover 2000, ch. 9 (Newmark: average
@@ -15,9 +15,8 @@ import pytest
 import scipy.linalg as sla
 from scipy.integrate import solve_ivp
 
-from rotor_host.forces import FunctionForce, LinearForce, StepRejected
-from rotor_host.newmark import IntegrationError, Newmark, NewmarkConfig, NewmarkResult, integrate
-
+from rotor_host.integrate.forces import FunctionForce, LinearForce, StepRejected
+from rotor_host.integrate.newmark import IntegrationError, Newmark, NewmarkConfig, NewmarkResult, integrate
 
 # ----------------------------------------------------------------------------- helpers
 
@@ -38,7 +37,7 @@ def sdof_exact(t, m, c, k, q0, v0, F0=0.0, w=0.0):
 def jeffcott4():
     """A 4-DOF rotor-like system, DOFs (y, z, theta_y, theta_z) of one node: a disk on a
     shaft with translation-rotation coupling, disk gyroscopics (G[ty, tz] = +Ip, as in
-    rotor_host/fe.py), stiffness-proportional damping, and an anisotropic, cross-coupled
+    rotor_host/model/fe.py), stiffness-proportional damping, and an anisotropic, cross-coupled
     linear bearing on (y, z) given as a NodalForce with exact derivatives."""
     m, Id, Ip = 2.0, 0.01, 0.02
     k, kc, kr = 4.0e5, 1.0e3, 2.0e3
@@ -320,7 +319,7 @@ def test_two_dof_nonlinear_with_velocity_tangent_hht():
 
 
 class ReusedBuffers:
-    """Returns the same f, df/dq arrays at every call, as rotor_host.bearings.BearingSet does."""
+    """Returns the same f, df/dq arrays at every call, as rotor_host.coupling.bearings.BearingSet does."""
 
     def __init__(self, dofs, k3, exact):
         self.dofs = np.asarray(dofs)

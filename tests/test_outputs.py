@@ -1,4 +1,4 @@
-"""Result files that cannot collide or vanish (bearing_fmu.outputs) and what run_scene leaves
+"""Result files that cannot collide or vanish (bearing_fmu.io.outputs) and what run_scene leaves
 on disk when it cannot even start integrating."""
 
 import json
@@ -9,7 +9,7 @@ import sys
 import numpy as np
 import pytest
 
-from bearing_fmu import outputs
+from bearing_fmu.io import outputs
 
 
 def test_claim_gives_a_running_name_to_one_process_only(tmp_path):
@@ -79,8 +79,8 @@ def test_an_unwritable_folder_is_refused_before_any_work(tmp_path):
 def test_a_run_without_static_equilibrium_still_writes_its_json(tmp_path, write_scene):
     # a load far beyond what the bearings carry (1e9 N on the disk): no equilibrium; the run
     # says so in its json (status failed) instead of stopping without a file
-    from rotor_host.scene import load_scene
-    from rotor_host.run import run_scene
+    from rotor_host.scenes.run import run_scene
+    from rotor_host.scenes.scene import load_scene
 
     s = load_scene(write_scene("""
         internal = "reynolds"

@@ -5,7 +5,7 @@ from pathlib import Path
 
 import pytest
 
-from bearing_fmu.params import PAPER_BEARING, BearingParams
+from bearing_fmu.physics.params import PAPER_BEARING, BearingParams
 
 
 def test_paper_bearing_is_table_2():
@@ -39,7 +39,7 @@ def test_from_mapping_units_and_key_errors():
         BearingParams.from_mapping({"D_mm": 31, "L_mm": "twenty", "CR_um": 90, "mu_Pa_s": 0.05})
 
 
-# Each parameter just outside its physical range (bearing_fmu.params: D 1 mm .. 5 m, L/D 0.05 .. 5,
+# Each parameter just outside its physical range (bearing_fmu.physics.params: D 1 mm .. 5 m, L/D 0.05 .. 5,
 # CR/R 1e-5 .. 0.05, mu 1e-5 .. 10 Pa s; L and CR at the paper's D = 31 mm, R = 15.5 mm), and
 # the non-finite values: each refused with the parameter, its value with unit and the range.
 RANGE_WORDS = {"D": "1 mm .. 5 m", "L": "L/D 0.05 .. 5", "CR": "CR/R 1e-05 .. 0.05", "mu": "1e-05 .. 10 Pa s"}
@@ -85,8 +85,8 @@ def test_bearing_file_range_names_the_key_and_the_file():
 def test_shipped_bearings_are_inside_the_ranges():
     # every bearing shipped in models/ goes through BearingParams: the bearing files, the rotors'
     # bearings and the bearing each surrogate was fitted for
-    from bearing_fmu.surrogate import load_surrogate
-    from rotor_host.rotor import Rotor
+    from bearing_fmu.surrogates.surrogate import load_surrogate
+    from rotor_host.model.rotor import Rotor
 
     models = Path(__file__).resolve().parents[1] / "models"
     files = sorted(models.glob("bearing*.toml"))

@@ -3,8 +3,8 @@ scaled to what it covers, every variant's failure named."""
 
 import numpy as np
 
-from rotor_host.compare import print_table
-from rotor_host.report import _reference_limits, disk_node_of, plot_runs
+from rotor_host.analyses.compare import print_table
+from rotor_host.analyses.report import _reference_limits, disk_node_of, plot_runs
 
 
 def _run(ecc_max, nodes=(2, 4, 7), bearing_nodes=(2, 7), disk_nodes=(4,), n=200):

@@ -12,10 +12,10 @@ import time
 import numpy as np
 import pytest
 
-from bearing_fmu.internals import BearingStateError, DifferentiableInternal, Internal
-from bearing_fmu.params import PAPER_BEARING, BearingParams
-from bearing_fmu.reynolds import DEFAULT_N_THETA, DEFAULT_N_X, Reynolds
-from bearing_fmu.shortbearing import short_bearing_coefficients, short_bearing_force
+from bearing_fmu.internals.registry import BearingStateError, DifferentiableInternal, Internal
+from bearing_fmu.physics.params import PAPER_BEARING, BearingParams
+from bearing_fmu.physics.reynolds import DEFAULT_N_THETA, DEFAULT_N_X, Reynolds
+from bearing_fmu.physics.shortbearing import short_bearing_coefficients, short_bearing_force
 
 P = PAPER_BEARING  # D = 31 mm, L = 20 mm, CR = 90 um, mu = 0.05 Pa s (paper Table 2)
 OMEGA = 2 * math.pi * 50.0
@@ -128,7 +128,7 @@ SHORT = BearingParams(D=0.1, L=0.01, CR=1e-4, mu=0.05)  # L/D = 0.1
 @pytest.mark.parametrize("angle", [0.3, 2.5, 4.4])
 def test_short_bearing_limit_forces(eps, angle):
     """Gumbel solution at L/D = 0.1 vs the closed-form Ocvirk (half-Sommerfeld) force with
-    velocities (bearing_fmu.shortbearing, itself checked against quadrature in
+    velocities (bearing_fmu.physics.shortbearing, itself checked against quadrature in
     test_shortbearing.py): within 3 %. The finite-length deviation grows with eps (about
     0.6 % at 0.2, 2 % at 0.6) and vanishes as L/D -> 0."""
     r = Reynolds(SHORT, n_theta=128, n_x=8, cavitation="gumbel")
@@ -480,7 +480,7 @@ def test_cold_start_after_a_jump():
     one expected (the last call's, extrapolated along the motion of the last calls) or
     |ln(1 - eps)| changed by more than 1 since the last call (limits measured in the study),
     after a state without source, after forget(), and for gumbel (no LCP); same results."""
-    from bearing_fmu.reynolds import WARM_MAX_DLOG, WARM_MAX_TURN_CELLS
+    from bearing_fmu.physics.reynolds import WARM_MAX_DLOG, WARM_MAX_TURN_CELLS
 
     assert (WARM_MAX_TURN_CELLS, WARM_MAX_DLOG) == (2.0, 1.0)  # the limits this test probes
     n = 64
@@ -545,7 +545,7 @@ def test_fmu_state_restore_with_warm_start():
     the Reynolds object keeps what it remembered across a restore. A host iterating the FMI way
     (save, then restore + set + doStep per Newton iterate, also after a rejected far iterate)
     gets exactly the force and tangent of a fresh solver."""
-    from bearing_fmu.slave import _STATE_NAMES, BearingFMU
+    from bearing_fmu.fmu.slave import _STATE_NAMES, BearingFMU
 
     fmu = BearingFMU(instance_name="warm-start test")
     fmu.n_theta, fmu.n_x = 48, 8

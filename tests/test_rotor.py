@@ -7,8 +7,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from bearing_fmu.params import PAPER_BEARING
-from rotor_host.rotor import Rotor, RotorFileError
+from bearing_fmu.physics.params import PAPER_BEARING
+from rotor_host.model.rotor import Rotor, RotorFileError
 
 MODELS = Path(__file__).resolve().parents[1] / "models"
 ROTOR_FILE = MODELS / "rotor_paper.toml"

@@ -12,11 +12,10 @@ import math
 import numpy as np
 import pytest
 
-from rotor_host.scene import SceneError, load_scene
-
-from rotor_host.run import external_force
-from rotor_host.speed import SpeedProfile
-from rotor_host.waterfall import spectra, summary
+from rotor_host.analyses.waterfall import spectra, summary
+from rotor_host.model.speed import SpeedProfile
+from rotor_host.scenes.run import external_force
+from rotor_host.scenes.scene import SceneError, load_scene
 
 RUNUP = """
     internal = "map"
@@ -55,7 +54,7 @@ def test_unbalance_force_under_acceleration_is_minus_m_times_the_mass_accelerati
     # the force the mass puts on the rotor is -m d2/dt2 (r (cos theta, sin theta)), theta the
     # integrated angle: m r Omega^2 outward and m r dOmega/dt against the turning
     scene = load_scene(write_scene(RUNUP.format(t0=0.0, t1=2.0, f0=10.0, f1=50.0, map=map_file, t_end=0.1)))
-    from rotor_host.rotor import Rotor
+    from rotor_host.model.rotor import Rotor
 
     rotor = Rotor.from_toml(scene.rotor_path)
     f_ext = external_force(scene, rotor, np.zeros(rotor.n_dof))
@@ -103,7 +102,8 @@ def test_paper_rotor_run_up_through_the_critical_into_oil_whip(write_scene, tmp_
     # forward whirl near 0.4-0.5x, locked near the first critical, takes over well above the
     # ~43 Hz threshold of the steady analysis (it needs time to grow during the run-up)
     from conftest import MODELS
-    from rotor_host.run import run_scene
+
+    from rotor_host.scenes.run import run_scene
 
     scene = load_scene(write_scene(RUNUP.format(t0=0.0, t1=6.0, f0=10.0, f1=60.0,
                                                 map=MODELS / "maps" / "paper_bearing.json", t_end=6.0)))

@@ -2,7 +2,7 @@
 
 Expected values come from statics of the rigid rotor (the reactions of a shaft on two
 supports are statically determinate) and from the equilibrium of each bearing alone
-(bearing_fmu.statics.equilibrium), not from the scene code itself.
+(bearing_fmu.physics.statics.equilibrium), not from the scene code itself.
 """
 
 import math
@@ -14,10 +14,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from bearing_fmu.params import PAPER_BEARING
-from rotor_host.rotor import Rotor
-from rotor_host.scene import SceneError, load_scene
-from rotor_host.run import bearing_loads, run_scene
+from bearing_fmu.physics.params import PAPER_BEARING
+from rotor_host.model.rotor import Rotor
+from rotor_host.scenes.run import bearing_loads, run_scene
+from rotor_host.scenes.scene import SceneError, load_scene
 
 ROOT = Path(__file__).resolve().parents[1]
 SCENES = ROOT / "models" / "scenes"
@@ -82,8 +82,8 @@ def test_bearing_loads_are_the_static_reactions():
 
 
 def test_initial_state_puts_each_journal_at_its_own_equilibrium(tmp_path):
-    from bearing_fmu.reynolds import Reynolds
-    from bearing_fmu.statics import equilibrium
+    from bearing_fmu.physics.reynolds import Reynolds
+    from bearing_fmu.physics.statics import equilibrium
 
     p = write_scene(tmp_path, """
         internal = "reynolds"
@@ -148,9 +148,9 @@ def test_taylor_scene_does_not_import_reynolds(tmp_path):
         t_end_s = 1e-3
         dt_s = 1e-4
         """)
-    code = (f"import sys; from rotor_host.scene import load_scene; from rotor_host.run import run_scene; "
+    code = (f"import sys; from rotor_host.scenes.scene import load_scene; from rotor_host.scenes.run import run_scene; "
             f"r = run_scene(load_scene({str(p)!r})); assert r.ok, r.meta['message']; "
-            f"print('bearing_fmu.reynolds' in sys.modules)")
+            f"print('bearing_fmu.physics.reynolds' in sys.modules)")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT)
     assert out.returncode == 0, out.stderr
     assert out.stdout.strip() == "False"

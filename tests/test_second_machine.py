@@ -11,12 +11,11 @@ import sys
 
 import numpy as np
 import pytest
-
-from bearing_fmu.params import BearingParams
-from bearing_fmu.reynolds import Reynolds
-from bearing_fmu.statics import equilibrium, linearize
-
 from conftest import MODELS, ROOT
+
+from bearing_fmu.physics.params import BearingParams
+from bearing_fmu.physics.reynolds import Reynolds
+from bearing_fmu.physics.statics import equilibrium, linearize
 
 SCENE = MODELS / "scenes" / "friswell_25hz.toml"
 BEARING = MODELS / "bearing_friswell.toml"

@@ -22,20 +22,20 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq
 
-from bearing_fmu import internals as registry
-from bearing_fmu.shortbearing import (short_bearing_coefficients, short_bearing_force,
-                                      short_bearing_force_and_jacobian, short_bearing_load)
-from bearing_fmu.statics import journal_at_eccentricity
-from rotor_host import fe
+from bearing_fmu.internals import registry
+from bearing_fmu.physics.shortbearing import (short_bearing_coefficients, short_bearing_force,
+                                              short_bearing_force_and_jacobian, short_bearing_load)
+from bearing_fmu.physics.statics import journal_at_eccentricity
+from rotor_host.analyses.stability import SpeedPoint, Stability, critical_speeds, markdown, stability, to_json
 from rotor_host.cli import main
-from rotor_host.rotor import Rotor
-from rotor_host.stability import SpeedPoint, Stability, critical_speeds, markdown, stability, to_json
+from rotor_host.model import fe
+from rotor_host.model.rotor import Rotor
 
 ROOT = Path(__file__).resolve().parents[1]
 MODELS = ROOT / "models"
 ROTOR = MODELS / "rotor_paper.toml"
 PAPER_MAP = MODELS / "maps" / "paper_bearing.json"
-G = 9.81  # the scenes' gravity (rotor_host.scene.G)
+G = 9.81  # the scenes' gravity (rotor_host.scenes.scene.G)
 
 
 # ----------------------------------------------------------------------------- a short-bearing internal
@@ -398,7 +398,7 @@ def test_cli_end_to_end_60_speeds_in_seconds(tmp_path):
 def test_speed_range_type():
     """START:STOP:STEP includes STOP when the steps reach it to round-off, and rounds the values to
     12 digits (10:70:0.1 has 601 values, the 124th is 22.3, not 22.300000000000004)."""
-    from bearing_fmu.cliargs import float_range, node_load
+    from bearing_fmu.io.cliargs import float_range, node_load
 
     hz = float_range("Hz")
     assert hz("10:70:1") == [float(s) for s in range(10, 71)]

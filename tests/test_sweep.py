@@ -19,9 +19,9 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-
 from conftest import MODELS, ROOT
-from rotor_host.sweep import Point, points, run_point, settled_metrics, write_summary
+
+from rotor_host.analyses.sweep import Point, points, run_point, settled_metrics, write_summary
 
 SCENE = MODELS / "scenes" / "paper_22hz.toml"
 CHEAP = ["--internal", "map", "--via", "direct", "--t-end", "0.02", "--quiet"]
@@ -37,13 +37,13 @@ def _cli(*argv):
 
 def _args(*argv):
     """The sweep's parsed arguments (its parser as the command line builds it)."""
-    from rotor_host import sweep
+    from rotor_host.analyses import sweep
 
     return sweep.add_arguments(argparse.ArgumentParser()).parse_args([str(a) for a in argv])
 
 
 def test_ranges_include_both_ends():
-    from rotor_host.sweep import _flat
+    from rotor_host.analyses.sweep import _flat
 
     # 12.5, 15, ..., 60: (60 - 12.5) / 2.5 + 1 = 20 values, 60 reached despite rounding
     v = _flat(_args(SCENE, "--speeds-hz", "12.5:60:2.5").speeds_hz, "--speeds-hz")
@@ -100,7 +100,7 @@ def test_bad_input_names_the_option_before_any_work(tmp_path, capsys, write_scen
 
 
 def test_no_scheduler_there_is_one_line():
-    from rotor_host.sweep import dask_client
+    from rotor_host.analyses.sweep import dask_client
 
     with pytest.raises(ValueError, match=r"^--scheduler tcp://127.0.0.1:1: no Dask scheduler answered there"):
         with dask_client("tcp://127.0.0.1:1", None, connect_timeout_s=0.5):
@@ -108,7 +108,7 @@ def test_no_scheduler_there_is_one_line():
 
 
 def test_points_have_distinct_stems():
-    from rotor_host.scene import load_scene
+    from rotor_host.scenes.scene import load_scene
 
     scene = load_scene(SCENE).with_internal("map")
     pts = points(scene, [10.0, 12.5, 60.0])
@@ -146,7 +146,7 @@ def test_an_exception_in_the_worker_is_a_row(tmp_path):
     row with status error and the exception named, not a lost task."""
     from dataclasses import replace
 
-    from rotor_host.scene import load_scene
+    from rotor_host.scenes.scene import load_scene
 
     scene = load_scene(SCENE).with_internal("map", via="direct", t_end_s=0.02)
     scene = replace(scene, options={**scene.options, "map": {"map": str(tmp_path / "gone.json")}})
@@ -156,7 +156,7 @@ def test_an_exception_in_the_worker_is_a_row(tmp_path):
 
 
 def test_summary_names_failed_runs(tmp_path):
-    from rotor_host.scene import load_scene
+    from rotor_host.scenes.scene import load_scene
 
     scene = load_scene(SCENE).with_internal("map", via="direct", t_end_s=0.02)
     ok = {"speed_hz": 22.0, "unbalance_g": None, "status": "ok", "message": "", "wall_s": 1.0, "integration_s": 0.5,

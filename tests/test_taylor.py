@@ -13,12 +13,12 @@ import pytest
 
 from bearing_fmu import fitting as F
 from bearing_fmu.fitting import FitRecipe
-from bearing_fmu.internals import BearingStateError, DifferentiableInternal, Internal
-from bearing_fmu.params import PAPER_BEARING, BearingParams
-from bearing_fmu.statics import linearize
-from bearing_fmu.basis import design_matrix, exponents, n_terms, natural_force_scale
-from bearing_fmu.surrogate import Domain, Surrogate, load_surrogate, save_surrogate
-from bearing_fmu.taylor import Taylor
+from bearing_fmu.internals.registry import BearingStateError, DifferentiableInternal, Internal
+from bearing_fmu.internals.taylor import Taylor
+from bearing_fmu.physics.params import PAPER_BEARING, BearingParams
+from bearing_fmu.physics.statics import linearize
+from bearing_fmu.surrogates.basis import design_matrix, exponents, n_terms, natural_force_scale
+from bearing_fmu.surrogates.surrogate import Domain, Surrogate, load_surrogate, save_surrogate
 
 P = PAPER_BEARING
 OMEGA = 2 * math.pi * 22.0
@@ -309,7 +309,7 @@ def test_outside_domain_evaluates_and_guard_reports():
 
 
 def test_domain_guard_actions():
-    from bearing_fmu.guard import DomainGuard
+    from bearing_fmu.internals.guard import DomainGuard
 
     s = poly_surrogate(3, scale=0.1)
     t = Taylor(s)
@@ -335,7 +335,7 @@ def test_domain_guard_actions():
     assert np.allclose(F_, truth.force(*near, OMEGA))
     # within 10 % beyond the edge the two are blended, so the force has no jump at the edge:
     # 5 % beyond (half the band) the smoothstep weight is 1/2
-    from bearing_fmu.guard import FALLBACK_BAND
+    from bearing_fmu.internals.guard import FALLBACK_BAND
 
     def at(excess):  # a state `excess` beyond the 0.3 CR position disc
         return (Y0 + 0.3 * (1 + excess) * P.CR, Z0, 0.0, 0.0)
@@ -494,8 +494,8 @@ def test_reynolds_trained_fit_22hz_coarse_grid():
     # 32 x 8 grid; domain: a disc of 0.1 CR about the equilibrium, |v| <= 0.1 omega CR.
     # Bound: 3 % held-out NRMSE at order 5 (the default-grid benchmark gives about 1.1 % on
     # this domain, docs/taylor.md); the order-1 fit must be much worse (> 10 %).
-    pytest.importorskip("bearing_fmu.reynolds")
-    from bearing_fmu.reynolds import Reynolds
+    pytest.importorskip("bearing_fmu.physics.reynolds")
+    from bearing_fmu.physics.reynolds import Reynolds
 
     rey = Reynolds(P, n_theta=32, n_x=8)
     res = F.fit_condition(FitRecipe(load_y=0.0, load_z=-16.7, speed_hz=22.0, order=5, ecc_max=0.95, v_max=0.1,
@@ -510,7 +510,7 @@ def test_reynolds_trained_fit_22hz_coarse_grid():
     assert min(lin.report["errors"]["test_nrmse"].values()) > 0.1
     # anchored (the default): the surrogate's statics are the truth's -- the same equilibrium
     # under the same load and Lund's coefficients from Reynolds' own (adjoint) derivatives
-    from bearing_fmu.statics import equilibrium
+    from bearing_fmu.physics.statics import equilibrium
 
     s = res.surrogate
     t = Taylor(s)
@@ -524,7 +524,7 @@ def test_reynolds_trained_fit_22hz_coarse_grid():
 
 def test_fit_command_writes_file_plots_and_report(tmp_path, capsys):
     # `bearing-fmu fit` end to end, tiny and on a coarse grid: the file loads, the plots exist
-    pytest.importorskip("bearing_fmu.reynolds")
+    pytest.importorskip("bearing_fmu.physics.reynolds")
     import argparse
 
     parser = F.add_fit_arguments(argparse.ArgumentParser())
@@ -545,7 +545,7 @@ def test_fit_command_writes_file_plots_and_report(tmp_path, capsys):
 def test_designed_refit_repeats_the_fit_from_its_recipe(tmp_path):
     # the file's recipe is the whole fit: a refit at its own order gives the same numbers, and so
     # does a file of the older form (its settings in provenance["fit_call"], read into a recipe)
-    pytest.importorskip("bearing_fmu.reynolds")
+    pytest.importorskip("bearing_fmu.physics.reynolds")
     import argparse
 
     out = tmp_path / "s.json"
@@ -710,7 +710,7 @@ def shape_surrogate(order=3, r=2, seed=31, p=1.25, scale=0.1):
 
 def test_shape_columns_value_by_hand():
     # by hand: the polynomial part through the wall factor plus M_l(u) S_k from the closed form
-    from bearing_fmu.shortbearing import short_bearing_force
+    from bearing_fmu.physics.shortbearing import short_bearing_force
 
     s = shape_surrogate(3, 2)
     states = random_states(30, 40, r=0.5, v=0.5)
@@ -830,12 +830,12 @@ def test_surrogate_without_shape_columns_never_compiles_them(tmp_path):
     import sys
     from pathlib import Path
 
-    code = ("import bearing_fmu._taylor_kernels as K; from bearing_fmu.surrogate import load_surrogate; "
-            "from bearing_fmu.taylor import Taylor; "
+    code = ("import bearing_fmu.surrogates.taylor_kernels as K; from bearing_fmu.surrogates.surrogate import load_surrogate; "
+            "from bearing_fmu.internals.taylor import Taylor; "
             "s = load_surrogate('models/surrogates/{}.json'); t = Taylor(s); "
             "t.force(s.y0, s.z0, 0.0, 0.0, s.omega); t.force_and_jacobian(s.y0, s.z0, 0.0, 0.0, s.omega); "
-            "print(sorted(f.__name__ for f in (K._sb_nb, K._shape_terms, K._force_shape_nb, "
-            "K._force_jac_shape_si_nb) if f.signatures))")
+            "print(sorted(f.__name__ for f in (K._sb_nb, K._shape_terms, K.force_shape_nb, "
+            "K.force_jac_shape_si_nb) if f.signatures))")
     env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path))
     root = Path(__file__).resolve().parents[1]
 
@@ -845,8 +845,8 @@ def test_surrogate_without_shape_columns_never_compiles_them(tmp_path):
 
     assert compiled("paper_22hz_16.7N") == "[]"
     # the check can fail: a surrogate with shape columns compiles all four
-    assert compiled("paper_44hz_16.7N") == str(sorted(["short_bearing_kernel", "_shape_terms", "_force_shape_nb",
-                                                       "_force_jac_shape_si_nb"]))
+    assert compiled("paper_44hz_16.7N") == str(sorted(["short_bearing_kernel", "_shape_terms", "force_shape_nb",
+                                                       "force_jac_shape_si_nb"]))
 
 
 @pytest.mark.parametrize("bad", ["abc", 2.5, -1, True])

@@ -1,4 +1,4 @@
-"""Scene-trained surrogates (rotor_host.training): the paper's way of fitting, end to end on a
+"""Scene-trained surrogates (rotor_host.analyses.training): the paper's way of fitting, end to end on a
 short, coarse scene, and the refit from the stored fit call in another folder."""
 
 import json
@@ -10,10 +10,10 @@ import numpy as np
 import pytest
 
 from bearing_fmu.fitting import FitRecipe, nrmse
-from bearing_fmu.surrogate import load_surrogate
+from bearing_fmu.surrogates.surrogate import load_surrogate
+from rotor_host.analyses.training import fit_scene, holdout_mask, refit, scene_series
 from rotor_host.cli import main as rotor_host
-from rotor_host.training import fit_scene, holdout_mask, refit, scene_series
-from rotor_host.scene import load_scene
+from rotor_host.scenes.scene import load_scene
 
 ROOT = Path(__file__).resolve().parents[1]
 ROTOR = ROOT / "models" / "rotor_paper.toml"
@@ -243,8 +243,8 @@ def test_series_forces_are_the_bearings_own(tmp_path):
     # unbalance near one end, so the two bearings carry different forces: the series must pair
     # each state with the force of the same bearing -- the truth evaluated at the series states
     # gives the series forces back (the forces are recorded per bearing, the states per node)
-    from bearing_fmu.reynolds import Reynolds
-    from rotor_host.training import _bearing_params
+    from bearing_fmu.physics.reynolds import Reynolds
+    from rotor_host.analyses.training import _bearing_params
 
     p = _scene(tmp_path, "asym", 8.5)
     text = p.read_text().replace("node = 6", "node = 1") + "[record]\nnodes = [1, 3, 6, 9]\n"

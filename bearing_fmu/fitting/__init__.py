@@ -16,13 +16,13 @@ The names below are re-exported for convenience (``from bearing_fmu import fitti
 """
 
 from .cli import add_fit_arguments, run_fit, write_fit
-from .fit import (COMPONENTS, FitResult, expansion_point, fit_condition, fit_surrogate, make_reynolds, refit_order,
-                  save_fit, truth_jacobian)
+from .fit import (COMPONENTS, FitResult, expansion_point, fit_condition, fit_surrogate, make_reynolds,
+                  refit_order, save_fit, truth_jacobian)
 from .neighbours import neighbours_for_fit
 from .recipe import FitRecipe, RecipeError, add_recipe_arguments, recipe_from_args, recipe_of
 from .report import format_report, plot_lambda
-from .ridge import (CrossValidation, RidgeSVD, fold_indices, nrmse, prune_terms, rel_rms, ridge_normal_equations,
-                    select_lambda)
+from .ridge import (CrossValidation, RidgeSVD, fold_indices, nrmse, prune_terms, rel_rms,
+                    ridge_normal_equations, select_lambda)
 from .sampling import designed_samples, domain_from_data, load_npz, sample_forces, tube_samples
 from .truth import Truth, fit_truth, truth_line
 

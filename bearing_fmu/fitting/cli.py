@@ -11,8 +11,8 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from ..exits import note_kept
-from ..outputs import ensure_output_file, ensure_writable, savez
+from ..io.exits import note_kept
+from ..io.outputs import ensure_output_file, ensure_writable, savez
 from .fit import FitResult, fit_condition, save_fit
 from .recipe import add_recipe_arguments, option_name, recipe_fields, recipe_from_args
 from .report import format_report, plot_lambda
@@ -30,7 +30,7 @@ class _Moved(argparse.Action):
 
 def add_output_arguments(parser: argparse.ArgumentParser) -> argparse.ArgumentParser:
     """The options of both fit commands that are not fit settings: output, plots, note."""
-    from ..cliargs import output_dir, output_file
+    from ..io.cliargs import output_dir, output_file
 
     parser.add_argument("--plots", type=output_dir, default=None, help="directory for the lambda plots")
     parser.add_argument("--note", default=None, help="free text stored in the file's provenance")
@@ -44,7 +44,7 @@ def add_fit_arguments(parser: argparse.ArgumentParser) -> argparse.ArgumentParse
     moved = [option_name(f) for f in recipe_fields("scene") if f.metadata["group"] == "scene"] + ["--cache-dir"]
     for flag in moved:
         parser.add_argument(flag, nargs="*", action=_Moved, default=argparse.SUPPRESS, help=argparse.SUPPRESS)
-    from ..cliargs import existing_file
+    from ..io.cliargs import existing_file
 
     parser.add_argument("--bearing", type=existing_file, default=None, metavar="FILE",
                         help="bearing TOML file to fit (default: the paper bearing, Table 2); its name and geometry "
@@ -55,7 +55,7 @@ def add_fit_arguments(parser: argparse.ArgumentParser) -> argparse.ArgumentParse
 def run_fit(args: argparse.Namespace) -> int:
     check_outputs(args)
     recipe = recipe_from_args(args, "designed")
-    from ..params import PAPER_BEARING, BearingParams
+    from ..physics.params import PAPER_BEARING, BearingParams
 
     params = BearingParams.from_toml(args.bearing) if args.bearing else PAPER_BEARING
     try:

@@ -5,7 +5,7 @@ Every setting comes from a :class:`~bearing_fmu.fitting.recipe.FitRecipe`.
 
 Conventions
 -----------
-* Regression in scaled units (see :mod:`bearing_fmu.basis`): the design matrix X (M x N)
+* Regression in scaled units (see :mod:`bearing_fmu.surrogates.basis`): the design matrix X (M x N)
   holds the monomials of u = ((y-y0)/CR, (z-z0)/CR, vy/(omega CR), vz/(omega CR)), the
   targets are F / force_scale. Ridge, cross validation, pruning: :mod:`.ridge`.
 * Pruning keeps the constant and the shape columns always. On more than 6000 samples the
@@ -29,10 +29,10 @@ from pathlib import Path
 
 import numpy as np
 
-from .._taylor_kernels import short_bearing_at
-from ..basis import design_matrix, exponents, natural_force_scale, shape_force
-from ..params import PAPER_BEARING, BearingParams
-from ..surrogate import Domain, Surrogate, load_surrogate, save_surrogate
+from ..physics.params import PAPER_BEARING, BearingParams
+from ..surrogates.basis import design_matrix, exponents, natural_force_scale, shape_force
+from ..surrogates.surrogate import Domain, Surrogate, load_surrogate, save_surrogate
+from ..surrogates.taylor_kernels import short_bearing_at
 from .neighbours import neighbours_for_fit
 from .recipe import FitRecipe, recipe_of
 from .ridge import CrossValidation, RidgeSVD, fold_indices, nrmse, prune_terms, rel_rms, select_lambda
@@ -387,7 +387,7 @@ def save_fit(res: FitResult, path: str | Path) -> Path:
 def make_reynolds(params: BearingParams, grid: tuple[int, int] | None = None, cavitation: str = "reynolds"):
     """The truth (imported lazily: the surrogate never needs it) on ``grid`` (n_theta, n_x;
     None: the solver's default)."""
-    from ..reynolds import Reynolds
+    from ..physics.reynolds import Reynolds
 
     if grid is None:
         return Reynolds(params, cavitation=cavitation)
@@ -415,7 +415,7 @@ def truth_jacobian(internal, y: float, z: float, omega: float, rel_step: float =
 
 def expansion_point(internal, load, omega: float) -> tuple[float, float]:
     """The static equilibrium of ``internal`` under ``load`` (Wy, Wz) [N] at omega [rad/s]."""
-    from ..statics import equilibrium
+    from ..physics.statics import equilibrium
 
     return equilibrium(internal, load, omega)
 

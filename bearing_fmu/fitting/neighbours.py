@@ -1,6 +1,6 @@
 """The training states a surrogate file stores for the nearest-neighbour guard (``Neighbours``).
 
-The domain guard (bearing_fmu.guard) flags a state whose distance to the nearest stored
+The domain guard (bearing_fmu.internals.guard) flags a state whose distance to the nearest stored
 training state, in the scaled state space u = ((y - y0)/CR, (z - z0)/CR, vy/(omega CR),
 vz/(omega CR)), exceeds a radius. Both are chosen here, from the training states alone, at fit
 time:
@@ -29,7 +29,7 @@ import math
 
 import numpy as np
 
-from ..surrogate import Neighbours
+from ..surrogates.surrogate import Neighbours
 
 MAX_POINTS = 2000  # stored points at most (~80 kB of JSON)
 COVER_FRACTION = 0.25  # thinning stops once the chosen points cover the training states to this fraction of q

@@ -9,8 +9,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ..params import BearingParams
-from ..surrogate import Domain
+from ..physics.params import BearingParams
+from ..surrogates.surrogate import Domain
 
 
 def designed_samples(internal, y0: float, z0: float, omega: float, ecc_max: float, v_max: float, n: int,

@@ -7,7 +7,7 @@ A fit asks its truth two things:
   so an anchored surrogate keeps Reynolds' static force and Lund coefficients exactly;
 * the samples: the designed samples, the tube samples about a scene's series and the designed
   held-out samples. Reynolds' too, unless the recipe names a ``truth_map``: then the force map
-  (bearing_fmu/forcemap.py, docs/forcemap.md) answers them, 50-100x cheaper per sample (3-10 us
+  (bearing_fmu/internals/forcemap.py, docs/forcemap.md) answers them, 50-100x cheaper per sample (3-10 us
   against 250-700 us on the default 128 x 16 grid, docs/taylor.md) and within the map's accuracy
   of Reynolds.
 
@@ -22,7 +22,7 @@ import hashlib
 from dataclasses import dataclass
 from pathlib import Path
 
-from ..params import BearingParams
+from ..physics.params import BearingParams
 
 
 @dataclass
@@ -126,7 +126,7 @@ def fit_truth(recipe, params: BearingParams, statics=None, *, grid_hint: str = "
 def _load(path, params: BearingParams):
     """(table, ForceMap) of the map file ``path`` for ``params``; one line naming the setting
     and the file on a fault (missing, damaged, another L/D)."""
-    from ..forcemap import ForceMap, load_map
+    from ..internals.forcemap import ForceMap, load_map
 
     try:
         table = load_map(path)
@@ -141,7 +141,7 @@ def _check_grid(table, path, grid, cavitation: str, hint: str) -> None:
     """The statics' Reynolds grid (None: the solver's default) and cavitation model are the map's."""
     if table is None:
         return
-    from ..reynolds import DEFAULT_N_THETA, DEFAULT_N_X
+    from ..physics.reynolds import DEFAULT_N_THETA, DEFAULT_N_X
 
     n_theta, n_x = grid if grid is not None else (DEFAULT_N_THETA, DEFAULT_N_X)
     if (n_theta, n_x, cavitation) != (table.n_theta, table.n_x, table.cavitation):

@@ -1,0 +1,17 @@
+"""The bearing as an FMU: the pythonfmu slave (FMI 2.0 CS), the build, what the model
+description says, the binary patches, and the native C FMU (ME + CS).
+
+==========  ===================================================================
+module      what it holds
+==========  ===================================================================
+slave       the pythonfmu slave: FMU variables, the chosen internal, honest FMI
+            status
+build       writes the ``.fmu`` (the package bundled under a unique name, model
+            description, data files checked, the bearing's defaults)
+binary      the checked patches of pythonfmu's binary for honest FMI statuses
+meta, docs  both FMUs' model-description extras (display units, bounds,
+            enumerations, build record) and their documentation/index.html
+native/     the native FMU: C sources of the internals and the FMI layer, their
+            generated data, the C build
+==========  ===================================================================
+"""

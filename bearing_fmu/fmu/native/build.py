@@ -1,0 +1,294 @@
+"""Write a native bearing FMU: FMI 2.0 Model Exchange and Co-Simulation in one archive, C
+sources in ``sources/``, the binary for this platform compiled from them, no Python inside.
+
+``build_native_fmu(output, internal, ...)``:
+
+1. ``codegen.native_model``: the internal's data as C headers, its variables and options;
+2. stage ``sources/`` (``bearing_native.h``, ``fmi2_bearing.c``, ``internal_<name>.c`` from
+   ``bearing_fmu/fmu/native/c/`` and the two generated headers), ``modelDescription.xml``
+   (both interfaces, units, output dependencies, the source files; what a system-simulation
+   engineer reads in it: ``bearing_fmu.fmu.meta``), ``documentation/`` (``bearing_fmu.fmu.docs``)
+   and ``resources/build_info.json`` (the bearing, the data file and its SHA-256);
+3. compile ``binaries/<platform>/<modelIdentifier>.<so|dylib|dll>``: by default with the C
+   compiler directly (``$CC``, else ``cc``, ``gcc`` or ``clang``: one command, about a second),
+   or with ``cmake=True`` through fmpy's source-FMU build (``fmpy.build.build_platform_binary``:
+   fmpy's CMake project and FMI headers; the ``cmake`` executable of the pip package fmpy
+   depends on, else the one on PATH), which is also how a user rebuilds the FMU for another
+   platform from its sources (``fmpy compile X.fmu``);
+4. zip, written atomically.
+
+Flags: ``-O2 -ffp-contract=off``: no fused multiply-add, so the sums round as the Python
+kernels' do (the tests compare them to 1e-12). The binary links only the C library and libm.
+"""
+
+from __future__ import annotations
+
+import datetime as _dt
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+import zipfile
+from pathlib import Path
+from xml.dom.minidom import parseString
+from xml.etree import ElementTree as ET
+
+from ... import __version__
+from ...physics.params import PAPER_BEARING, BearingParams
+from .codegen import NativeModel, native_model
+
+C_DIR = Path(__file__).resolve().parent / "c"
+COMMON_SOURCES = ("bearing_native.h", "fmi2_bearing.c")
+C_FLAGS = ("-O2", "-ffp-contract=off", "-fvisibility=hidden", "-fPIC", "-std=c99")
+
+class NativeBuildError(RuntimeError):
+    """The binary could not be compiled (no compiler, a compiler error): one line saying what to install."""
+
+
+def build_native_fmu(output, internal: str, *, surrogate=None, map=None, bearing: BearingParams | None = None,
+                     options: dict | None = None, cmake: bool = False, bearing_source="") -> Path:
+    """Write the native FMU of ``internal`` (taylor | map | linear) to ``output`` (.fmu).
+
+    surrogate : taylor: the surrogate JSON file compiled in (the bearing defaults to its own)
+    map       : map: the force map JSON file; linear: linearise on this map (no Reynolds)
+    bearing   : the bearing (default: the surrogate's for taylor, else the paper bearing)
+    bearing_source : where ``bearing`` came from (its file: recorded with its SHA-256)
+    options   : registry options: taylor's domain_action / domain_limit start values, linear's
+                linear_from, load_y, load_z, omega_lin, lin_* (the coefficients' start values)
+    cmake     : compile through fmpy's CMake project instead of the C compiler directly
+    """
+    output = Path(output)
+    if output.suffix != ".fmu":
+        raise ValueError(f"build_native_fmu: output {str(output)!r} must end in .fmu")
+    for label, path in (("surrogate", surrogate), ("map", map)):
+        if path is not None and not Path(path).is_file():
+            raise FileNotFoundError(f"build_native_fmu: {label} file {str(path)!r} not found")
+    params = bearing if bearing is not None else (None if str(internal).lower() == "taylor" else PAPER_BEARING)
+    model = native_model(internal, params, surrogate=surrogate, map=map, options=options)
+    from ...io.outputs import write_bytes
+
+    record = build_record(model, bearing_source if bearing is not None else "")
+    with tempfile.TemporaryDirectory(prefix="bearing_native_") as tmp:
+        root = Path(tmp) / "fmu"
+        stage(model, root, record)
+        compile_binary(root, model, cmake=cmake)
+        archive = Path(tmp) / "out.fmu"
+        _zip(root, archive)
+        output.parent.mkdir(parents=True, exist_ok=True)
+        write_bytes(output, archive.read_bytes())
+    return output
+
+
+def source_files(model: NativeModel) -> list[str]:
+    """The C files the compiler builds (the headers are included by them)."""
+    return ["fmi2_bearing.c", f"internal_{model.internal}.c"]
+
+
+def build_record(model: NativeModel, bearing_source="") -> dict:
+    """What the FMU was built from (``fmu_meta.build_record``): the bearing (its file, or the
+    surrogate it was fitted for), the data file compiled in or linearised on, what was compiled."""
+    from ..meta import build_record as record
+
+    source, is_file = bearing_source, True
+    if not bearing_source and model.internal == "taylor":
+        source, is_file = f"the bearing the surrogate {model.source.name} was fitted for", False
+    compiled = {k: v for k, v in model.info.items() if k not in ("provenance", "source")}
+    return record("native", [model.internal], model.internal, model.params, source,
+                  [model.source] if model.source else [], is_file, {"compiled": compiled})
+
+
+def stage(model: NativeModel, root: Path, record: dict | None = None) -> None:
+    """Write sources/, modelDescription.xml, documentation/ and resources/build_info.json of
+    ``model`` under ``root``."""
+    import json
+
+    from ..docs import write_documentation
+
+    record = record if record is not None else build_record(model)
+    src = root / "sources"
+    src.mkdir(parents=True)
+    for name in (*COMMON_SOURCES, f"internal_{model.internal}.c"):
+        shutil.copyfile(C_DIR / name, src / name)
+    (src / "model_config.h").write_text(model.config_h, encoding="ascii")
+    (src / "model_data.h").write_text(model.data_h, encoding="ascii")
+    (root / "binaries").mkdir()
+    xml = model_description(model, record)
+    (root / "modelDescription.xml").write_bytes(xml)
+    write_documentation(root / "documentation", xml, record)
+    (root / "resources").mkdir()
+    (root / "resources" / "build_info.json").write_text(json.dumps(record, indent=1, default=str) + "\n")
+
+
+# ----------------------------------------------------------------------------- model description
+
+def model_description(model: NativeModel, record: dict) -> bytes:
+    """modelDescription.xml: FMI 2.0, Model Exchange and Co-Simulation, same variables; units,
+    display units, ranges, enumerations, author, license, name and description (``fmu_meta``)."""
+    from .. import meta as fmu_meta
+    from .codegen import native_enumerations
+
+    guid = model.info["guid"]
+    root = ET.Element("fmiModelDescription", {
+        "fmiVersion": "2.0",
+        "modelName": record["model_name"],
+        "guid": guid,
+        "description": fmu_meta.description_text(model.description, record),
+        "version": __version__,
+        "generationTool": f"bearing_fmu {__version__} native build",
+        "generationDateAndTime": _dt.datetime.now(_dt.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ"),
+        "variableNamingConvention": "flat",
+        "numberOfEventIndicators": "0",
+    })
+    fmu_meta.set_author_and_license(root)
+    common = {"modelIdentifier": model.model_identifier, "canGetAndSetFMUstate": "true",
+              "canSerializeFMUstate": "true", "providesDirectionalDerivative": "true",
+              "canNotUseMemoryManagementFunctions": "false"}
+    me = ET.SubElement(root, "ModelExchange", {**common, "completedIntegratorStepNotNeeded": "true"})
+    cs = ET.SubElement(root, "CoSimulation", {**common, "canHandleVariableCommunicationStepSize": "true"})
+    for node in (me, cs):
+        files = ET.SubElement(node, "SourceFiles")
+        for name in source_files(model):
+            ET.SubElement(files, "File", name=name)
+    root.append(fmu_meta.unit_definitions({v.unit for v in model.variables if v.unit}))
+    root.append(fmu_meta.type_definitions([(string, items) for _n, string, items in native_enumerations(model.internal)]))
+    cats = ET.SubElement(root, "LogCategories")
+    for name, what in (("warning", "a state outside the fitted domain (warned once), outputs left at their start "
+                        "values"), ("discard", "a state the internal refuses (the wall, a non-finite input, far "
+                                    "outside the fitted domain)"), ("error", "a refused call")):
+        ET.SubElement(cats, "Category", name=name, description=what)
+    ET.SubElement(root, "DefaultExperiment", startTime="0.0", stopTime="0.1", stepSize="0.0001")
+    mvars = ET.SubElement(root, "ModelVariables")
+    omega_ref = fmu_meta.reference_speed(next(v.start for v in model.variables if v.name == "omega"))
+    index = {}
+    for k, v in enumerate(model.variables, start=1):
+        index[v.name] = k
+        attrs = {"name": v.name, "valueReference": str(v.vr), "description": v.description,
+                 "causality": v.causality, "variability": v.variability}
+        if v.causality == "output":
+            attrs["initial"] = "calculated"
+        sv = ET.SubElement(mvars, "ScalarVariable", attrs)
+        typed = {"declaredType": v.declared_type} if v.declared_type else {}
+        if v.causality != "output":
+            typed["start"] = (repr(float(v.start)) if v.type == "Real" else
+                              ("true" if v.start else "false") if v.type == "Boolean" else str(v.start))
+        if v.type == "Real":
+            typed.update(fmu_meta.real_attributes(v.name, v.unit, model.params, omega_ref))
+        ET.SubElement(sv, v.type, typed)
+    inputs = [index[v.name] for v in model.variables if v.causality == "input"]
+    outputs = [index[v.name] for v in model.variables if v.causality == "output"]
+    params = [index[v.name] for v in model.variables if v.causality == "parameter"]
+    structure = ET.SubElement(root, "ModelStructure")
+    node = ET.SubElement(structure, "Outputs")
+    for i in outputs:
+        ET.SubElement(node, "Unknown", index=str(i), dependencies=" ".join(map(str, inputs)),
+                      dependenciesKind=" ".join(["dependent"] * len(inputs)))
+    node = ET.SubElement(structure, "InitialUnknowns")
+    deps = sorted(inputs + params)
+    for i in outputs:
+        ET.SubElement(node, "Unknown", index=str(i), dependencies=" ".join(map(str, deps)),
+                      dependenciesKind=" ".join(["dependent"] * len(deps)))
+    return parseString(ET.tostring(root, encoding="UTF-8")).toprettyxml(indent="  ", encoding="UTF-8")
+
+
+# ----------------------------------------------------------------------------- compiling
+
+def platform_folder() -> tuple[str, str]:
+    """(binaries/ folder name, shared library extension) of this platform, as fmpy names them."""
+    import fmpy
+
+    return fmpy.platform, fmpy.sharedLibraryExtension
+
+
+def fmi_headers() -> Path:
+    """The FMI 2.0 headers fmpy ships (fmpy/c-code)."""
+    import fmpy
+
+    path = Path(fmpy.__file__).resolve().parent / "c-code"
+    if not (path / "fmi2Functions.h").is_file():
+        raise NativeBuildError(f"fmpy's FMI headers are not at {path} (fmpy/c-code/fmi2Functions.h): reinstall fmpy")
+    return path
+
+
+def find_compiler() -> str:
+    """The C compiler: $CC, else cc, gcc or clang on PATH; NativeBuildError saying what to install."""
+    cc = os.environ.get("CC")
+    if cc:
+        return cc
+    for name in ("cc", "gcc", "clang"):
+        path = shutil.which(name)
+        if path:
+            return path
+    raise NativeBuildError("no C compiler found (set CC, or install one: Debian/Ubuntu `apt-get install gcc`, "
+                           "macOS `xcode-select --install`; on Windows build with --cmake and Visual Studio): a "
+                           "native FMU is compiled at build time only")
+
+
+def compile_binary(root: Path, model: NativeModel, cmake: bool = False) -> Path:
+    """Compile ``root``/sources into ``root``/binaries/<platform>/; returns the binary's path."""
+    folder, ext = platform_folder()
+    target = root / "binaries" / folder / f"{model.model_identifier}{ext}"
+    target.parent.mkdir(parents=True, exist_ok=True)
+    if cmake:
+        _compile_cmake(root)
+    else:
+        _compile_cc(root, model, target)
+    if not target.is_file():
+        raise NativeBuildError(f"the build wrote no {target.relative_to(root)}")
+    return target
+
+
+def _compile_cc(root: Path, model: NativeModel, target: Path) -> None:
+    if sys.platform == "win32":
+        raise NativeBuildError("building with the C compiler directly is for Linux and macOS; on Windows use "
+                               "--cmake (fmpy's CMake project with Visual Studio)")
+    src = root / "sources"
+    cmd = [find_compiler(), *C_FLAGS, "-shared", "-I", str(src), "-I", str(fmi_headers()),
+           *(str(src / f) for f in source_files(model)), "-o", str(target), "-lm"]
+    try:
+        done = subprocess.run(cmd, capture_output=True, text=True, timeout=600)
+    except OSError as exc:
+        raise NativeBuildError(f"cannot run the C compiler {cmd[0]!r}: {exc}") from None
+    if done.returncode != 0:
+        tail = (done.stderr or done.stdout).strip().splitlines()[-12:]
+        raise NativeBuildError(f"the C compiler failed (exit {done.returncode}): {' '.join(cmd)}\n" + "\n".join(tail))
+
+
+def cmake_executable_dir() -> str | None:
+    """The folder of the cmake executable of the ``cmake`` pip package (a dependency of fmpy), if installed."""
+    try:
+        import cmake  # noqa: PLC0415
+
+        return str(cmake.CMAKE_BIN_DIR)
+    except (ImportError, AttributeError):
+        return None
+
+
+def _compile_cmake(root: Path) -> None:
+    from fmpy.build import build_platform_binary
+
+    path = os.environ.get("PATH", "")
+    bin_dir = cmake_executable_dir()
+    env_path = (bin_dir + os.pathsep + path) if bin_dir else path
+    if not shutil.which("cmake", path=env_path):
+        raise NativeBuildError("cmake not found: `pip install cmake` (fmpy depends on it) or install it with the "
+                               "system's packages; or build without --cmake (the C compiler directly)")
+    old = os.environ.get("PATH")
+    os.environ["PATH"] = env_path
+    try:
+        with tempfile.TemporaryDirectory(prefix="bearing_native_cmake_") as build_dir:
+            build_platform_binary(root, build_dir, cmake_options={"CMAKE_C_FLAGS:STRING": "-ffp-contract=off"})
+    except subprocess.CalledProcessError as exc:
+        raise NativeBuildError(f"fmpy's CMake build failed ({exc}); see its output above") from None
+    finally:
+        if old is None:
+            os.environ.pop("PATH", None)
+        else:
+            os.environ["PATH"] = old
+
+
+def _zip(root: Path, archive: Path) -> None:
+    with zipfile.ZipFile(archive, "w", zipfile.ZIP_DEFLATED) as z:
+        for p in sorted(root.rglob("*")):
+            if p.is_file():
+                z.write(p, p.relative_to(root).as_posix())

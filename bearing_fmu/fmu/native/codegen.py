@@ -1,0 +1,469 @@
+"""C source of a native bearing FMU: the internal's data as static arrays, its options, the
+variables of the model description.
+
+``native_model(internal, params, ...)`` gathers everything a native FMU of one internal is:
+``NativeModel`` with its variables (the Python FMU's where they apply, ``bearing_fmu.fmu.slave.VARIABLES``),
+its options (registry ``Option``s the native FMU keeps) and two generated headers:
+
+* ``model_config.h``: the internal's name, the GUID, start values, one row per option (name,
+  start, range or choices) and the value references the C code uses (``VR_OPT_<NAME>``,
+  ``S_OPT_<NAME>``);
+* ``model_data.h``: the internal's data. Taylor: the same arrays ``taylor.Taylor`` hands its
+  numba kernels (meta, domain, only the kept terms), the polynomials as coefficient rows over
+  their monomials (``taylor_polynomials``: the C kernel sums them as vectorised dot
+  products), the stored training states. Map: the spline's knots and coefficients. Linear:
+  nothing (its coefficients are parameters).
+
+Every double is written as a C99 hexadecimal literal (``float.hex``): exact.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from ...internals import registry
+from ...physics.params import BearingParams
+
+INTERNALS = ("linear", "map", "taylor")  # what a native FMU can compute (no solver at run time)
+REAL_BASE, BOOL_BASE, STRING_BASE, ENUM_BASE = 0, 1000, 2000, 3000  # value references by type (bearing_native.h)
+CORE_REALS = ("y", "z", "vy", "vz", "omega", "Fy", "Fz", "eccentricity", "h_min", "Kyy", "Kyz", "Kzy", "Kzz",
+              "Cyy", "Cyz", "Czy", "Czz", "D", "L", "CR", "mu")
+FALLBACK_WHY = ("the fallback evaluates the Reynolds solver, which a native FMU does not have; use warn or discard, "
+                "or the Python FMU (bearing-fmu build) for fallback")
+# the native FMU's options per internal (registry names); the rest stay in the Python FMU
+NATIVE_OPTIONS = {
+    "taylor": ("surrogate", "domain_action", "domain_limit"),
+    "map": ("map",),
+    "linear": ("omega_lin", "lin_y0", "lin_z0", "lin_Fy0", "lin_Fz0", "lin_Kyy", "lin_Kyz", "lin_Kzy", "lin_Kzz",
+               "lin_Cyy", "lin_Cyz", "lin_Czy", "lin_Czz"),
+}
+
+
+def c_double(x: float) -> str:
+    """An exact C99 literal of the double x."""
+    x = float(x)
+    if not math.isfinite(x):
+        raise ValueError(f"codegen: non-finite value {x!r} in the model data")
+    return x.hex()
+
+
+def c_string(s: str) -> str:
+    """A C string literal (printable ASCII kept, the rest escaped)."""
+    out = []
+    for ch in str(s):
+        if ch in '"\\':
+            out.append("\\" + ch)
+        elif 32 <= ord(ch) < 127 and ch != "%":
+            out.append(ch)
+        else:
+            out.append("?" if ord(ch) > 255 else f"\\{ord(ch):03o}")
+    return '"' + "".join(out) + '"'
+
+
+def c_array(name: str, values, per_line: int = 4) -> str:
+    vals = [c_double(v) for v in np.asarray(values, float).ravel()]
+    lines = [", ".join(vals[i:i + per_line]) for i in range(0, len(vals), per_line)]
+    body = ",\n    ".join(lines) if lines else "0"
+    return f"static const double {name}[{max(len(vals), 1)}] = {{\n    {body}}};\n"
+
+
+# ----------------------------------------------------------------------------- the model
+
+@dataclass
+class Variable:
+    """One variable of the model description."""
+
+    name: str
+    vr: int
+    type: str  # Real | Boolean | String | Enumeration (an Integer, FMI 2.0)
+    causality: str  # input | output | parameter
+    start: object
+    unit: str | None
+    description: str
+    declared_type: str | None = None  # an Enumeration's TypeDefinition
+
+    @property
+    def variability(self) -> str:
+        if self.causality == "parameter":
+            return "fixed"
+        return "continuous" if self.type == "Real" else "discrete"
+
+
+@dataclass
+class NativeModel:
+    """A native FMU of one internal: variables, options, generated C headers, provenance."""
+
+    internal: str
+    params: BearingParams
+    variables: list[Variable]
+    config_h: str
+    data_h: str
+    source: Path | None  # the data file compiled in (surrogate, map), if any
+    description: str
+    info: dict = field(default_factory=dict)  # what the documentation records (order, table size, ...)
+
+    @property
+    def model_identifier(self) -> str:
+        return f"bearing_native_{self.internal}"
+
+    def digest(self, *more: str) -> str:
+        h = hashlib.sha256()
+        for text in (self.config_h, self.data_h, *more):
+            h.update(text.encode() + b"\0")
+        return h.hexdigest()
+
+
+def native_model(internal: str, params: BearingParams, *, surrogate=None, map=None, options=None) -> NativeModel:
+    """The native model of ``internal`` for bearing ``params``.
+
+    taylor : ``surrogate`` (path) compiled in; params default to the surrogate's
+    map    : ``map`` (path) compiled in; its L/D must be the bearing's
+    linear : the coefficients' start values from the Python ``Linear`` internal built with
+             ``options`` (registry options of "linear", e.g. linear_from, load_z, or a map)
+    ValueError naming what is wrong otherwise."""
+    internal = str(internal).strip().lower()
+    if internal not in INTERNALS:
+        raise ValueError(f"a native FMU computes one of {', '.join(INTERNALS)}; got internal {internal!r} "
+                         "(reynolds needs its solver at run time: the Python FMU, `bearing-fmu build`)")
+    return {"taylor": _taylor, "map": _map, "linear": _linear}[internal](params, surrogate, map, dict(options or {}))
+
+
+def _variables(internal: str, params: BearingParams, starts: dict, inputs: tuple) -> list[Variable]:
+    """The Python FMU's variables that apply, in value-reference order (bearing_native.h)."""
+    from ..slave import VARIABLES  # noqa: PLC0415 - the one table of the FMU interface
+
+    table = {v[0]: v for v in VARIABLES}
+    out = []
+    bearing = dict(zip(("D", "L", "CR", "mu"), (params.D, params.L, params.CR, params.mu)))
+    for vr, name in enumerate(CORE_REALS):
+        _n, typ, causality, unit, start, desc = table[name]
+        start = dict(zip(("y", "z", "vy", "vz", "omega"), inputs)).get(name, bearing.get(name, start))
+        if name in ("y", "z", "vy", "vz", "omega", "D", "L", "CR", "mu"):
+            out.append(Variable(name, REAL_BASE + vr, typ, causality, float(start), unit, desc))
+        else:
+            out.append(Variable(name, REAL_BASE + vr, typ, causality, 0.0, unit, desc))
+    opts = [registry_option(n) for n in NATIVE_OPTIONS[internal]]
+    reals = [o for o in opts if o.type is float]
+    strings = [o for o in opts if o.type is str]
+    for k, o in enumerate(reals):
+        out.append(Variable(o.name, REAL_BASE + len(CORE_REALS) + k, "Real", "parameter", float(starts[o.name]),
+                            o.unit, f"{o.help} ({o.allowed()})"))
+    for name, k in (("out_of_domain", 0), ("compute_tangent", 1)):
+        _n, typ, causality, unit, start, desc = table[name]
+        out.append(Variable(name, BOOL_BASE + k, typ, causality, bool(start), None, desc))
+    out.append(Variable("internal", STRING_BASE, "String", "parameter", internal, None,
+                        f"which internal computes the force: this native FMU computes {internal} only"))
+    for k, o in enumerate(strings):
+        desc = o.help
+        if o.name == "domain_action":
+            desc = ("taylor, state outside the fitted domain: warn (surrogate value, warned once) | discard (refuse "
+                    "the step); fallback needs the Python FMU")
+        elif o.file:
+            desc = f"{o.name} file compiled into this FMU ('' or its name)"
+        out.append(Variable(o.name, STRING_BASE + 1 + k, "String", "parameter", str(starts[o.name]), None, desc))
+    from ..meta import enum_type_name  # noqa: PLC0415
+
+    for k, (name, string, items) in enumerate(native_enumerations(internal)):
+        start = internal if string == "internal" else str(starts[string])
+        value = next(v for v, item in items if item == start)
+        words = ", ".join(f"{v} = {item}" for v, item in items)
+        out.append(Variable(name, ENUM_BASE + k, "Enumeration", "parameter", value, None,
+                            f"{string} as an enumeration ({words}): the same choice as the String parameter {string}; "
+                            "set either (set both, they must agree)", enum_type_name(string)))
+    return out
+
+
+def native_enumerations(internal: str) -> list[tuple[str, str, list[tuple[int, str]]]]:
+    """(enumeration parameter, its String parameter, [(value, item), ...]) of the native FMU of
+    ``internal``: the Python FMU's enumerations (``slave.ENUMERATIONS``, the same numbers) of the
+    String parameters it has, with the items it accepts (internal: its own; domain_action: not
+    fallback)."""
+    from ..slave import ENUMERATIONS  # noqa: PLC0415
+
+    strings = ["internal"] + [n for n in NATIVE_OPTIONS[internal] if registry_option(n).choices]
+    out = []
+    for name, (string, items) in ENUMERATIONS.items():
+        if string in strings:
+            allowed = [internal] if string == "internal" else [c for c in items if not (
+                string == "domain_action" and c == "fallback")]
+            out.append((name, string, [(items.index(c) + 1, c) for c in allowed]))
+    return out
+
+
+def registry_option(name: str) -> registry.Option:
+    return next(o for o in registry.all_options() if o.name == name)
+
+
+def _config(internal: str, params: BearingParams, starts: dict, inputs, guid_seed: str) -> tuple[str, str]:
+    """model_config.h and the GUID."""
+    opts = [registry_option(n) for n in NATIVE_OPTIONS[internal]]
+    reals = [o for o in opts if o.type is float]
+    strings = [o for o in opts if o.type is str]
+    guid_hash = hashlib.sha256(guid_seed.encode()).hexdigest()
+    guid = "{" + f"{guid_hash[:8]}-{guid_hash[8:12]}-{guid_hash[12:16]}-{guid_hash[16:20]}-{guid_hash[20:32]}" + "}"
+    lines = [
+        "/* Generated by bearing_fmu.fmu.native.codegen. Do not edit. */",
+        "#ifndef MODEL_CONFIG_H", "#define MODEL_CONFIG_H",
+        f"#define BN_INTERNAL {c_string(internal)}",
+        f"#define BN_GUID {c_string(guid)}",
+        f"#define BN_N_REAL_OPTIONS {len(reals)}",
+        f"#define BN_N_STRING_OPTIONS {len(strings)}",
+        f"#define BN_START_INPUTS {{{', '.join(c_double(v) for v in inputs)}}}",
+        f"#define BN_START_BEARING {{{', '.join(c_double(v) for v in (params.D, params.L, params.CR, params.mu))}}}",
+    ]
+    rows = []
+    for k, o in enumerate(reals):
+        lines.append(f"#define VR_OPT_{o.name.upper()} {len(CORE_REALS) + k}")
+        lo = "-INFINITY" if o.minimum is None else c_double(o.minimum)
+        hi = "INFINITY" if o.maximum is None else c_double(o.maximum)
+        rows.append(f"    {{{c_string(o.name)}, {c_double(starts[o.name])}, {lo}, {int(o.exclusive_minimum)}, {hi}, "
+                    f"{c_string(o.allowed())}}}")
+    lines.append("#define BN_REAL_OPTION_TABLE \\\n" + ", \\\n".join(rows) if rows else "#define BN_REAL_OPTION_TABLE")
+    rows = []
+    for k, o in enumerate(strings):
+        lines.append(f"#define S_OPT_{o.name.upper()} {1 + k}")
+        if o.file:
+            rows.append(f"    {{{c_string(o.name)}, {c_string(starts[o.name])}, NULL, 1, NULL, NULL}}")
+        else:
+            choices = [c for c in o.choices if not (o.name == "domain_action" and c == "fallback")]
+            refuse = ("fallback", FALLBACK_WHY) if o.name == "domain_action" else None
+            rows.append(f"    {{{c_string(o.name)}, {c_string(starts[o.name])}, {c_string('|'.join(choices))}, 0, "
+                        + (f"{c_string(refuse[0])}, {c_string(refuse[1])}}}" if refuse else "NULL, NULL}"))
+    lines.append("#define BN_STRING_OPTION_TABLE \\\n" + ", \\\n".join(rows) if rows else
+                 "#define BN_STRING_OPTION_TABLE")
+    # the enumerations: name, the String they mirror (index: 0 internal, 1 + k the k-th String
+    # option), start value, every choice of the type ("a|b|c", value k + 1 for the k-th)
+    from ..slave import ENUMERATIONS  # noqa: PLC0415
+
+    rows = []
+    string_names = ["internal"] + [o.name for o in strings]
+    for name, string, items in native_enumerations(internal):
+        start = internal if string == "internal" else str(starts[string])
+        value = next(v for v, item in items if item == start)
+        rows.append(f"    {{{c_string(name)}, {string_names.index(string)}, {value}, "
+                    f"{c_string('|'.join(ENUMERATIONS[name][1]))}}}")
+    lines.append(f"#define BN_N_ENUMS {len(rows)}")
+    lines.append("#define BN_ENUM_TABLE \\\n" + ", \\\n".join(rows))
+    lines.append("#endif\n")
+    return "\n".join(lines), guid
+
+
+# ----------------------------------------------------------------------------- taylor
+
+def _rows(exps: np.ndarray, coef: np.ndarray, index: dict, n: int) -> tuple[np.ndarray, np.ndarray]:
+    """The value rows (2, n) and gradient rows (8, n) of two polynomials (rows of coef over
+    the exponents exps) on the monomials ``index`` (exponent tuple -> column): the gradient
+    is a polynomial too, d/du_v sum_k c_k u^e_k = sum_k e_kv c_k u^(e_k - 1_v)."""
+    val, grad = np.zeros((2, n)), np.zeros((8, n))
+    for k, e in enumerate(np.asarray(exps, int)):
+        c = coef[:, k]
+        if not np.any(c):
+            continue
+        val[:, index[tuple(int(x) for x in e)]] += c
+        for v in range(4):
+            if e[v] > 0:
+                low = tuple(int(x) - (1 if w == v else 0) for w, x in enumerate(e))
+                grad[[v, 4 + v], index[low]] += e[v] * c
+    return val, grad
+
+
+def _monomials(*exponent_sets) -> list[tuple]:
+    """Every monomial the polynomials and their gradients need, with the chain of parents to
+    the constant, in graded order (constant first): each is its parent times one u_v."""
+    needed = {(0, 0, 0, 0)}
+    for exps in exponent_sets:
+        for e in np.asarray(exps, int):
+            e = tuple(int(x) for x in e)
+            needed.add(e)
+            for v in range(4):
+                if e[v] > 0:
+                    needed.add(tuple(x - (1 if w == v else 0) for w, x in enumerate(e)))
+    for mono in list(needed):
+        m = list(mono)
+        while sum(m) > 0:
+            v = next(i for i in range(4) if m[i] > 0)
+            m[v] -= 1
+            needed.add(tuple(m))
+    return sorted(needed, key=lambda m: (sum(m), tuple(-x for x in m)))
+
+
+def _used(rows: np.ndarray) -> int:
+    """Columns up to the last non-zero one, rounded up to a multiple of 8 (the kernel's stride)."""
+    nz = np.nonzero(np.any(rows != 0.0, axis=0))[0]
+    n = int(nz[-1]) + 1 if nz.size else 0
+    return -(-n // 8) * 8
+
+
+def taylor_polynomials(exps, coef, shape_exps=None, shape_coef=None) -> str:
+    """The polynomials of the Taylor internal as data for the C kernel (internal_taylor.c):
+    the monomials (``monomials(u, M)``: m_j = m_parent * u_var, graded order, padded with
+    zeros to TAY_NM, a multiple of 8) and the coefficient rows over them: TAY_VAL (Fy, Fz),
+    TAY_GRAD (dFy/du_0..3, dFz/du_0..3) and, with shape columns, TAY_SVAL (the four M_l) and
+    TAY_SGRAD (dM_l/du_v, l-major). Each group's rows are used up to its last non-zero column
+    (TAY_N_VAL, ...). Summed as dot products, the force rounds differently from the Python
+    kernels' term-by-term order: they agree to ~1e-15 relative (tests: 1e-12)."""
+    sets = [exps] + ([shape_exps] if shape_exps is not None else [])
+    monos = _monomials(*sets)
+    nm = -(-len(monos) // 8) * 8
+    index = {m: j for j, m in enumerate(monos)}
+    val, grad = _rows(exps, np.asarray(coef, float), index, nm)
+    parent, var = [0], [0]
+    for m in monos[1:]:
+        lst = list(m)
+        v = next(i for i in range(4) if lst[i] > 0)
+        lst[v] -= 1
+        parent.append(index[tuple(lst)])
+        var.append(v)
+    lines = ["    M[0] = 1.0;"] + [f"    M[{j}] = M[{parent[j]}] * u[{var[j]}];" for j in range(1, len(monos))]
+    lines += [f"    M[{j}] = 0.0;" for j in range(len(monos), nm)]
+    out = [f"#define TAY_NMONO {len(monos)}", f"#define TAY_NM {nm}",
+           f"#define TAY_N_VAL {_used(val)}", f"#define TAY_N_GRAD {_used(grad)}",
+           "/* the monomials m_j = m_parent * u_v, graded order; zeros up to TAY_NM */",
+           "static void monomials(const double u[4], double M[TAY_NM]) {\n" + "\n".join(lines) + "\n}",
+           c_matrix("TAY_VAL", val), c_matrix("TAY_GRAD", grad)]
+    if shape_exps is not None:
+        sc = np.asarray(shape_coef, float)
+        v01, g01 = _rows(shape_exps, sc[0:2], index, nm)
+        v23, g23 = _rows(shape_exps, sc[2:4], index, nm)
+        sval = np.vstack([v01, v23])  # M_0..M_3
+        sgrad = np.vstack([g01[0:4], g01[4:8], g23[0:4], g23[4:8]])  # dM_l/du_v, l-major
+        out += [f"#define TAY_N_SVAL {_used(sval)}", f"#define TAY_N_SGRAD {_used(sgrad)}",
+                c_matrix("TAY_SVAL", sval), c_matrix("TAY_SGRAD", sgrad)]
+    return "\n".join(out) + "\n"
+
+
+def c_matrix(name: str, rows: np.ndarray) -> str:
+    """A (R, n) matrix as a static, 32-byte aligned C array (the kernel loads 4 doubles at a time)."""
+    rows = np.asarray(rows, float)
+    body = ",\n    ".join("{" + ", ".join(c_double(x) for x in r) + "}" for r in rows)
+    return (f"static const double {name}[{rows.shape[0]}][{rows.shape[1]}] BN_ALIGN32 = {{\n    {body}}};\n")
+
+
+def _taylor(params: BearingParams, surrogate, map_path, options: dict) -> NativeModel:
+    from ...internals.taylor import Taylor
+    from ...surrogates.surrogate import load_surrogate
+
+    if not surrogate:
+        raise ValueError("a native taylor FMU needs a surrogate file (--surrogate FILE)")
+    path = Path(surrogate)
+    sur = load_surrogate(path, params) if params is not None else load_surrogate(path)
+    tay = Taylor(sur)
+    params = sur.params
+    exps, coef = tay._exps, tay._coef  # the kept terms, exactly what the numba kernels evaluate
+    shape = sur.shape_order is not None
+    what = " and ".join(([f"wall factor (1 - eps^2)^-{sur.wall_power:g}"] if sur.wall_power else [])
+                        + (["short-bearing shape columns"] if shape else []))
+    wall_why = (f"; the surrogate's {what} {'are' if shape else 'is'} undefined there" if what else "")
+    nb = sur.neighbours
+    d = sur.domain
+    size = 0.5 * math.dist(d.box_lo, d.box_hi) if nb is not None else 1.0
+    if nb is not None and not size > 0.0:
+        size = nb.radius
+    parts = [
+        "/* Generated by bearing_fmu.fmu.native.codegen from the surrogate file "
+        f"{path.name} ({sur.recipe}). Do not edit. */",
+        "#ifndef MODEL_DATA_H", "#define MODEL_DATA_H",
+        f"#define TAY_SOURCE {c_string(path.name)}",
+        f"#define TAY_SHAPE {int(shape)}",
+        f"#define TAY_NN {0 if nb is None else len(nb.points)}",
+        f"#define TAY_NN_RADIUS {c_double(nb.radius if nb is not None else 1.0)}",
+        f"#define TAY_NN_SIZE {c_double(size)}",
+        f"#define TAY_CR2 {c_double(tay._cr2)}",
+        f"#define TAY_WALL_WHY {c_string(wall_why)}",
+        c_array("TAY_META", tay._meta),
+        c_array("TAY_DOM", tay._dom),
+        c_array("TAY_PARAMS", (params.D, params.L, params.CR, params.mu)),
+        # sorted by u_0: the C search sweeps outward from the query in that order (internal_taylor.c: nearest)
+        c_array("TAY_NN_POINTS", nb.points[np.argsort(nb.points[:, 0], kind="stable")] if nb is not None
+                else [0.0, 0.0, 0.0, 0.0]),
+        taylor_polynomials(exps, coef, *((sur.shape_exponents, sur.shape_coef) if shape else ())),
+    ]
+    parts.append("#endif\n")
+    starts = {"surrogate": path.name, "domain_action": "warn", "domain_limit": registry.DEFAULT_DOMAIN_LIMIT}
+    for name in ("domain_action", "domain_limit"):
+        if name in options:
+            starts[name] = registry_option(name).check(options[name], "native FMU option")
+    if starts["domain_action"] == "fallback":
+        raise ValueError(f"domain_action = 'fallback': {FALLBACK_WHY}")
+    inputs = (sur.y0, sur.z0, 0.0, 0.0, sur.omega)
+    data_h = "\n".join(parts)
+    config_h, guid = _config("taylor", params, starts, inputs, data_h + repr(starts))
+    info = {"source": path.name, "recipe": sur.recipe, "order": sur.order, "terms": int(exps.shape[0]),
+            "wall_power": sur.wall_power, "shape_order": sur.shape_order, "omega": sur.omega,
+            "training_states": 0 if nb is None else len(nb.points), "guid": guid,
+            "provenance": sur.provenance}
+    return NativeModel("taylor", params, _variables("taylor", params, starts, inputs), config_h, data_h, path,
+                       f"hydrodynamic journal bearing, Taylor surrogate {path.name} ({sur.recipe}) at "
+                       f"{sur.omega / (2 * math.pi):.6g} Hz, compiled (no Python)", info)
+
+
+# ----------------------------------------------------------------------------- map
+
+def _map(params: BearingParams, surrogate, map_path, options: dict) -> NativeModel:
+    from ...internals.forcemap import EPS_MIN, LD_RTOL, ForceMap, load_map
+
+    if not map_path:
+        raise ValueError("a native map FMU needs a force map file (--map FILE)")
+    path = Path(map_path)
+    table = load_map(path)
+    ForceMap(params, table, source=str(path))  # refuses another L/D, as the FMU will
+    ts, tb, C = table.spline()
+    parts = [
+        "/* Generated by bearing_fmu.fmu.native.codegen from the force map file "
+        f"{path.name} ({table.n_eps} x {table.n_beta}). Do not edit. */",
+        "#ifndef MODEL_DATA_H", "#define MODEL_DATA_H",
+        f"#define MAP_SOURCE {c_string(path.name)}",
+        f"#define MAP_NS {C.shape[0]}",
+        f"#define MAP_NB {C.shape[1]}",
+        f"#define MAP_WALL_EXPONENT {c_double(table.wall_exponent)}",
+        f"#define MAP_EPS_MIN {c_double(EPS_MIN)}",
+        f"#define MAP_EPS_MAX {c_double(table.eps_max)}",
+        f"#define MAP_L_OVER_D {c_double(table.L_over_D)}",
+        f"#define MAP_LD_RTOL {c_double(LD_RTOL)}",
+        c_array("MAP_TS", ts), c_array("MAP_TB", tb), c_array("MAP_C", C),
+        "#endif\n",
+    ]
+    data_h = "\n".join(parts)
+    starts = {"map": path.name}
+    inputs = (0.0, 0.0, 0.0, 0.0, 0.0)
+    config_h, guid = _config("map", params, starts, inputs, data_h)
+    info = {"source": path.name, "table": f"{table.n_eps} x {table.n_beta}", "eps_max": table.eps_max,
+            "L_over_D": table.L_over_D, "reynolds": f"{table.n_theta} x {table.n_x} {table.cavitation}",
+            "guid": guid, "provenance": table.provenance}
+    return NativeModel("map", params, _variables("map", params, starts, inputs), config_h, data_h, path,
+                       f"hydrodynamic journal bearing, force map {path.name} (L/D {table.L_over_D:.4g}, any speed, "
+                       "load and velocity), compiled (no Python)", info)
+
+
+# ----------------------------------------------------------------------------- linear
+
+def linear_starts(params: BearingParams, options: dict, context=None) -> dict:
+    """The native linear FMU's parameter values (omega_lin, lin_*) of the Python ``Linear``
+    internal built from ``options`` (registry options of "linear")."""
+    lin = registry.create("linear", params, options, context)
+    return {"omega_lin": lin.omega0, "lin_y0": lin.y0, "lin_z0": lin.z0, "lin_Fy0": lin.F0[0], "lin_Fz0": lin.F0[1],
+            "lin_Kyy": lin.K[0, 0], "lin_Kyz": lin.K[0, 1], "lin_Kzy": lin.K[1, 0], "lin_Kzz": lin.K[1, 1],
+            "lin_Cyy": lin.C[0, 0], "lin_Cyz": lin.C[0, 1], "lin_Czy": lin.C[1, 0], "lin_Czz": lin.C[1, 1]}
+
+
+def _linear(params: BearingParams, surrogate, map_path, options: dict) -> NativeModel:
+    if map_path and "linear_from" not in options:
+        options = {"linear_from": "map", "map": str(map_path), **options}
+    elif map_path:
+        options = {"map": str(map_path), **options}
+    starts = {k: float(v) for k, v in linear_starts(params, options).items()}
+    data_h = "/* Generated by bearing_fmu.fmu.native.codegen: the linear internal has no data. */\n"
+    inputs = (0.0, 0.0, 0.0, 0.0, starts["omega_lin"])
+    config_h, guid = _config("linear", params, starts, inputs, repr(sorted(starts.items())) + repr(params))
+    info = {"from": options.get("linear_from", "load"), "omega_lin": starts["omega_lin"], "guid": guid}
+    # the coefficients' source: a force map file when linearised on one (recorded with its hash)
+    source = Path(options["map"]) if options.get("linear_from") == "map" and options.get("map") else None
+    return NativeModel("linear", params, _variables("linear", params, starts, inputs), config_h, data_h, source,
+                       "hydrodynamic journal bearing, linear model F = F0 - K (q - q0) - C v (8 Lund coefficients as "
+                       "parameters" + (f", linearised on the force map {source.name}" if source else "")
+                       + "), compiled (no Python)", info)

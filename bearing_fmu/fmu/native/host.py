@@ -1,0 +1,36 @@
+"""What a host sets on a native FMU: the parameters of one bearing, from the internal's options.
+
+The native FMU keeps the options that make sense without Python (``codegen.NATIVE_OPTIONS``):
+taylor's surrogate, domain_action, domain_limit; map's map; linear's omega_lin and lin_*.
+The linear model is made here, per bearing (its static load differs), by the Python ``Linear``
+internal, and handed to the FMU as its coefficients."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from ...internals import registry
+from .codegen import FALLBACK_WHY, INTERNALS, linear_starts
+
+
+def native_parameters(internal: str, params, options: dict, context=None, where: str = "") -> dict:
+    """FMU parameters of one bearing for a native FMU of ``internal``: D, L, CR, mu, internal and
+    the native options, from the registry ``options`` of the internal (and those it uses), with
+    ``context`` (static load, speed) filling what the options leave open. ValueError naming
+    ``where`` for an option a native FMU cannot honour (domain_action = fallback)."""
+    spec = registry.get(internal)
+    if spec.name not in INTERNALS:
+        raise ValueError(f"{where + ': ' if where else ''}a native FMU computes one of {', '.join(INTERNALS)}, not "
+                         f"{spec.name} (it needs its solver at run time: use the Python FMU)")
+    opts = spec.check_options(options, where or f"internal {spec.name!r}", context=context)
+    out = {"D": params.D, "L": params.L, "CR": params.CR, "mu": params.mu, "internal": spec.name}
+    if spec.name == "taylor":
+        if opts["domain_action"] == "fallback":
+            raise ValueError(f"{where + ': ' if where else ''}domain_action = 'fallback': {FALLBACK_WHY}")
+        out.update(surrogate=Path(opts["surrogate"]).name, domain_action=opts["domain_action"],
+                   domain_limit=opts["domain_limit"])
+    elif spec.name == "map":
+        out["map"] = Path(opts["map"]).name
+    else:
+        out.update(linear_starts(params, options, context))
+    return out

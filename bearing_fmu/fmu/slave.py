@@ -1,0 +1,636 @@
+"""The bearing as an FMI 2.0 co-simulation slave (pythonfmu), with a switchable internal.
+
+Inputs ``y, z, vy, vz, omega`` (SI) go in; the film force ``Fy, Fz`` and a few diagnostics
+come out, computed in ``do_step`` from the inputs set for the end of the step. Which
+internal computes the force is a parameter (``internal``: a name of ``internals.REGISTRY``)
+read once in ``exit_initialization_mode``; every registered internal's options are FMU
+parameters, and only the chosen internal's module is imported, so an FMU running the
+linear or Taylor internal never loads or compiles the Reynolds solver.
+
+FMI statuses (docs/fmu.md, "FMI status"). pythonfmu gives a Python slave three outcomes:
+``do_step`` returning False is fmi2Discard, a normal return is fmi2OK, and an exception is
+fmi2Fatal with the instance released. The build patches pythonfmu's binary
+(``fmu_binary``) so that an exception is fmi2Error and leaves the instance intact; then
+
+* a refused call raises ``FMIError`` with a one-line reason, which pythonfmu logs with status
+  Error: an invalid parameter (in its setter and again in ``exit_initialization_mode``), an unknown
+  value reference, a parameter set after initialisation, a non-positive or non-finite step
+  size or time, doStep before a successful initialisation;
+* a state the internal cannot evaluate (journal at the wall, a non-finite input) discards
+  the step: ``do_step`` logs why (status Discard) and returns False; the outputs keep their
+  last valid values and the instance stays usable (restore a state, set valid inputs, step
+  on). A good step or a restore clears fmi2Terminated (patched binary);
+* outputs read in Initialization Mode are computed from the inputs and parameters set so far.
+
+Without the patches (``resources/pythonfmu_patches.json`` says which are in; the Windows
+binary is pythonfmu's as is) nothing raises: a refused call is logged with status Error and
+returns fmi2OK, as pythonfmu allows. When the master has logging off, the first warning, the
+first discard and the first error of an instance are also printed to stderr (``_LoggingFlag``).
+
+The FMU state (fmi2GetFMUstate) is a small tuple (tag, time, inputs and outputs); the
+internal is not part of it (it is fixed after initialisation), so saving and restoring
+costs a few microseconds. In the FMU this file is the pythonfmu slave module: ``build.py``
+rewrites its relative imports to the uniquely named copy of the package (see there).
+"""
+
+import math
+import operator
+import os
+import traceback
+from pathlib import Path
+
+from pythonfmu import Boolean, Fmi2Causality, Fmi2Slave, Fmi2Variability, Integer, Real, String
+from pythonfmu.default_experiment import DefaultExperiment
+from pythonfmu.enums import Fmi2Status
+
+from bearing_fmu import __version__
+from bearing_fmu.internals import registry
+from bearing_fmu.internals.registry import BearingStateError, Context, check_finite
+from bearing_fmu.physics.params import PAPER_BEARING, BearingParams
+
+SURROGATE_DIR = "surrogates"  # inside the FMU's resources folder: the files of file options
+
+# name, type, causality, unit, default, description. The one table of the FMU interface:
+# the slave registers these, build.py writes units and dependencies from it. The internals'
+# parameters come from their registry options.
+_IN, _OUT, _PAR = "input", "output", "parameter"
+_FMI_TYPE = {float: "Real", int: "Integer", bool: "Boolean", str: "String"}
+_DEFAULT_INTERNAL = "reynolds"
+# Enumeration parameters: each String parameter with choices again as an FMI 2.0 enumeration (an
+# Integer whose values are item k + 1 of the choices; build.py declares its TypeDefinition), for
+# masters that show one as a drop-down. name -> (its String parameter, the items). Set either; a
+# value away from its start wins, and if both are set away from their starts they must agree
+# (BearingFMU._choices). New internals and choices go at the end: the numbers stay.
+ENUMERATIONS = {"internal_enum": ("internal", registry.names()),
+                **{f"{o.name}_enum": (o.name, o.choices) for o in registry.all_options() if o.choices}}
+_STRING_DEFAULTS = {"internal": _DEFAULT_INTERNAL, **{o.name: o.default for o in registry.all_options()}}
+
+
+def enum_value(name: str, item: str) -> int:
+    """The value of ``item`` in enumeration parameter ``name`` (1 for the first choice)."""
+    return ENUMERATIONS[name][1].index(item) + 1
+
+
+VARIABLES = (
+    # inputs: the journal state at the end of the step
+    ("y", "Real", _IN, "m", 0.0, "journal centre displacement from the bearing centre, horizontal"),
+    ("z", "Real", _IN, "m", 0.0, "journal centre displacement from the bearing centre, vertical (up)"),
+    ("vy", "Real", _IN, "m/s", 0.0, "journal centre velocity, horizontal"),
+    ("vz", "Real", _IN, "m/s", 0.0, "journal centre velocity, vertical"),
+    ("omega", "Real", _IN, "rad/s", 0.0, "shaft speed, right-handed about the shaft axis x"),
+    # outputs
+    ("Fy", "Real", _OUT, "N", 0.0, "film force on the journal, horizontal"),
+    ("Fz", "Real", _OUT, "N", 0.0, "film force on the journal, vertical"),
+    ("eccentricity", "Real", _OUT, "1", 0.0, "eccentricity ratio sqrt(y^2 + z^2) / CR"),
+    ("h_min", "Real", _OUT, "m", 0.0, "minimum film thickness CR - sqrt(y^2 + z^2) (negative beyond the wall)"),
+    ("out_of_domain", "Boolean", _OUT, None, False,
+     "true when the state lies outside the surrogate's fitted domain (taylor only; false otherwise)"),
+    ("Kyy", "Real", _OUT, "N/m", 0.0, "film stiffness -dFy/dy (Lund sign; 0 if compute_tangent is false)"),
+    ("Kyz", "Real", _OUT, "N/m", 0.0, "film stiffness -dFy/dz (Lund sign; 0 if compute_tangent is false)"),
+    ("Kzy", "Real", _OUT, "N/m", 0.0, "film stiffness -dFz/dy (Lund sign; 0 if compute_tangent is false)"),
+    ("Kzz", "Real", _OUT, "N/m", 0.0, "film stiffness -dFz/dz (Lund sign; 0 if compute_tangent is false)"),
+    ("Cyy", "Real", _OUT, "N.s/m", 0.0, "film damping -dFy/dvy (Lund sign; 0 if compute_tangent is false)"),
+    ("Cyz", "Real", _OUT, "N.s/m", 0.0, "film damping -dFy/dvz (Lund sign; 0 if compute_tangent is false)"),
+    ("Czy", "Real", _OUT, "N.s/m", 0.0, "film damping -dFz/dvy (Lund sign; 0 if compute_tangent is false)"),
+    ("Czz", "Real", _OUT, "N.s/m", 0.0, "film damping -dFz/dvz (Lund sign; 0 if compute_tangent is false)"),
+    # parameters: the bearing (paper Table 2)
+    ("D", "Real", _PAR, "m", PAPER_BEARING.D, "bearing (journal) diameter"),
+    ("L", "Real", _PAR, "m", PAPER_BEARING.L, "bearing length"),
+    ("CR", "Real", _PAR, "m", PAPER_BEARING.CR, "radial clearance"),
+    ("mu", "Real", _PAR, "Pa.s", PAPER_BEARING.mu, "dynamic viscosity of the oil"),
+    # parameters: which internal, and whether the outputs K.., C.. are computed
+    ("internal", "String", _PAR, None, _DEFAULT_INTERNAL,
+     "which internal computes the force: " + " | ".join(registry.names()) + " (or internal_enum)"),
+    ("compute_tangent", "Boolean", _PAR, None, True,
+     "compute the outputs K.., C.. from the internal's Jacobian at every step"),
+    # parameters: every registered internal's options
+    *((o.name, _FMI_TYPE[o.type], _PAR, o.unit, o.default, o.help if o.type is str else f"{o.help} ({o.allowed()})")
+      for o in registry.all_options()),
+    # parameters: the choices again as enumerations (after the rest: the value references stay)
+    *((name, "Integer", _PAR, None, enum_value(name, _STRING_DEFAULTS[string]),
+       f"{string} as an enumeration ({', '.join(f'{k + 1} = {c}' for k, c in enumerate(items))}): the same choice "
+       f"as the String parameter {string}; set either (set both, they must agree)")
+      for name, (string, items) in ENUMERATIONS.items()),
+)
+
+INPUTS = tuple(v[0] for v in VARIABLES if v[2] == _IN)
+OUTPUTS = tuple(v[0] for v in VARIABLES if v[2] == _OUT)
+PARAMETERS = tuple(v[0] for v in VARIABLES if v[2] == _PAR)
+_REAL_OUTPUTS = tuple(v[0] for v in VARIABLES if v[2] == _OUT and v[1] == "Real")
+_TANGENT = ("Kyy", "Kyz", "Kzy", "Kzz", "Cyy", "Cyz", "Czy", "Czz")
+_STATE_TAG = "bearing_fmu.fmu.slave/2"  # /2: values as one tuple
+_STATE_NAMES = INPUTS + OUTPUTS
+_STATE_VALUES = operator.attrgetter(*_STATE_NAMES)
+_VAR_CLASS = {"Real": Real, "Integer": Integer, "Boolean": Boolean, "String": String}
+_CAST = {"Real": float, "Integer": int, "Boolean": bool, "String": str}
+_FILE_OPTIONS = {o.name for o in registry.all_options() if o.file}
+_OPTIONS = {o.name: o for o in registry.all_options()}
+_BEARING = ("D", "L", "CR", "mu")  # BearingParams fields; BearingParams checks them together at initialisation
+_UNITS = {v[0]: v[3] for v in VARIABLES}
+_INF = math.inf
+PATCH_NOTES = "pythonfmu_patches.json"  # written by build.py into resources/
+# fmu_binary.STATUS_PATCHES (build tooling, not bundled in the FMU; a test keeps the two equal)
+_STATUS_PATCHES = ("keep-instance", "error-status", "error-message", "step-terminated", "restore-terminated")
+_INSTANTIATED, _INIT, _STEP = "Instantiated", "Initialization Mode", "Step Mode"
+_ECHO_HINT = ("logging is off, so this FMU instance prints its first warning, discard and error here; "
+              "instantiate it with loggingOn (fmpy: simulate_fmu(..., debug_logging=True)) to receive every message")
+
+
+class FMIError(Exception):
+    """Raised out of a pythonfmu entry point so that the call returns fmi2Error (patched binary).
+
+    pythonfmu logs ``repr()`` of the exception after "fmi2Error from the Python slave [call]":
+    the repr is the message itself, so that one line says what was refused and why."""
+
+    def __repr__(self) -> str:
+        return str(self)
+
+
+_BUNDLED_FORMATS: dict[str, dict[str, str]] = {}  # resources folder -> {file name: JSON "format"}, read once
+
+
+def _default_file(resources, option) -> str:
+    """The default of a file option: the one bundled file of its format (surrogate, force map),
+    else "" (none, or several to choose from)."""
+    if not resources:
+        return ""
+    folder = Path(resources) / SURROGATE_DIR
+    key = str(folder)
+    if key not in _BUNDLED_FORMATS:
+        formats = {}
+        try:
+            for p in sorted(folder.iterdir()):
+                if p.is_file():
+                    try:
+                        formats[p.name] = registry.file_format(p)
+                    except ValueError:  # not JSON: the option's loader names it if it is chosen
+                        formats[p.name] = ""
+        except OSError:
+            pass
+        _BUNDLED_FORMATS[key] = formats
+    names = [n for n, f in _BUNDLED_FORMATS[key].items() if not option.file_format or f == option.file_format]
+    return names[0] if len(names) == 1 else ""
+
+
+def _status_patched(resources) -> bool:
+    """True when the build applied every FMI status patch to this platform's binary."""
+    import json
+    import sys
+
+    if not resources:
+        return False
+    if sys.platform.startswith("linux"):
+        platform = "linux64" if sys.maxsize > 2 ** 32 else "linux32"
+    else:
+        platform = {"win32": "win64", "darwin": "darwin64"}.get(sys.platform, sys.platform)
+    try:
+        notes = json.loads((Path(resources) / PATCH_NOTES).read_text(encoding="utf-8")).get(platform, {})
+    except (OSError, ValueError, AttributeError):
+        return False
+    return all(str(notes.get(n, "")).endswith("patched") for n in _STATUS_PATCHES)
+
+
+class _LoggingFlag:
+    """Whether the master receives this instance's log: pythonfmu's C++ logger's flag.
+
+    pythonfmu keeps ``loggingOn`` (and fmi2SetDebugLogging's later changes) in its C++
+    ``PyLogger`` and passes only that object's address to Python (keyword ``logger``). Its
+    0.7.0 layout: vtable pointer, ``bool debugLogging_`` at +8, ``std::string instanceName_``
+    at +16 (data pointer, then length; a short name sits in the object itself at +32). The
+    layout is trusted only when that string reads back as this instance's name; otherwise
+    ``off`` answers False (nothing is echoed)."""
+
+    def __init__(self, address, instance_name: str):
+        self._flag = None
+        if not isinstance(address, int) or address <= 0 or not isinstance(instance_name, str):
+            return
+        try:
+            import ctypes
+
+            name = instance_name.encode("utf-8")
+            size = ctypes.c_size_t.from_address(address + 24).value
+            data = ctypes.c_void_p.from_address(address + 16).value
+            if size != len(name) or (size < 16 and data != address + 32) or not data:
+                return
+            if ctypes.string_at(data, size) != name:
+                return
+            self._flag = ctypes.c_bool.from_address(address + 8)
+        except Exception:  # noqa: BLE001 - unknown layout: echo nothing
+            self._flag = None
+
+    def off(self) -> bool:
+        """True when the master has logging off (read live: fmi2SetDebugLogging changes it)."""
+        return self._flag is not None and not self._flag.value
+
+
+BEARING_DEFAULTS = "bearing.json"  # in resources/: D, L, CR, mu of `bearing-fmu build --bearing FILE`
+BUILD_INFO = "build_info.json"  # in resources/: what the FMU was built from (bearing, data files, hashes)
+
+
+def _bearing_defaults(resources) -> dict:
+    """The built-in bearing's D, L, CR, mu [SI] when the FMU was built for one, else {}."""
+    import json
+
+    if not resources:
+        return {}
+    try:
+        data = json.loads((Path(resources) / BEARING_DEFAULTS).read_text())
+    except (OSError, ValueError):
+        return {}
+    return {k: float(data[k]) for k in _BEARING if k in data}
+
+
+class BearingFMU(Fmi2Slave):
+    """Hydrodynamic journal bearing: film force from the journal state (see module docstring)."""
+
+    description = ("Hydrodynamic journal bearing (plain cylindrical): film force on the journal from its "
+                   "position, velocity and speed; internal: Reynolds solver, linear model, Taylor surrogate or "
+                   "force map")
+    version = __version__
+    default_experiment = DefaultExperiment(start_time=0.0, stop_time=0.1, step_size=1e-4)
+
+    def __init__(self, **kwargs):
+        super().__init__(**kwargs)
+        self._by_vr = {}  # value reference -> (name, type, causality)
+        built_in = _bearing_defaults(self.resources)
+        for name, typ, causality, _unit, default, desc in VARIABLES:
+            if name in _FILE_OPTIONS:
+                default = _default_file(self.resources, _OPTIONS[name])
+            elif name in built_in:
+                default = built_in[name]
+            setattr(self, name, default)
+            var = _VAR_CLASS[typ](
+                name,
+                causality=getattr(Fmi2Causality, causality),
+                variability=(Fmi2Variability.fixed if causality == _PAR
+                             else Fmi2Variability.discrete if typ != "Real"
+                             else Fmi2Variability.continuous),
+                description=desc,
+                getter=(lambda n=name: getattr(self, n)),
+                setter=(lambda v, n=name, c=_CAST[typ]: setattr(self, n, c(v))),
+            )
+            self.register_variable(var)
+            self._by_vr[var.value_reference] = (name, typ, causality)
+        self._real_names = {vr: e[0] for vr, e in self._by_vr.items() if e[1] == "Real"}
+        # getReal's fast path: outside Step Mode without the outputs, so reading them in
+        # Initialization Mode takes the checked path, which computes them from the inputs
+        self._real_no_outputs = {vr: n for vr, n in self._real_names.items() if self._by_vr[vr][2] != _OUT}
+        self._real_get = self._real_no_outputs
+        self._real_inputs = {vr: e[0] for vr, e in self._by_vr.items() if e[1] == "Real" and e[2] == _IN}
+        self._internal = None  # built in exit_initialization_mode (or by an output read in Initialization Mode)
+        self._built_from = None  # the parameter values it was built from
+        self._internal_name = ""
+        self._choices_built = {}  # the String choices the internal was built with (_choices)
+        self._jacobian = None
+        self._params = None
+        self._mode = _INSTANTIATED
+        self._initialized = False  # exit_initialization_mode was called: parameters are fixed
+        self._init_error = None
+        self._refused = {}  # parameter name -> why its last set was refused (fails the initialisation)
+        self._t = 0.0
+        self._raises = _status_patched(self.resources)  # an exception gives fmi2Error, not fmi2Fatal
+        # the logger's layout is known for the binary the patches verified, and only for that one
+        self._logging = _LoggingFlag(kwargs.get("logger") if self._raises else None, self.instance_name)
+        self._echoed = set()
+
+    # ------------------------------------------------------------------ logging and refusals
+    def _log(self, msg: str, status: Fmi2Status) -> None:
+        try:
+            self.log(msg, status)
+        except Exception:  # logging must never be the thing that fails
+            pass
+        self._echo(msg, status)
+
+    def _echo(self, msg: str, status: Fmi2Status) -> None:
+        """When the master has logging off, print the first message of each status to stderr."""
+        if status == Fmi2Status.ok or status in self._echoed or not self._logging.off():
+            return
+        import sys
+
+        self._echoed.add(status)
+        hint = "" if len(self._echoed) > 1 else f"\n  ({_ECHO_HINT})"
+        try:
+            print(f"bearing FMU {self.instance_name!r} [{status.name}]: {msg}{hint}", file=sys.stderr, flush=True)
+        except Exception:  # noqa: BLE001 - no stderr: nothing more to do
+            pass
+
+    def _fail(self, msg: str):
+        """Refuse the current call with ``msg``: raise FMIError, which the patched binary
+        returns as fmi2Error and logs as "fmi2Error from the Python slave [call] ... msg".
+        Without the patches, log ``msg`` with status Error and return None: the caller goes on
+        the way pythonfmu allows (the call returns fmi2OK)."""
+        if not self._raises:
+            self._log(msg, Fmi2Status.error)
+            return None
+        # pythonfmu hands the queued log lines to the master's logger before it fetches the
+        # exception: a Python logger (fmpy) would run with the exception pending and lose it.
+        # So this call's earlier lines travel in the exception's message instead.
+        queued = [f"[{getattr(m.status, 'name', m.status)}] {m.msg}" for m in self.log_queue]
+        self.log_queue.clear()  # the very list pythonfmu holds: cleared in place
+        self._echo(msg, Fmi2Status.error)
+        raise FMIError(msg + (f" (logged before it in this call: {' | '.join(queued)})" if queued else ""))
+
+    # ------------------------------------------------------------------ initialisation
+    def setup_experiment(self, start_time, stop_time=None, tolerance=None):
+        if not -_INF < start_time < _INF:
+            return self._fail(f"setupExperiment: startTime = {start_time!r} s must be finite")
+        if stop_time is not None and not start_time <= stop_time < _INF:
+            return self._fail(f"setupExperiment: stopTime = {stop_time!r} s must be finite and >= "
+                              f"startTime = {start_time!r} s")
+        self._t = float(start_time)
+
+    def enter_initialization_mode(self):
+        self._mode = _INIT
+
+    def exit_initialization_mode(self):
+        self._initialized = True
+        try:
+            self._ensure_internal()
+        except Exception as exc:  # noqa: BLE001 - refused with its message, never a bare exception
+            self._internal = None
+            self._init_error = f"bearing FMU initialisation failed: {self._describe(exc)}"
+            return self._fail(self._init_error)
+        self._mode = _STEP
+        self._real_get = self._real_names
+        for name, (string, items) in ENUMERATIONS.items():  # both show the choice that counts
+            choice = self._choices_built[string]
+            setattr(self, string, choice)
+            setattr(self, name, enum_value(name, choice))
+        # outputs at the start time from the initial inputs, when they can be evaluated; a
+        # master may set the inputs only before the first step, so a state the internal
+        # refuses is not an initialisation error
+        try:
+            self._step_outputs()
+        except BearingStateError as exc:
+            self._log(f"outputs at the start time left at their start values: {exc}", Fmi2Status.warning)
+        except Exception as exc:  # noqa: BLE001
+            self._log(f"outputs at the start time left at their start values: {self._describe(exc)}",
+                      Fmi2Status.warning)
+        return True
+
+    @staticmethod
+    def _describe(exc: BaseException) -> str:
+        """The message of an expected failure; type, message and traceback of anything else."""
+        if isinstance(exc, (ValueError, KeyError, FileNotFoundError, ImportError)):
+            return str(exc)
+        return f"unexpected {type(exc).__name__}: {exc}\n{traceback.format_exc()}"
+
+    def _parameter_values(self) -> tuple:
+        return tuple(getattr(self, n) for n in PARAMETERS)
+
+    def _ensure_internal(self) -> None:
+        """Build the internal from the parameters set so far, unless it already was (or raise)."""
+        if self._refused:
+            raise ValueError("; ".join(self._refused.values()))
+        values = self._parameter_values()
+        if self._internal is not None and self._built_from == values:
+            return
+        self._internal = None
+        self._build_internal()
+        self._built_from = values
+
+    def _choices(self) -> dict:
+        """The String choice parameters as they count: each one's value, or its enumeration's
+        item where only the enumeration was set away from its start; ValueError naming both when
+        both were and they disagree."""
+        out = {}
+        for name, (string, items) in ENUMERATIONS.items():
+            value, text = getattr(self, name), str(getattr(self, string)).strip().lower()
+            enum_set = value != enum_value(name, _STRING_DEFAULTS[string])
+            if enum_set and text != _STRING_DEFAULTS[string] and text != items[value - 1]:
+                raise ValueError(f"{string} = {getattr(self, string)!r} and {name} = {value} ({items[value - 1]}) "
+                                 f"disagree: set one of them ({name} is the same choice as an enumeration)")
+            out[string] = items[value - 1] if enum_set else text
+        return out
+
+    def _build_internal(self) -> None:
+        params = BearingParams(D=self.D, L=self.L, CR=self.CR, mu=self.mu)
+        self._params = params
+        choices = self._choices()
+        self._choices_built = choices
+        spec = registry.get(choices["internal"])
+        options = {o.name: choices.get(o.name, getattr(self, o.name)) for o in spec.all_options()}
+        context = Context(resolve=self._resource_file,
+                          warn=lambda msg: self._log(f"t = {self._t:.10g} s: {msg}", Fmi2Status.warning))
+        internal = spec.create(params, options, context, where="FMU parameter")
+        self._internal = internal
+        self._internal_name = spec.name
+        self._jacobian = getattr(internal, "force_and_jacobian", None)
+
+    def _resource_file(self, name: str) -> Path:
+        folder = Path(self.resources or ".") / SURROGATE_DIR
+        try:
+            bundled = sorted(p.name for p in folder.iterdir() if p.is_file())
+        except OSError:
+            bundled = []
+        listing = ", ".join(bundled) if bundled else "none"
+        if os.path.isabs(name) or ".." in Path(name).parts:
+            raise ValueError(f"{name!r} must be a file name inside the FMU resources, not a path")
+        path = folder / name
+        if not path.is_file():
+            raise FileNotFoundError(
+                f"surrogate file {name!r} not found in the FMU resources folder {SURROGATE_DIR}/ "
+                f"(bundled: {listing}); build the FMU with `bearing-fmu build --surrogate FILE`")
+        return path
+
+    def _outputs_in_init(self, call: str) -> None:
+        """Initialization Mode: compute the outputs from the inputs and parameters set so far
+        (the model description declares them dependent on both), or refuse the read."""
+        try:
+            self._ensure_internal()
+        except Exception as exc:  # noqa: BLE001
+            return self._fail(f"{call} in {_INIT}: the outputs cannot be computed: bearing FMU initialisation "
+                              f"failed: {self._describe(exc)}")
+        try:
+            self._step_outputs()
+        except BearingStateError as exc:
+            return self._fail(f"{call} in {_INIT}: the outputs cannot be computed at the inputs set: {exc} "
+                              "(set valid inputs and read again)")
+        except Exception as exc:  # noqa: BLE001
+            return self._fail(f"{call} in {_INIT}: the {self._internal_name} internal failed: {self._describe(exc)}")
+        return None
+
+    # ------------------------------------------------------------------ stepping
+    def do_step(self, current_time, step_size):
+        t = current_time + step_size
+        if not (0.0 < step_size < _INF and -_INF < current_time < _INF and t < _INF):
+            return self._bad_step(current_time, step_size)
+        if self._mode is not _STEP:
+            reason = self._init_error or f"doStep in {self._mode}: call exitInitializationMode first"
+            return self._fail(f"step to t = {t:.10g} s refused: {reason}") or False
+        try:
+            self._step_outputs()
+        except BearingStateError as exc:
+            self._log(f"{exc} at t = {t:.10g} s", Fmi2Status.discard)
+            return False
+        except Exception as exc:  # noqa: BLE001 - a failure of the internal itself, not of the state
+            return self._fail(f"step to t = {t:.10g} s failed: unexpected {type(exc).__name__} in the "
+                              f"{self._internal_name} internal: {exc}\n{traceback.format_exc()}") or False
+        self._t = t
+        return True
+
+    def _bad_step(self, current_time, step_size) -> bool:
+        if not 0.0 < step_size < _INF:
+            msg = (f"doStep: communicationStepSize = {step_size!r} s must be finite and > 0 "
+                   f"(currentCommunicationPoint = {current_time!r} s)")
+        elif not -_INF < current_time < _INF:
+            msg = f"doStep: currentCommunicationPoint = {current_time!r} s must be finite"
+        else:
+            msg = (f"doStep: currentCommunicationPoint + communicationStepSize = {current_time!r} + "
+                   f"{step_size!r} s is not finite")
+        return self._fail(msg) or False
+
+    def _step_outputs(self) -> None:
+        """Evaluate the internal at the current inputs and set the outputs, or raise
+        BearingStateError (outputs untouched)."""
+        y, z, vy, vz, omega = self.y, self.z, self.vy, self.vz, self.omega
+        params = self._params
+        check_finite(y, z, vy, vz, omega)  # the internals refuse the wall themselves where they must
+        eps = math.hypot(y, z) / params.CR
+        internal = self._internal
+        if self.compute_tangent:
+            if self._jacobian is not None:
+                f, dq, dv = self._jacobian(y, z, vy, vz, omega)
+            else:
+                from bearing_fmu.physics.statics import film_jacobian
+
+                f, dq, dv = film_jacobian(internal, y, z, vy, vz, omega)
+            tangent = (-float(dq[0, 0]), -float(dq[0, 1]), -float(dq[1, 0]), -float(dq[1, 1]),
+                       -float(dv[0, 0]), -float(dv[0, 1]), -float(dv[1, 0]), -float(dv[1, 1]))
+        else:
+            f = internal.force(y, z, vy, vz, omega)
+            tangent = None
+        fy, fz = float(f[0]), float(f[1])
+        if not (math.isfinite(fy) and math.isfinite(fz)) or (tangent and not all(map(math.isfinite, tangent))):
+            raise BearingStateError(
+                f"the {self._internal_name} internal returned a non-finite force or tangent at "
+                f"y = {y:.6g} m, z = {z:.6g} m, vy = {vy:.6g} m/s, vz = {vz:.6g} m/s, omega = {omega:.6g} rad/s")
+        ood = getattr(internal, "last_out_of_domain", False)  # the domain guard's verdict on this state
+        # all evaluated: commit the outputs
+        self.Fy, self.Fz = fy, fz
+        self.eccentricity = eps
+        self.h_min = params.CR * (1.0 - eps)
+        self.out_of_domain = ood
+        if tangent is not None:
+            (self.Kyy, self.Kyz, self.Kzy, self.Kzz, self.Cyy, self.Cyz, self.Czy, self.Czz) = tangent
+
+    # ------------------------------------------------------------------ FMU state
+    # A host iterating the FMI way saves the state once per step and restores it at every
+    # iteration, so both run in C where they can (attrgetter, dict.update): a state this
+    # class wrote holds the right types already.
+    def _get_fmu_state(self):
+        # a fresh immutable tuple: pythonfmu hands this very object back on fmi2SetFMUstate
+        return (_STATE_TAG, self._t, _STATE_VALUES(self))
+
+    def _set_fmu_state(self, state):
+        try:
+            if len(state) != 3 or state[0] != _STATE_TAG or len(state[2]) != len(_STATE_NAMES):
+                raise ValueError(f"not a {_STATE_TAG} state of this FMU")
+            t = float(state[1])
+        except Exception as exc:  # noqa: BLE001
+            return self._fail(f"setFMUstate: {exc}; the instance keeps its state")
+        self._t = t
+        self.__dict__.update(zip(_STATE_NAMES, state[2]))
+
+    # ------------------------------------------------------------------ getters / setters
+    def _get(self, vrs, typ, cast, bad):
+        out, errors, computed = [], [], False
+        for vr in vrs:
+            entry = self._by_vr.get(vr)
+            if entry is None or entry[1] != typ:
+                errors.append(f"value reference {vr} is not a {typ} variable of this FMU")
+                out.append(bad)
+                continue
+            if entry[2] == _OUT and self._mode is _INIT and not computed:
+                self._outputs_in_init(f"get{typ} {entry[0]}")  # raises when they cannot be computed
+                computed = True
+            try:
+                out.append(cast(getattr(self, entry[0])))
+            except Exception as exc:  # noqa: BLE001
+                errors.append(f"{entry[0]}: {exc}")
+                out.append(bad)
+        if errors:
+            self._fail(f"get{typ}: {'; '.join(errors)}")
+        return out
+
+    def _set(self, vrs, values, typ, cast):
+        errors = []
+        for vr, value in zip(vrs, values):
+            entry = self._by_vr.get(vr)
+            if entry is None or entry[1] != typ:
+                errors.append(f"value reference {vr} is not a {typ} variable of this FMU")
+                continue
+            name, _, causality = entry
+            if causality == _OUT:
+                errors.append(f"{name} is an output and cannot be set")
+                continue
+            if causality == _PAR:
+                if self._initialized:
+                    errors.append(f"parameter {name} is fixed after initialisation (variability fixed); "
+                                  f"it keeps {getattr(self, name)!r}")
+                    continue
+                try:
+                    value = self._check_parameter(name, cast(value))
+                except (ValueError, TypeError) as exc:
+                    self._refused[name] = f"{exc} (refused when it was set)"
+                    errors.append(f"{exc}; {name} keeps {getattr(self, name)!r}")
+                    continue
+                self._refused.pop(name, None)
+            try:
+                setattr(self, name, cast(value))
+            except Exception as exc:  # noqa: BLE001
+                errors.append(f"{name} = {value!r}: {exc}")
+        if errors:
+            self._fail(f"set{typ}: {'; '.join(errors)}")
+
+    @staticmethod
+    def _check_parameter(name: str, value):
+        """The value of parameter ``name``, or ValueError naming it, the value and what is allowed.
+        What one value can be checked alone is checked here; BearingParams and the internal
+        check the whole set when it is built."""
+        if name == "internal":
+            registry.get(value)
+        elif name in ENUMERATIONS:
+            items = ENUMERATIONS[name][1]
+            if not 1 <= value <= len(items):
+                raise ValueError(f"{name} = {value!r} must be one of "
+                                 + ", ".join(f"{k + 1} ({c})" for k, c in enumerate(items)))
+        elif name in _BEARING:
+            if not (0.0 < value < _INF):
+                raise ValueError(f"{name} = {value!r} {_UNITS[name]} must be finite and > 0")
+        elif name in _OPTIONS:
+            value = _OPTIONS[name].check(value)
+        return value
+
+    def get_real(self, vrs):
+        try:  # fast path: every reference a Real variable (the host's per-iteration call)
+            names = self._real_get
+            return [float(getattr(self, names[vr])) for vr in vrs]
+        except Exception:  # noqa: BLE001 - the checked path computes outputs in Initialization Mode, or refuses
+            return self._get(vrs, "Real", float, math.nan)
+
+    def get_integer(self, vrs):
+        return self._get(vrs, "Integer", int, 0)
+
+    def get_boolean(self, vrs):
+        return self._get(vrs, "Boolean", bool, False)
+
+    def get_string(self, vrs):
+        return self._get(vrs, "String", str, "")
+
+    def set_real(self, vrs, values):
+        try:  # fast path: Real inputs only (the host's per-iteration call); idempotent on fallback
+            names = self._real_inputs
+            for vr, value in zip(vrs, values):
+                setattr(self, names[vr], float(value))
+        except Exception:  # noqa: BLE001 - the checked path applies the rules and refuses
+            self._set(vrs, values, "Real", float)
+
+    def set_integer(self, vrs, values):
+        self._set(vrs, values, "Integer", int)
+
+    def set_boolean(self, vrs, values):
+        self._set(vrs, values, "Boolean", bool)
+
+    def set_string(self, vrs, values):
+        self._set(vrs, values, "String", str)

@@ -1,0 +1,28 @@
+"""The bearing internals: one protocol, one registry (options and capabilities), one module
+per internal. Everything a caller needs is importable from here (``bearing_fmu.internals``).
+
+==============  ================================================================
+module          what it holds
+==============  ================================================================
+registry        the ``Internal`` protocol, state checks, ``Option``, ``Context``,
+                ``InternalSpec`` and ``REGISTRY`` with the built-in internals, and the
+                "how to add an internal" checklist
+linear          the linear internal: 8 Lund coefficients (order-1 model)
+taylor, guard   the Taylor-surrogate internal and the fitted-domain guard around it
+forcemap,       the force map: the Reynolds force as a 2-D table per L/D, its file,
+map_kernels     and its compiled spline, force and Jacobian
+==============  ================================================================
+
+The Reynolds solver, the truth, is an internal too; it lives with the physics
+(``bearing_fmu.physics.reynolds``). Only the chosen internal's module is imported.
+"""
+
+from .registry import (DEFAULT_DOMAIN_LIMIT, DEFAULT_LOAD_Z, DEFAULT_OMEGA_LIN, DOMAIN_ACTIONS, REGISTRY,
+                       STATE_NAMES, BearingStateError, Context, DifferentiableInternal, Internal,
+                       InternalSpec, Option, all_options, check_finite, check_state, create, file_format, get,
+                       names, option_for_file, register, unregister, wall_error)
+
+__all__ = ["DEFAULT_DOMAIN_LIMIT", "DEFAULT_LOAD_Z", "DEFAULT_OMEGA_LIN", "DOMAIN_ACTIONS", "REGISTRY",
+           "STATE_NAMES", "BearingStateError", "Context", "DifferentiableInternal", "Internal", "InternalSpec",
+           "Option", "all_options", "check_finite", "check_state", "create", "file_format", "get", "names",
+           "option_for_file", "register", "unregister", "wall_error"]

@@ -1,0 +1,338 @@
+"""The force map: the Reynolds film force for every speed, load and velocity from one table.
+
+In the line-of-centres frame the right-hand side of Reynolds' equation depends on the state
+only through r sin(psi - beta) (derivation: docs/forcemap.md), the film thickness on eps and
+psi only, and the cavitation problem is positively homogeneous in its right-hand side. So
+
+    F = S r (G_r(eps, beta) u + G_t(eps, beta) w),    S = mu R L (R / CR)^2,
+
+with u the unit vector toward the journal centre, w = u turned by +90 degrees (toward the
+rotation), r and beta from the velocities (``_map_kernels``). For one L/D, Reynolds grid and
+cavitation model, G is one smooth function of two variables: the map tabulates it from the
+Reynolds internal on s = -ln(1 - eps) (clustered toward the wall) x beta (periodic), with the
+wall growth (1 - eps)^-k factored out, and interpolates it with a tensor cubic spline (not-a-
+knot in s, periodic in beta). D, CR and mu enter only through S.
+
+Files (``save_map`` / ``load_map``, JSON): L/D, grid, cavitation, the table and provenance;
+loading for a bearing checks its L/D.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from ..physics.params import BearingParams
+from .registry import BearingStateError, check_finite
+
+FORMAT = "bearing-fmu-force-map"
+VERSION = 1
+# defaults from the resolution study (docs/studies/2026-11-24-forcemap-resolution.md): 96 points in
+# s and k = 0 take the interpolation error near the centre, where a growing 44 Hz whirl spends its
+# first seconds, from 1.4e-3 (48 points, k = 2) to 5e-5; the held-out 44 Hz orbit from 0.059 to 0.002 % CR
+DEFAULT_N_EPS = 96  # table points in s = -ln(1 - eps)
+DEFAULT_N_BETA = 96  # table points in beta over one period
+DEFAULT_EPS_MAX = 0.99  # last table point: beyond it the map refuses the state
+DEFAULT_WALL_EXPONENT = 0.0  # k in H = G (1 - eps)^k (the s axis already follows the wall growth)
+DEFAULT_N_PHASE = 4  # attitudes per table point, spread over one Reynolds cell (averaged)
+EPS_MIN = 1e-6  # below: evaluated at EPS_MIN along the same direction (kernel docstring: 1/e in the
+# attitude derivatives would amplify round-off; the shift moves the force by ~1e-6 of S omega)
+LD_RTOL = 1e-9  # a map serves bearings whose L/D equals its own to this relative tolerance
+
+
+def scale(params: BearingParams) -> float:
+    """S = mu R L (R / CR)^2 [N s]: the map's force per unit r [1/s]."""
+    return params.mu * params.R * params.L * (params.R / params.CR) ** 2
+
+
+def reduced(y: float, z: float, vy: float, vz: float, omega: float, CR: float):
+    """(eps, phi, a, c): eccentricity ratio, attitude [rad], and the source coefficients
+    a = eps (omega - 2 phidot), c = 2 epsdot [1/s] (docs/forcemap.md)."""
+    e = math.hypot(y, z)
+    cp, sp = (y / e, z / e) if e > 0.0 else (1.0, 0.0)
+    vr, vt = vy * cp + vz * sp, -vy * sp + vz * cp
+    eps = e / CR
+    return eps, math.atan2(sp, cp), eps * omega - 2.0 * vt / CR, 2.0 * vr / CR
+
+
+def state_for(eps: float, beta: float, params: BearingParams, phi: float = -0.5 * math.pi, omega: float = 1.0,
+              r: float = 1.0):
+    """A journal state (y, z, vy, vz) with the given eps and beta, attitude phi and r [1/s] at
+    ``omega``: the inverse of ``reduced`` (v_t = CR (eps omega - a) / 2, v_r = CR c / 2)."""
+    a, c = r * math.cos(beta), r * math.sin(beta)
+    CR = params.CR
+    vt, vr = 0.5 * CR * (eps * omega - a), 0.5 * CR * c
+    cp, sp = math.cos(phi), math.sin(phi)
+    return eps * CR * cp, eps * CR * sp, vr * cp - vt * sp, vr * sp + vt * cp
+
+
+# ------------------------------------------------------------------------------ the table
+
+@dataclass
+class MapTable:
+    """G tabulated as H = G (1 - eps)^k on s_i = i s_max / (n_eps - 1), s = -ln(1 - eps), and
+    beta_j = -pi + j 2 pi / n_beta; H has shape (n_eps, n_beta, 2) (radial, tangential)."""
+
+    L_over_D: float
+    n_theta: int
+    n_x: int
+    cavitation: str
+    eps_max: float
+    wall_exponent: float
+    H: np.ndarray
+    provenance: dict = field(default_factory=dict)
+    coefficients: tuple | None = field(default=None, repr=False)  # (ts, tb, C) of ``spline``
+
+    def __post_init__(self):
+        self.H = np.asarray(self.H, float)
+        if self.H.ndim != 3 or self.H.shape[2] != 2 or self.H.shape[0] < 4 or self.H.shape[1] < 4:
+            raise ValueError(f"force map table: shape {self.H.shape}, expected (n_eps >= 4, n_beta >= 4, 2)")
+        if not np.all(np.isfinite(self.H)):
+            raise ValueError("force map table: non-finite entries")
+        if not 0.0 < self.eps_max < 1.0:
+            raise ValueError(f"force map: eps_max = {self.eps_max!r} must lie in (0, 1)")
+
+    @property
+    def n_eps(self) -> int:
+        return self.H.shape[0]
+
+    @property
+    def n_beta(self) -> int:
+        return self.H.shape[1]
+
+    @property
+    def s(self) -> np.ndarray:
+        return np.linspace(0.0, -math.log1p(-self.eps_max), self.n_eps)
+
+    @property
+    def eps(self) -> np.ndarray:
+        return -np.expm1(-self.s)
+
+    @property
+    def beta(self) -> np.ndarray:
+        return -math.pi + 2.0 * math.pi * np.arange(self.n_beta) / self.n_beta
+
+    def spline(self):
+        """(ts, tb, C): knots in s and beta and the tensor spline coefficients C (ns, nb, 2);
+        stored in the file, so loading needs no scipy (0.6 s of import)."""
+        if self.coefficients is None:
+            self.coefficients = self._fit_spline()
+        return self.coefficients
+
+    def _fit_spline(self):
+        from scipy.interpolate import make_interp_spline
+
+        s, beta = self.s, self.beta
+        along_s = make_interp_spline(s, self.H, k=3, axis=0)  # not-a-knot
+        wrapped = np.concatenate([along_s.c, along_s.c[:, :1]], axis=1)  # periodic: first column again
+        along_b = make_interp_spline(np.append(beta, math.pi), wrapped, k=3, axis=1, bc_type="periodic")
+        # scipy keeps a BSpline's coefficients with the interpolation axis first: put beta back second
+        return (np.ascontiguousarray(along_s.t), np.ascontiguousarray(along_b.t),
+                np.ascontiguousarray(np.moveaxis(along_b.c, 0, 1)))
+
+    def to_dict(self) -> dict:
+        return {"format": FORMAT, "version": VERSION, "L_over_D": self.L_over_D,
+                "reynolds": {"n_theta": self.n_theta, "n_x": self.n_x, "cavitation": self.cavitation},
+                "eps_max": self.eps_max, "wall_exponent": self.wall_exponent,
+                "n_eps": self.n_eps, "n_beta": self.n_beta,
+                "grid": "s = -ln(1 - eps) uniform on [0, -ln(1 - eps_max)]; beta = -pi + j 2 pi / n_beta",
+                "meaning": "H[i][j] = (G_r, G_t) (1 - eps_i)^wall_exponent; F = mu R L (R/CR)^2 r (G_r u + G_t w)",
+                "H": np.round(self.H, 12).tolist(),
+                "spline": dict(zip(("knots_s", "knots_beta", "coefficients"), (a.tolist() for a in self.spline()))),
+                "provenance": self.provenance}
+
+
+def tabulate(params: BearingParams, *, n_eps: int = DEFAULT_N_EPS, n_beta: int = DEFAULT_N_BETA,
+             eps_max: float = DEFAULT_EPS_MAX, wall_exponent: float = DEFAULT_WALL_EXPONENT,
+             n_theta: int | None = None, n_x: int | None = None, cavitation: str = "reynolds",
+             n_phase: int = DEFAULT_N_PHASE, workers: int = 1, progress=None) -> MapTable:
+    """The map of ``params``' L/D from the Reynolds internal on the given grid: one solve per
+    table point at r = 1, omega = 1 rad/s, the journal straight below the centre (phi = -90 deg).
+    ``workers`` > 1 splits the eps rows over processes; ``progress(n_done)`` per row."""
+    from ..physics.reynolds import Reynolds
+
+    rey = Reynolds(params, n_theta, n_x, cavitation)
+    t0 = time.perf_counter()
+    table = MapTable(params.L / params.D, rey.n_theta, rey.n_x, rey.cavitation, eps_max, wall_exponent,
+                     np.zeros((n_eps, n_beta, 2)))
+    rows = list(enumerate(table.eps))
+    if workers > 1:
+        from concurrent.futures import ProcessPoolExecutor
+
+        with ProcessPoolExecutor(workers) as pool:
+            futures = [pool.submit(_row, params, rey.n_theta, rey.n_x, rey.cavitation, e, table.beta,
+                                   wall_exponent, n_phase) for _, e in rows]
+            for i, f in enumerate(futures):
+                table.H[i] = f.result()
+                if progress is not None:
+                    progress(i + 1)
+    else:
+        for i, e in rows:
+            table.H[i] = _row(params, rey.n_theta, rey.n_x, rey.cavitation, e, table.beta, wall_exponent, n_phase,
+                              rey)
+            if progress is not None:
+                progress(i + 1)
+    _centre_row(table)
+    table.provenance = {"built_s": round(time.perf_counter() - t0, 3), "solves": n_eps * n_beta * n_phase,
+                        "n_phase": n_phase,
+                        "truth": repr(rey), "date": time.strftime("%Y-%m-%dT%H:%M:%S%z")}
+    return table
+
+
+def _centre_row(table: MapTable) -> None:
+    """At eps = 0 the film is uniform and the problem turns with the source: G(0, beta) =
+    R(beta) g for one vector g (docs/forcemap.md). The continuous force is then independent of
+    the attitude phi at the centre, which keeps the Jacobian finite there (its attitude terms
+    carry 1/e); the solver's grid breaks this by ~1e-3, so the row is replaced by its
+    projection on that form (least squares: g = mean over beta of R(-beta) G(0, beta))."""
+    b = table.beta
+    c, s = np.cos(b), np.sin(b)
+    G = table.H[0]  # (1 - 0)^k = 1
+    g = np.array([np.mean(c * G[:, 0] + s * G[:, 1]), np.mean(-s * G[:, 0] + c * G[:, 1])])
+    table.H[0, :, 0] = c * g[0] - s * g[1]
+    table.H[0, :, 1] = s * g[0] + c * g[1]
+
+
+def _row(params, n_theta, n_x, cavitation, eps, betas, wall_exponent, n_phase, rey=None) -> np.ndarray:
+    """H at one eps for every beta (a process-pool task when ``rey`` is None)."""
+    if rey is None:
+        from ..physics.reynolds import Reynolds
+
+        rey = Reynolds(params, n_theta, n_x, cavitation)
+    S = scale(params)
+    out = np.zeros((len(betas), 2))
+    # the solver's grid is fixed to the bearing: the same (eps, beta) at another attitude
+    # differs by its discretisation (up to a few 1e-3 near the wall, docs/forcemap.md);
+    # averaging over attitudes spread across one cell tabulates the grid-independent part
+    phases = -0.5 * math.pi + (np.arange(n_phase) + 0.5) / n_phase * 2.0 * math.pi / rey.n_theta
+    for phi in phases:
+        u = np.array([math.cos(phi), math.sin(phi)])
+        w = np.array([-math.sin(phi), math.cos(phi)])
+        for j, b in enumerate(betas):
+            y, z, vy, vz = state_for(eps, b, params, phi)
+            F = np.array(rey.force(y, z, vy, vz, 1.0))
+            out[j] += (F @ u / S, F @ w / S)
+    return out / n_phase * (1.0 - eps) ** wall_exponent
+
+
+# ------------------------------------------------------------------------------- files
+
+def save_map(table: MapTable, path) -> Path:
+    from ..io.outputs import write_text  # not bundled in the FMU, which never writes a map
+
+    return write_text(path, json.dumps(table.to_dict(), indent=None, allow_nan=False) + "\n")
+
+
+def load_map(path) -> MapTable:
+    """Read a map file; every key checked, one line naming the file and the key on a fault."""
+    path = Path(path)
+    try:
+        data = json.loads(path.read_text())
+    except FileNotFoundError:
+        raise FileNotFoundError(f"force map file {path} not found") from None
+    except json.JSONDecodeError as exc:
+        raise ValueError(f"force map file {path}: not valid JSON ({exc.msg} at line {exc.lineno}, "
+                         f"column {exc.colno}); truncated?") from None
+    if not isinstance(data, dict) or data.get("format") != FORMAT:
+        raise ValueError(f"force map file {path}: 'format' is not {FORMAT!r}: not a force map")
+    if data.get("version") != VERSION:
+        raise ValueError(f"force map file {path}: version {data.get('version')!r}, this code reads {VERSION}")
+    try:
+        rey = data["reynolds"]
+        table = MapTable(float(data["L_over_D"]), int(rey["n_theta"]), int(rey["n_x"]), str(rey["cavitation"]),
+                         float(data["eps_max"]), float(data["wall_exponent"]), np.array(data["H"], float),
+                         dict(data.get("provenance", {})))
+    except KeyError as exc:
+        raise ValueError(f"force map file {path}: missing key {exc.args[0]!r}") from None
+    except (TypeError, ValueError) as exc:
+        raise ValueError(f"force map file {path}: {exc}") from None
+    if (table.n_eps, table.n_beta) != (data.get("n_eps"), data.get("n_beta")):
+        raise ValueError(f"force map file {path}: table shape {table.H.shape[:2]} differs from n_eps, n_beta = "
+                         f"{data.get('n_eps')}, {data.get('n_beta')}")
+    sp = data.get("spline")
+    if sp is not None:  # written by save_map from this table; checked for shape and finiteness
+        try:
+            ts, tb, C = (np.ascontiguousarray(np.array(sp[k], float))
+                         for k in ("knots_s", "knots_beta", "coefficients"))
+        except (KeyError, TypeError, ValueError) as exc:
+            raise ValueError(f"force map file {path}: 'spline' is incomplete ({exc})") from None
+        if (C.shape != (table.n_eps, table.n_beta + 3, 2) or ts.shape != (table.n_eps + 4,)
+                or tb.shape != (table.n_beta + 7,) or not all(np.all(np.isfinite(a)) for a in (ts, tb, C))):
+            raise ValueError(f"force map file {path}: 'spline' does not match the table ({table.n_eps} x "
+                             f"{table.n_beta}): rebuild the map")
+        table.coefficients = (ts, tb, C)
+    return table
+
+
+# ---------------------------------------------------------------------------- internal
+
+class ForceMap:
+    """The map internal: ``force`` and ``force_and_jacobian`` (analytic, from the spline's
+    derivatives) for a bearing whose L/D equals the table's. States at or beyond the table's
+    last eccentricity (eps_max) are refused like Reynolds refuses the wall."""
+
+    def __init__(self, params: BearingParams, table: MapTable, source: str = ""):
+        ld = params.L / params.D
+        if abs(ld - table.L_over_D) > LD_RTOL * table.L_over_D:
+            raise ValueError(f"force map{' ' + source if source else ''} is for L/D = {table.L_over_D:.6g}, the "
+                             f"bearing has L/D = {ld:.6g} (L = {params.L:g} m, D = {params.D:g} m): build a map for "
+                             "it with `bearing-fmu map --bearing FILE -o MAP`")
+        self.params, self.table, self.source = params, table, source
+        self._ts, self._tb, self._C = table.spline()
+        self._ns, self._nb = self._C.shape[0], self._C.shape[1]
+        self._scale = scale(params)
+        self._F = np.zeros(2)
+        self._J = np.zeros((2, 4))
+        from .map_kernels import map_force  # numba, compiled (or loaded from its cache) here
+
+        self._kernel = map_force
+        self._args = (self._ts, self._tb, self._C, self._ns, self._nb, float(table.wall_exponent), EPS_MIN,
+                      self._scale, float(params.CR))
+        self._eps_max = float(table.eps_max)
+
+    @classmethod
+    def from_file(cls, path, params: BearingParams) -> "ForceMap":
+        return cls(params, load_map(path), source=str(path))
+
+    @classmethod
+    def from_options(cls, params: BearingParams, options, context) -> "ForceMap":
+        """From the registry's checked options (``internals.REGISTRY["map"]``)."""
+        if not options["map"]:
+            raise ValueError("internal 'map' needs the option map (a force map JSON file)")
+        return cls.from_file(context.path(options["map"]), params)
+
+    def __repr__(self) -> str:
+        t = self.table
+        return (f"ForceMap(L/D {t.L_over_D:.4g}, {t.n_eps} x {t.n_beta}, eps <= {t.eps_max:g}, Reynolds "
+                f"{t.n_theta} x {t.n_x} {t.cavitation})")
+
+    def _run(self, y, z, vy, vz, omega, want_jac):
+        y, z, vy, vz, omega = float(y), float(z), float(vy), float(vz), float(omega)
+        # the kernel returns eps; a non-finite input or a state beyond the table is checked after
+        # it (cheaper than before: one call on the good path) and refused before anything is used
+        eps = self._kernel(*self._args, y, z, vy, vz, omega, want_jac, self._F, self._J)
+        if not eps < self._eps_max or not math.isfinite(vy + vz + omega):
+            self._refuse(y, z, vy, vz, omega, eps)
+
+    def _refuse(self, y, z, vy, vz, omega, eps):
+        check_finite(y, z, vy, vz, omega)
+        CR = self.params.CR
+        why = "at or beyond the bearing wall" if eps >= 1.0 else "beyond the force map's last point"
+        raise BearingStateError(
+            f"eccentricity ratio {eps:.4g} >= {1.0 if eps >= 1.0 else self._eps_max:g}: the journal "
+            f"(y = {y:.4g} m, z = {z:.4g} m) is {why} (CR = {CR:.4g} m; the map covers eps < {self._eps_max:g})")
+
+    def force(self, y: float, z: float, vy: float, vz: float, omega: float) -> tuple[float, float]:
+        """Film force (Fy, Fz) [N]."""
+        self._run(y, z, vy, vz, omega, False)
+        return float(self._F[0]), float(self._F[1])
+
+    def force_and_jacobian(self, y: float, z: float, vy: float, vz: float, omega: float):
+        """(F (2,), dF/dq (2, 2), dF/dv (2, 2)) [N, N/m, N s/m]."""
+        self._run(y, z, vy, vz, omega, True)
+        return self._F.copy(), self._J[:, :2].copy(), self._J[:, 2:].copy()

@@ -1,0 +1,100 @@
+"""The linear internal: 8 Lund coefficients about a static equilibrium (order-1 baseline)."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..physics.params import BearingParams
+from .registry import BearingStateError, Internal, check_finite
+
+
+@dataclass
+class Linear:
+    """F = F0 - K (q - q0) - C v, with Lund's K, C (positive direct terms), valid at omega0.
+
+    Unlike Reynolds it evaluates beyond the clearance circle: the paper's linear orbits cross
+    the bearing wall, and a host reports that rather than crashing. Inputs must be finite and
+    omega must equal the speed the coefficients belong to.
+    """
+
+    params: BearingParams
+    y0: float
+    z0: float
+    omega0: float
+    F0: np.ndarray
+    K: np.ndarray
+    C: np.ndarray
+    _f: np.ndarray = field(init=False, repr=False)
+
+    def __post_init__(self) -> None:
+        self.F0 = np.asarray(self.F0, float).reshape(2)
+        self.K = np.asarray(self.K, float).reshape(2, 2)
+        self.C = np.asarray(self.C, float).reshape(2, 2)
+        for name in ("y0", "z0", "omega0"):
+            if not math.isfinite(getattr(self, name)):
+                raise ValueError(f"Linear.{name} = {getattr(self, name)!r} is not finite")
+        for name in ("F0", "K", "C"):
+            if not np.all(np.isfinite(getattr(self, name))):
+                raise ValueError(f"Linear.{name} has non-finite entries: {getattr(self, name).tolist()}")
+
+    @classmethod
+    def at_load(cls, internal: Internal, load, omega: float) -> "Linear":
+        """Linearise ``internal`` at its static equilibrium under ``load`` (Wy, Wz) [N] at omega [rad/s]."""
+        from ..physics.statics import equilibrium, linearize
+
+        y0, z0 = equilibrium(internal, load, omega)
+        K, C = linearize(internal, y0, z0, omega)
+        F0 = np.asarray(internal.force(y0, z0, 0.0, 0.0, omega), float)
+        return cls(internal.params, y0, z0, omega, F0, K, C)
+
+    @classmethod
+    def from_options(cls, params: BearingParams, options, context=None) -> "Linear":
+        """From the registry's checked options (``internals.REGISTRY["linear"]``): linearise
+        Reynolds (its grid from the reynolds options) or the force map (``linear_from = "map"``,
+        the map option's file) under (load_y, load_z) at omega_lin, or take the lin_*
+        coefficients as given."""
+        o = options
+        if o["linear_from"] == "coefficients":
+            return cls(params, o["lin_y0"], o["lin_z0"], o["omega_lin"], (o["lin_Fy0"], o["lin_Fz0"]),
+                       ((o["lin_Kyy"], o["lin_Kyz"]), (o["lin_Kzy"], o["lin_Kzz"])),
+                       ((o["lin_Cyy"], o["lin_Cyz"]), (o["lin_Czy"], o["lin_Czz"])))
+        if o["linear_from"] == "map":  # the force map: no Reynolds import or compile (milliseconds)
+            from .forcemap import ForceMap
+
+            return cls.at_load(ForceMap.from_options(params, o, context), (o["load_y"], o["load_z"]), o["omega_lin"])
+        from ..physics.reynolds import Reynolds
+
+        return cls.at_load(Reynolds.from_options(params, o), (o["load_y"], o["load_z"]), o["omega_lin"])
+
+    def _check(self, y, z, vy, vz, omega) -> None:
+        check_finite(y, z, vy, vz, omega)
+        if abs(omega - self.omega0) > 1e-9 * max(abs(self.omega0), 1.0):
+            raise BearingStateError(
+                f"linear internal was linearised at omega = {self.omega0:.6g} rad/s; got omega = {omega:.6g} rad/s"
+            )
+
+    def force(self, y, z, vy, vz, omega):
+        self._check(y, z, vy, vz, omega)
+        dy, dz = y - self.y0, z - self.z0
+        K, C, F0 = self.K, self.C, self.F0
+        fy = F0[0] - K[0, 0] * dy - K[0, 1] * dz - C[0, 0] * vy - C[0, 1] * vz
+        fz = F0[1] - K[1, 0] * dy - K[1, 1] * dz - C[1, 0] * vy - C[1, 1] * vz
+        return float(fy), float(fz)
+
+    def force_and_jacobian(self, y, z, vy, vz, omega):
+        f = np.array(self.force(y, z, vy, vz, omega))
+        return f, -self.K.copy(), -self.C.copy()
+
+    def to_dict(self) -> dict:
+        return {
+            "params": self.params.as_dict(),
+            "y0": self.y0, "z0": self.z0, "omega0": self.omega0,
+            "F0": self.F0.tolist(), "K": self.K.tolist(), "C": self.C.tolist(),
+        }
+
+    @classmethod
+    def from_dict(cls, d: dict) -> "Linear":
+        return cls(BearingParams(**d["params"]), d["y0"], d["z0"], d["omega0"], d["F0"], d["K"], d["C"])

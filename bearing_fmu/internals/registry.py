@@ -1,0 +1,432 @@
+"""The bearing internals: one protocol, one registry, the state checks they share.
+
+An internal computes the film force on the journal from its state. Every internal follows
+the ``Internal`` protocol (``force``; ``force_and_jacobian`` where it has analytic
+derivatives), so the statics (equilibrium, linearize), the FMU slave and the host treat
+them alike. ``REGISTRY`` is the one table of internals: name -> ``InternalSpec`` (its
+module, its options with type, default, unit and allowed range). The FMU declares one
+parameter per option, the scene loader reads one sub-table per internal (``[reynolds]``,
+``[taylor]``, ...), and the command lines take their choices from it.
+
+=========  ========================  ================================================
+name       module                    what it is
+=========  ========================  ================================================
+reynolds   reynolds.Reynolds         finite-volume Reynolds solver (the truth)
+linear     linear.Linear             8 Lund coefficients about a static equilibrium
+taylor     guard.DomainGuard         fitted Taylor surrogate behind its domain guard
+map        forcemap.ForceMap         the Reynolds force as a 2-D table per L/D (any state)
+=========  ========================  ================================================
+
+How to add an internal
+----------------------
+1. Write one module ``bearing_fmu/<name>.py`` with a class that has ``params``, ``force(y, z,
+   vy, vz, omega) -> (Fy, Fz)`` [N] and, if it can, ``force_and_jacobian`` (raw derivatives,
+   see ``DifferentiableInternal``). Refuse states it cannot evaluate with
+   ``BearingStateError`` (``check_finite``, ``check_state``), never return NaN.
+2. Give the class a ``from_options(params, options, context)`` classmethod: ``options`` is a
+   dict of its checked option values (and of the internals it ``uses``), ``context`` the
+   ``Context`` (static load, speed, where files are, a warning sink).
+3. Add one ``InternalSpec`` to ``REGISTRY`` below: name, ``"<module>:<Class>.from_options"``
+   (imported only when the internal is built, so an unused internal costs nothing), its
+   ``Option``s. An option name is also the FMU parameter and the scene key; an option may
+   share a name with another internal's only if it is the same option.
+4. Tests: ``tests/test_internals.py`` runs its contract over every registered internal (force
+   and Jacobian against central differences, refused wall and non-finite states, the FMU
+   equal to the direct call); add the checks against something independent of it.
+
+A caller outside this package (a test, a plug-in) may also ``register`` a spec whose factory
+is a callable.
+"""
+
+from __future__ import annotations
+
+import importlib
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Callable, Mapping, Protocol, runtime_checkable
+
+from ..physics.params import BearingParams
+
+
+class BearingStateError(ValueError):
+    """A journal state an internal cannot evaluate (non-finite input, journal at the wall)."""
+
+
+@runtime_checkable
+class Internal(Protocol):
+    params: BearingParams
+
+    def force(self, y: float, z: float, vy: float, vz: float, omega: float) -> tuple[float, float]:
+        """Film force (Fy, Fz) [N] on the journal at displacement (y, z) [m],
+        velocity (vy, vz) [m/s] and shaft speed omega [rad/s]."""
+        ...
+
+
+@runtime_checkable
+class DifferentiableInternal(Internal, Protocol):
+    def force_and_jacobian(self, y: float, z: float, vy: float, vz: float, omega: float):
+        """Return (F, dF_dq, dF_dv): F = (Fy, Fz) [N] as an array of shape (2,), and the raw
+        derivatives dF_dq[i, j] = dF_i/dq_j [N/m] with q = (y, z) and dF_dv[i, j] = dF_i/dv_j
+        [N s/m] with v = (vy, vz), each of shape (2, 2). Lund's coefficients are their negatives."""
+        ...
+
+
+# ----------------------------------------------------------------------------- state checks
+
+STATE_NAMES = ("y", "z", "vy", "vz", "omega")
+
+
+def check_finite(y: float, z: float, vy: float, vz: float, omega: float) -> None:
+    """Raise BearingStateError naming the first non-finite input."""
+    for name, value in zip(STATE_NAMES, (y, z, vy, vz, omega)):
+        if not math.isfinite(value):
+            raise BearingStateError(f"bearing input {name} = {value!r} is not finite")
+
+
+def wall_error(params: BearingParams, y: float, z: float, why: str = "") -> BearingStateError:
+    """The error for a journal at or beyond the wall (eccentricity ratio >= 1)."""
+    eps = math.hypot(y, z) / params.CR
+    return BearingStateError(
+        f"eccentricity ratio {eps:.4g} >= 1: the journal (y = {y:.4g} m, z = {z:.4g} m) "
+        f"is at or beyond the bearing wall (CR = {params.CR:.4g} m){why}"
+    )
+
+
+def check_state(params: BearingParams, y: float, z: float, vy: float, vz: float, omega: float) -> float:
+    """``check_finite``, then refuse a journal at or beyond the wall. Returns the eccentricity ratio."""
+    check_finite(y, z, vy, vz, omega)
+    eps = math.hypot(y, z) / params.CR
+    if eps >= 1.0:
+        raise wall_error(params, y, z)
+    return eps
+
+
+def file_format(path) -> str:
+    """The "format" value of a JSON data file (surrogate, force map), or "" if it has none;
+    ValueError naming the file (and line, column) when it is not JSON."""
+    import json
+
+    try:
+        data = json.loads(Path(path).read_text())
+    except json.JSONDecodeError as exc:
+        raise ValueError(f"{path}: is not valid JSON (truncated or damaged?): line {exc.lineno}, "
+                         f"column {exc.colno}: {exc.msg}") from None
+    except (OSError, UnicodeDecodeError) as exc:
+        raise ValueError(f"{path}: cannot be read as a JSON data file ({exc})") from None
+    return str(data.get("format", "")) if isinstance(data, dict) else ""
+
+
+def option_for_file(path) -> "Option":
+    """The file option whose files look like ``path`` (by the JSON "format" key); ValueError
+    naming the file and the formats known when none does."""
+    fmt = file_format(path)
+    opts = [o for o in all_options() if o.file and o.file_format]
+    for o in opts:
+        if o.file_format == fmt:
+            return o
+    raise ValueError(f"{path}: not a file any internal reads (its JSON 'format' is {fmt!r}; known: "
+                     f"{', '.join(f'{o.file_format} ({o.name})' for o in opts)})")
+
+
+# ----------------------------------------------------------------------------- options
+
+_TYPE_WORD = {float: "a number", int: "an integer", str: "a string", bool: "true or false"}
+
+
+@dataclass(frozen=True)
+class Option:
+    """One setting of an internal: a scene key in the internal's sub-table and an FMU parameter.
+
+    type     : float | int | str | bool
+    default  : the value when nobody sets it
+    unit     : SI unit of a number (None for none)
+    help     : one line: what it does
+    choices  : allowed strings (compared lower-case)
+    minimum, maximum : allowed range of a number (inclusive; ``exclusive_minimum`` for > minimum)
+    even     : an integer must be even
+    special  : values allowed besides the range, with their meaning (e.g. {0: "the solver's default"})
+    file     : the value names a file (a scene resolves it relative to itself, the FMU bundles it)
+    file_format : the "format" value inside such a (JSON) file: an FMU build sorts bundled files by it
+    required : a scene using the internal must set it (the FMU's default may still serve)
+    context  : fills the value from the run's ``Context`` when nobody set it (e.g. the static load)
+    """
+
+    name: str
+    type: type
+    default: Any
+    help: str
+    unit: str | None = None
+    choices: tuple[str, ...] | None = None
+    minimum: float | None = None
+    maximum: float | None = None
+    exclusive_minimum: bool = False
+    even: bool = False
+    special: Mapping[Any, str] = field(default_factory=dict)
+    file: bool = False
+    file_format: str = ""  # the "format" key of such a file's JSON: tells a bundled file's option
+    required: bool = False
+    context: Callable[["Context"], Any] | None = None
+
+    def allowed(self) -> str:
+        """The allowed values in words, for messages and the file-format reference."""
+        if self.choices:
+            return "one of " + ", ".join(self.choices)
+        word = "an even integer" if self.even else _TYPE_WORD[self.type]
+        if self.type is float:
+            word = "a finite number"
+        bounds = []
+        if self.minimum is not None:
+            bounds.append(f"{'>' if self.exclusive_minimum else '>='} {self.minimum:g}")
+        if self.maximum is not None:
+            bounds.append(f"<= {self.maximum:g}")
+        text = word + (" " + " and ".join(bounds) if bounds else "")
+        for value, meaning in self.special.items():
+            text += f", or {value!r} ({meaning})"
+        return text
+
+    def check(self, value, where: str = "") -> Any:
+        """The value converted to ``type``, or ValueError naming where, the option and what is allowed."""
+        prefix = f"{where}: " if where else ""
+        bad = ValueError(f"{prefix}{self.name} = {value!r} must be {self.allowed()}")
+        if self.type is bool:
+            if not isinstance(value, bool):
+                raise bad
+            return value
+        if self.type is str:
+            if not isinstance(value, str):
+                raise bad
+            if self.choices:
+                v = value.strip().lower()
+                if v not in self.choices:
+                    raise ValueError(f"{prefix}unknown {self.name} {value!r}; choose one of {', '.join(self.choices)}")
+                return v
+            return value
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            raise bad
+        if self.type is int:
+            if isinstance(value, float) and not (math.isfinite(value) and value == int(value)):
+                raise bad
+            value = int(value)
+        else:
+            value = float(value)
+            if not math.isfinite(value):
+                raise bad
+        if value in self.special:
+            return value
+        if self.minimum is not None and (value <= self.minimum if self.exclusive_minimum else value < self.minimum):
+            raise bad
+        if self.maximum is not None and value > self.maximum:
+            raise bad
+        if self.even and value % 2:
+            raise bad
+        return value
+
+
+@dataclass(frozen=True)
+class Context:
+    """What the caller knows beyond the bearing and the options.
+
+    load    : static load (Wy, Wz) [N] the journal carries (the scene's rotor statics)
+    omega   : the run's shaft speed [rad/s]
+    resolve : file option value -> path (the FMU: a file in its resources; default: the value as a path)
+    warn    : sink for one-line warnings (the FMU's log; default: warnings.warn)
+    """
+
+    load: tuple[float, float] | None = None
+    omega: float | None = None
+    resolve: Callable[[str], Path] | None = None
+    warn: Callable[[str], None] | None = None
+
+    def path(self, value: str) -> Path:
+        return self.resolve(value) if self.resolve is not None else Path(value)
+
+
+# ----------------------------------------------------------------------------- registry
+
+@dataclass(frozen=True)
+class InternalSpec:
+    """One registered internal (see the module docstring, "How to add an internal").
+
+    name    : what scene files, the FMU parameter ``internal`` and the command lines call it
+    factory : "module:Class.from_options" inside bearing_fmu (imported when built), or a
+              callable (params, options, context) -> internal
+    summary : one line for listings
+    options : its ``Option``s
+    uses    : other internals whose options it also reads (it builds one of them inside:
+              linear and taylor's fallback build Reynolds), so one grid setting serves all
+    """
+
+    name: str
+    factory: str | Callable
+    summary: str
+    options: tuple[Option, ...] = ()
+    uses: tuple[str, ...] = ()
+
+    def all_options(self) -> tuple[Option, ...]:
+        """Its own options, then those of the internals it uses."""
+        out = list(self.options)
+        for other in self.uses:
+            out += [o for o in get(other).all_options() if o.name not in {p.name for p in out}]
+        return tuple(out)
+
+    def check_options(self, values: Mapping[str, Any], where: str = "", *, complete: bool = True,
+                      context: Context | None = None) -> dict:
+        """Checked option values: unknown names refused with the allowed ones; with ``complete``
+        every option present (explicit value, else from the context, else the default)."""
+        opts = {o.name: o for o in self.all_options()}
+        unknown = sorted(set(values) - set(opts))
+        if unknown:
+            allowed = ", ".join(opts) or "none"
+            raise ValueError(f"{where + ': ' if where else ''}unknown option(s) {', '.join(unknown)} of the "
+                             f"{self.name} internal; allowed: {allowed}")
+        out = {}
+        for name, o in opts.items():
+            if name in values:
+                out[name] = o.check(values[name], where)
+            elif complete:
+                v = o.context(context) if (o.context is not None and context is not None) else None
+                out[name] = o.default if v is None else o.check(v, where)
+        return out
+
+    def create(self, params: BearingParams, options: Mapping[str, Any] | None = None,
+               context: Context | None = None, where: str = ""):
+        """The internal for this bearing, built from checked options."""
+        context = context or Context()
+        opts = self.check_options(options or {}, where or f"internal {self.name!r}", context=context)
+        return self._factory()(params, opts, context)
+
+    def _factory(self) -> Callable:
+        if callable(self.factory):
+            return self.factory
+        module, _, attr = self.factory.partition(":")
+        obj = importlib.import_module(f"..{module}", __package__)  # relative to bearing_fmu
+        for part in attr.split("."):
+            obj = getattr(obj, part)
+        return obj
+
+
+REGISTRY: dict[str, InternalSpec] = {}
+
+
+def register(spec: InternalSpec) -> InternalSpec:
+    """Add an internal. Refuses a taken name, and an option name that another internal
+    defines differently (an option name is one FMU parameter)."""
+    if spec.name in REGISTRY:
+        raise ValueError(f"an internal named {spec.name!r} is already registered")
+    for o in spec.options:
+        other = next((p for s in REGISTRY.values() for p in s.options if p.name == o.name), None)
+        if other is not None and other != o:
+            raise ValueError(f"option {o.name!r} of internal {spec.name!r} differs from the registered option "
+                             "of that name (one name is one FMU parameter): rename it")
+    REGISTRY[spec.name] = spec
+    return spec
+
+
+def unregister(name: str) -> None:
+    """Remove an internal (tests that register a temporary one)."""
+    REGISTRY.pop(name, None)
+
+
+def names() -> tuple[str, ...]:
+    """The registered internals' names, in registration order."""
+    return tuple(REGISTRY)
+
+
+def get(name: str) -> InternalSpec:
+    """The spec of internal ``name``, or ValueError listing the registered ones."""
+    key = str(name).strip().lower()
+    if key not in REGISTRY:
+        raise ValueError(f"unknown internal {name!r}; choose one of {', '.join(REGISTRY)}")
+    return REGISTRY[key]
+
+
+def create(name: str, params: BearingParams, options: Mapping[str, Any] | None = None,
+           context: Context | None = None, where: str = ""):
+    """Build internal ``name`` for this bearing (imports only that internal's module)."""
+    return get(name).create(params, options, context, where)
+
+
+def all_options() -> list[Option]:
+    """Every registered option once, in registration order: the FMU's internal parameters."""
+    seen: dict[str, Option] = {}
+    for spec in REGISTRY.values():
+        for o in spec.options:
+            seen.setdefault(o.name, o)
+    return list(seen.values())
+
+
+# ----------------------------------------------------------------------------- the table
+
+_GRID_DEFAULT = {0: "the solver's default"}
+# The paper rotor's bearing load (half its weight) and speed, where the linear internal is
+# made when nothing else says: Linear.at_load(Reynolds(paper bearing), (0, -16.7 N), 2 pi 22 rad/s).
+DEFAULT_LOAD_Z = -16.7
+DEFAULT_OMEGA_LIN = 2.0 * math.pi * 22.0
+DOMAIN_ACTIONS = ("warn", "fallback", "discard")
+DEFAULT_DOMAIN_LIMIT = 0.5  # relative excess over the fitted domain's bounds beyond which a state is refused
+
+
+def _lund(name: str, unit: str, what: str) -> Option:
+    return Option(f"lin_{name}", float, 0.0, f"linear, from coefficients: {what}", unit)
+
+
+register(InternalSpec(
+    "reynolds", "physics.reynolds:Reynolds.from_options", "finite-volume Reynolds solver, Swift-Stieber cavitation (the truth)",
+    options=(
+        Option("n_theta", int, 0, "reynolds: circumferential grid cells", minimum=8, maximum=100_000,
+               special=_GRID_DEFAULT),
+        Option("n_x", int, 0, "reynolds: axial grid cells", minimum=2, maximum=100_000, even=True,
+               special=_GRID_DEFAULT),
+        Option("cavitation", str, "reynolds", "reynolds: cavitation model: reynolds (Swift-Stieber) | gumbel "
+               "(half-Sommerfeld)", choices=("reynolds", "gumbel")),
+    ),
+))
+
+register(InternalSpec(
+    "linear", "internals.linear:Linear.from_options", "8 Lund coefficients about a static equilibrium (order-1 model)",
+    options=(
+        Option("linear_from", str, "load", "linear: 'load' = linearise Reynolds at its equilibrium under "
+               "(load_y, load_z) at omega_lin; 'map' = the same from the force map (the map option's file; no "
+               "Reynolds import or compile); 'coefficients' = use lin_* as given", choices=("load", "map", "coefficients")),
+        Option("load_y", float, 0.0, "linear, from load: static external load on the journal, horizontal", "N",
+               context=lambda c: None if c.load is None else float(c.load[0])),
+        Option("load_z", float, DEFAULT_LOAD_Z, "linear, from load: static external load on the journal, vertical "
+               "(weight is negative)", "N", context=lambda c: None if c.load is None else float(c.load[1])),
+        Option("omega_lin", float, DEFAULT_OMEGA_LIN, "linear: shaft speed of the linear model (the input omega "
+               "must equal it)", "rad/s", context=lambda c: c.omega),
+        _lund("y0", "m", "expansion point y0"),
+        _lund("z0", "m", "expansion point z0"),
+        _lund("Fy0", "N", "film force Fy at the expansion point"),
+        _lund("Fz0", "N", "film force Fz at the expansion point"),
+        *(_lund(f"K{ij}", "N/m", f"Lund stiffness K{ij}") for ij in ("yy", "yz", "zy", "zz")),
+        *(_lund(f"C{ij}", "N.s/m", f"Lund damping C{ij}") for ij in ("yy", "yz", "zy", "zz")),
+    ),
+    uses=("reynolds", "map"),
+))
+
+register(InternalSpec(
+    "taylor", "internals.guard:DomainGuard.from_options", "fitted Taylor surrogate (the paper's method) behind its domain guard",
+    options=(
+        Option("surrogate", str, "", "taylor: the surrogate JSON file, fitted by `bearing-fmu fit` or `rotor-host "
+               "fit` (in the FMU: a file name in its resources folder surrogates/)", file=True, required=True,
+               file_format="bearing-fmu-taylor-surrogate"),
+        Option("domain_action", str, "warn", "taylor, state outside the fitted domain: warn (surrogate value, "
+               "warned once) | fallback (Reynolds value for that call) | discard (refuse the step)",
+               choices=DOMAIN_ACTIONS),
+        Option("domain_limit", float, DEFAULT_DOMAIN_LIMIT, "taylor: refuse states more than this far outside the "
+               "fitted domain (relative excess over its bounds, or the distance to the nearest training state "
+               "beyond the guard radius over the domain's size)", "1", minimum=0.0, exclusive_minimum=True),
+    ),
+    uses=("reynolds",),
+))
+
+register(InternalSpec(
+    "map", "internals.forcemap:ForceMap.from_options", "force map: the Reynolds force reduced exactly to a 2-D table of "
+    "eccentricity and one angle (any speed, load and velocity; docs/forcemap.md)",
+    options=(
+        Option("map", str, "", "map: the force map JSON file, built by `bearing-fmu map` for the bearing's L/D "
+               "(in the FMU: a file name in its resources folder surrogates/)", file=True, required=True,
+               file_format="bearing-fmu-force-map"),
+    ),
+))

@@ -1,0 +1,140 @@
+"""The Taylor-surrogate internal: the fitted polynomial of the film force (paper eq. 6),
+evaluated by compiled kernels with its analytic Jacobian, and the fitted-domain guard.
+
+``Taylor(surrogate)`` evaluates a :class:`bearing_fmu.surrogates.surrogate.Surrogate` (the model, its
+wall factor and shape columns, its file: see there; the basis: :mod:`bearing_fmu.surrogates.basis`)
+through the numba kernels of :mod:`bearing_fmu.surrogates.taylor_kernels`. A surrogate without shape
+columns never compiles the short-bearing kernel. This module never imports the Reynolds
+solver; fitting lives in :mod:`bearing_fmu.fitting`.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from ..physics.params import BearingParams
+from ..physics.shortbearing import short_bearing_constant
+from ..surrogates.surrogate import Surrogate, check_params, load_surrogate
+from ..surrogates.taylor_kernels import (WRONG_OMEGA, domain_distance_nb, force_jac_shape_si_nb,
+                                         force_jac_si_nb, force_nb, force_shape_nb)
+from .registry import BearingStateError, check_finite, wall_error
+
+OMEGA_RTOL = 1e-9  # the same tolerance the linear internal uses for "omega equals the fitted speed"
+
+
+class Taylor:
+    """The Taylor-surrogate internal: ``force`` and ``force_and_jacobian`` from a Surrogate.
+
+    Evaluates everywhere inside the bearing (also outside the fitted domain, returning the
+    polynomial value); ``in_domain`` / ``domain_distance`` tell the caller where the fit holds:
+    inside its bounds (``bounds_distance``) and near its stored training states
+    (``neighbours``); the guard (:mod:`bearing_fmu.internals.guard`) acts on them.
+    Refuses, like Reynolds, with ``BearingStateError``: non-finite inputs (named), the journal
+    at or beyond the wall (eccentricity ratio >= 1, where a polynomial's value is no film
+    force), and ``omega`` other than the fitted speed (relative tolerance 1e-9).
+    """
+
+    def __init__(self, surrogate: Surrogate, params: BearingParams | None = None):
+        if params is not None:
+            check_params(surrogate, params)
+        self.surrogate = surrogate
+        self.params = surrogate.params
+        s = surrogate
+        self._meta = np.array([s.y0, s.z0, s.omega, s.pos_scale, s.vel_scale, s.force_scale, OMEGA_RTOL,
+                               float(max(s.order, 1)), s.wall_power, short_bearing_constant(s.params),
+                               float(s.shape_order or 0)])
+        # evaluate only the terms kept by either component
+        used = s.kept[0] | s.kept[1]
+        used[0] = True
+        self._exps = np.ascontiguousarray(s.exponents[used])
+        self._coef = np.ascontiguousarray(s.coef[:, used])
+        if s.shape_order is None:
+            self._args = (self._meta, self._exps, self._coef)
+            self._kforce, self._kjac = force_nb, force_jac_si_nb
+        else:
+            self._args = (self._meta, self._exps, self._coef, np.ascontiguousarray(s.shape_exponents),
+                          np.ascontiguousarray(s.shape_coef))
+            self._kforce, self._kjac = force_shape_nb, force_jac_shape_si_nb
+        self._out = np.empty(10)
+        self._cr2 = s.params.CR ** 2  # y^2 + z^2 >= CR^2: at or beyond the wall
+        self._nearest = None  # the training states' KD-tree (see ``neighbours``), built at first use
+        d = s.domain
+        self._dom = np.array([s.y0, s.z0, s.pos_scale, s.vel_scale, d.ecc_max, d.pos_center[0], d.pos_center[1],
+                              d.pos_radius, d.v_max, *d.box_lo, *d.box_hi], float)
+
+    @classmethod
+    def from_file(cls, path: str | Path, params: BearingParams | None = None) -> "Taylor":
+        return cls(load_surrogate(path, params))
+
+    @property
+    def omega(self) -> float:
+        return self.surrogate.omega
+
+    def _raise(self, code, y, z, vy, vz, omega):
+        """The BearingStateError for a refused call: a kernel's error ``code`` or, with code 0,
+        the journal at or beyond the wall (the plain polynomial's kernel does not check it)."""
+        if code == WRONG_OMEGA:
+            raise BearingStateError(f"Taylor surrogate was fitted at omega = {self.surrogate.omega:.6g} rad/s; "
+                                    f"got omega = {omega:.6g} rad/s")
+        check_finite(y, z, vy, vz, omega)  # a non-finite input named; else the journal is at the wall
+        s = self.surrogate
+        what = " and ".join(([f"wall factor (1 - eps^2)^-{s.wall_power:g}"] if s.wall_power else [])
+                            + (["short-bearing shape columns"] if s.shape_order is not None else []))
+        raise wall_error(self.params, y, z, f"; the surrogate's {what} {'are' if s.shape_order is not None else 'is'} "
+                                            "undefined there" if what else "")
+
+    def force(self, y: float, z: float, vy: float, vz: float, omega: float) -> tuple[float, float]:
+        """Film force (Fy, Fz) [N] at (y, z) [m], (vy, vz) [m/s], omega [rad/s]."""
+        y, z = float(y), float(z)
+        fy, fz, code = self._kforce(y, z, float(vy), float(vz), float(omega), *self._args)
+        if code or not y * y + z * z < self._cr2:
+            self._raise(code, y, z, vy, vz, omega)
+        return fy, fz
+
+    def force_and_jacobian(self, y: float, z: float, vy: float, vz: float, omega: float):
+        """(F (2,) [N], dF/d(y, z) (2, 2) [N/m], dF/d(vy, vz) (2, 2) [N s/m]), analytic."""
+        y, z = float(y), float(z)
+        code, F, dF_dq, dF_dv = self._kjac(y, z, float(vy), float(vz), float(omega), *self._args)
+        if code or not y * y + z * z < self._cr2:
+            self._raise(code, y, z, vy, vz, omega)
+        return F, dF_dq, dF_dv
+
+    # ------------------------------------------------------------------ fitted domain
+    def bounds_distance(self, y: float, z: float, vy: float, vz: float) -> float:
+        """How far the state lies outside the fitted domain's bounds: the largest relative
+        excess (eccentricity / ecc_max - 1, distance to the position-disc centre / radius - 1,
+        |v| / v_max - 1, and the bounding-box excess over the box half width). <= 0 inside;
+        e.g. 0.1 means 10 % beyond the nearest violated bound. Compiled, ~0.3 us."""
+        return float(domain_distance_nb(float(y), float(z), float(vy), float(vz), self._dom))
+
+    @property
+    def neighbours(self):
+        """The nearest-neighbour measure of the stored training states (guard.NearestTraining),
+        built at first use; None for a file without them (bounds only)."""
+        if self._nearest is None and self.surrogate.neighbours is not None:
+            from .guard import NearestTraining
+
+            self._nearest = NearestTraining(self.surrogate)
+        return self._nearest
+
+    def domain_distance(self, y: float, z: float, vy: float, vz: float) -> float:
+        """How far the state lies outside the fitted domain, one number: the larger of the
+        excess over the bounds (``bounds_distance``) and, when the file stores training states,
+        the excess of the distance to the nearest of them over their radius
+        (``NearestTraining.distance``: (nn - radius) / the domain's size). <= 0 inside, > 0
+        outside; NaN for a non-finite input. One KD-tree query (~10 us); the guard's own
+        per-evaluation version skips it inside where it can (``DomainGuard.distance``)."""
+        d = self.bounds_distance(y, z, vy, vz)
+        near = self.neighbours
+        if near is None or d != d:
+            return d
+        return max(d, near.distance(y, z, vy, vz))
+
+    def in_domain(self, y: float, z: float, vy: float, vz: float) -> bool:
+        """True when the state lies inside the fitted domain (see ``domain_distance``)."""
+        return self.domain_distance(y, z, vy, vz) <= 1e-12
+
+
+__all__ = ["Taylor", "OMEGA_RTOL"]

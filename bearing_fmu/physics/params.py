@@ -1,0 +1,181 @@
+"""Bearing geometry and lubricant, validated once, in SI units."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import asdict, dataclass
+from pathlib import Path
+
+from ..io.schema import Key, Number, Text, check_table, read_toml, show
+
+# ----------------------------------------------------------------------------- physical ranges
+# What a real plain journal bearing can be; values outside are typos or unit slips (a clearance
+# in mm where m was meant), and some (CR = 1e-300) would only end in a division by zero deep in
+# the Reynolds kernel. The ranges are wide on purpose: they refuse nonsense, not unusual designs.
+#
+# D   1 mm .. 5 m     instrument spindles and micro-turbines have journals of a few mm; hydro-
+#                     generator guide bearings, mill and ship stern-tube bearings reach 1-3 m.
+# L/D 0.05 .. 5       squeeze-film dampers and very short bearings go to L/D ~ 0.1, stern tubes
+#                     to ~ 4; shorter is a seal land rather than a bearing, longer a bush no
+#                     shaft stays aligned in.
+# CR/R 1e-5 .. 0.05   the clearance ratio: about 1e-3 for most oil bearings, 1e-4 for precision
+#                     spindles, 5.8e-3 for the paper's bearing. Below 1e-5 the film (0.15 um
+#                     at the paper's 15.5 mm radius) is thinner than a ground journal's
+#                     roughness; above 0.05 the thin-film assumption behind Reynolds'
+#                     equation (film thickness << radius, curvature dropped) no longer holds.
+# mu  1e-5 .. 10 Pa s cryogenic liquids (liquid hydrogen 1.3e-5, liquid nitrogen 1.6e-4), water
+#                     (1e-3), oils (1e-3 .. 1) up to a heavy gear oil cold (a few Pa s). Gases
+#                     (air 1.8e-5) are inside but compressible: this incompressible model only
+#                     approximates them.
+D_RANGE_M = (1e-3, 5.0)
+L_OVER_D_RANGE = (0.05, 5.0)
+CR_OVER_R_RANGE = (1e-5, 0.05)
+MU_RANGE_PA_S = (1e-5, 10.0)
+
+_UNITS = {"D": "m", "L": "m", "CR": "m", "mu": "Pa s"}
+
+
+def _length(x: float) -> str:
+    """A length [m] with a readable prefix: 0.031 -> '31 mm', 9e-05 -> '90 um'."""
+    a = abs(x)
+    for scale, unit in ((1.0, "m"), (1e-3, "mm"), (1e-6, "um"), (1e-9, "nm")):
+        if a >= scale:
+            return f"{x / scale:.4g} {unit}"
+    return f"{x:.4g} m"
+
+
+def _quantity(name: str, x: float) -> str:
+    return _length(x) if _UNITS[name] == "m" else f"{x:.4g} {_UNITS[name]}"
+
+
+def allowed_range(name: str, D: float | None = None) -> tuple[float, float, str]:
+    """(low, high, words) of BearingParams field ``name`` in SI; L and CR scale with the
+    diameter D [m] (the words then give both the ratio and the bounds at that D)."""
+    if name == "D":
+        lo, hi = D_RANGE_M
+        return lo, hi, f"{_length(lo)} .. {_length(hi)}"
+    if name == "mu":
+        lo, hi = MU_RANGE_PA_S
+        return lo, hi, f"{lo:g} .. {hi:g} Pa s"
+    if name == "L":
+        ratio, ref, label = L_OVER_D_RANGE, D, "L/D"
+    else:
+        ratio, ref, label = CR_OVER_R_RANGE, None if D is None else D / 2, "CR/R"
+    words = f"{label} {ratio[0]:g} .. {ratio[1]:g}"
+    if ref is None:
+        return math.nan, math.nan, words
+    lo, hi = ratio[0] * ref, ratio[1] * ref
+    return lo, hi, f"{_length(lo)} .. {_length(hi)} ({words} at D = {_length(D)})"
+
+
+def range_error(name: str, value, D: float | None = None) -> str | None:
+    """What is wrong with ``value`` for field ``name`` (in SI, e.g. 'D = 0.5 mm is outside
+    1 mm .. 5 m'), or None if it is a finite number in the field's physical range."""
+    lo, hi, words = allowed_range(name, D)
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        return f"{name} must be a number [{_UNITS[name]}], got {value!r}; allowed {words}"
+    value = float(value)
+    if not math.isfinite(value) or value <= 0.0:
+        # "finite and > 0" first: the plainest words for a sign or NaN slip
+        return f"{name} must be finite and > 0, got {value!r} {_UNITS[name]}; allowed {words}"
+    if not lo <= value <= hi:
+        return f"{name} = {_quantity(name, value)} is outside the physical range {words}"
+    return None
+
+
+# the keys of a bearing file ([bearing] table, or the top level): each carries its unit; the
+# schema checks their types (a finite number, text), the allowed values are the physical ranges
+# above, in the file's units (checked by range_error, naming the key)
+BEARING_KEYS = (
+    Key("D_mm", "bearing (journal) diameter [mm]",
+        allowed=f"{D_RANGE_M[0] * 1e3:g} .. {D_RANGE_M[1] * 1e3:g}", kind=Number()),
+    Key("L_mm", "bearing length [mm]", allowed=f"L/D {L_OVER_D_RANGE[0]:g} .. {L_OVER_D_RANGE[1]:g}",
+        kind=Number()),
+    Key("CR_um", "radial clearance [um]",
+        allowed=f"CR/R {CR_OVER_R_RANGE[0]:g} .. {CR_OVER_R_RANGE[1]:g} (R = D/2: the clearance ratio)",
+        kind=Number()),
+    Key("mu_Pa_s", "dynamic viscosity of the oil [Pa s]", allowed=f"{MU_RANGE_PA_S[0]:g} .. {MU_RANGE_PA_S[1]:g}",
+        kind=Number()),
+    Key("name", "label", None, "text", kind=Text()),
+    Key("description", "free text", None, "text", kind=Text()),
+)
+
+
+class BearingFileError(KeyError, ValueError):
+    """A bearing file or mapping that cannot be used; one line naming the file and key. A
+    KeyError for callers that catch the missing or unknown key, a ValueError like every
+    input error (the command lines map those to exit status 2)."""
+
+    def __str__(self) -> str:  # a KeyError would show its message in quotes
+        return str(self.args[0]) if self.args else ""
+
+
+@dataclass(frozen=True)
+class BearingParams:
+    """Plain cylindrical journal bearing.
+
+    D  : bearing (journal) diameter [m]
+    L  : bearing length [m]
+    CR : radial clearance [m]
+    mu : dynamic viscosity of the oil [Pa s]
+    """
+
+    D: float
+    L: float
+    CR: float
+    mu: float
+
+    def __post_init__(self) -> None:
+        # D first: the ranges of L and CR scale with it
+        for name in ("D", "L", "CR", "mu"):
+            value = getattr(self, name)
+            if not isinstance(value, (bool, str, bytes)):
+                try:
+                    value = float(value)  # numpy scalars too
+                except (TypeError, ValueError):
+                    pass
+            error = range_error(name, value, self.D if name in ("L", "CR") else None)
+            if error is not None:
+                raise ValueError(f"BearingParams.{error}")
+            object.__setattr__(self, name, value)
+
+    @property
+    def R(self) -> float:
+        """Journal radius [m]."""
+        return 0.5 * self.D
+
+    def as_dict(self) -> dict[str, float]:
+        return asdict(self)
+
+    @classmethod
+    def from_toml(cls, path: str | Path) -> "BearingParams":
+        """Read a bearing file with keys ``D_mm``, ``L_mm``, ``CR_um``, ``mu_Pa_s`` in ``[bearing]``
+        (or at the top level); errors are BearingFileError naming the file and key."""
+        path = Path(path)
+        data = read_toml(path, "bearing file", BearingFileError)
+        if "bearing" in data:
+            if not isinstance(data["bearing"], dict):
+                raise BearingFileError(f"{path}: bearing = {data['bearing']!r}: expected a table ([bearing])")
+            return cls.from_mapping(data["bearing"], where=str(path), label="[bearing]")
+        return cls.from_mapping(data, where=str(path))
+
+    @classmethod
+    def from_mapping(cls, data: dict, where: str = "bearing", label: str = "") -> "BearingParams":
+        """Build from a mapping whose keys carry their unit (``D_mm``, ``L_mm``, ``CR_um``, ``mu_Pa_s``);
+        errors name ``where`` (the file) and ``label`` (its table, '[bearing]')."""
+        # divisors, not factors: 31 / 1000 is exactly the float 0.031, 31 * 1e-3 is not
+        units = {"D_mm": 1e3, "L_mm": 1e3, "CR_um": 1e6, "mu_Pa_s": 1.0}
+        d = check_table(data, BEARING_KEYS, where, BearingFileError, label)
+        prefix = f"{where}: {label + ' ' if label else ''}"
+        vals = {}
+        for key, divisor in units.items():
+            name = key.split("_")[0]
+            vals[name] = d[key] / divisor
+            error = range_error(name, vals[name], vals.get("D"))
+            if error is not None:  # the constructor's words, with the file's key in front
+                raise BearingFileError(f"{prefix}{key} = {show(data[key])}: {error}")
+        return cls(**vals)
+
+
+# Table 2 of the paper: D = 31 mm, L = 20 mm, CR = 90 um, mu = 50 mPa s.
+PAPER_BEARING = BearingParams(D=0.031, L=0.020, CR=90e-6, mu=0.05)

@@ -1,0 +1,311 @@
+"""Finite-volume Reynolds solver for a plain cylindrical journal bearing.
+
+Equation (DESIGN.md, paper eq. 2 with the circumferential length R*theta)::
+
+    (1/R^2) d/dth(h^3 dp/dth) + d/dx(h^3 dp/dx) = 6 mu omega dh/dth + 12 mu dh/dt
+    h = CR + y sin(th) - z cos(th),   dh/dt = vy sin(th) - vz cos(th)
+
+theta periodic, x in [-L/2, L/2] with p = 0 at both ends. Force on the journal
+F = int p (sin th, -cos th) R dth dx.
+
+Discretization (see docs/reynolds.md)
+-------------------------------------
+Cell-centred finite volumes, ``n_theta`` cells around the circumference (centres at
+th_i = i * 2 pi / n_theta, faces half-way) and ``n_x`` cells along the length. The equation
+is integrated over each cell (in th, x): diffusive fluxes use h^3 evaluated at the face
+(th faces: h(th_{i+1/2}); x faces: h(th_i)); the Couette and squeeze sources are integrated
+exactly over the cell, so the right-hand side is
+b_i = -dx [6 mu omega (h_{i+1/2} - h_{i-1/2}) + 12 mu int_cell dh/dt dth], the same for all
+axial cells of a column. With no misalignment p is symmetric in x, so only the half x < 0
+is solved (m = n_x / 2 axial cells, zero flux at x = 0).
+
+End faces (p = 0): the flux uses the second-order one-sided gradient of the quadratic
+through p = 0 at the end and the first two cell centres, (9 p0 - p1) / (3 dx), instead of
+the first-order p0 / (dx / 2); row 0 is scaled by 3/4 so that A stays symmetric (its axial
+part becomes 3 p0 - p1; a positive row scaling changes neither the solution nor the LCP).
+The force uses the midpoint sum in theta and, along x, the midpoint sum with the
+Euler-Maclaurin end correction -(dx^2/24) p'(end) (weights 7/8 dx and 73/72 dx for the two
+cells next to the end). Together these cut the axial error at n_x = 8 from 3 % (half-cell
+Dirichlet + plain midpoint sum) to 0.1 %, see docs/reynolds.md.
+
+Written as A p = b, A is a symmetric, irreducibly diagonally dominant M-matrix. Unknowns
+are ordered axial-fastest, which makes A a periodic banded matrix of half-bandwidth m.
+
+Linear solver: banded Cholesky of the first n_theta - 1 columns plus a bordered last column
+(the periodic wrap), O(n_theta m^3), in numba. When some theta column is entirely cavitated
+the ordering starts right after it and the border decouples (plain banded Cholesky).
+
+Cavitation
+----------
+"reynolds": Swift-Stieber as the linear complementarity problem p >= 0, A p - b >= 0,
+p (A p - b) = 0, solved exactly by a primal-dual active-set method (Hintermueller, Ito &
+Kunisch 2003, SIAM J. Optim. 13:865): on the active (cavitated) set p = 0, on the rest
+A p = b is solved directly; the sets are updated from the sign of p and of the multiplier
+A p - b until they repeat. For an M-matrix this terminates in finitely many steps
+(monotonically after the first) from any start, in at most n + 1 passes (the method is the
+Newton-min iteration; Ben Gharbia & Gilbert 2009, INRIA RR-7160, recall the bound), each pass
+one banded Cholesky factorization.
+
+Start. Cold: computed from the inputs only (cavitated where the cell source b <= 0, less a
+margin of n_theta/16 columns on either side of the positive-source arc), 3-9 passes. Warm
+(the default, ``warm_start=True``): the cavitated set of the last converged call, moved by
+extrapolating w = p - (A p - b) (p on free cells, minus the multiplier on cavitated ones)
+linearly through the last call and an earlier one; 1-2 passes when the state moves little
+between calls, as between the Newton iterates and time steps of a transient. The cold start
+is used instead when the source direction is more than WARM_MAX_TURN_CELLS cells from the one
+expected (the last call's, extrapolated like w) or |ln(1 - eps)| changed by more than
+WARM_MAX_DLOG since the last call (beyond that a warm start took more passes than the cold
+one), and a warm start not settled within n_theta/16 + 4 passes is abandoned for the cold
+start. Whatever the start, the LCP's unique solution comes
+out, and with the same converged set the last pass factors the same matrix, so results do not
+depend on the call history: bit for bit in every sequence measured (docs/studies,
+2026-11-24). Only a cell degenerate to round-off (p and A p - b both ~0) could settle on
+either side; the force would then differ at round-off and the Jacobian take the other
+one-sided value.
+"gumbel": the full (uncavitated) system, then p < 0 clipped to 0 (half-Sommerfeld).
+
+Derivatives
+-----------
+With the converged active set fixed, A(q) p = b(q, v) on the free nodes, so
+dF_a/ds = w_a^T A^-1 (db/ds - dA/ds p) = mu_a^T (db/ds - dA/ds p) with the adjoint
+mu_a = A^-1 w_a (A symmetric): two extra back-substitutions with the existing
+factorization give all eight derivatives (equivalent to the four direct solves
+dp = A^-1 (db - dA p)). For "gumbel" w_a is masked to the positive-pressure nodes and
+dA p uses the unclipped pressure. Where the source vanishes identically (journal centred and
+still, or whirling at exactly half speed) p = 0 and the force is only directionally
+differentiable; there the derivative reported is the odd part (F(db) - F(-db)) / 2 of the
+first-order film response, which is what central differences converge to.
+
+Work arrays and the remembered calls live in the object: one Reynolds instance is not
+re-entrant (use one per thread); copying or pickling it copies them too.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..internals.registry import check_state
+from .params import BearingParams
+from .reynolds_kernels import reynolds_kernel
+
+__all__ = ["Reynolds", "DEFAULT_N_THETA", "DEFAULT_N_X", "CAVITATION_MODELS"]
+
+# Default grid, from the convergence study in docs/reynolds.md (benchmarks/bench_reynolds.py).
+DEFAULT_N_THETA = 128
+DEFAULT_N_X = 16
+CAVITATION_MODELS = ("reynolds", "gumbel")
+_MODE = {"gumbel": 0, "reynolds": 1}
+# Warm start (docs/studies/2026-11-24-reynolds-warm-start.md): converged calls remembered, and
+# the cold start whenever the source direction is more than WARM_MAX_TURN_CELLS theta cells
+# from the one expected or |ln(1 - eps)| changed by more than WARM_MAX_DLOG since the last
+# call (beyond these a warm start took more passes than the cold one on average).
+WARM_HISTORY = 4
+WARM_MAX_TURN_CELLS = 2.0
+WARM_MAX_DLOG = 1.0
+
+
+# ----------------------------------------------------------------------------------------
+# the internal
+# ----------------------------------------------------------------------------------------
+
+
+def _check_grid(name: str, value, minimum: int, even: bool):
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
+        raise ValueError(f"Reynolds: {name} must be an integer, got {value!r}")
+    value = int(value)
+    rule = f"an even integer >= {minimum}" if even else f"an integer >= {minimum}"
+    if value < minimum or (even and value % 2):
+        raise ValueError(f"Reynolds: {name} must be {rule}, got {value}")
+    if value > 100_000:
+        raise ValueError(f"Reynolds: {name} = {value} is unreasonably large (at most 100000)")
+    return value
+
+
+class Reynolds:
+    """Finite-volume Reynolds solver: the truth internal.
+
+    Reynolds(params, n_theta=None, n_x=None, cavitation="reynolds")
+
+    n_theta : cells around the circumference (integer >= 8), default DEFAULT_N_THETA
+    n_x     : cells along the bearing length (even integer >= 2; the half x < 0 is solved),
+              default DEFAULT_N_X
+    cavitation : "reynolds" (Swift-Stieber, exact complementarity) or "gumbel"
+              (half-Sommerfeld: full solution clipped at 0)
+    warm_start : start the active-set method from the last converged calls' cavitated set
+              (reynolds cavitation; the result is the same whatever the start, see the
+              module docstring); False = always the cold start computed from the inputs.
+              ``counts()`` sums calls and passes; ``forget()`` drops what was remembered.
+    """
+
+    def __init__(self, params: BearingParams, n_theta: int | None = None, n_x: int | None = None,
+                 cavitation: str = "reynolds", warm_start: bool = True):
+        if not isinstance(params, BearingParams):
+            raise TypeError(f"Reynolds: params must be a BearingParams, got {type(params).__name__}")
+        if not isinstance(cavitation, str) or cavitation.lower() not in CAVITATION_MODELS:
+            raise ValueError(
+                f"Reynolds: cavitation must be one of {', '.join(repr(c) for c in CAVITATION_MODELS)}, "
+                f"got {cavitation!r}"
+            )
+        self.params = params
+        self.n_theta = _check_grid("n_theta", DEFAULT_N_THETA if n_theta is None else n_theta, 8, False)
+        self.n_x = _check_grid("n_x", DEFAULT_N_X if n_x is None else n_x, 2, True)
+        self.cavitation = cavitation.lower()
+        self._mode = _MODE[self.cavitation]
+        N, m = self.n_theta, self.n_x // 2
+        self._m = m
+        self._dth = 2.0 * math.pi / N
+        self._dx = params.L / self.n_x
+        th = np.arange(N) * self._dth
+        thf = th + 0.5 * self._dth
+        self._theta = th
+        self._x = -0.5 * params.L + (np.arange(self.n_x) + 0.5) * self._dx
+        self._sin_c, self._cos_c = np.sin(th), np.cos(th)
+        self._sin_f, self._cos_f = np.sin(thf), np.cos(thf)
+        # differences of face values: exactly h_{i+1/2} - h_{i-1/2} and the squeeze integral
+        self._ds = self._sin_f - np.roll(self._sin_f, 1)
+        self._dc = self._cos_f - np.roll(self._cos_f, 1)
+        # axial stencil (in units of h^3 dth / dx), half domain from the end (j = 0) to the
+        # symmetry plane (j = m - 1, zero flux). End face: second-order one-sided flux from
+        # the quadratic through p = 0 at the end and the first two cell centres,
+        # (9 p0 - p1) / (3 dx); row 0 is scaled by rs0 = 3/4 to keep A symmetric, which
+        # leaves the axial row as 3 p0 - p1 (the LCP is unchanged by a positive row scaling).
+        td = np.full(m, 2.0)
+        rs = np.ones(m)
+        qw = np.full(m, self._dx)
+        if m == 1:
+            # one cell per half: symmetric quadratic p0 (L^2/4 - x^2) / (3 L^2 / 16)
+            td[0] = 8.0 / 3.0
+            qw[0] = 8.0 / 9.0 * self._dx
+        else:
+            td[0] = 3.0
+            td[-1] = 1.0
+            rs[0] = 0.75
+            # axial quadrature: midpoint sum with the Euler-Maclaurin end correction
+            # -(dx^2 / 24) p'(end), p'(end) = (9 p0 - p1) / (3 dx); p' = 0 at the symmetry plane
+            qw[0] -= self._dx / 8.0
+            qw[1] += self._dx / 72.0
+        self._tdiag, self._rs, self._qw = td, rs, qw
+        n = N * m
+        f = np.zeros
+        self._at, self._ax, self._b, self._dat, self._dax = f(N), f(N), f(N), f(N), f(N)
+        self._diag, self._cxo, self._cto = f(n), f(n), f(n)
+        self._act = np.zeros(n, dtype=np.bool_)
+        self._Lb = f(((N - 1) * m, m + 1))
+        self._Y = f(((N - 1) * m, m))
+        self._S = f((m, m))
+        self._zb, self._z2 = f((N - 1) * m), f(m)
+        self._p, self._pf, self._rhs, self._tmp = f(n), f(n), f(n), f(n)
+        self._mu_y, self._mu_z = f(n), f(n)
+        self._F, self._dFq, self._dFv, self._Ft = f(2), f((2, 2)), f((2, 2)), f(2)
+        self._db = f((4, N))
+        self._info = f(6)
+        self._max_iter = 4 * n + 10
+        self._grow = max(1, int(round(N / 16)))
+        self.warm_start = bool(warm_start)
+        # warm start (see _warm_start): the last WARM_HISTORY converged calls, and the limits
+        # beyond which the cold start is used (measured, docs/studies/2026-11-24-reynolds-warm-start.md)
+        self._hs = f((WARM_HISTORY, 4))
+        self._order = np.arange(WARM_HISTORY, dtype=np.int64)
+        self._nvalid = np.zeros(1, dtype=np.int64)
+        self._wring = f((WARM_HISTORY, n))
+        self._max_turn = min(WARM_MAX_TURN_CELLS * self._dth, math.pi)
+        self._warm_cap = self._grow + 4
+        self.reset_counts()
+
+    @classmethod
+    def from_options(cls, params: BearingParams, options, context=None) -> "Reynolds":
+        """From the registry's checked options (``internals.REGISTRY["reynolds"]``; grid 0 = default)."""
+        return cls(params, n_theta=options["n_theta"] or None, n_x=options["n_x"] or None,
+                   cavitation=options["cavitation"])
+
+    def __repr__(self) -> str:
+        return (f"Reynolds({self.params!r}, n_theta={self.n_theta}, n_x={self.n_x}, "
+                f"cavitation={self.cavitation!r})")
+
+    # -- warm start and counters ------------------------------------------------------------
+    def forget(self) -> None:
+        """Drop the remembered calls: the next call starts cold (results do not change)."""
+        self._nvalid[0] = 0
+
+    def reset_counts(self) -> None:
+        """Zero the call and pass counters of ``counts``."""
+        self._n_calls = 0
+        self._n_passes = 0
+        self._n_warm = 0
+        self._n_fallback = 0
+
+    def counts(self) -> dict:
+        """Counters since construction or ``reset_counts``: calls, banded factorizations
+        (active-set passes) in all, calls started warm, warm starts abandoned for the cold start."""
+        return {"calls": self._n_calls, "passes": self._n_passes, "warm_starts": self._n_warm,
+                "cold_fallbacks": self._n_fallback}
+
+    def _count(self) -> None:
+        self._n_calls += 1
+        self._n_passes += int(self._info[3])
+        self._n_warm += bool(self._info[4])
+        self._n_fallback += bool(self._info[5])
+
+    def _run(self, y, z, vy, vz, omega, want_jac):
+        y, z, vy, vz, omega = float(y), float(z), float(vy), float(vz), float(omega)
+        check_state(self.params, y, z, vy, vz, omega)
+        pr = self.params
+        self._info[:] = 0.0
+        reynolds_kernel(
+            self._mode, want_jac, y, z, vy, vz, omega, pr.CR, pr.mu, pr.R, self._dth, self._dx, self._m,
+            self._sin_c, self._cos_c, self._sin_f, self._cos_f, self._ds, self._dc, self._tdiag,
+            self._rs, self._qw,
+            self._at, self._ax, self._b, self._db, self._dat, self._dax, self._diag, self._cxo, self._cto,
+            self._act, self._Lb, self._Y, self._S, self._zb, self._z2,
+            self._p, self._pf, self._rhs, self._tmp, self._mu_y, self._mu_z,
+            self._F, self._dFq, self._dFv, self._Ft, self._info, self._max_iter, self._grow,
+            self.warm_start, self._warm_cap, self._max_turn, WARM_MAX_DLOG,
+            self._hs, self._order, self._nvalid, self._wring,
+        )
+        self._count()
+        if self._info[0] < 0:  # pragma: no cover - not observed; guards against cycling
+            raise RuntimeError(
+                f"Reynolds: active-set iteration did not converge in {self._max_iter} steps at "
+                f"y={y!r}, z={z!r}, vy={vy!r}, vz={vz!r}, omega={omega!r}"
+            )
+        if not (np.all(np.isfinite(self._F)) and (not want_jac or (np.all(np.isfinite(self._dFq))
+                                                                    and np.all(np.isfinite(self._dFv))))):
+            raise RuntimeError(  # pragma: no cover - never observed
+                f"Reynolds: non-finite result at y={y!r}, z={z!r}, vy={vy!r}, vz={vz!r}, omega={omega!r}"
+            )
+
+    def force(self, y: float, z: float, vy: float, vz: float, omega: float) -> tuple[float, float]:
+        """Film force (Fy, Fz) [N] on the journal."""
+        self._run(y, z, vy, vz, omega, False)
+        return float(self._F[0]), float(self._F[1])
+
+    def force_and_jacobian(self, y: float, z: float, vy: float, vz: float, omega: float):
+        """(F (2,), dF_dq (2,2), dF_dv (2,2)): raw derivatives dF_i/dq_j, q = (y, z), v = (vy, vz),
+        exact for the discrete system with the converged cavitation set held fixed."""
+        self._run(y, z, vy, vz, omega, True)
+        return self._F.copy(), self._dFq.copy(), self._dFv.copy()
+
+    def pressure(self, y: float, z: float, vy: float, vz: float, omega: float):
+        """(theta (n_theta,), x (n_x,), p (n_theta, n_x)) [rad, m, Pa] at the cell centres."""
+        self._run(y, z, vy, vz, omega, False)
+        half = self._p.reshape(self.n_theta, self._m)
+        p = np.concatenate([half, half[:, ::-1]], axis=1)
+        return self._theta.copy(), self._x.copy(), p
+
+    def diagnostics(self, y: float, z: float, vy: float, vz: float, omega: float) -> dict:
+        """Solver statistics of a call at a state: active-set iterations of the converged solve,
+        banded factorizations in all (``passes``: more than ``iterations`` only when a warm
+        start was abandoned for the cold one, ``cold_fallback``), whether the start was the
+        remembered set (``warm_start``), cavitated fraction of the cells, and (for "reynolds")
+        the scaled complementarity residual max|min(p, A p - b)| / scale."""
+        self._run(y, z, vy, vz, omega, False)
+        return {
+            "iterations": int(self._info[0]),
+            "passes": int(self._info[3]),
+            "warm_start": bool(self._info[4]),
+            "cold_fallback": bool(self._info[5]),
+            "cavitated_fraction": float(self._info[1]),
+            "complementarity_residual": float(self._info[2]),
+        }

@@ -1,0 +1,202 @@
+"""Error against run time: one scene run with several internals, each measured against a
+Reynolds reference in the same process, on the same time grid.
+
+Each variant is the scene with another internal (Reynolds on some grid, the Taylor surrogate
+of some order, the linear model). A variant that stops (a Reynolds journal at the wall) or
+whose orbit leaves the clearance circle (the linear model, as the paper describes) is
+reported as such, with its errors up to where it got, not as a crash.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from bearing_fmu.io.exits import as_interrupted, note_kept
+from bearing_fmu.io.outputs import ensure_writable, write_json, write_text
+
+from ..scenes.run import run_scene
+from ..scenes.scene import Scene
+from .plotting import pyplot, save_figure
+from .report import errors_against, markdown_table, plot_runs
+
+
+@dataclass
+class Variant:
+    """The scene run with ``internal`` and ``options`` ({internal name: {option: value}}, over
+    the scene's own, e.g. {"reynolds": {"n_theta": 64, "n_x": 8}}; a grid of 0 is the default)."""
+
+    label: str
+    internal: str
+    options: dict = field(default_factory=dict)
+    order: int | None = None  # taylor, for the table
+
+    def scene(self, base: Scene) -> Scene:
+        return base.with_internal(self.internal, options=self.options)
+
+
+COLUMNS = [
+    ("label", "variant", ""), ("status", "status", ""),
+    ("force_nrmse_pct", "force NRMSE [%]", ".3f"), ("orbit_rms_pct_cr", "orbit RMS [% CR]", ".3f"),
+    ("orbit_max_pct_cr", "orbit max [% CR]", ".3f"), ("max_eccentricity", "max ecc.", ".3f"),
+    ("envelope_rms_pct_cr", "envelope RMS [% CR]", ".3f"), ("late_eccentricity", "max ecc. last 20 %", ".3f"),
+    ("integration_s", "run time [s]", ".2f"), ("setup_s", "setup [s]", ".2f"),
+    ("speedup_vs_ref", "speed-up vs ref", ".1f"), ("speedup_vs_default", "speed-up vs Reynolds default", ".1f"),
+    ("evals_per_step", "evals/step", ".2f"),
+]
+
+
+def compare(base: Scene, reference: Variant, variants: list[Variant], out_dir, *, progress: bool = False,
+            default_label: str | None = None, log=print) -> list[dict]:
+    """Run the reference and every variant; write ``compare_<scene>.md/.json/.png`` and the
+    orbit plot into out_dir; return the table rows. ``default_label`` names the variant that
+    is "Reynolds at its default grid", for the second speed-up column."""
+    out_dir = ensure_writable(out_dir)
+    stem = Path(base.source).stem if base.source else base.name
+    runs = {}
+    rows = []
+    try:
+        for v in [reference] + list(variants):
+            _run_variant(base, reference, v, out_dir, stem, runs, rows, progress, log)
+    except KeyboardInterrupt as exc:  # the table of what finished, then stop
+        if rows:
+            _write(base, reference, variants, rows, runs, out_dir, stem, default_label,
+                   note=f"interrupted by {as_interrupted(exc).signal_name} during "
+                        f"{[reference, *variants][len(rows)].label}: the variants below are those that finished")
+            note_kept(exc, f"{out_dir / f'compare_{stem}.md'} (the {len(rows)} variant(s) that finished)")
+        raise
+    _write(base, reference, variants, rows, runs, out_dir, stem, default_label)
+    return rows
+
+
+def _run_variant(base, reference, v, out_dir, stem, runs, rows, progress, log) -> None:
+    """Run one variant; append its row (errors against the reference's run) to ``rows``."""
+    log(f"running {stem}: {v.label} via {base.via} ...")
+    run = run_scene(v.scene(base), out_dir, progress=progress, stem=f"{stem}_{_slug(v.label)}")
+    runs[v.label] = run
+    m = run.meta
+    status = m["status"]
+    if m["crossed_clearance"]:
+        status = "crossed clearance" if status == "ok" else f"{status}, crossed clearance"
+    row = {"label": v.label, "internal": v.internal, "options": run.meta["internal_options"],
+           "order": v.order, "status": status, "message": m["message"],
+           "integration_s": m["integration_time_s"], "setup_s": m["setup_time_s"] + m["equilibrium_time_s"],
+           "wall_s": m["wall_time_s"], "evals_per_step": m["newton_mean_evaluations_per_step"],
+           "max_eccentricity": max(m["max_eccentricity"]), "t_reached_s": m["t_reached_s"]}
+    row["late_eccentricity"] = late_max_eccentricity(run.arrays)
+    if "max_domain_excess" in m:  # a surrogate: how far it left its fitted domain
+        row["out_of_domain_pct"] = 100.0 * max(m["out_of_domain_fraction"])
+        row["domain_excess_pct"] = 100.0 * max(m["max_domain_excess"])
+    if v is not reference:
+        row.update(errors_against(runs[reference.label].arrays, run.arrays))
+        row["envelope_rms_pct_cr"] = envelope_error(runs[reference.label].arrays, run.arrays, base.speed_hz)
+    else:
+        row.update(force_nrmse_pct=0.0, orbit_rms_pct_cr=0.0, orbit_max_pct_cr=0.0, envelope_rms_pct_cr=0.0)
+    rows.append(row)
+    log(f"  {status}: {row['integration_s']:.2f} s, force NRMSE {row['force_nrmse_pct']:.3g} %, "
+        f"orbit RMS {row['orbit_rms_pct_cr']:.3g} % CR")
+
+
+def _write(base, reference, variants, rows, runs, out_dir, stem, default_label, note: str = "") -> None:
+    """compare_<stem>.md/.json and the two plots, from the rows there are."""
+    t_ref = rows[0]["integration_s"]
+    t_def = next((r["integration_s"] for r in rows if r["label"] == default_label), None)
+    for r in rows:
+        full = r["t_reached_s"] >= base.t_end_s - 1e-12
+        r["speedup_vs_ref"] = t_ref / r["integration_s"] if full and r["integration_s"] > 0 else None
+        r["speedup_vs_default"] = (t_def / r["integration_s"] if full and t_def and r["integration_s"] > 0 else None)
+
+    table = print_table(rows)
+    header = (f"# {base.description or base.name}\n\nscene {base.source}, via {base.via}, "
+              f"dt = {base.dt_s:g} s, {base.t_end_s:g} s simulated; reference: {reference.label}. "
+              "Force NRMSE = RMS error / RMS of the reference's dynamic force; orbit errors on the "
+              "bearing journals in % of the radial clearance; run time = integration only "
+              "(setup = FMU load, compile, static equilibrium). Envelope = largest bearing eccentricity per "
+              "2 shaft revolutions; its RMS difference and 'max ecc. last 20 %' size a whirl, which "
+              "keeps no phase with the reference.\n\n")
+    if note:
+        header += f"**{note}**\n\n"
+    write_text(out_dir / f"compare_{stem}.md", header + table + "\n")
+    write_json(out_dir / f"compare_{stem}.json", {"scene": str(base.source), "via": base.via,
+                                                  "status": "interrupted" if note else "ok", "note": note,
+                                                  "rows": rows})
+    plot_error_vs_time(rows, out_dir / f"compare_{stem}_error_vs_time.png", title=base.description or base.name)
+    show = [reference.label] + [v.label for v in variants if v.internal != "reynolds" and v.label in runs][:3]
+    plot_runs({k: runs[k].arrays for k in show}, out_dir / f"compare_{stem}_orbits.png",
+              title=base.description or base.name, history=True)
+
+
+def late_max_eccentricity(arrays, fraction: float = 0.2) -> float | None:
+    """Largest bearing eccentricity ratio over the last ``fraction`` of the run: the size of a
+    whirl limit cycle, which a pointwise orbit error cannot judge (a self-excited whirl keeps
+    no phase with the reference, so the same cycle shifted in time scores a large error)."""
+    t, ecc = arrays["t"], arrays["eccentricity"]
+    if len(t) < 2:
+        return None
+    late = t >= t[0] + (1.0 - fraction) * (t[-1] - t[0])
+    return float(ecc[late].max())
+
+
+def envelope_error(ref, run, speed_hz: float, revs: float = 2.0) -> float | None:
+    """RMS difference [% CR] of the two runs' envelopes (largest bearing eccentricity per
+    ``revs`` shaft revolutions, ``rotor_host.analyses.limit_cycle.envelope``) over the windows both completed:
+    the orbit's size over time, blind to the whirl phase that pointwise errors punish."""
+    from .limit_cycle import envelope
+
+    period = revs / speed_hz
+    a, b = envelope(ref, period), envelope(run, period)
+    n = min(a.e_max.size, b.e_max.size)
+    if n == 0:
+        return None
+    return 100.0 * float(np.sqrt(np.mean((b.e_max[:n] - a.e_max[:n]) ** 2)))
+
+
+def _slug(label: str) -> str:
+    return "".join(c if c.isalnum() else "_" for c in label).strip("_").lower()
+
+
+def plot_error_vs_time(rows, path, title=""):
+
+    plt = pyplot()
+    fig, ax = plt.subplots(1, 2, figsize=(11, 4))
+    markers = {"reynolds": "o", "taylor": "s", "linear": "^", "map": "D"}
+    for r in rows[1:]:
+        t = r["integration_s"]
+        for a, key in zip(ax, ("orbit_rms_pct_cr", "force_nrmse_pct")):
+            val = r.get(key)
+            if val is None or not math.isfinite(val):
+                continue
+            a.loglog(t, max(val, 1e-4), markers.get(r["internal"], "x"), ms=7)
+            a.annotate(r["label"], (t, max(val, 1e-4)), fontsize=7, xytext=(4, 2), textcoords="offset points")
+    from matplotlib.ticker import LogLocator, NullFormatter
+
+    for a, yl in zip(ax, ("orbit RMS error [% CR]", "force NRMSE [%]")):
+        a.axvline(rows[0]["integration_s"], color="k", ls=":", lw=1)
+        a.annotate(rows[0]["label"], (rows[0]["integration_s"], 0.5), xycoords=("data", "axes fraction"),
+                   rotation=90, fontsize=7, ha="right", va="center")
+        a.set_xscale("log")
+        a.set_yscale("log")
+        a.xaxis.set_major_locator(LogLocator(base=10))
+        a.xaxis.set_minor_formatter(NullFormatter())  # labelled minor ticks overlap on a short span
+        a.set_xlabel("run time [s] (dotted: reference)")
+        a.set_ylabel(yl)
+        a.grid(alpha=0.3, which="both")
+    if title:
+        fig.suptitle(title)
+    return save_figure(fig, path)
+
+
+def print_table(rows) -> str:
+    """The table, then one line per variant that did not end well (its reason) or whose
+    surrogate left its fitted domain (how often and how far)."""
+    notes = []
+    for r in rows:
+        if r["status"] != "ok":
+            notes.append(f"- {r['label']}: {r['status']}" + (f": {r['message']}" if r.get("message") else ""))
+        if r.get("out_of_domain_pct"):
+            notes.append(f"- {r['label']}: {r['out_of_domain_pct']:.3g} % of the recorded states outside the "
+                         f"surrogate's fitted domain, up to {r['domain_excess_pct']:.3g} % of its size beyond it")
+    return markdown_table(rows, COLUMNS) + ("\n\n" + "\n".join(notes) if notes else "")

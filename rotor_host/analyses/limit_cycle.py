@@ -1,0 +1,278 @@
+"""Limit-cycle study: the envelope of the bearing eccentricity over time.
+
+The dt study (``rotor_host.analyses.dt_study``, ``rotor-host dt-study``) compares orbits point by
+point in time. On a self-excited whirl that is the wrong yardstick for long runs: the whirl
+phase drifts by O(dt^2) per cycle, so two runs on the *same* limit cycle drift apart point
+by point while the size of the orbit agrees. This module measures what the limit cycle is:
+
+- ``envelope``: the largest and smallest journal eccentricity (over the bearings) in each
+  window of ``revs`` shaft revolutions; its max is the size of the orbit over time;
+- ``settled_since``: the earliest time from which the windowed max stays inside a band of
+  +-``tol_pct_cr`` % of CR to the end of the run (``None`` if it never does), so "the limit
+  cycle holds" means: settled, and held for a while before the end;
+- ``envelope_change``: the largest difference of two runs' envelopes (e.g. dt and dt/2),
+  in % of CR, over the windows both runs completed.
+
+``add_arguments``/``run`` form the command ``rotor-host limit-cycle`` (``SCENE`` or a saved
+``.npz``) that writes the envelope as markdown + json (+ png) to an output folder.
+"""
+
+from __future__ import annotations
+
+import argparse
+from dataclasses import asdict, dataclass
+from pathlib import Path
+
+import numpy as np
+
+from bearing_fmu.io.outputs import ensure_writable, write_json, write_text
+
+from .plotting import pyplot, save_figure
+
+
+@dataclass
+class Envelope:
+    """Per window of ``period_s``: its end time and the largest/smallest eccentricity ratio
+    (over all bearings) of the samples in it. Only complete windows are kept."""
+
+    t: np.ndarray
+    e_max: np.ndarray
+    e_min: np.ndarray
+    period_s: float
+
+
+def envelope(arrays: dict, period_s: float) -> Envelope:
+    """Windowed max/min of the bearing eccentricity ratio (``arrays["eccentricity"]``,
+    (n_out, n_bearings), as a scene run records it) over windows [k T, (k+1) T)."""
+    t = np.asarray(arrays["t"], dtype=float)
+    e = np.asarray(arrays["eccentricity"], dtype=float)
+    e = e.reshape(len(t), -1).max(axis=1)
+    if not period_s > 0:
+        raise ValueError(f"period_s must be > 0, got {period_s}")
+    k = np.floor((t - t[0]) / period_s + 1e-9).astype(int)
+    n = int(np.floor((t[-1] - t[0]) / period_s + 1e-9)) if len(t) else 0  # complete windows
+    if n < 1:
+        return Envelope(np.empty(0), np.empty(0), np.empty(0), period_s)
+    keep = k < n
+    e_max = np.full(n, -np.inf)
+    e_min = np.full(n, np.inf)
+    np.maximum.at(e_max, k[keep], e[keep])
+    np.minimum.at(e_min, k[keep], e[keep])
+    return Envelope(t[0] + period_s * np.arange(1, n + 1), e_max, e_min, period_s)
+
+
+def settled_since(env: Envelope, tol_pct_cr: float = 1.0) -> float | None:
+    """Earliest window start t_s such that every windowed max from t_s to the end lies within
+    +-tol_pct_cr % of CR of one value (max - min of them <= 2 tol); None for no windows.
+    The last window alone always qualifies: judge the result by how long it is held."""
+    if env.e_max.size == 0:
+        return None
+    hi = np.maximum.accumulate(env.e_max[::-1])[::-1]  # max of e_max[i:]
+    lo = np.minimum.accumulate(env.e_max[::-1])[::-1]
+    ok = (hi - lo) <= 2 * tol_pct_cr / 100 + 1e-12
+    i = int(np.argmax(ok))  # ok is monotone (False..False True..True)
+    return float(env.t[i] - env.period_s)
+
+
+def envelope_change(coarse: Envelope, fine: Envelope) -> float:
+    """Largest |e_max(fine) - e_max(coarse)| in % of CR over the windows both completed
+    (windows must be the same length; the runs start at the same time)."""
+    if not np.isclose(coarse.period_s, fine.period_s):
+        raise ValueError("envelopes with different windows")
+    n = min(coarse.e_max.size, fine.e_max.size)
+    if n == 0:
+        return float("nan")
+    return 100 * float(np.max(np.abs(fine.e_max[:n] - coarse.e_max[:n])))
+
+
+@dataclass
+class LimitCycle:
+    source: str
+    speed_hz: float
+    revs: int
+    tol_pct_cr: float
+    t_end_s: float
+    settled_since_s: float | None
+    held_s: float | None
+    band: tuple[float, float] | None  # e_max range from settled_since to the end
+    final_e_max: float | None
+    drift_pct_cr: float | None  # least-squares trend of the windowed max over the held span, end minus start
+    meta: dict | None = None
+    # the whirl's size (windowed max - min eccentricity) over the last half of the run, and its
+    # trend there relative to that size: a whirl dying away (or growing) slowly inside the
+    # absolute band is no limit cycle
+    amplitude: float | None = None
+    amplitude_trend_pct: float | None = None
+    rel_tol_pct: float = 10.0
+
+    @property
+    def holds(self) -> bool:
+        """Settled, without a trend across the band (a slow monotone drift that merely has not
+        left the band yet does not count), and the whirl's size steady relative to itself."""
+        return (self.settled_since_s is not None and abs(self.drift_pct_cr) <= self.tol_pct_cr
+                and (self.amplitude_trend_pct is None or abs(self.amplitude_trend_pct) <= self.rel_tol_pct))
+
+    @property
+    def kind(self) -> str:
+        """'holds', 'dies out', 'grows' or 'not settled'."""
+        if self.holds:
+            return "holds"
+        if self.amplitude_trend_pct is not None and abs(self.amplitude_trend_pct) > self.rel_tol_pct:
+            return "dies out" if self.amplitude_trend_pct < 0 else "grows"
+        return "not settled"
+
+    def verdict(self) -> str:
+        """One line: what the envelope does, with the numbers that say so."""
+        if self.settled_since_s is None:
+            return "verdict: no complete window (the run is shorter than one window)"
+        size = (f"whirl size {self.amplitude:.4f} (max - min eccentricity per window), trend "
+                f"{self.amplitude_trend_pct:+.1f} % of it over the last half" if self.amplitude is not None else "")
+        band = (f"max eccentricity {self.band[0]:.4f}..{self.band[1]:.4f} from {self.settled_since_s:.2f} s "
+                f"(held {self.held_s:.2f} s, trend {self.drift_pct_cr:+.2f} % CR)")
+        head = {"holds": "the limit cycle holds", "dies out": "no limit cycle: the whirl dies out",
+                "grows": "no limit cycle yet: the whirl grows",
+                "not settled": f"not settled within +-{self.tol_pct_cr:g} % CR"}[self.kind]
+        return f"verdict: {head}: {band}; {size}".rstrip("; ")
+
+
+def limit_cycle(arrays: dict, speed_hz: float, *, revs: int = 2, tol_pct_cr: float = 1.0,
+                source: str = "", meta: dict | None = None, rel_tol_pct: float = 10.0) -> tuple[LimitCycle, Envelope]:
+    env = envelope(arrays, revs / speed_hz)
+    ts = settled_since(env, tol_pct_cr)
+    t_end = float(np.asarray(arrays["t"])[-1])
+    band = drift = None
+    if ts is not None:
+        m = env.t - env.period_s >= ts - 1e-12
+        band = (float(env.e_max[m].min()), float(env.e_max[m].max()))
+        drift = 0.0
+        if m.sum() > 1:
+            slope = np.polyfit(env.t[m], env.e_max[m], 1)[0]
+            drift = 100 * float(slope * (env.t[m][-1] - env.t[m][0]))
+    amp = trend = None
+    half = env.t >= env.t[0] + 0.5 * (env.t[-1] - env.t[0]) if env.t.size else np.zeros(0, bool)
+    if half.sum() >= 2:
+        a = env.e_max[half] - env.e_min[half]
+        amp = float(a.mean())
+        if amp > 0.0:
+            slope = np.polyfit(env.t[half], a, 1)[0]
+            trend = 100 * float(slope * (env.t[half][-1] - env.t[half][0])) / amp
+    lc = LimitCycle(source, speed_hz, revs, tol_pct_cr, t_end, ts,
+                    None if ts is None else float(env.t[-1] - ts), band,
+                    float(env.e_max[-1]) if env.e_max.size else None, drift, meta, amp, trend, rel_tol_pct)
+    return lc, env
+
+
+def plot_envelopes(envs: dict, path, *, title: str = "", tol_band: tuple[float, float] | None = None) -> Path:
+    """Windowed max (solid) and min (thin) eccentricity against time for labelled envelopes."""
+
+    plt = pyplot()
+    fig, ax = plt.subplots(figsize=(9, 4))
+    for label, env in envs.items():
+        (line,) = ax.plot(env.t, env.e_max, lw=1.2, label=f"{label}: max per window")
+        ax.plot(env.t, env.e_min, lw=0.6, color=line.get_color(), alpha=0.6)
+    if tol_band is not None:
+        ax.axhspan(*tol_band, color="grey", alpha=0.15, label="+-1 % CR band")
+    ax.set_xlabel("t [s]")
+    ax.set_ylabel("bearing eccentricity ratio")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    if title:
+        ax.set_title(title, fontsize=10)
+    return save_figure(fig, path)
+
+
+def add_arguments(p: argparse.ArgumentParser) -> argparse.ArgumentParser:
+    from bearing_fmu.internals.registry import names
+    from bearing_fmu.io.cliargs import existing_file, nonneg_float, output_dir, positive_float, positive_int
+
+    p.add_argument("source", type=existing_file, help="scene TOML file (run it, called directly) or a saved run "
+                   ".npz (then give --speed-hz)")
+    p.add_argument("--internal", choices=names(), default="reynolds")
+    p.add_argument("--dt", type=positive_float("s"), help="time step [s] (default: the scene's)")
+    p.add_argument("--t-end", type=positive_float("s"), help="simulated time [s] (default: the scene's)")
+    p.add_argument("--speed-hz", type=positive_float("Hz"), help="shaft speed for a .npz source [Hz]")
+    p.add_argument("--revs", type=positive_int(), default=2, help="window length in shaft revolutions (default 2: "
+                   "one period of a half-speed whirl)")
+    p.add_argument("--tol", type=positive_float("% CR"), default=1.0,
+                   help="settling band half-width [%% CR] (default 1)")
+    p.add_argument("--hold", type=nonneg_float("s"), default=1.0, help="the limit cycle counts as held when settled "
+                   "this long before the end, without a trend across the band [s] (default 1; exit status 1 "
+                   "otherwise)")
+    p.add_argument("--rel-tol", type=positive_float("%"), default=10.0,
+                   help="largest trend of the whirl's size over the last half of the run, in %% of that size, for "
+                        "a held limit cycle (default 10): a whirl dying away slowly inside the band is not one")
+    p.add_argument("--out", type=output_dir, default="out", help="output folder for limitcycle_<name>.md/.json/.png")
+    p.add_argument("--quiet", action="store_true")
+    return p
+
+
+def _saved_run(path: Path) -> dict:
+    """The arrays of a saved run (``rotor-host run``'s .npz), or ValueError naming the file and
+    what it lacks."""
+    import zipfile
+
+    try:
+        arrays = dict(np.load(path))
+    except (ValueError, OSError, zipfile.BadZipFile, EOFError) as exc:
+        raise ValueError(f"{path}: not a saved run (.npz of rotor-host run): {exc}") from None
+    missing = [k for k in ("t", "eccentricity") if k not in arrays]
+    if missing:
+        raise ValueError(f"{path}: a saved run needs the arrays t and eccentricity; missing: {', '.join(missing)}")
+    if len(arrays["t"]) < 2:
+        raise ValueError(f"{path}: the saved run holds {len(arrays['t'])} time step(s); an envelope needs more")
+    return arrays
+
+
+def run(args) -> int:
+    src = Path(args.source)
+    out = ensure_writable(args.out)
+    stem = f"limitcycle_{src.stem}"
+    meta = None
+    if src.suffix == ".npz":
+        if args.speed_hz is None:
+            raise ValueError(f"--speed-hz: a .npz source ({src}) needs the shaft speed it was run at [Hz]")
+        arrays, speed = _saved_run(src), args.speed_hz
+    else:
+        from ..scenes.run import run_scene
+        from ..scenes.scene import load_scene
+
+        scene = load_scene(src)
+        kw = {"via": "direct"}
+        if args.dt is not None:
+            kw["dt_s"] = args.dt
+        if args.t_end is not None:
+            kw["t_end_s"] = args.t_end
+        scene = scene.with_internal(args.internal, **kw)
+        # the run is kept (<stem>_run.npz/.json, checkpoints while running): an interrupted or
+        # failed run can be analysed later with `limit-cycle <stem>_run.npz --speed-hz ...`
+        r = run_scene(scene, out, progress=not args.quiet, stem=f"{stem}_run")
+        arrays, speed = r.arrays, scene.speed_hz
+        meta = {k: r.meta[k] for k in ("status", "message", "dt_s", "steps", "newton_mean_evaluations_per_step",
+                                       "step_cuts", "integration_time_s", "max_eccentricity", "crossed_clearance")}
+    lc, env = limit_cycle(arrays, speed, revs=args.revs, tol_pct_cr=args.tol, source=str(src), meta=meta,
+                          rel_tol_pct=args.rel_tol)
+    step = max(1, int(round(0.25 / env.period_s))) if env.t.size else 1  # about every 0.25 s
+    rows = "\n".join(f"| {t:.3f} | {a:.4f} | {b:.4f} |" for t, a, b in
+                     zip(env.t[::step], env.e_max[::step], env.e_min[::step]))
+    text = (f"# Limit cycle: {src.name}, {speed:g} Hz, windows of {args.revs} revolutions\n\n"
+            f"| window end [s] | max ecc. | min ecc. |\n|---|---|---|\n{rows}\n\n{lc.verdict()}\n")
+    write_text(out / f"{stem}.md", text)
+    write_json(out / f"{stem}.json",
+               {**asdict(lc), "t": env.t.tolist(), "e_max": env.e_max.tolist(), "e_min": env.e_min.tolist()}, indent=1)
+    if env.t.size:
+        plot_envelopes({src.stem: env}, out / f"{stem}.png", title=lc.verdict()[:110])
+    print(text)
+    held = lc.holds and lc.held_s >= args.hold
+    if lc.holds and not held:
+        print(f"(held {lc.held_s:.2f} s < --hold {args.hold:g} s: not counted as held; exit status 1)")
+    return 0 if held else 1
+
+
+__all__ = ["Envelope", "envelope", "settled_since", "envelope_change", "LimitCycle", "limit_cycle",
+           "plot_envelopes", "add_arguments", "run"]
+
+
+if __name__ == "__main__":
+    import sys
+
+    sys.exit(run(add_arguments(argparse.ArgumentParser(prog="rotor-host limit-cycle")).parse_args()))

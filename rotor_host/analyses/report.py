@@ -1,0 +1,203 @@
+"""Plots of scene runs (in the manner of the paper's Figs 4-8) and error-vs-run-time tables.
+
+Runs are the arrays a scene writes (``SceneRun.arrays`` or the saved .npz): t, nodes,
+y, z (n_out, n_nodes) [m], Fy, Fz (n_out, n_bearings) [N], eccentricity, bearing_nodes, CR.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from .plotting import pyplot, save_figure
+
+
+def _col(arrays, node: int) -> int:
+    nodes = list(np.asarray(arrays["nodes"]).tolist())
+    if node not in nodes:
+        raise KeyError(f"node {node} was not recorded; recorded nodes: {nodes}")
+    return nodes.index(node)
+
+
+def disk_node_of(arrays) -> int | None:
+    """The node (1-based) the disk-orbit panel shows: the rotor's first disk when recorded
+    (runs keep ``disk_nodes``), else the recorded non-bearing node that moves most, else None."""
+    nodes = [int(n) for n in np.asarray(arrays["nodes"]).ravel()]
+    for n in np.asarray(arrays.get("disk_nodes", [])).ravel():
+        if int(n) in nodes:
+            return int(n)
+    bearings = {int(n) for n in np.asarray(arrays["bearing_nodes"]).ravel()}
+    others = [n for n in nodes if n not in bearings]
+    if not others or not len(arrays["t"]):
+        return None
+    size = [float(np.ptp(arrays["y"][:, nodes.index(n)]) + np.ptp(arrays["z"][:, nodes.index(n)])) for n in others]
+    return others[int(np.argmax(size))]
+
+
+def plot_runs(runs: dict, path, *, bearing: int = 0, disk_node: int | None = None, title: str = "",
+              history: bool = False) -> Path:
+    """One figure like the paper's: (a) Fy vs t, (b) Fz vs t of the bearing, (c) bearing orbit
+    (with the clearance circle when it comes near it), (d) disk orbit (``disk_node``, default
+    the rotor's first disk: ``disk_node_of``); with ``history`` also (e) y and (f) z of the
+    bearing vs t (Fig. 5e-f). ``runs`` maps a label (e.g. "Reynolds") to run arrays.
+
+    The axes are scaled to the first run (the reference), so a variant whose orbit runs away
+    (the linear model through the wall) cannot shrink the others to a line; such a variant is
+    marked "(off scale)" in the legend. A small bearing orbit fills its panel (in units of CR)
+    instead of sitting as a dot in the full clearance circle."""
+    plt = pyplot()
+    if disk_node is None and runs:
+        disk_node = disk_node_of(next(iter(runs.values())))
+    nrow = 3 if history else 2
+    fig, axes = plt.subplots(nrow, 2, figsize=(11, 3.6 * nrow))
+    ax = axes.ravel()
+    styles = ["-", "--", ":", "-."]
+    first = next(iter(runs.values())) if runs else None
+    lims = _reference_limits(first, bearing, disk_node, history) if first is not None else {}
+    for i, (label, a) in enumerate(runs.items()):
+        if i > 0 and _off_scale(a, bearing, lims):
+            label = f"{label} (off scale)"
+        ls = styles[i % len(styles)]
+        t = np.asarray(a["t"])
+        bnode = int(np.asarray(a["bearing_nodes"])[bearing])
+        cb = _col(a, bnode)
+        CR = float(np.asarray(a["CR"])[bearing])
+        ax[0].plot(t, np.asarray(a["Fy"])[:, bearing], ls, lw=1, label=label)
+        ax[1].plot(t, np.asarray(a["Fz"])[:, bearing], ls, lw=1, label=label)
+        ax[2].plot(np.asarray(a["y"])[:, cb] / CR, np.asarray(a["z"])[:, cb] / CR, ls, lw=0.8, label=label)
+        if disk_node is not None and disk_node in list(np.asarray(a["nodes"])):
+            cd = _col(a, disk_node)
+            ax[3].plot(np.asarray(a["y"])[:, cd] * 1e6, np.asarray(a["z"])[:, cd] * 1e6, ls, lw=0.8, label=label)
+        if history:
+            ax[4].plot(t, np.asarray(a["y"])[:, cb] * 1e6, ls, lw=0.8, label=label)
+            ax[5].plot(t, np.asarray(a["z"])[:, cb] * 1e6, ls, lw=0.8, label=label)
+    if lims.get("clearance", True):
+        th = np.linspace(0, 2 * np.pi, 361)
+        ax[2].plot(np.cos(th), np.sin(th), "k-", lw=1.2, label="clearance")
+    for k, lim in lims.items():
+        if k == "clearance":
+            continue
+        if k in (2, 3):
+            ax[k].set_xlim(*lim[0])
+            ax[k].set_ylim(*lim[1])
+        else:
+            ax[k].set_ylim(*lim)
+    ax[2].set_aspect("equal")
+    ax[3].set_aspect("equal", adjustable="box" if 3 in lims else "datalim")
+    labels = [("t [s]", "Fy [N]", "(a) horizontal film force"), ("t [s]", "Fz [N]", "(b) vertical film force"),
+              ("y / CR", "z / CR", "(c) bearing orbit" + ("" if lims.get("clearance", True) else
+                                                      " (zoomed: the clearance circle is |y, z| / CR = 1)")),
+              ("y [um]", "z [um]", f"(d) disk orbit (node {disk_node})" if disk_node else "(d) no disk recorded"),
+              ("t [s]", "y [um]", "(e) horizontal bearing displacement"),
+              ("t [s]", "z [um]", "(f) vertical bearing displacement")]
+    for a_, (xl, yl, tl) in zip(ax, labels):
+        a_.set_xlabel(xl)
+        a_.set_ylabel(yl)
+        a_.set_title(tl, fontsize=10)
+        a_.grid(alpha=0.3)
+    ax[0].legend(fontsize=8)
+    if title:
+        fig.suptitle(title)
+    return save_figure(fig, path)
+
+
+def _span(v, margin: float = 0.15):
+    v = np.asarray(v, float)
+    v = v[np.isfinite(v)]
+    if v.size == 0:
+        return None
+    lo, hi = float(v.min()), float(v.max())
+    pad = margin * (hi - lo) or max(abs(hi), 1e-12) * margin
+    return lo - pad, hi + pad
+
+
+def _reference_limits(a, bearing: int, disk_node, history: bool) -> dict:
+    """Axis limits per panel from the reference run: {panel: (lo, hi)} or, for the orbits,
+    {panel: ((xlo, xhi), (ylo, yhi))}. The bearing orbit always shows the clearance circle."""
+    bnode = int(np.asarray(a["bearing_nodes"])[bearing])
+    cb = _col(a, bnode)
+    CR = float(np.asarray(a["CR"])[bearing])
+    y, z = np.asarray(a["y"])[:, cb], np.asarray(a["z"])[:, cb]
+    lims = {0: _span(np.asarray(a["Fy"])[:, bearing]), 1: _span(np.asarray(a["Fz"])[:, bearing])}
+    e_max = float(np.nanmax(np.hypot(y, z))) / CR if len(y) else 0.0
+    if e_max >= NEAR_WALL or not len(y):  # near the wall: show the clearance circle (and beyond)
+        r = max(1.1, 1.1 * e_max)
+        lims[2] = ((-r, r), (-r, r))
+    else:  # a small orbit: fill the panel with it, equal scales
+        (ylo, yhi), (zlo, zhi) = _span(y / CR), _span(z / CR)
+        half = 0.5 * max(yhi - ylo, zhi - zlo, 1e-3)
+        yc, zc = 0.5 * (ylo + yhi), 0.5 * (zlo + zhi)
+        lims[2] = ((yc - half, yc + half), (zc - half, zc + half))
+        lims["clearance"] = False
+    if disk_node is not None and disk_node in list(np.asarray(a["nodes"])):
+        cd = _col(a, disk_node)
+        yd, zd = _span(np.asarray(a["y"])[:, cd] * 1e6), _span(np.asarray(a["z"])[:, cd] * 1e6)
+        if yd and zd:
+            lims[3] = (yd, zd)
+    if history:
+        lims[4], lims[5] = _span(y * 1e6), _span(z * 1e6)
+    return {k: v for k, v in lims.items() if v is not None}
+
+
+NEAR_WALL = 0.7  # a bearing orbit reaching this eccentricity ratio is drawn with the clearance circle
+
+
+def _off_scale(a, bearing: int, lims: dict) -> bool:
+    """True when the run's bearing force or orbit leaves the reference's axes by far (2x)."""
+    bnode = int(np.asarray(a["bearing_nodes"])[bearing])
+    cb = _col(a, bnode)
+    CR = float(np.asarray(a["CR"])[bearing])
+    checks = [(0, np.asarray(a["Fy"])[:, bearing]), (1, np.asarray(a["Fz"])[:, bearing])]
+    for k, v in checks:
+        if k in lims and v.size:
+            lo, hi = lims[k]
+            if np.nanmax(np.abs(v)) > 2 * max(abs(lo), abs(hi)):
+                return True
+    if 2 in lims and len(a["t"]):
+        r = max(abs(x) for pair in lims[2] for x in pair)
+        return bool(np.nanmax(np.hypot(np.asarray(a["y"])[:, cb], np.asarray(a["z"])[:, cb])) / CR > 2 * r)
+    return False
+
+
+def errors_against(ref: dict, run: dict, *, bearing_cols: bool = True) -> dict:
+    """Force NRMSE [%] and orbit RMS / max error [% of CR] of ``run`` against ``ref`` on the
+    bearing journals, over the time both cover (a failed run is compared up to where it got).
+
+    NRMSE = RMS(F - F_ref) / RMS(F_ref - mean F_ref) over both components and bearings: the
+    error relative to the dynamic part of the force (the static part would hide it).
+    """
+    n = min(len(ref["t"]), len(run["t"]))
+    if n < 2:
+        return {"force_nrmse_pct": float("nan"), "orbit_rms_pct_cr": float("nan"), "orbit_max_pct_cr": float("nan")}
+    if not np.allclose(np.asarray(ref["t"])[:n], np.asarray(run["t"])[:n], rtol=0, atol=1e-9):
+        raise ValueError("runs are not on the same time grid; compare runs with the same dt and record step")
+    fr = np.stack([np.asarray(ref["Fy"])[:n], np.asarray(ref["Fz"])[:n]])
+    fx = np.stack([np.asarray(run["Fy"])[:n], np.asarray(run["Fz"])[:n]])
+    dyn = fr - fr.mean(axis=1, keepdims=True)
+    nrmse = np.sqrt(np.mean((fx - fr) ** 2)) / max(np.sqrt(np.mean(dyn**2)), 1e-300)
+    cols_r = [_col(ref, int(b)) for b in np.asarray(ref["bearing_nodes"])]
+    cols_x = [_col(run, int(b)) for b in np.asarray(run["bearing_nodes"])]
+    CR = np.asarray(ref["CR"])
+    dy = (np.asarray(run["y"])[:n, cols_x] - np.asarray(ref["y"])[:n, cols_r]) / CR
+    dz = (np.asarray(run["z"])[:n, cols_x] - np.asarray(ref["z"])[:n, cols_r]) / CR
+    d = np.hypot(dy, dz)
+    return {"force_nrmse_pct": 100 * float(nrmse), "orbit_rms_pct_cr": 100 * float(np.sqrt(np.mean(d**2))),
+            "orbit_max_pct_cr": 100 * float(d.max())}
+
+
+def markdown_table(rows: list[dict], columns: list[tuple[str, str, str]]) -> str:
+    """rows of dicts -> a markdown table; columns = (key, header, format)."""
+    head = "| " + " | ".join(h for _, h, _ in columns) + " |"
+    sep = "|" + "|".join("---" for _ in columns) + "|"
+    lines = [head, sep]
+    for r in rows:
+        cells = []
+        for key, _, fmt in columns:
+            v = r.get(key)
+            if v is None or (isinstance(v, float) and not np.isfinite(v)):
+                cells.append("-")
+            else:
+                cells.append(format(v, fmt) if fmt else str(v))
+        lines.append("| " + " | ".join(cells) + " |")
+    return "\n".join(lines)

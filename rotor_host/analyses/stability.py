@@ -1,0 +1,568 @@
+"""Campbell diagram and stability threshold of a rotor on its hydrodynamic bearings.
+
+At each speed of a range (``rotor-host stability ROTOR.toml --speeds-hz 10:70:1``):
+
+1. the static equilibrium of the rotor on its nonlinear bearings, under its weight and any
+   static point loads, as a scene starts (``run.bearing_loads``, ``run.static_start``,
+   ``equilibrium.static_equilibrium``); from the second speed on, Newton starts from the
+   previous speed's equilibrium (continuation; a fresh start if that fails);
+2. each bearing linearised there with the internal's own analytic Jacobian
+   (``bearing_fmu.physics.statics.linearize``: Lund's K = -dF/dq, C = -dF/dv);
+3. the damped eigenvalues of the rotor with those bearings, its shaft damping and the
+   gyroscopic term (``Rotor.modes``): damped frequency, logarithmic decrement
+   delta = -2 pi Re(lam) / Im(lam) (negative: the mode grows) and complex shape, and the whirl
+   direction of each shape (``Rotor.whirl``, at the node where the mode moves most).
+
+The threshold of instability is the first speed at which the least stable mode's log
+decrement crosses zero, found to 1e-4 Hz by Brent's method between the two speeds of the
+range that bracket it (each evaluation is steps 1-3 again, from the equilibrium at the lower
+speed); the whirl frequency is that mode's damped frequency there. The critical speeds are
+where the 1x line crosses a damped natural frequency (linear interpolation on the range).
+How an engineer reads the figures: docs/campbell.md.
+
+Only the bearings are nonlinear here; the rotor is the linear FE model of ``rotor_host.model.rotor``.
+The internals are built through the registry (``bearing_fmu.internals.create``) once for
+the whole sweep: ``reynolds`` (any bearing; a fraction of a millisecond per force and
+Jacobian at 128 x 16) or ``map`` (a force map of the bearing's L/D; microseconds). For the
+paper rotor the eigenvalues cost more than the equilibria (docs/studies/2026-11-24-stability-threshold.md).
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from bearing_fmu.internals import registry
+from bearing_fmu.internals.registry import Context
+from bearing_fmu.io.exits import note_kept
+from bearing_fmu.io.outputs import ensure_writable, write_json, write_text
+
+from ..model.rotor import Rotor
+
+SWEEP_INTERNALS = ("reynolds", "map")  # valid at every speed and load (linear and taylor are not)
+DEFAULT_MODES = 8  # modes shown in the Campbell diagram and the table
+THRESHOLD_XTOL_HZ = 1e-4  # Brent's tolerance on the threshold speed [Hz]
+FORWARD = 0.0  # whirl() above this: forward, below: backward
+PAPER_MAP = Path(__file__).resolve().parents[2] / "models" / "maps" / "paper_bearing.json"
+
+
+# ----------------------------------------------------------------------------- results
+
+@dataclass
+class SpeedPoint:
+    """The rotor at one speed: equilibrium, bearing coefficients, modes.
+
+    ``freq_hz``, ``log_dec``, ``whirl`` hold every oscillatory mode (sorted by damped
+    frequency; ``Rotor.modes``), ``shapes`` their complex shapes (n_dof x n_modes);
+    ``journal`` [m] and ``eccentricity`` per bearing; ``K`` [N/m], ``C`` [N s/m] per bearing
+    (n_bearings, 2, 2), Lund's sign. ``status`` "ok" or "no equilibrium" (then ``message``
+    says why and the arrays are empty)."""
+
+    speed_hz: float
+    status: str = "ok"
+    message: str = ""
+    journal: np.ndarray = field(default_factory=lambda: np.zeros((0, 2)))
+    eccentricity: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    K: np.ndarray = field(default_factory=lambda: np.zeros((0, 2, 2)))
+    C: np.ndarray = field(default_factory=lambda: np.zeros((0, 2, 2)))
+    freq_hz: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    log_dec: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    whirl: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    shapes: np.ndarray = field(default_factory=lambda: np.zeros((0, 0), complex), repr=False)
+
+    @property
+    def ok(self) -> bool:
+        return self.status == "ok"
+
+    @property
+    def least(self) -> int:
+        """Index of the least stable mode (smallest log decrement)."""
+        return int(np.argmin(self.log_dec))
+
+    @property
+    def least_log_dec(self) -> float:
+        return float(self.log_dec[self.least])
+
+
+@dataclass
+class Threshold:
+    """Where the least stable mode's log decrement crosses zero: ``speed_hz`` and the mode's
+    damped frequency ``whirl_hz`` there, its whirl direction, and the SpeedPoint at it;
+    ``bracket`` the two range speeds around it; ``how`` "brent" (refined) or "interpolated"
+    (linear between the bracket, when an equilibrium inside it failed)."""
+
+    speed_hz: float
+    whirl_hz: float
+    whirl: float
+    point: SpeedPoint
+    bracket: tuple[float, float]
+    how: str = "brent"
+
+    @property
+    def ratio(self) -> float:
+        """Whirl frequency ratio: whirl frequency / shaft speed."""
+        return self.whirl_hz / self.speed_hz
+
+
+@dataclass
+class StabilityResult:
+    """A sweep: its points (one per speed asked), the threshold (None when the least stable
+    log decrement does not cross zero in the range), the critical speeds (1x crossings) and
+    the timings [s]: ``setup`` (internals built, numba loaded), ``equilibrium``,
+    ``eigen`` (linearisation and modes), ``refine`` (the threshold's Brent evaluations)."""
+
+    rotor: str
+    internal: str
+    options: dict
+    bearing_nodes: list[int]  # 1-based
+    loads_N: list[list[float]]
+    points: list[SpeedPoint] = field(default_factory=list)
+    threshold: Threshold | None = None
+    unstable_from_start: bool = False
+    criticals: list[dict] = field(default_factory=list)
+    timings: dict = field(default_factory=lambda: {"setup": 0.0, "equilibrium": 0.0, "eigen": 0.0, "refine": 0.0})
+    n_modes: int = DEFAULT_MODES
+    status: str = "ok"
+
+    @property
+    def ok_points(self) -> list[SpeedPoint]:
+        return [p for p in self.points if p.ok]
+
+    def verdict(self) -> str:
+        """The one line the command prints: ``threshold X Hz, whirl Y Hz`` or why there is none."""
+        pts = self.ok_points
+        if not pts:
+            return "no threshold: no speed of the range has a static equilibrium"
+        speeds = f"{self.points[0].speed_hz:g}-{self.points[-1].speed_hz:g} Hz"
+        if self.threshold is not None:
+            t = self.threshold
+            return (f"threshold {t.speed_hz:.2f} Hz, whirl {t.whirl_hz:.2f} Hz (whirl ratio {t.ratio:.3f}, "
+                    f"{'forward' if t.whirl > FORWARD else 'backward'})")
+        if self.unstable_from_start:
+            p = pts[0]
+            return (f"no threshold in {speeds}: already unstable at {p.speed_hz:g} Hz (log dec {p.least_log_dec:.3g} "
+                    f"at {p.freq_hz[p.least]:.2f} Hz); the threshold lies below the range")
+        p = min(pts, key=lambda q: q.least_log_dec)
+        if p.least_log_dec <= 0.0:  # the crossing lies across speeds without an equilibrium
+            first = next(q for q in pts if q.least_log_dec <= 0.0)
+            return (f"no threshold refined in {speeds}: unstable at {first.speed_hz:g} Hz (log dec "
+                    f"{first.least_log_dec:.3g}), but the speed before it has no static equilibrium; see the table")
+        return (f"no threshold in {speeds}: every mode stays stable (least log dec {p.least_log_dec:.3g} at "
+                f"{p.speed_hz:g} Hz)" + ("" if self.status == "ok" else f" [{self.status}]"))
+
+
+# ----------------------------------------------------------------------------- the analysis
+
+class Stability:
+    """The rotor on its bearings, ready to be evaluated at any speed (``at``) or swept (``sweep``).
+
+    rotor        : a Rotor with at least one bearing
+    internal     : a registered internal valid at every speed and load (``SWEEP_INTERNALS``,
+                   or one a test registers)
+    options      : that internal's options ({"n_theta": 64, "n_x": 8}, {"map": FILE})
+    static_loads : (node0, Fy, Fz) point loads [N] on 0-based nodes, besides the weight
+    g            : gravity [m/s^2] (the weight is applied as in a scene: -g M u_z)
+    """
+
+    def __init__(self, rotor: Rotor, internal: str = "reynolds", options: dict | None = None,
+                 static_loads=(), g: float | None = None, where: str = ""):
+        from ..scenes.run import bearing_loads
+        from ..scenes.scene import G
+
+        if not rotor.bearing_nodes:
+            raise ValueError(f"{where or 'rotor'}: the rotor has no bearings; a stability analysis needs at "
+                             "least one [[bearings]] entry (node, bearing file)")
+        self.rotor = rotor
+        self.internal = registry.get(internal).name
+        self.options = dict(options or {})
+        self.f_static = rotor.weight_vector(G if g is None else g) + rotor.point_load_vector(static_loads)
+        self.loads = bearing_loads(rotor, self.f_static)
+        self.pairs = [(rotor.dof(n, "y"), rotor.dof(n, "z")) for n in rotor.bearing_nodes]
+        self.names = [f"bearing {k + 1} (node {n + 1})" for k, n in enumerate(rotor.bearing_nodes)]
+        t0 = time.perf_counter()
+        self.internals = [registry.create(self.internal, p, self.options, Context(load=(float(w[0]), float(w[1]))),
+                                          where=f"{where or 'rotor'}: {name}")
+                          for p, w, name in zip(rotor.bearings, self.loads, self.names)]
+        self._warm_up()
+        self.setup_s = time.perf_counter() - t0
+        self.timings = {"equilibrium": 0.0, "eigen": 0.0}
+
+    def _warm_up(self) -> None:
+        """One force and Jacobian per internal, so that compiling (or loading) its kernels counts as
+        setup, not as the sweep's time; a state the internal refuses here is left for the sweep."""
+        from bearing_fmu.physics.statics import film_jacobian
+
+        for internal in self.internals:
+            try:
+                film_jacobian(internal, 0.0, -0.1 * internal.params.CR, 0.0, 0.0, 2.0 * math.pi)
+            except ValueError:  # BearingStateError: the sweep names it with its speed
+                pass
+
+    # -- one speed ---------------------------------------------------------------------------
+    def equilibrium(self, omega: float, q0: np.ndarray | None = None) -> np.ndarray:
+        """Static equilibrium q [m, rad] at ``omega`` [rad/s]: Newton from ``q0`` (continuation),
+        and if that fails (or no q0) from the start a scene uses (``run.static_start``: the
+        short-bearing estimate, the rotor deflected onto it). Raises EquilibriumError."""
+        from bearing_fmu.physics.statics import EquilibriumError
+
+        from ..coupling.bearings import DirectBearings
+        from ..integrate.equilibrium import static_equilibrium
+        from ..scenes.run import static_start
+
+        t0 = time.perf_counter()
+        try:
+            bearings = DirectBearings(self.internals, self.pairs, omega, self.names)
+            if q0 is not None:
+                try:
+                    return static_equilibrium(self.rotor.K, self.f_static, bearings, q0)
+                except EquilibriumError:
+                    pass  # the previous speed's equilibrium was too far: start afresh, as a scene does
+            return static_start(self.rotor, self.f_static, self.loads, bearings, omega)
+        finally:
+            self.timings["equilibrium"] += time.perf_counter() - t0
+
+    def linearise(self, q: np.ndarray, omega: float) -> tuple[np.ndarray, np.ndarray]:
+        """Lund's (K, C) of every bearing at the equilibrium q, shape (n_bearings, 2, 2) each."""
+        from bearing_fmu.physics.statics import linearize
+
+        K = np.empty((len(self.internals), 2, 2))
+        C = np.empty_like(K)
+        for k, (internal, (iy, iz)) in enumerate(zip(self.internals, self.pairs)):
+            K[k], C[k] = linearize(internal, float(q[iy]), float(q[iz]), omega)
+        for name, a in (("stiffness", K), ("damping", C)):
+            if not np.all(np.isfinite(a)):
+                k = int(np.argwhere(~np.isfinite(a))[0, 0])
+                raise RuntimeError(f"{self.names[k]}: non-finite {name} coefficients at "
+                                   f"{omega / (2 * math.pi):.6g} Hz ({a[k].tolist()}) from the {self.internal} internal")
+        return K, C
+
+    def at(self, speed_hz: float, q0: np.ndarray | None = None) -> tuple[SpeedPoint, np.ndarray]:
+        """(SpeedPoint, equilibrium q) at ``speed_hz``; EquilibriumError if there is none."""
+        omega = 2.0 * math.pi * speed_hz
+        q = self.equilibrium(omega, q0)
+        t0 = time.perf_counter()
+        K, C = self.linearise(q, omega)
+        freq, ld, shapes = self.rotor.modes(omega, K, C)
+        if freq.size == 0 or not (np.all(np.isfinite(freq)) and np.all(np.isfinite(ld))):
+            raise RuntimeError(f"{speed_hz:g} Hz: the eigenvalue problem gave "
+                               f"{'no oscillatory mode' if freq.size == 0 else 'non-finite eigenvalues'}")
+        whirl = np.array([self.rotor.whirl(shapes[:, i], _busiest_node(self.rotor, shapes[:, i]))
+                          for i in range(freq.size)])
+        journal = np.array([(q[iy], q[iz]) for iy, iz in self.pairs])
+        ecc = np.hypot(journal[:, 0], journal[:, 1]) / np.array([p.CR for p in self.rotor.bearings])
+        self.timings["eigen"] += time.perf_counter() - t0
+        return SpeedPoint(speed_hz, journal=journal, eccentricity=ecc, K=K, C=C, freq_hz=freq, log_dec=ld,
+                          whirl=whirl, shapes=shapes), q
+
+    # -- a range -----------------------------------------------------------------------------
+    def sweep(self, speeds_hz, *, n_modes: int = DEFAULT_MODES, rotor_name: str = "", log=None) -> StabilityResult:
+        """Every speed of ``speeds_hz`` (ascending) with continuation, then the threshold and
+        the critical speeds. A speed without an equilibrium is kept as a "no equilibrium"
+        point (the next speed starts afresh). An interrupt is raised again with the result so
+        far as its ``result`` attribute."""
+        from bearing_fmu.physics.statics import EquilibriumError
+
+        res = StabilityResult(rotor_name or self.rotor.name, self.internal, self.options,
+                              [n + 1 for n in self.rotor.bearing_nodes], self.loads.tolist(), n_modes=n_modes)
+        res.timings["setup"] = self.setup_s
+        qs: list[np.ndarray | None] = []
+        q = None
+        try:
+            for s in speeds_hz:
+                try:
+                    point, q = self.at(float(s), q)
+                except EquilibriumError as exc:
+                    point, q = SpeedPoint(float(s), "no equilibrium", str(exc)), None
+                    if log is not None:
+                        log(f"{s:g} Hz: {exc}")
+                res.points.append(point)
+                qs.append(q)
+            t0 = time.perf_counter()
+            res.threshold, res.unstable_from_start = self._threshold(res.points, qs)
+            res.timings["refine"] = time.perf_counter() - t0
+        except KeyboardInterrupt as exc:
+            res.status = "interrupted"
+            exc.result = res
+            raise
+        finally:
+            res.timings["equilibrium"] = self.timings["equilibrium"]
+            res.timings["eigen"] = self.timings["eigen"]
+        res.criticals = critical_speeds(res.points, n_modes)
+        return res
+
+    def _threshold(self, points, qs) -> tuple[Threshold | None, bool]:
+        """The first zero crossing of the least stable log decrement between two consecutive
+        speeds that both have an equilibrium, refined by Brent's method; (None, True) when the
+        first speed with an equilibrium is already unstable."""
+        ok = [i for i, p in enumerate(points) if p.ok]
+        if not ok:
+            return None, False
+        if points[ok[0]].least_log_dec <= 0.0:
+            return None, True
+        for i, j in zip(ok, ok[1:]):
+            if j != i + 1:
+                continue  # a speed without equilibrium in between: no continuous crossing to refine
+            a, b = points[i], points[j]
+            if a.least_log_dec > 0.0 >= b.least_log_dec:
+                return self._refine(a, b, qs[i]), False
+        return None, False
+
+    def _refine(self, a: SpeedPoint, b: SpeedPoint, qa: np.ndarray) -> Threshold:
+        from scipy.optimize import brentq
+
+        from bearing_fmu.physics.statics import EquilibriumError
+
+        if b.least_log_dec == 0.0:
+            p = b
+            how = "brent"
+        else:
+            try:
+                s = brentq(lambda sp: self.at(sp, qa)[0].least_log_dec, a.speed_hz, b.speed_hz,
+                           xtol=THRESHOLD_XTOL_HZ)
+                p, how = self.at(s, qa)[0], "brent"
+            except EquilibriumError:  # cannot evaluate inside the bracket: interpolate between its ends
+                fa, fb = a.least_log_dec, b.least_log_dec
+                w = fa / (fa - fb)
+                s = a.speed_hz + w * (b.speed_hz - a.speed_hz)
+                near = a if w < 0.5 else b
+                return Threshold(s, (1 - w) * a.freq_hz[a.least] + w * b.freq_hz[b.least], float(near.whirl[near.least]),
+                                 near, (a.speed_hz, b.speed_hz), "interpolated")
+        return Threshold(p.speed_hz, float(p.freq_hz[p.least]), float(p.whirl[p.least]), p,
+                         (a.speed_hz, b.speed_hz), how)
+
+
+def _busiest_node(rotor: Rotor, shape: np.ndarray) -> int:
+    """The 0-based node with the largest translational amplitude |y|^2 + |z|^2 of a complex shape."""
+    yz = shape.reshape(rotor.n_nodes, 4)[:, :2]
+    return int(np.argmax(np.sum(np.abs(yz) ** 2, axis=1)))
+
+
+def critical_speeds(points, n_modes: int) -> list[dict]:
+    """Speeds where the 1x line crosses the k-th lowest damped natural frequency (k < n_modes),
+    linearly interpolated between consecutive speeds with an equilibrium: [{speed_hz, mode
+    (1-based rank), log_dec, whirl}], by speed. The k-th lowest frequency is continuous in
+    speed even where two modes veer, so a crossing is found whichever mode carries it."""
+    out = []
+    for a, b in zip(points, points[1:]):
+        if not (a.ok and b.ok):
+            continue
+        for k in range(min(n_modes, a.freq_hz.size, b.freq_hz.size)):
+            ga, gb = a.freq_hz[k] - a.speed_hz, b.freq_hz[k] - b.speed_hz
+            if ga > 0.0 >= gb or ga < 0.0 <= gb:
+                w = ga / (ga - gb)
+                near = a if w < 0.5 else b
+                out.append({"speed_hz": float(a.speed_hz + w * (b.speed_hz - a.speed_hz)), "mode": k + 1,
+                            "log_dec": float((1 - w) * a.log_dec[k] + w * b.log_dec[k]),
+                            "whirl": float(near.whirl[k])})
+    return sorted(out, key=lambda d: d["speed_hz"])
+
+
+def read_rotor(rotor_path, static_loads=()) -> tuple[Rotor, list[tuple[int, float, float]]]:
+    """The rotor file and the static loads (node, Fy, Fz) with 1-based nodes, checked against
+    its nodes and turned 0-based; ValueError naming the file or the load."""
+    rotor_path = Path(rotor_path)
+    rotor = Rotor.from_toml(rotor_path)
+    loads = []
+    for node, fy, fz in static_loads:
+        if not 1 <= int(node) <= rotor.n_nodes:
+            raise ValueError(f"--static-load {node}:{fy:g}:{fz:g}: node {node} is outside the rotor's nodes "
+                             f"1..{rotor.n_nodes} ({rotor_path})")
+        loads.append((int(node) - 1, float(fy), float(fz)))
+    if not rotor.bearing_nodes:
+        raise ValueError(f"{rotor_path}: the rotor has no bearings; a stability analysis needs at least one "
+                         "[[bearings]] entry (node, bearing file)")
+    return rotor, loads
+
+
+def check_speeds(speeds_hz) -> list[float]:
+    """Finite speeds > 0 Hz in increasing order, or ValueError."""
+    speeds = [float(s) for s in speeds_hz]
+    if not speeds or any(not (math.isfinite(s) and s > 0.0) for s in speeds) or np.any(np.diff(speeds) <= 0.0):
+        raise ValueError(f"speeds {speeds!r}: expected finite speeds > 0 Hz in increasing order")
+    return speeds
+
+
+def stability(rotor_path, speeds_hz, internal: str = "reynolds", options: dict | None = None,
+              static_loads=(), n_modes: int = DEFAULT_MODES, log=None) -> StabilityResult:
+    """Read the rotor file and sweep it (see the module docstring). ``static_loads`` are
+    (node, Fy, Fz) with 1-based nodes as in the rotor file; bad input raises ValueError naming it."""
+    rotor, loads = read_rotor(rotor_path, static_loads)
+    speeds = check_speeds(speeds_hz)
+    analysis = Stability(rotor, internal, options, loads, where=str(rotor_path))
+    return analysis.sweep(speeds, n_modes=n_modes, rotor_name=rotor.name or Path(rotor_path).stem, log=log)
+
+
+# ----------------------------------------------------------------------------- tables
+
+def _direction(w: float) -> str:
+    return "forward" if w > FORWARD else "backward"
+
+
+def table_rows(res: StabilityResult) -> list[dict]:
+    """One row per speed: eccentricities, the least stable mode, the status."""
+    rows = []
+    for p in res.points:
+        row = {"speed_hz": p.speed_hz, "status": p.status if p.ok else f"{p.status}: {p.message}"}
+        if p.ok:
+            i = p.least
+            row.update({"ecc": ", ".join(f"{e:.3f}" for e in p.eccentricity), "f_hz": float(p.freq_hz[i]),
+                        "ratio": float(p.freq_hz[i] / p.speed_hz), "log_dec": float(p.log_dec[i]),
+                        "direction": f"{_direction(p.whirl[i])} ({p.whirl[i]:+.2f})"})
+        rows.append(row)
+    return rows
+
+
+def markdown(res: StabilityResult, title: str = "") -> str:
+    from .report import markdown_table
+
+    tm = res.timings
+    n_ok = len(res.ok_points)
+    head = [f"# Stability: {title or res.rotor} [{res.internal}]", "",
+            f"**{res.verdict()}**", "",
+            f"{len(res.points)} speeds ({n_ok} with an equilibrium), bearings at nodes "
+            f"{', '.join(map(str, res.bearing_nodes))}, static loads "
+            f"{'; '.join(f'({w[0] + 0.0:.4g}, {w[1] + 0.0:.4g}) N' for w in res.loads_N)}; run time "
+            f"{tm['equilibrium'] + tm['eigen']:.2f} s (equilibria {tm['equilibrium']:.2f} s, linearisation and "
+            f"modes {tm['eigen']:.2f} s), threshold refinement {tm['refine']:.2f} s, setup {tm['setup']:.2f} s.",
+            ""]
+    if res.threshold is not None:
+        t = res.threshold
+        head += [f"Threshold between {t.bracket[0]:g} and {t.bracket[1]:g} Hz ({t.how}): {t.speed_hz:.4f} Hz, "
+                 f"least stable mode {t.whirl_hz:.4f} Hz, whirl ratio {t.ratio:.4f}, {_direction(t.whirl)} whirl "
+                 f"({t.whirl:+.2f}); bearing eccentricity {', '.join(f'{e:.3f}' for e in t.point.eccentricity)}.", ""]
+    if res.criticals:
+        head += ["Critical speeds (the 1x line crosses a damped natural frequency):", ""]
+        head += [markdown_table(res.criticals, [("speed_hz", "speed [Hz]", ".2f"), ("mode", "mode (rank)", "d"),
+                                                ("log_dec", "log dec", ".3f"), ("whirl", "whirl (+1 fwd, -1 bwd)",
+                                                                                 "+.2f")]), ""]
+    head += ["Least stable mode at each speed:", "", ""]
+    table = markdown_table(table_rows(res), [
+        ("speed_hz", "speed [Hz]", "g"), ("ecc", "eccentricity", ""), ("f_hz", "least stable: f [Hz]", ".3f"),
+        ("ratio", "f / speed", ".3f"), ("log_dec", "log dec", ".4f"), ("direction", "whirl", ""),
+        ("status", "status", "")])
+    return "\n".join(head) + table + "\n"
+
+
+def to_json(res: StabilityResult, rotor_path=None) -> dict:
+    """Everything a later reader needs, without NaN: per speed the equilibrium, K and C and
+    the lowest ``n_modes`` modes; the threshold with the least stable mode's shape."""
+    from ..scenes.run import package_versions
+
+    def point(p: SpeedPoint) -> dict:
+        d = {"speed_hz": p.speed_hz, "status": p.status, "message": p.message}
+        if p.ok:
+            n = min(res.n_modes, p.freq_hz.size)
+            d.update({"journal_m": p.journal.tolist(), "eccentricity": p.eccentricity.tolist(),
+                      "K_N_m": p.K.tolist(), "C_N_s_m": p.C.tolist(),
+                      "least_stable": {"freq_hz": float(p.freq_hz[p.least]), "log_dec": p.least_log_dec,
+                                       "whirl": float(p.whirl[p.least])},
+                      "freq_hz": p.freq_hz[:n].tolist(), "log_dec": p.log_dec[:n].tolist(),
+                      "whirl": p.whirl[:n].tolist()})
+        return d
+
+    thr = None
+    if res.threshold is not None:
+        t = res.threshold
+        s = t.point.shapes[:, t.point.least]
+        thr = {"speed_hz": t.speed_hz, "whirl_hz": t.whirl_hz, "whirl_ratio": t.ratio, "whirl": t.whirl,
+               "bracket_hz": list(t.bracket), "how": t.how,
+               "shape": {"y_re": s[0::4].real.tolist(), "y_im": s[0::4].imag.tolist(),
+                         "z_re": s[1::4].real.tolist(), "z_im": s[1::4].imag.tolist()}}
+    return {"rotor": res.rotor, "rotor_file": None if rotor_path is None else str(rotor_path),
+            "internal": res.internal, "options": {k: str(v) for k, v in res.options.items()},
+            "bearing_nodes": res.bearing_nodes, "bearing_loads_N": res.loads_N, "status": res.status,
+            "verdict": res.verdict(), "threshold": thr, "unstable_from_start": res.unstable_from_start,
+            "critical_speeds": res.criticals, "timings_s": res.timings, "n_modes": res.n_modes,
+            "points": [point(p) for p in res.points], "versions": package_versions()}
+
+
+# ----------------------------------------------------------------------------- the command
+
+def add_arguments(p: argparse.ArgumentParser) -> argparse.ArgumentParser:
+    from bearing_fmu.io.cliargs import existing_file, float_range, grid, node_load, output_dir, positive_int
+
+    p.add_argument("rotor", type=existing_file, help="rotor TOML file (models/rotor_paper.toml)")
+    p.add_argument("--speeds-hz", type=float_range("Hz"), required=True, metavar="START:STOP:STEP",
+                   help="shaft speeds [Hz], both ends included (e.g. 10:70:1)")
+    p.add_argument("--internal", choices=SWEEP_INTERNALS, default="reynolds",
+                   help="bearing internal: the Reynolds solver (default) or the force map (microseconds per "
+                        "linearisation)")
+    p.add_argument("--map", type=existing_file, metavar="FILE",
+                   help=f"force map for --internal map (default: {PAPER_MAP.relative_to(PAPER_MAP.parents[2])}, "
+                        "the paper bearing's L/D; build one with `bearing-fmu map`)")
+    p.add_argument("--grid", type=grid, metavar="NxM", help="Reynolds grid n_theta x n_x (default: the solver's, "
+                                                           "128x16)")
+    p.add_argument("--static-load", type=node_load, nargs="+", action="extend", default=[], metavar="NODE:FY:FZ",
+                   help="static point loads [N] on 1-based nodes, besides the weight (applied as in a scene)")
+    p.add_argument("--modes", type=positive_int(), default=DEFAULT_MODES,
+                   help=f"lowest modes shown in the Campbell diagram and the json and searched for critical "
+                        f"speeds (default {DEFAULT_MODES}; the threshold looks at every mode)")
+    p.add_argument("--out", type=output_dir, default="out", help="output folder (default: out) for "
+                   "stability_<rotor>_<internal>.md/.json and _campbell/_logdec/_mode.png")
+    p.add_argument("--no-plots", action="store_true")
+    return p
+
+
+def _options(args) -> dict:
+    """The internal's options from the command line, refused by option name when they do not apply."""
+    if args.internal == "map":
+        if args.grid is not None:
+            raise ValueError("--grid sets the Reynolds grid; with --internal map the grid is the map's own "
+                             "(build a map on another grid with `bearing-fmu map`)")
+        return {"map": str(Path(args.map).resolve()) if args.map is not None else str(PAPER_MAP)}
+    if args.map is not None:
+        raise ValueError(f"--map {args.map} is for --internal map (the internal is {args.internal})")
+    return {} if args.grid is None else {"n_theta": args.grid[0], "n_x": args.grid[1]}
+
+
+def run(args) -> int:
+    out = ensure_writable(args.out)
+    options = _options(args)
+    stem = f"stability_{Path(args.rotor).stem}_{args.internal}"
+    rotor, loads = read_rotor(args.rotor, args.static_load)
+    try:
+        analysis = Stability(rotor, args.internal, options, loads, where=args.rotor)
+    except ValueError as exc:  # the map's own one line (L/D, not a map file): name the option that chose it
+        if args.internal == "map":
+            raise ValueError(f"--map {options['map']}: {exc}") from None
+        raise
+    try:
+        res = analysis.sweep(check_speeds(args.speeds_hz), n_modes=args.modes,
+                             rotor_name=rotor.name or Path(args.rotor).stem, log=lambda msg: print(f"  {msg}"))
+    except KeyboardInterrupt as exc:
+        res = getattr(exc, "result", None)
+        if res is not None and res.points:
+            write_text(out / f"{stem}.md", markdown(res) + "\n**interrupted: the speeds above finished**\n")
+            write_json(out / f"{stem}.json", to_json(res, args.rotor))
+            note_kept(exc, f"{out / f'{stem}.md'} ({len(res.points)} speed(s))")
+        raise
+    files = [write_text(out / f"{stem}.md", markdown(res)), write_json(out / f"{stem}.json", to_json(res, args.rotor))]
+    if not res.ok_points:
+        raise RuntimeError(f"{args.rotor}: no speed of {args.speeds_hz[0]:g}-{args.speeds_hz[-1]:g} Hz has a static "
+                           f"equilibrium (first: {res.points[0].message}); wrote {files[0]}")
+    tm = res.timings
+    print(f"{res.rotor} [{res.internal}]: {len(res.points)} speeds in {tm['equilibrium'] + tm['eigen']:.2f} s "
+          f"(equilibria {tm['equilibrium']:.2f} s, linearisation and modes {tm['eigen']:.2f} s; threshold "
+          f"refinement {tm['refine']:.2f} s; setup {tm['setup']:.2f} s)")
+    for c in res.criticals:
+        print(f"critical speed {c['speed_hz']:.2f} Hz ({_direction(c['whirl'])}, log dec {c['log_dec']:.3f})")
+    print(res.verdict())
+    if not args.no_plots:
+        from .campbell import plot_campbell, plot_log_dec, plot_mode_shape
+
+        files += [plot_campbell(res, out / f"{stem}_campbell.png"), plot_log_dec(res, out / f"{stem}_logdec.png")]
+        shape = plot_mode_shape(res, rotor, out / f"{stem}_mode.png")
+        if shape is not None:
+            files.append(shape)
+    print("wrote " + ", ".join(str(f) for f in files))
+    return 0
+
+
+__all__ = ["Stability", "StabilityResult", "SpeedPoint", "Threshold", "stability", "read_rotor", "check_speeds",
+           "critical_speeds",
+           "markdown", "to_json", "add_arguments", "run"]

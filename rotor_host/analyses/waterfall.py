@@ -1,0 +1,204 @@
+"""Run-up and coast-down: the response spectrum against speed (a waterfall, or cascade).
+
+The whirl of a node, s(t) = y(t) + i z(t), is cut into windows (Hann, half overlapping); each
+window's spectrum is taken at the window's mean speed. Positive frequencies are forward whirl
+(from +y toward +z, the sense of rotation), negative backward whirl. An unbalance response is
+the 1x line; a resonance shows as a peak along it where the speed crosses a critical speed; oil
+whirl is a forward line just below 0.5x, and oil whip that line locking onto a natural frequency
+(constant frequency while the speed rises).
+
+``spectra`` computes it; ``plot_waterfall`` draws it with the 1x, 0.5x and -1x lines and the
+orbits at chosen speeds; ``summary`` names the resonance (largest 1x amplitude) and the speed
+where the subsynchronous whirl first exceeds the 1x response. ``rotor-host run`` draws it for a
+scene with a [speed_profile]; ``rotor-host waterfall RUN.npz`` from a saved run.
+"""
+
+from __future__ import annotations
+
+import argparse
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from .plotting import pyplot, save_figure
+
+DEFAULT_WINDOW_S = 0.25  # 4 Hz resolution; a run-up of a few Hz per second stays within a bin
+
+
+@dataclass
+class Spectra:
+    """speed_hz (k,), t_s (k,) window centres; freq_hz (m,) signed (forward > 0);
+    amp (k, m) whirl amplitude [m] (a circular whirl of radius A shows A at its frequency)."""
+
+    node: int
+    speed_hz: np.ndarray
+    t_s: np.ndarray
+    freq_hz: np.ndarray
+    amp: np.ndarray
+
+    def along(self, ratio: float, band_hz: float = 2.0) -> np.ndarray:
+        """Largest amplitude within band_hz of ratio x speed, per window (1x: the unbalance
+        response; 0.5x: whirl)."""
+        out = np.zeros(len(self.speed_hz))
+        for k, f in enumerate(self.speed_hz):
+            sel = np.abs(self.freq_hz - ratio * f) <= band_hz
+            out[k] = self.amp[k, sel].max() if sel.any() else 0.0
+        return out
+
+    def subsynchronous(self, lo: float = 0.3, hi: float = 0.7) -> tuple[np.ndarray, np.ndarray]:
+        """(amplitude, frequency [Hz]) of the largest forward peak between lo and hi x speed, per window."""
+        amp, freq = np.zeros(len(self.speed_hz)), np.zeros(len(self.speed_hz))
+        for k, f in enumerate(self.speed_hz):
+            sel = (self.freq_hz >= lo * f) & (self.freq_hz <= hi * f)
+            if sel.any():
+                j = np.argmax(np.where(sel, self.amp[k], -1.0))
+                amp[k], freq[k] = self.amp[k, j], self.freq_hz[j]
+        return amp, freq
+
+
+def spectra(arrays: dict, node: int, window_s: float = DEFAULT_WINDOW_S, t_from: float = 0.0) -> Spectra:
+    """The waterfall of recorded ``node`` (1-based) from a run's arrays (``run_scene``'s npz)."""
+    nodes = list(np.asarray(arrays["nodes"]).ravel())
+    if node not in nodes:
+        raise ValueError(f"node {node} was not recorded; recorded nodes: {', '.join(map(str, nodes))} "
+                         "(add it to the scene's [record] nodes)")
+    c = nodes.index(node)
+    t = np.asarray(arrays["t"], float)
+    if t.size < 8:
+        raise ValueError(f"the run has {t.size} recorded times: too short for a spectrum")
+    dt = float(np.median(np.diff(t)))
+    n = max(8, int(round(window_s / dt)))
+    if n > t.size:
+        raise ValueError(f"window {window_s:g} s is longer than the run ({t[-1] - t[0]:g} s); pass a shorter window")
+    s = np.asarray(arrays["y"], float)[:, c] + 1j * np.asarray(arrays["z"], float)[:, c]
+    speed = np.asarray(arrays.get("speed_hz", np.full(t.size, np.nan)), float)
+    w = np.hanning(n)
+    freq = np.fft.fftshift(np.fft.fftfreq(n, dt))
+    rows, sp, tc = [], [], []
+    start = int(np.searchsorted(t, t_from))
+    for i in range(start, t.size - n + 1, n // 2):
+        seg = s[i:i + n] - s[i:i + n].mean()  # the static deflection is not a whirl
+        rows.append(np.abs(np.fft.fftshift(np.fft.fft(seg * w))) / w.sum())
+        sp.append(float(np.mean(speed[i:i + n])))
+        tc.append(float(t[i + n // 2]))
+    return Spectra(node, np.array(sp), np.array(tc), freq, np.array(rows))
+
+
+def summary(sp: Spectra) -> dict:
+    """The resonance (speed of the largest 1x amplitude) and the whirl onset: the speed from
+    which the subsynchronous forward peak stays above the 1x amplitude to the end of the run
+    (None if it does not at the end), with its frequency and ratio to the speed there."""
+    one = sp.along(1.0)
+    sub, fsub = sp.subsynchronous()
+    k = int(np.argmax(one))
+    out = {"node": sp.node, "resonance_hz": float(sp.speed_hz[k]), "resonance_amplitude_m": float(one[k]),
+           "whirl_onset_hz": None, "whirl_hz": None, "whirl_ratio": None}
+    # onset: from where on the whirl stays above the 1x response to the end (a free vibration
+    # ringing after a critical speed also shows below 1x, but dies away)
+    above = sub > np.maximum(one, 1e-12)
+    if above.size >= 2 and above[-1] and above[-2]:
+        below = np.nonzero(~above)[0]
+        j = int(below[-1]) + 1 if below.size else 0
+        out.update(whirl_onset_hz=float(sp.speed_hz[j]), whirl_hz=float(fsub[j]),
+                   whirl_ratio=float(fsub[j] / sp.speed_hz[j]))
+    return out
+
+
+def plot_waterfall(arrays: dict, path, *, nodes, window_s: float = DEFAULT_WINDOW_S, title: str = "",
+                   orbit_speeds_hz=None) -> Path:
+    """One panel per node: whirl amplitude (log colour) against frequency and speed, with the
+    1x, 0.5x and -1x lines; a row of orbits (bearing journal and each node) at chosen speeds
+    (default: the start, the resonance and the end)."""
+
+    plt = pyplot()
+    specs = [spectra(arrays, n, window_s) for n in nodes]
+    t, speed = np.asarray(arrays["t"]), np.asarray(arrays["speed_hz"])
+    if orbit_speeds_hz is None:
+        res = summary(specs[0])["resonance_hz"]
+        orbit_speeds_hz = sorted({round(float(speed[0]), 1), round(res, 1), round(float(speed[-1]), 1)})
+    fig = plt.figure(figsize=(5.2 * len(specs), 8.2))
+    grid = fig.add_gridspec(2, max(len(specs), len(orbit_speeds_hz)), height_ratios=(2.2, 1))
+    for i, sp in enumerate(specs):
+        ax = fig.add_subplot(grid[0, i])
+        fmax = 1.3 * float(np.nanmax(sp.speed_hz))
+        sel = np.abs(sp.freq_hz) <= fmax
+        amp = np.maximum(sp.amp[:, sel], 1e-12) * 1e6
+        lo = max(amp.max() * 1e-3, 1e-6)
+        mesh = ax.pcolormesh(sp.freq_hz[sel], sp.speed_hz, np.log10(np.maximum(amp, lo)), shading="nearest",
+                             cmap="viridis")
+        fig.colorbar(mesh, ax=ax, label="log10 whirl amplitude [um]")
+        for ratio, style in ((1.0, "w--"), (0.5, "w:"), (-1.0, "w-.")):
+            ax.plot(ratio * sp.speed_hz, sp.speed_hz, style, lw=0.9, label=f"{ratio:g}x")
+        ax.set_xlabel("whirl frequency [Hz] (forward > 0)")
+        ax.set_ylabel("shaft speed [Hz]")
+        ax.set_title(f"node {sp.node}")
+        ax.legend(loc="lower right", fontsize=7)
+    col = {n: i for i, n in enumerate(np.asarray(arrays["nodes"]).ravel())}
+    for j, f in enumerate(orbit_speeds_hz):
+        ax = fig.add_subplot(grid[1, j])
+        k = int(np.argmin(np.abs(speed - f)))
+        dtr = float(np.median(np.diff(t)))
+        span = max(1, int(round(3.0 / (0.4 * max(speed[k], 1e-9)) / dtr)))  # three periods of a 0.4x whirl
+        a, b = max(0, k - span // 2), min(t.size, k + span // 2 + 1)
+        for n in nodes:
+            c = col[n]
+            ax.plot(arrays["y"][a:b, c] * 1e6, arrays["z"][a:b, c] * 1e6, lw=0.8, label=f"node {n}")
+        ax.set_aspect("equal", adjustable="datalim")
+        ax.set_title(f"{speed[k]:.1f} Hz (t = {t[k]:.2f} s)", fontsize=9)
+        ax.set_xlabel("y [um]")
+        ax.set_ylabel("z [um]")
+        ax.legend(fontsize=7)
+    if title:
+        fig.suptitle(title)
+    return save_figure(fig, path)
+
+
+def add_arguments(p: argparse.ArgumentParser) -> argparse.ArgumentParser:
+    from bearing_fmu.io.cliargs import existing_file, output_file, positive_float, positive_int
+
+    p.add_argument("run", type=existing_file, help="a run's .npz (rotor-host run of a scene with a [speed_profile])")
+    p.add_argument("--nodes", nargs="+", type=positive_int(), default=None,
+                   help="recorded nodes to show (default: the first bearing and the recorded node with the "
+                        "largest whirl)")
+    p.add_argument("--window-s", type=positive_float("s"), default=DEFAULT_WINDOW_S,
+                   help=f"spectrum window [s] (default {DEFAULT_WINDOW_S}; resolution 1/window)")
+    p.add_argument("--orbits-at-hz", nargs="*", type=positive_float("Hz"), default=None,
+                   help="speeds whose orbits are drawn (default: start, resonance, end)")
+    p.add_argument("-o", "--output", type=output_file, default=None,
+                   help="PNG to write (default: beside the run, _waterfall.png)")
+    return p
+
+
+def default_nodes(arrays: dict) -> list[int]:
+    """The first bearing node and the recorded node with the largest whirl amplitude."""
+    nodes = [int(n) for n in np.asarray(arrays["nodes"]).ravel()]
+    bearing = int(np.asarray(arrays["bearing_nodes"]).ravel()[0])
+    ampl = [float(np.ptp(arrays["y"][:, i]) + np.ptp(arrays["z"][:, i])) for i in range(len(nodes))]
+    big = nodes[int(np.argmax(ampl))]
+    return [bearing] if big == bearing else [bearing, big]
+
+
+def run(args) -> int:
+    path = Path(args.run)
+    try:
+        arrays = dict(np.load(path))
+    except (OSError, ValueError) as exc:
+        raise ValueError(f"{path}: not a run's .npz ({exc})") from None
+    if "speed_hz" not in arrays:
+        raise ValueError(f"{path}: the run has no speed_hz array (made before run-ups were recorded); run it again")
+    nodes = args.nodes or default_nodes(arrays)
+    out = Path(args.output) if args.output else path.with_name(f"{path.stem}_waterfall.png")
+    plot_waterfall(arrays, out, nodes=nodes, window_s=args.window_s, orbit_speeds_hz=args.orbits_at_hz,
+                   title=path.stem)
+    for n in nodes:
+        s = summary(spectra(arrays, n, args.window_s))
+        whirl = (f"whirl from {s['whirl_onset_hz']:.1f} Hz at {s['whirl_hz']:.1f} Hz ({s['whirl_ratio']:.2f}x)"
+                 if s["whirl_onset_hz"] else "no subsynchronous whirl above the 1x response")
+        print(f"node {n}: resonance at {s['resonance_hz']:.1f} Hz ({s['resonance_amplitude_m'] * 1e6:.1f} um 1x); "
+              f"{whirl}")
+    print(f"wrote {out}")
+    return 0
+
+
+__all__ = ["Spectra", "spectra", "summary", "plot_waterfall", "default_nodes", "add_arguments", "run"]

@@ -1,0 +1,11 @@
+"""Time integration and statics of the rotor; knows nothing of bearings' internals or FMI.
+
+================  =============================================================
+module            what it holds
+================  =============================================================
+forces            the ``NodalForce`` protocol the integrator sees, Newton tangent words
+newmark,          implicit Newmark / HHT-alpha with Newton and step cutting; its
+newmark_kernels   compiled kernels
+equilibrium       the static equilibrium of the rotor on nonlinear bearings
+================  =============================================================
+"""

@@ -1,0 +1,203 @@
+"""Static equilibrium of a linear structure held by nonlinear nodal forces:
+
+    K q = f_static + P^T f_nl(P q, 0),
+
+solved by damped Newton. The host starts every scene from it (``rotor_host.scenes.scene``); the
+forces are the same NodalForce objects the integrator uses (``rotor_host.integrate.forces``), their
+evaluations bracketed as a static step (``begin_step(t, 0.0)``). Failure raises
+``bearing_fmu.physics.statics.EquilibriumError`` (the same class a single bearing's equilibrium raises),
+with the last iterate, its residual and the iteration count. Before it blames Newton, a failure
+checks whether a bearing is simply asked for more than it carries (``bearing_overload``): then
+the error names that bearing, its static load and its load capacity near the wall.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Sequence
+
+import numpy as np
+
+from bearing_fmu.physics.statics import (CAPACITY_ECCENTRICITY, EquilibriumError, capacity_message,
+                                         format_newtons, journal_at_eccentricity)
+
+from .forces import NodalForce, StepRejected, as_dofs, as_nodal_force
+
+__all__ = ["static_equilibrium", "pinned_loads", "bearing_overload"]
+
+
+def pinned_loads(K, f_static, dofs) -> np.ndarray:
+    """Static load [N] on each (y, z) pair of ``dofs``: the reactions of the structure pinned
+    at those DOFs under ``f_static`` (K q = f + r, q = 0 there), as loads on the journal (-r),
+    shape (len(dofs) // 2, 2). On two bearings a shaft is statically determinate, so these are
+    the film forces at any equilibrium. Raises numpy's LinAlgError if the pinned structure is
+    not held (a free part)."""
+    K = np.asarray(K, dtype=float)
+    fs = np.asarray(f_static, dtype=float).reshape(K.shape[0])
+    dofs = np.asarray(dofs, dtype=int)
+    free = np.setdiff1d(np.arange(K.shape[0]), dofs)
+    q = np.zeros(K.shape[0])
+    if free.size:
+        q[free] = np.linalg.solve(K[np.ix_(free, free)], fs[free])
+    return -(K @ q - fs)[dofs].reshape(-1, 2)
+
+
+def bearing_overload(K, f_static, bearings) -> dict | None:
+    """The bearing asked for more than it carries at eccentricity ``CAPACITY_ECCENTRICITY``
+    (the largest load / capacity ratio), or None when every bearing carries its static load or
+    it cannot be told: ``bearings`` is not a bearing set (``rotor_host.coupling.bearings.BearingSet``:
+    ``names``, ``omega``, ``clearances`` [m]), the structure pinned at the bearings is not held,
+    or the force refuses the probe. The capacities come from one evaluation of the force with
+    every journal at that eccentricity, placed to push back against its load
+    (``journal_at_eccentricity``); call it inside a static ``begin_step`` bracket. Returns
+    {"bearing", "load_N", "capacity_N", "speed_hz", "others"} with ``others`` the other
+    overloaded bearings as (name, load_N, capacity_N)."""
+    names = getattr(bearings, "names", None)
+    omega = getattr(bearings, "omega", None)
+    clearances = getattr(bearings, "clearances", None)
+    dofs = as_dofs(bearings.dofs)
+    n = dofs.size // 2
+    if names is None or omega is None or clearances is None or len(names) != n or len(clearances) != n \
+            or any(c is None for c in clearances):
+        return None
+    try:
+        loads = pinned_loads(K, f_static, dofs)
+    except np.linalg.LinAlgError:
+        return None
+    w = np.hypot(loads[:, 0], loads[:, 1])
+    if omega == 0.0:
+        caps = np.zeros(n)
+    else:
+        probe = np.array([journal_at_eccentricity(loads[k], omega, CAPACITY_ECCENTRICITY, clearances[k])
+                          for k in range(n)]).reshape(-1)
+        try:
+            f = np.array(bearings.evaluate(probe, np.zeros(2 * n))[0], dtype=float).reshape(n, 2)
+        except (StepRejected, ValueError, RuntimeError, ArithmeticError):  # no diagnosis, not a second failure
+            return None
+        caps = np.hypot(f[:, 0], f[:, 1])
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ratio = np.where(w > caps, w / caps, 0.0)
+    over = [int(k) for k in np.argsort(-ratio, kind="stable") if ratio[k] > 0.0]  # ties: first bearing first
+    if not over:
+        return None
+    k = over[0]
+    return {"bearing": names[k], "load_N": float(w[k]), "capacity_N": float(caps[k]),
+            "speed_hz": float(f"{omega / (2.0 * math.pi):.12g}"),  # 22, not 21.999999999999996
+            "others": [(names[j], float(w[j]), float(caps[j])) for j in over[1:]]}
+
+
+def _overload_message(d: dict, newton: str) -> str:
+    """One line: the overloaded bearing(s) first, then what Newton did."""
+    msg = "static equilibrium: " + capacity_message(d["bearing"], d["load_N"], d["capacity_N"], d["speed_hz"])
+    for name, w, cap in d["others"]:
+        carries = f"at most ~{format_newtons(cap)}, " if d["speed_hz"] != 0.0 else ""
+        msg += f" (also {name}: {carries}asked for {format_newtons(w)})"
+    return f"{msg}; no equilibrium found: {newton}"
+
+
+def static_equilibrium(K, f_static, nodal_force: NodalForce | Sequence[NodalForce] | None, q0, *,
+                       t: float = 0.0, rtol: float = 1e-10, xtol: float = 1e-10, atol_x: float = 0.0,
+                       max_iter: int = 50, max_backtracks: int = 30, fd_rel: float = 1.5e-8,
+                       fd_qtyp: float = 1e-6) -> np.ndarray:
+    """Solve K q = f_static + P^T f_nl(P q, 0) by damped Newton (backtracking line search on
+    ||R||; a state the force rejects with StepRejected shortens the step).
+
+    The tangent is K - P^T df/dq P (finite differences if evaluate returns no df/dq); K alone
+    may be singular (a free shaft held only by its bearings). Converged when
+    ||R|| <= rtol (||f_static|| + ||f_nl|| + ||K q||) and the Newton step
+    ||dq|| <= xtol ||q|| + atol_x. Evaluations are bracketed by begin_step(t, 0.0) and
+    accept_step() (reject_step() on failure). Returns q; raises EquilibriumError."""
+    K = np.asarray(K, dtype=float)
+    n = K.shape[0]
+    fs = np.asarray(f_static, dtype=float).reshape(n)
+    nf = as_nodal_force(nodal_force)
+    dofs = as_dofs(nf.dofs)
+    m = dofs.size
+    q = np.array(q0, dtype=float).reshape(n)
+    zero_v = np.zeros(m)
+
+    def ev(qq):
+        f, dfq, _ = nf.evaluate(qq[dofs].copy(), zero_v.copy())
+        f = np.array(f, dtype=float).reshape(m)  # copies: forces may reuse their buffers
+        if dfq is not None:
+            dfq = np.array(dfq, dtype=float).reshape(m, m)
+        R = K @ qq - fs
+        R[dofs] -= f
+        return R, f, dfq
+
+    def fail(msg, qq, rn, it):
+        # a load beyond a bearing's capacity explains any failure below better than Newton does
+        d = bearing_overload(K, fs, nf)
+        nf.reject_step()
+        if d is None:
+            raise EquilibriumError(msg, q=qq, residual=rn, iterations=it)
+        raise EquilibriumError(_overload_message(d, msg.removeprefix("static equilibrium: ")), q=qq, residual=rn,
+                               iterations=it, bearing=d["bearing"], load_N=d["load_N"], capacity_N=d["capacity_N"],
+                               speed_hz=d["speed_hz"])
+
+    nf.begin_step(t, 0.0)
+    try:
+        R, f, dfq = ev(q)
+    except StepRejected as e:
+        fail(f"static equilibrium: the start q0 was rejected by the nonlinear force ({e})", q, math.nan, 0)
+    rn = float(np.linalg.norm(R))
+    fs_n = float(np.linalg.norm(fs))
+    for it in range(max_iter + 1):
+        if not math.isfinite(rn):
+            fail(f"static equilibrium: non-finite residual after {it} iterations", q, rn, it)
+        T = K.copy()
+        if m:
+            if dfq is None:
+                J = np.empty((m, m))
+                for j in range(m):
+                    hj = fd_rel * max(abs(q[dofs[j]]), fd_qtyp)
+                    qq = q.copy()
+                    qq[dofs[j]] += hj
+                    try:
+                        try:
+                            fj = np.array(nf.evaluate(qq[dofs].copy(), zero_v.copy())[0], dtype=float)
+                        except StepRejected:  # one-sided the other way
+                            qq[dofs[j]] -= 2 * hj
+                            hj = -hj
+                            fj = np.array(nf.evaluate(qq[dofs].copy(), zero_v.copy())[0], dtype=float)
+                    except StepRejected as e:
+                        fail(f"static equilibrium: finite differences at iteration {it} rejected ({e})", q, rn, it)
+                    J[:, j] = (fj - f) / hj
+            else:
+                J = np.asarray(dfq, dtype=float).reshape(m, m)
+            T[np.ix_(dofs, dofs)] -= J
+        try:
+            dq = np.linalg.solve(T, -R)
+            if not np.all(np.isfinite(dq)):
+                raise np.linalg.LinAlgError
+        except np.linalg.LinAlgError:
+            fail(f"static equilibrium: singular tangent at iteration {it} (residual {rn:.3e}); "
+                 "is every rigid-body motion held by a force?", q, rn, it)
+        scale = fs_n + float(np.linalg.norm(f)) + float(np.linalg.norm(K @ q))
+        dn = float(np.linalg.norm(dq))
+        if rn <= rtol * scale and dn <= xtol * float(np.linalg.norm(q)) + atol_x:
+            if m and dfq is None:
+                ev(q)  # leave the force evaluated at the accepted state, not at a perturbed one
+            nf.accept_step()
+            return q
+        if it == max_iter:
+            break
+        lam = 1.0
+        for _ in range(max_backtracks + 1):
+            q_try = q + lam * dq
+            try:
+                R_try, f_try, dfq_try = ev(q_try)
+                rn_try = float(np.linalg.norm(R_try))
+                if math.isfinite(rn_try) and rn_try <= (1.0 - 1e-4 * lam) * rn:
+                    break
+                if math.isfinite(rn_try) and dn <= 4 * np.finfo(float).eps * float(np.linalg.norm(q)):
+                    break  # stagnation at round-off: take the step and let the test above decide
+            except StepRejected:
+                pass
+            lam *= 0.5
+        else:
+            fail(f"static equilibrium: line search failed at iteration {it} (residual {rn:.3e}, "
+                 f"tolerance {rtol * scale:.3e})", q, rn, it)
+        q, R, f, dfq, rn = q_try, R_try, f_try, dfq_try, rn_try
+    fail(f"static equilibrium: no convergence in {max_iter} iterations (residual {rn:.3e}, "
+         f"tolerance {rtol * scale:.3e})", q, rn, max_iter)

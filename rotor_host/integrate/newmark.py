@@ -1,0 +1,660 @@
+"""Implicit Newmark / HHT-alpha time integration with Newton-Raphson, for
+
+    M a + (C + Omega G) v + K q = f_ext(t) + f_nl(q, v)            (paper eq. 1)
+
+at constant speed Omega, or a speed Omega(t) that changes slowly (a run-up: ``omega`` a callable;
+D follows it to OMEGA_RTOL). ``f_ext(t)`` is the full external force vector (unbalance, weight,
+static loads); ``f_nl`` are nonlinear forces (the bearings) acting on a few DOFs through the
+:class:`~rotor_host.integrate.forces.NodalForce` protocol (``rotor_host.integrate.forces``). This module knows
+nothing of FMI or of any bearing model; the static equilibrium is ``rotor_host.integrate.equilibrium``.
+
+The scheme
+----------
+HHT-alpha (Hilber, Hughes, Taylor, Earthquake Eng. Struct. Dyn. 5 (1977) 283-292), with the
+nonlinear force weighted like the internal forces:
+
+    M a1 + (1 + alpha) (D v1 + K q1 - F1) - alpha (D v0 + K q0 - F0) = 0,
+    F = f_ext(t) + P^T f_nl(P q, P v),   D = C + Omega G,
+    q1 = q0 + h v0 + h^2 ((1/2 - beta) a0 + beta a1),   v1 = v0 + h ((1 - gamma) a0 + gamma a1),
+
+alpha in [-1/3, 0], beta = (1 - alpha)^2 / 4, gamma = 1/2 - alpha. alpha = 0 is the average
+acceleration (trapezoidal) rule: unconditionally stable, second order, no numerical damping.
+alpha < 0 damps the high-frequency content (spectral radius at h omega -> infinity equals
+(1 + alpha) / (1 - alpha)) and stays second order.
+
+The unknown of Newton's method is q1. With a(q) = c0 q - ahat, v(q) = c1 q - vhat
+(c0 = 1 / (beta h^2), c1 = gamma / (beta h)) the residual is
+
+    R(q) = S0 q - b - (1 + alpha) P^T f_nl(P q, P v(q)),   S0 = c0 M + (1 + alpha)(c1 D + K),
+
+where b holds everything known at the start of the step. S0 is constant for a fixed h; it is
+factorised once per step size (LU) and kept as its explicit inverse, because a 44 x 44
+matrix-vector product costs well under a microsecond while a LAPACK triangular solve called
+from Python costs several (benchmarks/bench_newmark.py measures both). The tangent S0 - (1 + alpha) P^T J P,
+J = df/dq + c1 df/dv, differs from S0 only on the m nonlinear DOFs, so each Newton correction
+uses the Woodbury identity: one n x n product and one m x m solve. The inner linear algebra is
+compiled with numba (``rotor_host.integrate.newmark_kernels``); Python does the protocol calls and the
+decisions.
+
+Predictor: the nonlinear force is linearised about the last accepted state with its last
+tangent, and the linearised step is solved exactly. With linear forces (or none) the predictor
+is the answer and a step costs one force evaluation.
+
+Convergence, per evaluated iterate q_k: ||R(q_k)|| <= rtol_force * force_scale and
+||dq_k|| <= rtol_disp * ||q_k|| + atol_disp, where dq_k is the Newton correction at q_k (its
+error estimate) and force_scale = ||f_ext(t1)|| + ||f_nl(q_k)|| + ||M a0||. The accepted state is
+always the last one evaluated: a NodalForce sees ``accept_step()`` right after the
+``evaluate()`` of the accepted iterate.
+
+Step cutting: when Newton fails (max_iter, non-finite residual, singular tangent) or
+``evaluate`` raises :class:`~rotor_host.integrate.forces.StepRejected`, ``reject_step()`` is called and
+the step is done as two half steps, recursively up to ``max_halvings`` times; outputs stay on
+the user's grid.
+When even the smallest step fails, :class:`IntegrationError` is raised with the partial result.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Callable, Sequence
+
+import numpy as np
+import scipy.linalg as sla
+
+from .newmark_kernels import Q0, Q1, StepOps, k_accept, k_begin, k_iter
+
+OMEGA_RTOL = 1e-3  # a varying speed rebuilds D = C + Omega G when Omega has moved by this fraction
+from .forces import NodalForce, StepRejected, as_dofs, as_nodal_force, check_tangent
+
+__all__ = [
+    "IntegrationError",
+    "NewmarkConfig",
+    "NewmarkResult",
+    "Newmark",
+    "integrate",
+]
+
+
+# =============================================================================== errors
+
+class IntegrationError(RuntimeError):
+    """The integration could not continue. ``result`` holds everything computed so far
+    (status "failed"); ``t``, ``iterations``, ``residual`` describe the failing step;
+    ``state`` = (t, q, v, a) is the last accepted state (possibly between output times)."""
+
+    def __init__(self, message: str, result: "NewmarkResult | None" = None, *, t: float = math.nan,
+                 iterations: int = 0, residual: float = math.nan, state=None):
+        super().__init__(message)
+        self.result = result
+        self.t = t
+        self.iterations = iterations
+        self.residual = residual
+        self.state = state
+
+
+# =============================================================================== config / result
+
+@dataclass
+class NewmarkConfig:
+    """Integrator settings.
+
+    alpha: HHT parameter in [-1/3, 0]; 0 = average acceleration (no numerical damping).
+    beta, gamma: Newmark parameters; None = the HHT values (1 - alpha)^2 / 4 and 1/2 - alpha.
+    rtol_force: residual tolerance relative to ||f_ext|| + ||f_nl|| + ||M a||.
+    rtol_disp, atol_disp: tolerance on the Newton correction, relative to ||q|| plus absolute.
+    max_iter: Newton corrections allowed per step (force evaluations <= max_iter + 1).
+    max_halvings: how many times a step may be halved before IntegrationError.
+    tangent: the Newton tangent, one of ``rotor_host.integrate.forces.NEWTON_TANGENTS``. "bearing" and
+        "frozen" = use the derivatives evaluate returns (whether they change or stay fixed is
+        the force's business), the linear tangent if it returns none (modified Newton);
+        "fd" = the same, but finite differences when it returns none (m extra evaluations per
+        tangent, kept across steps and refreshed when the chord iteration gets slow);
+        "linear" = never use the nonlinear tangent.
+    fd_rel, fd_qtyp: finite-difference step h_j = fd_rel * max(|q_j|, fd_qtyp) (q units).
+    trace: keep each step's residual norms ||R(q_k)|| (one array per attempt) in the result.
+    """
+
+    alpha: float = 0.0
+    beta: float | None = None
+    gamma: float | None = None
+    rtol_force: float = 1e-8
+    rtol_disp: float = 1e-8
+    atol_disp: float = 0.0
+    max_iter: int = 20
+    max_halvings: int = 6
+    tangent: str = "bearing"
+    fd_rel: float = 1.5e-8
+    fd_qtyp: float = 1e-6
+    trace: bool = False
+
+    def __post_init__(self):
+        if not (-1.0 / 3.0 - 1e-15 <= self.alpha <= 0.0):
+            raise ValueError(f"HHT alpha must lie in [-1/3, 0], got {self.alpha}")
+        if self.beta is None:
+            self.beta = (1.0 - self.alpha) ** 2 / 4.0
+        if self.gamma is None:
+            self.gamma = 0.5 - self.alpha
+        if not self.beta > 0.0:
+            raise ValueError(f"Newmark beta must be > 0, got {self.beta}")
+        check_tangent(self.tangent, "NewmarkConfig.tangent")
+        if self.max_iter < 1 or self.max_halvings < 0:
+            raise ValueError("max_iter must be >= 1 and max_halvings >= 0")
+
+
+@dataclass
+class NewmarkResult:
+    """Time history on the output grid.
+
+    t (n_out,); q, v (n_out, len(dofs)) for the recorded DOFs ``dofs``; f_nl (n_out, m) the
+    nonlinear force on ``nl_dofs``; iterations (n_steps,) force evaluations (= Newton
+    iterations, 1 = predictor accepted) spent on each grid step, failed attempts and sub-steps
+    included; n_cuts step halvings; n_evaluations all force evaluations (incl. the initial
+    one and finite differences); wall_time [s]; status "ok" or "failed" with message.
+    """
+
+    t: np.ndarray
+    q: np.ndarray
+    v: np.ndarray
+    f_nl: np.ndarray
+    dofs: np.ndarray
+    nl_dofs: np.ndarray
+    iterations: np.ndarray
+    n_cuts: int = 0
+    n_evaluations: int = 0
+    wall_time: float = 0.0
+    status: str = "ok"
+    message: str = ""
+    residual_history: list | None = field(default=None, repr=False)
+
+    @property
+    def mean_iterations(self) -> float:
+        return float(np.mean(self.iterations)) if self.iterations.size else 0.0
+
+    def save(self, path) -> Path:
+        path = Path(path)
+        np.savez(path, t=self.t, q=self.q, v=self.v, f_nl=self.f_nl, dofs=self.dofs,
+                 nl_dofs=self.nl_dofs, iterations=self.iterations, n_cuts=self.n_cuts,
+                 n_evaluations=self.n_evaluations, wall_time=self.wall_time,
+                 status=self.status, message=self.message)
+        return path if path.suffix == ".npz" else path.with_name(path.name + ".npz")
+
+    @classmethod
+    def load(cls, path) -> "NewmarkResult":
+        with np.load(path) as d:
+            return cls(t=d["t"], q=d["q"], v=d["v"], f_nl=d["f_nl"], dofs=d["dofs"],
+                       nl_dofs=d["nl_dofs"], iterations=d["iterations"], n_cuts=int(d["n_cuts"]),
+                       n_evaluations=int(d["n_evaluations"]), wall_time=float(d["wall_time"]),
+                       status=str(d["status"]), message=str(d["message"]))
+
+
+# =============================================================================== integrator
+
+class Newmark:
+    """Implicit Newmark / HHT-alpha integrator for M a + (C + omega G) v + K q = f_ext(t) + f_nl.
+
+    M, K, C, G: (n, n) arrays (C, G default zero);
+    omega: constant speed [rad/s], or a callable t -> Omega(t) [rad/s] (a run-up);
+    f_ext: callable t -> (n,) array, a constant (n,) array, or None (zero);
+    nodal_force: a NodalForce, a sequence of them (combined with CompositeForce), or None.
+    """
+
+    def __init__(self, M, K, C=None, G=None, omega: float = 0.0, f_ext=None,
+                 nodal_force: NodalForce | Sequence[NodalForce] | None = None,
+                 config: NewmarkConfig | None = None):
+        self.M = np.ascontiguousarray(np.asarray(M, dtype=float))
+        n = self.M.shape[0]
+        if self.M.shape != (n, n):
+            raise ValueError(f"M must be square, got shape {self.M.shape}")
+        self.K = self._mat(K, n, "K")
+        self.C = self._mat(C, n, "C")
+        self.G = self._mat(G, n, "G")
+        # a speed that changes over the run (a run-up): D = C + Omega G is rebuilt, with the
+        # step operators, whenever Omega (at the step's middle) has moved by OMEGA_RTOL
+        self.omega_of_t = omega if callable(omega) else None
+        self.omega = float(omega(0.0)) if callable(omega) else float(omega)
+        self.D = self.C + self.omega * self.G
+        self.n = n
+        if f_ext is None:
+            zero = np.zeros(n)
+            self.f_ext = lambda t: zero
+        elif callable(f_ext):
+            self.f_ext = f_ext
+        else:
+            const = np.asarray(f_ext, dtype=float).reshape(n)
+            self.f_ext = lambda t: const
+        self.nf = as_nodal_force(nodal_force)
+        self.dofs = as_dofs(self.nf.dofs)
+        if self.dofs.size and (self.dofs.min() < 0 or self.dofs.max() >= n):
+            raise ValueError(f"nonlinear-force DOFs {self.dofs.tolist()} outside 0..{n - 1}")
+        self.cfg = config or NewmarkConfig()
+        self._ops_cache: dict[float, StepOps] = {}
+
+    @staticmethod
+    def _mat(A, n, name):
+        if A is None:
+            return np.zeros((n, n))
+        A = np.ascontiguousarray(np.asarray(A, dtype=float))
+        if A.shape != (n, n):
+            raise ValueError(f"{name} must have shape ({n}, {n}), got {A.shape}")
+        return A
+
+    def _ops(self, h: float) -> StepOps:
+        ops = self._ops_cache.get(h)
+        if ops is None:
+            ops = self._ops_cache[h] = StepOps(h, self.M, self.D, self.K, self.dofs, self.cfg)
+        return ops
+
+    # ------------------------------------------------------------------ public
+    def run(self, q0, v0, t0: float, t_end: float, dt: float, *, record_every: int = 1,
+            record_dofs=None, progress: Callable[[float], None] | None = None,
+            progress_every: int | None = None) -> NewmarkResult:
+        """Integrate from t0 to t_end (a whole number of steps dt). Outputs every
+        ``record_every`` steps at t0 + k dt; ``record_dofs`` selects the recorded DOFs
+        (default all). ``progress(t)`` is called every ``progress_every`` steps (default
+        ~200 calls per run) and at the end. Raises IntegrationError with the partial result."""
+        cfg = self.cfg
+        n, m = self.n, self.dofs.size
+        dt = float(dt)
+        if not dt > 0.0:
+            raise ValueError(f"dt must be > 0, got {dt}")
+        n_steps = int(round((t_end - t0) / dt))
+        if n_steps < 1 or abs(n_steps * dt - (t_end - t0)) > 1e-6 * dt:
+            raise ValueError(f"t_end - t0 = {t_end - t0:g} s is not a positive whole number of steps dt = {dt:g} s")
+        record_every = max(1, int(record_every))
+        rec = np.arange(n) if record_dofs is None else np.asarray(record_dofs, dtype=np.int64).reshape(-1)
+        n_out = n_steps // record_every + 1
+        if progress_every is None:
+            progress_every = max(1, n_steps // 200)
+
+        self._wall0 = time.perf_counter()
+        st = self._state = _RunState(n, m, n_steps, n_out, rec, cfg.trace, cfg.tangent)
+        st.t0, st.dt, st.record_every = float(t0), dt, record_every
+
+        q0 = np.asarray(q0, dtype=float).reshape(n)
+        v0 = np.asarray(v0, dtype=float).reshape(n)
+        X = st.X
+        X[:n] = q0
+        X[n:2 * n] = v0
+        st.t = float(t0)
+
+        # first step's bracket also holds the evaluation at (q0, v0) for the initial acceleration
+        self.nf.begin_step(st.t, dt)
+        st.fe0[:] = self._fext(st.t)
+        try:
+            f, dfq, dfv = self.nf.evaluate(q0[self.dofs].copy(), v0[self.dofs].copy())
+        except StepRejected as e:
+            self.nf.reject_step()
+            raise IntegrationError(f"the initial state at t = {t0:g} s was rejected: {e}", self._partial(),
+                                   t=t0, iterations=0, residual=math.nan) from e
+        st.n_eval += 1
+        st.f0 = self._fcheck(f)
+        self._store_tangent(dfq, dfv)
+        F = st.fe0.copy()
+        F[self.dofs] += st.f0
+        rhs = F - self.D @ v0 - self.K @ q0
+        try:
+            a0 = sla.cho_solve(sla.cho_factor(self.M), rhs)
+        except np.linalg.LinAlgError:
+            a0 = np.linalg.solve(self.M, rhs)
+        X[2 * n:] = a0
+        st.Ma_norm = float(np.linalg.norm(self.M @ a0))
+        st.in_first_bracket = True
+        self._record(0)
+
+        attempt = self._attempt
+        record = self._record
+        iters = st.iters
+        try:
+            for k in range(n_steps):
+                t_a = t0 + k * dt
+                t_b = t0 + (k + 1) * dt
+                st.step_its = 0
+                ok, info = attempt(t_a, t_b, 0)  # self._advance inlined: one Python call less a step
+                if not ok:
+                    self._cut(t_a, t_b, 0, info)
+                iters[k] = st.step_its
+                st.steps_done = k + 1
+                if (k + 1) % record_every == 0:
+                    record((k + 1) // record_every)
+                if progress is not None and (k + 1) % progress_every == 0:
+                    progress(t_b)
+        except _StepFailure as fail:
+            res = self._partial(status="failed", message=fail.message)
+            raise IntegrationError(fail.message, res, t=fail.t, iterations=fail.iterations,
+                                   residual=fail.residual,
+                                   state=(st.t, X[:n].copy(), X[n:2 * n].copy(), X[2 * n:].copy())) from fail.cause
+        if progress is not None and n_steps % progress_every != 0:
+            progress(t0 + n_steps * dt)
+        return self._partial()
+
+    # ------------------------------------------------------------------ internals
+    def _fext(self, t):
+        fe = np.asarray(self.f_ext(t), dtype=float)
+        if fe.shape != (self.n,):
+            raise ValueError(f"f_ext({t:g}) has shape {fe.shape}, expected ({self.n},)")
+        return fe
+
+    def _fcheck(self, f):
+        f = np.array(f, dtype=float)  # a copy: forces may hand back a reused buffer
+        if f.shape != (self.dofs.size,):
+            raise ValueError(f"NodalForce.evaluate returned f of shape {f.shape}, expected ({self.dofs.size},)")
+        return f
+
+    def _jcheck(self, J, name):
+        J = np.ascontiguousarray(J, dtype=float)
+        m = self.dofs.size
+        if J.shape != (m, m):
+            raise ValueError(f"NodalForce.evaluate returned {name} of shape {J.shape}, expected ({m}, {m})")
+        return J
+
+    def _store_tangent(self, dfq, dfv):
+        st = self._state
+        if st.tangent_linear or (dfq is None and dfv is None):
+            st.have_J = False
+            return
+        st.have_J = True
+        st.Jq_prev[:] = 0.0 if dfq is None else self._jcheck(dfq, "df/dq")
+        st.Jv_prev[:] = 0.0 if dfv is None else self._jcheck(dfv, "df/dv")
+
+    def _record(self, i):
+        st = self._state
+        n = self.n
+        st.out_t[i] = st.t0 + i * st.record_every * st.dt
+        if st.rec_all:
+            st.out_q[i] = st.X[:n]
+            st.out_v[i] = st.X[n:2 * n]
+        else:
+            st.out_q[i] = st.X[:n][st.rec]
+            st.out_v[i] = st.X[n:2 * n][st.rec]
+        st.out_f[i] = st.f0
+        st.n_rec = i + 1
+
+    @property
+    def started(self) -> bool:
+        """True once ``run`` has recorded its initial state (a partial result exists)."""
+        st = getattr(self, "_state", None)
+        return st is not None and st.n_rec > 0
+
+    def partial_result(self, status: str = "ok", message: str = "") -> NewmarkResult:
+        """What the current (or last) ``run`` has recorded so far: for checkpoints and for
+        keeping the result of an interrupted run."""
+        return self._partial(status, message)
+
+    def _partial(self, status="ok", message="") -> NewmarkResult:
+        st = self._state
+        k = st.n_rec
+        return NewmarkResult(
+            t=st.out_t[:k].copy(), q=st.out_q[:k].copy(), v=st.out_v[:k].copy(), f_nl=st.out_f[:k].copy(),
+            dofs=st.rec.copy(), nl_dofs=self.dofs.copy(), iterations=st.iters[:st.steps_done].copy(),
+            n_cuts=st.n_cuts, n_evaluations=st.n_eval, wall_time=time.perf_counter() - self._wall0,
+            status=status, message=message, residual_history=st.trace)
+
+    def _advance(self, t_a, t_b, level):
+        ok, info = self._attempt(t_a, t_b, level)
+        if ok:
+            return
+        self._cut(t_a, t_b, level, info)
+
+    def _cut(self, t_a, t_b, level, info):
+        st = self._state
+        if level >= self.cfg.max_halvings:
+            its, rn, tol, reason, cause = info
+            msg = (f"Newmark step failed at t = {t_a:.9g} s (step {t_b - t_a:.3g} s after {level} halvings of "
+                   f"dt = {st.dt:g} s): {reason}; {its} iterations, residual {rn:.3e} (tolerance {tol:.3e})")
+            raise _StepFailure(msg, t_a, its, rn, cause)
+        st.n_cuts += 1
+        t_m = t_a + 0.5 * (t_b - t_a)
+        self._advance(t_a, t_m, level + 1)
+        self._advance(t_m, t_b, level + 1)
+
+    def _attempt(self, t_a, t_b, level):
+        """One step from the current state (at t_a) to t_b: the predictor, then Newton
+        iterations (evaluate the force at the iterate, residual and correction, convergence
+        test) until an evaluated iterate passes the test and is accepted, or the step is
+        abandoned. Returns (True, None) or (False, (iterations, residual, tolerance, reason,
+        cause))."""
+        st = self._state
+        cfg = self.cfg
+        dofs = self.dofs
+        h = st.dt / (1 << level)
+        if self.omega_of_t is not None:
+            self._follow_speed(0.5 * (t_a + t_b))
+        ops = self._ops_cache.get(h) or self._ops(h)
+        ok, fe1, fe1n, bn = self._predict(t_a, t_b, h, ops)
+        if not ok:
+            self.nf.reject_step()
+            return False, (0, math.nan, math.nan, "the predictor's tangent is singular", None)
+        # converged: ||R|| <= rtol_force (||f_ext(t_b)|| + ||M a0|| + ||f_nl||) + floor
+        # and ||dq|| <= rtol_disp ||q|| + atol_disp
+        fscale = fe1n + st.Ma_norm
+        floor = 1e-13 * bn
+        rtol_f, rtol_q, atol_q = cfg.rtol_force, cfg.rtol_disp, cfg.atol_disp
+        SS, cs, V, Pm, AJ = ops.SS, ops.cs, st.V, st.Pm, st.AJ
+        trace = [] if st.trace is not None else None
+        qP, vP = st.qP, st.vP
+        iq = Q0  # the row of V holding the iterate
+        rn = tol = math.nan
+        reason = f"Newton did not converge in {cfg.max_iter} corrections"
+        cause = None
+        fd_fresh = False
+        its = 0
+        prev_rn = math.inf
+        for k in range(cfg.max_iter + 1):
+            # the force at the iterate, given fresh copies (the force may keep them)
+            qPe = qP.copy()
+            vPe = vP.copy()
+            its += 1
+            try:
+                f, Jq, Jv, exact = self._evaluate(qPe, vPe, h)
+            except StepRejected as e:
+                reason = f"the nonlinear force rejected the state ({e})"
+                cause = e
+                break
+            # residual, Newton correction, and the next iterate in the other row of V
+            rn, dn, qnorm, fn, ok = k_iter(iq, f, Jq, Jv, SS, dofs, cs, V, Pm, AJ)
+            # the convergence test: accept the iterate just evaluated, or see why Newton stops
+            tol = rtol_f * (fscale + fn) + floor
+            if trace is not None:
+                trace.append(rn)
+            if rn <= tol and dn <= rtol_q * qnorm + atol_q:
+                self._accept(iq, t_b, cs, fe1, f, exact, its, trace)
+                return True, None
+            if not (math.isfinite(rn) and math.isfinite(dn)):
+                reason = "the residual is not finite"
+                break
+            if not ok:
+                reason = "the Newton tangent is singular"
+                break
+            if k == cfg.max_iter:
+                break
+            if st.use_fd and not exact and dofs.size and self._fd_tangent_due(k, h, rn, prev_rn, tol, fd_fresh):
+                # a finite-difference tangent at the iterate, then the correction again with it
+                try:
+                    self._fd_tangent(qPe, vPe, f, ops.c1, h)
+                except StepRejected as e:
+                    reason = f"the nonlinear force rejected a finite-difference state ({e})"
+                    cause = e
+                    break
+                fd_fresh = True
+                k_iter(iq, f, st.fd_J, st.Z, SS, dofs, cs, V, Pm, AJ)
+            prev_rn = rn
+            iq = Q0 + Q1 - iq
+        self._abandon(its, trace)
+        return False, (its, rn, tol, reason, cause)
+
+    def _follow_speed(self, t: float) -> None:
+        """A varying speed: D = C + Omega(t) G and the step operators follow it once it has
+        moved by OMEGA_RTOL (the gyroscopic term then lags by less than that fraction)."""
+        om = float(self.omega_of_t(t))
+        if abs(om - self.omega) > OMEGA_RTOL * max(abs(self.omega), 1.0):
+            self.omega = om
+            self.D = self.C + om * self.G
+            self._ops_cache.clear()
+
+    def _predict(self, t_a, t_b, h, ops):
+        """Open the step (``begin_step``, except for the first step, whose bracket is already
+        open), the external force at t_b, and the predictor: the step solved with the force
+        linearised about the last accepted state with its last tangent (the force's own, else
+        the finite-difference one for this h, else none). The predictor is the first iterate,
+        in V[Q0] and (qP, vP). Returns (ok, f_ext(t_b), ||f_ext(t_b)||, ||b||); not ok: the
+        predictor's tangent is singular."""
+        st = self._state
+        if st.in_first_bracket:
+            st.in_first_bracket = False
+        else:
+            self.nf.begin_step(t_a, h)
+        fe1 = self.f_ext(t_b)
+        if type(fe1) is not np.ndarray or fe1.shape != st.fe_shape or fe1.dtype != np.float64:
+            fe1 = self._fext(t_b)
+        Z = st.Z
+        if st.have_J:
+            Jq0, Jv0 = st.Jq_prev, st.Jv_prev
+        elif st.use_fd and st.fd_J is not None and st.fd_h == h:
+            Jq0, Jv0 = st.fd_J, Z
+        else:
+            Jq0, Jv0 = Z, Z
+        ok, fe1n, bn = k_begin(st.X, ops.H, ops.SS, self.dofs, fe1, st.fe0, st.f0, Jq0, Jv0, ops.cs,
+                                st.V, st.Pm, st.AJ)
+        return ok, fe1, fe1n, bn
+
+    def _evaluate(self, qPe, vPe, h):
+        """The nonlinear force at the iterate (qPe, vPe) and the tangent of its Newton correction:
+        the derivatives the force returns (unless tangent = "linear"), else the finite-difference
+        tangent for this h (tangent = "fd"), else none (zero: the linear tangent). Returns
+        (f, Jq, Jv, exact), exact = the force's own derivatives; StepRejected passes through."""
+        st = self._state
+        f, dfq, dfv = self.nf.evaluate(qPe, vPe)
+        f = np.array(f, dtype=np.float64)  # a copy: forces may hand back a reused buffer
+        if f.shape != st.f_shape:
+            self._fcheck(f)
+        Z = st.Z
+        if not st.tangent_linear and (dfq is not None or dfv is not None):
+            Jq = Z if dfq is None else dfq
+            Jv = Z if dfv is None else dfv
+            if type(Jq) is not np.ndarray or Jq.shape != st.mm:
+                Jq = self._jcheck(Jq, "df/dq")
+            if type(Jv) is not np.ndarray or Jv.shape != st.mm:
+                Jv = self._jcheck(Jv, "df/dv")
+            return f, Jq, Jv, True
+        if st.use_fd and st.fd_J is not None and st.fd_h == h:
+            return f, st.fd_J, Z, False
+        return f, Z, Z, False
+
+    def _accept(self, iq, t_b, cs, fe1, f, exact, its, trace):
+        """The iterate in V[iq], the state evaluated last, becomes the state at t_b."""
+        st = self._state
+        st.Ma_norm = k_accept(st.X, iq, cs, st.V, self.M)
+        st.t = t_b
+        if self.cfg.alpha != 0.0:
+            st.fe0[:] = fe1
+        st.f0 = f
+        st.have_J = exact  # its tangent is in st.Jq_prev, st.Jv_prev (written by k_iter)
+        if st.use_fd and its > max(3, self.dofs.size):
+            # the chord iterations cost more than a new FD tangent (m evaluations)
+            st.fd_stale = True
+        self.nf.accept_step()
+        st.n_eval += its
+        st.step_its += its
+        if trace is not None:
+            st.trace.append(np.array(trace))
+
+    def _abandon(self, its, trace):
+        """The step failed after ``its`` evaluations: the force hears ``reject_step``."""
+        st = self._state
+        if st.use_fd:
+            st.fd_stale = True
+        self.nf.reject_step()
+        st.n_eval += its
+        st.step_its += its
+        if trace is not None:
+            st.trace.append(np.array(trace))
+
+    def _fd_tangent_due(self, k, h, rn, prev_rn, tol, fd_fresh):
+        """Whether to build a new finite-difference tangent at iteration k: when there is none
+        for this h, after a failure, or when the observed contraction predicts more chord
+        iterations than the m evaluations a new tangent costs."""
+        st = self._state
+        m = self.dofs.size
+        need = st.fd_J is None or st.fd_h != h or (k == 0 and st.fd_stale)
+        if not need and not fd_fresh and k >= 1 and rn > 0.0:
+            rho = rn / prev_rn
+            need = rho >= 1.0 or math.log(max(tol, 1e-300) / rn) / math.log(rho) > m + 1
+        return need
+
+    def _fd_tangent(self, qP0, vP0, f, c1, h):
+        """Combined tangent J = df/dq + c1 df/dv at (qP0, vP0) where the force is f, by
+        forward differences along q with v following v(q) = c1 q - vhat."""
+        st = self._state
+        m = self.dofs.size
+        J = np.empty((m, m))
+        for j in range(m):
+            hj = self.cfg.fd_rel * max(abs(qP0[j]), self.cfg.fd_qtyp)
+            qq = qP0.copy()
+            vv = vP0.copy()
+            qq[j] += hj
+            vv[j] += c1 * hj
+            fj = self._fcheck(self.nf.evaluate(qq, vv)[0])
+            st.n_eval += 1
+            J[:, j] = (fj - f) / hj
+        st.fd_J = J
+        st.fd_h = h
+        st.fd_stale = False
+
+
+class _RunState:
+    def __init__(self, n, m, n_steps, n_out, rec, trace, tangent):
+        self.X = np.zeros(3 * n)
+        self.V = np.zeros((10, n))
+        self.Pm = np.zeros((4, m))
+        self.AJ = np.zeros((4, m, m))
+        self.qP, self.vP = self.Pm[0], self.Pm[1]
+        self.fe0 = np.zeros(n)
+        self.f0 = np.zeros(m)
+        self.fe_shape = (n,)
+        self.f_shape = (m,)
+        self.Jq_prev, self.Jv_prev = self.AJ[2], self.AJ[3]  # views: k_iter writes them
+        self.Z = np.zeros((m, m))
+        self.mm = (m, m)
+        self.have_J = False
+        self.use_fd = tangent == "fd"  # finite differences where the force returns no tangent
+        self.tangent_linear = tangent == "linear"  # never the force's tangent
+        self.fd_J = None
+        self.fd_h = None
+        self.fd_stale = True
+        self.rec = rec
+        self.rec_all = rec.size == n and bool(np.all(rec == np.arange(n)))
+        self.out_t = np.zeros(n_out)
+        self.out_q = np.zeros((n_out, rec.size))
+        self.out_v = np.zeros((n_out, rec.size))
+        self.out_f = np.zeros((n_out, m))
+        self.iters = np.zeros(n_steps, dtype=np.int32)
+        self.step_its = 0
+        self.n_rec = 0
+        self.steps_done = 0
+        self.n_cuts = 0
+        self.n_eval = 0
+        self.Ma_norm = 0.0
+        self.trace = [] if trace else None
+        self.in_first_bracket = False
+
+
+class _StepFailure(Exception):
+    def __init__(self, message, t, iterations, residual, cause):
+        super().__init__(message)
+        self.message = message
+        self.t = t
+        self.iterations = iterations
+        self.residual = residual
+        self.cause = cause
+
+
+# =============================================================================== conveniences
+
+def integrate(M, K, q0, v0, t_span: tuple[float, float], dt: float, *, C=None, G=None, omega: float = 0.0,
+              f_ext=None, nodal_force=None, config: NewmarkConfig | None = None, **run_kw) -> NewmarkResult:
+    """One-call form of ``Newmark(M, K, C, G, omega, f_ext, nodal_force, config).run(...)``."""
+    return Newmark(M, K, C=C, G=G, omega=omega, f_ext=f_ext, nodal_force=nodal_force,
+                   config=config).run(q0, v0, t_span[0], t_span[1], dt, **run_kw)

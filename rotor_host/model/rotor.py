@@ -1,0 +1,408 @@
+"""The finite-element rotor: reads a rotor file, assembles M, C, G, K, builds loads, modes.
+
+Equation of motion (SI units, 4 DOFs per node ordered (y, z, theta_y, theta_z))::
+
+    M qdd + (C + Omega G) qd + K q = F
+
+``Omega > 0`` is a right-handed spin about the shaft axis x (y -> z); ``C = beta K`` is the
+shaft's proportional damping (paper, section 3). Bearings are not in ``K`` or ``C``: the
+host adds their forces (or, for modal analysis, their Lund coefficients: the bearing force
+is ``-K_b q - C_b qd``, so ``+K_b`` and ``+C_b`` enter at (y, z) of the bearing node).
+
+Nodes are 0-based in this API; rotor files number nodes and elements from 1 (Table 1).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Iterable, Mapping, Sequence
+
+import numpy as np
+import scipy.linalg
+
+from bearing_fmu.io.schema import FileName, Key, List, Number, Table, Tables, Text, check_table, read_toml
+from bearing_fmu.physics.params import BearingParams
+
+from . import fe
+
+# the keys of a rotor file, per table, with the kind of value each takes (docs/file-formats.md
+# shows these lists; Rotor.from_mapping checks a file against them once)
+POSITIVE = Number(0.0, exclusive_minimum=True)
+NODE = Number(integer=True, words="an integer node number")  # its range: the loader, against the rotor
+MATERIAL_KEYS = (
+    Key("E_GPa", "elastic modulus [GPa]", kind=POSITIVE),
+    Key("density_kg_m3", "density [kg/m^3]", kind=POSITIVE),
+    Key("poisson", "Poisson's ratio (shear modulus and shear coefficient)",
+        kind=Number(-1.0, 0.5, exclusive_minimum=True, exclusive_maximum=True)),
+    Key("damping_beta_s", "stiffness-proportional damping C = beta K [s]", 0.0, kind=Number(0.0)),
+)
+ELEMENT_KEYS = (
+    Key("od_mm", "outer diameter [mm]", kind=POSITIVE),
+    Key("length_mm", "length [mm]", kind=POSITIVE),
+    Key("id_mm", "inner diameter [mm]", 0.0, "a finite number >= 0 and < od_mm", kind=Number(0.0)),
+    Key("nodes", "the nodes it joins, 1-based", None, "[i, i + 1] for element i", kind=List(NODE, 2)),
+    Key("name", "label", None, kind=Text()),
+)
+DISK_KEYS = (
+    Key("node", "node it sits on, 1-based", allowed="1..number of nodes", kind=NODE),
+    Key("od_mm", "outer diameter [mm]", kind=POSITIVE),
+    Key("width_mm", "axial width [mm]", kind=POSITIVE),
+    Key("id_mm", "bore diameter [mm]", 0.0, "a finite number >= 0 and < od_mm", kind=Number(0.0)),
+    Key("name", "label", None, kind=Text()),
+)
+BEARING_ENTRY_KEYS = (
+    Key("node", "node the journal is at, 1-based; one bearing per node", allowed="1..number of nodes", kind=NODE),
+    Key("bearing", "bearing file, relative to the rotor file (keys: [bearing] below)", kind=FileName()),
+    Key("name", "label", None, kind=Text()),
+)
+ROTOR_KEYS = (
+    Key("elements", "the shaft's beam elements, in order ([[elements]] or an array of inline tables)",
+        kind=Tables(ELEMENT_KEYS, nonempty=True)),
+    Key("material", "shaft and disk material ([material])", kind=Table(MATERIAL_KEYS)),
+    Key("name", "label", None, kind=Text()),
+    Key("description", "free text", None, kind=Text()),
+    Key("disks", "rigid disks ([[disks]])", None, kind=Tables(DISK_KEYS)),
+    Key("bearings", "bearings ([[bearings]]): where they sit and which bearing file", None,
+        kind=Tables(BEARING_ENTRY_KEYS)),
+)
+
+DIRECTIONS = {"y": fe.Y, "z": fe.Z, "ty": fe.TY, "tz": fe.TZ}
+OSCILLATORY = 1e-3  # modes(): keep eigenvalues with Im(lam) > OSCILLATORY * |lam|
+
+
+class RotorFileError(ValueError):
+    """A rotor file (or mapping) is malformed; the message names the file, entry and key."""
+
+
+@dataclass(frozen=True)
+class Material:
+    """Isotropic shaft/disk material. E [Pa], density [kg/m^3], Poisson ratio, beta [s] (C = beta K)."""
+
+    E: float
+    density: float
+    poisson: float
+    beta: float = 0.0
+
+
+@dataclass(frozen=True)
+class ShaftElement:
+    """Hollow circular Timoshenko element between nodes ``node`` and ``node + 1`` (0-based). SI units."""
+
+    length: float
+    od: float
+    id: float = 0.0
+
+
+@dataclass(frozen=True)
+class Disk:
+    """Rigid hollow disk at a node (0-based): bore ``id``, outer diameter ``od``, width [m]."""
+
+    node: int
+    od: float
+    id: float
+    width: float
+
+
+def _element_mass(e: ShaftElement, density: float) -> float:
+    return density * fe.area(e.od, e.id) * e.length
+
+
+# ----------------------------------------------------------------------------- file reading
+def _node(value: int, n_nodes: int, what: str) -> int:
+    """A 1-based node number (its type checked by the schema) against the rotor's nodes, 0-based."""
+    if not 1 <= value <= n_nodes:
+        raise RotorFileError(f"{what} = {value} is outside the rotor's nodes 1..{n_nodes}")
+    return value - 1
+
+
+def _diameters(table: dict, what: str) -> tuple[float, float]:
+    """(od, id) [m] of a checked element or disk table; the bore must be smaller than the outside."""
+    od, idm = table["od_mm"], table["id_mm"]
+    if idm >= od:
+        raise RotorFileError(f"{what} id_mm = {idm:g} must be < od_mm = {od:g}")
+    return od / 1e3, idm / 1e3
+
+
+# ----------------------------------------------------------------------------- assembly
+def assemble(elements: Sequence[ShaftElement], disks: Sequence[Disk], material: Material):
+    """Global dense (M, K, G, C) for a chain of elements (element i joins nodes i, i+1)."""
+    n_nodes = len(elements) + 1
+    n = fe.DOFS_PER_NODE * n_nodes
+    M = np.zeros((n, n))
+    K = np.zeros((n, n))
+    G = np.zeros((n, n))
+    for i, e in enumerate(elements):
+        m = fe.beam_matrices(e.length, e.od, e.id, material.E, material.density, material.poisson)
+        s = slice(4 * i, 4 * i + 8)
+        M[s, s] += m["M"]
+        K[s, s] += m["K"]
+        G[s, s] += m["G"]
+    for d in disks:
+        mass, Id, Ip = fe.disk_properties(d.od, d.id, d.width, material.density)
+        m = fe.disk_matrices(mass, Id, Ip)
+        s = slice(4 * d.node, 4 * d.node + 4)
+        M[s, s] += m["M"]
+        G[s, s] += m["G"]
+    C = material.beta * K
+    return M, K, G, C
+
+
+@dataclass
+class Rotor:
+    """Assembled FE rotor. Build with :meth:`from_toml`, or directly from elements (SI units).
+
+    ``M, K, G, C`` are dense ``(n_dof, n_dof)`` arrays, ``n_dof = 4 * n_nodes``;
+    ``node_x`` [m] are the node positions along the axis (node 0 at x = 0);
+    ``bearing_nodes`` are 0-based, ``bearings[i]`` is the BearingParams of bearing i.
+    """
+
+    elements: list[ShaftElement]
+    material: Material
+    disks: list[Disk] = field(default_factory=list)
+    bearing_nodes: list[int] = field(default_factory=list)
+    bearings: list[BearingParams] = field(default_factory=list)
+    name: str = ""
+    M: np.ndarray = field(init=False, repr=False)
+    K: np.ndarray = field(init=False, repr=False)
+    G: np.ndarray = field(init=False, repr=False)
+    C: np.ndarray = field(init=False, repr=False)
+    node_x: np.ndarray = field(init=False, repr=False)
+
+    def __post_init__(self) -> None:
+        if not self.elements:
+            raise ValueError("a rotor needs at least one shaft element")
+        if len(self.bearings) != len(self.bearing_nodes):
+            raise ValueError(f"{len(self.bearing_nodes)} bearing nodes but {len(self.bearings)} bearing parameter sets")
+        for node in [d.node for d in self.disks] + list(self.bearing_nodes):
+            self._check_node(node)
+        self.M, self.K, self.G, self.C = assemble(self.elements, self.disks, self.material)
+        self.node_x = np.concatenate([[0.0], np.cumsum([e.length for e in self.elements])])
+
+    # ------------------------------------------------------------------ reading
+    @classmethod
+    def from_toml(cls, path: str | Path) -> "Rotor":
+        """Read a rotor file (see models/rotor_paper.toml); bearing paths are relative to it."""
+        path = Path(path)
+        data = read_toml(path, "rotor file", RotorFileError)
+        return cls.from_mapping(data, base_dir=path.parent, where=str(path))
+
+    @classmethod
+    def from_mapping(cls, data: Mapping, *, base_dir: str | Path = ".", where: str = "rotor") -> "Rotor":
+        """Build from the parsed TOML mapping, checked against ROTOR_KEYS at once; every error is a
+        RotorFileError of one line naming ``where``, the table and key ('[[elements]] 2 od_mm')."""
+        d = check_table(data, ROTOR_KEYS, where, RotorFileError)
+        mat = d["material"]
+        material = Material(E=mat["E_GPa"] * 1e9, density=mat["density_kg_m3"], poisson=mat["poisson"],
+                            beta=mat["damping_beta_s"])
+
+        elements = []
+        for i, t in enumerate(d["elements"]):
+            ew = f"{where}: [[elements]] {i + 1}"
+            if t["nodes"] is not None and t["nodes"] != [i + 1, i + 2]:
+                raise RotorFileError(f"{ew} nodes = {t['nodes']!r} must be [{i + 1}, {i + 2}] (element i joins "
+                                     "nodes i and i+1)")
+            od, idm = _diameters(t, ew)
+            elements.append(ShaftElement(length=t["length_mm"] / 1e3, od=od, id=idm))
+        n_nodes = len(elements) + 1
+
+        disks = []
+        for i, t in enumerate(d["disks"]):
+            dw = f"{where}: [[disks]] {i + 1}"
+            od, idm = _diameters(t, dw)
+            disks.append(Disk(node=_node(t["node"], n_nodes, f"{dw} node"), od=od, id=idm, width=t["width_mm"] / 1e3))
+
+        bearing_nodes, bearings = [], []
+        for i, t in enumerate(d["bearings"]):
+            bw = f"{where}: [[bearings]] {i + 1}"
+            node = _node(t["node"], n_nodes, f"{bw} node")
+            if node in bearing_nodes:
+                raise RotorFileError(f"{bw} node = {node + 1}: that node already has a bearing")
+            bpath = Path(base_dir) / t["bearing"]
+            try:
+                params = BearingParams.from_toml(bpath)
+            except ValueError as exc:  # the bearing file's own one-line error (not found, key, value)
+                raise RotorFileError(f"{bw} bearing = {t['bearing']!r}: {exc}") from None
+            bearing_nodes.append(node)
+            bearings.append(params)
+
+        return cls(elements=elements, material=material, disks=disks,
+                   bearing_nodes=bearing_nodes, bearings=bearings, name=d["name"] or "")
+
+    # ------------------------------------------------------------------ sizes and indexing
+    @property
+    def n_nodes(self) -> int:
+        return len(self.elements) + 1
+
+    @property
+    def n_dof(self) -> int:
+        return fe.DOFS_PER_NODE * self.n_nodes
+
+    @property
+    def mass(self) -> float:
+        """Total mass [kg] of shaft and disks (from the geometry, equal to u^T M u for a unit translation u)."""
+        rho = self.material.density
+        return sum(_element_mass(e, rho) for e in self.elements) + sum(
+            fe.disk_properties(d.od, d.id, d.width, rho)[0] for d in self.disks
+        )
+
+    def _check_node(self, node: int) -> int:
+        if isinstance(node, bool) or not isinstance(node, (int, np.integer)) or not 0 <= node < self.n_nodes:
+            raise ValueError(f"node must be a 0-based integer in 0..{self.n_nodes - 1}, got {node!r}")
+        return int(node)
+
+    def dof(self, node: int, direction: str) -> int:
+        """Global DOF index of ``direction`` in ('y', 'z', 'ty', 'tz') at 0-based ``node``."""
+        node = self._check_node(node)
+        if direction not in DIRECTIONS:
+            raise ValueError(f"direction must be one of {', '.join(DIRECTIONS)}, got {direction!r}")
+        return fe.DOFS_PER_NODE * node + DIRECTIONS[direction]
+
+    # ------------------------------------------------------------------ loads
+    def weight_vector(self, g: float = 9.81) -> np.ndarray:
+        """Gravity load [N, N m] along -z: ``-g M u_z`` with u_z a unit z translation of every node.
+
+        Uses the consistent mass, so the element-end moments of the distributed weight come out
+        right; the z forces sum to ``-mass * g``.
+        """
+        u = np.zeros(self.n_dof)
+        u[fe.Z::fe.DOFS_PER_NODE] = 1.0
+        return -g * (self.M @ u)
+
+    def unbalance_force(self, t: float, speed: float, mass: float, radius: float, node: int,
+                        phase: float = 0.0) -> np.ndarray:
+        """Unbalance force [N] at constant ``speed`` [rad/s]: ``m r Omega^2 (cos, sin)(Omega t + phase)``.
+
+        ``mass`` [kg] at ``radius`` [m] on 0-based ``node``; at t = 0, phase = 0 it points
+        along +y and turns toward +z (forward, Omega > 0).
+        """
+        F = np.zeros(self.n_dof)
+        a = speed * t + phase
+        amp = mass * radius * speed**2
+        F[self.dof(node, "y")] = amp * math.cos(a)
+        F[self.dof(node, "z")] = amp * math.sin(a)
+        return F
+
+    def point_load_vector(self, loads) -> np.ndarray:
+        """Static point loads [N]: ``{node: (Fy, Fz)}`` or an iterable of ``(node, Fy, Fz)``; 0-based nodes."""
+        items: Iterable
+        if isinstance(loads, Mapping):
+            items = ((n, *f) for n, f in loads.items())
+        else:
+            items = loads
+        F = np.zeros(self.n_dof)
+        for item in items:
+            node, fy, fz = item
+            F[self.dof(node, "y")] += float(fy)
+            F[self.dof(node, "z")] += float(fz)
+        return F
+
+    # ------------------------------------------------------------------ bearings in matrices
+    def _per_bearing(self, value, name: str) -> np.ndarray:
+        """Broadcast a 2x2 matrix (or None) to one 2x2 per bearing: shape (n_bearings, 2, 2)."""
+        nb = len(self.bearing_nodes)
+        if value is None:
+            return np.zeros((nb, 2, 2))
+        a = np.asarray(value, dtype=float)
+        if a.shape == (2, 2):
+            return np.broadcast_to(a, (nb, 2, 2))
+        if a.shape == (nb, 2, 2):
+            return a
+        raise ValueError(f"{name} must be one 2x2 matrix or {nb} of them (one per bearing), got shape {a.shape}")
+
+    def bearing_matrix(self, per_bearing) -> np.ndarray:
+        """n_dof x n_dof matrix with each bearing's 2x2 block at (y, z) of its node (Lund sign: added)."""
+        out = np.zeros((self.n_dof, self.n_dof))
+        for node, k in zip(self.bearing_nodes, self._per_bearing(per_bearing, "bearing matrix")):
+            idx = [self.dof(node, "y"), self.dof(node, "z")]
+            out[np.ix_(idx, idx)] += k
+        return out
+
+    # ------------------------------------------------------------------ eigen-analysis
+    def natural_frequencies(self, k_bearing, speed: float = 0.0, n: int = 6) -> np.ndarray:
+        """Lowest ``n`` undamped natural frequencies [Hz] on isotropic bearing springs.
+
+        ``k_bearing`` [N/m]: one value for all bearings or one per bearing, on y and z.
+        ``speed`` [rad/s]: with gyroscopics (state-space form) when non-zero; each whirl
+        branch appears once (forward and backward split). Rigid-body modes give 0.0 (anything
+        below 1e-6 times the highest natural frequency is numerically zero).
+        """
+        kb = np.broadcast_to(np.asarray(k_bearing, dtype=float), (len(self.bearing_nodes),))
+        K = self.K + self.bearing_matrix([np.eye(2) * k for k in kb]) if len(kb) else self.K
+        tol = _zero_tol(self.M, K)
+        if speed == 0.0:
+            w = np.sqrt(np.clip(scipy.linalg.eigh(K, self.M, eigvals_only=True), 0.0, None))
+            w[w < tol] = 0.0
+            return w[:n] / (2.0 * math.pi)
+        lam = _state_eigvals(self.M, K, speed * self.G)
+        n_zero = int(np.sum(np.abs(lam) < tol)) // 2
+        w = np.sort(lam.imag[(lam.imag > 0.0) & (np.abs(lam) >= tol)])
+        return np.concatenate([np.zeros(n_zero), w])[:n] / (2.0 * math.pi)
+
+    def modes(self, speed: float, bearing_K=None, bearing_C=None, n: int | None = None):
+        """Damped modes in state space at ``speed`` [rad/s] with linear bearings.
+
+        ``bearing_K`` [N/m], ``bearing_C`` [N s/m]: one 2x2 for all bearings or one per bearing
+        (Lund sign: bearing force = -K q - C qd at (y, z) of the node). Includes the shaft's
+        proportional damping ``C = beta K`` and the gyroscopic term ``speed * G``.
+
+        Returns ``(freq_hz, log_dec, shapes)``: damped natural frequencies [Hz] (> 0, sorted),
+        logarithmic decrements ``-2 pi Re(lam) / Im(lam)`` (negative = unstable), and complex
+        displacement shapes (columns, n_dof x n_modes, largest entry 1). Only oscillatory
+        modes are kept: ``Im(lam) > 1e-3 |lam|`` (log_dec below about 6000). That drops real
+        (overdamped) eigenvalues and the slow-turning nearly real pairs into which speed * G
+        splits two equal overdamped roots. Rigid-body modes of an unsupported rotor (|lam| below
+        1e-6 times the highest undamped natural frequency, numerically zero) are dropped too.
+        ``n`` keeps the lowest n.
+        """
+        Kt = self.K + self.bearing_matrix(bearing_K)
+        Ct = self.C + self.bearing_matrix(bearing_C) + speed * self.G
+        lam, vec = _state_eig(self.M, Kt, Ct)
+        keep = (lam.imag > OSCILLATORY * np.abs(lam)) & (np.abs(lam) >= _zero_tol(self.M, Kt))
+        lam, vec = lam[keep], vec[: self.n_dof, keep]
+        order = np.argsort(lam.imag)
+        if n is not None:
+            order = order[:n]
+        lam, vec = lam[order], vec[:, order]
+        big = vec[np.argmax(np.abs(vec), axis=0), np.arange(vec.shape[1])]
+        vec = vec / big
+        return lam.imag / (2.0 * math.pi), -2.0 * math.pi * lam.real / lam.imag, vec
+
+    def whirl(self, shape: np.ndarray, node: int, *, tilt: bool = False) -> float:
+        """Whirl direction of a complex mode shape at 0-based ``node``, in [-1, 1].
+
+        With y = Re(Y e^{lam t}), z = Re(Z e^{lam t}), Im(lam) > 0, the orbit splits into a
+        forward circle of radius |Y + iZ|/2 (from +y toward +z) and a backward one of radius
+        |Y - iZ|/2; returns (f - b) / (f + b): +1 pure forward, -1 pure backward, 0 straight line.
+        ``tilt=True`` uses the tip of the tilted axis instead, (dy/dx, dz/dx) = (theta_z, -theta_y).
+        """
+        if tilt:
+            Y, Z = shape[self.dof(node, "tz")], -shape[self.dof(node, "ty")]
+        else:
+            Y, Z = shape[self.dof(node, "y")], shape[self.dof(node, "z")]
+        f, b = abs(Y + 1j * Z), abs(Y - 1j * Z)
+        return float((f - b) / (f + b)) if f + b > 0 else 0.0
+
+
+def _zero_tol(M, K) -> float:
+    """|lam| [rad/s] below which an eigenvalue is numerically zero: 1e-6 * highest natural frequency.
+
+    A double zero eigenvalue (rigid-body mode) is perturbed by about sqrt(eps) * w_max.
+    """
+    return 1e-6 * math.sqrt(np.linalg.norm(np.linalg.solve(M, K), 2))
+
+
+def _state_matrix(M, K, C) -> np.ndarray:
+    n = M.shape[0]
+    Minv_K = np.linalg.solve(M, K)
+    Minv_C = np.linalg.solve(M, C)
+    return np.block([[np.zeros((n, n)), np.eye(n)], [-Minv_K, -Minv_C]])
+
+
+def _state_eigvals(M, K, C) -> np.ndarray:
+    return np.linalg.eigvals(_state_matrix(M, K, C))
+
+
+def _state_eig(M, K, C):
+    return np.linalg.eig(_state_matrix(M, K, C))
