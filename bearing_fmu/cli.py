@@ -1,4 +1,6 @@
-"""``bearing-fmu``: the bearing's command line (demo, fit, build)."""
+"""``bearing-fmu``: the bearing's command line (demo, fit, build, map). Every option of these commands
+is parsed here (the fit options generated from the FitRecipe fields); ``rotor-host fit`` takes
+the recipe options from here too."""
 
 from __future__ import annotations
 
@@ -6,7 +8,82 @@ import argparse
 import math
 import sys
 
-from .io.exits import EXIT_CODES, add_debug_flag, run_command
+from .io.exits import EXIT_CODES, run_command
+
+SCENE_FIT = "rotor-host fit --scene SCENE [--scene ...] [--test-scene SCENE] [--bearing-number N] ..."
+
+
+def add_debug_flag(parser, subparsers=None) -> None:
+    """``--debug`` before or after the subcommand (a subparser's own default must not
+    overwrite the main parser's value, hence SUPPRESS there); both command lines use it."""
+    help_ = "show the Python traceback of an error"
+    parser.add_argument("--debug", action="store_true", help=help_)
+    for p in (subparsers.choices.values() if subparsers is not None else ()):
+        p.add_argument("--debug", action="store_true", default=argparse.SUPPRESS, help=help_)
+
+
+# ----------------------------------------------------------------------------- fit options
+
+def add_recipe_arguments(parser: argparse.ArgumentParser, group: str) -> argparse.ArgumentParser:
+    """Options for the FitRecipe fields of ``group`` ('designed': ``bearing-fmu fit``, 'scene':
+    ``rotor-host fit``) and the shared ones, generated from the fields."""
+    from .fitting.recipe import command_line_options
+
+    for flag, kw in command_line_options(group):
+        parser.add_argument(flag, **kw)
+    return parser
+
+
+def recipe_from_args(args: argparse.Namespace, group: str):
+    """The FitRecipe of parsed options; a value outside its range is refused naming the option."""
+    from .fitting.recipe import recipe_from_values
+
+    return recipe_from_values(vars(args), group)
+
+
+def add_output_arguments(parser: argparse.ArgumentParser) -> argparse.ArgumentParser:
+    """The options of both fit commands that are not fit settings: output, plots, note."""
+    from .io.cliargs import output_dir, output_file
+
+    parser.add_argument("--plots", type=output_dir, default=None, help="directory for the lambda plots")
+    parser.add_argument("--note", default=None, help="free text stored in the file's provenance")
+    parser.add_argument("-o", "--output", type=output_file, required=True, help="surrogate JSON file to write")
+    return parser
+
+
+class _Moved(argparse.Action):
+    """An option of scene-trained fitting, which moved to ``rotor-host fit``."""
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        parser.error(f"{option_string}: scene-trained fitting is the host's command now (the bearing side never "
+                     f"runs a rotor): {SCENE_FIT}")
+
+
+def add_fit_arguments(parser: argparse.ArgumentParser) -> argparse.ArgumentParser:
+    """Arguments of ``bearing-fmu fit``."""
+    from .fitting.recipe import option_name, recipe_fields
+    from .io.cliargs import existing_file
+
+    add_recipe_arguments(parser, "designed")
+    moved = [option_name(f) for f in recipe_fields("scene") if f.metadata["group"] == "scene"] + ["--cache-dir"]
+    for flag in moved:
+        parser.add_argument(flag, nargs="*", action=_Moved, default=argparse.SUPPRESS, help=argparse.SUPPRESS)
+    parser.add_argument("--bearing", type=existing_file, default=None, metavar="FILE",
+                        help="bearing TOML file to fit (default: the paper bearing, Table 2); its name and geometry "
+                             "go into the report and the surrogate file")
+    return add_output_arguments(parser)
+
+
+def run_fit(args: argparse.Namespace) -> int:
+    """``bearing-fmu fit`` of parsed options."""
+    from .fitting.output import check_outputs, fit_designed
+
+    check_outputs(args.output, args.plots)  # before the recipe: a bad output is named first
+    return fit_designed(recipe_from_args(args, "designed"), output=args.output, bearing=args.bearing,
+                        plots=args.plots, note=args.note)
+
+
+# ----------------------------------------------------------------------------- commands
 
 
 def _demo(args: argparse.Namespace) -> int:
@@ -72,22 +149,29 @@ def _build_native(args: argparse.Namespace) -> int:
     """``bearing-fmu build --native``: the internal compiled to C, one data file compiled in."""
     from .fmu.native.build import build_native_fmu
     from .io.outputs import ensure_output_file
+    from .internals import registry
     from .physics.params import BearingParams
 
-    surrogates, maps = args.surrogate or [], args.map or []
-    internal = args.internal or ("taylor" if surrogates else "map" if maps else None)
+    given = {"surrogate": args.surrogate or [], "map": args.map or []}  # the build's file flags
+    owners = {o.name: spec.name for spec in registry.REGISTRY.values() for o in spec.file_options()}
+    native = registry.having(native=True)
+    flags = [name for name, files in given.items() if files]
+    internal = args.internal or (owners.get(flags[0]) if len(flags) == 1 else None)
     if internal is None:
-        raise ValueError("--native needs --internal taylor|map|linear (taylor with --surrogate FILE, map with "
-                         "--map FILE)")
-    if len(surrogates) > 1 or len(maps) > 1:
-        raise ValueError("--native compiles one data file in: give --surrogate or --map once")
-    if internal == "taylor" and (not surrogates or maps):
-        raise ValueError("--native --internal taylor needs --surrogate FILE (and no --map)")
-    if internal == "map" and (not maps or surrogates):
-        raise ValueError("--native --internal map needs --map FILE (and no --surrogate)")
-    if internal == "linear" and surrogates:
-        raise ValueError("--native --internal linear takes no --surrogate (--map FILE: linearise on that force map "
-                         "instead of the Reynolds solver)")
+        raise ValueError(f"--native needs --internal {'|'.join(native)} ("
+                         + ", ".join(f"{owners[f]} with --{f} FILE" for f in given if f in owners) + ")")
+    spec = registry.get(internal)
+    readable = {o.name for o in spec.all_options() if o.file}
+    for o in spec.file_options():
+        if o.required and not given.get(o.name):
+            raise ValueError(f"--native --internal {internal} needs --{o.name} FILE")
+    for name, files in given.items():
+        if len(files) > 1:
+            raise ValueError("--native compiles one data file in: give --surrogate or --map once")
+        if files and name not in readable:
+            raise ValueError(f"--native --internal {internal} takes no --{name} (it reads "
+                             f"{', '.join('--' + r for r in sorted(readable)) or 'no data file'})")
+    surrogates, maps = given["surrogate"], given["map"]
     ensure_output_file(args.output, "-o/--output")
     bearing = BearingParams.from_toml(args.bearing) if args.bearing else None
     path = build_native_fmu(args.output, internal, surrogate=surrogates[0] if surrogates else None,
@@ -131,6 +215,12 @@ def _map(args: argparse.Namespace) -> int:
     return 0
 
 
+def _native_choices() -> tuple[str, ...]:
+    from .internals.registry import having
+
+    return having(native=True)
+
+
 def _resolution(text: str) -> tuple[int, int]:
     n_eps, n_beta = (int(v) for v in text.lower().split("x"))
     if not (4 <= n_eps <= 2000 and 8 <= n_beta <= 4000):
@@ -157,8 +247,6 @@ def main(argv: list[str] | None = None) -> int:
                    help="downward load magnitude [N], the same as --load-z -LOAD (the older form)")
     p.set_defaults(func=_demo)
 
-    from .fitting.cli import add_fit_arguments, run_fit
-
     p = sub.add_parser("fit", help="fit a Taylor surrogate over a designed domain (or to a time series, --from-npz) "
                                    "and write its JSON file, report and lambda plots; scene-trained fits: "
                                    "rotor-host fit")
@@ -180,7 +268,7 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--native", action="store_true",
                    help="a native FMU: the internal compiled to C (Model Exchange and Co-Simulation, no Python at run "
                         "time; needs a C compiler now); taylor, map or linear")
-    p.add_argument("--internal", choices=("taylor", "map", "linear"), default=None,
+    p.add_argument("--internal", choices=_native_choices(), default=None,
                    help="--native: the internal (default: taylor with --surrogate, map with --map)")
     p.add_argument("--cmake", action="store_true",
                    help="--native: compile through fmpy's CMake project (as `fmpy compile` does) instead of calling the "

@@ -1,179 +1,108 @@
 """``rotor-host``: run scenes, compare internals, run the paper's main job, fit scene-trained surrogates,
-find a rotor's stability threshold (Campbell diagram), sweep a scene over speeds or unbalances on Dask."""
+find a rotor's stability threshold (Campbell diagram), sweep a scene over speeds or unbalances on Dask.
+
+Every option of every command is parsed here, and nowhere else: each command hands plain values
+(or a ``SceneOverrides``) to a function of the package (``rotor_host.analyses.*.command``,
+``report.run_and_report``, ``compare.compare``), which a script may call the same way."""
 
 from __future__ import annotations
 
 import argparse
+import inspect
 import sys
 from pathlib import Path
 
-from bearing_fmu.io.exits import EXIT_CODES, add_debug_flag, note_kept, run_command
-from bearing_fmu.io.outputs import ensure_writable, write_text
+from bearing_fmu.io.cliargs import (existing_dir, existing_file, float_range, grid, grid_or_default, node_load,
+                                    nonneg_float, output_dir, output_file, positive_float, positive_int)
+from bearing_fmu.cli import add_debug_flag
+from bearing_fmu.io.exits import EXIT_CODES, run_command
+
+MODELS = Path(__file__).resolve().parents[1] / "models"
 
 
-def _scene_from_args(args):
-    from .scenes.scene import load_scene
+# ----------------------------------------------------------------------------- shared options
 
-    scene = load_scene(args.scene)
-    changes = {}
-    for flag, key in (("via", "via"), ("t_end", "t_end_s"), ("dt", "dt_s"), ("tangent", "newton_tangent"),
-                      ("checkpoint_s", "checkpoint_s")):
-        if getattr(args, flag, None) is not None:  # 0 is a value (refused by its type), not "unset"
-            changes[key] = getattr(args, flag)
-    if getattr(args, "native", False):
-        changes["fmu_kind"] = "native"
-    options = {}
-    for internal, option in _file_options():  # --surrogate FILE, --map FILE, ...
-        if getattr(args, option, None) is not None:
-            options.setdefault(internal, {})[option] = Path(getattr(args, option)).resolve()
-    internal = getattr(args, "internal", None)
-    if changes or options or internal:
-        scene = scene.with_internal(internal or scene.internal, options=options, **changes)
-    return scene
-
-
-def _file_options() -> list[tuple[str, str]]:
-    """(internal, option) of every file option in the registry: each is a command-line flag."""
-    from bearing_fmu.internals.registry import REGISTRY
-
-    return [(spec.name, o.name) for spec in REGISTRY.values() for o in spec.options if o.file]
-
-
-def _add_file_flags(p) -> None:
-    from bearing_fmu.io.cliargs import existing_file
-
-    for internal, option in _file_options():
-        p.add_argument(f"--{option}", type=existing_file, metavar="FILE",
-                       help=f"the {internal} internal's {option} file (over the scene's [{internal}] {option})")
-
-
-def _internal_choices():
+def internal_choices() -> tuple[str, ...]:
+    """Every registered internal (also those a plug-in registered before the parser is made)."""
     from bearing_fmu.internals.registry import names
 
     return names()
 
 
+def _file_flags(p, what: str = "over the scene's") -> None:
+    """One ``--<option> FILE`` flag per file option of the registry (--surrogate, --map, ...)."""
+    from .scenes.overrides import file_options
+
+    for internal, option in file_options():
+        p.add_argument(f"--{option}", type=existing_file, metavar="FILE",
+                       help=f"the {internal} internal's {option} file ({what} [{internal}] {option})")
+
+
+def _files(args) -> dict:
+    from .scenes.overrides import file_options
+
+    return {o: getattr(args, o) for _, o in file_options() if getattr(args, o, None) is not None}
+
+
+def _scene_flags(p, *, tangent: bool = False, checkpoint: bool = False) -> None:
+    """The options that change a scene (``SceneOverrides``)."""
+    from .integrate.forces import NEWTON_TANGENTS
+
+    p.add_argument("--internal", choices=internal_choices(), help="override the scene's internal")
+    p.add_argument("--via", choices=("fmu", "direct"), help="bearing FMUs through fmpy, or internals in-process")
+    p.add_argument("--native", action="store_true",
+                   help="through native bearing FMUs (the internal compiled to C, no Python in the FMU; built with "
+                        "the C compiler): the scene key fmu_kind = \"native\"")
+    _file_flags(p)
+    p.add_argument("--t-end", type=positive_float("s"), help="override the end time [s]")
+    p.add_argument("--dt", type=positive_float("s"), help="override the time step [s]")
+    if tangent:
+        p.add_argument("--tangent", choices=NEWTON_TANGENTS,
+                       help="Newton tangent of the bearing forces (default: the scene's, normally 'bearing': "
+                            "the FMUs' own stiffness and damping outputs; 'frozen': those at the static "
+                            "equilibrium; 'fd': finite differences; 'linear': the rotor's without bearings)")
+    if checkpoint:
+        p.add_argument("--checkpoint-s", type=positive_float("s"),
+                       help="write the partial result every this many seconds of wall time (default: the "
+                            "scene's [record] checkpoint_s, 60)")
+
+
+def scene_from_args(args):
+    """The scene file of ``args.scene`` with the command line's changes (``SceneOverrides``)."""
+    from .scenes.overrides import SceneOverrides, load_with_overrides
+
+    ov = SceneOverrides(internal=getattr(args, "internal", None), via=getattr(args, "via", None),
+                        native=getattr(args, "native", False), t_end_s=getattr(args, "t_end", None),
+                        dt_s=getattr(args, "dt", None), newton_tangent=getattr(args, "tangent", None),
+                        checkpoint_s=getattr(args, "checkpoint_s", None), files=_files(args))
+    return load_with_overrides(args.scene, ov)
+
+
+def _call(fn, args, **values):
+    """``fn`` with its keyword parameters taken from ``values``, else from ``args`` by name."""
+    kw = {}
+    for name in inspect.signature(fn).parameters:
+        if name in values:
+            kw[name] = values[name]
+        elif hasattr(args, name):
+            kw[name] = getattr(args, name)
+    return fn(**kw)
+
+
+# ----------------------------------------------------------------------------- commands
+
 def _run(args) -> int:
-    from .analyses.report import plot_runs
-    from .scenes.run import run_scene
+    from .analyses.report import run_and_report
 
-    scene = _scene_from_args(args)
-    out = Path(args.out)
-    run = run_scene(scene, out, progress=not args.quiet)
-    m = run.meta
-    via = f"{scene.via}, native" if scene.via == "fmu" and scene.fmu_kind == "native" else scene.via
-    print(f"{scene.name} [{scene.internal} via {via}]: {m['status']}, {m['steps']} steps to "
-          f"t = {m['t_reached_s']:.4g} s in {m['wall_time_s']:.1f} s "
-          f"(setup {m['setup_time_s']:.1f} s), {m['newton_mean_evaluations_per_step']:.2f} force "
-          f"evaluations per step, {m['step_cuts']} step cuts")
-    print(f"max eccentricity ratio per bearing: {', '.join(f'{e:.3f}' for e in m['max_eccentricity'])}"
-          + ("  (the orbit crossed the clearance circle)" if m["crossed_clearance"] else ""))
-    if m["status"] != "ok":
-        print(f"stopped: {m['message']}")
-    if scene.speed_profile is not None and not args.no_plots and run.arrays["t"].size > 1:
-        from .analyses.waterfall import default_nodes, plot_waterfall, spectra, summary
-
-        try:
-            nodes = default_nodes(run.arrays)
-            png = plot_waterfall(run.arrays, out / f"{run.npz.stem}_waterfall.png", nodes=nodes,
-                                 title=f"{scene.description or scene.name}: {scene.speed_profile.describe()}")
-            for n in nodes:
-                s = summary(spectra(run.arrays, n))
-                whirl = (f"whirl from {s['whirl_onset_hz']:.1f} Hz at {s['whirl_hz']:.1f} Hz "
-                         f"({s['whirl_ratio']:.2f}x)" if s["whirl_onset_hz"] else "no subsynchronous whirl")
-                print(f"node {n}: resonance at {s['resonance_hz']:.1f} Hz; {whirl}")
-            print(f"wrote {png}")
-        except ValueError as exc:  # a run too short for a spectrum: say so, keep the run
-            print(f"no waterfall: {exc}")
-    if not args.no_plots and run.arrays["t"].size > 1:
-        png = plot_runs({scene.internal: run.arrays}, out / f"{run.npz.stem}.png", title=scene.description,
-                        history=True)
-        print(f"wrote {run.npz}, {run.json}, {png}")
-    else:
-        print(f"wrote {run.npz}, {run.json}")
-    return 0 if m["status"] == "ok" else 1
-
-
-def _grid_options(grid) -> dict:
-    """Reynolds grid (n_theta, n_x) as variant options; None = the solver's default."""
-    n_theta, n_x = grid if grid else (0, 0)
-    return {"reynolds": {"n_theta": n_theta, "n_x": n_x}}
-
-
-def _grid_label(grid) -> str:
-    return f"Reynolds {grid[0]}x{grid[1]}" if grid else "Reynolds default grid"
-
-
-def _reference_and_variants(args, scene):
-    from .analyses.compare import Variant
-
-    ref_grid = args.ref_grid  # (n_theta, n_x), or None: the default grid (parsed by cliargs.grid_or_default)
-    ref = Variant(_grid_label(ref_grid), "reynolds", _grid_options(ref_grid))
-    variants = []
-    if ref_grid:
-        variants.append(Variant(_grid_label(None), "reynolds", _grid_options(None)))
-    for grid in args.grids or []:
-        variants.append(Variant(_grid_label(grid), "reynolds", _grid_options(grid)))
-    variants += _map_variants(args.maps if args.maps is not None else _scene_map(scene))
-    from bearing_fmu.surrogates.surrogate import load_surrogate
-
-    for order, path in _surrogates(args, scene):
-        variants.append(Variant(f"Taylor {load_surrogate(path).recipe}", "taylor", {"taylor": {"surrogate": path}},
-                                order=order))
-    variants.append(Variant("linear", "linear", _grid_options(None)))
-    return ref, variants
-
-
-def _scene_map(scene) -> list[Path]:
-    """The scene's force map as the one map variant, if it names one."""
-    value = scene.options.get("map", {}).get("map")
-    return [Path(value)] if value else []
-
-
-def _map_variants(paths) -> list:
-    """One compare variant per force map file, labelled with its resolution and truth grid."""
-    from bearing_fmu.internals.forcemap import load_map
-
-    from .analyses.compare import Variant
-
-    out = []
-    for path in paths:
-        t = load_map(path)
-        out.append(Variant(f"map {t.n_eps}x{t.n_beta} (Reynolds {t.n_theta}x{t.n_x})", "map",
-                           {"map": {"map": Path(path).resolve()}}))
-    return out
-
-
-def _surrogates(args, scene):
-    """(order, file) per requested order: the scene's surrogate for its own order, others
-    fitted on the same declared domain into the output folder."""
-    from bearing_fmu.surrogates.surrogate import load_surrogate
-
-    from .scenes.scene import required_file
-
-    if not args.orders:  # `--orders` with nothing: no Taylor variant, no surrogate needed
-        return []
-    # read once: its order here, its recipe for the refits
-    base = load_surrogate(required_file(scene, "taylor", "surrogate"))
-    out = []
-    for order in args.orders:
-        if order == base.order:
-            out.append((order, scene.surrogate))
-            continue
-        path = Path(args.out) / "surrogates" / f"{scene.surrogate.stem}_order{order}.json"
-        if not path.is_file():
-            from .analyses.training import refit
-
-            refit(scene.surrogate, order, path, cache_dir=Path(args.out) / "series", surrogate=base)
-        out.append((order, path))
-    return out
+    return run_and_report(scene_from_args(args), args.out, progress=not args.quiet, plots=not args.no_plots)
 
 
 def _compare(args) -> int:
-    from .analyses.compare import compare, print_table
+    from .analyses.compare import compare, print_table, reference_and_variants
 
-    scene = _scene_from_args(args)
-    ref, variants = _reference_and_variants(args, scene)
+    scene = scene_from_args(args)
+    ref, variants = reference_and_variants(scene, args.out, ref_grid=args.ref_grid, grids=args.grids,
+                                           orders=args.orders, maps=args.maps, internals=args.internals)
     rows = compare(scene, ref, variants, Path(args.out), progress=not args.quiet,
                    default_label="Reynolds default grid")
     print(print_table(rows))
@@ -181,81 +110,59 @@ def _compare(args) -> int:
     return 0
 
 
-PAPER_SCENES = ("paper_22hz.toml", "paper_44hz.toml")
-
-
 def _paper(args) -> int:
-    """The main job: the paper's 22 Hz and 44 Hz scenes, Reynolds (default grid) against the
-    force map, the bundled Taylor surrogate of each scene and the linear model, all through the
-    bearing FMUs."""
-    scenes_dir = Path(args.scenes)
-    out = ensure_writable(args.out)
-    summary = []
-    try:
-        _paper_scenes(args, scenes_dir, out, summary)
-    except KeyboardInterrupt as exc:
-        if summary:  # the scenes that finished; compare wrote the interrupted scene's rows
-            write_text(out / "paper_summary.md", "\n".join(summary) + "\n**interrupted: the scenes above finished**\n")
-            note_kept(exc, f"{out / 'paper_summary.md'} ({len(summary)} finished scene(s))")
-        raise
-    text = "\n".join(summary)
-    write_text(out / "paper_summary.md", text)
-    print(text)
-    print(f"tables and plots in {out}/ (compare_*.md, compare_*_orbits.png, compare_*_error_vs_time.png)")
+    from .analyses.compare import paper_job
+
+    print(paper_job(args.scenes, args.out, t_end=args.t_end, progress=not args.quiet))
+    print(f"tables and plots in {args.out}/ (compare_*.md, compare_*_orbits.png, compare_*_error_vs_time.png)")
     return 0
 
 
-def _paper_scenes(args, scenes_dir: Path, out: Path, summary: list) -> None:
-    from bearing_fmu.surrogates.surrogate import load_surrogate
+def _fit(args) -> int:
+    from bearing_fmu.cli import recipe_from_args
 
-    from .analyses.compare import Variant, compare, print_table
-    from .scenes.scene import load_scene, required_file
+    from .analyses import training
 
-    for name in PAPER_SCENES:
-        scene = load_scene(scenes_dir / name)
-        if args.t_end is not None:  # checked like the file's own value (a whole number of steps)
-            scene = scene.with_internal(scene.internal, t_end_s=args.t_end)
-        # 22 Hz: order 5; 44 Hz: order 7 with wall factor and shape columns
-        sur = load_surrogate(required_file(scene, "taylor", "surrogate"))
-        ref = Variant("Reynolds default grid", "reynolds")
-        variants = [*_map_variants(_scene_map(scene)), Variant(f"Taylor {sur.recipe}", "taylor", order=sur.order),
-                    Variant("linear", "linear")]
-        rows = compare(scene, ref, variants, out, progress=not args.quiet, default_label=ref.label)
-        summary.append(f"## {scene.description}\n\n{print_table(rows)}\n")
+    if not args.scenes:
+        raise ValueError("--scene: give at least one training scene (models/scenes/*.toml)")
+    return _call(training.command, args, recipe=recipe_from_args(args, "scene"))
 
 
-def main(argv: list[str] | None = None) -> int:
-    from bearing_fmu.io.cliargs import (existing_dir, existing_file, grid, grid_or_default, output_dir,
-                                        positive_float, positive_int)
+def _stability(args) -> int:
+    from .analyses import stability
 
-    from .integrate.forces import NEWTON_TANGENTS
+    return _call(stability.command, args, rotor_file=args.rotor, data_files=_files(args))
 
-    parser = argparse.ArgumentParser(prog="rotor-host", description=__doc__, epilog=EXIT_CODES,
-                                     formatter_class=argparse.RawDescriptionHelpFormatter)
-    sub = parser.add_subparsers(dest="command", required=True)
 
+def _sweep(args) -> int:
+    from .analyses import sweep
+
+    return _call(sweep.command, args, scene=scene_from_args(args))
+
+
+def _module_command(module: str):
+    """The handler of a command whose options are the parameters of ``analyses.<module>.command``."""
+    def handler(args) -> int:
+        import importlib
+
+        return _call(importlib.import_module(f".analyses.{module}", __package__).command, args)
+
+    return handler
+
+
+# ----------------------------------------------------------------------------- the parser
+
+def _add_run(sub) -> None:
     p = sub.add_parser("run", help="run one scene and write results and plots")
     p.add_argument("scene", type=existing_file, help="scene TOML file (models/scenes/*.toml)")
-    p.add_argument("--internal", choices=_internal_choices(), help="override the scene's internal")
-    p.add_argument("--via", choices=("fmu", "direct"), help="bearing FMUs through fmpy, or internals in-process")
-    p.add_argument("--native", action="store_true",
-                   help="through native bearing FMUs (the internal compiled to C, no Python in the FMU: linear, map, "
-                        "taylor; built with the C compiler): the scene key fmu_kind = \"native\"")
-    _add_file_flags(p)
-    p.add_argument("--t-end", type=positive_float("s"), help="override the end time [s]")
-    p.add_argument("--dt", type=positive_float("s"), help="override the time step [s]")
-    p.add_argument("--tangent", choices=NEWTON_TANGENTS,
-                   help="Newton tangent of the bearing forces (default: the scene's, normally 'bearing': "
-                        "the FMUs' own stiffness and damping outputs; 'frozen': those at the static "
-                        "equilibrium; 'fd': finite differences; 'linear': the rotor's without bearings)")
+    _scene_flags(p, tangent=True, checkpoint=True)
     p.add_argument("--out", type=output_dir, default="out", help="output folder (default: out)")
-    p.add_argument("--checkpoint-s", type=positive_float("s"),
-                   help="write the partial result every this many seconds of wall time (default: the scene's "
-                        "[record] checkpoint_s, 60)")
     p.add_argument("--no-plots", action="store_true")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.set_defaults(func=_run)
 
+
+def _add_compare(sub) -> None:
     p = sub.add_parser("compare", help="error against run time of Reynolds grids, Taylor orders and the linear model")
     p.add_argument("scene", type=existing_file, help="scene TOML file")
     p.add_argument("--via", choices=("fmu", "direct"), help="bearing FMUs through fmpy (scene default) or in-process")
@@ -269,64 +176,161 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--maps", nargs="*", type=existing_file, default=None, metavar="FILE",
                    help="force map files to compare, e.g. several resolutions (default: the scene's [map] map; "
                         "'--maps' with none: no map variant)")
+    p.add_argument("--internals", nargs="+", choices=internal_choices(), default=None, metavar="NAME",
+                   help="instead of the grids, orders and maps: one variant per named internal, with the scene's "
+                        f"options for it (any of {', '.join(internal_choices())})")
     p.add_argument("--t-end", type=positive_float("s"), help="override the end time [s]")
     p.add_argument("--dt", type=positive_float("s"), help="override the time step [s]")
     p.add_argument("--out", type=output_dir, default="out", help="output folder (default: out)")
     p.add_argument("--quiet", action="store_true", help="no progress bars")
     p.set_defaults(func=_compare)
 
+
+def _add_paper(sub) -> None:
     p = sub.add_parser("paper", help="main job: the paper's 22 Hz and 44 Hz scenes, Reynolds vs map vs Taylor vs "
                                      "linear through the bearing FMUs, error/run-time table and plots")
-    p.add_argument("--scenes", type=existing_dir,
-                   default=str(Path(__file__).resolve().parents[1] / "models" / "scenes"),
+    p.add_argument("--scenes", type=existing_dir, default=str(MODELS / "scenes"),
                    help="folder with paper_22hz.toml and paper_44hz.toml")
     p.add_argument("--t-end", type=positive_float("s"), help="override the simulated time of both scenes [s]")
     p.add_argument("--out", type=output_dir, default="out/paper", help="output folder (default: out/paper)")
     p.add_argument("--quiet", action="store_true", help="no progress bars")
     p.set_defaults(func=_paper)
 
-    from .analyses import training
+
+def _add_fit(sub) -> None:
+    from bearing_fmu.cli import add_output_arguments, add_recipe_arguments
 
     p = sub.add_parser("fit", help="fit a bearing's Taylor surrogate to the Reynolds series of scenes (the paper's way) "
                                    "and write its JSON file, report and lambda plots")
-    training.add_arguments(p)
-    p.set_defaults(func=training.run)
+    add_recipe_arguments(p, "scene")
+    p.add_argument("--cache-dir", type=output_dir, default=None,
+                   help="folder caching the Reynolds series (default: series/ beside --output)")
+    add_output_arguments(p)
+    p.set_defaults(func=_fit)
 
-    from .analyses import dt_study
 
+def _add_dt_study(sub) -> None:
     p = sub.add_parser("dt-study", help="halve dt until the bearing orbit changes by less than 1 %% CR")
-    dt_study.add_arguments(p)
-    p.set_defaults(func=dt_study.run)
+    p.add_argument("scene", type=existing_file, help="scene TOML file")
+    p.add_argument("--internal", choices=internal_choices(), default="reynolds")
+    p.add_argument("--dt", type=positive_float("s"), help="first time step [s] (default: the scene's)")
+    p.add_argument("--t-end", type=positive_float("s"), help="simulated time [s] (default: the scene's)")
+    p.add_argument("--halvings", type=positive_int(), default=3,
+                   help="at most this many halvings, at least 1 (default 3)")
+    p.add_argument("--tol", type=positive_float("% CR"), default=1.0,
+                   help="orbit change that counts as converged [%% CR] (default 1)")
+    p.add_argument("--out", type=output_dir, default="out",
+                   help="output folder for dtstudy_<scene>_<internal>.md/.json")
+    p.add_argument("--quiet", action="store_true")
+    p.set_defaults(func=_module_command("dt_study"))
 
-    from .analyses import waterfall
+
+def _add_waterfall(sub) -> None:
+    from .analyses.waterfall import DEFAULT_WINDOW_S
 
     p = sub.add_parser("waterfall", help="response spectra against speed of a run-up or coast-down run "
                                          "(a scene with [speed_profile]), with 1x and 0.5x lines and orbits")
-    waterfall.add_arguments(p)
-    p.set_defaults(func=waterfall.run)
+    p.add_argument("run", type=existing_file, help="a run's .npz (rotor-host run of a scene with a [speed_profile])")
+    p.add_argument("--nodes", nargs="+", type=positive_int(), default=None,
+                   help="recorded nodes to show (default: the first bearing and the recorded node with the "
+                        "largest whirl)")
+    p.add_argument("--window-s", type=positive_float("s"), default=DEFAULT_WINDOW_S,
+                   help=f"spectrum window [s] (default {DEFAULT_WINDOW_S}; resolution 1/window)")
+    p.add_argument("--orbits-at-hz", nargs="*", type=positive_float("Hz"), default=None,
+                   help="speeds whose orbits are drawn (default: start, resonance, end)")
+    p.add_argument("-o", "--output", type=output_file, default=None,
+                   help="PNG to write (default: beside the run, _waterfall.png)")
+    p.set_defaults(func=_module_command("waterfall"))
 
-    from .analyses import limit_cycle
 
+def _add_limit_cycle(sub) -> None:
     p = sub.add_parser("limit-cycle", help="envelope of the bearing eccentricity: does the whirl settle and hold?")
-    limit_cycle.add_arguments(p)
-    p.set_defaults(func=limit_cycle.run)
+    p.add_argument("source", type=existing_file, help="scene TOML file (run it, called directly) or a saved run "
+                   ".npz (then give --speed-hz)")
+    p.add_argument("--internal", choices=internal_choices(), default="reynolds")
+    p.add_argument("--dt", type=positive_float("s"), help="time step [s] (default: the scene's)")
+    p.add_argument("--t-end", type=positive_float("s"), help="simulated time [s] (default: the scene's)")
+    p.add_argument("--speed-hz", type=positive_float("Hz"), help="shaft speed for a .npz source [Hz]")
+    p.add_argument("--revs", type=positive_int(), default=2, help="window length in shaft revolutions (default 2: "
+                   "one period of a half-speed whirl)")
+    p.add_argument("--tol", type=positive_float("% CR"), default=1.0,
+                   help="settling band half-width [%% CR] (default 1)")
+    p.add_argument("--hold", type=nonneg_float("s"), default=1.0, help="the limit cycle counts as held when settled "
+                   "this long before the end, without a trend across the band [s] (default 1; exit status 1 "
+                   "otherwise)")
+    p.add_argument("--rel-tol", type=positive_float("%"), default=10.0,
+                   help="largest trend of the whirl's size over the last half of the run, in %% of that size, for "
+                        "a held limit cycle (default 10): a whirl dying away slowly inside the band is not one")
+    p.add_argument("--out", type=output_dir, default="out", help="output folder for limitcycle_<name>.md/.json/.png")
+    p.add_argument("--quiet", action="store_true")
+    p.set_defaults(func=_module_command("limit_cycle"))
 
-    from .analyses import stability
+
+def _add_stability(sub) -> None:
+    from bearing_fmu.internals.registry import having
+
+    from .analyses.stability import DEFAULT_FILES, DEFAULT_MODES
 
     p = sub.add_parser("stability", help="Campbell diagram and stability threshold: equilibrium, linearised "
                                          "bearings and damped modes at each speed of a range")
-    stability.add_arguments(p)
-    p.set_defaults(func=stability.run)
+    p.add_argument("rotor", type=existing_file, help="rotor TOML file (models/rotor_paper.toml)")
+    p.add_argument("--speeds-hz", type=float_range("Hz"), required=True, metavar="START:STOP:STEP",
+                   help="shaft speeds [Hz], both ends included (e.g. 10:70:1)")
+    p.add_argument("--internal", choices=having(any_state=True), default="reynolds",
+                   help="bearing internal, one valid at every speed and load: the Reynolds solver (default) or the "
+                        "force map (microseconds per linearisation)")
+    defaults = ", ".join(f"--{k} {v.relative_to(MODELS.parent)}" for k, v in DEFAULT_FILES.items())
+    _file_flags(p, what=f"default: {defaults}, the paper bearing's; build a map with `bearing-fmu map`;")
+    p.add_argument("--grid", type=grid, metavar="NxM", help="Reynolds grid n_theta x n_x (default: the solver's, "
+                                                           "128x16)")
+    p.add_argument("--static-load", type=node_load, nargs="+", action="extend", default=[], metavar="NODE:FY:FZ",
+                   help="static point loads [N] on 1-based nodes, besides the weight (applied as in a scene)")
+    p.add_argument("--modes", type=positive_int(), default=DEFAULT_MODES,
+                   help=f"lowest modes shown in the Campbell diagram and the json and searched for critical "
+                        f"speeds (default {DEFAULT_MODES}; the threshold looks at every mode)")
+    p.add_argument("--out", type=output_dir, default="out", help="output folder (default: out) for "
+                   "stability_<rotor>_<internal>.md/.json and _campbell/_logdec/_mode.png")
+    p.add_argument("--no-plots", action="store_true")
+    p.set_defaults(func=_stability)
 
-    from .analyses import sweep
+
+def _add_sweep(sub) -> None:
+    from .analyses.sweep import scheduler_address
 
     p = sub.add_parser("sweep", help="run a scene at many speeds or unbalances in parallel on Dask: summary table "
                                      "and bifurcation diagram")
-    sweep.add_arguments(p)
-    p.set_defaults(func=sweep.run)
+    p.add_argument("scene", type=existing_file, help="scene TOML file (models/scenes/*.toml)")
+    what = p.add_mutually_exclusive_group(required=True)
+    what.add_argument("--speeds-hz", nargs="+", type=float_range("Hz", 0.0), metavar="F|START:STOP:STEP",
+                      help="shaft speeds [Hz]: numbers and ranges, e.g. 10:60:2.5 (both ends included)")
+    what.add_argument("--unbalance-g", nargs="+", type=float_range("g", 0.0, exclusive_minimum=False),
+                      metavar="M|START:STOP:STEP",
+                      help="masses [g] of the scene's first [[unbalance]] (at its radius and the scene's speed)")
+    _scene_flags(p)
+    p.add_argument("--settle-s", type=nonneg_float("s"),
+                   help="the transient ends here: the summary and diagram use t >= this [s] (default: half the run)")
+    p.add_argument("--scheduler", type=scheduler_address, metavar="ADDRESS",
+                   help="a running Dask scheduler (e.g. tcp://10.0.0.5:8786) whose workers run the sweep; default: "
+                        "a local cluster on this machine")
+    p.add_argument("--workers", type=positive_int(), help="worker processes of the local cluster (default: the cores)")
+    p.add_argument("--out", type=output_dir, default="out/sweep", help="output folder (default: out/sweep)")
+    p.add_argument("--quiet", action="store_true", help="no progress bar")
+    p.set_defaults(func=_sweep)
 
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(prog="rotor-host", description=__doc__, epilog=EXIT_CODES,
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    sub = parser.add_subparsers(dest="command", required=True)
+    for add in (_add_run, _add_compare, _add_paper, _add_fit, _add_dt_study, _add_waterfall, _add_limit_cycle,
+                _add_stability, _add_sweep):
+        add(sub)
     add_debug_flag(parser, sub)
-    args = parser.parse_args(argv)
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    args = build_parser().parse_args(argv)
     return run_command("rotor-host", args)  # exit codes, interrupts, --debug: bearing_fmu.io.exits
 
 

@@ -31,33 +31,28 @@ def code_cache(tmp_path_factory):
 
 
 @pytest.fixture(scope="session")
-def surrogate_file(tmp_path_factory):
-    """An order-2 surrogate of the paper bearing at 22 Hz with made-up coefficients: the FMU
-    must reproduce the Taylor internal exactly, whatever the coefficients."""
-    from bearing_fmu.surrogates.basis import exponents
-    from bearing_fmu.surrogates.surrogate import Domain, Surrogate, save_surrogate
-
-    exps = exponents(2)
-    rng = np.random.default_rng(1)
-    coef = rng.normal(size=(2, len(exps))) * 0.1
-    coef[:, 0] = (0.0, 1.0)
-    dom = Domain(ecc_max=0.8, pos_center=(0.0, 0.0), pos_radius=0.3, v_max=0.3, box_lo=(-0.3,) * 4, box_hi=(0.3,) * 4)
-    P = PAPER_BEARING
-    sur = Surrogate(params=P, omega=OMEGA_22HZ, y0=0.1 * P.CR, z0=-0.4 * P.CR, order=2, exponents=exps, coef=coef,
-                    force_scale=20.0, domain=dom)
-    return save_surrogate(sur, tmp_path_factory.mktemp("sur") / "paper_22hz.json")
-
-
-COARSE_MAP = {"n_theta": 32, "n_x": 4, "n_eps": 12, "n_beta": 16, "n_phase": 1}  # a contract, not accuracy
+def contract_data(tmp_path_factory):
+    """The data files of the internals' contract cases (``bearing_fmu.internals.cases``), made
+    once: the made-up surrogate and the coarse map, which the session FMU bundles too."""
+    return tmp_path_factory.mktemp("contract_data")
 
 
 @pytest.fixture(scope="session")
-def map_file(tmp_path_factory):
+def surrogate_file(contract_data):
+    """An order-2 surrogate of the paper bearing at 22 Hz with made-up coefficients: the FMU
+    must reproduce the Taylor internal exactly, whatever the coefficients."""
+    from bearing_fmu.internals.cases import surrogate_file
+
+    return surrogate_file(contract_data)
+
+
+@pytest.fixture(scope="session")
+def map_file(contract_data):
     """A coarse force map of the paper bearing (Reynolds 32 x 4, table 12 x 16): quick to build;
     its accuracy is the business of tests/test_forcemap.py."""
-    from bearing_fmu.internals.forcemap import save_map, tabulate
+    from bearing_fmu.internals.cases import map_file
 
-    return save_map(tabulate(PAPER_BEARING, **COARSE_MAP), tmp_path_factory.mktemp("map") / "paper_map.json")
+    return map_file(contract_data)
 
 
 @pytest.fixture(scope="session")

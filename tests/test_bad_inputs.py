@@ -142,12 +142,10 @@ def test_a_bad_rotor_is_named_from_the_scene(tmp_path):
 
 def test_overrides_are_checked_and_zero_is_a_value():
     # --dt 0 used to mean "the scene's dt" (a truth test); now 0 reaches the check and is refused
-    from rotor_host.cli import _scene_from_args
+    from rotor_host.scenes.overrides import SceneOverrides, load_with_overrides
 
-    args = argparse.Namespace(scene=str(SCENE), via=None, t_end=None, dt=0.0, tangent=None, surrogate=None,
-                              internal=None)
     with pytest.raises(SceneError, match=r"dt_s = 0\.0 must be a finite number > 0"):
-        _scene_from_args(args)
+        load_with_overrides(SCENE, SceneOverrides(dt_s=0.0))
     base = load_scene(SCENE)  # 0.5 s at dt = 1e-4 s (models/scenes/paper_22hz.toml)
     with pytest.raises(SceneError, match=r"t_end_s = 0\.00015 is not a whole number of steps dt_s = 0\.0001"):
         base.with_internal("reynolds", t_end_s=1.5e-4)

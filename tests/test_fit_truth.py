@@ -17,6 +17,7 @@ import pytest
 
 from bearing_fmu import fitting as F
 from bearing_fmu.cli import main as bearing_fmu
+from bearing_fmu.cli import add_fit_arguments, run_fit
 from bearing_fmu.fitting import FitRecipe
 from bearing_fmu.internals.forcemap import ForceMap, load_map, save_map, scale, tabulate
 from bearing_fmu.physics.params import PAPER_BEARING as P
@@ -80,11 +81,11 @@ def test_paper_map_samples_are_within_its_accuracy_of_reynolds():
 
 
 def test_report_and_file_name_the_truth(tmp_path, map_file, capsys):
-    parser = F.add_fit_arguments(argparse.ArgumentParser())
+    parser = add_fit_arguments(argparse.ArgumentParser())
     common = ["--speed-hz", "22", "--load-z", "-16.7", "--ecc-max", "0.6", "--v-max", "0.4", "--order", "2",
               "--n-train", "150", "--n-test", "60", "--no-prune"]
     out = tmp_path / "m.json"
-    assert F.run_fit(parser.parse_args([*common, "--truth-map", str(map_file), "-o", str(out)])) == 0
+    assert run_fit(parser.parse_args([*common, "--truth-map", str(map_file), "-o", str(out)])) == 0
     text = capsys.readouterr().out
     # the conftest map: Reynolds 32 x 4 tabulated on 12 x 16 points
     assert f"truth: force map 12x16 from Reynolds 32x4 ({map_file}); equilibrium and anchor: Reynolds 32x4" in text
@@ -101,7 +102,7 @@ def test_report_and_file_name_the_truth(tmp_path, map_file, capsys):
     assert F.truth_line(prov).startswith(f"truth: force map 12x16 from Reynolds 32x4 ({map_file.name})")
     # the default truth says so as well, and records no map
     out2 = tmp_path / "r.json"
-    assert F.run_fit(parser.parse_args([*common, "--grid", "32", "4", "-o", str(out2)])) == 0
+    assert run_fit(parser.parse_args([*common, "--grid", "32", "4", "-o", str(out2)])) == 0
     assert "truth: Reynolds 32x4\n" in capsys.readouterr().out
     prov2 = load_surrogate(out2).provenance
     assert prov2["truth"] == "Reynolds" and "truth_map" not in prov2 and prov2["recipe"]["truth_map"] is None
@@ -119,7 +120,7 @@ def test_a_map_of_another_bearing_is_refused_by_name(tmp_path, capsys, monkeypat
     def no_solver(*_a, **_k):
         raise AssertionError("the Reynolds solver was built before the map was checked")
 
-    monkeypatch.setattr("bearing_fmu.fitting.fit.make_reynolds", no_solver)
+    monkeypatch.setattr("bearing_fmu.fitting.truth.make_reynolds", no_solver)
     with pytest.raises(ValueError, match=r"^fit: truth_map: force map .*ld08\.json is for L/D = 0\.8, the bearing "
                                          r"has L/D = 0\.645161"):
         F.fit_condition(FitRecipe(**SMALL, truth_map=str(path)))

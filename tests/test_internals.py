@@ -2,10 +2,13 @@
 
 The contract is checked against things independent of each internal's own code: its force
 against central differences of itself (the analytic Jacobian), the state checks against
-the inputs' definition (non-finite, the clearance circle), the FMU against the direct call
-(to round-off: the same code behind FMI). A new internal must add its case to CASES (the
-first test fails otherwise) and so gets every check. The last tests add an internal the way
-the package docstring says, from outside the package, and run a scene with it.
+the inputs' definition (non-finite, huge, the clearance circle), its capabilities against
+what it does, the FMU against the direct call (to round-off: the same code behind FMI).
+``CONTRACT`` is the list of checks; ``test_contract`` runs each over every internal in the
+registry, built from its own ``ContractCase`` (``InternalSpec.case``: options for the paper
+bearing at 22 Hz, a state it answers for, what it does past the wall), so a new internal
+cannot be left out. An internal registered from outside the package runs the same checks
+(``test_an_internal_added_from_outside_keeps_the_whole_contract``).
 """
 
 import math
@@ -20,88 +23,118 @@ from bearing_fmu.physics.params import PAPER_BEARING
 
 P = PAPER_BEARING
 OMEGA = 2 * math.pi * 22.0
-GRID = {"n_theta": 32, "n_x": 4}  # coarse: the contract, not the accuracy, is checked here
 
 
-def _case(name, files):
-    """(options, a state (y, z, vy, vz) inside what the internal answers for, what it does
-    beyond the wall: "refuses" or "evaluates")."""
-    moving = (10e-6, -40e-6, 1e-3, -2e-4)  # eccentricity 0.46
-    if name == "reynolds":
-        return dict(GRID), moving, "refuses"
-    if name == "linear":  # the paper's linear orbits cross the wall: it evaluates there
-        return {**GRID, "load_z": -16.7, "omega_lin": OMEGA}, moving, "evaluates"
-    if name == "taylor":  # the made-up surrogate of conftest: expansion point (0.1, -0.4) CR
-        return {"surrogate": str(files["surrogate"]), **GRID}, (0.15 * P.CR, -0.35 * P.CR, 1e-3, -2e-3), "refuses"
-    if name == "map":  # the coarse map of conftest
-        return {"map": str(files["map"])}, moving, "refuses"
-    raise KeyError(name)
+class Built:
+    """One internal built from its contract case, with what the checks need."""
+
+    def __init__(self, spec, data_dir: Path, central_jacobian, fmu_instance):
+        self.spec = spec
+        self.case = spec.contract_case(data_dir)
+        self.internal = registry.create(spec.name, P, self.case.options)
+        self.central_jacobian, self.fmu_instance = central_jacobian, fmu_instance
 
 
-BUILTIN = ("reynolds", "linear", "taylor", "map")
+def check_force_is_finite_and_the_jacobian_call_agrees(b: Built):
+    f = np.array(b.internal.force(*b.case.state, b.case.omega))
+    assert f.shape == (2,) and np.all(np.isfinite(f))
+    if hasattr(b.internal, "force_and_jacobian"):
+        F, dq, dv = b.internal.force_and_jacobian(*b.case.state, b.case.omega)
+        np.testing.assert_allclose(F, f, rtol=1e-12, atol=0)
+        assert np.shape(dq) == (2, 2) and np.shape(dv) == (2, 2)
 
 
-@pytest.fixture
-def files(surrogate_file, map_file):
-    return {"surrogate": surrogate_file, "map": map_file}
-
-
-def test_every_registered_internal_has_a_contract_case(files):
-    for name in registry.names():
-        _case(name, files)  # KeyError: add the new internal's case above
-    assert registry.names()[:4] == BUILTIN
-
-
-@pytest.fixture(params=BUILTIN)
-def case(request, files):
-    name = request.param
-    options, state, wall = _case(name, files)
-    return name, registry.create(name, P, options), options, state, wall
-
-
-def test_force_and_jacobian_against_central_differences(case, central_jacobian):
-    name, internal, _, state, _ = case
-    f = np.array(internal.force(*state, OMEGA))
-    assert np.all(np.isfinite(f))
-    F, dq, dv = internal.force_and_jacobian(*state, OMEGA)
-    np.testing.assert_allclose(F, f, rtol=1e-12, atol=0)
+def check_jacobian_against_central_differences(b: Built):
+    if not hasattr(b.internal, "force_and_jacobian"):  # the statics difference it: nothing to compare
+        return
+    state, omega = b.case.state, b.case.omega
+    F, dq, dv = b.internal.force_and_jacobian(*state, omega)
     h = 1e-6 * P.CR
-    cq, cv = central_jacobian(internal.force, state, OMEGA, (h, h, h * OMEGA, h * OMEGA))
+    cq, cv = b.central_jacobian(b.internal.force, state, omega, (h, h, h * omega, h * omega))
     # relative to the largest entry: Reynolds' adjoint holds the cavitation set fixed, which a
     # step of 1e-6 CR does not change; the polynomials are exact to round-off
-    np.testing.assert_allclose(dq, cq, atol=1e-5 * np.abs(cq).max(), err_msg=f"{name} dF/dq")
-    np.testing.assert_allclose(dv, cv, atol=1e-5 * np.abs(cv).max(), err_msg=f"{name} dF/dv")
+    np.testing.assert_allclose(dq, cq, atol=1e-5 * np.abs(cq).max(), err_msg=f"{b.spec.name} dF/dq")
+    np.testing.assert_allclose(dv, cv, atol=1e-5 * np.abs(cv).max(), err_msg=f"{b.spec.name} dF/dv")
 
 
-@pytest.mark.parametrize("var", range(5))
-def test_non_finite_input_is_refused_by_name(case, var):
-    name, internal, _, state, _ = case
-    x = [*state, OMEGA]
-    x[var] = math.nan
-    for call in (internal.force, internal.force_and_jacobian):
-        with pytest.raises(BearingStateError, match=f"bearing input {registry.STATE_NAMES[var]} = nan is not finite"):
-            call(*x)
+def check_non_finite_inputs_are_refused_by_name(b: Built):
+    calls = [b.internal.force] + ([b.internal.force_and_jacobian] if hasattr(b.internal, "force_and_jacobian")
+                                  else [])
+    for var in range(5):
+        for bad in (math.nan, math.inf):
+            x = [*b.case.state, b.case.omega]
+            x[var] = bad
+            for call in calls:
+                with pytest.raises(BearingStateError,
+                                   match=f"bearing input {registry.STATE_NAMES[var]} = {bad!r} is not finite"):
+                    call(*x)
 
 
-def test_beyond_the_wall_refused_or_finite_never_nan(case):
-    name, internal, _, state, wall = case
+def check_beyond_the_wall_refused_or_finite_never_nan(b: Built):
     y, z = 0.6 * 1.03 * P.CR, -0.8 * 1.03 * P.CR  # eccentricity 1.03
-    if wall == "refuses":
+    if b.case.beyond_wall == "refuses":
         with pytest.raises(BearingStateError, match="eccentricity ratio 1.03"):
-            internal.force(y, z, 0.0, 0.0, OMEGA)
+            b.internal.force(y, z, 0.0, 0.0, b.case.omega)
     else:
-        assert np.all(np.isfinite(internal.force(y, z, 0.0, 0.0, OMEGA)))
+        assert b.case.beyond_wall == "evaluates", b.case.beyond_wall
+        assert np.all(np.isfinite(b.internal.force(y, z, 0.0, 0.0, b.case.omega)))
 
 
-def test_fmu_equals_the_direct_call(case, fmu_instance):
-    name, internal, options, state, _ = case
-    for key in ("surrogate", "map"):  # in the FMU: the bundled file by its name
-        if key in options:
-            options = {**options, key: Path(options[key]).name}
-    inst = fmu_instance(internal=name, **options)
+def check_huge_finite_velocities_give_a_named_error_or_a_finite_force(b: Built):
+    # 1e300 m/s is finite: an internal must not turn it into inf or NaN silently
+    y, z, vy, vz = b.case.state
+    for x in ((y, z, 1e300, vz), (y, z, vy, -1e300)):
+        try:
+            f = b.internal.force(*x, b.case.omega)
+        except BearingStateError:
+            continue
+        assert np.all(np.isfinite(f)), (b.spec.name, x, f)
+
+
+def check_options_are_checked_by_name(b: Built):
+    for o in b.spec.all_options():
+        assert o.check(o.default) == o.default, o.name  # every default is allowed by its own option
+    with pytest.raises(ValueError, match=rf"unknown option\(s\) no_such_option of the {b.spec.name} internal"):
+        registry.create(b.spec.name, P, {**b.case.options, "no_such_option": 1})
+
+
+def check_capabilities_hold(b: Built):
+    can, internal, (y, z, vy, vz), omega = b.spec.can, b.internal, b.case.state, b.case.omega
+    if can.truth:
+        assert can.any_state, "a truth answers for any state"
+    if can.any_state:  # another speed and load: still an answer
+        assert np.all(np.isfinite(internal.force(0.5 * y, 0.5 * z, 0.0, 0.0, 2.0 * omega)))
+    if can.fixed_speed:  # it has its speed and refuses another
+        assert internal.omega == pytest.approx(omega)
+        with pytest.raises(BearingStateError):
+            internal.force(y, z, vy, vz, 2.0 * omega)
+    if can.fitted_domain:
+        assert math.isfinite(internal.domain_distance(y, z, vy, vz))
+        internal.force(y, z, vy, vz, omega)
+        assert internal.last_out_of_domain in (False, True)
+    if can.native:
+        from bearing_fmu.fmu.native import INTERNALS
+
+        assert b.spec.name in INTERNALS, "declared native, but the native FMU has no C model of it"
+
+
+def check_fmu_equals_the_direct_call(b: Built):
+    options = dict(b.case.options)
+    for key, path in b.case.files.items():  # in the FMU: the bundled file by its name
+        options[key] = Path(path).name
+    if callable(b.spec.factory):  # registered from outside: the FMU carries the package's internals only
+        with pytest.raises(Exception):
+            b.fmu_instance(internal=b.spec.name)
+        return
+    inst = b.fmu_instance(internal=b.spec.name, **options)
     try:
-        out = inst.step(1e-4, *state, OMEGA)
-        F, dq, dv = internal.force_and_jacobian(*state, OMEGA)
+        out = inst.step(1e-4, *b.case.state, b.case.omega)
+        if hasattr(b.internal, "force_and_jacobian"):
+            F, dq, dv = b.internal.force_and_jacobian(*b.case.state, b.case.omega)
+        else:
+            from bearing_fmu.physics.statics import film_jacobian
+
+            F, dq, dv = film_jacobian(b.internal, *b.case.state, b.case.omega)
         got = [out[k] for k in ("Fy", "Fz", "Kyy", "Kyz", "Kzy", "Kzz", "Cyy", "Cyz", "Czy", "Czz")]
         want = [*F, *(-np.asarray(dq)).ravel(), *(-np.asarray(dv)).ravel()]  # the FMU outputs Lund's sign
         np.testing.assert_allclose(got, want, rtol=1e-12, atol=1e-12 * np.abs(want).max())
@@ -109,15 +142,43 @@ def test_fmu_equals_the_direct_call(case, fmu_instance):
         inst.close()
 
 
-def test_fmu_declares_every_option_with_its_default(fmu):
-    fmpy = pytest.importorskip("fmpy")
+CONTRACT = [check_force_is_finite_and_the_jacobian_call_agrees, check_jacobian_against_central_differences,
+            check_non_finite_inputs_are_refused_by_name, check_beyond_the_wall_refused_or_finite_never_nan,
+            check_huge_finite_velocities_give_a_named_error_or_a_finite_force, check_options_are_checked_by_name,
+            check_capabilities_hold, check_fmu_equals_the_direct_call]
+
+
+@pytest.fixture
+def built(contract_data, central_jacobian, fmu_instance):
+    return lambda name: Built(registry.get(name), contract_data, central_jacobian, fmu_instance)
+
+
+@pytest.mark.parametrize("check", CONTRACT, ids=lambda c: c.__name__.removeprefix("check_"))
+@pytest.mark.parametrize("name", registry.names())
+def test_contract(name, check, built):
+    check(built(name))
+
+
+def test_every_registered_internal_declares_what_it_can_do():
+    for name in registry.names():
+        spec = registry.get(name)
+        assert isinstance(spec.can, registry.Capabilities), name
+        assert spec.can.validity or spec.summary, name
+    assert registry.having(truth=True) == ("reynolds",)
+    assert set(registry.having(any_state=True)) == {"reynolds", "map"}
+    with pytest.raises(TypeError, match="no capability 'fast'"):
+        registry.having(fast=True)
+
+
+def test_the_fmu_declares_every_option_with_its_default(fmu):
+    import fmpy
+
     v = {x.name: x for x in fmpy.read_model_description(str(fmu)).modelVariables}
     for o in registry.all_options():
         assert v[o.name].causality == "parameter", o.name
         if not o.file:  # a file option defaults to the one bundled file
             start = v[o.name].start
             assert (o.type(float(start)) if o.type in (int, float) else o.type(start)) == o.default, o.name
-        assert o.check(o.default) == o.default, o.name  # every default is allowed by its own option
 
 
 # ----------------------------------------------------------------------------- options and lookup
@@ -208,6 +269,16 @@ def spring():
     registry.unregister("spring")
 
 
+def test_an_internal_added_from_outside_keeps_the_whole_contract(spring, built):
+    # registered after collection: the parametrized test_contract cannot see it, so every
+    # check of CONTRACT runs here, by name, for it
+    ran = []
+    for check in CONTRACT:
+        check(built("spring"))
+        ran.append(check.__name__)
+    assert ran == [c.__name__ for c in CONTRACT] and len(ran) == 8
+
+
 def test_an_internal_added_from_outside_keeps_the_contract(spring, central_jacobian):
     internal = registry.create("spring", P, {"spring_k": 2e6})
     state = (10e-6, -40e-6, 1e-3, -2e-4)
@@ -245,6 +316,6 @@ def test_a_scene_runs_with_an_internal_added_from_outside(spring, tmp_path, writ
     W = np.array(run.meta["bearing_loads_N"])
     cols = [list(a["nodes"]).index(n) for n in a["bearing_nodes"]]
     np.testing.assert_allclose(a["z"][-1, cols], W[:, 1] / k, rtol=1e-6)
-    from rotor_host.cli import _internal_choices
+    from rotor_host.cli import internal_choices
 
-    assert "spring" in _internal_choices()
+    assert "spring" in internal_choices()

@@ -1,15 +1,14 @@
 """The limit-cycle envelope (rotor_host.analyses.limit_cycle) against hand computations, and its command on a
 short real run. The dt study itself is tested in tests/test_dt_study.py."""
 
-import argparse
 import json
 from pathlib import Path
 
 import numpy as np
 import pytest
 
-from rotor_host.analyses.limit_cycle import (Envelope, add_arguments, envelope, envelope_change, limit_cycle,
-                                             run, settled_since)
+from rotor_host.analyses.limit_cycle import (Envelope, command, envelope, envelope_change, limit_cycle,
+                                             settled_since)
 
 SCENES = Path(__file__).resolve().parents[1] / "models" / "scenes"
 
@@ -59,10 +58,8 @@ def test_envelope_change_by_hand():
 
 
 def test_command_on_a_short_scene(tmp_path):
-    p = add_arguments(argparse.ArgumentParser())
-    args = p.parse_args([str(SCENES / "paper_22hz.toml"), "--t-end", "0.1", "--revs", "1", "--hold", "0.01",
-                         "--out", str(tmp_path), "--quiet"])
-    rc = run(args)
+    # the library call the command line makes (rotor-host limit-cycle SCENE --t-end 0.1 ...)
+    rc = command(source=SCENES / "paper_22hz.toml", t_end=0.1, revs=1, hold=0.01, out=tmp_path, quiet=True)
     data = json.loads((tmp_path / "limitcycle_paper_22hz.json").read_text())
     assert data["meta"]["status"] == "ok" and data["meta"]["steps"] == 1000
     assert len(data["t"]) == 2  # 0.1 s at 22 Hz: two complete revolutions

@@ -11,8 +11,8 @@ from pathlib import Path
 import pytest
 
 from bearing_fmu.fitting import FitRecipe, recipe_of
-from bearing_fmu.fitting.cli import add_fit_arguments
-from bearing_fmu.fitting.recipe import GROUPS, add_recipe_arguments, recipe_fields, recipe_from_args
+from bearing_fmu.cli import add_fit_arguments, add_recipe_arguments, recipe_from_args
+from bearing_fmu.fitting.recipe import GROUPS, recipe_fields
 from bearing_fmu.surrogates.surrogate import load_surrogate
 
 ROOT = Path(__file__).resolve().parents[1]

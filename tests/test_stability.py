@@ -60,7 +60,8 @@ def short_internal():
     """The Ocvirk bearing registered as the internal "ocvirk_test" for one test (the registry lets
     a test register a spec whose factory is a callable)."""
     registry.register(registry.InternalSpec("ocvirk_test", lambda p, o, c: ShortBearing(p),
-                                            "closed-form short bearing (test)"))
+                                            "closed-form short bearing (test)",
+                                            can=registry.Capabilities(any_state=True)))
     yield "ocvirk_test"
     registry.unregister("ocvirk_test")
 

@@ -7,7 +7,6 @@ path), where one run fails honestly (0.01 Hz: the film cannot carry the rotor's 
 under Ctrl-C.
 """
 
-import argparse
 import json
 import math
 import os
@@ -37,9 +36,9 @@ def _cli(*argv):
 
 def _args(*argv):
     """The sweep's parsed arguments (its parser as the command line builds it)."""
-    from rotor_host.analyses import sweep
+    from rotor_host.cli import build_parser
 
-    return sweep.add_arguments(argparse.ArgumentParser()).parse_args([str(a) for a in argv])
+    return build_parser().parse_args(["sweep", *[str(a) for a in argv]])
 
 
 def test_ranges_include_both_ends():
@@ -95,7 +94,7 @@ def test_bad_input_names_the_option_before_any_work(tmp_path, capsys, write_scen
     # a Taylor surrogate answers at its own speed only (44 Hz here): a speed sweep with it is refused
     assert _cli("sweep", MODELS / "scenes" / "paper_44hz.toml", "--speeds-hz", "40", "44", "--internal", "taylor",
                 "--out", tmp_path, "--quiet") == 2
-    assert "the taylor internal answers only at the speed its surrogate was fitted at (44 Hz" in capsys.readouterr().err
+    assert "the taylor internal answers only at the speed its data was made for (44 Hz" in capsys.readouterr().err
     assert not list(tmp_path.glob("sweep_*"))
 
 

@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 
 from bearing_fmu import fitting as F
+from bearing_fmu.cli import add_fit_arguments, run_fit
 from bearing_fmu.fitting import FitRecipe
 from bearing_fmu.internals.registry import BearingStateError, DifferentiableInternal, Internal
 from bearing_fmu.internals.taylor import Taylor
@@ -527,12 +528,12 @@ def test_fit_command_writes_file_plots_and_report(tmp_path, capsys):
     pytest.importorskip("bearing_fmu.physics.reynolds")
     import argparse
 
-    parser = F.add_fit_arguments(argparse.ArgumentParser())
+    parser = add_fit_arguments(argparse.ArgumentParser())
     out = tmp_path / "s.json"
     args = parser.parse_args(["--speed-hz", "22", "--load-z", "-16.7", "--order", "3", "--ecc-max", "0.9",
                               "--radius", "0.1", "--v-max", "0.1", "--n-train", "300", "--n-test", "100",
                               "--grid", "32", "8", "-o", str(out), "--plots", str(tmp_path / "plots")])
-    assert F.run_fit(args) == 0
+    assert run_fit(args) == 0
     text = capsys.readouterr().out
     assert "| Fy |" in text and "| Fz |" in text and "terms kept" in text
     s = load_surrogate(out, P)
@@ -549,10 +550,10 @@ def test_designed_refit_repeats_the_fit_from_its_recipe(tmp_path):
     import argparse
 
     out = tmp_path / "s.json"
-    args = F.add_fit_arguments(argparse.ArgumentParser()).parse_args(
+    args = add_fit_arguments(argparse.ArgumentParser()).parse_args(
         ["--order", "3", "--ecc-max", "0.9", "--radius", "0.1", "--v-max", "0.1", "--n-train", "200", "--n-test", "50",
          "--grid", "32", "8", "--wall-power", "0.5", "--lambda", "1e-7", "-o", str(out)])
-    assert F.run_fit(args) == 0
+    assert run_fit(args) == 0
     s = load_surrogate(out)
     assert s.provenance["recipe"]["grid"] == [32, 8] and s.provenance["recipe"]["lam"] == 1e-7
     r = load_surrogate(F.refit_order(out, 3, tmp_path / "r.json"))

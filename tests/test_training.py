@@ -170,9 +170,7 @@ def test_host_fit_needs_a_scene(capsys):
 def test_compare_refits_a_scene_surrogate_at_other_orders(tmp_path):
     # `rotor-host compare --orders`: the scene's surrogate for its own order, the others refitted
     # from its recipe into the output folder (once: a second call finds them there)
-    from types import SimpleNamespace
-
-    from rotor_host.cli import _surrogates
+    from rotor_host.analyses.compare import surrogates_at_orders
 
     scenes = tmp_path / "scenes"
     scenes.mkdir()
@@ -181,12 +179,11 @@ def test_compare_refits_a_scene_surrogate_at_other_orders(tmp_path):
     assert rotor_host(["fit", "--scene", str(a), "--order", "3", "--designed", "0", "--no-prune",
                        "--cache-dir", str(tmp_path / "out" / "series"), "-o", str(sur)]) == 0
     scene = load_scene(a).with_internal("taylor", via="direct", options={"taylor": {"surrogate": sur}})
-    args = SimpleNamespace(orders=[2, 3], out=str(tmp_path / "out"))
-    got = _surrogates(args, scene)
+    got = surrogates_at_orders(scene, [2, 3], tmp_path / "out")
     assert [o for o, _ in got] == [2, 3] and got[1][1] == sur
     r = load_surrogate(got[0][1])
     assert r.order == 2 and r.provenance["recipe"]["scenes"] == ["../../scenes/a.toml"]
-    assert _surrogates(args, scene) == got
+    assert surrogates_at_orders(scene, [2, 3], tmp_path / "out") == got
 
 
 def test_training_scenes_must_share_speed_and_load(tmp_path):

@@ -10,27 +10,29 @@
     fit       fit_surrogate (the fit, step by step), fit_condition (a designed domain at one
               load and speed), save_fit, refit_order
     report    the report table and the lambda plots
-    cli       ``bearing-fmu fit`` (scene-trained fitting is the host's ``rotor-host fit``)
+    output    what a fit leaves behind (file, report, plots, interrupted samples); fit_designed:
+              ``bearing-fmu fit`` without its command line (scene-trained fitting is the host's
+              ``rotor-host fit``)
 
 The names below are re-exported for convenience (``from bearing_fmu import fitting as F``).
 """
 
-from .cli import add_fit_arguments, run_fit, write_fit
-from .fit import (COMPONENTS, FitResult, expansion_point, fit_condition, fit_surrogate, make_reynolds,
+from .fit import (COMPONENTS, FitResult, expansion_point, fit_condition, fit_surrogate,
                   refit_order, save_fit, truth_jacobian)
 from .neighbours import neighbours_for_fit
-from .recipe import FitRecipe, RecipeError, add_recipe_arguments, recipe_from_args, recipe_of
+from .output import fit_designed, write_fit
+from .recipe import FitRecipe, RecipeError, command_line_options, recipe_from_values, recipe_of
 from .report import format_report, plot_lambda
 from .ridge import (CrossValidation, RidgeSVD, fold_indices, nrmse, prune_terms, rel_rms,
                     ridge_normal_equations, select_lambda)
 from .sampling import designed_samples, domain_from_data, load_npz, sample_forces, tube_samples
-from .truth import Truth, fit_truth, truth_line
+from .truth import Truth, fit_truth, make_reynolds, truth_line
 
 __all__ = [
-    "FitRecipe", "RecipeError", "recipe_of", "add_recipe_arguments", "recipe_from_args",
+    "FitRecipe", "RecipeError", "recipe_of", "command_line_options", "recipe_from_values",
     "RidgeSVD", "CrossValidation", "select_lambda", "prune_terms", "fold_indices", "nrmse", "rel_rms",
     "ridge_normal_equations", "designed_samples", "tube_samples", "sample_forces", "load_npz", "domain_from_data",
     "FitResult", "fit_surrogate", "save_fit", "fit_condition", "make_reynolds", "truth_jacobian", "expansion_point",
-    "refit_order", "COMPONENTS", "neighbours_for_fit", "format_report", "plot_lambda", "add_fit_arguments",
-    "run_fit", "write_fit", "Truth", "fit_truth", "truth_line",
+    "refit_order", "COMPONENTS", "neighbours_for_fit", "format_report", "plot_lambda",
+    "fit_designed", "write_fit", "Truth", "fit_truth", "truth_line",
 ]

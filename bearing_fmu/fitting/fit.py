@@ -384,16 +384,6 @@ def save_fit(res: FitResult, path: str | Path) -> Path:
 
 # ----------------------------------------------------------------------------- the truth at the expansion point
 
-def make_reynolds(params: BearingParams, grid: tuple[int, int] | None = None, cavitation: str = "reynolds"):
-    """The truth (imported lazily: the surrogate never needs it) on ``grid`` (n_theta, n_x;
-    None: the solver's default)."""
-    from ..physics.reynolds import Reynolds
-
-    if grid is None:
-        return Reynolds(params, cavitation=cavitation)
-    return Reynolds(params, n_theta=int(grid[0]), n_x=int(grid[1]), cavitation=cavitation)
-
-
 def truth_jacobian(internal, y: float, z: float, omega: float, rel_step: float = 1e-5):
     """(F, dF/dq, dF/dv) of ``internal`` at (y, z, 0, 0): its own ``force_and_jacobian`` when
     it has one (Reynolds: adjoint, exact for the discrete solution), else central differences
@@ -494,5 +484,5 @@ def refit_order(surrogate_path, order: int, out_path, *, surrogate: Surrogate | 
     return save_fit(fit_condition(recipe.with_order(order), params=sur.params), out_path)
 
 
-__all__ = ["FitResult", "fit_surrogate", "save_fit", "fit_condition", "make_reynolds", "truth_jacobian",
+__all__ = ["FitResult", "fit_surrogate", "save_fit", "fit_condition", "truth_jacobian",
            "expansion_point", "refit_order", "COMPONENTS"]

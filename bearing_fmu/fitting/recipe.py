@@ -7,7 +7,7 @@ A recipe holds every setting of a fit with its meaning, unit, default and allowe
   the range;
 * the command lines: the options of ``bearing-fmu fit`` (group "designed") and of
   ``rotor-host fit`` (group "scene"), both with the shared settings (groups "model" and
-  "truth"), are generated from the fields (``add_recipe_arguments`` / ``recipe_from_args``);
+  "truth"), are generated from the fields (``command_line_options`` / ``recipe_from_values``);
 * the provenance: ``to_dict`` is stored in the surrogate file as ``provenance["recipe"]``
   and ``recipe_of`` reads it back for a refit. Files written before the recipe store
   ``provenance["fit_call"]`` instead; ``from_fit_call`` is the one place that reads those.
@@ -25,12 +25,12 @@ The truth (group "truth", both kinds): the Reynolds solver, or with ``truth_map`
 
 from __future__ import annotations
 
-import argparse
 import math
 import os
 from dataclasses import MISSING, dataclass, field, fields, replace
 from numbers import Integral, Real
 from pathlib import Path
+from typing import Mapping
 
 from ..io.cliargs import existing_file, grid_words, parse_grid, typed
 from ..io.schema import Invalid
@@ -456,17 +456,19 @@ def recipe_fields(group: str):
     return [f for f in fields(FitRecipe) if f.metadata["group"] in (*SHARED, group)]
 
 
-def add_recipe_arguments(parser: argparse.ArgumentParser, group: str) -> argparse.ArgumentParser:
-    """Options for the recipe fields of ``group`` ('designed' or 'scene') and the shared ones:
-    name, default and help from the fields."""
+def command_line_options(group: str) -> list[tuple[str, dict]]:
+    """The recipe fields of ``group`` ('designed' or 'scene') and the shared ones as command-line
+    options: (flag, keyword arguments of ``argparse.ArgumentParser.add_argument``), name, default
+    and help from the fields. The command lines (``bearing_fmu.cli``, ``rotor_host.cli``) add them."""
+    out = []
     for f in recipe_fields(group):
         allowed: _Kind = f.metadata["allowed"]
         flag = option_name(f)
         default = f.default if f.default is not MISSING else None
         if isinstance(allowed, _Flag):
             text = f.metadata["flag_help"] or f.metadata["help"]
-            parser.add_argument(flag, dest=f.name, action="store_false" if default else "store_true",
-                                help=text.replace("%", "%%"))
+            out.append((flag, {"dest": f.name, "action": "store_false" if default else "store_true",
+                               "help": text.replace("%", "%%")}))
             continue
         shown = f.metadata["default_text"] or (default if not isinstance(default, tuple) else None)
         text = f.metadata["help"] + ("" if isinstance(allowed, _Paths) else f"; {allowed.describe()}")
@@ -476,16 +478,17 @@ def add_recipe_arguments(parser: argparse.ArgumentParser, group: str) -> argpars
               **allowed.cli()}
         if f.metadata["metavar"]:
             kw["metavar"] = f.metadata["metavar"]
-        parser.add_argument(flag, **kw)
-    return parser
+        out.append((flag, kw))
+    return out
 
 
-def recipe_from_args(args: argparse.Namespace, group: str) -> FitRecipe:
-    """The recipe of parsed options (see ``add_recipe_arguments``); a value outside its range
-    is refused naming the option."""
+def recipe_from_values(values: Mapping, group: str) -> FitRecipe:
+    """The recipe of parsed option values (field name -> value, e.g. ``vars()`` of the parsed
+    command line, see ``command_line_options``); a value outside its range is refused naming
+    the option."""
     flags = {f.name: option_name(f) for f in recipe_fields(group)}
     try:
-        return FitRecipe(**{name: getattr(args, name) for name in flags})
+        return FitRecipe(**{name: values.get(name) for name in flags})
     except RecipeError as exc:
         value = exc.value if not isinstance(exc.value, (tuple, list)) else " ".join(map(str, exc.value))
         allowed = exc.allowed.removesuffix(" or None")  # on the command line: leave the option out
@@ -494,5 +497,5 @@ def recipe_from_args(args: argparse.Namespace, group: str) -> FitRecipe:
                          + (f" ({exc.why})" if exc.why else "")) from None
 
 
-__all__ = ["FitRecipe", "RecipeError", "recipe_of", "add_recipe_arguments", "recipe_from_args", "recipe_fields",
+__all__ = ["FitRecipe", "RecipeError", "recipe_of", "command_line_options", "recipe_from_values", "recipe_fields",
            "option_name", "GROUPS"]

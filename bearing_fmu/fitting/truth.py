@@ -70,6 +70,16 @@ class Truth:
         return prov
 
 
+def make_reynolds(params: BearingParams, grid: tuple[int, int] | None = None, cavitation: str = "reynolds"):
+    """The truth (imported lazily: the surrogate never needs it) on ``grid`` (n_theta, n_x;
+    None: the solver's default)."""
+    from ..physics.reynolds import Reynolds
+
+    if grid is None:
+        return Reynolds(params, cavitation=cavitation)
+    return Reynolds(params, n_theta=int(grid[0]), n_x=int(grid[1]), cavitation=cavitation)
+
+
 def _digest(path) -> str:
     """The first 16 hex digits of the file's SHA-256: which map, even if a file of that name changes."""
     return hashlib.sha256(Path(path).read_bytes()).hexdigest()[:16]
@@ -112,8 +122,6 @@ def fit_truth(recipe, params: BearingParams, statics=None, *, grid_hint: str = "
     if path is not None:
         table, sampler = _load(path, params)
     if statics is None:
-        from .fit import make_reynolds
-
         grid = recipe.grid if recipe.grid is not None or table is None else (table.n_theta, table.n_x)
         _check_grid(table, path, grid, "reynolds" if table is None else table.cavitation, grid_hint)
         statics = make_reynolds(params, grid, "reynolds" if table is None else table.cavitation)
@@ -151,4 +159,4 @@ def _check_grid(table, path, grid, cavitation: str, hint: str) -> None:
                          f"statics must come from one truth" + (f"; {hint}" if hint else ""))
 
 
-__all__ = ["Truth", "fit_truth", "truth_line"]
+__all__ = ["Truth", "fit_truth", "make_reynolds", "truth_line"]

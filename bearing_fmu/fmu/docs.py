@@ -15,21 +15,10 @@ import json
 from pathlib import Path
 from xml.etree import ElementTree as ET
 
+from ..internals import registry
+
 _E = html.escape
 
-_VALIDITY = {
-    "reynolds": "The finite-volume Reynolds solver evaluates any journal state inside the clearance circle at any "
-                "speed, load and velocity; it is the reference the other internals are measured against. Its accuracy "
-                "is set by the grid n_theta x n_x (0: the default 128 x 16, docs/reynolds.md). The journal at or "
-                "beyond the wall is refused (fmi2Discard).",
-    "taylor": "The surrogate answers for the speed it was fitted at (any other omega is refused) and inside its "
-              "fitted domain of journal states; outside it the FMU {actions}, and beyond domain_limit it always "
-              "refuses. The journal at or beyond the wall is refused (fmi2Discard).",
-    "map": "The force map holds the Reynolds force for every speed, load and velocity of bearings with its L/D; "
-           "states beyond its last eccentricity (eps_max) are refused (fmi2Discard).",
-    "linear": "The linear model holds near its expansion point at the speed omega_lin (any other omega is refused); "
-              "it evaluates beyond the clearance circle, where it means nothing physically (h_min < 0).{made}",
-}
 _ACTIONS = {"python": "warns once (domain_action = warn), takes the Reynolds value for that call (fallback) or "
                       "refuses the step (discard)",
             "native": "warns once (domain_action = warn) or refuses the step (discard); fallback needs the Reynolds "
@@ -108,6 +97,12 @@ def _data(files: list) -> str:
     return "\n".join(out)
 
 
+def _validity(name: str, kind: str) -> str:
+    """Where internal ``name``'s force holds (its registered capabilities), for FMU ``kind``."""
+    spec = registry.get(name)
+    return (spec.can.validity or spec.summary).format(actions=_ACTIONS[kind], made=_LINEAR_MADE[kind])
+
+
 def documentation_html(model_description: bytes, record: dict) -> str:
     """The page for an FMU whose modelDescription.xml is ``model_description`` and whose build
     record (``fmu_meta.build_record``) is ``record``."""
@@ -115,8 +110,8 @@ def documentation_html(model_description: bytes, record: dict) -> str:
     kind = record["kind"]
     validity = "\n".join(
         f"<li><b>{_E(name)}</b>{' (default)' if name == record['default_internal'] else ''}: "
-        + _E(_VALIDITY[name].format(actions=_ACTIONS[kind], made=_LINEAR_MADE[kind])) + "</li>"
-        for name in record["internals"] if name in _VALIDITY)
+        + _E(_validity(name, kind)) + "</li>"
+        for name in record["internals"] if name in registry.REGISTRY)
     extra = {k: v for k, v in record.items() if k not in ("bearing", "data_files", "internals", "kind",
                                                           "default_internal", "model_name", "generator")}
     return f"""<!DOCTYPE html>

@@ -5,8 +5,10 @@ per internal. Everything a caller needs is importable from here (``bearing_fmu.i
 module          what it holds
 ==============  ================================================================
 registry        the ``Internal`` protocol, state checks, ``Option``, ``Context``,
-                ``InternalSpec`` and ``REGISTRY`` with the built-in internals, and the
-                "how to add an internal" checklist
+                ``Capabilities``, ``InternalSpec`` and ``REGISTRY`` with the built-in
+                internals, and the "how to add an internal" checklist
+cases           the built-in internals' contract cases (``ContractCase``): what the
+                contract tests build each with
 linear          the linear internal: 8 Lund coefficients (order-1 model)
 taylor, guard   the Taylor-surrogate internal and the fitted-domain guard around it
 forcemap,       the force map: the Reynolds force as a 2-D table per L/D, its file,
@@ -18,11 +20,12 @@ The Reynolds solver, the truth, is an internal too; it lives with the physics
 """
 
 from .registry import (DEFAULT_DOMAIN_LIMIT, DEFAULT_LOAD_Z, DEFAULT_OMEGA_LIN, DOMAIN_ACTIONS, REGISTRY,
-                       STATE_NAMES, BearingStateError, Context, DifferentiableInternal, Internal,
+                       STATE_NAMES, BearingStateError, Capabilities, Context, DifferentiableInternal, Internal,
                        InternalSpec, Option, all_options, check_finite, check_state, create, file_format, get,
-                       names, option_for_file, register, unregister, wall_error)
+                       names, having, option_for_file, register, unregister, wall_error)
 
 __all__ = ["DEFAULT_DOMAIN_LIMIT", "DEFAULT_LOAD_Z", "DEFAULT_OMEGA_LIN", "DOMAIN_ACTIONS", "REGISTRY",
-           "STATE_NAMES", "BearingStateError", "Context", "DifferentiableInternal", "Internal", "InternalSpec",
+           "STATE_NAMES", "BearingStateError", "Capabilities", "Context", "DifferentiableInternal", "Internal", "InternalSpec",
            "Option", "all_options", "check_finite", "check_state", "create", "file_format", "get", "names",
-           "option_for_file", "register", "unregister", "wall_error"]
+           "having", "option_for_file", "register", "unregister",
+           "wall_error"]

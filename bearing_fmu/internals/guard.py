@@ -162,6 +162,10 @@ class DomainGuard:
     def in_domain(self, y: float, z: float, vy: float, vz: float) -> bool:
         return self.taylor.in_domain(y, z, vy, vz)
 
+    def domain_distance(self, y: float, z: float, vy: float, vz: float) -> float:
+        """The exact domain distance (``Taylor.domain_distance``): what a run's domain report uses."""
+        return self.taylor.domain_distance(y, z, vy, vz)
+
     def distance(self, y: float, z: float, vy: float, vz: float) -> float:
         """The state's domain distance d (``Taylor.domain_distance``: bounds and nearest training
         state), skipping the KD-tree query inside where it can: exact when > 0, else <= 0."""

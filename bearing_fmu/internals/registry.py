@@ -245,6 +245,35 @@ class Context:
 # ----------------------------------------------------------------------------- registry
 
 @dataclass(frozen=True)
+class Capabilities:
+    """What an internal can do: the host, the FMU builds and the docs ask this, never its name.
+
+    any_state     : answers for any speed, load and journal state inside the clearance (the
+                    Reynolds solver, the force map); False for a model made about one operating
+                    point (linear, a fitted surrogate). ``rotor-host stability`` needs it.
+    fixed_speed   : answers only at the one speed its data file was made for (a fitted
+                    surrogate); the internal then has ``omega`` [rad/s]. A speed sweep refuses it.
+    fitted_domain : has a fitted domain of journal states: the internal has
+                    ``domain_distance(y, z, vy, vz)`` (<= 0 inside) and ``last_out_of_domain``
+                    (the last evaluated state's), for the FMU's ``out_of_domain`` output and a
+                    run's domain report.
+    native        : compiles into the native C FMU (``bearing_fmu.fmu.native``).
+    compare       : can be a variant of ``rotor-host compare`` (error and cost against the truth).
+    truth         : a reference the others are measured against (the Reynolds solver).
+    validity      : one paragraph for the FMU's documentation: where its force holds ({actions}
+                    and {made}, if present, are filled per FMU kind by ``bearing_fmu.fmu.docs``).
+    """
+
+    any_state: bool = False
+    fixed_speed: bool = False
+    fitted_domain: bool = False
+    native: bool = False
+    compare: bool = True
+    truth: bool = False
+    validity: str = ""
+
+
+@dataclass(frozen=True)
 class InternalSpec:
     """One registered internal (see the module docstring, "How to add an internal").
 
@@ -255,6 +284,11 @@ class InternalSpec:
     options : its ``Option``s
     uses    : other internals whose options it also reads (it builds one of them inside:
               linear and taylor's fallback build Reynolds), so one grid setting serves all
+    can     : its ``Capabilities``
+    case    : its contract case for tests/test_internals.py: "module:function" or a callable
+              (data_dir) -> ``cases.ContractCase`` (options that build a working instance for the
+              paper bearing at 22 Hz, a state it answers for, what it does past the wall; data
+              files written into data_dir); None: ``cases.default_case`` (its defaults)
     """
 
     name: str
@@ -262,6 +296,12 @@ class InternalSpec:
     summary: str
     options: tuple[Option, ...] = ()
     uses: tuple[str, ...] = ()
+    can: Capabilities = field(default_factory=Capabilities)
+    case: str | Callable | None = None
+
+    def file_options(self) -> tuple[Option, ...]:
+        """Its own options that name a data file (the surrogate, the map)."""
+        return tuple(o for o in self.options if o.file)
 
     def all_options(self) -> tuple[Option, ...]:
         """Its own options, then those of the internals it uses."""
@@ -294,16 +334,22 @@ class InternalSpec:
         """The internal for this bearing, built from checked options."""
         context = context or Context()
         opts = self.check_options(options or {}, where or f"internal {self.name!r}", context=context)
-        return self._factory()(params, opts, context)
+        return _resolve(self.factory)(params, opts, context)
 
-    def _factory(self) -> Callable:
-        if callable(self.factory):
-            return self.factory
-        module, _, attr = self.factory.partition(":")
-        obj = importlib.import_module(f"..{module}", __package__)  # relative to bearing_fmu
-        for part in attr.split("."):
-            obj = getattr(obj, part)
-        return obj
+    def contract_case(self, data_dir: Path):
+        """Its ``cases.ContractCase`` (see ``case``), data files written into ``data_dir``."""
+        return _resolve(self.case or "internals.cases:default_case")(Path(data_dir))
+
+
+def _resolve(ref: str | Callable) -> Callable:
+    """A callable, or "module:attr.attr" inside bearing_fmu imported now (not at registration)."""
+    if callable(ref):
+        return ref
+    module, _, attr = ref.partition(":")
+    obj = importlib.import_module(f"..{module}", __package__)  # relative to bearing_fmu (or its FMU copy)
+    for part in attr.split("."):
+        obj = getattr(obj, part)
+    return obj
 
 
 REGISTRY: dict[str, InternalSpec] = {}
@@ -347,6 +393,14 @@ def create(name: str, params: BearingParams, options: Mapping[str, Any] | None =
     return get(name).create(params, options, context, where)
 
 
+def having(**wanted: bool) -> tuple[str, ...]:
+    """The names of the internals whose capabilities match, e.g. ``having(any_state=True)``."""
+    for key in wanted:
+        if not hasattr(Capabilities, key):
+            raise TypeError(f"no capability {key!r}; known: {', '.join(Capabilities.__dataclass_fields__)}")
+    return tuple(n for n, s in REGISTRY.items() if all(getattr(s.can, k) == v for k, v in wanted.items()))
+
+
 def all_options() -> list[Option]:
     """Every registered option once, in registration order: the FMU's internal parameters."""
     seen: dict[str, Option] = {}
@@ -381,6 +435,13 @@ register(InternalSpec(
         Option("cavitation", str, "reynolds", "reynolds: cavitation model: reynolds (Swift-Stieber) | gumbel "
                "(half-Sommerfeld)", choices=("reynolds", "gumbel")),
     ),
+    can=Capabilities(
+        any_state=True, truth=True,
+        validity="The finite-volume Reynolds solver evaluates any journal state inside the clearance circle at any "
+                 "speed, load and velocity; it is the reference the other internals are measured against. Its "
+                 "accuracy is set by the grid n_theta x n_x (0: the default 128 x 16, docs/reynolds.md). The journal "
+                 "at or beyond the wall is refused (fmi2Discard)."),
+    case="internals.cases:reynolds_case",
 ))
 
 register(InternalSpec(
@@ -403,6 +464,11 @@ register(InternalSpec(
         *(_lund(f"C{ij}", "N.s/m", f"Lund damping C{ij}") for ij in ("yy", "yz", "zy", "zz")),
     ),
     uses=("reynolds", "map"),
+    can=Capabilities(
+        native=True,
+        validity="The linear model holds near its expansion point at the speed omega_lin (any other omega is "
+                 "refused); it evaluates beyond the clearance circle, where it means nothing physically (h_min < 0).{made}"),
+    case="internals.cases:linear_case",
 ))
 
 register(InternalSpec(
@@ -419,6 +485,12 @@ register(InternalSpec(
                "beyond the guard radius over the domain's size)", "1", minimum=0.0, exclusive_minimum=True),
     ),
     uses=("reynolds",),
+    can=Capabilities(
+        fixed_speed=True, fitted_domain=True, native=True,
+        validity="The surrogate answers for the speed it was fitted at (any other omega is refused) and inside its "
+                 "fitted domain of journal states; outside it the FMU {actions}, and beyond domain_limit it always "
+                 "refuses. The journal at or beyond the wall is refused (fmi2Discard)."),
+    case="internals.cases:taylor_case",
 ))
 
 register(InternalSpec(
@@ -429,4 +501,9 @@ register(InternalSpec(
                "(in the FMU: a file name in its resources folder surrogates/)", file=True, required=True,
                file_format="bearing-fmu-force-map"),
     ),
+    can=Capabilities(
+        any_state=True, native=True,
+        validity="The force map holds the Reynolds force for every speed, load and velocity of bearings with its "
+                 "L/D; states beyond its last eccentricity (eps_max) are refused (fmi2Discard)."),
+    case="internals.cases:map_case",
 ))

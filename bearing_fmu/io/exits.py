@@ -16,7 +16,6 @@ Exit codes (``run_command``): 0 done, 1 the run failed (its results say why), 2 
 
 from __future__ import annotations
 
-import argparse
 import contextlib
 import signal
 import sys
@@ -131,15 +130,6 @@ BAD_INPUT = (ValueError, KeyError, OSError)
 EXIT_CODES = """exit codes: 0 done; 1 the run failed (its json says why); 2 bad input (the file, key or
 option is named); 130 / 143 interrupted by SIGINT / SIGTERM (what was computed is written,
 status "interrupted"). Add --debug for the Python traceback of an error."""
-
-
-def add_debug_flag(parser, subparsers=None) -> None:
-    """``--debug`` before or after the subcommand (a subparser's own default must not
-    overwrite the main parser's value, hence SUPPRESS there)."""
-    help_ = "show the Python traceback of an error"
-    parser.add_argument("--debug", action="store_true", help=help_)
-    for p in (subparsers.choices.values() if subparsers is not None else ()):
-        p.add_argument("--debug", action="store_true", default=argparse.SUPPRESS, help=help_)
 
 
 def run_command(prog: str, args) -> int:

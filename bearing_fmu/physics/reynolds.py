@@ -86,7 +86,7 @@ import math
 
 import numpy as np
 
-from ..internals.registry import check_state
+from ..internals.registry import BearingStateError, check_state
 from .params import BearingParams
 from .reynolds_kernels import reynolds_kernel
 
@@ -272,8 +272,11 @@ class Reynolds:
             )
         if not (np.all(np.isfinite(self._F)) and (not want_jac or (np.all(np.isfinite(self._dFq))
                                                                     and np.all(np.isfinite(self._dFv))))):
-            raise RuntimeError(  # pragma: no cover - never observed
-                f"Reynolds: non-finite result at y={y!r}, z={z!r}, vy={vy!r}, vz={vz!r}, omega={omega!r}"
+            # finite inputs whose film pressures overflow a double (a velocity of 1e300 m/s): a
+            # state the solver cannot evaluate, refused like the wall (the FMU discards it)
+            raise BearingStateError(
+                f"Reynolds: the film force overflows at y = {y!r} m, z = {z!r} m, vy = {vy!r} m/s, vz = {vz!r} m/s, "
+                f"omega = {omega!r} rad/s (inputs far beyond any physical journal state)"
             )
 
     def force(self, y: float, z: float, vy: float, vz: float, omega: float) -> tuple[float, float]:

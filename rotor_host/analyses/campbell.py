@@ -1,6 +1,9 @@
 """Figures of a stability analysis (``rotor_host.analyses.stability``): the Campbell diagram with the
 1x and 0.5x lines, the critical speeds and the threshold; the log decrement against speed; the
 least stable mode's shape. How an engineer reads them: docs/campbell.md.
+
+Each figure takes the ``StabilityResult`` of ``rotor_host.analyses.stability`` (``res``); this
+module does not import that one, which calls it.
 """
 
 from __future__ import annotations
@@ -12,20 +15,19 @@ import numpy as np
 
 from ..model.rotor import Rotor
 from .plotting import pyplot, save_figure
-from .stability import FORWARD, StabilityResult
 
 _FWD = dict(marker="^", color="tab:red", label="forward whirl")
 _BWD = dict(marker="v", color="tab:blue", label="backward whirl")
 
 
-def _mode_scatter(ax, res: StabilityResult, value):
+def _mode_scatter(ax, res, value):
     """Scatter value(point, i) against speed for the lowest n_modes modes, forward and
     backward marked; unstable modes (log dec < 0) ringed in black."""
     for style, fwd in ((_FWD, True), (_BWD, False)):
         xs, ys, unstable = [], [], []
         for p in res.ok_points:
             for i in range(min(res.n_modes, p.freq_hz.size)):
-                if (p.whirl[i] > FORWARD) == fwd:
+                if p.forward(i) == fwd:
                     xs.append(p.speed_hz)
                     ys.append(value(p, i))
                     unstable.append(p.log_dec[i] < 0.0)
@@ -38,7 +40,7 @@ def _mode_scatter(ax, res: StabilityResult, value):
     ax.scatter([], [], s=60, marker="o", facecolors="none", edgecolors="black", label="unstable (log dec < 0)")
 
 
-def plot_campbell(res: StabilityResult, path, title: str = "") -> Path:
+def plot_campbell(res, path, title: str = "") -> Path:
     """Damped natural frequencies against speed, forward and backward whirl marked, the 1x and
     0.5x lines, the critical speeds (1x crossings) and the threshold."""
 
@@ -73,7 +75,7 @@ def plot_campbell(res: StabilityResult, path, title: str = "") -> Path:
     return _save(fig, plt, path)
 
 
-def plot_log_dec(res: StabilityResult, path, title: str = "") -> Path:
+def plot_log_dec(res, path, title: str = "") -> Path:
     """Log decrement of the lowest modes against speed, the least stable one as a line, zero
     (the stability limit) and the threshold."""
 
@@ -101,7 +103,7 @@ def plot_log_dec(res: StabilityResult, path, title: str = "") -> Path:
     return _save(fig, plt, path)
 
 
-def plot_mode_shape(res: StabilityResult, rotor: Rotor, path, title: str = "") -> Path | None:
+def plot_mode_shape(res, rotor: Rotor, path, title: str = "") -> Path | None:
     """The least stable mode at the threshold (or at the top speed): (a) the amplitude of y
     and z along the shaft, bearings and disks marked; (b) the orbits (ellipses, normalised to
     the largest) at the bearings and disks, with the direction of travel."""

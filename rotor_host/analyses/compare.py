@@ -15,6 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
+from bearing_fmu.internals import registry
 from bearing_fmu.io.exits import as_interrupted, note_kept
 from bearing_fmu.io.outputs import ensure_writable, write_json, write_text
 
@@ -124,7 +125,9 @@ def _write(base, reference, variants, rows, runs, out_dir, stem, default_label, 
                                                   "status": "interrupted" if note else "ok", "note": note,
                                                   "rows": rows})
     plot_error_vs_time(rows, out_dir / f"compare_{stem}_error_vs_time.png", title=base.description or base.name)
-    show = [reference.label] + [v.label for v in variants if v.internal != "reynolds" and v.label in runs][:3]
+    # the orbit plot: the reference and up to three variants that are not the truth on another grid
+    show = [reference.label] + [v.label for v in variants
+                                if not registry.get(v.internal).can.truth and v.label in runs][:3]
     plot_runs({k: runs[k].arrays for k in show}, out_dir / f"compare_{stem}_orbits.png",
               title=base.description or base.name, history=True)
 
@@ -162,7 +165,8 @@ def plot_error_vs_time(rows, path, title=""):
 
     plt = pyplot()
     fig, ax = plt.subplots(1, 2, figsize=(11, 4))
-    markers = {"reynolds": "o", "taylor": "s", "linear": "^", "map": "D"}
+    shapes = "osD^vP*X"  # one marker per internal, in the order the rows bring them
+    markers = {name: shapes[i % len(shapes)] for i, name in enumerate(dict.fromkeys(r["internal"] for r in rows))}
     for r in rows[1:]:
         t = r["integration_s"]
         for a, key in zip(ax, ("orbit_rms_pct_cr", "force_nrmse_pct")):
@@ -200,3 +204,133 @@ def print_table(rows) -> str:
             notes.append(f"- {r['label']}: {r['out_of_domain_pct']:.3g} % of the recorded states outside the "
                          f"surrogate's fitted domain, up to {r['domain_excess_pct']:.3g} % of its size beyond it")
     return markdown_table(rows, COLUMNS) + ("\n\n" + "\n".join(notes) if notes else "")
+
+
+# ----------------------------------------------------------------------------- the variants
+
+def _grid_options(grid) -> dict:
+    """Reynolds grid (n_theta, n_x) as variant options; None = the solver's default."""
+    n_theta, n_x = grid if grid else (0, 0)
+    return {"reynolds": {"n_theta": n_theta, "n_x": n_x}}
+
+
+def _grid_label(grid) -> str:
+    return f"Reynolds {grid[0]}x{grid[1]}" if grid else "Reynolds default grid"
+
+
+def reference_and_variants(scene: Scene, out, *, ref_grid=(256, 32), grids=((64, 8),), orders=(1, 3, 5, 7),
+                           maps=None, internals=None) -> tuple[Variant, list[Variant]]:
+    """The reference (Reynolds on ``ref_grid``; None: its default grid) and the variants of
+    ``rotor-host compare``: Reynolds on each of ``grids``, one force map per file of ``maps``
+    (None: the scene's map), the Taylor surrogate of the scene for each of ``orders`` (other
+    orders refitted into ``out``), the linear model; or, with ``internals``, one variant per
+    named internal with the scene's options for it (any registered internal that can be a
+    compare variant)."""
+    ref = Variant(_grid_label(ref_grid), "reynolds", _grid_options(ref_grid))
+    if internals:
+        variants = []
+        for name in internals:
+            spec = registry.get(name)
+            if not spec.can.compare:
+                raise ValueError(f"--internals {name}: this internal cannot be a compare variant; those that can: "
+                                 f"{', '.join(registry.having(compare=True))}")
+            variants.append(Variant(spec.name, spec.name))
+        return ref, variants
+    variants = []
+    if ref_grid:
+        variants.append(Variant(_grid_label(None), "reynolds", _grid_options(None)))
+    for grid in grids or []:
+        variants.append(Variant(_grid_label(grid), "reynolds", _grid_options(grid)))
+    variants += map_variants(maps if maps is not None else scene_maps(scene))
+    from bearing_fmu.surrogates.surrogate import load_surrogate
+
+    for order, path in surrogates_at_orders(scene, orders, Path(out)):
+        variants.append(Variant(f"Taylor {load_surrogate(path).recipe}", "taylor", {"taylor": {"surrogate": path}},
+                                order=order))
+    variants.append(Variant("linear", "linear", _grid_options(None)))
+    return ref, variants
+
+
+def scene_maps(scene: Scene) -> list[Path]:
+    """The scene's force map as the one map variant, if it names one."""
+    value = scene.options.get("map", {}).get("map")
+    return [Path(value)] if value else []
+
+
+def map_variants(paths) -> list[Variant]:
+    """One compare variant per force map file, labelled with its resolution and truth grid."""
+    from bearing_fmu.internals.forcemap import load_map
+
+    out = []
+    for path in paths:
+        t = load_map(path)
+        out.append(Variant(f"map {t.n_eps}x{t.n_beta} (Reynolds {t.n_theta}x{t.n_x})", "map",
+                           {"map": {"map": Path(path).resolve()}}))
+    return out
+
+
+def surrogates_at_orders(scene: Scene, orders, out: Path) -> list[tuple[int, Path]]:
+    """(order, file) per requested order: the scene's surrogate for its own order, others
+    fitted on the same declared domain into the output folder."""
+    from bearing_fmu.surrogates.surrogate import load_surrogate
+
+    from ..scenes.scene import required_file
+
+    if not orders:  # `--orders` with nothing: no Taylor variant, no surrogate needed
+        return []
+    # read once: its order here, its recipe for the refits
+    base = load_surrogate(required_file(scene, "taylor", "surrogate"))
+    result = []
+    for order in orders:
+        if order == base.order:
+            result.append((order, scene.surrogate))
+            continue
+        path = out / "surrogates" / f"{scene.surrogate.stem}_order{order}.json"
+        if not path.is_file():
+            from .training import refit
+
+            refit(scene.surrogate, order, path, cache_dir=out / "series", surrogate=base)
+        result.append((order, path))
+    return result
+
+
+# ----------------------------------------------------------------------------- the main job
+
+PAPER_SCENES = ("paper_22hz.toml", "paper_44hz.toml")
+
+
+def paper_job(scenes_dir, out, *, t_end: float | None = None, progress: bool = True) -> str:
+    """The main job: the paper's 22 Hz and 44 Hz scenes, Reynolds (default grid) against the
+    force map, the bundled Taylor surrogate of each scene and the linear model, all through the
+    bearing FMUs. Writes paper_summary.md (also the scenes that finished when interrupted) and
+    returns its text."""
+    scenes_dir, out = Path(scenes_dir), ensure_writable(out)
+    summary: list[str] = []
+    try:
+        _paper_scenes(scenes_dir, out, summary, t_end, progress)
+    except KeyboardInterrupt as exc:
+        if summary:  # the scenes that finished; compare wrote the interrupted scene's rows
+            write_text(out / "paper_summary.md", "\n".join(summary) + "\n**interrupted: the scenes above finished**\n")
+            note_kept(exc, f"{out / 'paper_summary.md'} ({len(summary)} finished scene(s))")
+        raise
+    text = "\n".join(summary)
+    write_text(out / "paper_summary.md", text)
+    return text
+
+
+def _paper_scenes(scenes_dir: Path, out: Path, summary: list, t_end, progress: bool) -> None:
+    from bearing_fmu.surrogates.surrogate import load_surrogate
+
+    from ..scenes.scene import load_scene, required_file
+
+    for name in PAPER_SCENES:
+        scene = load_scene(scenes_dir / name)
+        if t_end is not None:  # checked like the file's own value (a whole number of steps)
+            scene = scene.with_internal(scene.internal, t_end_s=t_end)
+        # 22 Hz: order 5; 44 Hz: order 7 with wall factor and shape columns
+        sur = load_surrogate(required_file(scene, "taylor", "surrogate"))
+        ref = Variant("Reynolds default grid", "reynolds")
+        variants = [*map_variants(scene_maps(scene)), Variant(f"Taylor {sur.recipe}", "taylor", order=sur.order),
+                    Variant("linear", "linear")]
+        rows = compare(scene, ref, variants, out, progress=progress, default_label=ref.label)
+        summary.append(f"## {scene.description}\n\n{print_table(rows)}\n")

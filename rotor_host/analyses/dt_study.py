@@ -10,7 +10,6 @@ run's status, so a case that does not converge is reported with its diagnosis.
 
 from __future__ import annotations
 
-import argparse
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
@@ -101,30 +100,16 @@ def dt_study(scene_path, internal: str = "reynolds", dt: float | None = None, t_
     return study
 
 
-def add_arguments(p: argparse.ArgumentParser) -> argparse.ArgumentParser:
-    from bearing_fmu.internals.registry import names
-    from bearing_fmu.io.cliargs import existing_file, output_dir, positive_float, positive_int
 
-    p.add_argument("scene", type=existing_file, help="scene TOML file")
-    p.add_argument("--internal", choices=names(), default="reynolds")
-    p.add_argument("--dt", type=positive_float("s"), help="first time step [s] (default: the scene's)")
-    p.add_argument("--t-end", type=positive_float("s"), help="simulated time [s] (default: the scene's)")
-    p.add_argument("--halvings", type=positive_int(), default=3,
-                   help="at most this many halvings, at least 1 (default 3)")
-    p.add_argument("--tol", type=positive_float("% CR"), default=1.0,
-                   help="orbit change that counts as converged [%% CR] (default 1)")
-    p.add_argument("--out", type=output_dir, default="out",
-                   help="output folder for dtstudy_<scene>_<internal>.md/.json")
-    p.add_argument("--quiet", action="store_true")
-    return p
-
-
-def run(args) -> int:
-    out = ensure_writable(args.out)
-    stem = f"dtstudy_{Path(args.scene).stem}_{args.internal}"
+def command(*, scene, internal: str = "reynolds", dt: float | None = None, t_end: float | None = None, halvings: int =
+            3, tol: float = 1.0, out="out", quiet: bool = False) -> int:
+    """``rotor-host dt-study``: halve dt from ``dt`` (the scene's) until the orbit changes by less than
+    ``tol`` [% CR]; writes dtstudy_<scene>_<internal>.md/.json into ``out``; 0 when converged."""
+    out = ensure_writable(out)
+    stem = f"dtstudy_{Path(scene).stem}_{internal}"
     try:
-        study = dt_study(args.scene, args.internal, args.dt, args.t_end, args.halvings, args.tol,
-                         progress=not args.quiet, out_dir=out)
+        study = dt_study(scene, internal, dt, t_end, halvings, tol,
+                         progress=not quiet, out_dir=out)
     except KeyboardInterrupt as exc:
         if getattr(exc, "study", None) is not None:
             _write(exc.study, out, stem, f"interrupted by {as_interrupted(exc).signal_name}: the rows above "
@@ -147,4 +132,4 @@ def _write(study: DtStudy, out: Path, stem: str, verdict: str) -> str:
     return text
 
 
-__all__ = ["orbit_change", "dt_study", "DtStudy", "add_arguments", "run"]
+__all__ = ["orbit_change", "dt_study", "DtStudy", "command"]

@@ -19,7 +19,6 @@ by point while the size of the orbit agrees. This module measures what the limit
 
 from __future__ import annotations
 
-import argparse
 from dataclasses import asdict, dataclass
 from pathlib import Path
 
@@ -181,30 +180,6 @@ def plot_envelopes(envs: dict, path, *, title: str = "", tol_band: tuple[float, 
     return save_figure(fig, path)
 
 
-def add_arguments(p: argparse.ArgumentParser) -> argparse.ArgumentParser:
-    from bearing_fmu.internals.registry import names
-    from bearing_fmu.io.cliargs import existing_file, nonneg_float, output_dir, positive_float, positive_int
-
-    p.add_argument("source", type=existing_file, help="scene TOML file (run it, called directly) or a saved run "
-                   ".npz (then give --speed-hz)")
-    p.add_argument("--internal", choices=names(), default="reynolds")
-    p.add_argument("--dt", type=positive_float("s"), help="time step [s] (default: the scene's)")
-    p.add_argument("--t-end", type=positive_float("s"), help="simulated time [s] (default: the scene's)")
-    p.add_argument("--speed-hz", type=positive_float("Hz"), help="shaft speed for a .npz source [Hz]")
-    p.add_argument("--revs", type=positive_int(), default=2, help="window length in shaft revolutions (default 2: "
-                   "one period of a half-speed whirl)")
-    p.add_argument("--tol", type=positive_float("% CR"), default=1.0,
-                   help="settling band half-width [%% CR] (default 1)")
-    p.add_argument("--hold", type=nonneg_float("s"), default=1.0, help="the limit cycle counts as held when settled "
-                   "this long before the end, without a trend across the band [s] (default 1; exit status 1 "
-                   "otherwise)")
-    p.add_argument("--rel-tol", type=positive_float("%"), default=10.0,
-                   help="largest trend of the whirl's size over the last half of the run, in %% of that size, for "
-                        "a held limit cycle (default 10): a whirl dying away slowly inside the band is not one")
-    p.add_argument("--out", type=output_dir, default="out", help="output folder for limitcycle_<name>.md/.json/.png")
-    p.add_argument("--quiet", action="store_true")
-    return p
-
 
 def _saved_run(path: Path) -> dict:
     """The arrays of a saved run (``rotor-host run``'s .npz), or ValueError naming the file and
@@ -223,38 +198,42 @@ def _saved_run(path: Path) -> dict:
     return arrays
 
 
-def run(args) -> int:
-    src = Path(args.source)
-    out = ensure_writable(args.out)
+def command(*, source, internal: str = "reynolds", dt: float | None = None, t_end: float | None = None, speed_hz:
+            float | None = None, revs: int = 2, tol: float = 1.0, hold: float = 1.0, rel_tol: float = 10.0,
+            out="out", quiet: bool = False) -> int:
+    """``rotor-host limit-cycle``: run the scene ``source`` (called directly) or read a saved run's .npz
+    (``speed_hz`` then), measure the eccentricity envelope and whether it holds; 0 when held."""
+    src = Path(source)
+    out = ensure_writable(out)
     stem = f"limitcycle_{src.stem}"
     meta = None
     if src.suffix == ".npz":
-        if args.speed_hz is None:
+        if speed_hz is None:
             raise ValueError(f"--speed-hz: a .npz source ({src}) needs the shaft speed it was run at [Hz]")
-        arrays, speed = _saved_run(src), args.speed_hz
+        arrays, speed = _saved_run(src), speed_hz
     else:
         from ..scenes.run import run_scene
         from ..scenes.scene import load_scene
 
         scene = load_scene(src)
         kw = {"via": "direct"}
-        if args.dt is not None:
-            kw["dt_s"] = args.dt
-        if args.t_end is not None:
-            kw["t_end_s"] = args.t_end
-        scene = scene.with_internal(args.internal, **kw)
+        if dt is not None:
+            kw["dt_s"] = dt
+        if t_end is not None:
+            kw["t_end_s"] = t_end
+        scene = scene.with_internal(internal, **kw)
         # the run is kept (<stem>_run.npz/.json, checkpoints while running): an interrupted or
         # failed run can be analysed later with `limit-cycle <stem>_run.npz --speed-hz ...`
-        r = run_scene(scene, out, progress=not args.quiet, stem=f"{stem}_run")
+        r = run_scene(scene, out, progress=not quiet, stem=f"{stem}_run")
         arrays, speed = r.arrays, scene.speed_hz
         meta = {k: r.meta[k] for k in ("status", "message", "dt_s", "steps", "newton_mean_evaluations_per_step",
                                        "step_cuts", "integration_time_s", "max_eccentricity", "crossed_clearance")}
-    lc, env = limit_cycle(arrays, speed, revs=args.revs, tol_pct_cr=args.tol, source=str(src), meta=meta,
-                          rel_tol_pct=args.rel_tol)
+    lc, env = limit_cycle(arrays, speed, revs=revs, tol_pct_cr=tol, source=str(src), meta=meta,
+                          rel_tol_pct=rel_tol)
     step = max(1, int(round(0.25 / env.period_s))) if env.t.size else 1  # about every 0.25 s
     rows = "\n".join(f"| {t:.3f} | {a:.4f} | {b:.4f} |" for t, a, b in
                      zip(env.t[::step], env.e_max[::step], env.e_min[::step]))
-    text = (f"# Limit cycle: {src.name}, {speed:g} Hz, windows of {args.revs} revolutions\n\n"
+    text = (f"# Limit cycle: {src.name}, {speed:g} Hz, windows of {revs} revolutions\n\n"
             f"| window end [s] | max ecc. | min ecc. |\n|---|---|---|\n{rows}\n\n{lc.verdict()}\n")
     write_text(out / f"{stem}.md", text)
     write_json(out / f"{stem}.json",
@@ -262,17 +241,12 @@ def run(args) -> int:
     if env.t.size:
         plot_envelopes({src.stem: env}, out / f"{stem}.png", title=lc.verdict()[:110])
     print(text)
-    held = lc.holds and lc.held_s >= args.hold
+    held = lc.holds and lc.held_s >= hold
     if lc.holds and not held:
-        print(f"(held {lc.held_s:.2f} s < --hold {args.hold:g} s: not counted as held; exit status 1)")
+        print(f"(held {lc.held_s:.2f} s < --hold {hold:g} s: not counted as held; exit status 1)")
     return 0 if held else 1
 
 
 __all__ = ["Envelope", "envelope", "settled_since", "envelope_change", "LimitCycle", "limit_cycle",
-           "plot_envelopes", "add_arguments", "run"]
+           "plot_envelopes", "command"]
 
-
-if __name__ == "__main__":
-    import sys
-
-    sys.exit(run(add_arguments(argparse.ArgumentParser(prog="rotor-host limit-cycle")).parse_args()))

@@ -201,3 +201,44 @@ def markdown_table(rows: list[dict], columns: list[tuple[str, str, str]]) -> str
                 cells.append(format(v, fmt) if fmt else str(v))
         lines.append("| " + " | ".join(cells) + " |")
     return "\n".join(lines)
+
+
+def run_and_report(scene, out, *, progress: bool = True, plots: bool = True) -> int:
+    """``rotor-host run``: run the scene into the folder ``out``, print what happened, draw the
+    run (and, for a run-up, its waterfall); 0 when the run finished ok, else 1."""
+    from ..scenes.run import run_scene
+
+    out = Path(out)
+    run = run_scene(scene, out, progress=progress)
+    m = run.meta
+    via = f"{scene.via}, native" if scene.via == "fmu" and scene.fmu_kind == "native" else scene.via
+    print(f"{scene.name} [{scene.internal} via {via}]: {m['status']}, {m['steps']} steps to "
+          f"t = {m['t_reached_s']:.4g} s in {m['wall_time_s']:.1f} s "
+          f"(setup {m['setup_time_s']:.1f} s), {m['newton_mean_evaluations_per_step']:.2f} force "
+          f"evaluations per step, {m['step_cuts']} step cuts")
+    print(f"max eccentricity ratio per bearing: {', '.join(f'{e:.3f}' for e in m['max_eccentricity'])}"
+          + ("  (the orbit crossed the clearance circle)" if m["crossed_clearance"] else ""))
+    if m["status"] != "ok":
+        print(f"stopped: {m['message']}")
+    if scene.speed_profile is not None and plots and run.arrays["t"].size > 1:
+        from .waterfall import default_nodes, plot_waterfall, spectra, summary
+
+        try:
+            nodes = default_nodes(run.arrays)
+            png = plot_waterfall(run.arrays, out / f"{run.npz.stem}_waterfall.png", nodes=nodes,
+                                 title=f"{scene.description or scene.name}: {scene.speed_profile.describe()}")
+            for n in nodes:
+                s = summary(spectra(run.arrays, n))
+                whirl = (f"whirl from {s['whirl_onset_hz']:.1f} Hz at {s['whirl_hz']:.1f} Hz "
+                         f"({s['whirl_ratio']:.2f}x)" if s["whirl_onset_hz"] else "no subsynchronous whirl")
+                print(f"node {n}: resonance at {s['resonance_hz']:.1f} Hz; {whirl}")
+            print(f"wrote {png}")
+        except ValueError as exc:  # a run too short for a spectrum: say so, keep the run
+            print(f"no waterfall: {exc}")
+    if plots and run.arrays["t"].size > 1:
+        png = plot_runs({scene.internal: run.arrays}, out / f"{run.npz.stem}.png", title=scene.description,
+                        history=True)
+        print(f"wrote {run.npz}, {run.json}, {png}")
+    else:
+        print(f"wrote {run.npz}, {run.json}")
+    return 0 if m["status"] == "ok" else 1

@@ -29,7 +29,6 @@ paper rotor the eigenvalues cost more than the equilibria (docs/studies/2026-11-
 
 from __future__ import annotations
 
-import argparse
 import math
 import time
 from dataclasses import dataclass, field
@@ -44,7 +43,6 @@ from bearing_fmu.io.outputs import ensure_writable, write_json, write_text
 
 from ..model.rotor import Rotor
 
-SWEEP_INTERNALS = ("reynolds", "map")  # valid at every speed and load (linear and taylor are not)
 DEFAULT_MODES = 8  # modes shown in the Campbell diagram and the table
 THRESHOLD_XTOL_HZ = 1e-4  # Brent's tolerance on the threshold speed [Hz]
 FORWARD = 0.0  # whirl() above this: forward, below: backward
@@ -78,6 +76,10 @@ class SpeedPoint:
     @property
     def ok(self) -> bool:
         return self.status == "ok"
+
+    def forward(self, i: int) -> bool:
+        """Mode i whirls forward (from +y toward +z, with the shaft)."""
+        return bool(self.whirl[i] > FORWARD)
 
     @property
     def least(self) -> int:
@@ -162,8 +164,8 @@ class Stability:
     """The rotor on its bearings, ready to be evaluated at any speed (``at``) or swept (``sweep``).
 
     rotor        : a Rotor with at least one bearing
-    internal     : a registered internal valid at every speed and load (``SWEEP_INTERNALS``,
-                   or one a test registers)
+    internal     : a registered internal valid at every speed and load (its capability
+                   ``any_state``: the Reynolds solver, the force map, or one registered so)
     options      : that internal's options ({"n_theta": 64, "n_x": 8}, {"map": FILE})
     static_loads : (node0, Fy, Fz) point loads [N] on 0-based nodes, besides the weight
     g            : gravity [m/s^2] (the weight is applied as in a scene: -g M u_z)
@@ -177,8 +179,13 @@ class Stability:
         if not rotor.bearing_nodes:
             raise ValueError(f"{where or 'rotor'}: the rotor has no bearings; a stability analysis needs at "
                              "least one [[bearings]] entry (node, bearing file)")
+        spec = registry.get(internal)
+        if not spec.can.any_state:
+            raise ValueError(f"internal {spec.name!r} answers only about the operating point it was made for; a "
+                             "stability analysis moves the equilibrium with the speed and needs an internal valid "
+                             f"at every speed and load: {', '.join(registry.having(any_state=True))}")
         self.rotor = rotor
-        self.internal = registry.get(internal).name
+        self.internal = spec.name
         self.options = dict(options or {})
         self.f_static = rotor.weight_vector(G if g is None else g) + rotor.point_load_vector(static_loads)
         self.loads = bearing_loads(rotor, self.f_static)
@@ -483,67 +490,66 @@ def to_json(res: StabilityResult, rotor_path=None) -> dict:
 
 # ----------------------------------------------------------------------------- the command
 
-def add_arguments(p: argparse.ArgumentParser) -> argparse.ArgumentParser:
-    from bearing_fmu.io.cliargs import existing_file, float_range, grid, node_load, output_dir, positive_int
 
-    p.add_argument("rotor", type=existing_file, help="rotor TOML file (models/rotor_paper.toml)")
-    p.add_argument("--speeds-hz", type=float_range("Hz"), required=True, metavar="START:STOP:STEP",
-                   help="shaft speeds [Hz], both ends included (e.g. 10:70:1)")
-    p.add_argument("--internal", choices=SWEEP_INTERNALS, default="reynolds",
-                   help="bearing internal: the Reynolds solver (default) or the force map (microseconds per "
-                        "linearisation)")
-    p.add_argument("--map", type=existing_file, metavar="FILE",
-                   help=f"force map for --internal map (default: {PAPER_MAP.relative_to(PAPER_MAP.parents[2])}, "
-                        "the paper bearing's L/D; build one with `bearing-fmu map`)")
-    p.add_argument("--grid", type=grid, metavar="NxM", help="Reynolds grid n_theta x n_x (default: the solver's, "
-                                                           "128x16)")
-    p.add_argument("--static-load", type=node_load, nargs="+", action="extend", default=[], metavar="NODE:FY:FZ",
-                   help="static point loads [N] on 1-based nodes, besides the weight (applied as in a scene)")
-    p.add_argument("--modes", type=positive_int(), default=DEFAULT_MODES,
-                   help=f"lowest modes shown in the Campbell diagram and the json and searched for critical "
-                        f"speeds (default {DEFAULT_MODES}; the threshold looks at every mode)")
-    p.add_argument("--out", type=output_dir, default="out", help="output folder (default: out) for "
-                   "stability_<rotor>_<internal>.md/.json and _campbell/_logdec/_mode.png")
-    p.add_argument("--no-plots", action="store_true")
-    return p
+DEFAULT_FILES = {"map": PAPER_MAP}  # a file option left out: the paper bearing's (its L/D)
 
 
-def _options(args) -> dict:
-    """The internal's options from the command line, refused by option name when they do not apply."""
-    if args.internal == "map":
-        if args.grid is not None:
-            raise ValueError("--grid sets the Reynolds grid; with --internal map the grid is the map's own "
-                             "(build a map on another grid with `bearing-fmu map`)")
-        return {"map": str(Path(args.map).resolve()) if args.map is not None else str(PAPER_MAP)}
-    if args.map is not None:
-        raise ValueError(f"--map {args.map} is for --internal map (the internal is {args.internal})")
-    return {} if args.grid is None else {"n_theta": args.grid[0], "n_x": args.grid[1]}
+def internal_options(internal: str, files: dict | None = None, grid=None) -> dict:
+    """The internal's options from the command line's ``--<file option> FILE`` flags (``files``:
+    option -> path; a required one left out: ``DEFAULT_FILES``) and ``--grid`` (n_theta, n_x),
+    refused by option name when the internal does not read them."""
+    spec = registry.get(internal)
+    own = {o.name: o for o in spec.all_options()}
+    out = {}
+    for option, path in (files or {}).items():
+        if path is None:
+            continue
+        if option not in own:
+            owners = [n for n, other in registry.REGISTRY.items() if option in {o.name for o in other.file_options()}]
+            raise ValueError(f"--{option} {path} is for --internal {' or '.join(owners) or '(none)'} (the internal "
+                             f"is {spec.name})")
+        out[option] = str(Path(path).resolve())
+    for o in spec.file_options():
+        if o.required and o.name not in out:
+            if o.name not in DEFAULT_FILES:
+                raise ValueError(f"--{o.name}: the {spec.name} internal needs its {o.name} file")
+            out[o.name] = str(DEFAULT_FILES[o.name])
+    if grid is not None:
+        if "n_theta" not in own:
+            raise ValueError(f"--grid sets the Reynolds grid; with --internal {spec.name} there is none to set (a "
+                             "map's grid is its own: build a map on another grid with `bearing-fmu map`)")
+        out.update(n_theta=grid[0], n_x=grid[1])
+    return out
 
 
-def run(args) -> int:
-    out = ensure_writable(args.out)
-    options = _options(args)
-    stem = f"stability_{Path(args.rotor).stem}_{args.internal}"
-    rotor, loads = read_rotor(args.rotor, args.static_load)
+def command(*, rotor_file, speeds_hz, internal: str = "reynolds", data_files=None, grid=None, static_load=(), modes:
+            int = DEFAULT_MODES, out="out", no_plots: bool = False) -> int:
+    """``rotor-host stability``: equilibrium, linearised bearings and damped modes of the rotor file
+    ``rotor_file`` at each speed of ``speeds_hz`` [Hz]; writes the table, json and figures into ``out``."""
+    out = ensure_writable(out)
+    options = internal_options(internal, data_files, grid)
+    stem = f"stability_{Path(rotor_file).stem}_{internal}"
+    rotor, loads = read_rotor(rotor_file, static_load)
     try:
-        analysis = Stability(rotor, args.internal, options, loads, where=args.rotor)
-    except ValueError as exc:  # the map's own one line (L/D, not a map file): name the option that chose it
-        if args.internal == "map":
-            raise ValueError(f"--map {options['map']}: {exc}") from None
+        analysis = Stability(rotor, internal, options, loads, where=str(rotor_file))
+    except ValueError as exc:  # a data file's own one line (L/D, not a map file): name the option that chose it
+        chosen = [o.name for o in registry.get(internal).file_options() if o.name in options]
+        if chosen:
+            raise ValueError(f"--{chosen[0]} {options[chosen[0]]}: {exc}") from None
         raise
     try:
-        res = analysis.sweep(check_speeds(args.speeds_hz), n_modes=args.modes,
-                             rotor_name=rotor.name or Path(args.rotor).stem, log=lambda msg: print(f"  {msg}"))
+        res = analysis.sweep(check_speeds(speeds_hz), n_modes=modes,
+                             rotor_name=rotor.name or Path(rotor_file).stem, log=lambda msg: print(f"  {msg}"))
     except KeyboardInterrupt as exc:
         res = getattr(exc, "result", None)
         if res is not None and res.points:
             write_text(out / f"{stem}.md", markdown(res) + "\n**interrupted: the speeds above finished**\n")
-            write_json(out / f"{stem}.json", to_json(res, args.rotor))
+            write_json(out / f"{stem}.json", to_json(res, rotor_file))
             note_kept(exc, f"{out / f'{stem}.md'} ({len(res.points)} speed(s))")
         raise
-    files = [write_text(out / f"{stem}.md", markdown(res)), write_json(out / f"{stem}.json", to_json(res, args.rotor))]
+    files = [write_text(out / f"{stem}.md", markdown(res)), write_json(out / f"{stem}.json", to_json(res, rotor_file))]
     if not res.ok_points:
-        raise RuntimeError(f"{args.rotor}: no speed of {args.speeds_hz[0]:g}-{args.speeds_hz[-1]:g} Hz has a static "
+        raise RuntimeError(f"{rotor_file}: no speed of {speeds_hz[0]:g}-{speeds_hz[-1]:g} Hz has a static "
                            f"equilibrium (first: {res.points[0].message}); wrote {files[0]}")
     tm = res.timings
     print(f"{res.rotor} [{res.internal}]: {len(res.points)} speeds in {tm['equilibrium'] + tm['eigen']:.2f} s "
@@ -552,7 +558,7 @@ def run(args) -> int:
     for c in res.criticals:
         print(f"critical speed {c['speed_hz']:.2f} Hz ({_direction(c['whirl'])}, log dec {c['log_dec']:.3f})")
     print(res.verdict())
-    if not args.no_plots:
+    if not no_plots:
         from .campbell import plot_campbell, plot_log_dec, plot_mode_shape
 
         files += [plot_campbell(res, out / f"{stem}_campbell.png"), plot_log_dec(res, out / f"{stem}_logdec.png")]
@@ -565,4 +571,4 @@ def run(args) -> int:
 
 __all__ = ["Stability", "StabilityResult", "SpeedPoint", "Threshold", "stability", "read_rotor", "check_speeds",
            "critical_speeds",
-           "markdown", "to_json", "add_arguments", "run"]
+           "markdown", "to_json", "command"]

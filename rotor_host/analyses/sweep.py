@@ -29,7 +29,6 @@ the scene's files and the output folder at the same paths (a shared file system)
 
 from __future__ import annotations
 
-import argparse
 import math
 import os
 import re
@@ -433,61 +432,36 @@ def _ranges(ax, xs, hi, lo, samples, color, label, filled) -> None:
 
 # ------------------------------------------------------------------------ command line
 
-def add_arguments(p: argparse.ArgumentParser) -> argparse.ArgumentParser:
-    from bearing_fmu.internals.registry import names
-    from bearing_fmu.io.cliargs import (existing_file, float_range, nonneg_float, output_dir, positive_float,
-                                        positive_int)
 
-    from ..cli import _add_file_flags
-
-    p.add_argument("scene", type=existing_file, help="scene TOML file (models/scenes/*.toml)")
-    what = p.add_mutually_exclusive_group(required=True)
-    what.add_argument("--speeds-hz", nargs="+", type=float_range("Hz", 0.0), metavar="F|START:STOP:STEP",
-                      help="shaft speeds [Hz]: numbers and ranges, e.g. 10:60:2.5 (both ends included)")
-    what.add_argument("--unbalance-g", nargs="+", type=float_range("g", 0.0, exclusive_minimum=False),
-                      metavar="M|START:STOP:STEP",
-                      help="masses [g] of the scene's first [[unbalance]] (at its radius and the scene's speed)")
-    p.add_argument("--internal", choices=names(), help="override the scene's internal (map or taylor: cheap)")
-    p.add_argument("--via", choices=("fmu", "direct"), help="bearing FMUs through fmpy, or internals in-process")
-    p.add_argument("--native", action="store_true",
-                   help="through native bearing FMUs (the internal compiled to C: linear, map, taylor): the scene key "
-                        "fmu_kind = \"native\"")
-    _add_file_flags(p)
-    p.add_argument("--t-end", type=positive_float("s"), help="override each run's simulated time [s]")
-    p.add_argument("--dt", type=positive_float("s"), help="override the time step [s]")
-    p.add_argument("--settle-s", type=nonneg_float("s"),
-                   help="the transient ends here: the summary and diagram use t >= this [s] (default: half the run)")
-    p.add_argument("--scheduler", type=scheduler_address, metavar="ADDRESS",
-                   help="a running Dask scheduler (e.g. tcp://10.0.0.5:8786) whose workers run the sweep; default: "
-                        "a local cluster on this machine")
-    p.add_argument("--workers", type=positive_int(), help="worker processes of the local cluster (default: the cores)")
-    p.add_argument("--out", type=output_dir, default="out/sweep", help="output folder (default: out/sweep)")
-    p.add_argument("--quiet", action="store_true", help="no progress bar")
-    return p
+FIXED_SPEED_RTOL = 1e-9  # what the fixed-speed internals take as their speed (Taylor: OMEGA_RTOL)
 
 
-def check_taylor_speeds(scene, speeds_hz) -> None:
-    """A Taylor surrogate answers at the one speed it was fitted at (and refuses any other):
-    refuse a speed sweep with it before any run, naming what does sweep speeds."""
-    if scene.internal != "taylor":
+def check_fixed_speed(scene, speeds_hz) -> None:
+    """An internal that answers only at the speed its data was made for (capability
+    ``fixed_speed``: a fitted surrogate) refuses any other: refuse a speed sweep with it before
+    any run, naming what does sweep speeds."""
+    from bearing_fmu.internals import registry
+    from bearing_fmu.internals.registry import Context
+
+    from ..model.rotor import Rotor
+
+    spec = registry.get(scene.internal)
+    if not spec.can.fixed_speed:
         return
-    from bearing_fmu.internals.taylor import OMEGA_RTOL
-    from bearing_fmu.surrogates.surrogate import load_surrogate
-
-    from ..scenes.scene import required_file
-
-    path = required_file(scene, "taylor", "surrogate")
-    f0 = load_surrogate(path).omega / (2 * math.pi)
-    other = [f for f in speeds_hz if abs(f - f0) > OMEGA_RTOL * f0]
+    params = Rotor.from_toml(scene.rotor_path).bearings[0]
+    f0 = registry.create(spec.name, params, scene.internal_options(), Context(omega=scene.omega),
+                         where=str(scene.source)).omega / (2 * math.pi)
+    other = [f for f in speeds_hz if abs(f - f0) > FIXED_SPEED_RTOL * f0]
     if other:
-        raise ValueError(f"--speeds-hz: the taylor internal answers only at the speed its surrogate was fitted at "
-                         f"({f0:g} Hz, {path.name}), not at {', '.join(f'{f:g}' for f in other[:4])}"
-                         f"{' ...' if len(other) > 4 else ''} Hz; sweep speeds with --internal map (any speed of "
-                         f"the bearing's L/D) or reynolds, or sweep --unbalance-g at {f0:g} Hz")
+        sweepers = ", ".join(n for n in registry.having(any_state=True))
+        raise ValueError(f"--speeds-hz: the {spec.name} internal answers only at the speed its data was made for "
+                         f"({f0:g} Hz), not at {', '.join(f'{f:g}' for f in other[:4])}"
+                         f"{' ...' if len(other) > 4 else ''} Hz; sweep speeds with an internal valid at any speed "
+                         f"({sweepers}), or sweep --unbalance-g at {f0:g} Hz")
 
 
-def _settle(args, scene) -> float:
-    settle = scene.t_end_s / 2 if args.settle_s is None else args.settle_s
+def _settle(settle_s: float | None, scene) -> float:
+    settle = scene.t_end_s / 2 if settle_s is None else settle_s
     if settle >= scene.t_end_s:
         raise ValueError(f"--settle-s {settle:g}: must be less than the run's end time t_end = {scene.t_end_s:g} s "
                          "(the summary needs a settled part to measure)")
@@ -508,21 +482,22 @@ def _drop_stale_locks(out: Path, pts: list[Point]) -> None:
             pass
 
 
-def run(args) -> int:
-    from ..cli import _scene_from_args
+def command(*, scene, speeds_hz=None, unbalance_g=None, settle_s: float | None = None, scheduler: str | None = None,
+            workers: int | None = None, out="out/sweep", quiet: bool = False) -> int:
+    """``rotor-host sweep``: the scene (a ``Scene``, overrides applied) at each speed of ``speeds_hz``
+    or each unbalance mass of ``unbalance_g`` (lists of numbers or ranges' values), on Dask."""
     from ..model.rotor import Rotor
     from ..scenes.run import scene_fmu
 
-    if args.scheduler and args.workers:
+    if scheduler and workers:
         raise ValueError("--workers: sets the size of the local cluster; with --scheduler the cluster's own "
                          "workers run the sweep (give one of the two)")
-    scene = _scene_from_args(args)
-    settle_s = _settle(args, scene)
-    out = ensure_writable(Path(args.out).resolve())
-    unbalance = args.unbalance_g is not None
-    pts = (points(scene, unbalance_g=_flat(args.unbalance_g, "--unbalance-g")) if unbalance
-           else points(scene, _flat(args.speeds_hz, "--speeds-hz")))
-    check_taylor_speeds(scene, [p.speed_hz for p in pts])
+    settle_s = _settle(settle_s, scene)
+    out = ensure_writable(Path(out).resolve())
+    unbalance = unbalance_g is not None
+    pts = (points(scene, unbalance_g=_flat(unbalance_g, "--unbalance-g")) if unbalance
+           else points(scene, _flat(speeds_hz, "--speeds-hz")))
+    check_fixed_speed(scene, [p.speed_hz for p in pts])
     rotor = Rotor.from_toml(scene.rotor_path)
     bearing_nodes = [n + 1 for n in rotor.bearing_nodes]
     disk_nodes = sorted({d.node + 1 for d in rotor.disks})
@@ -533,11 +508,11 @@ def run(args) -> int:
     with claim(out, base) as name:
         stem = name.path("")
         kw = dict(settle_s=settle_s, bearing_nodes=bearing_nodes, disk_nodes=disk_nodes, unbalance=unbalance)
-        info = {"cluster": args.scheduler or "local cluster", "workers": None}
+        info = {"cluster": scheduler or "local cluster", "workers": None}
         try:
-            with dask_client(args.scheduler, args.workers) as client:
+            with dask_client(scheduler, workers) as client:
                 info["workers"] = len(client.nthreads())
-                rows = sweep(client, scene, pts, out, settle_s, disk_nodes, progress=not args.quiet)
+                rows = sweep(client, scene, pts, out, settle_s, disk_nodes, progress=not quiet)
         except KeyboardInterrupt as exc:  # the local workers are stopped by now: write what finished
             done = getattr(exc, "sweep_rows", [])
             _drop_stale_locks(out, pts)
@@ -561,4 +536,4 @@ def run(args) -> int:
 
 
 __all__ = ["scheduler_address", "Point", "run_base", "points", "point_scene", "settled_metrics", "run_point",
-           "check_taylor_speeds", "dask_client", "sweep", "write_summary", "plot_bifurcation", "add_arguments", "run"]
+           "check_fixed_speed", "dask_client", "sweep", "write_summary", "plot_bifurcation", "command"]

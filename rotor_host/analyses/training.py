@@ -27,7 +27,7 @@ from pathlib import Path
 
 import numpy as np
 
-from bearing_fmu.fitting.recipe import FitRecipe, add_recipe_arguments, recipe_from_args, recipe_of
+from bearing_fmu.fitting.recipe import FitRecipe, recipe_of
 from bearing_fmu.internals import registry
 from bearing_fmu.io.outputs import savez
 
@@ -275,31 +275,20 @@ def _scenes_present(recipe: FitRecipe, surrogate_path) -> None:
 
 # ----------------------------------------------------------------------------- rotor-host fit
 
-def add_arguments(parser) -> None:
-    """Options of ``rotor-host fit``: the recipe's model and scene-training settings
-    (generated from FitRecipe), the series cache and the outputs."""
-    from bearing_fmu.fitting.cli import add_output_arguments
-    from bearing_fmu.io.cliargs import output_dir
+def command(*, recipe: FitRecipe, output, cache_dir=None, plots=None, note: str | None = None) -> int:
+    """``rotor-host fit``: fit ``recipe`` to the Reynolds series of its scenes (cached in
+    ``cache_dir``, default series/ beside ``output``), write the file ``output`` (scene paths
+    relative to it), print the report, write the lambda plots into the folder ``plots``."""
+    from bearing_fmu.fitting.output import check_outputs, write_fit
 
-    add_recipe_arguments(parser, "scene")
-    parser.add_argument("--cache-dir", type=output_dir, default=None,
-                        help="folder caching the Reynolds series (default: series/ beside --output)")
-    add_output_arguments(parser)
-
-
-def run(args) -> int:
-    """``rotor-host fit``: fit, write the file (scene paths relative to it), report, plots."""
-    from bearing_fmu.fitting.cli import check_outputs, write_fit
-
-    if not args.scenes:
+    if not recipe.scenes:
         raise ValueError("--scene: give at least one training scene (models/scenes/*.toml)")
-    check_outputs(args)
-    recipe = recipe_from_args(args, "scene")
-    cache = Path(args.cache_dir) if args.cache_dir else Path(args.output).resolve().parent / "series"
+    check_outputs(output, plots)
+    cache = Path(cache_dir) if cache_dir else Path(output).resolve().parent / "series"
     res = fit_scene(recipe, cache_dir=cache)
-    scene = load_scene(args.scenes[0])
+    scene = load_scene(recipe.scenes[0])
     res.surrogate.provenance["bearing"] = f"bearing {recipe.bearing_number} of {scene.rotor_path.name}"
-    return write_fit(res, args.output, plots=args.plots, note=args.note)
+    return write_fit(res, output, plots=plots, note=note)
 
 
-__all__ = ["scene_series", "holdout_mask", "fit_scene", "refit", "training_scenes", "add_arguments", "run"]
+__all__ = ["scene_series", "holdout_mask", "fit_scene", "refit", "training_scenes", "command"]

@@ -15,7 +15,6 @@ scene with a [speed_profile]; ``rotor-host waterfall RUN.npz`` from a saved run.
 
 from __future__ import annotations
 
-import argparse
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -154,21 +153,6 @@ def plot_waterfall(arrays: dict, path, *, nodes, window_s: float = DEFAULT_WINDO
     return save_figure(fig, path)
 
 
-def add_arguments(p: argparse.ArgumentParser) -> argparse.ArgumentParser:
-    from bearing_fmu.io.cliargs import existing_file, output_file, positive_float, positive_int
-
-    p.add_argument("run", type=existing_file, help="a run's .npz (rotor-host run of a scene with a [speed_profile])")
-    p.add_argument("--nodes", nargs="+", type=positive_int(), default=None,
-                   help="recorded nodes to show (default: the first bearing and the recorded node with the "
-                        "largest whirl)")
-    p.add_argument("--window-s", type=positive_float("s"), default=DEFAULT_WINDOW_S,
-                   help=f"spectrum window [s] (default {DEFAULT_WINDOW_S}; resolution 1/window)")
-    p.add_argument("--orbits-at-hz", nargs="*", type=positive_float("Hz"), default=None,
-                   help="speeds whose orbits are drawn (default: start, resonance, end)")
-    p.add_argument("-o", "--output", type=output_file, default=None,
-                   help="PNG to write (default: beside the run, _waterfall.png)")
-    return p
-
 
 def default_nodes(arrays: dict) -> list[int]:
     """The first bearing node and the recorded node with the largest whirl amplitude."""
@@ -179,20 +163,22 @@ def default_nodes(arrays: dict) -> list[int]:
     return [bearing] if big == bearing else [bearing, big]
 
 
-def run(args) -> int:
-    path = Path(args.run)
+def command(*, run, nodes=None, window_s: float = DEFAULT_WINDOW_S, orbits_at_hz=None, output=None) -> int:
+    """``rotor-host waterfall``: the response spectra of a run-up run's .npz against speed, drawn
+    into ``output`` (default: beside the run)."""
+    path = Path(run)
     try:
         arrays = dict(np.load(path))
     except (OSError, ValueError) as exc:
         raise ValueError(f"{path}: not a run's .npz ({exc})") from None
     if "speed_hz" not in arrays:
         raise ValueError(f"{path}: the run has no speed_hz array (made before run-ups were recorded); run it again")
-    nodes = args.nodes or default_nodes(arrays)
-    out = Path(args.output) if args.output else path.with_name(f"{path.stem}_waterfall.png")
-    plot_waterfall(arrays, out, nodes=nodes, window_s=args.window_s, orbit_speeds_hz=args.orbits_at_hz,
+    nodes = nodes or default_nodes(arrays)
+    out = Path(output) if output else path.with_name(f"{path.stem}_waterfall.png")
+    plot_waterfall(arrays, out, nodes=nodes, window_s=window_s, orbit_speeds_hz=orbits_at_hz,
                    title=path.stem)
     for n in nodes:
-        s = summary(spectra(arrays, n, args.window_s))
+        s = summary(spectra(arrays, n, window_s))
         whirl = (f"whirl from {s['whirl_onset_hz']:.1f} Hz at {s['whirl_hz']:.1f} Hz ({s['whirl_ratio']:.2f}x)"
                  if s["whirl_onset_hz"] else "no subsynchronous whirl above the 1x response")
         print(f"node {n}: resonance at {s['resonance_hz']:.1f} Hz ({s['resonance_amplitude_m'] * 1e6:.1f} um 1x); "
@@ -201,4 +187,4 @@ def run(args) -> int:
     return 0
 
 
-__all__ = ["Spectra", "spectra", "summary", "plot_waterfall", "default_nodes", "add_arguments", "run"]
+__all__ = ["Spectra", "spectra", "summary", "plot_waterfall", "default_nodes", "command"]

@@ -123,15 +123,17 @@ def _native_fmu(scene: Scene, work_dir: Path) -> Path:
     """The scene's native FMU, built into work_dir under a name that hashes the C sources, the
     generator and the internal's data file, so runs of the same scene share one build. The
     linear FMU holds no data: the host sets each bearing's coefficients."""
-    from bearing_fmu.fmu.native import INTERNALS
+    from bearing_fmu.fmu.native import host_build_options
     from bearing_fmu.fmu.native.build import C_DIR, build_native_fmu
 
-    if scene.internal not in INTERNALS:
-        raise SceneError(f"{scene.source}: fmu_kind = 'native' computes one of {', '.join(INTERNALS)}, not internal = "
+    spec = registry.get(scene.internal)
+    if not spec.can.native:
+        native = registry.having(native=True)
+        raise SceneError(f"{scene.source}: fmu_kind = 'native' computes one of {', '.join(native)}, not internal = "
                          f"{scene.internal!r} (it needs its solver at run time): use fmu_kind = 'python'")
     work_dir.mkdir(parents=True, exist_ok=True)
-    data = {"taylor": ("surrogate", "surrogate"), "map": ("map", "map")}.get(scene.internal)
-    path = required_file(scene, scene.internal, data[0]) if data else None
+    files = {o.name: required_file(scene, spec.name, o.name) for o in spec.file_options()}
+    path = next(iter(files.values()), None)  # a native FMU compiles at most one data file in
     h = hashlib.sha256(scene.internal.encode())
     fmu_pkg = C_DIR.parent.parent  # bearing_fmu/fmu: the model description and docs generators too
     for f in (sorted(C_DIR.glob("*")) + sorted(C_DIR.parent.glob("*.py")) + [fmu_pkg / "meta.py", fmu_pkg / "docs.py"]
@@ -140,8 +142,7 @@ def _native_fmu(scene: Scene, work_dir: Path) -> Path:
     out = work_dir / f"bearing_native_{scene.internal}{'_' + path.stem if path else ''}_{h.hexdigest()[:12]}.fmu"
     if out.is_file():
         return out
-    options = {"linear_from": "coefficients"} if scene.internal == "linear" else None
-    return Path(build_native_fmu(out, scene.internal, options=options, **({data[1]: path} if data else {})))
+    return Path(build_native_fmu(out, scene.internal, options=host_build_options(scene.internal), **files))
 
 
 def build_bearings(scene: Scene, rotor: Rotor, loads: np.ndarray, work_dir: Path):
@@ -236,16 +237,15 @@ class SceneRun:
 
 
 def _domain_report(scene: Scene, rotor: Rotor, q: np.ndarray, v: np.ndarray) -> dict:
-    """Per bearing: the fraction of recorded states outside the surrogate's fitted domain and
-    the largest distance outside it (``Taylor.domain_distance``: relative excess over its bounds
-    or, with stored training states, the distance beyond their radius over the domain's size;
-    <= 0: always inside)."""
-    from bearing_fmu.internals.taylor import Taylor
-
+    """Per bearing: the fraction of recorded states outside the internal's fitted domain and
+    the largest distance outside it (``domain_distance`` of an internal with a fitted domain,
+    e.g. the Taylor surrogate's: relative excess over its bounds or, with stored training
+    states, the distance beyond their radius over the domain's size; <= 0: always inside)."""
     frac, dist = [], []
     for k, params in enumerate(rotor.bearings):
-        tay = Taylor.from_file(scene.surrogate, params)
-        d = np.array([tay.domain_distance(*q[i, k], *v[i, k]) for i in range(len(q))])
+        internal = registry.create(scene.internal, params, scene.internal_options(), Context(omega=scene.omega),
+                                   where=str(scene.source))
+        d = np.array([internal.domain_distance(*q[i, k], *v[i, k]) for i in range(len(q))])
         frac.append(float(np.mean(d > 1e-12)))
         dist.append(float(d.max()))
     return {"out_of_domain_fraction": frac, "max_domain_excess": dist}
@@ -356,7 +356,7 @@ class _Writer:
                                                    self.q0[[rotor.dof(n, "z") for n in rotor.bearing_nodes]])
                                           / CR).tolist()),
         })
-        if scene.internal == "taylor" and ecc.size and status != "running":
+        if registry.get(scene.internal).can.fitted_domain and ecc.size and status != "running":
             meta.update(_domain_report(scene, rotor, yz[:, bcols], vyz[:, bcols]))
             worst = max(meta["max_domain_excess"])
             if meta["status"] != "ok" and worst > 1e-12:

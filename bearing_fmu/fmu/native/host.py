@@ -13,6 +13,12 @@ from ...internals import registry
 from .codegen import FALLBACK_WHY, INTERNALS, linear_starts
 
 
+def host_build_options(internal: str) -> dict | None:
+    """Build options of a native FMU that a host sets up per bearing: the linear model's
+    coefficients are set by the host (``native_parameters``), so its build linearises nothing."""
+    return {"linear_from": "coefficients"} if internal == "linear" else None
+
+
 def native_parameters(internal: str, params, options: dict, context=None, where: str = "") -> dict:
     """FMU parameters of one bearing for a native FMU of ``internal``: D, L, CR, mu, internal and
     the native options, from the registry ``options`` of the internal (and those it uses), with
