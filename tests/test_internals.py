@@ -83,6 +83,27 @@ def test_non_finite_input_is_refused_by_name(case, var):
             call(*x)
 
 
+@pytest.mark.parametrize("var", range(5))
+def test_huge_finite_input_is_refused_by_name_or_finite(case, var):
+    # 1e308 is a float: an internal either evaluates it to finite numbers (a finite force the
+    # model gives) or refuses it with BearingStateError naming the input, never inf or NaN
+    import re
+
+    name, internal, _, state, _ = case
+    for big in (1e308, -1e308):
+        x = [*state, OMEGA]
+        x[var] = big
+        for call in (internal.force, internal.force_and_jacobian):
+            try:
+                out = call(*x)
+            except BearingStateError as exc:
+                assert re.search(rf"\b{registry.STATE_NAMES[var]} = {re.escape(repr(big))}\b", str(exc)), (name, exc)
+                assert "\n" not in str(exc)
+            else:
+                assert all(np.all(np.isfinite(a)) for a in (out if call is internal.force_and_jacobian else [out])), \
+                    (name, registry.STATE_NAMES[var], big, out)
+
+
 def test_beyond_the_wall_refused_or_finite_never_nan(case):
     name, internal, _, state, wall = case
     y, z = 0.6 * 1.03 * P.CR, -0.8 * 1.03 * P.CR  # eccentricity 1.03

@@ -84,6 +84,25 @@ def check_finite(y: float, z: float, vy: float, vz: float, omega: float) -> None
             raise BearingStateError(f"bearing input {name} = {value!r} is not finite")
 
 
+STATE_UNITS = ("m", "m", "m/s", "m/s", "rad/s")
+
+
+def overflow_error(params: BearingParams, y: float, z: float, vy: float, vz: float, omega: float,
+                   what: str = "force") -> BearingStateError:
+    """The error for finite inputs whose film ``what`` is beyond the float range (1e308 m/s):
+    no finite value is the model's answer, so the state is refused rather than returned as inf
+    or NaN. It names the input that drives it, the largest as a rate of the film: positions in
+    CR, velocities as 2 v / CR and omega (the terms of the Reynolds source, all in 1/s)."""
+    values = (y, z, vy, vz, omega)
+    CR = params.CR
+    sizes = (abs(y) / CR, abs(z) / CR, 2.0 * abs(vy) / CR, 2.0 * abs(vz) / CR, abs(omega))
+    i = max(range(5), key=sizes.__getitem__)
+    return BearingStateError(
+        f"bearing input {STATE_NAMES[i]} = {values[i]!r} {STATE_UNITS[i]} is too large: it puts the film {what} "
+        f"beyond the floating-point range (y = {y:.4g} m, z = {z:.4g} m, vy = {vy:.4g} m/s, vz = {vz:.4g} m/s, "
+        f"omega = {omega:.4g} rad/s)")
+
+
 def wall_error(params: BearingParams, y: float, z: float, why: str = "") -> BearingStateError:
     """The error for a journal at or beyond the wall (eccentricity ratio >= 1)."""
     eps = math.hypot(y, z) / params.CR

@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import difflib
 import math
+import sys
 import tomllib
 from dataclasses import dataclass
 from pathlib import Path
@@ -307,6 +308,37 @@ def check_table(table, keys: Sequence[Key], where: str, error: type[Exception] =
         except Invalid as exc:
             raise error(f"{prefix}{k.name} = {show(v)}{exc.tail}") from None
     return out
+
+
+def find_non_finite(value) -> str | None:
+    """The key path ('errors.Fy.rms', 'H[3][7][0]') of the first number in a parsed JSON value
+    that is not a finite float (NaN, Infinity, or an integer beyond the float range), or None.
+    Python's json reads NaN and Infinity though JSON has no such numbers; the project's writers
+    never write them (allow_nan=False), so one in a file is damage, named before any use."""
+    trail = _non_finite(value)
+    if trail is None:
+        return None
+    return "".join(f"[{k}]" if isinstance(k, int) else f".{k}" for k in reversed(trail)).lstrip(".") or "(top level)"
+
+
+def _non_finite(value) -> list | None:
+    """The reversed key trail to the first non-finite number (built only on the way out)."""
+    if isinstance(value, float):
+        return None if math.isfinite(value) else []
+    if isinstance(value, int) and not isinstance(value, bool):
+        return None if abs(value) <= sys.float_info.max else []
+    items = value.items() if isinstance(value, Mapping) else (
+        enumerate(value) if isinstance(value, (list, tuple)) else ())
+    big = sys.float_info.max
+    for k, v in items:
+        tv = type(v)  # the common cases, without a call: a finite float, an int in the float range
+        if (tv is float and v - v == 0.0) or (tv is int and -big <= v <= big):
+            continue
+        trail = _non_finite(v)
+        if trail is not None:
+            trail.append(k)
+            return trail
+    return None
 
 
 # ----------------------------------------------------------------------------- reading

@@ -86,7 +86,7 @@ import math
 
 import numpy as np
 
-from ..internals.registry import check_state
+from ..internals.registry import check_state, overflow_error
 from .params import BearingParams
 from .reynolds_kernels import reynolds_kernel
 
@@ -272,9 +272,9 @@ class Reynolds:
             )
         if not (np.all(np.isfinite(self._F)) and (not want_jac or (np.all(np.isfinite(self._dFq))
                                                                     and np.all(np.isfinite(self._dFv))))):
-            raise RuntimeError(  # pragma: no cover - never observed
-                f"Reynolds: non-finite result at y={y!r}, z={z!r}, vy={vy!r}, vz={vz!r}, omega={omega!r}"
-            )
+            # finite inputs (checked above) whose source overflows (|v| / CR or omega near 1e308):
+            # the force is linear in the source, so no finite value is the answer; refused by name
+            raise overflow_error(pr, y, z, vy, vz, omega, "force and its Jacobian" if want_jac else "force")
 
     def force(self, y: float, z: float, vy: float, vz: float, omega: float) -> tuple[float, float]:
         """Film force (Fy, Fz) [N] on the journal."""
