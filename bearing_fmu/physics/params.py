@@ -6,7 +6,7 @@ import math
 from dataclasses import asdict, dataclass
 from pathlib import Path
 
-from ..io.schema import Key, Number, Text, check_table, read_toml, show
+from ..io.schema import Key, Number, Table, Text, check_keys, check_table, read_toml, show
 
 # ----------------------------------------------------------------------------- physical ranges
 # What a real plain journal bearing can be; values outside are typos or unit slips (a clearance
@@ -100,6 +100,9 @@ BEARING_KEYS = (
     Key("description", "free text", None, "text", kind=Text()),
 )
 
+# the top level of a bearing file that has a [bearing] table: that table only
+BEARING_FILE_KEYS = (Key("bearing", "the bearing ([bearing])", kind=Table(BEARING_KEYS)),)
+
 
 class BearingFileError(KeyError, ValueError):
     """A bearing file or mapping that cannot be used; one line naming the file and key. A
@@ -156,6 +159,9 @@ class BearingParams:
         if "bearing" in data:
             if not isinstance(data["bearing"], dict):
                 raise BearingFileError(f"{path}: bearing = {data['bearing']!r}: expected a table ([bearing])")
+            # nothing else beside [bearing]: a table this code does not read ([geometry], [oil]) would
+            # otherwise be ignored silently and the bearing computed as plain and isothermal
+            check_keys(data, BEARING_FILE_KEYS, str(path), BearingFileError)
             return cls.from_mapping(data["bearing"], where=str(path), label="[bearing]")
         return cls.from_mapping(data, where=str(path))
 

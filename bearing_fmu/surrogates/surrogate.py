@@ -246,7 +246,7 @@ class Surrogate:
         errors name ``where`` and the key."""
         if not isinstance(d, dict):
             raise ValueError(f"{where}: expected a JSON object at the top level")
-        check_keys(d, FILE_KEYS, where, SurrogateKeyError)
+        check_keys(d, FILE_KEYS, where, SurrogateKeyError, toml=False)  # JSON: no [table] wording
         fmt = d.get("format")
         if fmt != FILE_FORMAT:
             raise ValueError(f"{where}: key 'format' is {fmt!r}, expected {FILE_FORMAT!r}")
