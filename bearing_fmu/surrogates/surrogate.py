@@ -42,7 +42,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..io.schema import Key, check_keys
+from ..io.schema import Key, check_keys, find_non_finite
 from ..physics.params import BearingParams
 from .basis import N_VARS, design_matrix, exponents, n_terms, shape_force
 from .domain import (Domain, Neighbours, SurrogateKeyError, close_to, get_key, json_clean, read_int, read_number,
@@ -264,12 +264,17 @@ class Surrogate:
         if math.hypot(y0, z0) >= params.CR:
             raise ValueError(f"{where}: expansion_point (y0, z0) = ({y0!r}, {z0!r}) m is at or beyond the wall "
                              f"(CR = {params.CR!r} m)")
+        for k in ("vy0", "vz0"):  # written for readers; the model expands about a journal at rest
+            if k in ep and read_number(ep, k, f"{where}: expansion_point") != 0.0:
+                raise ValueError(f"{where}: expansion_point: key {k!r} = {ep[k]!r} must be 0 (the expansion is "
+                                 "about a journal at rest; velocities enter as vy, vz themselves)")
         force_scale = _scaling(d, params, omega, where)
         order = read_int(d, "order", where)
         exps = _exponents(d, "exponents", order, where)
         n = len(exps)
         if "n_terms" in d and read_int(d, "n_terms", where) != n:
             raise ValueError(f"{where}: key 'n_terms' is {d['n_terms']!r} but 'exponents' has {n} rows")
+        _check_basis(exps, order, where)
         c = get_key(d, "coef", where)
         coef = np.array([read_vector(c, k, n, f"{where}: coef") for k in COMPONENTS])
         kept = None
@@ -279,6 +284,11 @@ class Surrogate:
             if not np.all((kept == 0) | (kept == 1)):
                 raise ValueError(f"{where}: kept: every entry must be 0 or 1")
             kept = kept.astype(bool)
+            pruned = np.argwhere(~kept & (coef != 0.0))
+            if len(pruned):  # the internal evaluates kept terms only: such a coefficient would be dropped
+                i, k = (int(x) for x in pruned[0])
+                raise ValueError(f"{where}: coef: key {COMPONENTS[i]!r} entry {k} = {float(coef[i, k])!r} belongs to a term "
+                                 f"that 'kept' marks pruned (0); expected 0 there (pruned terms have coefficient 0)")
         lam = (0.0, 0.0)
         if "lambda" in d:
             ld = get_key(d, "lambda", where)
@@ -292,13 +302,18 @@ class Surrogate:
             sd = get_key(d, "shape", where)
             shape_order = read_int(sd, "order", f"{where}: shape")
             nr = n_terms(shape_order)
+            shc = get_key(sd, "coef", f"{where}: shape")
+            # the coefficients' length first: it bounds the order before its basis is built
+            shape_coef = np.array([read_vector(shc, k, nr, f"{where}: shape: coef") for k in SHAPE_ROWS])
             if "exponents" in sd and sd["exponents"] != exponents(shape_order).tolist():
                 raise ValueError(f"{where}: shape: key 'exponents' is not the full basis of order {shape_order}")
-            shc = get_key(sd, "coef", f"{where}: shape")
-            shape_coef = np.array([read_vector(shc, k, nr, f"{where}: shape: coef") for k in SHAPE_ROWS])
         domain = Domain.from_dict(get_key(d, "domain", where), f"{where}: domain")
         neighbours = Neighbours.from_dict(d["neighbours"], f"{where}: neighbours") if "neighbours" in d else None
         meta = {k: read_object(d, k, where) for k in ("errors", "pruning", "provenance")}
+        bad = find_non_finite(d)  # the metadata too (the writer stores None, never NaN): shown by reports
+        if bad is not None:
+            raise ValueError(f"{where}: key {bad!r} is not a finite number (NaN, Infinity or beyond the float "
+                             "range); expected finite numbers or null")
         try:
             return cls(params=params, omega=omega, y0=y0, z0=z0, order=order, exponents=exps, coef=coef,
                        force_scale=force_scale, domain=domain, kept=kept, lam=lam, load=load, **meta,
@@ -370,6 +385,22 @@ def _exponents(d: dict, key: str, order: int, where: str) -> np.ndarray:
         raise ValueError(f"{where}: key {key!r} has a term of degree {int(exps.sum(axis=1).max())} above "
                          f"the order {order}")
     return exps
+
+
+def _check_basis(exps: np.ndarray, order: int, where: str) -> None:
+    """The monomials must be distinct and reach the order: the kernels build powers up to
+    ``order`` on every call, so an order above the highest degree is damage (or a cut table)."""
+    if not len(exps):
+        return
+    top = int(exps.sum(axis=1).max())
+    if top != order:
+        raise ValueError(f"{where}: key 'order' = {order} but the highest degree in 'exponents' is {top}; "
+                         "expected equal (a surrogate's order is its highest degree)")
+    seen = set()
+    for row in exps.tolist():
+        if tuple(row) in seen:
+            raise ValueError(f"{where}: key 'exponents' has the row {row} twice; expected each monomial once")
+        seen.add(tuple(row))
 
 
 def surrogate_json(data: dict) -> str:
