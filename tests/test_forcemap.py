@@ -11,6 +11,7 @@ coefficients.
 
 import json
 import math
+import re
 
 import numpy as np
 import pytest
@@ -270,7 +271,7 @@ def test_damaged_map_file_is_refused_naming_file_and_key(table, tmp_path, damage
         load_map(bad)
     text = str(err.value)
     assert text.startswith(f"force map file {bad}: ") and "\n" not in text, text
-    assert __import__("re").search(expected, text), text
+    assert re.search(expected, text), text
 
 
 def test_nan_l_over_d_never_passes_the_bearing_check(table):

@@ -2,9 +2,9 @@
 
 The contract is checked against things independent of each internal's own code: its force
 against central differences of itself (the analytic Jacobian), the state checks against
-the inputs' definition (non-finite, the clearance circle), the FMU against the direct call
-(to round-off: the same code behind FMI). A new internal must add its case to CASES (the
-first test fails otherwise) and so gets every check. The last tests add an internal the way
+the inputs' definition (non-finite, huge but finite, the clearance circle), the FMU against
+the direct call (to round-off: the same code behind FMI). A new internal must add its case to
+CASES (the first test fails otherwise) and so gets every check. The last tests add an internal the way
 the package docstring says, from outside the package, and run a scene with it.
 """
 

@@ -22,7 +22,8 @@ How to add an internal
 1. Write one module ``bearing_fmu/<name>.py`` with a class that has ``params``, ``force(y, z,
    vy, vz, omega) -> (Fy, Fz)`` [N] and, if it can, ``force_and_jacobian`` (raw derivatives,
    see ``DifferentiableInternal``). Refuse states it cannot evaluate with
-   ``BearingStateError`` (``check_finite``, ``check_state``), never return NaN.
+   ``BearingStateError`` (``check_finite``, ``check_state``; ``overflow_error`` for finite
+   inputs whose result overflows), never return NaN or inf.
 2. Give the class a ``from_options(params, options, context)`` classmethod: ``options`` is a
    dict of its checked option values (and of the internals it ``uses``), ``context`` the
    ``Context`` (static load, speed, where files are, a warning sink).
