@@ -88,6 +88,10 @@ SCENE_CASES = [
     (HEAD + TIME + "[[unbalance]]\nnode = 3\nmass_g = 1\nradius_mm = 3\n",
      ["[[unbalance]] 1", "unknown key(s) mass_g (did you mean mass_kg?)", "missing key(s) mass_kg"]),
     (HEAD, ["missing key(s) time"]),
+    # tables: unknown ones named as tables, with the allowed ones (tables in brackets)
+    (HEAD + TIME + "[geometry]\ngrooves = 2\n", ["unknown table(s) [geometry]", "allowed: rotor, internal",
+                                                "[speed_profile], [time]", "[[unbalance]]", "[reynolds]"]),
+    (HEAD + TIME + "[reynold]\nn_theta = 64\n", ["unknown table(s) [reynold] (did you mean [reynolds]?)"]),
     # a TOML syntax error: the file and the line
     (HEAD + TIME + "x = = 3\n", ["not valid TOML", "line 7"]),
     # overrides of the time step go through the same checks (see test_overrides_are_checked)
@@ -165,6 +169,9 @@ ROTOR_TEXT = ROTOR.read_text()
     ("node = 6\n", 'node = "6"\n', ["[[disks]] 1 node = '6'", "integer"]),
     ('bearing = "bearing_paper.toml"', "bearing = 7", ["[[bearings]] 1 bearing = 7", "file name"]),
     ("[[disks]]", "[disks]", ["disks = {node = 6", "write [[disks]]"]),
+    ("[material]", "[geometry]\ngrooves = 2\n\n[material]",
+     ["unknown table(s) [geometry]", "allowed: [[elements]], [material], name"]),
+    ("[[disks]]", "[[seals]]\nnode = 4\n\n[[disks]]", ["unknown table(s) [[seals]]", "[[disks]], [[bearings]]"]),
 ])
 def test_bad_rotor_file_names_the_key(tmp_path, old, new, words):
     assert old in ROTOR_TEXT
@@ -183,6 +190,13 @@ def test_bad_rotor_file_names_the_key(tmp_path, old, new, words):
     ("bearing = 3\n", ["bearing = 3", "expected a table"]),
     ("[bearing]\nD_mm = 31\nL_mm = 20\nCR_um = -90\nmu_Pa_s = 0.05\n", ["[bearing]", "CR"]),  # range: BearingParams
     ("[bearing\n", ["not valid TOML", "line 1"]),
+    # a table beside [bearing] was ignored: the bearing computed without it
+    ("[bearing]\nD_mm = 31\nL_mm = 20\nCR_um = 90\nmu_Pa_s = 0.05\n[geometry]\ngrooves = 2\n",
+     ["unknown table(s) [geometry]", "allowed: [bearing]"]),
+    ("[bearing]\nD_mm = 31\nL_mm = 20\nCR_um = 90\nmu_Pa_s = 0.05\n[[oil]]\nmu_Pa_s = 0.1\n",
+     ["unknown table(s) [[oil]]", "allowed: [bearing]"]),
+    ("D_mm = 31\nL_mm = 20\nCR_um = 90\nmu_Pa_s = 0.05\n[geometry]\ngrooves = 2\n",
+     ["unknown table(s) [geometry]", "allowed: D_mm, L_mm"]),
 ])
 def test_bad_bearing_file_names_the_key(tmp_path, text, words):
     p = tmp_path / "b.toml"

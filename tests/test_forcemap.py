@@ -11,6 +11,7 @@ coefficients.
 
 import json
 import math
+import re
 
 import numpy as np
 import pytest
@@ -210,3 +211,84 @@ def test_linear_from_the_map_needs_no_reynolds(table, tmp_path):
             f"'omega_lin': {OMEGA!r}}}); print('bearing_fmu.physics.reynolds' in sys.modules)")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "False"
+
+
+def test_huge_finite_velocity_is_refused_by_name(fmap):
+    # F = S r G is linear in r ~ |v| / CR: at 1e308 m/s the force is beyond the float range, so
+    # no finite value is the model's answer: refused by name (was NaN); 1e200 m/s stays finite
+    for call in (fmap.force, fmap.force_and_jacobian):
+        with pytest.raises(BearingStateError, match=r"bearing input vy = 1e\+308 m/s is too large"):
+            call(1e-5, -4e-5, 1e308, 0.0, OMEGA)
+        with pytest.raises(BearingStateError, match=r"bearing input vz = -1e\+308 m/s is too large"):
+            call(1e-5, -4e-5, 0.0, -1e308, OMEGA)
+    assert np.all(np.isfinite(fmap.force(1e-5, -4e-5, 1e200, 0.0, OMEGA)))
+    with pytest.raises(BearingStateError, match=r"eccentricity ratio 0.995 >= 0.99"):  # the table first
+        fmap.force(0.0, -0.995 * P.CR, 1e308, 0.0, OMEGA)
+
+
+def _set(key, value):
+    def damage(d):
+        *parents, last = key.split(".")
+        for k in parents:
+            d = d[k]
+        d[last] = value
+    return damage
+
+
+def _edit_table(d):
+    d["H"][5][7][0] *= 1.001  # edited after the spline was written: the map would serve the old spline
+
+
+def _spline_of_other_table(d):
+    d["spline"]["coefficients"][3][4][1] += 1.0
+
+
+@pytest.mark.parametrize("damage, expected", [
+    (_set("L_over_D", math.nan), r"key 'L_over_D' = nan must be a finite number in 0.05 .. 5"),
+    (_set("L_over_D", 30.0), r"key 'L_over_D' = 30.0 must be a finite number in 0.05 .. 5"),
+    (_set("wall_exponent", math.nan), r"key 'wall_exponent' = nan must be a finite number >= 0"),
+    (_set("wall_exponent", "2"), r"key 'wall_exponent' = '2' must be a number"),
+    (_set("eps_max", math.inf), r"key 'eps_max' = inf must lie in \(0, 1\)"),
+    (_set("n_eps", math.nan), r"key 'n_eps' is not a finite number"),
+    (_set("reynolds.n_theta", 64.5), r"key 'reynolds.n_theta' = 64.5 must be an integer >= 1"),
+    (_set("provenance.built_s", math.nan), r"key 'provenance.built_s' is not a finite number"),
+    (_set("geometry", {"grooves": 2}), r"unknown key\(s\) geometry; allowed: format, version, L_over_D"),
+    (_set("H", [[1.0]]), r"key 'H' has shape \(1, 1\), expected \(n_eps >= 4"),
+    (_set("H", [[1.0, 2.0], [1.0]]), r"key 'H' must be a regular array of numbers"),
+    (_edit_table, r"key 'spline' does not reproduce the table 'H' at its points .*: rebuild the map"),
+    (_spline_of_other_table, r"key 'spline' does not reproduce the table 'H'"),
+    (_set("spline.knots_s", [0.0, 1.0]), r"key 'spline' has shapes knots_s \(2,\)"),
+    (_set("spline.coefficients", None), r"key 'spline' is incomplete or damaged \(key 'coefficients' must be"),
+    (_set("H", [[[math.nan, 0.0]] * 4] * 4), r"key 'H' has a non-finite entry H\[0, 0, 0\] = nan"),
+])
+def test_damaged_map_file_is_refused_naming_file_and_key(table, tmp_path, damage, expected):
+    good = save_map(table, tmp_path / "good.json")
+    d = json.loads(good.read_text())
+    damage(d)
+    bad = tmp_path / "bad.json"
+    bad.write_text(json.dumps(d))  # a NaN is written as NaN (Python's json allows it; a damaged file may have it)
+    with pytest.raises(ValueError) as err:
+        load_map(bad)
+    text = str(err.value)
+    assert text.startswith(f"force map file {bad}: ") and "\n" not in text, text
+    assert re.search(expected, text), text
+
+
+def test_nan_l_over_d_never_passes_the_bearing_check(table):
+    # NaN compares false: the old check let such a table serve any bearing (the Friswell map
+    # then ran the paper scene to status ok with a wrong eccentricity); now no table holds it
+    import dataclasses
+
+    with pytest.raises(ValueError, match=r"force map table: key 'L_over_D' = nan"):
+        dataclasses.replace(table, L_over_D=math.nan)
+    table_nan = dataclasses.replace(table)
+    table_nan.L_over_D = math.nan  # mutated after the checks: the bearing check still refuses it
+    with pytest.raises(ValueError, match=r"force map is for L/D = nan, the bearing has L/D = 0.645"):
+        ForceMap(P, table_nan)
+
+
+def test_the_shipped_maps_pass_the_checks():
+    from pathlib import Path
+
+    for path in sorted((Path(__file__).resolve().parents[1] / "models" / "maps").glob("*.json")):
+        assert load_map(path).coefficients is not None  # the stored spline, checked against its table

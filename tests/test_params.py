@@ -95,3 +95,15 @@ def test_shipped_bearings_are_inside_the_ranges():
         assert Rotor.from_toml(f).bearings
     for f in sorted((models / "surrogates").glob("*.json")):
         assert isinstance(load_surrogate(f).params, BearingParams)
+
+
+def test_a_table_beside_bearing_is_refused_not_ignored(tmp_path):
+    # [geometry] (grooves, lobes) is not read by this code: the bearing would be computed as a
+    # plain bore without a word; the shipped files have [bearing] only and still load
+    f = tmp_path / "b.toml"
+    f.write_text("[bearing]\nD_mm = 31.0\nL_mm = 20.0\nCR_um = 90.0\nmu_Pa_s = 0.05\n\n[geometry]\ngrooves = 2\n")
+    with pytest.raises(ValueError, match=r"b.toml: unknown table\(s\) \[geometry\]; allowed: \[bearing\]$"):
+        BearingParams.from_toml(f)
+    models = Path(__file__).resolve().parents[1] / "models"
+    assert BearingParams.from_toml(models / "bearing_paper.toml") == PAPER_BEARING
+    BearingParams.from_toml(models / "bearing_friswell.toml")

@@ -228,16 +228,12 @@ BUILD_INFO = "build_info.json"  # in resources/: what the FMU was built from (be
 
 
 def _bearing_defaults(resources) -> dict:
-    """The built-in bearing's D, L, CR, mu [SI] when the FMU was built for one, else {}."""
-    import json
-
-    if not resources:
+    """The built-in bearing's D, L, CR, mu [SI] when the FMU was built for one, else {}. A damaged
+    file fails the instantiation naming it and the key (it used to give the paper bearing)."""
+    path = Path(resources) / BEARING_DEFAULTS if resources else None
+    if path is None or not path.is_file():
         return {}
-    try:
-        data = json.loads((Path(resources) / BEARING_DEFAULTS).read_text())
-    except (OSError, ValueError):
-        return {}
-    return {k: float(data[k]) for k in _BEARING if k in data}
+    return BearingParams.from_json(path).as_dict()
 
 
 class BearingFMU(Fmi2Slave):

@@ -27,8 +27,9 @@ from pathlib import Path
 
 import numpy as np
 
-from ..physics.params import BearingParams
-from .registry import BearingStateError, check_finite
+from ..io.schema import find_non_finite
+from ..physics.params import L_OVER_D_RANGE, BearingParams
+from .registry import BearingStateError, check_finite, overflow_error
 
 FORMAT = "bearing-fmu-force-map"
 VERSION = 1
@@ -90,12 +91,34 @@ class MapTable:
 
     def __post_init__(self):
         self.H = np.asarray(self.H, float)
-        if self.H.ndim != 3 or self.H.shape[2] != 2 or self.H.shape[0] < 4 or self.H.shape[1] < 4:
-            raise ValueError(f"force map table: shape {self.H.shape}, expected (n_eps >= 4, n_beta >= 4, 2)")
-        if not np.all(np.isfinite(self.H)):
-            raise ValueError("force map table: non-finite entries")
+        problem = self.problem()
+        if problem:
+            raise ValueError(f"force map table: {problem}")
+
+    def problem(self) -> str | None:
+        """What makes the table unusable, naming its file key and what it must be, or None. A NaN
+        L/D would pass every L/D comparison (NaN compares false) and a NaN wall exponent makes
+        every force NaN: both are refused here, before any bearing meets the map."""
+        lo, hi = L_OVER_D_RANGE
+        if not lo <= self.L_over_D <= hi:  # NaN fails too
+            return f"key 'L_over_D' = {self.L_over_D!r} must be a finite number in {lo:g} .. {hi:g} (a bearing's L/D)"
         if not 0.0 < self.eps_max < 1.0:
-            raise ValueError(f"force map: eps_max = {self.eps_max!r} must lie in (0, 1)")
+            return f"key 'eps_max' = {self.eps_max!r} must lie in (0, 1) (the table's last eccentricity ratio)"
+        if not (math.isfinite(self.wall_exponent) and self.wall_exponent >= 0.0):
+            return (f"key 'wall_exponent' = {self.wall_exponent!r} must be a finite number >= 0 "
+                    "(k in H = G (1 - eps)^k)")
+        for name in ("n_theta", "n_x"):
+            v = getattr(self, name)
+            if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or v < 1:
+                return f"key 'reynolds.{name}' = {v!r} must be an integer >= 1 (the Reynolds grid it was built on)"
+        if not isinstance(self.cavitation, str) or not self.cavitation:
+            return f"key 'reynolds.cavitation' = {self.cavitation!r} must be the name of a cavitation model"
+        if self.H.ndim != 3 or self.H.shape[2] != 2 or self.H.shape[0] < 4 or self.H.shape[1] < 4:
+            return f"key 'H' has shape {self.H.shape}, expected (n_eps >= 4, n_beta >= 4, 2)"
+        if not np.all(np.isfinite(self.H)):
+            i = tuple(int(k) for k in np.argwhere(~np.isfinite(self.H))[0])
+            return f"key 'H' has a non-finite entry H{list(i)} = {float(self.H[i])!r}, expected finite numbers"
+        return None
 
     @property
     def n_eps(self) -> int:
@@ -228,8 +251,14 @@ def save_map(table: MapTable, path) -> Path:
     return write_text(path, json.dumps(table.to_dict(), indent=None, allow_nan=False) + "\n")
 
 
+MAP_KEYS = ("format", "version", "L_over_D", "reynolds", "eps_max", "wall_exponent", "n_eps", "n_beta", "grid",
+            "meaning", "H", "spline", "provenance")  # what save_map writes; the loader refuses others
+SPLINE_RTOL = 1e-10  # the stored spline must give back the table at its points to this, relative to max |H|
+
+
 def load_map(path) -> MapTable:
-    """Read a map file; every key checked, one line naming the file and the key on a fault."""
+    """Read a map file; every key checked (type, finiteness, range, and the stored spline
+    against the table), one line naming the file, the key, what was expected and given."""
     path = Path(path)
     try:
         data = json.loads(path.read_text())
@@ -242,31 +271,116 @@ def load_map(path) -> MapTable:
         raise ValueError(f"force map file {path}: 'format' is not {FORMAT!r}: not a force map")
     if data.get("version") != VERSION:
         raise ValueError(f"force map file {path}: version {data.get('version')!r}, this code reads {VERSION}")
+    unknown = sorted(set(data) - set(MAP_KEYS))
+    if unknown:
+        raise ValueError(f"force map file {path}: unknown key(s) {', '.join(unknown)}; allowed: {', '.join(MAP_KEYS)}")
     try:
         rey = data["reynolds"]
-        table = MapTable(float(data["L_over_D"]), int(rey["n_theta"]), int(rey["n_x"]), str(rey["cavitation"]),
-                         float(data["eps_max"]), float(data["wall_exponent"]), np.array(data["H"], float),
-                         dict(data.get("provenance", {})))
+        if not isinstance(rey, dict):
+            raise ValueError(f"key 'reynolds' = {rey!r:.60} must be an object {{n_theta, n_x, cavitation}}")
+        for k in ("n_theta", "n_x", "cavitation"):
+            if k not in rey:
+                raise KeyError(f"reynolds.{k}")
+        table = MapTable(_number(data, "L_over_D"), rey["n_theta"], rey["n_x"], rey["cavitation"],
+                         _number(data, "eps_max"), _number(data, "wall_exponent"), _array(data, "H"),
+                         data.get("provenance", {}))
     except KeyError as exc:
         raise ValueError(f"force map file {path}: missing key {exc.args[0]!r}") from None
-    except (TypeError, ValueError) as exc:
-        raise ValueError(f"force map file {path}: {exc}") from None
+    except ValueError as exc:
+        raise ValueError(f"force map file {path}: {str(exc).removeprefix('force map table: ')}") from None
+    if not isinstance(table.provenance, dict):
+        raise ValueError(f"force map file {path}: key 'provenance' must be an object, got {table.provenance!r:.60}")
+    # every other number (the arrays were checked by numpy; JSON has no NaN, but Python's reader
+    # takes one): a damaged value named by its key before anything shows or uses it
+    bad = find_non_finite({k: v for k, v in data.items() if k not in ("H", "spline")})
+    if bad is not None:
+        raise ValueError(f"force map file {path}: key {bad!r} is not a finite number (NaN, Infinity or beyond "
+                         "the float range); expected finite numbers only")
     if (table.n_eps, table.n_beta) != (data.get("n_eps"), data.get("n_beta")):
         raise ValueError(f"force map file {path}: table shape {table.H.shape[:2]} differs from n_eps, n_beta = "
                          f"{data.get('n_eps')}, {data.get('n_beta')}")
     sp = data.get("spline")
-    if sp is not None:  # written by save_map from this table; checked for shape and finiteness
+    if sp is not None:  # written by save_map from this table: checked for shape, finiteness and values
         try:
-            ts, tb, C = (np.ascontiguousarray(np.array(sp[k], float))
-                         for k in ("knots_s", "knots_beta", "coefficients"))
-        except (KeyError, TypeError, ValueError) as exc:
-            raise ValueError(f"force map file {path}: 'spline' is incomplete ({exc})") from None
-        if (C.shape != (table.n_eps, table.n_beta + 3, 2) or ts.shape != (table.n_eps + 4,)
-                or tb.shape != (table.n_beta + 7,) or not all(np.all(np.isfinite(a)) for a in (ts, tb, C))):
-            raise ValueError(f"force map file {path}: 'spline' does not match the table ({table.n_eps} x "
-                             f"{table.n_beta}): rebuild the map")
+            if not isinstance(sp, dict):
+                raise ValueError(f"an object {{knots_s, knots_beta, coefficients}} is expected, got {sp!r:.60}")
+            ts, tb, C = (np.ascontiguousarray(_array(sp, k)) for k in ("knots_s", "knots_beta", "coefficients"))
+        except (KeyError, ValueError) as exc:
+            raise ValueError(f"force map file {path}: key 'spline' is incomplete or damaged ({exc})") from None
+        problem = spline_problem(table, ts, tb, C)
+        if problem:
+            raise ValueError(f"force map file {path}: key 'spline' {problem}: rebuild the map "
+                             "(`bearing-fmu map --bearing FILE -o MAP`)")
         table.coefficients = (ts, tb, C)
     return table
+
+
+def _number(data: dict, key: str) -> float:
+    v = data[key]
+    if isinstance(v, bool) or not isinstance(v, (int, float)):
+        raise ValueError(f"key {key!r} = {v!r:.60} must be a number")
+    return float(v)
+
+
+def _array(data: dict, key: str) -> np.ndarray:
+    """data[key] as a float array: a ragged or non-numeric list, or a non-finite entry, named."""
+    v = data[key]
+    try:
+        if not isinstance(v, list):
+            raise TypeError
+        a = np.array(v, float)
+    except (TypeError, ValueError):
+        raise ValueError(f"key {key!r} must be a regular array of numbers, got {v!r:.40}") from None
+    if not np.all(np.isfinite(a)):
+        i = [int(k) for k in np.argwhere(~np.isfinite(a))[0]]
+        raise ValueError(f"key {key!r} has a non-finite entry {key}{i} = {float(a[tuple(i)])!r}, expected finite "
+                         "numbers")
+    return a
+
+
+def spline_problem(table: MapTable, ts, tb, C) -> str | None:
+    """Whether the spline (ts, tb, C) is the interpolant of ``table``: shapes, ordered knots and
+    its values at the table points (a spline from another table, or a table edited after the
+    spline was written, would otherwise be evaluated silently: the map serves the spline)."""
+    if (C.shape != (table.n_eps, table.n_beta + 3, 2) or ts.shape != (table.n_eps + 4,)
+            or tb.shape != (table.n_beta + 7,)):
+        return (f"has shapes knots_s {ts.shape}, knots_beta {tb.shape}, coefficients {C.shape}; the table "
+                f"({table.n_eps} x {table.n_beta}) needs {(table.n_eps + 4,)}, {(table.n_beta + 7,)}, "
+                f"{(table.n_eps, table.n_beta + 3, 2)}")
+    if np.any(np.diff(ts) < 0.0) or np.any(np.diff(tb) < 0.0):
+        return "has knots out of order (they must not decrease)"
+    nb = C.shape[1]
+    b = tb[3] + np.mod(table.beta - tb[3], tb[nb] - tb[3])  # periodic in beta, as the kernel folds it
+    Bs, Bb = _bspline_matrix(ts, table.s, C.shape[0]), _bspline_matrix(tb, b, nb)
+    at_points = Bs @ np.ascontiguousarray(np.moveaxis(C, 2, 0)) @ Bb.T  # (2, n_eps, n_beta)
+    err = float(np.max(np.abs(at_points - np.moveaxis(table.H, 2, 0))))
+    if not err <= SPLINE_RTOL * max(1.0, float(np.max(np.abs(table.H)))):
+        return f"does not reproduce the table 'H' at its points (largest difference {err:.3g})"
+    return None
+
+
+def _bspline_matrix(t: np.ndarray, x: np.ndarray, n: int) -> np.ndarray:
+    """B[m, p] = N_p(x_m), the n cubic B-splines on knots t (Cox-de Boor, as map_kernels._basis
+    but in numpy: the loader needs neither scipy nor the compiled kernels)."""
+    m = len(x)
+    i = np.clip(np.searchsorted(t, x, side="right") - 1, 3, n - 1)  # the kernel's span, clamped alike
+    N = np.zeros((m, 4))
+    N[:, 0] = 1.0
+    left, right = np.zeros((m, 4)), np.zeros((m, 4))
+    for j in range(1, 4):
+        left[:, j] = x - t[i + 1 - j]
+        right[:, j] = t[i + j] - x
+        saved = np.zeros(m)
+        for r in range(j):
+            with np.errstate(divide="ignore", invalid="ignore"):
+                temp = N[:, r] / (right[:, r + 1] + left[:, j - r])
+            N[:, r] = saved + right[:, r + 1] * temp
+            saved = left[:, j - r] * temp
+        N[:, j] = saved
+    B = np.zeros((m, n))
+    for r in range(4):
+        B[np.arange(m), i - 3 + r] = N[:, r]
+    return B
 
 
 # ---------------------------------------------------------------------------- internal
@@ -278,7 +392,7 @@ class ForceMap:
 
     def __init__(self, params: BearingParams, table: MapTable, source: str = ""):
         ld = params.L / params.D
-        if abs(ld - table.L_over_D) > LD_RTOL * table.L_over_D:
+        if not abs(ld - table.L_over_D) <= LD_RTOL * table.L_over_D:  # NaN is refused, not let through
             raise ValueError(f"force map{' ' + source if source else ''} is for L/D = {table.L_over_D:.6g}, the "
                              f"bearing has L/D = {ld:.6g} (L = {params.L:g} m, D = {params.D:g} m): build a map for "
                              "it with `bearing-fmu map --bearing FILE -o MAP`")
@@ -313,14 +427,21 @@ class ForceMap:
 
     def _run(self, y, z, vy, vz, omega, want_jac):
         y, z, vy, vz, omega = float(y), float(z), float(vy), float(vz), float(omega)
-        # the kernel returns eps; a non-finite input or a state beyond the table is checked after
-        # it (cheaper than before: one call on the good path) and refused before anything is used
+        # the kernel returns eps (NaN when its result is not finite); a non-finite input, a state
+        # beyond the table or an overflow is checked after it (one call on the good path) and
+        # refused before anything is used
         eps = self._kernel(*self._args, y, z, vy, vz, omega, want_jac, self._F, self._J)
         if not eps < self._eps_max or not math.isfinite(vy + vz + omega):
-            self._refuse(y, z, vy, vz, omega, eps)
+            self._refuse(y, z, vy, vz, omega, want_jac)
 
-    def _refuse(self, y, z, vy, vz, omega, eps):
+    def _refuse(self, y, z, vy, vz, omega, want_jac):
         check_finite(y, z, vy, vz, omega)
+        eps = math.hypot(y, z) / self.params.CR  # as the kernel has it (which returns NaN on overflow)
+        if eps < self._eps_max:  # finite inputs inside the table: the force overflowed
+            # F = S r G is linear in r ~ |v| / CR: beyond the float range no finite value is the
+            # model's answer, so the state is refused by name rather than returned as inf or NaN
+            raise overflow_error(self.params, y, z, vy, vz, omega,
+                                 "force and its Jacobian" if want_jac else "force")
         CR = self.params.CR
         why = "at or beyond the bearing wall" if eps >= 1.0 else "beyond the force map's last point"
         raise BearingStateError(

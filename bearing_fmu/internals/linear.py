@@ -8,7 +8,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..physics.params import BearingParams
-from .registry import BearingStateError, Internal, check_finite
+from .registry import BearingStateError, Internal, check_finite, overflow_error
 
 
 @dataclass
@@ -78,10 +78,16 @@ class Linear:
 
     def force(self, y, z, vy, vz, omega):
         self._check(y, z, vy, vz, omega)
+        y, z, vy, vz = float(y), float(z), float(vy), float(vz)
         dy, dz = y - self.y0, z - self.z0
-        K, C, F0 = self.K, self.C, self.F0
-        fy = F0[0] - K[0, 0] * dy - K[0, 1] * dz - C[0, 0] * vy - C[0, 1] * vz
-        fz = F0[1] - K[1, 0] * dy - K[1, 1] * dz - C[1, 0] * vy - C[1, 1] * vz
+        # Python floats: an overflow gives inf quietly (numpy scalars would warn), refused below
+        (k00, k01), (k10, k11) = self.K.tolist()
+        (c00, c01), (c10, c11) = self.C.tolist()
+        f0y, f0z = self.F0.tolist()
+        fy = f0y - k00 * dy - k01 * dz - c00 * vy - c01 * vz
+        fz = f0z - k10 * dy - k11 * dz - c10 * vy - c11 * vz
+        if not (math.isfinite(fy) and math.isfinite(fz)):  # finite inputs, K q or C v beyond 1e308 N
+            raise overflow_error(self.params, y, z, vy, vz, omega)
         return float(fy), float(fz)
 
     def force_and_jacobian(self, y, z, vy, vz, omega):

@@ -111,7 +111,8 @@ def _g(ts, tb, C, ns, nb, kwall, eps, beta, g):
 
 @njit(cache=True)
 def map_force(ts, tb, C, ns, nb, kwall, eps_min, scale, CR, y, z, vy, vz, omega, want_jac, F, J):
-    """Film force F (2,) [N] and, with want_jac, J (2, 4) = dF/d(y, z, vy, vz); returns eps.
+    """Film force F (2,) [N] and, with want_jac, J (2, 4) = dF/d(y, z, vy, vz); returns eps
+    (NaN when F or J is not finite: finite inputs whose force overflows the float range).
 
     eps below eps_min is evaluated at eps_min along the same direction (+y at the centre):
     the frame (u, w) turns with phi, whose derivatives carry 1/e; the force is continuous
@@ -158,6 +159,8 @@ def map_force(ts, tb, C, ns, nb, kwall, eps_min, scale, CR, y, z, vy, vz, omega,
         Pt_c = 0.5 * (g[1, 0] - g2[1, 0])
     F[0] = scale * (Pr * cp - Pt * sp)
     F[1] = scale * (Pr * sp + Pt * cp)
+    if not (math.isfinite(F[0]) and math.isfinite(F[1])):
+        return math.nan  # overflow (a huge velocity or speed): the caller refuses the state
     if not want_jac:
         return eps
     # chain rule through (eps, phi, a, c); phi enters through u, w and v_r, v_t:
@@ -191,4 +194,8 @@ def map_force(ts, tb, C, ns, nb, kwall, eps_min, scale, CR, y, z, vy, vz, omega,
         dPt = Pt_a * da + Pt_c * dc
         J[0, 2 + col] = scale * (dPr * cp - dPt * sp)
         J[1, 2 + col] = scale * (dPr * sp + dPt * cp)
+    for i in range(2):
+        for j in range(4):
+            if not math.isfinite(J[i, j]):
+                return math.nan
     return eps

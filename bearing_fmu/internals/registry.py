@@ -8,31 +8,43 @@ module, its options with type, default, unit and allowed range). The FMU declare
 parameter per option, the scene loader reads one sub-table per internal (``[reynolds]``,
 ``[taylor]``, ...), and the command lines take their choices from it.
 
-=========  ========================  ================================================
-name       module                    what it is
-=========  ========================  ================================================
-reynolds   reynolds.Reynolds         finite-volume Reynolds solver (the truth)
-linear     linear.Linear             8 Lund coefficients about a static equilibrium
-taylor     guard.DomainGuard         fitted Taylor surrogate behind its domain guard
-map        forcemap.ForceMap         the Reynolds force as a 2-D table per L/D (any state)
-=========  ========================  ================================================
+=========  ====================================  =====================================
+name       module                                what it is
+=========  ====================================  =====================================
+reynolds   physics.reynolds.Reynolds             finite-volume Reynolds solver (the truth)
+linear     internals.linear.Linear               8 Lund coefficients about an equilibrium
+taylor     internals.guard.DomainGuard           fitted Taylor surrogate behind its guard
+map        internals.forcemap.ForceMap           the Reynolds force as a 2-D table per L/D
+=========  ====================================  =====================================
 
 How to add an internal
 ----------------------
-1. Write one module ``bearing_fmu/<name>.py`` with a class that has ``params``, ``force(y, z,
-   vy, vz, omega) -> (Fy, Fz)`` [N] and, if it can, ``force_and_jacobian`` (raw derivatives,
-   see ``DifferentiableInternal``). Refuse states it cannot evaluate with
-   ``BearingStateError`` (``check_finite``, ``check_state``), never return NaN.
+1. Write one module ``bearing_fmu/internals/<name>.py`` with a class that has ``params``,
+   ``force(y, z, vy, vz, omega) -> (Fy, Fz)`` [N] and, if it can, ``force_and_jacobian`` (raw
+   derivatives, see ``DifferentiableInternal``). Refuse states it cannot evaluate with
+   ``BearingStateError`` (``check_finite``, ``check_state``; ``overflow_error`` for finite
+   inputs whose result overflows), never return NaN or inf.
 2. Give the class a ``from_options(params, options, context)`` classmethod: ``options`` is a
    dict of its checked option values (and of the internals it ``uses``), ``context`` the
    ``Context`` (static load, speed, where files are, a warning sink).
 3. Add one ``InternalSpec`` to ``REGISTRY`` below: name, ``"<module>:<Class>.from_options"``
    (imported only when the internal is built, so an unused internal costs nothing), its
-   ``Option``s. An option name is also the FMU parameter and the scene key; an option may
-   share a name with another internal's only if it is the same option.
-4. Tests: ``tests/test_internals.py`` runs its contract over every registered internal (force
-   and Jacobian against central differences, refused wall and non-finite states, the FMU
-   equal to the direct call); add the checks against something independent of it.
+   ``Option``s (an option name is also the FMU parameter and the scene key; it may share a
+   name with another internal's only if it is the same option), and:
+   - ``can``: its ``Capabilities`` (valid at any state or one operating point, fixed speed,
+     fitted domain, native, compare variant, truth, where it holds): stability, sweep,
+     compare, the run report, the FMU builds and their documentation ask these, never the name;
+   - ``case``: ``"internals.cases:<name>_case"``, a function (data_dir) -> ``ContractCase``
+     (``internals/cases.py``): option values that build a working instance for the paper
+     bearing at 22 Hz (any data file it needs written into data_dir), a state (y, z, vy, vz)
+     it answers for, and whether it "refuses" or "evaluates" past the wall. Without one the
+     defaults and a moving state at eccentricity 0.46 are used.
+4. Tests: ``tests/test_internals.py`` runs the eight contract checks (``CONTRACT``: force and
+   Jacobian against central differences, non-finite and huge inputs, the wall, options,
+   capabilities, the FMU equal to the direct call) over every registered internal from its
+   case; add the checks against something independent of it (a closed form, a published
+   table, a convergence study). A native internal also needs its C model
+   (``bearing_fmu/fmu/native``).
 
 A caller outside this package (a test, a plug-in) may also ``register`` a spec whose factory
 is a callable.
@@ -82,6 +94,25 @@ def check_finite(y: float, z: float, vy: float, vz: float, omega: float) -> None
     for name, value in zip(STATE_NAMES, (y, z, vy, vz, omega)):
         if not math.isfinite(value):
             raise BearingStateError(f"bearing input {name} = {value!r} is not finite")
+
+
+STATE_UNITS = ("m", "m", "m/s", "m/s", "rad/s")
+
+
+def overflow_error(params: BearingParams, y: float, z: float, vy: float, vz: float, omega: float,
+                   what: str = "force") -> BearingStateError:
+    """The error for finite inputs whose film ``what`` is beyond the float range (1e308 m/s):
+    no finite value is the model's answer, so the state is refused rather than returned as inf
+    or NaN. It names the input that drives it, the largest as a rate of the film: positions in
+    CR, velocities as 2 v / CR and omega (the terms of the Reynolds source, all in 1/s)."""
+    values = (y, z, vy, vz, omega)
+    CR = params.CR
+    sizes = (abs(y) / CR, abs(z) / CR, 2.0 * abs(vy) / CR, 2.0 * abs(vz) / CR, abs(omega))
+    i = max(range(5), key=sizes.__getitem__)
+    return BearingStateError(
+        f"bearing input {STATE_NAMES[i]} = {values[i]!r} {STATE_UNITS[i]} is too large: it puts the film {what} "
+        f"beyond the floating-point range (y = {y:.4g} m, z = {z:.4g} m, vy = {vy:.4g} m/s, vz = {vz:.4g} m/s, "
+        f"omega = {omega:.4g} rad/s)")
 
 
 def wall_error(params: BearingParams, y: float, z: float, why: str = "") -> BearingStateError:

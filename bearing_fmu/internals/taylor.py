@@ -17,9 +17,9 @@ import numpy as np
 from ..physics.params import BearingParams
 from ..physics.shortbearing import short_bearing_constant
 from ..surrogates.surrogate import Surrogate, check_params, load_surrogate
-from ..surrogates.taylor_kernels import (WRONG_OMEGA, domain_distance_nb, force_jac_shape_si_nb,
+from ..surrogates.taylor_kernels import (NOT_FINITE, WRONG_OMEGA, domain_distance_nb, force_jac_shape_si_nb,
                                          force_jac_si_nb, force_nb, force_shape_nb)
-from .registry import BearingStateError, check_finite, wall_error
+from .registry import BearingStateError, check_finite, overflow_error, wall_error
 
 OMEGA_RTOL = 1e-9  # the same tolerance the linear internal uses for "omega equals the fitted speed"
 
@@ -73,12 +73,15 @@ class Taylor:
         return self.surrogate.omega
 
     def _raise(self, code, y, z, vy, vz, omega):
-        """The BearingStateError for a refused call: a kernel's error ``code`` or, with code 0,
-        the journal at or beyond the wall (the plain polynomial's kernel does not check it)."""
+        """The BearingStateError for a refused call: a kernel's error ``code`` (NOT_FINITE: the
+        polynomial overflowed at a huge finite velocity) or, with code 0, the journal at or beyond
+        the wall (the plain polynomial's kernel does not check it)."""
         if code == WRONG_OMEGA:
             raise BearingStateError(f"Taylor surrogate was fitted at omega = {self.surrogate.omega:.6g} rad/s; "
                                     f"got omega = {omega:.6g} rad/s")
-        check_finite(y, z, vy, vz, omega)  # a non-finite input named; else the journal is at the wall
+        check_finite(y, z, vy, vz, omega)  # a non-finite input named; else an overflow, or the journal at the wall
+        if code == NOT_FINITE and y * y + z * z < self._cr2:
+            raise overflow_error(self.params, y, z, vy, vz, omega, "force (Taylor surrogate)")
         s = self.surrogate
         what = " and ".join(([f"wall factor (1 - eps^2)^-{s.wall_power:g}"] if s.wall_power else [])
                             + (["short-bearing shape columns"] if s.shape_order is not None else []))

@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import difflib
 import math
+import sys
 import tomllib
 from dataclasses import dataclass
 from pathlib import Path
@@ -259,9 +260,10 @@ class Key:
         return self.allowed or (self.kind.expected() if self.kind is not None else "")
 
 
-def check_keys(table, keys: Sequence[Key], where: str, error: type[Exception] = ValueError) -> None:
+def check_keys(table, keys: Sequence[Key], where: str, error: type[Exception] = ValueError, *,
+               toml: bool = True) -> None:
     """Raise ``error`` naming ``where`` if ``table`` is not a table, lacks a required key or has
-    an unknown one (listing the allowed keys)."""
+    an unknown one (listing the allowed keys; in a TOML file, tables as [name] and [[name]])."""
     if not isinstance(table, Mapping):
         raise error(f"{where}: expected a table, got {show(table)}")
     names = [k.name for k in keys]
@@ -271,16 +273,39 @@ def check_keys(table, keys: Sequence[Key], where: str, error: type[Exception] = 
     if not (missing or unknown):
         return
     parts = []
-    if unknown:  # first: a misspelt key is both unknown and missing, and its spelling is the clue
-        hints = {u: difflib.get_close_matches(u, [n for n in names if n not in table], 1) for u in unknown}
-        parts.append("unknown key(s) " + ", ".join(u + (f" (did you mean {hints[u][0]}?)" if hints[u] else "")
-                                                   for u in unknown))
+    written = _written if toml else (lambda name, value=None, kind=None: name)
+    shown = {k.name: written(k.name, kind=k.kind) for k in keys}  # tables as a TOML file writes them
+    # first: a misspelt key is both unknown and missing, and its spelling is the clue; an unknown
+    # table ([geometry]) is named as one, so that it does not read as a stray key
+    tables = [u for u in unknown if toml and _table_like(table[u])]
+    for what, names_of in (("table", tables), ("key", [u for u in unknown if u not in tables])):
+        if names_of:
+            hints = {u: difflib.get_close_matches(u, [n for n in names if n not in table], 1) for u in names_of}
+            parts.append(f"unknown {what}(s) " + ", ".join(
+                written(u, table[u]) + (f" (did you mean {shown[hints[u][0]]}?)" if hints[u] else "")
+                for u in names_of))
     if missing:
         parts.append(f"missing key(s) {', '.join(missing)}")
-    optional = [n for n in names if n not in required]
-    allowed = (f"required: {', '.join(required)}" + (f"; optional: {', '.join(optional)}" if optional else "")
-               if missing else f"allowed: {', '.join(names)}")
+    optional = [shown[n] for n in names if n not in required]
+    allowed = (f"required: {', '.join(shown[n] for n in required)}"
+               + (f"; optional: {', '.join(optional)}" if optional else "")
+               if missing else f"allowed: {', '.join(shown.values())}")
     raise error(f"{where}: {'; '.join(parts)}; {allowed}")
+
+
+def _table_like(value) -> bool:
+    """A TOML table or a non-empty array of tables (what [name] / [[name]] write)."""
+    return isinstance(value, Mapping) or (isinstance(value, list) and bool(value)
+                                          and all(isinstance(v, Mapping) for v in value))
+
+
+def _written(name: str, value=None, kind: "Kind | None" = None) -> str:
+    """A key as a file writes it: [name] for a table, [[name]] for an array of tables."""
+    if isinstance(kind, Table) or isinstance(value, Mapping):
+        return f"[{name}]"
+    if isinstance(kind, Tables) or (value is not None and _table_like(value)):
+        return f"[[{name}]]"
+    return name
 
 
 def check_table(table, keys: Sequence[Key], where: str, error: type[Exception] = SchemaError,
@@ -307,6 +332,37 @@ def check_table(table, keys: Sequence[Key], where: str, error: type[Exception] =
         except Invalid as exc:
             raise error(f"{prefix}{k.name} = {show(v)}{exc.tail}") from None
     return out
+
+
+def find_non_finite(value) -> str | None:
+    """The key path ('errors.Fy.rms', 'H[3][7][0]') of the first number in a parsed JSON value
+    that is not a finite float (NaN, Infinity, or an integer beyond the float range), or None.
+    Python's json reads NaN and Infinity though JSON has no such numbers; the project's writers
+    never write them (allow_nan=False), so one in a file is damage, named before any use."""
+    trail = _non_finite(value)
+    if trail is None:
+        return None
+    return "".join(f"[{k}]" if isinstance(k, int) else f".{k}" for k in reversed(trail)).lstrip(".") or "(top level)"
+
+
+def _non_finite(value) -> list | None:
+    """The reversed key trail to the first non-finite number (built only on the way out)."""
+    if isinstance(value, float):
+        return None if math.isfinite(value) else []
+    if isinstance(value, int) and not isinstance(value, bool):
+        return None if abs(value) <= sys.float_info.max else []
+    items = value.items() if isinstance(value, Mapping) else (
+        enumerate(value) if isinstance(value, (list, tuple)) else ())
+    big = sys.float_info.max
+    for k, v in items:
+        tv = type(v)  # the common cases, without a call: a finite float, an int in the float range
+        if (tv is float and v - v == 0.0) or (tv is int and -big <= v <= big):
+            continue
+        trail = _non_finite(v)
+        if trail is not None:
+            trail.append(k)
+            return trail
+    return None
 
 
 # ----------------------------------------------------------------------------- reading

@@ -6,7 +6,7 @@ import math
 from dataclasses import asdict, dataclass
 from pathlib import Path
 
-from ..io.schema import Key, Number, Text, check_table, read_toml, show
+from ..io.schema import Key, Number, Table, Text, check_keys, check_table, read_toml, show
 
 # ----------------------------------------------------------------------------- physical ranges
 # What a real plain journal bearing can be; values outside are typos or unit slips (a clearance
@@ -100,6 +100,18 @@ BEARING_KEYS = (
     Key("description", "free text", None, "text", kind=Text()),
 )
 
+# resources/bearing.json of an FMU built with --bearing (bearing_fmu.fmu.build): SI values
+BEARING_JSON_KEYS = (
+    Key("D", "bearing (journal) diameter [m]", kind=Number()),
+    Key("L", "bearing length [m]", kind=Number()),
+    Key("CR", "radial clearance [m]", kind=Number()),
+    Key("mu", "dynamic viscosity of the oil [Pa s]", kind=Number()),
+    Key("source", "the bearing file it was built from", None, kind=Text()),
+)
+
+# the top level of a bearing file that has a [bearing] table: that table only
+BEARING_FILE_KEYS = (Key("bearing", "the bearing ([bearing])", kind=Table(BEARING_KEYS)),)
+
 
 class BearingFileError(KeyError, ValueError):
     """A bearing file or mapping that cannot be used; one line naming the file and key. A
@@ -156,8 +168,29 @@ class BearingParams:
         if "bearing" in data:
             if not isinstance(data["bearing"], dict):
                 raise BearingFileError(f"{path}: bearing = {data['bearing']!r}: expected a table ([bearing])")
+            # nothing else beside [bearing]: a table this code does not read ([geometry], [oil]) would
+            # otherwise be ignored silently and the bearing computed as plain and isothermal
+            check_keys(data, BEARING_FILE_KEYS, str(path), BearingFileError)
             return cls.from_mapping(data["bearing"], where=str(path), label="[bearing]")
         return cls.from_mapping(data, where=str(path))
+
+    @classmethod
+    def from_json(cls, path: str | Path) -> "BearingParams":
+        """Read an FMU's resources/bearing.json (D, L, CR [m], mu [Pa s], source), every key
+        checked (finite, in range, no other key); errors are BearingFileError naming the file
+        and key, so a damaged resource never becomes another bearing."""
+        import json
+
+        path = Path(path)
+        try:
+            data = json.loads(path.read_text(encoding="utf-8"))
+        except (OSError, UnicodeDecodeError, ValueError) as exc:
+            raise BearingFileError(f"bearing file {path} cannot be read as JSON: {exc}") from None
+        d = check_table(data, BEARING_JSON_KEYS, str(path), BearingFileError)
+        try:
+            return cls(**{k: d[k] for k in ("D", "L", "CR", "mu")})
+        except ValueError as exc:  # the physical ranges, one line naming the field
+            raise BearingFileError(f"{path}: {str(exc).removeprefix('BearingParams.')}") from None
 
     @classmethod
     def from_mapping(cls, data: dict, where: str = "bearing", label: str = "") -> "BearingParams":

@@ -86,7 +86,7 @@ import math
 
 import numpy as np
 
-from ..internals.registry import BearingStateError, check_state
+from ..internals.registry import check_state, overflow_error
 from .params import BearingParams
 from .reynolds_kernels import reynolds_kernel
 
@@ -272,12 +272,9 @@ class Reynolds:
             )
         if not (np.all(np.isfinite(self._F)) and (not want_jac or (np.all(np.isfinite(self._dFq))
                                                                     and np.all(np.isfinite(self._dFv))))):
-            # finite inputs whose film pressures overflow a double (a velocity of 1e300 m/s): a
-            # state the solver cannot evaluate, refused like the wall (the FMU discards it)
-            raise BearingStateError(
-                f"Reynolds: the film force overflows at y = {y!r} m, z = {z!r} m, vy = {vy!r} m/s, vz = {vz!r} m/s, "
-                f"omega = {omega!r} rad/s (inputs far beyond any physical journal state)"
-            )
+            # finite inputs (checked above) whose source overflows (|v| / CR or omega near 1e308):
+            # the force is linear in the source, so no finite value is the answer; refused by name
+            raise overflow_error(pr, y, z, vy, vz, omega, "force and its Jacobian" if want_jac else "force")
 
     def force(self, y: float, z: float, vy: float, vz: float, omega: float) -> tuple[float, float]:
         """Film force (Fy, Fz) [N] on the journal."""

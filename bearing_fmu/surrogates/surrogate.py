@@ -25,8 +25,10 @@ The file: ``save_surrogate`` / ``load_surrogate`` (format ``bearing-fmu-taylor-s
 version 1; older files without ``wall_power``, ``shape`` or ``neighbours`` load as the plain
 polynomial, without shape columns, guarded by the bounds only). ``load_surrogate`` checks the
 whole file (every key the evaluation needs, its type, shape, range and consistency) and names
-the file and the key; ``check_params`` refuses a file fitted for another bearing. The evaluation is
-:class:`bearing_fmu.internals.taylor.Taylor`; fitting lives in :mod:`bearing_fmu.fitting`.
+the file and the key; ``check_params`` refuses a file fitted for another bearing. ``Domain``,
+``Neighbours`` and the value readers are in :mod:`bearing_fmu.surrogates.domain` (importable
+from here too). The evaluation is :class:`bearing_fmu.internals.taylor.Taylor`; fitting lives
+in :mod:`bearing_fmu.fitting`.
 """
 
 from __future__ import annotations
@@ -40,139 +42,15 @@ from pathlib import Path
 
 import numpy as np
 
-from ..io.schema import Key, check_keys
+from ..io.schema import Key, check_keys, find_non_finite
 from ..physics.params import BearingParams
 from .basis import N_VARS, design_matrix, exponents, n_terms, shape_force
+from .domain import (Domain, Neighbours, SurrogateKeyError, close_to, get_key, json_clean, read_int, read_number,
+                     read_object, read_vector)
 
 FILE_FORMAT = "bearing-fmu-taylor-surrogate"
 FILE_VERSION = 1
 SHAPE_ROWS = ("Fy_Sy", "Fy_Sz", "Fz_Sy", "Fz_Sz")  # shape_coef rows: force component by short-bearing component
-
-
-# ----------------------------------------------------------------------------- fitted domain
-
-@dataclass(frozen=True)
-class Domain:
-    """Where the surrogate was fitted, for the guard (a caller decides what to do outside).
-
-    All lengths in scaled units: positions in CR, velocities in omega * CR.
-      ecc_max    : bound on the eccentricity ratio |(y, z)| / CR of the training states
-      pos_center : centre of the position disc, relative to the expansion point (in CR)
-      pos_radius : radius of the position disc (in CR)
-      v_max      : radius of the velocity disc |(vy, vz)| / (omega CR)
-      box_lo/hi  : bounding box of the training states in u = (dy, dz, dvy, dvz) scaled
-    A state is inside when it satisfies all of them.
-    """
-
-    ecc_max: float
-    pos_center: tuple[float, float]
-    pos_radius: float
-    v_max: float
-    box_lo: tuple[float, float, float, float]
-    box_hi: tuple[float, float, float, float]
-
-    def __post_init__(self) -> None:
-        problem = self.problem()
-        if problem:
-            raise ValueError(f"Domain: {problem}")
-
-    def problem(self) -> str | None:
-        """What makes these bounds inconsistent (non-finite, ecc_max outside (0, 1], a negative
-        radius, box_lo > box_hi), or None."""
-        values = [self.ecc_max, *self.pos_center, self.pos_radius, self.v_max, *self.box_lo, *self.box_hi]
-        if not all(math.isfinite(float(v)) for v in values):
-            return f"every bound must be finite, got {self.to_dict()}"
-        if not 0.0 < self.ecc_max <= 1.0:
-            return f"ecc_max = {self.ecc_max!r} must lie in (0, 1] (an eccentricity ratio)"
-        for name in ("pos_radius", "v_max"):
-            if getattr(self, name) < 0.0:
-                return f"{name} = {getattr(self, name)!r} must be >= 0"
-        for i, (lo, hi) in enumerate(zip(self.box_lo, self.box_hi)):
-            if lo > hi:
-                return f"box_lo[{i}] = {lo!r} > box_hi[{i}] = {hi!r}; the box needs box_lo <= box_hi"
-        return None
-
-    def to_dict(self) -> dict:
-        return {
-            "ecc_max": self.ecc_max, "pos_center": list(self.pos_center), "pos_radius": self.pos_radius,
-            "v_max": self.v_max, "box_lo": list(self.box_lo), "box_hi": list(self.box_hi),
-        }
-
-    @classmethod
-    def from_dict(cls, d: dict, where: str = "domain") -> "Domain":
-        values = dict(
-            ecc_max=_num(d, "ecc_max", where),
-            pos_center=tuple(_vec(d, "pos_center", 2, where)),
-            pos_radius=_num(d, "pos_radius", where),
-            v_max=_num(d, "v_max", where),
-            box_lo=tuple(_vec(d, "box_lo", 4, where)),
-            box_hi=tuple(_vec(d, "box_hi", 4, where)),
-        )
-        try:
-            return cls(**values)
-        except ValueError as exc:
-            raise ValueError(f"{where}: {str(exc).removeprefix('Domain: ')}") from None
-
-
-# ----------------------------------------------------------------------------- training states
-
-NEIGHBOURS_SPACE = "u (scaling.variables); Euclidean distance"
-
-
-@dataclass(eq=False)
-class Neighbours:
-    """Training states for the nearest-neighbour part of the domain guard.
-
-    points : (K, 4) scaled states u (see ``Surrogate.scaled``) chosen from the states the
-             surrogate was fitted to (bearing_fmu.fitting.neighbours: farthest-point thinning,
-             rounded)
-    radius : in units of u; a state whose nearest stored point lies farther than ``radius``
-             is outside the fitted domain (its excess (nn - radius) / the domain's size:
-             guard.NearestTraining)
-    info   : how points and radius were chosen (rule, counts, covering radius, spacing), kept
-             in the file as written
-    """
-
-    points: np.ndarray
-    radius: float
-    info: dict = field(default_factory=dict)
-
-    def __post_init__(self) -> None:
-        p = np.ascontiguousarray(self.points, dtype=float)
-        if p.ndim != 2 or p.shape[1] != N_VARS or p.shape[0] == 0:
-            raise ValueError(f"Neighbours: points must be a non-empty list of [u1, u2, u3, u4] rows, got shape "
-                             f"{p.shape}")
-        if not np.all(np.isfinite(p)):
-            raise ValueError("Neighbours: points has non-finite entries")
-        r = float(self.radius)
-        if not (math.isfinite(r) and r > 0.0):
-            raise ValueError(f"Neighbours: radius = {self.radius!r} must be finite and > 0 (units of u)")
-        self.points, self.radius, self.info = p, r, dict(self.info)
-
-    def to_dict(self) -> dict:
-        return {"space": NEIGHBOURS_SPACE, "radius": self.radius, **_json_clean(self.info),
-                "n_points": int(len(self.points)), "points": self.points.tolist()}
-
-    @classmethod
-    def from_dict(cls, d, where: str = "neighbours") -> "Neighbours":
-        if not isinstance(d, dict):
-            raise ValueError(f"{where}: expected a JSON object, got {d!r:.60}")
-        pts = _get(d, "points", where)
-        rows_ok = [isinstance(row, list) and len(row) == N_VARS and all(_is_number(x) for x in row)
-                   for row in pts] if isinstance(pts, list) else []
-        if not all(rows_ok) or not rows_ok:
-            bad = f"; row {rows_ok.index(False)} is {pts[rows_ok.index(False)]!r:.60}" if not all(rows_ok) else ""
-            raise ValueError(f"{where}: key 'points' must be a non-empty list of [u1, u2, u3, u4] rows of finite "
-                             f"numbers{bad}")
-        if "n_points" in d and d["n_points"] != len(pts):
-            raise ValueError(f"{where}: key 'n_points' is {d['n_points']!r} but 'points' has {len(pts)} rows "
-                             "(a truncated or edited file)")
-        radius = _num(d, "radius", where)
-        info = {k: v for k, v in d.items() if k not in ("space", "radius", "points", "n_points")}
-        try:
-            return cls(np.array(pts, float), radius, info)
-        except ValueError as exc:
-            raise ValueError(f"{where}: {str(exc).removeprefix('Neighbours: ')}") from None
 
 
 # ----------------------------------------------------------------------------- surrogate
@@ -356,9 +234,9 @@ class Surrogate:
             "kept": {"Fy": self.kept[0].astype(int).tolist(), "Fz": self.kept[1].astype(int).tolist()},
             "lambda": {"Fy": self.lam[0], "Fz": self.lam[1]},
             "domain": self.domain.to_dict(),
-            "errors": _json_clean(self.errors),
-            "pruning": _json_clean(self.pruning),
-            "provenance": _json_clean(prov),
+            "errors": json_clean(self.errors),
+            "pruning": json_clean(self.pruning),
+            "provenance": json_clean(prov),
             **({} if self.neighbours is None else {"neighbours": self.neighbours.to_dict()}),
         }
 
@@ -368,59 +246,74 @@ class Surrogate:
         errors name ``where`` and the key."""
         if not isinstance(d, dict):
             raise ValueError(f"{where}: expected a JSON object at the top level")
-        check_keys(d, FILE_KEYS, where, SurrogateKeyError)
+        check_keys(d, FILE_KEYS, where, SurrogateKeyError, toml=False)  # JSON: no [table] wording
         fmt = d.get("format")
         if fmt != FILE_FORMAT:
             raise ValueError(f"{where}: key 'format' is {fmt!r}, expected {FILE_FORMAT!r}")
         if d.get("version") != FILE_VERSION:
             raise ValueError(f"{where}: key 'version' is {d.get('version')!r}, this reader knows {FILE_VERSION}")
         params = _params(d, where)
-        omega = _num(d, "omega", where)
+        omega = read_number(d, "omega", where)
         if omega == 0.0:
             raise ValueError(f"{where}: key 'omega' must be nonzero (velocities are scaled by omega * CR)")
-        if "speed_hz" in d and not _close(_num(d, "speed_hz", where), omega / (2 * math.pi)):
+        if "speed_hz" in d and not close_to(read_number(d, "speed_hz", where), omega / (2 * math.pi)):
             raise ValueError(f"{where}: key 'speed_hz' = {d['speed_hz']!r} disagrees with omega = {omega!r} rad/s "
                              f"({omega / (2 * math.pi)!r} Hz)")
-        ep = _get(d, "expansion_point", where)
-        y0, z0 = _num(ep, "y0", f"{where}: expansion_point"), _num(ep, "z0", f"{where}: expansion_point")
+        ep = get_key(d, "expansion_point", where)
+        y0, z0 = read_number(ep, "y0", f"{where}: expansion_point"), read_number(ep, "z0", f"{where}: expansion_point")
         if math.hypot(y0, z0) >= params.CR:
             raise ValueError(f"{where}: expansion_point (y0, z0) = ({y0!r}, {z0!r}) m is at or beyond the wall "
                              f"(CR = {params.CR!r} m)")
+        for k in ("vy0", "vz0"):  # written for readers; the model expands about a journal at rest
+            if k in ep and read_number(ep, k, f"{where}: expansion_point") != 0.0:
+                raise ValueError(f"{where}: expansion_point: key {k!r} = {ep[k]!r} must be 0 (the expansion is "
+                                 "about a journal at rest; velocities enter as vy, vz themselves)")
         force_scale = _scaling(d, params, omega, where)
-        order = _int(d, "order", where)
+        order = read_int(d, "order", where)
         exps = _exponents(d, "exponents", order, where)
         n = len(exps)
-        if "n_terms" in d and _int(d, "n_terms", where) != n:
+        if "n_terms" in d and read_int(d, "n_terms", where) != n:
             raise ValueError(f"{where}: key 'n_terms' is {d['n_terms']!r} but 'exponents' has {n} rows")
-        c = _get(d, "coef", where)
-        coef = np.array([_vec(c, k, n, f"{where}: coef") for k in COMPONENTS])
+        _check_basis(exps, order, where)
+        c = get_key(d, "coef", where)
+        coef = np.array([read_vector(c, k, n, f"{where}: coef") for k in COMPONENTS])
         kept = None
         if "kept" in d:
-            kd = _get(d, "kept", where)
-            kept = np.array([_vec(kd, k, n, f"{where}: kept") for k in COMPONENTS])
+            kd = get_key(d, "kept", where)
+            kept = np.array([read_vector(kd, k, n, f"{where}: kept") for k in COMPONENTS])
             if not np.all((kept == 0) | (kept == 1)):
                 raise ValueError(f"{where}: kept: every entry must be 0 or 1")
             kept = kept.astype(bool)
+            pruned = np.argwhere(~kept & (coef != 0.0))
+            if len(pruned):  # the internal evaluates kept terms only: such a coefficient would be dropped
+                i, k = (int(x) for x in pruned[0])
+                raise ValueError(f"{where}: coef: key {COMPONENTS[i]!r} entry {k} = {float(coef[i, k])!r} belongs to a term "
+                                 f"that 'kept' marks pruned (0); expected 0 there (pruned terms have coefficient 0)")
         lam = (0.0, 0.0)
         if "lambda" in d:
-            ld = _get(d, "lambda", where)
-            lam = tuple(_num(ld, k, f"{where}: lambda", minimum=0.0) for k in COMPONENTS)
+            ld = get_key(d, "lambda", where)
+            lam = tuple(read_number(ld, k, f"{where}: lambda", minimum=0.0) for k in COMPONENTS)
         load = d.get("load")
         if load is not None:
-            load = tuple(_vec(d, "load", 2, where))
-        wall_power = _num(d, "wall_power", where, minimum=0.0) if "wall_power" in d else 0.0  # older files: none
+            load = tuple(read_vector(d, "load", 2, where))
+        wall_power = read_number(d, "wall_power", where, minimum=0.0) if "wall_power" in d else 0.0  # older files: none
         shape_order = shape_coef = None
         if "shape" in d:  # older files: none
-            sd = _get(d, "shape", where)
-            shape_order = _int(sd, "order", f"{where}: shape")
+            sd = get_key(d, "shape", where)
+            shape_order = read_int(sd, "order", f"{where}: shape")
             nr = n_terms(shape_order)
+            shc = get_key(sd, "coef", f"{where}: shape")
+            # the coefficients' length first: it bounds the order before its basis is built
+            shape_coef = np.array([read_vector(shc, k, nr, f"{where}: shape: coef") for k in SHAPE_ROWS])
             if "exponents" in sd and sd["exponents"] != exponents(shape_order).tolist():
                 raise ValueError(f"{where}: shape: key 'exponents' is not the full basis of order {shape_order}")
-            shc = _get(sd, "coef", f"{where}: shape")
-            shape_coef = np.array([_vec(shc, k, nr, f"{where}: shape: coef") for k in SHAPE_ROWS])
-        domain = Domain.from_dict(_get(d, "domain", where), f"{where}: domain")
+        domain = Domain.from_dict(get_key(d, "domain", where), f"{where}: domain")
         neighbours = Neighbours.from_dict(d["neighbours"], f"{where}: neighbours") if "neighbours" in d else None
-        meta = {k: _table(d, k, where) for k in ("errors", "pruning", "provenance")}
+        meta = {k: read_object(d, k, where) for k in ("errors", "pruning", "provenance")}
+        bad = find_non_finite(d)  # the metadata too (the writer stores None, never NaN): shown by reports
+        if bad is not None:
+            raise ValueError(f"{where}: key {bad!r} is not a finite number (NaN, Infinity or beyond the float "
+                             "range); expected finite numbers or null")
         try:
             return cls(params=params, omega=omega, y0=y0, z0=z0, order=order, exponents=exps, coef=coef,
                        force_scale=force_scale, domain=domain, kept=kept, lam=lam, load=load, **meta,
@@ -457,82 +350,9 @@ FILE_KEYS = (
 )
 
 
-class SurrogateKeyError(KeyError):
-    """A missing or unknown key of a surrogate file (a KeyError whose text reads as a sentence)."""
-
-    def __str__(self) -> str:
-        return str(self.args[0]) if self.args else ""
-
-
-def _json_clean(obj):
-    """Metadata for JSON: numpy scalars/arrays to Python, non-finite floats to None."""
-    if isinstance(obj, dict):
-        return {str(k): _json_clean(v) for k, v in obj.items()}
-    if isinstance(obj, (list, tuple)):
-        return [_json_clean(v) for v in obj]
-    if isinstance(obj, np.ndarray):
-        return _json_clean(obj.tolist())
-    if isinstance(obj, np.generic):
-        obj = obj.item()
-    if isinstance(obj, float) and not math.isfinite(obj):
-        return None
-    return obj
-
-
-def _is_number(x) -> bool:
-    return isinstance(x, (int, float)) and not isinstance(x, bool) and math.isfinite(x)
-
-
-def _close(a: float, b: float, rtol: float = 1e-9) -> bool:
-    return abs(a - b) <= rtol * max(abs(a), abs(b))
-
-
-def _get(d: dict, key: str, where: str):
-    if not isinstance(d, dict):
-        raise ValueError(f"{where}: expected a JSON object, got {d!r:.60}")
-    if key not in d:
-        raise SurrogateKeyError(f"{where}: missing key {key!r}")
-    return d[key]
-
-
-def _num(d: dict, key: str, where: str, minimum: float | None = None) -> float:
-    v = _get(d, key, where)
-    if not _is_number(v):
-        raise ValueError(f"{where}: key {key!r} must be a finite number, got {v!r:.60}")
-    if minimum is not None and v < minimum:
-        raise ValueError(f"{where}: key {key!r} = {v!r} must be >= {minimum:g}")
-    return float(v)
-
-
-def _int(d: dict, key: str, where: str) -> int:
-    v = _get(d, key, where)
-    if isinstance(v, bool) or not isinstance(v, int) or v < 0:
-        raise ValueError(f"{where}: key {key!r} must be a non-negative integer, got {v!r:.60}")
-    return v
-
-
-def _vec(d: dict, key: str, n: int, where: str) -> list[float]:
-    v = _get(d, key, where)
-    if not isinstance(v, list) or len(v) != n:
-        got = f"{len(v)} entries" if isinstance(v, list) else repr(v)[:60]
-        raise ValueError(f"{where}: key {key!r} must be a list of {n} numbers, each finite, got {got}")
-    bad = next((i for i, x in enumerate(v) if not _is_number(x)), None)
-    if bad is not None:
-        raise ValueError(f"{where}: key {key!r} must be a list of {n} numbers, each finite; entry {bad} is "
-                         f"{v[bad]!r:.60}")
-    return [float(x) for x in v]
-
-
-def _table(d: dict, key: str, where: str) -> dict:
-    v = d.get(key, {})
-    if not isinstance(v, dict):
-        raise ValueError(f"{where}: key {key!r} must be a JSON object, got {v!r:.60}")
-    return v
-
-
 def _params(d: dict, where: str) -> BearingParams:
-    p = _get(d, "params", where)
-    values = {k: _num(p, k, f"{where}: params") for k in ("D", "L", "CR", "mu")}
+    p = get_key(d, "params", where)
+    values = {k: read_number(p, k, f"{where}: params") for k in ("D", "L", "CR", "mu")}
     try:
         return BearingParams(**values)
     except ValueError as exc:
@@ -541,18 +361,18 @@ def _params(d: dict, where: str) -> BearingParams:
 
 def _scaling(d: dict, params: BearingParams, omega: float, where: str) -> float:
     """The force scale, after checking the stored position and velocity scales are CR and |omega| CR."""
-    sc = _get(d, "scaling", where)
-    fs = _num(sc, "force_scale", f"{where}: scaling")
+    sc = get_key(d, "scaling", where)
+    fs = read_number(sc, "force_scale", f"{where}: scaling")
     if fs <= 0.0:
         raise ValueError(f"{where}: scaling: key 'force_scale' = {fs!r} must be > 0")
     for key, want, what in (("pos_scale", params.CR, "CR"), ("vel_scale", abs(omega) * params.CR, "|omega| CR")):
-        if key in sc and not _close(_num(sc, key, f"{where}: scaling"), want):
+        if key in sc and not close_to(read_number(sc, key, f"{where}: scaling"), want):
             raise ValueError(f"{where}: scaling: key {key!r} = {sc[key]!r} disagrees with {what} = {want!r}")
     return fs
 
 
 def _exponents(d: dict, key: str, order: int, where: str) -> np.ndarray:
-    v = _get(d, key, where)
+    v = get_key(d, key, where)
     rows_ok = [isinstance(row, list) and len(row) == N_VARS
                and all(isinstance(e, int) and not isinstance(e, bool) and e >= 0 for e in row)
                for row in v] if isinstance(v, list) else [False]
@@ -565,6 +385,22 @@ def _exponents(d: dict, key: str, order: int, where: str) -> np.ndarray:
         raise ValueError(f"{where}: key {key!r} has a term of degree {int(exps.sum(axis=1).max())} above "
                          f"the order {order}")
     return exps
+
+
+def _check_basis(exps: np.ndarray, order: int, where: str) -> None:
+    """The monomials must be distinct and reach the order: the kernels build powers up to
+    ``order`` on every call, so an order above the highest degree is damage (or a cut table)."""
+    if not len(exps):
+        return
+    top = int(exps.sum(axis=1).max())
+    if top != order:
+        raise ValueError(f"{where}: key 'order' = {order} but the highest degree in 'exponents' is {top}; "
+                         "expected equal (a surrogate's order is its highest degree)")
+    seen = set()
+    for row in exps.tolist():
+        if tuple(row) in seen:
+            raise ValueError(f"{where}: key 'exponents' has the row {row} twice; expected each monomial once")
+        seen.add(tuple(row))
 
 
 def surrogate_json(data: dict) -> str:
@@ -620,5 +456,6 @@ def load_surrogate(path: str | Path, params: BearingParams | None = None) -> Sur
     return sur
 
 
+# Domain, Neighbours and SurrogateKeyError live in .domain; re-exported: callers import them from here
 __all__ = ["FILE_FORMAT", "FILE_VERSION", "FILE_KEYS", "SHAPE_ROWS", "Domain", "Neighbours", "Surrogate",
            "SurrogateKeyError", "save_surrogate", "load_surrogate", "surrogate_json", "check_params"]

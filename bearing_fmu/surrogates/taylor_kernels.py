@@ -18,6 +18,7 @@ from ..physics.shortbearing import short_bearing_constant, short_bearing_kernel
 
 # Error codes of the kernels, turned into BearingStateError by the Python wrappers.
 _OK, _BAD_Y, _BAD_Z, _BAD_VY, _BAD_VZ, _BAD_OMEGA, WRONG_OMEGA, _AT_WALL = 0, 1, 2, 3, 4, 5, 6, 7
+NOT_FINITE = 8  # finite inputs, a force or derivative beyond the float range (a huge velocity)
 
 
 @njit(cache=True)
@@ -141,7 +142,15 @@ def force_nb(y, z, vy, vz, omega, meta, exps, coef):
         if not q > 0.0:
             return 0.0, 0.0, _AT_WALL
         s *= q ** (-p)
-    return fy * s, fz * s, 0
+    return _finite(fy * s, fz * s)
+
+
+@njit(cache=True)
+def _finite(fy, fz):
+    """(fy, fz, 0), or NOT_FINITE when either overflowed (finite inputs: a huge velocity)."""
+    if np.isfinite(fy) and np.isfinite(fz):
+        return fy, fz, 0
+    return 0.0, 0.0, NOT_FINITE
 
 
 @njit(cache=True)
@@ -199,6 +208,8 @@ def _to_si(code, out, meta):
     for i in range(2):
         dq[i, 0], dq[i, 1] = out[2 + 4 * i] * gq, out[3 + 4 * i] * gq
         dv[i, 0], dv[i, 1] = out[4 + 4 * i] * gv, out[5 + 4 * i] * gv
+    if not (np.all(np.isfinite(F)) and np.all(np.isfinite(dq)) and np.all(np.isfinite(dv))):
+        return NOT_FINITE, F, dq, dv
     return code, F, dq, dv
 
 
@@ -226,7 +237,7 @@ def force_shape_nb(y, z, vy, vz, omega, meta, exps, coef, sexps, scoef):
     out = np.zeros(2)
     _shape_terms(y, z, vy, vz, omega, (y - meta[0]) / meta[3], (z - meta[1]) / meta[3], vy / meta[4],
                  vz / meta[4], meta, sexps, scoef, False, out)
-    return fy + out[0] * meta[5], fz + out[1] * meta[5], 0
+    return _finite(fy + out[0] * meta[5], fz + out[1] * meta[5])
 
 
 @njit(cache=True)
