@@ -7,7 +7,6 @@ only in the slow test, which runs the whole page."""
 
 import doctest
 import os
-import shutil
 from pathlib import Path
 
 import pytest
@@ -71,10 +70,7 @@ def test_api_doc(tmp_path):
 
 
 @pytest.mark.slow
-@pytest.mark.skipif(shutil.which("cc") is None and shutil.which("gcc") is None and not os.environ.get("CC"),
-                    reason="no C compiler (the native FMU)")
 def test_api_doc_with_fmus(tmp_path, code_cache):
     """The whole page, the FMU builds and fmpy simulations included (about 4 s: a C compile, a
     pythonfmu build, numba in a fresh FMU code cache)."""
-    pytest.importorskip("fmpy")
     assert run_page(tmp_path, slow=True) == len(blocks())
