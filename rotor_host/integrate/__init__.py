@@ -6,6 +6,8 @@ module            what it holds
 forces            the ``NodalForce`` protocol the integrator sees, Newton tangent words
 newmark,          implicit Newmark / HHT-alpha with Newton and step cutting; its
 newmark_kernels   compiled kernels
+newmark_data      its settings, result and error (NewmarkConfig, NewmarkResult,
+                  IntegrationError)
 equilibrium       the static equilibrium of the rotor on nonlinear bearings
 ================  =============================================================
 """
