@@ -71,7 +71,7 @@ def main() -> None:
         st = orbit(scene, args.cache_dir)
         st = st[np.array([Taylor(sur).domain_distance(*x) <= 0.0 for x in st])][:n]  # inside: no warning path
         om = sur.omega
-        near = NearestTraining(sur)
+        near = NearestTraining(sur, Taylor(sur))
         u = np.array([near.scaled(*x) for x in st])
         query = per_call_us(lambda *x: near._tree.query(x), u, n)
         q0 = near.queries

@@ -17,7 +17,8 @@ time:
   bearing). c, the covering radius, is measured after rounding. Farthest-point thinning keeps
   the rare states (a transient's first swing) that a random subset would drop.
 * radius = q + c: a state within q of the training states is within q + c of the stored
-  ones. Never below ``MIN_RADIUS``.
+  ones. Never below ``MIN_RADIUS``. This is r_cv, the data's spacing; the guard widens it
+  to r_lin where the fit checks out farther (bearing_fmu.guard.linear_radius, at load).
 
 On the shipped files the rule puts every state of the held-out trajectories at 22 and 44 Hz
 inside and (0, -0.5 CR, 0, 0) at 22 Hz 4x the radius away (docs/studies/2026-11-24-nearest-neighbour-guard.md).

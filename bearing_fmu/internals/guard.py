@@ -6,16 +6,30 @@ at every evaluation, measures how far the state lies outside the fitted domain, 
 ``d`` (``Taylor.domain_distance``), the larger of
 
 * the relative excess over the domain's bounds (eccentricity, position and velocity discs,
-  bounding box: ``Taylor.bounds_distance``), and
+  bounding box: ``Taylor.bounds_distance``), each widened by as much as r_lin (below) widens
+  the radius, and
 * the excess of the distance nn to the nearest stored training state over their radius, in
-  the scaled state space u, as a fraction of the domain's size: (nn - radius) / (half the
-  diagonal of the domain's box) (``NearestTraining``, a KD-tree of the states the file
-  stores; files without them: bounds only, said once in a warning). The bounds enclose the
-  training orbits loosely; this part flags a state inside them but off every orbit the fit
-  saw (22 Hz: (0, -0.5 CR, 0, 0), Fy -15130 N where Reynolds gives 50 N).
+  the scaled state space u, as a fraction of the domain's size: (nn - radius) / size
+  (``NearestTraining``, a KD-tree of the states the file stores; files without them: bounds
+  only, unwidened, said once in a warning). The bounds enclose the training orbits loosely;
+  this part flags a state inside them but off every orbit the fit saw (22 Hz:
+  (0, -0.5 CR, 0, 0), Fy -15130 N where Reynolds gives 50 N).
+
+The radius is the larger of two distances from the training states:
+
+* r_cv, the one the file stores: their spacing, the distances at which cross-validation
+  tested the fit (bearing_fmu.fitting.neighbours);
+* r_lin, computed here when the file is read (``linear_radius``): how far from a training
+  state the fit's value stays within TOLERANCE (5 %) of its own first-order extrapolation
+  from that state. Where the truth is nearly linear over that distance this departure is the
+  fit's error; where the truth bends (near the wall) it overstates the error, so r_lin errs
+  short. It is what lets a fit to thin orbits on a nearly linear film (the Friswell bearings at
+  25 Hz: orbits of 0.016 CR, r_cv 0.009, r_lin 0.07) serve the neighbouring orbits it is right
+  on (docs/studies/2026-11-25-guard-false-alarms.md).
 
 d <= 0 is inside; d = 0.1 is 10 % beyond the nearest violated bound, or a tenth of the
-domain's size beyond the training states' radius. Then:
+domain's size (half the diagonal of its box in u, or the radius if larger) beyond the radius.
+Then:
 
 * inside: the surrogate's value;
 * outside, but less than ``limit`` beyond: depending on ``action``
@@ -39,71 +53,11 @@ import warnings
 
 import numpy as np
 
+from .nearest import TOLERANCE, NearestTraining, linear_radius
 from .registry import DEFAULT_DOMAIN_LIMIT as DEFAULT_LIMIT
 from .registry import DOMAIN_ACTIONS, BearingStateError, check_finite
 
 FALLBACK_BAND = 0.1  # fallback: Taylor and truth blended from the domain's edge to 10 % beyond it
-
-
-class NearestTraining:
-    """Distance of a journal state to the nearest training state a surrogate file stores
-    (``Surrogate.neighbours``: points in the scaled state space u, and a radius).
-
-    nn is the Euclidean distance in u = ((y - y0)/CR, (z - z0)/CR, vy/(omega CR), vz/(omega CR))
-    to the nearest stored point; ``distance`` = (nn - radius) / size: <= 0 within the radius
-    of a stored state, and beyond it the excess as a fraction of the fitted domain's size (half
-    the diagonal of its bounding box in u), the way the bounds' part measures its excess
-    relative to each bound's size. So d = 0.5 (the default domain_limit) is half the domain's
-    size beyond the radius: the radius (a few orbit spacings) flags a state off the training
-    orbits, the limit refuses one far from them.
-
-    One scipy cKDTree query (~10 us). The guard, which needs the exact value only outside,
-    skips it (``exact=False``) when the state lies within the radius of the stored point
-    nearest to the previous state queried: then nn <= that distance <= radius, the state is
-    inside, and that bound gives a result <= 0 (~1.5 us; successive evaluations of a run lie
-    close together). So its result is exact when > 0, an upper bound when <= 0.
-    """
-
-    def __init__(self, surrogate):
-        from scipy.spatial import cKDTree
-
-        nb = surrogate.neighbours
-        if nb is None:
-            raise ValueError("NearestTraining: the surrogate stores no training states (key 'neighbours')")
-        self.radius = nb.radius
-        d = surrogate.domain
-        size = 0.5 * math.dist(d.box_lo, d.box_hi)
-        self.size = size if size > 0.0 else self.radius  # a degenerate box (one state): in radii
-        self.points = nb.points
-        self._rows = [tuple(map(float, row)) for row in nb.points]
-        self._tree = cKDTree(nb.points)
-        self._shift = (surrogate.y0, surrogate.z0)
-        self._scale = (surrogate.pos_scale, surrogate.vel_scale)
-        self._last = None  # the stored point nearest to the last state queried
-        self.queries = 0  # KD-tree queries so far (benchmarks/bench_guard.py reports the share skipped)
-
-    def scaled(self, y: float, z: float, vy: float, vz: float) -> tuple[float, float, float, float]:
-        """The state in u (see the class doc)."""
-        cr, vs = self._scale
-        return (y - self._shift[0]) / cr, (z - self._shift[1]) / cr, vy / vs, vz / vs
-
-    def nearest(self, y: float, z: float, vy: float, vz: float) -> tuple[float, np.ndarray]:
-        """(nn, the nearest stored point in u): one exact KD-tree query."""
-        nn, i = self._tree.query(self.scaled(y, z, vy, vz))
-        self.queries += 1
-        self._last = self._rows[i]
-        return float(nn), self.points[i]
-
-    def distance(self, y: float, z: float, vy: float, vz: float, exact: bool = True) -> float:
-        """(nn - radius) / size. ``exact=False`` (the guard, at every evaluation) may skip the
-        query for a state inside: the result is then an upper bound <= 0 (see the class doc)."""
-        if not exact and self._last is not None:
-            bound = math.dist(self.scaled(y, z, vy, vz), self._last)
-            if bound <= self.radius:
-                return (bound - self.radius) / self.size
-        return (self.nearest(y, z, vy, vz)[0] - self.radius) / self.size
-
-
 class DomainGuard:
     """A Taylor internal behind its domain guard (see the module docstring).
 
@@ -217,9 +171,11 @@ class DomainGuard:
         if near is not None:
             nn, _ = near.nearest(y, z, vy, vz)
             if nn > near.radius:
+                how = f" (their spacing {near.cv_radius:.3g}, widened to where the fit was checked)" * (
+                    near.widening > 0.0)
                 parts.append(f"nearest training state {nn:.3g} away in the scaled state u, {nn / near.radius:.3g} x "
-                             f"their radius {near.radius:.3g}, {100 * (nn - near.radius) / near.size:.3g} % of the "
-                             f"domain's size {near.size:.3g} beyond it")
+                             f"their radius {near.radius:.3g}{how}, {100 * (nn - near.radius) / near.size:.3g} % of "
+                             f"the domain's size {near.size:.3g} beyond it")
         return " and ".join(parts) or "at its edge"
 
     def _blend_weight(self, d: float | None = None) -> float:
@@ -287,4 +243,4 @@ def _jacobian(internal, y, z, vy, vz, omega):
     return jac(y, z, vy, vz, omega)
 
 
-__all__ = ["DomainGuard", "NearestTraining", "DOMAIN_ACTIONS", "DEFAULT_LIMIT"]
+__all__ = ["DomainGuard", "NearestTraining", "linear_radius", "DOMAIN_ACTIONS", "DEFAULT_LIMIT", "TOLERANCE"]

@@ -19,6 +19,7 @@ from ..physics.shortbearing import short_bearing_constant
 from ..surrogates.surrogate import Surrogate, check_params, load_surrogate
 from ..surrogates.taylor_kernels import (NOT_FINITE, WRONG_OMEGA, domain_distance_nb, force_jac_shape_si_nb,
                                          force_jac_si_nb, force_nb, force_shape_nb)
+from .nearest import NearestTraining
 from .registry import BearingStateError, check_finite, overflow_error, wall_error
 
 OMEGA_RTOL = 1e-9  # the same tolerance the linear internal uses for "omega equals the fitted speed"
@@ -59,10 +60,17 @@ class Taylor:
             self._kforce, self._kjac = force_shape_nb, force_jac_shape_si_nb
         self._out = np.empty(10)
         self._cr2 = s.params.CR ** 2  # y^2 + z^2 >= CR^2: at or beyond the wall
-        self._nearest = None  # the training states' KD-tree (see ``neighbours``), built at first use
+        # the training states' KD-tree and radius (see ``neighbours``); r_lin evaluates this internal
+        self._nearest = None
+        if s.neighbours is not None:
+            self._nearest = NearestTraining(s, self)
+        # where r_lin carries the fit beyond its training states' spacing, the bounds, which only
+        # enclose those states, widen by as much (guard.NearestTraining.widening; else unchanged)
+        w = 0.0 if self._nearest is None else self._nearest.widening
         d = s.domain
-        self._dom = np.array([s.y0, s.z0, s.pos_scale, s.vel_scale, d.ecc_max, d.pos_center[0], d.pos_center[1],
-                              d.pos_radius, d.v_max, *d.box_lo, *d.box_hi], float)
+        self._dom = np.array([s.y0, s.z0, s.pos_scale, s.vel_scale, d.ecc_max + w, d.pos_center[0], d.pos_center[1],
+                              d.pos_radius + w, d.v_max + w, *(x - w for x in d.box_lo), *(x + w for x in d.box_hi)],
+                             float)
 
     @classmethod
     def from_file(cls, path: str | Path, params: BearingParams | None = None) -> "Taylor":
@@ -108,18 +116,16 @@ class Taylor:
     def bounds_distance(self, y: float, z: float, vy: float, vz: float) -> float:
         """How far the state lies outside the fitted domain's bounds: the largest relative
         excess (eccentricity / ecc_max - 1, distance to the position-disc centre / radius - 1,
-        |v| / v_max - 1, and the bounding-box excess over the box half width). <= 0 inside;
-        e.g. 0.1 means 10 % beyond the nearest violated bound. Compiled, ~0.3 us."""
+        |v| / v_max - 1, and the bounding-box excess over the box half width), each bound
+        widened by ``neighbours.widening`` (0 unless r_lin exceeds the training states' spacing).
+        <= 0 inside; e.g. 0.1 means 10 % beyond the nearest violated bound. Compiled, ~0.3 us."""
         return float(domain_distance_nb(float(y), float(z), float(vy), float(vz), self._dom))
 
     @property
     def neighbours(self):
-        """The nearest-neighbour measure of the stored training states (guard.NearestTraining),
-        built at first use; None for a file without them (bounds only)."""
-        if self._nearest is None and self.surrogate.neighbours is not None:
-            from .guard import NearestTraining
-
-            self._nearest = NearestTraining(self.surrogate)
+        """The nearest-neighbour measure of the stored training states and their radius
+        (guard.NearestTraining, built with the internal: r_lin takes a few ms); None for a file
+        without them (bounds only)."""
         return self._nearest
 
     def domain_distance(self, y: float, z: float, vy: float, vz: float) -> float:

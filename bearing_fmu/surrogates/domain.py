@@ -169,9 +169,9 @@ class Neighbours:
     points : (K, 4) scaled states u (see ``Surrogate.scaled``) chosen from the states the
              surrogate was fitted to (bearing_fmu.fitting.neighbours: farthest-point thinning,
              rounded)
-    radius : in units of u; a state whose nearest stored point lies farther than ``radius``
-             is outside the fitted domain (its excess (nn - radius) / the domain's size:
-             guard.NearestTraining)
+    radius : in units of u, r_cv (their spacing); a state whose nearest stored point lies
+             farther than the larger of it and r_lin is outside the fitted domain (its excess
+             (nn - radius) / the domain's size: guard.NearestTraining)
     info   : how points and radius were chosen (rule, counts, covering radius, spacing), kept
              in the file as written
     """
