@@ -59,3 +59,23 @@ def test_short_compare_run(tmp_path):
     assert [r["label"] for r in data["rows"]] == [r["label"] for r in rows]
     assert "| Taylor order 5 |" in (tmp_path / f"{stem}.md").read_text()
     assert (tmp_path / f"{stem}_error_vs_time.png").stat().st_size > 0
+
+
+def test_compare_takes_any_registered_internal_that_can_be_a_variant(tmp_path):
+    # `rotor-host compare --internals NAME...`: one variant per internal, the scene's options for
+    # it; an internal whose capabilities say it cannot be a compare variant is refused by name
+    from bearing_fmu.internals import registry
+    from rotor_host.analyses.compare import reference_and_variants
+    from rotor_host.scenes.scene import load_scene
+
+    scene = load_scene(Path(__file__).resolve().parents[1] / "models" / "scenes" / "paper_22hz.toml")
+    ref, variants = reference_and_variants(scene, tmp_path, ref_grid=None, internals=["map", "linear"])
+    assert ref.internal == "reynolds" and [v.internal for v in variants] == ["map", "linear"]
+    spec = registry.InternalSpec("no_compare", lambda p, o, c: None, "test only",
+                                 can=registry.Capabilities(compare=False))
+    registry.register(spec)
+    try:
+        with pytest.raises(ValueError, match="--internals no_compare: this internal cannot be a compare variant"):
+            reference_and_variants(scene, tmp_path, internals=["no_compare"])
+    finally:
+        registry.unregister("no_compare")

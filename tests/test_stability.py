@@ -429,3 +429,14 @@ def test_interrupt_keeps_the_speeds_done(tmp_path, capsys, monkeypatch):
     assert "**interrupted: the speeds above finished**" in text and text.count("\n| 2") == 2
     data = json.loads((tmp_path / "stability_rotor_paper_map.json").read_text())
     assert data["status"] == "interrupted" and [p["speed_hz"] for p in data["points"]] == [20.0, 21.0]
+
+
+def test_an_internal_made_about_one_point_is_refused_naming_those_valid_everywhere():
+    # the registry's capabilities decide (any_state), not the internal's name: linear and taylor
+    # answer about one operating point, which moves with the speed in a stability sweep
+    from rotor_host.analyses.stability import Stability
+    from rotor_host.model.rotor import Rotor
+
+    rotor = Rotor.from_toml(ROTOR)
+    with pytest.raises(ValueError, match=r"internal 'linear' answers only about the operating point .*: reynolds, map"):
+        Stability(rotor, "linear")
