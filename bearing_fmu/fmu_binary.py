@@ -32,6 +32,11 @@ error-message      its log line reads "fmi2Error from the Python slave [doStep] 
                    on one line (was "Fatal py exception encountered: [doStep] ...\\n<repr>")
 step-terminated    fmi2DoStep: a successful step clears ``wantsToTerminate``
 restore-terminated fmi2SetFMUstate: a successful restore clears ``wantsToTerminate``
+free-once          fmi2FreeInstance frees the logger and the slave (the Python instance with
+                   it) and sets their pointers to null, but keeps the 32-byte component: a
+                   second fmi2FreeInstance of it finds nothing to free (was: a double free,
+                   the host aborts). Any other call after the free still dereferences the
+                   null slave (a crash): pythonfmu's C++ layer has no check to hang that on
 =================  =======================================================================
 """
 
@@ -269,9 +274,37 @@ def _restore_terminated(elf: _Elf, data: bytes):
     raise PatchMismatch("no call of __stack_chk_fail within reach in fmi2FreeFMUstate")
 
 
+# fmi2FreeInstance after the slave's deletion (``delete slave`` through its vtable): the epilogue
+# that deletes the component (``jmp operator delete(component, 0x20)``), 23 bytes, becomes one
+# that sets component->slave and ->logger (+0x10, +0x18; r12 = component) to null and returns
+_FREE_DELETE_SLAVE = re.compile(rb"\x49\x8b\x7c\x24\x10\x48\x85\xff\x74\x09\x48\x8b\x07\xff\x90\xa8\x00\x00\x00")
+_FREE_EPILOGUE = re.compile(rb"\x48\x83\xc4\x08\x4c\x89\xe7\xbe\x20\x00\x00\x00"  # add rsp, 8; rdi = r12; esi = 0x20
+                            rb"\x5b\x5d\x41\x5c\x41\x5d\xe9(....)", re.S)  # pop rbx, rbp, r12, r13; jmp delete
+_FREE_EPILOGUE_NEW = bytes.fromhex("4883c408" "31c0" "4989442410" "4989442418" "5b5d415c415d" "c3")
+
+
+def _free_once(elf: _Elf, data: bytes):
+    addr, off, code = _function(elf, data, "fmi2FreeInstance")
+    slave = list(_FREE_DELETE_SLAVE.finditer(code))
+    if len(slave) != 1:
+        raise PatchMismatch(f"fmi2FreeInstance: {len(slave)} deletions of the slave")
+    at = slave[0].end()
+    if code[at:at + len(_FREE_EPILOGUE_NEW)] == _FREE_EPILOGUE_NEW:
+        return [(off + at, _FREE_EPILOGUE_NEW, _FREE_EPILOGUE_NEW)]
+    m = _FREE_EPILOGUE.match(code, at)
+    if m is None:
+        raise PatchMismatch("fmi2FreeInstance: no deletion of the component after the slave's")
+    # the jmp goes where the function's calls of operator delete go (call rel32 before the slave's deletion)
+    target = addr + m.end() + struct.unpack("<i", m.group(1))[0]
+    calls = {addr + c.end() + struct.unpack("<i", c.group(1))[0] for c in re.finditer(rb"\xe8(....)", code[:at], re.S)}
+    if target not in calls:
+        raise PatchMismatch("fmi2FreeInstance: the last jump is not to the operator delete the function calls")
+    return [(off + at, m.group(0), _FREE_EPILOGUE_NEW)]
+
+
 _PATCHES = (("exit-unload", _exit_unload), ("keep-instance", _keep_instance), ("error-status", _error_status),
             ("error-message", _error_message), ("step-terminated", _step_terminated),
-            ("restore-terminated", _restore_terminated))
+            ("restore-terminated", _restore_terminated), ("free-once", _free_once))
 
 
 def patch_pythonfmu_binary(data: bytes) -> tuple[bytes, dict[str, str]]:
