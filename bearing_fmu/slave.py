@@ -25,7 +25,7 @@ fmi2Fatal with the instance released. The build patches pythonfmu's binary
 Without the patches (``resources/pythonfmu_patches.json`` says which are in; the Windows
 binary is pythonfmu's as is) nothing raises: a refused call is logged with status Error and
 returns fmi2OK, as pythonfmu allows. When the master has logging off, the first warning, the
-first discard and the first error of an instance are also printed to stderr (``_LoggingFlag``).
+first discard and the first error of an instance are also printed to stderr (``LoggingFlag``).
 
 The FMU state (fmi2GetFMUstate) is a small tuple (tag, time, inputs and outputs); the
 internal is not part of it (it is fixed after initialisation), so saving and restoring
@@ -45,79 +45,13 @@ from pythonfmu.enums import Fmi2Status
 
 from . import __version__
 from . import internals as registry
+from .fmu_resources import BEARING_DEFAULTS, BUILD_INFO, PATCH_NOTES  # noqa: F401 - build.py reads them here
+from .fmu_resources import BEARING_FIELDS, SURROGATE_DIR, LoggingFlag, bearing_defaults, default_file, status_patched
+from .fmu_variables import (ENUMERATIONS, INPUT, INPUTS, OUTPUT, OUTPUTS, PARAMETER, PARAMETERS, STRING_DEFAULTS,
+                            VARIABLES, enum_value)
 from .internals import BearingStateError, Context, check_finite
-from .params import PAPER_BEARING, BearingParams
+from .params import BearingParams
 
-SURROGATE_DIR = "surrogates"  # inside the FMU's resources folder: the files of file options
-
-# name, type, causality, unit, default, description. The one table of the FMU interface:
-# the slave registers these, build.py writes units and dependencies from it. The internals'
-# parameters come from their registry options.
-_IN, _OUT, _PAR = "input", "output", "parameter"
-_FMI_TYPE = {float: "Real", int: "Integer", bool: "Boolean", str: "String"}
-_DEFAULT_INTERNAL = "reynolds"
-# Enumeration parameters: each String parameter with choices again as an FMI 2.0 enumeration (an
-# Integer whose values are item k + 1 of the choices; build.py declares its TypeDefinition), for
-# masters that show one as a drop-down. name -> (its String parameter, the items). Set either; a
-# value away from its start wins, and if both are set away from their starts they must agree
-# (BearingFMU._choices). New internals and choices go at the end: the numbers stay.
-ENUMERATIONS = {"internal_enum": ("internal", registry.names()),
-                **{f"{o.name}_enum": (o.name, o.choices) for o in registry.all_options() if o.choices}}
-_STRING_DEFAULTS = {"internal": _DEFAULT_INTERNAL, **{o.name: o.default for o in registry.all_options()}}
-
-
-def enum_value(name: str, item: str) -> int:
-    """The value of ``item`` in enumeration parameter ``name`` (1 for the first choice)."""
-    return ENUMERATIONS[name][1].index(item) + 1
-
-
-VARIABLES = (
-    # inputs: the journal state at the end of the step
-    ("y", "Real", _IN, "m", 0.0, "journal centre displacement from the bearing centre, horizontal"),
-    ("z", "Real", _IN, "m", 0.0, "journal centre displacement from the bearing centre, vertical (up)"),
-    ("vy", "Real", _IN, "m/s", 0.0, "journal centre velocity, horizontal"),
-    ("vz", "Real", _IN, "m/s", 0.0, "journal centre velocity, vertical"),
-    ("omega", "Real", _IN, "rad/s", 0.0, "shaft speed, right-handed about the shaft axis x"),
-    # outputs
-    ("Fy", "Real", _OUT, "N", 0.0, "film force on the journal, horizontal"),
-    ("Fz", "Real", _OUT, "N", 0.0, "film force on the journal, vertical"),
-    ("eccentricity", "Real", _OUT, "1", 0.0, "eccentricity ratio sqrt(y^2 + z^2) / CR"),
-    ("h_min", "Real", _OUT, "m", 0.0, "minimum film thickness CR - sqrt(y^2 + z^2) (negative beyond the wall)"),
-    ("out_of_domain", "Boolean", _OUT, None, False,
-     "true when the state lies outside the surrogate's fitted domain (taylor only; false otherwise)"),
-    ("Kyy", "Real", _OUT, "N/m", 0.0, "film stiffness -dFy/dy (Lund sign; 0 if compute_tangent is false)"),
-    ("Kyz", "Real", _OUT, "N/m", 0.0, "film stiffness -dFy/dz (Lund sign; 0 if compute_tangent is false)"),
-    ("Kzy", "Real", _OUT, "N/m", 0.0, "film stiffness -dFz/dy (Lund sign; 0 if compute_tangent is false)"),
-    ("Kzz", "Real", _OUT, "N/m", 0.0, "film stiffness -dFz/dz (Lund sign; 0 if compute_tangent is false)"),
-    ("Cyy", "Real", _OUT, "N.s/m", 0.0, "film damping -dFy/dvy (Lund sign; 0 if compute_tangent is false)"),
-    ("Cyz", "Real", _OUT, "N.s/m", 0.0, "film damping -dFy/dvz (Lund sign; 0 if compute_tangent is false)"),
-    ("Czy", "Real", _OUT, "N.s/m", 0.0, "film damping -dFz/dvy (Lund sign; 0 if compute_tangent is false)"),
-    ("Czz", "Real", _OUT, "N.s/m", 0.0, "film damping -dFz/dvz (Lund sign; 0 if compute_tangent is false)"),
-    # parameters: the bearing (paper Table 2)
-    ("D", "Real", _PAR, "m", PAPER_BEARING.D, "bearing (journal) diameter"),
-    ("L", "Real", _PAR, "m", PAPER_BEARING.L, "bearing length"),
-    ("CR", "Real", _PAR, "m", PAPER_BEARING.CR, "radial clearance"),
-    ("mu", "Real", _PAR, "Pa.s", PAPER_BEARING.mu, "dynamic viscosity of the oil"),
-    # parameters: which internal, and whether the outputs K.., C.. are computed
-    ("internal", "String", _PAR, None, _DEFAULT_INTERNAL,
-     "which internal computes the force: " + " | ".join(registry.names()) + " (or internal_enum)"),
-    ("compute_tangent", "Boolean", _PAR, None, True,
-     "compute the outputs K.., C.. from the internal's Jacobian at every step"),
-    # parameters: every registered internal's options
-    *((o.name, _FMI_TYPE[o.type], _PAR, o.unit, o.default, o.help if o.type is str else f"{o.help} ({o.allowed()})")
-      for o in registry.all_options()),
-    # parameters: the choices again as enumerations (after the rest: the value references stay)
-    *((name, "Integer", _PAR, None, enum_value(name, _STRING_DEFAULTS[string]),
-       f"{string} as an enumeration ({', '.join(f'{k + 1} = {c}' for k, c in enumerate(items))}): the same choice "
-       f"as the String parameter {string}; set either (set both, they must agree)")
-      for name, (string, items) in ENUMERATIONS.items()),
-)
-
-INPUTS = tuple(v[0] for v in VARIABLES if v[2] == _IN)
-OUTPUTS = tuple(v[0] for v in VARIABLES if v[2] == _OUT)
-PARAMETERS = tuple(v[0] for v in VARIABLES if v[2] == _PAR)
-_REAL_OUTPUTS = tuple(v[0] for v in VARIABLES if v[2] == _OUT and v[1] == "Real")
-_TANGENT = ("Kyy", "Kyz", "Kzy", "Kzz", "Cyy", "Cyz", "Czy", "Czz")
 _STATE_TAG = "bearing_fmu.slave/2"  # /2: values as one tuple
 _STATE_NAMES = INPUTS + OUTPUTS
 _STATE_VALUES = operator.attrgetter(*_STATE_NAMES)
@@ -125,12 +59,8 @@ _VAR_CLASS = {"Real": Real, "Integer": Integer, "Boolean": Boolean, "String": St
 _CAST = {"Real": float, "Integer": int, "Boolean": bool, "String": str}
 _FILE_OPTIONS = {o.name for o in registry.all_options() if o.file}
 _OPTIONS = {o.name: o for o in registry.all_options()}
-_BEARING = ("D", "L", "CR", "mu")  # BearingParams fields; BearingParams checks them together at initialisation
 _UNITS = {v[0]: v[3] for v in VARIABLES}
 _INF = math.inf
-PATCH_NOTES = "pythonfmu_patches.json"  # written by build.py into resources/
-# fmu_binary.STATUS_PATCHES (build tooling, not bundled in the FMU; a test keeps the two equal)
-_STATUS_PATCHES = ("keep-instance", "error-status", "error-message", "step-terminated", "restore-terminated")
 _INSTANTIATED, _INIT, _STEP = "Instantiated", "Initialization Mode", "Step Mode"
 _ECHO_HINT = ("logging is off, so this FMU instance prints its first warning, discard and error here; "
               "instantiate it with loggingOn (fmpy: simulate_fmu(..., debug_logging=True)) to receive every message")
@@ -146,100 +76,6 @@ class FMIError(Exception):
         return str(self)
 
 
-_BUNDLED_FORMATS: dict[str, dict[str, str]] = {}  # resources folder -> {file name: JSON "format"}, read once
-
-
-def _default_file(resources, option) -> str:
-    """The default of a file option: the one bundled file of its format (surrogate, force map),
-    else "" (none, or several to choose from)."""
-    if not resources:
-        return ""
-    folder = Path(resources) / SURROGATE_DIR
-    key = str(folder)
-    if key not in _BUNDLED_FORMATS:
-        formats = {}
-        try:
-            for p in sorted(folder.iterdir()):
-                if p.is_file():
-                    try:
-                        formats[p.name] = registry.file_format(p)
-                    except ValueError:  # not JSON: the option's loader names it if it is chosen
-                        formats[p.name] = ""
-        except OSError:
-            pass
-        _BUNDLED_FORMATS[key] = formats
-    names = [n for n, f in _BUNDLED_FORMATS[key].items() if not option.file_format or f == option.file_format]
-    return names[0] if len(names) == 1 else ""
-
-
-def _status_patched(resources) -> bool:
-    """True when the build applied every FMI status patch to this platform's binary."""
-    import json
-    import sys
-
-    if not resources:
-        return False
-    if sys.platform.startswith("linux"):
-        platform = "linux64" if sys.maxsize > 2 ** 32 else "linux32"
-    else:
-        platform = {"win32": "win64", "darwin": "darwin64"}.get(sys.platform, sys.platform)
-    try:
-        notes = json.loads((Path(resources) / PATCH_NOTES).read_text(encoding="utf-8")).get(platform, {})
-    except (OSError, ValueError, AttributeError):
-        return False
-    return all(str(notes.get(n, "")).endswith("patched") for n in _STATUS_PATCHES)
-
-
-class _LoggingFlag:
-    """Whether the master receives this instance's log: pythonfmu's C++ logger's flag.
-
-    pythonfmu keeps ``loggingOn`` (and fmi2SetDebugLogging's later changes) in its C++
-    ``PyLogger`` and passes only that object's address to Python (keyword ``logger``). Its
-    0.7.0 layout: vtable pointer, ``bool debugLogging_`` at +8, ``std::string instanceName_``
-    at +16 (data pointer, then length; a short name sits in the object itself at +32). The
-    layout is trusted only when that string reads back as this instance's name; otherwise
-    ``off`` answers False (nothing is echoed)."""
-
-    def __init__(self, address, instance_name: str):
-        self._flag = None
-        if not isinstance(address, int) or address <= 0 or not isinstance(instance_name, str):
-            return
-        try:
-            import ctypes
-
-            name = instance_name.encode("utf-8")
-            size = ctypes.c_size_t.from_address(address + 24).value
-            data = ctypes.c_void_p.from_address(address + 16).value
-            if size != len(name) or (size < 16 and data != address + 32) or not data:
-                return
-            if ctypes.string_at(data, size) != name:
-                return
-            self._flag = ctypes.c_bool.from_address(address + 8)
-        except Exception:  # noqa: BLE001 - unknown layout: echo nothing
-            self._flag = None
-
-    def off(self) -> bool:
-        """True when the master has logging off (read live: fmi2SetDebugLogging changes it)."""
-        return self._flag is not None and not self._flag.value
-
-
-BEARING_DEFAULTS = "bearing.json"  # in resources/: D, L, CR, mu of `bearing-fmu build --bearing FILE`
-BUILD_INFO = "build_info.json"  # in resources/: what the FMU was built from (bearing, data files, hashes)
-
-
-def _bearing_defaults(resources) -> dict:
-    """The built-in bearing's D, L, CR, mu [SI] when the FMU was built for one, else {}."""
-    import json
-
-    if not resources:
-        return {}
-    try:
-        data = json.loads((Path(resources) / BEARING_DEFAULTS).read_text())
-    except (OSError, ValueError):
-        return {}
-    return {k: float(data[k]) for k in _BEARING if k in data}
-
-
 class BearingFMU(Fmi2Slave):
     """Hydrodynamic journal bearing: film force from the journal state (see module docstring)."""
 
@@ -252,17 +88,17 @@ class BearingFMU(Fmi2Slave):
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
         self._by_vr = {}  # value reference -> (name, type, causality)
-        built_in = _bearing_defaults(self.resources)
+        built_in = bearing_defaults(self.resources)
         for name, typ, causality, _unit, default, desc in VARIABLES:
             if name in _FILE_OPTIONS:
-                default = _default_file(self.resources, _OPTIONS[name])
+                default = default_file(self.resources, _OPTIONS[name])
             elif name in built_in:
                 default = built_in[name]
             setattr(self, name, default)
             var = _VAR_CLASS[typ](
                 name,
                 causality=getattr(Fmi2Causality, causality),
-                variability=(Fmi2Variability.fixed if causality == _PAR
+                variability=(Fmi2Variability.fixed if causality == PARAMETER
                              else Fmi2Variability.discrete if typ != "Real"
                              else Fmi2Variability.continuous),
                 description=desc,
@@ -274,9 +110,9 @@ class BearingFMU(Fmi2Slave):
         self._real_names = {vr: e[0] for vr, e in self._by_vr.items() if e[1] == "Real"}
         # getReal's fast path: outside Step Mode without the outputs, so reading them in
         # Initialization Mode takes the checked path, which computes them from the inputs
-        self._real_no_outputs = {vr: n for vr, n in self._real_names.items() if self._by_vr[vr][2] != _OUT}
+        self._real_no_outputs = {vr: n for vr, n in self._real_names.items() if self._by_vr[vr][2] != OUTPUT}
         self._real_get = self._real_no_outputs
-        self._real_inputs = {vr: e[0] for vr, e in self._by_vr.items() if e[1] == "Real" and e[2] == _IN}
+        self._real_inputs = {vr: e[0] for vr, e in self._by_vr.items() if e[1] == "Real" and e[2] == INPUT}
         self._internal = None  # built in exit_initialization_mode (or by an output read in Initialization Mode)
         self._built_from = None  # the parameter values it was built from
         self._internal_name = ""
@@ -288,9 +124,9 @@ class BearingFMU(Fmi2Slave):
         self._init_error = None
         self._refused = {}  # parameter name -> why its last set was refused (fails the initialisation)
         self._t = 0.0
-        self._raises = _status_patched(self.resources)  # an exception gives fmi2Error, not fmi2Fatal
+        self._raises = status_patched(self.resources)  # an exception gives fmi2Error, not fmi2Fatal
         # the logger's layout is known for the binary the patches verified, and only for that one
-        self._logging = _LoggingFlag(kwargs.get("logger") if self._raises else None, self.instance_name)
+        self._logging = LoggingFlag(kwargs.get("logger") if self._raises else None, self.instance_name)
         self._echoed = set()
 
     # ------------------------------------------------------------------ logging and refusals
@@ -396,8 +232,8 @@ class BearingFMU(Fmi2Slave):
         out = {}
         for name, (string, items) in ENUMERATIONS.items():
             value, text = getattr(self, name), str(getattr(self, string)).strip().lower()
-            enum_set = value != enum_value(name, _STRING_DEFAULTS[string])
-            if enum_set and text != _STRING_DEFAULTS[string] and text != items[value - 1]:
+            enum_set = value != enum_value(name, STRING_DEFAULTS[string])
+            if enum_set and text != STRING_DEFAULTS[string] and text != items[value - 1]:
                 raise ValueError(f"{string} = {getattr(self, string)!r} and {name} = {value} ({items[value - 1]}) "
                                  f"disagree: set one of them ({name} is the same choice as an enumeration)")
             out[string] = items[value - 1] if enum_set else text
@@ -541,7 +377,7 @@ class BearingFMU(Fmi2Slave):
                 errors.append(f"value reference {vr} is not a {typ} variable of this FMU")
                 out.append(bad)
                 continue
-            if entry[2] == _OUT and self._mode is _INIT and not computed:
+            if entry[2] == OUTPUT and self._mode is _INIT and not computed:
                 self._outputs_in_init(f"get{typ} {entry[0]}")  # raises when they cannot be computed
                 computed = True
             try:
@@ -561,10 +397,10 @@ class BearingFMU(Fmi2Slave):
                 errors.append(f"value reference {vr} is not a {typ} variable of this FMU")
                 continue
             name, _, causality = entry
-            if causality == _OUT:
+            if causality == OUTPUT:
                 errors.append(f"{name} is an output and cannot be set")
                 continue
-            if causality == _PAR:
+            if causality == PARAMETER:
                 if self._initialized:
                     errors.append(f"parameter {name} is fixed after initialisation (variability fixed); "
                                   f"it keeps {getattr(self, name)!r}")
@@ -595,7 +431,7 @@ class BearingFMU(Fmi2Slave):
             if not 1 <= value <= len(items):
                 raise ValueError(f"{name} = {value!r} must be one of "
                                  + ", ".join(f"{k + 1} ({c})" for k, c in enumerate(items)))
-        elif name in _BEARING:
+        elif name in BEARING_FIELDS:  # BearingParams checks them together at initialisation
             if not (0.0 < value < _INF):
                 raise ValueError(f"{name} = {value!r} {_UNITS[name]} must be finite and > 0")
         elif name in _OPTIONS:

@@ -438,10 +438,10 @@ def test_status_patches_are_all_or_nothing_and_idempotent():
 
     import pythonfmu
 
-    from bearing_fmu import slave
+    from bearing_fmu import fmu_resources
     from bearing_fmu.fmu_binary import _HANDLE, STATUS_PATCHES, _Elf, patch_pythonfmu_binary, status_patched
 
-    assert slave._STATUS_PATCHES == STATUS_PATCHES  # what the slave looks for is what the build applies
+    assert fmu_resources.STATUS_PATCHES == STATUS_PATCHES  # what the slave looks for is what the build applies
 
     original = (Path(pythonfmu.__file__).parent / "resources" / "binaries" / "linux64"
                 / "libpythonfmu-export.so").read_bytes()

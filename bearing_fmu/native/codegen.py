@@ -2,7 +2,7 @@
 variables of the model description.
 
 ``native_model(internal, params, ...)`` gathers everything a native FMU of one internal is:
-``NativeModel`` with its variables (the Python FMU's where they apply, ``bearing_fmu.slave.VARIABLES``),
+``NativeModel`` with its variables (the Python FMU's where they apply, ``fmu_variables.VARIABLES``),
 its options (registry ``Option``s the native FMU keeps) and two generated headers:
 
 * ``model_config.h``: the internal's name, the GUID, start values, one row per option (name,
@@ -27,6 +27,7 @@ from pathlib import Path
 import numpy as np
 
 from .. import internals as registry
+from ..fmu_variables import ENUMERATIONS, VARIABLES  # the one table of the FMU interface
 from ..params import BearingParams
 
 INTERNALS = ("linear", "map", "taylor")  # what a native FMU can compute (no solver at run time)
@@ -135,8 +136,6 @@ def native_model(internal: str, params: BearingParams, *, surrogate=None, map=No
 
 def _variables(internal: str, params: BearingParams, starts: dict, inputs: tuple) -> list[Variable]:
     """The Python FMU's variables that apply, in value-reference order (bearing_native.h)."""
-    from ..slave import VARIABLES  # noqa: PLC0415 - the one table of the FMU interface
-
     table = {v[0]: v for v in VARIABLES}
     out = []
     bearing = dict(zip(("D", "L", "CR", "mu"), (params.D, params.L, params.CR, params.mu)))
@@ -180,11 +179,9 @@ def _variables(internal: str, params: BearingParams, starts: dict, inputs: tuple
 
 def native_enumerations(internal: str) -> list[tuple[str, str, list[tuple[int, str]]]]:
     """(enumeration parameter, its String parameter, [(value, item), ...]) of the native FMU of
-    ``internal``: the Python FMU's enumerations (``slave.ENUMERATIONS``, the same numbers) of the
-    String parameters it has, with the items it accepts (internal: its own; domain_action: not
+    ``internal``: the Python FMU's enumerations (``fmu_variables.ENUMERATIONS``, the same numbers) of
+    the String parameters it has, with the items it accepts (internal: its own; domain_action: not
     fallback)."""
-    from ..slave import ENUMERATIONS  # noqa: PLC0415
-
     strings = ["internal"] + [n for n in NATIVE_OPTIONS[internal] if registry_option(n).choices]
     out = []
     for name, (string, items) in ENUMERATIONS.items():
@@ -238,8 +235,6 @@ def _config(internal: str, params: BearingParams, starts: dict, inputs, guid_see
                  "#define BN_STRING_OPTION_TABLE")
     # the enumerations: name, the String they mirror (index: 0 internal, 1 + k the k-th String
     # option), start value, every choice of the type ("a|b|c", value k + 1 for the k-th)
-    from ..slave import ENUMERATIONS  # noqa: PLC0415
-
     rows = []
     string_names = ["internal"] + [o.name for o in strings]
     for name, string, items in native_enumerations(internal):
