@@ -15,7 +15,8 @@ fmi2Fatal with the instance released. The build patches pythonfmu's binary
 * a refused call raises ``FMIError`` with a one-line reason, which pythonfmu logs with status
   Error: an invalid parameter (in its setter and again in ``exit_initialization_mode``), an unknown
   value reference, a parameter set after initialisation, a non-positive or non-finite step
-  size or time, doStep before a successful initialisation;
+  size or time, doStep before a successful initialisation, any call out of the FMI 2.0 calling
+  sequence (``fmi_order``), a freed FMU state;
 * a state the internal cannot evaluate (journal at the wall, a non-finite input) discards
   the step: ``do_step`` logs why (status Discard) and returns False; the outputs keep their
   last valid values and the instance stays usable (restore a state, set valid inputs, step
@@ -27,16 +28,18 @@ binary is pythonfmu's as is) nothing raises: a refused call is logged with statu
 returns fmi2OK, as pythonfmu allows. When the master has logging off, the first warning, the
 first discard and the first error of an instance are also printed to stderr (``LoggingFlag``).
 
-The FMU state (fmi2GetFMUstate) is a small tuple (tag, time, inputs and outputs); the
-internal is not part of it (it is fixed after initialisation), so saving and restoring
-costs a few microseconds. In the FMU this file is the pythonfmu slave module: ``build.py``
-rewrites its relative imports to the uniquely named copy of the package (see there).
+The FMU state (fmi2GetFMUstate) is a small list (tag, time, inputs and outputs;
+``fmi_order.FMUState``: recognised once freed); the internal is not part of it (it is fixed
+after initialisation), so saving and restoring costs a few microseconds. A Taylor internal's
+domain warning comes once per excursion and the count at terminate (``_excursion``). In the
+FMU this file is the pythonfmu slave module: ``build.py`` rewrites its relative imports to the
+uniquely named copy of the package (see there).
 """
 
+import json
 import math
 import operator
 import os
-import traceback
 from pathlib import Path
 
 from pythonfmu import Boolean, Fmi2Causality, Fmi2Slave, Fmi2Variability, Integer, Real, String
@@ -45,6 +48,7 @@ from pythonfmu.enums import Fmi2Status
 
 from . import __version__
 from . import internals as registry
+from .fmi_order import INIT, INSTANTIATED, STEP, TERMINATED, FMUState, is_freed, refusal
 from .fmu_resources import BEARING_DEFAULTS, BUILD_INFO, PATCH_NOTES  # noqa: F401 - build.py reads them here
 from .fmu_resources import BEARING_FIELDS, SURROGATE_DIR, LoggingFlag, bearing_defaults, default_file, status_patched
 from .fmu_variables import (ENUMERATIONS, INPUT, INPUTS, OUTPUT, OUTPUTS, PARAMETER, PARAMETERS, STRING_DEFAULTS,
@@ -61,7 +65,6 @@ _FILE_OPTIONS = {o.name for o in registry.all_options() if o.file}
 _OPTIONS = {o.name: o for o in registry.all_options()}
 _UNITS = {v[0]: v[3] for v in VARIABLES}
 _INF = math.inf
-_INSTANTIATED, _INIT, _STEP = "Instantiated", "Initialization Mode", "Step Mode"
 _ECHO_HINT = ("logging is off, so this FMU instance prints its first warning, discard and error here; "
               "instantiate it with loggingOn (fmpy: simulate_fmu(..., debug_logging=True)) to receive every message")
 
@@ -111,15 +114,14 @@ class BearingFMU(Fmi2Slave):
         # getReal's fast path: outside Step Mode without the outputs, so reading them in
         # Initialization Mode takes the checked path, which computes them from the inputs
         self._real_no_outputs = {vr: n for vr, n in self._real_names.items() if self._by_vr[vr][2] != OUTPUT}
-        self._real_get = self._real_no_outputs
-        self._real_inputs = {vr: e[0] for vr, e in self._by_vr.items() if e[1] == "Real" and e[2] == INPUT}
+        self._all_inputs = {vr: e[0] for vr, e in self._by_vr.items() if e[1] == "Real" and e[2] == INPUT}
         self._internal = None  # built in exit_initialization_mode (or by an output read in Initialization Mode)
         self._built_from = None  # the parameter values it was built from
         self._internal_name = ""
         self._choices_built = {}  # the String choices the internal was built with (_choices)
         self._jacobian = None
         self._params = None
-        self._mode = _INSTANTIATED
+        self._enter(INSTANTIATED)
         self._initialized = False  # exit_initialization_mode was called: parameters are fixed
         self._init_error = None
         self._refused = {}  # parameter name -> why its last set was refused (fails the initialisation)
@@ -128,6 +130,9 @@ class BearingFMU(Fmi2Slave):
         # the logger's layout is known for the binary the patches verified, and only for that one
         self._logging = LoggingFlag(kwargs.get("logger") if self._raises else None, self.instance_name)
         self._echoed = set()
+        self._guard = None  # the internal when it is a domain guard (excursions out of the fitted domain)
+        self._pending = None  # during an evaluation: the domain guard's warnings, logged if it is committed
+        self._excursions = (0, 0.0, 0.0)  # out of the fitted domain (one warning each): count, first t, last t
 
     # ------------------------------------------------------------------ logging and refusals
     def _log(self, msg: str, status: Fmi2Status) -> None:
@@ -166,8 +171,27 @@ class BearingFMU(Fmi2Slave):
         self._echo(msg, Fmi2Status.error)
         raise FMIError(msg + (f" (logged before it in this call: {' | '.join(queued)})" if queued else ""))
 
+    # ------------------------------------------------------------------ the FMI 2.0 calling sequence
+    def _order(self, call: str) -> None:
+        """Refuse ``call`` (fmi_order's name) unless the current mode allows it: FMIError, i.e.
+        fmi2Error naming the call. Without the status patches (or driven from Python, as tests and
+        benchmarks do) the refusal is logged with status Error and the call goes on as before."""
+        why = refusal(call, self._mode)
+        if why is not None:
+            self._fail(why)
+
+    def _enter(self, mode: str) -> None:
+        """Change the mode, and the fast paths with it: getReal's reads no output outside Step Mode
+        and Terminated (Initialization Mode computes them first) and nothing in Instantiated;
+        setReal's takes no input once terminated. What they skip takes the checked path."""
+        self._mode = mode
+        self._real_get = ({} if mode is INSTANTIATED else self._real_no_outputs if mode is INIT
+                          else self._real_names)
+        self._real_inputs = {} if mode is TERMINATED else self._all_inputs
+
     # ------------------------------------------------------------------ initialisation
     def setup_experiment(self, start_time, stop_time=None, tolerance=None):
+        self._order("setupExperiment")
         if not -_INF < start_time < _INF:
             return self._fail(f"setupExperiment: startTime = {start_time!r} s must be finite")
         if stop_time is not None and not start_time <= stop_time < _INF:
@@ -176,9 +200,11 @@ class BearingFMU(Fmi2Slave):
         self._t = float(start_time)
 
     def enter_initialization_mode(self):
-        self._mode = _INIT
+        self._order("enterInitializationMode")
+        self._enter(INIT)
 
     def exit_initialization_mode(self):
+        self._order("exitInitializationMode")
         self._initialized = True
         try:
             self._ensure_internal()
@@ -186,8 +212,7 @@ class BearingFMU(Fmi2Slave):
             self._internal = None
             self._init_error = f"bearing FMU initialisation failed: {self._describe(exc)}"
             return self._fail(self._init_error)
-        self._mode = _STEP
-        self._real_get = self._real_names
+        self._enter(STEP)
         for name, (string, items) in ENUMERATIONS.items():  # both show the choice that counts
             choice = self._choices_built[string]
             setattr(self, string, choice)
@@ -204,12 +229,31 @@ class BearingFMU(Fmi2Slave):
                       Fmi2Status.warning)
         return True
 
+    def terminate(self):
+        self._order("terminate")
+        self._enter(TERMINATED)
+        n, first, last = self._excursions
+        if n:  # the count of what was warned once per excursion
+            self._log(f"terminate: the state left the surrogate's fitted domain {n} time(s) in this run (each "
+                      f"excursion warned when it began; the first at t = {first:.10g} s, the last at "
+                      f"t = {last:.10g} s)", Fmi2Status.warning)
+
     @staticmethod
     def _describe(exc: BaseException) -> str:
-        """The message of an expected failure; type, message and traceback of anything else."""
-        if isinstance(exc, (ValueError, KeyError, FileNotFoundError, ImportError)):
-            return str(exc)
-        return f"unexpected {type(exc).__name__}: {exc}\n{traceback.format_exc()}"
+        """One line: the message of an expected failure; the type, message and place of anything
+        else. Never a traceback: a log line is read in a master's message window."""
+        from .statics import EquilibriumError
+
+        if isinstance(exc, (ValueError, KeyError, FileNotFoundError, ImportError, EquilibriumError)):
+            text = str(exc)
+        else:
+            tb = exc.__traceback__
+            while tb is not None and tb.tb_next is not None:
+                tb = tb.tb_next
+            where = (f" (raised in {Path(tb.tb_frame.f_code.co_filename).name}, line {tb.tb_lineno})"
+                     if tb is not None else "")
+            text = f"unexpected {type(exc).__name__}: {exc}{where}"
+        return " ".join(text.split())
 
     def _parameter_values(self) -> tuple:
         return tuple(getattr(self, n) for n in PARAMETERS)
@@ -246,12 +290,12 @@ class BearingFMU(Fmi2Slave):
         self._choices_built = choices
         spec = registry.get(choices["internal"])
         options = {o.name: choices.get(o.name, getattr(self, o.name)) for o in spec.all_options()}
-        context = Context(resolve=self._resource_file,
-                          warn=lambda msg: self._log(f"t = {self._t:.10g} s: {msg}", Fmi2Status.warning))
+        context = Context(resolve=self._resource_file, warn=self._warn)
         internal = spec.create(params, options, context, where="FMU parameter")
         self._internal = internal
         self._internal_name = spec.name
         self._jacobian = getattr(internal, "force_and_jacobian", None)
+        self._guard = internal if hasattr(internal, "outside") else None  # a domain guard: its excursion flag
 
     def _resource_file(self, name: str) -> Path:
         folder = Path(self.resources or ".") / SURROGATE_DIR
@@ -275,33 +319,34 @@ class BearingFMU(Fmi2Slave):
         try:
             self._ensure_internal()
         except Exception as exc:  # noqa: BLE001
-            return self._fail(f"{call} in {_INIT}: the outputs cannot be computed: bearing FMU initialisation "
+            return self._fail(f"{call} in {INIT}: the outputs cannot be computed: bearing FMU initialisation "
                               f"failed: {self._describe(exc)}")
         try:
             self._step_outputs()
         except BearingStateError as exc:
-            return self._fail(f"{call} in {_INIT}: the outputs cannot be computed at the inputs set: {exc} "
+            return self._fail(f"{call} in {INIT}: the outputs cannot be computed at the inputs set: {exc} "
                               "(set valid inputs and read again)")
         except Exception as exc:  # noqa: BLE001
-            return self._fail(f"{call} in {_INIT}: the {self._internal_name} internal failed: {self._describe(exc)}")
+            return self._fail(f"{call} in {INIT}: the {self._internal_name} internal failed: {self._describe(exc)}")
         return None
 
     # ------------------------------------------------------------------ stepping
     def do_step(self, current_time, step_size):
         t = current_time + step_size
+        if self._mode is not STEP:  # refused (without the patches: discarded), with the reason when there is one
+            if self._mode is INIT and self._init_error:
+                return self._fail(f"doStep: step to t = {t:.10g} s refused: {self._init_error}") or False
+            return self._fail(refusal("doStep", self._mode)) or False
         if not (0.0 < step_size < _INF and -_INF < current_time < _INF and t < _INF):
             return self._bad_step(current_time, step_size)
-        if self._mode is not _STEP:
-            reason = self._init_error or f"doStep in {self._mode}: call exitInitializationMode first"
-            return self._fail(f"step to t = {t:.10g} s refused: {reason}") or False
         try:
             self._step_outputs()
         except BearingStateError as exc:
             self._log(f"{exc} at t = {t:.10g} s", Fmi2Status.discard)
             return False
         except Exception as exc:  # noqa: BLE001 - a failure of the internal itself, not of the state
-            return self._fail(f"step to t = {t:.10g} s failed: unexpected {type(exc).__name__} in the "
-                              f"{self._internal_name} internal: {exc}\n{traceback.format_exc()}") or False
+            return self._fail(f"doStep: step to t = {t:.10g} s failed in the {self._internal_name} internal: "
+                              f"{self._describe(exc)}") or False
         self._t = t
         return True
 
@@ -324,18 +369,24 @@ class BearingFMU(Fmi2Slave):
         check_finite(y, z, vy, vz, omega)  # the internals refuse the wall themselves where they must
         eps = math.hypot(y, z) / params.CR
         internal = self._internal
-        if self.compute_tangent:
-            if self._jacobian is not None:
-                f, dq, dv = self._jacobian(y, z, vy, vz, omega)
-            else:
-                from .statics import film_jacobian
+        if self._guard is not None:  # an excursion begins where the committed state (an FMU state's) was inside
+            self._guard.outside = self.out_of_domain
+        self._pending = []
+        try:
+            if self.compute_tangent:
+                if self._jacobian is not None:
+                    f, dq, dv = self._jacobian(y, z, vy, vz, omega)
+                else:
+                    from .statics import film_jacobian
 
-                f, dq, dv = film_jacobian(internal, y, z, vy, vz, omega)
-            tangent = (-float(dq[0, 0]), -float(dq[0, 1]), -float(dq[1, 0]), -float(dq[1, 1]),
-                       -float(dv[0, 0]), -float(dv[0, 1]), -float(dv[1, 0]), -float(dv[1, 1]))
-        else:
-            f = internal.force(y, z, vy, vz, omega)
-            tangent = None
+                    f, dq, dv = film_jacobian(internal, y, z, vy, vz, omega)
+                tangent = (-float(dq[0, 0]), -float(dq[0, 1]), -float(dq[1, 0]), -float(dq[1, 1]),
+                           -float(dv[0, 0]), -float(dv[0, 1]), -float(dv[1, 0]), -float(dv[1, 1]))
+            else:
+                f = internal.force(y, z, vy, vz, omega)
+                tangent = None
+        finally:
+            pending, self._pending = self._pending, None
         fy, fz = float(f[0]), float(f[1])
         if not (math.isfinite(fy) and math.isfinite(fz)) or (tangent and not all(map(math.isfinite, tangent))):
             raise BearingStateError(
@@ -349,17 +400,39 @@ class BearingFMU(Fmi2Slave):
         self.out_of_domain = ood
         if tangent is not None:
             (self.Kyy, self.Kyz, self.Kzy, self.Kzz, self.Cyy, self.Cyz, self.Czy, self.Czz) = tangent
+        if pending:
+            self._excursion(pending[-1])
+
+    def _warn(self, msg: str) -> None:
+        """The internal's warnings: during an evaluation (the domain guard's, when an excursion
+        begins) kept until the evaluation is committed, so a refused state warns nothing; else logged."""
+        if self._pending is not None:
+            self._pending.append(msg)
+        else:
+            self._log(f"t = {self._t:.10g} s: {msg}", Fmi2Status.warning)
+
+    def _excursion(self, msg: str) -> None:
+        """Log the warning of an excursion out of the fitted domain and count it; a host's Newton
+        iterates of one step (each restored to the step's start) begin the same one."""
+        n, first, last = self._excursions
+        if n and last == self._t:
+            return
+        self._excursions = (n + 1, self._t if n == 0 else first, self._t)
+        self._log(f"t = {self._t:.10g} s: {msg}", Fmi2Status.warning)
 
     # ------------------------------------------------------------------ FMU state
     # A host iterating the FMI way saves the state once per step and restores it at every
     # iteration, so both run in C where they can (attrgetter, dict.update): a state this
     # class wrote holds the right types already.
     def _get_fmu_state(self):
-        # a fresh immutable tuple: pythonfmu hands this very object back on fmi2SetFMUstate
-        return (_STATE_TAG, self._t, _STATE_VALUES(self))
+        # a new FMUState each time: pythonfmu hands this very object back on fmi2SetFMUstate, and
+        # once the master frees it, it stays recognisable (fmi_order.FMUState)
+        return FMUState((_STATE_TAG, self._t, _STATE_VALUES(self)))
 
     def _set_fmu_state(self, state):
         try:
+            if is_freed(state):
+                raise ValueError("this FMU state was freed (fmi2FreeFMUstate)")
             if len(state) != 3 or state[0] != _STATE_TAG or len(state[2]) != len(_STATE_NAMES):
                 raise ValueError(f"not a {_STATE_TAG} state of this FMU")
             t = float(state[1])
@@ -368,8 +441,21 @@ class BearingFMU(Fmi2Slave):
         self._t = t
         self.__dict__.update(zip(_STATE_NAMES, state[2]))
 
+    # pythonfmu calls these on the class (fmi2SerializedFMUstateSize, fmi2SerializeFMUstate,
+    # fmi2DeSerializeFMUstate); a refusal raises (fmi2Error)
+    @staticmethod
+    def _fmu_state_to_bytes(state) -> bytes:
+        if is_freed(state):
+            raise FMIError("serializing an FMU state: this FMU state was freed (fmi2FreeFMUstate)")
+        return json.dumps(list(state)).encode("utf-8")
+
+    @staticmethod
+    def _fmu_state_from_bytes(data: bytes):
+        return FMUState(json.loads(data.decode("utf-8")))
+
     # ------------------------------------------------------------------ getters / setters
     def _get(self, vrs, typ, cast, bad):
+        self._order(f"get{typ}")
         out, errors, computed = [], [], False
         for vr in vrs:
             entry = self._by_vr.get(vr)
@@ -377,7 +463,7 @@ class BearingFMU(Fmi2Slave):
                 errors.append(f"value reference {vr} is not a {typ} variable of this FMU")
                 out.append(bad)
                 continue
-            if entry[2] == OUTPUT and self._mode is _INIT and not computed:
+            if entry[2] == OUTPUT and self._mode is INIT and not computed:
                 self._outputs_in_init(f"get{typ} {entry[0]}")  # raises when they cannot be computed
                 computed = True
             try:
@@ -390,6 +476,7 @@ class BearingFMU(Fmi2Slave):
         return out
 
     def _set(self, vrs, values, typ, cast):
+        self._order(f"set{typ}")
         errors = []
         for vr, value in zip(vrs, values):
             entry = self._by_vr.get(vr)

@@ -76,6 +76,7 @@ class FMUBearings(BearingSet):
         self._static = False
         self._h = 0.0
         self._fresh = [False] * self.n
+        self._initialised = set()  # instances past exitInitializationMode: only those are terminated (FMI 2.0)
         try:
             md = read_model_description(str(self.fmu_path))
             self._vars = {v.name: v for v in md.modelVariables}
@@ -112,6 +113,7 @@ class FMUBearings(BearingSet):
                         fmu.setupExperiment(startTime=start_time)
                         fmu.enterInitializationMode()
                         fmu.exitInitializationMode()
+                        self._initialised.add(k)
                     except FMUError:
                         raise
                     except Exception as exc:  # noqa: BLE001 - fmpy raises on an error status; say why
@@ -257,7 +259,8 @@ class FMUBearings(BearingSet):
                 if self._states[k] is not None:
                     fmu.freeFMUstate(self._states[k])
                     self._states[k] = None
-                fmu.terminate()
+                if k in self._initialised:  # else fmi2Terminate is out of order: an error in the log
+                    fmu.terminate()
             except Exception:  # noqa: BLE001 - free what can be freed
                 pass
             try:
