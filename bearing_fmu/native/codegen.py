@@ -6,8 +6,8 @@ variables of the model description.
 its options (registry ``Option``s the native FMU keeps) and two generated headers:
 
 * ``model_config.h``: the internal's name, the GUID, start values, one row per option (name,
-  start, range or choices) and the value references the C code uses (``VR_OPT_<NAME>``,
-  ``S_OPT_<NAME>``);
+  start, range or choices), the value references the C code uses (``VR_OPT_<NAME>``,
+  ``S_OPT_<NAME>``) and the FMI 2.0 calling sequence (``fmi_order.c_defines``);
 * ``model_data.h``: the internal's data. Taylor: the same arrays ``taylor.Taylor`` hands its
   numba kernels (meta, domain, only the kept terms), the polynomials as coefficient rows over
   their monomials (``taylor_polynomials``: the C kernel sums them as vectorised dot
@@ -27,6 +27,7 @@ from pathlib import Path
 import numpy as np
 
 from .. import internals as registry
+from ..fmi_order import c_defines
 from ..fmu_variables import ENUMERATIONS, VARIABLES  # the one table of the FMU interface
 from ..params import BearingParams
 
@@ -160,8 +161,8 @@ def _variables(internal: str, params: BearingParams, starts: dict, inputs: tuple
     for k, o in enumerate(strings):
         desc = o.help
         if o.name == "domain_action":
-            desc = ("taylor, state outside the fitted domain: warn (surrogate value, warned once) | discard (refuse "
-                    "the step); fallback needs the Python FMU")
+            desc = ("taylor, state outside the fitted domain: warn (surrogate value, warned once per excursion) | "
+                    "discard (refuse the step); fallback needs the Python FMU")
         elif o.file:
             desc = f"{o.name} file compiled into this FMU ('' or its name)"
         out.append(Variable(o.name, STRING_BASE + 1 + k, "String", "parameter", str(starts[o.name]), None, desc))
@@ -244,6 +245,7 @@ def _config(internal: str, params: BearingParams, starts: dict, inputs, guid_see
                     f"{c_string('|'.join(ENUMERATIONS[name][1]))}}}")
     lines.append(f"#define BN_N_ENUMS {len(rows)}")
     lines.append("#define BN_ENUM_TABLE \\\n" + ", \\\n".join(rows))
+    lines += c_defines()  # the FMI 2.0 calling sequence: the one table both FMUs check
     lines.append("#endif\n")
     return "\n".join(lines), guid
 
