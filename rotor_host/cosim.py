@@ -8,8 +8,9 @@ iterate inside a step, and the force is always consistent with the iterate.
 
 A discarded doStep (the FMU logs why, e.g. "eccentricity ratio 1.03 >= 1") becomes
 ``StepRejected`` so the integrator cuts the step; only fmi2Discard does: an error or fatal
-status is an ``FMUError`` that stops the run. Every instance is freed on success and on
-error (use ``FMUBearings`` as a context manager or call ``close``).
+status is an ``FMUError`` that stops the run, as is an FMU that cannot be instantiated (the
+error quotes the FMU's own log lines: fmpy says only "Failed to instantiate model"). Every
+instance is freed on success and on error (use ``FMUBearings`` as a context manager or call ``close``).
 
 A pythonfmu FMU runs its slave in this interpreter: a Ctrl-C raised inside it would come back
 as an FMI error, so signals are held while an FMU call runs (``bearing_fmu.exits.deferred``)
@@ -106,7 +107,10 @@ class FMUBearings(BearingSet):
                                 modelIdentifier=md.coSimulation.modelIdentifier,
                                 instanceName=self.names[k].replace(" ", "_"))
                 with deferred():  # loading and initialising run the slave's Python
-                    fmu.instantiate(callbacks=cb, loggingOn=True)
+                    try:
+                        fmu.instantiate(callbacks=cb, loggingOn=True)
+                    except Exception as exc:  # noqa: BLE001 - fmpy says only "Failed to instantiate model"
+                        raise FMUError(self._instantiate_failed(k, exc)) from None
                     self.instances.append(fmu)
                     try:
                         self._set_parameters(k, fmu, parameters[k])
@@ -135,6 +139,13 @@ class FMUBearings(BearingSet):
         except BaseException:
             self.close()
             raise
+
+    def _instantiate_failed(self, k: int, exc: Exception) -> str:
+        """Why fmi2Instantiate returned no instance: the FMU's own log lines of it (the logger got
+        them; fmpy's exception does not carry them), else fmpy's words."""
+        lines = [m for m in self.messages[k] if not m.startswith("[ok]")] or [f"{exc} (the FMU logged nothing)"]
+        return (f"{self.names[k]}: {self.fmu_path.name} could not be instantiated (fmi2Instantiate returned no "
+                f"instance): {' | '.join(lines)}")
 
     def _set_parameters(self, k, fmu, params: dict) -> None:
         for name, value in params.items():
