@@ -9,7 +9,6 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from bearing_fmu.physics.params import PAPER_BEARING
 
 ROOT = Path(__file__).resolve().parents[1]
 MODELS = ROOT / "models"

@@ -130,9 +130,13 @@ class Raw:
         status = self.call("fmi2GetReal", vrs, len(names), buf)
         return status, np.array(buf[:])
 
+    def enter(self) -> None:
+        assert self.call("fmi2SetupExperiment", 0, ctypes.c_double(0.0), ctypes.c_double(0.0), 0,
+                         ctypes.c_double(0.0)) == OK
+        assert self.call("fmi2EnterInitializationMode") == OK
+
     def init(self) -> int:
-        self.call("fmi2SetupExperiment", 0, ctypes.c_double(0.0), ctypes.c_double(0.0), 0, ctypes.c_double(0.0))
-        self.call("fmi2EnterInitializationMode")
+        self.enter()
         return self.call("fmi2ExitInitializationMode")
 
     def step(self, t=0.0, h=1e-4) -> int:
@@ -398,6 +402,8 @@ def test_enumerations_choose_like_their_string(native):
     outside = (s.y0 + 0.1 * s.params.CR, s.z0 - 0.1 * s.params.CR, 0.0, 0.0, s.omega)  # just outside: warned
     raw = Raw(fmu, unzip)
     try:
+        assert raw.get("internal_enum")[0] == ERROR and "getInteger in Instantiated" in raw.last()  # FMI 2.0
+        raw.enter()
         assert raw.get("domain_action_enum") == (OK, 1) and raw.get("internal_enum") == (OK, 3)  # the starts
         assert raw.set("internal_enum", 4) == ERROR  # 4 = map: not what this FMU computes
         assert "internal_enum = 4 means internal = 'map': this native FMU computes the taylor internal only" \
@@ -407,7 +413,7 @@ def test_enumerations_choose_like_their_string(native):
         assert "domain_action_enum = 7 must be one of 1 (warn), 3 (discard)" in raw.last()
         assert raw.set("domain_action_enum", 3) == OK  # discard, given as the enumeration alone
         assert raw.set("internal_enum", 3) == OK  # a valid value withdraws the refusal (else init fails)
-        assert raw.init() == OK
+        assert raw.call("fmi2ExitInitializationMode") == OK
         assert raw.get("domain_action") == (OK, "discard")  # both show the choice that counts
         raw.set_inputs(outside)
         assert raw.step() == DISCARD and "outside (domain_action = 'discard')" in raw.last(DISCARD)
@@ -513,7 +519,7 @@ def test_statuses_of_parameters_and_calls(native):
     fmu, unzip, *_ = native["taylor:paper_22hz_16.7N"]
     raw = Raw(fmu, unzip)
     try:
-        assert raw.step() == ERROR and "call exitInitializationMode first" in raw.last()
+        assert raw.step() == ERROR and "doStep in Instantiated: not allowed there" in raw.last()
         assert raw.set("D", -1.0) == ERROR and "D = -1 m must be finite and > 0; D keeps 0.031" in raw.last()
         assert raw.set("internal", "reynolds") == ERROR and "computes the taylor internal only" in raw.last()
         assert raw.set("domain_action", "fallback") == ERROR and "Reynolds solver" in raw.last()
@@ -521,7 +527,7 @@ def test_statuses_of_parameters_and_calls(native):
         assert raw.set("surrogate", "other.json") == ERROR and "compiled in" in raw.last()
         assert raw.set("domain_limit", 0.0) == ERROR
         assert raw.set("Fy", 1.0) == ERROR and "output" in raw.last()
-        assert raw.call("fmi2GetReal", (ctypes.c_uint * 1)(9999), 1, (ctypes.c_double * 1)()) == ERROR
+        assert raw.call("fmi2SetReal", (ctypes.c_uint * 1)(9999), 1, (ctypes.c_double * 1)(0.0)) == ERROR
         assert "value reference 9999" in raw.last()
         assert raw.init() == ERROR  # D refused when it was set, and not set validly since
         assert "refused when it was set" in raw.last() and "D = -1" in raw.last()
@@ -531,9 +537,10 @@ def test_statuses_of_parameters_and_calls(native):
     try:
         assert raw.set("D", -1.0) == ERROR
         assert raw.set("D", 0.031) == OK  # a valid value since: initialisation goes on
+        raw.enter()
         assert raw.set("domain_action", "DISCARD") == OK and raw.get("domain_action")[1] == "discard"
         assert raw.set("mu", 0.06) == OK
-        assert raw.init() == ERROR and "fitted for bearing mu = 0.05" in raw.last()
+        assert raw.call("fmi2ExitInitializationMode") == ERROR and "fitted for bearing mu = 0.05" in raw.last()
     finally:
         raw.close()
     raw = Raw(fmu, unzip)
@@ -603,7 +610,7 @@ def test_a_foreign_state_is_refused(native):
         b.close()
 
 
-def test_domain_warning_once_and_initialisation_at_a_refused_state(native):
+def test_domain_warning_once_per_excursion_and_initialisation_at_a_refused_state(native):
     fmu, unzip, py, params = native["taylor:paper_22hz_16.7N"]
     s = py.taylor.surrogate
     outside = (s.y0 + 0.1 * s.params.CR, s.z0 - 0.1 * s.params.CR, 0.0, 0.0, s.omega)
@@ -621,7 +628,7 @@ def test_domain_warning_once_and_initialisation_at_a_refused_state(native):
             raw.set_inputs(outside)
             assert raw.step(1e-4 * k) == OK
         warnings = [m for st, m in raw.messages if st == WARNING and "fitted domain" in m]
-        assert len(warnings) == 1 and "warned once" in warnings[0]
+        assert len(warnings) == 1 and "excursion 1: warned once per excursion" in warnings[0]  # a refused state never counts
         assert raw.get("out_of_domain")[1]
     finally:
         raw.close()

@@ -23,13 +23,20 @@ name               what it changes
 exit-unload        ``onLibraryUnload`` -> ``ret``: the interpreter state was released twice
                    at process exit (heap corruption, abort in about half the runs)
 keep-instance      ``handle_py_exception`` skips its three ``Py_XDECREF``: the Python
-                   instance survives an exception and the next call works
+                   instance survives an exception and the next call works (also on the
+                   path taken after a getString, which entered them from the side: each
+                   such error released the class once, until an instantiation failed)
 error-status       the exception is thrown with the type ``std::runtime_error`` instead of
                    ``fatal_error``: fmi2.cpp's ``catch (std::exception&)`` returns fmi2Error
 error-message      its log line reads "fmi2Error from the Python slave [doStep] ... <repr>"
                    on one line (was "Fatal py exception encountered: [doStep] ...\\n<repr>")
 step-terminated    fmi2DoStep: a successful step clears ``wantsToTerminate``
 restore-terminated fmi2SetFMUstate: a successful restore clears ``wantsToTerminate``
+free-once          fmi2FreeInstance frees the logger and the slave (the Python instance with
+                   it) and sets their pointers to null, but keeps the 32-byte component: a
+                   second fmi2FreeInstance of it finds nothing to free (was: a double free,
+                   the host aborts). Any other call after the free still dereferences the
+                   null slave (a crash): pythonfmu's C++ layer has no check to hang that on
 =================  =======================================================================
 """
 
@@ -123,17 +130,42 @@ def _function(elf: _Elf, data: bytes, name: str) -> tuple[int, int, bytes]:
     return sym.value, off, data[off:off + sym.size]
 
 
+# After clearing a non-empty string buffer (a getString earlier in this instance's life), the
+# code enters the three Py_XDECREF from the side, past the first instruction: at the loop's end
+#   mov rdi, [r13 + 0x68]; mov [r13 + 0x88], rax; test rdi, rdi; jne <1st XDECREF + 9>; jmp <2nd>
+# (25 bytes). That path becomes: mov [r13 + 0x88], rax (the buffer's clear); jmp over all three.
+_AFTER_STRINGS = re.compile(rb"\x49\x8b\x7d\x68\x49\x89\x85\x88\x00\x00\x00\x48\x85\xff\x0f\x85(....)\xe9(....)",
+                            re.S)
+_NOPS_13 = bytes.fromhex("0f1f440000" "0f1f440000" "0f1f00")
+
+
 def _keep_instance(elf: _Elf, data: bytes):
     # cleanPyObject's Py_XDECREF(pClass_), (pInstance_), (pMessages_): members at 0x68, 0x70,
-    # 0x78 of PySlaveInstance (r13 = this), each 26 bytes; jump over all three (0x4c + 2 = 78)
-    _addr, off, code = _function(elf, data, _HANDLE)
+    # 0x78 of PySlaveInstance (r13 = this), each 26 bytes; jump over all three (0x4c + 2 = 78),
+    # on the straight path and on the one after clearing the string buffer (_AFTER_STRINGS)
+    addr, off, code = _function(elf, data, _HANDLE)
     one = rb"\x48\x85\xff\x74\x11\x8b\x07\x85\xc0\x78\x0b\x83\xe8\x01\x89\x07\x0f\x84...."
     pat = re.compile(rb"(?:\x49\x8b|\xeb\x4c)\x7d\x68" + one + rb"\x49\x8b\x7d\x70" + one + rb"\x49\x8b\x7d\x78" + one,
                      re.S)
     hits = list(pat.finditer(code))
     if len(hits) != 1:
         raise PatchMismatch(f"handle_py_exception: {len(hits)} matches of the three Py_XDECREF")
-    return [(off + hits[0].start(), b"\x49\x8b", b"\xeb\x4c")]
+    block = addr + hits[0].start()
+    side = []
+    for m in _AFTER_STRINGS.finditer(code):
+        at = addr + m.start()
+        jne = at + 20 + struct.unpack("<i", m.group(1))[0]
+        jmp = at + 25 + struct.unpack("<i", m.group(2))[0]
+        if (jne, jmp) == (block + 9, block + 26):
+            side.append(m)
+    done = [m for m in re.finditer(rb"\x49\x89\x85\x88\x00\x00\x00\xe9(....)" + re.escape(_NOPS_13), code, re.S)
+            if addr + m.start() + 12 + struct.unpack("<i", m.group(1))[0] == block + 78]
+    if len(side) + len(done) != 1:
+        raise PatchMismatch(f"handle_py_exception: {len(side) + len(done)} side entries into the three Py_XDECREF")
+    at = (side or done)[0].start()
+    jump = b"\x49\x89\x85\x88\x00\x00\x00\xe9" + struct.pack("<i", block + 78 - (addr + at + 12)) + _NOPS_13
+    return [(off + hits[0].start(), b"\x49\x8b", b"\xeb\x4c"),
+            (off + at, side[0].group(0) if side else jump, jump)]
 
 
 def _error_status(elf: _Elf, data: bytes):
@@ -242,9 +274,37 @@ def _restore_terminated(elf: _Elf, data: bytes):
     raise PatchMismatch("no call of __stack_chk_fail within reach in fmi2FreeFMUstate")
 
 
+# fmi2FreeInstance after the slave's deletion (``delete slave`` through its vtable): the epilogue
+# that deletes the component (``jmp operator delete(component, 0x20)``), 23 bytes, becomes one
+# that sets component->slave and ->logger (+0x10, +0x18; r12 = component) to null and returns
+_FREE_DELETE_SLAVE = re.compile(rb"\x49\x8b\x7c\x24\x10\x48\x85\xff\x74\x09\x48\x8b\x07\xff\x90\xa8\x00\x00\x00")
+_FREE_EPILOGUE = re.compile(rb"\x48\x83\xc4\x08\x4c\x89\xe7\xbe\x20\x00\x00\x00"  # add rsp, 8; rdi = r12; esi = 0x20
+                            rb"\x5b\x5d\x41\x5c\x41\x5d\xe9(....)", re.S)  # pop rbx, rbp, r12, r13; jmp delete
+_FREE_EPILOGUE_NEW = bytes.fromhex("4883c408" "31c0" "4989442410" "4989442418" "5b5d415c415d" "c3")
+
+
+def _free_once(elf: _Elf, data: bytes):
+    addr, off, code = _function(elf, data, "fmi2FreeInstance")
+    slave = list(_FREE_DELETE_SLAVE.finditer(code))
+    if len(slave) != 1:
+        raise PatchMismatch(f"fmi2FreeInstance: {len(slave)} deletions of the slave")
+    at = slave[0].end()
+    if code[at:at + len(_FREE_EPILOGUE_NEW)] == _FREE_EPILOGUE_NEW:
+        return [(off + at, _FREE_EPILOGUE_NEW, _FREE_EPILOGUE_NEW)]
+    m = _FREE_EPILOGUE.match(code, at)
+    if m is None:
+        raise PatchMismatch("fmi2FreeInstance: no deletion of the component after the slave's")
+    # the jmp goes where the function's calls of operator delete go (call rel32 before the slave's deletion)
+    target = addr + m.end() + struct.unpack("<i", m.group(1))[0]
+    calls = {addr + c.end() + struct.unpack("<i", c.group(1))[0] for c in re.finditer(rb"\xe8(....)", code[:at], re.S)}
+    if target not in calls:
+        raise PatchMismatch("fmi2FreeInstance: the last jump is not to the operator delete the function calls")
+    return [(off + at, m.group(0), _FREE_EPILOGUE_NEW)]
+
+
 _PATCHES = (("exit-unload", _exit_unload), ("keep-instance", _keep_instance), ("error-status", _error_status),
             ("error-message", _error_message), ("step-terminated", _step_terminated),
-            ("restore-terminated", _restore_terminated))
+            ("restore-terminated", _restore_terminated), ("free-once", _free_once))
 
 
 def patch_pythonfmu_binary(data: bytes) -> tuple[bytes, dict[str, str]]:

@@ -15,7 +15,8 @@ fmi2Fatal with the instance released. The build patches pythonfmu's binary
 * a refused call raises ``FMIError`` with a one-line reason, which pythonfmu logs with status
   Error: an invalid parameter (in its setter and again in ``exit_initialization_mode``), an unknown
   value reference, a parameter set after initialisation, a non-positive or non-finite step
-  size or time, doStep before a successful initialisation;
+  size or time, doStep before a successful initialisation, any call out of the FMI 2.0 calling
+  sequence (``fmi_order``), a freed FMU state;
 * a state the internal cannot evaluate (journal at the wall, a non-finite input) discards
   the step: ``do_step`` logs why (status Discard) and returns False; the outputs keep their
   last valid values and the instance stays usable (restore a state, set valid inputs, step
@@ -25,18 +26,20 @@ fmi2Fatal with the instance released. The build patches pythonfmu's binary
 Without the patches (``resources/pythonfmu_patches.json`` says which are in; the Windows
 binary is pythonfmu's as is) nothing raises: a refused call is logged with status Error and
 returns fmi2OK, as pythonfmu allows. When the master has logging off, the first warning, the
-first discard and the first error of an instance are also printed to stderr (``_LoggingFlag``).
+first discard and the first error of an instance are also printed to stderr (``LoggingFlag``).
 
-The FMU state (fmi2GetFMUstate) is a small tuple (tag, time, inputs and outputs); the
-internal is not part of it (it is fixed after initialisation), so saving and restoring
-costs a few microseconds. In the FMU this file is the pythonfmu slave module: ``build.py``
-rewrites its relative imports to the uniquely named copy of the package (see there).
+The FMU state (fmi2GetFMUstate) is a small list (tag, time, inputs and outputs;
+``fmi_order.FMUState``: recognised once freed); the internal is not part of it (it is fixed
+after initialisation), so saving and restoring costs a few microseconds. A Taylor internal's
+domain warning comes once per excursion and the count at terminate (``_excursion``). In the
+FMU this file is the pythonfmu slave module: ``build.py`` rewrites its relative imports to the
+uniquely named copy of the package (see there).
 """
 
+import json
 import math
 import operator
 import os
-import traceback
 from pathlib import Path
 
 from pythonfmu import Boolean, Fmi2Causality, Fmi2Slave, Fmi2Variability, Integer, Real, String
@@ -45,79 +48,15 @@ from pythonfmu.enums import Fmi2Status
 
 from bearing_fmu import __version__
 from bearing_fmu.internals import registry
+from bearing_fmu.fmu.order import INIT, INSTANTIATED, STEP, TERMINATED, FMUState, is_freed, refusal
+from bearing_fmu.fmu.resources import BEARING_DEFAULTS, BUILD_INFO, PATCH_NOTES  # noqa: F401 - build.py reads them here
+from bearing_fmu.fmu.resources import (BEARING_FIELDS, SURROGATE_DIR, LoggingFlag, bearing_defaults, default_file,
+                                       status_patched)
+from bearing_fmu.fmu.variables import (ENUMERATIONS, INPUT, INPUTS, OUTPUT, OUTPUTS, PARAMETER, PARAMETERS,
+                                       STRING_DEFAULTS, VARIABLES, enum_value)
 from bearing_fmu.internals.registry import BearingStateError, Context, check_finite
-from bearing_fmu.physics.params import PAPER_BEARING, BearingParams
+from bearing_fmu.physics.params import BearingParams
 
-SURROGATE_DIR = "surrogates"  # inside the FMU's resources folder: the files of file options
-
-# name, type, causality, unit, default, description. The one table of the FMU interface:
-# the slave registers these, build.py writes units and dependencies from it. The internals'
-# parameters come from their registry options.
-_IN, _OUT, _PAR = "input", "output", "parameter"
-_FMI_TYPE = {float: "Real", int: "Integer", bool: "Boolean", str: "String"}
-_DEFAULT_INTERNAL = "reynolds"
-# Enumeration parameters: each String parameter with choices again as an FMI 2.0 enumeration (an
-# Integer whose values are item k + 1 of the choices; build.py declares its TypeDefinition), for
-# masters that show one as a drop-down. name -> (its String parameter, the items). Set either; a
-# value away from its start wins, and if both are set away from their starts they must agree
-# (BearingFMU._choices). New internals and choices go at the end: the numbers stay.
-ENUMERATIONS = {"internal_enum": ("internal", registry.names()),
-                **{f"{o.name}_enum": (o.name, o.choices) for o in registry.all_options() if o.choices}}
-_STRING_DEFAULTS = {"internal": _DEFAULT_INTERNAL, **{o.name: o.default for o in registry.all_options()}}
-
-
-def enum_value(name: str, item: str) -> int:
-    """The value of ``item`` in enumeration parameter ``name`` (1 for the first choice)."""
-    return ENUMERATIONS[name][1].index(item) + 1
-
-
-VARIABLES = (
-    # inputs: the journal state at the end of the step
-    ("y", "Real", _IN, "m", 0.0, "journal centre displacement from the bearing centre, horizontal"),
-    ("z", "Real", _IN, "m", 0.0, "journal centre displacement from the bearing centre, vertical (up)"),
-    ("vy", "Real", _IN, "m/s", 0.0, "journal centre velocity, horizontal"),
-    ("vz", "Real", _IN, "m/s", 0.0, "journal centre velocity, vertical"),
-    ("omega", "Real", _IN, "rad/s", 0.0, "shaft speed, right-handed about the shaft axis x"),
-    # outputs
-    ("Fy", "Real", _OUT, "N", 0.0, "film force on the journal, horizontal"),
-    ("Fz", "Real", _OUT, "N", 0.0, "film force on the journal, vertical"),
-    ("eccentricity", "Real", _OUT, "1", 0.0, "eccentricity ratio sqrt(y^2 + z^2) / CR"),
-    ("h_min", "Real", _OUT, "m", 0.0, "minimum film thickness CR - sqrt(y^2 + z^2) (negative beyond the wall)"),
-    ("out_of_domain", "Boolean", _OUT, None, False,
-     "true when the state lies outside the surrogate's fitted domain (taylor only; false otherwise)"),
-    ("Kyy", "Real", _OUT, "N/m", 0.0, "film stiffness -dFy/dy (Lund sign; 0 if compute_tangent is false)"),
-    ("Kyz", "Real", _OUT, "N/m", 0.0, "film stiffness -dFy/dz (Lund sign; 0 if compute_tangent is false)"),
-    ("Kzy", "Real", _OUT, "N/m", 0.0, "film stiffness -dFz/dy (Lund sign; 0 if compute_tangent is false)"),
-    ("Kzz", "Real", _OUT, "N/m", 0.0, "film stiffness -dFz/dz (Lund sign; 0 if compute_tangent is false)"),
-    ("Cyy", "Real", _OUT, "N.s/m", 0.0, "film damping -dFy/dvy (Lund sign; 0 if compute_tangent is false)"),
-    ("Cyz", "Real", _OUT, "N.s/m", 0.0, "film damping -dFy/dvz (Lund sign; 0 if compute_tangent is false)"),
-    ("Czy", "Real", _OUT, "N.s/m", 0.0, "film damping -dFz/dvy (Lund sign; 0 if compute_tangent is false)"),
-    ("Czz", "Real", _OUT, "N.s/m", 0.0, "film damping -dFz/dvz (Lund sign; 0 if compute_tangent is false)"),
-    # parameters: the bearing (paper Table 2)
-    ("D", "Real", _PAR, "m", PAPER_BEARING.D, "bearing (journal) diameter"),
-    ("L", "Real", _PAR, "m", PAPER_BEARING.L, "bearing length"),
-    ("CR", "Real", _PAR, "m", PAPER_BEARING.CR, "radial clearance"),
-    ("mu", "Real", _PAR, "Pa.s", PAPER_BEARING.mu, "dynamic viscosity of the oil"),
-    # parameters: which internal, and whether the outputs K.., C.. are computed
-    ("internal", "String", _PAR, None, _DEFAULT_INTERNAL,
-     "which internal computes the force: " + " | ".join(registry.names()) + " (or internal_enum)"),
-    ("compute_tangent", "Boolean", _PAR, None, True,
-     "compute the outputs K.., C.. from the internal's Jacobian at every step"),
-    # parameters: every registered internal's options
-    *((o.name, _FMI_TYPE[o.type], _PAR, o.unit, o.default, o.help if o.type is str else f"{o.help} ({o.allowed()})")
-      for o in registry.all_options()),
-    # parameters: the choices again as enumerations (after the rest: the value references stay)
-    *((name, "Integer", _PAR, None, enum_value(name, _STRING_DEFAULTS[string]),
-       f"{string} as an enumeration ({', '.join(f'{k + 1} = {c}' for k, c in enumerate(items))}): the same choice "
-       f"as the String parameter {string}; set either (set both, they must agree)")
-      for name, (string, items) in ENUMERATIONS.items()),
-)
-
-INPUTS = tuple(v[0] for v in VARIABLES if v[2] == _IN)
-OUTPUTS = tuple(v[0] for v in VARIABLES if v[2] == _OUT)
-PARAMETERS = tuple(v[0] for v in VARIABLES if v[2] == _PAR)
-_REAL_OUTPUTS = tuple(v[0] for v in VARIABLES if v[2] == _OUT and v[1] == "Real")
-_TANGENT = ("Kyy", "Kyz", "Kzy", "Kzz", "Cyy", "Cyz", "Czy", "Czz")
 _STATE_TAG = "bearing_fmu.fmu.slave/2"  # /2: values as one tuple
 _STATE_NAMES = INPUTS + OUTPUTS
 _STATE_VALUES = operator.attrgetter(*_STATE_NAMES)
@@ -125,13 +64,8 @@ _VAR_CLASS = {"Real": Real, "Integer": Integer, "Boolean": Boolean, "String": St
 _CAST = {"Real": float, "Integer": int, "Boolean": bool, "String": str}
 _FILE_OPTIONS = {o.name for o in registry.all_options() if o.file}
 _OPTIONS = {o.name: o for o in registry.all_options()}
-_BEARING = ("D", "L", "CR", "mu")  # BearingParams fields; BearingParams checks them together at initialisation
 _UNITS = {v[0]: v[3] for v in VARIABLES}
 _INF = math.inf
-PATCH_NOTES = "pythonfmu_patches.json"  # written by build.py into resources/
-# fmu_binary.STATUS_PATCHES (build tooling, not bundled in the FMU; a test keeps the two equal)
-_STATUS_PATCHES = ("keep-instance", "error-status", "error-message", "step-terminated", "restore-terminated")
-_INSTANTIATED, _INIT, _STEP = "Instantiated", "Initialization Mode", "Step Mode"
 _ECHO_HINT = ("logging is off, so this FMU instance prints its first warning, discard and error here; "
               "instantiate it with loggingOn (fmpy: simulate_fmu(..., debug_logging=True)) to receive every message")
 
@@ -146,96 +80,6 @@ class FMIError(Exception):
         return str(self)
 
 
-_BUNDLED_FORMATS: dict[str, dict[str, str]] = {}  # resources folder -> {file name: JSON "format"}, read once
-
-
-def _default_file(resources, option) -> str:
-    """The default of a file option: the one bundled file of its format (surrogate, force map),
-    else "" (none, or several to choose from)."""
-    if not resources:
-        return ""
-    folder = Path(resources) / SURROGATE_DIR
-    key = str(folder)
-    if key not in _BUNDLED_FORMATS:
-        formats = {}
-        try:
-            for p in sorted(folder.iterdir()):
-                if p.is_file():
-                    try:
-                        formats[p.name] = registry.file_format(p)
-                    except ValueError:  # not JSON: the option's loader names it if it is chosen
-                        formats[p.name] = ""
-        except OSError:
-            pass
-        _BUNDLED_FORMATS[key] = formats
-    names = [n for n, f in _BUNDLED_FORMATS[key].items() if not option.file_format or f == option.file_format]
-    return names[0] if len(names) == 1 else ""
-
-
-def _status_patched(resources) -> bool:
-    """True when the build applied every FMI status patch to this platform's binary."""
-    import json
-    import sys
-
-    if not resources:
-        return False
-    if sys.platform.startswith("linux"):
-        platform = "linux64" if sys.maxsize > 2 ** 32 else "linux32"
-    else:
-        platform = {"win32": "win64", "darwin": "darwin64"}.get(sys.platform, sys.platform)
-    try:
-        notes = json.loads((Path(resources) / PATCH_NOTES).read_text(encoding="utf-8")).get(platform, {})
-    except (OSError, ValueError, AttributeError):
-        return False
-    return all(str(notes.get(n, "")).endswith("patched") for n in _STATUS_PATCHES)
-
-
-class _LoggingFlag:
-    """Whether the master receives this instance's log: pythonfmu's C++ logger's flag.
-
-    pythonfmu keeps ``loggingOn`` (and fmi2SetDebugLogging's later changes) in its C++
-    ``PyLogger`` and passes only that object's address to Python (keyword ``logger``). Its
-    0.7.0 layout: vtable pointer, ``bool debugLogging_`` at +8, ``std::string instanceName_``
-    at +16 (data pointer, then length; a short name sits in the object itself at +32). The
-    layout is trusted only when that string reads back as this instance's name; otherwise
-    ``off`` answers False (nothing is echoed)."""
-
-    def __init__(self, address, instance_name: str):
-        self._flag = None
-        if not isinstance(address, int) or address <= 0 or not isinstance(instance_name, str):
-            return
-        try:
-            import ctypes
-
-            name = instance_name.encode("utf-8")
-            size = ctypes.c_size_t.from_address(address + 24).value
-            data = ctypes.c_void_p.from_address(address + 16).value
-            if size != len(name) or (size < 16 and data != address + 32) or not data:
-                return
-            if ctypes.string_at(data, size) != name:
-                return
-            self._flag = ctypes.c_bool.from_address(address + 8)
-        except Exception:  # noqa: BLE001 - unknown layout: echo nothing
-            self._flag = None
-
-    def off(self) -> bool:
-        """True when the master has logging off (read live: fmi2SetDebugLogging changes it)."""
-        return self._flag is not None and not self._flag.value
-
-
-BEARING_DEFAULTS = "bearing.json"  # in resources/: D, L, CR, mu of `bearing-fmu build --bearing FILE`
-BUILD_INFO = "build_info.json"  # in resources/: what the FMU was built from (bearing, data files, hashes)
-
-
-def _bearing_defaults(resources) -> dict:
-    """The built-in bearing's D, L, CR, mu [SI] when the FMU was built for one, else {}. A damaged
-    file fails the instantiation naming it and the key (it used to give the paper bearing)."""
-    path = Path(resources) / BEARING_DEFAULTS if resources else None
-    if path is None or not path.is_file():
-        return {}
-    return BearingParams.from_json(path).as_dict()
-
-
 class BearingFMU(Fmi2Slave):
     """Hydrodynamic journal bearing: film force from the journal state (see module docstring)."""
 
@@ -248,17 +92,17 @@ class BearingFMU(Fmi2Slave):
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
         self._by_vr = {}  # value reference -> (name, type, causality)
-        built_in = _bearing_defaults(self.resources)
+        built_in = bearing_defaults(self.resources)
         for name, typ, causality, _unit, default, desc in VARIABLES:
             if name in _FILE_OPTIONS:
-                default = _default_file(self.resources, _OPTIONS[name])
+                default = default_file(self.resources, _OPTIONS[name])
             elif name in built_in:
                 default = built_in[name]
             setattr(self, name, default)
             var = _VAR_CLASS[typ](
                 name,
                 causality=getattr(Fmi2Causality, causality),
-                variability=(Fmi2Variability.fixed if causality == _PAR
+                variability=(Fmi2Variability.fixed if causality == PARAMETER
                              else Fmi2Variability.discrete if typ != "Real"
                              else Fmi2Variability.continuous),
                 description=desc,
@@ -270,24 +114,26 @@ class BearingFMU(Fmi2Slave):
         self._real_names = {vr: e[0] for vr, e in self._by_vr.items() if e[1] == "Real"}
         # getReal's fast path: outside Step Mode without the outputs, so reading them in
         # Initialization Mode takes the checked path, which computes them from the inputs
-        self._real_no_outputs = {vr: n for vr, n in self._real_names.items() if self._by_vr[vr][2] != _OUT}
-        self._real_get = self._real_no_outputs
-        self._real_inputs = {vr: e[0] for vr, e in self._by_vr.items() if e[1] == "Real" and e[2] == _IN}
+        self._real_no_outputs = {vr: n for vr, n in self._real_names.items() if self._by_vr[vr][2] != OUTPUT}
+        self._all_inputs = {vr: e[0] for vr, e in self._by_vr.items() if e[1] == "Real" and e[2] == INPUT}
         self._internal = None  # built in exit_initialization_mode (or by an output read in Initialization Mode)
         self._built_from = None  # the parameter values it was built from
         self._internal_name = ""
         self._choices_built = {}  # the String choices the internal was built with (_choices)
         self._jacobian = None
         self._params = None
-        self._mode = _INSTANTIATED
+        self._enter(INSTANTIATED)
         self._initialized = False  # exit_initialization_mode was called: parameters are fixed
         self._init_error = None
         self._refused = {}  # parameter name -> why its last set was refused (fails the initialisation)
         self._t = 0.0
-        self._raises = _status_patched(self.resources)  # an exception gives fmi2Error, not fmi2Fatal
+        self._raises = status_patched(self.resources)  # an exception gives fmi2Error, not fmi2Fatal
         # the logger's layout is known for the binary the patches verified, and only for that one
-        self._logging = _LoggingFlag(kwargs.get("logger") if self._raises else None, self.instance_name)
+        self._logging = LoggingFlag(kwargs.get("logger") if self._raises else None, self.instance_name)
         self._echoed = set()
+        self._guard = None  # the internal when it is a domain guard (excursions out of the fitted domain)
+        self._pending = None  # during an evaluation: the domain guard's warnings, logged if it is committed
+        self._excursions = (0, 0.0, 0.0)  # out of the fitted domain (one warning each): count, first t, last t
 
     # ------------------------------------------------------------------ logging and refusals
     def _log(self, msg: str, status: Fmi2Status) -> None:
@@ -326,8 +172,27 @@ class BearingFMU(Fmi2Slave):
         self._echo(msg, Fmi2Status.error)
         raise FMIError(msg + (f" (logged before it in this call: {' | '.join(queued)})" if queued else ""))
 
+    # ------------------------------------------------------------------ the FMI 2.0 calling sequence
+    def _order(self, call: str) -> None:
+        """Refuse ``call`` (fmi_order's name) unless the current mode allows it: FMIError, i.e.
+        fmi2Error naming the call. Without the status patches (or driven from Python, as tests and
+        benchmarks do) the refusal is logged with status Error and the call goes on as before."""
+        why = refusal(call, self._mode)
+        if why is not None:
+            self._fail(why)
+
+    def _enter(self, mode: str) -> None:
+        """Change the mode, and the fast paths with it: getReal's reads no output outside Step Mode
+        and Terminated (Initialization Mode computes them first) and nothing in Instantiated;
+        setReal's takes no input once terminated. What they skip takes the checked path."""
+        self._mode = mode
+        self._real_get = ({} if mode is INSTANTIATED else self._real_no_outputs if mode is INIT
+                          else self._real_names)
+        self._real_inputs = {} if mode is TERMINATED else self._all_inputs
+
     # ------------------------------------------------------------------ initialisation
     def setup_experiment(self, start_time, stop_time=None, tolerance=None):
+        self._order("setupExperiment")
         if not -_INF < start_time < _INF:
             return self._fail(f"setupExperiment: startTime = {start_time!r} s must be finite")
         if stop_time is not None and not start_time <= stop_time < _INF:
@@ -336,9 +201,11 @@ class BearingFMU(Fmi2Slave):
         self._t = float(start_time)
 
     def enter_initialization_mode(self):
-        self._mode = _INIT
+        self._order("enterInitializationMode")
+        self._enter(INIT)
 
     def exit_initialization_mode(self):
+        self._order("exitInitializationMode")
         self._initialized = True
         try:
             self._ensure_internal()
@@ -346,8 +213,7 @@ class BearingFMU(Fmi2Slave):
             self._internal = None
             self._init_error = f"bearing FMU initialisation failed: {self._describe(exc)}"
             return self._fail(self._init_error)
-        self._mode = _STEP
-        self._real_get = self._real_names
+        self._enter(STEP)
         for name, (string, items) in ENUMERATIONS.items():  # both show the choice that counts
             choice = self._choices_built[string]
             setattr(self, string, choice)
@@ -364,12 +230,31 @@ class BearingFMU(Fmi2Slave):
                       Fmi2Status.warning)
         return True
 
+    def terminate(self):
+        self._order("terminate")
+        self._enter(TERMINATED)
+        n, first, last = self._excursions
+        if n:  # the count of what was warned once per excursion
+            self._log(f"terminate: the state left the surrogate's fitted domain {n} time(s) in this run (each "
+                      f"excursion warned when it began; the first at t = {first:.10g} s, the last at "
+                      f"t = {last:.10g} s)", Fmi2Status.warning)
+
     @staticmethod
     def _describe(exc: BaseException) -> str:
-        """The message of an expected failure; type, message and traceback of anything else."""
-        if isinstance(exc, (ValueError, KeyError, FileNotFoundError, ImportError)):
-            return str(exc)
-        return f"unexpected {type(exc).__name__}: {exc}\n{traceback.format_exc()}"
+        """One line: the message of an expected failure; the type, message and place of anything
+        else. Never a traceback: a log line is read in a master's message window."""
+        from bearing_fmu.physics.statics import EquilibriumError
+
+        if isinstance(exc, (ValueError, KeyError, FileNotFoundError, ImportError, EquilibriumError)):
+            text = str(exc)
+        else:
+            tb = exc.__traceback__
+            while tb is not None and tb.tb_next is not None:
+                tb = tb.tb_next
+            where = (f" (raised in {Path(tb.tb_frame.f_code.co_filename).name}, line {tb.tb_lineno})"
+                     if tb is not None else "")
+            text = f"unexpected {type(exc).__name__}: {exc}{where}"
+        return " ".join(text.split())
 
     def _parameter_values(self) -> tuple:
         return tuple(getattr(self, n) for n in PARAMETERS)
@@ -392,8 +277,8 @@ class BearingFMU(Fmi2Slave):
         out = {}
         for name, (string, items) in ENUMERATIONS.items():
             value, text = getattr(self, name), str(getattr(self, string)).strip().lower()
-            enum_set = value != enum_value(name, _STRING_DEFAULTS[string])
-            if enum_set and text != _STRING_DEFAULTS[string] and text != items[value - 1]:
+            enum_set = value != enum_value(name, STRING_DEFAULTS[string])
+            if enum_set and text != STRING_DEFAULTS[string] and text != items[value - 1]:
                 raise ValueError(f"{string} = {getattr(self, string)!r} and {name} = {value} ({items[value - 1]}) "
                                  f"disagree: set one of them ({name} is the same choice as an enumeration)")
             out[string] = items[value - 1] if enum_set else text
@@ -406,12 +291,12 @@ class BearingFMU(Fmi2Slave):
         self._choices_built = choices
         spec = registry.get(choices["internal"])
         options = {o.name: choices.get(o.name, getattr(self, o.name)) for o in spec.all_options()}
-        context = Context(resolve=self._resource_file,
-                          warn=lambda msg: self._log(f"t = {self._t:.10g} s: {msg}", Fmi2Status.warning))
+        context = Context(resolve=self._resource_file, warn=self._warn)
         internal = spec.create(params, options, context, where="FMU parameter")
         self._internal = internal
         self._internal_name = spec.name
         self._jacobian = getattr(internal, "force_and_jacobian", None)
+        self._guard = internal if hasattr(internal, "outside") else None  # a domain guard: its excursion flag
 
     def _resource_file(self, name: str) -> Path:
         folder = Path(self.resources or ".") / SURROGATE_DIR
@@ -435,33 +320,34 @@ class BearingFMU(Fmi2Slave):
         try:
             self._ensure_internal()
         except Exception as exc:  # noqa: BLE001
-            return self._fail(f"{call} in {_INIT}: the outputs cannot be computed: bearing FMU initialisation "
+            return self._fail(f"{call} in {INIT}: the outputs cannot be computed: bearing FMU initialisation "
                               f"failed: {self._describe(exc)}")
         try:
             self._step_outputs()
         except BearingStateError as exc:
-            return self._fail(f"{call} in {_INIT}: the outputs cannot be computed at the inputs set: {exc} "
+            return self._fail(f"{call} in {INIT}: the outputs cannot be computed at the inputs set: {exc} "
                               "(set valid inputs and read again)")
         except Exception as exc:  # noqa: BLE001
-            return self._fail(f"{call} in {_INIT}: the {self._internal_name} internal failed: {self._describe(exc)}")
+            return self._fail(f"{call} in {INIT}: the {self._internal_name} internal failed: {self._describe(exc)}")
         return None
 
     # ------------------------------------------------------------------ stepping
     def do_step(self, current_time, step_size):
         t = current_time + step_size
+        if self._mode is not STEP:  # refused (without the patches: discarded), with the reason when there is one
+            if self._mode is INIT and self._init_error:
+                return self._fail(f"doStep: step to t = {t:.10g} s refused: {self._init_error}") or False
+            return self._fail(refusal("doStep", self._mode)) or False
         if not (0.0 < step_size < _INF and -_INF < current_time < _INF and t < _INF):
             return self._bad_step(current_time, step_size)
-        if self._mode is not _STEP:
-            reason = self._init_error or f"doStep in {self._mode}: call exitInitializationMode first"
-            return self._fail(f"step to t = {t:.10g} s refused: {reason}") or False
         try:
             self._step_outputs()
         except BearingStateError as exc:
             self._log(f"{exc} at t = {t:.10g} s", Fmi2Status.discard)
             return False
         except Exception as exc:  # noqa: BLE001 - a failure of the internal itself, not of the state
-            return self._fail(f"step to t = {t:.10g} s failed: unexpected {type(exc).__name__} in the "
-                              f"{self._internal_name} internal: {exc}\n{traceback.format_exc()}") or False
+            return self._fail(f"doStep: step to t = {t:.10g} s failed in the {self._internal_name} internal: "
+                              f"{self._describe(exc)}") or False
         self._t = t
         return True
 
@@ -484,18 +370,24 @@ class BearingFMU(Fmi2Slave):
         check_finite(y, z, vy, vz, omega)  # the internals refuse the wall themselves where they must
         eps = math.hypot(y, z) / params.CR
         internal = self._internal
-        if self.compute_tangent:
-            if self._jacobian is not None:
-                f, dq, dv = self._jacobian(y, z, vy, vz, omega)
-            else:
-                from bearing_fmu.physics.statics import film_jacobian
+        if self._guard is not None:  # an excursion begins where the committed state (an FMU state's) was inside
+            self._guard.outside = self.out_of_domain
+        self._pending = []
+        try:
+            if self.compute_tangent:
+                if self._jacobian is not None:
+                    f, dq, dv = self._jacobian(y, z, vy, vz, omega)
+                else:
+                    from bearing_fmu.physics.statics import film_jacobian
 
-                f, dq, dv = film_jacobian(internal, y, z, vy, vz, omega)
-            tangent = (-float(dq[0, 0]), -float(dq[0, 1]), -float(dq[1, 0]), -float(dq[1, 1]),
-                       -float(dv[0, 0]), -float(dv[0, 1]), -float(dv[1, 0]), -float(dv[1, 1]))
-        else:
-            f = internal.force(y, z, vy, vz, omega)
-            tangent = None
+                    f, dq, dv = film_jacobian(internal, y, z, vy, vz, omega)
+                tangent = (-float(dq[0, 0]), -float(dq[0, 1]), -float(dq[1, 0]), -float(dq[1, 1]),
+                           -float(dv[0, 0]), -float(dv[0, 1]), -float(dv[1, 0]), -float(dv[1, 1]))
+            else:
+                f = internal.force(y, z, vy, vz, omega)
+                tangent = None
+        finally:
+            pending, self._pending = self._pending, None
         fy, fz = float(f[0]), float(f[1])
         if not (math.isfinite(fy) and math.isfinite(fz)) or (tangent and not all(map(math.isfinite, tangent))):
             raise BearingStateError(
@@ -509,17 +401,39 @@ class BearingFMU(Fmi2Slave):
         self.out_of_domain = ood
         if tangent is not None:
             (self.Kyy, self.Kyz, self.Kzy, self.Kzz, self.Cyy, self.Cyz, self.Czy, self.Czz) = tangent
+        if pending:
+            self._excursion(pending[-1])
+
+    def _warn(self, msg: str) -> None:
+        """The internal's warnings: during an evaluation (the domain guard's, when an excursion
+        begins) kept until the evaluation is committed, so a refused state warns nothing; else logged."""
+        if self._pending is not None:
+            self._pending.append(msg)
+        else:
+            self._log(f"t = {self._t:.10g} s: {msg}", Fmi2Status.warning)
+
+    def _excursion(self, msg: str) -> None:
+        """Log the warning of an excursion out of the fitted domain and count it; a host's Newton
+        iterates of one step (each restored to the step's start) begin the same one."""
+        n, first, last = self._excursions
+        if n and last == self._t:
+            return
+        self._excursions = (n + 1, self._t if n == 0 else first, self._t)
+        self._log(f"t = {self._t:.10g} s: {msg}", Fmi2Status.warning)
 
     # ------------------------------------------------------------------ FMU state
     # A host iterating the FMI way saves the state once per step and restores it at every
     # iteration, so both run in C where they can (attrgetter, dict.update): a state this
     # class wrote holds the right types already.
     def _get_fmu_state(self):
-        # a fresh immutable tuple: pythonfmu hands this very object back on fmi2SetFMUstate
-        return (_STATE_TAG, self._t, _STATE_VALUES(self))
+        # a new FMUState each time: pythonfmu hands this very object back on fmi2SetFMUstate, and
+        # once the master frees it, it stays recognisable (fmi_order.FMUState)
+        return FMUState((_STATE_TAG, self._t, _STATE_VALUES(self)))
 
     def _set_fmu_state(self, state):
         try:
+            if is_freed(state):
+                raise ValueError("this FMU state was freed (fmi2FreeFMUstate)")
             if len(state) != 3 or state[0] != _STATE_TAG or len(state[2]) != len(_STATE_NAMES):
                 raise ValueError(f"not a {_STATE_TAG} state of this FMU")
             t = float(state[1])
@@ -528,8 +442,21 @@ class BearingFMU(Fmi2Slave):
         self._t = t
         self.__dict__.update(zip(_STATE_NAMES, state[2]))
 
+    # pythonfmu calls these on the class (fmi2SerializedFMUstateSize, fmi2SerializeFMUstate,
+    # fmi2DeSerializeFMUstate); a refusal raises (fmi2Error)
+    @staticmethod
+    def _fmu_state_to_bytes(state) -> bytes:
+        if is_freed(state):
+            raise FMIError("serializing an FMU state: this FMU state was freed (fmi2FreeFMUstate)")
+        return json.dumps(list(state)).encode("utf-8")
+
+    @staticmethod
+    def _fmu_state_from_bytes(data: bytes):
+        return FMUState(json.loads(data.decode("utf-8")))
+
     # ------------------------------------------------------------------ getters / setters
     def _get(self, vrs, typ, cast, bad):
+        self._order(f"get{typ}")
         out, errors, computed = [], [], False
         for vr in vrs:
             entry = self._by_vr.get(vr)
@@ -537,7 +464,7 @@ class BearingFMU(Fmi2Slave):
                 errors.append(f"value reference {vr} is not a {typ} variable of this FMU")
                 out.append(bad)
                 continue
-            if entry[2] == _OUT and self._mode is _INIT and not computed:
+            if entry[2] == OUTPUT and self._mode is INIT and not computed:
                 self._outputs_in_init(f"get{typ} {entry[0]}")  # raises when they cannot be computed
                 computed = True
             try:
@@ -550,6 +477,7 @@ class BearingFMU(Fmi2Slave):
         return out
 
     def _set(self, vrs, values, typ, cast):
+        self._order(f"set{typ}")
         errors = []
         for vr, value in zip(vrs, values):
             entry = self._by_vr.get(vr)
@@ -557,10 +485,10 @@ class BearingFMU(Fmi2Slave):
                 errors.append(f"value reference {vr} is not a {typ} variable of this FMU")
                 continue
             name, _, causality = entry
-            if causality == _OUT:
+            if causality == OUTPUT:
                 errors.append(f"{name} is an output and cannot be set")
                 continue
-            if causality == _PAR:
+            if causality == PARAMETER:
                 if self._initialized:
                     errors.append(f"parameter {name} is fixed after initialisation (variability fixed); "
                                   f"it keeps {getattr(self, name)!r}")
@@ -591,7 +519,7 @@ class BearingFMU(Fmi2Slave):
             if not 1 <= value <= len(items):
                 raise ValueError(f"{name} = {value!r} must be one of "
                                  + ", ".join(f"{k + 1} ({c})" for k, c in enumerate(items)))
-        elif name in _BEARING:
+        elif name in BEARING_FIELDS:  # BearingParams checks them together at initialisation
             if not (0.0 < value < _INF):
                 raise ValueError(f"{name} = {value!r} {_UNITS[name]} must be finite and > 0")
         elif name in _OPTIONS:

@@ -33,7 +33,8 @@ Then:
 
 * inside: the surrogate's value;
 * outside, but less than ``limit`` beyond: depending on ``action``
-    - "warn"     : the surrogate's value; the first exit is reported once (``on_warn``),
+    - "warn"     : the surrogate's value; each excursion (outside after inside) is reported
+                   once, when it begins (``on_warn``),
     - "fallback" : the truth's value (the Reynolds internal, built at the first exit only,
                    so a run that stays inside never imports it), blended smoothly with the
                    surrogate's over the first FALLBACK_BAND (10 %) beyond the domain so the
@@ -66,7 +67,7 @@ class DomainGuard:
     limit    : refuse states more than this far outside (relative excess, > 0)
     truth    : zero-argument callable returning the fallback internal (Reynolds); needed for
                "fallback", called at the first exit only
-    on_warn  : callable(message) for the one warning per guard (default: warnings.warn)
+    on_warn  : callable(message) for the one warning per excursion (default: warnings.warn)
     """
 
     def __init__(self, taylor, action: str = "warn", limit: float = DEFAULT_LIMIT, truth=None, on_warn=None):
@@ -85,7 +86,7 @@ class DomainGuard:
         self._truth_factory = truth
         self._truth = None
         self._on_warn = on_warn or (lambda msg: warnings.warn(msg, stacklevel=3))
-        self.warned = False
+        self.outside = False  # the last state selected lay outside (its excursion was warned); a caller may reset it
         self.last_out_of_domain = False
         self.last_distance = -math.inf
 
@@ -136,6 +137,7 @@ class DomainGuard:
         ood = not (d <= 1e-12)  # NaN (non-finite input) counts as outside; Taylor names the variable
         self.last_out_of_domain = ood
         if not ood:
+            self.outside = False
             return self.taylor
         check_finite(y, z, vy, vz, 0.0)
         ecc = math.hypot(y, z) / self.params.CR
@@ -149,12 +151,12 @@ class DomainGuard:
                    else "outside (domain_action = 'discard')")
             raise BearingStateError(f"state {100 * d:.3g} % beyond the surrogate's fitted domain "
                                     f"({self._reasons(y, z, vy, vz)}), {why}: {where}")
-        if not self.warned:
-            self.warned = True
+        if not self.outside:
+            self.outside = True
             what = ("the Reynolds internal evaluates such states" if self.action == "fallback"
                     else "its value is an extrapolation")
             self._on_warn(f"state outside the surrogate's fitted domain ({self._reasons(y, z, vy, vz)}) at {where}; "
-                          f"{what} (warned once)")
+                          f"{what} (warned once per excursion)")
         if self.action == "fallback":
             if self._truth is None:
                 self._truth = self._truth_factory()

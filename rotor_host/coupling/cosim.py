@@ -8,8 +8,9 @@ iterate inside a step, and the force is always consistent with the iterate.
 
 A discarded doStep (the FMU logs why, e.g. "eccentricity ratio 1.03 >= 1") becomes
 ``StepRejected`` so the integrator cuts the step; only fmi2Discard does: an error or fatal
-status is an ``FMUError`` that stops the run. Every instance is freed on success and on
-error (use ``FMUBearings`` as a context manager or call ``close``).
+status is an ``FMUError`` that stops the run, as is an FMU that cannot be instantiated (the
+error quotes the FMU's own log lines: fmpy says only "Failed to instantiate model"). Every
+instance is freed on success and on error (use ``FMUBearings`` as a context manager or call ``close``).
 
 A pythonfmu FMU runs its slave in this interpreter: a Ctrl-C raised inside it would come back
 as an FMI error, so signals are held while an FMU call runs (``bearing_fmu.io.exits.deferred``)
@@ -75,6 +76,7 @@ class FMUBearings(BearingSet):
         self._static = False
         self._h = 0.0
         self._fresh = [False] * self.n
+        self._initialised = set()  # instances past exitInitializationMode: only those are terminated (FMI 2.0)
         try:
             md = read_model_description(str(self.fmu_path))
             self._vars = {v.name: v for v in md.modelVariables}
@@ -104,13 +106,17 @@ class FMUBearings(BearingSet):
                                 modelIdentifier=md.coSimulation.modelIdentifier,
                                 instanceName=self.names[k].replace(" ", "_"))
                 with deferred():  # loading and initialising run the slave's Python
-                    fmu.instantiate(callbacks=cb, loggingOn=True)
+                    try:
+                        fmu.instantiate(callbacks=cb, loggingOn=True)
+                    except Exception as exc:  # noqa: BLE001 - fmpy says only "Failed to instantiate model"
+                        raise FMUError(self._instantiate_failed(k, exc)) from None
                     self.instances.append(fmu)
                     try:
                         self._set_parameters(k, fmu, parameters[k])
                         fmu.setupExperiment(startTime=start_time)
                         fmu.enterInitializationMode()
                         fmu.exitInitializationMode()
+                        self._initialised.add(k)
                     except FMUError:
                         raise
                     except Exception as exc:  # noqa: BLE001 - fmpy raises on an error status; say why
@@ -132,6 +138,13 @@ class FMUBearings(BearingSet):
         except BaseException:
             self.close()
             raise
+
+    def _instantiate_failed(self, k: int, exc: Exception) -> str:
+        """Why fmi2Instantiate returned no instance: the FMU's own log lines of it (the logger got
+        them; fmpy's exception does not carry them), else fmpy's words."""
+        lines = [m for m in self.messages[k] if not m.startswith("[ok]")] or [f"{exc} (the FMU logged nothing)"]
+        return (f"{self.names[k]}: {self.fmu_path.name} could not be instantiated (fmi2Instantiate returned no "
+                f"instance): {' | '.join(lines)}")
 
     def _set_parameters(self, k, fmu, params: dict) -> None:
         for name, value in params.items():
@@ -256,7 +269,8 @@ class FMUBearings(BearingSet):
                 if self._states[k] is not None:
                     fmu.freeFMUstate(self._states[k])
                     self._states[k] = None
-                fmu.terminate()
+                if k in self._initialised:  # else fmi2Terminate is out of order: an error in the log
+                    fmu.terminate()
             except Exception:  # noqa: BLE001 - free what can be freed
                 pass
             try:

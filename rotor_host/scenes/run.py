@@ -123,7 +123,7 @@ def _native_fmu(scene: Scene, work_dir: Path) -> Path:
     """The scene's native FMU, built into work_dir under a name that hashes the C sources, the
     generator and the internal's data file, so runs of the same scene share one build. The
     linear FMU holds no data: the host sets each bearing's coefficients."""
-    from bearing_fmu.fmu.native import host_build_options
+    from bearing_fmu.fmu.native.host import host_build_options
     from bearing_fmu.fmu.native.build import C_DIR, build_native_fmu
 
     spec = registry.get(scene.internal)

@@ -7,7 +7,7 @@ internal's data as C; the hand-written C is in ``c/`` (FMI layer, one file per i
 
 from .codegen import INTERNALS, NATIVE_OPTIONS
 
-__all__ = ["INTERNALS", "NATIVE_OPTIONS", "build_native_fmu", "host_build_options", "native_parameters"]
+__all__ = ["INTERNALS", "NATIVE_OPTIONS", "build_native_fmu", "native_parameters"]
 
 
 def build_native_fmu(*args, **kwargs):

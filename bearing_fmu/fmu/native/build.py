@@ -4,11 +4,12 @@ sources in ``sources/``, the binary for this platform compiled from them, no Pyt
 ``build_native_fmu(output, internal, ...)``:
 
 1. ``codegen.native_model``: the internal's data as C headers, its variables and options;
-2. stage ``sources/`` (``bearing_native.h``, ``fmi2_bearing.c``, ``internal_<name>.c`` from
-   ``bearing_fmu/fmu/native/c/`` and the two generated headers), ``modelDescription.xml``
-   (both interfaces, units, output dependencies, the source files; what a system-simulation
-   engineer reads in it: ``bearing_fmu.fmu.meta``), ``documentation/`` (``bearing_fmu.fmu.docs``)
-   and ``resources/build_info.json`` (the bearing, the data file and its SHA-256);
+2. stage ``sources/`` (``bearing_native.h``, ``fmi2_bearing.c``, ``fmi2_order.c``,
+   ``internal_<name>.c`` from ``bearing_fmu/fmu/native/c/`` and the two generated headers),
+   ``modelDescription.xml`` (both interfaces, units, output dependencies, the source files; what
+   a system-simulation engineer reads in it: ``bearing_fmu.fmu.meta``), ``documentation/``
+   (``bearing_fmu.fmu.docs``) and ``resources/build_info.json`` (the bearing, the data file and
+   its SHA-256);
 3. compile ``binaries/<platform>/<modelIdentifier>.<so|dylib|dll>``: by default with the C
    compiler directly (``$CC``, else ``cc``, ``gcc`` or ``clang``: one command, about a second),
    or with ``cmake=True`` through fmpy's source-FMU build (``fmpy.build.build_platform_binary``:
@@ -39,7 +40,7 @@ from ...physics.params import PAPER_BEARING, BearingParams
 from .codegen import NativeModel, native_model
 
 C_DIR = Path(__file__).resolve().parent / "c"
-COMMON_SOURCES = ("bearing_native.h", "fmi2_bearing.c")
+COMMON_SOURCES = ("bearing_native.h", "fmi2_bearing.c", "fmi2_order.c")
 C_FLAGS = ("-O2", "-ffp-contract=off", "-fvisibility=hidden", "-fPIC", "-std=c99")
 
 class NativeBuildError(RuntimeError):
@@ -82,7 +83,7 @@ def build_native_fmu(output, internal: str, *, surrogate=None, map=None, bearing
 
 def source_files(model: NativeModel) -> list[str]:
     """The C files the compiler builds (the headers are included by them)."""
-    return ["fmi2_bearing.c", f"internal_{model.internal}.c"]
+    return ["fmi2_bearing.c", "fmi2_order.c", f"internal_{model.internal}.c"]
 
 
 def build_record(model: NativeModel, bearing_source="") -> dict:
@@ -153,9 +154,11 @@ def model_description(model: NativeModel, record: dict) -> bytes:
     root.append(fmu_meta.unit_definitions({v.unit for v in model.variables if v.unit}))
     root.append(fmu_meta.type_definitions([(string, items) for _n, string, items in native_enumerations(model.internal)]))
     cats = ET.SubElement(root, "LogCategories")
-    for name, what in (("warning", "a state outside the fitted domain (warned once), outputs left at their start "
-                        "values"), ("discard", "a state the internal refuses (the wall, a non-finite input, far "
-                                    "outside the fitted domain)"), ("error", "a refused call")):
+    for name, what in (("warning", "a state outside the fitted domain (once per excursion, counted at terminate), "
+                        "outputs left at their start values"),
+                       ("discard", "a state the internal refuses (the wall, a non-finite input, far outside the "
+                        "fitted domain)"),
+                       ("error", "a refused call (a bad value, a call out of the FMI 2.0 calling sequence)")):
         ET.SubElement(cats, "Category", name=name, description=what)
     ET.SubElement(root, "DefaultExperiment", startTime="0.0", stopTime="0.1", stepSize="0.0001")
     mvars = ET.SubElement(root, "ModelVariables")

@@ -2,12 +2,12 @@
 variables of the model description.
 
 ``native_model(internal, params, ...)`` gathers everything a native FMU of one internal is:
-``NativeModel`` with its variables (the Python FMU's where they apply, ``bearing_fmu.fmu.slave.VARIABLES``),
+``NativeModel`` with its variables (the Python FMU's where they apply, ``fmu_variables.VARIABLES``),
 its options (registry ``Option``s the native FMU keeps) and two generated headers:
 
 * ``model_config.h``: the internal's name, the GUID, start values, one row per option (name,
-  start, range or choices) and the value references the C code uses (``VR_OPT_<NAME>``,
-  ``S_OPT_<NAME>``);
+  start, range or choices), the value references the C code uses (``VR_OPT_<NAME>``,
+  ``S_OPT_<NAME>``) and the FMI 2.0 calling sequence (``fmi_order.c_defines``);
 * ``model_data.h``: the internal's data. Taylor: the same arrays ``taylor.Taylor`` hands its
   numba kernels (meta, domain, only the kept terms), the polynomials as coefficient rows over
   their monomials (``taylor_polynomials``: the C kernel sums them as vectorised dot
@@ -27,6 +27,8 @@ from pathlib import Path
 import numpy as np
 
 from ...internals import registry
+from ..order import c_defines
+from ..variables import ENUMERATIONS, VARIABLES  # the one table of the FMU interface
 from ...physics.params import BearingParams
 
 INTERNALS = ("linear", "map", "taylor")  # what a native FMU can compute (no solver at run time)
@@ -135,8 +137,6 @@ def native_model(internal: str, params: BearingParams, *, surrogate=None, map=No
 
 def _variables(internal: str, params: BearingParams, starts: dict, inputs: tuple) -> list[Variable]:
     """The Python FMU's variables that apply, in value-reference order (bearing_native.h)."""
-    from ..slave import VARIABLES  # noqa: PLC0415 - the one table of the FMU interface
-
     table = {v[0]: v for v in VARIABLES}
     out = []
     bearing = dict(zip(("D", "L", "CR", "mu"), (params.D, params.L, params.CR, params.mu)))
@@ -161,8 +161,8 @@ def _variables(internal: str, params: BearingParams, starts: dict, inputs: tuple
     for k, o in enumerate(strings):
         desc = o.help
         if o.name == "domain_action":
-            desc = ("taylor, state outside the fitted domain: warn (surrogate value, warned once) | discard (refuse "
-                    "the step); fallback needs the Python FMU")
+            desc = ("taylor, state outside the fitted domain: warn (surrogate value, warned once per excursion) | "
+                    "discard (refuse the step); fallback needs the Python FMU")
         elif o.file:
             desc = f"{o.name} file compiled into this FMU ('' or its name)"
         out.append(Variable(o.name, STRING_BASE + 1 + k, "String", "parameter", str(starts[o.name]), None, desc))
@@ -180,11 +180,9 @@ def _variables(internal: str, params: BearingParams, starts: dict, inputs: tuple
 
 def native_enumerations(internal: str) -> list[tuple[str, str, list[tuple[int, str]]]]:
     """(enumeration parameter, its String parameter, [(value, item), ...]) of the native FMU of
-    ``internal``: the Python FMU's enumerations (``slave.ENUMERATIONS``, the same numbers) of the
-    String parameters it has, with the items it accepts (internal: its own; domain_action: not
+    ``internal``: the Python FMU's enumerations (``fmu_variables.ENUMERATIONS``, the same numbers) of
+    the String parameters it has, with the items it accepts (internal: its own; domain_action: not
     fallback)."""
-    from ..slave import ENUMERATIONS  # noqa: PLC0415
-
     strings = ["internal"] + [n for n in NATIVE_OPTIONS[internal] if registry_option(n).choices]
     out = []
     for name, (string, items) in ENUMERATIONS.items():
@@ -238,8 +236,6 @@ def _config(internal: str, params: BearingParams, starts: dict, inputs, guid_see
                  "#define BN_STRING_OPTION_TABLE")
     # the enumerations: name, the String they mirror (index: 0 internal, 1 + k the k-th String
     # option), start value, every choice of the type ("a|b|c", value k + 1 for the k-th)
-    from ..slave import ENUMERATIONS  # noqa: PLC0415
-
     rows = []
     string_names = ["internal"] + [o.name for o in strings]
     for name, string, items in native_enumerations(internal):
@@ -249,6 +245,7 @@ def _config(internal: str, params: BearingParams, starts: dict, inputs, guid_see
                     f"{c_string('|'.join(ENUMERATIONS[name][1]))}}}")
     lines.append(f"#define BN_N_ENUMS {len(rows)}")
     lines.append("#define BN_ENUM_TABLE \\\n" + ", \\\n".join(rows))
+    lines += c_defines()  # the FMI 2.0 calling sequence: the one table both FMUs check
     lines.append("#endif\n")
     return "\n".join(lines), guid
 
@@ -345,8 +342,8 @@ def c_matrix(name: str, rows: np.ndarray) -> str:
 
 
 def _taylor(params: BearingParams, surrogate, map_path, options: dict) -> NativeModel:
-    from ...internals.taylor import Taylor
     from ...surrogates.surrogate import load_surrogate
+    from ...internals.taylor import Taylor
 
     if not surrogate:
         raise ValueError("a native taylor FMU needs a surrogate file (--surrogate FILE)")

@@ -55,17 +55,19 @@ enum { B_OUT_OF_DOMAIN, B_COMPUTE_TANGENT, N_BOOL };
 #define N_ENUM BN_N_ENUMS                                /* internal_enum, then the String options' */
 #define N_PARAM_SLOTS (N_REAL + N_BOOL + N_STRING + N_ENUM)
 
-typedef enum { MODE_INSTANTIATED, MODE_INIT, MODE_STEP, MODE_EVENT, MODE_CONTINUOUS, MODE_TERMINATED } Mode;
+/* the FMI 2.0 modes (bearing_fmu/fmi_order.py: MODES; which call is allowed in which: BN_ALLOW_<call>) */
+typedef enum { BN_MODE_ENUM } Mode;
 
-/* what an internal keeps between calls (not part of the FMU state: caches and warn-once flags) */
+/* what an internal keeps between calls (not part of the FMU state: caches and counts) */
 typedef struct {
     int last_nn;      /* taylor: index of the stored training state nearest to the last state queried, -1: none */
-    int warned;       /* taylor: the out-of-domain warning was given */
+    int excursions;   /* taylor: excursions out of the fitted domain warned so far (one warning each) */
+    double excursion_t[2]; /* taylor: the time of the first and of the last one [s] */
     double scale;     /* map: S = mu R L (R / CR)^2 [N s] */
     int avx;          /* taylor: the CPU runs the AVX2 kernels */
 } Work;
 
-typedef struct {
+typedef struct Instance {
     double r[N_REAL];
     int b[N_BOOL];
     char s[N_STRING][STRING_MAX];
@@ -86,6 +88,7 @@ typedef struct {
     char name[STRING_MAX];
     fmi2CallbackFunctions cb;
     Work work;
+    struct Instance *next_live; /* the list of live instances (fmi2FreeInstance) */
 } Instance;
 
 /* the internal (internal_<name>.c) */
@@ -104,5 +107,14 @@ void bn_log(Instance *m, fmi2Status status, const char *fmt, ...)
     ;
 /* a double the way Python's %.{digits}g writes it, into buf */
 const char *bn_num(char *buf, size_t n, double x, int digits);
+
+/* the calling sequence (fmi2_order.c): 0 if `call` (an FMI 2.0 function without "fmi2") is
+ * allowed in the instance's mode (`allowed`: its BN_ALLOW_ mask), else 1 with an fmi2Error logged
+ * naming it, the mode and what to do, in the words of bearing_fmu/fmi_order.py's refusal */
+enum { BN_ANY_TYPE, BN_CS_ONLY, BN_ME_ONLY };
+int bn_order_refused(Instance *m, const char *call, unsigned allowed, int kind);
+/* the live instances: add one; remove one (1, or 0 if it was not live) */
+void bn_live_add(Instance *m);
+int bn_live_remove(Instance *m);
 
 #endif

@@ -13,9 +13,13 @@
  *   a state the internal refuses (non-finite input, the wall, far outside a surrogate's domain)
  *                                               -> doStep (CS) / getReal of an output (ME): fmi2Discard,
  *                                                 outputs keep their last values, logged with the reason
- * After an error the instance stays usable. With logging off, the first warning, discard and
- * error of each instance are printed to stderr, so a user of a master without a logger still
- * learns the first thing that went wrong. */
+ *   a call out of the FMI 2.0 calling sequence, a non-finite time (setTime) or direction
+ *   (getDirectionalDerivative)                  -> fmi2Error naming the call; nothing changes
+ * The calling sequence is bearing_fmu/fmi_order.py's table, the Python FMU's too (fmi2_order.c).
+ * After an error the instance stays usable. A second fmi2FreeInstance of the same instance is
+ * recognised and does nothing (fmi2_order.c lists the live instances). With logging off, the
+ * first warning, discard and error of each instance are printed to stderr, so a user of a master
+ * without a logger still learns the first thing that went wrong. */
 #define BN_FMI_LAYER 1
 #include <ctype.h>
 #include <math.h>
@@ -77,8 +81,7 @@ static const char *const CORE_UNITS[VR_REAL_OPTIONS] = {
 static const double START_INPUTS[N_INPUTS] = BN_START_INPUTS;
 static const double START_BEARING[4] = BN_START_BEARING;
 static const char *const BOOL_NAMES[N_BOOL] = {"out_of_domain", "compute_tangent"};
-static const char *const MODE_NAMES[] = {"Instantiated", "Initialization Mode", "Step Mode", "Event Mode",
-                                         "Continuous-Time Mode", "Terminated"};
+static const char *const MODE_NAMES[] = BN_MODE_NAMES;
 static const char *const STATUS_NAMES[] = {"ok", "warning", "discard", "error", "fatal", "pending"};
 
 #define STATE_TAG "bearing-native/1"
@@ -154,6 +157,10 @@ static fmi2Status fail(Instance *m, const char *fmt, ...) {
     return fmi2Error;
 }
 
+/* refuse `call` (an FMI 2.0 function without "fmi2") unless the instance's mode allows it (fmi2_order.c) */
+#define ORDER(call, kind) \
+    if (bn_order_refused(m, #call, BN_ALLOW_##call, kind)) return fmi2Error
+
 static void lower_strip(const char *in, char *out, size_t n) {
     while (*in && isspace((unsigned char)*in)) in++;
     size_t k = 0;
@@ -207,7 +214,7 @@ static void set_starts(Instance *m) {
     m->terminated = 0;
     m->dirty = 1;
     m->work.last_nn = -1;
-    m->work.warned = 0;
+    m->work.excursions = 0;
 }
 
 /* A Real parameter's value alone: 0, or 1 with the reason in why. */
@@ -476,12 +483,19 @@ fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType, fmi2Str
     snprintf(m->name, sizeof m->name, "%s", name);
     set_starts(m);
     m->mode = MODE_INSTANTIATED;
+    bn_live_add(m);
     return m;
 }
 
 void fmi2FreeInstance(fmi2Component c) {
     Instance *m = c;
     if (!m) return;
+    if (!bn_live_remove(m)) { /* freed already (or never ours): its memory is not touched */
+        fprintf(stderr, "bearing FMU: fmi2FreeInstance(%p): not a live instance of this FMU (freed already?); "
+                        "nothing done\n", c);
+        fflush(stderr);
+        return;
+    }
     if (m->cb.freeMemory) {
         fmi2CallbackFreeMemory release = m->cb.freeMemory;
         release(m);
@@ -497,6 +511,7 @@ fmi2Status fmi2SetupExperiment(fmi2Component c, fmi2Boolean toleranceDefined, fm
     (void)toleranceDefined;
     (void)tolerance;
     if (!m) return fmi2Error;
+    ORDER(setupExperiment, BN_ANY_TYPE);
     if (!isfinite(startTime))
         return fail(m, "setupExperiment: startTime = %s s must be finite", bn_num(a, 32, startTime, 17));
     if (stopTimeDefined && !(startTime <= stopTime && stopTime < INFINITY))
@@ -509,9 +524,7 @@ fmi2Status fmi2SetupExperiment(fmi2Component c, fmi2Boolean toleranceDefined, fm
 fmi2Status fmi2EnterInitializationMode(fmi2Component c) {
     Instance *m = c;
     if (!m) return fmi2Error;
-    if (m->initialized)
-        return fail(m, "enterInitializationMode in %s: the instance is initialised already (fmi2Reset first)",
-                    MODE_NAMES[m->mode]);
+    ORDER(enterInitializationMode, BN_ANY_TYPE);
     m->mode = MODE_INIT;
     return fmi2OK;
 }
@@ -519,6 +532,7 @@ fmi2Status fmi2EnterInitializationMode(fmi2Component c) {
 fmi2Status fmi2ExitInitializationMode(fmi2Component c) {
     Instance *m = c;
     if (!m) return fmi2Error;
+    ORDER(exitInitializationMode, BN_ANY_TYPE);
     m->initialized = 1;
     if (setup(m)) return fail(m, "%s", m->init_error);
     m->mode = m->type == fmi2ModelExchange ? MODE_EVENT : MODE_STEP;
@@ -541,7 +555,14 @@ fmi2Status fmi2ExitInitializationMode(fmi2Component c) {
 fmi2Status fmi2Terminate(fmi2Component c) {
     Instance *m = c;
     if (!m) return fmi2Error;
+    ORDER(terminate, BN_ANY_TYPE);
     m->mode = MODE_TERMINATED;
+    if (m->work.excursions > 0) { /* the count of what was warned once per excursion */
+        char a[32], b[32];
+        bn_log(m, fmi2Warning, "terminate: the state left the surrogate's fitted domain %d time(s) in this run (each "
+               "excursion warned when it began; the first at t = %s s, the last at t = %s s)", m->work.excursions,
+               bn_num(a, sizeof a, m->work.excursion_t[0], 10), bn_num(b, sizeof b, m->work.excursion_t[1], 10));
+    }
     return fmi2OK;
 }
 
@@ -558,6 +579,7 @@ fmi2Status fmi2Reset(fmi2Component c) {
 fmi2Status fmi2GetReal(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, fmi2Real value[]) {
     Instance *m = c;
     if (!m) return fmi2Error;
+    ORDER(getReal, BN_ANY_TYPE);
     fmi2Status status = fmi2OK;
     int computed = 0;
     for (size_t i = 0; i < nvr; i++) {
@@ -577,6 +599,7 @@ fmi2Status fmi2GetReal(fmi2Component c, const fmi2ValueReference vr[], size_t nv
 fmi2Status fmi2GetInteger(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, fmi2Integer value[]) {
     Instance *m = c;
     if (!m) return fmi2Error;
+    ORDER(getInteger, BN_ANY_TYPE);
     for (size_t i = 0; i < nvr; i++) {
         if (vr[i] < VR_INT0 || vr[i] >= VR_INT0 + N_ENUM)
             return fail(m, "getInteger: value reference %u is not an Integer variable of this FMU", vr[i]);
@@ -588,6 +611,7 @@ fmi2Status fmi2GetInteger(fmi2Component c, const fmi2ValueReference vr[], size_t
 fmi2Status fmi2GetBoolean(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, fmi2Boolean value[]) {
     Instance *m = c;
     if (!m) return fmi2Error;
+    ORDER(getBoolean, BN_ANY_TYPE);
     fmi2Status status = fmi2OK;
     for (size_t i = 0; i < nvr; i++) {
         if (vr[i] < VR_BOOL0 || vr[i] >= VR_BOOL0 + N_BOOL)
@@ -605,6 +629,7 @@ fmi2Status fmi2GetBoolean(fmi2Component c, const fmi2ValueReference vr[], size_t
 fmi2Status fmi2GetString(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, fmi2String value[]) {
     Instance *m = c;
     if (!m) return fmi2Error;
+    ORDER(getString, BN_ANY_TYPE);
     for (size_t i = 0; i < nvr; i++) {
         if (vr[i] < VR_STRING0 || vr[i] >= VR_STRING0 + N_STRING)
             return fail(m, "getString: value reference %u is not a String variable of this FMU", vr[i]);
@@ -623,6 +648,7 @@ static int parameter_fixed(Instance *m, const char *call, const char *name, cons
 fmi2Status fmi2SetReal(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, const fmi2Real value[]) {
     Instance *m = c;
     if (!m) return fmi2Error;
+    ORDER(setReal, BN_ANY_TYPE);
     fmi2Status status = fmi2OK;
     char a[32], why[512];
     for (size_t i = 0; i < nvr; i++) {
@@ -659,6 +685,7 @@ fmi2Status fmi2SetReal(fmi2Component c, const fmi2ValueReference vr[], size_t nv
 fmi2Status fmi2SetInteger(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, const fmi2Integer value[]) {
     Instance *m = c;
     if (!m) return fmi2Error;
+    ORDER(setInteger, BN_ANY_TYPE);
     fmi2Status status = fmi2OK;
     char why[512], keeps[32];
     for (size_t i = 0; i < nvr; i++) {
@@ -688,6 +715,7 @@ fmi2Status fmi2SetInteger(fmi2Component c, const fmi2ValueReference vr[], size_t
 fmi2Status fmi2SetBoolean(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, const fmi2Boolean value[]) {
     Instance *m = c;
     if (!m) return fmi2Error;
+    ORDER(setBoolean, BN_ANY_TYPE);
     fmi2Status status = fmi2OK;
     for (size_t i = 0; i < nvr; i++) {
         if (vr[i] < VR_BOOL0 || vr[i] >= VR_BOOL0 + N_BOOL) {
@@ -711,6 +739,7 @@ fmi2Status fmi2SetBoolean(fmi2Component c, const fmi2ValueReference vr[], size_t
 fmi2Status fmi2SetString(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, const fmi2String value[]) {
     Instance *m = c;
     if (!m) return fmi2Error;
+    ORDER(setString, BN_ANY_TYPE);
     fmi2Status status = fmi2OK;
     char why[512], out[STRING_MAX], keeps[STRING_MAX + 2];
     for (size_t i = 0; i < nvr; i++) {
@@ -779,6 +808,9 @@ fmi2Status fmi2FreeFMUstate(fmi2Component c, fmi2FMUstate *FMUstate) {
     Instance *m = c;
     if (!m || !FMUstate) return fmi2Error;
     if (*FMUstate) {
+        /* no tag left: a stale copy of the pointer used soon after is likely refused, not restored
+         * (not a guarantee: the memory is freed; the master's own pointer is set to NULL below) */
+        memset(((State *)*FMUstate)->tag, 0, sizeof ((State *)*FMUstate)->tag);
         if (m->cb.freeMemory)
             m->cb.freeMemory(*FMUstate);
         else
@@ -789,8 +821,9 @@ fmi2Status fmi2FreeFMUstate(fmi2Component c, fmi2FMUstate *FMUstate) {
 }
 
 fmi2Status fmi2SerializedFMUstateSize(fmi2Component c, fmi2FMUstate FMUstate, size_t *size) {
-    (void)FMUstate;
-    if (!c || !size) return fmi2Error;
+    Instance *m = c;
+    if (!m || !size) return fmi2Error;
+    if (!valid_state(FMUstate)) return fail(m, "serializedFMUstateSize: not a %s state of this FMU", STATE_TAG);
     *size = sizeof(State);
     return fmi2OK;
 }
@@ -829,8 +862,7 @@ fmi2Status fmi2GetDirectionalDerivative(fmi2Component c, const fmi2ValueReferenc
                                         const fmi2Real dvKnown[], fmi2Real dvUnknown[]) {
     Instance *m = c;
     if (!m) return fmi2Error;
-    if (m->mode == MODE_INSTANTIATED || m->mode == MODE_TERMINATED)
-        return fail(m, "getDirectionalDerivative in %s: initialise the instance first", MODE_NAMES[m->mode]);
+    ORDER(getDirectionalDerivative, BN_ANY_TYPE);
     if (m->mode == MODE_INIT && setup(m))
         return fail(m, "getDirectionalDerivative in Initialization Mode: %s", m->init_error);
     /* the direction in the inputs */
@@ -840,6 +872,11 @@ fmi2Status fmi2GetDirectionalDerivative(fmi2Component c, const fmi2ValueReferenc
             return fail(m, "getDirectionalDerivative: known %s (value reference %u) is not an input; the outputs "
                         "depend on y, z, vy, vz, omega", vKnown_ref[j] < (fmi2ValueReference)N_REAL
                         ? real_name((int)vKnown_ref[j]) : "?", vKnown_ref[j]);
+        if (!isfinite(dvKnown[j])) {
+            char a[32];
+            return fail(m, "getDirectionalDerivative: dvKnown[%zu] = %s (the direction in %s) must be finite", j,
+                        bn_num(a, sizeof a, dvKnown[j], 17), CORE_NAMES[vKnown_ref[j]]);
+        }
         dx[vKnown_ref[j]] += dvKnown[j];
     }
     double x[5], F[2], J[8], dw[2];
@@ -881,15 +918,19 @@ fmi2Status fmi2GetDirectionalDerivative(fmi2Component c, const fmi2ValueReferenc
 fmi2Status fmi2SetRealInputDerivatives(fmi2Component c, const fmi2ValueReference vr[], size_t nvr,
                                        const fmi2Integer order[], const fmi2Real value[]) {
     (void)vr; (void)nvr; (void)order; (void)value;
-    if (!c) return fmi2Error;
-    return fail(c, "setRealInputDerivatives: not supported (canInterpolateInputs is false)");
+    Instance *m = c;
+    if (!m) return fmi2Error;
+    ORDER(setRealInputDerivatives, BN_CS_ONLY);
+    return fail(m, "setRealInputDerivatives: not supported (canInterpolateInputs is false)");
 }
 
 fmi2Status fmi2GetRealOutputDerivatives(fmi2Component c, const fmi2ValueReference vr[], size_t nvr,
                                         const fmi2Integer order[], fmi2Real value[]) {
     (void)vr; (void)nvr; (void)order; (void)value;
-    if (!c) return fmi2Error;
-    return fail(c, "getRealOutputDerivatives: not supported (maxOutputDerivativeOrder is 0)");
+    Instance *m = c;
+    if (!m) return fmi2Error;
+    ORDER(getRealOutputDerivatives, BN_CS_ONLY);
+    return fail(m, "getRealOutputDerivatives: not supported (maxOutputDerivativeOrder is 0)");
 }
 
 fmi2Status fmi2DoStep(fmi2Component c, fmi2Real currentCommunicationPoint, fmi2Real communicationStepSize,
@@ -899,6 +940,9 @@ fmi2Status fmi2DoStep(fmi2Component c, fmi2Real currentCommunicationPoint, fmi2R
     if (!m) return fmi2Error;
     double t0 = currentCommunicationPoint, h = communicationStepSize, t = t0 + h;
     char a[32], b[32];
+    if (m->mode == MODE_INIT && m->init_error[0] && m->type != fmi2ModelExchange) /* the reason, not only the mode */
+        return fail(m, "doStep: step to t = %s s refused: %s", bn_num(a, 32, t, 10), m->init_error);
+    ORDER(doStep, BN_CS_ONLY);
     if (!(h > 0.0 && h < INFINITY))
         return fail(m, "doStep: communicationStepSize = %s s must be finite and > 0 (currentCommunicationPoint = %s s)",
                     bn_num(a, 32, h, 17), bn_num(b, 32, t0, 17));
@@ -907,13 +951,6 @@ fmi2Status fmi2DoStep(fmi2Component c, fmi2Real currentCommunicationPoint, fmi2R
     if (!isfinite(t))
         return fail(m, "doStep: currentCommunicationPoint + communicationStepSize = %s + %s s is not finite",
                     bn_num(a, 32, t0, 17), bn_num(b, 32, h, 17));
-    if (m->mode != MODE_STEP) {
-        if (m->init_error[0])
-            return fail(m, "step to t = %s s refused: %s", bn_num(a, 32, t, 10), m->init_error);
-        return fail(m, "step to t = %s s refused: doStep in %s: %s", bn_num(a, 32, t, 10), MODE_NAMES[m->mode],
-                    m->type == fmi2ModelExchange ? "this instance is a Model Exchange one"
-                                                 : "call exitInitializationMode first");
-    }
     if (evaluate(m)) {
         bn_log(m, fmi2Discard, "%s at t = %s s", m->msg, bn_num(a, 32, t, 10));
         m->terminated = 1;
@@ -931,13 +968,16 @@ fmi2Status fmi2CancelStep(fmi2Component c) {
 
 fmi2Status fmi2GetStatus(fmi2Component c, const fmi2StatusKind s, fmi2Status *value) {
     (void)value;
-    if (!c) return fmi2Error;
-    return fail(c, "getStatus: status kind %d is not provided (doStep never returns fmi2Pending)", (int)s);
+    Instance *m = c;
+    if (!m) return fmi2Error;
+    ORDER(getStatus, BN_CS_ONLY);
+    return fail(m, "getStatus: status kind %d is not provided (doStep never returns fmi2Pending)", (int)s);
 }
 
 fmi2Status fmi2GetRealStatus(fmi2Component c, const fmi2StatusKind s, fmi2Real *value) {
     Instance *m = c;
     if (!m) return fmi2Error;
+    ORDER(getRealStatus, BN_CS_ONLY);
     if (s != fmi2LastSuccessfulTime) return fail(m, "getRealStatus: status kind %d is not provided", (int)s);
     *value = m->t;
     return fmi2OK;
@@ -945,13 +985,16 @@ fmi2Status fmi2GetRealStatus(fmi2Component c, const fmi2StatusKind s, fmi2Real *
 
 fmi2Status fmi2GetIntegerStatus(fmi2Component c, const fmi2StatusKind s, fmi2Integer *value) {
     (void)value;
-    if (!c) return fmi2Error;
-    return fail(c, "getIntegerStatus: status kind %d is not provided", (int)s);
+    Instance *m = c;
+    if (!m) return fmi2Error;
+    ORDER(getIntegerStatus, BN_CS_ONLY);
+    return fail(m, "getIntegerStatus: status kind %d is not provided", (int)s);
 }
 
 fmi2Status fmi2GetBooleanStatus(fmi2Component c, const fmi2StatusKind s, fmi2Boolean *value) {
     Instance *m = c;
     if (!m) return fmi2Error;
+    ORDER(getBooleanStatus, BN_CS_ONLY);
     if (s != fmi2Terminated) return fail(m, "getBooleanStatus: status kind %d is not provided", (int)s);
     *value = m->terminated ? fmi2True : fmi2False;
     return fmi2OK;
@@ -959,8 +1002,10 @@ fmi2Status fmi2GetBooleanStatus(fmi2Component c, const fmi2StatusKind s, fmi2Boo
 
 fmi2Status fmi2GetStringStatus(fmi2Component c, const fmi2StatusKind s, fmi2String *value) {
     (void)value;
-    if (!c) return fmi2Error;
-    return fail(c, "getStringStatus: status kind %d is not provided", (int)s);
+    Instance *m = c;
+    if (!m) return fmi2Error;
+    ORDER(getStringStatus, BN_CS_ONLY);
+    return fail(m, "getStringStatus: status kind %d is not provided", (int)s);
 }
 
 /* ------------------------------------------------------------------------------ FMI: Model Exchange */
@@ -970,12 +1015,16 @@ fmi2Status fmi2GetStringStatus(fmi2Component c, const fmi2StatusKind s, fmi2Stri
 fmi2Status fmi2EnterEventMode(fmi2Component c) {
     Instance *m = c;
     if (!m) return fmi2Error;
+    ORDER(enterEventMode, BN_ME_ONLY);
     m->mode = MODE_EVENT;
     return fmi2OK;
 }
 
 fmi2Status fmi2NewDiscreteStates(fmi2Component c, fmi2EventInfo *info) {
-    if (!c || !info) return fmi2Error;
+    Instance *m = c;
+    if (!m) return fmi2Error;
+    ORDER(newDiscreteStates, BN_ME_ONLY);
+    if (!info) return fail(m, "newDiscreteStates: fmi2EventInfo* is NULL");
     info->newDiscreteStatesNeeded = fmi2False;
     info->terminateSimulation = fmi2False;
     info->nominalsOfContinuousStatesChanged = fmi2False;
@@ -988,6 +1037,7 @@ fmi2Status fmi2NewDiscreteStates(fmi2Component c, fmi2EventInfo *info) {
 fmi2Status fmi2EnterContinuousTimeMode(fmi2Component c) {
     Instance *m = c;
     if (!m) return fmi2Error;
+    ORDER(enterContinuousTimeMode, BN_ME_ONLY);
     m->mode = MODE_CONTINUOUS;
     return fmi2OK;
 }
@@ -995,7 +1045,9 @@ fmi2Status fmi2EnterContinuousTimeMode(fmi2Component c) {
 fmi2Status fmi2CompletedIntegratorStep(fmi2Component c, fmi2Boolean noSetFMUStatePriorToCurrentPoint,
                                        fmi2Boolean *enterEventMode, fmi2Boolean *terminateSimulation) {
     (void)noSetFMUStatePriorToCurrentPoint;
-    if (!c) return fmi2Error;
+    Instance *m = c;
+    if (!m) return fmi2Error;
+    ORDER(completedIntegratorStep, BN_ME_ONLY);
     if (enterEventMode) *enterEventMode = fmi2False;
     if (terminateSimulation) *terminateSimulation = fmi2False;
     return fmi2OK;
@@ -1004,37 +1056,45 @@ fmi2Status fmi2CompletedIntegratorStep(fmi2Component c, fmi2Boolean noSetFMUStat
 fmi2Status fmi2SetTime(fmi2Component c, fmi2Real time) {
     Instance *m = c;
     if (!m) return fmi2Error;
+    ORDER(setTime, BN_ME_ONLY);
+    if (!isfinite(time)) {
+        char a[32], b[32];
+        return fail(m, "setTime: time = %s s must be finite; the instance keeps t = %s s", bn_num(a, 32, time, 17),
+                    bn_num(b, 32, m->t, 17));
+    }
     m->t = time;
     return fmi2OK;
 }
 
-static fmi2Status no_states(fmi2Component c, const char *call, size_t n, const char *what) {
-    if (!c) return fmi2Error;
-    if (n != 0) return fail(c, "%s: this FMU has no %s, got %zu", call, what, n);
+static fmi2Status no_states(Instance *m, const char *call, unsigned allowed, size_t n, const char *what) {
+    if (!m) return fmi2Error;
+    if (bn_order_refused(m, call, allowed, BN_ME_ONLY)) return fmi2Error;
+    if (n != 0) return fail(m, "%s: this FMU has no %s, got %zu", call, what, n);
     return fmi2OK;
 }
+#define NO_STATES(call, n, what) no_states(c, #call, BN_ALLOW_##call, n, what)
 
 fmi2Status fmi2SetContinuousStates(fmi2Component c, const fmi2Real x[], size_t nx) {
     (void)x;
-    return no_states(c, "setContinuousStates", nx, "continuous states");
+    return NO_STATES(setContinuousStates, nx, "continuous states");
 }
 
 fmi2Status fmi2GetDerivatives(fmi2Component c, fmi2Real derivatives[], size_t nx) {
     (void)derivatives;
-    return no_states(c, "getDerivatives", nx, "continuous states");
+    return NO_STATES(getDerivatives, nx, "continuous states");
 }
 
 fmi2Status fmi2GetEventIndicators(fmi2Component c, fmi2Real eventIndicators[], size_t ni) {
     (void)eventIndicators;
-    return no_states(c, "getEventIndicators", ni, "event indicators");
+    return NO_STATES(getEventIndicators, ni, "event indicators");
 }
 
 fmi2Status fmi2GetContinuousStates(fmi2Component c, fmi2Real x[], size_t nx) {
     (void)x;
-    return no_states(c, "getContinuousStates", nx, "continuous states");
+    return NO_STATES(getContinuousStates, nx, "continuous states");
 }
 
 fmi2Status fmi2GetNominalsOfContinuousStates(fmi2Component c, fmi2Real x_nominal[], size_t nx) {
     (void)x_nominal;
-    return no_states(c, "getNominalsOfContinuousStates", nx, "continuous states");
+    return NO_STATES(getNominalsOfContinuousStates, nx, "continuous states");
 }

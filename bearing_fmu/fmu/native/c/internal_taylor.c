@@ -13,7 +13,8 @@
  * distance in u to the nearest stored training state (a sweep over the points sorted by u_0, skipped while the state
  * stays within the radius of the point nearest to the previous one, as guard.NearestTraining
  * does). Outside (d > 1e-12): refused beyond domain_limit or with domain_action = discard,
- * else warned once. "fallback" (Reynolds) does not exist natively: refused when set. */
+ * else warned once per excursion (excursion()) and counted (the count at fmi2Terminate).
+ * "fallback" (Reynolds) does not exist natively: refused when set. */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -382,13 +383,27 @@ static int guard(Instance *m, const double x[5], int *ood) {
                  bn_num(f, 32, 100 * d, 3), why, lim, where);
         return 1;
     }
-    if (!m->work.warned) {
-        m->work.warned = 1;
-        reasons(y, z, vy, vz, why, sizeof why);
-        bn_log(m, fmi2Warning, "t = %s s: state outside the surrogate's fitted domain (%s) at %s; its value is an "
-               "extrapolation (warned once)", bn_num(a, 32, m->t, 10), why, where);
-    }
     return 0;
+}
+
+/* An evaluated state outside the fitted domain: warned when an excursion begins, i.e. when the
+ * last committed state (out_of_domain, restored with an FMU state) was inside, once per
+ * communication point (a host's Newton iterates of one step all start from its state), and
+ * counted. A refused state (wrong speed, the wall) never counts: the zero-speed start a master
+ * initialises with used to spend the one warning of an instance. */
+static void excursion(Instance *m, const double x[5]) {
+    Work *w = &m->work;
+    if (m->b[B_OUT_OF_DOMAIN] || (w->excursions > 0 && w->excursion_t[1] == m->t)) return;
+    if (w->excursions++ == 0) w->excursion_t[0] = m->t;
+    w->excursion_t[1] = m->t;
+    char a[32], b[32], c[32], e[32], t[32], why[600], where[256];
+    snprintf(where, sizeof where, "y = %s m, z = %s m, vy = %s m/s, vz = %s m/s (eccentricity ratio %.3f)",
+             bn_num(a, 32, x[0], 4), bn_num(b, 32, x[1], 4), bn_num(c, 32, x[2], 4), bn_num(e, 32, x[3], 4),
+             hypot(x[0], x[1]) / TAY_PARAMS[2]);
+    reasons(x[0], x[1], x[2], x[3], why, sizeof why);
+    bn_log(m, fmi2Warning, "t = %s s: state outside the surrogate's fitted domain (%s) at %s; its value is an "
+           "extrapolation (excursion %d: warned once per excursion, counted at terminate)", bn_num(t, 32, m->t, 10),
+           why, where, w->excursions);
 }
 
 int bn_eval(Instance *m, const double x[5], int want_jac, double F[2], double J[8], double dw[2], int *ood) {
@@ -421,6 +436,7 @@ int bn_eval(Instance *m, const double x[5], int want_jac, double F[2], double J[
             F[1] = F[1] + out[1] * FS;
         }
 #endif
+        if (*ood) excursion(m, x);
         return 0;
     }
     /* _force_jac_nb (+ shape terms), then _to_si */
@@ -459,5 +475,6 @@ int bn_eval(Instance *m, const double x[5], int want_jac, double F[2], double J[
         J[4 * i + 3] = out[5 + 4 * i] * gv;
     }
     dw[0] = dw[1] = 0.0; /* defined at its fitted speed only (any other is refused) */
+    if (*ood) excursion(m, x);
     return 0;
 }

@@ -1,0 +1,77 @@
+"""The variables of the bearing FMU: the one table of its interface (``VARIABLES``).
+
+The pythonfmu slave registers them (``slave.BearingFMU``); ``build.py`` writes units and
+dependencies from the table, and the native FMU's code generation takes its variables from it
+(``native/codegen.py``), so both FMUs declare the same interface. Nothing here imports pythonfmu.
+"""
+
+from __future__ import annotations
+
+from ..internals import registry
+from ..physics.params import PAPER_BEARING
+
+# VARIABLES rows: name, type, causality, unit, default, description; the internals' parameters
+# come from their registry options
+INPUT, OUTPUT, PARAMETER = "input", "output", "parameter"  # the causalities
+FMI_TYPE = {float: "Real", int: "Integer", bool: "Boolean", str: "String"}
+DEFAULT_INTERNAL = "reynolds"
+# Enumeration parameters: each String parameter with choices again as an FMI 2.0 enumeration (an
+# Integer whose values are item k + 1 of the choices; build.py declares its TypeDefinition), for
+# masters that show one as a drop-down. name -> (its String parameter, the items). Set either; a
+# value away from its start wins, and if both are set away from their starts they must agree
+# (BearingFMU._choices). New internals and choices go at the end: the numbers stay.
+ENUMERATIONS = {"internal_enum": ("internal", registry.names()),
+                **{f"{o.name}_enum": (o.name, o.choices) for o in registry.all_options() if o.choices}}
+STRING_DEFAULTS = {"internal": DEFAULT_INTERNAL, **{o.name: o.default for o in registry.all_options()}}
+
+
+def enum_value(name: str, item: str) -> int:
+    """The value of ``item`` in enumeration parameter ``name`` (1 for the first choice)."""
+    return ENUMERATIONS[name][1].index(item) + 1
+
+
+VARIABLES = (
+    # inputs: the journal state at the end of the step
+    ("y", "Real", INPUT, "m", 0.0, "journal centre displacement from the bearing centre, horizontal"),
+    ("z", "Real", INPUT, "m", 0.0, "journal centre displacement from the bearing centre, vertical (up)"),
+    ("vy", "Real", INPUT, "m/s", 0.0, "journal centre velocity, horizontal"),
+    ("vz", "Real", INPUT, "m/s", 0.0, "journal centre velocity, vertical"),
+    ("omega", "Real", INPUT, "rad/s", 0.0, "shaft speed, right-handed about the shaft axis x"),
+    # outputs
+    ("Fy", "Real", OUTPUT, "N", 0.0, "film force on the journal, horizontal"),
+    ("Fz", "Real", OUTPUT, "N", 0.0, "film force on the journal, vertical"),
+    ("eccentricity", "Real", OUTPUT, "1", 0.0, "eccentricity ratio sqrt(y^2 + z^2) / CR"),
+    ("h_min", "Real", OUTPUT, "m", 0.0, "minimum film thickness CR - sqrt(y^2 + z^2) (negative beyond the wall)"),
+    ("out_of_domain", "Boolean", OUTPUT, None, False,
+     "true when the state lies outside the surrogate's fitted domain (taylor only; false otherwise)"),
+    ("Kyy", "Real", OUTPUT, "N/m", 0.0, "film stiffness -dFy/dy (Lund sign; 0 if compute_tangent is false)"),
+    ("Kyz", "Real", OUTPUT, "N/m", 0.0, "film stiffness -dFy/dz (Lund sign; 0 if compute_tangent is false)"),
+    ("Kzy", "Real", OUTPUT, "N/m", 0.0, "film stiffness -dFz/dy (Lund sign; 0 if compute_tangent is false)"),
+    ("Kzz", "Real", OUTPUT, "N/m", 0.0, "film stiffness -dFz/dz (Lund sign; 0 if compute_tangent is false)"),
+    ("Cyy", "Real", OUTPUT, "N.s/m", 0.0, "film damping -dFy/dvy (Lund sign; 0 if compute_tangent is false)"),
+    ("Cyz", "Real", OUTPUT, "N.s/m", 0.0, "film damping -dFy/dvz (Lund sign; 0 if compute_tangent is false)"),
+    ("Czy", "Real", OUTPUT, "N.s/m", 0.0, "film damping -dFz/dvy (Lund sign; 0 if compute_tangent is false)"),
+    ("Czz", "Real", OUTPUT, "N.s/m", 0.0, "film damping -dFz/dvz (Lund sign; 0 if compute_tangent is false)"),
+    # parameters: the bearing (paper Table 2)
+    ("D", "Real", PARAMETER, "m", PAPER_BEARING.D, "bearing (journal) diameter"),
+    ("L", "Real", PARAMETER, "m", PAPER_BEARING.L, "bearing length"),
+    ("CR", "Real", PARAMETER, "m", PAPER_BEARING.CR, "radial clearance"),
+    ("mu", "Real", PARAMETER, "Pa.s", PAPER_BEARING.mu, "dynamic viscosity of the oil"),
+    # parameters: which internal, and whether the outputs K.., C.. are computed
+    ("internal", "String", PARAMETER, None, DEFAULT_INTERNAL,
+     "which internal computes the force: " + " | ".join(registry.names()) + " (or internal_enum)"),
+    ("compute_tangent", "Boolean", PARAMETER, None, True,
+     "compute the outputs K.., C.. from the internal's Jacobian at every step"),
+    # parameters: every registered internal's options
+    *((o.name, FMI_TYPE[o.type], PARAMETER, o.unit, o.default, o.help if o.type is str else f"{o.help} ({o.allowed()})")
+      for o in registry.all_options()),
+    # parameters: the choices again as enumerations (after the rest: the value references stay)
+    *((name, "Integer", PARAMETER, None, enum_value(name, STRING_DEFAULTS[string]),
+       f"{string} as an enumeration ({', '.join(f'{k + 1} = {c}' for k, c in enumerate(items))}): the same choice "
+       f"as the String parameter {string}; set either (set both, they must agree)")
+      for name, (string, items) in ENUMERATIONS.items()),
+)
+
+INPUTS = tuple(v[0] for v in VARIABLES if v[2] == INPUT)
+OUTPUTS = tuple(v[0] for v in VARIABLES if v[2] == OUTPUT)
+PARAMETERS = tuple(v[0] for v in VARIABLES if v[2] == PARAMETER)
