@@ -429,7 +429,7 @@ def table_rows(res: StabilityResult) -> list[dict]:
 
 
 def markdown(res: StabilityResult, title: str = "") -> str:
-    from .report import markdown_table
+    from .tables import markdown_table
 
     tm = res.timings
     n_ok = len(res.ok_points)
