@@ -210,7 +210,7 @@ def plot_waterfall(arrays: dict, path, *, nodes, window_s: float = DEFAULT_WINDO
             ax.plot(ratio * sp.speed_hz, sp.speed_hz, style, lw=0.9, label=f"{ratio:g}x")
         if len(criticals_hz):
             ax.plot(criticals_hz, criticals_hz, "o", ms=9, mfc="none", mec="white", mew=1.4,
-                    label="critical speed (damped natural\nfrequency crossed)")
+                    label="critical speed")
         ax.set_xlabel("whirl frequency [Hz] (forward > 0)")
         ax.set_ylabel("shaft speed [Hz]")
         ax.set_title(f"node {sp.node}")
