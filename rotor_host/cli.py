@@ -287,8 +287,8 @@ def _add_stability(sub) -> None:
     p.add_argument("--static-load", type=node_load, nargs="+", action="extend", default=[], metavar="NODE:FY:FZ",
                    help="static point loads [N] on 1-based nodes, besides the weight (applied as in a scene)")
     p.add_argument("--modes", type=positive_int(), default=DEFAULT_MODES,
-                   help=f"lowest modes shown in the Campbell diagram and the json and searched for critical "
-                        f"speeds (default {DEFAULT_MODES}; the threshold looks at every mode)")
+                   help=f"lowest modes shown in the Campbell diagram and the json (default {DEFAULT_MODES}; the "
+                        "threshold and the critical speeds look at every mode)")
     p.add_argument("--rank-up-to", type=number("x the top speed", 1.0), default=RANK_UP_TO, metavar="MULTIPLE",
                    help=f"rank the least stable mode among the modes up to this multiple of the top speed (default "
                         f"{RANK_UP_TO:g}: every whirl and every mode a 1x or 2x force drives; the modes above are "

@@ -155,9 +155,9 @@ def test_peak_is_a_critical_speed_only_where_one_is_crossed(paper_map_scene, tmp
     """The paper rotor on its map crosses its first bending pair (22.30, 22.40 Hz) in a 10 -> 40 Hz
     run: a 1x peak at 22.7 Hz (a Jeffcott response with fc = 22.7 Hz) is that critical speed; a
     peak at 32 Hz (9.6 Hz off: more than 10 % of 22.4 Hz plus the 3.75 Hz a 0.25 s window spans
-    at 15 Hz/s) is a "1x peak", not a critical speed. A 5 -> 15 Hz run crosses none: its 1x peak, the response growing as
-    speed squared below the critical, is the end of the run, and the summary says no critical
-    speed was crossed (the issue's "resonance at 155.6 Hz")."""
+    at 15 Hz/s) is a "1x peak", not a critical speed. A 5 -> 15 Hz run crosses none: its 1x
+    peak, the response growing as speed squared below the critical, is the end of the run, and
+    the summary says no critical speed was crossed (the issue's "resonance at 155.6 Hz")."""
     from rotor_host.analyses.crossings import run_criticals, scene_criticals
     from rotor_host.analyses.waterfall import peak_line
     from rotor_host.scenes.scene import load_scene
@@ -202,9 +202,9 @@ def test_waterfall_refuses_what_it_cannot_draw(tmp_path, capsys):
     assert code == 2 and "one constant speed, 22 Hz" in err and "[speed_profile]" in err
     npz, _ = _synthetic_run(tmp_path, 10.0, 30.0, _response(22.4))
     code, _, err = _waterfall(capsys, npz, "--window-s", "1e-9")
-    assert code == 2 and err.endswith("--window-s 1e-09: shorter than 16 recorded samples (0.016 s at the record step "
-                                      "0.001 s) or 2 revolutions at the run's top speed 30 Hz (0.0667 s): give at least "
-                                      "0.0667 s (default 0.25 s)")
+    assert code == 2 and err.endswith("--window-s 1e-09: shorter than 16 recorded samples (0.016 s at the record "
+                                      "step 0.001 s) or 2 revolutions at the run's top speed 30 Hz (0.0667 s): give "
+                                      "at least 0.0667 s (default 0.25 s)")
     code, _, err = _waterfall(capsys, npz, "--orbits-at-hz", "15", "1000")
     assert code == 2 and "--orbits-at-hz 1000: outside the run's speeds 10-30 Hz" in err
     assert not (tmp_path / "run_waterfall.png").exists()

@@ -231,7 +231,8 @@ def test_demo_prints_sommerfeld_and_dimensionless_coefficients(capsys):
 
     assert main(["demo"]) == 0
     out = capsys.readouterr().out
-    assert "Sommerfeld number S = (mu N L D / W) (R / C)^2 = 1.211 (Raimondi and Boyd's; N = 22 rev/s, W = 16.7 N" in out
+    assert ("Sommerfeld number S = (mu N L D / W) (R / C)^2 = 1.211 (Raimondi and Boyd's; N = 22 rev/s, "
+            "W = 16.7 N") in out
 
     def matrix_after(title):
         block = out.split(title, 1)[1].split("\n", 1)[1]

@@ -58,7 +58,8 @@ def scene_criticals(scene, lo_hz: float, hi_hz: float) -> RunCriticals:
     internal, options, note = scene.internal, scene.internal_options(), ""
     if not registry.get(internal).can.any_state:
         internal, options = "reynolds", {}
-        note = f"natural frequencies from the Reynolds solver: the run's {scene.internal} answers only near its own point"
+        note = (f"natural frequencies from the Reynolds solver: the run's {scene.internal} answers only near its own "
+                "point")
     try:
         analysis = Stability(Rotor.from_toml(scene.rotor_path), internal, options, scene.static_loads,
                              where=str(scene.source))

@@ -148,5 +148,6 @@ def critical_near(peak_hz: float, criticals: list[dict], window_speed_change_hz:
 
 
 __all__ = ["RANK_UP_TO", "AF_CRITICALLY_DAMPED", "LOG_DEC_HEAVY", "band_hz", "band_rule", "least_in_band",
-           "amplification_factor", "critical_speeds", "split_crossings", "least_beyond", "no_critical_line", "beyond_band_line",
+           "amplification_factor", "critical_speeds", "split_crossings", "least_beyond", "no_critical_line",
+           "beyond_band_line",
            "critical_near", "peak_tolerance_hz"]

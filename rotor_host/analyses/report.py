@@ -191,7 +191,8 @@ def _runup_summary(scene, run, out: Path) -> None:
     """A run-up's waterfall and its summary lines: the 1x peak, a critical speed only where the run
     crosses one (``crossings.scene_criticals``), and the whirl onset."""
     from .crossings import scene_criticals
-    from .waterfall import check_run_up, default_nodes, peak_line, plot_waterfall, spectra, speed_range, summary, whirl_line
+    from .waterfall import (check_run_up, default_nodes, peak_line, plot_waterfall, spectra, speed_range, summary,
+                            whirl_line)
 
     try:
         check_run_up(run.arrays)
@@ -199,7 +200,8 @@ def _runup_summary(scene, run, out: Path) -> None:
         specs = [spectra(run.arrays, n) for n in nodes]  # a run too short for a spectrum: ValueError
         lo, hi = speed_range(run.arrays)
         crit = scene_criticals(scene, lo, hi)
-        png = plot_waterfall(run.arrays, out / f"{run.npz.stem}_waterfall.png", nodes=nodes, criticals_hz=crit.speeds_hz,
+        png = plot_waterfall(run.arrays, out / f"{run.npz.stem}_waterfall.png", nodes=nodes,
+                             criticals_hz=crit.speeds_hz,
                              title=f"{scene.description or scene.name}: {scene.speed_profile.describe()}")
     except ValueError as exc:  # say why, keep the run
         print(f"no waterfall: {exc}")

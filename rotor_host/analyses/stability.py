@@ -14,7 +14,8 @@ At each speed of a range (``rotor-host stability ROTOR.toml --speeds-hz 10:70:1`
    direction of each shape (``Rotor.whirl``, at the node where the mode moves most).
 
 The threshold of instability is the first speed at which the least stable mode's log
-decrement crosses zero (ranked among the modes up to 2 x the top speed: ``modal``), found to 1e-4 Hz by Brent's method between the two speeds of the
+decrement crosses zero (ranked among the modes up to 2 x the top speed: ``modal``), found to
+1e-4 Hz by Brent's method between the two speeds of the
 range that bracket it (each evaluation is steps 1-3 again, from the equilibrium at the lower
 speed); the whirl frequency is that mode's damped frequency there. The critical speeds are
 where the 1x line crosses a damped natural frequency that can ring (``modal.critical_speeds``).
@@ -287,7 +288,8 @@ class Stability:
     def sweep(self, speeds_hz, *, n_modes: int = DEFAULT_MODES, rotor_name: str = "", log=None,
               rank_up_to: float = RANK_UP_TO) -> StabilityResult:
         """Every speed of ``speeds_hz`` (ascending) with continuation, then the threshold and
-        the critical speeds; the least stable mode ranked up to ``rank_up_to`` x the top speed. A speed without an equilibrium is kept as a "no equilibrium"
+        the critical speeds; the least stable mode ranked up to ``rank_up_to`` x the top speed.
+        A speed without an equilibrium is kept as a "no equilibrium"
         point (the next speed starts afresh). An interrupt is raised again with the result so
         far as its ``result`` attribute."""
         from bearing_fmu.physics.statics import EquilibriumError
@@ -396,7 +398,8 @@ def check_speeds(speeds_hz) -> list[float]:
 
 
 def stability(rotor_path, speeds_hz, internal: str = "reynolds", options: dict | None = None,
-              static_loads=(), n_modes: int = DEFAULT_MODES, log=None, rank_up_to: float = RANK_UP_TO) -> StabilityResult:
+              static_loads=(), n_modes: int = DEFAULT_MODES, log=None,
+              rank_up_to: float = RANK_UP_TO) -> StabilityResult:
     """Read the rotor file and sweep it (see the module docstring). ``static_loads`` are
     (node, Fy, Fz) with 1-based nodes as in the rotor file; bad input raises ValueError naming it."""
     rotor, loads = read_rotor(rotor_path, static_loads)
@@ -474,7 +477,8 @@ def to_json(res: StabilityResult, rotor_path=None) -> dict:
             d.update({"journal_m": p.journal.tolist(), "eccentricity": p.eccentricity.tolist(),
                       "K_N_m": p.K.tolist(), "C_N_s_m": p.C.tolist(),
                       "least_stable": None if p.least is None else {
-                          "freq_hz": float(p.freq_hz[p.least]), "log_dec": p.least_log_dec, "whirl": float(p.whirl[p.least])},
+                          "freq_hz": float(p.freq_hz[p.least]), "log_dec": p.least_log_dec,
+                          "whirl": float(p.whirl[p.least])},
                       "freq_hz": p.freq_hz[:n].tolist(), "log_dec": p.log_dec[:n].tolist(),
                       "whirl": p.whirl[:n].tolist()})
         return d

@@ -56,8 +56,8 @@ def window_problem(arrays: dict, window_s: float) -> str:
     if window_s >= need * (1 - 1e-9):
         return ""
     return (f"shorter than {MIN_WINDOW_SAMPLES} recorded samples ({MIN_WINDOW_SAMPLES * dt:.3g} s at the record step "
-            f"{dt:.3g} s) or {MIN_WINDOW_REVS:g} revolutions at the run's top speed {top:g} Hz ({MIN_WINDOW_REVS / top:.3g} "
-            f"s): give at least {need:.3g} s (default {DEFAULT_WINDOW_S:g} s)")
+            f"{dt:.3g} s) or {MIN_WINDOW_REVS:g} revolutions at the run's top speed {top:g} Hz "
+            f"({MIN_WINDOW_REVS / top:.3g} s): give at least {need:.3g} s (default {DEFAULT_WINDOW_S:g} s)")
 
 
 def outside_run(arrays: dict, speeds_hz) -> list[float]:
@@ -146,7 +146,8 @@ def summary(sp: Spectra, criticals: list[dict] | None = None) -> dict:
     one = sp.along(1.0)
     sub, fsub = sp.subsynchronous()
     k = int(np.argmax(one))
-    step = 2.0 * float(np.median(np.abs(np.diff(sp.speed_hz)))) if sp.speed_hz.size > 1 else 0.0  # windows overlap by half
+    # the speed change over one window: twice the step between windows (they overlap by half)
+    step = 2.0 * float(np.median(np.abs(np.diff(sp.speed_hz)))) if sp.speed_hz.size > 1 else 0.0
     near = None if criticals is None else critical_near(float(sp.speed_hz[k]), criticals, step)
     out = {"node": sp.node, "peak_1x_hz": float(sp.speed_hz[k]), "peak_1x_amplitude_m": float(one[k]),
            "peak_at_end": k in (0, sp.speed_hz.size - 1), "critical_hz": None if near is None else near["speed_hz"],
