@@ -93,7 +93,7 @@ def _demo(args: argparse.Namespace) -> int:
 
     from .physics.params import PAPER_BEARING, BearingParams
     from .physics.reynolds import Reynolds
-    from .physics.statics import equilibrium, linearize
+    from .physics.statics import dimensionless_coefficients, equilibrium, linearize, sommerfeld_number
 
     params = BearingParams.from_toml(args.bearing) if args.bearing else PAPER_BEARING
     rey = Reynolds(params)
@@ -113,10 +113,27 @@ def _demo(args: argparse.Namespace) -> int:
     print(f"speed {args.speed_hz:g} Hz, static load (Wy, Wz) = ({load[0]:g}, {load[1]:g}) N")
     print(f"equilibrium: y0 = {y0 * 1e6:.3f} um, z0 = {z0 * 1e6:.3f} um, eccentricity ratio {eps:.4f}, "
           f"attitude angle {att:.2f} deg, minimum film {params.CR * (1 - eps) * 1e6:.3f} um")
-    print("stiffness K [N/m] (K_ij = -dF_i/dq_j):")
+    W = math.hypot(*load)
+    if W > 0.0:
+        S = sommerfeld_number(params, W, args.speed_hz)
+        Kd, Cd = dimensionless_coefficients(params, W, omega, K, C)
+        print(f"Sommerfeld number S = (mu N L D / W) (R / C)^2 = {S:.4g} (Raimondi and Boyd's; N = {args.speed_hz:g} "
+              f"rev/s, W = {W:g} N, R = D / 2, C = CR)")
+    print("stiffness K [N/m] (K_ij = -dF_i/dq_j; axes y horizontal, z vertical up):")
     print(K)
+    if W > 0.0:
+        print("dimensionless stiffness K CR / W:")
+        print(Kd)
     print("damping C [N s/m] (C_ij = -dF_i/dqdot_j):")
     print(C)
+    if W > 0.0:
+        print("dimensionless damping C omega CR / W:")
+        print(Cd)
+        if load[0] == 0.0 and load[1] < 0.0:
+            print("(a table with x along the load and y along the rotation reads K_xx = K_zz, K_yy = K_yy, "
+                  "K_xy = -K_zy, K_yx = -K_yz here, the same for C)")
+    else:
+        print("no load: no Sommerfeld number, no dimensionless coefficients (both divide by the load)")
     return 0
 
 

@@ -13,7 +13,7 @@ import sys
 from pathlib import Path
 
 from bearing_fmu.io.cliargs import (existing_dir, existing_file, float_range, grid, grid_or_default, node_load,
-                                    nonneg_float, output_dir, output_file, positive_float, positive_int)
+                                    nonneg_float, number, output_dir, output_file, positive_float, positive_int)
 from bearing_fmu.cli import add_debug_flag
 from bearing_fmu.io.exits import EXIT_CODES, run_command
 
@@ -237,7 +237,7 @@ def _add_waterfall(sub) -> None:
     p.add_argument("--window-s", type=positive_float("s"), default=DEFAULT_WINDOW_S,
                    help=f"spectrum window [s] (default {DEFAULT_WINDOW_S}; resolution 1/window)")
     p.add_argument("--orbits-at-hz", nargs="*", type=positive_float("Hz"), default=None,
-                   help="speeds whose orbits are drawn (default: start, resonance, end)")
+                   help="speeds whose orbits are drawn, inside the run's speeds (default: start, 1x peak, end)")
     p.add_argument("-o", "--output", type=output_file, default=None,
                    help="PNG to write (default: beside the run, _waterfall.png)")
     p.set_defaults(func=_module_command("waterfall"))
@@ -269,6 +269,7 @@ def _add_limit_cycle(sub) -> None:
 def _add_stability(sub) -> None:
     from bearing_fmu.internals.registry import having
 
+    from .analyses.modal import RANK_UP_TO
     from .analyses.stability import DEFAULT_FILES, DEFAULT_MODES
 
     p = sub.add_parser("stability", help="Campbell diagram and stability threshold: equilibrium, linearised "
@@ -286,8 +287,12 @@ def _add_stability(sub) -> None:
     p.add_argument("--static-load", type=node_load, nargs="+", action="extend", default=[], metavar="NODE:FY:FZ",
                    help="static point loads [N] on 1-based nodes, besides the weight (applied as in a scene)")
     p.add_argument("--modes", type=positive_int(), default=DEFAULT_MODES,
-                   help=f"lowest modes shown in the Campbell diagram and the json and searched for critical "
-                        f"speeds (default {DEFAULT_MODES}; the threshold looks at every mode)")
+                   help=f"lowest modes shown in the Campbell diagram and the json (default {DEFAULT_MODES}; the "
+                        "threshold and the critical speeds look at every mode)")
+    p.add_argument("--rank-up-to", type=number("x the top speed", 1.0), default=RANK_UP_TO, metavar="MULTIPLE",
+                   help=f"rank the least stable mode among the modes up to this multiple of the top speed (default "
+                        f"{RANK_UP_TO:g}: every whirl and every mode a 1x or 2x force drives; the modes above are "
+                        "reported in one line)")
     p.add_argument("--out", type=output_dir, default="out", help="output folder (default: out) for "
                    "stability_<rotor>_<internal>.md/.json and _campbell/_logdec/_mode.png")
     p.add_argument("--no-plots", action="store_true")

@@ -26,6 +26,7 @@ from bearing_fmu.internals import registry
 from bearing_fmu.physics.shortbearing import (short_bearing_coefficients, short_bearing_force,
                                               short_bearing_force_and_jacobian, short_bearing_load)
 from bearing_fmu.physics.statics import journal_at_eccentricity
+from rotor_host.analyses.modal import AF_CRITICALLY_DAMPED
 from rotor_host.analyses.stability import SpeedPoint, Stability, critical_speeds, markdown, stability, to_json
 from rotor_host.cli import main
 from rotor_host.model import fe
@@ -35,6 +36,8 @@ ROOT = Path(__file__).resolve().parents[1]
 MODELS = ROOT / "models"
 ROTOR = MODELS / "rotor_paper.toml"
 PAPER_MAP = MODELS / "maps" / "paper_bearing.json"
+FRISWELL = MODELS / "rotor_friswell.toml"  # Friswell et al. 2010, Example 5.9.6: no shaft damping
+FRISWELL_MAP = MODELS / "maps" / "friswell.json"
 G = 9.81  # the scenes' gravity (rotor_host.scenes.scene.G)
 
 
@@ -280,12 +283,86 @@ def test_critical_speeds_by_hand():
     assert critical_speeds([a, failed, b], n_modes=2) == []  # no crossing across a failed speed
 
 
+def test_heavily_damped_crossing_is_not_a_critical_speed():
+    """A 1x crossing of a mode with log dec 10 (the oil-film mode near standstill: 10.2 at 0.5 Hz
+    on the Friswell rotor) has AF = pi / 10 = 0.31 < 2.5: critically damped by API 617/684's
+    rule, no resonance, listed apart; the same crossing at log dec 0.2 (AF 15.7) is a critical speed."""
+    from rotor_host.analyses.modal import split_crossings
+
+    a = _point(0.4, [0.45, 17.6], [10.0, 0.1], [0.3, -0.1])
+    b = _point(0.6, [0.55, 17.6], [10.0, 0.1], [0.3, -0.1])
+    (c,) = critical_speeds([a, b])
+    assert c["speed_hz"] == pytest.approx(0.5) and c["heavily_damped"]
+    assert c["amplification_factor"] == pytest.approx(math.pi / 10.0)
+    assert c["amplification_factor"] < AF_CRITICALLY_DAMPED
+    assert split_crossings([c]) == ([], [c])
+    a.log_dec[:] = b.log_dec[:] = [0.2, 0.1]
+    (c,) = critical_speeds([a, b])
+    assert not c["heavily_damped"] and c["amplification_factor"] == pytest.approx(math.pi / 0.2)
+
+
+def test_undamped_shaft_mode_does_not_hide_the_modes_that_matter():
+    """The Friswell rotor has no shaft damping (damping_beta_s = 0, as in the book's Example
+    5.9.6): a bending mode near 3.3 kHz in which the journals hardly move has log dec 0 to
+    round-off at every speed. Ranked among every mode (the issue's report, ``rank_up_to`` huge)
+    it is "the least stable mode" everywhere; ranked up to 2 x the top speed (the rule,
+    modal.RANK_UP_TO: 2 x 30 = 60 Hz) it is the first bending pair at 17.5-17.6 Hz (the
+    rotor's first critical, 17.55 Hz: docs/studies/2026-11-24-second-machine.md), lightly but
+    truly damped, and the 3.3 kHz mode is named in one line as undamped to round-off."""
+    speeds, opts = [10.0, 20.0, 30.0], {"map": str(FRISWELL_MAP)}
+    everything = stability(FRISWELL, speeds, "map", opts, rank_up_to=1e6)
+    assert all(p.freq_hz[p.least] > 3000.0 and abs(p.least_log_dec) < 1e-4 for p in everything.points)
+    res = stability(FRISWELL, speeds, "map", opts)
+    assert res.band_hz == pytest.approx(60.0)
+    for p in res.points:
+        assert 17.0 < p.freq_hz[p.least] < 18.0 and 0.02 < p.least_log_dec < 0.1, p.speed_hz
+    assert [round(c["speed_hz"], 1) for c in res.criticals] == [17.5, 17.6]  # so no "no critical speed" line
+    rule, beyond = res.notes()
+    assert rule.startswith("least stable mode ranked among the modes up to 2 x the top speed (60 Hz)")
+    assert beyond.startswith("modes above 60 Hz (not ranked): least log dec") and "undamped to round-off" in beyond
+    assert rule in markdown(res) and beyond in markdown(res)
+    data = json.loads(json.dumps(to_json(res), allow_nan=False))
+    assert data["ranking"]["band_hz"] == pytest.approx(60.0) and data["ranking"]["notes"] == res.notes()
+    assert all(p["least_stable"]["freq_hz"] < 60.0 for p in data["points"])
+
+
+def test_no_critical_speed_in_the_range_is_said(tmp_path, capsys):
+    """The paper rotor's first critical speed is 22 Hz (the paper, section 3; 22.30 and 22.40 Hz
+    here, docs/campbell.md), its next modes lie above 180 Hz: none in 25-35 Hz, and the report
+    says so in one line (printed, in the table and the json)."""
+    code, out, _ = _cli(capsys, ROTOR, "--speeds-hz", "25:35:5", "--internal", "map", "--out", tmp_path, "--no-plots")
+    assert code == 0 and not re.search(r"^critical speed", out, re.M)
+    line = "no critical speed in 25-35 Hz: the 1x line crosses no lightly damped natural frequency"
+    assert line in out.splitlines()
+    assert f"- {line}" in (tmp_path / "stability_rotor_paper_map.md").read_text()
+    data = json.loads((tmp_path / "stability_rotor_paper_map.json").read_text())
+    assert data["critical_speeds"] == [] and line in data["ranking"]["notes"]
+
+
+def test_figures_mode_shape_from_zero_and_heavily_damped_modes_explained(monkeypatch):
+    """The mode-shape amplitude axis starts at 0 (a rigid-body mode is a flat line, not a bend
+    starting at 0.86); the Campbell legend explains the hollow markers (log dec > pi / 2.5: the
+    oil-film mode, log dec 4.2 at 10 Hz, docs/campbell.md) and sits outside the axes."""
+    from rotor_host.analyses import campbell
+
+    figs = []
+    monkeypatch.setattr(campbell, "save_figure", lambda fig, path: figs.append(fig) or path)
+    res = stability(ROTOR, [10.0, 20.0], "map", {"map": str(PAPER_MAP)})
+    campbell.plot_mode_shape(res, Rotor.from_toml(ROTOR), "unused.png")
+    campbell.plot_campbell(res, "unused.png")
+    shape, camp = figs
+    assert shape.axes[0].get_ylim()[0] == 0.0
+    legend = camp.axes[0].get_legend()
+    assert any("heavily damped" in t.get_text() for t in legend.get_texts())
+    assert legend.get_bbox_to_anchor().x0 > camp.axes[0].get_window_extent().x1 - 1  # right of the axes
+
+
 def test_verdicts_without_a_threshold():
     """Below the threshold: every mode stable, named as such; above it: unstable from the first
     speed, the threshold below the range. Neither is an error (the command exits 0)."""
     below = stability(ROTOR, [20.0, 30.0, 40.0], "map", {"map": str(PAPER_MAP)})
     assert below.threshold is None and not below.unstable_from_start
-    assert below.verdict().startswith("no threshold in 20-40 Hz: every mode stays stable")
+    assert below.verdict().startswith("no threshold in 20-40 Hz: every mode stays stable up to 80 Hz")
     above = stability(ROTOR, [50.0, 60.0], "map", {"map": str(PAPER_MAP)})
     assert above.threshold is None and above.unstable_from_start
     assert "already unstable at 50 Hz" in above.verdict() and "below the range" in above.verdict()

@@ -201,3 +201,47 @@ def test_demo_on_a_users_bearing(tmp_path, capsys):
     assert f"eccentricity ratio {eps:.4f}" in out
     film = float(re.search(r"minimum film ([\d.]+) um", out).group(1))
     assert film == pytest.approx(params.CR * (1 - eps) * 1e6, abs=1e-3)
+
+
+def test_sommerfeld_number_by_hand_and_from_a_textbook():
+    """Raimondi and Boyd's S = (mu N L D / W) (R / C)^2, N in rev/s.
+
+    * The paper bearing (Table 2: D 31 mm, L 20 mm, CR 90 um, mu 50 mPa s) at 22 Hz under 16.7 N
+      (half the paper rotor's weight), by hand: mu N L D / W = 0.05 * 22 * 0.020 * 0.031 / 16.7
+      = 4.0838e-5; R / C = 15.5 mm / 0.090 mm = 172.22, squared 29660.5; S = 1.2113.
+    * Shigley's Mechanical Engineering Design (9th ed., Example 12-1): mu = 4 ureyn, N = 30 rev/s,
+      W = 500 lbf, r = 0.75 in, c = 0.0015 in, l = 1.5 in give S = 0.135; in SI here.
+    """
+    from bearing_fmu.physics.statics import sommerfeld_number
+
+    assert sommerfeld_number(PAPER_BEARING, 16.7, 22.0) == pytest.approx(4.0838e-5 * 29660.5, rel=1e-4)
+    assert sommerfeld_number(PAPER_BEARING, 16.7, 22.0) == pytest.approx(1.2113, abs=1e-4)
+    inch, lbf, reyn = 0.0254, 4.4482216, 6894.757
+    shigley = BearingParams(D=1.5 * inch, L=1.5 * inch, CR=0.0015 * inch, mu=4e-6 * reyn)
+    assert sommerfeld_number(shigley, 500 * lbf, 30.0) == pytest.approx(0.135, abs=5e-4)
+    with pytest.raises(ValueError, match="load must be a finite number > 0"):
+        sommerfeld_number(PAPER_BEARING, 0.0, 22.0)
+
+
+def test_demo_prints_sommerfeld_and_dimensionless_coefficients(capsys):
+    """`bearing-fmu demo` (the paper bearing, 22 Hz, 16.7 N down) prints S = 1.211 (the hand value
+    above) with its definition, and K CR / W, C omega CR / W beside K and C: each printed
+    dimensionless matrix equals the printed dimensional one times CR / W (times omega for C)."""
+    from bearing_fmu.cli import main
+
+    assert main(["demo"]) == 0
+    out = capsys.readouterr().out
+    assert ("Sommerfeld number S = (mu N L D / W) (R / C)^2 = 1.211 (Raimondi and Boyd's; N = 22 rev/s, "
+            "W = 16.7 N") in out
+
+    def matrix_after(title):
+        block = out.split(title, 1)[1].split("\n", 1)[1]
+        nums = [float(x) for x in re.findall(r"-?\d+\.\d*(?:e[-+]\d+)?", "\n".join(block.splitlines()[:2]))]
+        return np.array(nums).reshape(2, 2)
+
+    K, C = matrix_after("stiffness K [N/m]"), matrix_after("damping C [N s/m]")
+    Kd, Cd = matrix_after("dimensionless stiffness K CR / W:"), matrix_after("dimensionless damping C omega CR / W:")
+    s = PAPER_BEARING.CR / 16.7
+    np.testing.assert_allclose(Kd, K * s, rtol=2e-4, atol=2e-4)
+    np.testing.assert_allclose(Cd, C * 2 * math.pi * 22.0 * s, rtol=2e-4, atol=2e-4)
+    assert Kd[0, 0] > 0 and Kd[1, 1] > 0 and Cd[0, 0] > 0 and Cd[1, 1] > 0  # direct terms of a stable film

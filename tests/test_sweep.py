@@ -309,3 +309,34 @@ def test_fmu_sweep_equals_direct_sweep(tmp_path, scheduler, fmu, map_file, write
         assert a["status"] == b["status"] == "ok"
         assert a["bearings"][0]["ecc_max"] == pytest.approx(b["bearings"][0]["ecc_max"], rel=1e-9)
         assert a["disks"][0]["amp_max_um"] == pytest.approx(b["disks"][0]["amp_max_um"], rel=1e-9)
+
+
+def test_titles_name_the_swept_quantity_and_range(tmp_path, monkeypatch):
+    """The summary and the bifurcation diagram are titled by what was swept and over which range,
+    not by the scene's description: paper_22hz.toml says "22 Hz (first critical speed), 8.5 g at
+    37 mm on the disk" (its file), but swept over 12.5-60 Hz the title says shaft speed 12.5-60 Hz
+    with that 8.5 g on node 6 held, and swept over 0-20 g it says unbalance 0-20 g at 22 Hz."""
+    from rotor_host.analyses import sweep as sweep_module
+    from rotor_host.scenes.scene import load_scene
+
+    titles = []
+    monkeypatch.setattr(sweep_module, "save_figure",
+                        lambda fig, path: titles.append(fig._suptitle.get_text()) or sweep_module.pyplot().close(fig)
+                        or Path(path))
+    scene = load_scene(SCENE).with_internal("map", via="direct", t_end_s=0.02)
+    info = {"cluster": "local cluster", "workers": 1, "wall_s": 1.0, "run_s": 1.0}
+
+    def row(speed, mass=None):
+        return {"speed_hz": speed, "unbalance_g": mass, "status": "ok", "message": "", "wall_s": 0.1,
+                "integration_s": 0.1, "static_eccentricity": [0.2, 0.2],
+                "bearings": [{"node": 3, "ecc_max": 0.3, "ecc_min": 0.1, "once_per_rev": [0.2]}], "disks": []}
+
+    files = write_summary(tmp_path / "speed", scene, [row(12.5), row(36.25), row(60.0)], settle_s=0.01,
+                          bearing_nodes=[3], disk_nodes=[], unbalance=False, info=info)
+    head = "Sweep of paper_22hz: shaft speed 12.5-60 Hz (3 runs), unbalance 8.5 g on node 6 at 37 mm"
+    assert files[0].read_text().splitlines()[0] == f"# {head}"
+    assert titles[-1].splitlines()[0] == head and "22 Hz" not in titles[-1]
+    files = write_summary(tmp_path / "mass", scene, [row(22.0, 0.0), row(22.0, 20.0)], settle_s=0.01,
+                          bearing_nodes=[3], disk_nodes=[], unbalance=True, info=info)
+    head = "Sweep of paper_22hz: unbalance 0-20 g on node 6 at 37 mm (2 runs) at 22 Hz"
+    assert files[0].read_text().splitlines()[0] == f"# {head}" and titles[-1].splitlines()[0] == head

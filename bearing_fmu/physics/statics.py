@@ -233,3 +233,27 @@ def linearize(internal: Internal, y0: float, z0: float, omega: float, *, rel_ste
     check_state(internal.params, y0, z0, 0.0, 0.0, omega)
     _, dq, dv = film_jacobian(internal, y0, z0, 0.0, 0.0, omega, rel_step)
     return -dq, -dv
+
+
+def sommerfeld_number(params: BearingParams, load_N: float, speed_hz: float) -> float:
+    """Raimondi and Boyd's Sommerfeld number S = (mu N L D / W) (R / C)^2 (ASLE Trans. 1, 1958;
+    the S of their design charts and of Shigley's), with N the speed in rev/s [Hz], W the load
+    [N], R = D / 2 and C the radial clearance CR. Some authors use pi S or 1 / S instead:
+    compare with a table only after checking its definition. ValueError for W <= 0 (S is infinite
+    without a load)."""
+    if not (load_N > 0.0 and math.isfinite(load_N)):
+        raise ValueError(f"Sommerfeld number: the load must be a finite number > 0 N, got {load_N!r}")
+    return params.mu * speed_hz * params.L * params.D / load_N * (0.5 * params.D / params.CR) ** 2
+
+
+def dimensionless_coefficients(params: BearingParams, load_N: float, omega: float, K, C) -> tuple[np.ndarray,
+                                                                                                   np.ndarray]:
+    """Lund's dimensionless coefficients (K CR / W, C omega CR / W) of the stiffness K [N/m] and
+    damping C [N s/m] (``linearize``) under the load W [N] at omega [rad/s], in the axes K and C
+    are in. With the load along -z, as the demo applies it, a table whose x points along the load
+    and y along the rotation reads K_xx = K_zz, K_yy = K_yy, K_xy = -K_zy, K_yx = -K_yz here (the
+    same for C). ValueError for W <= 0."""
+    if not (load_N > 0.0 and math.isfinite(load_N)):
+        raise ValueError(f"dimensionless coefficients: the load must be a finite number > 0 N, got {load_N!r}")
+    s = params.CR / load_N
+    return np.asarray(K, float) * s, np.asarray(C, float) * (omega * s)

@@ -3,9 +3,11 @@
 ====================  =========================================================
 module                what it holds
 ====================  =========================================================
-compare, report       error against run time; error measures, tables, plots
+compare, report       error against run time; error measures, plots
+tables                markdown tables of the reports
 stability, campbell   damped modes over speed and the threshold; the figures
-waterfall             response spectra of a run-up against speed
+modal                 which modes a report ranks, critical speeds (AF >= 2.5), peaks at them
+waterfall, crossings  response spectra of a run-up against speed; the critical speeds it crosses
 sweep                 a scene at many speeds or unbalances on Dask
 limit_cycle           the whirl's envelope
 dt_study              the time-step convergence study

@@ -14,6 +14,7 @@ from pathlib import Path
 import numpy as np
 
 from ..model.rotor import Rotor
+from .modal import AF_CRITICALLY_DAMPED, LOG_DEC_HEAVY
 from .plotting import pyplot, save_figure
 
 _FWD = dict(marker="^", color="tab:red", label="forward whirl")
@@ -22,22 +23,33 @@ _BWD = dict(marker="v", color="tab:blue", label="backward whirl")
 
 def _mode_scatter(ax, res, value):
     """Scatter value(point, i) against speed for the lowest n_modes modes, forward and
-    backward marked; unstable modes (log dec < 0) ringed in black."""
+    backward marked; heavily damped modes (AF = pi / log dec < 2.5: no resonance) hollow;
+    unstable modes (log dec < 0) ringed in black."""
+    heavy_seen = False
     for style, fwd in ((_FWD, True), (_BWD, False)):
-        xs, ys, unstable = [], [], []
+        xs, ys, unstable, heavy = [], [], [], []
         for p in res.ok_points:
             for i in range(min(res.n_modes, p.freq_hz.size)):
                 if p.forward(i) == fwd:
                     xs.append(p.speed_hz)
                     ys.append(value(p, i))
                     unstable.append(p.log_dec[i] < 0.0)
+                    heavy.append(p.log_dec[i] > LOG_DEC_HEAVY)
         if xs:
-            u = np.array(unstable)
-            ax.scatter(xs, ys, s=14, marker=style["marker"], color=style["color"], label=style["label"], zorder=3)
+            xs, ys, u, h = np.array(xs), np.array(ys), np.array(unstable), np.array(heavy)
+            ax.scatter(xs[~h], ys[~h], s=14, marker=style["marker"], color=style["color"], label=style["label"],
+                       zorder=3)
+            ax.scatter(xs[h], ys[h], s=14, marker=style["marker"], facecolors="none", edgecolors=style["color"],
+                       linewidths=0.8, zorder=3)
+            heavy_seen = heavy_seen or bool(h.any())
             if u.any():
-                ax.scatter(np.array(xs)[u], np.array(ys)[u], s=60, marker="o", facecolors="none",
-                           edgecolors="black", linewidths=1.0, zorder=4)
+                ax.scatter(xs[u], ys[u], s=60, marker="o", facecolors="none", edgecolors="black", linewidths=1.0,
+                           zorder=4)
     ax.scatter([], [], s=60, marker="o", facecolors="none", edgecolors="black", label="unstable (log dec < 0)")
+    if heavy_seen:
+        ax.scatter([], [], s=14, marker="^", facecolors="none", edgecolors="grey",
+                   label=f"hollow: heavily damped, log dec > {LOG_DEC_HEAVY:.2f}\n(AF < {AF_CRITICALLY_DAMPED:g}: no "
+                         "resonance peak)")
 
 
 def plot_campbell(res, path, title: str = "") -> Path:
@@ -45,7 +57,7 @@ def plot_campbell(res, path, title: str = "") -> Path:
     0.5x lines, the critical speeds (1x crossings) and the threshold."""
 
     plt = pyplot()
-    fig, ax = plt.subplots(figsize=(8, 5.5))
+    fig, ax = plt.subplots(figsize=(10.5, 5.5))
     pts = res.ok_points
     s = np.array([p.speed_hz for p in res.points])
     top = 1.25 * s.max()
@@ -67,7 +79,7 @@ def plot_campbell(res, path, title: str = "") -> Path:
     ax.set_xlabel("shaft speed [Hz]")
     ax.set_ylabel("damped natural frequency [Hz]")
     ax.grid(alpha=0.3)
-    ax.legend(fontsize=8, loc="upper left")
+    ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0)  # outside: hides no mode
     ax.set_title((title or f"Campbell diagram: {res.rotor} [{res.internal}]")
                  + (f"\n(modes {above[0]}-{above[-1]} of the {res.n_modes} lowest lie above {top:.0f} Hz: frequencies in "
                     "the json)" if above else ""),
@@ -80,10 +92,11 @@ def plot_log_dec(res, path, title: str = "") -> Path:
     (the stability limit) and the threshold."""
 
     plt = pyplot()
-    fig, ax = plt.subplots(figsize=(8, 4.5))
+    fig, ax = plt.subplots(figsize=(10.5, 4.5))
     _mode_scatter(ax, res, lambda p, i: p.log_dec[i])
     pts = res.ok_points
-    ax.plot([p.speed_hz for p in pts], [p.least_log_dec for p in pts], "k-", lw=1.0, label="least stable mode")
+    ax.plot([p.speed_hz for p in pts], [p.least_log_dec if p.least is not None else np.nan for p in pts], "k-",
+            lw=1.0, label=f"least stable mode up to {res.band_hz:.4g} Hz\n({res.rank_up_to:g} x the top speed)")
     ax.axhline(0.0, color="grey", lw=0.8)
     if res.threshold is not None:
         ax.axvline(res.threshold.speed_hz, color="tab:purple", lw=1.0, ls=":",
@@ -98,7 +111,7 @@ def plot_log_dec(res, path, title: str = "") -> Path:
     ax.set_xlabel("shaft speed [Hz]")
     ax.set_ylabel("logarithmic decrement")
     ax.grid(alpha=0.3)
-    ax.legend(fontsize=8)
+    ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0)
     ax.set_title(title or f"Log decrement: {res.rotor} [{res.internal}]", fontsize=10)
     return _save(fig, plt, path)
 
@@ -117,6 +130,8 @@ def plot_mode_shape(res, rotor: Rotor, path, title: str = "") -> Path | None:
     else:
         return None
     i = p.least
+    if i is None:  # no mode in the ranking band at the top speed: nothing to call least stable
+        return None
     Y, Z = p.shapes[0::4, i], p.shapes[1::4, i]
     big = max(np.abs(Y).max(), np.abs(Z).max())
     Y, Z = Y / big, Z / big  # the largest translation 1 (the shape's largest entry may be a tilt)
@@ -132,6 +147,7 @@ def plot_mode_shape(res, rotor: Rotor, path, title: str = "") -> Path | None:
         a1.axvline(x[d.node], color="tab:green", ls=":", lw=1.0)
     a1.set_xlabel("axial position [mm] (dashed: bearings, dotted: disks)")
     a1.set_ylabel("amplitude (largest translation 1)")
+    a1.set_ylim(0.0, 1.08)  # from zero: a rigid-body mode is a flat line, not a bending one
     a1.grid(alpha=0.3)
     a1.legend(fontsize=8)
     ph = np.linspace(0.0, 2.0 * math.pi, 121)

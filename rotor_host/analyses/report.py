@@ -11,6 +11,7 @@ from pathlib import Path
 import numpy as np
 
 from .plotting import pyplot, save_figure
+from .tables import markdown_table  # noqa: F401  (re-exported: compare, dt_study and sweep take it from here)
 
 
 def _col(arrays, node: int) -> int:
@@ -186,21 +187,31 @@ def errors_against(ref: dict, run: dict, *, bearing_cols: bool = True) -> dict:
             "orbit_max_pct_cr": 100 * float(d.max())}
 
 
-def markdown_table(rows: list[dict], columns: list[tuple[str, str, str]]) -> str:
-    """rows of dicts -> a markdown table; columns = (key, header, format)."""
-    head = "| " + " | ".join(h for _, h, _ in columns) + " |"
-    sep = "|" + "|".join("---" for _ in columns) + "|"
-    lines = [head, sep]
-    for r in rows:
-        cells = []
-        for key, _, fmt in columns:
-            v = r.get(key)
-            if v is None or (isinstance(v, float) and not np.isfinite(v)):
-                cells.append("-")
-            else:
-                cells.append(format(v, fmt) if fmt else str(v))
-        lines.append("| " + " | ".join(cells) + " |")
-    return "\n".join(lines)
+def _runup_summary(scene, run, out: Path) -> None:
+    """A run-up's waterfall and its summary lines: the 1x peak, a critical speed only where the run
+    crosses one (``crossings.scene_criticals``), and the whirl onset."""
+    from .crossings import scene_criticals
+    from .waterfall import (check_run_up, default_nodes, peak_line, plot_waterfall, spectra, speed_range, summary,
+                            whirl_line)
+
+    try:
+        check_run_up(run.arrays)
+        nodes = default_nodes(run.arrays)
+        specs = [spectra(run.arrays, n) for n in nodes]  # a run too short for a spectrum: ValueError
+        lo, hi = speed_range(run.arrays)
+        crit = scene_criticals(scene, lo, hi)
+        png = plot_waterfall(run.arrays, out / f"{run.npz.stem}_waterfall.png", nodes=nodes,
+                             criticals_hz=crit.speeds_hz,
+                             title=f"{scene.description or scene.name}: {scene.speed_profile.describe()}")
+    except ValueError as exc:  # say why, keep the run
+        print(f"no waterfall: {exc}")
+        return
+    if crit.note:
+        print(crit.note)
+    for n, sp in zip(nodes, specs):
+        s = summary(sp, crit.criticals)
+        print(f"node {n}: {peak_line(s, lo, hi, crit.note)}; {whirl_line(s)}")
+    print(f"wrote {png}")
 
 
 def run_and_report(scene, out, *, progress: bool = True, plots: bool = True) -> int:
@@ -221,20 +232,7 @@ def run_and_report(scene, out, *, progress: bool = True, plots: bool = True) -> 
     if m["status"] != "ok":
         print(f"stopped: {m['message']}")
     if scene.speed_profile is not None and plots and run.arrays["t"].size > 1:
-        from .waterfall import default_nodes, plot_waterfall, spectra, summary
-
-        try:
-            nodes = default_nodes(run.arrays)
-            png = plot_waterfall(run.arrays, out / f"{run.npz.stem}_waterfall.png", nodes=nodes,
-                                 title=f"{scene.description or scene.name}: {scene.speed_profile.describe()}")
-            for n in nodes:
-                s = summary(spectra(run.arrays, n))
-                whirl = (f"whirl from {s['whirl_onset_hz']:.1f} Hz at {s['whirl_hz']:.1f} Hz "
-                         f"({s['whirl_ratio']:.2f}x)" if s["whirl_onset_hz"] else "no subsynchronous whirl")
-                print(f"node {n}: resonance at {s['resonance_hz']:.1f} Hz; {whirl}")
-            print(f"wrote {png}")
-        except ValueError as exc:  # a run too short for a spectrum: say so, keep the run
-            print(f"no waterfall: {exc}")
+        _runup_summary(scene, run, out)
     if plots and run.arrays["t"].size > 1:
         png = plot_runs({scene.internal: run.arrays}, out / f"{run.npz.stem}.png", title=scene.description,
                         history=True)

@@ -14,10 +14,11 @@ At each speed of a range (``rotor-host stability ROTOR.toml --speeds-hz 10:70:1`
    direction of each shape (``Rotor.whirl``, at the node where the mode moves most).
 
 The threshold of instability is the first speed at which the least stable mode's log
-decrement crosses zero, found to 1e-4 Hz by Brent's method between the two speeds of the
+decrement crosses zero (ranked among the modes up to 2 x the top speed: ``modal``), found to
+1e-4 Hz by Brent's method between the two speeds of the
 range that bracket it (each evaluation is steps 1-3 again, from the equilibrium at the lower
 speed); the whirl frequency is that mode's damped frequency there. The critical speeds are
-where the 1x line crosses a damped natural frequency (linear interpolation on the range).
+where the 1x line crosses a damped natural frequency that can ring (``modal.critical_speeds``).
 How an engineer reads the figures: docs/campbell.md.
 
 Only the bearings are nonlinear here; the rotor is the linear FE model of ``rotor_host.model.rotor``.
@@ -42,6 +43,8 @@ from bearing_fmu.io.exits import note_kept
 from bearing_fmu.io.outputs import ensure_writable, write_json, write_text
 
 from ..model.rotor import Rotor
+from .modal import (RANK_UP_TO, band_hz, band_rule, beyond_band_line, critical_speeds, least_beyond, least_in_band,
+                    no_critical_line, split_crossings)
 
 DEFAULT_MODES = 8  # modes shown in the Campbell diagram and the table
 THRESHOLD_XTOL_HZ = 1e-4  # Brent's tolerance on the threshold speed [Hz]
@@ -59,7 +62,8 @@ class SpeedPoint:
     frequency; ``Rotor.modes``), ``shapes`` their complex shapes (n_dof x n_modes);
     ``journal`` [m] and ``eccentricity`` per bearing; ``K`` [N/m], ``C`` [N s/m] per bearing
     (n_bearings, 2, 2), Lund's sign. ``status`` "ok" or "no equilibrium" (then ``message``
-    says why and the arrays are empty)."""
+    says why and the arrays are empty). ``band_hz``: the least stable mode is ranked among the
+    modes up to this damped frequency (``modal.RANK_UP_TO`` x the sweep's top speed)."""
 
     speed_hz: float
     status: str = "ok"
@@ -71,6 +75,7 @@ class SpeedPoint:
     freq_hz: np.ndarray = field(default_factory=lambda: np.zeros(0))
     log_dec: np.ndarray = field(default_factory=lambda: np.zeros(0))
     whirl: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    band_hz: float = math.inf
     shapes: np.ndarray = field(default_factory=lambda: np.zeros((0, 0), complex), repr=False)
 
     @property
@@ -82,13 +87,13 @@ class SpeedPoint:
         return bool(self.whirl[i] > FORWARD)
 
     @property
-    def least(self) -> int:
-        """Index of the least stable mode (smallest log decrement)."""
-        return int(np.argmin(self.log_dec))
+    def least(self) -> int | None:
+        """Index of the least stable mode (smallest log decrement) up to ``band_hz``; None: none there."""
+        return least_in_band(self.freq_hz, self.log_dec, self.band_hz)
 
     @property
     def least_log_dec(self) -> float:
-        return float(self.log_dec[self.least])
+        return math.inf if self.least is None else float(self.log_dec[self.least])
 
 
 @dataclass
@@ -127,6 +132,9 @@ class StabilityResult:
     threshold: Threshold | None = None
     unstable_from_start: bool = False
     criticals: list[dict] = field(default_factory=list)
+    damped_crossings: list[dict] = field(default_factory=list)  # 1x crossings of modes with AF < 2.5
+    rank_up_to: float = RANK_UP_TO
+    band_hz: float = math.inf
     timings: dict = field(default_factory=lambda: {"setup": 0.0, "equilibrium": 0.0, "eigen": 0.0, "refine": 0.0})
     n_modes: int = DEFAULT_MODES
     status: str = "ok"
@@ -134,6 +142,13 @@ class StabilityResult:
     @property
     def ok_points(self) -> list[SpeedPoint]:
         return [p for p in self.points if p.ok]
+
+    def notes(self) -> list[str]:
+        """The ranking rule with the modes beyond it, and the critical speeds' absence when none."""
+        out = [] if self.criticals or not self.points else [
+            no_critical_line(self.points[0].speed_hz, self.points[-1].speed_hz, self.damped_crossings)]
+        return out + [band_rule(self.rank_up_to, self.band_hz),
+                      beyond_band_line(least_beyond(self.ok_points, self.band_hz), self.band_hz)]
 
     def verdict(self) -> str:
         """The one line the command prints: ``threshold X Hz, whirl Y Hz`` or why there is none."""
@@ -150,12 +165,14 @@ class StabilityResult:
             return (f"no threshold in {speeds}: already unstable at {p.speed_hz:g} Hz (log dec {p.least_log_dec:.3g} "
                     f"at {p.freq_hz[p.least]:.2f} Hz); the threshold lies below the range")
         p = min(pts, key=lambda q: q.least_log_dec)
+        if p.least is None:
+            return f"no threshold in {speeds}: no mode up to {self.band_hz:.4g} Hz at any speed (see the json)"
         if p.least_log_dec <= 0.0:  # the crossing lies across speeds without an equilibrium
             first = next(q for q in pts if q.least_log_dec <= 0.0)
             return (f"no threshold refined in {speeds}: unstable at {first.speed_hz:g} Hz (log dec "
                     f"{first.least_log_dec:.3g}), but the speed before it has no static equilibrium; see the table")
-        return (f"no threshold in {speeds}: every mode stays stable (least log dec {p.least_log_dec:.3g} at "
-                f"{p.speed_hz:g} Hz)" + ("" if self.status == "ok" else f" [{self.status}]"))
+        return (f"no threshold in {speeds}: every mode stays stable up to {self.band_hz:.4g} Hz (least log dec "
+                f"{p.least_log_dec:.3g} at {p.speed_hz:g} Hz)" + ("" if self.status == "ok" else f" [{self.status}]"))
 
 
 # ----------------------------------------------------------------------------- the analysis
@@ -198,6 +215,7 @@ class Stability:
         self._warm_up()
         self.setup_s = time.perf_counter() - t0
         self.timings = {"equilibrium": 0.0, "eigen": 0.0}
+        self.band_hz = math.inf  # the ranking band of ``at``'s points; ``sweep`` sets it from its top speed
 
     def _warm_up(self) -> None:
         """One force and Jacobian per internal, so that compiling (or loading) its kernels counts as
@@ -264,18 +282,23 @@ class Stability:
         ecc = np.hypot(journal[:, 0], journal[:, 1]) / np.array([p.CR for p in self.rotor.bearings])
         self.timings["eigen"] += time.perf_counter() - t0
         return SpeedPoint(speed_hz, journal=journal, eccentricity=ecc, K=K, C=C, freq_hz=freq, log_dec=ld,
-                          whirl=whirl, shapes=shapes), q
+                          whirl=whirl, band_hz=self.band_hz, shapes=shapes), q
 
     # -- a range -----------------------------------------------------------------------------
-    def sweep(self, speeds_hz, *, n_modes: int = DEFAULT_MODES, rotor_name: str = "", log=None) -> StabilityResult:
+    def sweep(self, speeds_hz, *, n_modes: int = DEFAULT_MODES, rotor_name: str = "", log=None,
+              rank_up_to: float = RANK_UP_TO) -> StabilityResult:
         """Every speed of ``speeds_hz`` (ascending) with continuation, then the threshold and
-        the critical speeds. A speed without an equilibrium is kept as a "no equilibrium"
+        the critical speeds; the least stable mode ranked up to ``rank_up_to`` x the top speed.
+        A speed without an equilibrium is kept as a "no equilibrium"
         point (the next speed starts afresh). An interrupt is raised again with the result so
         far as its ``result`` attribute."""
         from bearing_fmu.physics.statics import EquilibriumError
 
         res = StabilityResult(rotor_name or self.rotor.name, self.internal, self.options,
                               [n + 1 for n in self.rotor.bearing_nodes], self.loads.tolist(), n_modes=n_modes)
+        speeds_hz = [float(s) for s in speeds_hz]
+        self.band_hz = res.band_hz = band_hz(max(speeds_hz, default=0.0), rank_up_to)
+        res.rank_up_to = float(rank_up_to)
         res.timings["setup"] = self.setup_s
         qs: list[np.ndarray | None] = []
         q = None
@@ -299,7 +322,7 @@ class Stability:
         finally:
             res.timings["equilibrium"] = self.timings["equilibrium"]
             res.timings["eigen"] = self.timings["eigen"]
-        res.criticals = critical_speeds(res.points, n_modes)
+        res.criticals, res.damped_crossings = split_crossings(critical_speeds(res.points))
         return res
 
     def _threshold(self, points, qs) -> tuple[Threshold | None, bool]:
@@ -349,26 +372,6 @@ def _busiest_node(rotor: Rotor, shape: np.ndarray) -> int:
     return int(np.argmax(np.sum(np.abs(yz) ** 2, axis=1)))
 
 
-def critical_speeds(points, n_modes: int) -> list[dict]:
-    """Speeds where the 1x line crosses the k-th lowest damped natural frequency (k < n_modes),
-    linearly interpolated between consecutive speeds with an equilibrium: [{speed_hz, mode
-    (1-based rank), log_dec, whirl}], by speed. The k-th lowest frequency is continuous in
-    speed even where two modes veer, so a crossing is found whichever mode carries it."""
-    out = []
-    for a, b in zip(points, points[1:]):
-        if not (a.ok and b.ok):
-            continue
-        for k in range(min(n_modes, a.freq_hz.size, b.freq_hz.size)):
-            ga, gb = a.freq_hz[k] - a.speed_hz, b.freq_hz[k] - b.speed_hz
-            if ga > 0.0 >= gb or ga < 0.0 <= gb:
-                w = ga / (ga - gb)
-                near = a if w < 0.5 else b
-                out.append({"speed_hz": float(a.speed_hz + w * (b.speed_hz - a.speed_hz)), "mode": k + 1,
-                            "log_dec": float((1 - w) * a.log_dec[k] + w * b.log_dec[k]),
-                            "whirl": float(near.whirl[k])})
-    return sorted(out, key=lambda d: d["speed_hz"])
-
-
 def read_rotor(rotor_path, static_loads=()) -> tuple[Rotor, list[tuple[int, float, float]]]:
     """The rotor file and the static loads (node, Fy, Fz) with 1-based nodes, checked against
     its nodes and turned 0-based; ValueError naming the file or the load."""
@@ -395,13 +398,15 @@ def check_speeds(speeds_hz) -> list[float]:
 
 
 def stability(rotor_path, speeds_hz, internal: str = "reynolds", options: dict | None = None,
-              static_loads=(), n_modes: int = DEFAULT_MODES, log=None) -> StabilityResult:
+              static_loads=(), n_modes: int = DEFAULT_MODES, log=None,
+              rank_up_to: float = RANK_UP_TO) -> StabilityResult:
     """Read the rotor file and sweep it (see the module docstring). ``static_loads`` are
     (node, Fy, Fz) with 1-based nodes as in the rotor file; bad input raises ValueError naming it."""
     rotor, loads = read_rotor(rotor_path, static_loads)
     speeds = check_speeds(speeds_hz)
     analysis = Stability(rotor, internal, options, loads, where=str(rotor_path))
-    return analysis.sweep(speeds, n_modes=n_modes, rotor_name=rotor.name or Path(rotor_path).stem, log=log)
+    return analysis.sweep(speeds, n_modes=n_modes, rotor_name=rotor.name or Path(rotor_path).stem, log=log,
+                          rank_up_to=rank_up_to)
 
 
 # ----------------------------------------------------------------------------- tables
@@ -415,7 +420,9 @@ def table_rows(res: StabilityResult) -> list[dict]:
     rows = []
     for p in res.points:
         row = {"speed_hz": p.speed_hz, "status": p.status if p.ok else f"{p.status}: {p.message}"}
-        if p.ok:
+        if p.ok and p.least is None:
+            row["direction"] = f"no mode up to {p.band_hz:.4g} Hz"
+        elif p.ok:
             i = p.least
             row.update({"ecc": ", ".join(f"{e:.3f}" for e in p.eccentricity), "f_hz": float(p.freq_hz[i]),
                         "ratio": float(p.freq_hz[i] / p.speed_hz), "log_dec": float(p.log_dec[i]),
@@ -425,12 +432,12 @@ def table_rows(res: StabilityResult) -> list[dict]:
 
 
 def markdown(res: StabilityResult, title: str = "") -> str:
-    from .report import markdown_table
+    from .tables import markdown_table
 
     tm = res.timings
     n_ok = len(res.ok_points)
     head = [f"# Stability: {title or res.rotor} [{res.internal}]", "",
-            f"**{res.verdict()}**", "",
+            f"**{res.verdict()}**", "", *(f"- {line}" for line in res.notes()), "",
             f"{len(res.points)} speeds ({n_ok} with an equilibrium), bearings at nodes "
             f"{', '.join(map(str, res.bearing_nodes))}, static loads "
             f"{'; '.join(f'({w[0] + 0.0:.4g}, {w[1] + 0.0:.4g}) N' for w in res.loads_N)}; run time "
@@ -443,10 +450,13 @@ def markdown(res: StabilityResult, title: str = "") -> str:
                  f"least stable mode {t.whirl_hz:.4f} Hz, whirl ratio {t.ratio:.4f}, {_direction(t.whirl)} whirl "
                  f"({t.whirl:+.2f}); bearing eccentricity {', '.join(f'{e:.3f}' for e in t.point.eccentricity)}.", ""]
     if res.criticals:
-        head += ["Critical speeds (the 1x line crosses a damped natural frequency):", ""]
+        head += ["Critical speeds (the 1x line crosses a damped natural frequency with AF = pi / log dec >= 2.5):", ""]
         head += [markdown_table(res.criticals, [("speed_hz", "speed [Hz]", ".2f"), ("mode", "mode (rank)", "d"),
-                                                ("log_dec", "log dec", ".3f"), ("whirl", "whirl (+1 fwd, -1 bwd)",
-                                                                                 "+.2f")]), ""]
+                                                ("log_dec", "log dec", ".3f"), ("amplification_factor", "AF", ".3g"),
+                                                ("whirl", "whirl (+1 fwd, -1 bwd)", "+.2f")]), ""]
+    if res.damped_crossings:
+        head += ["1x crossings of heavily damped modes (AF < 2.5, critically damped: no resonance, no critical speed): "
+                 + ", ".join(f"{c['speed_hz']:.2f} Hz (log dec {c['log_dec']:.3g})" for c in res.damped_crossings), ""]
     head += ["Least stable mode at each speed:", "", ""]
     table = markdown_table(table_rows(res), [
         ("speed_hz", "speed [Hz]", "g"), ("ecc", "eccentricity", ""), ("f_hz", "least stable: f [Hz]", ".3f"),
@@ -466,8 +476,9 @@ def to_json(res: StabilityResult, rotor_path=None) -> dict:
             n = min(res.n_modes, p.freq_hz.size)
             d.update({"journal_m": p.journal.tolist(), "eccentricity": p.eccentricity.tolist(),
                       "K_N_m": p.K.tolist(), "C_N_s_m": p.C.tolist(),
-                      "least_stable": {"freq_hz": float(p.freq_hz[p.least]), "log_dec": p.least_log_dec,
-                                       "whirl": float(p.whirl[p.least])},
+                      "least_stable": None if p.least is None else {
+                          "freq_hz": float(p.freq_hz[p.least]), "log_dec": p.least_log_dec,
+                          "whirl": float(p.whirl[p.least])},
                       "freq_hz": p.freq_hz[:n].tolist(), "log_dec": p.log_dec[:n].tolist(),
                       "whirl": p.whirl[:n].tolist()})
         return d
@@ -484,7 +495,9 @@ def to_json(res: StabilityResult, rotor_path=None) -> dict:
             "internal": res.internal, "options": {k: str(v) for k, v in res.options.items()},
             "bearing_nodes": res.bearing_nodes, "bearing_loads_N": res.loads_N, "status": res.status,
             "verdict": res.verdict(), "threshold": thr, "unstable_from_start": res.unstable_from_start,
-            "critical_speeds": res.criticals, "timings_s": res.timings, "n_modes": res.n_modes,
+            "critical_speeds": res.criticals, "damped_crossings": res.damped_crossings,
+            "ranking": {"rank_up_to": res.rank_up_to, "band_hz": res.band_hz, "notes": res.notes()},
+            "timings_s": res.timings, "n_modes": res.n_modes,
             "points": [point(p) for p in res.points], "versions": package_versions()}
 
 
@@ -523,7 +536,7 @@ def internal_options(internal: str, files: dict | None = None, grid=None) -> dic
 
 
 def command(*, rotor_file, speeds_hz, internal: str = "reynolds", data_files=None, grid=None, static_load=(), modes:
-            int = DEFAULT_MODES, out="out", no_plots: bool = False) -> int:
+            int = DEFAULT_MODES, out="out", no_plots: bool = False, rank_up_to: float = RANK_UP_TO) -> int:
     """``rotor-host stability``: equilibrium, linearised bearings and damped modes of the rotor file
     ``rotor_file`` at each speed of ``speeds_hz`` [Hz]; writes the table, json and figures into ``out``."""
     out = ensure_writable(out)
@@ -539,7 +552,8 @@ def command(*, rotor_file, speeds_hz, internal: str = "reynolds", data_files=Non
         raise
     try:
         res = analysis.sweep(check_speeds(speeds_hz), n_modes=modes,
-                             rotor_name=rotor.name or Path(rotor_file).stem, log=lambda msg: print(f"  {msg}"))
+                             rotor_name=rotor.name or Path(rotor_file).stem, log=lambda msg: print(f"  {msg}"),
+                             rank_up_to=rank_up_to)
     except KeyboardInterrupt as exc:
         res = getattr(exc, "result", None)
         if res is not None and res.points:
@@ -556,7 +570,9 @@ def command(*, rotor_file, speeds_hz, internal: str = "reynolds", data_files=Non
           f"(equilibria {tm['equilibrium']:.2f} s, linearisation and modes {tm['eigen']:.2f} s; threshold "
           f"refinement {tm['refine']:.2f} s; setup {tm['setup']:.2f} s)")
     for c in res.criticals:
-        print(f"critical speed {c['speed_hz']:.2f} Hz ({_direction(c['whirl'])}, log dec {c['log_dec']:.3f})")
+        print(f"critical speed {c['speed_hz']:.2f} Hz ({_direction(c['whirl'])}, log dec {c['log_dec']:.3f}, AF "
+              f"{c['amplification_factor']:.3g})")
+    print("\n".join(res.notes()))
     print(res.verdict())
     if not no_plots:
         from .campbell import plot_campbell, plot_log_dec, plot_mode_shape

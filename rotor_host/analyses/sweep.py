@@ -322,6 +322,22 @@ def summary_columns(bearing_nodes: list[int], disk_nodes: list[int], unbalance: 
     return cols
 
 
+def sweep_title(scene, rows: list[dict], unbalance: bool) -> str:
+    """What was swept, over which range, with what held fixed: the summary's and the diagram's
+    title (not the scene's description, which names the scene's own speed)."""
+    key, unit = ("unbalance_g", "g") if unbalance else ("speed_hz", "Hz")
+    values = [r[key] for r in rows if r.get(key) is not None]
+    span = (f"{min(values):g}-{max(values):g} {unit}" if len(set(values)) > 1 else
+            f"{values[0]:g} {unit}" if values else "no runs")
+    unb = scene.unbalances[0] if scene.unbalances else None
+    where = "" if unb is None else f" on node {unb.node + 1} at {unb.radius_m * 1e3:g} mm"
+    if unbalance:
+        return f"Sweep of {scene.name}: unbalance {span}{where} ({len(rows)} runs) at {scene.speed_hz:g} Hz"
+    held = "no unbalance" if unb is None else f"unbalance {unb.mass_kg * 1e3:g} g{where}" + (
+        f" (+{len(scene.unbalances) - 1} more)" if len(scene.unbalances) > 1 else "")
+    return f"Sweep of {scene.name}: shaft speed {span} ({len(rows)} runs), {held}"
+
+
 def write_summary(path_stem: Path, scene, rows: list[dict], *, settle_s: float, bearing_nodes, disk_nodes,
                   unbalance: bool, info: dict, note: str = "", plot: bool = True) -> list[Path]:
     """``<stem>.md``, ``.json`` and (with a run to draw) the bifurcation diagram ``.png``."""
@@ -329,7 +345,8 @@ def write_summary(path_stem: Path, scene, rows: list[dict], *, settle_s: float, 
 
     what = (f"unbalance on node {scene.unbalances[0].node + 1} at {scene.unbalances[0].radius_m * 1e3:g} mm, "
             f"{scene.speed_hz:g} Hz" if unbalance else "shaft speed")
-    lines = [f"# Sweep: {scene.description or scene.name}", "",
+    title = sweep_title(scene, rows, unbalance)
+    lines = [f"# {title}", "",
              f"scene {scene.source}, {scene.internal} via {scene.via}, dt = {scene.dt_s:g} s, "
              f"{scene.t_end_s:g} s per run, swept: {what}. After the transient = t >= {settle_s:g} s. "
              f"Eccentricity = journal displacement / radial clearance; disk amplitude = distance of the disk "
@@ -349,8 +366,8 @@ def write_summary(path_stem: Path, scene, rows: list[dict], *, settle_s: float, 
         "status": "interrupted" if note else "ok", "note": note, **info, "rows": rows}, indent=1))
     if plot and any(r["status"] == "ok" and r.get("bearings") for r in rows):
         out.append(plot_bifurcation(rows, f"{path_stem}.png", unbalance=unbalance,
-                                    title=f"{scene.description or scene.name}: {scene.internal}, "
-                                          f"t >= {settle_s:g} s of {scene.t_end_s:g} s"))
+                                    title=f"{title}\n{scene.internal} via {scene.via}, after the transient: "
+                                          f"t >= {settle_s:g} s of {scene.t_end_s:g} s per run"))
     return out
 
 
@@ -536,4 +553,5 @@ def command(*, scene, speeds_hz=None, unbalance_g=None, settle_s: float | None =
 
 
 __all__ = ["scheduler_address", "Point", "run_base", "points", "point_scene", "settled_metrics", "run_point",
-           "check_fixed_speed", "dask_client", "sweep", "write_summary", "plot_bifurcation", "command"]
+           "check_fixed_speed", "dask_client", "sweep", "sweep_title", "write_summary", "plot_bifurcation",
+           "command"]

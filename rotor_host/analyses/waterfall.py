@@ -7,14 +7,20 @@ the 1x line; a resonance shows as a peak along it where the speed crosses a crit
 whirl is a forward line just below 0.5x, and oil whip that line locking onto a natural frequency
 (constant frequency while the speed rises).
 
-``spectra`` computes it; ``plot_waterfall`` draws it with the 1x, 0.5x and -1x lines and the
-orbits at chosen speeds; ``summary`` names the resonance (largest 1x amplitude) and the speed
-where the subsynchronous whirl first exceeds the 1x response. ``rotor-host run`` draws it for a
-scene with a [speed_profile]; ``rotor-host waterfall RUN.npz`` from a saved run.
+``spectra`` computes it; ``plot_waterfall`` draws it with the 1x, 0.5x and -1x lines, the
+critical speeds and the orbits at chosen speeds; ``summary`` finds the 1x peak (largest 1x
+amplitude), which ``peak_line`` calls a critical speed only where one of the critical speeds
+crossed (``crossings``: damped natural frequencies on the linearised bearings) lies near it, and
+the speed where the subsynchronous whirl first exceeds the 1x response. ``rotor-host run`` draws
+it for a scene with a [speed_profile]; ``rotor-host waterfall RUN.npz`` from a saved run. A run at
+one constant speed, a window shorter than ``MIN_WINDOW_SAMPLES`` recorded samples or
+``MIN_WINDOW_REVS`` revolutions at the run's top speed, and orbits asked outside the run's speeds
+are refused.
 """
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -23,6 +29,42 @@ import numpy as np
 from .plotting import pyplot, save_figure
 
 DEFAULT_WINDOW_S = 0.25  # 4 Hz resolution; a run-up of a few Hz per second stays within a bin
+MIN_WINDOW_SAMPLES = 16  # fewer recorded samples in a window: no spectrum worth the name
+MIN_WINDOW_REVS = 2.0  # shaft revolutions at the top speed: resolution 1/T below 0.5x, 1x and 0.5x apart
+
+
+def speed_range(arrays: dict) -> tuple[float, float]:
+    """(lowest, highest) shaft speed [Hz] of a run."""
+    speed = np.asarray(arrays["speed_hz"], float)
+    return float(np.min(speed)), float(np.max(speed))
+
+
+def constant_speed(arrays: dict) -> float | None:
+    """The run's speed [Hz] when it stays constant (to 1e-9 of it), else None."""
+    lo, hi = speed_range(arrays)
+    return hi if hi - lo <= 1e-9 * max(abs(hi), 1.0) else None
+
+
+def window_problem(arrays: dict, window_s: float) -> str:
+    """Why ``window_s`` is too short for the run's spectra ("" when it is not): fewer than
+    MIN_WINDOW_SAMPLES recorded samples, or fewer than MIN_WINDOW_REVS revolutions at the top
+    speed (a resolution 1/window that cannot tell 0.5x from 1x anywhere in the run)."""
+    t = np.asarray(arrays["t"], float)
+    dt = float(np.median(np.diff(t))) if t.size > 1 else math.inf
+    top = speed_range(arrays)[1]
+    need = max(MIN_WINDOW_SAMPLES * dt, MIN_WINDOW_REVS / top if top > 0 else 0.0)
+    if window_s >= need * (1 - 1e-9):
+        return ""
+    return (f"shorter than {MIN_WINDOW_SAMPLES} recorded samples ({MIN_WINDOW_SAMPLES * dt:.3g} s at the record step "
+            f"{dt:.3g} s) or {MIN_WINDOW_REVS:g} revolutions at the run's top speed {top:g} Hz "
+            f"({MIN_WINDOW_REVS / top:.3g} s): give at least {need:.3g} s (default {DEFAULT_WINDOW_S:g} s)")
+
+
+def outside_run(arrays: dict, speeds_hz) -> list[float]:
+    """The speeds [Hz] of ``speeds_hz`` outside the run's lowest-highest speed."""
+    lo, hi = speed_range(arrays)
+    slack = 1e-9 * max(abs(hi), 1.0)
+    return [float(f) for f in speeds_hz if not lo - slack <= f <= hi + slack]
 
 
 @dataclass
@@ -64,10 +106,15 @@ def spectra(arrays: dict, node: int, window_s: float = DEFAULT_WINDOW_S, t_from:
                          "(add it to the scene's [record] nodes)")
     c = nodes.index(node)
     t = np.asarray(arrays["t"], float)
-    if t.size < 8:
+    if t.size < MIN_WINDOW_SAMPLES:
         raise ValueError(f"the run has {t.size} recorded times: too short for a spectrum")
+    if "speed_hz" in arrays:
+        check_run_up(arrays)
+        problem = window_problem(arrays, window_s)
+        if problem:
+            raise ValueError(f"window {window_s:g} s: {problem}")
     dt = float(np.median(np.diff(t)))
-    n = max(8, int(round(window_s / dt)))
+    n = int(round(window_s / dt))
     if n > t.size:
         raise ValueError(f"window {window_s:g} s is longer than the run ({t[-1] - t[0]:g} s); pass a shorter window")
     s = np.asarray(arrays["y"], float)[:, c] + 1j * np.asarray(arrays["z"], float)[:, c]
@@ -84,14 +131,27 @@ def spectra(arrays: dict, node: int, window_s: float = DEFAULT_WINDOW_S, t_from:
     return Spectra(node, np.array(sp), np.array(tc), freq, np.array(rows))
 
 
-def summary(sp: Spectra) -> dict:
-    """The resonance (speed of the largest 1x amplitude) and the whirl onset: the speed from
-    which the subsynchronous forward peak stays above the 1x amplitude to the end of the run
-    (None if it does not at the end), with its frequency and ratio to the speed there."""
+def summary(sp: Spectra, criticals: list[dict] | None = None) -> dict:
+    """The 1x peak (speed of the largest 1x amplitude) and the whirl onset: the speed from which
+    the subsynchronous forward peak stays above the 1x amplitude to the end of the run (None if
+    it does not at the end), with its frequency and ratio to the speed there.
+
+    ``criticals``: the critical speeds the run crosses (``crossings.RunCriticals.criticals``;
+    None: not known). ``critical_hz`` is the one near the 1x peak (``modal.critical_near``:
+    within 10 % of it plus the speed change over one window), None when none is: then the peak
+    is no resonance, just the largest 1x response (e.g. the top of a run that stays below its
+    first critical, where an unbalance response grows with speed squared)."""
+    from .modal import critical_near
+
     one = sp.along(1.0)
     sub, fsub = sp.subsynchronous()
     k = int(np.argmax(one))
-    out = {"node": sp.node, "resonance_hz": float(sp.speed_hz[k]), "resonance_amplitude_m": float(one[k]),
+    # the speed change over one window: twice the step between windows (they overlap by half)
+    step = 2.0 * float(np.median(np.abs(np.diff(sp.speed_hz)))) if sp.speed_hz.size > 1 else 0.0
+    near = None if criticals is None else critical_near(float(sp.speed_hz[k]), criticals, step)
+    out = {"node": sp.node, "peak_1x_hz": float(sp.speed_hz[k]), "peak_1x_amplitude_m": float(one[k]),
+           "peak_at_end": k in (0, sp.speed_hz.size - 1), "critical_hz": None if near is None else near["speed_hz"],
+           "criticals_hz": None if criticals is None else [c["speed_hz"] for c in criticals],
            "whirl_onset_hz": None, "whirl_hz": None, "whirl_ratio": None}
     # onset: from where on the whirl stays above the 1x response to the end (a free vibration
     # ringing after a critical speed also shows below 1x, but dies away)
@@ -104,18 +164,38 @@ def summary(sp: Spectra) -> dict:
     return out
 
 
+def peak_line(s: dict, lo_hz: float, hi_hz: float, note: str = "") -> str:
+    """The summary's words for the 1x peak of ``summary`` ``s`` in a run over lo-hi Hz: a
+    critical speed only where one lies near the peak (``note``: why the critical speeds are not
+    known, when they are not)."""
+    amp = f"{s['peak_1x_amplitude_m'] * 1e6:.1f} um 1x"
+    where = f"{s['peak_1x_hz']:.1f} Hz" + (", the end of the run" if s["peak_at_end"] else "")
+    if s["critical_hz"] is not None:
+        return f"critical speed {s['critical_hz']:.1f} Hz crossed, 1x peak at {s['peak_1x_hz']:.1f} Hz ({amp})"
+    if s["criticals_hz"] is None:
+        return f"1x peak at {where} ({amp}; {note or 'critical speeds not computed'})"
+    crossed = (f"critical speed(s) crossed: {', '.join(f'{c:.1f} Hz' for c in s['criticals_hz'])}"
+               if s["criticals_hz"] else f"no critical speed crossed in {lo_hz:g}-{hi_hz:g} Hz")
+    return f"1x peak at {where} ({amp}), not a critical speed ({crossed})"
+
+
 def plot_waterfall(arrays: dict, path, *, nodes, window_s: float = DEFAULT_WINDOW_S, title: str = "",
-                   orbit_speeds_hz=None) -> Path:
+                   orbit_speeds_hz=None, criticals_hz=()) -> Path:
     """One panel per node: whirl amplitude (log colour) against frequency and speed, with the
-    1x, 0.5x and -1x lines; a row of orbits (bearing journal and each node) at chosen speeds
-    (default: the start, the resonance and the end)."""
+    1x, 0.5x and -1x lines and the critical speeds on the 1x line; a row of orbits (bearing
+    journal and each node) at chosen speeds inside the run's (default: the start, the 1x peak and
+    the end)."""
 
     plt = pyplot()
     specs = [spectra(arrays, n, window_s) for n in nodes]
     t, speed = np.asarray(arrays["t"]), np.asarray(arrays["speed_hz"])
     if orbit_speeds_hz is None:
-        res = summary(specs[0])["resonance_hz"]
+        res = summary(specs[0])["peak_1x_hz"]
         orbit_speeds_hz = sorted({round(float(speed[0]), 1), round(res, 1), round(float(speed[-1]), 1)})
+    bad = outside_run(arrays, orbit_speeds_hz)
+    if bad:
+        lo, hi = speed_range(arrays)
+        raise ValueError(f"orbit speed {bad[0]:g} Hz is outside the run's speeds {lo:g}-{hi:g} Hz")
     fig = plt.figure(figsize=(5.2 * len(specs), 8.2))
     grid = fig.add_gridspec(2, max(len(specs), len(orbit_speeds_hz)), height_ratios=(2.2, 1))
     for i, sp in enumerate(specs):
@@ -129,6 +209,9 @@ def plot_waterfall(arrays: dict, path, *, nodes, window_s: float = DEFAULT_WINDO
         fig.colorbar(mesh, ax=ax, label="log10 whirl amplitude [um]")
         for ratio, style in ((1.0, "w--"), (0.5, "w:"), (-1.0, "w-.")):
             ax.plot(ratio * sp.speed_hz, sp.speed_hz, style, lw=0.9, label=f"{ratio:g}x")
+        if len(criticals_hz):
+            ax.plot(criticals_hz, criticals_hz, "o", ms=9, mfc="none", mec="white", mew=1.4,
+                    label="critical speed")
         ax.set_xlabel("whirl frequency [Hz] (forward > 0)")
         ax.set_ylabel("shaft speed [Hz]")
         ax.set_title(f"node {sp.node}")
@@ -163,28 +246,55 @@ def default_nodes(arrays: dict) -> list[int]:
     return [bearing] if big == bearing else [bearing, big]
 
 
+def whirl_line(s: dict) -> str:
+    """The summary's words for the whirl onset of ``summary`` ``s``."""
+    return (f"whirl from {s['whirl_onset_hz']:.1f} Hz at {s['whirl_hz']:.1f} Hz ({s['whirl_ratio']:.2f}x)"
+            if s["whirl_onset_hz"] else "no subsynchronous whirl above the 1x response")
+
+
+def check_run_up(arrays: dict, path="the run") -> None:
+    """ValueError unless the run's speed changes (a run-up or coast-down)."""
+    if "speed_hz" not in arrays:
+        raise ValueError(f"{path}: the run has no speed_hz array (made before run-ups were recorded); run it again")
+    f = constant_speed(arrays)
+    if f is not None:
+        raise ValueError(f"{path}: the run is at one constant speed, {f:g} Hz; a waterfall shows the spectra against "
+                         "a changing speed: run a scene with a [speed_profile] (docs/runup.md), or see this run with "
+                         "`rotor-host limit-cycle`")
+
+
 def command(*, run, nodes=None, window_s: float = DEFAULT_WINDOW_S, orbits_at_hz=None, output=None) -> int:
     """``rotor-host waterfall``: the response spectra of a run-up run's .npz against speed, drawn
-    into ``output`` (default: beside the run)."""
+    into ``output`` (default: beside the run); the 1x peak named a critical speed only where the
+    run crosses one (``crossings.run_criticals``)."""
+    from .crossings import run_criticals
+
     path = Path(run)
     try:
         arrays = dict(np.load(path))
     except (OSError, ValueError) as exc:
         raise ValueError(f"{path}: not a run's .npz ({exc})") from None
-    if "speed_hz" not in arrays:
-        raise ValueError(f"{path}: the run has no speed_hz array (made before run-ups were recorded); run it again")
+    check_run_up(arrays, path)
+    lo, hi = speed_range(arrays)
+    problem = window_problem(arrays, window_s)
+    if problem:
+        raise ValueError(f"--window-s {window_s:g}: {problem}")
+    bad = outside_run(arrays, orbits_at_hz or [])
+    if bad:
+        raise ValueError(f"--orbits-at-hz {bad[0]:g}: outside the run's speeds {lo:g}-{hi:g} Hz ({path})")
     nodes = nodes or default_nodes(arrays)
+    crit = run_criticals(path, arrays)
     out = Path(output) if output else path.with_name(f"{path.stem}_waterfall.png")
     plot_waterfall(arrays, out, nodes=nodes, window_s=window_s, orbit_speeds_hz=orbits_at_hz,
-                   title=path.stem)
+                   title=path.stem, criticals_hz=crit.speeds_hz)
+    if crit.note:
+        print(crit.note)
     for n in nodes:
-        s = summary(spectra(arrays, n, window_s))
-        whirl = (f"whirl from {s['whirl_onset_hz']:.1f} Hz at {s['whirl_hz']:.1f} Hz ({s['whirl_ratio']:.2f}x)"
-                 if s["whirl_onset_hz"] else "no subsynchronous whirl above the 1x response")
-        print(f"node {n}: resonance at {s['resonance_hz']:.1f} Hz ({s['resonance_amplitude_m'] * 1e6:.1f} um 1x); "
-              f"{whirl}")
+        s = summary(spectra(arrays, n, window_s), crit.criticals)
+        print(f"node {n}: {peak_line(s, lo, hi, crit.note)}; {whirl_line(s)}")
     print(f"wrote {out}")
     return 0
 
 
-__all__ = ["Spectra", "spectra", "summary", "plot_waterfall", "default_nodes", "command"]
+__all__ = ["Spectra", "spectra", "summary", "peak_line", "whirl_line", "plot_waterfall", "default_nodes",
+           "speed_range", "constant_speed", "window_problem", "outside_run", "check_run_up", "command"]
