@@ -334,3 +334,21 @@ def test_a_scene_runs_with_an_internal_added_from_outside(spring, tmp_path, writ
     from rotor_host.cli import internal_choices
 
     assert "spring" in internal_choices()
+
+
+def test_the_linear_model_past_the_wall_evaluates_and_is_flagged(fmu_instance):
+    # the linear model has no wall: past the clearance circle it still gives F0 - K dq - C v
+    # (finite, meaningless), and says so in out_of_domain, directly and through the FMU
+    lin = registry.create("linear", P, {"n_theta": 32, "n_x": 4, "load_z": -16.7, "omega_lin": OMEGA})
+    lin.force(10e-6, -40e-6, 0.0, 0.0, OMEGA)
+    assert lin.last_out_of_domain is False
+    y, z = 0.6 * 1.03 * P.CR, -0.8 * 1.03 * P.CR  # eccentricity 1.03
+    assert np.all(np.isfinite(lin.force(y, z, 0.0, 0.0, OMEGA))) and lin.last_out_of_domain is True
+    inst = fmu_instance(internal="linear", n_theta=32, n_x=4, load_z=-16.7, omega_lin=OMEGA)
+    try:
+        inst.step(1e-4, 10e-6, -40e-6, 0.0, 0.0, OMEGA)
+        assert not inst.get("out_of_domain")
+        inst.step(1e-4, y, z, 0.0, 0.0, OMEGA)
+        assert inst.get("out_of_domain")
+    finally:
+        inst.close()

@@ -43,7 +43,8 @@ VARIABLES = (
     ("eccentricity", "Real", OUTPUT, "1", 0.0, "eccentricity ratio sqrt(y^2 + z^2) / CR"),
     ("h_min", "Real", OUTPUT, "m", 0.0, "minimum film thickness CR - sqrt(y^2 + z^2) (negative beyond the wall)"),
     ("out_of_domain", "Boolean", OUTPUT, None, False,
-     "true when the state lies outside the surrogate's fitted domain (taylor only; false otherwise)"),
+     "true when the force is not the model's answer for this state: taylor outside the surrogate's fitted "
+     "domain, linear at or past the clearance circle (it evaluates there, without physical meaning)"),
     ("Kyy", "Real", OUTPUT, "N/m", 0.0, "film stiffness -dFy/dy (Lund sign; 0 if compute_tangent is false)"),
     ("Kyz", "Real", OUTPUT, "N/m", 0.0, "film stiffness -dFy/dz (Lund sign; 0 if compute_tangent is false)"),
     ("Kzy", "Real", OUTPUT, "N/m", 0.0, "film stiffness -dFz/dy (Lund sign; 0 if compute_tangent is false)"),

@@ -76,9 +76,14 @@ class Linear:
                 f"linear internal was linearised at omega = {self.omega0:.6g} rad/s; got omega = {omega:.6g} rad/s"
             )
 
+    # The linear model evaluates past the clearance circle, where it means nothing physically:
+    # such a state is flagged (the FMU's out_of_domain output), not refused, so a run can show it.
+    last_out_of_domain = False
+
     def force(self, y, z, vy, vz, omega):
         self._check(y, z, vy, vz, omega)
         y, z, vy, vz = float(y), float(z), float(vy), float(vz)
+        self.last_out_of_domain = math.hypot(y, z) >= self.params.CR
         dy, dz = y - self.y0, z - self.z0
         # Python floats: an overflow gives inf quietly (numpy scalars would warn), refused below
         (k00, k01), (k10, k11) = self.K.tolist()

@@ -1,7 +1,7 @@
 /* The linear internal (bearing_fmu/linear.py): F = F0 - K (q - q0) - C v with Lund's K, C,
  * valid at the speed omega_lin; its 12 coefficients and omega_lin are parameters. Like the
- * Python internal it evaluates beyond the clearance circle (the host reports a crossing);
- * only a speed other than omega_lin is refused. */
+ * Python internal it evaluates beyond the clearance circle (the host reports a crossing, the
+ * output out_of_domain flags it); only a speed other than omega_lin is refused. */
 #include <math.h>
 #include <stdio.h>
 
@@ -24,6 +24,7 @@ int bn_eval(Instance *m, const double x[5], int want_jac, double F[2], double J[
         return 1;
     }
     double dy = x[0] - P(LIN_Y0), dz = x[1] - P(LIN_Z0), vy = x[2], vz = x[3];
+    *ood = hypot(x[0], x[1]) >= m->r[VR_CR]; /* past the clearance circle: flagged, not refused */
     /* the same order of operations as Linear.force */
     F[0] = P(LIN_FY0) - P(LIN_KYY) * dy - P(LIN_KYZ) * dz - P(LIN_CYY) * vy - P(LIN_CYZ) * vz;
     F[1] = P(LIN_FZ0) - P(LIN_KZY) * dy - P(LIN_KZZ) * dz - P(LIN_CZY) * vy - P(LIN_CZZ) * vz;
