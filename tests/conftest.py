@@ -1,9 +1,12 @@
 """Fixtures shared by the test modules: one bearing FMU per session (with a made-up surrogate
-bundled), its extraction and instances, a scene writer and the central-difference Jacobian."""
+bundled), its extraction and instances, a scene writer, the central-difference Jacobian, and
+file systems that refuse writes (a small tmpfs: full, or remounted read-only; as root)."""
 
 import math
 import os
+import subprocess
 import textwrap
+import time
 from pathlib import Path
 
 import numpy as np
@@ -119,3 +122,36 @@ def write_scene(folder: Path, body: str, name: str = "s.toml", rotor: Path = ROT
 def write_scene_fixture(tmp_path):
     """write_scene(body, name="s.toml"): a scene file in this test's tmp_path."""
     return lambda body, name="s.toml", **kw: write_scene(tmp_path, body, name, **kw)
+
+
+# ------------------------------------------------------------ file systems that refuse writes
+
+@pytest.fixture
+def tmpfs():
+    """tmpfs(folder, size="64k"): a small tmpfs mounted at folder (made), unmounted after the test."""
+    mounted = []
+
+    def mount(folder, size="64k"):
+        folder.mkdir(parents=True, exist_ok=True)
+        subprocess.run(["mount", "-t", "tmpfs", "-o", f"size={size}", "tmpfs", str(folder)], check=True)
+        mounted.append(folder)
+        return folder
+
+    yield mount
+    for folder in reversed(mounted):
+        subprocess.run(["umount", "-l", str(folder)], check=False)
+
+
+def fill(folder, leave_bytes=0):
+    """Fill the file system of ``folder`` up to ``leave_bytes`` free (tmpfs counts 4 kB pages)."""
+    st = os.statvfs(folder)
+    with open(folder / "filler", "wb") as f:
+        f.write(b"\0" * max(0, st.f_bavail * st.f_frsize - leave_bytes))
+
+
+def read_only(folder, timeout=10.0):
+    """Remount ``folder``'s tmpfs read-only (retried while a file there is open for writing)."""
+    t0 = time.monotonic()
+    while subprocess.run(["mount", "-o", "remount,ro", str(folder)], capture_output=True).returncode != 0:
+        assert time.monotonic() - t0 < timeout, f"cannot remount {folder} read-only"
+        time.sleep(0.05)
