@@ -124,6 +124,31 @@ def write_scene_fixture(tmp_path):
     return lambda body, name="s.toml", **kw: write_scene(tmp_path, body, name, **kw)
 
 
+# ------------------------------------------------------------ commands as subprocesses
+
+def start_command(prog, *argv, pause=None, env=None, code_cache=None, new_session=False):
+    """Start ``prog argv`` (rotor-host or bearing-fmu) in a subprocess of this checkout; with
+    ``pause`` (MODULE:ATTR) through tests/pause_at.py, which holds that function (see there)."""
+    import sys
+
+    env = {**os.environ, "PYTHONPATH": str(ROOT), "MPLBACKEND": "Agg", **(env or {})}
+    if code_cache is not None:
+        env["BEARING_FMU_CACHE_DIR"] = str(code_cache)
+    cmd = ([sys.executable, str(ROOT / "tests" / "pause_at.py"), pause, prog] if pause else
+           [sys.executable, "-m", {"rotor-host": "rotor_host.cli", "bearing-fmu": "bearing_fmu.cli"}[prog]])
+    return subprocess.Popen(cmd + [str(a) for a in argv], cwd=ROOT, env=env, stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True, start_new_session=new_session)
+
+
+def wait_for(marker: Path, proc, timeout: float = 120.0) -> None:
+    """Wait until the paused command wrote ``marker`` (failing if it ended first)."""
+    t0 = time.monotonic()
+    while not marker.exists():
+        assert proc.poll() is None, f"the command ended before the pause: {proc.communicate()}"
+        assert time.monotonic() - t0 < timeout, "the command did not reach the pause"
+        time.sleep(0.02)
+
+
 # ------------------------------------------------------------ file systems that refuse writes
 
 @pytest.fixture

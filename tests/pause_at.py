@@ -2,10 +2,11 @@
 
     python tests/pause_at.py MODULE:ATTR[.ATTR] rotor-host|bearing-fmu ARGS...
 
-The first call of MODULE.ATTR (e.g. ``distributed:LocalCluster.close``) whose keyword arguments
-include those of $PAUSE_KWARGS (JSON, optional) writes the file $PAUSE_MARKER, then waits until
-the file $PAUSE_GO exists (without $PAUSE_GO: until a signal ends the wait) and calls the
-original. A test sends its signal, remounts a folder read-only, ... once the marker is there.
+The $PAUSE_CALL-th call (default 1st) of MODULE.ATTR (e.g. ``distributed:LocalCluster.close``)
+whose keyword arguments include those of $PAUSE_KWARGS (JSON, optional) writes the file
+$PAUSE_MARKER, then waits until the file $PAUSE_GO exists (without $PAUSE_GO: until a signal
+ends the wait) and calls the original. A test sends its signal, remounts a folder read-only,
+... once the marker is there. Worker processes forked by the command inherit the pause.
 """
 
 import importlib
@@ -25,11 +26,14 @@ def pause(target: str) -> None:
     original = getattr(owner, name)
     marker, go = Path(os.environ["PAUSE_MARKER"]), os.environ.get("PAUSE_GO")
     want = json.loads(os.environ.get("PAUSE_KWARGS", "{}"))
-    done = []
+    nth = int(os.environ.get("PAUSE_CALL", "1"))
+    calls = []
 
     def paused(*args, **kwargs):
-        if not done and all(kwargs.get(k, None) == v for k, v in want.items()):
-            done.append(True)
+        if len(calls) < nth and all(kwargs.get(k, None) == v for k, v in want.items()):
+            calls.append(True)
+            if len(calls) < nth:
+                return original(*args, **kwargs)
             marker.write_text(str(os.getpid()))
             while go is None or not Path(go).exists():
                 time.sleep(0.02)  # a signal's handler raises here

@@ -18,7 +18,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import MODELS, ROOT
+from conftest import MODELS, ROOT, fill
 
 from rotor_host.analyses.sweep import Point, points, run_point, settled_metrics, write_summary
 
@@ -241,6 +241,26 @@ def test_unbalance_sweep_on_an_existing_cluster(tmp_path, scheduler):
     assert amp[0.0] < 1e-3
     # a small orbit on a nearly linear film: the response is proportional to the unbalance
     assert amp[8.0] / amp[4.0] == pytest.approx(2.0, rel=0.02)
+
+
+def test_a_full_disk_rescues_the_runs_and_the_summary(tmp_path, scheduler, tmpfs, capsys):
+    """The runs write in the workers, the summary in the client: all of it lands beside the
+    full folder, each run's row says where, and the sweep exits 1 (not 2)."""
+    out = tmpfs(tmp_path / "out")
+    fill(out, leave_bytes=4096)  # the probe and the summary's name lock fit, nothing else
+    assert _cli("sweep", SCENE, "--speeds-hz", "20", "22", *CHEAP, "--scheduler", scheduler, "--out", out) == 1
+    rescue = tmp_path / "out.rescued"
+    summary = json.loads((rescue / "sweep_paper_22hz_map.json").read_text())
+    assert [r["status"] for r in summary["rows"]] == ["ok", "ok"]
+    for r in summary["rows"]:
+        stem = f"paper_22hz_map_{r['speed_hz']:g}hz"
+        assert r["files"] == [str(rescue / f"{stem}.npz"), str(rescue / f"{stem}.json")]
+        assert r["rescued"][0]["path"] == str(out / f"{stem}.npz")
+        assert json.loads((rescue / f"{stem}.json").read_text())["status"] == "ok"
+    last = capsys.readouterr().err.strip().splitlines()[-1]
+    assert last.startswith("rotor-host sweep: error: 7 result file(s) could not be written where asked (") and \
+        last.endswith(f"No space left on device); they are in {rescue}")
+    assert sorted(p.name for p in out.iterdir()) == ["filler"]
 
 
 @pytest.mark.slow

@@ -8,15 +8,11 @@ tested in this process; the commands (exit codes, what lands where) as subproces
 import argparse
 import errno
 import json
-import os
-import subprocess
-import sys
 import tempfile
-import time
 
 import numpy as np
 import pytest
-from conftest import MODELS, ROOT, fill, read_only, write_scene
+from conftest import MODELS, fill, read_only, start_command, wait_for, write_scene
 
 from bearing_fmu.io import outputs
 from bearing_fmu.io.exits import run_command
@@ -133,24 +129,13 @@ SCENE = """
 """
 
 
-def _command(prog, *argv, pause=None, env=None, code_cache=None):
-    """Start ``prog argv`` in a subprocess (through tests/pause_at.py when ``pause`` names what to hold)."""
-    env = {**os.environ, "PYTHONPATH": str(ROOT), "MPLBACKEND": "Agg", **(env or {})}
-    if code_cache is not None:
-        env["BEARING_FMU_CACHE_DIR"] = str(code_cache)
-    cmd = ([sys.executable, str(ROOT / "tests" / "pause_at.py"), pause, prog] if pause else
-           [sys.executable, "-m", {"rotor-host": "rotor_host.cli", "bearing-fmu": "bearing_fmu.cli"}[prog]])
-    return subprocess.Popen(cmd + [str(a) for a in argv], cwd=ROOT, env=env, stdout=subprocess.PIPE,
-                            stderr=subprocess.PIPE, text=True)
-
-
 def test_a_run_into_a_full_disk_keeps_running_and_rescues_its_result(tmp_path, tmpfs, code_cache):
     """Full but for one page (the run's name lock): every checkpoint fails (one warning), the
     run goes on, its result lands beside the folder; exit 1, not 2."""
     scene = write_scene(tmp_path, SCENE.format(checkpoint=0.001))
     out = tmpfs(tmp_path / "out")
     fill(out, leave_bytes=4096)
-    proc = _command("rotor-host", "run", scene, "--out", out, "--quiet", "--no-plots", code_cache=code_cache)
+    proc = start_command("rotor-host", "run", scene, "--out", out, "--quiet", "--no-plots", code_cache=code_cache)
     stdout, stderr = proc.communicate(timeout=120)
     assert proc.returncode == 1, stderr
     assert "Traceback" not in stderr
@@ -176,13 +161,10 @@ def test_a_folder_made_read_only_mid_run_rescues_the_result(tmp_path, tmpfs, cod
     scene = write_scene(tmp_path, SCENE.format(checkpoint=60))
     out = tmpfs(tmp_path / "out", size="1m")
     marker, go = tmp_path / "paused", tmp_path / "go"
-    proc = _command("rotor-host", "run", scene, "--out", out, "--quiet", "--no-plots",
+    proc = start_command("rotor-host", "run", scene, "--out", out, "--quiet", "--no-plots",
                     pause="rotor_host.scenes.run:savez", code_cache=code_cache,
                     env={"PAUSE_MARKER": str(marker), "PAUSE_GO": str(go), "PAUSE_KWARGS": '{"rescue": true}'})
-    t0 = time.monotonic()
-    while not marker.exists():
-        assert proc.poll() is None and time.monotonic() - t0 < 120, proc.communicate()
-        time.sleep(0.05)
+    wait_for(marker, proc)
     read_only(out)
     go.touch()
     _, stderr = proc.communicate(timeout=60)
@@ -195,7 +177,7 @@ def test_a_folder_made_read_only_mid_run_rescues_the_result(tmp_path, tmpfs, cod
 def test_stability_json_at_a_name_taken_by_a_folder(tmp_path):
     out = tmp_path / "out"
     (out / "stability_rotor_paper_map.json").mkdir(parents=True)
-    proc = _command("rotor-host", "stability", MODELS / "rotor_paper.toml", "--speeds-hz", "20:24:2",
+    proc = start_command("rotor-host", "stability", MODELS / "rotor_paper.toml", "--speeds-hz", "20:24:2",
                     "--internal", "map", "--out", out, "--no-plots")
     stdout, stderr = proc.communicate(timeout=60)
     assert proc.returncode == 1, stderr
@@ -211,7 +193,7 @@ def test_stability_json_at_a_name_taken_by_a_folder(tmp_path):
 def test_a_map_into_a_full_disk_is_rescued(tmp_path, tmpfs):
     out = tmpfs(tmp_path / "maps")
     fill(out, leave_bytes=4096)  # the probe before any work passes; the map does not fit
-    proc = _command("bearing-fmu", "map", "--resolution", "8x16", "--grid", "16x4", "--phases", "1", "--quiet",
+    proc = start_command("bearing-fmu", "map", "--resolution", "8x16", "--grid", "16x4", "--phases", "1", "--quiet",
                     "-o", out / "m.json")
     stdout, stderr = proc.communicate(timeout=60)
     assert proc.returncode == 1, stderr

@@ -7,6 +7,7 @@ compare, report       error against run time; error measures, tables, plots
 stability, campbell   damped modes over speed and the threshold; the figures
 waterfall             response spectra of a run-up against speed
 sweep                 a scene at many speeds or unbalances on Dask
+dask_cluster          the sweep's Dask client: a checked scheduler or a local cluster
 limit_cycle           the whirl's envelope
 dt_study              the time-step convergence study
 training              scene-trained Taylor surrogates (``rotor-host fit``)
