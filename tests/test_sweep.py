@@ -18,7 +18,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import MODELS, ROOT, fill
+from conftest import MODELS, ROOT, fill, start_command
 
 from rotor_host.analyses.sweep import Point, points, run_point, settled_metrics, write_summary
 
@@ -104,6 +104,57 @@ def test_no_scheduler_there_is_one_line():
     with pytest.raises(ValueError, match=r"^--scheduler tcp://127.0.0.1:1: no Dask scheduler answered there"):
         with dask_client("tcp://127.0.0.1:1", None, connect_timeout_s=0.5):
             pass
+
+
+@pytest.fixture(params=["silent socket", "http server"])
+def not_a_scheduler(request):
+    """An address on 127.0.0.1 that accepts TCP connections but does not speak Dask."""
+    import http.server
+    import socket
+    import threading
+
+    if request.param == "silent socket":
+        with socket.socket() as s:
+            s.bind(("127.0.0.1", 0))
+            s.listen(5)
+            yield f"tcp://127.0.0.1:{s.getsockname()[1]}"
+        return
+
+    class Quiet(http.server.BaseHTTPRequestHandler):
+        def log_message(self, *args):
+            pass
+
+    srv = http.server.ThreadingHTTPServer(("127.0.0.1", 0), Quiet)
+    threading.Thread(target=srv.serve_forever, daemon=True).start()
+    yield f"tcp://127.0.0.1:{srv.server_address[1]}"
+    srv.shutdown()
+    srv.server_close()
+
+
+def test_a_peer_that_is_not_a_scheduler_is_refused(tmp_path, not_a_scheduler, monkeypatch, capsys):
+    from rotor_host.analyses import dask_cluster
+
+    monkeypatch.setattr(dask_cluster, "HANDSHAKE_TIMEOUT_S", 1.0)
+    t0 = time.monotonic()
+    assert _cli("sweep", SCENE, "--speeds-hz", "22", *CHEAP, "--scheduler", not_a_scheduler, "--out", tmp_path) == 2
+    assert time.monotonic() - t0 < 3.0
+    assert capsys.readouterr().err.strip() == (
+        f"rotor-host sweep: error: --scheduler {not_a_scheduler}: something accepts connections there but did not "
+        "answer as a Dask scheduler within 1 s (no answer); give the scheduler's own port (8786 by default), not its "
+        "dashboard's")
+    assert not list(tmp_path.glob("sweep_*"))
+
+
+@pytest.mark.slow
+def test_a_silent_peer_ends_the_command_within_10_s(tmp_path, not_a_scheduler):
+    """The command line with its defaults, as a user meets it: exit 2 in about 5 s."""
+    proc = start_command("rotor-host", "sweep", SCENE, "--speeds-hz", "22", *CHEAP, "--scheduler", not_a_scheduler,
+                         "--out", tmp_path)
+    t0 = time.monotonic()
+    _, err = proc.communicate(timeout=60)
+    assert proc.returncode == 2 and time.monotonic() - t0 < 10.0, err
+    assert f"--scheduler {not_a_scheduler}: something accepts connections there but did not answer as a Dask " \
+           "scheduler within 5 s" in err
 
 
 def test_points_have_distinct_stems():

@@ -1,6 +1,9 @@
-"""The Dask cluster a sweep runs on: an existing scheduler or a local
+"""The Dask cluster a sweep runs on: an existing scheduler, checked before use, or a local
 cluster of worker processes, closed at once on an interrupt.
 
+``check_scheduler`` refuses in one line an address where nothing answers, or where something
+answers that is not a Dask scheduler (dask.distributed bounds the connection but not its
+handshake, so a silent socket or an HTTP server would hold the sweep forever).
 ``dask_client`` gives the Client; an interrupt in the runs or in closing the client or the
 cluster stops the local workers and closes the cluster in a moment (left to itself, its atexit
 close waits 10 s).
@@ -11,20 +14,69 @@ from __future__ import annotations
 import os
 import signal
 import threading
+import time
 from contextlib import contextmanager
+
+HANDSHAKE_TIMEOUT_S = 5.0  # a scheduler answers the Dask handshake in milliseconds
+
+
+def check_scheduler(address: str, connect_timeout_s: float = 15.0, handshake_timeout_s: float = HANDSHAKE_TIMEOUT_S):
+    """Refuse in one line an address where nothing accepts a connection within
+    ``connect_timeout_s`` [s], or where something does but does not answer Dask's handshake
+    within ``handshake_timeout_s`` (an HTTP server, a silent socket): dask.distributed bounds
+    only the connection and would wait for that answer forever."""
+    import asyncio
+    import socket
+
+    from distributed.comm import connect, parse_address, parse_host_port
+    from distributed.security import Security
+
+    scheme, loc = parse_address(address)
+    if scheme in ("tcp", "tls"):  # first the connection alone, retried as Dask does (a scheduler starting up)
+        host, port = parse_host_port(loc)
+        deadline = time.monotonic() + connect_timeout_s
+        while True:
+            try:
+                socket.create_connection((host, port), timeout=max(0.1, deadline - time.monotonic())).close()
+                break
+            except OSError as exc:
+                if time.monotonic() >= deadline:
+                    raise ValueError(f"--scheduler {address}: no Dask scheduler answered there ({exc.strerror or exc}; "
+                                     f"waited {connect_timeout_s:g} s)") from None
+                time.sleep(0.2)
+        limit = handshake_timeout_s
+    else:
+        limit = connect_timeout_s + handshake_timeout_s
+
+    async def hello():  # the scheduler's handshake, with the security a Client would use
+        comm = await asyncio.wait_for(connect(address, timeout=limit, **Security().get_connection_args("client")),
+                                      limit)
+        await comm.close()
+
+    try:
+        asyncio.run(hello())
+    except (OSError, ValueError, TypeError) as exc:  # TimeoutError is an OSError; garbage may raise anything
+        why = ("no answer" if isinstance(exc, TimeoutError)
+               else f"{type(exc).__name__}: {' '.join(str(exc).split())[:120]}")
+        raise ValueError(f"--scheduler {address}: something accepts connections there but did not answer as a Dask "
+                         f"scheduler within {limit:g} s ({why}); give the scheduler's own port (8786 by default), "
+                         "not its dashboard's") from None
 
 
 @contextmanager
-def dask_client(scheduler: str | None, workers: int | None, connect_timeout_s: float = 15.0):
+def dask_client(scheduler: str | None, workers: int | None, connect_timeout_s: float = 15.0,
+                handshake_timeout_s: float | None = None):
     """A dask.distributed Client: on the scheduler at ``scheduler`` (refused in one line if
-    none answers within ``connect_timeout_s`` [s] or it has no worker within 30 s), or on a
-    LocalCluster of ``workers`` processes (default: the cores) with one thread each, closed on
-    leaving."""
+    none answers within ``connect_timeout_s`` [s], something else answers there
+    (``check_scheduler``) or it has no worker within 30 s), or on a LocalCluster of ``workers``
+    processes (default: the cores) with one thread each, closed on leaving."""
     import logging
 
     from dask.distributed import Client, LocalCluster
 
     if scheduler:
+        check_scheduler(scheduler, connect_timeout_s,
+                        HANDSHAKE_TIMEOUT_S if handshake_timeout_s is None else handshake_timeout_s)
         try:
             client = Client(scheduler, timeout=connect_timeout_s)
         except (OSError, TimeoutError) as exc:

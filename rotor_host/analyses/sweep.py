@@ -42,7 +42,7 @@ from bearing_fmu.io.cliargs import typed
 from bearing_fmu.io.exits import as_interrupted, note_kept
 from bearing_fmu.io.outputs import claim, ensure_writable, note_rescued, take_rescued, write_json, write_text
 
-from .dask_cluster import dask_client
+from .dask_cluster import check_scheduler, dask_client
 from .plotting import pyplot, save_figure
 
 MAX_RUNS = 1000  # a range that expands to more is a typo (a step in the wrong unit)
@@ -506,5 +506,5 @@ def command(*, scene, speeds_hz=None, unbalance_g=None, settle_s: float | None =
 
 
 __all__ = ["scheduler_address", "Point", "run_base", "points", "point_scene", "settled_metrics", "run_point",
-           "check_fixed_speed", "dask_client", "sweep", "write_summary", "summary_diagram", "plot_bifurcation",
+           "check_fixed_speed", "check_scheduler", "dask_client", "sweep", "write_summary", "summary_diagram", "plot_bifurcation",
            "command"]
