@@ -1,7 +1,8 @@
 """Result files that cannot collide or vanish.
 
-* ``ensure_writable(folder, option)``: the output folder exists (created) and accepts a file,
-  checked before any work, with one line naming the option when it does not.
+* ``ensure_writable(folder, option)``: the output folder exists (created) and accepts a file
+  (a byte: a full disk still takes empty files), checked once per command before any work,
+  with one line naming the option when it does not.
 * ``write_text`` / ``write_json`` / ``savez``: written under a temporary name in the same
   folder and renamed into place (``os.replace`` is atomic on POSIX and Windows), so a reader
   -- or a second run writing the same name -- sees the old file or the new one, never half.
