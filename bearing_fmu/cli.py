@@ -203,6 +203,7 @@ def _map(args: argparse.Namespace) -> int:
     import os
 
     from .internals.forcemap import save_map, tabulate
+    from .io.exits import note_kept, note_lost
     from .io.outputs import ensure_output_file
     from .physics.params import PAPER_BEARING, BearingParams
 
@@ -216,15 +217,24 @@ def _map(args: argparse.Namespace) -> int:
         from tqdm import tqdm
 
         bar = tqdm(total=n_eps, unit="row", desc=f"force map L/D {params.L / params.D:.4g}")
+    table = None
     try:
-        table = tabulate(params, n_eps=n_eps, n_beta=n_beta, eps_max=args.eps_max, n_theta=n_theta, n_x=n_x,
-                         cavitation=args.cavitation, n_phase=args.phases, workers=workers,
-                         progress=(lambda k: bar.update(k - bar.n)) if bar is not None else None)
-    finally:
-        if bar is not None:
-            bar.close()
-    table.provenance["bearing_file"] = str(args.bearing) if args.bearing else "paper bearing (Table 2)"
-    path = save_map(table, args.output)
+        try:
+            table = tabulate(params, n_eps=n_eps, n_beta=n_beta, eps_max=args.eps_max, n_theta=n_theta, n_x=n_x,
+                             cavitation=args.cavitation, n_phase=args.phases, workers=workers,
+                             progress=(lambda k: bar.update(k - bar.n)) if bar is not None else None)
+        finally:
+            if bar is not None:
+                bar.close()
+        table.provenance["bearing_file"] = str(args.bearing) if args.bearing else "paper bearing (Table 2)"
+        path = save_map(table, args.output)
+    except KeyboardInterrupt as exc:  # wherever it lands: the map if it is whole, else say how far it got
+        if table is None:
+            note_lost(exc, f"{getattr(exc, 'map_rows_done', 0)} of {n_eps} rows of the map had been computed "
+                           "(a map is written only whole: run again)")
+        else:
+            note_kept(exc, f"{save_map(table, args.output)} (the map was complete)")
+        raise
     print(f"force map for L/D = {table.L_over_D:.6g}: {n_eps} x {n_beta} points, eps <= {table.eps_max:g}, Reynolds "
           f"{table.n_theta} x {table.n_x} ({table.cavitation}), {table.provenance['solves']} solves in "
           f"{table.provenance['built_s']:.1f} s on {workers} process(es); wrote {path} "

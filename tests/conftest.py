@@ -1,9 +1,12 @@
 """Fixtures shared by the test modules: one bearing FMU per session (with a made-up surrogate
-bundled), its extraction and instances, a scene writer and the central-difference Jacobian."""
+bundled), its extraction and instances, a scene writer, the central-difference Jacobian, and
+file systems that refuse writes (a small tmpfs: full, or remounted read-only; as root)."""
 
 import math
 import os
+import subprocess
 import textwrap
+import time
 from pathlib import Path
 
 import numpy as np
@@ -118,3 +121,61 @@ def write_scene(folder: Path, body: str, name: str = "s.toml", rotor: Path = ROT
 def write_scene_fixture(tmp_path):
     """write_scene(body, name="s.toml"): a scene file in this test's tmp_path."""
     return lambda body, name="s.toml", **kw: write_scene(tmp_path, body, name, **kw)
+
+
+# ------------------------------------------------------------ commands as subprocesses
+
+def start_command(prog, *argv, pause=None, env=None, code_cache=None, new_session=False):
+    """Start ``prog argv`` (rotor-host or bearing-fmu) in a subprocess of this checkout; with
+    ``pause`` (MODULE:ATTR) through tests/pause_at.py, which holds that function (see there)."""
+    import sys
+
+    env = {**os.environ, "PYTHONPATH": str(ROOT), "MPLBACKEND": "Agg", **(env or {})}
+    if code_cache is not None:
+        env["BEARING_FMU_CACHE_DIR"] = str(code_cache)
+    cmd = ([sys.executable, str(ROOT / "tests" / "pause_at.py"), pause, prog] if pause else
+           [sys.executable, "-m", {"rotor-host": "rotor_host.cli", "bearing-fmu": "bearing_fmu.cli"}[prog]])
+    return subprocess.Popen(cmd + [str(a) for a in argv], cwd=ROOT, env=env, stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True, start_new_session=new_session)
+
+
+def wait_for(marker: Path, proc, timeout: float = 120.0) -> None:
+    """Wait until the paused command wrote ``marker`` (failing if it ended first)."""
+    t0 = time.monotonic()
+    while not marker.exists():
+        assert proc.poll() is None, f"the command ended before the pause: {proc.communicate()}"
+        assert time.monotonic() - t0 < timeout, "the command did not reach the pause"
+        time.sleep(0.02)
+
+
+# ------------------------------------------------------------ file systems that refuse writes
+
+@pytest.fixture
+def tmpfs():
+    """tmpfs(folder, size="64k"): a small tmpfs mounted at folder (made), unmounted after the test."""
+    mounted = []
+
+    def mount(folder, size="64k"):
+        folder.mkdir(parents=True, exist_ok=True)
+        subprocess.run(["mount", "-t", "tmpfs", "-o", f"size={size}", "tmpfs", str(folder)], check=True)
+        mounted.append(folder)
+        return folder
+
+    yield mount
+    for folder in reversed(mounted):
+        subprocess.run(["umount", "-l", str(folder)], check=False)
+
+
+def fill(folder, leave_bytes=0):
+    """Fill the file system of ``folder`` up to ``leave_bytes`` free (tmpfs counts 4 kB pages)."""
+    st = os.statvfs(folder)
+    with open(folder / "filler", "wb") as f:
+        f.write(b"\0" * max(0, st.f_bavail * st.f_frsize - leave_bytes))
+
+
+def read_only(folder, timeout=10.0):
+    """Remount ``folder``'s tmpfs read-only (retried while a file there is open for writing)."""
+    t0 = time.monotonic()
+    while subprocess.run(["mount", "-o", "remount,ro", str(folder)], capture_output=True).returncode != 0:
+        assert time.monotonic() - t0 < timeout, f"cannot remount {folder} read-only"
+        time.sleep(0.05)

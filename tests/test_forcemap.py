@@ -292,3 +292,9 @@ def test_the_shipped_maps_pass_the_checks():
 
     for path in sorted((Path(__file__).resolve().parents[1] / "models" / "maps").glob("*.json")):
         assert load_map(path).coefficients is not None  # the stored spline, checked against its table
+
+
+def test_worker_processes_tabulate_the_same_map():
+    """The rows computed in a process pool (``workers``) are those computed in order here."""
+    kw = dict(n_eps=6, n_beta=8, n_phase=1, n_theta=16, n_x=4)
+    assert np.array_equal(tabulate(P, workers=2, **kw).H, tabulate(P, workers=1, **kw).H)

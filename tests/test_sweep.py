@@ -18,7 +18,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import MODELS, ROOT
+from conftest import MODELS, ROOT, fill, start_command
 
 from rotor_host.analyses.sweep import Point, points, run_point, settled_metrics, write_summary
 
@@ -104,6 +104,57 @@ def test_no_scheduler_there_is_one_line():
     with pytest.raises(ValueError, match=r"^--scheduler tcp://127.0.0.1:1: no Dask scheduler answered there"):
         with dask_client("tcp://127.0.0.1:1", None, connect_timeout_s=0.5):
             pass
+
+
+@pytest.fixture(params=["silent socket", "http server"])
+def not_a_scheduler(request):
+    """An address on 127.0.0.1 that accepts TCP connections but does not speak Dask."""
+    import http.server
+    import socket
+    import threading
+
+    if request.param == "silent socket":
+        with socket.socket() as s:
+            s.bind(("127.0.0.1", 0))
+            s.listen(5)
+            yield f"tcp://127.0.0.1:{s.getsockname()[1]}"
+        return
+
+    class Quiet(http.server.BaseHTTPRequestHandler):
+        def log_message(self, *args):
+            pass
+
+    srv = http.server.ThreadingHTTPServer(("127.0.0.1", 0), Quiet)
+    threading.Thread(target=srv.serve_forever, daemon=True).start()
+    yield f"tcp://127.0.0.1:{srv.server_address[1]}"
+    srv.shutdown()
+    srv.server_close()
+
+
+def test_a_peer_that_is_not_a_scheduler_is_refused(tmp_path, not_a_scheduler, monkeypatch, capsys):
+    from rotor_host.analyses import dask_cluster
+
+    monkeypatch.setattr(dask_cluster, "HANDSHAKE_TIMEOUT_S", 1.0)
+    t0 = time.monotonic()
+    assert _cli("sweep", SCENE, "--speeds-hz", "22", *CHEAP, "--scheduler", not_a_scheduler, "--out", tmp_path) == 2
+    assert time.monotonic() - t0 < 3.0
+    assert capsys.readouterr().err.strip() == (
+        f"rotor-host sweep: error: --scheduler {not_a_scheduler}: something accepts connections there but did not "
+        "answer as a Dask scheduler within 1 s (no answer); give the scheduler's own port (8786 by default), not its "
+        "dashboard's")
+    assert not list(tmp_path.glob("sweep_*"))
+
+
+@pytest.mark.slow
+def test_a_silent_peer_ends_the_command_within_10_s(tmp_path, not_a_scheduler):
+    """The command line with its defaults, as a user meets it: exit 2 in about 5 s."""
+    proc = start_command("rotor-host", "sweep", SCENE, "--speeds-hz", "22", *CHEAP, "--scheduler", not_a_scheduler,
+                         "--out", tmp_path)
+    t0 = time.monotonic()
+    _, err = proc.communicate(timeout=60)
+    assert proc.returncode == 2 and time.monotonic() - t0 < 10.0, err
+    assert f"--scheduler {not_a_scheduler}: something accepts connections there but did not answer as a Dask " \
+           "scheduler within 5 s" in err
 
 
 def test_points_have_distinct_stems():
@@ -241,6 +292,26 @@ def test_unbalance_sweep_on_an_existing_cluster(tmp_path, scheduler):
     assert amp[0.0] < 1e-3
     # a small orbit on a nearly linear film: the response is proportional to the unbalance
     assert amp[8.0] / amp[4.0] == pytest.approx(2.0, rel=0.02)
+
+
+def test_a_full_disk_rescues_the_runs_and_the_summary(tmp_path, scheduler, tmpfs, capsys):
+    """The runs write in the workers, the summary in the client: all of it lands beside the
+    full folder, each run's row says where, and the sweep exits 1 (not 2)."""
+    out = tmpfs(tmp_path / "out")
+    fill(out, leave_bytes=4096)  # the probe and the summary's name lock fit, nothing else
+    assert _cli("sweep", SCENE, "--speeds-hz", "20", "22", *CHEAP, "--scheduler", scheduler, "--out", out) == 1
+    rescue = tmp_path / "out.rescued"
+    summary = json.loads((rescue / "sweep_paper_22hz_map.json").read_text())
+    assert [r["status"] for r in summary["rows"]] == ["ok", "ok"]
+    for r in summary["rows"]:
+        stem = f"paper_22hz_map_{r['speed_hz']:g}hz"
+        assert r["files"] == [str(rescue / f"{stem}.npz"), str(rescue / f"{stem}.json")]
+        assert r["rescued"][0]["path"] == str(out / f"{stem}.npz")
+        assert json.loads((rescue / f"{stem}.json").read_text())["status"] == "ok"
+    last = capsys.readouterr().err.strip().splitlines()[-1]
+    assert last.startswith("rotor-host sweep: error: 7 result file(s) could not be written where asked (") and \
+        last.endswith(f"No space left on device); they are in {rescue}")
+    assert sorted(p.name for p in out.iterdir()) == ["filler"]
 
 
 @pytest.mark.slow

@@ -8,6 +8,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..io.outputs import write_with
 from .fit import COMPONENTS, FitResult
 from .truth import truth_line
 
@@ -112,8 +113,7 @@ def plot_lambda(res: FitResult, outdir: str | Path, stem: str = "fit") -> list[P
             ax.grid(True, which="both", alpha=0.3)
             ax.legend(fontsize=7)
     fig.tight_layout()
-    p = outdir / f"{stem}_objective.png"
-    fig.savefig(p, dpi=110)
+    p = write_with(outdir / f"{stem}_objective.png", lambda f: fig.savefig(f, dpi=110, format="png"))
     plt.close(fig)
     paths.append(p)
     if "bias2" in c:
@@ -133,8 +133,7 @@ def plot_lambda(res: FitResult, outdir: str | Path, stem: str = "fit") -> list[P
             ax.grid(True, which="both", alpha=0.3)
             ax.legend(fontsize=7)
         fig.tight_layout()
-        p = outdir / f"{stem}_bias_variance.png"
-        fig.savefig(p, dpi=110)
+        p = write_with(outdir / f"{stem}_bias_variance.png", lambda f: fig.savefig(f, dpi=110, format="png"))
         plt.close(fig)
         paths.append(p)
     return paths

@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import json
 import math
+import signal
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -183,28 +184,46 @@ def tabulate(params: BearingParams, *, n_eps: int = DEFAULT_N_EPS, n_beta: int =
     t0 = time.perf_counter()
     table = MapTable(params.L / params.D, rey.n_theta, rey.n_x, rey.cavitation, eps_max, wall_exponent,
                      np.zeros((n_eps, n_beta, 2)))
-    rows = list(enumerate(table.eps))
-    if workers > 1:
-        from concurrent.futures import ProcessPoolExecutor
+    done = 0
+    try:
+        if workers > 1:
+            import multiprocessing
+            from functools import partial
 
-        with ProcessPoolExecutor(workers) as pool:
-            futures = [pool.submit(_row, params, rey.n_theta, rey.n_x, rey.cavitation, e, table.beta,
-                                   wall_exponent, n_phase) for _, e in rows]
-            for i, f in enumerate(futures):
-                table.H[i] = f.result()
+            task = partial(_row, params, rey.n_theta, rey.n_x, rey.cavitation, betas=table.beta,
+                           wall_exponent=wall_exponent, n_phase=n_phase)
+            pool = multiprocessing.Pool(workers, initializer=_worker_signals)
+            try:
+                for done, h in enumerate(pool.imap(task, table.eps), 1):
+                    table.H[done - 1] = h
+                    if progress is not None:
+                        progress(done)
+                pool.close()
+            finally:
+                pool.terminate()  # an interrupt must not wait for the rows being computed
+                pool.join()
+        else:
+            for i, e in enumerate(table.eps):
+                table.H[i] = _row(params, rey.n_theta, rey.n_x, rey.cavitation, e, table.beta, wall_exponent,
+                                  n_phase, rey)
+                done = i + 1
                 if progress is not None:
-                    progress(i + 1)
-    else:
-        for i, e in rows:
-            table.H[i] = _row(params, rey.n_theta, rey.n_x, rey.cavitation, e, table.beta, wall_exponent, n_phase,
-                              rey)
-            if progress is not None:
-                progress(i + 1)
+                    progress(done)
+    except KeyboardInterrupt as exc:
+        exc.map_rows_done = done  # the command says how far it got (a map is written only whole)
+        raise
     _centre_row(table)
     table.provenance = {"built_s": round(time.perf_counter() - t0, 3), "solves": n_eps * n_beta * n_phase,
                         "n_phase": n_phase,
                         "truth": repr(rey), "date": time.strftime("%Y-%m-%dT%H:%M:%S%z")}
     return table
+
+
+def _worker_signals() -> None:
+    """A pool worker: Ctrl-C (sent to the whole group) is the parent's to act on; the parent's
+    terminate() (SIGTERM) ends the worker at once, without a traceback."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)
 
 
 def _centre_row(table: MapTable) -> None:

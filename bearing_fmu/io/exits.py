@@ -9,17 +9,23 @@ there comes back as an FMI error status, not as the interrupt -- wraps the call 
 the block) in the caller's code. Whoever catches ``Interrupted`` writes what was computed and
 re-raises; ``run_command`` maps it to exit code 128 + signal (130 for SIGINT, 143 for SIGTERM).
 
-Exit codes (``run_command``): 0 done, 1 the run failed (its results say why), 2 bad input
-(a file, key or option named in one line), 130 / 143 interrupted. No traceback unless
-``--debug``.
+Exit codes (``run_command``): 0 done, 1 the run failed (its results say why; also a result
+written to a rescue folder, or a write the machine refused: a full disk, a read-only file
+system), 2 bad input (a file, key or option named in one line), 130 / 143 interrupted. No
+traceback unless ``--debug``. The interrupt's last line says what was kept (``note_kept``), or
+what had been computed and could not be kept (``note_lost``).
 """
 
 from __future__ import annotations
 
 import contextlib
+import errno
 import signal
 import sys
 import threading
+from pathlib import Path
+
+from .outputs import take_rescued, take_written
 
 SIGNALS = (signal.SIGINT, signal.SIGTERM)
 
@@ -46,6 +52,15 @@ def note_kept(exc: BaseException, what: str) -> None:
     if kept is None:
         kept = exc.kept = []
     kept.append(what)
+
+
+def note_lost(exc: BaseException, what: str) -> None:
+    """Record on an interrupt what had been computed but could not be kept (a map needs all its
+    rows), so the last line does not say that nothing had been computed."""
+    lost = getattr(exc, "lost", None)
+    if lost is None:
+        lost = exc.lost = []
+    lost.append(what)
 
 
 def as_interrupted(exc: BaseException) -> Interrupted:
@@ -125,26 +140,44 @@ def leave_deferred() -> None:
 EXIT_FAILED, EXIT_BAD_INPUT = 1, 2
 # what a user can fix by changing a file or an option: one line, exit 2
 BAD_INPUT = (ValueError, KeyError, OSError)
+# ... but an OSError with one of these is the machine refusing a write mid-run: exit 1
+MACHINE_ERRNOS = frozenset({errno.ENOSPC, errno.EDQUOT, errno.EROFS, errno.EIO, errno.EFBIG})
 
 
-EXIT_CODES = """exit codes: 0 done; 1 the run failed (its json says why); 2 bad input (the file, key or
+EXIT_CODES = """exit codes: 0 done; 1 the run failed (its json says why), or a result could not be written where
+asked (a full disk, a read-only folder: it is in the rescue folder named); 2 bad input (the file, key or
 option is named); 130 / 143 interrupted by SIGINT / SIGTERM (what was computed is written,
 status "interrupted"). Add --debug for the Python traceback of an error."""
 
 
 def run_command(prog: str, args) -> int:
     """Run ``args.func(args)`` under ``handled()``; map its end to an exit code and one line
-    on stderr (see the module docstring). ``args.debug`` re-raises with the traceback."""
-    debug = getattr(args, "debug", False)
+    on stderr (see the module docstring). ``args.debug`` re-raises with the traceback. A
+    result written to a rescue folder (``outputs``: the place asked refused it) makes a run
+    that went well exit 1, with one line naming the path, why and where the files are."""
     name = f"{prog} {getattr(args, 'command', '')}".strip()
+    take_rescued(), take_written()  # a command's files are its own (several commands may run in one process)
+    code = _run(name, args)
+    take_written()
+    rescued = take_rescued()
+    if rescued:
+        first = rescued[0]
+        where = ", ".join(dict.fromkeys(str(Path(r.to).parent) for r in rescued))
+        print(f"{name}: error: {len(rescued)} result file(s) could not be written where asked ({first.path}: "
+              f"{first.reason}); they are in {where}", file=sys.stderr)
+        if code == 0:
+            code = EXIT_FAILED
+    return code
+
+
+def _run(name: str, args) -> int:
+    debug = getattr(args, "debug", False)
     try:
         with handled():
             return args.func(args)
     except KeyboardInterrupt as exc:
         sig = as_interrupted(exc)
-        kept = getattr(exc, "kept", None)
-        print(f"{name}: interrupted by {sig.signal_name}; "
-              + (f"kept: {'; '.join(kept)}" if kept else "nothing had been computed yet"), file=sys.stderr)
+        print(f"{name}: interrupted by {sig.signal_name}; {_kept_line(exc)}", file=sys.stderr)
         return sig.exit_code
     except BrokenPipeError:  # the reader went away (`... | head`): no message, the shell's SIGPIPE code
         import os
@@ -158,7 +191,8 @@ def run_command(prog: str, args) -> int:
         if debug:
             raise
         print(f"{name}: error: {_one_line(exc)}", file=sys.stderr)
-        return EXIT_BAD_INPUT
+        # the machine refused a write (a full disk, a read-only file system): the run failed, its input was fine
+        return EXIT_FAILED if isinstance(exc, OSError) and exc.errno in MACHINE_ERRNOS else EXIT_BAD_INPUT
     except RuntimeError as exc:  # a failure this code diagnosed (no equilibrium, an FMU error): exit 1
         if debug:
             raise
@@ -170,6 +204,20 @@ def run_command(prog: str, args) -> int:
         print(f"{name}: error: {type(exc).__name__}: {_one_line(exc)} (run with --debug for the traceback)",
               file=sys.stderr)
         return EXIT_FAILED
+
+
+def _kept_line(exc: BaseException) -> str:
+    """What an interrupted command kept, or what it had computed and could not keep."""
+    kept, lost = getattr(exc, "kept", None), getattr(exc, "lost", None)
+    if kept:
+        return f"kept: {'; '.join(kept)}"
+    if lost:
+        return f"nothing kept: {'; '.join(lost)}"
+    written = take_written()  # an interrupt after the command wrote its results (in printing them)
+    if written:
+        return (f"kept: the {len(written)} file(s) written before it" + (", the last: " if len(written) > 3 else ": ")
+                + ", ".join(str(p) for p in written[-3:]))
+    return "nothing had been computed yet"
 
 
 def _one_line(exc: BaseException) -> str:

@@ -9,6 +9,7 @@ stability, campbell   damped modes over speed and the threshold; the figures
 modal                 which modes a report ranks, critical speeds (AF >= 2.5), peaks at them
 waterfall, crossings  response spectra of a run-up against speed; the critical speeds it crosses
 sweep                 a scene at many speeds or unbalances on Dask
+dask_cluster          the sweep's Dask client: a checked scheduler or a local cluster
 limit_cycle           the whirl's envelope
 dt_study              the time-step convergence study
 training              scene-trained Taylor surrogates (``rotor-host fit``)

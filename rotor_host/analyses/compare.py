@@ -59,17 +59,34 @@ def compare(base: Scene, reference: Variant, variants: list[Variant], out_dir, *
     stem = Path(base.source).stem if base.source else base.name
     runs = {}
     rows = []
+    every = [reference, *variants]
+    args = (base, reference, variants, rows, runs, out_dir, stem, default_label)
+    drawing = False
     try:
-        for v in [reference] + list(variants):
+        for v in every:
             _run_variant(base, reference, v, out_dir, stem, runs, rows, progress, log)
-    except KeyboardInterrupt as exc:  # the table of what finished, then stop
+        _write(*args)
+        drawing = True
+        _write_plots(*args)
+    except KeyboardInterrupt as exc:  # in a run, in writing or drawing: the table of what finished, then stop
         if rows:
-            _write(base, reference, variants, rows, runs, out_dir, stem, default_label,
-                   note=f"interrupted by {as_interrupted(exc).signal_name} during "
-                        f"{[reference, *variants][len(rows)].label}: the variants below are those that finished")
-            note_kept(exc, f"{out_dir / f'compare_{stem}.md'} (the {len(rows)} variant(s) that finished)")
+            sig = as_interrupted(exc).signal_name
+            if drawing:
+                note = f"interrupted by {sig} while drawing the plots: every variant had finished"
+            elif len(rows) < len(every):
+                note = (f"interrupted by {sig} during {every[len(rows)].label}: the variants below are those that "
+                        "finished")
+            else:
+                note = f"interrupted by {sig}: every variant had finished"
+            files = _write(*args, note=note)
+            if not drawing:  # the plots of what finished (a second interrupt skips them: the table is kept)
+                try:
+                    files += _write_plots(*args)
+                except KeyboardInterrupt:
+                    pass
+            note_kept(exc, f"{', '.join(str(f) for f in files)} ({len(rows)} of {len(every)} variant(s) finished, "
+                           "each with its run's .npz/.json)")
         raise
-    _write(base, reference, variants, rows, runs, out_dir, stem, default_label)
     return rows
 
 
@@ -101,8 +118,8 @@ def _run_variant(base, reference, v, out_dir, stem, runs, rows, progress, log) -
         f"orbit RMS {row['orbit_rms_pct_cr']:.3g} % CR")
 
 
-def _write(base, reference, variants, rows, runs, out_dir, stem, default_label, note: str = "") -> None:
-    """compare_<stem>.md/.json and the two plots, from the rows there are."""
+def _write(base, reference, variants, rows, runs, out_dir, stem, default_label, note: str = "") -> list[Path]:
+    """compare_<stem>.md/.json from the rows there are; the files written (the plots: ``_write_plots``)."""
     t_ref = rows[0]["integration_s"]
     t_def = next((r["integration_s"] for r in rows if r["label"] == default_label), None)
     for r in rows:
@@ -120,16 +137,21 @@ def _write(base, reference, variants, rows, runs, out_dir, stem, default_label, 
               "keeps no phase with the reference.\n\n")
     if note:
         header += f"**{note}**\n\n"
-    write_text(out_dir / f"compare_{stem}.md", header + table + "\n")
-    write_json(out_dir / f"compare_{stem}.json", {"scene": str(base.source), "via": base.via,
-                                                  "status": "interrupted" if note else "ok", "note": note,
-                                                  "rows": rows})
-    plot_error_vs_time(rows, out_dir / f"compare_{stem}_error_vs_time.png", title=base.description or base.name)
-    # the orbit plot: the reference and up to three variants that are not the truth on another grid
+    return [write_text(out_dir / f"compare_{stem}.md", header + table + "\n"),
+            write_json(out_dir / f"compare_{stem}.json", {"scene": str(base.source), "via": base.via,
+                                                          "status": "interrupted" if note else "ok", "note": note,
+                                                          "rows": rows})]
+
+
+def _write_plots(base, reference, variants, rows, runs, out_dir, stem, *_) -> list[Path]:
+    """The error-against-run-time plot and the orbits of the reference and up to three variants
+    that are not the truth on another grid."""
     show = [reference.label] + [v.label for v in variants
                                 if not registry.get(v.internal).can.truth and v.label in runs][:3]
-    plot_runs({k: runs[k].arrays for k in show}, out_dir / f"compare_{stem}_orbits.png",
-              title=base.description or base.name, history=True)
+    title = base.description or base.name
+    return [plot_error_vs_time(rows, out_dir / f"compare_{stem}_error_vs_time.png", title=title),
+            plot_runs({k: runs[k].arrays for k in show}, out_dir / f"compare_{stem}_orbits.png", title=title,
+                      history=True)]
 
 
 def late_max_eccentricity(arrays, fraction: float = 0.2) -> float | None:

@@ -20,10 +20,14 @@ def pyplot():
 
 
 def save_figure(fig, path) -> Path:
-    """Lay out, write and close ``fig``; returns the path written."""
+    """Lay out, write and close ``fig``; returns the path written (atomically, and to the rescue
+    folder when the one asked refuses it: ``bearing_fmu.io.outputs``)."""
+    from bearing_fmu.io.outputs import write_with
+
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     fig.tight_layout()
-    fig.savefig(path, dpi=DPI)
-    pyplot().close(fig)
-    return path
+    try:
+        return write_with(path, lambda f: fig.savefig(f, dpi=DPI, format=path.suffix[1:] or "png"))
+    finally:
+        pyplot().close(fig)

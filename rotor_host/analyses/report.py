@@ -217,9 +217,11 @@ def _runup_summary(scene, run, out: Path) -> None:
 def run_and_report(scene, out, *, progress: bool = True, plots: bool = True) -> int:
     """``rotor-host run``: run the scene into the folder ``out``, print what happened, draw the
     run (and, for a run-up, its waterfall); 0 when the run finished ok, else 1."""
+    from bearing_fmu.io.outputs import ensure_writable
+
     from ..scenes.run import run_scene
 
-    out = Path(out)
+    out = ensure_writable(out)  # refused before any work
     run = run_scene(scene, out, progress=progress)
     m = run.meta
     via = f"{scene.via}, native" if scene.via == "fmu" and scene.fmu_kind == "native" else scene.via

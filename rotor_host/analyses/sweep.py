@@ -32,19 +32,17 @@ from __future__ import annotations
 import math
 import os
 import re
-import signal
-import threading
 import time
-from contextlib import contextmanager
-from dataclasses import dataclass, replace
+from dataclasses import asdict, dataclass, replace
 from pathlib import Path
 
 import numpy as np
 
 from bearing_fmu.io.cliargs import typed
 from bearing_fmu.io.exits import as_interrupted, note_kept
-from bearing_fmu.io.outputs import claim, ensure_writable, write_json, write_text
+from bearing_fmu.io.outputs import claim, ensure_writable, note_rescued, take_rescued, write_json, write_text
 
+from .dask_cluster import check_scheduler, dask_client
 from .plotting import pyplot, save_figure
 
 MAX_RUNS = 1000  # a range that expands to more is a typo (a step in the wrong unit)
@@ -171,12 +169,15 @@ def run_point(scene, point: Point, out_dir: str, settle_s: float, disk_nodes: li
     An exception is a row with status ``error`` (named in one line), not a lost task."""
     t0 = time.perf_counter()
     row = {"speed_hz": point.speed_hz, "unbalance_g": point.unbalance_g, "stem": point.stem, "pid": os.getpid()}
+    take_rescued()  # this worker's earlier runs' rescues were reported with their rows
     try:
         from ..scenes.run import run_scene
 
         run = run_scene(scene, out_dir, stem=point.stem, work_dir=Path(out_dir) / "fmu")
     except Exception as exc:  # noqa: BLE001 - reported in the summary, the sweep goes on
-        return {**row, **error_fields(exc), "wall_s": time.perf_counter() - t0, "bearings": [], "disks": []}
+        return {**row, **error_fields(exc), "wall_s": time.perf_counter() - t0, "bearings": [], "disks": [],
+                "rescued": [asdict(r) for r in take_rescued()]}
+    row["rescued"] = [asdict(r) for r in take_rescued()]  # the client counts them (exit code 1)
     m = run.meta
     row.update(status=_status(m), message=m["message"], t_reached_s=m["t_reached_s"], wall_s=m["wall_time_s"],
                integration_s=m["integration_time_s"], setup_s=m["setup_time_s"] + m["equilibrium_time_s"],
@@ -195,83 +196,25 @@ def error_fields(exc: BaseException) -> dict:
 
 # ------------------------------------------------------------------ running on Dask
 
-@contextmanager
-def dask_client(scheduler: str | None, workers: int | None, connect_timeout_s: float = 15.0):
-    """A dask.distributed Client: on the scheduler at ``scheduler`` (refused in one line if
-    none answers within ``connect_timeout_s`` [s] or it has no worker within 30 s), or on a
-    LocalCluster of ``workers`` processes (default: the cores) with one thread each, closed on
-    leaving."""
-    import logging
-
-    from dask.distributed import Client, LocalCluster
-
-    if scheduler:
-        try:
-            client = Client(scheduler, timeout=connect_timeout_s)
-        except (OSError, TimeoutError) as exc:
-            raise ValueError(f"--scheduler {scheduler}: no Dask scheduler answered there "
-                             f"({type(exc).__name__}: {' '.join(str(exc).split())[:200]})") from None
-        try:
-            client.wait_for_workers(1, timeout=30)
-        except TimeoutError:
-            client.close()
-            raise ValueError(f"--scheduler {scheduler}: the cluster has no worker (waited 30 s)") from None
-        with client:
-            yield client
-        return
-    n = workers or os.cpu_count() or 1
-    # The workers ignore SIGINT (an ignored signal stays ignored in a spawned process): Ctrl-C
-    # reaches every process of the terminal's group, and only this one must act on it (cancel,
-    # write the summary, close the workers), not print a traceback from each worker.
-    # (Python sets signal handlers in the main thread only; from another thread they keep SIGINT.)
-    main = threading.current_thread() is threading.main_thread()
-    old = signal.signal(signal.SIGINT, signal.SIG_IGN) if main else None
-    try:
-        cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None,
-                               silence_logs=logging.CRITICAL)
-    finally:
-        if main:
-            signal.signal(signal.SIGINT, old)
-    with cluster, Client(cluster) as client:
-        try:
-            yield client
-        except KeyboardInterrupt:
-            _stop_workers(cluster)  # the runs in progress would otherwise hold the close for seconds
-            raise
-
-
-def _stop_workers(cluster) -> None:
-    """Terminate the local cluster's worker processes now (their nannies told not to restart
-    them): a run in progress holds its worker until it ends, and Ctrl-C must not wait for that.
-    A stopped run leaves its last checkpoint (status running), if it had written one."""
-    for nanny in list(cluster.workers.values()):
-        pid = getattr(nanny, "pid", None)
-        if not pid:
-            continue
-        nanny.close_gracefully()
-        try:
-            os.kill(pid, signal.SIGTERM)
-        except ProcessLookupError:
-            pass
-
-
 def sweep(client, scene, pts: list[Point], out_dir: Path, settle_s: float, disk_nodes: list[int], *,
-          progress: bool = True, log=print) -> list[dict]:
+          progress: bool = True, log=print, rows: dict | None = None) -> list[dict]:
     """Run every point as a task on ``client``; return the rows in the order the points are
-    given. On an interrupt the tasks not finished are cancelled; the rows that are there are
-    attached to the exception (``exc.sweep_rows``) and it is raised again."""
+    given. ``rows`` (point -> row) fills as the runs finish, for a caller whose interrupt may
+    come after this returns (in closing the cluster). On an interrupt the tasks not finished
+    are cancelled; the rows that are there are attached to the exception (``exc.sweep_rows``)
+    and it is raised again."""
     from dask.distributed import as_completed
     from tqdm import tqdm
 
     futures = {client.submit(run_point, point_scene(scene, p, disk_nodes), p, str(out_dir), settle_s, disk_nodes,
                              key=f"sweep-{p.stem}-{os.getpid()}-{time.time_ns()}", pure=False, priority=-i): p
                for i, p in enumerate(pts)}
-    rows: dict[Point, dict] = {}
+    rows = {} if rows is None else rows
     bar = tqdm(total=len(pts), unit="run", desc=f"sweep {scene.name} [{scene.internal}]", disable=not progress)
     try:
         for fut in as_completed(futures):
             p = futures[fut]
-            rows[p] = _result(fut, p)
+            rows[p] = _collect(fut, p)
             bar.update(1)
             bar.set_postfix_str(f"{p.label}: {rows[p]['status']}")
             if rows[p]["status"] != "ok":
@@ -279,13 +222,21 @@ def sweep(client, scene, pts: list[Point], out_dir: Path, settle_s: float, disk_
     except KeyboardInterrupt as exc:
         for fut, p in futures.items():  # finished but not yet collected: they count
             if p not in rows and fut.status == "finished":
-                rows[p] = _result(fut, p)
+                rows[p] = _collect(fut, p)
         client.cancel(list(futures))  # queued runs never start; running ones end with their workers
         exc.sweep_rows = [rows[p] for p in pts if p in rows]
         raise
     finally:
         bar.close()
     return [rows[p] for p in pts]
+
+
+def _collect(fut, point: Point) -> dict:
+    """The row of a finished task; the files its worker had to rescue count as this command's."""
+    row = _result(fut, point)
+    for r in row.get("rescued", []):
+        note_rescued(**r)
+    return row
 
 
 def _result(fut, point: Point) -> dict:
@@ -364,11 +315,18 @@ def write_summary(path_stem: Path, scene, rows: list[dict], *, settle_s: float, 
         "scene": str(scene.source), "internal": scene.internal, "via": scene.via, "dt_s": scene.dt_s,
         "t_end_s": scene.t_end_s, "settle_s": settle_s, "swept": "unbalance_g" if unbalance else "speed_hz",
         "status": "interrupted" if note else "ok", "note": note, **info, "rows": rows}, indent=1))
-    if plot and any(r["status"] == "ok" and r.get("bearings") for r in rows):
-        out.append(plot_bifurcation(rows, f"{path_stem}.png", unbalance=unbalance,
-                                    title=f"{title}\n{scene.internal} via {scene.via}, after the transient: "
-                                          f"t >= {settle_s:g} s of {scene.t_end_s:g} s per run"))
-    return out
+    png = summary_diagram(path_stem, scene, rows, settle_s=settle_s, unbalance=unbalance) if plot else None
+    return out + ([png] if png else [])
+
+
+def summary_diagram(path_stem: Path, scene, rows: list[dict], *, settle_s: float, unbalance: bool) -> Path | None:
+    """The bifurcation diagram ``<stem>.png`` of the summary, when a run has something to draw,
+    titled from the sweep (the swept quantity and range, not the scene's own speed)."""
+    if not any(r["status"] == "ok" and r.get("bearings") for r in rows):
+        return None
+    return plot_bifurcation(rows, f"{path_stem}.png", unbalance=unbalance,
+                            title=f"{sweep_title(scene, rows, unbalance)}\n{scene.internal} via {scene.via}, after "
+                                  f"the transient: t >= {settle_s:g} s of {scene.t_end_s:g} s per run")
 
 
 def _label(r: dict, unbalance: bool) -> str:
@@ -526,22 +484,35 @@ def command(*, scene, speeds_hz=None, unbalance_g=None, settle_s: float | None =
         stem = name.path("")
         kw = dict(settle_s=settle_s, bearing_nodes=bearing_nodes, disk_nodes=disk_nodes, unbalance=unbalance)
         info = {"cluster": scheduler or "local cluster", "workers": None}
+        finished: dict[Point, dict] = {}
+        diagram = dict(settle_s=settle_s, unbalance=unbalance)
+        drawing = False
         try:
             with dask_client(scheduler, workers) as client:
                 info["workers"] = len(client.nthreads())
-                rows = sweep(client, scene, pts, out, settle_s, disk_nodes, progress=not quiet)
-        except KeyboardInterrupt as exc:  # the local workers are stopped by now: write what finished
-            done = getattr(exc, "sweep_rows", [])
+                rows = sweep(client, scene, pts, out, settle_s, disk_nodes, progress=not quiet, rows=finished)
+            info.update(wall_s=time.perf_counter() - t0, run_s=sum(r.get("wall_s") or 0 for r in rows))
+            files = write_summary(stem, scene, rows, info=info, **kw, plot=False)
+            drawing = True
+            files += [f for f in [summary_diagram(stem, scene, rows, **diagram)] if f]
+        except KeyboardInterrupt as exc:  # in the runs, closing the cluster (workers stopped) or writing: keep them
+            done = exc.sweep_rows = [finished[p] for p in pts if p in finished]
             _drop_stale_locks(out, pts)
             if done:
                 info.update(wall_s=time.perf_counter() - t0, run_s=sum(r.get("wall_s") or 0 for r in done))
-                files = write_summary(stem, scene, done, info=info, **kw,
-                                      note=f"interrupted by {as_interrupted(exc).signal_name}: the {len(done)} of "
-                                           f"{len(pts)} runs that finished")
-                note_kept(exc, f"{files[0]} ({len(done)} of {len(pts)} runs finished)")
+                what = (f"all {len(pts)} runs had finished" if len(done) == len(pts)
+                        else f"the {len(done)} of {len(pts)} runs that finished")
+                sig = as_interrupted(exc).signal_name
+                files = write_summary(stem, scene, done, info=info, **kw, plot=False,
+                                      note=f"interrupted by {sig}{' while drawing the diagram' if drawing else ''}: "
+                                           f"{what}")
+                try:  # unless the interrupt came while drawing it; a second interrupt skips it, the table is kept
+                    files += [f for f in [None if drawing else summary_diagram(stem, scene, done, **diagram)] if f]
+                except KeyboardInterrupt:
+                    pass
+                note_kept(exc, f"{', '.join(str(f) for f in files)} ({len(done)} of {len(pts)} runs finished, "
+                               f"each with its .npz/.json)")
             raise
-        info.update(wall_s=time.perf_counter() - t0, run_s=sum(r.get("wall_s") or 0 for r in rows))
-        files = write_summary(stem, scene, rows, info=info, **kw)
     n_ok = sum(r["status"] == "ok" for r in rows)
     print(f"{n_ok} of {len(rows)} runs ok in {info['wall_s']:.1f} s on {info['workers']} worker(s) "
           f"({info['run_s']:.1f} s of runs)")
@@ -553,5 +524,6 @@ def command(*, scene, speeds_hz=None, unbalance_g=None, settle_s: float | None =
 
 
 __all__ = ["scheduler_address", "Point", "run_base", "points", "point_scene", "settled_metrics", "run_point",
-           "check_fixed_speed", "dask_client", "sweep", "sweep_title", "write_summary", "plot_bifurcation",
+           "check_fixed_speed", "check_scheduler", "dask_client", "sweep", "sweep_title", "write_summary",
+           "summary_diagram", "plot_bifurcation",
            "command"]

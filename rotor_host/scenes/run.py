@@ -15,6 +15,7 @@ import hashlib
 import math
 import os
 import platform
+import sys
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -272,10 +273,14 @@ def run_scene(scene: Scene, out_dir=None, *, progress: bool = False, stem: str |
     "interrupted" and the signal, after which the interrupt is raised again; while running, a
     checkpoint (status "running") is written every ``scene.checkpoint_s`` of wall time. Files
     are written under a temporary name and renamed into place; a name another running process
-    holds gets a suffix (``bearing_fmu.io.outputs.claim``)."""
+    holds gets a suffix (``bearing_fmu.io.outputs.claim``); a result the folder refuses (a full
+    disk, made read-only) goes to its rescue folder (``outputs``), a checkpoint it refuses is a
+    one-line warning and the run goes on."""
     native = "_native" if scene.via == "fmu" and scene.fmu_kind == "native" else ""
     stem = stem or f"{Path(scene.source).stem if scene.source else scene.name}_{scene.internal}{native}"
-    out_dir = ensure_writable(out_dir) if out_dir is not None else None
+    # made, not probed: the command probed it before any work (``ensure_writable``); a folder that
+    # refuses writes now (full, made read-only) has this run's result rescued, not lost
+    out_dir = ensure_writable(out_dir, probe=False) if out_dir is not None else None
     work = Path(work_dir) if work_dir is not None else (out_dir or Path("out")) / "fmu"
     with handled():
         holder = claim(out_dir, stem) if out_dir is not None else None
@@ -296,6 +301,7 @@ class _Writer:
         self.rec_nodes = sorted(set(scene.record_nodes) | set(rotor.bearing_nodes) | {d.node for d in rotor.disks})
         self.rec_dofs = [rotor.dof(n, d) for n in self.rec_nodes for d in ("y", "z")]
         self.q0 = None
+        self.checkpoint_failed = False
         self.times = {"setup_time_s": 0.0, "equilibrium_time_s": 0.0}
         self.meta = {
             "scene": scene.name, "description": scene.description, "source": str(scene.source),
@@ -309,9 +315,21 @@ class _Writer:
             "status": "ok", "message": "",
         }
 
-    def run(self, res, status: str = "ok", message: str = "", **extra) -> SceneRun:
+    def checkpoint(self, res) -> None:
+        """Write the partial result (status running); a write that fails is one warning line
+        (the first time) and the run goes on: its end writes the result, or rescues it."""
+        try:
+            self.run(res, "running", "checkpoint written while running: the run had not finished when this was "
+                     "written", rescue=False)
+        except OSError as exc:
+            if not self.checkpoint_failed:
+                print(f"warning: checkpoint not written: {exc.filename}: {exc.strerror} (the run goes on)",
+                      file=sys.stderr, flush=True)
+            self.checkpoint_failed = True
+
+    def run(self, res, status: str = "ok", message: str = "", rescue: bool = True, **extra) -> SceneRun:
         """The SceneRun of ``res`` (a NewmarkResult, or None before the integration started),
-        written to disk when the run has an output folder."""
+        written to disk when the run has an output folder (``rescue``: ``outputs.savez``)."""
         rotor, scene = self.rotor, self.scene
         nb, n_rec = len(rotor.bearing_nodes), len(self.rec_nodes)
         if res is None:
@@ -366,8 +384,8 @@ class _Writer:
                                     "states outside; its forces there are extrapolations]")
         run = SceneRun(arrays, meta)
         if self.holder is not None:
-            run.npz = savez(self.holder.path(".npz"), **arrays)
-            run.json = write_json(self.holder.path(".json"), meta)
+            run.npz = savez(self.holder.path(".npz"), rescue=rescue, **arrays)
+            run.json = write_json(self.holder.path(".json"), meta, rescue=rescue)
         return run
 
 
@@ -409,8 +427,7 @@ def _run(scene: Scene, holder, work: Path, progress: bool) -> SceneRun:
                     bar.update(t - bar.n)
                 now = time.perf_counter()
                 if holder is not None and now - last[0] >= scene.checkpoint_s:
-                    out.run(integ.partial_result(), "running",
-                            "checkpoint written while running: the run had not finished when this was written")
+                    out.checkpoint(integ.partial_result())
                     last[0] = time.perf_counter()
 
             try:
