@@ -64,16 +64,15 @@ def test_an_output_folder_that_cannot_be_one_is_named(tmp_path, case):
         outputs.ensure_output_file(tmp_path, "-o")
 
 
-@pytest.mark.skipif(os.geteuid() == 0, reason="root writes into read-only folders")
-def test_an_unwritable_folder_is_refused_before_any_work(tmp_path):
-    ro = tmp_path / "ro"
-    ro.mkdir()
-    ro.chmod(0o555)
-    try:
-        with pytest.raises(ValueError, match="--out .*not writable"):
-            outputs.ensure_writable(ro / "x", "--out")
-    finally:
-        ro.chmod(0o755)
+def test_an_unwritable_folder_is_refused_before_any_work(tmp_path, tmpfs):
+    # a read-only file system (root writes into a chmod 555 folder, so the test makes one that
+    # nobody can write: a tmpfs remounted read-only, as CI runs as root too)
+    from conftest import read_only
+
+    ro = tmpfs(tmp_path / "ro")
+    read_only(ro)
+    with pytest.raises(ValueError, match=r"--out .*ro/x: cannot write there \(Read-only file system\)"):
+        outputs.ensure_writable(ro / "x", "--out")
 
 
 def test_a_run_without_static_equilibrium_still_writes_its_json(tmp_path, write_scene):
