@@ -18,9 +18,15 @@ OMEGA_22HZ = 2 * math.pi * 22.0
 
 
 @pytest.fixture(scope="session")
-def code_cache(tmp_path_factory):
-    """The FMU's code cache (BEARING_FMU_CACHE_DIR, where numba's cache lives too): a session temp dir."""
-    path = tmp_path_factory.mktemp("fmu_code_cache")
+def code_cache(request, tmp_path_factory):
+    """The FMU's code cache (BEARING_FMU_CACHE_DIR, where numba's cache lives too), kept between
+    sessions in pytest's cache folder (.pytest_cache/d/fmu-code): numba's cache of the bundled
+    kernels is then warm from the second run on, as it is for the installed package (before, a
+    session temp dir: every run compiled the Reynolds and Taylor kernels of the bundle afresh,
+    ~20 s). Safe to keep: each bundle's folder is named by a hash of its sources, so changed code
+    gets a new folder. A session temp dir when the cache plugin is off (-p no:cacheprovider)."""
+    cache = getattr(request.config, "cache", None)
+    path = cache.mkdir("fmu-code") if cache is not None else tmp_path_factory.mktemp("fmu_code_cache")
     old = os.environ.get("BEARING_FMU_CACHE_DIR")
     os.environ["BEARING_FMU_CACHE_DIR"] = str(path)
     yield path

@@ -2,7 +2,8 @@
 iteration, errors that leave the process usable, leave-out of unused internals, shadowing.
 
 The FMU is built once per session (tests/conftest.py). Its code cache (BEARING_FMU_CACHE_DIR,
-where numba's cache lives too) is a session temp dir shared with the subprocess tests.
+where numba's cache lives too) is kept between sessions in .pytest_cache and shared with the
+subprocess tests.
 """
 
 import importlib.util

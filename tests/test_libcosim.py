@@ -12,8 +12,8 @@
     the closed loop with the journal mass, where it settles at the map's static equilibrium.
 
 The FMUs are built once per module into tmp; the bearing FMU's code cache
-(BEARING_FMU_CACHE_DIR, where numba's cache lives) is a module temp dir, so the Reynolds
-kernels compile once per run (~6 s, counted in the runtime).
+(BEARING_FMU_CACHE_DIR, where numba's cache lives) is the session's (tests/conftest.py: kept
+between runs), so the Reynolds kernels compile in the first run only (~6 s).
 """
 
 import math
@@ -66,23 +66,13 @@ def _load_example():
 
 
 @pytest.fixture(scope="module")
-def fmus(tmp_path_factory):
-    """(bearing.fmu, JournalMass.fmu), with the bearing's code cache in a module temp dir."""
+def fmus(tmp_path_factory, code_cache):
+    """(bearing.fmu, JournalMass.fmu); the bearing's code cache is the session's (``code_cache``
+    sets BEARING_FMU_CACHE_DIR)."""
     from bearing_fmu.fmu.build import build_fmu
 
-    cache = tmp_path_factory.mktemp("libcosim_code_cache")
-    old = os.environ.get("BEARING_FMU_CACHE_DIR")
-    os.environ["BEARING_FMU_CACHE_DIR"] = str(cache)
     out = tmp_path_factory.mktemp("libcosim_fmus")
-    try:
-        bearing = build_fmu(out / "bearing.fmu")
-        mass = _load_example().build(out / "JournalMass.fmu")
-        yield bearing, mass
-    finally:
-        if old is None:
-            os.environ.pop("BEARING_FMU_CACHE_DIR", None)
-        else:
-            os.environ["BEARING_FMU_CACHE_DIR"] = old
+    return build_fmu(out / "bearing.fmu"), _load_example().build(out / "JournalMass.fmu")
 
 
 MAP = ROOT / "models" / "maps" / "paper_bearing.json"  # the shipped force map of the paper bearing's L/D
