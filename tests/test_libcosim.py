@@ -191,7 +191,12 @@ def _settle(fmus, h, t_end, chunk=1e-3):
     return np.array(history), wall
 
 
+@pytest.mark.slow
 def test_closed_loop_in_libcosim_settles_at_the_static_equilibrium(fmus, reynolds):
+    """End to end (slow: 20 000 libcosim steps of the Python FMU on the default grid, 8-11 s).
+    The quick loop keeps its parts: the Python FMU's force in libcosim (a), the same loop with a
+    Python bearing FMU that diverges (c), and the closed loop that settles with the native map
+    FMU (d)."""
     from bearing_fmu.physics.statics import equilibrium
 
     h, chunk, t_end = 1e-5, 1e-3, 0.2
