@@ -1,10 +1,11 @@
 """rotor-host sweep: the swept values, what a run leaves in the summary, and sweeps on Dask.
 
-The Dask tests run the paper rotor with the shipped force map called directly for 0.02 s per
-run, on an existing cluster named by --scheduler (2 worker processes, started once for the
-module: 1-3 s) and, marked slow, on the command's own LocalCluster of 2 workers (the default
-path), where one run fails honestly (0.01 Hz: the film cannot carry the rotor's weight), and
-under Ctrl-C.
+The Dask tests, all marked slow (end to end: worker processes start and import the code, 6-10 s
+each), run the paper rotor with the shipped force map called directly for 0.02 s per run, on an
+existing cluster named by --scheduler (2 worker processes, started once for the module: 1-3 s)
+and on the command's own LocalCluster of 2 workers (the default path), where one run fails
+honestly (0.01 Hz: the film cannot carry the rotor's weight), and under Ctrl-C. The quick loop
+keeps the parts: the swept values, one run (run_point), the summary, a missing scheduler.
 """
 
 import argparse
@@ -229,6 +230,7 @@ def scheduler():
         yield cluster.scheduler_address
 
 
+@pytest.mark.slow
 def test_unbalance_sweep_on_an_existing_cluster(tmp_path, scheduler):
     out = tmp_path / "out"
     assert _cli("sweep", SCENE, "--unbalance-g", "0:8:4", *CHEAP, "--scheduler", scheduler, "--out", out) == 0
