@@ -79,15 +79,17 @@ MAP = ROOT / "models" / "maps" / "paper_bearing.json"  # the shipped force map o
 
 
 @pytest.fixture(scope="module")
-def native_map(tmp_path_factory):
-    """The native FMU of the map internal with the shipped map compiled in (one C compile)."""
+def native_map(tmp_path_factory, native_build_cache):
+    """The native FMU of the map internal with the shipped map compiled in (one C compile, again
+    only when the sources or the map change: tests/conftest.py ``native_build_cache``)."""
     import shutil
 
     from bearing_fmu.fmu.native.build import build_native_fmu
 
     if not (shutil.which("cc") or shutil.which("gcc") or os.environ.get("CC")):
         pytest.skip("no C compiler: the native FMU is compiled at build time")
-    return build_native_fmu(tmp_path_factory.mktemp("libcosim_native") / "native_map.fmu", "map", map=MAP)
+    return native_build_cache(tmp_path_factory.mktemp("libcosim_native") / "native_map.fmu",
+                              lambda target: build_native_fmu(target, "map", map=MAP), [MAP], ("map",))
 
 
 @pytest.fixture(scope="module")

@@ -2,8 +2,9 @@
 
 Expected values come from the Python internals themselves (``bearing_fmu.internals.create``:
 the Taylor internal behind its domain guard, the force map, the linear model), never from the
-FMU; the statuses are the table of docs/fmu.md ("FMI status"). Every FMU is built once per
-session (one compile each); the map FMU through the command line.
+FMU; the statuses are the table of docs/fmu.md ("FMI status"). Every FMU is built once (one
+compile each, again only when the sources or the data change: tests/conftest.py
+``native_build_cache``); the map FMU through the command line.
 """
 
 import ctypes
@@ -52,27 +53,37 @@ pytestmark = [pytest.mark.skipif(shutil.which("cc") is None and shutil.which("gc
 # ----------------------------------------------------------------------------- the FMUs
 
 @pytest.fixture(scope="session")
-def native(tmp_path_factory):
+def native(tmp_path_factory, native_build_cache):
     """name -> (fmu path, extracted dir, python internal, params): every shipped surrogate and map,
-    and the linear model linearised on the shipped map; built once."""
+    and the linear model linearised on the shipped map; built once (and compiled again only when
+    the sources or the data change: ``native_build_cache`` in tests/conftest.py)."""
     from bearing_fmu.cli import main
     from bearing_fmu.fmu.native.build import build_native_fmu
 
     folder = tmp_path_factory.mktemp("native")
     out = {}
     for path in MAPS:
-        fmu = folder / f"map_{path.stem}.fmu"
         bearing = _map_bearing(path)  # a map serves its own L/D: the bearing it was built for
         extra = ["--bearing", str(bearing)] if bearing else []
         params = BearingParams.from_toml(bearing) if bearing else PAPER_BEARING
-        assert main(["build", "--native", "--internal", "map", "--map", str(path), *extra, "-o", str(fmu)]) == 0
+        argv = ["build", "--native", "--internal", "map", "--map", str(path), *extra]
+
+        def cli(target, argv=argv):  # through the command line
+            assert main([*argv, "-o", str(target)]) == 0
+            return target
+
+        fmu = native_build_cache(folder / f"map_{path.stem}.fmu", cli, [path] + ([bearing] if bearing else []),
+                                 ("cli", *argv[1:5]))
         out[f"map:{path.stem}"] = (fmu, registry.create("map", params, {"map": str(path)}), params)
     for path in SURROGATES:
-        fmu = build_native_fmu(folder / f"taylor_{path.stem}.fmu", "taylor", surrogate=path)
+        fmu = native_build_cache(folder / f"taylor_{path.stem}.fmu",
+                                 lambda target, path=path: build_native_fmu(target, "taylor", surrogate=path),
+                                 [path], ("taylor",))
         params = load_surrogate(path).params
         out[f"taylor:{path.stem}"] = (fmu, registry.create("taylor", params, {"surrogate": str(path)}), params)
     lin_opts = {"linear_from": "map", "map": str(PAPER_MAP)}
-    fmu = build_native_fmu(folder / "linear.fmu", "linear", options=lin_opts)
+    fmu = native_build_cache(folder / "linear.fmu", lambda target: build_native_fmu(target, "linear", options=lin_opts),
+                             [PAPER_MAP], ("linear", "linear_from", "map"))
     out["linear"] = (fmu, registry.create("linear", PAPER_BEARING, lin_opts), PAPER_BEARING)
     return {k: (fmu, fmpy.extract(str(fmu)), py, params) for k, (fmu, py, params) in out.items()}
 
