@@ -666,9 +666,11 @@ def test_fmpy_simulates_it(native, fmi_type):
 
 # ----------------------------------------------------------------------------- builds
 
+@pytest.mark.slow
 def test_fmpy_cmake_project_builds_the_same_binary(native, tmp_path):
     """The sources build with fmpy's CMake project (how a user rebuilds for another platform) into
-    an FMU that gives the same force."""
+    an FMU that gives the same force. Slow: end to end through cmake (configure, build: 2-3 s);
+    the quick loop builds the same sources with the C compiler and checks every FMU's forces."""
     from bearing_fmu.fmu.native.build import build_native_fmu
 
     fmu = build_native_fmu(tmp_path / "cmake.fmu", "map", map=PAPER_MAP, cmake=True)
