@@ -7,6 +7,7 @@ the SVD identity with the normal equations), never from this code's own output.
 
 import json
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -22,6 +23,7 @@ from bearing_fmu.surrogates.surrogate import Domain, Surrogate, load_surrogate, 
 
 P = PAPER_BEARING
 OMEGA = 2 * math.pi * 22.0
+ROOT = Path(__file__).resolve().parents[1]
 
 
 def R(order, **kw):
@@ -821,10 +823,57 @@ def test_wall_factor_surrogate_without_shape_is_unchanged():
     assert dv.tolist() == [[-1569.8938915150168, 539.2106530854405], [-716.0699276853098, -1696.909918759464]]
 
 
+def _jit_call_graph(*kernels):
+    """The numba dispatchers reachable from ``kernels`` through the names their Python code
+    uses (globals, attributes of modules it names, closure cells; nested code objects too),
+    kernels included. Numba types every call in a function's body, the branches a run never
+    takes included, so a kernel compiles at most this graph."""
+    import types
+
+    from numba.core.dispatcher import Dispatcher
+
+    seen, todo = set(), list(kernels)
+    while todo:
+        k = todo.pop()
+        if k in seen:
+            continue
+        seen.add(k)
+        f = k.py_func
+        cells = [c.cell_contents for c in (f.__closure__ or ())]
+        codes, names = [f.__code__], []
+        while codes:
+            c = codes.pop()
+            codes += [x for x in c.co_consts if isinstance(x, types.CodeType)]
+            names += c.co_names
+        found = [f.__globals__.get(n) for n in names] + cells
+        modules = [m for m in found if isinstance(m, types.ModuleType)]
+        found += [getattr(m, n, None) for m in modules for n in names]
+        todo += [d for d in found if isinstance(d, Dispatcher)]
+    return seen
+
+
+def test_plain_kernels_cannot_reach_the_shape_columns():
+    # the quick form of the check below (marked slow): the call graph of what a Taylor without
+    # shape columns calls (read from the kernels' code, no compiling) holds none of the four
+    # shape kernels; the graph of a Taylor with them holds all four (the check can fail)
+    import bearing_fmu.surrogates.taylor_kernels as K
+
+    shape = {K._sb_nb, K._shape_terms, K.force_shape_nb, K.force_jac_shape_si_nb}
+    plain = Taylor.from_file(ROOT / "models" / "surrogates" / "paper_22hz_16.7N.json")
+    with_shape = Taylor.from_file(ROOT / "models" / "surrogates" / "paper_44hz_16.7N.json")
+    assert plain.surrogate.shape_order is None and with_shape.surrogate.shape_order is not None
+    assert not _jit_call_graph(plain._kforce, plain._kjac, K.domain_distance_nb) & shape
+    assert _jit_call_graph(with_shape._kforce, with_shape._kjac) >= shape
+    assert K._powers in _jit_call_graph(plain._kforce)  # the walk does reach callees
+
+
+@pytest.mark.slow
 def test_surrogate_without_shape_columns_never_compiles_them(tmp_path):
     # leave out what a scene does not need: numba compiles a kernel's whole call graph, so the
     # plain kernels must not reach the short-bearing one (cold, that cost ~6 s more). An empty
     # numba cache makes every compiled callee register its signature (a cached caller does not).
+    # Slow (a cold compile of every kernel, 5-10 s): the end-to-end proof of what
+    # test_plain_kernels_cannot_reach_the_shape_columns reads from the code.
     # One fresh interpreter (one cold compile of each kernel, ~6 s) evaluates the shipped 22 Hz
     # surrogate (no shape columns), then the 44 Hz one (with them) as the control that shows the
     # check can fail: the second must register all four, the first none.
