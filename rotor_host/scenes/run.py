@@ -133,8 +133,8 @@ def _native_fmu(scene: Scene, work_dir: Path) -> Path:
     data = {"taylor": ("surrogate", "surrogate"), "map": ("map", "map")}.get(scene.internal)
     path = required_file(scene, scene.internal, data[0]) if data else None
     h = hashlib.sha256(scene.internal.encode())
-    pkg = C_DIR.parent.parent  # bearing_fmu: the model description and docs generators too
-    for f in (sorted(C_DIR.glob("*")) + sorted(C_DIR.parent.glob("*.py")) + [pkg / "fmu_meta.py", pkg / "fmu_docs.py"]
+    pkg = C_DIR.parent.parent  # bearing_fmu/fmu: the model description and docs generators too
+    for f in (sorted(C_DIR.glob("*")) + sorted(C_DIR.parent.glob("*.py")) + [pkg / "meta.py", pkg / "docs.py"]
               + ([path] if path else [])):
         h.update(f.name.encode() + b"\0" + f.read_bytes())
     out = work_dir / f"bearing_native_{scene.internal}{'_' + path.stem if path else ''}_{h.hexdigest()[:12]}.fmu"
