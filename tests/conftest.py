@@ -2,6 +2,7 @@
 bundled), its extraction and instances, a scene writer and the central-difference Jacobian."""
 
 import hashlib
+import json
 import math
 import os
 import textwrap
@@ -199,3 +200,71 @@ def write_scene(folder: Path, body: str, name: str = "s.toml", rotor: Path = ROT
 def write_scene_fixture(tmp_path):
     """write_scene(body, name="s.toml"): a scene file in this test's tmp_path."""
     return lambda body, name="s.toml", **kw: write_scene(tmp_path, body, name, **kw)
+
+
+# ----------------------------------------------------------------------------- the paper scene
+
+PAPER_UNBALANCE_G = 8.5  # models/scenes/paper_22hz.toml: 8.5 g at 37 mm on the disk (node 6), phase 0
+
+
+def _toml(value) -> str:
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, (int, float)):
+        return repr(value)
+    if isinstance(value, Path):
+        value = value.as_posix()
+    if isinstance(value, str):
+        return json.dumps(value)
+    if isinstance(value, (list, tuple)):
+        return "[" + ", ".join(_toml(v) for v in value) + "]"
+    raise TypeError(f"no TOML for {value!r}")
+
+
+def paper_scene_text(*, name: str | None = None, internal: str = "reynolds", via: str | None = "direct",
+                     t_end: float = 0.01, dt: float = 1e-4, grid: tuple[int, int] | None = None,
+                     unbalance_g: float | None = PAPER_UNBALANCE_G, unbalance_node: int = 6, **more) -> str:
+    """The TOML text of the paper's 22 Hz scene (models/scenes/paper_22hz.toml: the paper rotor at
+    22 Hz, 8.5 g at 37 mm on the disk) in the form the tests run it: called directly, 10 ms at
+    dt = 1e-4 s, the Reynolds solver's default grid. Each keyword changes one thing: ``internal``,
+    ``via`` (None: the key left out, i.e. fmu), ``t_end``, ``dt`` [s], ``grid`` = (n_theta, n_x)
+    (the [reynolds] table), ``unbalance_g`` (None or 0: no unbalance), ``unbalance_node``; any
+    other keyword is a top-level key (``name``, ``fmu``, ``fmu_kind``, ``speed_hz``, ...; None
+    leaves it out), a table when its value is a dict (``record={"nodes": [3, 6, 9]}``, ``map=``,
+    ``taylor=``; merged into [reynolds] or [time] when those) or an array of tables when a list
+    of dicts (``static_loads=[{"node": 9, "Fz_N": -1e9}]``; ``unbalance=[...]`` replaces the
+    paper's)."""
+    keys = {"name": name, "rotor": ROTOR, "internal": internal, "via": via, "speed_hz": 22.0}
+    tables = {"reynolds": {"n_theta": grid[0], "n_x": grid[1]}} if grid else {}
+    tables["time"] = {"t_end_s": t_end, "dt_s": dt}
+    arrays = {}
+    if unbalance_g:
+        arrays["unbalance"] = [{"node": unbalance_node, "mass_kg": unbalance_g / 1000, "radius_mm": 37.0,
+                                "phase_deg": 0.0}]
+    for key, value in more.items():
+        if isinstance(value, dict):
+            tables[key] = {**tables.get(key, {}), **value}
+        elif isinstance(value, list) and value and all(isinstance(v, dict) for v in value):
+            arrays[key] = value
+        else:
+            keys[key] = value
+    lines = [f"{k} = {_toml(v)}" for k, v in keys.items() if v is not None]
+    for title, rows in [*((t, [d]) for t, d in tables.items()), *((f"[{t}]", ds) for t, ds in arrays.items())]:
+        for d in rows:
+            lines += ["", f"[{title}]", *(f"{k} = {_toml(v)}" for k, v in d.items() if v is not None)]
+    return "\n".join(lines) + "\n"
+
+
+@pytest.fixture
+def paper_scene(tmp_path):
+    """paper_scene(folder=tmp_path, file=None, **overrides) -> the path of the paper's 22 Hz scene
+    written as ``paper_scene_text(**overrides)`` (see there: what each keyword changes) into
+    ``folder``, as ``file`` (default: <name>.toml when a name is given, else s.toml)."""
+
+    def write(folder: Path | None = None, file: str | None = None, **overrides) -> Path:
+        name = overrides.get("name")
+        p = Path(folder or tmp_path) / (file or (f"{name}.toml" if name else "s.toml"))
+        p.write_text(paper_scene_text(**overrides))
+        return p
+
+    return write

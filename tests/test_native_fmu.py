@@ -711,27 +711,15 @@ def test_a_map_for_another_length_to_diameter_is_refused(tmp_path):
 
 # ----------------------------------------------------------------------------- the rotor host
 
-def test_native_parameters_of_a_scene(write_scene):
+def test_native_parameters_of_a_scene(paper_scene):
     """The host's parameters for a native FMU: the options it keeps; the linear model made per
     bearing by the Python Linear internal (its coefficients), fallback refused in one line."""
     from rotor_host.scenes.run import _fmu_parameters
     from rotor_host.scenes.scene import SceneError, load_scene
 
-    sc = load_scene(write_scene(f"""
-        internal = "linear"
-        speed_hz = 22.0
-        fmu_kind = "native"
-        [time]
-        t_end_s = 0.01
-        dt_s = 1e-4
-        [linear]
-        linear_from = "map"
-        [map]
-        map = "{PAPER_MAP.as_posix()}"
-        [taylor]
-        surrogate = "{SURROGATES[1].as_posix()}"
-        domain_action = "fallback"
-        """))
+    sc = load_scene(paper_scene(internal="linear", via="fmu", fmu_kind="native", unbalance_g=None,
+                                linear={"linear_from": "map"}, map={"map": PAPER_MAP},
+                                taylor={"surrogate": SURROGATES[1], "domain_action": "fallback"}))
     assert sc.fmu_kind == "native"
     p = _fmu_parameters(sc, PAPER_BEARING, (0.0, -16.7))
     lin = registry.create("linear", PAPER_BEARING, {"linear_from": "map", "map": str(PAPER_MAP)},
