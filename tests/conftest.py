@@ -10,8 +10,8 @@ from pathlib import Path
 
 # One BLAS thread per process, set before numpy loads OpenBLAS (subprocesses inherit it). The
 # tests' matrices are small (fits of a few hundred rows): a second thread gains nothing, and on a
-# shared 2-core machine OpenBLAS's spinning threads collapse under load (tests/test_taylor.py:
-# 18-20 s with one thread, 46-79 s with the default two, measured side by side).
+# shared 2-core machine OpenBLAS's spinning threads collapse under load (the Taylor fit tests,
+# then tests/test_taylor.py: 18-20 s with one thread, 46-79 s with the default two, side by side).
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 import numpy as np  # noqa: E402
