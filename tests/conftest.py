@@ -2,6 +2,8 @@
 bundled), its extraction and instances, a scene writer, the central-difference Jacobian, and
 file systems that refuse writes (a small tmpfs: full, or remounted read-only; as root)."""
 
+import hashlib
+import json
 import math
 import os
 import subprocess
@@ -9,7 +11,13 @@ import textwrap
 import time
 from pathlib import Path
 
-import numpy as np
+# One BLAS thread per process, set before numpy loads OpenBLAS (subprocesses inherit it). The
+# tests' matrices are small (fits of a few hundred rows): a second thread gains nothing, and on a
+# shared 2-core machine OpenBLAS's spinning threads collapse under load (the Taylor fit tests,
+# then tests/test_taylor.py: 18-20 s with one thread, 46-79 s with the default two, side by side).
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+
+import numpy as np  # noqa: E402
 import pytest
 
 
@@ -20,9 +28,15 @@ OMEGA_22HZ = 2 * math.pi * 22.0
 
 
 @pytest.fixture(scope="session")
-def code_cache(tmp_path_factory):
-    """The FMU's code cache (BEARING_FMU_CACHE_DIR, where numba's cache lives too): a session temp dir."""
-    path = tmp_path_factory.mktemp("fmu_code_cache")
+def code_cache(request, tmp_path_factory):
+    """The FMU's code cache (BEARING_FMU_CACHE_DIR, where numba's cache lives too), kept between
+    sessions in pytest's cache folder (.pytest_cache/d/fmu-code): numba's cache of the bundled
+    kernels is then warm from the second run on, as it is for the installed package (before, a
+    session temp dir: every run compiled the Reynolds and Taylor kernels of the bundle afresh,
+    ~20 s). Safe to keep: each bundle's folder is named by a hash of its sources, so changed code
+    gets a new folder. A session temp dir when the cache plugin is off (-p no:cacheprovider)."""
+    cache = getattr(request.config, "cache", None)
+    path = cache.mkdir("fmu-code") if cache is not None else tmp_path_factory.mktemp("fmu_code_cache")
     old = os.environ.get("BEARING_FMU_CACHE_DIR")
     os.environ["BEARING_FMU_CACHE_DIR"] = str(path)
     yield path
@@ -30,6 +44,68 @@ def code_cache(tmp_path_factory):
         os.environ.pop("BEARING_FMU_CACHE_DIR", None)
     else:
         os.environ["BEARING_FMU_CACHE_DIR"] = old
+
+
+def _package_digest() -> str:
+    """A hash of every source file of bearing_fmu (Python and C): what an FMU build reads."""
+    h = hashlib.sha256()
+    pkg = ROOT / "bearing_fmu"
+    for p in sorted(pkg.rglob("*")):
+        if p.suffix in (".py", ".c", ".h") and "__pycache__" not in p.parts and p.is_file():
+            h.update(p.relative_to(pkg).as_posix().encode() + b"\0" + p.read_bytes() + b"\0")
+    return h.hexdigest()
+
+
+@pytest.fixture(scope="session")
+def native_build_cache(request):
+    """cached(target, build, inputs, settings) -> target: a native FMU built by ``build(target)``,
+    or, when an earlier session built one from the same inputs, a copy of that one (kept in
+    .pytest_cache/d/native-fmu). The key hashes everything a native build reads: bearing_fmu's
+    sources (Python and C), the data files ``inputs``, the ``settings`` (internal, options, how
+    it is built), the C compiler ($CC or cc, and its --version), fmpy's version (the FMI headers).
+    Changed code or data builds afresh, so every test still checks what today's code builds; an
+    unchanged build is not compiled again (7 compiles, 6-9 s of every run on 2 cores). Only the
+    current sources' folder is kept. Without the cache plugin (-p no:cacheprovider) it builds."""
+    import shutil
+    import subprocess
+
+    import fmpy
+
+    from bearing_fmu.fmu.native.build import NativeBuildError, find_compiler
+
+    cache = getattr(request.config, "cache", None)
+    root = None
+    try:
+        cc = find_compiler()
+        version = subprocess.run([cc, "--version"], capture_output=True, text=True, timeout=30).stdout
+    except (NativeBuildError, OSError):
+        cache = None  # no compiler: the build says so itself
+    if cache is not None:
+        env = hashlib.sha256(f"{_package_digest()}|{cc}|{version}|fmpy {fmpy.__version__}".encode()).hexdigest()
+        top = cache.mkdir("native-fmu")
+        for old in top.iterdir():  # builds of other sources: never used again
+            if old.name != env[:16]:
+                shutil.rmtree(old, ignore_errors=True)
+        root = top / env[:16]
+        root.mkdir(exist_ok=True)
+
+    def cached(target: Path, build, inputs=(), settings=()) -> Path:
+        if root is None:
+            return build(target)
+        h = hashlib.sha256(repr((target.name, settings)).encode())
+        for f in inputs:
+            h.update(b"\0" + Path(f).name.encode() + b"\0" + Path(f).read_bytes())
+        kept = root / f"{h.hexdigest()[:24]}.fmu"
+        if kept.is_file():
+            shutil.copyfile(kept, target)
+            return target
+        build(target)
+        tmp = kept.with_suffix(f".{os.getpid()}.tmp")
+        shutil.copyfile(target, tmp)
+        os.replace(tmp, kept)  # whole or not at all, if another session writes it too
+        return target
+
+    return cached
 
 
 @pytest.fixture(scope="session")
@@ -179,3 +255,71 @@ def read_only(folder, timeout=10.0):
     while subprocess.run(["mount", "-o", "remount,ro", str(folder)], capture_output=True).returncode != 0:
         assert time.monotonic() - t0 < timeout, f"cannot remount {folder} read-only"
         time.sleep(0.05)
+
+
+# ----------------------------------------------------------------------------- the paper scene
+
+PAPER_UNBALANCE_G = 8.5  # models/scenes/paper_22hz.toml: 8.5 g at 37 mm on the disk (node 6), phase 0
+
+
+def _toml(value) -> str:
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, (int, float)):
+        return repr(value)
+    if isinstance(value, Path):
+        value = value.as_posix()
+    if isinstance(value, str):
+        return json.dumps(value)
+    if isinstance(value, (list, tuple)):
+        return "[" + ", ".join(_toml(v) for v in value) + "]"
+    raise TypeError(f"no TOML for {value!r}")
+
+
+def paper_scene_text(*, name: str | None = None, internal: str = "reynolds", via: str | None = "direct",
+                     t_end: float = 0.01, dt: float = 1e-4, grid: tuple[int, int] | None = None,
+                     unbalance_g: float | None = PAPER_UNBALANCE_G, unbalance_node: int = 6, **more) -> str:
+    """The TOML text of the paper's 22 Hz scene (models/scenes/paper_22hz.toml: the paper rotor at
+    22 Hz, 8.5 g at 37 mm on the disk) in the form the tests run it: called directly, 10 ms at
+    dt = 1e-4 s, the Reynolds solver's default grid. Each keyword changes one thing: ``internal``,
+    ``via`` (None: the key left out, i.e. fmu), ``t_end``, ``dt`` [s], ``grid`` = (n_theta, n_x)
+    (the [reynolds] table), ``unbalance_g`` (None or 0: no unbalance), ``unbalance_node``; any
+    other keyword is a top-level key (``name``, ``fmu``, ``fmu_kind``, ``speed_hz``, ...; None
+    leaves it out), a table when its value is a dict (``record={"nodes": [3, 6, 9]}``, ``map=``,
+    ``taylor=``; merged into [reynolds] or [time] when those) or an array of tables when a list
+    of dicts (``static_loads=[{"node": 9, "Fz_N": -1e9}]``; ``unbalance=[...]`` replaces the
+    paper's)."""
+    keys = {"name": name, "rotor": ROTOR, "internal": internal, "via": via, "speed_hz": 22.0}
+    tables = {"reynolds": {"n_theta": grid[0], "n_x": grid[1]}} if grid else {}
+    tables["time"] = {"t_end_s": t_end, "dt_s": dt}
+    arrays = {}
+    if unbalance_g:
+        arrays["unbalance"] = [{"node": unbalance_node, "mass_kg": unbalance_g / 1000, "radius_mm": 37.0,
+                                "phase_deg": 0.0}]
+    for key, value in more.items():
+        if isinstance(value, dict):
+            tables[key] = {**tables.get(key, {}), **value}
+        elif isinstance(value, list) and value and all(isinstance(v, dict) for v in value):
+            arrays[key] = value
+        else:
+            keys[key] = value
+    lines = [f"{k} = {_toml(v)}" for k, v in keys.items() if v is not None]
+    for title, rows in [*((t, [d]) for t, d in tables.items()), *((f"[{t}]", ds) for t, ds in arrays.items())]:
+        for d in rows:
+            lines += ["", f"[{title}]", *(f"{k} = {_toml(v)}" for k, v in d.items() if v is not None)]
+    return "\n".join(lines) + "\n"
+
+
+@pytest.fixture
+def paper_scene(tmp_path):
+    """paper_scene(folder=tmp_path, file=None, **overrides) -> the path of the paper's 22 Hz scene
+    written as ``paper_scene_text(**overrides)`` (see there: what each keyword changes) into
+    ``folder``, as ``file`` (default: <name>.toml when a name is given, else s.toml)."""
+
+    def write(folder: Path | None = None, file: str | None = None, **overrides) -> Path:
+        name = overrides.get("name")
+        p = Path(folder or tmp_path) / (file or (f"{name}.toml" if name else "s.toml"))
+        p.write_text(paper_scene_text(**overrides))
+        return p
+
+    return write

@@ -3,9 +3,10 @@
 Each case is (input, the words the message must hold). The words are the key with its table
 path, or the option, taken from the input itself (the key or option the case breaks), plus
 the expected value in words where the schema or the option's type states it. A representative
-case per class of fault runs the real command in a subprocess (exit status 2, no traceback);
-the rest run in-process through ``load_scene``, ``Rotor.from_toml``, ``BearingParams.from_toml``
-and the real argument parsers (``main(argv)``), which is fast.
+case per class of fault exits 2 without a traceback from ``main(argv)``, and one per way a
+command exits 2 (argparse, run_command) runs the real command in a subprocess; the rest run
+in-process through ``load_scene``, ``Rotor.from_toml``, ``BearingParams.from_toml`` and the real
+argument parsers (``main(argv)``), which is fast.
 """
 
 import argparse
@@ -358,23 +359,44 @@ SUBPROCESS_CASES = [  # one per class of fault: (program module, arguments or a 
     ("bearing_fmu.cli", ["demo", "--speed-hz", "-1"], ["--speed-hz", "'-1'"]),
     ("bearing_fmu.cli", ["build", "-o", str(MODELS)], ["-o/--output", "a directory"]),
 ]
+# The cases that run the real command (``python -m``, its exit status, stderr without a
+# traceback): one per way a command exits 2 -- argparse refusing an option (rotor-host,
+# bearing-fmu) and run_command refusing a file (rotor-host; bearing-fmu's: tests/test_guard.py,
+# a damaged surrogate). Every case, these too, also runs in-process through main(argv) below:
+# the same exit status and message at a fraction of a Python start-up each.
+REAL = (0, 4, 8)
+_IDS = [f"{m.split('.')[0]}-{i}" for i, (m, _, _) in enumerate(SUBPROCESS_CASES)]
 
 
-@pytest.mark.parametrize("module, given, words", SUBPROCESS_CASES,
-                         ids=[f"{m.split('.')[0]}-{i}" for i, (m, _, _) in enumerate(SUBPROCESS_CASES)])
-def test_real_command_exits_2_without_traceback(tmp_path, module, given, words):
+def _argv(tmp_path, given):
     if isinstance(given, str):  # a scene body: run it
         _not_an_fmu(tmp_path)
-        argv = ["run", str(_scene(tmp_path, HEAD + given)), "--out", str(tmp_path / "out")]
-    else:
-        argv = given
+        return ["run", str(_scene(tmp_path, HEAD + given)), "--out", str(tmp_path / "out")]
+    return given
+
+
+@pytest.mark.parametrize("module, given, words", [SUBPROCESS_CASES[i] for i in REAL], ids=[_IDS[i] for i in REAL])
+def test_real_command_exits_2_without_traceback(tmp_path, module, given, words):
     # cwd = the repository, so this worktree's code runs (not an installed copy)
-    r = subprocess.run([sys.executable, "-m", module, *argv], cwd=ROOT, capture_output=True, text=True,
-                       timeout=60)
+    r = subprocess.run([sys.executable, "-m", module, *_argv(tmp_path, given)], cwd=ROOT, capture_output=True,
+                       text=True, timeout=60)
     assert r.returncode == 2, r.stderr
     assert "Traceback" not in r.stderr
     for w in words:
         assert w in r.stderr, (w, r.stderr)
+    assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.parametrize("module, given, words", SUBPROCESS_CASES, ids=_IDS)
+def test_every_class_of_fault_exits_2_from_main(tmp_path, module, given, words, capsys, monkeypatch):
+    # the same checks through main(argv) in this process (an exception escaping main fails the test)
+    monkeypatch.chdir(tmp_path)  # relative outputs (x.json) would land here; nothing is written
+    code, err = _cli({"rotor_host.cli": "rotor-host", "bearing_fmu.cli": "bearing-fmu"}[module],
+                     _argv(tmp_path, given), capsys)
+    assert code == 2, err
+    assert "Traceback" not in err
+    for w in words:
+        assert w in err, (w, err)
     assert not (tmp_path / "out").exists()
 
 

@@ -2,9 +2,6 @@
 called in-process (the reference is the direct run: equal to round-off, since the FMU
 evaluates the very same code), discarded steps become step cuts, instances are freed."""
 
-import textwrap
-from pathlib import Path
-
 import numpy as np
 import pytest
 
@@ -12,36 +9,19 @@ from rotor_host.scenes.run import run_scene
 from rotor_host.scenes.scene import load_scene
 
 pytest.importorskip("fmpy")
-ROOT = Path(__file__).resolve().parents[1]
-ROTOR = ROOT / "models" / "rotor_paper.toml"
 
 
-def scene(tmp_path, internal, body="", t_end=0.01):
-    p = tmp_path / f"{internal}.toml"
-    p.write_text(textwrap.dedent(f"""
-        rotor = "{ROTOR.as_posix()}"
-        internal = "{internal}"
-        speed_hz = 22
-        [reynolds]
-        n_theta = 48
-        n_x = 8
-        [time]
-        t_end_s = {t_end}
-        dt_s = 1e-4
-        [[unbalance]]
-        node = 6
-        mass_kg = 8.5e-3
-        radius_mm = 37
-        [record]
-        nodes = [3, 6, 9]
-        """) + textwrap.dedent(body))
-    return load_scene(p)
+def scene(paper_scene, internal, t_end=0.01):
+    """The paper's 22 Hz scene through the bearing FMUs (tests/conftest.py ``paper_scene``),
+    Reynolds on 48 x 8, recording nodes 3, 6 and 9."""
+    return load_scene(paper_scene(file=f"{internal}.toml", internal=internal, via="fmu", t_end=t_end, grid=(48, 8),
+                                  record={"nodes": [3, 6, 9]}))
 
 
 @pytest.mark.slow
 @pytest.mark.parametrize("internal", ["reynolds", "linear"])
-def test_fmu_run_equals_direct_run(tmp_path, fmu, internal):
-    s = scene(tmp_path, internal)
+def test_fmu_run_equals_direct_run(paper_scene, fmu, internal):
+    s = scene(paper_scene, internal)
     s.fmu = fmu
     direct = run_scene(s.with_internal(internal, via="direct"))
     cosim = run_scene(s.with_internal(internal, via="fmu"))
@@ -54,18 +34,22 @@ def test_fmu_run_equals_direct_run(tmp_path, fmu, internal):
     assert cosim.meta["force_evaluations"] == direct.meta["force_evaluations"]
 
 
-def test_discarded_fmu_step_becomes_a_diagnosed_stop(tmp_path, fmu):
+def test_discarded_fmu_step_becomes_a_diagnosed_stop(tmp_path, paper_scene, fmu):
     # a huge unbalance at the bearing node drives the Reynolds journal into the wall: the FMU
     # discards the step (eccentricity >= 1), the integrator halves it, then stops naming the
-    # bearing; everything up to there is kept and every instance is freed
-    s = scene(tmp_path, "reynolds", t_end=0.2)
+    # bearing; everything up to there is kept and every instance is freed. 50 kg at 50 mm
+    # reaches the wall at t = 0.025 s, after 125 steps (20 kg took 930 steps, to 0.186 s: the
+    # same path, 7 times the FMU calls); the direct run fails at the same t
+    # (tests/test_scene.py::test_failed_run_keeps_what_it_computed)
+    s = scene(paper_scene, "reynolds", t_end=0.2)
     s.fmu = fmu
-    s.unbalances[0].node, s.unbalances[0].mass_kg, s.unbalances[0].radius_m = 2, 20.0, 0.05
+    s.unbalances[0].node, s.unbalances[0].mass_kg, s.unbalances[0].radius_m = 2, 50.0, 0.05
     s = s.with_internal("reynolds", options={"reynolds": {"n_theta": 32, "n_x": 4}}, dt_s=2e-4)
     run = run_scene(s, tmp_path / "out")
     assert run.meta["status"] == "failed"
     assert "bearing 1" in run.meta["message"] and "eccentricity ratio" in run.meta["message"]
-    assert run.meta["t_reached_s"] > 0.05 and np.load(run.npz)["t"][-1] == run.meta["t_reached_s"]
+    assert "halvings" in run.meta["message"]  # the step was cut before the run stopped
+    assert run.meta["t_reached_s"] > 0.02 and np.load(run.npz)["t"][-1] == run.meta["t_reached_s"]
 
 
 def test_bad_fmu_parameter_names_the_parameter(tmp_path, fmu):

@@ -5,7 +5,6 @@ of its load capacity, zero speed).
 """
 
 import math
-import textwrap
 from pathlib import Path
 
 import numpy as np
@@ -127,7 +126,7 @@ def test_pinned_loads_are_the_scenes_bearing_loads():
     np.testing.assert_allclose(pinned_loads(rotor.K, f, dofs), bearing_loads(rotor, f), rtol=1e-9, atol=1e-9)
 
 
-def test_overloaded_rotor_bearing_is_named_before_newton(tmp_path):
+def test_overloaded_rotor_bearing_is_named_before_newton(tmp_path, paper_scene):
     # 1e9 N on node 9 (bearing 2): the paper rotor's static equilibrium, as a scene starts it,
     # names bearing 2, its load and what it carries near the wall; bearing 1 (half the
     # weight, 16.7 N) is not blamed.
@@ -136,22 +135,8 @@ def test_overloaded_rotor_bearing_is_named_before_newton(tmp_path):
     from rotor_host.scenes.run import bearing_loads, build_bearings, initial_state
     from rotor_host.scenes.scene import G, load_scene
 
-    scene_file = tmp_path / "s.toml"
-    scene_file.write_text(f'rotor = "{(ROOT / "models" / "rotor_paper.toml").as_posix()}"\n' + textwrap.dedent("""
-        internal = "reynolds"
-        via = "direct"
-        speed_hz = 22
-        [reynolds]
-        n_theta = 48
-        n_x = 8
-        [time]
-        t_end_s = 2e-4
-        dt_s = 1e-4
-        [[static_loads]]
-        node = 9
-        Fz_N = -1e9
-        """))
-    scene = load_scene(scene_file)
+    scene = load_scene(paper_scene(t_end=2e-4, grid=(48, 8), unbalance_g=None,
+                                   static_loads=[{"node": 9, "Fz_N": -1e9}]))
     rotor = Rotor.from_toml(scene.rotor_path)
     f_static = rotor.weight_vector(G) + rotor.point_load_vector(scene.static_loads)
     loads = bearing_loads(rotor, f_static)

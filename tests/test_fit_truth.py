@@ -9,7 +9,6 @@ The fits here are small (order 2-3, a few hundred samples) on the session's coar
 import argparse
 import math
 import shutil
-import textwrap
 from pathlib import Path
 
 import numpy as np
@@ -174,31 +173,13 @@ def test_refit_from_the_stored_recipe_uses_the_map_again(tmp_path, map_file):
 
 # ----------------------------------------------------------------------------- scene-trained fits
 
-def _scene(folder: Path, n_x: int) -> Path:
+def _scene(paper_scene, n_x: int) -> Path:
     # the paper's 22 Hz scene, 30 ms on a coarse grid 32 x n_x (tests/test_training.py's, shorter)
-    p = folder / f"s{n_x}.toml"
-    p.write_text(textwrap.dedent(f"""\
-        name = "s{n_x}"
-        rotor = "{(ROOT / 'models' / 'rotor_paper.toml').as_posix()}"
-        internal = "reynolds"
-        via = "direct"
-        speed_hz = 22.0
-        [reynolds]
-        n_theta = 32
-        n_x = {n_x}
-        [time]
-        t_end_s = 0.03
-        dt_s = 1e-4
-        [[unbalance]]
-        node = 6
-        mass_kg = 8.5e-3
-        radius_mm = 37.0
-        phase_deg = 0.0
-        """))
-    return p
+    return paper_scene(name=f"s{n_x}", t_end=0.03, grid=(32, n_x))
 
 
-def test_scene_fit_draws_its_tube_from_the_map_and_refits_with_it(tmp_path, map_file, capsys, monkeypatch):
+def test_scene_fit_draws_its_tube_from_the_map_and_refits_with_it(tmp_path, paper_scene, map_file, capsys,
+                                                                   monkeypatch):
     from rotor_host.analyses.training import refit
     from rotor_host.cli import main as rotor_host
 
@@ -211,7 +192,7 @@ def test_scene_fit_draws_its_tube_from_the_map_and_refits_with_it(tmp_path, map_
 
     tube_samples = F.tube_samples
     monkeypatch.setattr(F, "tube_samples", spy)
-    scene = _scene(tmp_path, 4)  # the conftest map's grid
+    scene = _scene(paper_scene, 4)  # the conftest map's grid
     out = tmp_path / "s.json"
     assert rotor_host(["fit", "--scene", str(scene), "--order", "2", "--designed", "120", "--designed-tube", "0.02",
                        "--no-prune", "--truth-map", str(map_file), "--cache-dir", str(tmp_path / "series"),
@@ -239,10 +220,10 @@ def test_scene_fit_draws_its_tube_from_the_map_and_refits_with_it(tmp_path, map_
     assert again.order == 3 and again.provenance["truth_map"] == s.provenance["truth_map"]
 
 
-def test_scene_fit_refuses_a_map_of_another_grid_before_running(tmp_path, map_file):
+def test_scene_fit_refuses_a_map_of_another_grid_before_running(tmp_path, paper_scene, map_file):
     from rotor_host.analyses.training import fit_scene
 
-    scene = _scene(tmp_path, 8)  # Reynolds 32 x 8, the map is 32 x 4
+    scene = _scene(paper_scene, 8)  # Reynolds 32 x 8, the map is 32 x 4
     with pytest.raises(ValueError, match=r"paper_map\.json is tabulated from Reynolds 32x4.* is Reynolds 32x8.*"
                                          r"build a map on the scenes' Reynolds grid"):
         fit_scene(FitRecipe(scenes=[scene], designed=50, truth_map=str(map_file)), cache_dir=tmp_path / "series",

@@ -2,7 +2,8 @@
 iteration, errors that leave the process usable, leave-out of unused internals, shadowing.
 
 The FMU is built once per session (tests/conftest.py). Its code cache (BEARING_FMU_CACHE_DIR,
-where numba's cache lives too) is a session temp dir shared with the subprocess tests.
+where numba's cache lives too) is kept between sessions in .pytest_cache and shared with the
+subprocess tests.
 """
 
 import importlib.util
@@ -520,25 +521,34 @@ def test_linear_from_coefficients_imports_neither_reynolds_nor_numba(fmu, tmp_pa
     print("linear (coefficients) times [s]:", res["times"])
 
 
-def test_taylor_does_not_import_reynolds_and_decoy_is_ignored(fmu, tmp_path, surrogate_file):
+@pytest.fixture(scope="module")
+def taylor_probe(fmu, tmp_path_factory):
+    """One fresh interpreter (the decoy package first on its path) driving the session FMU with the
+    Taylor internal: its output, what it imported and from where (two tests read it)."""
+    return _probe(fmu, tmp_path_factory.mktemp("probe"), {"internal": "taylor"}, STATE)
+
+
+def test_taylor_does_not_import_reynolds_and_decoy_is_ignored(taylor_probe, surrogate_file):
     from bearing_fmu.internals.taylor import Taylor
 
-    res = _probe(fmu, tmp_path, {"internal": "taylor"}, STATE)
+    res = taylor_probe
     assert not [m for m in res["modules"] if m.endswith(".reynolds")]
     assert (res["out"]["Fy"], res["out"]["Fz"]) == Taylor.from_file(surrogate_file, P).force(*STATE)
     print("taylor times [s]:", res["times"])
 
 
-def test_fmu_code_runs_from_the_code_cache_beside_its_numba_cache(fmu, tmp_path, code_cache):
-    # in a fresh interpreter: this process may hold the bundle imported from another cache
-    res = _probe(fmu, tmp_path, {}, STATE)
+def test_fmu_code_runs_from_the_code_cache_beside_its_numba_cache(taylor_probe, code_cache):
+    # in a fresh interpreter (this process may hold the bundle imported from another cache): the
+    # Taylor kernels the probe ran (compiled with numba) come from the code cache, their numba
+    # cache beside them
     from bearing_fmu.fmu.build import package_name
 
+    res = taylor_probe
     pkg = package_name()
-    src = Path(res["files"][f"{pkg}.physics.reynolds"])
-    assert src.parent == code_cache / pkg / "physics"
-    assert "bearing_fmu.physics.reynolds" not in res["files"]  # the installed package is separate
-    assert list((src.parent / "__pycache__").glob("reynolds_kernels*.nbi"))  # numba's cache index of the kernels beside it
+    src = Path(res["files"][f"{pkg}.surrogates.taylor_kernels"])
+    assert src.parent == code_cache / pkg / "surrogates"
+    assert "bearing_fmu.surrogates.taylor_kernels" not in res["files"]  # the installed package is separate
+    assert list((src.parent / "__pycache__").glob("taylor_kernels*.nbi"))  # numba's cache index of the kernels beside it
 
 
 @pytest.mark.slow

@@ -406,23 +406,33 @@ def _radius(text, d):
     return json.dumps(d)
 
 
-@pytest.mark.parametrize("damage,expected", [
-    (_truncated, r"is not valid JSON \(truncated or damaged\?\): line \d+, column \d+"),
-    (_short_coef, r"coef: key 'Fy' must be a list of 15 numbers"),
-    (_n_terms, r"key 'n_terms' is 16 but 'exponents' has 15 rows"),
-    (_radius, r"neighbours: radius = -1.0 must be finite and > 0"),
+@pytest.mark.parametrize("damage,expected,real", [
+    (_truncated, r"is not valid JSON \(truncated or damaged\?\): line \d+, column \d+", True),
+    (_short_coef, r"coef: key 'Fy' must be a list of 15 numbers", False),
+    (_n_terms, r"key 'n_terms' is 16 but 'exponents' has 15 rows", False),
+    (_radius, r"neighbours: radius = -1.0 must be finite and > 0", False),
 ])
-def test_build_refuses_a_damaged_surrogate_naming_file_and_key(tmp_path, damage, expected):
+def test_build_refuses_a_damaged_surrogate_naming_file_and_key(tmp_path, capsys, damage, expected, real):
+    # `bearing-fmu build --surrogate BAD`: exit 2, one line naming the file and the key, no FMU.
+    # One damage runs the real command (a subprocess: bearing-fmu's run_command path to exit 2);
+    # the others call bearing_fmu.cli.main(argv) in this process, which exits the same way.
     import re
+
+    from bearing_fmu.cli import main
 
     good = save_surrogate(small_surrogate(), tmp_path / "good.json")
     bad = tmp_path / "bad.json"
     bad.write_text(damage(good.read_text(), json.loads(good.read_text())))
     out = tmp_path / "b.fmu"
-    run = subprocess.run([sys.executable, "-m", "bearing_fmu.cli", "build", "-o", str(out), "--surrogate", str(bad)],
-                         capture_output=True, text=True, cwd=ROOT, timeout=120)
-    assert run.returncode == 2 and "Traceback" not in run.stderr, run.stderr
-    line = run.stderr.strip()
+    argv = ["build", "-o", str(out), "--surrogate", str(bad)]
+    if real:
+        run = subprocess.run([sys.executable, "-m", "bearing_fmu.cli", *argv], capture_output=True, text=True,
+                             cwd=ROOT, timeout=120)
+        code, err = run.returncode, run.stderr
+    else:
+        code, err = main(argv), capsys.readouterr().err
+    assert code == 2 and "Traceback" not in err, err
+    line = err.strip()
     assert "\n" not in line and str(bad) in line and re.search(expected, line), line
     assert not out.exists()
 

@@ -308,23 +308,14 @@ def test_an_internal_added_from_outside_keeps_the_contract(spring, central_jacob
         registry.create("spring", P, {"spring_k": -1.0})
 
 
-def test_a_scene_runs_with_an_internal_added_from_outside(spring, tmp_path, write_scene):
+def test_a_scene_runs_with_an_internal_added_from_outside(spring, tmp_path, paper_scene):
     # the scene loader, the CLI choices and the run know it from the registry alone; at rest
     # (no unbalance) each journal sits at W / k, W its bearing's static load
     from rotor_host.scenes.run import run_scene
     from rotor_host.scenes.scene import load_scene
 
     k = 4e6
-    scene = load_scene(write_scene(f"""
-        internal = "spring"
-        via = "direct"
-        speed_hz = 22
-        [spring]
-        spring_k = {k}
-        [time]
-        t_end_s = 2e-3
-        dt_s = 1e-4
-        """))
+    scene = load_scene(paper_scene(internal="spring", t_end=2e-3, unbalance_g=None, spring={"spring_k": k}))
     run = run_scene(scene, tmp_path / "out")
     assert run.ok, run.meta["message"]
     a = run.arrays

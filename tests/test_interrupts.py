@@ -15,27 +15,14 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import ROOT, write_scene
+from conftest import ROOT
 
-SCENE = """
-    name = "interrupt"
-    internal = "reynolds"
-    via = "{via}"
-    speed_hz = 22.0
-    {fmu}
-    [reynolds]
-    n_theta = 32
-    n_x = 4
-    [time]
-    t_end_s = {t_end}
-    dt_s = 1e-4
-    [[unbalance]]
-    node = 6
-    mass_kg = 8.5e-3
-    radius_mm = 37.0
-    [record]
-    checkpoint_s = {checkpoint}
-"""
+
+def _scene(paper_scene, via, t_end, checkpoint, fmu=None):
+    """The paper's 22 Hz scene (tests/conftest.py ``paper_scene``) on Reynolds 32 x 4, checkpoints
+    every ``checkpoint`` s of wall time; its results are s_reynolds.*."""
+    return paper_scene(file="s.toml", name="interrupt", via=via, fmu=fmu, t_end=t_end, grid=(32, 4),
+                       record={"checkpoint_s": checkpoint})
 
 
 def _env(tmp_path, code_cache):
@@ -73,9 +60,8 @@ def _wait_for_checkpoint(proc, path: Path, timeout: float = 120.0) -> dict:
 
 @pytest.mark.slow
 @pytest.mark.parametrize("via, sig", [("fmu", signal.SIGINT), ("direct", signal.SIGTERM), ("direct", signal.SIGKILL)])
-def test_a_signal_keeps_what_was_computed(tmp_path, code_cache, fmu, via, sig):
-    fmu_key = f'fmu = "{Path(fmu).as_posix()}"' if via == "fmu" else ""
-    scene = write_scene(tmp_path, SCENE.format(via=via, fmu=fmu_key, t_end=5.0, checkpoint=0.3))
+def test_a_signal_keeps_what_was_computed(tmp_path, paper_scene, code_cache, fmu, via, sig):
+    scene = _scene(paper_scene, via, t_end=5.0, checkpoint=0.3, fmu=Path(fmu) if via == "fmu" else None)
     out = tmp_path / "out"
     env = _env(tmp_path, code_cache)
     proc = _start(scene, out, env)
@@ -106,10 +92,10 @@ def test_a_signal_keeps_what_was_computed(tmp_path, code_cache, fmu, via, sig):
 
 
 @pytest.mark.slow
-def test_parallel_runs_into_one_folder_all_land(tmp_path, code_cache):
+def test_parallel_runs_into_one_folder_all_land(tmp_path, paper_scene, code_cache):
     """Three runs of one FMU scene into one folder at once: each builds (or reuses) the FMU
     without breaking another's, and each result is complete under its own name."""
-    scene = write_scene(tmp_path, SCENE.format(via="fmu", fmu="", t_end=0.005, checkpoint=60))
+    scene = _scene(paper_scene, "fmu", t_end=0.005, checkpoint=60)
     out = tmp_path / "out"
     env = _env(tmp_path, code_cache)
     procs = [_start(scene, out, env) for _ in range(3)]

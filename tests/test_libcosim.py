@@ -12,8 +12,8 @@
     the closed loop with the journal mass, where it settles at the map's static equilibrium.
 
 The FMUs are built once per module into tmp; the bearing FMU's code cache
-(BEARING_FMU_CACHE_DIR, where numba's cache lives) is a module temp dir, so the Reynolds
-kernels compile once per run (~6 s, counted in the runtime).
+(BEARING_FMU_CACHE_DIR, where numba's cache lives) is the session's (tests/conftest.py: kept
+between runs), so the Reynolds kernels compile in the first run only (~6 s).
 """
 
 import math
@@ -66,38 +66,30 @@ def _load_example():
 
 
 @pytest.fixture(scope="module")
-def fmus(tmp_path_factory):
-    """(bearing.fmu, JournalMass.fmu), with the bearing's code cache in a module temp dir."""
+def fmus(tmp_path_factory, code_cache):
+    """(bearing.fmu, JournalMass.fmu); the bearing's code cache is the session's (``code_cache``
+    sets BEARING_FMU_CACHE_DIR)."""
     from bearing_fmu.fmu.build import build_fmu
 
-    cache = tmp_path_factory.mktemp("libcosim_code_cache")
-    old = os.environ.get("BEARING_FMU_CACHE_DIR")
-    os.environ["BEARING_FMU_CACHE_DIR"] = str(cache)
     out = tmp_path_factory.mktemp("libcosim_fmus")
-    try:
-        bearing = build_fmu(out / "bearing.fmu")
-        mass = _load_example().build(out / "JournalMass.fmu")
-        yield bearing, mass
-    finally:
-        if old is None:
-            os.environ.pop("BEARING_FMU_CACHE_DIR", None)
-        else:
-            os.environ["BEARING_FMU_CACHE_DIR"] = old
+    return build_fmu(out / "bearing.fmu"), _load_example().build(out / "JournalMass.fmu")
 
 
 MAP = ROOT / "models" / "maps" / "paper_bearing.json"  # the shipped force map of the paper bearing's L/D
 
 
 @pytest.fixture(scope="module")
-def native_map(tmp_path_factory):
-    """The native FMU of the map internal with the shipped map compiled in (one C compile)."""
+def native_map(tmp_path_factory, native_build_cache):
+    """The native FMU of the map internal with the shipped map compiled in (one C compile, again
+    only when the sources or the map change: tests/conftest.py ``native_build_cache``)."""
     import shutil
 
     from bearing_fmu.fmu.native.build import build_native_fmu
 
     if not (shutil.which("cc") or shutil.which("gcc") or os.environ.get("CC")):
         pytest.skip("no C compiler: the native FMU is compiled at build time")
-    return build_native_fmu(tmp_path_factory.mktemp("libcosim_native") / "native_map.fmu", "map", map=MAP)
+    return native_build_cache(tmp_path_factory.mktemp("libcosim_native") / "native_map.fmu",
+                              lambda target: build_native_fmu(target, "map", map=MAP), [MAP], ("map",))
 
 
 @pytest.fixture(scope="module")
@@ -201,7 +193,12 @@ def _settle(fmus, h, t_end, chunk=1e-3):
     return np.array(history), wall
 
 
+@pytest.mark.slow
 def test_closed_loop_in_libcosim_settles_at_the_static_equilibrium(fmus, reynolds):
+    """End to end (slow: 20 000 libcosim steps of the Python FMU on the default grid, 8-11 s).
+    The quick loop keeps its parts: the Python FMU's force in libcosim (a), the same loop with a
+    Python bearing FMU that diverges (c), and the closed loop that settles with the native map
+    FMU (d)."""
     from bearing_fmu.physics.statics import equilibrium
 
     h, chunk, t_end = 1e-5, 1e-3, 0.2

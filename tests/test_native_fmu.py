@@ -2,8 +2,9 @@
 
 Expected values come from the Python internals themselves (``bearing_fmu.internals.create``:
 the Taylor internal behind its domain guard, the force map, the linear model), never from the
-FMU; the statuses are the table of docs/fmu.md ("FMI status"). Every FMU is built once per
-session (one compile each); the map FMU through the command line.
+FMU; the statuses are the table of docs/fmu.md ("FMI status"). Every FMU is built once (one
+compile each, again only when the sources or the data change: tests/conftest.py
+``native_build_cache``); the map FMU through the command line.
 """
 
 import ctypes
@@ -52,27 +53,37 @@ pytestmark = [pytest.mark.skipif(shutil.which("cc") is None and shutil.which("gc
 # ----------------------------------------------------------------------------- the FMUs
 
 @pytest.fixture(scope="session")
-def native(tmp_path_factory):
+def native(tmp_path_factory, native_build_cache):
     """name -> (fmu path, extracted dir, python internal, params): every shipped surrogate and map,
-    and the linear model linearised on the shipped map; built once."""
+    and the linear model linearised on the shipped map; built once (and compiled again only when
+    the sources or the data change: ``native_build_cache`` in tests/conftest.py)."""
     from bearing_fmu.cli import main
     from bearing_fmu.fmu.native.build import build_native_fmu
 
     folder = tmp_path_factory.mktemp("native")
     out = {}
     for path in MAPS:
-        fmu = folder / f"map_{path.stem}.fmu"
         bearing = _map_bearing(path)  # a map serves its own L/D: the bearing it was built for
         extra = ["--bearing", str(bearing)] if bearing else []
         params = BearingParams.from_toml(bearing) if bearing else PAPER_BEARING
-        assert main(["build", "--native", "--internal", "map", "--map", str(path), *extra, "-o", str(fmu)]) == 0
+        argv = ["build", "--native", "--internal", "map", "--map", str(path), *extra]
+
+        def cli(target, argv=argv):  # through the command line
+            assert main([*argv, "-o", str(target)]) == 0
+            return target
+
+        fmu = native_build_cache(folder / f"map_{path.stem}.fmu", cli, [path] + ([bearing] if bearing else []),
+                                 ("cli", *argv[1:5]))
         out[f"map:{path.stem}"] = (fmu, registry.create("map", params, {"map": str(path)}), params)
     for path in SURROGATES:
-        fmu = build_native_fmu(folder / f"taylor_{path.stem}.fmu", "taylor", surrogate=path)
+        fmu = native_build_cache(folder / f"taylor_{path.stem}.fmu",
+                                 lambda target, path=path: build_native_fmu(target, "taylor", surrogate=path),
+                                 [path], ("taylor",))
         params = load_surrogate(path).params
         out[f"taylor:{path.stem}"] = (fmu, registry.create("taylor", params, {"surrogate": str(path)}), params)
     lin_opts = {"linear_from": "map", "map": str(PAPER_MAP)}
-    fmu = build_native_fmu(folder / "linear.fmu", "linear", options=lin_opts)
+    fmu = native_build_cache(folder / "linear.fmu", lambda target: build_native_fmu(target, "linear", options=lin_opts),
+                             [PAPER_MAP], ("linear", "linear_from", "map"))
     out["linear"] = (fmu, registry.create("linear", PAPER_BEARING, lin_opts), PAPER_BEARING)
     return {k: (fmu, fmpy.extract(str(fmu)), py, params) for k, (fmu, py, params) in out.items()}
 
@@ -662,9 +673,11 @@ def test_fmpy_simulates_it(native, fmi_type):
 
 # ----------------------------------------------------------------------------- builds
 
+@pytest.mark.slow
 def test_fmpy_cmake_project_builds_the_same_binary(native, tmp_path):
     """The sources build with fmpy's CMake project (how a user rebuilds for another platform) into
-    an FMU that gives the same force."""
+    an FMU that gives the same force. Slow: end to end through cmake (configure, build: 2-3 s);
+    the quick loop builds the same sources with the C compiler and checks every FMU's forces."""
     from bearing_fmu.fmu.native.build import build_native_fmu
 
     fmu = build_native_fmu(tmp_path / "cmake.fmu", "map", map=PAPER_MAP, cmake=True)
@@ -705,27 +718,15 @@ def test_a_map_for_another_length_to_diameter_is_refused(tmp_path):
 
 # ----------------------------------------------------------------------------- the rotor host
 
-def test_native_parameters_of_a_scene(write_scene):
+def test_native_parameters_of_a_scene(paper_scene):
     """The host's parameters for a native FMU: the options it keeps; the linear model made per
     bearing by the Python Linear internal (its coefficients), fallback refused in one line."""
     from rotor_host.scenes.run import _fmu_parameters
     from rotor_host.scenes.scene import SceneError, load_scene
 
-    sc = load_scene(write_scene(f"""
-        internal = "linear"
-        speed_hz = 22.0
-        fmu_kind = "native"
-        [time]
-        t_end_s = 0.01
-        dt_s = 1e-4
-        [linear]
-        linear_from = "map"
-        [map]
-        map = "{PAPER_MAP.as_posix()}"
-        [taylor]
-        surrogate = "{SURROGATES[1].as_posix()}"
-        domain_action = "fallback"
-        """))
+    sc = load_scene(paper_scene(internal="linear", via="fmu", fmu_kind="native", unbalance_g=None,
+                                linear={"linear_from": "map"}, map={"map": PAPER_MAP},
+                                taylor={"surrogate": SURROGATES[1], "domain_action": "fallback"}))
     assert sc.fmu_kind == "native"
     p = _fmu_parameters(sc, PAPER_BEARING, (0.0, -16.7))
     lin = registry.create("linear", PAPER_BEARING, {"linear_from": "map", "map": str(PAPER_MAP)},

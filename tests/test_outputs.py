@@ -75,26 +75,13 @@ def test_an_unwritable_folder_is_refused_before_any_work(tmp_path, tmpfs):
         outputs.ensure_writable(ro / "x", "--out")
 
 
-def test_a_run_without_static_equilibrium_still_writes_its_json(tmp_path, write_scene):
+def test_a_run_without_static_equilibrium_still_writes_its_json(tmp_path, paper_scene):
     # a load far beyond what the bearings carry (1e9 N on the disk): no equilibrium; the run
     # says so in its json (status failed) instead of stopping without a file
     from rotor_host.scenes.run import run_scene
     from rotor_host.scenes.scene import load_scene
 
-    s = load_scene(write_scene("""
-        internal = "reynolds"
-        via = "direct"
-        speed_hz = 22.0
-        [reynolds]
-        n_theta = 32
-        n_x = 4
-        [time]
-        t_end_s = 0.001
-        dt_s = 1e-4
-        [[static_loads]]
-        node = 6
-        Fz_N = -1e9
-    """))
+    s = load_scene(paper_scene(t_end=0.001, grid=(32, 4), unbalance_g=None, static_loads=[{"node": 6, "Fz_N": -1e9}]))
     run = run_scene(s, tmp_path / "out")
     meta = json.loads(run.json.read_text())
     assert meta["status"] == "failed" and "carries at most" in meta["message"]

@@ -81,22 +81,11 @@ def test_bearing_loads_are_the_static_reactions():
     assert W[1, 0] == pytest.approx(30.0, abs=1e-9)
 
 
-def test_initial_state_puts_each_journal_at_its_own_equilibrium(tmp_path):
+def test_initial_state_puts_each_journal_at_its_own_equilibrium(paper_scene):
     from bearing_fmu.physics.reynolds import Reynolds
     from bearing_fmu.physics.statics import equilibrium
 
-    p = write_scene(tmp_path, """
-        internal = "reynolds"
-        via = "direct"
-        speed_hz = 22
-        [reynolds]
-        n_theta = 48
-        n_x = 8
-        [time]
-        t_end_s = 2e-4
-        dt_s = 1e-4
-        """)
-    run = run_scene(load_scene(p))
+    run = run_scene(load_scene(paper_scene(t_end=2e-4, grid=(48, 8), unbalance_g=None)))
     rey = Reynolds(PAPER_BEARING, n_theta=48, n_x=8)
     W = run.meta["bearing_loads_N"][0]
     y0, z0 = equilibrium(rey, W, 2 * math.pi * 22)
@@ -107,24 +96,11 @@ def test_initial_state_puts_each_journal_at_its_own_equilibrium(tmp_path):
     assert np.abs(a["y"][:, col] - y0).max() < 1e-6 * PAPER_BEARING.CR
 
 
-def test_failed_run_keeps_what_it_computed(tmp_path):
+def test_failed_run_keeps_what_it_computed(tmp_path, paper_scene):
     # a huge unbalance drives the Reynolds journal into the wall: the run stops with a
-    # diagnosis naming the bearing and the eccentricity, and the partial result is on disk
-    p = write_scene(tmp_path, """
-        internal = "reynolds"
-        via = "direct"
-        speed_hz = 22
-        [reynolds]
-        n_theta = 32
-        n_x = 4
-        [time]
-        t_end_s = 0.2
-        dt_s = 2e-4
-        [[unbalance]]
-        node = 3
-        mass_kg = 20.0
-        radius_mm = 50
-        """)
+    # diagnosis naming the bearing and the eccentricity, and the partial result is on disk.
+    # 50 kg at 50 mm reaches the wall at t = 0.025 s, after 125 steps (20 kg: 930 steps, to 0.186 s)
+    p = paper_scene(t_end=0.2, dt=2e-4, grid=(32, 4), unbalance=[{"node": 3, "mass_kg": 50.0, "radius_mm": 50}])
     run = run_scene(load_scene(p), tmp_path / "out")
     assert run.meta["status"] == "failed"
     assert "bearing 1" in run.meta["message"] and "eccentricity ratio" in run.meta["message"]
@@ -133,21 +109,13 @@ def test_failed_run_keeps_what_it_computed(tmp_path):
     assert np.all(np.isfinite(saved["y"]))
 
 
-def test_taylor_scene_does_not_import_reynolds(tmp_path):
+def test_taylor_scene_does_not_import_reynolds(paper_scene):
     """Leave out what a scene does not use: a Taylor scene run in-process never imports (or
     compiles) the Reynolds solver."""
     surrogates = sorted((ROOT / "models" / "surrogates").glob("paper_22hz*.json"))
     if not surrogates:
         pytest.skip("no bundled 22 Hz surrogate")
-    p = write_scene(tmp_path, f"""
-        internal = "taylor"
-        via = "direct"
-        speed_hz = 22
-        surrogate = "{surrogates[0].as_posix()}"
-        [time]
-        t_end_s = 1e-3
-        dt_s = 1e-4
-        """)
+    p = paper_scene(internal="taylor", surrogate=surrogates[0], t_end=1e-3, unbalance_g=None)
     code = (f"import sys; from rotor_host.scenes.scene import load_scene; from rotor_host.scenes.run import run_scene; "
             f"r = run_scene(load_scene({str(p)!r})); assert r.ok, r.meta['message']; "
             f"print('bearing_fmu.physics.reynolds' in sys.modules)")

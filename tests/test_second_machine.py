@@ -37,22 +37,31 @@ def weight_split() -> tuple[float, float]:
     return left, right
 
 
-def run_cli(scene, out, *extra):
-    return subprocess.run(
-        [sys.executable, "-m", "rotor_host.cli", "run", str(scene), "--t-end", "0.02", "--via", "direct",
-         "--out", str(out), "--no-plots", "--quiet", *extra],
-        cwd=ROOT, capture_output=True, text=True, timeout=300)
+def run_cli(scene, out, *extra, real=True):
+    """(exit status, output) of `rotor-host run`: the real command in a subprocess, or (real =
+    False) its main(argv) in this process."""
+    argv = ["run", str(scene), "--t-end", "0.02", "--via", "direct", "--out", str(out), "--no-plots", "--quiet",
+            *extra]
+    if not real:
+        from rotor_host.cli import main
+
+        return main(argv), ""
+    proc = subprocess.run([sys.executable, "-m", "rotor_host.cli", *argv], cwd=ROOT, capture_output=True, text=True,
+                          timeout=300)
+    return proc.returncode, proc.stderr + proc.stdout
 
 
-@pytest.mark.parametrize("internal", ["reynolds", "map"])
-def test_second_machine_runs_end_to_end_from_the_cli(tmp_path, internal):
-    """The scene as shipped (Reynolds) and with its force map (models/maps/friswell.json, L/D 0.3):
-    exit 0, status ok, 200 steps, and each bearing carries the rotor's weight share computed above.
+@pytest.mark.parametrize("internal, real", [("reynolds", True), ("map", False)])
+def test_second_machine_runs_end_to_end_from_the_cli(tmp_path, internal, real):
+    """The scene as shipped (Reynolds, through the real command) and with its force map
+    (models/maps/friswell.json, L/D 0.3; through the command's main(argv) in this process, which
+    spares a Python start-up): exit 0, status ok, 200 steps, and each bearing carries the rotor's
+    weight share computed above.
     The shares are exact statics, so the tolerance is round-off (1e-9). Their sum against the book:
     "each supports a static load of 525 N, which represents half of the weight of the rotor"
     (Example 5.9.6): within 1 N, the book's rounding of each share to the newton (+-0.5 N each)."""
-    proc = run_cli(SCENE, tmp_path, "--internal", internal)
-    assert proc.returncode == 0, proc.stderr + proc.stdout
+    code, output = run_cli(SCENE, tmp_path, "--internal", internal, real=real)
+    assert code == 0, output
     result = json.loads((tmp_path / f"friswell_25hz_{internal}.json").read_text())
     assert result["status"] == "ok", result["message"]
     assert result["steps"] == 200 and result["t_reached_s"] == pytest.approx(0.02)

@@ -1,10 +1,11 @@
 """rotor-host sweep: the swept values, what a run leaves in the summary, and sweeps on Dask.
 
-The Dask tests run the paper rotor with the shipped force map called directly for 0.02 s per
-run, on an existing cluster named by --scheduler (2 worker processes, started once for the
-module: 1-3 s) and, marked slow, on the command's own LocalCluster of 2 workers (the default
-path), where one run fails honestly (0.01 Hz: the film cannot carry the rotor's weight), and
-under Ctrl-C.
+The Dask tests, all marked slow (end to end: worker processes start and import the code, 6-10 s
+each), run the paper rotor with the shipped force map called directly for 0.02 s per run, on an
+existing cluster named by --scheduler (2 worker processes, started once for the module: 1-3 s)
+and on the command's own LocalCluster of 2 workers (the default path), where one run fails
+honestly (0.01 Hz: the film cannot carry the rotor's weight), and under Ctrl-C. The quick loop
+keeps the parts: the swept values, one run (run_point), the summary, a missing scheduler.
 """
 
 import json
@@ -62,7 +63,7 @@ def test_bad_ranges_are_refused_by_the_option(text, capsys):
     assert "argument --speeds-hz: expected START:STOP:STEP Hz" in capsys.readouterr().err
 
 
-def test_bad_input_names_the_option_before_any_work(tmp_path, capsys, write_scene):
+def test_bad_input_names_the_option_before_any_work(tmp_path, capsys, paper_scene):
     with pytest.raises(SystemExit) as e:
         _cli("sweep", SCENE, "--speeds-hz", "60:10:2")
     assert e.value.code == 2 and "--speeds-hz" in capsys.readouterr().err
@@ -73,15 +74,8 @@ def test_bad_input_names_the_option_before_any_work(tmp_path, capsys, write_scen
                          (["--scheduler", "tcp://127.0.0.1:1", "--workers", "2"], "--workers: sets the size")):
         assert _cli("sweep", SCENE, "--speeds-hz", "20", *CHEAP, "--out", tmp_path, *extra) == 2
         assert words in capsys.readouterr().err
-    no_unbalance = write_scene(f"""
-        internal = "map"
-        speed_hz = 22.0
-        [map]
-        map = "{MODELS.as_posix()}/maps/paper_bearing.json"
-        [time]
-        t_end_s = 0.02
-        dt_s = 1e-4
-    """)
+    no_unbalance = paper_scene(internal="map", via=None, t_end=0.02, unbalance_g=None,
+                               map={"map": MODELS / "maps" / "paper_bearing.json"})
     assert _cli("sweep", no_unbalance, "--unbalance-g", "4", "--out", tmp_path, "--quiet") == 2
     assert "--unbalance-g: the scene" in capsys.readouterr().err
     with pytest.raises(SystemExit):
@@ -279,6 +273,7 @@ def scheduler():
         yield cluster.scheduler_address
 
 
+@pytest.mark.slow
 def test_unbalance_sweep_on_an_existing_cluster(tmp_path, scheduler):
     out = tmp_path / "out"
     assert _cli("sweep", SCENE, "--unbalance-g", "0:8:4", *CHEAP, "--scheduler", scheduler, "--out", out) == 0
@@ -351,24 +346,10 @@ def test_ctrl_c_keeps_the_runs_that_finished(tmp_path):
 
 
 @pytest.mark.slow
-def test_fmu_sweep_equals_direct_sweep(tmp_path, scheduler, fmu, map_file, write_scene):
+def test_fmu_sweep_equals_direct_sweep(tmp_path, scheduler, fmu, map_file, paper_scene):
     """The same two speeds through the bearing FMUs (loaded in the workers) and called directly:
     the FMU gives the direct call's forces to round-off (tests/test_cosim.py), so the summaries agree."""
-    scene = write_scene(f"""
-        internal = "map"
-        via = "fmu"
-        fmu = "{Path(fmu).as_posix()}"
-        speed_hz = 22.0
-        [map]
-        map = "{Path(map_file).as_posix()}"
-        [time]
-        t_end_s = 0.02
-        dt_s = 1e-4
-        [[unbalance]]
-        node = 6
-        mass_kg = 8.5e-3
-        radius_mm = 37.0
-    """)
+    scene = paper_scene(internal="map", via="fmu", fmu=Path(fmu), t_end=0.02, map={"map": Path(map_file)})
     rows = {}
     for via in ("fmu", "direct"):
         out = tmp_path / via

@@ -3,7 +3,6 @@ short, coarse scene, and the refit from the stored fit call in another folder.""
 
 import json
 import shutil
-import textwrap
 from pathlib import Path
 
 import numpy as np
@@ -16,31 +15,15 @@ from rotor_host.cli import main as rotor_host
 from rotor_host.scenes.scene import load_scene
 
 ROOT = Path(__file__).resolve().parents[1]
-ROTOR = ROOT / "models" / "rotor_paper.toml"
 
 
-def _scene(folder: Path, name: str, mass_g: float) -> Path:
-    # the paper's 22 Hz scene, 40 ms on a coarse 32 x 8 grid: cheap but the same physics
-    p = folder / f"{name}.toml"
-    p.write_text(textwrap.dedent(f"""\
-        name = "{name}"
-        rotor = "{ROTOR.as_posix()}"
-        internal = "reynolds"
-        via = "direct"
-        speed_hz = 22.0
-        [reynolds]
-        n_theta = 32
-        n_x = 8
-        [time]
-        t_end_s = 0.04
-        dt_s = 1e-4
-        [[unbalance]]
-        node = 6
-        mass_kg = {mass_g * 1e-3}
-        radius_mm = 37.0
-        phase_deg = 0.0
-        """))
-    return p
+@pytest.fixture
+def training_scene(paper_scene):
+    """training_scene(folder, name, mass_g, **overrides): the paper's 22 Hz scene (tests/conftest.py
+    ``paper_scene``), 40 ms on a coarse 32 x 8 grid, mass_g grams on the disk: cheap but the same
+    physics; the overrides as paper_scene's."""
+    return lambda folder, name, mass_g, **kw: paper_scene(**{"folder": folder, "name": name, "t_end": 0.04,
+                                                             "grid": (32, 8), "unbalance_g": mass_g, **kw})
 
 
 def _as_fit_call(d: dict) -> dict:
@@ -69,11 +52,11 @@ def test_holdout_blocks_are_every_fifth():
     assert abs(held.mean() - 0.2) < 0.01 and held[(t > 0.161) & (t < 0.199)].all() and not held[t < 0.159].any()
 
 
-def test_scene_fit_holds_out_and_refits_elsewhere(tmp_path):
+def test_scene_fit_holds_out_and_refits_elsewhere(tmp_path, training_scene):
     scenes = tmp_path / "scenes"
     scenes.mkdir()
-    train = _scene(scenes, "train", 8.5)
-    other = _scene(scenes, "other", 6.0)
+    train = training_scene(scenes, "train", 8.5)
+    other = training_scene(scenes, "other", 6.0)
     res = fit_scene(FitRecipe(scenes=[train], order=3, test_scenes=[other], designed=200, prune=False),
                     cache_dir=tmp_path / "series", log=lambda *_: None)
     s = res.surrogate
@@ -120,13 +103,13 @@ def test_shipped_fit_calls_point_at_bundled_scenes(name):
         assert not Path(p).is_absolute() and (path.parent / p).is_file()
 
 
-def test_several_training_scenes(tmp_path):
+def test_several_training_scenes(tmp_path, training_scene):
     # two unbalances at the same speed and load trained together: both series' held-out blocks
     # are scored, the fit recipe names both scenes, the CLI takes --scene twice and a refit
     # (also from a file of the older single-scene fit-call form) uses the same data
     scenes = tmp_path / "scenes"
     scenes.mkdir()
-    a, b, other = _scene(scenes, "a", 8.5), _scene(scenes, "b", 3.0), _scene(scenes, "other", 6.0)
+    a, b, other = (training_scene(scenes, name, g) for name, g in (("a", 8.5), ("b", 3.0), ("other", 6.0)))
     cache = tmp_path / "series"
     out = tmp_path / "surrogates" / "s.json"
     args = ["fit", "--scene", str(a), "--scene", str(b), "--test-scene", str(other), "--order", "3",
@@ -167,14 +150,14 @@ def test_host_fit_needs_a_scene(capsys):
     assert "--scene" in capsys.readouterr().err
 
 
-def test_compare_refits_a_scene_surrogate_at_other_orders(tmp_path):
+def test_compare_refits_a_scene_surrogate_at_other_orders(tmp_path, training_scene):
     # `rotor-host compare --orders`: the scene's surrogate for its own order, the others refitted
     # from its recipe into the output folder (once: a second call finds them there)
     from rotor_host.analyses.compare import surrogates_at_orders
 
     scenes = tmp_path / "scenes"
     scenes.mkdir()
-    a = _scene(scenes, "a", 8.5)
+    a = training_scene(scenes, "a", 8.5)
     sur = tmp_path / "surrogates" / "a.json"
     assert rotor_host(["fit", "--scene", str(a), "--order", "3", "--designed", "0", "--no-prune",
                        "--cache-dir", str(tmp_path / "out" / "series"), "-o", str(sur)]) == 0
@@ -186,16 +169,13 @@ def test_compare_refits_a_scene_surrogate_at_other_orders(tmp_path):
     assert surrogates_at_orders(scene, [2, 3], tmp_path / "out") == got
 
 
-def test_training_scenes_must_share_speed_and_load(tmp_path):
-    a = _scene(tmp_path, "a", 8.5)
-    heavy = tmp_path / "heavy.toml"
-    heavy.write_text(a.read_text().replace('name = "a"', 'name = "heavy"')
-                     + "[[static_loads]]\nnode = 3\nFz_N = -50.0\n")
+def test_training_scenes_must_share_speed_and_load(tmp_path, training_scene):
+    a = training_scene(tmp_path, "a", 8.5)
+    heavy = training_scene(tmp_path, "heavy", 8.5, static_loads=[{"node": 3, "Fz_N": -50.0}])
     with pytest.raises(ValueError, match="load"):
         fit_scene(FitRecipe(scenes=[a, heavy], order=2, designed=0, prune=False), cache_dir=tmp_path / "series",
                   log=lambda *_: None)
-    fast = tmp_path / "fast.toml"
-    fast.write_text(a.read_text().replace("speed_hz = 22.0", "speed_hz = 30.0"))
+    fast = training_scene(tmp_path, "fast", 8.5, speed_hz=30.0)
     with pytest.raises(ValueError, match="speed"):
         fit_scene(FitRecipe(scenes=[a, fast], order=2, designed=0, prune=False), cache_dir=tmp_path / "series",
                   log=lambda *_: None)
@@ -204,12 +184,12 @@ def test_training_scenes_must_share_speed_and_load(tmp_path):
                   log=lambda *_: None)
 
 
-def test_wall_power_is_recorded_and_refitted(tmp_path):
+def test_wall_power_is_recorded_and_refitted(tmp_path, training_scene):
     # --wall-power P: the polynomial fits F (1 - eps^2)^P, the file says so, the fit recipe stores
     # it and a refit repeats it (same data, same coefficients)
     scenes = tmp_path / "scenes"
     scenes.mkdir()
-    a = _scene(scenes, "a", 8.5)
+    a = training_scene(scenes, "a", 8.5)
     cache = tmp_path / "series"
     out = tmp_path / "surrogates" / "w.json"
     args = ["fit", "--scene", str(a), "--order", "3", "--designed", "0", "--wall-power", "1.5", "--no-prune",
@@ -235,7 +215,7 @@ def test_wall_power_is_recorded_and_refitted(tmp_path):
     assert o.wall_power == 0.0
 
 
-def test_series_forces_are_the_bearings_own(tmp_path):
+def test_series_forces_are_the_bearings_own(tmp_path, training_scene):
     # a scene recording a node before the first bearing (node 1, as the 10 Hz scenes do) and an
     # unbalance near one end, so the two bearings carry different forces: the series must pair
     # each state with the force of the same bearing -- the truth evaluated at the series states
@@ -243,9 +223,7 @@ def test_series_forces_are_the_bearings_own(tmp_path):
     from bearing_fmu.physics.reynolds import Reynolds
     from rotor_host.analyses.training import _bearing_params
 
-    p = _scene(tmp_path, "asym", 8.5)
-    text = p.read_text().replace("node = 6", "node = 1") + "[record]\nnodes = [1, 3, 6, 9]\n"
-    p.write_text(text.replace("t_end_s = 0.04", "t_end_s = 0.01"))
+    p = training_scene(tmp_path, "asym", 8.5, unbalance_node=1, record={"nodes": [1, 3, 6, 9]}, t_end=0.01)
     sc = load_scene(p)
     for bearing in (1, 2):
         t, st, fo, _ = scene_series(sc, bearing, cache=tmp_path / f"b{bearing}.npz")
