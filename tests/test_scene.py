@@ -152,3 +152,20 @@ def test_newton_tangents_reach_the_same_orbit_at_their_own_cost():
             np.testing.assert_allclose(run.arrays[c], ref.arrays[c], rtol=0, atol=atol[t] * PAPER_BEARING.CR)
     evals = {t: r.meta["newton_mean_evaluations_per_step"] for t, r in runs.items()}
     assert evals["bearing"] < 2.5 < evals["frozen"] < evals["linear"]
+
+
+def test_a_direct_run_shows_its_first_domain_warning_and_counts_the_rest():
+    # the Taylor scene driven with the rotor's own tangent leaves its fitted domain at many
+    # iterates (test_newton_tangents_...: 200 warnings before): one warning on screen, the count
+    # and the first in the run's json
+    import warnings
+
+    scene = load_scene(SCENES / "paper_22hz.toml").with_internal("taylor", via="direct", t_end_s=0.01,
+                                                                 newton_tangent="linear")
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        run = run_scene(scene)
+    shown = [w for w in caught if "fitted domain" in str(w.message)]
+    report = run.meta["internal_warnings"]
+    assert report["count"] > 1 and len(shown) == 1
+    assert report["first"] in str(shown[0].message) and "counted in its json" in str(shown[0].message)

@@ -58,6 +58,7 @@ from .nearest import TOLERANCE, NearestTraining, linear_radius
 from .registry import DEFAULT_DOMAIN_LIMIT as DEFAULT_LIMIT
 from .registry import DOMAIN_ACTIONS, BearingStateError, check_finite
 
+REARM = 50  # evaluations inside that end an excursion (about 25 time steps of a run)
 FALLBACK_BAND = 0.1  # fallback: Taylor and truth blended from the domain's edge to 10 % beyond it
 class DomainGuard:
     """A Taylor internal behind its domain guard (see the module docstring).
@@ -87,6 +88,7 @@ class DomainGuard:
         self._truth = None
         self._on_warn = on_warn or (lambda msg: warnings.warn(msg, stacklevel=3))
         self.outside = False  # the last state selected lay outside (its excursion was warned); a caller may reset it
+        self._inside_run = REARM  # evaluations inside since the last one outside
         self.last_out_of_domain = False
         self.last_distance = -math.inf
 
@@ -137,8 +139,14 @@ class DomainGuard:
         ood = not (d <= 1e-12)  # NaN (non-finite input) counts as outside; Taylor names the variable
         self.last_out_of_domain = ood
         if not ood:
-            self.outside = False
+            # an excursion ends once the state has stayed inside for REARM evaluations: Newton
+            # iterates dithering across the edge are one excursion, one warning (the FMU sets
+            # ``outside`` from its committed state instead)
+            self._inside_run += 1
+            if self._inside_run >= REARM:
+                self.outside = False
             return self.taylor
+        self._inside_run = 0
         check_finite(y, z, vy, vz, 0.0)
         ecc = math.hypot(y, z) / self.params.CR
         where = (f"y = {y:.4g} m, z = {z:.4g} m, vy = {vy:.4g} m/s, vz = {vz:.4g} m/s "

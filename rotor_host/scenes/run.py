@@ -17,6 +17,7 @@ import os
 import platform
 import sys
 import time
+import warnings
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -62,9 +63,27 @@ def _start_guess(rotor: Rotor, f_static: np.ndarray, journal: np.ndarray) -> np.
 
 # ---------------------------------------------------------------------------------- building
 
-def _context(scene: Scene, load) -> Context:
-    """What a bearing's internal may take from the run: its static load and the speed."""
-    return Context(load=(float(load[0]), float(load[1])), omega=scene.omega)
+class InternalWarnings:
+    """The warnings of a run's in-process internals (a surrogate leaving its fitted domain, once
+    per excursion): the first is shown, the rest counted; the run's json has the count and the
+    first (``internal_warnings``), so a long run does not bury its output in repeats."""
+
+    def __init__(self):
+        self.count, self.first = 0, None
+
+    def __call__(self, message: str) -> None:
+        self.count += 1
+        if self.count == 1:
+            self.first = message
+            warnings.warn(f"{message} [further warnings of this run are counted in its json]", stacklevel=3)
+
+    def report(self) -> dict:
+        return {"count": self.count, "first": self.first}
+
+
+def _context(scene: Scene, load, warn=None) -> Context:
+    """What a bearing's internal may take from the run: its static load, the speed, a warning sink."""
+    return Context(load=(float(load[0]), float(load[1])), omega=scene.omega, warn=warn)
 
 
 def _fmu_parameters(scene: Scene, params, load) -> dict:
@@ -88,9 +107,9 @@ def _fmu_parameters(scene: Scene, params, load) -> dict:
     return {"D": params.D, "L": params.L, "CR": params.CR, "mu": params.mu, "internal": spec.name, **opts}
 
 
-def _direct_internal(scene: Scene, params, load):
+def _direct_internal(scene: Scene, params, load, warn=None):
     """The scene's internal for one bearing, imported only when used."""
-    return registry.create(scene.internal, params, scene.internal_options(), _context(scene, load),
+    return registry.create(scene.internal, params, scene.internal_options(), _context(scene, load, warn),
                            where=str(scene.source))
 
 
@@ -146,15 +165,16 @@ def _native_fmu(scene: Scene, work_dir: Path) -> Path:
     return Path(build_native_fmu(out, scene.internal, options=host_build_options(scene.internal), **files))
 
 
-def build_bearings(scene: Scene, rotor: Rotor, loads: np.ndarray, work_dir: Path):
-    """The BearingSet of the scene: FMU instances (via = fmu) or internals in-process."""
+def build_bearings(scene: Scene, rotor: Rotor, loads: np.ndarray, work_dir: Path, warn=None):
+    """The BearingSet of the scene: FMU instances (via = fmu) or internals in-process (their
+    warnings to ``warn``, default: warnings.warn)."""
     pairs = [(rotor.dof(n, "y"), rotor.dof(n, "z")) for n in rotor.bearing_nodes]
     names = [f"bearing {k + 1} (node {n + 1})" for k, n in enumerate(rotor.bearing_nodes)]
     scene_files(scene)  # a missing file is named before anything is built
     if scene.via == "direct":
         from ..coupling.bearings import DirectBearings
 
-        internals = [_direct_internal(scene, p, w) for p, w in zip(rotor.bearings, loads)]
+        internals = [_direct_internal(scene, p, w, warn) for p, w in zip(rotor.bearings, loads)]
         return DirectBearings(internals, pairs, scene.omega, names, tangent=scene.newton_tangent)
     from ..coupling.cosim import FMUBearings
 
@@ -302,6 +322,7 @@ class _Writer:
         self.rec_dofs = [rotor.dof(n, d) for n in self.rec_nodes for d in ("y", "z")]
         self.q0 = None
         self.checkpoint_failed = False
+        self.warnings = InternalWarnings()
         self.times = {"setup_time_s": 0.0, "equilibrium_time_s": 0.0}
         self.meta = {
             "scene": scene.name, "description": scene.description, "source": str(scene.source),
@@ -359,7 +380,7 @@ class _Writer:
         }
         max_ecc = ecc.max(axis=0) if ecc.size else np.zeros(nb)
         meta = dict(self.meta)
-        meta.update(status=status, message=message, **extra)
+        meta.update(status=status, message=message, internal_warnings=self.warnings.report(), **extra)
         meta.update({
             "wall_time_s": time.perf_counter() - self.t_wall0, **self.times,
             "integration_time_s": wall, "steps": int(its.size),
@@ -399,7 +420,7 @@ def _run(scene: Scene, holder, work: Path, progress: bool) -> SceneRun:
     out = _Writer(scene, rotor, loads, holder, t_wall0)
     integ = None
     try:
-        with build_bearings(scene, rotor, loads, work) as bearings:
+        with build_bearings(scene, rotor, loads, work, warn=out.warnings) as bearings:
             t_setup = time.perf_counter()
             out.times["setup_time_s"] = t_setup - t_wall0
             try:
