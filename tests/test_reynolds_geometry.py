@@ -236,3 +236,40 @@ def test_too_few_cells_for_the_bore_is_refused_by_name():
     with pytest.raises(ValueError, match=r"Reynolds: n_theta = 16 is too few cells for this bore"):
         Reynolds(bearing(g), n_theta=16)
     Reynolds(bearing(g), n_theta=36)
+
+
+def test_the_wall_of_a_bore_is_its_own():
+    """The journal may go as far as the bore lets it: a lemon bore (lobes at the top and bottom,
+    C_pad = 2 CR) is CR away vertically and C_pad = 2 CR at the split, so |e| = 1.5 CR sideways is
+    inside it and 1.001 CR downward is not; the refusal names the film closure and the bore. The
+    full bore keeps its eccentricity ratio (the same float)."""
+    from bearing_fmu.internals.registry import BearingStateError
+
+    assert FULL_BORE.closure(3e-5, -4e-5, 1e-4) == math.hypot(3e-5, -4e-5) / 1e-4
+    lemon = Geometry(grooves=(D90, D270), lobes=2, preload=0.5)
+    r = Reynolds(bearing(lemon), 64, 8)
+    side = lemon.closure(1.5 * P.CR, 0.0, P.CR)
+    th = np.radians(np.arange(0.0, 360.0, 0.01))
+    th = th[np.abs(np.degrees(th) % 180.0 - 90.0) >= 10.0]  # the film: off the grooves
+    assert side == pytest.approx(np.max(-1.5 * np.sin(th) / lemon.base_film(th)), abs=1e-6)  # 0.866 at 240 deg
+    assert np.all(np.isfinite(r.force(1.5 * P.CR, 0.0, 0.0, 0.0, OMEGA)))
+    assert lemon.closure(0.0, -0.999 * P.CR, P.CR) == pytest.approx(0.999)
+    with pytest.raises(BearingStateError, match=r"film closure 1\.001 >= 1: .*eccentricity ratio 1\.001\) .*2 lobes"):
+        r.force(0.0, -1.001 * P.CR, 0.0, 0.0, OMEGA)
+    # a partial arc at the bottom: the journal lifted 3 CR is far from any film, not at a wall
+    arc = Reynolds(bearing(GEOMETRIES["partial arc 120 deg"]), 64, 8)
+    assert np.all(np.isfinite(arc.force(0.0, 3 * P.CR, 0.0, 0.0, OMEGA)))
+
+
+def test_offset_halves_carry_their_load_beyond_CR():
+    """Downward, an offset-halves bore's film is C_pad = 2 CR thick (the lower lobe's smallest
+    clearance lies in the groove at its trailing edge): the equilibrium of a heavy load lies beyond
+    |e| = CR, with a positive film."""
+    from bearing_fmu.physics.statics import equilibrium
+
+    g = GEOMETRIES["offset halves"]
+    prm = bearing(g)
+    r = Reynolds(prm)
+    y, z = equilibrium(r, (0.0, -3000.0), OMEGA)
+    assert math.hypot(y, z) > 1.2 * P.CR and g.min_film(y, z, P.CR) > 0.0
+    assert np.allclose(r.force(y, z, 0.0, 0.0, OMEGA), (0.0, 3000.0), rtol=0, atol=1e-5 * 3000)

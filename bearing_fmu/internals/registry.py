@@ -116,8 +116,14 @@ def overflow_error(params: BearingParams, y: float, z: float, vy: float, vz: flo
 
 
 def wall_error(params: BearingParams, y: float, z: float, why: str = "") -> BearingStateError:
-    """The error for a journal at or beyond the wall (eccentricity ratio >= 1)."""
+    """The error for a journal at or beyond the wall (eccentricity ratio >= 1; for a bore that is
+    not the full circle, the film closure ``Geometry.closure`` >= 1)."""
     eps = math.hypot(y, z) / params.CR
+    geo = params.geometry
+    if not geo.is_full_bore:
+        return BearingStateError(
+            f"film closure {geo.closure(y, z, params.CR):.4g} >= 1: the journal (y = {y:.4g} m, z = {z:.4g} m, "
+            f"eccentricity ratio {eps:.4g}) is at or beyond the bore ({geo.describe()}; CR = {params.CR:.4g} m){why}")
     return BearingStateError(
         f"eccentricity ratio {eps:.4g} >= 1: the journal (y = {y:.4g} m, z = {z:.4g} m) "
         f"is at or beyond the bearing wall (CR = {params.CR:.4g} m){why}"
@@ -125,9 +131,10 @@ def wall_error(params: BearingParams, y: float, z: float, why: str = "") -> Bear
 
 
 def check_state(params: BearingParams, y: float, z: float, vy: float, vz: float, omega: float) -> float:
-    """``check_finite``, then refuse a journal at or beyond the wall. Returns the eccentricity ratio."""
+    """``check_finite``, then refuse a journal at or beyond the wall. Returns the eccentricity ratio
+    (for a bore that is not the full circle, the film closure: its wall is its own)."""
     check_finite(y, z, vy, vz, omega)
-    eps = math.hypot(y, z) / params.CR
+    eps = params.geometry.closure(y, z, params.CR)
     if eps >= 1.0:
         raise wall_error(params, y, z)
     return eps

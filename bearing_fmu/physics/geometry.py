@@ -52,6 +52,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
@@ -264,6 +265,30 @@ class Geometry:
         th = th[[not self._is_fixed(t) for t in th]]
         h = CR * self.base_film(th) + y * np.sin(th) - z * np.cos(th)
         return float(h.min())
+
+    def closure(self, y: float, z: float, CR: float) -> float:
+        """How far the journal at (y, z) [m] closes the film: max over the film of
+        (e . u(theta)) / (CR H0(theta)), so that h = CR H0 (1 - that) >= 0 while it is < 1. For the
+        full bore it is the eccentricity ratio |e| / CR (the same float operations as before); a
+        lobed bore or a partial arc lets the journal beyond CR where its bore is farther away.
+        Sampled every 0.1 deg and at every edge (the maximum between samples exceeds the sampled
+        one by < 1e-6)."""
+        if self.is_full_bore:
+            return math.hypot(y, z) / CR
+        a, b = self._closure_weights
+        return float(np.max(y * a + z * b)) / CR
+
+    @cached_property
+    def _closure_weights(self) -> tuple[np.ndarray, np.ndarray]:
+        """(-sin(theta), cos(theta)) / H0(theta) over the film's sample angles (see ``closure``)."""
+        th = np.concatenate([np.arange(3600) * (TWO_PI / 3600), np.array(self.edges())])
+        th = th[[not self._is_fixed(t) for t in th]]
+        h0 = self.base_film(th)
+        if self.lobes > 1 and self.preload > 0.0:  # an edge on a lobe boundary: both sides' film
+            lo = self.base_film(th, (self.lobe_of(th) - 1) % self.lobes)
+            at_boundary = np.isin(th, np.array(self.lobe_boundaries()))
+            h0 = np.where(at_boundary, np.minimum(h0, lo), h0)
+        return -np.sin(th) / h0, np.cos(th) / h0
 
     def edges(self) -> list[float]:
         """Every angle [rad] the grid puts a cell face on: groove and arc edges, lobe boundaries."""
