@@ -300,6 +300,8 @@ class Capabilities:
     truth         : a reference the others are measured against (the Reynolds solver).
     validity      : one paragraph for the FMU's documentation: where its force holds ({actions}
                     and {made}, if present, are filled per FMU kind by ``bearing_fmu.fmu.docs``).
+    any_geometry  : takes a bore that is not the full circle (grooves, arc, lobes; physics.geometry);
+                    False: ``create`` refuses such a bearing by name, ``geometry_why`` says why.
     """
 
     any_state: bool = False
@@ -309,6 +311,8 @@ class Capabilities:
     compare: bool = True
     truth: bool = False
     validity: str = ""
+    any_geometry: bool = True
+    geometry_why: str = ""
 
 
 @dataclass(frozen=True)
@@ -372,6 +376,11 @@ class InternalSpec:
         """The internal for this bearing, built from checked options."""
         context = context or Context()
         opts = self.check_options(options or {}, where or f"internal {self.name!r}", context=context)
+        if not self.can.any_geometry:
+            try:
+                params.require_full_bore(f"the {self.name} internal", self.can.geometry_why)
+            except ValueError as exc:
+                raise ValueError(f"{where + ': ' if where else ''}{exc}") from None
         return _resolve(self.factory)(params, opts, context)
 
     def contract_case(self, data_dir: Path):
@@ -524,7 +533,8 @@ register(InternalSpec(
     ),
     uses=("reynolds",),
     can=Capabilities(
-        fixed_speed=True, fitted_domain=True, native=True,
+        fixed_speed=True, fitted_domain=True, native=True, any_geometry=False,
+        geometry_why="a surrogate file does not record the bore it was fitted for",
         validity="The surrogate answers for the speed it was fitted at (any other omega is refused) and inside its "
                  "fitted domain of journal states; outside it the FMU {actions}, and beyond domain_limit it always "
                  "refuses. The journal at or beyond the wall is refused (fmi2Discard)."),
@@ -540,7 +550,8 @@ register(InternalSpec(
                file_format="bearing-fmu-force-map"),
     ),
     can=Capabilities(
-        any_state=True, native=True,
+        any_state=True, native=True, any_geometry=False,
+        geometry_why="its reduction to eccentricity and one angle assumes the circular full bore",
         validity="The force map holds the Reynolds force for every speed, load and velocity of bearings with its "
                  "L/D; states beyond its last eccentricity (eps_max) are refused (fmi2Discard)."),
     case="internals.cases:map_case",

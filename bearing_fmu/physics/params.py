@@ -165,6 +165,14 @@ class BearingParams:
         tail = "" if self.geometry.is_full_bore else f", geometry={self.geometry!r}"
         return f"BearingParams(D={self.D!r}, L={self.L!r}, CR={self.CR!r}, mu={self.mu!r}{tail})"
 
+    def require_full_bore(self, what: str, why: str = "") -> None:
+        """ValueError unless the bore is the full 360 deg circle: ``what`` (the force map, the FMU)
+        models only that one; ``why`` says why, in a few words."""
+        if not self.geometry.is_full_bore:
+            raise ValueError(f"{what} models only the full 360 deg circular bore{' (' + why + ')' if why else ''}, "
+                             f"not this bearing's {self.geometry.describe()}: the Reynolds internal takes it (in a scene: "
+                             "internal = 'reynolds', via = 'direct')")
+
     @property
     def R(self) -> float:
         """Journal radius [m]."""
