@@ -51,7 +51,7 @@ def test_demo_takes_the_bore(path, words, capsys):
 
 @pytest.mark.parametrize("scene", ["paper_2groove_22hz", "paper_lemon_22hz"])
 def test_scene_runs_with_reynolds_in_process(scene, tmp_path, capsys):
-    code, out, err = _cli("rotor-host", ["run", str(MODELS / "scenes" / f"{scene}.toml"), "--internal", "reynolds",
+    code, _, err = _cli("rotor-host", ["run", str(MODELS / "scenes" / f"{scene}.toml"), "--internal", "reynolds",
                                          "--via", "direct", "--t-end", "0.01", "--out", str(tmp_path), "--no-plots",
                                          "--quiet"], capsys)
     assert code == 0, err
@@ -62,7 +62,7 @@ def test_scene_runs_with_reynolds_in_process(scene, tmp_path, capsys):
 
 
 def test_scene_through_the_fmu_is_refused_before_any_build(tmp_path, capsys):
-    code, out, err = _cli("rotor-host", ["run", str(MODELS / "scenes" / "paper_2groove_22hz.toml"), "--via", "fmu",
+    code, _, err = _cli("rotor-host", ["run", str(MODELS / "scenes" / "paper_2groove_22hz.toml"), "--via", "fmu",
                                          "--t-end", "0.01", "--out", str(tmp_path), "--quiet"], capsys)
     assert code == 2
     assert "via = 'fmu': the bearing FMU of bearing 1 (node 3) models only the full 360 deg circular bore" in err
@@ -106,13 +106,13 @@ def test_map_and_taylor_internals_refuse_the_bore_by_name(tmp_path):
 
 
 def test_fmu_builds_refuse_the_bore_by_name(tmp_path, capsys):
-    code, out, err = _cli("bearing-fmu", ["build", "--bearing", str(LEMON), "-o", str(tmp_path / "b.fmu")], capsys)
+    code, _, err = _cli("bearing-fmu", ["build", "--bearing", str(LEMON), "-o", str(tmp_path / "b.fmu")], capsys)
     assert code == 2 and "the bearing FMU (" in err and "its parameters are D, L, CR and mu" in err
     assert "2 lobes, preload 0.5" in err and not (tmp_path / "b.fmu").exists()
     from bearing_fmu.fmu.native.build import build_native_fmu
 
     with pytest.raises(ValueError, match=r"the native bearing FMU \(.*\) models only the full 360 deg circular bore"):
         build_native_fmu(tmp_path / "n.fmu", "linear", bearing=BearingParams.from_toml(GROOVED))
-    code, out, err = _cli("bearing-fmu", ["map", "--bearing", str(GROOVED), "-o", str(tmp_path / "m.json"),
+    code, _, err = _cli("bearing-fmu", ["map", "--bearing", str(GROOVED), "-o", str(tmp_path / "m.json"),
                                           "--quiet"], capsys)
     assert code == 2 and "a force map models only the full 360 deg circular bore" in err

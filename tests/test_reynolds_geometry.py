@@ -204,7 +204,7 @@ def test_supply_pressure_at_rest():
     projected area L D and more than p_s over the groove's own chord."""
     ps = 2e5
     two = Reynolds(bearing(Geometry(grooves=(D90, D270), supply_pressure=ps)), 64, 8)
-    th, x, p = two.pressure(0.0, 0.0, 0.0, 0.0, 0.0)
+    _, _, p = two.pressure(0.0, 0.0, 0.0, 0.0, 0.0)
     assert p.min() >= 0.0 and p.max() == ps
     grid = two.params.geometry.theta_grid(64)
     assert np.all(p[grid.fixed] == ps) and np.all(p[~grid.fixed] < ps)
@@ -226,7 +226,7 @@ def test_complementarity_and_pressure_field(name):
     for s in (state(0.4, 0.3), state(0.8, 2.5, 0.02 * P.CR * OMEGA)):
         d = r.diagnostics(*s, OMEGA)
         assert d["complementarity_residual"] < 1e-11 and 0 <= d["cavitated_fraction"] < 1  # offset halves: full film
-        th, x, p = r.pressure(*s, OMEGA)
+        th, _, p = r.pressure(*s, OMEGA)
         assert np.allclose(th, grid.centre) and p.shape == (64, 8) and p.min() >= 0.0
         assert np.all(p[grid.fixed] == grid.supply[grid.fixed][:, None])
 

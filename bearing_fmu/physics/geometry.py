@@ -89,7 +89,6 @@ GEOMETRY_KEYS = (
     Key("lobe_angle_deg", "theta of the middle of the first lobe [deg] (0: lobes centred at the top, and "
         "for 2 lobes at the bottom)", 0.0, "an angle", kind=Number()),
 )
-_GEOMETRY_KEY_NAMES = tuple(k.name for k in GEOMETRY_KEYS)
 
 
 def _wrap(a: float) -> float:
