@@ -91,7 +91,7 @@ def test_lobed_film_is_the_gap_between_the_circles(lobes, m, offset, angle):
     for _ in range(20):
         e = rng.uniform(-0.7, 0.7, 2) * CR
         th = rng.uniform(0, 2 * math.pi)
-        if g._is_fixed(th):
+        if g.is_prescribed(th):
             continue
         u = np.array([-math.sin(th), math.cos(th)])  # (y, z) toward the bore at theta
         k = int(g.lobe_of(th))
@@ -102,7 +102,7 @@ def test_lobed_film_is_the_gap_between_the_circles(lobes, m, offset, angle):
         assert abs(h - (s - t)) < 1e-3 * CR, (th, h, s - t)
     # the smallest clearance of a centred journal is CR, at the preload points
     th = np.linspace(0, 2 * math.pi, 7201)
-    film = g.base_film(th)[[not g._is_fixed(t) for t in th]]
+    film = g.base_film(th)[[not g.is_prescribed(t) for t in th]]
     assert film.min() >= 1.0 - 1e-9
     assert np.allclose(g.base_film(g.preload_points(), np.arange(lobes)), 1.0)
     # (an offset lobe's preload point lies in the groove at its trailing edge: the film is thicker)

@@ -211,13 +211,13 @@ class Geometry:
                             "the arc, its edges at most on the arc's edges")
         if self.lobes >= 2 and self.preload > 0.0 and abs(self.lobe_offset - 0.5) > 1e-12:
             for t in self.lobe_boundaries():
-                if not self._is_fixed(t):
+                if not self.is_prescribed(t):
                     return (f"lobe_offset = {self.lobe_offset:g} makes the film step at the lobe boundary at {_deg(t)}: "
                             "the boundary must lie inside a groove (grooves_deg) or outside arc_deg, as in an "
                             "offset-halves bearing with grooves at the split")
         return None
 
-    def _is_fixed(self, t: float) -> bool:
+    def is_prescribed(self, t: float) -> bool:
         """Whether angle t [rad] has a prescribed pressure (inside a groove, or outside the arc)."""
         for a, b in self.groove_edges():
             if _within(t, a, b - a, -_SNAP):
@@ -261,7 +261,7 @@ class Geometry:
         """Smallest film thickness [m] over the film region (edges included), journal at (y, z) [m],
         sampled every 360/n deg and at every edge."""
         th = np.concatenate([np.arange(n) * (TWO_PI / n), np.array(self.edges())])
-        th = th[[not self._is_fixed(t) for t in th]]
+        th = th[[not self.is_prescribed(t) for t in th]]
         h = CR * self.base_film(th) + y * np.sin(th) - z * np.cos(th)
         return float(h.min())
 
@@ -281,7 +281,7 @@ class Geometry:
     def _closure_weights(self) -> tuple[np.ndarray, np.ndarray]:
         """(-sin(theta), cos(theta)) / H0(theta) over the film's sample angles (see ``closure``)."""
         th = np.concatenate([np.arange(3600) * (TWO_PI / 3600), np.array(self.edges())])
-        th = th[[not self._is_fixed(t) for t in th]]
+        th = th[[not self.is_prescribed(t) for t in th]]
         h0 = self.base_film(th)
         if self.lobes > 1 and self.preload > 0.0:  # an edge on a lobe boundary: both sides' film
             lo = self.base_film(th, (self.lobe_of(th) - 1) % self.lobes)
@@ -312,7 +312,7 @@ class Geometry:
         proportion to their length (uniform inside each, at least 2 per segment)."""
         edges = self.edges()
         segs = [(a, b) for a, b in zip(edges, edges[1:] + [edges[0] + TWO_PI])]
-        fixed = [self._is_fixed(0.5 * (a + b)) for a, b in segs]
+        fixed = [self.is_prescribed(0.5 * (a + b)) for a, b in segs]
         film = [k for k, f in enumerate(fixed) if not f]
         n_film = n_theta - (len(segs) - len(film))
         if n_film < 2 * len(film):
