@@ -110,9 +110,14 @@ def _demo(args: argparse.Namespace) -> int:
     print(f"{name}: D {params.D * 1e3:g} mm, L {params.L * 1e3:g} mm (L/D {params.L / params.D:.3g}), "
           f"CR {params.CR * 1e6:g} um, mu {params.mu:g} Pa s; Reynolds grid {rey.n_theta} x {rey.n_x}, "
           "Swift-Stieber cavitation")
+    geo = params.geometry
+    if not geo.is_full_bore:
+        print(f"bore: {geo.describe()}" + (f"; pad clearance {geo.pad_clearance(params.CR) * 1e6:.4g} um"
+                                           if geo.preload > 0 else ""))
+    h_min = params.CR * (1 - eps) if geo.is_full_bore else geo.min_film(y0, z0, params.CR)
     print(f"speed {args.speed_hz:g} Hz, static load (Wy, Wz) = ({load[0]:g}, {load[1]:g}) N")
     print(f"equilibrium: y0 = {y0 * 1e6:.3f} um, z0 = {z0 * 1e6:.3f} um, eccentricity ratio {eps:.4f}, "
-          f"attitude angle {att:.2f} deg, minimum film {params.CR * (1 - eps) * 1e6:.3f} um")
+          f"attitude angle {att:.2f} deg, minimum film {h_min * 1e6:.3f} um")
     W = math.hypot(*load)
     if W > 0.0:
         S = sommerfeld_number(params, W, args.speed_hz)

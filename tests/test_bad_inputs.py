@@ -191,13 +191,28 @@ def test_bad_rotor_file_names_the_key(tmp_path, old, new, words):
     ("bearing = 3\n", ["bearing = 3", "expected a table"]),
     ("[bearing]\nD_mm = 31\nL_mm = 20\nCR_um = -90\nmu_Pa_s = 0.05\n", ["[bearing]", "CR"]),  # range: BearingParams
     ("[bearing\n", ["not valid TOML", "line 1"]),
-    # a table beside [bearing] was ignored: the bearing computed without it
-    ("[bearing]\nD_mm = 31\nL_mm = 20\nCR_um = 90\nmu_Pa_s = 0.05\n[geometry]\ngrooves = 2\n",
-     ["unknown table(s) [geometry]", "allowed: [bearing]"]),
+    # a table beside [bearing] and [geometry] was ignored: the bearing computed without it
+    ("[bearing]\nD_mm = 31\nL_mm = 20\nCR_um = 90\nmu_Pa_s = 0.05\n[oil]\nmu_Pa_s = 0.1\n",
+     ["unknown table(s) [oil]", "allowed: [bearing], [geometry]"]),
     ("[bearing]\nD_mm = 31\nL_mm = 20\nCR_um = 90\nmu_Pa_s = 0.05\n[[oil]]\nmu_Pa_s = 0.1\n",
      ["unknown table(s) [[oil]]", "allowed: [bearing]"]),
-    ("D_mm = 31\nL_mm = 20\nCR_um = 90\nmu_Pa_s = 0.05\n[geometry]\ngrooves = 2\n",
-     ["unknown table(s) [geometry]", "allowed: D_mm, L_mm"]),
+    ("D_mm = 31\nL_mm = 20\nCR_um = 90\nmu_Pa_s = 0.05\n[oil]\nmu_Pa_s = 0.1\n",
+     ["unknown table(s) [oil]", "allowed: D_mm, L_mm"]),
+    # [geometry]: its keys by type and range, then together, each naming the file and key
+    ("[bearing]\nD_mm = 31\nL_mm = 20\nCR_um = 90\nmu_Pa_s = 0.05\n[geometry]\ngrooves = 2\n",
+     ["[geometry]", "unknown key(s) grooves (did you mean grooves_deg?)"]),
+    ("[bearing]\nD_mm = 31\nL_mm = 20\nCR_um = 90\nmu_Pa_s = 0.05\n[geometry]\npreload = 1.2\nlobes = 2\n",
+     ["[geometry] preload = 1.2", ">= 0 and < 1"]),
+    ("[bearing]\nD_mm = 31\nL_mm = 20\nCR_um = 90\nmu_Pa_s = 0.05\n[geometry]\nlobes = 2.0\n",
+     ["[geometry] lobes = 2.0", "integer"]),
+    ("[bearing]\nD_mm = 31\nL_mm = 20\nCR_um = 90\nmu_Pa_s = 0.05\n[geometry]\narc_deg = [90]\n",
+     ["[geometry] arc_deg = [90]", "array of 2 values"]),
+    ("[bearing]\nD_mm = 31\nL_mm = 20\nCR_um = 90\nmu_Pa_s = 0.05\n[geometry]\ngrooves_deg = [90, 100]\n",
+     ["[geometry] grooves_deg: the grooves at 90 deg and 100 deg overlap", "groove_width_deg = 20"]),
+    ("[bearing]\nD_mm = 31\nL_mm = 20\nCR_um = 90\nmu_Pa_s = 0.05\n[geometry]\npreload = 0.3\n",
+     ["[geometry] preload = 0.3 needs lobes >= 2"]),
+    ("D_mm = 31\nL_mm = 20\nCR_um = 90\nmu_Pa_s = 0.05\n[geometry]\narc_deg = [270, 90]\n",
+     ["[geometry] arc_deg = [270, 90]: end - start must be in (0, 360)"]),
 ])
 def test_bad_bearing_file_names_the_key(tmp_path, text, words):
     p = tmp_path / "b.toml"

@@ -98,11 +98,11 @@ def test_shipped_bearings_are_inside_the_ranges():
 
 
 def test_a_table_beside_bearing_is_refused_not_ignored(tmp_path):
-    # [geometry] (grooves, lobes) is not read by this code: the bearing would be computed as a
-    # plain bore without a word; the shipped files have [bearing] only and still load
+    # [oil] (a viscosity law) is not read by this code: the bearing would be computed isothermal
+    # without a word; [geometry] is read (tests/test_geometry.py); the shipped files still load
     f = tmp_path / "b.toml"
-    f.write_text("[bearing]\nD_mm = 31.0\nL_mm = 20.0\nCR_um = 90.0\nmu_Pa_s = 0.05\n\n[geometry]\ngrooves = 2\n")
-    with pytest.raises(ValueError, match=r"b.toml: unknown table\(s\) \[geometry\]; allowed: \[bearing\]$"):
+    f.write_text("[bearing]\nD_mm = 31.0\nL_mm = 20.0\nCR_um = 90.0\nmu_Pa_s = 0.05\n\n[oil]\nmu_Pa_s = 0.1\n")
+    with pytest.raises(ValueError, match=r"b.toml: unknown table\(s\) \[oil\]; allowed: \[bearing\], \[geometry\]$"):
         BearingParams.from_toml(f)
     models = Path(__file__).resolve().parents[1] / "models"
     assert BearingParams.from_toml(models / "bearing_paper.toml") == PAPER_BEARING

@@ -57,6 +57,9 @@ _REL_FROM = re.compile(r"^(\s*)from\s+\.(\w*)", re.M)
 _DYNAMIC = re.compile(r"""import_module\(\s*['"]bearing_fmu""")
 
 
+# the FMU carries D, L, CR, mu as parameters: a bore it cannot carry is refused, not dropped
+FMU_GEOMETRY_WHY = "its parameters are D, L, CR and mu; the geometry parameters are a later step"
+
 def package_sources() -> dict[str, str]:
     """The package modules bundled in the FMU, name -> source text (sorted by name)."""
     files = []
@@ -407,6 +410,8 @@ def build_fmu(output, surrogate=None, bearing=None, bearing_source: str = "") ->
     output = Path(output)
     if output.suffix != ".fmu":
         raise ValueError(f"build_fmu: output {str(output)!r} must end in .fmu")
+    if bearing is not None:
+        bearing.require_full_bore(f"the bearing FMU ({bearing_source or 'build_fmu'})", FMU_GEOMETRY_WHY)
     if surrogate is None:
         surrogates = []
     elif isinstance(surrogate, (str, os.PathLike)):

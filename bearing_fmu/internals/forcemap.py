@@ -47,6 +47,10 @@ EPS_MIN = 1e-6  # below: evaluated at EPS_MIN along the same direction (kernel d
 LD_RTOL = 1e-9  # a map serves bearings whose L/D equals its own to this relative tolerance
 
 
+# the map reduces the force to F = r G(eps, beta): true for the circular full bore only (a groove,
+# an arc or a lobe fixes directions in the bore, docs/geometry.md)
+REDUCTION_WHY = "its reduction to eccentricity and one angle assumes the circular full bore"
+
 def scale(params: BearingParams) -> float:
     """S = mu R L (R / CR)^2 [N s]: the map's force per unit r [1/s]."""
     return params.mu * params.R * params.L * (params.R / params.CR) ** 2
@@ -180,6 +184,7 @@ def tabulate(params: BearingParams, *, n_eps: int = DEFAULT_N_EPS, n_beta: int =
     ``workers`` > 1 splits the eps rows over processes; ``progress(n_done)`` per row."""
     from ..physics.reynolds import Reynolds
 
+    params.require_full_bore("a force map", REDUCTION_WHY)
     rey = Reynolds(params, n_theta, n_x, cavitation)
     t0 = time.perf_counter()
     table = MapTable(params.L / params.D, rey.n_theta, rey.n_x, rey.cavitation, eps_max, wall_exponent,
@@ -410,6 +415,7 @@ class ForceMap:
     last eccentricity (eps_max) are refused like Reynolds refuses the wall."""
 
     def __init__(self, params: BearingParams, table: MapTable, source: str = ""):
+        params.require_full_bore(f"the force map{' ' + source if source else ''}", REDUCTION_WHY)
         ld = params.L / params.D
         if not abs(ld - table.L_over_D) <= LD_RTOL * table.L_over_D:  # NaN is refused, not let through
             raise ValueError(f"force map{' ' + source if source else ''} is for L/D = {table.L_over_D:.6g}, the "

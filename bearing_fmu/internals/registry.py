@@ -116,8 +116,14 @@ def overflow_error(params: BearingParams, y: float, z: float, vy: float, vz: flo
 
 
 def wall_error(params: BearingParams, y: float, z: float, why: str = "") -> BearingStateError:
-    """The error for a journal at or beyond the wall (eccentricity ratio >= 1)."""
+    """The error for a journal at or beyond the wall (eccentricity ratio >= 1; for a bore that is
+    not the full circle, the film closure ``Geometry.closure`` >= 1)."""
     eps = math.hypot(y, z) / params.CR
+    geo = params.geometry
+    if not geo.is_full_bore:
+        return BearingStateError(
+            f"film closure {geo.closure(y, z, params.CR):.4g} >= 1: the journal (y = {y:.4g} m, z = {z:.4g} m, "
+            f"eccentricity ratio {eps:.4g}) is at or beyond the bore ({geo.describe()}; CR = {params.CR:.4g} m){why}")
     return BearingStateError(
         f"eccentricity ratio {eps:.4g} >= 1: the journal (y = {y:.4g} m, z = {z:.4g} m) "
         f"is at or beyond the bearing wall (CR = {params.CR:.4g} m){why}"
@@ -125,9 +131,10 @@ def wall_error(params: BearingParams, y: float, z: float, why: str = "") -> Bear
 
 
 def check_state(params: BearingParams, y: float, z: float, vy: float, vz: float, omega: float) -> float:
-    """``check_finite``, then refuse a journal at or beyond the wall. Returns the eccentricity ratio."""
+    """``check_finite``, then refuse a journal at or beyond the wall. Returns the eccentricity ratio
+    (for a bore that is not the full circle, the film closure: its wall is its own)."""
     check_finite(y, z, vy, vz, omega)
-    eps = math.hypot(y, z) / params.CR
+    eps = params.geometry.closure(y, z, params.CR)
     if eps >= 1.0:
         raise wall_error(params, y, z)
     return eps
@@ -293,6 +300,8 @@ class Capabilities:
     truth         : a reference the others are measured against (the Reynolds solver).
     validity      : one paragraph for the FMU's documentation: where its force holds ({actions}
                     and {made}, if present, are filled per FMU kind by ``bearing_fmu.fmu.docs``).
+    any_geometry  : takes a bore that is not the full circle (grooves, arc, lobes; physics.geometry);
+                    False: ``create`` refuses such a bearing by name, ``geometry_why`` says why.
     """
 
     any_state: bool = False
@@ -302,6 +311,8 @@ class Capabilities:
     compare: bool = True
     truth: bool = False
     validity: str = ""
+    any_geometry: bool = True
+    geometry_why: str = ""
 
 
 @dataclass(frozen=True)
@@ -365,6 +376,11 @@ class InternalSpec:
         """The internal for this bearing, built from checked options."""
         context = context or Context()
         opts = self.check_options(options or {}, where or f"internal {self.name!r}", context=context)
+        if not self.can.any_geometry:
+            try:
+                params.require_full_bore(f"the {self.name} internal", self.can.geometry_why)
+            except ValueError as exc:
+                raise ValueError(f"{where + ': ' if where else ''}{exc}") from None
         return _resolve(self.factory)(params, opts, context)
 
     def contract_case(self, data_dir: Path):
@@ -517,7 +533,8 @@ register(InternalSpec(
     ),
     uses=("reynolds",),
     can=Capabilities(
-        fixed_speed=True, fitted_domain=True, native=True,
+        fixed_speed=True, fitted_domain=True, native=True, any_geometry=False,
+        geometry_why="a surrogate file does not record the bore it was fitted for",
         validity="The surrogate answers for the speed it was fitted at (any other omega is refused) and inside its "
                  "fitted domain of journal states; outside it the FMU {actions}, and beyond domain_limit it always "
                  "refuses. The journal at or beyond the wall is refused (fmi2Discard)."),
@@ -533,7 +550,8 @@ register(InternalSpec(
                file_format="bearing-fmu-force-map"),
     ),
     can=Capabilities(
-        any_state=True, native=True,
+        any_state=True, native=True, any_geometry=False,
+        geometry_why="its reduction to eccentricity and one angle assumes the circular full bore",
         validity="The force map holds the Reynolds force for every speed, load and velocity of bearings with its "
                  "L/D; states beyond its last eccentricity (eps_max) are refused (fmi2Discard)."),
     case="internals.cases:map_case",

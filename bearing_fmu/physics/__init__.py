@@ -4,10 +4,14 @@ the closed-form short bearing, statics.
 =================  ============================================================
 module             what it holds
 =================  ============================================================
-params             ``BearingParams`` (D, L, CR, mu; SI; validated), the bearing file's
-                   keys, the paper bearing
+params             ``BearingParams`` (D, L, CR, mu, geometry; SI; validated), the bearing
+                   file's keys, the paper bearing
+geometry           ``Geometry``: the bore (grooves, partial arc, lobes with preload), the
+                   [geometry] keys, the lobed film, the solver's circumferential grid
 reynolds,          the finite-volume Reynolds solver (also the ``reynolds`` internal),
 reynolds_kernels   adjoint Jacobian, warm-started active set; its compiled kernels
+geometry_kernels   the same for a bore that is not the full circle (own kernel: the full
+                   bore's stays bit for bit)
 shortbearing       the closed-form short (Ocvirk) bearing: forces, K, C
 statics            ``equilibrium``, ``linearize`` (Lund K, C), ``film_jacobian`` of any
                    internal

@@ -3,10 +3,11 @@
 from __future__ import annotations
 
 import math
-from dataclasses import asdict, dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 from ..io.schema import Key, Number, Table, Text, check_keys, check_table, read_toml, show
+from .geometry import FULL_BORE, GEOMETRY_KEYS, Geometry
 
 # ----------------------------------------------------------------------------- physical ranges
 # What a real plain journal bearing can be; values outside are typos or unit slips (a clearance
@@ -109,8 +110,13 @@ BEARING_JSON_KEYS = (
     Key("source", "the bearing file it was built from", None, kind=Text()),
 )
 
-# the top level of a bearing file that has a [bearing] table: that table only
-BEARING_FILE_KEYS = (Key("bearing", "the bearing ([bearing])", kind=Table(BEARING_KEYS)),)
+# the top level of a bearing file that has a [bearing] table: that table and its bore; any other
+# table ([oil]) is refused: ignored, it would leave the bearing computed without it
+BEARING_FILE_KEYS = (
+    Key("bearing", "the bearing ([bearing])", kind=Table(BEARING_KEYS)),
+    Key("geometry", "the bore ([geometry]): grooves, a partial arc, lobes; absent: the full 360 deg bore",
+        None, kind=Table(GEOMETRY_KEYS)),
+)
 
 
 class BearingFileError(KeyError, ValueError):
@@ -124,18 +130,20 @@ class BearingFileError(KeyError, ValueError):
 
 @dataclass(frozen=True)
 class BearingParams:
-    """Plain cylindrical journal bearing.
+    """Journal bearing: a plain cylindrical bore unless ``geometry`` says otherwise.
 
     D  : bearing (journal) diameter [m]
     L  : bearing length [m]
-    CR : radial clearance [m]
+    CR : radial clearance [m] (of a lobed bore: the assembled clearance C_bearing)
     mu : dynamic viscosity of the oil [Pa s]
+    geometry : the bore (``physics.geometry.Geometry``: grooves, arc, lobes); default the full bore
     """
 
     D: float
     L: float
     CR: float
     mu: float
+    geometry: Geometry = field(default=FULL_BORE)
 
     def __post_init__(self) -> None:
         # D first: the ranges of L and CR scale with it
@@ -150,6 +158,20 @@ class BearingParams:
             if error is not None:
                 raise ValueError(f"BearingParams.{error}")
             object.__setattr__(self, name, value)
+        if not isinstance(self.geometry, Geometry):
+            raise TypeError(f"BearingParams.geometry must be a Geometry, got {type(self.geometry).__name__}")
+
+    def __repr__(self) -> str:  # the full bore as before: a plain bearing reads as it always did
+        tail = "" if self.geometry.is_full_bore else f", geometry={self.geometry!r}"
+        return f"BearingParams(D={self.D!r}, L={self.L!r}, CR={self.CR!r}, mu={self.mu!r}{tail})"
+
+    def require_full_bore(self, what: str, why: str = "") -> None:
+        """ValueError unless the bore is the full 360 deg circle: ``what`` (the force map, the FMU)
+        models only that one; ``why`` says why, in a few words."""
+        if not self.geometry.is_full_bore:
+            raise ValueError(f"{what} models only the full 360 deg circular bore{' (' + why + ')' if why else ''}, "
+                             f"not this bearing's {self.geometry.describe()}: the Reynolds internal takes it (in a scene: "
+                             "internal = 'reynolds', via = 'direct')")
 
     @property
     def R(self) -> float:
@@ -157,22 +179,27 @@ class BearingParams:
         return 0.5 * self.D
 
     def as_dict(self) -> dict[str, float]:
-        return asdict(self)
+        """D, L, CR, mu [SI]: what files and FMU parameters record (the geometry is not one of them;
+        the FMU and the force map refuse a bearing that is not the full bore)."""
+        return {"D": self.D, "L": self.L, "CR": self.CR, "mu": self.mu}
 
     @classmethod
     def from_toml(cls, path: str | Path) -> "BearingParams":
         """Read a bearing file with keys ``D_mm``, ``L_mm``, ``CR_um``, ``mu_Pa_s`` in ``[bearing]``
-        (or at the top level); errors are BearingFileError naming the file and key."""
+        (or at the top level) and an optional ``[geometry]`` table; errors are BearingFileError
+        naming the file and key."""
         path = Path(path)
         data = read_toml(path, "bearing file", BearingFileError)
         if "bearing" in data:
             if not isinstance(data["bearing"], dict):
                 raise BearingFileError(f"{path}: bearing = {data['bearing']!r}: expected a table ([bearing])")
-            # nothing else beside [bearing]: a table this code does not read ([geometry], [oil]) would
-            # otherwise be ignored silently and the bearing computed as plain and isothermal
+            # nothing else beside [bearing] and [geometry]: a table this code does not read ([oil])
+            # would otherwise be ignored silently and the bearing computed as isothermal
             check_keys(data, BEARING_FILE_KEYS, str(path), BearingFileError)
-            return cls.from_mapping(data["bearing"], where=str(path), label="[bearing]")
-        return cls.from_mapping(data, where=str(path))
+            return cls.from_mapping(data["bearing"], where=str(path), label="[bearing]", geometry=data.get("geometry"))
+        data = dict(data)
+        geometry = data.pop("geometry") if isinstance(data.get("geometry"), dict) else None
+        return cls.from_mapping(data, where=str(path), geometry=geometry)
 
     @classmethod
     def from_json(cls, path: str | Path) -> "BearingParams":
@@ -193,9 +220,11 @@ class BearingParams:
             raise BearingFileError(f"{path}: {str(exc).removeprefix('BearingParams.')}") from None
 
     @classmethod
-    def from_mapping(cls, data: dict, where: str = "bearing", label: str = "") -> "BearingParams":
-        """Build from a mapping whose keys carry their unit (``D_mm``, ``L_mm``, ``CR_um``, ``mu_Pa_s``);
-        errors name ``where`` (the file) and ``label`` (its table, '[bearing]')."""
+    def from_mapping(cls, data: dict, where: str = "bearing", label: str = "",
+                     geometry: dict | None = None) -> "BearingParams":
+        """Build from a mapping whose keys carry their unit (``D_mm``, ``L_mm``, ``CR_um``, ``mu_Pa_s``)
+        and the ``[geometry]`` table's mapping (None: the full bore); errors name ``where`` (the
+        file) and ``label`` (its table, '[bearing]')."""
         # divisors, not factors: 31 / 1000 is exactly the float 0.031, 31 * 1e-3 is not
         units = {"D_mm": 1e3, "L_mm": 1e3, "CR_um": 1e6, "mu_Pa_s": 1.0}
         d = check_table(data, BEARING_KEYS, where, BearingFileError, label)
@@ -207,7 +236,16 @@ class BearingParams:
             error = range_error(name, vals[name], vals.get("D"))
             if error is not None:  # the constructor's words, with the file's key in front
                 raise BearingFileError(f"{prefix}{key} = {show(data[key])}: {error}")
-        return cls(**vals)
+        return cls(**vals, geometry=read_geometry(geometry, where))
+
+
+def read_geometry(table, where: str) -> Geometry:
+    """The ``[geometry]`` table of bearing file ``where`` (None: the full bore), its keys checked by
+    type and range, then together (``Geometry.check``); errors name the file and the keys."""
+    if table is None:
+        return FULL_BORE
+    d = check_table(table, GEOMETRY_KEYS, where, BearingFileError, "[geometry]")
+    return Geometry.from_mapping(d, set(table), lambda text: BearingFileError(f"{where}: [geometry] {text}"))
 
 
 # Table 2 of the paper: D = 31 mm, L = 20 mm, CR = 90 um, mu = 50 mPa s.

@@ -1,4 +1,4 @@
-"""Finite-volume Reynolds solver for a plain cylindrical journal bearing.
+"""Finite-volume Reynolds solver for a journal bearing (a plain cylindrical bore, or grooved, partial, lobed).
 
 Equation (DESIGN.md, paper eq. 2 with the circumferential length R*theta)::
 
@@ -76,6 +76,17 @@ still, or whirling at exactly half speed) p = 0 and the force is only directiona
 differentiable; there the derivative reported is the odd part (F(db) - F(-db)) / 2 of the
 first-order film response, which is what central differences converge to.
 
+Bores other than the full circle
+--------------------------------
+With ``params.geometry`` not the full bore (grooves, a partial arc, lobes: ``physics.geometry``),
+the circumferential cells have a face on every groove edge, arc edge and lobe boundary
+(``Geometry.theta_grid``: one cell per groove and per stretch outside the arc, the rest spread
+over the film), the film is h / CR = H0(theta) + (y sin - z cos) / CR with the lobes' centred
+film H0, and the cells of a groove (supply pressure) or outside the arc (ambient) hold their
+prescribed pressure: identity rows, their value on the shared face of the neighbouring film
+cell (a half-cell distance). Cavitation, the warm start and the adjoint derivatives are as
+above (``geometry_kernels``); the full bore keeps its own kernel, bit for bit.
+
 Work arrays and the remembered calls live in the object: one Reynolds instance is not
 re-entrant (use one per thread); copying or pickling it copies them too.
 """
@@ -88,6 +99,7 @@ import numpy as np
 
 from ..internals.registry import check_state, overflow_error
 from .params import BearingParams
+from .geometry_kernels import geometry_kernel
 from .reynolds_kernels import reynolds_kernel
 
 __all__ = ["Reynolds", "DEFAULT_N_THETA", "DEFAULT_N_X", "CAVITATION_MODELS"]
@@ -163,6 +175,7 @@ class Reynolds:
         self._x = -0.5 * params.L + (np.arange(self.n_x) + 0.5) * self._dx
         self._sin_c, self._cos_c = np.sin(th), np.cos(th)
         self._sin_f, self._cos_f = np.sin(thf), np.cos(thf)
+        self._geo = None if params.geometry.is_full_bore else self._bore(params, N)
         # differences of face values: exactly h_{i+1/2} - h_{i-1/2} and the squeeze integral
         self._ds = self._sin_f - np.roll(self._sin_f, 1)
         self._dc = self._cos_f - np.roll(self._cos_f, 1)
@@ -204,7 +217,7 @@ class Reynolds:
         self._max_iter = 4 * n + 10
         self._grow = max(1, int(round(N / 16)))
         self.warm_start = bool(warm_start)
-        # warm start (see _warm_start): the last WARM_HISTORY converged calls, and the limits
+        # warm start (see reynolds_kernels.warm_start_set): the last WARM_HISTORY converged calls, and the limits
         # beyond which the cold start is used (measured, docs/studies/2026-11-24-reynolds-warm-start.md)
         self._hs = f((WARM_HISTORY, 4))
         self._order = np.arange(WARM_HISTORY, dtype=np.int64)
@@ -213,6 +226,29 @@ class Reynolds:
         self._max_turn = min(WARM_MAX_TURN_CELLS * self._dth, math.pi)
         self._warm_cap = self._grow + 4
         self.reset_counts()
+
+    def _bore(self, params: BearingParams, N: int) -> dict:
+        """Grid and film of a bore that is not the full circle (``physics.geometry``): cells with
+        faces on its edges replace the uniform ones (theta, sin, cos at centres and faces), and
+        the arrays of ``geometry_kernels.geometry_kernel``."""
+        try:
+            grid = params.geometry.theta_grid(N)
+        except ValueError as exc:
+            raise ValueError(f"Reynolds: {exc}") from None
+        R, w = params.R, grid.width
+        self._theta = grid.centre
+        self._sin_c, self._cos_c = np.sin(grid.centre), np.cos(grid.centre)
+        self._sin_f, self._cos_f = np.sin(grid.right), np.cos(grid.right)
+        safe = np.where(grid.dist > 0.0, grid.dist, 1.0)
+        return {
+            "H0f": grid.face_film, "H0c": grid.centre_film, "dH0": grid.dfilm,
+            # face coefficient dx / (R^2 dist) (0 between two fixed cells), cell one dth / dx
+            "ct": np.where(grid.dist > 0.0, self._dx / (R * R * safe), 0.0), "cx": w / self._dx,
+            # force weights of a film cell over both halves of the length: 2 R (sin, -cos) width
+            "gy": 2.0 * R * w * self._sin_c, "gz": -2.0 * R * w * self._cos_c,
+            "fixed": grid.fixed.astype(np.bool_), "psup": grid.supply,
+            "F0": grid.supply_force(R, params.L), "rhs0": np.zeros(N * (self.n_x // 2)),
+        }
 
     @classmethod
     def from_options(cls, params: BearingParams, options, context=None) -> "Reynolds":
@@ -253,17 +289,20 @@ class Reynolds:
         check_state(self.params, y, z, vy, vz, omega)
         pr = self.params
         self._info[:] = 0.0
-        reynolds_kernel(
-            self._mode, want_jac, y, z, vy, vz, omega, pr.CR, pr.mu, pr.R, self._dth, self._dx, self._m,
-            self._sin_c, self._cos_c, self._sin_f, self._cos_f, self._ds, self._dc, self._tdiag,
-            self._rs, self._qw,
-            self._at, self._ax, self._b, self._db, self._dat, self._dax, self._diag, self._cxo, self._cto,
-            self._act, self._Lb, self._Y, self._S, self._zb, self._z2,
-            self._p, self._pf, self._rhs, self._tmp, self._mu_y, self._mu_z,
-            self._F, self._dFq, self._dFv, self._Ft, self._info, self._max_iter, self._grow,
-            self.warm_start, self._warm_cap, self._max_turn, WARM_MAX_DLOG,
-            self._hs, self._order, self._nvalid, self._wring,
-        )
+        if self._geo is not None:
+            self._run_bore(y, z, vy, vz, omega, want_jac)
+        else:
+            reynolds_kernel(
+                self._mode, want_jac, y, z, vy, vz, omega, pr.CR, pr.mu, pr.R, self._dth, self._dx, self._m,
+                self._sin_c, self._cos_c, self._sin_f, self._cos_f, self._ds, self._dc, self._tdiag,
+                self._rs, self._qw,
+                self._at, self._ax, self._b, self._db, self._dat, self._dax, self._diag, self._cxo, self._cto,
+                self._act, self._Lb, self._Y, self._S, self._zb, self._z2,
+                self._p, self._pf, self._rhs, self._tmp, self._mu_y, self._mu_z,
+                self._F, self._dFq, self._dFv, self._Ft, self._info, self._max_iter, self._grow,
+                self.warm_start, self._warm_cap, self._max_turn, WARM_MAX_DLOG,
+                self._hs, self._order, self._nvalid, self._wring,
+            )
         self._count()
         if self._info[0] < 0:  # pragma: no cover - not observed; guards against cycling
             raise RuntimeError(
@@ -275,6 +314,20 @@ class Reynolds:
             # finite inputs (checked above) whose source overflows (|v| / CR or omega near 1e308):
             # the force is linear in the source, so no finite value is the answer; refused by name
             raise overflow_error(pr, y, z, vy, vz, omega, "force and its Jacobian" if want_jac else "force")
+
+    def _run_bore(self, y, z, vy, vz, omega, want_jac):
+        pr, g = self.params, self._geo
+        geometry_kernel(
+            self._mode, want_jac, y, z, vy, vz, omega, pr.CR, pr.mu, pr.R, self._dx, self._m,
+            self._sin_c, self._cos_c, self._sin_f, self._cos_f, self._ds, self._dc, g["H0f"], g["H0c"], g["dH0"],
+            g["ct"], g["cx"], g["gy"], g["gz"], g["fixed"], g["psup"], g["F0"], self._tdiag, self._rs, self._qw,
+            self._at, self._ax, self._b, self._db, self._dat, self._dax, self._diag, self._cxo, self._cto,
+            self._act, self._Lb, self._Y, self._S, self._zb, self._z2,
+            self._p, self._pf, g["rhs0"], self._rhs, self._tmp, self._mu_y, self._mu_z,
+            self._F, self._dFq, self._dFv, self._Ft, self._info, self._max_iter, self._grow,
+            self.warm_start, self._warm_cap, self._max_turn, WARM_MAX_DLOG,
+            self._hs, self._order, self._nvalid, self._wring,
+        )
 
     def force(self, y: float, z: float, vy: float, vz: float, omega: float) -> tuple[float, float]:
         """Film force (Fy, Fz) [N] on the journal."""

@@ -28,7 +28,7 @@ def _assemble(y, z, vy, vz, omega, CR, mu, R, dth, dx, sin_c, cos_c, sin_f, cos_
 
 
 @njit(cache=True)
-def _apply(N, m, at, ax, tdiag, rs, p, out):
+def apply_operator(N, m, at, ax, tdiag, rs, p, out):
     """out = A p (unmodified operator, half axial domain)."""
     for i in range(N):
         im = i - 1 if i > 0 else N - 1
@@ -48,7 +48,7 @@ def _apply(N, m, at, ax, tdiag, rs, p, out):
 
 
 @njit(cache=True)
-def _modified(N, m, at, ax, tdiag, rs, act, diag, cxo, cto):
+def modified_entries(N, m, at, ax, tdiag, rs, act, diag, cxo, cto):
     """Entries of A with the rows and columns of active (cavitated) nodes replaced by identity."""
     for i in range(N):
         im = i - 1 if i > 0 else N - 1
@@ -71,7 +71,7 @@ def _modified(N, m, at, ax, tdiag, rs, act, diag, cxo, cto):
 
 
 @njit(cache=True)
-def _factor(N, m, s0, diag, cxo, cto, act, Lb, Y, S):
+def factor_banded(N, m, s0, diag, cxo, cto, act, Lb, Y, S):
     """Bordered banded Cholesky of the modified matrix in the block order s0, s0+1, ... (mod N).
 
     Lb[k, d] = L[k, k-d] for the first N-1 blocks (half-bandwidth m); the last block in this
@@ -162,8 +162,8 @@ def _factor(N, m, s0, diag, cxo, cto, act, Lb, Y, S):
 
 
 @njit(cache=True)
-def _solve(N, m, s0, Lb, Y, S, has_border, rhs, x, zb, z2):
-    """x = A_mod^-1 rhs with the factors of _factor (rhs, x in the physical order)."""
+def solve_banded(N, m, s0, Lb, Y, S, has_border, rhs, x, zb, z2):
+    """x = A_mod^-1 rhs with the factors of factor_banded (rhs, x in the physical order)."""
     n1 = (N - 1) * m
     for k in range(n1):
         r = k // m
@@ -213,7 +213,7 @@ def _solve(N, m, s0, Lb, Y, S, has_border, rhs, x, zb, z2):
 
 
 @njit(cache=True)
-def _pick_start(N, m, act):
+def pick_start(N, m, act):
     """Block order start: right after the first fully cavitated column, else 0."""
     for i in range(N):
         full = True
@@ -245,12 +245,12 @@ def _film(mode, N, m, at, ax, tdiag, rs, b, grow, max_iter, warm,
     if mode == 0:
         for k in range(n):
             act[k] = False
-        _modified(N, m, at, ax, tdiag, rs, act, diag, cxo, cto)
-        hb = _factor(N, m, 0, diag, cxo, cto, act, Lb, Y, S)
+        modified_entries(N, m, at, ax, tdiag, rs, act, diag, cxo, cto)
+        hb = factor_banded(N, m, 0, diag, cxo, cto, act, Lb, Y, S)
         for i in range(N):
             for j in range(m):
                 rhs[i * m + j] = rs[j] * b[i]
-        _solve(N, m, 0, Lb, Y, S, hb, rhs, pf, zb, z2)
+        solve_banded(N, m, 0, Lb, Y, S, hb, rhs, pf, zb, z2)
         for k in range(n):
             p[k] = pf[k] if pf[k] > 0.0 else 0.0
         info[2] = 0.0
@@ -280,18 +280,18 @@ def _film(mode, N, m, at, ax, tdiag, rs, b, grow, max_iter, warm,
         if iters >= max_iter:
             return s0, hb, -1
         iters += 1
-        _modified(N, m, at, ax, tdiag, rs, act, diag, cxo, cto)
-        s0 = _pick_start(N, m, act)
-        hb = _factor(N, m, s0, diag, cxo, cto, act, Lb, Y, S)
+        modified_entries(N, m, at, ax, tdiag, rs, act, diag, cxo, cto)
+        s0 = pick_start(N, m, act)
+        hb = factor_banded(N, m, s0, diag, cxo, cto, act, Lb, Y, S)
         for i in range(N):
             for j in range(m):
                 k = i * m + j
                 rhs[k] = 0.0 if act[k] else rs[j] * b[i]
-        _solve(N, m, s0, Lb, Y, S, hb, rhs, p, zb, z2)
+        solve_banded(N, m, s0, Lb, Y, S, hb, rhs, p, zb, z2)
         for k in range(n):
             if act[k]:
                 p[k] = 0.0
-        _apply(N, m, at, ax, tdiag, rs, p, tmp)
+        apply_operator(N, m, at, ax, tdiag, rs, p, tmp)
         pmax = 0.0
         dmax = 0.0
         for k in range(n):
@@ -328,7 +328,7 @@ def _film(mode, N, m, at, ax, tdiag, rs, b, grow, max_iter, warm,
 
 
 @njit(cache=True)
-def _warm_start(N, m, y, z, vy, vz, omega, CR, act, hs, order, nvalid, wring, max_turn, max_dlog):
+def warm_start_set(N, m, y, z, vy, vz, omega, CR, act, hs, order, nvalid, wring, max_turn, max_dlog):
     """Start set of a warm call, or False for the cold start (then the history is dropped).
 
     hs[slot] = (y/CR, z/CR, uy, uz) of a remembered converged call, wring[slot] its
@@ -382,7 +382,7 @@ def _warm_start(N, m, y, z, vy, vz, omega, CR, act, hs, order, nvalid, wring, ma
 
 
 @njit(cache=True)
-def _remember(N, m, y, z, vy, vz, omega, CR, rs, b, act, p, tmp, hs, order, nvalid, wring):
+def remember_call(N, m, y, z, vy, vz, omega, CR, rs, b, act, p, tmp, hs, order, nvalid, wring):
     """Store the converged call (tmp = A p of the final pass) as the newest history entry."""
     H = order.shape[0]
     slot = order[H - 1]
@@ -438,7 +438,7 @@ def reynolds_kernel(
     """One call. info = [passes of the converged solve (-1: not converged), cavitated fraction,
     complementarity residual, banded factorizations in all, warm start used, warm start
     abandoned for the cold start]. use_warm: remember converged calls and start from them
-    (reynolds cavitation only; see _warm_start)."""
+    (reynolds cavitation only; see warm_start_set)."""
     N = sin_c.shape[0]
     n = N * m
     wr = 2.0 * R * dth
@@ -446,7 +446,7 @@ def reynolds_kernel(
     use_warm = use_warm and mode == 1
     if not use_warm:
         nvalid[0] = 0  # act is overwritten below: nothing remembered stays valid
-    warm = use_warm and _warm_start(N, m, y, z, vy, vz, omega, CR, act, hs, order, nvalid, wring,
+    warm = use_warm and warm_start_set(N, m, y, z, vy, vz, omega, CR, act, hs, order, nvalid, wring,
                                     max_turn, max_dlog)
     info[4] = 1.0 if warm else 0.0
     s0, hb, iters = _film(mode, N, m, at, ax, tdiag, rs, b, grow, warm_cap if warm else max_iter, warm,
@@ -463,7 +463,7 @@ def reynolds_kernel(
         return
     info[3] += iters
     if use_warm:
-        _remember(N, m, y, z, vy, vz, omega, CR, rs, b, act, p, tmp, hs, order, nvalid, wring)
+        remember_call(N, m, y, z, vy, vz, omega, CR, rs, b, act, p, tmp, hs, order, nvalid, wring)
     _integrate(N, m, p, sin_c, cos_c, qw, wr, F)
     nact = 0
     for k in range(n):
@@ -520,13 +520,13 @@ def reynolds_kernel(
             k = i * m + j
             free = pf[k] > 0.0 if mode == 0 else not act[k]
             rhs[k] = wr * qw[j] * sin_c[i] if free else 0.0
-    _solve(N, m, s0, Lb, Y, S, hb, rhs, mu_y, zb, z2)
+    solve_banded(N, m, s0, Lb, Y, S, hb, rhs, mu_y, zb, z2)
     for i in range(N):
         for j in range(m):
             k = i * m + j
             free = pf[k] > 0.0 if mode == 0 else not act[k]
             rhs[k] = -wr * qw[j] * cos_c[i] if free else 0.0
-    _solve(N, m, s0, Lb, Y, S, hb, rhs, mu_z, zb, z2)
+    solve_banded(N, m, s0, Lb, Y, S, hb, rhs, mu_z, zb, z2)
     if mode == 1:
         for k in range(n):
             if act[k]:
@@ -545,7 +545,7 @@ def reynolds_kernel(
             gc = sin_c[i] if q == 0 else -cos_c[i]
             dat[i] = 3.0 * hf * hf * gf / CR * ctf
             dax[i] = 3.0 * hc * hc * gc / CR * cxf
-        _apply(N, m, dat, dax, tdiag, rs, pp, tmp)
+        apply_operator(N, m, dat, dax, tdiag, rs, pp, tmp)
         sy = 0.0
         sz = 0.0
         for i in range(N):

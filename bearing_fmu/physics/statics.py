@@ -153,7 +153,8 @@ def equilibrium(
     F(y0, z0, 0, 0, omega) + load = 0 with |residual| <= rtol * |load|.
 
     Newton with the film Jacobian from the short-bearing start, each step backtracked so that
-    the eccentricity ratio stays below 1 and the residual falls. When none is found, the
+    the eccentricity ratio (of a bore that is not the full circle: its film closure) stays
+    below 1 and the residual falls. When none is found, the
     EquilibriumError names the bearing (``name``), its load and what it carries at
     eccentricity CAPACITY_ECCENTRICITY at this speed (``load_capacity``).
     """
@@ -189,7 +190,9 @@ def equilibrium(
         alpha = 1.0
         for _ in range(40):
             trial = q + alpha * step
-            if math.hypot(*trial) < eps_max * params.CR:
+            inside = (math.hypot(*trial) < eps_max * params.CR if params.geometry.is_full_bore
+                      else params.geometry.closure(trial[0], trial[1], params.CR) < eps_max)
+            if inside:
                 r_trial = residual(trial)
                 if float(np.hypot(*r_trial)) < (1.0 - 1e-4 * alpha) * rn or alpha < 1e-6:
                     break

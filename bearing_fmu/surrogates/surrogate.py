@@ -425,7 +425,9 @@ def save_surrogate(surrogate: Surrogate, path: str | Path) -> Path:
 
 
 def check_params(surrogate: Surrogate, params: BearingParams, where: str = "surrogate", rtol: float = 1e-9) -> None:
-    """Refuse a surrogate fitted for a different bearing, naming the field and both values."""
+    """Refuse a surrogate fitted for a different bearing, naming the field and both values; and
+    a bearing that is not the full bore (the file records D, L, CR, mu, not the bore)."""
+    params.require_full_bore(f"{where}", "the surrogate file does not record the bore it was fitted for")
     for name in ("D", "L", "CR", "mu"):
         a, b = getattr(surrogate.params, name), getattr(params, name)
         if abs(a - b) > rtol * max(abs(a), abs(b)):

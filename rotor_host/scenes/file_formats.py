@@ -15,6 +15,7 @@ from pathlib import Path
 
 from bearing_fmu.internals import registry
 from bearing_fmu.io.schema import markdown_table, option_keys
+from bearing_fmu.physics.geometry import GEOMETRY_KEYS
 from bearing_fmu.physics.params import BEARING_KEYS
 
 from ..model.rotor import BEARING_ENTRY_KEYS, DISK_KEYS, ELEMENT_KEYS, MATERIAL_KEYS, ROTOR_KEYS
@@ -26,6 +27,7 @@ def reference_tables() -> dict[str, str]:
     """Heading -> markdown table, in the order of the reference."""
     tables = {
         "Bearing file: [bearing]": BEARING_KEYS,
+        "Bearing file: [geometry]": GEOMETRY_KEYS,
         "Rotor file: top level": ROTOR_KEYS,
         "Rotor file: [material]": MATERIAL_KEYS,
         "Rotor file: [[elements]]": ELEMENT_KEYS,

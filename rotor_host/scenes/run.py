@@ -178,6 +178,12 @@ def build_bearings(scene: Scene, rotor: Rotor, loads: np.ndarray, work_dir: Path
         return DirectBearings(internals, pairs, scene.omega, names, tangent=scene.newton_tangent)
     from ..coupling.cosim import FMUBearings
 
+    for name, p in zip(names, rotor.bearings):  # the FMU's parameters would drop the bore: refuse it
+        try:
+            p.require_full_bore(f"{scene.source}: via = 'fmu': the bearing FMU of {name}",
+                                "its parameters are D, L, CR and mu; the geometry parameters are a later step")
+        except ValueError as exc:
+            raise SceneError(str(exc)) from None
     fmu = scene_fmu(scene, work_dir)
     params = [_fmu_parameters(scene, p, w) for p, w in zip(rotor.bearings, loads)]
     return FMUBearings(fmu, pairs, scene.omega, params, names, tangent=scene.newton_tangent)

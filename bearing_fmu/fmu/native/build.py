@@ -65,6 +65,9 @@ def build_native_fmu(output, internal: str, *, surrogate=None, map=None, bearing
     for label, path in (("surrogate", surrogate), ("map", map)):
         if path is not None and not Path(path).is_file():
             raise FileNotFoundError(f"build_native_fmu: {label} file {str(path)!r} not found")
+    if bearing is not None:
+        bearing.require_full_bore(f"the native bearing FMU ({bearing_source or 'build_native_fmu'})",
+                                  "its parameters are D, L, CR and mu; the geometry parameters are a later step")
     params = bearing if bearing is not None else (None if str(internal).lower() == "taylor" else PAPER_BEARING)
     model = native_model(internal, params, surrogate=surrogate, map=map, options=options)
     from ...io.outputs import write_bytes

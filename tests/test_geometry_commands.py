@@ -1,0 +1,118 @@
+"""The shipped grooved and lemon-bore bearings through the commands (issue 25, item 4): demo, a
+scene run with the Reynolds internal in-process, stability; and what does not take them yet,
+refused by name before any work: the force map, the Taylor surrogate, the bearing FMUs."""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from bearing_fmu.internals import registry
+from bearing_fmu.physics.params import PAPER_BEARING, BearingParams
+
+MODELS = Path(__file__).resolve().parents[1] / "models"
+GROOVED = MODELS / "bearing_paper_2groove.toml"
+LEMON = MODELS / "bearing_paper_lemon.toml"
+
+
+def _cli(prog: str, argv: list[str], capsys) -> tuple[int, str, str]:
+    from bearing_fmu.cli import main as bearing_fmu
+    from rotor_host.cli import main as rotor_host
+
+    try:
+        code = {"rotor-host": rotor_host, "bearing-fmu": bearing_fmu}[prog](argv)
+    except SystemExit as exc:
+        code = exc.code
+    out = capsys.readouterr()
+    return code, out.out, out.err
+
+
+def test_shipped_bearings_are_the_paper_bearing_with_their_bore():
+    g, lemon = BearingParams.from_toml(GROOVED), BearingParams.from_toml(LEMON)
+    for p in (g, lemon):
+        assert (p.D, p.L, p.CR, p.mu) == (PAPER_BEARING.D, PAPER_BEARING.L, PAPER_BEARING.CR, PAPER_BEARING.mu)
+    assert g.geometry.grooves == (math.radians(90), math.radians(270)) and g.geometry.lobes == 1
+    assert lemon.geometry.lobes == 2 and lemon.geometry.preload == 0.5
+    assert lemon.geometry.pad_clearance(lemon.CR) == pytest.approx(180e-6)
+
+
+@pytest.mark.parametrize("path, words", [(GROOVED, "bore: 2 axial grooves at 90, 270 deg"),
+                                         (LEMON, "2 lobes, preload 0.5, offset 0.5, first lobe centred at 0 deg; "
+                                                 "pad clearance 180 um")])
+def test_demo_takes_the_bore(path, words, capsys):
+    code, out, err = _cli("bearing-fmu", ["demo", "--bearing", str(path)], capsys)
+    assert code == 0, err
+    assert words in out and "equilibrium:" in out and "minimum film" in out
+
+
+@pytest.mark.parametrize("scene", ["paper_2groove_22hz", "paper_lemon_22hz"])
+def test_scene_runs_with_reynolds_in_process(scene, tmp_path, capsys):
+    code, _, err = _cli("rotor-host", ["run", str(MODELS / "scenes" / f"{scene}.toml"), "--internal", "reynolds",
+                                         "--via", "direct", "--t-end", "0.01", "--out", str(tmp_path), "--no-plots",
+                                         "--quiet"], capsys)
+    assert code == 0, err
+    res = json.loads((tmp_path / f"{scene}_reynolds.json").read_text())
+    assert res["status"] == "ok" and res["t_reached_s"] == pytest.approx(0.01)
+    npz = np.load(tmp_path / f"{scene}_reynolds.npz")
+    assert np.all(np.isfinite(npz["t"])) and npz["t"][-1] == pytest.approx(0.01)
+
+
+def test_scene_through_the_fmu_is_refused_before_any_build(tmp_path, capsys):
+    code, _, err = _cli("rotor-host", ["run", str(MODELS / "scenes" / "paper_2groove_22hz.toml"), "--via", "fmu",
+                                         "--t-end", "0.01", "--out", str(tmp_path), "--quiet"], capsys)
+    assert code == 2
+    assert "via = 'fmu': the bearing FMU of bearing 1 (node 3) models only the full 360 deg circular bore" in err
+    assert "2 axial grooves at 90, 270 deg" in err and "via = 'direct'" in err
+    assert not list(tmp_path.rglob("*.fmu"))
+
+
+def test_stability_takes_the_grooved_rotor(tmp_path, capsys):
+    code, out, err = _cli("rotor-host", ["stability", str(MODELS / "rotor_paper_2groove.toml"), "--speeds-hz",
+                                         "38:46:4", "--internal", "reynolds", "--out", str(tmp_path), "--no-plots"],
+                          capsys)
+    assert code == 0, err
+    assert "threshold" in out
+
+
+def test_map_and_taylor_internals_refuse_the_bore_by_name(tmp_path):
+    g = BearingParams.from_toml(GROOVED)
+    for name, why in (("map", "reduction to eccentricity and one angle"), ("taylor", "does not record the bore")):
+        with pytest.raises(ValueError, match=rf"the {name} internal models only the full 360 deg circular bore "
+                                             rf"\(.*{why}.*\), not this bearing's 2 axial grooves"):
+            registry.create(name, g, {"map": "x.json"} if name == "map" else {"surrogate": "x.json"})
+    assert not registry.get("map").can.any_geometry and not registry.get("taylor").can.any_geometry
+    assert registry.get("reynolds").can.any_geometry and registry.get("linear").can.any_geometry
+    # the classes refuse it too, whoever builds them
+    from bearing_fmu.internals.forcemap import ForceMap, load_map, tabulate
+
+    with pytest.raises(ValueError, match="a force map models only the full 360 deg circular bore"):
+        tabulate(g, n_eps=4, n_beta=8)
+    with pytest.raises(ValueError, match="the force map .* models only the full 360 deg circular bore"):
+        ForceMap(g, load_map(MODELS / "maps" / "paper_bearing.json"), "paper_bearing.json")
+    from bearing_fmu.surrogates.surrogate import check_params, load_surrogate
+
+    sur = load_surrogate(MODELS / "surrogates" / "paper_22hz_16.7N.json")
+    with pytest.raises(ValueError, match="does not record the bore it was fitted for"):
+        check_params(sur, g)
+    # the linear internal made from Reynolds takes the bore; made from the map, it refuses it
+    lin = registry.create("linear", g, {"load_z": -16.7, "omega_lin": 2 * math.pi * 22.0, "n_theta": 64, "n_x": 8})
+    assert np.all(np.isfinite(lin.K))
+    with pytest.raises(ValueError, match="models only the full 360 deg circular bore"):
+        registry.create("linear", g, {"linear_from": "map", "map": str(MODELS / "maps" / "paper_bearing.json")})
+
+
+def test_fmu_builds_refuse_the_bore_by_name(tmp_path, capsys):
+    code, _, err = _cli("bearing-fmu", ["build", "--bearing", str(LEMON), "-o", str(tmp_path / "b.fmu")], capsys)
+    assert code == 2 and "the bearing FMU (" in err and "its parameters are D, L, CR and mu" in err
+    assert "2 lobes, preload 0.5" in err and not (tmp_path / "b.fmu").exists()
+    from bearing_fmu.fmu.native.build import build_native_fmu
+
+    with pytest.raises(ValueError, match=r"the native bearing FMU \(.*\) models only the full 360 deg circular bore"):
+        build_native_fmu(tmp_path / "n.fmu", "linear", bearing=BearingParams.from_toml(GROOVED))
+    code, _, err = _cli("bearing-fmu", ["map", "--bearing", str(GROOVED), "-o", str(tmp_path / "m.json"),
+                                          "--quiet"], capsys)
+    assert code == 2 and "a force map models only the full 360 deg circular bore" in err
