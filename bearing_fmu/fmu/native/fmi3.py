@@ -37,15 +37,16 @@ from .codegen import NativeModel, native_enumerations
 
 C_DIR = Path(__file__).resolve().parent / "c"
 VR_TIME = 4000  # the independent variable (FMI 3.0 only; the others keep the FMI 2.0 FMU's references)
-SOURCES3 = ("fmi3_bearing.c", "fmi3_state.c", "fmi3_derivatives.c", "fmi3_modes.c", "bearing_values.c")  # + internal_<name>.c
+# the C files compiled, with internal_<name>.c
+SOURCES3 = ("fmi3_bearing.c", "fmi3_state.c", "fmi3_derivatives.c", "fmi3_modes.c", "bearing_values.c")
 HEADERS3 = ("bearing_native.h", "bearing_values.h", "fmi3_layer.h")
 DEFINES3 = {"BN_FMI_VERSION": "3"}  # bearing_native.h: the FMI 3.0 headers and instance fields
-LOG_CATEGORIES = (("logStatusWarning", "a state outside the fitted domain (once per excursion, counted at "
-                                       "terminate), outputs left at their start values"),
-                  ("logStatusDiscard", "a state the internal refuses (the wall, a non-finite input, far outside "
-                                       "the fitted domain)"),
-                  ("logStatusError", "a refused call (a bad value, a call out of the FMI 3.0 calling sequence); "
-                                     "given to the logger even with logging off (FMI 3.0)"))
+LOG_CATEGORIES = (("logStatusWarning", ("a state outside the fitted domain (once per excursion, counted at "
+                                        "terminate), outputs left at their start values")),
+                  ("logStatusDiscard", ("a state the internal refuses (the wall, a non-finite input, far outside "
+                                        "the fitted domain)")),
+                  ("logStatusError", ("a refused call (a bad value, a call out of the FMI 3.0 calling sequence); "
+                                      "given to the logger even with logging off (FMI 3.0)")))
 
 # ----------------------------------------------------------------------------- the calling sequence
 

@@ -16,16 +16,16 @@ static const char *const MODE_NAMES[] = BN_MODE_NAMES;
 static const int STAGE[] = {0, 1, 2, 2, 2, 3}; /* each mode's place in an instance's life (order.MODES) */
 
 int bn3_refused(Instance *m, const char *call, unsigned allowed, int kind) {
-    if (allowed & (1u << m->mode)) return 0;
     const char *mode = MODE_NAMES[m->mode];
     int me = m->model_exchange;
-    if ((kind == BN_CS_ONLY && me) || (kind == BN_ME_ONLY && !me)) {
+    if ((kind == BN_CS_ONLY && me) || (kind == BN_ME_ONLY && !me)) { /* whatever the mode */
         int event = strstr(call, "EventMode") || strstr(call, "DiscreteStates");
         bn3_fail(m, "%s in %s: a %s function; this instance is a %s one%s", call, mode,
                  me ? "Co-Simulation" : "Model Exchange", me ? "Model Exchange" : "Co-Simulation",
                  !me && event ? " (this FMU has no Event Mode in Co-Simulation: hasEventMode is false)" : "");
         return 1;
     }
+    if (allowed & (1u << m->mode)) return 0;
     unsigned never = me ? 1u << MODE_STEP : (1u << MODE_EVENT) | (1u << MODE_CONTINUOUS);
     char here[200] = "";
     int lo = 3, hi = 0, stage = STAGE[m->mode];
