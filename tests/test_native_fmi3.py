@@ -217,9 +217,10 @@ def test_archive_binary_and_instantiation_token(fmus):
 
 
 def test_binary_exports_the_fmi3_functions_only(fmus):
-    """Every function of fmi3Functions.h (an importer may look up any), nothing else."""
-    if shutil.which("nm") is None:
-        pytest.skip("no nm")
+    """Every function of fmi3Functions.h (an importer may look up any), nothing else; it needs the
+    C library and libm only (no Python at run time)."""
+    if shutil.which("nm") is None or shutil.which("readelf") is None:
+        pytest.skip("no nm, readelf")
     header = (Path(fmpy.__file__).parent / "c-code" / "fmi3Functions.h").read_text()
     want = set(re.findall(r"FMI3_Export fmi3\w+TYPE\s+(fmi3\w+);", header))
     unzip = fmus["map"]["fmu3"][1]
@@ -227,6 +228,8 @@ def test_binary_exports_the_fmi3_functions_only(fmus):
     out = subprocess.run(["nm", "-D", "--defined-only", str(so)], capture_output=True, text=True, check=True).stdout
     have = {line.split()[-1] for line in out.splitlines() if line.strip()}
     assert len(want) == 75 and have == want
+    dynamic = subprocess.run(["readelf", "-d", str(so)], capture_output=True, text=True, check=True).stdout
+    assert set(re.findall(r"\(NEEDED\)\s+Shared library: \[(.+?)\]", dynamic)) <= {"libc.so.6", "libm.so.6"}
 
 
 def test_same_variables_as_the_fmi2_fmu(fmus):
