@@ -395,6 +395,7 @@ def test_directional_and_adjoint_derivatives(fmus, internal):
         # refused: a parameter as known, a Boolean as unknown, seed and sensitivity sizes
         assert raw.derivative(["Fy"], ["D"], [1.0])[0] == ERROR and "known D" in raw.last()
         assert "not provided" in raw.last()
+        assert raw.derivative(["Fy"], ["time"], [1.0])[0] == ERROR and "no output depends on time" in raw.last()
         assert raw.derivative(["out_of_domain"], ["y"], [1.0])[0] == ERROR and "not a Float64 output" in raw.last()
         out = (ctypes.c_double * 1)()
         assert raw.call("fmi3GetDirectionalDerivative", raw.vrs(["Fy"]), 1, raw.vrs(["y", "z"]), 2,

@@ -80,10 +80,11 @@ static fmi3Status derivatives(Instance *m, const char *call, int adjoint, const 
     if (m->mode == MODE_INIT && bn_prepare(m)) return bn3_fail(m, "%s in Initialization Mode: %s", call, m->init_error);
     for (size_t j = 0; j < nKnowns; j++)
         if (knowns[j] >= N_INPUTS) {
-            int param = knowns[j] < (fmi3ValueReference)N_REAL;
+            int real = knowns[j] < (fmi3ValueReference)N_REAL, time = knowns[j] == BN3_VR_TIME;
             return bn3_fail(m, "%s: known %s (value reference %u) is not an input: the derivatives are along the "
-                            "inputs y, z, vy, vz, omega%s", call, param ? bn_real_name((int)knowns[j]) : "?",
-                            knowns[j], param || knowns[j] >= VR_BOOL0 ? " (along a parameter: not provided)" : "");
+                            "inputs y, z, vy, vz, omega%s", call,
+                            real ? bn_real_name((int)knowns[j]) : time ? "time" : "?", knowns[j],
+                            time ? " (no output depends on time)" : " (along a parameter: not provided)");
         }
     for (size_t i = 0; i < nUnknowns; i++)
         if (!is_float_output(unknowns[i]))
