@@ -152,6 +152,9 @@ def _build(args: argparse.Namespace) -> int:
         if value is not None:
             raise ValueError(f"{flag} is an option of the native FMU: add --native (the Python FMU chooses its "
                              "internal by its parameter 'internal')")
+    if args.fmi == 3:
+        raise ValueError("--fmi 3 is an option of the native FMU: add --native (the Python FMU is FMI 2.0, as "
+                         "pythonfmu writes it)")
     ensure_output_file(args.output, "-o/--output")
     bearing = None
     if args.bearing:
@@ -198,8 +201,9 @@ def _build_native(args: argparse.Namespace) -> int:
     bearing = BearingParams.from_toml(args.bearing) if args.bearing else None
     path = build_native_fmu(args.output, internal, surrogate=surrogates[0] if surrogates else None,
                             map=maps[0] if maps else None, bearing=bearing, cmake=args.cmake,
-                            bearing_source=args.bearing or "")
-    print(f"wrote {path} (native FMU, {internal} internal, Model Exchange and Co-Simulation, no Python)")
+                            bearing_source=args.bearing or "", fmi_version=args.fmi)
+    print(f"wrote {path} (native FMU, FMI {args.fmi}.0, {internal} internal, Model Exchange and Co-Simulation, "
+          "no Python)")
     return 0
 
 
@@ -302,6 +306,9 @@ def main(argv: list[str] | None = None) -> int:
                         "time; needs a C compiler now); taylor, map or linear")
     p.add_argument("--internal", choices=_native_choices(), default=None,
                    help="--native: the internal (default: taylor with --surrogate, map with --map)")
+    p.add_argument("--fmi", type=int, choices=(2, 3), default=2,
+                   help="--native: the FMI version of the FMU, 2 (2.0, default) or 3 (3.0: binaries/x86_64-linux, "
+                        "sources/buildDescription.xml)")
     p.add_argument("--cmake", action="store_true",
                    help="--native: compile through fmpy's CMake project (as `fmpy compile` does) instead of calling the "
                         "C compiler directly")

@@ -1,4 +1,4 @@
-"""documentation/index.html of a bearing FMU, Python or native (FMI 2.0 recommends
+"""documentation/index.html of a bearing FMU, Python or native, FMI 2.0 or 3.0 (both recommend
 ``documentation/index.html``): what it computes, where each internal is valid, the bearing,
 where the data came from, the variables and enumerations.
 
@@ -39,6 +39,27 @@ _INTERFACE = {
               "fmi2GetDirectionalDerivative gives the force Jacobian. fmi2GetFMUstate / fmi2SetFMUstate save and "
               "restore the inputs and outputs, so a master may iterate within a step. Compiled C: no Python at run "
               "time; the C sources are in sources/ (rebuild for another platform with fmpy compile).",
+    "native3": "FMI 3.0. Co-Simulation (no Event Mode): the outputs of a doStep are those of the inputs set before it "
+               "(the state at the end of the step). Model Exchange: the outputs are a direct feedthrough of the "
+               "inputs (no states); out_of_domain, a discrete output, changes at events only (a step event where the "
+               "state crosses the fitted domain's edge). fmi3GetDirectionalDerivative and fmi3GetAdjointDerivative "
+               "give the derivatives of every Float64 output along the inputs. fmi3GetFMUState / fmi3SetFMUState "
+               "save and restore the inputs and outputs (serialisable), so a master may iterate within a step. "
+               "Compiled C: no Python at run time; the C sources and buildDescription.xml are in sources/ (rebuild "
+               "for another platform with fmpy compile).",
+}
+_STATUSES = {
+    "2.0": "fmi2Discard with a logged reason for a state the internal refuses (the wall, a non-finite input, far "
+           "outside a surrogate's fitted domain); the outputs keep their last values and a restored state or a good "
+           "step goes on. fmi2Error for a refused call (a bad parameter, an unknown value reference, a bad step size, "
+           "a call before initialisation); the instance stays usable. With logging off, the first warning, discard "
+           "and error of each instance are printed to stderr.",
+    "3.0": "fmi3Discard with a logged reason for a state the internal refuses (the wall, a non-finite input, far "
+           "outside a surrogate's fitted domain); the outputs keep their last values, a discarded doStep leaves the "
+           "instance as before it (terminateSimulation false) and a restored state or a good step goes on. fmi3Error "
+           "for a refused call (a bad parameter, an unknown value reference, a bad step size, a call out of the FMI "
+           "3.0 calling sequence), given to the logger even with logging off; the instance stays usable. With "
+           "logging off, the first warning and discard of each instance are printed to stderr.",
 }
 
 
@@ -49,10 +70,12 @@ _CHOICE = {"python": "The parameter internal (or internal_enum) chooses what com
 def _variables(root: ET.Element) -> str:
     rows = []
     for sv in root.find("ModelVariables"):
-        typed = sv[0]
+        # FMI 2.0: <ScalarVariable><Real .../></ScalarVariable>; FMI 3.0: <Float64 .../>, a String's <Start/>
+        typed = sv[0] if sv.tag == "ScalarVariable" else sv
+        start = typed.get("start", "") if typed.find("Start") is None else typed.find("Start").get("value", "")
         kind = typed.tag + (f" ({typed.get('declaredType')})" if typed.get("declaredType") else "")
         unit = typed.get("unit", "") + (f" [{typed.get('displayUnit')}]" if typed.get("displayUnit") else "")
-        cells = [sv.get("name"), sv.get("causality"), kind, unit, typed.get("start", ""), typed.get("min", ""),
+        cells = [sv.get("name"), sv.get("causality"), kind, unit, start, typed.get("min", ""),
                  typed.get("max", ""), typed.get("nominal", ""), sv.get("description", "")]
         rows.append("<tr>" + "".join(f"<td>{_E(str(c))}</td>" for c in cells) + "</tr>")
     head = "".join(f"<th>{h}</th>" for h in ("name", "causality", "type", "unit [display unit]", "start", "min",
@@ -108,6 +131,10 @@ def documentation_html(model_description: bytes, record: dict) -> str:
     record (``fmu_meta.build_record``) is ``record``."""
     root = ET.fromstring(model_description)
     kind = record["kind"]
+    version = root.get("fmiVersion", "2.0")
+    interface = _INTERFACE[kind + ("3" if version == "3.0" else "")]
+    token = (("instantiation token", root.get("instantiationToken", "")) if version == "3.0"
+             else ("GUID", root.get("guid", "")))
     validity = "\n".join(
         f"<li><b>{_E(name)}</b>{' (default)' if name == record['default_internal'] else ''}: "
         + _E(_validity(name, kind)) + "</li>"
@@ -120,7 +147,7 @@ def documentation_html(model_description: bytes, record: dict) -> str:
 <h1>{_E(root.get('modelName', ''))}</h1>
 <p>{_E(root.get('description', ''))}.</p>
 <p>Author: {_E(root.get('author', ''))}. License: {_E(root.get('license', 'none declared'))}. Version
-{_E(root.get('version', ''))}, GUID <code>{_E(root.get('guid', ''))}</code>.</p>
+{_E(root.get('version', ''))}, FMI {_E(version)}, {token[0]} <code>{_E(token[1])}</code>.</p>
 <h2>What it computes</h2>
 <p>The film force of a plain cylindrical hydrodynamic journal bearing on its journal. The inputs are the
 journal centre's displacement (y, z) from the bearing centre [m], its velocity (vy, vz) [m/s] and the
@@ -128,7 +155,7 @@ shaft speed omega [rad/s] (right-handed about the shaft axis x, z up, gravity al
 the film force on the journal (Fy, Fz) [N], the eccentricity ratio, the minimum film thickness and the
 film stiffness and damping K<sub>ij</sub> = -dF<sub>i</sub>/dq<sub>j</sub>, C<sub>ij</sub> =
 -dF<sub>i</sub>/dv<sub>j</sub> (Lund's sign). {_E(_CHOICE[kind])}</p>
-<p>{_E(_INTERFACE[kind])}</p>
+<p>{_E(interface)}</p>
 <h2>Internals and where each is valid</h2>
 <ul>
 {validity}
@@ -147,11 +174,7 @@ reference speed.</p>
 <h2>Enumerations</h2>
 {_enumerations(root)}
 <h2>Statuses</h2>
-<p>fmi2Discard with a logged reason for a state the internal refuses (the wall, a non-finite input, far
-outside a surrogate's fitted domain); the outputs keep their last values and a restored state or a good
-step goes on. fmi2Error for a refused call (a bad parameter, an unknown value reference, a bad step size,
-a call before initialisation); the instance stays usable. With logging off, the first warning, discard
-and error of each instance are printed to stderr.</p>
+<p>{_E(_STATUSES[version])}</p>
 <p>Generated by {_E(record['generator'])}; what it was built from is also in resources/build_info.json.</p>
 </body></html>
 """

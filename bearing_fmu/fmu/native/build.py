@@ -48,7 +48,7 @@ class NativeBuildError(RuntimeError):
 
 
 def build_native_fmu(output, internal: str, *, surrogate=None, map=None, bearing: BearingParams | None = None,
-                     options: dict | None = None, cmake: bool = False, bearing_source="") -> Path:
+                     options: dict | None = None, cmake: bool = False, bearing_source="", fmi_version: int = 2) -> Path:
     """Write the native FMU of ``internal`` (taylor | map | linear) to ``output`` (.fmu).
 
     surrogate : taylor: the surrogate JSON file compiled in (the bearing defaults to its own)
@@ -58,8 +58,11 @@ def build_native_fmu(output, internal: str, *, surrogate=None, map=None, bearing
     options   : registry options: taylor's domain_action / domain_limit start values, linear's
                 linear_from, load_y, load_z, omega_lin, lin_* (the coefficients' start values)
     cmake     : compile through fmpy's CMake project instead of the C compiler directly
+    fmi_version : 2, or 3 for an FMI 3.0 FMU of the same internal (``fmi3``)
     """
     output = Path(output)
+    if fmi_version not in (2, 3):
+        raise ValueError(f"build_native_fmu: fmi_version {fmi_version!r} must be 2 or 3")
     if output.suffix != ".fmu":
         raise ValueError(f"build_native_fmu: output {str(output)!r} must end in .fmu")
     for label, path in (("surrogate", surrogate), ("map", map)):
@@ -75,8 +78,13 @@ def build_native_fmu(output, internal: str, *, surrogate=None, map=None, bearing
     record = build_record(model, bearing_source if bearing is not None else "")
     with tempfile.TemporaryDirectory(prefix="bearing_native_") as tmp:
         root = Path(tmp) / "fmu"
-        stage(model, root, record)
-        compile_binary(root, model, cmake=cmake)
+        if fmi_version == 3:
+            from .fmi3 import stage3
+
+            stage3(model, root, record)
+        else:
+            stage(model, root, record)
+        compile_binary(root, model, cmake=cmake, fmi_version=fmi_version)
         archive = Path(tmp) / "out.fmu"
         _zip(root, archive)
         output.parent.mkdir(parents=True, exist_ok=True)
@@ -199,11 +207,12 @@ def model_description(model: NativeModel, record: dict) -> bytes:
 
 # ----------------------------------------------------------------------------- compiling
 
-def platform_folder() -> tuple[str, str]:
-    """(binaries/ folder name, shared library extension) of this platform, as fmpy names them."""
+def platform_folder(fmi_version: int = 2) -> tuple[str, str]:
+    """(binaries/ folder name, shared library extension) of this platform, as fmpy names them
+    (FMI 3.0: the platform tuple, x86_64-linux)."""
     import fmpy
 
-    return fmpy.platform, fmpy.sharedLibraryExtension
+    return fmpy.platform if fmi_version == 2 else fmpy.platform_tuple, fmpy.sharedLibraryExtension
 
 
 def fmi_headers() -> Path:
@@ -230,27 +239,32 @@ def find_compiler() -> str:
                            "native FMU is compiled at build time only")
 
 
-def compile_binary(root: Path, model: NativeModel, cmake: bool = False) -> Path:
+def compile_binary(root: Path, model: NativeModel, cmake: bool = False, fmi_version: int = 2) -> Path:
     """Compile ``root``/sources into ``root``/binaries/<platform>/; returns the binary's path."""
-    folder, ext = platform_folder()
+    folder, ext = platform_folder(fmi_version)
     target = root / "binaries" / folder / f"{model.model_identifier}{ext}"
     target.parent.mkdir(parents=True, exist_ok=True)
-    if cmake:
+    if cmake:  # fmpy reads the sources and defines from the model (FMI 2) or build (FMI 3) description
         _compile_cmake(root)
     else:
-        _compile_cc(root, model, target)
+        _compile_cc(root, model, target, fmi_version)
     if not target.is_file():
         raise NativeBuildError(f"the build wrote no {target.relative_to(root)}")
     return target
 
 
-def _compile_cc(root: Path, model: NativeModel, target: Path) -> None:
+def _compile_cc(root: Path, model: NativeModel, target: Path, fmi_version: int = 2) -> None:
     if sys.platform == "win32":
         raise NativeBuildError("building with the C compiler directly is for Linux and macOS; on Windows use "
                                "--cmake (fmpy's CMake project with Visual Studio)")
     src = root / "sources"
-    cmd = [find_compiler(), *C_FLAGS, "-shared", "-I", str(src), "-I", str(fmi_headers()),
-           *(str(src / f) for f in source_files(model)), "-o", str(target), "-lm"]
+    files, defines = source_files(model), []
+    if fmi_version == 3:
+        from .fmi3 import DEFINES3, source_files3
+
+        files, defines = source_files3(model), [f"-D{k}={v}" for k, v in DEFINES3.items()]
+    cmd = [find_compiler(), *C_FLAGS, *defines, "-shared", "-I", str(src), "-I", str(fmi_headers()),
+           *(str(src / f) for f in files), "-o", str(target), "-lm"]
     try:
         done = subprocess.run(cmd, capture_output=True, text=True, timeout=600)
     except OSError as exc:

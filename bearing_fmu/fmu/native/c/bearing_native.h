@@ -2,6 +2,7 @@
  * (internal_<name>.c) share. Generated per build: model_config.h (the internal's name, its
  * options and value references, start values, the GUID) and model_data.h (the internal's
  * data as static arrays). Units are SI throughout (m, m/s, rad/s, N, Pa s).
+ * The FMI 3.0 FMU compiles the same internals under fmi3_bearing.c with BN_FMI_VERSION=3.
  *
  * Value references: Reals 0..; Booleans from 1000; Strings from 2000; Integers (the enumerations,
  * each the same choice as a String parameter) from 3000. */
@@ -9,7 +10,20 @@
 #define BEARING_NATIVE_H
 
 #include <stddef.h>
+#if defined(BN_FMI_VERSION) && BN_FMI_VERSION == 3
+#define BN_FMI3 1
+#else
+#define BN_FMI3 0
+#endif
+#if BN_FMI3
+#include "fmi3Functions.h"
+typedef fmi3Status bn_status; /* FMI 2's and FMI 3's statuses have the same values */
+#define BN_WARNING fmi3Warning
+#else
 #include "fmi2Functions.h"
+typedef fmi2Status bn_status;
+#define BN_WARNING fmi2Warning
+#endif
 #include "model_config.h"
 
 #ifndef M_PI
@@ -75,7 +89,6 @@ typedef struct Instance {
     char eff[N_STRING][STRING_MAX]; /* the String choices as they count (a String, or its enumeration): setup() */
     double t;
     Mode mode;
-    fmi2Type type;
     int initialized;            /* exitInitializationMode was called: parameters are fixed */
     int terminated;             /* fmi2Terminated: set by a discarded step, cleared by a good step or a restore */
     int dirty;                  /* ME: inputs changed since the outputs were computed */
@@ -86,7 +99,18 @@ typedef struct Instance {
     int logging_on;
     int echoed;                 /* bit mask of statuses already echoed to stderr (logging off) */
     char name[STRING_MAX];
+#if BN_FMI3
+    int model_exchange;         /* the interface it was instantiated for (else Co-Simulation) */
+    fmi3InstanceEnvironment env;
+    fmi3LogMessageCallback log_message;
+    unsigned log_off;           /* bit k: log category of status k switched off (fmi3SetDebugLogging) */
+    int ood_event;              /* ME: out_of_domain as of the last event (discrete: it changes at events only) */
+    int mute;                   /* no log lines (the finite differences of the derivatives) */
+    double stop_time;           /* fmi3EnterInitializationMode's; INFINITY when not defined */
+#else
+    fmi2Type type;
     fmi2CallbackFunctions cb;
+#endif
     Work work;
     struct Instance *next_live; /* the list of live instances (fmi2FreeInstance) */
 } Instance;
@@ -100,7 +124,7 @@ int bn_setup(Instance *m);
 int bn_eval(Instance *m, const double x[5], int want_jac, double F[2], double J[8], double dw[2], int *ood);
 
 /* the FMI layer: log one line (printf-style) with a status */
-void bn_log(Instance *m, fmi2Status status, const char *fmt, ...)
+void bn_log(Instance *m, bn_status status, const char *fmt, ...)
 #if defined(__GNUC__)
     __attribute__((format(printf, 3, 4)))
 #endif

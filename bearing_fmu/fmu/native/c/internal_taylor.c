@@ -401,7 +401,7 @@ static void excursion(Instance *m, const double x[5]) {
              bn_num(a, 32, x[0], 4), bn_num(b, 32, x[1], 4), bn_num(c, 32, x[2], 4), bn_num(e, 32, x[3], 4),
              hypot(x[0], x[1]) / TAY_PARAMS[2]);
     reasons(x[0], x[1], x[2], x[3], why, sizeof why);
-    bn_log(m, fmi2Warning, "t = %s s: state outside the surrogate's fitted domain (%s) at %s; its value is an "
+    bn_log(m, BN_WARNING, "t = %s s: state outside the surrogate's fitted domain (%s) at %s; its value is an "
            "extrapolation (excursion %d: warned once per excursion, counted at terminate)", bn_num(t, 32, m->t, 10),
            why, where, w->excursions);
 }

@@ -1,0 +1,359 @@
+/* The values of a native bearing FMU whatever its FMI version: see bearing_values.h. The same
+ * code as fmi2_bearing.c's helpers (there static), with the FMI version left out: every check
+ * answers 0, or 1 with the reason in words, and the FMI layer turns that into its status. */
+#include <ctype.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "bearing_values.h"
+
+typedef struct {
+    const char *name;
+    double start;
+    double minimum;         /* -INFINITY: none */
+    int exclusive_minimum;
+    double maximum;         /* INFINITY: none */
+    const char *allowed;    /* in words, for messages */
+} RealOption;
+
+typedef struct {
+    const char *name;
+    const char *start;
+    const char *choices;    /* "a|b|c": allowed values (lower-case); NULL: see file */
+    int file;               /* the value names the data compiled in: "" or exactly `start` */
+    const char *refuse;     /* a value refused with its own reason (NULL: none) */
+    const char *refuse_why;
+} StringOption;
+
+/* An enumeration parameter (FMI 2.0: an Integer; FMI 3.0: an Enumeration): the same choice as a String parameter, for
+ * masters that show a drop-down. A value away from its start wins over the String; if both are
+ * set away from their starts they must agree (resolve_choices). */
+typedef struct {
+    const char *name;       /* e.g. "internal_enum" */
+    int string;             /* the String parameter it mirrors: index into m->s */
+    int start;
+    const char *all;        /* every choice of its type "a|b|c": value k + 1 is the k-th (the Python FMU's) */
+} EnumOption;
+
+static const EnumOption ENUMS[BN_N_ENUMS] = { BN_ENUM_TABLE };
+
+#if BN_N_REAL_OPTIONS > 0
+static const RealOption REAL_OPTIONS[BN_N_REAL_OPTIONS] = { BN_REAL_OPTION_TABLE };
+#else
+static const RealOption *REAL_OPTIONS = NULL;
+#endif
+#if BN_N_STRING_OPTIONS > 0
+static const StringOption STRING_OPTIONS[BN_N_STRING_OPTIONS] = { BN_STRING_OPTION_TABLE };
+#else
+static const StringOption *STRING_OPTIONS = NULL;
+#endif
+
+static const char *const CORE_NAMES[VR_REAL_OPTIONS] = {
+    "y", "z", "vy", "vz", "omega", "Fy", "Fz", "eccentricity", "h_min",
+    "Kyy", "Kyz", "Kzy", "Kzz", "Cyy", "Cyz", "Czy", "Czz", "D", "L", "CR", "mu"};
+static const char *const CORE_UNITS[VR_REAL_OPTIONS] = {
+    "m", "m", "m/s", "m/s", "rad/s", "N", "N", "1", "m",
+    "N/m", "N/m", "N/m", "N/m", "N.s/m", "N.s/m", "N.s/m", "N.s/m", "m", "m", "m", "Pa.s"};
+static const double START_INPUTS[N_INPUTS] = BN_START_INPUTS;
+static const double START_BEARING[4] = BN_START_BEARING;
+const char *const BN_BOOL_NAMES[N_BOOL] = {"out_of_domain", "compute_tangent"};
+
+/* ------------------------------------------------------------------------------ names */
+
+const char *bn_num(char *buf, size_t n, double x, int digits) {
+    if (isnan(x))
+        snprintf(buf, n, "nan");
+    else if (isinf(x))
+        snprintf(buf, n, x > 0 ? "inf" : "-inf");
+    else
+        snprintf(buf, n, "%.*g", digits, x);
+    return buf;
+}
+
+const char *bn_real_name(int vr) {
+    return vr < VR_REAL_OPTIONS ? CORE_NAMES[vr] : REAL_OPTIONS[vr - VR_REAL_OPTIONS].name;
+}
+
+const char *bn_string_name(int k) {
+    return k == S_INTERNAL ? "internal" : STRING_OPTIONS[k - 1].name;
+}
+
+const char *bn_real_unit(int vr) {
+    if (vr < VR_REAL_OPTIONS) return CORE_UNITS[vr];
+    return "";
+}
+
+const char *bn_enum_name(int j) { return ENUMS[j].name; }
+
+int bn_is_output_real(int vr) { return vr >= VR_FY && vr < VR_D; }
+
+static void lower_strip(const char *in, char *out, size_t n) {
+    while (*in && isspace((unsigned char)*in)) in++;
+    size_t k = 0;
+    for (; *in && k + 1 < n; in++) out[k++] = (char)tolower((unsigned char)*in);
+    while (k > 0 && isspace((unsigned char)out[k - 1])) k--;
+    out[k] = 0;
+}
+
+static int in_choices(const char *value, const char *choices) {
+    size_t n = strlen(value);
+    for (const char *p = choices; *p;) {
+        const char *bar = strchr(p, '|');
+        size_t len = bar ? (size_t)(bar - p) : strlen(p);
+        if (len == n && strncmp(p, value, n) == 0) return 1;
+        if (!bar) break;
+        p = bar + 1;
+    }
+    return 0;
+}
+
+static void choices_words(const char *choices, char *out, size_t n) {
+    size_t k = 0;
+    for (const char *p = choices; *p && k + 3 < n; p++) {
+        if (*p == '|') {
+            out[k++] = ',';
+            out[k++] = ' ';
+        } else {
+            out[k++] = *p;
+        }
+    }
+    out[k] = 0;
+}
+
+/* ------------------------------------------------------------------------------ values */
+
+void bn_set_starts(Instance *m) {
+    memset(m->r, 0, sizeof m->r);
+    for (int i = 0; i < N_INPUTS; i++) m->r[i] = START_INPUTS[i];
+    for (int i = 0; i < 4; i++) m->r[VR_D + i] = START_BEARING[i];
+    for (int i = 0; i < BN_N_REAL_OPTIONS; i++) m->r[VR_REAL_OPTIONS + i] = REAL_OPTIONS[i].start;
+    m->b[B_OUT_OF_DOMAIN] = 0;
+    m->b[B_COMPUTE_TANGENT] = 1;
+    snprintf(m->s[S_INTERNAL], STRING_MAX, "%s", BN_INTERNAL);
+    for (int i = 0; i < BN_N_STRING_OPTIONS; i++) snprintf(m->s[1 + i], STRING_MAX, "%s", STRING_OPTIONS[i].start);
+    for (int i = 0; i < N_STRING; i++) snprintf(m->eff[i], STRING_MAX, "%s", m->s[i]);
+    for (int i = 0; i < N_ENUM; i++) m->e[i] = ENUMS[i].start;
+    memset(m->refused, 0, sizeof m->refused);
+    m->init_error[0] = 0;
+    m->t = 0.0;
+    m->initialized = 0;
+    m->terminated = 0;
+    m->dirty = 1;
+    m->work.last_nn = -1;
+    m->work.excursions = 0;
+}
+
+/* A Real parameter's value alone: 0, or 1 with the reason in why. */
+int bn_check_real(int vr, double v, char *why, size_t n) {
+    char a[32];
+    if (vr >= VR_D && vr <= VR_MU) {
+        if (!(v > 0.0 && v < INFINITY)) {
+            snprintf(why, n, "%s = %s %s must be finite and > 0", CORE_NAMES[vr], bn_num(a, sizeof a, v, 17),
+                     CORE_UNITS[vr]);
+            return 1;
+        }
+        return 0;
+    }
+    const RealOption *o = &REAL_OPTIONS[vr - VR_REAL_OPTIONS];
+    int bad = !isfinite(v) || (o->exclusive_minimum ? v <= o->minimum : v < o->minimum) || v > o->maximum;
+    if (bad) snprintf(why, n, "%s = %s must be %s", o->name, bn_num(a, sizeof a, v, 17), o->allowed);
+    return bad;
+}
+
+/* A String parameter's value alone: 0 (normalised into out), or 1 with the reason in why. */
+int bn_check_string(int k, const char *value, char *out, char *why, size_t n) {
+    char v[STRING_MAX];
+    if (strlen(value) >= STRING_MAX) {
+        snprintf(why, n, "%s: a value of %lu characters is longer than the %d this FMU keeps", bn_string_name(k),
+                 (unsigned long)strlen(value), STRING_MAX - 1);
+        return 1;
+    }
+    if (k == S_INTERNAL) {
+        lower_strip(value, v, sizeof v);
+        if (strcmp(v, BN_INTERNAL) != 0) {
+            snprintf(why, n, "internal = '%s': this native FMU computes the %s internal only; for another build "
+                     "one with `bearing-fmu build --native --internal NAME` (reynolds: the Python FMU, "
+                     "`bearing-fmu build`)", value, BN_INTERNAL);
+            return 1;
+        }
+        snprintf(out, STRING_MAX, "%s", v);
+        return 0;
+    }
+    const StringOption *o = &STRING_OPTIONS[k - 1];
+    if (o->file) {
+        if (value[0] && strcmp(value, o->start) != 0) {
+            snprintf(why, n, "%s = '%s': this native FMU has its %s file compiled in ('%s'); build another FMU "
+                     "for another file (bearing-fmu build --native)", o->name, value, o->name, o->start);
+            return 1;
+        }
+        snprintf(out, STRING_MAX, "%s", o->start);
+        return 0;
+    }
+    lower_strip(value, v, sizeof v);
+    if (o->refuse && strcmp(v, o->refuse) == 0) {
+        snprintf(why, n, "%s = '%s': %s", o->name, value, o->refuse_why ? o->refuse_why : "refused");
+        return 1;
+    }
+    if (!in_choices(v, o->choices)) {
+        char words[256];
+        choices_words(o->choices, words, sizeof words);
+        snprintf(why, n, "unknown %s '%s'; choose one of %s", o->name, value, words);
+        return 1;
+    }
+    snprintf(out, STRING_MAX, "%s", v);
+    return 0;
+}
+
+static const char *string_start(int k) { return k == S_INTERNAL ? BN_INTERNAL : STRING_OPTIONS[k - 1].start; }
+
+/* The choice with value v of an enumeration (v = k + 1 for the k-th of o->all) into out: 1, or 0 if none. */
+static int enum_choice(const EnumOption *o, int v, char *out, size_t n) {
+    const char *p = o->all;
+    for (int k = 1; p && *p; k++) {
+        const char *bar = strchr(p, '|');
+        size_t len = bar ? (size_t)(bar - p) : strlen(p);
+        if (k == v) {
+            snprintf(out, n, "%.*s", (int)len, p);
+            return 1;
+        }
+        p = bar ? bar + 1 : NULL;
+    }
+    return 0;
+}
+
+/* An enumeration parameter's value alone: 0, or 1 with the reason in why (the String's reason for
+ * a choice this FMU does not take, else the values it takes). */
+int bn_check_enum(int j, int v, char *why, size_t n) {
+    const EnumOption *o = &ENUMS[j];
+    char item[STRING_MAX], out[STRING_MAX], sub[512];
+    if (enum_choice(o, v, item, sizeof item)) {
+        if (bn_check_string(o->string, item, out, sub, sizeof sub) == 0) return 0;
+        snprintf(why, n, "%s = %d means %s", o->name, v, sub);
+        return 1;
+    }
+    size_t off = (size_t)snprintf(why, n, "%s = %d must be one of", o->name, v);
+    const char *sep = " ";
+    for (int k = 1; enum_choice(o, k, item, sizeof item) && off < n; k++)
+        if (bn_check_string(o->string, item, out, sub, sizeof sub) == 0) {
+            off += (size_t)snprintf(why + off, n - off, "%s%d (%s)", sep, k, item);
+            sep = ", ";
+        }
+    return 1;
+}
+
+/* The String choices as they count, into m->eff: each String's value, or its enumeration's item
+ * where only the enumeration was set away from its start. 0, or 1 with why when both were set
+ * away from their starts and disagree. */
+static int resolve_choices(Instance *m, char *why, size_t n) {
+    char item[STRING_MAX];
+    for (int k = 0; k < N_STRING; k++) snprintf(m->eff[k], STRING_MAX, "%s", m->s[k]);
+    for (int j = 0; j < N_ENUM; j++) {
+        const EnumOption *o = &ENUMS[j];
+        if (m->e[j] == o->start || !enum_choice(o, m->e[j], item, sizeof item)) continue;
+        const char *text = m->s[o->string];
+        if (strcmp(text, string_start(o->string)) != 0 && strcmp(text, item) != 0) {
+            snprintf(why, n, "%s = '%s' and %s = %d (%s) disagree: set one of them (%s is the same choice as an "
+                     "enumeration)", bn_string_name(o->string), text, o->name, m->e[j], item, o->name);
+            return 1;
+        }
+        snprintf(m->eff[o->string], STRING_MAX, "%s", item);
+    }
+    return 0;
+}
+
+/* The bearing's physical ranges (bearing_fmu/params.py, BearingParams): 0, or 1 with why. */
+static int check_bearing(const Instance *m, char *why, size_t n) {
+    double D = m->r[VR_D], L = m->r[VR_L], CR = m->r[VR_CR], mu = m->r[VR_MU];
+    char a[32], b[32], c[32];
+    if (!(D >= 1e-3 && D <= 5.0)) {
+        snprintf(why, n, "D = %s m is outside the physical range 1 mm .. 5 m", bn_num(a, sizeof a, D, 4));
+        return 1;
+    }
+    if (!(L >= 0.05 * D && L <= 5.0 * D)) {
+        snprintf(why, n, "L = %s m is outside the physical range %s .. %s m (L/D 0.05 .. 5 at D = %s m)",
+                 bn_num(a, sizeof a, L, 4), bn_num(b, sizeof b, 0.05 * D, 4), bn_num(c, sizeof c, 5.0 * D, 4),
+                 bn_num(c, sizeof c, D, 4));
+        return 1;
+    }
+    if (!(CR >= 1e-5 * 0.5 * D && CR <= 0.05 * 0.5 * D)) {
+        snprintf(why, n, "CR = %s m is outside the physical range %s .. %s m (CR/R 1e-05 .. 0.05 at D = %s m)",
+                 bn_num(a, sizeof a, CR, 4), bn_num(b, sizeof b, 1e-5 * 0.5 * D, 4),
+                 bn_num(c, sizeof c, 0.05 * 0.5 * D, 4), bn_num(c, sizeof c, D, 4));
+        return 1;
+    }
+    if (!(mu >= 1e-5 && mu <= 10.0)) {
+        snprintf(why, n, "mu = %s Pa s is outside the physical range 1e-05 .. 10 Pa s", bn_num(a, sizeof a, mu, 4));
+        return 1;
+    }
+    return 0;
+}
+
+/* Parameters checked together and the internal prepared: 0, or 1 with m->init_error set. */
+int bn_prepare(Instance *m) {
+    char why[2048];
+    size_t off = 0;
+    why[0] = 0;
+    for (int i = 0; i < N_PARAM_SLOTS; i++)
+        if (m->refused[i])
+            off += (size_t)snprintf(why + off, off < sizeof why ? sizeof why - off : 0,
+                                    "%s%s (refused when it was set)", off ? "; " : "", m->refused_msg[i]);
+    if (!why[0] && resolve_choices(m, why, sizeof why) == 0 && check_bearing(m, why, sizeof why) == 0) {
+        if (bn_setup(m) == 0) {
+            m->init_error[0] = 0;
+            return 0;
+        }
+        snprintf(why, sizeof why, "%s", m->msg);
+    }
+    snprintf(m->init_error, sizeof m->init_error, "bearing FMU initialisation failed: %s", why);
+    return 1;
+}
+
+void bn_show_choices(Instance *m) {
+    for (int k = 0; k < N_STRING; k++) snprintf(m->s[k], STRING_MAX, "%s", m->eff[k]);
+    for (int j = 0; j < N_ENUM; j++) {
+        char item[STRING_MAX];
+        for (int v = 1; enum_choice(&ENUMS[j], v, item, sizeof item); v++)
+            if (strcmp(item, m->s[ENUMS[j].string]) == 0) m->e[j] = v;
+    }
+}
+
+/* Evaluate the internal at the inputs and set the outputs: 0, or 1 with the reason in m->msg
+ * (outputs untouched). */
+int bn_evaluate(Instance *m) {
+    static const char *const in_names[5] = {"y", "z", "vy", "vz", "omega"};
+    double x[5], F[2], J[8], dw[2];
+    int ood = 0;
+    char a[32], b[32], c[32], d[32], e[32];
+    for (int i = 0; i < 5; i++) {
+        x[i] = m->r[i];
+        if (!isfinite(x[i])) {
+            snprintf(m->msg, sizeof m->msg, "bearing input %s = %s is not finite", in_names[i],
+                     bn_num(a, sizeof a, x[i], 17));
+            return 1;
+        }
+    }
+    int jac = m->b[B_COMPUTE_TANGENT];
+    if (bn_eval(m, x, jac, F, J, dw, &ood)) return 1;
+    int finite = isfinite(F[0]) && isfinite(F[1]);
+    for (int i = 0; jac && i < 8; i++) finite = finite && isfinite(J[i]);
+    if (!finite) {
+        snprintf(m->msg, sizeof m->msg, "the %s internal returned a non-finite force or tangent at y = %s m, "
+                 "z = %s m, vy = %s m/s, vz = %s m/s, omega = %s rad/s", BN_INTERNAL, bn_num(a, 32, x[0], 6),
+                 bn_num(b, 32, x[1], 6), bn_num(c, 32, x[2], 6), bn_num(d, 32, x[3], 6), bn_num(e, 32, x[4], 6));
+        return 1;
+    }
+    double eps = hypot(x[0], x[1]) / m->r[VR_CR];
+    m->r[VR_FY] = F[0];
+    m->r[VR_FZ] = F[1];
+    m->r[VR_ECC] = eps;
+    m->r[VR_HMIN] = m->r[VR_CR] * (1.0 - eps);
+    m->b[B_OUT_OF_DOMAIN] = ood;
+    if (jac) { /* Lund's sign: K = -dF/dq, C = -dF/dv */
+        m->r[VR_KYY] = -J[0]; m->r[VR_KYZ] = -J[1]; m->r[VR_CYY] = -J[2]; m->r[VR_CYZ] = -J[3];
+        m->r[VR_KZY] = -J[4]; m->r[VR_KZZ] = -J[5]; m->r[VR_CZY] = -J[6]; m->r[VR_CZZ] = -J[7];
+    }
+    m->dirty = 0;
+    return 0;
+}
