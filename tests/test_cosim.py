@@ -8,7 +8,6 @@ import pytest
 from rotor_host.scenes.run import run_scene
 from rotor_host.scenes.scene import load_scene
 
-pytest.importorskip("fmpy")
 
 
 def scene(paper_scene, internal, t_end=0.01):

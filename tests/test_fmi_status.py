@@ -17,7 +17,7 @@ import textwrap
 
 import pytest
 
-fmpy = pytest.importorskip("fmpy")
+import fmpy  # noqa: E402
 from fmpy import calloc, free  # noqa: E402
 from fmpy.fmi1 import FMICallException  # noqa: E402
 from fmpy.fmi2 import (FMU2Slave, fmi2CallbackAllocateMemoryTYPE, fmi2CallbackFreeMemoryTYPE,  # noqa: E402

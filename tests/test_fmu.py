@@ -20,7 +20,7 @@ import pytest
 
 from bearing_fmu.physics.params import PAPER_BEARING, BearingParams
 
-fmpy = pytest.importorskip("fmpy")
+import fmpy  # noqa: E402
 from fmpy.fmi1 import FMICallException  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -30,7 +30,6 @@ T_END = 0.1  # s: the unbalance response's first 2.2 shaft revolutions from the 
 ORBIT_RMS_BOUND_PCT_CR = 0.01
 ORBIT_MAX_BOUND_PCT_CR = 0.02
 FMU_RTOL = 1e-9  # the FMU runs the same kernel (measured: equal bit for bit); 1e-9 of each array's largest value
-pytest.importorskip("fmpy")
 
 
 def _scene(internal, via, options):

@@ -113,8 +113,7 @@ def test_taylor_scene_does_not_import_reynolds(paper_scene):
     """Leave out what a scene does not use: a Taylor scene run in-process never imports (or
     compiles) the Reynolds solver."""
     surrogates = sorted((ROOT / "models" / "surrogates").glob("paper_22hz*.json"))
-    if not surrogates:
-        pytest.skip("no bundled 22 Hz surrogate")
+    assert surrogates, "the shipped 22 Hz surrogate (models/surrogates/paper_22hz*.json)"
     p = paper_scene(internal="taylor", surrogate=surrogates[0], t_end=1e-3, unbalance_g=None)
     code = (f"import sys; from rotor_host.scenes.scene import load_scene; from rotor_host.scenes.run import run_scene; "
             f"r = run_scene(load_scene({str(p)!r})); assert r.ok, r.meta['message']; "

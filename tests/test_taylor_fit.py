@@ -253,7 +253,6 @@ def test_reynolds_trained_fit_22hz_coarse_grid():
     # 32 x 8 grid; domain: a disc of 0.1 CR about the equilibrium, |v| <= 0.1 omega CR.
     # Bound: 3 % held-out NRMSE at order 5 (the default-grid benchmark gives about 1.1 % on
     # this domain, docs/taylor.md); the order-1 fit must be much worse (> 10 %).
-    pytest.importorskip("bearing_fmu.physics.reynolds")
     from bearing_fmu.physics.reynolds import Reynolds
 
     rey = Reynolds(P, n_theta=32, n_x=8)
@@ -283,7 +282,6 @@ def test_reynolds_trained_fit_22hz_coarse_grid():
 
 def test_fit_command_writes_file_plots_and_report(tmp_path, capsys):
     # `bearing-fmu fit` end to end, tiny and on a coarse grid: the file loads, the plots exist
-    pytest.importorskip("bearing_fmu.physics.reynolds")
     import argparse
 
     parser = add_fit_arguments(argparse.ArgumentParser())
@@ -304,7 +302,6 @@ def test_fit_command_writes_file_plots_and_report(tmp_path, capsys):
 def test_designed_refit_repeats_the_fit_from_its_recipe(tmp_path):
     # the file's recipe is the whole fit: a refit at its own order gives the same numbers, and so
     # does a file of the older form (its settings in provenance["fit_call"], read into a recipe)
-    pytest.importorskip("bearing_fmu.physics.reynolds")
     import argparse
 
     out = tmp_path / "s.json"
