@@ -97,7 +97,8 @@ def native_map(tmp_path_factory):
 
     if not (shutil.which("cc") or shutil.which("gcc") or os.environ.get("CC")):
         pytest.skip("no C compiler: the native FMU is compiled at build time")
-    return build_native_fmu(tmp_path_factory.mktemp("libcosim_native") / "native_map.fmu", "map", map=MAP)
+    return build_native_fmu(tmp_path_factory.mktemp("libcosim_native") / "native_map.fmu", "map", map=MAP,
+                            platforms=["linux64"])
 
 
 @pytest.fixture(scope="module")

@@ -65,14 +65,15 @@ def native(tmp_path_factory):
         bearing = _map_bearing(path)  # a map serves its own L/D: the bearing it was built for
         extra = ["--bearing", str(bearing)] if bearing else []
         params = BearingParams.from_toml(bearing) if bearing else PAPER_BEARING
-        assert main(["build", "--native", "--internal", "map", "--map", str(path), *extra, "-o", str(fmu)]) == 0
+        assert main(["build", "--native", "--internal", "map", "--map", str(path), *extra, "--platforms", "linux64",
+                     "-o", str(fmu)]) == 0
         out[f"map:{path.stem}"] = (fmu, registry.create("map", params, {"map": str(path)}), params)
     for path in SURROGATES:
-        fmu = build_native_fmu(folder / f"taylor_{path.stem}.fmu", "taylor", surrogate=path)
+        fmu = build_native_fmu(folder / f"taylor_{path.stem}.fmu", "taylor", surrogate=path, platforms=["linux64"])
         params = load_surrogate(path).params
         out[f"taylor:{path.stem}"] = (fmu, registry.create("taylor", params, {"surrogate": str(path)}), params)
     lin_opts = {"linear_from": "map", "map": str(PAPER_MAP)}
-    fmu = build_native_fmu(folder / "linear.fmu", "linear", options=lin_opts)
+    fmu = build_native_fmu(folder / "linear.fmu", "linear", options=lin_opts, platforms=["linux64"])
     out["linear"] = (fmu, registry.create("linear", PAPER_BEARING, lin_opts), PAPER_BEARING)
     return {k: (fmu, fmpy.extract(str(fmu)), py, params) for k, (fmu, py, params) in out.items()}
 

@@ -125,6 +125,7 @@ def _native_fmu(scene: Scene, work_dir: Path) -> Path:
     linear FMU holds no data: the host sets each bearing's coefficients."""
     from bearing_fmu.fmu.native.host import host_build_options
     from bearing_fmu.fmu.native.build import C_DIR, build_native_fmu
+    from bearing_fmu.fmu.native.compile import host_platform
 
     spec = registry.get(scene.internal)
     if not spec.can.native:
@@ -142,7 +143,9 @@ def _native_fmu(scene: Scene, work_dir: Path) -> Path:
     out = work_dir / f"bearing_native_{scene.internal}{'_' + path.stem if path else ''}_{h.hexdigest()[:12]}.fmu"
     if out.is_file():
         return out
-    return Path(build_native_fmu(out, scene.internal, options=host_build_options(scene.internal), **files))
+    # this machine's binary only: the run loads it here (bearing-fmu build --native makes every platform's)
+    return Path(build_native_fmu(out, scene.internal, options=host_build_options(scene.internal),
+                                 platforms=[host_platform()], **files))
 
 
 def build_bearings(scene: Scene, rotor: Rotor, loads: np.ndarray, work_dir: Path):

@@ -14,7 +14,7 @@ its options (registry ``Option``s the native FMU keeps) and two generated header
   products), the stored training states. Map: the spline's knots and coefficients. Linear:
   nothing (its coefficients are parameters).
 
-Every double is written as a C99 hexadecimal literal (``float.hex``): exact.
+Every double is written as the shortest decimal literal that parses back to it (``repr``): exact.
 """
 
 from __future__ import annotations
@@ -47,11 +47,13 @@ NATIVE_OPTIONS = {
 
 
 def c_double(x: float) -> str:
-    """An exact C99 literal of the double x."""
+    """A decimal C literal that parses to exactly the double x: Python's repr, the shortest decimal
+    that rounds back to x (at most 17 significant digits). Decimal, not hexadecimal: older MSVC
+    compilers refuse C99's hex floats."""
     x = float(x)
     if not math.isfinite(x):
         raise ValueError(f"codegen: non-finite value {x!r} in the model data")
-    return x.hex()
+    return repr(x)
 
 
 def c_string(s: str) -> str:
@@ -120,19 +122,30 @@ class NativeModel:
         return h.hexdigest()
 
 
-def native_model(internal: str, params: BearingParams, *, surrogate=None, map=None, options=None) -> NativeModel:
+def native_model(internal: str, params: BearingParams, *, surrogate=None, map=None, options=None,
+                 omega: float | None = None) -> NativeModel:
     """The native model of ``internal`` for bearing ``params``.
 
     taylor : ``surrogate`` (path) compiled in; params default to the surrogate's
     map    : ``map`` (path) compiled in; its L/D must be the bearing's
     linear : the coefficients' start values from the Python ``Linear`` internal built with
              ``options`` (registry options of "linear", e.g. linear_from, load_z, or a map)
+    omega  : the start value of the input omega [rad/s] (map, linear: its omega_lin); the Taylor
+             surrogate's speed is its own
     ValueError naming what is wrong otherwise."""
     internal = str(internal).strip().lower()
     if internal not in INTERNALS:
         raise ValueError(f"a native FMU computes one of {', '.join(INTERNALS)}; got internal {internal!r} "
                          "(reynolds needs its solver at run time: the Python FMU, `bearing-fmu build`)")
-    return {"taylor": _taylor, "map": _map, "linear": _linear}[internal](params, surrogate, map, dict(options or {}))
+    options = dict(options or {})
+    if omega is not None:
+        if internal == "taylor":
+            raise ValueError("a native taylor FMU's omega starts at the surrogate's speed (it refuses any other): "
+                             "give no speed")
+        if not (math.isfinite(omega) and omega > 0):
+            raise ValueError(f"the start speed omega = {omega!r} rad/s must be finite and > 0")
+        options["omega_lin" if internal == "linear" else "_omega"] = float(omega)
+    return {"taylor": _taylor, "map": _map, "linear": _linear}[internal](params, surrogate, map, options)
 
 
 def _variables(internal: str, params: BearingParams, starts: dict, inputs: tuple) -> list[Variable]:
@@ -427,7 +440,8 @@ def _map(params: BearingParams, surrogate, map_path, options: dict) -> NativeMod
     ]
     data_h = "\n".join(parts)
     starts = {"map": path.name}
-    inputs = (0.0, 0.0, 0.0, 0.0, 0.0)
+    # a nonzero speed: an omega a master forgets to connect still gives the film's force
+    inputs = (0.0, 0.0, 0.0, 0.0, float(options.get("_omega", registry.DEFAULT_OMEGA_LIN)))
     config_h, guid = _config("map", params, starts, inputs, data_h)
     info = {"source": path.name, "table": f"{table.n_eps} x {table.n_beta}", "eps_max": table.eps_max,
             "L_over_D": table.L_over_D, "reynolds": f"{table.n_theta} x {table.n_x} {table.cavitation}",

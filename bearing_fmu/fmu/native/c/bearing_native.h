@@ -16,6 +16,12 @@
 #define M_PI 3.14159265358979323846
 #endif
 
+/* No fused multiply-add, so the sums round alike on every platform (the build passes
+ * -ffp-contract=off as well; gcc in ISO C mode and MSVC's /fp:precise do not contract). */
+#if defined(__clang__)
+#pragma STDC FP_CONTRACT OFF
+#endif
+
 /* Vector kernels (internal_taylor.c): 2-lane doubles through gcc's and clang's vector extension
  * (SSE2, NEON), and on x86-64 a 4-lane AVX2 version chosen at run time when the CPU has it;
  * plain C with other compilers. */
@@ -91,30 +97,38 @@ typedef struct Instance {
     struct Instance *next_live; /* the list of live instances (fmi2FreeInstance) */
 } Instance;
 
+/* Shared between this FMU's files, never exported: only the FMI functions are (a binary built
+ * by any CMake project too; Windows exports only what fmi2Functions.h marks dllexport). */
+#if (defined(__GNUC__) || defined(__clang__)) && !defined(_WIN32)
+#define BN_HIDDEN __attribute__((visibility("hidden")))
+#else
+#define BN_HIDDEN
+#endif
+
 /* the internal (internal_<name>.c) */
 /* Check the parameters together and prepare; 0, or 1 with the reason in m->msg. */
-int bn_setup(Instance *m);
+BN_HIDDEN int bn_setup(Instance *m);
 /* Film force F [N] at x = (y, z, vy, vz, omega) and, with want_jac, J = dF/d(y, z, vy, vz)
  * row-major (2 x 4) and dw = dF/domega (2). 0, or 1 with the reason in m->msg (state refused).
  * *ood: the state lies outside the fitted domain (taylor). */
-int bn_eval(Instance *m, const double x[5], int want_jac, double F[2], double J[8], double dw[2], int *ood);
+BN_HIDDEN int bn_eval(Instance *m, const double x[5], int want_jac, double F[2], double J[8], double dw[2], int *ood);
 
 /* the FMI layer: log one line (printf-style) with a status */
-void bn_log(Instance *m, fmi2Status status, const char *fmt, ...)
+BN_HIDDEN void bn_log(Instance *m, fmi2Status status, const char *fmt, ...)
 #if defined(__GNUC__)
     __attribute__((format(printf, 3, 4)))
 #endif
     ;
 /* a double the way Python's %.{digits}g writes it, into buf */
-const char *bn_num(char *buf, size_t n, double x, int digits);
+BN_HIDDEN const char *bn_num(char *buf, size_t n, double x, int digits);
 
 /* the calling sequence (fmi2_order.c): 0 if `call` (an FMI 2.0 function without "fmi2") is
  * allowed in the instance's mode (`allowed`: its BN_ALLOW_ mask), else 1 with an fmi2Error logged
  * naming it, the mode and what to do, in the words of bearing_fmu/fmi_order.py's refusal */
 enum { BN_ANY_TYPE, BN_CS_ONLY, BN_ME_ONLY };
-int bn_order_refused(Instance *m, const char *call, unsigned allowed, int kind);
+BN_HIDDEN int bn_order_refused(Instance *m, const char *call, unsigned allowed, int kind);
 /* the live instances: add one; remove one (1, or 0 if it was not live) */
-void bn_live_add(Instance *m);
-int bn_live_remove(Instance *m);
+BN_HIDDEN void bn_live_add(Instance *m);
+BN_HIDDEN int bn_live_remove(Instance *m);
 
 #endif

@@ -81,7 +81,6 @@ static const char *const CORE_UNITS[VR_REAL_OPTIONS] = {
 static const double START_INPUTS[N_INPUTS] = BN_START_INPUTS;
 static const double START_BEARING[4] = BN_START_BEARING;
 static const char *const BOOL_NAMES[N_BOOL] = {"out_of_domain", "compute_tangent"};
-static const char *const MODE_NAMES[] = BN_MODE_NAMES;
 static const char *const STATUS_NAMES[] = {"ok", "warning", "discard", "error", "fatal", "pending"};
 
 #define STATE_TAG "bearing-native/1"
@@ -238,8 +237,8 @@ static int check_real_parameter(int vr, double v, char *why, size_t n) {
 static int check_string_parameter(int k, const char *value, char *out, char *why, size_t n) {
     char v[STRING_MAX];
     if (strlen(value) >= STRING_MAX) {
-        snprintf(why, n, "%s: a value of %zu characters is longer than the %d this FMU keeps", string_name(k),
-                 strlen(value), STRING_MAX - 1);
+        snprintf(why, n, "%s: a value of %lu characters is longer than the %d this FMU keeps", string_name(k),
+                 (unsigned long)strlen(value), STRING_MAX - 1);
         return 1;
     }
     if (k == S_INTERNAL) {
@@ -265,7 +264,7 @@ static int check_string_parameter(int k, const char *value, char *out, char *why
     }
     lower_strip(value, v, sizeof v);
     if (o->refuse && strcmp(v, o->refuse) == 0) {
-        snprintf(why, n, "%s = '%s': %s", o->name, value, o->refuse_why);
+        snprintf(why, n, "%s = '%s': %s", o->name, value, o->refuse_why ? o->refuse_why : "");
         return 1;
     }
     if (!in_choices(v, o->choices)) {
@@ -299,7 +298,7 @@ static int enum_choice(const EnumOption *o, int v, char *out, size_t n) {
  * a choice this FMU does not take, else the values it takes). */
 static int check_enum_parameter(int j, int v, char *why, size_t n) {
     const EnumOption *o = &ENUMS[j];
-    char item[STRING_MAX], out[STRING_MAX], sub[512];
+    char item[STRING_MAX], out[STRING_MAX], sub[400]; /* a reason fits the caller's 512 with the words around it */
     if (enum_choice(o, v, item, sizeof item)) {
         if (check_string_parameter(o->string, item, out, sub, sizeof sub) == 0) return 0;
         snprintf(why, n, "%s = %d means %s", o->name, v, sub);
@@ -338,7 +337,7 @@ static int resolve_choices(Instance *m, char *why, size_t n) {
 /* The bearing's physical ranges (bearing_fmu/params.py, BearingParams): 0, or 1 with why. */
 static int check_bearing(const Instance *m, char *why, size_t n) {
     double D = m->r[VR_D], L = m->r[VR_L], CR = m->r[VR_CR], mu = m->r[VR_MU];
-    char a[32], b[32], c[32];
+    char a[32], b[32], c[32], d[32];
     if (!(D >= 1e-3 && D <= 5.0)) {
         snprintf(why, n, "D = %s m is outside the physical range 1 mm .. 5 m", bn_num(a, sizeof a, D, 4));
         return 1;
@@ -346,13 +345,13 @@ static int check_bearing(const Instance *m, char *why, size_t n) {
     if (!(L >= 0.05 * D && L <= 5.0 * D)) {
         snprintf(why, n, "L = %s m is outside the physical range %s .. %s m (L/D 0.05 .. 5 at D = %s m)",
                  bn_num(a, sizeof a, L, 4), bn_num(b, sizeof b, 0.05 * D, 4), bn_num(c, sizeof c, 5.0 * D, 4),
-                 bn_num(c, sizeof c, D, 4));
+                 bn_num(d, sizeof d, D, 4));
         return 1;
     }
     if (!(CR >= 1e-5 * 0.5 * D && CR <= 0.05 * 0.5 * D)) {
         snprintf(why, n, "CR = %s m is outside the physical range %s .. %s m (CR/R 1e-05 .. 0.05 at D = %s m)",
                  bn_num(a, sizeof a, CR, 4), bn_num(b, sizeof b, 1e-5 * 0.5 * D, 4),
-                 bn_num(c, sizeof c, 0.05 * 0.5 * D, 4), bn_num(c, sizeof c, D, 4));
+                 bn_num(c, sizeof c, 0.05 * 0.5 * D, 4), bn_num(d, sizeof d, D, 4));
         return 1;
     }
     if (!(mu >= 1e-5 && mu <= 10.0)) {
@@ -537,7 +536,7 @@ fmi2Status fmi2ExitInitializationMode(fmi2Component c) {
     if (setup(m)) return fail(m, "%s", m->init_error);
     m->mode = m->type == fmi2ModelExchange ? MODE_EVENT : MODE_STEP;
     /* both the String and its enumeration show the choice that counts */
-    for (int k = 0; k < N_STRING; k++) snprintf(m->s[k], STRING_MAX, "%s", m->eff[k]);
+    memcpy(m->s, m->eff, sizeof m->s); /* same shape; gcc's -Wrestrict took snprintf here for an overlap */
     for (int j = 0; j < N_ENUM; j++) {
         char item[STRING_MAX];
         for (int v = 1; enum_choice(&ENUMS[j], v, item, sizeof item); v++)
@@ -833,8 +832,8 @@ fmi2Status fmi2SerializeFMUstate(fmi2Component c, fmi2FMUstate FMUstate, fmi2Byt
     if (!m) return fmi2Error;
     if (!valid_state(FMUstate)) return fail(m, "serializeFMUstate: not a %s state of this FMU", STATE_TAG);
     if (size < sizeof(State))
-        return fail(m, "serializeFMUstate: a buffer of %zu bytes is smaller than the state (%zu bytes)", size,
-                    sizeof(State));
+        return fail(m, "serializeFMUstate: a buffer of %lu bytes is smaller than the state (%lu bytes)",
+                    (unsigned long)size, (unsigned long)sizeof(State));
     memcpy(serializedState, FMUstate, sizeof(State));
     return fmi2OK;
 }
@@ -844,7 +843,8 @@ fmi2Status fmi2DeSerializeFMUstate(fmi2Component c, const fmi2Byte serializedSta
     Instance *m = c;
     if (!m || !FMUstate) return fmi2Error;
     if (size != sizeof(State) || !valid_state((const State *)(const void *)serializedState))
-        return fail(m, "deSerializeFMUstate: %zu bytes are not a serialised %s state of this FMU", size, STATE_TAG);
+        return fail(m, "deSerializeFMUstate: %lu bytes are not a serialised %s state of this FMU",
+                    (unsigned long)size, STATE_TAG);
     fmi2FMUstate s = *FMUstate;
     if (!s) {
         s = m->cb.allocateMemory ? m->cb.allocateMemory(1, sizeof(State)) : calloc(1, sizeof(State));
@@ -874,7 +874,8 @@ fmi2Status fmi2GetDirectionalDerivative(fmi2Component c, const fmi2ValueReferenc
                         ? real_name((int)vKnown_ref[j]) : "?", vKnown_ref[j]);
         if (!isfinite(dvKnown[j])) {
             char a[32];
-            return fail(m, "getDirectionalDerivative: dvKnown[%zu] = %s (the direction in %s) must be finite", j,
+            return fail(m, "getDirectionalDerivative: dvKnown[%lu] = %s (the direction in %s) must be finite",
+                        (unsigned long)j,
                         bn_num(a, sizeof a, dvKnown[j], 17), CORE_NAMES[vKnown_ref[j]]);
         }
         dx[vKnown_ref[j]] += dvKnown[j];
@@ -1069,7 +1070,7 @@ fmi2Status fmi2SetTime(fmi2Component c, fmi2Real time) {
 static fmi2Status no_states(Instance *m, const char *call, unsigned allowed, size_t n, const char *what) {
     if (!m) return fmi2Error;
     if (bn_order_refused(m, call, allowed, BN_ME_ONLY)) return fmi2Error;
-    if (n != 0) return fail(m, "%s: this FMU has no %s, got %zu", call, what, n);
+    if (n != 0) return fail(m, "%s: this FMU has no %s, got %lu", call, what, (unsigned long)n);
     return fmi2OK;
 }
 #define NO_STATES(call, n, what) no_states(c, #call, BN_ALLOW_##call, n, what)
