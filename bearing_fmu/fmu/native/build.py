@@ -35,7 +35,7 @@ from xml.etree import ElementTree as ET
 
 from ... import __version__
 from ...physics.params import PAPER_BEARING, BearingParams
-from .codegen import NativeModel, native_model
+from .codegen import NativeModel, assign_identity, native_model
 from .compile import (C_FLAGS, NativeBuildError, compile_binaries, find_compiler, fmi_headers,  # noqa: F401
                       parse_platforms)
 
@@ -113,7 +113,10 @@ def stage(model: NativeModel, root: Path, record: dict | None = None) -> None:
     record = record if record is not None else build_record(model)
     src = root / "sources"
     src.mkdir(parents=True)
-    for name in (*COMMON_SOURCES, f"internal_{model.internal}.c"):
+    names = (*COMMON_SOURCES, f"internal_{model.internal}.c")
+    assign_identity(model, {n: (C_DIR / n).read_text(encoding="ascii") for n in names},
+                    lambda: model_description(model, record))
+    for name in names:
         shutil.copyfile(C_DIR / name, src / name)
     (src / "model_config.h").write_text(model.config_h, encoding="ascii")
     (src / "model_data.h").write_text(model.data_h, encoding="ascii")
@@ -149,7 +152,7 @@ def model_description(model: NativeModel, record: dict) -> bytes:
     common = {"modelIdentifier": model.model_identifier, "canGetAndSetFMUstate": "true",
               "canSerializeFMUstate": "true", "providesDirectionalDerivative": "true",
               "canNotUseMemoryManagementFunctions": "false"}
-    me = ET.SubElement(root, "ModelExchange", {**common, "completedIntegratorStepNotNeeded": "true"})
+    me = ET.SubElement(root, "ModelExchange", {**common, "completedIntegratorStepNotNeeded": "false"})
     cs = ET.SubElement(root, "CoSimulation", {**common, "canHandleVariableCommunicationStepSize": "true"})
     for node in (me, cs):
         files = ET.SubElement(node, "SourceFiles")
