@@ -5,6 +5,8 @@ warnings; the data's decimal literals exact. One FMU of each kind (map, taylor, 
 once per session with all three platforms.
 """
 
+import math
+import os
 import re
 import shutil
 import subprocess
@@ -175,3 +177,112 @@ def test_decimal_literals_parse_to_the_same_bits(every_platform, tmp_path):
     ts, _tb, C = load_map(PAPER_MAP).spline()
     want = np.concatenate([np.asarray(C, float).ravel(), np.asarray(ts, float)])
     assert len(got) == len(want) and np.array_equal(np.array(got).view(np.int64), want.view(np.int64))
+
+
+# ----------------------------------------------------------------------------- what a tool sees
+
+def _checker() -> Path:
+    """The FMU Compliance Checker beside the repository (shared/tools/, see its README)."""
+    for base in (ROOT.parent, ROOT.parent.parent):
+        path = base / "shared" / "tools" / "fmu-compliance-checker" / "fmuCheck.linux64"
+        if path.is_file():
+            return path
+    if os.environ.get("CI"):
+        raise AssertionError("the FMU Compliance Checker is not in ../shared/tools/fmu-compliance-checker/")
+    pytest.skip("the FMU Compliance Checker (../shared/tools/fmu-compliance-checker/) is not here")
+
+
+def _input_file(fmu: Path, path: Path) -> Path:
+    """A 10 ms input signal: the journal on a small circle (0.002 CR) about the start state at the
+    start speed (the state each FMU evaluates without a warning)."""
+    md = fmpy.read_model_description(str(fmu))
+    start = {v.name: float(v.start) for v in md.modelVariables if v.name in ("y", "z", "omega", "CR")}
+    rows = ["time,y,z,vy,vz,omega"]
+    for k in range(11):
+        t = 1e-3 * k
+        a = start["omega"] * t
+        r = 0.002 * start["CR"]
+        rows.append(f"{t!r},{start['y'] + r * math.cos(a)!r},{start['z'] + r * math.sin(a)!r},"
+                    f"{-r * start['omega'] * math.sin(a)!r},{r * start['omega'] * math.cos(a)!r},{start['omega']!r}")
+    path.write_text("\n".join(rows) + "\n")
+    return path
+
+
+@pytest.mark.parametrize("kind", ["map", "taylor", "linear"])
+@pytest.mark.parametrize("interface", ["me", "cs"])
+def test_compliance_checker_reports_nothing(every_platform, kind, interface, tmp_path):
+    """The Modelica Association's FMU Compliance Checker, started with an empty environment (no
+    Python anywhere), simulates each FMU with an input signal: 0 warnings and 0 errors, from the
+    FMU and from the checker (its summary counts, not only its exit code)."""
+    fmu, _unzip = every_platform[kind]
+    log = tmp_path / "check.log"
+    done = subprocess.run(["env", "-i", str(_checker()), "-h", "1e-4", "-s", "0.01", "-k", interface, "-i",
+                           str(_input_file(fmu, tmp_path / "in.csv")), "-o", str(tmp_path / "out.csv"), "-e", str(log),
+                           str(fmu)], capture_output=True, text=True, timeout=300)
+    text = log.read_text()
+    summary = text[text.index("FMU check summary:"):]
+    assert done.returncode == 0, summary
+    assert "Simulation finished successfully" in text
+    assert "FMU reported:\n\t0 warning(s) and error(s)" in summary, summary
+    assert "0 Warning(s)" in summary and "0 Error(s)" in summary, summary
+    rows = (tmp_path / "out.csv").read_text().splitlines()
+    assert len(rows) >= 100 and rows[0].startswith('"time","Fy","Fz"')
+
+
+@pytest.mark.parametrize("fmi_type", ["ModelExchange", "CoSimulation"])
+def test_fmpy_validates_and_simulates_every_kind(every_platform, fmi_type, tmp_path):
+    from fmpy.validation import validate_fmu
+
+    for kind, (fmu, _unzip) in every_platform.items():
+        assert validate_fmu(str(fmu)) == [], kind
+        rows = _input_file(fmu, tmp_path / f"{kind}.csv").read_text().splitlines()
+        table = np.array([tuple(map(float, r.split(","))) for r in rows[1:]],
+                         dtype=[(n, float) for n in rows[0].split(",")])
+        res = fmpy.simulate_fmu(str(fmu), fmi_type=fmi_type, stop_time=0.01, output_interval=1e-3, input=table,
+                                output=["Fy", "Fz", "out_of_domain"])
+        assert len(res) >= 11 and np.all(np.isfinite(res["Fy"])) and not res["out_of_domain"].any(), kind
+
+
+# ----------------------------------------------------------------------------- the Windows binary
+
+def _wine() -> str:
+    path = shutil.which("wine64") or ("/usr/lib/wine/wine64" if Path("/usr/lib/wine/wine64").is_file() else None)
+    assert path, "wine64 not installed (Debian: apt-get install wine64; .ci/run installs it)"
+    return path
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("kind", ["map", "taylor", "linear"])
+def test_windows_binary_under_wine_gives_the_linux_binarys_forces(every_platform, kind, tmp_path_factory):
+    """example_host.c cross-compiled for Windows with zig runs the win64 binary under wine; the
+    same host compiled for Linux runs the linux64 binary: the outputs agree to 1e-13 relative (the
+    arithmetic is the same, no fused multiply-add; the C runtimes' atan2, exp, log1p may differ in
+    the last bit)."""
+    from bearing_fmu.fmu.native.build import C_DIR
+    from bearing_fmu.fmu.native.compile import zig_cc
+
+    work = tmp_path_factory.mktemp(f"wine_{kind}")
+    hosts = {}
+    for name, target, exe in (("win64", "x86_64-windows-gnu", "host.exe"), ("linux64", "x86_64-linux-gnu.2.17", "host")):
+        hosts[name] = work / exe
+        subprocess.run([*zig_cc(), "-target", target, "-O2", "-ffp-contract=off", str(C_DIR / "example_host.c"),
+                        "-I", str(FH), "-o", str(hosts[name])], check=True, capture_output=True)
+    fmu, unzip = every_platform[kind]
+    md = fmpy.read_model_description(str(fmu))
+    start = {v.name: float(v.start) for v in md.modelVariables if v.name in ("y", "z", "omega", "CR")}
+    state = [start["y"] + 1e-3 * start["CR"], start["z"] - 2e-3 * start["CR"], 1e-4, -2e-4, start["omega"]]
+    outputs = {}
+    prefix = Path.home() / ".cache" / "bearing_fmu_wine"  # kept between runs: wine's first start takes seconds
+    for name in ("linux64", "win64"):
+        cmd = [str(hosts[name]), str(binary(unzip, name)), md.guid, *map(repr, state)]
+        env = {}
+        if name == "win64":
+            cmd = [_wine(), *cmd]
+            env = {"WINEPREFIX": str(prefix), "WINEDEBUG": "-all", "HOME": str(Path.home()),
+                   "PATH": "/usr/bin:/bin"}
+        done = subprocess.run(cmd, capture_output=True, text=True, env=env, timeout=300)
+        lines = dict(line.split(" ", 1) for line in done.stdout.splitlines() if " " in line)
+        assert done.returncode == 0 and lines.get("status") == "0", (name, done.stdout[-2000:], done.stderr[-2000:])
+        outputs[name] = np.array(lines["outputs"].split(), float)
+    lin, win = outputs["linux64"], outputs["win64"]
+    assert np.all(np.abs(win - lin) <= 1e-13 * np.maximum(np.abs(lin), np.max(np.abs(lin[:2])) * 1e-3)), (lin, win)
