@@ -148,7 +148,8 @@ def _build(args: argparse.Namespace) -> int:
 
     if args.native:
         return _build_native(args)
-    for flag, value in (("--internal", args.internal), ("--cmake", args.cmake or None)):
+    for flag, value in (("--internal", args.internal), ("--cmake", args.cmake or None),
+                        ("--platforms", args.platforms), ("--compiler", args.compiler), ("--speed-hz", args.speed_hz)):
         if value is not None:
             raise ValueError(f"{flag} is an option of the native FMU: add --native (the Python FMU chooses its "
                              "internal by its parameter 'internal')")
@@ -200,10 +201,15 @@ def _build_native(args: argparse.Namespace) -> int:
     ensure_output_file(args.output, "-o/--output")
     bearing = BearingParams.from_toml(args.bearing) if args.bearing else None
     path = build_native_fmu(args.output, internal, surrogate=surrogates[0] if surrogates else None,
-                            map=maps[0] if maps else None, bearing=bearing, cmake=args.cmake,
-                            bearing_source=args.bearing or "", fmi_version=args.fmi)
-    print(f"wrote {path} (native FMU, FMI {args.fmi}.0, {internal} internal, Model Exchange and Co-Simulation, "
-          "no Python)")
+                            map=maps[0] if maps else None, bearing=bearing, bearing_source=args.bearing or "",
+                            compiler=args.compiler or ("cmake" if args.cmake else None),
+                            platforms=args.platforms.split(",") if args.platforms else None,
+                            speed_hz=args.speed_hz, fmi_version=args.fmi)
+    import zipfile
+
+    folders = sorted({n.split("/")[1] for n in zipfile.ZipFile(path).namelist() if n.startswith("binaries/")})
+    print(f"wrote {path} (native FMU, FMI {args.fmi}.0, {internal} internal, Model Exchange and Co-Simulation, no Python; "
+          f"binaries: {', '.join(folders)})")
     return 0
 
 
@@ -265,7 +271,7 @@ def _resolution(text: str) -> tuple[int, int]:
 
 
 def main(argv: list[str] | None = None) -> int:
-    from .io.cliargs import existing_file, finite_float, output_file, positive_float
+    from .io.cliargs import existing_file, finite_float, output_file, platform_list, positive_float
 
     parser = argparse.ArgumentParser(prog="bearing-fmu", description=__doc__, epilog=EXIT_CODES,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -307,11 +313,19 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--internal", choices=_native_choices(), default=None,
                    help="--native: the internal (default: taylor with --surrogate, map with --map)")
     p.add_argument("--fmi", type=int, choices=(2, 3), default=2,
-                   help="--native: the FMI version of the FMU, 2 (2.0, default) or 3 (3.0: binaries/x86_64-linux, "
-                        "sources/buildDescription.xml)")
-    p.add_argument("--cmake", action="store_true",
-                   help="--native: compile through fmpy's CMake project (as `fmpy compile` does) instead of calling the "
-                        "C compiler directly")
+                   help="--native: the FMI version of the FMU, 2 (2.0, default) or 3 (3.0: binaries per platform "
+                        "tuple, sources/buildDescription.xml)")
+    p.add_argument("--platforms", type=platform_list, default=None, metavar="all|linux64,win64,darwin64",
+                   help="--native: the binaries to compile (default all: linux64 against glibc 2.17, win64, darwin64 "
+                        "universal x86_64 + arm64, with zig from the ziglang package, on any machine)")
+    p.add_argument("--compiler", choices=("zig", "cc", "cmake"), default=None,
+                   help="--native: zig (default, every platform), cc (the system C compiler: $CC, cc, gcc or clang) or "
+                        "cmake (fmpy's CMake project, as `fmpy compile` does); cc and cmake build this machine's "
+                        "platform only")
+    p.add_argument("--cmake", action="store_true", help="--native: the same as --compiler cmake")
+    p.add_argument("--speed-hz", type=positive_float("Hz"), default=None, metavar="HZ",
+                   help="--native map or linear: the start value of the input omega [Hz] (default: the linear model's "
+                        "speed; map: 22 Hz); taylor: the surrogate's speed, always")
     p.set_defaults(func=_build)
 
     from .internals.forcemap import DEFAULT_EPS_MAX, DEFAULT_N_BETA, DEFAULT_N_EPS, DEFAULT_N_PHASE

@@ -43,7 +43,8 @@ def native(tmp_path_factory):
     """A native Taylor FMU (the shipped 22 Hz surrogate): (fmu, extracted folder)."""
     from bearing_fmu.fmu.native.build import build_native_fmu
 
-    fmu = build_native_fmu(tmp_path_factory.mktemp("order") / "taylor.fmu", "taylor", surrogate=SURROGATE)
+    fmu = build_native_fmu(tmp_path_factory.mktemp("order") / "taylor.fmu", "taylor", surrogate=SURROGATE,
+                           platforms=["linux64"])
     return fmu, fmpy.extract(str(fmu))
 
 

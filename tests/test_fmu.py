@@ -581,3 +581,12 @@ def test_build_with_a_users_bearing_makes_it_the_default(tmp_path, code_cache):
                             start_values={"y": 1e-5, "z": -2e-5, "omega": 314.0})
     want = Reynolds(params).force(1e-5, -2e-5, 0.0, 0.0, 314.0)
     np.testing.assert_allclose([res["Fy"][-1], res["Fz"][-1]], want, rtol=1e-12)
+
+
+def test_guid_hashes_the_description_not_the_build_machine(fmu):
+    """pythonfmu writes uuid1 (the build machine's MAC address and the time); the build replaces
+    it with a hash of the model description (code package, data files, variables)."""
+    import uuid
+
+    guid = fmpy.read_model_description(str(fmu)).guid
+    assert guid.startswith("{") and guid[1:-1].split("-")[-1] != f"{uuid.getnode():012x}"

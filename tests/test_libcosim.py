@@ -81,7 +81,8 @@ def native_map(tmp_path_factory, native_build_cache):
     from bearing_fmu.fmu.native.build import build_native_fmu
 
     return native_build_cache(tmp_path_factory.mktemp("libcosim_native") / "native_map.fmu",
-                              lambda target: build_native_fmu(target, "map", map=MAP), [MAP], ("map",))
+                              lambda target: build_native_fmu(target, "map", map=MAP, platforms=["linux64"]), [MAP],
+                              ("map", "linux64"))
 
 
 @pytest.fixture(scope="module")

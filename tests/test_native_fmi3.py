@@ -68,9 +68,10 @@ def fmus(tmp_path_factory):
         for version in (2, 3):
             path = folder / f"{internal}_fmi{version}.fmu"
             if internal == "map" and version == 3:  # the command line's --fmi 3
-                assert main(["build", "--native", "--fmi", "3", "--map", str(PAPER_MAP), "-o", str(path)]) == 0
-            else:
-                build_native_fmu(path, internal, fmi_version=version, **kw)
+                assert main(["build", "--native", "--fmi", "3", "--map", str(PAPER_MAP), "--compiler", "cc",
+                             "-o", str(path)]) == 0
+            else:  # this machine's binary (the cross-compiled ones: test_native_platforms.py)
+                build_native_fmu(path, internal, fmi_version=version, compiler="cc", **kw)
             paths[f"fmu{version}"] = (path, fmpy.extract(str(path)))
         out[internal] = {**paths, "py": py, "params": params}
     return out

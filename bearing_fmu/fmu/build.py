@@ -293,6 +293,15 @@ def _postprocess(xml_bytes: bytes, pkg: str, bearing: dict | None = None, record
     for i in outputs:
         ET.SubElement(init_node, "Unknown", index=str(i), dependencies=" ".join(map(str, init_deps)),
                       dependenciesKind=" ".join(["dependent"] * len(init_deps)))
+    # the GUID: a hash of this description (the code package's name hashes every bundled source,
+    # the description names each data file's SHA-256), not pythonfmu's uuid1 of the build machine's
+    # MAC address and time; pythonfmu's binary does not compare it
+    root.set("guid", "")
+    date = root.attrib.pop("generationDateAndTime", None)  # the same content: the same GUID
+    g = hashlib.sha256(ET.tostring(root, encoding="UTF-8")).hexdigest()
+    root.set("guid", "{" + f"{g[:8]}-{g[8:12]}-{g[12:16]}-{g[16:20]}-{g[20:32]}" + "}")
+    if date is not None:
+        root.set("generationDateAndTime", date)
     return parseString(ET.tostring(root, encoding="UTF-8")).toprettyxml(indent="  ", encoding="UTF-8")
 
 

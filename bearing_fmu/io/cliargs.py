@@ -193,6 +193,15 @@ def node_load(text: str) -> tuple[int, float, float]:
 
 # ----------------------------------------------------------------------------- paths
 
+def platform_list(text: str) -> str:
+    """``all`` or a comma-separated list of the native FMU's platforms (linux64, win64, darwin64)."""
+    names = {"linux64", "win64", "darwin64"}  # bearing_fmu.fmu.native.compile.PLATFORMS
+    parts = [t.strip() for t in text.split(",") if t.strip()]
+    if parts == ["all"] or (parts and set(parts) <= names):
+        return ",".join(parts)
+    raise _refuse("all or a comma-separated list of " + ", ".join(sorted(names)), text)
+
+
 def existing_file(text: str) -> str:
     """A file that is there (not a folder)."""
     p = Path(text)

@@ -113,15 +113,16 @@ def _direct_internal(scene: Scene, params, load, warn=None):
                            where=str(scene.source))
 
 
-def scene_fmu(scene: Scene, work_dir: Path) -> Path:
+def scene_fmu(scene: Scene, work_dir: Path, bearing=None) -> Path:
     """The bearing FMU for the scene: its ``fmu`` key, or one built into work_dir (with the
-    files of the scene's internal bundled, e.g. the surrogate of a Taylor scene)."""
+    files of the scene's internal bundled, e.g. the surrogate of a Taylor scene). A native FMU
+    is built for ``bearing`` (the rotor's first; the host sets each bearing's D, L, CR, mu)."""
     if scene.fmu is not None:
         if not scene.fmu.is_file():
             raise SceneError(f"{scene.source}: fmu = {scene.fmu}: file not found")
         return scene.fmu
     if scene.fmu_kind == "native":
-        return _native_fmu(scene, work_dir)
+        return _native_fmu(scene, work_dir, bearing)
     from bearing_fmu.fmu.build import build_fmu, package_name
 
     work_dir.mkdir(parents=True, exist_ok=True)
@@ -139,12 +140,15 @@ def scene_fmu(scene: Scene, work_dir: Path) -> Path:
     return Path(build_fmu(path, surrogate=files or None))
 
 
-def _native_fmu(scene: Scene, work_dir: Path) -> Path:
-    """The scene's native FMU, built into work_dir under a name that hashes the C sources, the
-    generator and the internal's data file, so runs of the same scene share one build. The
-    linear FMU holds no data: the host sets each bearing's coefficients."""
+def _native_fmu(scene: Scene, work_dir: Path, bearing=None) -> Path:
+    """The scene's native FMU for ``bearing`` (a map serves its own L/D: the scene's bearing, not
+    the paper's), its omega starting at the scene's speed, built into work_dir under a name that
+    hashes the C sources, the generator, the internal's data file, the bearing and the speed, so
+    runs of the same scene share one build. The linear FMU holds no data: the host sets each
+    bearing's coefficients."""
     from bearing_fmu.fmu.native.host import host_build_options
     from bearing_fmu.fmu.native.build import C_DIR, build_native_fmu
+    from bearing_fmu.fmu.native.compile import host_platform
 
     spec = registry.get(scene.internal)
     if not spec.can.native:
@@ -154,7 +158,10 @@ def _native_fmu(scene: Scene, work_dir: Path) -> Path:
     work_dir.mkdir(parents=True, exist_ok=True)
     files = {o.name: required_file(scene, spec.name, o.name) for o in spec.file_options()}
     path = next(iter(files.values()), None)  # a native FMU compiles at most one data file in
-    h = hashlib.sha256(scene.internal.encode())
+    taylor = spec.name == "taylor"  # its bearing and speed are the surrogate's
+    speed_hz = None if taylor or not scene.omega else scene.omega / (2.0 * math.pi)
+    bearing = None if taylor else bearing
+    h = hashlib.sha256(f"{scene.internal} {bearing!r} {speed_hz!r}".encode())
     fmu_pkg = C_DIR.parent.parent  # bearing_fmu/fmu: the model description and docs generators too
     for f in (sorted(C_DIR.glob("*")) + sorted(C_DIR.parent.glob("*.py")) + [fmu_pkg / "meta.py", fmu_pkg / "docs.py"]
               + ([path] if path else [])):
@@ -162,7 +169,9 @@ def _native_fmu(scene: Scene, work_dir: Path) -> Path:
     out = work_dir / f"bearing_native_{scene.internal}{'_' + path.stem if path else ''}_{h.hexdigest()[:12]}.fmu"
     if out.is_file():
         return out
-    return Path(build_native_fmu(out, scene.internal, options=host_build_options(scene.internal), **files))
+    # this machine's binary only: the run loads it here (bearing-fmu build --native makes every platform's)
+    return Path(build_native_fmu(out, scene.internal, options=host_build_options(scene.internal),
+                                 platforms=[host_platform()], bearing=bearing, speed_hz=speed_hz, **files))
 
 
 def build_bearings(scene: Scene, rotor: Rotor, loads: np.ndarray, work_dir: Path, warn=None):
@@ -184,7 +193,7 @@ def build_bearings(scene: Scene, rotor: Rotor, loads: np.ndarray, work_dir: Path
                                 "its parameters are D, L, CR and mu; the geometry parameters are a later step")
         except ValueError as exc:
             raise SceneError(str(exc)) from None
-    fmu = scene_fmu(scene, work_dir)
+    fmu = scene_fmu(scene, work_dir, rotor.bearings[0])
     params = [_fmu_parameters(scene, p, w) for p, w in zip(rotor.bearings, loads)]
     return FMUBearings(fmu, pairs, scene.omega, params, names, tangent=scene.newton_tangent)
 

@@ -1,9 +1,19 @@
 """Native bearing FMUs: the linear, map and Taylor internals as compiled C, no Python at run time.
 
 ``build_native_fmu`` (``build``) writes an FMI 2.0 FMU with Model Exchange and Co-Simulation,
-its C sources in ``sources/`` and a binary compiled for this platform (``fmi_version=3``: FMI 3.0,
-``fmi3``); ``codegen`` generates the internal's data as C; the hand-written C is in ``c/`` (FMI
-layers, one file per internal).
+its C sources in ``sources/`` and binaries for linux64, win64 and darwin64:
+
+| module | what |
+|---|---|
+| build | stage the sources, the model description, the documentation; zip |
+| codegen | the internal's data and options as C headers; the model identifier and GUID (content hashes) |
+| compile | the compilers (zig for every platform, cc, fmpy's CMake) and the platforms; each binary checked |
+| objfile | ELF, PE and Mach-O exports and imports; the universal Mach-O writer |
+| fmi3 | the FMI 3.0 FMU of the same internals: its model and build descriptions (``fmi_version=3``) |
+| host | what a host sets on a native FMU (per bearing) |
+
+The hand-written C is in ``c/`` (the FMI 2 and FMI 3 layers, calling sequences, one file per
+internal, a C host).
 """
 
 from .codegen import INTERNALS, NATIVE_OPTIONS

@@ -10,25 +10,23 @@ sources in ``sources/``, the binary for this platform compiled from them, no Pyt
    a system-simulation engineer reads in it: ``bearing_fmu.fmu.meta``), ``documentation/``
    (``bearing_fmu.fmu.docs``) and ``resources/build_info.json`` (the bearing, the data file and
    its SHA-256);
-3. compile ``binaries/<platform>/<modelIdentifier>.<so|dylib|dll>``: by default with the C
-   compiler directly (``$CC``, else ``cc``, ``gcc`` or ``clang``: one command, about a second),
-   or with ``cmake=True`` through fmpy's source-FMU build (``fmpy.build.build_platform_binary``:
-   fmpy's CMake project and FMI headers; the ``cmake`` executable of the pip package fmpy
-   depends on, else the one on PATH), which is also how a user rebuilds the FMU for another
-   platform from its sources (``fmpy compile X.fmu``);
+3. compile ``binaries/<platform>/<modelIdentifier>.<so|dll|dylib>`` (``compile``): by default
+   for linux64, win64 and darwin64 with zig (the ``ziglang`` pip package), from any machine; or
+   for this machine's platform with the system C compiler (``compiler="cc"``) or fmpy's CMake
+   project (``compiler="cmake"``, which is also how a user rebuilds the binary from the sources:
+   ``fmpy compile X.fmu``); every binary read back: only the FMI functions exported, only the C
+   runtime needed;
 4. zip, written atomically.
 
 Flags: ``-O2 -ffp-contract=off``: no fused multiply-add, so the sums round as the Python
-kernels' do (the tests compare them to 1e-12). The binary links only the C library and libm.
+kernels' do, and alike on every platform.
 """
 
 from __future__ import annotations
 
 import datetime as _dt
-import os
+import math
 import shutil
-import subprocess
-import sys
 import tempfile
 import zipfile
 from pathlib import Path
@@ -37,18 +35,17 @@ from xml.etree import ElementTree as ET
 
 from ... import __version__
 from ...physics.params import PAPER_BEARING, BearingParams
-from .codegen import NativeModel, native_model
+from .codegen import NativeModel, assign_identity, native_model
+from .compile import (C_FLAGS, NativeBuildError, compile_binaries, find_compiler, fmi_headers,  # noqa: F401
+                      parse_platforms)
 
 C_DIR = Path(__file__).resolve().parent / "c"
 COMMON_SOURCES = ("bearing_native.h", "fmi2_bearing.c", "fmi2_order.c")
-C_FLAGS = ("-O2", "-ffp-contract=off", "-fvisibility=hidden", "-fPIC", "-std=c99")
-
-class NativeBuildError(RuntimeError):
-    """The binary could not be compiled (no compiler, a compiler error): one line saying what to install."""
 
 
 def build_native_fmu(output, internal: str, *, surrogate=None, map=None, bearing: BearingParams | None = None,
-                     options: dict | None = None, cmake: bool = False, bearing_source="", fmi_version: int = 2) -> Path:
+                     options: dict | None = None, cmake: bool = False, bearing_source="", platforms=None,
+                     compiler: str | None = None, speed_hz: float | None = None, fmi_version: int = 2) -> Path:
     """Write the native FMU of ``internal`` (taylor | map | linear) to ``output`` (.fmu).
 
     surrogate : taylor: the surrogate JSON file compiled in (the bearing defaults to its own)
@@ -57,8 +54,13 @@ def build_native_fmu(output, internal: str, *, surrogate=None, map=None, bearing
     bearing_source : where ``bearing`` came from (its file: recorded with its SHA-256)
     options   : registry options: taylor's domain_action / domain_limit start values, linear's
                 linear_from, load_y, load_z, omega_lin, lin_* (the coefficients' start values)
-    cmake     : compile through fmpy's CMake project instead of the C compiler directly
-    fmi_version : 2, or 3 for an FMI 3.0 FMU of the same internal (``fmi3``)
+    speed_hz  : map, linear: the start value of the input omega [Hz] (linear: its omega_lin); default
+                the linear model's speed, map 22 Hz; taylor: always the surrogate's speed
+    platforms : binaries/ folders to compile (compile.PLATFORMS; default: all with zig, else the host's)
+    compiler  : zig (default: every platform), cc (the system C compiler) or cmake (fmpy's CMake
+                project), the last two for this machine's platform only; ``cmake=True`` means cmake
+    fmi_version : 2, or 3 for an FMI 3.0 FMU of the same internal (``fmi3``; binaries per platform
+                tuple)
     """
     output = Path(output)
     if fmi_version not in (2, 3):
@@ -71,20 +73,25 @@ def build_native_fmu(output, internal: str, *, surrogate=None, map=None, bearing
     if bearing is not None:
         bearing.require_full_bore(f"the native bearing FMU ({bearing_source or 'build_native_fmu'})",
                                   "its parameters are D, L, CR and mu; the geometry parameters are a later step")
+    compiler = compiler or ("cmake" if cmake else "zig")
+    platforms = parse_platforms(",".join(platforms) if platforms else None, compiler)  # refused before any work
     params = bearing if bearing is not None else (None if str(internal).lower() == "taylor" else PAPER_BEARING)
-    model = native_model(internal, params, surrogate=surrogate, map=map, options=options)
+    model = native_model(internal, params, surrogate=surrogate, map=map, options=options,
+                         omega=None if speed_hz is None else 2.0 * math.pi * float(speed_hz))
     from ...io.outputs import write_bytes
 
     record = build_record(model, bearing_source if bearing is not None else "")
     with tempfile.TemporaryDirectory(prefix="bearing_native_") as tmp:
         root = Path(tmp) / "fmu"
         if fmi_version == 3:
-            from .fmi3 import stage3
+            from .fmi3 import DEFINES3, source_files3, stage3
 
             stage3(model, root, record)
+            compile_binaries(root, model.model_identifier, source_files3(model), platforms, compiler, fmi_version=3,
+                             defines=tuple(f"-D{k}={v}" for k, v in DEFINES3.items()))
         else:
             stage(model, root, record)
-        compile_binary(root, model, cmake=cmake, fmi_version=fmi_version)
+            compile_binaries(root, model.model_identifier, source_files(model), platforms, compiler)
         archive = Path(tmp) / "out.fmu"
         _zip(root, archive)
         output.parent.mkdir(parents=True, exist_ok=True)
@@ -120,7 +127,10 @@ def stage(model: NativeModel, root: Path, record: dict | None = None) -> None:
     record = record if record is not None else build_record(model)
     src = root / "sources"
     src.mkdir(parents=True)
-    for name in (*COMMON_SOURCES, f"internal_{model.internal}.c"):
+    names = (*COMMON_SOURCES, f"internal_{model.internal}.c")
+    assign_identity(model, {n: (C_DIR / n).read_text(encoding="ascii") for n in names},
+                    lambda: model_description(model, record))
+    for name in names:
         shutil.copyfile(C_DIR / name, src / name)
     (src / "model_config.h").write_text(model.config_h, encoding="ascii")
     (src / "model_data.h").write_text(model.data_h, encoding="ascii")
@@ -156,7 +166,7 @@ def model_description(model: NativeModel, record: dict) -> bytes:
     common = {"modelIdentifier": model.model_identifier, "canGetAndSetFMUstate": "true",
               "canSerializeFMUstate": "true", "providesDirectionalDerivative": "true",
               "canNotUseMemoryManagementFunctions": "false"}
-    me = ET.SubElement(root, "ModelExchange", {**common, "completedIntegratorStepNotNeeded": "true"})
+    me = ET.SubElement(root, "ModelExchange", {**common, "completedIntegratorStepNotNeeded": "false"})
     cs = ET.SubElement(root, "CoSimulation", {**common, "canHandleVariableCommunicationStepSize": "true"})
     for node in (me, cs):
         files = ET.SubElement(node, "SourceFiles")
@@ -203,108 +213,6 @@ def model_description(model: NativeModel, record: dict) -> bytes:
         ET.SubElement(node, "Unknown", index=str(i), dependencies=" ".join(map(str, deps)),
                       dependenciesKind=" ".join(["dependent"] * len(deps)))
     return parseString(ET.tostring(root, encoding="UTF-8")).toprettyxml(indent="  ", encoding="UTF-8")
-
-
-# ----------------------------------------------------------------------------- compiling
-
-def platform_folder(fmi_version: int = 2) -> tuple[str, str]:
-    """(binaries/ folder name, shared library extension) of this platform, as fmpy names them
-    (FMI 3.0: the platform tuple, x86_64-linux)."""
-    import fmpy
-
-    return fmpy.platform if fmi_version == 2 else fmpy.platform_tuple, fmpy.sharedLibraryExtension
-
-
-def fmi_headers() -> Path:
-    """The FMI 2.0 headers fmpy ships (fmpy/c-code)."""
-    import fmpy
-
-    path = Path(fmpy.__file__).resolve().parent / "c-code"
-    if not (path / "fmi2Functions.h").is_file():
-        raise NativeBuildError(f"fmpy's FMI headers are not at {path} (fmpy/c-code/fmi2Functions.h): reinstall fmpy")
-    return path
-
-
-def find_compiler() -> str:
-    """The C compiler: $CC, else cc, gcc or clang on PATH; NativeBuildError saying what to install."""
-    cc = os.environ.get("CC")
-    if cc:
-        return cc
-    for name in ("cc", "gcc", "clang"):
-        path = shutil.which(name)
-        if path:
-            return path
-    raise NativeBuildError("no C compiler found (set CC, or install one: Debian/Ubuntu `apt-get install gcc`, "
-                           "macOS `xcode-select --install`; on Windows build with --cmake and Visual Studio): a "
-                           "native FMU is compiled at build time only")
-
-
-def compile_binary(root: Path, model: NativeModel, cmake: bool = False, fmi_version: int = 2) -> Path:
-    """Compile ``root``/sources into ``root``/binaries/<platform>/; returns the binary's path."""
-    folder, ext = platform_folder(fmi_version)
-    target = root / "binaries" / folder / f"{model.model_identifier}{ext}"
-    target.parent.mkdir(parents=True, exist_ok=True)
-    if cmake:  # fmpy reads the sources and defines from the model (FMI 2) or build (FMI 3) description
-        _compile_cmake(root)
-    else:
-        _compile_cc(root, model, target, fmi_version)
-    if not target.is_file():
-        raise NativeBuildError(f"the build wrote no {target.relative_to(root)}")
-    return target
-
-
-def _compile_cc(root: Path, model: NativeModel, target: Path, fmi_version: int = 2) -> None:
-    if sys.platform == "win32":
-        raise NativeBuildError("building with the C compiler directly is for Linux and macOS; on Windows use "
-                               "--cmake (fmpy's CMake project with Visual Studio)")
-    src = root / "sources"
-    files, defines = source_files(model), []
-    if fmi_version == 3:
-        from .fmi3 import DEFINES3, source_files3
-
-        files, defines = source_files3(model), [f"-D{k}={v}" for k, v in DEFINES3.items()]
-    cmd = [find_compiler(), *C_FLAGS, *defines, "-shared", "-I", str(src), "-I", str(fmi_headers()),
-           *(str(src / f) for f in files), "-o", str(target), "-lm"]
-    try:
-        done = subprocess.run(cmd, capture_output=True, text=True, timeout=600)
-    except OSError as exc:
-        raise NativeBuildError(f"cannot run the C compiler {cmd[0]!r}: {exc}") from None
-    if done.returncode != 0:
-        tail = (done.stderr or done.stdout).strip().splitlines()[-12:]
-        raise NativeBuildError(f"the C compiler failed (exit {done.returncode}): {' '.join(cmd)}\n" + "\n".join(tail))
-
-
-def cmake_executable_dir() -> str | None:
-    """The folder of the cmake executable of the ``cmake`` pip package (a dependency of fmpy), if installed."""
-    try:
-        import cmake  # noqa: PLC0415
-
-        return str(cmake.CMAKE_BIN_DIR)
-    except (ImportError, AttributeError):
-        return None
-
-
-def _compile_cmake(root: Path) -> None:
-    from fmpy.build import build_platform_binary
-
-    path = os.environ.get("PATH", "")
-    bin_dir = cmake_executable_dir()
-    env_path = (bin_dir + os.pathsep + path) if bin_dir else path
-    if not shutil.which("cmake", path=env_path):
-        raise NativeBuildError("cmake not found: `pip install cmake` (fmpy depends on it) or install it with the "
-                               "system's packages; or build without --cmake (the C compiler directly)")
-    old = os.environ.get("PATH")
-    os.environ["PATH"] = env_path
-    try:
-        with tempfile.TemporaryDirectory(prefix="bearing_native_cmake_") as build_dir:
-            build_platform_binary(root, build_dir, cmake_options={"CMAKE_C_FLAGS:STRING": "-ffp-contract=off"})
-    except subprocess.CalledProcessError as exc:
-        raise NativeBuildError(f"fmpy's CMake build failed ({exc}); see its output above") from None
-    finally:
-        if old is None:
-            os.environ.pop("PATH", None)
-        else:
-            os.environ["PATH"] = old
 
 
 def _zip(root: Path, archive: Path) -> None:

@@ -14,13 +14,14 @@ its options (registry ``Option``s the native FMU keeps) and two generated header
   products), the stored training states. Map: the spline's knots and coefficients. Linear:
   nothing (its coefficients are parameters).
 
-Every double is written as a C99 hexadecimal literal (``float.hex``): exact.
+Every double is written as the shortest decimal literal that parses back to it (``repr``): exact.
 """
 
 from __future__ import annotations
 
 import hashlib
 import math
+import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -31,6 +32,7 @@ from ..order import c_defines
 from ..variables import ENUMERATIONS, VARIABLES  # the one table of the FMU interface
 from ...physics.params import BearingParams
 
+ID_TOKEN, GUID_TOKEN = "BN_MODEL_IDENTIFIER", "{BN-GUID}"  # in model_config.h until assign_identity
 INTERNALS = ("linear", "map", "taylor")  # what a native FMU can compute (no solver at run time)
 REAL_BASE, BOOL_BASE, STRING_BASE, ENUM_BASE = 0, 1000, 2000, 3000  # value references by type (bearing_native.h)
 CORE_REALS = ("y", "z", "vy", "vz", "omega", "Fy", "Fz", "eccentricity", "h_min", "Kyy", "Kyz", "Kzy", "Kzz",
@@ -38,6 +40,9 @@ CORE_REALS = ("y", "z", "vy", "vz", "omega", "Fy", "Fz", "eccentricity", "h_min"
 FALLBACK_WHY = ("the fallback evaluates the Reynolds solver, which a native FMU does not have; use warn or discard, "
                 "or the Python FMU (bearing-fmu build) for fallback")
 # the native FMU's options per internal (registry names); the rest stay in the Python FMU
+# does the internal's force depend on (the bearing D, L, CR, mu as set; the speed omega)? The
+# Taylor surrogate holds its own bearing and speed (others refused), so does the linear model
+FORCE_DEPENDS = {"map": (1, 1), "taylor": (0, 0), "linear": (0, 0)}
 NATIVE_OPTIONS = {
     "taylor": ("surrogate", "domain_action", "domain_limit"),
     "map": ("map",),
@@ -47,11 +52,13 @@ NATIVE_OPTIONS = {
 
 
 def c_double(x: float) -> str:
-    """An exact C99 literal of the double x."""
+    """A decimal C literal that parses to exactly the double x: Python's repr, the shortest decimal
+    that rounds back to x (at most 17 significant digits). Decimal, not hexadecimal: older MSVC
+    compilers refuse C99's hex floats."""
     x = float(x)
     if not math.isfinite(x):
         raise ValueError(f"codegen: non-finite value {x!r} in the model data")
-    return x.hex()
+    return repr(x)
 
 
 def c_string(s: str) -> str:
@@ -108,31 +115,39 @@ class NativeModel:
     source: Path | None  # the data file compiled in (surrogate, map), if any
     description: str
     info: dict = field(default_factory=dict)  # what the documentation records (order, table size, ...)
+    identifier: str = ""  # assign_identity: bearing_<internal>_<content hash>
 
     @property
     def model_identifier(self) -> str:
-        return f"bearing_native_{self.internal}"
-
-    def digest(self, *more: str) -> str:
-        h = hashlib.sha256()
-        for text in (self.config_h, self.data_h, *more):
-            h.update(text.encode() + b"\0")
-        return h.hexdigest()
+        if not self.identifier:
+            raise RuntimeError("codegen.assign_identity has not run: the model identifier hashes the sources")
+        return self.identifier
 
 
-def native_model(internal: str, params: BearingParams, *, surrogate=None, map=None, options=None) -> NativeModel:
+def native_model(internal: str, params: BearingParams, *, surrogate=None, map=None, options=None,
+                 omega: float | None = None) -> NativeModel:
     """The native model of ``internal`` for bearing ``params``.
 
     taylor : ``surrogate`` (path) compiled in; params default to the surrogate's
     map    : ``map`` (path) compiled in; its L/D must be the bearing's
     linear : the coefficients' start values from the Python ``Linear`` internal built with
              ``options`` (registry options of "linear", e.g. linear_from, load_z, or a map)
+    omega  : the start value of the input omega [rad/s] (map, linear: its omega_lin); the Taylor
+             surrogate's speed is its own
     ValueError naming what is wrong otherwise."""
     internal = str(internal).strip().lower()
     if internal not in INTERNALS:
         raise ValueError(f"a native FMU computes one of {', '.join(INTERNALS)}; got internal {internal!r} "
                          "(reynolds needs its solver at run time: the Python FMU, `bearing-fmu build`)")
-    return {"taylor": _taylor, "map": _map, "linear": _linear}[internal](params, surrogate, map, dict(options or {}))
+    options = dict(options or {})
+    if omega is not None:
+        if internal == "taylor":
+            raise ValueError("a native taylor FMU's omega starts at the surrogate's speed (it refuses any other): "
+                             "give no speed")
+        if not (math.isfinite(omega) and omega > 0):
+            raise ValueError(f"the start speed omega = {omega!r} rad/s must be finite and > 0")
+        options["omega_lin" if internal == "linear" else "_omega"] = float(omega)
+    return {"taylor": _taylor, "map": _map, "linear": _linear}[internal](params, surrogate, map, options)
 
 
 def _variables(internal: str, params: BearingParams, starts: dict, inputs: tuple) -> list[Variable]:
@@ -197,18 +212,41 @@ def registry_option(name: str) -> registry.Option:
     return next(o for o in registry.all_options() if o.name == name)
 
 
-def _config(internal: str, params: BearingParams, starts: dict, inputs, guid_seed: str) -> tuple[str, str]:
-    """model_config.h and the GUID."""
+def assign_identity(model: "NativeModel", sources: dict[str, str], describe) -> None:
+    """The model identifier and the GUID of ``model``, from what it is made of, written into its
+    model_config.h (which holds them as tokens until then):
+
+    * identifier ``bearing_<internal>_<6 hex digits>``: a hash of the C sources (``sources``: file
+      name -> text) and the generated headers, so two builds of different data never share the
+      binary's name (two bearings in one simulator; FMI2_FUNCTION_PREFIX);
+    * GUID: a hash of the same and of the model description (``describe()``: its XML bytes with
+      the GUID still the token; its generation time left out), so anything that changes the FMU,
+      a start value as much as a coefficient, changes the GUID; the same inputs give the same."""
+    h = hashlib.sha256()
+    for name in sorted(sources):
+        h.update(name.encode() + b"\0" + sources[name].encode() + b"\0")
+    h.update(model.config_h.encode() + b"\0" + model.data_h.encode() + b"\0")
+    model.identifier = f"bearing_{model.internal}_{h.hexdigest()[:6]}"
+    model.info["guid"] = GUID_TOKEN
+    h.update(re.sub(rb'generationDateAndTime="[^"]*"', b"", describe()))
+    g = h.hexdigest()
+    model.info["guid"] = "{" + f"{g[:8]}-{g[8:12]}-{g[12:16]}-{g[16:20]}-{g[20:32]}" + "}"
+    model.config_h = model.config_h.replace(ID_TOKEN, model.identifier).replace(GUID_TOKEN, model.info["guid"])
+
+
+def _config(internal: str, params: BearingParams, starts: dict, inputs) -> str:
+    """model_config.h, the model identifier and GUID as tokens (``assign_identity``)."""
     opts = [registry_option(n) for n in NATIVE_OPTIONS[internal]]
     reals = [o for o in opts if o.type is float]
     strings = [o for o in opts if o.type is str]
-    guid_hash = hashlib.sha256(guid_seed.encode()).hexdigest()
-    guid = "{" + f"{guid_hash[:8]}-{guid_hash[8:12]}-{guid_hash[12:16]}-{guid_hash[16:20]}-{guid_hash[20:32]}" + "}"
     lines = [
         "/* Generated by bearing_fmu.fmu.native.codegen. Do not edit. */",
         "#ifndef MODEL_CONFIG_H", "#define MODEL_CONFIG_H",
         f"#define BN_INTERNAL {c_string(internal)}",
-        f"#define BN_GUID {c_string(guid)}",
+        f"#define BN_ID {ID_TOKEN}",  # names every symbol shared between the files (bearing_native.h)
+        f"#define BN_GUID {c_string(GUID_TOKEN)}",
+        f"#define BN_BEARING_IN_FORCE {FORCE_DEPENDS[internal][0]}",
+        f"#define BN_SPEED_IN_FORCE {FORCE_DEPENDS[internal][1]}",
         f"#define BN_N_REAL_OPTIONS {len(reals)}",
         f"#define BN_N_STRING_OPTIONS {len(strings)}",
         f"#define BN_START_INPUTS {{{', '.join(c_double(v) for v in inputs)}}}",
@@ -247,7 +285,7 @@ def _config(internal: str, params: BearingParams, starts: dict, inputs, guid_see
     lines.append("#define BN_ENUM_TABLE \\\n" + ", \\\n".join(rows))
     lines += c_defines()  # the FMI 2.0 calling sequence: the one table both FMUs check
     lines.append("#endif\n")
-    return "\n".join(lines), guid
+    return "\n".join(lines)
 
 
 # ----------------------------------------------------------------------------- taylor
@@ -357,10 +395,10 @@ def _taylor(params: BearingParams, surrogate, map_path, options: dict) -> Native
                         + (["short-bearing shape columns"] if shape else []))
     wall_why = (f"; the surrogate's {what} {'are' if shape else 'is'} undefined there" if what else "")
     nb = sur.neighbours
-    d = sur.domain
-    size = 0.5 * math.dist(d.box_lo, d.box_hi) if nb is not None else 1.0
-    if nb is not None and not size > 0.0:
-        size = nb.radius
+    # the Python guard's radius max(r_cv, r_lin) and size (nearest.NearestTraining); the bounds
+    # in tay._dom are widened by as much already: the native FMU flags what the Python one flags
+    near = tay.neighbours
+    radius, size = (near.radius, near.size) if near is not None else (1.0, 1.0)
     parts = [
         "/* Generated by bearing_fmu.fmu.native.codegen from the surrogate file "
         f"{path.name} ({sur.recipe}). Do not edit. */",
@@ -368,7 +406,7 @@ def _taylor(params: BearingParams, surrogate, map_path, options: dict) -> Native
         f"#define TAY_SOURCE {c_string(path.name)}",
         f"#define TAY_SHAPE {int(shape)}",
         f"#define TAY_NN {0 if nb is None else len(nb.points)}",
-        f"#define TAY_NN_RADIUS {c_double(nb.radius if nb is not None else 1.0)}",
+        f"#define TAY_NN_RADIUS {c_double(radius)}",
         f"#define TAY_NN_SIZE {c_double(size)}",
         f"#define TAY_CR2 {c_double(tay._cr2)}",
         f"#define TAY_WALL_WHY {c_string(wall_why)}",
@@ -389,10 +427,10 @@ def _taylor(params: BearingParams, surrogate, map_path, options: dict) -> Native
         raise ValueError(f"domain_action = 'fallback': {FALLBACK_WHY}")
     inputs = (sur.y0, sur.z0, 0.0, 0.0, sur.omega)
     data_h = "\n".join(parts)
-    config_h, guid = _config("taylor", params, starts, inputs, data_h + repr(starts))
+    config_h = _config("taylor", params, starts, inputs)
     info = {"source": path.name, "recipe": sur.recipe, "order": sur.order, "terms": int(exps.shape[0]),
             "wall_power": sur.wall_power, "shape_order": sur.shape_order, "omega": sur.omega,
-            "training_states": 0 if nb is None else len(nb.points), "guid": guid,
+            "training_states": 0 if nb is None else len(nb.points),
             "provenance": sur.provenance}
     return NativeModel("taylor", params, _variables("taylor", params, starts, inputs), config_h, data_h, path,
                        f"hydrodynamic journal bearing, Taylor surrogate {path.name} ({sur.recipe}) at "
@@ -427,11 +465,12 @@ def _map(params: BearingParams, surrogate, map_path, options: dict) -> NativeMod
     ]
     data_h = "\n".join(parts)
     starts = {"map": path.name}
-    inputs = (0.0, 0.0, 0.0, 0.0, 0.0)
-    config_h, guid = _config("map", params, starts, inputs, data_h)
+    # a nonzero speed: an omega a master forgets to connect still gives the film's force
+    inputs = (0.0, 0.0, 0.0, 0.0, float(options.get("_omega", registry.DEFAULT_OMEGA_LIN)))
+    config_h = _config("map", params, starts, inputs)
     info = {"source": path.name, "table": f"{table.n_eps} x {table.n_beta}", "eps_max": table.eps_max,
             "L_over_D": table.L_over_D, "reynolds": f"{table.n_theta} x {table.n_x} {table.cavitation}",
-            "guid": guid, "provenance": table.provenance}
+            "provenance": table.provenance}
     return NativeModel("map", params, _variables("map", params, starts, inputs), config_h, data_h, path,
                        f"hydrodynamic journal bearing, force map {path.name} (L/D {table.L_over_D:.4g}, any speed, "
                        "load and velocity), compiled (no Python)", info)
@@ -456,8 +495,8 @@ def _linear(params: BearingParams, surrogate, map_path, options: dict) -> Native
     starts = {k: float(v) for k, v in linear_starts(params, options).items()}
     data_h = "/* Generated by bearing_fmu.fmu.native.codegen: the linear internal has no data. */\n"
     inputs = (0.0, 0.0, 0.0, 0.0, starts["omega_lin"])
-    config_h, guid = _config("linear", params, starts, inputs, repr(sorted(starts.items())) + repr(params))
-    info = {"from": options.get("linear_from", "load"), "omega_lin": starts["omega_lin"], "guid": guid}
+    config_h = _config("linear", params, starts, inputs)
+    info = {"from": options.get("linear_from", "load"), "omega_lin": starts["omega_lin"]}
     # the coefficients' source: a force map file when linearised on one (recorded with its hash)
     source = Path(options["map"]) if options.get("linear_from") == "map" and options.get("map") else None
     return NativeModel("linear", params, _variables("linear", params, starts, inputs), config_h, data_h, source,

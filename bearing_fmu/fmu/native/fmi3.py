@@ -33,7 +33,7 @@ from ... import __version__
 from ...internals import registry
 from .. import meta as fmu_meta
 from ..order import MODES
-from .codegen import NativeModel, native_enumerations
+from .codegen import NativeModel, assign_identity, native_enumerations
 
 C_DIR = Path(__file__).resolve().parent / "c"
 VR_TIME = 4000  # the independent variable (FMI 3.0 only; the others keep the FMI 2.0 FMU's references)
@@ -251,7 +251,8 @@ def instantiation_token(model: NativeModel, record: dict) -> str:
     h.update(model_description3(model, record, "", "2000-01-01T00:00:00Z"))
     for name in (*HEADERS3, *source_files3(model)):
         h.update(name.encode() + b"\0" + (C_DIR / name).read_bytes())
-    h.update(model.digest("\n".join(c_defines3())).encode())
+    for text in (model.config_h, model.data_h, "\n".join(c_defines3())):
+        h.update(text.encode() + b"\0")
     d = h.hexdigest()
     return "{" + f"{d[:8]}-{d[8:12]}-{d[12:16]}-{d[16:20]}-{d[20:32]}" + "}"
 
@@ -262,6 +263,9 @@ def stage3(model: NativeModel, root: Path, record: dict) -> None:
     from ..docs import write_documentation
 
     record = {**record, "fmi_version": "3.0"}
+    # the model identifier hashes the sources and data (as the FMI 2.0 build: codegen.assign_identity)
+    assign_identity(model, {n: (C_DIR / n).read_text(encoding="ascii") for n in (*HEADERS3, *source_files3(model))},
+                    lambda: model_description3(model, record, "", "2000-01-01T00:00:00Z"))
     token = instantiation_token(model, record)
     src = root / "sources"
     src.mkdir(parents=True)

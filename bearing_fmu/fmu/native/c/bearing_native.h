@@ -26,8 +26,24 @@ typedef fmi2Status bn_status;
 #endif
 #include "model_config.h"
 
+/* FMI2_FUNCTION_PREFIX (FMI 2.0, 2.1.1): the FMI functions named "<prefix>fmi2GetReal" ..., to link
+ * the sources of several FMUs into one program. fmpy's copy of fmi2Functions.h ignores it (its
+ * fmi2FullName adds no prefix), the standard's honours it: applied here for either. */
+#if defined(FMI2_FUNCTION_PREFIX)
+#undef fmi2FullName
+#define BN_FMI_PASTE(a, b) a##b
+#define BN_FMI_NAME(a, b) BN_FMI_PASTE(a, b)
+#define fmi2FullName(name) BN_FMI_NAME(FMI2_FUNCTION_PREFIX, name)
+#endif
+
 #ifndef M_PI
 #define M_PI 3.14159265358979323846
+#endif
+
+/* No fused multiply-add, so the sums round alike on every platform (the build passes
+ * -ffp-contract=off as well; gcc in ISO C mode and MSVC's /fp:precise do not contract). */
+#if defined(__clang__)
+#pragma STDC FP_CONTRACT OFF
 #endif
 
 /* Vector kernels (internal_taylor.c): 2-lane doubles through gcc's and clang's vector extension
@@ -79,6 +95,7 @@ typedef struct {
     double excursion_t[2]; /* taylor: the time of the first and of the last one [s] */
     double scale;     /* map: S = mu R L (R / CR)^2 [N s] */
     int avx;          /* taylor: the CPU runs the AVX2 kernels */
+    int quiet;        /* evaluations for a derivative: no excursion warning (internal_taylor.c) */
 } Work;
 
 typedef struct Instance {
@@ -90,8 +107,12 @@ typedef struct Instance {
     double t;
     Mode mode;
     int initialized;            /* exitInitializationMode was called: parameters are fixed */
-    int terminated;             /* fmi2Terminated: set by a discarded step, cleared by a good step or a restore */
+    int terminated;             /* fmi2Terminated: never set (every refused state can be retried with another) */
     int dirty;                  /* ME: inputs changed since the outputs were computed */
+    int refused_state;          /* ME: the inputs as set were refused (logged once, until they change) */
+    int ood_now;                /* out_of_domain of the last evaluated state (ME: out_of_domain takes it at events) */
+    int still;                  /* the force was asked at omega = 0 with no squeeze (warned once, until it moves) */
+    int warn_pending;           /* a warning was logged: the FMI call returns fmi2Warning */
     int refused[N_PARAM_SLOTS]; /* a parameter whose last set was refused */
     char refused_msg[N_PARAM_SLOTS][512];
     char init_error[2400];
@@ -115,30 +136,55 @@ typedef struct Instance {
     struct Instance *next_live; /* the list of live instances (fmi2FreeInstance) */
 } Instance;
 
+/* Every name shared between this FMU's files carries its model identifier (BN_ID, model_config.h),
+ * so the sources of two native FMUs link into one program (with FMI2_FUNCTION_PREFIX set to
+ * each one's "<modelIdentifier>_" for the FMI functions). */
+#define BN_PASTE(a, b) a##_##b
+#define BN_NAME(a, b) BN_PASTE(a, b)
+#define bn_setup BN_NAME(BN_ID, bn_setup)
+#define bn_eval BN_NAME(BN_ID, bn_eval)
+#define bn_option_derivative BN_NAME(BN_ID, bn_option_derivative)
+#define bn_log BN_NAME(BN_ID, bn_log)
+#define bn_num BN_NAME(BN_ID, bn_num)
+#define bn_order_refused BN_NAME(BN_ID, bn_order_refused)
+#define bn_live_add BN_NAME(BN_ID, bn_live_add)
+#define bn_live_remove BN_NAME(BN_ID, bn_live_remove)
+
+/* Shared between this FMU's files, never exported: only the FMI functions are (a binary built
+ * by any CMake project too; Windows exports only what fmi2Functions.h marks dllexport). */
+#if (defined(__GNUC__) || defined(__clang__)) && !defined(_WIN32)
+#define BN_HIDDEN __attribute__((visibility("hidden")))
+#else
+#define BN_HIDDEN
+#endif
+
 /* the internal (internal_<name>.c) */
 /* Check the parameters together and prepare; 0, or 1 with the reason in m->msg. */
-int bn_setup(Instance *m);
+BN_HIDDEN int bn_setup(Instance *m);
 /* Film force F [N] at x = (y, z, vy, vz, omega) and, with want_jac, J = dF/d(y, z, vy, vz)
  * row-major (2 x 4) and dw = dF/domega (2). 0, or 1 with the reason in m->msg (state refused).
  * *ood: the state lies outside the fitted domain (taylor). */
-int bn_eval(Instance *m, const double x[5], int want_jac, double F[2], double J[8], double dw[2], int *ood);
+BN_HIDDEN int bn_eval(Instance *m, const double x[5], int want_jac, double F[2], double J[8], double dw[2], int *ood);
+/* dF and dJ (as in bn_eval) with respect to the internal's k-th Real option (model_config.h
+ * BN_REAL_OPTION_TABLE), at x: linear's coefficients; 0 for options the force does not depend on. */
+BN_HIDDEN void bn_option_derivative(Instance *m, const double x[5], int k, double dF[2], double dJ[8]);
 
 /* the FMI layer: log one line (printf-style) with a status */
-void bn_log(Instance *m, bn_status status, const char *fmt, ...)
+BN_HIDDEN void bn_log(Instance *m, bn_status status, const char *fmt, ...)
 #if defined(__GNUC__)
     __attribute__((format(printf, 3, 4)))
 #endif
     ;
 /* a double the way Python's %.{digits}g writes it, into buf */
-const char *bn_num(char *buf, size_t n, double x, int digits);
+BN_HIDDEN const char *bn_num(char *buf, size_t n, double x, int digits);
 
 /* the calling sequence (fmi2_order.c): 0 if `call` (an FMI 2.0 function without "fmi2") is
  * allowed in the instance's mode (`allowed`: its BN_ALLOW_ mask), else 1 with an fmi2Error logged
  * naming it, the mode and what to do, in the words of bearing_fmu/fmi_order.py's refusal */
 enum { BN_ANY_TYPE, BN_CS_ONLY, BN_ME_ONLY };
-int bn_order_refused(Instance *m, const char *call, unsigned allowed, int kind);
+BN_HIDDEN int bn_order_refused(Instance *m, const char *call, unsigned allowed, int kind);
 /* the live instances: add one; remove one (1, or 0 if it was not live) */
-void bn_live_add(Instance *m);
-int bn_live_remove(Instance *m);
+BN_HIDDEN void bn_live_add(Instance *m);
+BN_HIDDEN int bn_live_remove(Instance *m);
 
 #endif

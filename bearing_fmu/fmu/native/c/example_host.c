@@ -2,15 +2,16 @@
  *
  *   cc -O2 example_host.c -I <fmpy>/c-code -o example_host -ldl
  *   ./example_host BINARY.so GUID y z vy vz omega [N_STEPS]
+ *   python -m ziglang cc -target x86_64-windows-gnu -O2 example_host.c -I <fmpy>/c-code -o example_host.exe
+ *   wine64 example_host.exe BINARY.dll GUID y z vy vz omega          (or on Windows)
  *
- * Loads the binary (binaries/<platform>/*.so of the extracted FMU), instantiates it with
+ * Loads the binary (binaries/<platform>/<modelIdentifier>.so, .dll or .dylib of the extracted FMU), instantiates it with
  * logging on (messages to stdout), initialises it, sets the inputs and takes one doStep of
  * 1e-4 s; prints "status <s>" and the outputs Fy Fz Kyy Kyz Kzy Kzz Cyy Cyz Czy Czz
  * eccentricity (%.17g). With N_STEPS > 0 it then times N_STEPS doSteps at states moving
  * around the given one ("doStep_us") and N_STEPS conformant iterations (restore the state
  * saved at the step's start, set the inputs, doStep, get the outputs: "iteration_us"), as a
  * master iterating within a step does. What a system simulator does with any FMU. */
-#include <dlfcn.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -19,6 +20,22 @@
 
 #include "fmi2Functions.h"
 
+#ifdef _WIN32
+#include <windows.h>
+typedef HMODULE Library;
+static Library open_library(const char *path) { return LoadLibraryA(path); }
+static const char *open_error(void) { return "LoadLibrary failed"; }
+static void *symbol(Library lib, const char *name) { return (void *)GetProcAddress(lib, name); }
+static void close_library(Library lib) { FreeLibrary(lib); }
+#else
+#include <dlfcn.h>
+typedef void *Library;
+static Library open_library(const char *path) { return dlopen(path, RTLD_NOW | RTLD_LOCAL); }
+static const char *open_error(void) { return dlerror(); }
+static void *symbol(Library lib, const char *name) { return dlsym(lib, name); }
+static void close_library(Library lib) { dlclose(lib); }
+#endif
+
 static void logger(fmi2ComponentEnvironment env, fmi2String name, fmi2Status status, fmi2String category,
                    fmi2String message, ...) {
     (void)env;
@@ -26,11 +43,11 @@ static void logger(fmi2ComponentEnvironment env, fmi2String name, fmi2Status sta
     (void)status;
 }
 
-#define LOAD(f) f##TYPE *f = (f##TYPE *)dlsym(lib, #f); if (!f) { printf("missing %s\n", #f); return 3; }
+#define LOAD(f) f##TYPE *f = (f##TYPE *)symbol(lib, #f); if (!f) { printf("missing %s\n", #f); return 3; }
 
 static double now(void) {
     struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
+    timespec_get(&ts, TIME_UTC); /* C11: glibc and the Universal C Runtime both have it */
     return ts.tv_sec + 1e-9 * ts.tv_nsec;
 }
 
@@ -39,9 +56,9 @@ int main(int argc, char **argv) {
         printf("usage: %s BINARY GUID y z vy vz omega [N_STEPS]\n", argv[0]);
         return 2;
     }
-    void *lib = dlopen(argv[1], RTLD_NOW | RTLD_LOCAL);
+    Library lib = open_library(argv[1]);
     if (!lib) {
-        printf("dlopen failed: %s\n", dlerror());
+        printf("cannot load %s: %s\n", argv[1], open_error());
         return 3;
     }
     LOAD(fmi2Instantiate) LOAD(fmi2SetupExperiment) LOAD(fmi2EnterInitializationMode)
@@ -109,6 +126,6 @@ int main(int argc, char **argv) {
     }
     fmi2Terminate(c);
     fmi2FreeInstance(c);
-    dlclose(lib);
+    close_library(lib);
     return 0;
 }

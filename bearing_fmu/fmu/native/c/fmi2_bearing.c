@@ -81,7 +81,6 @@ static const char *const CORE_UNITS[VR_REAL_OPTIONS] = {
 static const double START_INPUTS[N_INPUTS] = BN_START_INPUTS;
 static const double START_BEARING[4] = BN_START_BEARING;
 static const char *const BOOL_NAMES[N_BOOL] = {"out_of_domain", "compute_tangent"};
-static const char *const MODE_NAMES[] = BN_MODE_NAMES;
 static const char *const STATUS_NAMES[] = {"ok", "warning", "discard", "error", "fatal", "pending"};
 
 #define STATE_TAG "bearing-native/1"
@@ -238,8 +237,8 @@ static int check_real_parameter(int vr, double v, char *why, size_t n) {
 static int check_string_parameter(int k, const char *value, char *out, char *why, size_t n) {
     char v[STRING_MAX];
     if (strlen(value) >= STRING_MAX) {
-        snprintf(why, n, "%s: a value of %zu characters is longer than the %d this FMU keeps", string_name(k),
-                 strlen(value), STRING_MAX - 1);
+        snprintf(why, n, "%s: a value of %lu characters is longer than the %d this FMU keeps", string_name(k),
+                 (unsigned long)strlen(value), STRING_MAX - 1);
         return 1;
     }
     if (k == S_INTERNAL) {
@@ -265,7 +264,7 @@ static int check_string_parameter(int k, const char *value, char *out, char *why
     }
     lower_strip(value, v, sizeof v);
     if (o->refuse && strcmp(v, o->refuse) == 0) {
-        snprintf(why, n, "%s = '%s': %s", o->name, value, o->refuse_why);
+        snprintf(why, n, "%s = '%s': %s", o->name, value, o->refuse_why ? o->refuse_why : "");
         return 1;
     }
     if (!in_choices(v, o->choices)) {
@@ -299,7 +298,7 @@ static int enum_choice(const EnumOption *o, int v, char *out, size_t n) {
  * a choice this FMU does not take, else the values it takes). */
 static int check_enum_parameter(int j, int v, char *why, size_t n) {
     const EnumOption *o = &ENUMS[j];
-    char item[STRING_MAX], out[STRING_MAX], sub[512];
+    char item[STRING_MAX], out[STRING_MAX], sub[400]; /* a reason fits the caller's 512 with the words around it */
     if (enum_choice(o, v, item, sizeof item)) {
         if (check_string_parameter(o->string, item, out, sub, sizeof sub) == 0) return 0;
         snprintf(why, n, "%s = %d means %s", o->name, v, sub);
@@ -338,7 +337,7 @@ static int resolve_choices(Instance *m, char *why, size_t n) {
 /* The bearing's physical ranges (bearing_fmu/params.py, BearingParams): 0, or 1 with why. */
 static int check_bearing(const Instance *m, char *why, size_t n) {
     double D = m->r[VR_D], L = m->r[VR_L], CR = m->r[VR_CR], mu = m->r[VR_MU];
-    char a[32], b[32], c[32];
+    char a[32], b[32], c[32], d[32];
     if (!(D >= 1e-3 && D <= 5.0)) {
         snprintf(why, n, "D = %s m is outside the physical range 1 mm .. 5 m", bn_num(a, sizeof a, D, 4));
         return 1;
@@ -346,13 +345,13 @@ static int check_bearing(const Instance *m, char *why, size_t n) {
     if (!(L >= 0.05 * D && L <= 5.0 * D)) {
         snprintf(why, n, "L = %s m is outside the physical range %s .. %s m (L/D 0.05 .. 5 at D = %s m)",
                  bn_num(a, sizeof a, L, 4), bn_num(b, sizeof b, 0.05 * D, 4), bn_num(c, sizeof c, 5.0 * D, 4),
-                 bn_num(c, sizeof c, D, 4));
+                 bn_num(d, sizeof d, D, 4));
         return 1;
     }
     if (!(CR >= 1e-5 * 0.5 * D && CR <= 0.05 * 0.5 * D)) {
         snprintf(why, n, "CR = %s m is outside the physical range %s .. %s m (CR/R 1e-05 .. 0.05 at D = %s m)",
                  bn_num(a, sizeof a, CR, 4), bn_num(b, sizeof b, 1e-5 * 0.5 * D, 4),
-                 bn_num(c, sizeof c, 0.05 * 0.5 * D, 4), bn_num(c, sizeof c, D, 4));
+                 bn_num(c, sizeof c, 0.05 * 0.5 * D, 4), bn_num(d, sizeof d, D, 4));
         return 1;
     }
     if (!(mu >= 1e-5 && mu <= 10.0)) {
@@ -382,21 +381,28 @@ static int setup(Instance *m) {
     return 1;
 }
 
-/* Evaluate the internal at the inputs and set the outputs: 0, or 1 with the reason in m->msg
- * (outputs untouched). */
-static int evaluate(Instance *m) {
-    static const char *const in_names[5] = {"y", "z", "vy", "vz", "omega"};
-    double x[5], F[2], J[8], dw[2];
-    int ood = 0;
-    char a[32], b[32], c[32], d[32], e[32];
+/* The inputs as a state: 0, or 1 with the reason in m->msg (a non-finite input). */
+static int read_inputs(Instance *m, double x[5]) {
+    char a[32];
     for (int i = 0; i < 5; i++) {
         x[i] = m->r[i];
         if (!isfinite(x[i])) {
-            snprintf(m->msg, sizeof m->msg, "bearing input %s = %s is not finite", in_names[i],
+            snprintf(m->msg, sizeof m->msg, "bearing input %s = %s is not finite", CORE_NAMES[i],
                      bn_num(a, sizeof a, x[i], 17));
             return 1;
         }
     }
+    return 0;
+}
+
+/* Evaluate the internal at the inputs and set the outputs: 0, or 1 with the reason in m->msg
+ * (outputs untouched). out_of_domain is a discrete output: in Continuous-Time Mode (ME) it keeps
+ * its value and the state's own goes to m->ood_now, which it takes at the next event. */
+static int evaluate(Instance *m) {
+    double x[5], F[2], J[8], dw[2];
+    int ood = 0;
+    char a[32], b[32], c[32], d[32], e[32];
+    if (read_inputs(m, x)) return 1;
     int jac = m->b[B_COMPUTE_TANGENT];
     if (bn_eval(m, x, jac, F, J, dw, &ood)) return 1;
     int finite = isfinite(F[0]) && isfinite(F[1]);
@@ -412,19 +418,37 @@ static int evaluate(Instance *m) {
     m->r[VR_FZ] = F[1];
     m->r[VR_ECC] = eps;
     m->r[VR_HMIN] = m->r[VR_CR] * (1.0 - eps);
-    m->b[B_OUT_OF_DOMAIN] = ood;
+    m->ood_now = ood;
+    if (m->mode != MODE_CONTINUOUS) m->b[B_OUT_OF_DOMAIN] = ood;
     if (jac) { /* Lund's sign: K = -dF/dq, C = -dF/dv */
         m->r[VR_KYY] = -J[0]; m->r[VR_KYZ] = -J[1]; m->r[VR_CYY] = -J[2]; m->r[VR_CYZ] = -J[3];
         m->r[VR_KZY] = -J[4]; m->r[VR_KZZ] = -J[5]; m->r[VR_CZY] = -J[6]; m->r[VR_CZZ] = -J[7];
     }
+    /* a shaft at rest with no squeeze carries no load: most likely omega is not connected */
+    int still = x[4] == 0.0 && x[2] == 0.0 && x[3] == 0.0;
+    if (still && !m->still) {
+        bn_log(m, fmi2Warning, "the force was asked at omega = 0 rad/s with no squeeze velocity (vy = vz = 0): the "
+               "film carries no load, the force is zero; is the input omega connected? (warned once, until the "
+               "journal moves or turns)");
+        m->warn_pending = 1;
+    }
+    m->still = still;
     m->dirty = 0;
     return 0;
+}
+
+/* fmi2Warning if a warning was logged since the last call that reported one, else fmi2OK */
+static fmi2Status warned(Instance *m) {
+    fmi2Status s = m->warn_pending ? fmi2Warning : fmi2OK;
+    m->warn_pending = 0;
+    return s;
 }
 
 static int is_output_real(fmi2ValueReference vr) { return vr >= VR_FY && vr < VR_D; }
 
 /* Outputs requested: Initialization Mode computes them from the inputs and parameters set so
- * far; Model Exchange after initialisation computes them when the inputs changed. */
+ * far; Model Exchange after initialisation computes them when the inputs changed. A refused
+ * state is logged once; reading again at the same inputs gives fmi2Discard without a new line. */
 static fmi2Status outputs_for_get(Instance *m, const char *call, const char *name) {
     if (m->mode == MODE_INIT) {
         if (setup(m))
@@ -433,16 +457,19 @@ static fmi2Status outputs_for_get(Instance *m, const char *call, const char *nam
         if (evaluate(m))
             return fail(m, "%s %s in Initialization Mode: the outputs cannot be computed at the inputs set: %s "
                         "(set valid inputs and read again)", call, name, m->msg);
-        return fmi2OK;
+        return warned(m);
     }
     if ((m->mode == MODE_EVENT || m->mode == MODE_CONTINUOUS) && m->dirty) {
-        if (evaluate(m)) {
+        m->refused_state = evaluate(m);
+        if (m->refused_state) {
             char t[32];
-            bn_log(m, fmi2Discard, "%s at t = %s s", m->msg, bn_num(t, sizeof t, m->t, 10));
-            return fmi2Discard;
+            m->dirty = 0; /* until the inputs change */
+            bn_log(m, fmi2Discard, "%s at t = %s s (outputs keep their last values)", m->msg,
+                   bn_num(t, sizeof t, m->t, 10));
         }
     }
-    return fmi2OK;
+    if (m->refused_state && (m->mode == MODE_EVENT || m->mode == MODE_CONTINUOUS)) return fmi2Discard;
+    return warned(m);
 }
 
 /* ------------------------------------------------------------------------------ FMI: common */
@@ -537,7 +564,7 @@ fmi2Status fmi2ExitInitializationMode(fmi2Component c) {
     if (setup(m)) return fail(m, "%s", m->init_error);
     m->mode = m->type == fmi2ModelExchange ? MODE_EVENT : MODE_STEP;
     /* both the String and its enumeration show the choice that counts */
-    for (int k = 0; k < N_STRING; k++) snprintf(m->s[k], STRING_MAX, "%s", m->eff[k]);
+    memcpy(m->s, m->eff, sizeof m->s); /* same shape; gcc's -Wrestrict took snprintf here for an overlap */
     for (int j = 0; j < N_ENUM; j++) {
         char item[STRING_MAX];
         for (int v = 1; enum_choice(&ENUMS[j], v, item, sizeof item); v++)
@@ -547,9 +574,10 @@ fmi2Status fmi2ExitInitializationMode(fmi2Component c) {
      * may set the inputs only before the first step, so a refused state is no initialisation error */
     if (evaluate(m)) {
         bn_log(m, fmi2Warning, "outputs at the start time left at their start values: %s", m->msg);
+        m->warn_pending = 1;
         m->dirty = 1;
     }
-    return fmi2OK;
+    return warned(m);
 }
 
 fmi2Status fmi2Terminate(fmi2Component c) {
@@ -833,8 +861,8 @@ fmi2Status fmi2SerializeFMUstate(fmi2Component c, fmi2FMUstate FMUstate, fmi2Byt
     if (!m) return fmi2Error;
     if (!valid_state(FMUstate)) return fail(m, "serializeFMUstate: not a %s state of this FMU", STATE_TAG);
     if (size < sizeof(State))
-        return fail(m, "serializeFMUstate: a buffer of %zu bytes is smaller than the state (%zu bytes)", size,
-                    sizeof(State));
+        return fail(m, "serializeFMUstate: a buffer of %lu bytes is smaller than the state (%lu bytes)",
+                    (unsigned long)size, (unsigned long)sizeof(State));
     memcpy(serializedState, FMUstate, sizeof(State));
     return fmi2OK;
 }
@@ -844,7 +872,8 @@ fmi2Status fmi2DeSerializeFMUstate(fmi2Component c, const fmi2Byte serializedSta
     Instance *m = c;
     if (!m || !FMUstate) return fmi2Error;
     if (size != sizeof(State) || !valid_state((const State *)(const void *)serializedState))
-        return fail(m, "deSerializeFMUstate: %zu bytes are not a serialised %s state of this FMU", size, STATE_TAG);
+        return fail(m, "deSerializeFMUstate: %lu bytes are not a serialised %s state of this FMU",
+                    (unsigned long)size, STATE_TAG);
     fmi2FMUstate s = *FMUstate;
     if (!s) {
         s = m->cb.allocateMemory ? m->cb.allocateMemory(1, sizeof(State)) : calloc(1, sizeof(State));
@@ -857,58 +886,138 @@ fmi2Status fmi2DeSerializeFMUstate(fmi2Component c, const fmi2Byte serializedSta
 
 /* ------------------------------------------------------------------------------ derivatives */
 
+/* The internal's F and J at x, quietly (a derivative's evaluation is no state of the run): 0, or 1 (m->msg). */
+static int eval_quiet(Instance *m, const double x[5], double F[2], double J[8], double dw[2]) {
+    int ood;
+    m->work.quiet = 1;
+    int refused = bn_eval(m, x, 1, F, J, dw, &ood);
+    m->work.quiet = 0;
+    return refused;
+}
+
+/* dJ: the derivative of the analytic Jacobian J along the input direction dx, by central
+ * differences (one-sided next to a state the internal refuses): the force has no second
+ * derivative in closed form. The step is 1e-6 of each input's scale (CR; omega CR; omega).
+ * 0, or 1 (m->msg) when neither side evaluates. */
+static int jacobian_derivative(Instance *m, const double x[5], const double J[8], const double dx[5], double dJ[8]) {
+    double w = fmax(fabs(x[4]), 1.0), CR = m->r[VR_CR];
+    double scale[5] = {CR, CR, fmax(w * CR, hypot(x[2], x[3])), fmax(w * CR, hypot(x[2], x[3])), w};
+    double big = 0.0, xp[5], xm[5], Fp[2], Fm[2], Jp[8], Jm[8], wp[2], wm[2];
+    for (int i = 0; i < 5; i++) big = fmax(big, fabs(dx[i]) / scale[i]);
+    for (int i = 0; i < 8; i++) dJ[i] = 0.0;
+    if (big == 0.0) return 0;
+    double h = 1e-6 / big;
+    for (int i = 0; i < 5; i++) {
+        xp[i] = x[i] + h * dx[i];
+        xm[i] = x[i] - h * dx[i];
+    }
+    int bad_p = eval_quiet(m, xp, Fp, Jp, wp), bad_m = eval_quiet(m, xm, Fm, Jm, wm);
+    if (bad_p && bad_m) return 1;
+    for (int i = 0; i < 8; i++)
+        dJ[i] = bad_p ? (J[i] - Jm[i]) / h : bad_m ? (Jp[i] - J[i]) / h : (Jp[i] - Jm[i]) / (2.0 * h);
+    return 0;
+}
+
+/* FMI 2.0 directional derivatives of every Real output with respect to the inputs (any mode after
+ * instantiation where getDirectionalDerivative is allowed) and, in Initialization Mode, to the
+ * Real parameters:
+ *   Fy, Fz         the internal's analytic Jacobian (dF/domega: the map's; the Taylor and linear
+ *                  models are defined at one speed: 0)
+ *   Kyy .. Czz     central differences of that Jacobian (jacobian_derivative)
+ *   eccentricity, h_min   analytic
+ *   D, L, CR, mu   the map: F = S P(q/CR, v/CR, omega) with S = mu L D^3 / (8 CR^2), so a change
+ *                  of the bearing is a scale and, for CR, a move of the state along (q, v);
+ *                  the Taylor and linear models hold their own bearing: 0 (ecc, h_min follow CR)
+ *   the internal's Real options   bn_option_derivative (the linear model's coefficients) */
 fmi2Status fmi2GetDirectionalDerivative(fmi2Component c, const fmi2ValueReference vUnknown_ref[], size_t nUnknown,
                                         const fmi2ValueReference vKnown_ref[], size_t nKnown,
                                         const fmi2Real dvKnown[], fmi2Real dvUnknown[]) {
     Instance *m = c;
+    char a[32];
     if (!m) return fmi2Error;
     ORDER(getDirectionalDerivative, BN_ANY_TYPE);
     if (m->mode == MODE_INIT && setup(m))
         return fail(m, "getDirectionalDerivative in Initialization Mode: %s", m->init_error);
-    /* the direction in the inputs */
-    double dx[5] = {0, 0, 0, 0, 0};
+    double dx[5] = {0, 0, 0, 0, 0}, db[4] = {0, 0, 0, 0}, dopt[BN_N_REAL_OPTIONS + 1];
+    for (int k = 0; k <= BN_N_REAL_OPTIONS; k++) dopt[k] = 0.0;
+    int any_option = 0;
     for (size_t j = 0; j < nKnown; j++) {
-        if (vKnown_ref[j] >= N_INPUTS)
-            return fail(m, "getDirectionalDerivative: known %s (value reference %u) is not an input; the outputs "
-                        "depend on y, z, vy, vz, omega", vKnown_ref[j] < (fmi2ValueReference)N_REAL
-                        ? real_name((int)vKnown_ref[j]) : "?", vKnown_ref[j]);
-        if (!isfinite(dvKnown[j])) {
-            char a[32];
-            return fail(m, "getDirectionalDerivative: dvKnown[%zu] = %s (the direction in %s) must be finite", j,
-                        bn_num(a, sizeof a, dvKnown[j], 17), CORE_NAMES[vKnown_ref[j]]);
+        fmi2ValueReference k = vKnown_ref[j];
+        const char *name = k < (fmi2ValueReference)N_REAL ? real_name((int)k) : "?";
+        if (k >= (fmi2ValueReference)N_REAL || is_output_real(k))
+            return fail(m, "getDirectionalDerivative: known %s (value reference %u) is not an input or a Real "
+                        "parameter", name, k);
+        if (k >= VR_D && m->mode != MODE_INIT)
+            return fail(m, "getDirectionalDerivative: known %s is a parameter: FMI 2.0 gives derivatives with "
+                        "respect to parameters in Initialization Mode only", name);
+        if (!isfinite(dvKnown[j]))
+            return fail(m, "getDirectionalDerivative: dvKnown[%lu] = %s (the direction in %s) must be finite",
+                        (unsigned long)j, bn_num(a, sizeof a, dvKnown[j], 17), name);
+        if (k < N_INPUTS)
+            dx[k] += dvKnown[j];
+        else if (k <= VR_MU)
+            db[k - VR_D] += dvKnown[j];
+        else {
+            dopt[k - VR_REAL_OPTIONS] += dvKnown[j];
+            any_option = 1;
         }
-        dx[vKnown_ref[j]] += dvKnown[j];
     }
-    double x[5], F[2], J[8], dw[2];
-    int ood;
-    for (int i = 0; i < 5; i++) x[i] = m->r[i];
-    for (int i = 0; i < 5; i++)
-        if (!isfinite(x[i])) {
-            char a[32];
-            bn_log(m, fmi2Discard, "getDirectionalDerivative: bearing input %s = %s is not finite", CORE_NAMES[i],
-                   bn_num(a, 32, x[i], 17));
-            return fmi2Discard;
-        }
-    if (bn_eval(m, x, 1, F, J, dw, &ood)) {
+    double x[5], F[2], J[8], dw[2], dJ[8] = {0, 0, 0, 0, 0, 0, 0, 0};
+    if (read_inputs(m, x) || eval_quiet(m, x, F, J, dw)) {
         bn_log(m, fmi2Discard, "getDirectionalDerivative: %s", m->msg);
         return fmi2Discard;
     }
-    double e = hypot(x[0], x[1]), CR = m->r[VR_CR];
-    double decc = e > 0.0 ? (x[0] * dx[0] + x[1] * dx[1]) / (e * CR) : 0.0;
+    double D = m->r[VR_D], L = m->r[VR_L], CR = m->r[VR_CR], mu = m->r[VR_MU];
+    /* the bearing: a scale of F (k = 2) and J (k = 3), and for CR a move along (q, v) (see above) */
+    double gain = 0.0, along = 0.0; /* S's relative change from D, L, mu; CR's move along (q, v) */
+#if BN_BEARING_IN_FORCE
+    gain = 3.0 * db[0] / D + db[1] / L + db[3] / mu;
+    along = -db[2] / CR;
+#else
+    (void)D; (void)L; (void)mu;
+#endif
+    double d_eff[5], dF[2];
+    for (int i = 0; i < 4; i++) d_eff[i] = dx[i] + along * x[i];
+    d_eff[4] = BN_SPEED_IN_FORCE ? dx[4] : 0.0; /* a model of one speed: its force does not move with omega */
+    for (int r = 0; r < 2; r++) {
+        const double *row = J + 4 * r;
+        dF[r] = row[0] * d_eff[0] + row[1] * d_eff[1] + row[2] * d_eff[2] + row[3] * d_eff[3] + dw[r] * d_eff[4]
+                + F[r] * (gain + 2.0 * along); /* S ~ CR^-2 */
+    }
+    int need_dJ = 0;
+    for (size_t i = 0; i < nUnknown; i++) need_dJ |= vUnknown_ref[i] >= VR_KYY && vUnknown_ref[i] <= VR_CZZ;
+    if (need_dJ) {
+        if (jacobian_derivative(m, x, J, d_eff, dJ)) {
+            bn_log(m, fmi2Discard, "getDirectionalDerivative: the Jacobian's derivative needs states next to this one: "
+                   "%s", m->msg);
+            return fmi2Discard;
+        }
+        for (int i = 0; i < 8; i++) dJ[i] += J[i] * (gain + 3.0 * along); /* J ~ S / CR */
+    }
+    if (any_option)
+        for (int k = 0; k < BN_N_REAL_OPTIONS; k++)
+            if (dopt[k] != 0.0) {
+                double oF[2], oJ[8];
+                bn_option_derivative(m, x, k, oF, oJ);
+                for (int r = 0; r < 2; r++) dF[r] += oF[r] * dopt[k];
+                for (int i = 0; i < 8; i++) dJ[i] += oJ[i] * dopt[k];
+            }
+    double e = hypot(x[0], x[1]);
+    double de = e > 0.0 ? (x[0] * dx[0] + x[1] * dx[1]) / e : 0.0; /* d|q| */
+    static const int jac_index[8] = {0, 1, 4, 5, 2, 3, 6, 7};   /* Kyy Kyz Kzy Kzz Cyy Cyz Czy Czz in J */
     for (size_t i = 0; i < nUnknown; i++) {
         fmi2ValueReference u = vUnknown_ref[i];
-        if (u == VR_FY || u == VR_FZ) {
-            const double *row = J + 4 * (u - VR_FY);
-            dvUnknown[i] = row[0] * dx[0] + row[1] * dx[1] + row[2] * dx[2] + row[3] * dx[3] + dw[u - VR_FY] * dx[4];
-        } else if (u == VR_ECC) {
-            dvUnknown[i] = decc;
-        } else if (u == VR_HMIN) {
-            dvUnknown[i] = -CR * decc;
-        } else {
-            return fail(m, "getDirectionalDerivative: unknown %s (value reference %u): only Fy, Fz, eccentricity "
-                        "and h_min have derivatives (K.., C.. would need the force's second derivatives)",
+        if (u == VR_FY || u == VR_FZ)
+            dvUnknown[i] = dF[u - VR_FY];
+        else if (u == VR_ECC)
+            dvUnknown[i] = de / CR - e / CR * db[2] / CR;
+        else if (u == VR_HMIN)
+            dvUnknown[i] = db[2] - de;
+        else if (u >= VR_KYY && u <= VR_CZZ)
+            dvUnknown[i] = -dJ[jac_index[u - VR_KYY]]; /* Lund's sign */
+        else
+            return fail(m, "getDirectionalDerivative: unknown %s (value reference %u) is not a Real output",
                         u < (fmi2ValueReference)N_REAL ? real_name((int)u) : "?", u);
-        }
     }
     return fmi2OK;
 }
@@ -952,13 +1061,12 @@ fmi2Status fmi2DoStep(fmi2Component c, fmi2Real currentCommunicationPoint, fmi2R
         return fail(m, "doStep: currentCommunicationPoint + communicationStepSize = %s + %s s is not finite",
                     bn_num(a, 32, t0, 17), bn_num(b, 32, h, 17));
     if (evaluate(m)) {
+        /* not fmi2Terminated: the same step from a restored state, or a shorter one, can succeed */
         bn_log(m, fmi2Discard, "%s at t = %s s", m->msg, bn_num(a, 32, t, 10));
-        m->terminated = 1;
         return fmi2Discard;
     }
     m->t = t;
-    m->terminated = 0;
-    return fmi2OK;
+    return warned(m);
 }
 
 fmi2Status fmi2CancelStep(fmi2Component c) {
@@ -1025,6 +1133,9 @@ fmi2Status fmi2NewDiscreteStates(fmi2Component c, fmi2EventInfo *info) {
     if (!m) return fmi2Error;
     ORDER(newDiscreteStates, BN_ME_ONLY);
     if (!info) return fail(m, "newDiscreteStates: fmi2EventInfo* is NULL");
+    /* the discrete output out_of_domain takes the state's value here, at an event only */
+    if (m->dirty) outputs_for_get(m, "newDiscreteStates", "out_of_domain");
+    if (!m->refused_state) m->b[B_OUT_OF_DOMAIN] = m->ood_now;
     info->newDiscreteStatesNeeded = fmi2False;
     info->terminateSimulation = fmi2False;
     info->nominalsOfContinuousStatesChanged = fmi2False;
@@ -1048,9 +1159,12 @@ fmi2Status fmi2CompletedIntegratorStep(fmi2Component c, fmi2Boolean noSetFMUStat
     Instance *m = c;
     if (!m) return fmi2Error;
     ORDER(completedIntegratorStep, BN_ME_ONLY);
-    if (enterEventMode) *enterEventMode = fmi2False;
+    /* a step event when the state crossed the fitted domain's edge: out_of_domain (discrete)
+     * changes at the event that follows, never within Continuous-Time Mode */
+    fmi2Status s = m->dirty ? outputs_for_get(m, "completedIntegratorStep", "out_of_domain") : fmi2OK;
+    if (enterEventMode) *enterEventMode = !m->refused_state && m->ood_now != m->b[B_OUT_OF_DOMAIN];
     if (terminateSimulation) *terminateSimulation = fmi2False;
-    return fmi2OK;
+    return s == fmi2Discard ? fmi2OK : s; /* the refused state was logged; the master finds it at getReal */
 }
 
 fmi2Status fmi2SetTime(fmi2Component c, fmi2Real time) {
@@ -1069,7 +1183,7 @@ fmi2Status fmi2SetTime(fmi2Component c, fmi2Real time) {
 static fmi2Status no_states(Instance *m, const char *call, unsigned allowed, size_t n, const char *what) {
     if (!m) return fmi2Error;
     if (bn_order_refused(m, call, allowed, BN_ME_ONLY)) return fmi2Error;
-    if (n != 0) return fail(m, "%s: this FMU has no %s, got %zu", call, what, n);
+    if (n != 0) return fail(m, "%s: this FMU has no %s, got %lu", call, what, (unsigned long)n);
     return fmi2OK;
 }
 #define NO_STATES(call, n, what) no_states(c, #call, BN_ALLOW_##call, n, what)

@@ -35,3 +35,26 @@ int bn_eval(Instance *m, const double x[5], int want_jac, double F[2], double J[
     }
     return 0;
 }
+
+/* F = F0 - K (q - q0) - C v: the derivatives with respect to omega_lin (0: it only selects the
+ * speed), q0, F0 and each coefficient; the K, C outputs are the coefficients themselves */
+void bn_option_derivative(Instance *m, const double x[5], int k, double dF[2], double dJ[8]) {
+    double d[4] = {x[0] - P(LIN_Y0), x[1] - P(LIN_Z0), x[2], x[3]};
+    int vr = VR_REAL_OPTIONS + k;
+    dF[0] = dF[1] = 0.0;
+    for (int i = 0; i < 8; i++) dJ[i] = 0.0;
+    if (vr == VR_OPT_LIN_Y0) { dF[0] = P(LIN_KYY); dF[1] = P(LIN_KZY); }
+    else if (vr == VR_OPT_LIN_Z0) { dF[0] = P(LIN_KYZ); dF[1] = P(LIN_KZZ); }
+    else if (vr == VR_OPT_LIN_FY0) dF[0] = 1.0;
+    else if (vr == VR_OPT_LIN_FZ0) dF[1] = 1.0;
+    else {
+        /* J row-major (2 x 4) over (y, z, vy, vz): the coefficient of each column, with its sign */
+        static const int cols[8] = {VR_OPT_LIN_KYY, VR_OPT_LIN_KYZ, VR_OPT_LIN_CYY, VR_OPT_LIN_CYZ,
+                                    VR_OPT_LIN_KZY, VR_OPT_LIN_KZZ, VR_OPT_LIN_CZY, VR_OPT_LIN_CZZ};
+        for (int j = 0; j < 8; j++)
+            if (cols[j] == vr) {
+                dF[j / 4] = -d[j % 4];
+                dJ[j] = -1.0;
+            }
+    }
+}

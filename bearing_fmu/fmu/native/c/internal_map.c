@@ -202,3 +202,9 @@ int bn_eval(Instance *m, const double x[5], int want_jac, double F[2], double J[
     dw[1] = scale * (dPr_w * sp + dPt_w * cp);
     return 0;
 }
+
+void bn_option_derivative(Instance *m, const double x[5], int k, double dF[2], double dJ[8]) {
+    (void)m; (void)x; (void)k; /* the map has no Real option */
+    dF[0] = dF[1] = 0.0;
+    for (int i = 0; i < 8; i++) dJ[i] = 0.0;
+}

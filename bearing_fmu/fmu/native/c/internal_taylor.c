@@ -393,7 +393,7 @@ static int guard(Instance *m, const double x[5], int *ood) {
  * initialises with used to spend the one warning of an instance. */
 static void excursion(Instance *m, const double x[5]) {
     Work *w = &m->work;
-    if (m->b[B_OUT_OF_DOMAIN] || (w->excursions > 0 && w->excursion_t[1] == m->t)) return;
+    if (w->quiet || m->b[B_OUT_OF_DOMAIN] || (w->excursions > 0 && w->excursion_t[1] == m->t)) return;
     if (w->excursions++ == 0) w->excursion_t[0] = m->t;
     w->excursion_t[1] = m->t;
     char a[32], b[32], c[32], e[32], t[32], why[600], where[256];
@@ -477,4 +477,10 @@ int bn_eval(Instance *m, const double x[5], int want_jac, double F[2], double J[
     dw[0] = dw[1] = 0.0; /* defined at its fitted speed only (any other is refused) */
     if (*ood) excursion(m, x);
     return 0;
+}
+
+void bn_option_derivative(Instance *m, const double x[5], int k, double dF[2], double dJ[8]) {
+    (void)m; (void)x; (void)k; /* domain_limit decides refusals only: the force does not depend on it */
+    dF[0] = dF[1] = 0.0;
+    for (int i = 0; i < 8; i++) dJ[i] = 0.0;
 }
