@@ -12,6 +12,9 @@ reynolds,          the finite-volume Reynolds solver (also the ``reynolds`` inte
 reynolds_kernels   adjoint Jacobian, warm-started active set; its compiled kernels
 geometry_kernels   the same for a bore that is not the full circle (own kernel: the full
                    bore's stays bit for bit)
+film               friction (torque, power, coefficient) and flow (inflow, side flow) of the
+                   film: ``FilmReport``, from a converged field or, for the full bore, in
+                   closed form from the force of any internal
 shortbearing       the closed-form short (Ocvirk) bearing: forces, K, C
 statics            ``equilibrium``, ``linearize`` (Lund K, C), ``film_jacobian`` of any
                    internal
