@@ -4,8 +4,10 @@ the closed-form short bearing, statics.
 =================  ============================================================
 module             what it holds
 =================  ============================================================
-params             ``BearingParams`` (D, L, CR, mu, geometry; SI; validated), the bearing
+params             ``BearingParams`` (D, L, CR, mu, geometry, oil; SI; validated), the bearing
                    file's keys, the paper bearing
+oil                ``Oil``: the viscosity law (Walther / ASTM D341, Vogel, ISO VG presets),
+                   density, heat capacity; the [oil] keys
 geometry           ``Geometry``: the bore (grooves, partial arc, lobes with preload), the
                    [geometry] keys, the lobed film, the solver's circumferential grid
 reynolds,          the finite-volume Reynolds solver (also the ``reynolds`` internal),
