@@ -24,7 +24,18 @@ def test_walther_passes_through_its_points_and_falls():
     assert vg32.nu(40 + C) * 1e6 == pytest.approx(32.0, rel=1e-12)
     assert vg32.nu(100 + C) * 1e6 == pytest.approx(5.4, rel=1e-12)
     assert vg32.mu(40 + C) == pytest.approx(32e-6 * 861.0, rel=1e-12)  # rho nu, Shigley's 861 kg/m^3
-    assert set(GRADES) == {"ISO VG 32", "ISO VG 46"}
+    assert set(GRADES) == {"ISO VG 32", "ISO VG 46", "SAE 30"}
+
+
+def test_sae30_is_shigleys_fit():
+    """Shigley's Mechanical Engineering Design, Table 12-1 (Seireg & Dandage): SAE 30,
+    mu = 0.0141 exp(1360 / (T_F + 95)) micro-reyn; its solutions manual, problem 12-20: 15.2 mPa s
+    at 79 C."""
+    oil = Oil.grade("SAE 30")
+    assert oil.mu(79 + C) * 1e3 == pytest.approx(15.2, abs=0.05)
+    T_F = 150.0
+    assert oil.mu((T_F - 32) / 1.8 + C) == pytest.approx(0.0141e-6 * 6894.757 * math.exp(1360 / (T_F + 95)),
+                                                         rel=1e-12)
 
 
 def test_walther_against_an_independent_point():
@@ -52,7 +63,7 @@ def test_vogel():
     (lambda: Oil.walther(5.0, 40 + C, 2.1, 100 + C), r"at 150 C, the top of its range .* lower the range's top"),
     (lambda: Oil.vogel(-1e-4, 900.0, 160.0), "needs a > 0, b > 0, c >= 0"),
     (lambda: Oil.vogel(1e-4, 900.0, 300.0), "diverges at T = c = 300 K"),
-    (lambda: Oil.grade("SAE 30"), "unknown grade 'SAE 30'"),
+    (lambda: Oil.grade("SAE 40"), "unknown grade 'SAE 40'"),
     (lambda: Oil.grade("ISO VG 32", T_supply=200 + C), r"supply_C = 200 C is outside its range 0 C .. 150 C"),
 ])
 def test_refused_by_name(make, match):
@@ -110,7 +121,7 @@ def test_no_oil_is_todays_bearing_bit_for_bit():
      r"\[oil\] the viscosity must fall as the temperature rises"),
     (BEARING + '[oil]\ngrade = "ISO VG 32"\nsupply_C = 180.0\n', r"\[oil\] supply_C = 180 C is outside its range"),
     (BEARING + '[oil]\ngrade = "ISO VG 32"\nrange_C = [100.0, 20.0]\n', r"\[oil\] range_C = \[100, 20\] must have low < high"),
-    (BEARING + '[oil]\ngrade = "ISO VG 100"\n', r"\[oil\] grade = 'ISO VG 100'; choose one of ISO VG 32, ISO VG 46"),
+    (BEARING + '[oil]\ngrade = "ISO VG 100"\n', r"\[oil\] grade = 'ISO VG 100'; choose one of ISO VG 32, ISO VG 46, SAE 30"),
     (BEARING + '[oill]\ngrade = "ISO VG 32"\n', r"unknown table\(s\) \[oill\] \(did you mean \[oil\]\?\)"),
 ])
 def test_bad_oil_table_is_refused_naming_file_and_key(tmp_path, text, match):

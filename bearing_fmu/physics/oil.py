@@ -14,7 +14,11 @@ Laws (T in kelvin everywhere inside):
   about 100: ISO VG 32 (32 cSt at 40 C, 5.4 cSt at 100 C) and ISO VG 46 (46 cSt, 6.8 cSt). The
   40 C values are the grades' mid-points (ISO 3448, Industrial liquid lubricants -- ISO viscosity
   classification); the 100 C values are those the ROSS project quotes for these grades
-  (github.com/petrobras/ross issue 37). For any other oil, give its data sheet's two points.
+  (github.com/petrobras/ross issue 37). And SAE 30 as Shigley's Table 12-1 fits it (Seireg &
+  Dandage): mu = 0.0141 exp(1360 / (T_F + 95)) micro-reyn, T_F in F, a Vogel law with
+  a = 0.0141e-6 * 6894.757 Pa s, b = 1360 / 1.8 K, c = 273.15 - (95 + 32) / 1.8 K; its solutions
+  manual (problem 12-20) gives 15.2 mPa s at 79 C from it. For any other oil, give its data
+  sheet's two points.
 
 mu [Pa s] = rho nu with a constant density. Defaults rho = 861 kg/m^3 and c_p = 1760 J/(kg K):
 the oil of Shigley's Mechanical Engineering Design (chapter 12, the SI temperature-rise equation
@@ -38,14 +42,16 @@ DEFAULT_DENSITY = 861.0  # kg/m^3, Shigley ch. 12 (see the module docstring)
 DEFAULT_HEAT_CAPACITY = 1760.0  # J/(kg K), the same
 DEFAULT_RANGE_C = (0.0, 150.0)  # a mineral oil's working range: below 0 C it thickens fast, above
                                 # 150 C it oxidises; widen it in the file for another oil
-# kinematic viscosities [cSt] at 40 and 100 C (module docstring for the sources)
-GRADES = {"ISO VG 32": (32.0, 5.4), "ISO VG 46": (46.0, 6.8)}
+# kinematic viscosities [cSt] at 40 and 100 C (Walther), or the Vogel law's (a [Pa s], b [K], c [K])
+# (module docstring for the sources)
+GRADES = {"ISO VG 32": ("walther", (32.0, 5.4)), "ISO VG 46": ("walther", (46.0, 6.8)),
+          "SAE 30": ("vogel", (0.0141e-6 * 6894.757, 1360.0 / 1.8, KELVIN - 127.0 / 1.8))}
 
 # the keys of the [oil] table; exactly one law: grade, or nu_cSt with temperatures_C, or the
 # three vogel_ keys
 OIL_KEYS = (
-    Key("grade", "a preset: Walther (ASTM D341) through the grade's typical viscosities at 40 and 100 C "
-        "(physics/oil.py gives the sources)", None, kind=Choice(tuple(GRADES))),
+    Key("grade", "a preset: ISO VG grades by Walther (ASTM D341) through typical viscosities at 40 and 100 C, "
+        "SAE 30 by Shigley's Vogel fit (physics/oil.py gives the sources)", None, kind=Choice(tuple(GRADES))),
     Key("nu_cSt", "kinematic viscosities at temperatures_C [cSt = mm^2/s] (Walther, ASTM D341)", None,
         "2 numbers > 0, falling with temperature", kind=List(Number(0.0, exclusive_minimum=True), length=2)),
     Key("temperatures_C", "the temperatures of nu_cSt [C]", None, "2 different numbers",
@@ -155,11 +161,14 @@ class Oil:
 
     @classmethod
     def grade(cls, grade: str, **kw) -> "Oil":
-        """A preset of ``GRADES`` (Walther through its 40 C and 100 C viscosities)."""
+        """A preset of ``GRADES`` (module docstring)."""
         if grade not in GRADES:
             raise ValueError(f"Oil: unknown grade {grade!r}; choose one of {', '.join(GRADES)}")
-        nu40, nu100 = GRADES[grade]
+        law, values = GRADES[grade]
         kw.setdefault("name", grade)
+        if law == "vogel":
+            return cls.vogel(*values, **kw)
+        nu40, nu100 = values
         return cls.walther(nu40, 40.0 + KELVIN, nu100, 100.0 + KELVIN, **kw)
 
     # ------------------------------------------------------------------ properties
