@@ -17,6 +17,8 @@ geometry_kernels   the same for a bore that is not the full circle (own kernel: 
 film               friction (torque, power, coefficient) and flow (inflow, side flow) of the
                    film: ``FilmReport``, from a converged field or, for the full bore, in
                    closed form from the force of any internal
+thermal            the effective temperature: heat balance of friction power and oil flow,
+                   T_eff = T_supply + k dT, mu_eff = mu(T_eff) by bracketing (quasi-static)
 shortbearing       the closed-form short (Ocvirk) bearing: forces, K, C
 statics            ``equilibrium``, ``linearize`` (Lund K, C), ``film_jacobian`` of any
                    internal
