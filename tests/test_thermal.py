@@ -131,3 +131,50 @@ def test_no_equilibrium_is_named():
     """A load the thinned film cannot carry: the equilibrium's diagnosis, with the temperature."""
     with pytest.raises(ThermalError, match=r"at T = .* C \(mu = .* Pa s\): equilibrium: the bearing carries at most"):
         effective_temperature(_oiled(grade="ISO VG 32"), (0.0, -1e5), 2 * math.pi * 5.0)
+
+
+# ------------------------------------------------------------------------- bearing-fmu demo
+
+
+def test_demo_json_paper_bearing(capsys):
+    """`bearing-fmu demo --json`: the record's friction and flows are the film report's at the printed
+    equilibrium; no [oil]: T_eff None, mu_eff = mu, a rise with the default oil's rho c_p."""
+    import json
+
+    from bearing_fmu.cli import main
+
+    assert main(["demo", "--json"]) == 0
+    rec = json.loads(capsys.readouterr().out)
+    for key in ("eccentricity", "attitude_deg", "h_min_m", "sommerfeld", "friction_coefficient", "friction_power_W",
+                "inflow_m3_s", "side_flow_m3_s", "T_eff_K", "mu_eff_Pa_s", "K_N_m", "C_N_s_m", "K_dimensionless",
+                "C_dimensionless"):
+        assert key in rec, key
+    assert rec["T_eff_K"] is None and rec["mu_eff_Pa_s"] == PAPER_BEARING.mu
+    assert rec["sommerfeld"] == pytest.approx(1.2113, abs=1e-4)
+    om = 2 * math.pi * 22.0
+    rep = Reynolds(PAPER_BEARING).film_report(rec["y0_m"], rec["z0_m"], 0.0, 0.0, om)
+    assert rec["friction_power_W"] == rep.friction_power_W and rec["side_flow_m3_s"] == rep.side_flow_m3_s
+    assert np.allclose(np.array(rec["K_dimensionless"]), np.array(rec["K_N_m"]) * PAPER_BEARING.CR / 16.7)
+    assert rec["temperature_rise_K"] > 0.0
+
+
+def test_demo_with_oil_and_supply(tmp_path, capsys):
+    """With [oil]: the point at mu_eff (T_eff from effective_temperature), the text lines name the law;
+    --supply-c moves it; without [oil] --supply-c is refused by name."""
+    import json
+
+    from bearing_fmu.cli import main
+
+    f = tmp_path / "b.toml"
+    f.write_text('[bearing]\nD_mm = 31.0\nL_mm = 20.0\nCR_um = 90.0\n[oil]\ngrade = "SAE 30"\n')
+    assert main(["demo", "--bearing", str(f), "--speed-hz", "50", "--json"]) == 0
+    rec = json.loads(capsys.readouterr().out)
+    st = effective_temperature(BearingParams.from_toml(f), (0.0, -16.7), 2 * math.pi * 50)
+    assert rec["T_eff_K"] == pytest.approx(st.T_eff_K, abs=1e-6) and rec["mu_eff_Pa_s"] == st.mu_eff_Pa_s
+    assert rec["T_eff_C"] == pytest.approx(42.93, abs=0.01)
+    assert main(["demo", "--bearing", str(f), "--speed-hz", "50", "--supply-c", "60"]) == 0
+    out = capsys.readouterr().out
+    assert "thermal: SAE 30 (oil of b.toml): Vogel" in out and "supply 60 C" in out
+    assert "friction: torque" in out and "oil flow: inflow Q" in out
+    assert main(["demo", "--supply-c", "60"]) == 2
+    assert "a supply temperature needs the bearing's [oil] table" in capsys.readouterr().err

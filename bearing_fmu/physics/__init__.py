@@ -19,6 +19,8 @@ film               friction (torque, power, coefficient) and flow (inflow, side 
                    closed form from the force of any internal
 thermal            the effective temperature: heat balance of friction power and oil flow,
                    T_eff = T_supply + k dT, mu_eff = mu(T_eff) by bracketing (quasi-static)
+operating          one operating point as one record (equilibrium, K, C, friction, flows,
+                   T_eff, mu_eff): what ``bearing-fmu demo`` prints and writes with --json
 shortbearing       the closed-form short (Ocvirk) bearing: forces, K, C
 statics            ``equilibrium``, ``linearize`` (Lund K, C), ``film_jacobian`` of any
                    internal
