@@ -22,8 +22,8 @@ from bearing_fmu.physics.oil import KELVIN, Oil  # noqa: E402
 from bearing_fmu.physics.params import PAPER_BEARING, BearingParams  # noqa: E402
 from bearing_fmu.physics.reynolds import Reynolds  # noqa: E402
 from bearing_fmu.physics.thermal import effective_temperature, residence_time_s  # noqa: E402
-from test_film import H0C, RB_FLOW_LD1, RB_RCF, RB_S, _bearing, _dimensionless  # noqa: E402
-from test_thermal import OMEGA_1440, _jindal_bearing  # noqa: E402
+from test_film import H0C, RB_FLOW_LD1, RB_RCF, RB_S, dimensionless_groups, rb_bearing  # noqa: E402
+from test_thermal import OMEGA_1440, jindal_bearing  # noqa: E402
 
 
 def raimondi_boyd() -> None:
@@ -31,11 +31,11 @@ def raimondi_boyd() -> None:
           "Q/(rcNl) feed | Qs/Q | Qs/Q feed |")
     print("|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
     for ld in (1.0, 0.5, 0.25):
-        plain, feed = _bearing(ld), _bearing(ld, feed_line=True)
+        plain, feed = rb_bearing(ld), rb_bearing(ld, feed_line=True)
         rp, rf = Reynolds(plain), Reynolds(feed)
         for h0c, s_ref, f_ref in zip(H0C, RB_S[ld], RB_RCF[ld]):
-            a = _dimensionless(plain, rp, h0c)
-            b = _dimensionless(feed, rf, h0c)
+            a = dimensionless_groups(plain, rp, h0c)
+            b = dimensionless_groups(feed, rf, h0c)
             q_ref = RB_FLOW_LD1.get(h0c) if ld == 1.0 else None
             print(f"| {ld:g} | {h0c:g} | {s_ref:g} | {a[0]:.4g} | {b[0]:.4g} | {f_ref:g} | {a[1]:.4g} | {b[1]:.4g} | "
                   f"{q_ref if q_ref else '-'} | {a[2]:.4g} | {b[2]:.4g} | {a[3]:.3f} | {b[3]:.3f} |")
@@ -55,7 +55,7 @@ def grid() -> None:
 
 
 def jindal() -> None:
-    params, rey, y, z = _jindal_bearing()
+    params, rey, y, z = jindal_bearing()
     rep = rey.film_report(y, z, 0.0, 0.0, OMEGA_1440)
     oil = Oil.grade("ISO VG 32")
     dT = rep.friction_power_W / (oil.density * oil.heat_capacity * rep.inflow_m3_s)

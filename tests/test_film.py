@@ -38,7 +38,7 @@ RB_RCF = {1.0: (26.4, 12.8, 5.79, 3.22, 1.7, 1.05, 0.514),
 RB_FLOW_LD1 = {0.6: 3.99, 0.4: 4.33, 0.2: 4.62}
 
 
-def _bearing(l_over_d, feed_line=False):
+def rb_bearing(l_over_d, feed_line=False):
     """D 100 mm, CR 100 um, mu 0.01 Pa s; ``feed_line``: Raimondi & Boyd's full bearing, fed at the
     line of thickest film at ambient pressure, as one narrow (one cell, 2.8 deg) axial groove at
     theta = 0, where the journal below the centre has its thickest film."""
@@ -46,7 +46,7 @@ def _bearing(l_over_d, feed_line=False):
     return BearingParams(D=0.1, L=0.1 * l_over_d, CR=1e-4, mu=0.01, geometry=geo)
 
 
-def _dimensionless(prm, rey, h0c):
+def dimensionless_groups(prm, rey, h0c):
     """(S, (r/c) f, Q / (r c N l), Qs / Q) with the journal straight below the centre."""
     eps = 1.0 - h0c
     rep = rey.film_report(0.0, -eps * prm.CR, 0.0, 0.0, OMEGA)
@@ -63,10 +63,10 @@ def test_raimondi_boyd_friction_variable(l_over_d):
     of the same row is as far off); S within 3 %. Friction counts the cavitated region as full film, as they did
     (physics/film.py): that is what reproduces their column."""
     for feed in (False, True):
-        prm = _bearing(l_over_d, feed)
+        prm = rb_bearing(l_over_d, feed)
         rey = Reynolds(prm)
         for h0c, s_ref, f_ref in zip(H0C, RB_S[l_over_d], RB_RCF[l_over_d]):
-            S, rcf, _, _ = _dimensionless(prm, rey, h0c)
+            S, rcf, _, _ = dimensionless_groups(prm, rey, h0c)
             assert abs(S / s_ref - 1) < 0.03, (feed, h0c, S, s_ref)
             assert abs(rcf / f_ref - 1) < 0.03, (feed, h0c, rcf, f_ref)
             if feed and h0c >= 0.1:
@@ -78,14 +78,14 @@ def test_raimondi_boyd_flow_variable():
     (3.971, 4.302, 4.576 against 3.99, 4.33, 4.62). The plain full bore's film starts upstream of
     that line (the Swift-Stieber film reforms where it can), so its inflow across the thickest line
     is 3.5-8 % more (4.13, 4.58, 4.99): the same difference as its attitude angle's (test_reynolds)."""
-    prm = _bearing(1.0, feed_line=True)
+    prm = rb_bearing(1.0, feed_line=True)
     rey = Reynolds(prm)
-    plain = _bearing(1.0)
+    plain = rb_bearing(1.0)
     rey_plain = Reynolds(plain)
     for h0c, q_ref in RB_FLOW_LD1.items():
-        _, _, qv, qs_q = _dimensionless(prm, rey, h0c)
+        _, _, qv, qs_q = dimensionless_groups(prm, rey, h0c)
         assert abs(qv / q_ref - 1) < 0.015, (h0c, qv, q_ref)
-        _, _, qv_plain, _ = _dimensionless(plain, rey_plain, h0c)
+        _, _, qv_plain, _ = dimensionless_groups(plain, rey_plain, h0c)
         assert 0.03 < qv_plain / q_ref - 1 < 0.09, (h0c, qv_plain, q_ref)
         assert 0.0 < qs_q < 1.0
 
@@ -93,9 +93,9 @@ def test_raimondi_boyd_flow_variable():
 def test_petroff_limit():
     """At eps -> 0 the friction is Petroff's, (r/c) f = 2 pi^2 S (N. Petroff 1883; Shigley eq. 12-6),
     the inflow the Couette flow pi r c N l (1 + eps) at the thickest film, and there is no side flow."""
-    prm = _bearing(1.0)
+    prm = rb_bearing(1.0)
     rey = Reynolds(prm)
-    S, rcf, qv, qs_q = _dimensionless(prm, rey, 1.0 - 0.01)
+    S, rcf, qv, qs_q = dimensionless_groups(prm, rey, 1.0 - 0.01)
     assert rcf / (2 * math.pi ** 2 * S) == pytest.approx(1.0, abs=2e-3)
     assert qv == pytest.approx(math.pi * (1 + 0.01), rel=2e-3)  # the Couette flow at h_max = c (1 + eps)
     assert qs_q < 0.02

@@ -18,7 +18,7 @@ from bearing_fmu.physics.thermal import ThermalError, effective_temperature, res
 OMEGA_1440 = 2 * math.pi * 1440 / 60
 
 
-def _jindal_bearing():
+def jindal_bearing():
     """U. C. Jindal, Machine Design (Pearson, 2010), example 17-4, p. 483 (as transcribed in FOSSEE's
     Python Textbook Companions, Machine_Design_by_U.C._Jindal/Ch17_2.ipynb): full journal bearing,
     l = d = 60 mm, radial clearance 0.06 mm, W = 3000 N, 1440 rev/min, mu = 30 cP; with Raimondi &
@@ -40,7 +40,7 @@ def test_jindal_example_17_4():
     """Friction coefficient, friction power, inflow and the temperature rise in Jindal's form within
     2 % of the book (computed 0.00989, 0.1342 kW, 0.631 L/min, 8.43 C), h0 within 4 % (0.0330 mm):
     the book interpolates the table linearly, a percent or two off the curve."""
-    params, rey, y, z = _jindal_bearing()
+    params, rey, y, z = jindal_bearing()
     rep = rey.film_report(y, z, 0.0, 0.0, OMEGA_1440)
     assert rep.friction_coefficient == pytest.approx(0.00985, rel=0.02)
     assert rep.friction_power_W == pytest.approx(133.7, rel=0.02)
