@@ -87,58 +87,73 @@ def run_fit(args: argparse.Namespace) -> int:
 
 
 def _demo(args: argparse.Namespace) -> int:
-    """Equilibrium, attitude, minimum film and Lund coefficients of a bearing (the paper's by
-    default) under a static load at one speed, from the Reynolds solver."""
+    """Equilibrium, attitude, minimum film, Lund coefficients, friction, oil flow and the effective
+    temperature of a bearing (the paper's by default) under a static load at one speed, from the
+    Reynolds solver (``physics.operating.operating_point``); --json: the same record as JSON."""
+    import json
+
     import numpy as np
 
+    from .physics.oil import KELVIN
+    from .physics.operating import operating_point
     from .physics.params import PAPER_BEARING, BearingParams
-    from .physics.reynolds import Reynolds
-    from .physics.statics import dimensionless_coefficients, equilibrium, linearize, sommerfeld_number
+    from .physics.reynolds import DEFAULT_N_THETA, DEFAULT_N_X
 
     params = BearingParams.from_toml(args.bearing) if args.bearing else PAPER_BEARING
-    rey = Reynolds(params)
-    omega = 2 * math.pi * args.speed_hz
     load = (args.load_y, -args.load if args.load is not None else args.load_z)
-    y0, z0 = equilibrium(rey, load, omega)
-    K, C = linearize(rey, y0, z0, omega)
-    eps = math.hypot(y0, z0) / params.CR
-    # attitude: the angle from the load's direction to the journal's displacement (positive: the
-    # journal turned from the load line toward +z from +y, the sense of positive omega)
-    att = math.degrees(math.atan2(load[0] * z0 - load[1] * y0, load[0] * y0 + load[1] * z0))
+    supply = None if args.supply_c is None else args.supply_c + KELVIN
+    rec = operating_point(params, load, args.speed_hz, supply)
+    if args.json:
+        rec = {"bearing": str(args.bearing) if args.bearing else "paper Table 2", **rec}
+        print(json.dumps(rec, indent=2))
+        return 0
     name = (f"{args.bearing}" if args.bearing else "Paper bearing (Table 2)")
     np.set_printoptions(precision=4)
+    K, C = np.array(rec["K_N_m"]), np.array(rec["C_N_s_m"])
     print(f"{name}: D {params.D * 1e3:g} mm, L {params.L * 1e3:g} mm (L/D {params.L / params.D:.3g}), "
-          f"CR {params.CR * 1e6:g} um, mu {params.mu:g} Pa s; Reynolds grid {rey.n_theta} x {rey.n_x}, "
+          f"CR {params.CR * 1e6:g} um, mu {rec['mu_Pa_s']:.4g} Pa s; Reynolds grid {DEFAULT_N_THETA} x {DEFAULT_N_X}, "
           "Swift-Stieber cavitation")
     geo = params.geometry
     if not geo.is_full_bore:
         print(f"bore: {geo.describe()}" + (f"; pad clearance {geo.pad_clearance(params.CR) * 1e6:.4g} um"
                                            if geo.preload > 0 else ""))
-    h_min = params.CR * (1 - eps) if geo.is_full_bore else geo.min_film(y0, z0, params.CR)
     print(f"speed {args.speed_hz:g} Hz, static load (Wy, Wz) = ({load[0]:g}, {load[1]:g}) N")
-    print(f"equilibrium: y0 = {y0 * 1e6:.3f} um, z0 = {z0 * 1e6:.3f} um, eccentricity ratio {eps:.4f}, "
-          f"attitude angle {att:.2f} deg, minimum film {h_min * 1e6:.3f} um")
-    W = math.hypot(*load)
+    att = rec["attitude_deg"] if rec["attitude_deg"] is not None else 0.0
+    print(f"equilibrium: y0 = {rec['y0_m'] * 1e6:.3f} um, z0 = {rec['z0_m'] * 1e6:.3f} um, eccentricity ratio "
+          f"{rec['eccentricity']:.4f}, attitude angle {att:.2f} deg, minimum film {rec['h_min_m'] * 1e6:.3f} um")
+    W = float(np.hypot(*load))
     if W > 0.0:
-        S = sommerfeld_number(params, W, args.speed_hz)
-        Kd, Cd = dimensionless_coefficients(params, W, omega, K, C)
-        print(f"Sommerfeld number S = (mu N L D / W) (R / C)^2 = {S:.4g} (Raimondi and Boyd's; N = {args.speed_hz:g} "
-              f"rev/s, W = {W:g} N, R = D / 2, C = CR)")
+        print(f"Sommerfeld number S = (mu N L D / W) (R / C)^2 = {rec['sommerfeld']:.4g} (Raimondi and Boyd's; "
+              f"N = {args.speed_hz:g} rev/s, W = {W:g} N, R = D / 2, C = CR)")
     print("stiffness K [N/m] (K_ij = -dF_i/dq_j; axes y horizontal, z vertical up):")
     print(K)
     if W > 0.0:
         print("dimensionless stiffness K CR / W:")
-        print(Kd)
+        print(np.array(rec["K_dimensionless"]))
     print("damping C [N s/m] (C_ij = -dF_i/dqdot_j):")
     print(C)
     if W > 0.0:
         print("dimensionless damping C omega CR / W:")
-        print(Cd)
+        print(np.array(rec["C_dimensionless"]))
         if load[0] == 0.0 and load[1] < 0.0:
             print("(a table with x along the load and y along the rotation reads K_xx = K_zz, K_yy = K_yy, "
                   "K_xy = -K_zy, K_yx = -K_yz here, the same for C)")
     else:
         print("no load: no Sommerfeld number, no dimensionless coefficients (both divide by the load)")
+    f = rec["friction_coefficient"]
+    print(f"friction: torque {rec['friction_torque_Nm']:.4g} N m, power {rec['friction_power_W']:.4g} W"
+          + (f", coefficient f = {f:.4g} ((R / C) f = {f * params.R / params.CR:.4g})" if f is not None else "")
+          + " (the cavitated film sheared as full film, as Raimondi and Boyd)")
+    q, qs = rec["inflow_m3_s"], rec["side_flow_m3_s"]
+    print(f"oil flow: inflow Q = {q * 6e4:.4g} L/min (Q / (R C N L) = {rec['flow_variable']:.4g}), side flow "
+          f"Qs = {qs * 6e4:.4g} L/min (Qs / Q = {qs / q:.3f})")
+    if rec["T_eff_K"] is not None:
+        print(f"thermal: {rec['oil']}; supply {rec['T_supply_K'] - KELVIN:.4g} C, film rise dT = "
+              f"{rec['temperature_rise_K']:.3g} K, effective temperature T_eff = {rec['T_eff_K'] - KELVIN:.4g} C, "
+              f"mu_eff = {rec['mu_eff_Pa_s']:.4g} Pa s (the point above is at mu_eff)")
+    else:
+        print(f"thermal: no [oil] table, isoviscous at mu; with rho c_p of a mineral oil the film would rise by "
+              f"dT = {rec['temperature_rise_K']:.3g} K (docs/thermal.md)")
     return 0
 
 
@@ -287,6 +302,11 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--load-y", type=finite_float("N"), default=0.0, help="static load, horizontal [N] (default 0)")
     p.add_argument("--load", type=finite_float("N"), default=None,
                    help="downward load magnitude [N], the same as --load-z -LOAD (the older form)")
+    p.add_argument("--supply-c", type=finite_float("C"), default=None,
+                   help="oil supply temperature [C] (default: the bearing file's [oil] supply_C; needs an [oil] table)")
+    p.add_argument("--json", action="store_true",
+                   help="print the record as JSON (eccentricity, attitude, h_min, Sommerfeld, friction, flows, T_eff, "
+                        "mu_eff, K and C dimensional and dimensionless; SI, keys carry their unit)")
     p.set_defaults(func=_demo)
 
     p = sub.add_parser("fit", help="fit a Taylor surrogate over a designed domain (or to a time series, --from-npz) "

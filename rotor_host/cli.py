@@ -12,8 +12,9 @@ import inspect
 import sys
 from pathlib import Path
 
-from bearing_fmu.io.cliargs import (existing_dir, existing_file, float_range, grid, grid_or_default, node_load,
-                                    nonneg_float, number, output_dir, output_file, positive_float, positive_int)
+from bearing_fmu.io.cliargs import (existing_dir, existing_file, finite_float, float_range, grid, grid_or_default,
+                                    node_load, nonneg_float, number, output_dir, output_file, positive_float,
+                                    positive_int)
 from bearing_fmu.cli import add_debug_flag
 from bearing_fmu.io.exits import EXIT_CODES, run_command
 
@@ -293,6 +294,9 @@ def _add_stability(sub) -> None:
                    help=f"rank the least stable mode among the modes up to this multiple of the top speed (default "
                         f"{RANK_UP_TO:g}: every whirl and every mode a 1x or 2x force drives; the modes above are "
                         "reported in one line)")
+    p.add_argument("--supply-c", type=finite_float("C"), default=None, metavar="C",
+                   help="oil supply temperature [C]: every bearing (each needs an [oil] table) at the viscosity of its "
+                        "film's effective temperature at each speed (docs/thermal.md); default: isoviscous bearings")
     p.add_argument("--out", type=output_dir, default="out", help="output folder (default: out) for "
                    "stability_<rotor>_<internal>.md/.json and _campbell/_logdec/_mode.png")
     p.add_argument("--no-plots", action="store_true")

@@ -191,13 +191,18 @@ def test_bad_rotor_file_names_the_key(tmp_path, old, new, words):
     ("bearing = 3\n", ["bearing = 3", "expected a table"]),
     ("[bearing]\nD_mm = 31\nL_mm = 20\nCR_um = -90\nmu_Pa_s = 0.05\n", ["[bearing]", "CR"]),  # range: BearingParams
     ("[bearing\n", ["not valid TOML", "line 1"]),
-    # a table beside [bearing] and [geometry] was ignored: the bearing computed without it
-    ("[bearing]\nD_mm = 31\nL_mm = 20\nCR_um = 90\nmu_Pa_s = 0.05\n[oil]\nmu_Pa_s = 0.1\n",
-     ["unknown table(s) [oil]", "allowed: [bearing], [geometry]"]),
+    # a table beside [bearing], [geometry] and [oil] would be ignored: the bearing computed without it
+    ("[bearing]\nD_mm = 31\nL_mm = 20\nCR_um = 90\nmu_Pa_s = 0.05\n[cooling]\nflow = 0.1\n",
+     ["unknown table(s) [cooling]", "allowed: [bearing], [geometry], [oil]"]),
     ("[bearing]\nD_mm = 31\nL_mm = 20\nCR_um = 90\nmu_Pa_s = 0.05\n[[oil]]\nmu_Pa_s = 0.1\n",
-     ["unknown table(s) [[oil]]", "allowed: [bearing]"]),
-    ("D_mm = 31\nL_mm = 20\nCR_um = 90\nmu_Pa_s = 0.05\n[oil]\nmu_Pa_s = 0.1\n",
-     ["unknown table(s) [oil]", "allowed: D_mm, L_mm"]),
+     ["[oil]: expected a table"]),
+    ("D_mm = 31\nL_mm = 20\nCR_um = 90\nmu_Pa_s = 0.05\n[cooling]\nflow = 0.1\n",
+     ["unknown table(s) [cooling]", "allowed: D_mm, L_mm"]),
+    # [oil]: one law, its keys by type and range, mu_Pa_s not beside it
+    ("[bearing]\nD_mm = 31\nL_mm = 20\nCR_um = 90\n[oil]\nmu_Pa_s = 0.1\n",
+     ["[oil]", "unknown key(s) mu_Pa_s"]),
+    ("[bearing]\nD_mm = 31\nL_mm = 20\nCR_um = 90\n[oil]\ngrade = \"ISO VG 32\"\nrise_factor = 2\n",
+     ["[oil] rise_factor = 2", "<= 1"]),
     # [geometry]: its keys by type and range, then together, each naming the file and key
     ("[bearing]\nD_mm = 31\nL_mm = 20\nCR_um = 90\nmu_Pa_s = 0.05\n[geometry]\ngrooves = 2\n",
      ["[geometry]", "unknown key(s) grooves (did you mean grooves_deg?)"]),

@@ -98,11 +98,12 @@ def test_shipped_bearings_are_inside_the_ranges():
 
 
 def test_a_table_beside_bearing_is_refused_not_ignored(tmp_path):
-    # [oil] (a viscosity law) is not read by this code: the bearing would be computed isothermal
-    # without a word; [geometry] is read (tests/test_geometry.py); the shipped files still load
+    # a table this code does not read would leave the bearing computed without it; [geometry] and
+    # [oil] are read (tests/test_geometry.py, tests/test_oil.py); the shipped files still load
     f = tmp_path / "b.toml"
-    f.write_text("[bearing]\nD_mm = 31.0\nL_mm = 20.0\nCR_um = 90.0\nmu_Pa_s = 0.05\n\n[oil]\nmu_Pa_s = 0.1\n")
-    with pytest.raises(ValueError, match=r"b.toml: unknown table\(s\) \[oil\]; allowed: \[bearing\], \[geometry\]$"):
+    f.write_text("[bearing]\nD_mm = 31.0\nL_mm = 20.0\nCR_um = 90.0\nmu_Pa_s = 0.05\n\n[cooling]\nflow = 0.1\n")
+    with pytest.raises(ValueError, match=r"b.toml: unknown table\(s\) \[cooling\]; allowed: \[bearing\], \[geometry\], "
+                                         r"\[oil\]$"):
         BearingParams.from_toml(f)
     models = Path(__file__).resolve().parents[1] / "models"
     assert BearingParams.from_toml(models / "bearing_paper.toml") == PAPER_BEARING

@@ -13,6 +13,8 @@ linear          the linear internal: 8 Lund coefficients (order-1 model)
 taylor, guard   the Taylor-surrogate internal and the fitted-domain guard around it
 forcemap,       the force map: the Reynolds force as a 2-D table per L/D, its file,
 map_kernels     and its compiled spline, force and Jacobian
+scaled          ``ViscosityScaled``: any internal at an effective viscosity (force and
+                Jacobian times mu_eff / mu: exact, F ~ mu; docs/thermal.md)
 ==============  ================================================================
 
 The Reynolds solver, the truth, is an internal too; it lives with the physics

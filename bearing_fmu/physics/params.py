@@ -3,11 +3,12 @@
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 from ..io.schema import Key, Number, Table, Text, check_keys, check_table, read_toml, show
 from .geometry import FULL_BORE, GEOMETRY_KEYS, Geometry
+from .oil import OIL_KEYS, Oil, oil_from_table
 
 # ----------------------------------------------------------------------------- physical ranges
 # What a real plain journal bearing can be; values outside are typos or unit slips (a clearance
@@ -95,8 +96,9 @@ BEARING_KEYS = (
     Key("CR_um", "radial clearance [um]",
         allowed=f"CR/R {CR_OVER_R_RANGE[0]:g} .. {CR_OVER_R_RANGE[1]:g} (R = D/2: the clearance ratio)",
         kind=Number()),
-    Key("mu_Pa_s", "dynamic viscosity of the oil [Pa s]", allowed=f"{MU_RANGE_PA_S[0]:g} .. {MU_RANGE_PA_S[1]:g}",
-        kind=Number()),
+    Key("mu_Pa_s", "dynamic viscosity of the oil [Pa s]: an isoviscous bearing (or an [oil] table: its viscosity law "
+        "at its supply temperature)", None, allowed=f"{MU_RANGE_PA_S[0]:g} .. {MU_RANGE_PA_S[1]:g}; required without "
+        "[oil], refused with it", kind=Number()),
     Key("name", "label", None, "text", kind=Text()),
     Key("description", "free text", None, "text", kind=Text()),
 )
@@ -110,12 +112,14 @@ BEARING_JSON_KEYS = (
     Key("source", "the bearing file it was built from", None, kind=Text()),
 )
 
-# the top level of a bearing file that has a [bearing] table: that table and its bore; any other
-# table ([oil]) is refused: ignored, it would leave the bearing computed without it
+# the top level of a bearing file that has a [bearing] table: that table, its bore and its oil; any
+# other table is refused: ignored, it would leave the bearing computed without it
 BEARING_FILE_KEYS = (
     Key("bearing", "the bearing ([bearing])", kind=Table(BEARING_KEYS)),
     Key("geometry", "the bore ([geometry]): grooves, a partial arc, lobes; absent: the full 360 deg bore",
         None, kind=Table(GEOMETRY_KEYS)),
+    Key("oil", "the oil ([oil]): its viscosity law, density, heat capacity, supply temperature; absent: "
+        "isoviscous at mu_Pa_s", None, kind=Table(OIL_KEYS)),
 )
 
 
@@ -135,8 +139,10 @@ class BearingParams:
     D  : bearing (journal) diameter [m]
     L  : bearing length [m]
     CR : radial clearance [m] (of a lobed bore: the assembled clearance C_bearing)
-    mu : dynamic viscosity of the oil [Pa s]
+    mu : dynamic viscosity of the oil [Pa s] (with an ``oil``: its viscosity at the supply
+         temperature, or the effective one a thermal model set with ``with_viscosity``)
     geometry : the bore (``physics.geometry.Geometry``: grooves, arc, lobes); default the full bore
+    oil : the oil's viscosity law and properties (``physics.oil.Oil``); None: isoviscous at mu
     """
 
     D: float
@@ -144,6 +150,7 @@ class BearingParams:
     CR: float
     mu: float
     geometry: Geometry = field(default=FULL_BORE)
+    oil: Oil | None = None
 
     def __post_init__(self) -> None:
         # D first: the ranges of L and CR scale with it
@@ -160,10 +167,17 @@ class BearingParams:
             object.__setattr__(self, name, value)
         if not isinstance(self.geometry, Geometry):
             raise TypeError(f"BearingParams.geometry must be a Geometry, got {type(self.geometry).__name__}")
+        if self.oil is not None and not isinstance(self.oil, Oil):
+            raise TypeError(f"BearingParams.oil must be an Oil or None, got {type(self.oil).__name__}")
 
     def __repr__(self) -> str:  # the full bore as before: a plain bearing reads as it always did
         tail = "" if self.geometry.is_full_bore else f", geometry={self.geometry!r}"
+        tail += "" if self.oil is None else f", oil={self.oil!r}"
         return f"BearingParams(D={self.D!r}, L={self.L!r}, CR={self.CR!r}, mu={self.mu!r}{tail})"
+
+    def with_viscosity(self, mu: float) -> "BearingParams":
+        """The same bearing at viscosity mu [Pa s] (an effective one): the film force scales with it."""
+        return replace(self, mu=float(mu))
 
     def require_full_bore(self, what: str, why: str = "") -> None:
         """ValueError unless the bore is the full 360 deg circle: ``what`` (the force map, the FMU)
@@ -196,10 +210,12 @@ class BearingParams:
             # nothing else beside [bearing] and [geometry]: a table this code does not read ([oil])
             # would otherwise be ignored silently and the bearing computed as isothermal
             check_keys(data, BEARING_FILE_KEYS, str(path), BearingFileError)
-            return cls.from_mapping(data["bearing"], where=str(path), label="[bearing]", geometry=data.get("geometry"))
+            return cls.from_mapping(data["bearing"], where=str(path), label="[bearing]", geometry=data.get("geometry"),
+                                    oil=data.get("oil"))
         data = dict(data)
         geometry = data.pop("geometry") if isinstance(data.get("geometry"), dict) else None
-        return cls.from_mapping(data, where=str(path), geometry=geometry)
+        oil = data.pop("oil") if isinstance(data.get("oil"), dict) else None
+        return cls.from_mapping(data, where=str(path), geometry=geometry, oil=oil)
 
     @classmethod
     def from_json(cls, path: str | Path) -> "BearingParams":
@@ -221,22 +237,35 @@ class BearingParams:
 
     @classmethod
     def from_mapping(cls, data: dict, where: str = "bearing", label: str = "",
-                     geometry: dict | None = None) -> "BearingParams":
+                     geometry: dict | None = None, oil: dict | None = None) -> "BearingParams":
         """Build from a mapping whose keys carry their unit (``D_mm``, ``L_mm``, ``CR_um``, ``mu_Pa_s``)
-        and the ``[geometry]`` table's mapping (None: the full bore); errors name ``where`` (the
-        file) and ``label`` (its table, '[bearing]')."""
+        and the ``[geometry]`` and ``[oil]`` tables' mappings (None: the full bore, isoviscous);
+        errors name ``where`` (the file) and ``label`` (its table, '[bearing]')."""
         # divisors, not factors: 31 / 1000 is exactly the float 0.031, 31 * 1e-3 is not
         units = {"D_mm": 1e3, "L_mm": 1e3, "CR_um": 1e6, "mu_Pa_s": 1.0}
         d = check_table(data, BEARING_KEYS, where, BearingFileError, label)
         prefix = f"{where}: {label + ' ' if label else ''}"
+        the_oil = read_oil(oil, where)
+        if the_oil is not None and d["mu_Pa_s"] is not None:
+            raise BearingFileError(f"{prefix}mu_Pa_s = {show(data['mu_Pa_s'])} and an [oil] table both give the "
+                                   "viscosity: keep mu_Pa_s for an isoviscous bearing or [oil] for its viscosity law")
+        if the_oil is None and d["mu_Pa_s"] is None:
+            raise BearingFileError(f"{where}: {label + ': ' if label else ''}missing key(s) mu_Pa_s (the oil's viscosity "
+                                   "[Pa s]), or give an [oil] table with its viscosity law")
         vals = {}
         for key, divisor in units.items():
             name = key.split("_")[0]
+            if d[key] is None:  # mu with an [oil]: the law's at the supply temperature
+                vals[name] = the_oil.mu(the_oil.T_supply)
+                error = range_error(name, vals[name])
+                if error is not None:
+                    raise BearingFileError(f"{where}: [oil] at supply_C = {the_oil.T_supply - 273.15:g}: {error}")
+                continue
             vals[name] = d[key] / divisor
             error = range_error(name, vals[name], vals.get("D"))
             if error is not None:  # the constructor's words, with the file's key in front
                 raise BearingFileError(f"{prefix}{key} = {show(data[key])}: {error}")
-        return cls(**vals, geometry=read_geometry(geometry, where))
+        return cls(**vals, geometry=read_geometry(geometry, where), oil=the_oil)
 
 
 def read_geometry(table, where: str) -> Geometry:
@@ -246,6 +275,16 @@ def read_geometry(table, where: str) -> Geometry:
         return FULL_BORE
     d = check_table(table, GEOMETRY_KEYS, where, BearingFileError, "[geometry]")
     return Geometry.from_mapping(d, set(table), lambda text: BearingFileError(f"{where}: [geometry] {text}"))
+
+
+def read_oil(table, where: str) -> Oil | None:
+    """The ``[oil]`` table of bearing file ``where`` (None: isoviscous), its keys checked by type and
+    range, then together (``oil.oil_from_table``); errors name the file and the keys."""
+    if table is None:
+        return None
+    d = check_table(table, OIL_KEYS, where, BearingFileError, "[oil]")
+    return oil_from_table(d, set(table), f"oil of {Path(where).name}",
+                          lambda text: BearingFileError(f"{where}: [oil] {text}"))
 
 
 # Table 2 of the paper: D = 31 mm, L = 20 mm, CR = 90 um, mu = 50 mPa s.

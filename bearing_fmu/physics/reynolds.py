@@ -98,6 +98,7 @@ import math
 import numpy as np
 
 from ..internals.registry import check_state, overflow_error
+from .film import FilmReport, field_report
 from .params import BearingParams
 from .geometry_kernels import geometry_kernel
 from .reynolds_kernels import reynolds_kernel
@@ -175,6 +176,7 @@ class Reynolds:
         self._x = -0.5 * params.L + (np.arange(self.n_x) + 0.5) * self._dx
         self._sin_c, self._cos_c = np.sin(th), np.cos(th)
         self._sin_f, self._cos_f = np.sin(thf), np.cos(thf)
+        self._grid = None  # the bore's ThetaGrid (set by _bore); None: uniform cells of the full bore
         self._geo = None if params.geometry.is_full_bore else self._bore(params, N)
         # differences of face values: exactly h_{i+1/2} - h_{i-1/2} and the squeeze integral
         self._ds = self._sin_f - np.roll(self._sin_f, 1)
@@ -236,6 +238,7 @@ class Reynolds:
         except ValueError as exc:
             raise ValueError(f"Reynolds: {exc}") from None
         R, w = params.R, grid.width
+        self._grid = grid
         self._theta = grid.centre
         self._sin_c, self._cos_c = np.sin(grid.centre), np.cos(grid.centre)
         self._sin_f, self._cos_f = np.sin(grid.right), np.cos(grid.right)
@@ -346,6 +349,15 @@ class Reynolds:
         half = self._p.reshape(self.n_theta, self._m)
         p = np.concatenate([half, half[:, ::-1]], axis=1)
         return self._theta.copy(), self._x.copy(), p
+
+    def film_report(self, y: float, z: float, vy: float, vz: float, omega: float) -> FilmReport:
+        """Friction (torque, force, power, coefficient) and flow (inflow, side flow) of the film at a
+        state, from its converged pressure field (``physics.film``: the definitions, Raimondi &
+        Boyd's assumptions); not part of the force call, so it costs the hot loop nothing."""
+        self._run(y, z, vy, vz, omega, False)
+        half = self._p.reshape(self.n_theta, self._m).copy()
+        return field_report(self.params, float(y), float(z), float(vy), float(vz), float(omega),
+                            (float(self._F[0]), float(self._F[1])), half, self._dx, self._grid)
 
     def diagnostics(self, y: float, z: float, vy: float, vz: float, omega: float) -> dict:
         """Solver statistics of a call at a state: active-set iterations of the converged solve,

@@ -43,12 +43,12 @@ from bearing_fmu.io.exits import note_kept
 from bearing_fmu.io.outputs import ensure_writable, write_json, write_text
 
 from ..model.rotor import Rotor
+from .stability_report import FORWARD, direction, markdown, table_rows, to_json
 from .modal import (RANK_UP_TO, band_hz, band_rule, beyond_band_line, critical_speeds, least_beyond, least_in_band,
                     no_critical_line, split_crossings)
 
 DEFAULT_MODES = 8  # modes shown in the Campbell diagram and the table
 THRESHOLD_XTOL_HZ = 1e-4  # Brent's tolerance on the threshold speed [Hz]
-FORWARD = 0.0  # whirl() above this: forward, below: backward
 PAPER_MAP = Path(__file__).resolve().parents[2] / "models" / "maps" / "paper_bearing.json"
 
 
@@ -77,6 +77,8 @@ class SpeedPoint:
     whirl: np.ndarray = field(default_factory=lambda: np.zeros(0))
     band_hz: float = math.inf
     shapes: np.ndarray = field(default_factory=lambda: np.zeros((0, 0), complex), repr=False)
+    T_eff_K: np.ndarray = field(default_factory=lambda: np.zeros(0))  # per bearing, with a supply temperature
+    mu_eff_Pa_s: np.ndarray = field(default_factory=lambda: np.zeros(0))
 
     @property
     def ok(self) -> bool:
@@ -138,6 +140,7 @@ class StabilityResult:
     timings: dict = field(default_factory=lambda: {"setup": 0.0, "equilibrium": 0.0, "eigen": 0.0, "refine": 0.0})
     n_modes: int = DEFAULT_MODES
     status: str = "ok"
+    T_supply_K: float | None = None  # the oil's supply temperature (None: isoviscous bearings)
 
     @property
     def ok_points(self) -> list[SpeedPoint]:
@@ -186,10 +189,14 @@ class Stability:
     options      : that internal's options ({"n_theta": 64, "n_x": 8}, {"map": FILE})
     static_loads : (node0, Fy, Fz) point loads [N] on 0-based nodes, besides the weight
     g            : gravity [m/s^2] (the weight is applied as in a scene: -g M u_z)
+    T_supply_K   : oil supply temperature [K]: at each speed every bearing runs at the viscosity of
+                   its film's effective temperature under its static load (``physics.thermal``,
+                   quasi-static; its internal's force scaled by mu_eff / mu, exact: F ~ mu); every
+                   bearing then needs an [oil] table. None: the bearings' own (isoviscous) mu
     """
 
     def __init__(self, rotor: Rotor, internal: str = "reynolds", options: dict | None = None,
-                 static_loads=(), g: float | None = None, where: str = ""):
+                 static_loads=(), g: float | None = None, where: str = "", T_supply_K: float | None = None):
         from ..scenes.run import bearing_loads
         from ..scenes.scene import G
 
@@ -212,6 +219,16 @@ class Stability:
         self.internals = [registry.create(self.internal, p, self.options, Context(load=(float(w[0]), float(w[1]))),
                                           where=f"{where or 'rotor'}: {name}")
                           for p, w, name in zip(rotor.bearings, self.loads, self.names)]
+        self.T_supply_K = None if T_supply_K is None else float(T_supply_K)
+        if self.T_supply_K is not None:
+            from bearing_fmu.internals.scaled import ViscosityScaled
+
+            for p, name in zip(rotor.bearings, self.names):
+                if p.oil is None:
+                    raise ValueError(f"{where or 'rotor'}: {name}: a supply temperature needs the bearing file's [oil] "
+                                     f"table (its viscosity law); this bearing is isoviscous at {p.mu:g} Pa s")
+                p.oil.check_temperature(self.T_supply_K, "the supply temperature")
+            self.internals = [ViscosityScaled(i) for i in self.internals]
         self._warm_up()
         self.setup_s = time.perf_counter() - t0
         self.timings = {"equilibrium": 0.0, "eigen": 0.0}
@@ -266,9 +283,31 @@ class Stability:
                                    f"{omega / (2 * math.pi):.6g} Hz ({a[k].tolist()}) from the {self.internal} internal")
         return K, C
 
+    def thermal(self, omega: float) -> tuple[np.ndarray, np.ndarray]:
+        """(T_eff [K], mu_eff [Pa s]) per bearing at ``omega`` [rad/s] under its static load, and the
+        internals set to mu_eff; empty arrays without a supply temperature. A bearing without a
+        film temperature there (no equilibrium at some viscosity) raises EquilibriumError naming it."""
+        if self.T_supply_K is None:
+            return np.zeros(0), np.zeros(0)
+        from bearing_fmu.physics.statics import EquilibriumError
+        from bearing_fmu.physics.thermal import ThermalError, effective_temperature
+
+        T, mu = [], []
+        for internal, w, name in zip(self.internals, self.loads, self.names):
+            try:
+                st = effective_temperature(internal.inner.params, (float(w[0]), float(w[1])), omega, self.T_supply_K,
+                                           name=name)
+            except ThermalError as exc:
+                raise EquilibriumError(str(exc), bearing=name) from None
+            internal.set_viscosity(st.mu_eff_Pa_s)
+            T.append(st.T_eff_K)
+            mu.append(st.mu_eff_Pa_s)
+        return np.array(T), np.array(mu)
+
     def at(self, speed_hz: float, q0: np.ndarray | None = None) -> tuple[SpeedPoint, np.ndarray]:
         """(SpeedPoint, equilibrium q) at ``speed_hz``; EquilibriumError if there is none."""
         omega = 2.0 * math.pi * speed_hz
+        T_eff, mu_eff = self.thermal(omega)
         q = self.equilibrium(omega, q0)
         t0 = time.perf_counter()
         K, C = self.linearise(q, omega)
@@ -282,7 +321,7 @@ class Stability:
         ecc = np.hypot(journal[:, 0], journal[:, 1]) / np.array([p.CR for p in self.rotor.bearings])
         self.timings["eigen"] += time.perf_counter() - t0
         return SpeedPoint(speed_hz, journal=journal, eccentricity=ecc, K=K, C=C, freq_hz=freq, log_dec=ld,
-                          whirl=whirl, band_hz=self.band_hz, shapes=shapes), q
+                          whirl=whirl, band_hz=self.band_hz, shapes=shapes, T_eff_K=T_eff, mu_eff_Pa_s=mu_eff), q
 
     # -- a range -----------------------------------------------------------------------------
     def sweep(self, speeds_hz, *, n_modes: int = DEFAULT_MODES, rotor_name: str = "", log=None,
@@ -295,7 +334,8 @@ class Stability:
         from bearing_fmu.physics.statics import EquilibriumError
 
         res = StabilityResult(rotor_name or self.rotor.name, self.internal, self.options,
-                              [n + 1 for n in self.rotor.bearing_nodes], self.loads.tolist(), n_modes=n_modes)
+                              [n + 1 for n in self.rotor.bearing_nodes], self.loads.tolist(), n_modes=n_modes,
+                              T_supply_K=self.T_supply_K)
         speeds_hz = [float(s) for s in speeds_hz]
         self.band_hz = res.band_hz = band_hz(max(speeds_hz, default=0.0), rank_up_to)
         res.rank_up_to = float(rank_up_to)
@@ -399,106 +439,15 @@ def check_speeds(speeds_hz) -> list[float]:
 
 def stability(rotor_path, speeds_hz, internal: str = "reynolds", options: dict | None = None,
               static_loads=(), n_modes: int = DEFAULT_MODES, log=None,
-              rank_up_to: float = RANK_UP_TO) -> StabilityResult:
+              rank_up_to: float = RANK_UP_TO, T_supply_K: float | None = None) -> StabilityResult:
     """Read the rotor file and sweep it (see the module docstring). ``static_loads`` are
-    (node, Fy, Fz) with 1-based nodes as in the rotor file; bad input raises ValueError naming it."""
+    (node, Fy, Fz) with 1-based nodes as in the rotor file; ``T_supply_K`` the oil's supply
+    temperature (``Stability``); bad input raises ValueError naming it."""
     rotor, loads = read_rotor(rotor_path, static_loads)
     speeds = check_speeds(speeds_hz)
-    analysis = Stability(rotor, internal, options, loads, where=str(rotor_path))
+    analysis = Stability(rotor, internal, options, loads, where=str(rotor_path), T_supply_K=T_supply_K)
     return analysis.sweep(speeds, n_modes=n_modes, rotor_name=rotor.name or Path(rotor_path).stem, log=log,
                           rank_up_to=rank_up_to)
-
-
-# ----------------------------------------------------------------------------- tables
-
-def _direction(w: float) -> str:
-    return "forward" if w > FORWARD else "backward"
-
-
-def table_rows(res: StabilityResult) -> list[dict]:
-    """One row per speed: eccentricities, the least stable mode, the status."""
-    rows = []
-    for p in res.points:
-        row = {"speed_hz": p.speed_hz, "status": p.status if p.ok else f"{p.status}: {p.message}"}
-        if p.ok and p.least is None:
-            row["direction"] = f"no mode up to {p.band_hz:.4g} Hz"
-        elif p.ok:
-            i = p.least
-            row.update({"ecc": ", ".join(f"{e:.3f}" for e in p.eccentricity), "f_hz": float(p.freq_hz[i]),
-                        "ratio": float(p.freq_hz[i] / p.speed_hz), "log_dec": float(p.log_dec[i]),
-                        "direction": f"{_direction(p.whirl[i])} ({p.whirl[i]:+.2f})"})
-        rows.append(row)
-    return rows
-
-
-def markdown(res: StabilityResult, title: str = "") -> str:
-    from .tables import markdown_table
-
-    tm = res.timings
-    n_ok = len(res.ok_points)
-    head = [f"# Stability: {title or res.rotor} [{res.internal}]", "",
-            f"**{res.verdict()}**", "", *(f"- {line}" for line in res.notes()), "",
-            f"{len(res.points)} speeds ({n_ok} with an equilibrium), bearings at nodes "
-            f"{', '.join(map(str, res.bearing_nodes))}, static loads "
-            f"{'; '.join(f'({w[0] + 0.0:.4g}, {w[1] + 0.0:.4g}) N' for w in res.loads_N)}; run time "
-            f"{tm['equilibrium'] + tm['eigen']:.2f} s (equilibria {tm['equilibrium']:.2f} s, linearisation and "
-            f"modes {tm['eigen']:.2f} s), threshold refinement {tm['refine']:.2f} s, setup {tm['setup']:.2f} s.",
-            ""]
-    if res.threshold is not None:
-        t = res.threshold
-        head += [f"Threshold between {t.bracket[0]:g} and {t.bracket[1]:g} Hz ({t.how}): {t.speed_hz:.4f} Hz, "
-                 f"least stable mode {t.whirl_hz:.4f} Hz, whirl ratio {t.ratio:.4f}, {_direction(t.whirl)} whirl "
-                 f"({t.whirl:+.2f}); bearing eccentricity {', '.join(f'{e:.3f}' for e in t.point.eccentricity)}.", ""]
-    if res.criticals:
-        head += ["Critical speeds (the 1x line crosses a damped natural frequency with AF = pi / log dec >= 2.5):", ""]
-        head += [markdown_table(res.criticals, [("speed_hz", "speed [Hz]", ".2f"), ("mode", "mode (rank)", "d"),
-                                                ("log_dec", "log dec", ".3f"), ("amplification_factor", "AF", ".3g"),
-                                                ("whirl", "whirl (+1 fwd, -1 bwd)", "+.2f")]), ""]
-    if res.damped_crossings:
-        head += ["1x crossings of heavily damped modes (AF < 2.5, critically damped: no resonance, no critical speed): "
-                 + ", ".join(f"{c['speed_hz']:.2f} Hz (log dec {c['log_dec']:.3g})" for c in res.damped_crossings), ""]
-    head += ["Least stable mode at each speed:", "", ""]
-    table = markdown_table(table_rows(res), [
-        ("speed_hz", "speed [Hz]", "g"), ("ecc", "eccentricity", ""), ("f_hz", "least stable: f [Hz]", ".3f"),
-        ("ratio", "f / speed", ".3f"), ("log_dec", "log dec", ".4f"), ("direction", "whirl", ""),
-        ("status", "status", "")])
-    return "\n".join(head) + table + "\n"
-
-
-def to_json(res: StabilityResult, rotor_path=None) -> dict:
-    """Everything a later reader needs, without NaN: per speed the equilibrium, K and C and
-    the lowest ``n_modes`` modes; the threshold with the least stable mode's shape."""
-    from ..scenes.run import package_versions
-
-    def point(p: SpeedPoint) -> dict:
-        d = {"speed_hz": p.speed_hz, "status": p.status, "message": p.message}
-        if p.ok:
-            n = min(res.n_modes, p.freq_hz.size)
-            d.update({"journal_m": p.journal.tolist(), "eccentricity": p.eccentricity.tolist(),
-                      "K_N_m": p.K.tolist(), "C_N_s_m": p.C.tolist(),
-                      "least_stable": None if p.least is None else {
-                          "freq_hz": float(p.freq_hz[p.least]), "log_dec": p.least_log_dec,
-                          "whirl": float(p.whirl[p.least])},
-                      "freq_hz": p.freq_hz[:n].tolist(), "log_dec": p.log_dec[:n].tolist(),
-                      "whirl": p.whirl[:n].tolist()})
-        return d
-
-    thr = None
-    if res.threshold is not None:
-        t = res.threshold
-        s = t.point.shapes[:, t.point.least]
-        thr = {"speed_hz": t.speed_hz, "whirl_hz": t.whirl_hz, "whirl_ratio": t.ratio, "whirl": t.whirl,
-               "bracket_hz": list(t.bracket), "how": t.how,
-               "shape": {"y_re": s[0::4].real.tolist(), "y_im": s[0::4].imag.tolist(),
-                         "z_re": s[1::4].real.tolist(), "z_im": s[1::4].imag.tolist()}}
-    return {"rotor": res.rotor, "rotor_file": None if rotor_path is None else str(rotor_path),
-            "internal": res.internal, "options": {k: str(v) for k, v in res.options.items()},
-            "bearing_nodes": res.bearing_nodes, "bearing_loads_N": res.loads_N, "status": res.status,
-            "verdict": res.verdict(), "threshold": thr, "unstable_from_start": res.unstable_from_start,
-            "critical_speeds": res.criticals, "damped_crossings": res.damped_crossings,
-            "ranking": {"rank_up_to": res.rank_up_to, "band_hz": res.band_hz, "notes": res.notes()},
-            "timings_s": res.timings, "n_modes": res.n_modes,
-            "points": [point(p) for p in res.points], "versions": package_versions()}
 
 
 # ----------------------------------------------------------------------------- the command
@@ -536,15 +485,18 @@ def internal_options(internal: str, files: dict | None = None, grid=None) -> dic
 
 
 def command(*, rotor_file, speeds_hz, internal: str = "reynolds", data_files=None, grid=None, static_load=(), modes:
-            int = DEFAULT_MODES, out="out", no_plots: bool = False, rank_up_to: float = RANK_UP_TO) -> int:
+            int = DEFAULT_MODES, out="out", no_plots: bool = False, rank_up_to: float = RANK_UP_TO,
+            supply_c: float | None = None) -> int:
     """``rotor-host stability``: equilibrium, linearised bearings and damped modes of the rotor file
-    ``rotor_file`` at each speed of ``speeds_hz`` [Hz]; writes the table, json and figures into ``out``."""
+    ``rotor_file`` at each speed of ``speeds_hz`` [Hz]; writes the table, json and figures into ``out``.
+    ``supply_c``: the oil's supply temperature [C] (bearings with [oil]: at mu_eff per speed)."""
     out = ensure_writable(out)
     options = internal_options(internal, data_files, grid)
     stem = f"stability_{Path(rotor_file).stem}_{internal}"
     rotor, loads = read_rotor(rotor_file, static_load)
     try:
-        analysis = Stability(rotor, internal, options, loads, where=str(rotor_file))
+        analysis = Stability(rotor, internal, options, loads, where=str(rotor_file),
+                             T_supply_K=None if supply_c is None else supply_c + 273.15)
     except ValueError as exc:  # a data file's own one line (L/D, not a map file): name the option that chose it
         chosen = [o.name for o in registry.get(internal).file_options() if o.name in options]
         if chosen:
@@ -570,7 +522,7 @@ def command(*, rotor_file, speeds_hz, internal: str = "reynolds", data_files=Non
           f"(equilibria {tm['equilibrium']:.2f} s, linearisation and modes {tm['eigen']:.2f} s; threshold "
           f"refinement {tm['refine']:.2f} s; setup {tm['setup']:.2f} s)")
     for c in res.criticals:
-        print(f"critical speed {c['speed_hz']:.2f} Hz ({_direction(c['whirl'])}, log dec {c['log_dec']:.3f}, AF "
+        print(f"critical speed {c['speed_hz']:.2f} Hz ({direction(c['whirl'])}, log dec {c['log_dec']:.3f}, AF "
               f"{c['amplification_factor']:.3g})")
     print("\n".join(res.notes()))
     print(res.verdict())

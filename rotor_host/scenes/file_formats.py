@@ -16,6 +16,7 @@ from pathlib import Path
 from bearing_fmu.internals import registry
 from bearing_fmu.io.schema import markdown_table, option_keys
 from bearing_fmu.physics.geometry import GEOMETRY_KEYS
+from bearing_fmu.physics.oil import OIL_KEYS
 from bearing_fmu.physics.params import BEARING_KEYS
 
 from ..model.rotor import BEARING_ENTRY_KEYS, DISK_KEYS, ELEMENT_KEYS, MATERIAL_KEYS, ROTOR_KEYS
@@ -28,6 +29,7 @@ def reference_tables() -> dict[str, str]:
     tables = {
         "Bearing file: [bearing]": BEARING_KEYS,
         "Bearing file: [geometry]": GEOMETRY_KEYS,
+        "Bearing file: [oil]": OIL_KEYS,
         "Rotor file: top level": ROTOR_KEYS,
         "Rotor file: [material]": MATERIAL_KEYS,
         "Rotor file: [[elements]]": ELEMENT_KEYS,

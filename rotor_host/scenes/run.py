@@ -174,9 +174,38 @@ def _native_fmu(scene: Scene, work_dir: Path, bearing=None) -> Path:
                                  platforms=[host_platform()], bearing=bearing, speed_hz=speed_hz, **files))
 
 
-def build_bearings(scene: Scene, rotor: Rotor, loads: np.ndarray, work_dir: Path, warn=None):
+def scene_thermal(scene: Scene, rotor: Rotor, loads: np.ndarray) -> list | None:
+    """Each bearing's film at its effective temperature (``physics.thermal.ThermalState``) at the
+    scene's speed under its static load, with the scene's supply temperature; None without one.
+    A bearing without a film temperature there is an EquilibriumError naming it."""
+    if scene.supply_temperature_K is None:
+        return None
+    from bearing_fmu.physics.statics import EquilibriumError
+    from bearing_fmu.physics.thermal import ThermalError, effective_temperature
+
+    out = []
+    for k, (p, w) in enumerate(zip(rotor.bearings, loads)):
+        name = f"bearing {k + 1} (node {rotor.bearing_nodes[k] + 1})"
+        try:
+            out.append(effective_temperature(p, (float(w[0]), float(w[1])), scene.omega, scene.supply_temperature_K,
+                                             name=name))
+        except ThermalError as exc:
+            raise EquilibriumError(str(exc), bearing=name) from None
+    return out
+
+
+def thermal_meta(states) -> list[dict]:
+    """The run's json entry of ``scene_thermal``: per bearing T_eff, mu_eff and the film's friction and flows."""
+    return [{"T_supply_K": st.T_supply_K, "T_eff_K": st.T_eff_K, "dT_K": st.dT_K, "mu_eff_Pa_s": st.mu_eff_Pa_s,
+             "P_loss_W": st.report.friction_power_W, "inflow_m3_s": st.report.inflow_m3_s,
+             "side_flow_m3_s": st.report.side_flow_m3_s, "friction_coefficient": st.report.friction_coefficient}
+            for st in states]
+
+
+def build_bearings(scene: Scene, rotor: Rotor, loads: np.ndarray, work_dir: Path, warn=None, thermal=None):
     """The BearingSet of the scene: FMU instances (via = fmu) or internals in-process (their
-    warnings to ``warn``, default: warnings.warn)."""
+    warnings to ``warn``, default: warnings.warn); ``thermal`` (``scene_thermal``): each internal
+    at its bearing's mu_eff (its force scaled by mu_eff / mu: exact, F ~ mu)."""
     pairs = [(rotor.dof(n, "y"), rotor.dof(n, "z")) for n in rotor.bearing_nodes]
     names = [f"bearing {k + 1} (node {n + 1})" for k, n in enumerate(rotor.bearing_nodes)]
     scene_files(scene)  # a missing file is named before anything is built
@@ -184,6 +213,10 @@ def build_bearings(scene: Scene, rotor: Rotor, loads: np.ndarray, work_dir: Path
         from ..coupling.bearings import DirectBearings
 
         internals = [_direct_internal(scene, p, w, warn) for p, w in zip(rotor.bearings, loads)]
+        if thermal is not None:
+            from bearing_fmu.internals.scaled import ViscosityScaled
+
+            internals = [ViscosityScaled(i, st.mu_eff_Pa_s) for i, st in zip(internals, thermal)]
         return DirectBearings(internals, pairs, scene.omega, names, tangent=scene.newton_tangent)
     from ..coupling.cosim import FMUBearings
 
@@ -435,7 +468,13 @@ def _run(scene: Scene, holder, work: Path, progress: bool) -> SceneRun:
     out = _Writer(scene, rotor, loads, holder, t_wall0)
     integ = None
     try:
-        with build_bearings(scene, rotor, loads, work, warn=out.warnings) as bearings:
+        try:
+            thermal = scene_thermal(scene, rotor, loads)
+        except EquilibriumError as exc:
+            return out.run(None, "failed", str(exc))
+        if thermal is not None:
+            out.meta["thermal"] = thermal_meta(thermal)
+        with build_bearings(scene, rotor, loads, work, warn=out.warnings, thermal=thermal) as bearings:
             t_setup = time.perf_counter()
             out.times["setup_time_s"] = t_setup - t_wall0
             try:

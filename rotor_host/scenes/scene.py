@@ -102,6 +102,10 @@ SCENE_KEYS = (
     Key("static_loads", "static point loads ([[static_loads]]), e.g. to load the bearings", None,
         kind=Tables(STATIC_LOAD_KEYS)),
     Key("record", "what to record besides the bearing nodes ([record])", None, kind=Table(RECORD_KEYS)),
+    Key("supply_temperature_C", "oil supply temperature [C]: every bearing (each needs an [oil] table) at the "
+        "viscosity of its film's effective temperature at the scene's speed and static load (docs/thermal.md); "
+        "absent: the bearings' own viscosity", None, "inside every oil's range_C; via = 'direct', no [speed_profile]",
+        kind=Number()),
     Key("surrogate", "older form of [taylor] surrogate", None, kind=FileName()),
 )
 
@@ -139,6 +143,7 @@ class Scene:
     newton_tangent: str = "bearing"  # bearing | frozen | fd | linear: see rotor_host.integrate.forces
     fmu_kind: str = "python"  # python | native: which bearing FMU via = fmu builds (bearing_fmu/native)
     speed_profile: SpeedProfile | None = None  # run-up / coast-down; None: speed_hz throughout
+    supply_temperature_K: float | None = None  # oil supply [K]: bearings at mu_eff (docs/thermal.md); None: own mu
 
     @property
     def speed(self) -> SpeedProfile:
@@ -248,6 +253,9 @@ def load_scene(path) -> Scene:
         if o.required and not options.get(internal, {}).get(o.name):
             raise SceneError(f"{where}: internal = {internal!r} needs the key {o.name!r} in [{internal}] ({o.help})")
     fmu = _fmu_file(data["fmu"], base, where) if data["fmu"] is not None else None
+    supply = data["supply_temperature_C"]
+    if supply is not None:
+        _check_supply(supply, data, rotor, profile, where)
 
     return Scene(name=data["name"] if data["name"] is not None else path.stem,
                  description=data["description"] or "",
@@ -255,7 +263,28 @@ def load_scene(path) -> Scene:
                  t_end_s=tt["t_end_s"], dt_s=tt["dt_s"], alpha=tt["hht_alpha"], unbalances=unb, static_loads=loads,
                  options=options, initial=data["initial"]["state"], record_nodes=rec_nodes,
                  record_every=rec["every"], checkpoint_s=rec["checkpoint_s"], fmu=fmu, source=path,
-                 newton_tangent=tt["newton_tangent"], fmu_kind=data["fmu_kind"])
+                 newton_tangent=tt["newton_tangent"], fmu_kind=data["fmu_kind"],
+                 supply_temperature_K=None if supply is None else supply + 273.15)
+
+
+def _check_supply(supply_c: float, data: dict, rotor: Rotor, profile, where: str) -> None:
+    """A scene's supply temperature: every bearing has an [oil] whose law covers it; the bearings are
+    called in-process (the FMUs' thermal ports are a later step) at one speed (the effective
+    temperature is quasi-static, per speed: a run-up would need it along the profile)."""
+    key = f"{where}: supply_temperature_C = {supply_c:g}"
+    if data["via"] != "direct":
+        raise SceneError(f"{key} needs via = 'direct': the bearing FMUs take no supply temperature yet")
+    if profile is not None:
+        raise SceneError(f"{key} with a [speed_profile]: the effective temperature is computed per speed; a run-up "
+                         "through it is not modelled yet (run each speed, or leave the supply temperature out)")
+    for k, p in enumerate(rotor.bearings):
+        if p.oil is None:
+            raise SceneError(f"{key}: bearing {k + 1} (node {rotor.bearing_nodes[k] + 1}) has no [oil] table in its "
+                             f"bearing file (a viscosity law); it is isoviscous at {p.mu:g} Pa s")
+        try:
+            p.oil.check_temperature(supply_c + 273.15, "supply_temperature_C")
+        except ValueError as exc:
+            raise SceneError(f"{where}: bearing {k + 1}: {exc}") from None
 
 
 def _speed(data: dict, where: str) -> tuple[float, SpeedProfile | None]:

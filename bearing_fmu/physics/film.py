@@ -1,0 +1,189 @@
+"""Friction and oil flow of the film: what a thermal model starts from (docs/thermal.md).
+
+Computed from a converged pressure field (``Reynolds.film_report``), outside the solver's hot
+force loop; the friction of the full bore also in closed form from the force alone
+(``full_bore_friction``), so every internal (map, Taylor, linear) has it.
+
+Shear on the journal (DESIGN.md: the surface moves toward increasing theta at U = omega R)
+------------------------------------------------------------------------------------------
+The film's velocity u(n) = U (1 - n/h) + (1/(2 mu)) dp/ds (n^2 - n h) across the gap (n = 0 on
+the journal, s = R theta) drags the journal against its motion with
+
+    tau = mu U / h + (h / 2) dp/ds            (Couette + Poiseuille)
+
+so the drag torque T = R int int tau R dtheta dx and the friction force T / R. Raimondi & Boyd
+(1958) shear the whole circumference as a full film, the cavitated (Swift-Stieber) region
+included: their friction variable (r/c) f is reproduced only that way (at h0/c = 0.1, L/D = 1:
+Couette over the full circle 0.851 plus the pressure part eps sin(phi) / 2 = 0.200 gives 1.051,
+their table 1.05; shearing only the pressurised film gives about half). This module does the
+same: a film rupture zone whose striations carry a fraction h_film / h of the gap would shear
+less (Couette term times that fraction); the difference is in docs/thermal.md's limits.
+
+Full bore, in closed form (any internal):
+    Couette   T_c = 2 pi mu omega R^3 L / (CR sqrt(1 - eps^2))      (int_0^2pi dtheta / h exactly)
+    Poiseuille T_p = (R / 2) int int h dp/dtheta dtheta dx = (y Fz - z Fy) / 2
+                     (by parts, dh/dtheta = y cos + z sin; F the film force on the journal)
+The Couette part scales with omega alone (and mu, and the eccentricity), the pressure part with
+the journal's offset r and the force: what the force map and the Taylor surrogate hold already.
+The friction power is P = T omega - F . v (the journal's surface work less the work the film
+does on the moving journal centre; v = 0 at a static equilibrium).
+
+Flow (cell-face fluxes of the finite-volume discretisation, so they balance to round-off)
+-----------------------------------------------------------------------------------------
+    circumferential, per unit length:  q = omega R h / 2 - h^3 / (12 mu R) dp/dtheta
+    axial, per unit circumference:      q_x = - h^3 / (12 mu) dp/dx
+Side flow: the axial flow out of both ends of every film cell (the end gradient is the solver's
+own second-order one, (9 p0 - p1) / (3 dx)). Inflow: the oil entering the film: from every cell
+with a prescribed pressure (a groove, the ambient outside an arc) into the film next to it,
+where positive (the grooves' and the arc's leading edges); for a bore without any (the full
+bore, a lobed bore without grooves) the circumferential flow across the line of thickest film,
+interpolated between the two faces around it: Raimondi & Boyd's full bearing is fed there.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import asdict, dataclass
+
+import numpy as np
+
+from .params import BearingParams
+
+__all__ = ["FilmReport", "full_bore_friction", "field_report"]
+
+
+@dataclass(frozen=True)
+class FilmReport:
+    """Friction and flow of the film at one state (SI).
+
+    friction_torque_Nm  : drag torque on the journal, opposing the rotation [N m]
+    friction_force_N    : the drag at the journal surface, torque / R [N]
+    friction_power_W    : power the film dissipates, T omega - F . v [W]
+    friction_coefficient: friction force / the film force's magnitude (nan when it is 0) [-]
+    couette_torque_Nm, pressure_torque_Nm : the two parts of the torque [N m]
+    inflow_m3_s         : oil entering the film (see the module docstring) [m^3/s]
+    side_flow_m3_s      : axial flow out of both ends [m^3/s]
+    load_N              : magnitude of the film force [N]
+    """
+
+    friction_torque_Nm: float
+    friction_force_N: float
+    friction_power_W: float
+    friction_coefficient: float
+    couette_torque_Nm: float
+    pressure_torque_Nm: float
+    inflow_m3_s: float
+    side_flow_m3_s: float
+    load_N: float
+
+    def as_dict(self) -> dict[str, float]:
+        return {k: float(v) for k, v in asdict(self).items()}
+
+
+def _report(params: BearingParams, tc: float, tp: float, F, v, omega: float, q_in: float, q_s: float) -> FilmReport:
+    t = tc + tp
+    w = float(math.hypot(F[0], F[1]))
+    ff = abs(t) / params.R
+    power = t * omega - (F[0] * v[0] + F[1] * v[1])
+    return FilmReport(friction_torque_Nm=t, friction_force_N=ff, friction_power_W=power,
+                      friction_coefficient=ff / w if w > 0.0 else math.nan, couette_torque_Nm=tc,
+                      pressure_torque_Nm=tp, inflow_m3_s=q_in, side_flow_m3_s=q_s, load_N=w)
+
+
+def full_bore_friction(params: BearingParams, y: float, z: float, vy: float, vz: float, omega: float,
+                       F) -> tuple[float, float, float]:
+    """(Couette torque, pressure torque, friction power) [N m, N m, W] of the full 360 deg bore in
+    closed form (module docstring), from the journal state (y, z [m], vy, vz [m/s], omega [rad/s])
+    and the film force F = (Fy, Fz) [N] of any internal at that state."""
+    params.require_full_bore("full_bore_friction", "its Couette integral is the circular film's")
+    eps = math.hypot(y, z) / params.CR
+    if not eps < 1.0:
+        raise ValueError(f"full_bore_friction: eccentricity ratio {eps:.6g} >= 1 (the journal touches the bore)")
+    tc = 2.0 * math.pi * params.mu * omega * params.R ** 3 * params.L / (params.CR * math.sqrt(1.0 - eps * eps))
+    tp = 0.5 * (y * float(F[1]) - z * float(F[0]))
+    power = (tc + tp) * omega - (float(F[0]) * vy + float(F[1]) * vz)
+    return tc, tp, power
+
+
+def field_report(params: BearingParams, y: float, z: float, vy: float, vz: float, omega: float, F,
+                 p_half: np.ndarray, dx: float, grid=None) -> FilmReport:
+    """The film report from a converged pressure field (``Reynolds.film_report`` calls it).
+
+    p_half : (n_theta, m) [Pa], the half length x < 0, column 0 at the end (the solver's order)
+    dx     : axial cell length [m]
+    grid   : the bore's ``geometry.ThetaGrid`` (None: the full bore's uniform cells)
+    """
+    mu, R, CR = params.mu, params.R, params.CR
+    n, m = p_half.shape
+    F = (float(F[0]), float(F[1]))
+    v = (float(vy), float(vz))
+    if grid is None:
+        w = np.full(n, 2.0 * math.pi / n)
+        centre = np.arange(n) * w[0]
+        right = centre + 0.5 * w
+        fixed = np.zeros(n, dtype=bool)
+        psup = np.zeros(n)
+        dist = w.copy()
+        face_h0 = centre_h0 = np.ones(n)
+    else:
+        w, centre, right = grid.width, grid.centre, grid.right
+        fixed, psup, dist = grid.fixed.astype(bool), grid.supply, grid.dist
+        face_h0, centre_h0 = grid.face_film, grid.centre_film
+    nxt = np.roll(np.arange(n), -1)
+    hc = CR * centre_h0 + y * np.sin(centre) - z * np.cos(centre)
+    hf = CR * face_h0 + y * np.sin(right) - z * np.cos(right)
+    # the prescribed cells hold their pressure along the whole length
+    p = np.where(fixed[:, None], psup[:, None], p_half)
+    # axial weights of the half length (both halves: x 2): the solver's quadrature for p, plain
+    # cell lengths for the fluxes through the faces
+    qw = np.full(m, dx)
+    if m == 1:
+        qw[0] = 8.0 / 9.0 * dx
+    else:
+        qw[0] -= dx / 8.0
+        qw[1] += dx / 72.0
+    film_face = ~(fixed & fixed[nxt])                    # faces with film on at least one side
+    safe = np.where(dist > 0.0, dist, 1.0)
+    dp = (p[nxt] - p) / safe[:, None]                    # dp/dtheta across each right face
+    # --- friction: Couette over the film (as a full film), pressure part summed over the faces
+    if grid is None:
+        eps = math.hypot(y, z) / CR
+        tc = 2.0 * math.pi * mu * omega * R ** 3 * params.L / (CR * math.sqrt(1.0 - eps * eps))
+        tp = 0.5 * (y * F[1] - z * F[0])
+    else:
+        g = grid.geometry
+        lobe = g.lobe_of(centre)
+        left = grid.left
+        h_l = CR * g.base_film(left, lobe) + y * np.sin(left) - z * np.cos(left)
+        h_r = CR * g.base_film(right, lobe) + y * np.sin(right) - z * np.cos(right)
+        inv_h = w / 6.0 * (1.0 / h_l + 4.0 / hc + 1.0 / h_r)   # Simpson over each cell
+        tc = mu * omega * R ** 3 * params.L * float(np.sum(np.where(fixed, 0.0, inv_h)))
+        # (R / 2) int h dp/dtheta dtheta over the film: h_f (p_next - p) per face, both halves
+        jump = (p[nxt] - p) @ (2.0 * qw)
+        tp = 0.5 * R * float(np.sum(np.where(film_face, hf * jump, 0.0)))
+    # --- side flow: out of both ends of every film cell
+    if m == 1:
+        grad_end = 8.0 * p_half[:, 0] / (3.0 * dx)
+    else:
+        grad_end = (9.0 * p_half[:, 0] - p_half[:, 1]) / (3.0 * dx)
+    q_side = float(np.sum(np.where(fixed, 0.0, hc ** 3 / (12.0 * mu) * grad_end * R * w))) * 2.0
+    # --- inflow: circumferential face fluxes over the whole length (both halves)
+    flux = (omega * R * hf / 2.0) * params.L - hf ** 3 / (12.0 * mu * R) * (dp @ (2.0 * np.full(m, dx)))
+    if fixed.any():
+        into_next = np.where(fixed & ~fixed[nxt], flux, 0.0)          # a prescribed cell -> film on its right
+        into_prev = np.where(~fixed & fixed[nxt], -flux, 0.0)         # a prescribed cell -> film on its left
+        q_in = float(np.sum(np.maximum(into_next, 0.0)) + np.sum(np.maximum(into_prev, 0.0)))
+    else:
+        k = int(np.argmax(hf))                                          # the thickest face
+        t_max = math.atan2(y, -z) if (y or z) else float(right[k])      # (sin, -cos) along (y, z)
+        if grid is not None and g.lobes > 1 and g.preload > 0.0:
+            t_max = float(right[k])
+        # the two faces around the thickest line and the linear weight between them
+        d = np.mod(t_max - right + math.pi, 2.0 * math.pi) - math.pi    # angle from each face
+        a = int(np.argmin(np.where(d >= 0.0, d, np.inf)))               # the face just before it
+        b = int(nxt[a])
+        span = float(np.mod(right[b] - right[a], 2.0 * math.pi)) or 1.0
+        s = float(d[a]) / span
+        q_in = float((1.0 - s) * flux[a] + s * flux[b])
+        q_in = abs(q_in)
+    return _report(params, tc, tp, F, v, omega, q_in, q_side)

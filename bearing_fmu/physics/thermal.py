@@ -1,0 +1,141 @@
+"""The film's effective temperature and viscosity (docs/thermal.md).
+
+Heat balance (Raimondi & Boyd 1958, part III; Shigley's Mechanical Engineering Design, ch. 12,
+"temperature rise"): the oil enters the film at T_supply with the inflow Q; the side flow Qs leaves
+along the way at, on average, half the rise, the rest (Q - Qs) at the full rise dT; the friction
+power P goes into the oil (adiabatic: none conducted into journal or bush):
+
+    P = rho c_p [Qs dT / 2 + (Q - Qs) dT] = rho c_p (Q - Qs / 2) dT
+    T_eff = T_supply + k dT,   k = 1/2 (the mean of inlet and outlet: Shigley's T_av = T_1 + dT / 2)
+    mu_eff = mu(T_eff)
+
+With P and Q from the film at its static equilibrium under the load (``physics.film``), at the
+viscosity mu_eff itself: T = T_supply + k dT(mu(T)) is solved for T by bracketing (Brent). The
+residual r(T) = T_supply + k dT(mu(T)) - T is >= 0 at T_supply (dT >= 0); a hotter, thinner oil
+dissipates less, so r(T_supply + k dT(T_supply)) <= 0 and that brackets the root (else the bracket
+grows up to the oil's range, and no root there is an error naming it).
+
+Quasi-static, not a state of the time integration: the oil in the film is renewed every
+t_res = V / Q (film volume over inflow; ``residence_time_s``), about 1-2 revolutions (the paper
+bearing at 50 Hz: 0.03 s), so the adiabatic film temperature settles within a few revolutions of
+a change of speed or load (a run-up takes seconds), while over one whirl or unbalance cycle (one to
+two revolutions) it cannot follow the orbit and sees its mean: the static equilibrium. The bush and
+journal, whose heat capacity this model leaves out, are slower still (minutes), which only smooths
+more. So T_eff is computed at the static equilibrium of each speed and load, not per time step.
+
+The film force is proportional to mu at a fixed state, so every internal (Reynolds, linear, the
+force map, the Taylor surrogate) is exact under mu_eff: its force scaled by mu_eff / mu.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from scipy.optimize import brentq
+
+from .film import FilmReport
+from .oil import KELVIN, Oil
+from .params import BearingParams
+from .reynolds import Reynolds
+from .statics import EquilibriumError, equilibrium
+
+__all__ = ["ThermalError", "ThermalState", "temperature_rise", "effective_temperature", "residence_time_s"]
+
+
+class ThermalError(ValueError):
+    """No effective temperature: outside the oil's range, or no equilibrium at some viscosity."""
+
+
+@dataclass(frozen=True)
+class ThermalState:
+    """The film at its effective temperature (SI, K).
+
+    T_supply_K, T_eff_K : supply and effective temperature [K]
+    dT_K        : the film's temperature rise, outlet over inlet [K]
+    mu_eff_Pa_s : the viscosity at T_eff [Pa s]
+    y_m, z_m    : the journal's static equilibrium at mu_eff [m]
+    report      : friction and flow there (``physics.film.FilmReport``)
+    evaluations : film solutions the root search took
+    """
+
+    T_supply_K: float
+    T_eff_K: float
+    dT_K: float
+    mu_eff_Pa_s: float
+    y_m: float
+    z_m: float
+    report: FilmReport
+    evaluations: int
+
+
+def temperature_rise(report: FilmReport, oil: Oil) -> float:
+    """dT [K] = P / (rho c_p (Q - Qs / 2)) (module docstring); 0 without friction power."""
+    power = report.friction_power_W
+    if not power > 0.0:
+        return 0.0
+    carried = report.inflow_m3_s - 0.5 * report.side_flow_m3_s
+    if not carried > 0.0:
+        raise ThermalError(f"temperature rise: the film carries no oil away (inflow {report.inflow_m3_s:.4g} m^3/s, "
+                           f"side flow {report.side_flow_m3_s:.4g} m^3/s) while it dissipates {power:.4g} W")
+    return power / (oil.density * oil.heat_capacity * carried)
+
+
+def residence_time_s(params: BearingParams, report: FilmReport) -> float:
+    """How long the oil stays in the film [s]: the mean film volume 2 pi R CR L over the inflow."""
+    return 2.0 * math.pi * params.R * params.CR * params.L / report.inflow_m3_s
+
+
+def effective_temperature(params: BearingParams, load, omega: float, T_supply_K: float | None = None, *,
+                          n_theta: int | None = None, n_x: int | None = None, tol_K: float = 1e-3,
+                          name: str = "the bearing") -> ThermalState:
+    """The effective temperature of the bearing's film under the static ``load`` = (Wy, Wz) [N] at
+    ``omega`` [rad/s], oil supplied at ``T_supply_K`` [K] (default: the bearing file's supply_C),
+    converged to ``tol_K``; the Reynolds solver on an n_theta x n_x grid (default: its own).
+    ThermalError when the bearing has no [oil], at omega = 0, or when no root lies in the oil's range."""
+    oil = params.oil
+    if oil is None:
+        raise ThermalError(f"effective temperature of {name}: the bearing has no [oil] table (a viscosity law); "
+                           f"it is isoviscous at {params.mu:g} Pa s")
+    if not (math.isfinite(omega) and omega != 0.0):
+        raise ThermalError(f"effective temperature of {name}: omega = {omega!r} rad/s: a film without rotation "
+                           "dissipates nothing; give a speed")
+    T_s = oil.check_temperature(oil.T_supply if T_supply_K is None else T_supply_K, "T_supply")
+    k = oil.rise_factor
+    seen: dict[float, tuple] = {}
+    start = [None]
+
+    def film(T: float):
+        if T in seen:
+            return seen[T]
+        mu = oil.mu(T)
+        try:
+            rey = Reynolds(params.with_viscosity(mu), n_theta, n_x)
+            y, z = equilibrium(rey, load, omega, start=start[0], name=name)
+        except (EquilibriumError, ValueError) as exc:
+            raise ThermalError(f"effective temperature of {name}: at T = {T - KELVIN:.4g} C (mu = {mu:.4g} Pa s): "
+                               f"{exc}") from None
+        start[0] = (y, z)
+        rep = rey.film_report(y, z, 0.0, 0.0, omega)
+        seen[T] = (mu, y, z, rep, temperature_rise(rep, oil))
+        return seen[T]
+
+    def residual(T: float) -> float:
+        return T_s + k * film(T)[4] - T
+
+    r0 = residual(T_s)
+    if r0 <= tol_K:
+        T_eff = T_s
+    else:
+        lo, hi = T_s, min(T_s + r0, oil.T_max)
+        while residual(hi) > 0.0:
+            if hi >= oil.T_max:
+                raise ThermalError(f"effective temperature of {name}: above the oil's range ({oil.name}: up to "
+                                   f"{oil.T_max - KELVIN:.4g} C): at {oil.T_max - KELVIN:.4g} C the film would still "
+                                   f"heat to {T_s + k * film(hi)[4] - KELVIN:.4g} C; widen [oil] range_C or cool "
+                                   "the supply")
+            lo, hi = hi, min(hi + 2.0 * (hi - T_s), oil.T_max)
+        T_eff = brentq(residual, lo, hi, xtol=tol_K, rtol=1e-12) if residual(hi) < 0.0 else hi
+    mu, y, z, rep, dT = film(T_eff)
+    return ThermalState(T_supply_K=T_s, T_eff_K=float(T_eff), dT_K=dT, mu_eff_Pa_s=mu, y_m=y, z_m=z, report=rep,
+                        evaluations=len(seen))

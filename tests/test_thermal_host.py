@@ -1,0 +1,121 @@
+"""The effective viscosity in the host: any internal scaled to mu_eff (exact), a scene's supply
+temperature in a run, and the stability sweep at mu_eff per speed."""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from bearing_fmu.internals.scaled import ViscosityScaled
+from bearing_fmu.physics.params import PAPER_BEARING, BearingParams
+from bearing_fmu.physics.reynolds import Reynolds
+from bearing_fmu.physics.statics import linearize
+from bearing_fmu.physics.thermal import effective_temperature
+from rotor_host.analyses.stability import Stability, stability
+from rotor_host.model.rotor import Rotor
+from rotor_host.scenes.run import run_scene
+from rotor_host.scenes.scene import SceneError, load_scene
+
+MODELS = Path(__file__).resolve().parents[1] / "models"
+VG46_ROTOR = MODELS / "rotor_paper_vg46.toml"
+VG46_SCENE = MODELS / "scenes" / "paper_vg46_44hz.toml"
+
+
+def test_scaling_is_the_solver_at_that_viscosity():
+    """F ~ mu at a fixed state: the Reynolds force and Jacobian at mu_eff equal the ones at mu times
+    mu_eff / mu to round-off (the active set does not depend on mu), so scaling any internal is exact."""
+    om = 2 * math.pi * 44
+    state = (30e-6, -40e-6, 0.002, -0.001, om)
+    scaled = ViscosityScaled(Reynolds(PAPER_BEARING), 0.031)
+    direct = Reynolds(PAPER_BEARING.with_viscosity(0.031))
+    assert np.allclose(scaled.force(*state), direct.force(*state), rtol=1e-12, atol=0)
+    for a, b in zip(scaled.force_and_jacobian(*state), direct.force_and_jacobian(*state)):
+        assert np.allclose(a, b, rtol=1e-10, atol=0)
+    assert scaled.params.mu == 0.031 and scaled.counts() == scaled.inner.counts()
+    scaled.set_viscosity(PAPER_BEARING.mu)
+    assert scaled.force(*state) == Reynolds(PAPER_BEARING).force(*state)
+    with pytest.raises(ValueError, match="mu_eff = -1.0 Pa s must be finite and > 0"):
+        scaled.set_viscosity(-1.0)
+
+    class NoJacobian:
+        params = PAPER_BEARING
+
+        def force(self, *s):
+            return (1.0, 2.0)
+
+    assert not hasattr(ViscosityScaled(NoJacobian()), "force_and_jacobian")
+
+
+def test_stability_at_mu_eff():
+    """With a supply temperature every bearing runs at its film's effective temperature at each speed:
+    the point's T_eff and mu_eff are effective_temperature's for the bearing's static load, and its
+    K is the Reynolds solver's at mu_eff at the journal's position."""
+    rotor = Rotor.from_toml(VG46_ROTOR)
+    analysis = Stability(rotor, T_supply_K=313.15)
+    point, _ = analysis.at(44.0)
+    w = analysis.loads[0]
+    st = effective_temperature(rotor.bearings[0], (float(w[0]), float(w[1])), 2 * math.pi * 44.0, 313.15)
+    assert point.T_eff_K[0] == pytest.approx(st.T_eff_K, abs=1e-9)
+    assert point.mu_eff_Pa_s[0] == pytest.approx(st.mu_eff_Pa_s, rel=1e-12)
+    K, C = linearize(Reynolds(rotor.bearings[0].with_viscosity(st.mu_eff_Pa_s)), *point.journal[0], 2 * math.pi * 44)
+    assert np.allclose(point.K[0], K, rtol=1e-9) and np.allclose(point.C[0], C, rtol=1e-9)
+    iso, _ = Stability(rotor).at(44.0)  # isoviscous at the file's supply viscosity: a different film
+    assert iso.T_eff_K.size == 0 and not np.allclose(iso.K[0], point.K[0], rtol=1e-3)
+
+
+def test_stability_refuses_a_supply_temperature_without_oil():
+    with pytest.raises(ValueError, match=r"bearing 1 \(node 3\): a supply temperature needs the bearing file's \[oil\]"):
+        stability(MODELS / "rotor_paper.toml", [40.0], T_supply_K=313.15)
+    with pytest.raises(ValueError, match=r"the supply temperature = 473.15 K \(200 C\) is outside"):
+        stability(VG46_ROTOR, [40.0], T_supply_K=473.15)
+
+
+def test_scene_supply_temperature_runs_at_mu_eff(tmp_path):
+    """The shipped scene at 44 Hz for 5 ms: its json records each bearing's T_eff, mu_eff, P_loss and
+    flows, the same as effective_temperature under the bearing's static load."""
+    scene = load_scene(VG46_SCENE)
+    assert scene.supply_temperature_K == pytest.approx(313.15)
+    run = run_scene(scene.with_internal("reynolds", t_end_s=0.005), tmp_path)
+    assert run.ok
+    meta = json.loads(run.json.read_text())
+    w = meta["bearing_loads_N"][0]
+    st = effective_temperature(Rotor.from_toml(VG46_ROTOR).bearings[0], w, 2 * math.pi * 44.0, 313.15,
+                               name="bearing 1 (node 3)")
+    th = meta["thermal"][0]
+    assert th["T_eff_K"] == pytest.approx(st.T_eff_K, abs=1e-9) and th["mu_eff_Pa_s"] == st.mu_eff_Pa_s
+    assert th["P_loss_W"] == pytest.approx(st.report.friction_power_W, rel=1e-12)
+    # the journal starts at the static equilibrium at mu_eff: where effective_temperature found it
+    eq = np.array(meta["equilibrium_eccentricity"])
+    assert eq[0] == pytest.approx(math.hypot(st.y_m, st.z_m) / PAPER_BEARING.CR, rel=1e-3)
+
+
+@pytest.mark.parametrize("edit, match", [
+    (lambda t: t.replace('via = "direct"', 'via = "fmu"'), r"supply_temperature_C = 40 needs via = 'direct'"),
+    (lambda t: t.replace("speed_hz = 44.0", "[speed_profile]\ntimes_s = [0.0, 0.1]\nspeeds_hz = [40.0, 44.0]\n"),
+     r"supply_temperature_C = 40 with a \[speed_profile\]"),
+    (lambda t: t.replace("rotor_paper_vg46.toml", "rotor_paper.toml"),
+     r"supply_temperature_C = 40: bearing 1 \(node 3\) has no \[oil\] table"),
+    (lambda t: t.replace("supply_temperature_C = 40.0", "supply_temperature_C = 190.0"),
+     r"bearing 1: Oil .*supply_temperature_C = 463.15 K \(190 C\) is outside"),
+])
+def test_scene_supply_temperature_refused_by_name(tmp_path, edit, match):
+    text = edit(VG46_SCENE.read_text())
+    # the speed profile's table must come after the top-level keys
+    if "[speed_profile]" in text:
+        head, _, tail = text.partition("[speed_profile]")
+        prof, _, rest = tail.partition("\n\n")
+        text = head + rest + "\n[speed_profile]" + prof + "\n"
+    f = tmp_path / "s.toml"
+    f.write_text(text.replace('rotor = "../', f'rotor = "{MODELS}/'))
+    with pytest.raises(SceneError, match=match):
+        load_scene(f)
+
+
+def test_shipped_oil_files_load():
+    b = BearingParams.from_toml(MODELS / "bearing_paper_vg46.toml")
+    assert b.oil is not None and b.mu == pytest.approx(46e-6 * 861.0, rel=1e-12)
+    assert all(p.oil is not None for p in Rotor.from_toml(VG46_ROTOR).bearings)
