@@ -5,7 +5,6 @@ the recipe options from here too."""
 from __future__ import annotations
 
 import argparse
-import math
 import sys
 
 from .io.exits import EXIT_CODES, run_command

@@ -43,7 +43,7 @@ from bearing_fmu.io.exits import note_kept
 from bearing_fmu.io.outputs import ensure_writable, write_json, write_text
 
 from ..model.rotor import Rotor
-from .stability_report import FORWARD, direction, markdown, table_rows, to_json
+from .stability_report import FORWARD, direction, markdown, to_json
 from .modal import (RANK_UP_TO, band_hz, band_rule, beyond_band_line, critical_speeds, least_beyond, least_in_band,
                     no_critical_line, split_crossings)
 
