@@ -206,6 +206,7 @@ def raimondi_boyd_case(arc_deg: float, l_over_d: float, eps: float, n_theta=None
     return S, math.degrees(phi)
 
 
+@pytest.mark.slow  # a grid-convergence study: several fine grids
 @pytest.mark.parametrize("arc_deg", [180.0, 120.0])
 def test_partial_arc_grid_convergence(arc_deg):
     """Raimondi & Boyd's centrally loaded partial bearings at L/D = 1 (the configuration of their
@@ -220,6 +221,7 @@ def test_partial_arc_grid_convergence(arc_deg):
 # ------------------------------------------------------------------------ offset halves
 
 
+@pytest.mark.slow  # a grid-convergence study: several fine grids
 @pytest.mark.parametrize("offset", [0.5, 1.0])
 def test_lobed_bores_grid_convergence(offset):
     """No published offset-halves table could be reached: its checks are independent ones. The

@@ -93,6 +93,7 @@ def test_compare_interrupted_while_plotting_keeps_its_table(tmp_path):
 MAP = ["map", "--resolution", "4x8", "--grid", "16x4", "--phases", "1", "--quiet"]
 
 
+@pytest.mark.slow  # a command in a subprocess held at a moment; the compare case stays in the quick loop
 def test_map_interrupted_while_saving_keeps_the_whole_map(tmp_path):
     from bearing_fmu.internals.forcemap import load_map
 
@@ -106,6 +107,7 @@ def test_map_interrupted_while_saving_keeps_the_whole_map(tmp_path):
     assert load_map(tmp_path / "m.json").n_eps == 4
 
 
+@pytest.mark.slow  # a command in a subprocess held at a moment; the compare case stays in the quick loop
 @pytest.mark.parametrize("workers", [1, 2])
 def test_map_interrupted_mid_table_says_how_far_it_got(tmp_path, workers):
     """Held in the Reynolds solve of the third row (8 solves a row): alone, two rows are done;

@@ -7,6 +7,7 @@ Read from the sources with ``ast``, not by importing them: what is checked is wh
 """
 
 import ast
+import functools
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -17,6 +18,7 @@ LONG_ALLOWED = {"bearing_fmu/physics/reynolds_kernels.py"}  # one numba kernel s
 CLI_MODULES = {"bearing_fmu/cli.py", "rotor_host/cli.py"}
 
 
+@functools.lru_cache(maxsize=1)
 def _modules() -> dict[str, Path]:
     out = {}
     for pkg in PACKAGES:
@@ -46,6 +48,7 @@ def _imports(name: str, path: Path, modules) -> list[tuple[str, str, int]]:
     return [(m, n, line) for m, n, line in out if m.split(".")[0] in PACKAGES]
 
 
+@functools.lru_cache(maxsize=1)
 def _graph():
     modules = _modules()
     return modules, {name: _imports(name, path, modules) for name, path in modules.items()}

@@ -44,7 +44,8 @@ IN = ("y", "z", "vy", "vz", "omega")
 OUT = ("Fy", "Fz", "eccentricity", "h_min", "Kyy", "Kyz", "Kzy", "Kzz", "Cyy", "Cyz", "Czy", "Czz")
 KINDS = ("map", "taylor", "linear")
 
-pytestmark = [pytest.mark.filterwarnings("ignore:state outside the surrogate's fitted domain")]
+pytestmark = [pytest.mark.slow,  # six FMI 3.0 and FMI 2.0 builds compiled and driven: end to end, in CI (the whole suite)
+              pytest.mark.filterwarnings("ignore:state outside the surrogate's fitted domain")]
 
 
 # ----------------------------------------------------------------------------- the FMUs

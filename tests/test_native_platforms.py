@@ -21,6 +21,9 @@ fmpy = pytest.importorskip("fmpy")
 from bearing_fmu.fmu.native.compile import PLATFORMS, fmi_headers  # noqa: E402
 from bearing_fmu.fmu.native.objfile import exports_and_imports, fat_slices, glibc_versions  # noqa: E402
 
+# cross-compiles for every platform and runs wine: end to end, in CI (the whole suite)
+pytestmark = pytest.mark.slow
+
 ROOT = Path(__file__).resolve().parents[1]
 PAPER_MAP = ROOT / "models" / "maps" / "paper_bearing.json"
 SURROGATE = ROOT / "models" / "surrogates" / "paper_22hz_16.7N.json"

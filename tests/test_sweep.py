@@ -125,6 +125,7 @@ def not_a_scheduler(request):
     srv.server_close()
 
 
+@pytest.mark.slow  # a 5 s handshake timeout per peer; the connect refusal stays quick
 def test_a_peer_that_is_not_a_scheduler_is_refused(tmp_path, not_a_scheduler, monkeypatch, capsys):
     from rotor_host.analyses import dask_cluster
 

@@ -155,6 +155,7 @@ def test_a_run_into_a_full_disk_keeps_running_and_rescues_its_result(tmp_path, t
     assert sorted(p.name for p in out.iterdir()) == ["filler"]  # no half file, no lock, no stale checkpoint
 
 
+@pytest.mark.slow  # a command in a subprocess; the full-disk run stays in the quick loop
 def test_a_folder_made_read_only_mid_run_rescues_the_result(tmp_path, tmpfs, code_cache):
     """The run is held just before it writes its result (tests/pause_at.py), the folder is
     remounted read-only, the run goes on: exit 1, the result beside the folder, named."""
@@ -174,6 +175,7 @@ def test_a_folder_made_read_only_mid_run_rescues_the_result(tmp_path, tmpfs, cod
     assert json.loads((rescue / "s_reynolds.json").read_text())["status"] == "ok"
 
 
+@pytest.mark.slow  # a command in a subprocess; the full-disk run stays in the quick loop
 def test_stability_json_at_a_name_taken_by_a_folder(tmp_path):
     out = tmp_path / "out"
     (out / "stability_rotor_paper_map.json").mkdir(parents=True)
@@ -190,6 +192,7 @@ def test_stability_json_at_a_name_taken_by_a_folder(tmp_path):
         f"({out / 'stability_rotor_paper_map.json'}: Is a directory); they are in {rescued.parent}")
 
 
+@pytest.mark.slow  # a command in a subprocess; the full-disk run stays in the quick loop
 def test_a_map_into_a_full_disk_is_rescued(tmp_path, tmpfs):
     out = tmpfs(tmp_path / "maps")
     fill(out, leave_bytes=4096)  # the probe before any work passes; the map does not fit
