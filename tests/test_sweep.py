@@ -393,3 +393,21 @@ def test_titles_name_the_swept_quantity_and_range(tmp_path, monkeypatch):
                           bearing_nodes=[3], disk_nodes=[], unbalance=True, info=info)
     head = "Sweep of paper_22hz: unbalance 0-20 g on node 6 at 37 mm (2 runs) at 22 Hz"
     assert files[0].read_text().splitlines()[0] == f"# {head}" and titles[-1].splitlines()[0] == head
+
+
+def test_a_run_written_before_the_client_received_it_is_kept_from_its_files(tmp_path, paper_scene):
+    # an interrupt can land after a worker wrote a run's files but before the client received
+    # its row: the summary rebuilds that row from the files, the same row the worker returns
+    from rotor_host.analyses.sweep import finished_on_disk, point_scene, points, run_point
+    from rotor_host.scenes.scene import load_scene
+
+    scene = load_scene(paper_scene(internal="map", via="direct", t_end=0.02, map={"map": MODELS / "maps" /
+                                                                                      "paper_bearing.json"}))
+    (pt,) = points(scene, [22.0])
+    want = run_point(point_scene(scene, pt, [6]), pt, str(tmp_path), 0.01, [6])
+    got = finished_on_disk(tmp_path, pt, 0.01, [6])
+    for key in ("pid", "rescued", "files"):
+        want.pop(key), got.pop(key)
+    assert got == want and want["status"] == "ok"
+    (tmp_path / f"{pt.stem}.json").write_text('{"status": "running"}')  # a checkpoint is not a finished run
+    assert finished_on_disk(tmp_path, pt, 0.01, [6]) is None

@@ -178,14 +178,38 @@ def run_point(scene, point: Point, out_dir: str, settle_s: float, disk_nodes: li
         return {**row, **error_fields(exc), "wall_s": time.perf_counter() - t0, "bearings": [], "disks": [],
                 "rescued": [asdict(r) for r in take_rescued()]}
     row["rescued"] = [asdict(r) for r in take_rescued()]  # the client counts them (exit code 1)
-    m = run.meta
-    row.update(status=_status(m), message=m["message"], t_reached_s=m["t_reached_s"], wall_s=m["wall_time_s"],
-               integration_s=m["integration_time_s"], setup_s=m["setup_time_s"] + m["equilibrium_time_s"],
-               evals_per_step=m["newton_mean_evaluations_per_step"], step_cuts=m["step_cuts"],
-               static_eccentricity=m["equilibrium_eccentricity"],
-               files=[str(run.npz), str(run.json)] if run.npz else [])
-    row.update(settled_metrics(run.arrays, settle_s, point.speed_hz, disk_nodes))
-    return row
+    files = [str(run.npz), str(run.json)] if run.npz else []
+    return {**row, **_run_fields(run.meta, run.arrays, files, point, settle_s, disk_nodes)}
+
+
+def _run_fields(m: dict, arrays, files: list[str], point: Point, settle_s: float, disk_nodes: list[int]) -> dict:
+    """A finished run's part of its row: from its metadata and arrays (in the worker, or from its
+    files when the client was interrupted before it received the row)."""
+    fields = dict(status=_status(m), message=m["message"], t_reached_s=m["t_reached_s"], wall_s=m["wall_time_s"],
+                  integration_s=m["integration_time_s"], setup_s=m["setup_time_s"] + m["equilibrium_time_s"],
+                  evals_per_step=m["newton_mean_evaluations_per_step"], step_cuts=m["step_cuts"],
+                  static_eccentricity=m["equilibrium_eccentricity"], files=files)
+    fields.update(settled_metrics(arrays, settle_s, point.speed_hz, disk_nodes))
+    return fields
+
+
+def finished_on_disk(out: Path, point: Point, settle_s: float, disk_nodes: list[int]) -> dict | None:
+    """The row of a run that finished and was written (its json neither running nor interrupted)
+    though the client had not received it yet, rebuilt from its files; else None."""
+    import json
+
+    js, npz = out / f"{point.stem}.json", out / f"{point.stem}.npz"
+    try:
+        m = json.loads(js.read_text())
+        if m.get("status") in ("running", "interrupted") or not npz.is_file():
+            return None
+        with np.load(npz) as data:
+            arrays = {k: data[k] for k in data.files}
+        row = {"speed_hz": point.speed_hz, "unbalance_g": point.unbalance_g, "stem": point.stem, "pid": m.get("pid"),
+               "rescued": []}
+        return {**row, **_run_fields(m, arrays, [str(npz), str(js)], point, settle_s, disk_nodes)}
+    except (OSError, ValueError, KeyError):  # not there, or being written: not kept
+        return None
 
 
 def error_fields(exc: BaseException) -> dict:
@@ -496,6 +520,11 @@ def command(*, scene, speeds_hz=None, unbalance_g=None, settle_s: float | None =
             drawing = True
             files += [f for f in [summary_diagram(stem, scene, rows, **diagram)] if f]
         except KeyboardInterrupt as exc:  # in the runs, closing the cluster (workers stopped) or writing: keep them
+            for p in pts:  # runs written but not yet received (the interrupt came first): from their files
+                if p not in finished:
+                    row = finished_on_disk(out, p, settle_s, disk_nodes)
+                    if row is not None:
+                        finished[p] = row
             done = exc.sweep_rows = [finished[p] for p in pts if p in finished]
             _drop_stale_locks(out, pts)
             if done:
