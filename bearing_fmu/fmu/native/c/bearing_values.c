@@ -227,7 +227,7 @@ static int enum_choice(const EnumOption *o, int v, char *out, size_t n) {
  * a choice this FMU does not take, else the values it takes). */
 int bn_check_enum(int j, int v, char *why, size_t n) {
     const EnumOption *o = &ENUMS[j];
-    char item[STRING_MAX], out[STRING_MAX], sub[512];
+    char item[STRING_MAX], out[STRING_MAX], sub[400]; /* a reason fits the caller's 512 with the words around it */
     if (enum_choice(o, v, item, sizeof item)) {
         if (bn_check_string(o->string, item, out, sub, sizeof sub) == 0) return 0;
         snprintf(why, n, "%s = %d means %s", o->name, v, sub);

@@ -2,9 +2,10 @@
  * names, start values, the parameters' checks alone and together, the internal's preparation and
  * its evaluation into the outputs. Each check answers 0, or 1 with the reason in words.
  *
- * Used by the FMI 3.0 layer (fmi3_*.c). fmi2_bearing.c still has its own
- * copy of the same code (static), kept apart while the FMI 2 layer changes on another branch;
- * both are to use this file once those changes are in. */
+ * Used by the FMI 3.0 layer (fmi3_*.c). fmi2_bearing.c still has its own copy of the checks and
+ * the option tables (static; the same code to the letter, kept so by hand until the FMI 2 layer
+ * calls this file: its setup and evaluation have since gained the FMI rules' additions, which
+ * this file's bn_prepare and bn_evaluate must take over first). */
 #ifndef BEARING_VALUES_H
 #define BEARING_VALUES_H
 
