@@ -473,6 +473,13 @@ class ForceMap:
             f"eccentricity ratio {eps:.4g} >= {1.0 if eps >= 1.0 else self._eps_max:g}: the journal "
             f"(y = {y:.4g} m, z = {z:.4g} m) is {why} (CR = {CR:.4g} m; the map covers eps < {self._eps_max:g})")
 
+    def compiled_force(self):
+        """Its force and Jacobian as a compiled kernel (``internals.compiled``)."""
+        from .compiled import CompiledForce
+        from .map_kernels import map_kernel, pack
+
+        return CompiledForce(map_kernel, pack(*self._args[:3], *self._args[5:], self._eps_max))
+
     def force(self, y: float, z: float, vy: float, vz: float, omega: float) -> tuple[float, float]:
         """Film force (Fy, Fz) [N]."""
         self._run(y, z, vy, vz, omega, False)

@@ -32,7 +32,7 @@ How to add an internal
    ``Option``s (an option name is also the FMU parameter and the scene key; it may share a
    name with another internal's only if it is the same option), and:
    - ``can``: its ``Capabilities`` (valid at any state or one operating point, fixed speed,
-     fitted domain, native, compare variant, truth, where it holds): stability, sweep,
+     fitted domain, native, compare variant, truth, where it holds, a compiled kernel): stability, sweep,
      compare, the run report, the FMU builds and their documentation ask these, never the name;
    - ``case``: ``"internals.cases:<name>_case"``, a function (data_dir) -> ``ContractCase``
      (``internals/cases.py``): option values that build a working instance for the paper
@@ -302,6 +302,10 @@ class Capabilities:
                     and {made}, if present, are filled per FMU kind by ``bearing_fmu.fmu.docs``).
     any_geometry  : takes a bore that is not the full circle (grooves, arc, lobes; physics.geometry);
                     False: ``create`` refuses such a bearing by name, ``geometry_why`` says why.
+    compiled      : has ``compiled_force()``: its force and Jacobian as a compiled kernel and its
+                    data (``internals.compiled``), which a host's compiled loop calls with no
+                    Python per evaluation (the rotor host's Newmark chunks); an instance may
+                    still answer None, and the caller then uses ``force_and_jacobian``.
     """
 
     any_state: bool = False
@@ -313,6 +317,7 @@ class Capabilities:
     validity: str = ""
     any_geometry: bool = True
     geometry_why: str = ""
+    compiled: bool = False
 
 
 @dataclass(frozen=True)
@@ -512,7 +517,7 @@ register(InternalSpec(
     ),
     uses=("reynolds", "map"),
     can=Capabilities(
-        native=True,
+        native=True, compiled=True,
         validity="The linear model holds near its expansion point at the speed omega_lin (any other omega is "
                  "refused); it evaluates beyond the clearance circle, where it means nothing physically (h_min < 0).{made}"),
     case="internals.cases:linear_case",
@@ -550,7 +555,7 @@ register(InternalSpec(
                file_format="bearing-fmu-force-map"),
     ),
     can=Capabilities(
-        any_state=True, native=True, any_geometry=False,
+        any_state=True, native=True, any_geometry=False, compiled=True,
         geometry_why="its reduction to eccentricity and one angle assumes the circular full bore",
         validity="The force map holds the Reynolds force for every speed, load and velocity of bearings with its "
                  "L/D; states beyond its last eccentricity (eps_max) are refused (fmi2Discard)."),

@@ -95,6 +95,11 @@ class BearingSet:
     def reject_step(self) -> None:
         pass
 
+    def compiled(self):
+        """The bearings as compiled kernels for the integrator's compiled loop
+        (``NodalForce.compiled``), or None; a set of FMUs has none."""
+        return None
+
     def close(self) -> None:
         pass
 
@@ -128,6 +133,23 @@ class DirectBearings(BearingSet):
         self._jac = [getattr(i, "force_and_jacobian", None)
                      or (lambda y, z, vy, vz, om, i=i: film_jacobian(i, y, z, vy, vz, om))
                      for i in self.internals]
+
+    def compiled(self):
+        """(forces, omega): each internal's compiled force (``compiled_force``,
+        ``bearing_fmu.internals.compiled``) for the integrator's compiled loop, or None when one
+        has none, or the set does more per evaluation than call its internals: a speed that
+        follows a profile, or a tangent other than each bearing's own ("frozen" keeps one,
+        "fd" and "linear" skip it)."""
+        if self.speed is not None or self.tangent != "bearing" or self.lund_sign:
+            return None
+        forces = []
+        for internal in self.internals:
+            get = getattr(internal, "compiled_force", None)
+            cf = get() if get is not None else None
+            if cf is None:
+                return None
+            forces.append(cf)
+        return tuple(forces), self.omega
 
     def _bearing(self, k, y, z, vy, vz):
         try:

@@ -72,8 +72,10 @@ import numpy as np
 
 from .banded import BandLU, bandwidth, to_band
 from .forces import NodalForce, StepRejected, as_dofs, as_nodal_force
+from .loads import RotatingLoads
 from .newmark_data import IntegrationError, NewmarkConfig, NewmarkResult
 from .newmark_kernels import Q0, Q1, StepOps, k_accept, k_begin, k_iter
+from .newmark_loop import ChunkDriver
 
 OMEGA_RTOL = 1e-3  # a varying speed rebuilds D = C + Omega G when Omega has moved by this fraction
 
@@ -117,14 +119,20 @@ class Newmark:
         self.w = w = bandwidth(self.M, self.K, self.C, self.G)
         self.MB, self.KB, self.CB, self.GB = (to_band(A, w) for A in (self.M, self.K, self.C, self.G))
         self.DB = self.CB + self.omega * self.GB
+        # the external force as the compiled loop evaluates it (loads.py), None: Python only
+        self._loads = f_ext if isinstance(f_ext, RotatingLoads) else None
         if f_ext is None:
             zero = np.zeros(n)
             self.f_ext = lambda t: zero
+            self._loads = RotatingLoads(zero)
         elif callable(f_ext):
             self.f_ext = f_ext
         else:
             const = np.asarray(f_ext, dtype=float).reshape(n)
             self.f_ext = lambda t: const
+            self._loads = RotatingLoads(const)
+        if self._loads is not None and self._loads.f_static.shape != (n,):
+            raise ValueError(f"f_ext has {self._loads.f_static.size} entries, expected {n}")
         self.nf = as_nodal_force(nodal_force)
         self.dofs = as_dofs(self.nf.dofs)
         if self.dofs.size and (self.dofs.min() < 0 or self.dofs.max() >= n):
@@ -207,8 +215,20 @@ class Newmark:
         attempt = self._attempt
         record = self._record
         iters = st.iters
+        plan = self._compiled_plan()
+        if plan is not None:
+            chunk = ChunkDriver(self, plan, n, rec)
+        k = 0
         try:
-            for k in range(n_steps):
+            while k < n_steps:
+                if plan is not None:
+                    # compiled up to the next progress call; a step it gives back is done below
+                    k_end = min(n_steps, (k // progress_every + 1) * progress_every)
+                    k = chunk.run(k, k_end)
+                    if k == k_end:
+                        if progress is not None and k % progress_every == 0:
+                            progress(t0 + k * dt)
+                        continue
                 t_a = t0 + k * dt
                 t_b = t0 + (k + 1) * dt
                 st.step_its = 0
@@ -221,6 +241,7 @@ class Newmark:
                     record((k + 1) // record_every)
                 if progress is not None and (k + 1) % progress_every == 0:
                     progress(t_b)
+                k += 1
         except _StepFailure as fail:
             res = self._partial(status="failed", message=fail.message)
             raise IntegrationError(fail.message, res, t=fail.t, iterations=fail.iterations,
@@ -231,6 +252,18 @@ class Newmark:
         return self._partial()
 
     # ------------------------------------------------------------------ internals
+    def _compiled_plan(self):
+        """The nonlinear force's compiled kernels (``NodalForce.compiled``: (forces, omega))
+        when the compiled driver can run this integration, else None: the setting is
+        off, the speed varies, the residuals are traced, the tangent is built here (fd,
+        linear), f_ext is not a RotatingLoads or a constant, or the force has no kernels."""
+        cfg = self.cfg
+        if (not cfg.compiled or self.omega_of_t is not None or cfg.trace or cfg.tangent in ("fd", "linear")
+                or self._loads is None or not self.dofs.size):
+            return None
+        get = getattr(self.nf, "compiled", None)
+        return get() if get is not None else None
+
     def _fext(self, t):
         fe = np.asarray(self.f_ext(t), dtype=float)
         if fe.shape != (self.n,):

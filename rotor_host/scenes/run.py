@@ -29,6 +29,7 @@ from bearing_fmu.io.exits import as_interrupted, handled, note_kept
 from bearing_fmu.io.outputs import claim, ensure_writable, savez, write_json
 
 from ..integrate.equilibrium import static_equilibrium
+from ..integrate.loads import RotatingLoads
 from ..integrate.newmark import IntegrationError, Newmark, NewmarkConfig
 from ..model.rotor import Rotor
 from .scene import G, Scene, SceneError, required_file, scene_files
@@ -241,16 +242,8 @@ def external_force(scene: Scene, rotor: Rotor, f_static: np.ndarray):
         parts.append((rotor.dof(u.node, "y"), rotor.dof(u.node, "z"), u.mass_kg * u.radius_m, u.phase_rad, u.t_on_s))
     out = np.empty_like(f_static)
     profile = scene.speed_profile
-
-    def f_ext(t: float) -> np.ndarray:
-        out[:] = f_static
-        for iy, iz, mr, ph, t_on in parts:
-            if t >= t_on:
-                a = om * t + ph
-                amp = mr * om * om
-                out[iy] += amp * math.cos(a)
-                out[iz] += amp * math.sin(a)
-        return out
+    if profile is None:  # a constant speed: loads the compiled integrator loop evaluates itself
+        return RotatingLoads(f_static, parts, om)
 
     def f_ext_profile(t: float) -> np.ndarray:
         out[:] = f_static
@@ -263,7 +256,7 @@ def external_force(scene: Scene, rotor: Rotor, f_static: np.ndarray):
                     out[iz] += mr * (w * w * s - dw * c)
         return out
 
-    return f_ext if profile is None else f_ext_profile
+    return f_ext_profile
 
 
 def initial_state(scene: Scene, rotor: Rotor, f_static, loads, bearings) -> np.ndarray:
