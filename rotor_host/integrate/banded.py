@@ -19,7 +19,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-__all__ = ["bandwidth", "to_band", "from_band", "band_lu", "band_solve", "band_matvec", "BandLU"]
+__all__ = ["bandwidth", "to_band", "from_band", "lapack_band", "band_lu", "band_solve", "band_matvec", "BandLU"]
 
 PIVOT_RTOL = 1e-13  # a pivot below this fraction of its row's largest entry: singular for our purpose
 
@@ -49,6 +49,20 @@ def to_band(A, w: int) -> np.ndarray:
         else:
             B[-d:, w + d] = diag
     return B
+
+
+def lapack_band(A, w: int) -> np.ndarray:
+    """LAPACK's (``scipy.linalg.solve_banded``'s) storage of A with w sub- and super-diagonals:
+    ab[w + i - j, j] = A[i, j], shape (2 w + 1, n)."""
+    A = np.asarray(A, dtype=float)
+    n = A.shape[0]
+    ab = np.zeros((2 * w + 1, n))
+    for d in range(-w, w + 1):
+        if d >= 0:
+            ab[w - d, d:] = np.diagonal(A, d)
+        else:
+            ab[w - d, :n + d] = np.diagonal(A, d)
+    return ab
 
 
 def from_band(B) -> np.ndarray:
