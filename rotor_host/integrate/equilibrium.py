@@ -188,7 +188,8 @@ def static_equilibrium(K, f_static, nodal_force: NodalForce | Sequence[NodalForc
             for a, da in enumerate(dofs):
                 T[w + da - dofs, dofs] -= J[a]  # T[da, db] -= J[a, b] in LAPACK band storage
         try:
-            dq = sla.solve_banded((w, w), T, -R, check_finite=False)
+            with np.errstate(divide="ignore", invalid="ignore"):  # a singular tangent: refused just below
+                dq = sla.solve_banded((w, w), T, -R, check_finite=False)
             if not np.all(np.isfinite(dq)):
                 raise np.linalg.LinAlgError
         except (np.linalg.LinAlgError, ValueError):
