@@ -450,7 +450,7 @@ class Newmark:
             Jq0, Jv0 = st.fd_J, Z
         else:
             Jq0, Jv0 = Z, Z
-        ok, fe1n, bn = k_begin(st.X, ops.HB, ops.SB, ops.W, self.dofs, fe1, st.fe0, st.f0, Jq0, Jv0, ops.cs,
+        ok, fe1n, bn = k_begin(st.X, ops.MDK, ops.SB, ops.W, self.dofs, fe1, st.fe0, st.f0, Jq0, Jv0, ops.cs,
                                 st.V, st.Pm, st.AJ)
         return ok, fe1, fe1n, bn
 

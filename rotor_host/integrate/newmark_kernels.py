@@ -60,7 +60,8 @@ def _solve_small(A, b):
 # Packed buffers (each numba call costs ~0.07 us per argument, so the kernels take few):
 #   SB (2, n, 2w+1) : S0 and its LU factors in row-wise band storage (banded.py), this step size
 #   W  (m, n)       : row j = S0^{-1} e_{dofs[j]}, the Woodbury columns S0^{-1} P^T
-#   HB (3, n, 2w+1) : the bands of Hq, Hv, Ha: b = Hq q0 + Hv v0 + Ha a0 + ...
+#   MDK (3, n, 2w+1): the bands of M, D = C + Omega G, K: the known part of the residual is
+#                     b = M ahat + D ((1 + alpha) vhat + alpha v0) + alpha K q0 + forces
 #   cs (7,)         : alpha, c0, c1, h, a3, cv, ca   (see StepOps below)
 #   V  (10, n)      : rows below
 #   Pm (4, m)       : qP, vP (the next iterate at the nonlinear DOFs), y, fl (work)
@@ -102,7 +103,7 @@ def _correction(R, Jq, Jv, c1, opa, LU, W, dofs, x, A, y, Jt, dq):
 
 
 @njit(cache=True)
-def k_begin(X, HB, SB, W, dofs, fe1, fe0, f0, Jq, Jv, cs, V, Pm, AJ):
+def k_begin(X, MDK, SB, W, dofs, fe1, fe0, f0, Jq, Jv, cs, V, Pm, AJ):
     """Start a step from the state X = [q0, v0, a0]: b, ahat, vhat, and the predictor (in
     V[Q0]): the step solved exactly with the nonlinear force linearised about the state at t0
     with tangent (Jq, Jv). Returns (ok, ||fe1||, ||b||)."""
@@ -113,22 +114,29 @@ def k_begin(X, HB, SB, W, dofs, fe1, fe0, f0, Jq, Jv, cs, V, Pm, AJ):
     m = dofs.size
     opa = 1.0 + alpha
     tmp = V[_X]  # free until the correction below
-    band_matvec(HB[0], X[:n], b)
-    band_matvec(HB[1], X[n:2 * n], tmp)
-    for i in range(n):
-        b[i] += tmp[i]
-    band_matvec(HB[2], X[2 * n:], tmp)
     fen = 0.0
     bn = 0.0
     for i in range(n):
-        b[i] += tmp[i] + opa * fe1[i] - alpha * fe0[i]
-        fen += fe1[i] * fe1[i]
         qi = X[i]
         vi = X[n + i]
         ai = X[2 * n + i]
         ahat[i] = c0 * qi + c0 * h * vi + a3 * ai
         vhat[i] = c1 * qi + cv * vi + ca * ai
         qstart[i] = qi + h * vi + 0.5 * h * h * ai
+        R[i] = opa * vhat[i] + alpha * vi  # (R is free until below)
+    # b = Hq q0 + Hv v0 + Ha a0 with Hq = c0 M + opa c1 D + alpha K, Hv = c0 h M + (opa cv + alpha) D,
+    # Ha = a3 M + opa ca D: two band products (three with alpha), not three
+    band_matvec(MDK[0], ahat, b)
+    band_matvec(MDK[1], R, tmp)
+    for i in range(n):
+        b[i] += tmp[i]
+    if alpha != 0.0:
+        band_matvec(MDK[2], X[:n], tmp)
+        for i in range(n):
+            b[i] += alpha * tmp[i]
+    for i in range(n):
+        b[i] += opa * fe1[i] - alpha * fe0[i]
+        fen += fe1[i] * fe1[i]
     if alpha != 0.0:
         for j in range(m):
             b[dofs[j]] -= alpha * f0[j]
@@ -220,8 +228,8 @@ def k_accept(X, iq, cs, V, MB):
 
 class StepOps:
     """Everything that depends on the step size h only: the coefficients cs, S0 and its LU
-    factors (SB, band storage), the Woodbury columns W = S0^{-1} P^T (as rows), and the bands
-    HB that map the state [q0, v0, a0] to the known part of the step's residual. MB, DB, KB
+    factors (SB, band storage), the Woodbury columns W = S0^{-1} P^T (as rows), and MDK, the
+    bands of M, D, K stacked (the known part of the step's residual). MB, DB, KB
     are M, D = C + Omega G and K in band storage (``banded.to_band``, one half-bandwidth);
     ``cfg`` is the NewmarkConfig (alpha, beta, gamma). O(n w^2) to build."""
 
@@ -249,7 +257,4 @@ class StepOps:
             e[d] = 1.0
             band_solve(LU, e, self.W[j])
         self.cs = np.array([a, self.c0, self.c1, h, self.a3, self.cv, self.ca])
-        Hq = self.c0 * MB + opa * self.c1 * DB + a * KB
-        Hv = self.c0 * h * MB + (opa * self.cv + a) * DB
-        Ha = self.a3 * MB + opa * self.ca * DB
-        self.HB = np.ascontiguousarray(np.stack([Hq, Hv, Ha]))
+        self.MDK = np.ascontiguousarray(np.stack([MB, DB, KB]))

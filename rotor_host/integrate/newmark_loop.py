@@ -74,7 +74,7 @@ def _forces(kaddr, data, doff, omega, qP, vP, out, f, Jq, Jv):
 
 
 @njit(cache=True)
-def run_chunk(kaddr, data, doff, omega, k0, k1, X, HB, SB, W, MB, dofs, cs, V, Pm, AJ,
+def run_chunk(kaddr, data, doff, omega, k0, k1, X, MDK, SB, W, MB, dofs, cs, V, Pm, AJ,
               loads_static, loads_idx, loads_par, fe0, fe1, f0, f, Jq, Jv, Z, Jsave, out, cfg, cnt,
               iters, rec, rec_every, out_t, out_q, out_v, out_f):
     """Steps k0 .. k1 - 1 of the run (t = t0 + k dt) at the full step dt. Returns the index of
@@ -96,9 +96,9 @@ def run_chunk(kaddr, data, doff, omega, k0, k1, X, HB, SB, W, MB, dofs, cs, V, P
                 Jsave[0, i, j] = Jql[i, j]
                 Jsave[1, i, j] = Jvl[i, j]
         if have_J:
-            ok, fe1n, bn = k_begin(X, HB, SB, W, dofs, fe1, fe0, f0, Jql, Jvl, cs, V, Pm, AJ)
+            ok, fe1n, bn = k_begin(X, MDK, SB, W, dofs, fe1, fe0, f0, Jql, Jvl, cs, V, Pm, AJ)
         else:
-            ok, fe1n, bn = k_begin(X, HB, SB, W, dofs, fe1, fe0, f0, Z, Z, cs, V, Pm, AJ)
+            ok, fe1n, bn = k_begin(X, MDK, SB, W, dofs, fe1, fe0, f0, Z, Z, cs, V, Pm, AJ)
         if not ok:
             cnt[CNT_WHY] = WHY_PREDICTOR
             return k
@@ -179,7 +179,7 @@ class ChunkDriver:
         cnt = b.cnt
         cnt[:] = (st.steps_done, st.n_eval, st.n_rec, int(st.have_J), 0)
         loads = integ._loads
-        k = run_chunk(self.kaddr, self.data, self.doff, self.omega, k0, k1, st.X, ops.HB, ops.SB, ops.W, integ.MB,
+        k = run_chunk(self.kaddr, self.data, self.doff, self.omega, k0, k1, st.X, ops.MDK, ops.SB, ops.W, integ.MB,
                       integ.dofs, ops.cs, st.V, st.Pm, st.AJ, loads.f_static, loads.idx, loads.par, st.fe0, b.fe1,
                       b.f0, b.f, b.Jq, b.Jv, b.Z, b.Jsave, b.out, b.cfg, cnt, st.iters, self.rec, st.record_every,
                       st.out_t, st.out_q, st.out_v, st.out_f)
