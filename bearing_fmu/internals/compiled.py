@@ -16,8 +16,11 @@ with y, z [m], vy, vz [m/s], omega [rad/s]; out[0:2] = (Fy, Fz) [N] and out[2:10
 J (2, 4) = dF/d(y, z, vy, vz), row-major (raw derivatives, as ``force_and_jacobian``). status 0:
 evaluated, with the same numbers ``force_and_jacobian`` gives; any other value: the state is one
 the internal refuses (BearingStateError), and the caller asks ``force_and_jacobian`` again for
-the refusal and its message. A kernel keeps no state between calls (a memoryless internal):
-an internal whose answer depends on its history offers none.
+the refusal and its message. A kernel's answer depends on the state alone (a memoryless
+internal; an internal whose answer depends on its history offers none); a kernel may keep a
+hint that makes its next call faster in its data (the Taylor guard's last nearest training
+state). An internal that counts its evaluations (the guard's excursions) gives ``sync``: the
+host calls it with the number of evaluations a compiled stretch kept (all answered 0).
 """
 
 from __future__ import annotations
@@ -29,7 +32,7 @@ from numba import njit, types
 from numba.core import cgutils
 from numba.extending import intrinsic
 
-__all__ = ["KERNEL_SIG", "OUT_SIZE", "CompiledForce", "address", "advance", "kernel_at", "evaluate"]
+__all__ = ["KERNEL_SIG", "OUT_SIZE", "CompiledForce", "address", "advance", "as_int64", "kernel_at", "evaluate"]
 
 KERNEL_SIG = types.int64(types.CPointer(types.float64), types.float64, types.float64, types.float64,
                          types.float64, types.float64, types.CPointer(types.float64))
@@ -59,6 +62,18 @@ def advance(typingctx, ptr, k):
 
 
 @intrinsic
+def as_int64(typingctx, ptr):
+    """The same address as an int64 pointer: integer arrays (exponents) stored in a kernel's
+    float64 data by their bits (``ndarray.view``)."""
+    sig = types.CPointer(types.int64)(ptr)
+
+    def codegen(context, builder, signature, args):
+        return builder.bitcast(args[0], context.get_value_type(signature.return_type))
+
+    return sig, codegen
+
+
+@intrinsic
 def kernel_at(typingctx, addr):
     """The kernel (a first-class function of KERNEL_SIG) at the integer address ``addr`` (a
     cfunc's ``address``): called through its C entry point, as numba calls a cfunc argument."""
@@ -78,11 +93,13 @@ def kernel_at(typingctx, addr):
 
 @dataclass(frozen=True)
 class CompiledForce:
-    """An internal's compiled force: ``kernel`` (a numba cfunc of KERNEL_SIG) and ``data``
-    (contiguous float64, what the kernel reads; its layout is the internal's business)."""
+    """An internal's compiled force: ``kernel`` (a numba cfunc of KERNEL_SIG), ``data``
+    (contiguous float64, what the kernel reads; its layout is the internal's business) and
+    ``sync`` (None, or callable(n): n evaluations answered by the kernel were kept)."""
 
     kernel: object
     data: np.ndarray
+    sync: object = None
 
     def __post_init__(self):
         if self.data.dtype != np.float64 or not self.data.flags.c_contiguous:

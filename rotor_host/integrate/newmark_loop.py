@@ -179,6 +179,7 @@ class ChunkDriver:
         cnt = b.cnt
         cnt[:] = (st.steps_done, st.n_eval, st.n_rec, int(st.have_J), 0)
         loads = integ._loads
+        n_eval = st.n_eval
         k = run_chunk(self.kaddr, self.data, self.doff, self.omega, k0, k1, st.X, ops.MDK, ops.SB, ops.W, integ.MB,
                       integ.dofs, ops.cs, st.V, st.Pm, st.AJ, loads.f_static, loads.idx, loads.par, st.fe0, b.fe1,
                       b.f0, b.f, b.Jq, b.Jv, b.Z, b.Jsave, b.out, b.cfg, cnt, st.iters, self.rec, st.record_every,
@@ -190,4 +191,8 @@ class ChunkDriver:
             st.f0 = b.f0.copy()
             st.t = st.t0 + k * st.dt
             st.in_first_bracket = False
+            kept = st.n_eval - n_eval  # evaluations per bearing in the steps kept
+            for cf in self.forces:
+                if cf.sync is not None:
+                    cf.sync(kept)
         return k
