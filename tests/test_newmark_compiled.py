@@ -193,3 +193,28 @@ def test_equilibrium_of_the_rotor_in_160_elements(rotor):
     coarse, fine = journals(rotor), journals(rotor.refined(16))
     assert rotor.refined(16).n_dof == 644
     np.testing.assert_allclose(fine, coarse, rtol=1e-7, atol=1e-7 * np.abs(coarse).max())
+
+
+@pytest.mark.slow
+def test_taylor_scene_with_excursions_equals_the_python_driver(paper_scene, monkeypatch):
+    # ~1 s: 40 g of unbalance drives the 22 Hz surrogate out of its fitted domain (two warned
+    # excursions, then a state beyond domain_limit ends the run): the compiled kernel answers
+    # inside, the guard outside, and the run is the Python driver's to the bit
+    import functools
+
+    from rotor_host.scenes import run as scene_run
+    from rotor_host.scenes.scene import load_scene
+
+    surrogate = ROOT / "models" / "surrogates" / "paper_22hz_16.7N.json"
+    scene = load_scene(paper_scene(internal="taylor", taylor={"surrogate": str(surrogate)}, unbalance_g=40.0,
+                                   t_end=0.05))
+    runs = []
+    for compiled in (True, False):
+        monkeypatch.setattr(scene_run, "NewmarkConfig", functools.partial(NewmarkConfig, compiled=compiled))
+        runs.append(scene_run.run_scene(scene, None))
+    a, b = runs
+    for key in ("t", "y", "z", "vy", "vz", "Fy", "Fz"):
+        np.testing.assert_array_equal(a.arrays[key], b.arrays[key], err_msg=key)
+    for key in ("status", "message", "internal_warnings", "force_evaluations", "step_cuts", "out_of_domain_fraction"):
+        assert a.meta[key] == b.meta[key], key
+    assert a.meta["internal_warnings"]["count"] == 2 and a.meta["status"] == "failed"
