@@ -3,8 +3,9 @@ floor and (with --before) the integrator of another checkout, on the paper rotor
 
     .venv/bin/python benchmarks/bench_step.py [--before DIR] [--steps 2000] [--quick]
 
-Columns, per step [us] (wall time of ``Newmark.run`` over the timed steps, after a warm-up run
-that loads every compiled kernel):
+Columns, per step [us] (the process's CPU time in ``Newmark.run`` over the timed steps, the best
+of REPEATS runs, after a warm-up run that loads every compiled kernel; CPU time, not wall time:
+on a shared machine the wall time counts the other processes' turns):
 
   before    the integrator of the checkout DIR (e.g. ``git archive <commit> | tar -x -C DIR``), run
             in a subprocess on the same problems with the same settings (the dense n x n inverse
@@ -20,7 +21,8 @@ equilibrium, dt = 1e-4 s, with the map, Taylor (22 Hz surrogate) and linear inte
 directly; the map case again on the rotor cut into 4, 16, 64 elements per element (44, 164, 644,
 2564 DOF), and with 2, 4, 8 map bearings on the 40-element rotor. Then the 44 Hz, 6 s map scene
 (models/scenes/paper_44hz.toml, --internal map --via direct): its integration time as
-``rotor-host run`` reports it, the first run of a process and a second one.
+``rotor-host run`` reports it (wall) and the CPU time of ``Newmark.run``, the first run of a
+process and a second one.
 
 Targets (issue 27): map new <= 2 x floor; 644 DOF <= 16 x the 44-DOF step; the 44 Hz scene
 under 1 s of integration.
@@ -151,9 +153,9 @@ def time_run(rotor, f_ext, bearings, q0, n_steps, mode):
     res = None
     for _ in range(REPEATS):
         integ = Newmark(rotor.M, rotor.K, rotor.C, rotor.G, OMEGA, f_ext, bearings(), NewmarkConfig(**kw))
-        t = time.perf_counter()
+        t = time.process_time()
         res = integ.run(q0, np.zeros(rotor.n_dof), 0.0, n_steps * dt, dt, **run_kw)
-        best = min(best, time.perf_counter() - t)
+        best = min(best, time.process_time() - t)
     return 1e6 * best / n_steps, float(res.mean_iterations)
 
 
@@ -178,13 +180,19 @@ def measure(modes, n_steps, quick):
 
 
 def scene_44hz(root: Path) -> list[float]:
-    """Integration time [s] of the 44 Hz 6 s map scene, run twice in one process."""
-    code = ("import sys, dataclasses, json; sys.path.insert(0, sys.argv[1]);"
+    """[integration time [s] (wall, as reported), CPU time [s] of Newmark.run, evaluations per
+    step] of the 44 Hz 6 s map scene, run twice in one process."""
+    code = ("import sys, dataclasses, json, time; sys.path.insert(0, sys.argv[1]);"
             "from rotor_host.scenes.scene import load_scene; from rotor_host.scenes.run import run_scene;"
+            "from rotor_host.integrate.newmark import Newmark; cpu = [];"
+            "run = Newmark.run\n"
+            "def timed(self, *a, **k):\n"
+            "    t = time.process_time(); r = run(self, *a, **k); cpu.append(time.process_time() - t); return r\n"
+            "Newmark.run = timed\n"
             "sc = dataclasses.replace(load_scene(sys.argv[1] + '/models/scenes/paper_44hz.toml'), internal='map',"
             " via='direct'); out = [run_scene(sc, None).meta for _ in range(2)];"
-            "print(json.dumps([[m['integration_time_s'], m['newton_mean_evaluations_per_step'], m['steps']]"
-            " for m in out]))")
+            "print(json.dumps([[m['integration_time_s'], c, m['newton_mean_evaluations_per_step']]"
+            " for m, c in zip(out, cpu)]))")
     env = dict(os.environ, PYTHONPATH=str(root))
     r = subprocess.run([sys.executable, "-c", code, str(root)], capture_output=True, text=True, env=env)
     if r.returncode:
@@ -246,10 +254,12 @@ def main(argv=None):
             rb = f"{b / base[44][0]:.1f}" if b and base[44][0] else "-"
             print(f"  {dof:5d} DOF: before {rb:>6} x, new {new / base[44][1]:6.1f} x")
     if not a.no_scene:
-        print("\n44 Hz 6 s map scene (direct), integration time [s] (first run of a process, second run):")
+        print("\n44 Hz 6 s map scene (direct), integration time (wall) / CPU time of Newmark.run [s], the first "
+              "run of a process, then a second:")
         if a.before:
-            print("  before: " + ", ".join(f"{t:.2f} s ({ev:.3f} evals/step)" for t, ev, _ in scene_44hz(a.before)))
-        print("  new:    " + ", ".join(f"{t:.2f} s ({ev:.3f} evals/step)" for t, ev, _ in scene_44hz(HERE)))
+            print("  before: " + ", ".join(f"{t:.2f} / {c:.2f} s ({ev:.3f} evals/step)" for t, c, ev in
+                                           scene_44hz(a.before)))
+        print("  new:    " + ", ".join(f"{t:.2f} / {c:.2f} s ({ev:.3f} evals/step)" for t, c, ev in scene_44hz(HERE)))
 
 
 if __name__ == "__main__":
