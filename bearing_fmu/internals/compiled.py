@@ -25,12 +25,20 @@ host calls it with the number of evaluations a compiled stretch kept (all answer
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
 from numba import njit, types
 from numba.core import cgutils
+from numba.core.errors import NumbaExperimentalFeatureWarning
 from numba.extending import intrinsic
+
+# numba calls first-class function types experimental; this module uses the part of them that
+# numba's own cfunc arguments use (a C entry point of a fixed signature): said once here, not
+# at every compile
+warnings.filterwarnings("ignore", message="First-class function type feature is experimental",
+                        category=NumbaExperimentalFeatureWarning)
 
 __all__ = ["KERNEL_SIG", "OUT_SIZE", "CompiledForce", "address", "advance", "as_int64", "kernel_at", "evaluate"]
 

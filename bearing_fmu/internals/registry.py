@@ -23,7 +23,10 @@ How to add an internal
    ``force(y, z, vy, vz, omega) -> (Fy, Fz)`` [N] and, if it can, ``force_and_jacobian`` (raw
    derivatives, see ``DifferentiableInternal``). Refuse states it cannot evaluate with
    ``BearingStateError`` (``check_finite``, ``check_state``; ``overflow_error`` for finite
-   inputs whose result overflows), never return NaN or inf.
+   inputs whose result overflows), never return NaN or inf. If its force and Jacobian are
+   compiled code, also give it ``compiled_force()`` (``internals.compiled``: a numba cfunc of
+   one signature and its data; set ``Capabilities.compiled``): the host then runs whole chunks
+   of time steps without Python.
 2. Give the class a ``from_options(params, options, context)`` classmethod: ``options`` is a
    dict of its checked option values (and of the internals it ``uses``), ``context`` the
    ``Context`` (static load, speed, where files are, a warning sink).
