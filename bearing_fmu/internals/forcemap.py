@@ -478,7 +478,7 @@ class ForceMap:
         from .compiled import CompiledForce
         from .map_kernels import map_kernel, pack
 
-        return CompiledForce(map_kernel, pack(*self._args[:3], *self._args[5:], self._eps_max))
+        return CompiledForce(map_kernel(), pack(*self._args[:3], *self._args[5:], self._eps_max))
 
     def force(self, y: float, z: float, vy: float, vz: float, omega: float) -> tuple[float, float]:
         """Film force (Fy, Fz) [N]."""

@@ -216,8 +216,7 @@ def pack(ts, tb, C, kwall, eps_min, scale, CR, eps_max) -> np.ndarray:
     return np.ascontiguousarray(np.concatenate([head, np.ravel(ts), np.ravel(tb), np.ravel(C)]), dtype=np.float64)
 
 
-@cfunc(KERNEL_SIG, cache=True)
-def map_kernel(dp, y, z, vy, vz, omega, op):
+def _map_kernel(dp, y, z, vy, vz, omega, op):
     """``internals.compiled`` kernel of the force map: ``map_force`` with its Jacobian and the
     refusals of ``ForceMap._run`` (beyond eps_max, a non-finite input or result): status 1."""
     head = carray(dp, _HEAD)
@@ -231,3 +230,14 @@ def map_kernel(dp, y, z, vy, vz, omega, op):
     if not eps < head[8] or not math.isfinite(vy + vz + omega):
         return 1
     return 0
+
+
+_KERNEL = []
+
+
+def map_kernel():
+    """The cfunc of ``_map_kernel``, compiled (or loaded from its cache) at the first call, not
+    at import: the FMU and the Python driver import this module and never call it."""
+    if not _KERNEL:
+        _KERNEL.append(cfunc(KERNEL_SIG, cache=True)(_map_kernel))
+    return _KERNEL[0]
