@@ -112,16 +112,17 @@ def static_equilibrium(K, f_static, nodal_force: NodalForce | Sequence[NodalForc
     The tangent is K - P^T df/dq P (finite differences if evaluate returns no df/dq); K alone
     may be singular (a free shaft held only by its bearings). It is banded like K (a beam's
     DOFs node by node), and solved as such (O(n) per iteration). Converged when
-    ||R|| <= rtol (||f_static|| + ||f_nl|| + || |K| |q| ||) and the Newton step
-    ||dq|| <= xtol ||q|| + atol_x. The residual's scale holds the sizes of the terms it sums,
-    |K| |q| (entrywise), not their sum K q: a finely cut shaft has stiff elements (EI / L^3),
+    ||R|| <= rtol (||f_static|| + ||f_nl|| + ||K q||) and the Newton step
+    ||dq|| <= xtol ||q|| + atol_x, or when ||R|| is at its round-off,
+    ||R|| <= ROUNDOFF (||f_static|| + ||f_nl|| + || |K| |q| ||). R sums terms of the sizes
+    |K| |q| (entrywise), not of their sum K q: a finely cut shaft has stiff elements (EI / L^3),
     so K q is the sum of large terms that cancel to the small load, and its round-off grows
     with them (eps || |K| |q| ||; Higham, Accuracy and Stability of Numerical Algorithms,
-    sec. 7.1, the componentwise backward error); against ||K q|| the test would ask for less
-    than the round-off of R (the paper rotor cut into 160 elements: residual floor 9.2e-9,
-    tolerance 8.1e-9). The step test is waived for a residual at that round-off (ROUNDOFF times
-    the scale): the step is then the round-off amplified by the tangent's conditioning (a fine
-    mesh: about 1e-8 of ||q||), which no iteration can make smaller. Evaluations are bracketed by begin_step(t, 0.0) and accept_step()
+    sec. 7.1, the componentwise backward error) until it passes the first test's tolerance
+    (the paper rotor cut into 160 elements: residual floor 9.2e-9, tolerance 8.1e-9). At that
+    floor the Newton step is the round-off amplified by the tangent's conditioning (a fine mesh:
+    about 1e-8 of ||q||), which no iteration can make smaller: q is as good as R can tell.
+    Evaluations are bracketed by begin_step(t, 0.0) and accept_step()
     (reject_step() on failure). Returns q; raises EquilibriumError."""
     K = np.asarray(K, dtype=float)
     n = K.shape[0]
@@ -195,9 +196,11 @@ def static_equilibrium(K, f_static, nodal_force: NodalForce | Sequence[NodalForc
         except (np.linalg.LinAlgError, ValueError):
             fail(f"static equilibrium: singular tangent at iteration {it} (residual {rn:.3e}); "
                  "is every rigid-body motion held by a force?", q, rn, it)
-        scale = fs_n + float(np.linalg.norm(f)) + float(np.linalg.norm(absK @ np.abs(q)))
+        fn = float(np.linalg.norm(f))
+        scale = fs_n + fn + float(np.linalg.norm(K @ q))
         dn = float(np.linalg.norm(dq))
-        if rn <= rtol * scale and (dn <= xtol * float(np.linalg.norm(q)) + atol_x or rn <= ROUNDOFF * scale):
+        if (rn <= rtol * scale and dn <= xtol * float(np.linalg.norm(q)) + atol_x
+                or rn <= ROUNDOFF * (fs_n + fn + float(np.linalg.norm(absK @ np.abs(q))))):
             if m and dfq is None:
                 ev(q)  # leave the force evaluated at the accepted state, not at a perturbed one
             nf.accept_step()
