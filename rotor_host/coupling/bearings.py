@@ -128,6 +128,18 @@ class DirectBearings(BearingSet):
         self._jac = [getattr(i, "force_and_jacobian", None)
                      or (lambda y, z, vy, vz, om, i=i: film_jacobian(i, y, z, vy, vz, om))
                      for i in self.internals]
+        # internals with a state over the step (a film temperature that lags: LaggedThermal)
+        self._stepped = [i for i in self.internals if hasattr(i, "begin_step")]
+
+    def begin_step(self, t: float, dt: float) -> None:
+        super().begin_step(t, dt)
+        for i in self._stepped:
+            i.begin_step(self.dt)
+
+    def accept_step(self) -> None:
+        if self.dt > 0.0:  # a static evaluation (dt = 0) is never committed, as in an FMU
+            for i in self._stepped:
+                i.accept_step()
 
     def _bearing(self, k, y, z, vy, vz):
         try:

@@ -86,11 +86,13 @@ def _context(scene: Scene, load, warn=None) -> Context:
     return Context(load=(float(load[0]), float(load[1])), omega=scene.omega, warn=warn)
 
 
-def _fmu_parameters(scene: Scene, params, load) -> dict:
-    """FMU parameters of one bearing: the bearing, the internal and all its options (the
-    static load and speed filled in where the internal takes them; files by their name in
-    the FMU's resources). A native FMU takes the options it keeps (``native_parameters``:
-    the linear model's coefficients are made here, per bearing)."""
+def _fmu_parameters(scene: Scene, params, load, thermal=None) -> dict:
+    """FMU parameters of one bearing: the bearing (its bore and oil too), the internal and all its
+    options (the static load and speed filled in where the internal takes them; files by their
+    name in the FMU's resources); with ``thermal`` (the bearing's ``ThermalState``) the thermal
+    model on and the inputs of Initialization Mode at its static equilibrium, where T_eff starts
+    quasi-static. A native FMU takes the options it keeps (``native_parameters``: the linear
+    model's coefficients are made here, per bearing)."""
     if scene.fmu_kind == "native":
         from bearing_fmu.fmu.native import native_parameters
 
@@ -104,7 +106,13 @@ def _fmu_parameters(scene: Scene, params, load) -> dict:
     for o in spec.all_options():
         if o.file and opts[o.name]:
             opts[o.name] = Path(opts[o.name]).name
-    return {"D": params.D, "L": params.L, "CR": params.CR, "mu": params.mu, "internal": spec.name, **opts}
+    from bearing_fmu.fmu.ports import port_defaults
+
+    out = {"D": params.D, "L": params.L, "CR": params.CR, "mu": params.mu, "internal": spec.name, **opts,
+           **port_defaults(params)}
+    if thermal is not None:
+        out.update(thermal=True, T_supply=thermal.T_supply_K, y=thermal.y_m, z=thermal.z_m, omega=scene.omega)
+    return out
 
 
 def _direct_internal(scene: Scene, params, load, warn=None):
@@ -214,21 +222,35 @@ def build_bearings(scene: Scene, rotor: Rotor, loads: np.ndarray, work_dir: Path
 
         internals = [_direct_internal(scene, p, w, warn) for p, w in zip(rotor.bearings, loads)]
         if thermal is not None:
-            from bearing_fmu.internals.scaled import ViscosityScaled
-
-            internals = [ViscosityScaled(i, st.mu_eff_Pa_s) for i, st in zip(internals, thermal)]
+            internals = [_thermal_internal(scene, i, p, st) for i, p, st in zip(internals, rotor.bearings, thermal)]
         return DirectBearings(internals, pairs, scene.omega, names, tangent=scene.newton_tangent)
     from ..coupling.cosim import FMUBearings
 
-    for name, p in zip(names, rotor.bearings):  # the FMU's parameters would drop the bore: refuse it
+    for name, p in zip(names, rotor.bearings):  # the native FMU's parameters would drop the bore: refuse it
+        if scene.fmu_kind != "native":
+            break
         try:
-            p.require_full_bore(f"{scene.source}: via = 'fmu': the bearing FMU of {name}",
-                                "its parameters are D, L, CR and mu; the geometry parameters are a later step")
+            p.require_full_bore(f"{scene.source}: via = 'fmu', fmu_kind = 'native': the bearing FMU of {name}",
+                                "its parameters are D, L, CR and mu; the geometry parameters are the Python FMU's")
         except ValueError as exc:
             raise SceneError(str(exc)) from None
     fmu = scene_fmu(scene, work_dir, rotor.bearings[0])
-    params = [_fmu_parameters(scene, p, w) for p, w in zip(rotor.bearings, loads)]
+    params = [_fmu_parameters(scene, p, w, st) for p, w, st in zip(rotor.bearings, loads, thermal or [None] * len(loads))]
     return FMUBearings(fmu, pairs, scene.omega, params, names, tangent=scene.newton_tangent)
+
+
+def _thermal_internal(scene: Scene, internal, params, state):
+    """One bearing's internal at its film's temperature: lagging the heat balance by the residence
+    time from the quasi-static value at its static equilibrium (``LaggedThermal``, the FMU's model)
+    when the internal has the film's flows, else held at the static equilibrium's mu_eff (exact for
+    one speed: F ~ mu; ``scene.py`` refuses a run-up then)."""
+    from bearing_fmu.internals.scaled import LaggedThermal, ViscosityScaled
+
+    if not registry.get(scene.internal).can.film_flow:
+        return ViscosityScaled(internal, state.mu_eff_Pa_s)
+    lagged = LaggedThermal(internal, params.oil, state.T_supply_K)
+    lagged.start(state.y_m, state.z_m, 0.0, 0.0, scene.omega)
+    return lagged
 
 
 def external_force(scene: Scene, rotor: Rotor, f_static: np.ndarray):
