@@ -103,9 +103,10 @@ SCENE_KEYS = (
         kind=Tables(STATIC_LOAD_KEYS)),
     Key("record", "what to record besides the bearing nodes ([record])", None, kind=Table(RECORD_KEYS)),
     Key("supply_temperature_C", "oil supply temperature [C]: every bearing (each needs an [oil] table) at the "
-        "viscosity of its film's effective temperature at the scene's speed and static load (docs/thermal.md); "
-        "absent: the bearings' own viscosity", None, "inside every oil's range_C; via = 'direct', no [speed_profile]",
-        kind=Number()),
+        "viscosity of its film's effective temperature, from the static equilibrium at the start, lagging the "
+        "heat balance by the film's residence time with the reynolds internal (docs/thermal.md); absent: the "
+        "bearings' own viscosity", None, "inside every oil's range_C; via = 'fmu' (python) and a [speed_profile] "
+        "need the reynolds internal, fmu_kind = 'native' is refused", kind=Number()),
     Key("surrogate", "older form of [taylor] surrogate", None, kind=FileName()),
 )
 
