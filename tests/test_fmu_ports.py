@@ -6,6 +6,7 @@ Shigley's balance), and against physics.thermal.effective_temperature at a stati
 the lag against its closed form (a first-order lag with the film's residence time)."""
 
 import math
+from pathlib import Path
 
 import pytest
 from fmpy.fmi1 import FMICallException
@@ -156,3 +157,37 @@ def test_geometry_parameters_reach_the_solver(fmu_instance):
             assert (out["Fy"], out["Fz"]) == want
         finally:
             inst.close()
+
+
+@pytest.mark.slow
+def test_build_with_a_bearing_makes_its_bore_and_oil_the_defaults(tmp_path, code_cache):
+    """`bearing-fmu build --bearing FILE`: the file's [geometry] and [oil] are the parameters' start values
+    (model description and resources), a master that sets nothing gets that bore's force, and the FMU
+    validates."""
+    import fmpy
+    from fmpy.validation import validate_fmu
+
+    from bearing_fmu.cli import main
+    from bearing_fmu.physics.reynolds import Reynolds
+
+    models = Path(__file__).resolve().parents[1] / "models"
+    grooved = tmp_path / "grooved.fmu"
+    assert main(["build", "--bearing", str(models / "bearing_paper_2groove.toml"), "-o", str(grooved)]) == 0
+    assert validate_fmu(str(grooved)) == []
+    starts = {v.name: v.start for v in fmpy.read_model_description(str(grooved)).modelVariables}
+    assert (starts["groove_count"], float(starts["groove_1"]), float(starts["groove_2"])) == ("2", math.pi / 2, 1.5 * math.pi)
+    state = {"y": 1e-5, "z": -4e-5, "omega": OMEGA}
+    res = fmpy.simulate_fmu(str(grooved), stop_time=1e-3, output_interval=1e-3, output=["Fy", "Fz"], start_values=state)
+    want = Reynolds(BearingParams.from_toml(models / "bearing_paper_2groove.toml")).force(1e-5, -4e-5, 0.0, 0.0, OMEGA)
+    assert (res["Fy"][-1], res["Fz"][-1]) == want
+
+    oily = tmp_path / "oily.fmu"
+    assert main(["build", "--bearing", str(models / "bearing_paper_vg46.toml"), "-o", str(oily)]) == 0
+    assert validate_fmu(str(oily)) == []
+    v = {x.name: x for x in fmpy.read_model_description(str(oily)).modelVariables}
+    assert (v["oil_law"].start, v["oil_law_enum"].start, v["thermal"].start) == ("walther", "2", "false")
+    oil = BearingParams.from_toml(models / "bearing_paper_vg46.toml").oil
+    two = Oil.walther(float(v["oil_nu_1"].start) * 1e6, float(v["oil_T_1"].start),
+                      float(v["oil_nu_2"].start) * 1e6, float(v["oil_T_2"].start))
+    for T in (300.0, 350.0, 420.0):  # the law through the two points the build wrote is the file's
+        assert two.mu(T) == pytest.approx(oil.mu(T), rel=1e-12)
