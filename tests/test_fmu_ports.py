@@ -191,3 +191,25 @@ def test_build_with_a_bearing_makes_its_bore_and_oil_the_defaults(tmp_path, code
                       float(v["oil_nu_2"].start) * 1e6, float(v["oil_T_2"].start))
     for T in (300.0, 350.0, 420.0):  # the law through the two points the build wrote is the file's
         assert two.mu(T) == pytest.approx(oil.mu(T), rel=1e-12)
+
+
+def test_a_supply_temperature_outside_the_oil_law_discards_by_name(fmu_instance):
+    """T_supply beyond the law's range (oil_T_max, 150 C by default): the step is discarded naming it, the
+    outputs keep their last values; a serialized FMU state brings T_eff back."""
+    inst = fmu_instance(**THERMAL, **dict(zip(("y", "z", "vy", "vz", "omega"), STATE)), T_supply=T_SUPPLY)
+    try:
+        T0 = inst.get("T_eff")
+        blob = inst.fmu.serializeFMUstate(inst.fmu.getFMUstate())
+        inst.set("T_supply", 500.0)
+        with pytest.raises(FMICallException):
+            inst.step(1e-4, *STATE)
+        assert ("thermal model: T_supply = 500 K (226.85 C) is outside the viscosity law's range 0 C .. 150 C (the "
+                "parameters oil_T_min .. oil_T_max)") in inst.messages[-1]
+        assert inst.get("T_eff") == T0
+        inst.set("T_supply", 350.0)
+        inst.step(1e-3, *STATE)
+        assert inst.get("T_eff") > T0 + 1.0  # a hotter supply heats the film over the step
+        inst.fmu.setFMUstate(inst.fmu.deSerializeFMUstate(blob))
+        assert inst.get("T_eff") == T0
+    finally:
+        inst.close()

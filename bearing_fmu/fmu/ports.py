@@ -209,6 +209,10 @@ def thermal_state(internal, params, oil: Oil, T_supply: float, state, T_old: flo
     from ..physics.thermal import film_temperature
 
     report = internal.film_report(*state)
-    T, mu_eff, _tau = film_temperature(params, report, oil, T_supply, T_old, dt)
+    try:
+        T, mu_eff, _tau = film_temperature(params, report, oil, T_supply, T_old, dt)
+    except ValueError as exc:  # in the FMU the law's range is two parameters, not the file's key
+        raise ValueError(str(exc).replace("Oil oil of the FMU parameters: ", "").replace(
+            "(the bearing file's [oil] range_C)", "(the parameters oil_T_min .. oil_T_max)")) from None
     factor = mu_eff / params.mu
     return factor, T, mu_eff, report.friction_power_W * factor, report.side_flow_m3_s
