@@ -34,6 +34,9 @@ from ...physics.params import BearingParams
 
 ID_TOKEN, GUID_TOKEN = "BN_MODEL_IDENTIFIER", "{BN-GUID}"  # in model_config.h until assign_identity
 INTERNALS = ("linear", "map", "taylor")  # what a native FMU can compute (no solver at run time)
+# the model layer (c/bearing_values.h), the same C files under the FMI 2.0 and the FMI 3.0 layer
+MODEL_HEADERS = ("bearing_native.h", "bearing_values.h")
+MODEL_SOURCES = ("bearing_values.c", "bearing_model.c", "bearing_derivatives.c")
 REAL_BASE, BOOL_BASE, STRING_BASE, ENUM_BASE = 0, 1000, 2000, 3000  # value references by type (bearing_native.h)
 CORE_REALS = ("y", "z", "vy", "vz", "omega", "Fy", "Fz", "eccentricity", "h_min", "Kyy", "Kyz", "Kzy", "Kzz",
               "Cyy", "Cyz", "Czy", "Czz", "D", "L", "CR", "mu")
