@@ -791,3 +791,27 @@ def test_fmpy_cmake_project_builds_the_same_binary(fmus, tmp_path):
         finally:
             raw.close()
     assert got[0] == got[1]
+
+
+def test_thermal_ports_and_their_derivatives(fmus):
+    """The thermal ports off (no native internal has the film's flows): T_eff = T_supply, mu_eff = mu;
+    dT_eff/dT_supply = 1 directional and adjoint, the force not along T_supply; thermal = true refused."""
+    f = fmus["map"]
+    raw = Raw3(f["fmu3"])
+    try:
+        assert raw.init() == OK
+        assert raw.set(["T_supply"], [333.0]) == OK and raw.step()[0] == OK  # CS: the outputs of the step
+        status, out = raw.get(["P_loss", "Q_side", "T_eff", "mu_eff"])
+        assert status == OK and out[:3] == [0.0, 0.0, 333.0] and out[3] == raw.get(["mu"])[1][0]
+        status, d = raw.derivative(["Fy", "Fz", "P_loss", "Q_side", "T_eff", "mu_eff"], ["T_supply"], [1.0])
+        assert status == OK and list(d) == [0.0, 0.0, 0.0, 0.0, 1.0, 0.0]
+        status, row = raw.derivative(["T_eff", "Fy"], ["T_supply", "y"], [2.0, 0.0], adjoint=True)
+        assert status == OK and list(row) == [2.0, 0.0]
+    finally:
+        raw.close()
+    raw = Raw3(f["fmu3"])
+    try:
+        assert raw.set(["thermal"], [True], "Boolean") == OK and raw.enter() == OK
+        assert raw.call("fmi3ExitInitializationMode") == ERROR and "thermal = true needs the film's" in raw.last()
+    finally:
+        raw.close()

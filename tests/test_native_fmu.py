@@ -572,6 +572,43 @@ def test_statuses_of_parameters_and_calls(native):
         raw.close()
 
 
+def test_thermal_ports_are_there_and_off(native):
+    """The Python FMU's thermal ports (docs/fmu.md): no native internal has the film's flows (registry
+    capability film_flow), so thermal = true is refused at initialisation naming why, and with
+    thermal = false the outputs are the isoviscous film's: T_eff = T_supply, mu_eff = mu, P_loss and
+    Q_side 0 (not computed); their directional derivatives say so (dT_eff/dT_supply = 1); T_supply
+    is an input an FMU state restores; the force does not move with it."""
+    fmu, unzip, *_ = native["map:paper_bearing"]
+    raw = Raw(fmu, unzip)
+    try:
+        assert raw.set("thermal", True) == OK
+        assert raw.init() == ERROR
+        assert "thermal = true needs the film's friction and flows, which internal = 'map' does not have" in raw.last()
+    finally:
+        raw.close()
+    raw = Raw(fmu, unzip)
+    try:
+        assert raw.init() == OK
+        state = (10e-6, -40e-6, 1e-3, -2e-4, 2 * math.pi * 22.0)
+        assert raw.set_inputs(state) == OK and raw.set("T_supply", 330.0) == OK
+        assert raw.step() == OK
+        names = ("Fy", "Fz", "P_loss", "Q_side", "T_eff", "mu_eff")
+        status, out = raw.outputs(names)
+        assert status == OK and list(out[2:]) == [0.0, 0.0, 330.0, raw.get("mu")[1]]
+        saved = raw.fmu.getFMUstate()
+        assert raw.set("T_supply", 380.0) == OK and raw.step(1e-4) == OK
+        status, hot = raw.outputs(names)
+        assert list(hot[:2]) == list(out[:2]) and hot[4] == 380.0  # the force is isoviscous
+        raw.fmu.setFMUstate(saved)
+        assert raw.get("T_supply")[1] == 330.0
+        raw.fmu.freeFMUstate(saved)
+        vr = {n: raw.vars[n].valueReference for n in (*names, "T_supply")}
+        d = raw.fmu.getDirectionalDerivative([vr[n] for n in names[2:]], [vr["T_supply"]], [1.0])
+        assert d == [0.0, 0.0, 1.0, 0.0]
+    finally:
+        raw.close()
+
+
 def test_refused_states_discard_and_a_restore_recovers(native):
     fmu, unzip, py, params = native["taylor:paper_22hz_16.7N"]
     s = py.taylor.surrogate

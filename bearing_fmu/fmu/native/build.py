@@ -207,9 +207,13 @@ def model_description(model: NativeModel, record: dict) -> bytes:
     params = [index[v.name] for v in model.variables if v.causality == "parameter"]
     structure = ET.SubElement(root, "ModelStructure")
     node = ET.SubElement(structure, "Outputs")
-    for i in outputs:
-        ET.SubElement(node, "Unknown", index=str(i), dependencies=" ".join(map(str, inputs)),
-                      dependenciesKind=" ".join(["dependent"] * len(inputs)))
+    from .fmi3 import output_dependencies  # noqa: PLC0415 - one table of what depends on what, both versions
+
+    depends = output_dependencies(model)
+    for i, v in zip(outputs, [v for v in model.variables if v.causality == "output"]):
+        own = [index[n] for n in depends[v.name]] if v.name in depends else inputs
+        ET.SubElement(node, "Unknown", index=str(i), dependencies=" ".join(map(str, own)),
+                      dependenciesKind=" ".join(["dependent"] * len(own)))
     node = ET.SubElement(structure, "InitialUnknowns")
     deps = sorted(inputs + params)
     for i in outputs:

@@ -40,6 +40,8 @@ MODEL_SOURCES = ("bearing_values.c", "bearing_model.c", "bearing_derivatives.c")
 REAL_BASE, BOOL_BASE, STRING_BASE, ENUM_BASE = 0, 1000, 2000, 3000  # value references by type (bearing_native.h)
 CORE_REALS = ("y", "z", "vy", "vz", "omega", "Fy", "Fz", "eccentricity", "h_min", "Kyy", "Kyz", "Kzy", "Kzz",
               "Cyy", "Cyz", "Czy", "Czz", "D", "L", "CR", "mu")
+# the thermal ports (fmu/ports.py), after the internal's Real options: the input, then the outputs
+THERMAL_REALS = ("T_supply", "P_loss", "Q_side", "T_eff", "mu_eff")
 FALLBACK_WHY = ("the fallback evaluates the Reynolds solver, which a native FMU does not have; use warn or discard, "
                 "or the Python FMU (bearing-fmu build) for fallback")
 # the native FMU's options per internal (registry names); the rest stay in the Python FMU
@@ -174,6 +176,18 @@ def _variables(internal: str, params: BearingParams, starts: dict, inputs: tuple
     for name, k in (("out_of_domain", 0), ("compute_tangent", 1)):
         _n, typ, causality, unit, start, desc = table[name]
         out.append(Variable(name, BOOL_BASE + k, typ, causality, bool(start), None, desc))
+    # the thermal ports: the Python FMU's interface; a native internal without the film's flows
+    # keeps them off (thermal = true refused at initialisation, naming why)
+    for k, name in enumerate(THERMAL_REALS):
+        _n, typ, causality, unit, start, desc = table[name]
+        out.append(Variable(name, REAL_BASE + len(CORE_REALS) + len(reals) + k, typ, causality,
+                            float(start) if causality == "input" else 0.0, unit, desc))
+    spec = registry.get(internal)
+    out.append(Variable("thermal", BOOL_BASE + 2, "Boolean", "parameter", False, None,
+                        "thermal model on (T_supply connected, the film at the viscosity of its effective temperature)"
+                        + ("" if spec.can.film_flow else f": not in this native FMU, whose {internal} internal has no "
+                           f"film flows ({spec.can.film_flow_why}); it stays false, T_eff reads T_supply, mu_eff mu, "
+                           "P_loss and Q_side 0")))
     out.append(Variable("internal", STRING_BASE, "String", "parameter", internal, None,
                         f"which internal computes the force: this native FMU computes {internal} only"))
     for k, o in enumerate(strings):
@@ -254,6 +268,11 @@ def _config(internal: str, params: BearingParams, starts: dict, inputs) -> str:
         f"#define BN_N_STRING_OPTIONS {len(strings)}",
         f"#define BN_START_INPUTS {{{', '.join(c_double(v) for v in inputs)}}}",
         f"#define BN_START_BEARING {{{', '.join(c_double(v) for v in (params.D, params.L, params.CR, params.mu))}}}",
+        # the thermal ports: the supply temperature's start [K]; whether the internal has the film's
+        # flows (registry capability film_flow), and why not
+        f"#define BN_START_T_SUPPLY {c_double(next(v[4] for v in VARIABLES if v[0] == 'T_supply'))}",
+        f"#define BN_FILM_FLOW {int(registry.get(internal).can.film_flow)}",
+        f"#define BN_FILM_FLOW_WHY {c_string(registry.get(internal).can.film_flow_why)}",
     ]
     rows = []
     for k, o in enumerate(reals):

@@ -155,6 +155,10 @@ def output_dependencies(model: NativeModel) -> dict[str, list[str]]:
             out[v.name] = ["y", "z"]
         elif v.name == "out_of_domain":
             out[v.name] = ["y", "z", "vy", "vz"] if fitted else []
+        elif v.name == "T_eff":  # the thermal ports, off in a native FMU (no film flows): T_eff is T_supply
+            out[v.name] = ["T_supply"]
+        elif v.name in ("P_loss", "Q_side", "mu_eff"):  # 0, 0, mu: no input
+            out[v.name] = []
         else:
             out[v.name] = ["y", "z", "vy", "vz", "omega"]
     return out

@@ -14,6 +14,7 @@
  *                  of the bearing is a scale and, for CR, a move of the state along (q, v); the
  *                  Taylor and linear models hold their own bearing: 0 (eccentricity, h_min follow CR)
  *   the internal's Real options   bn_option_derivative (the linear model's coefficients)
+ *   P_loss, Q_side, T_eff, mu_eff   the thermal ports, off: 0, 0, along T_supply, along mu
  * The states a difference evaluates are evaluated quietly: no log line, no excursion counted. */
 #include <math.h>
 #include <stdio.h>
@@ -66,7 +67,7 @@ int bn_check_known(const Instance *m, unsigned vr, char *why, size_t n) {
         snprintf(why, n, "known %s (value reference %u) is not an input or a Real parameter", name, vr);
         return 1;
     }
-    if (vr >= VR_D && m->mode != MODE_INIT) {
+    if (vr >= VR_D && !BN_IS_INPUT(vr) && m->mode != MODE_INIT) {
         snprintf(why, n, "known %s is a parameter: " BN_FMI_TEXT " gives derivatives with respect to parameters in "
                  "Initialization Mode only", name);
         return 1;
@@ -128,4 +129,10 @@ int bn_derivative(Instance *m, const double d[N_REAL], int with_kc, double out[N
     static const int jac_index[8] = {0, 1, 4, 5, 2, 3, 6, 7}; /* Kyy Kyz Kzy Kzz Cyy Cyz Czy Czz in J */
     for (int i = 0; tangent && i < 8; i++) out[VR_KYY - VR_FY + i] = -dJ[jac_index[i]]; /* Lund's sign */
     return 0;
+}
+
+double bn_thermal_derivative(const double d[N_REAL], int vr) {
+    if (vr == VR_T_EFF) return d[VR_T_SUPPLY];
+    if (vr == VR_MU_EFF) return d[VR_MU];
+    return 0.0; /* P_loss, Q_side: not computed (0) */
 }

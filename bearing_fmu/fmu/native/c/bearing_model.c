@@ -39,6 +39,11 @@ int bn_evaluate(Instance *m) {
     m->r[VR_HMIN] = m->r[VR_CR] * (1.0 - eps);
     m->ood_now = ood;
     if (m->mode != MODE_CONTINUOUS) m->b[B_OUT_OF_DOMAIN] = ood;
+    /* the thermal ports off (bn_prepare refuses thermal = true: no film flows): the isoviscous film */
+    m->r[VR_T_EFF] = m->r[VR_T_SUPPLY];
+    m->r[VR_MU_EFF] = m->r[VR_MU];
+    m->r[VR_P_LOSS] = 0.0;
+    m->r[VR_Q_SIDE] = 0.0;
     if (jac) { /* Lund's sign: K = -dF/dq, C = -dF/dv */
         m->r[VR_KYY] = -J[0]; m->r[VR_KYZ] = -J[1]; m->r[VR_CYY] = -J[2]; m->r[VR_CYZ] = -J[3];
         m->r[VR_KZY] = -J[4]; m->r[VR_KZZ] = -J[5]; m->r[VR_CZY] = -J[6]; m->r[VR_CZZ] = -J[7];
@@ -98,12 +103,14 @@ void bn_state_save(const Instance *m, BnState *s, const char *tag, const char *i
     snprintf(s->id, sizeof s->id, "%s", id);
     s->t = m->t;
     memcpy(s->values, m->r, sizeof s->values);
+    memcpy(s->thermal, m->r + VR_T_SUPPLY, sizeof s->thermal);
     s->out_of_domain = m->b[B_OUT_OF_DOMAIN];
 }
 
 void bn_state_restore(Instance *m, const BnState *s) {
     m->t = s->t;
     memcpy(m->r, s->values, sizeof s->values);
+    memcpy(m->r + VR_T_SUPPLY, s->thermal, sizeof s->thermal);
     m->b[B_OUT_OF_DOMAIN] = s->out_of_domain;
     m->terminated = 0;
     m->refused_state = 0;

@@ -86,9 +86,18 @@ enum {
 };
 #define N_INPUTS 5
 #define N_OUTPUTS_REAL (VR_D - VR_FY)
-#define N_REAL (VR_REAL_OPTIONS + BN_N_REAL_OPTIONS)
+/* the thermal ports (bearing_fmu/fmu/ports.py) after the internal's Real options: the input
+ * T_supply, the outputs P_loss, Q_side, T_eff, mu_eff; the parameter thermal (a Boolean) */
+#define VR_T_SUPPLY (VR_REAL_OPTIONS + BN_N_REAL_OPTIONS)
+#define VR_P_LOSS (VR_T_SUPPLY + 1)
+#define VR_Q_SIDE (VR_T_SUPPLY + 2)
+#define VR_T_EFF (VR_T_SUPPLY + 3)
+#define VR_MU_EFF (VR_T_SUPPLY + 4)
+#define N_REAL (VR_T_SUPPLY + 5)
+#define BN_IS_INPUT(vr) ((vr) < N_INPUTS || (vr) == VR_T_SUPPLY)
+#define BN_IS_THERMAL_OUTPUT(vr) ((vr) >= VR_P_LOSS && (vr) <= VR_MU_EFF)
 #define VR_BOOL0 1000
-enum { B_OUT_OF_DOMAIN, B_COMPUTE_TANGENT, N_BOOL };
+enum { B_OUT_OF_DOMAIN, B_COMPUTE_TANGENT, B_THERMAL, N_BOOL };
 #define VR_STRING0 2000
 #define S_INTERNAL 0                                     /* then the internal's String options */
 #define N_STRING (1 + BN_N_STRING_OPTIONS)
@@ -178,6 +187,7 @@ typedef struct Instance {
 #define bn_warned BN_NAME(BN_ID, bn_warned)
 #define bn_check_known BN_NAME(BN_ID, bn_check_known)
 #define bn_derivative BN_NAME(BN_ID, bn_derivative)
+#define bn_thermal_derivative BN_NAME(BN_ID, bn_thermal_derivative)
 #define bn_state_save BN_NAME(BN_ID, bn_state_save)
 #define bn_state_restore BN_NAME(BN_ID, bn_state_restore)
 #define bn_state_valid BN_NAME(BN_ID, bn_state_valid)

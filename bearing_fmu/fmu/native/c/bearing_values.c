@@ -59,7 +59,9 @@ static const char *const CORE_UNITS[VR_REAL_OPTIONS] = {
     "N/m", "N/m", "N/m", "N/m", "N.s/m", "N.s/m", "N.s/m", "N.s/m", "m", "m", "m", "Pa.s"};
 static const double START_INPUTS[N_INPUTS] = BN_START_INPUTS;
 static const double START_BEARING[4] = BN_START_BEARING;
-const char *const BN_BOOL_NAMES[N_BOOL] = {"out_of_domain", "compute_tangent"};
+const char *const BN_BOOL_NAMES[N_BOOL] = {"out_of_domain", "compute_tangent", "thermal"};
+static const char *const THERMAL_NAMES[N_REAL - VR_T_SUPPLY] = {"T_supply", "P_loss", "Q_side", "T_eff", "mu_eff"};
+static const char *const THERMAL_UNITS[N_REAL - VR_T_SUPPLY] = {"K", "W", "m3/s", "K", "Pa.s"};
 
 /* ------------------------------------------------------------------------------ names */
 
@@ -74,6 +76,7 @@ const char *bn_num(char *buf, size_t n, double x, int digits) {
 }
 
 const char *bn_real_name(int vr) {
+    if (vr >= VR_T_SUPPLY) return THERMAL_NAMES[vr - VR_T_SUPPLY];
     return vr < VR_REAL_OPTIONS ? CORE_NAMES[vr] : REAL_OPTIONS[vr - VR_REAL_OPTIONS].name;
 }
 
@@ -83,12 +86,13 @@ const char *bn_string_name(int k) {
 
 const char *bn_real_unit(int vr) {
     if (vr < VR_REAL_OPTIONS) return CORE_UNITS[vr];
+    if (vr >= VR_T_SUPPLY) return THERMAL_UNITS[vr - VR_T_SUPPLY];
     return "";
 }
 
 const char *bn_enum_name(int j) { return ENUMS[j].name; }
 
-int bn_is_output_real(int vr) { return vr >= VR_FY && vr < VR_D; }
+int bn_is_output_real(int vr) { return (vr >= VR_FY && vr < VR_D) || BN_IS_THERMAL_OUTPUT(vr); }
 
 static void lower_strip(const char *in, char *out, size_t n) {
     while (*in && isspace((unsigned char)*in)) in++;
@@ -130,8 +134,10 @@ void bn_set_starts(Instance *m) {
     for (int i = 0; i < N_INPUTS; i++) m->r[i] = START_INPUTS[i];
     for (int i = 0; i < 4; i++) m->r[VR_D + i] = START_BEARING[i];
     for (int i = 0; i < BN_N_REAL_OPTIONS; i++) m->r[VR_REAL_OPTIONS + i] = REAL_OPTIONS[i].start;
+    m->r[VR_T_SUPPLY] = BN_START_T_SUPPLY;
     m->b[B_OUT_OF_DOMAIN] = 0;
     m->b[B_COMPUTE_TANGENT] = 1;
+    m->b[B_THERMAL] = 0;
     snprintf(m->s[S_INTERNAL], STRING_MAX, "%s", BN_INTERNAL);
     for (int i = 0; i < BN_N_STRING_OPTIONS; i++) snprintf(m->s[1 + i], STRING_MAX, "%s", STRING_OPTIONS[i].start);
     for (int i = 0; i < N_STRING; i++) snprintf(m->eff[i], STRING_MAX, "%s", m->s[i]);
@@ -303,6 +309,10 @@ int bn_prepare(Instance *m) {
         if (m->refused[i])
             off += (size_t)snprintf(why + off, off < sizeof why ? sizeof why - off : 0,
                                     "%s%s (refused when it was set)", off ? "; " : "", m->refused_msg[i]);
+    if (!why[0] && !BN_FILM_FLOW && m->b[B_THERMAL])
+        snprintf(why, sizeof why, "thermal = true needs the film's friction and flows, which internal = '%s' does "
+                 "not have (%s); the native FMU has no thermal model: use thermal = false, or the Python FMU "
+                 "(bearing-fmu build) with internal = 'reynolds'", BN_INTERNAL, BN_FILM_FLOW_WHY);
     if (!why[0] && resolve_choices(m, why, sizeof why) == 0 && check_bearing(m, why, sizeof why) == 0) {
         if (bn_setup(m) == 0) {
             m->init_error[0] = 0;

@@ -53,6 +53,12 @@ BN_HIDDEN int bn_check_known(const Instance *m, unsigned vr, char *why, size_t n
  * parameters set; with_kc: K.., C.. too (else 0). 0, or 1 with the reason in m->msg (the state
  * refused; for K, C: no state next to it). Quiet: no log line, no excursion counted. */
 BN_HIDDEN int bn_derivative(Instance *m, const double d[N_REAL], int with_kc, double out[N_OUTPUTS_REAL]);
+/* the derivative of a thermal output (BN_IS_THERMAL_OUTPUT(vr)) along d: with the thermal model off
+ * (the native internals have no film flows) T_eff is T_supply and mu_eff is mu, P_loss, Q_side 0 */
+BN_HIDDEN double bn_thermal_derivative(const double d[N_REAL], int vr);
+/* the derivative of Real output vr along d: out (bn_derivative's) or the thermal one */
+#define BN_OUTPUT_DERIVATIVE(vr, d, out) \
+    (BN_IS_THERMAL_OUTPUT(vr) ? bn_thermal_derivative(d, (int)(vr)) : (out)[(vr) - VR_FY])
 
 /* an FMU state: the time, the inputs and Real outputs, out_of_domain; tagged with the layer's
  * tag and the build's GUID (FMI 3.0: instantiation token), so a state of another build is refused */
@@ -61,6 +67,7 @@ typedef struct {
     char id[64];
     double t;
     double values[VR_D];
+    double thermal[N_REAL - VR_T_SUPPLY]; /* T_supply and the thermal outputs */
     int out_of_domain;
 } BnState;
 BN_HIDDEN void bn_state_save(const Instance *m, BnState *s, const char *tag, const char *id);

@@ -281,7 +281,7 @@ fmi2Status fmi2SetReal(fmi2Component c, const fmi2ValueReference vr[], size_t nv
     char a[32], why[512];
     for (size_t i = 0; i < nvr; i++) {
         fmi2ValueReference k = vr[i];
-        if (k < N_INPUTS) { /* inputs: any value; a non-finite one is refused when evaluated */
+        if (BN_IS_INPUT(k)) { /* inputs: any value; a non-finite one is refused when evaluated */
             m->r[k] = value[i];
             m->dirty = 1;
             continue;

@@ -123,7 +123,7 @@ fmi2Status fmi2GetDirectionalDerivative(fmi2Component c, const fmi2ValueReferenc
         bn_log(m, fmi2Discard, "getDirectionalDerivative: %s", m->msg);
         return fmi2Discard;
     }
-    for (size_t i = 0; i < nUnknown; i++) dvUnknown[i] = out[vUnknown_ref[i] - VR_FY];
+    for (size_t i = 0; i < nUnknown; i++) dvUnknown[i] = BN_OUTPUT_DERIVATIVE(vUnknown_ref[i], d, out);
     return fmi2OK;
 }
 

@@ -393,7 +393,7 @@ fmi3Status fmi3SetFloat64(fmi3Instance instance, const fmi3ValueReference vr[], 
     char a[32], why[512];
     for (size_t i = 0; i < nvr; i++) {
         fmi3ValueReference k = vr[i];
-        if (k < N_INPUTS) { /* inputs: any value; a non-finite one is refused when evaluated */
+        if (BN_IS_INPUT(k)) { /* inputs: any value; a non-finite one is refused when evaluated */
             m->r[k] = values[i];
             m->dirty = 1;
             continue;

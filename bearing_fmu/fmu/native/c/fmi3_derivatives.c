@@ -1,5 +1,5 @@
 /* Directional and adjoint derivatives of the FMI 3.0 bearing FMU: every Float64 output (Fy, Fz,
- * eccentricity, h_min, K.., C..) along the inputs y, z, vy, vz, omega, and in Initialization Mode
+ * eccentricity, h_min, K.., C.., the thermal ports') along the inputs y, z, vy, vz, omega, T_supply, and in Initialization Mode
  * along the Float64 parameters too (D, L, CR, mu, the internal's Real options): the model layer's
  * bn_derivative (bearing_derivatives.c says how each is computed), the FMI 2.0 FMU's code. The
  * adjoint derivative sum_i seed_i dU_i/dk for each known k is made of the directional derivatives
@@ -45,19 +45,19 @@ static fmi3Status derivatives(Instance *m, const char *call, int adjoint, const 
             bn_log(m, fmi3Discard, "%s: %s", call, m->msg);
             return fmi3Discard;
         }
-        for (size_t i = 0; i < nUnknowns; i++) sensitivity[i] = out[unknowns[i] - VR_FY];
+        for (size_t i = 0; i < nUnknowns; i++) sensitivity[i] = BN_OUTPUT_DERIVATIVE(unknowns[i], d, out);
         return fmi3OK;
     }
     for (size_t j = 0; j < nKnowns; j++) { /* adjoint: for each known, sum_i seed_i dU_i/dknown */
         double sum = 0.0;
         d[knowns[j]] = 1.0;
         int refused = bn_derivative(m, d, with_kc, out);
-        d[knowns[j]] = 0.0;
         if (refused) {
             bn_log(m, fmi3Discard, "%s: %s", call, m->msg);
             return fmi3Discard;
         }
-        for (size_t i = 0; i < nUnknowns; i++) sum += seed[i] * out[unknowns[i] - VR_FY];
+        for (size_t i = 0; i < nUnknowns; i++) sum += seed[i] * BN_OUTPUT_DERIVATIVE(unknowns[i], d, out);
+        d[knowns[j]] = 0.0;
         sensitivity[j] = sum;
     }
     return fmi3OK;

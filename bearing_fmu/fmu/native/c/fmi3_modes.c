@@ -57,12 +57,13 @@ int bn3_refused(Instance *m, const char *call, unsigned allowed, int kind) {
 
 /* ------------------------------------------------------------------------------ dependencies */
 
-/* the inputs (value references 0..) a variable depends on after initialisation: fmi3.py's
- * output_dependencies, the ModelStructure's Output elements */
+/* the inputs (value references 0..; T_eff: T_supply) a variable depends on after initialisation:
+ * fmi3.py's output_dependencies, the ModelStructure's Output elements */
 static int dependencies(fmi3ValueReference v) {
     if (v == VR_ECC || v == VR_HMIN) return 2;                    /* y, z */
     if (v == VR_BOOL0 + B_OUT_OF_DOMAIN) return BN3_FITTED_DOMAIN ? 4 : 0; /* y, z, vy, vz */
     if (v >= VR_FY && v < VR_D) return 5;                         /* the whole journal state */
+    if (v == VR_T_EFF) return 1;                                  /* T_supply (the thermal model off) */
     return 0;
 }
 
@@ -99,7 +100,7 @@ fmi3Status fmi3GetVariableDependencies(fmi3Instance instance, fmi3ValueReference
                         dependent < (fmi3ValueReference)N_REAL ? bn_real_name((int)dependent) : "the variable", n);
     for (int k = 0; k < n; k++) { /* scalars: element index 0, the whole variable */
         elementIndicesOfDependent[k] = 0;
-        independents[k] = (fmi3ValueReference)k;
+        independents[k] = dependent == VR_T_EFF ? (fmi3ValueReference)VR_T_SUPPLY : (fmi3ValueReference)k;
         elementIndicesOfIndependents[k] = 0;
         dependencyKinds[k] = fmi3Dependent;
     }
