@@ -95,7 +95,7 @@ def test_scene_supply_temperature_runs_at_mu_eff(tmp_path):
 
 @pytest.mark.parametrize("edit, match", [
     (lambda t: t.replace('via = "direct"', 'via = "fmu"\nfmu_kind = "native"'),
-     r"supply_temperature_C = 40 needs via = 'direct' or fmu_kind = 'python': the native FMU has no thermal ports"),
+     r"supply_temperature_C = 40 needs via = 'direct' or fmu_kind = 'python': the native FMU's thermal ports stay off"),
     (lambda t: t.replace('via = "direct"', 'via = "fmu"').replace('internal = "reynolds"', 'internal = "linear"'),
      r"supply_temperature_C = 40 through an FMU's thermal ports needs an internal with the film's friction and "
      r"flows \(reynolds\); internal = 'linear': a linear model holds the force about one point"),

@@ -276,7 +276,8 @@ def _check_supply(supply_c: float, data: dict, rotor: Rotor, profile, where: str
     key = f"{where}: supply_temperature_C = {supply_c:g}"
     spec = registry.get(data["internal"])
     if data["via"] != "direct" and data["fmu_kind"] == "native":
-        raise SceneError(f"{key} needs via = 'direct' or fmu_kind = 'python': the native FMU has no thermal ports yet")
+        raise SceneError(f"{key} needs via = 'direct' or fmu_kind = 'python': the native FMU's thermal ports stay off "
+                         "(no native internal has the film's flows; docs/fmu.md, Thermal ports)")
     if (data["via"] != "direct" or profile is not None) and not spec.can.film_flow:
         why = "through an FMU's thermal ports" if data["via"] != "direct" else "with a [speed_profile]"
         raise SceneError(f"{key} {why} needs an internal with the film's friction and flows ("
