@@ -191,6 +191,12 @@ def test_build_with_a_bearing_makes_its_bore_and_oil_the_defaults(tmp_path, code
                       float(v["oil_nu_2"].start) * 1e6, float(v["oil_T_2"].start))
     for T in (300.0, 350.0, 420.0):  # the law through the two points the build wrote is the file's
         assert two.mu(T) == pytest.approx(oil.mu(T), rel=1e-12)
+    # thermal on with nothing else set: the built-in law; its enumeration set to 1 (none) counts too
+    res = fmpy.simulate_fmu(str(oily), stop_time=1e-3, output_interval=1e-3, output=["T_eff"],
+                            start_values={**state, "thermal": True})
+    assert res["T_eff"][-1] > 313.15 + 0.5
+    with pytest.raises(Exception):
+        fmpy.simulate_fmu(str(oily), stop_time=1e-3, start_values={**state, "thermal": True, "oil_law_enum": 1})
 
 
 def test_a_supply_temperature_outside_the_oil_law_discards_by_name(fmu_instance):

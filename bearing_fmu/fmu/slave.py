@@ -54,7 +54,7 @@ from bearing_fmu.fmu.resources import (BEARING_FIELDS, SURROGATE_DIR, LoggingFla
                                        port_defaults, status_patched)
 from bearing_fmu.fmu import ports
 from bearing_fmu.fmu.variables import (ENUMERATIONS, INPUT, INPUTS, OUTPUT, OUTPUTS, PARAMETER, PARAMETERS,
-                                       STRING_DEFAULTS, VARIABLES, enum_value)
+                                       VARIABLES, enum_value)
 from bearing_fmu.internals.registry import BearingStateError, Context, check_finite
 from bearing_fmu.physics.params import BearingParams
 
@@ -112,6 +112,10 @@ class BearingFMU(Fmi2Slave):
             )
             self.register_variable(var)
             self._by_vr[var.value_reference] = (name, typ, causality)
+        # the String choices' starts (a built-in bearing's oil law among them), their enumerations with them
+        self._starts = {string: getattr(self, string) for string, _items in ENUMERATIONS.values()}
+        for name, (string, _items) in ENUMERATIONS.items():
+            setattr(self, name, enum_value(name, self._starts[string]))
         self._real_names = {vr: e[0] for vr, e in self._by_vr.items() if e[1] == "Real"}
         # getReal's fast path: outside Step Mode without the outputs, so reading them in
         # Initialization Mode takes the checked path, which computes them from the inputs
@@ -279,8 +283,8 @@ class BearingFMU(Fmi2Slave):
         out = {}
         for name, (string, items) in ENUMERATIONS.items():
             value, text = getattr(self, name), str(getattr(self, string)).strip().lower()
-            enum_set = value != enum_value(name, STRING_DEFAULTS[string])
-            if enum_set and text != STRING_DEFAULTS[string] and text != items[value - 1]:
+            enum_set = value != enum_value(name, self._starts[string])
+            if enum_set and text != self._starts[string] and text != items[value - 1]:
                 raise ValueError(f"{string} = {getattr(self, string)!r} and {name} = {value} ({items[value - 1]}) "
                                  f"disagree: set one of them ({name} is the same choice as an enumeration)")
             out[string] = items[value - 1] if enum_set else text
