@@ -236,7 +236,8 @@ def test_same_variables_as_the_fmi2_fmu(fmus):
     """The FMI 2.0 FMU's variables with their value references, causality, variability, start,
     units, display units and bounds; Real as Float64; the independent variable time; the outputs'
     dependencies as fmi3GetVariableDependencies gives them."""
-    types = {"Real": "Float64", "Boolean": "Boolean", "String": "String", "Enumeration": "Enumeration"}
+    types = {"Real": "Float64", "Boolean": "Boolean", "String": "String", "Enumeration": "Enumeration",
+             "Integer": "Int64"}
     for internal, f in fmus.items():
         v2 = {v.name: v for v in fmpy.read_model_description(str(f["fmu2"][0])).modelVariables}
         md3 = fmpy.read_model_description(str(f["fmu3"][0]))

@@ -609,6 +609,32 @@ def test_thermal_ports_are_there_and_off(native):
         raw.close()
 
 
+def test_the_bore_is_the_datas(native):
+    """The Python FMU's geometry parameters, at the bore the data were made for (the full one); another
+    is refused at initialisation naming every parameter set away from it; an Integer out of its range
+    when it is set."""
+    fmu, unzip, *_ = native["taylor:paper_22hz_16.7N"]
+    md = {v.name: v for v in fmpy.read_model_description(str(fmu)).modelVariables}
+    assert (md["groove_count"].start, md["lobes"].start, md["partial_arc"].start) == ("0", "1", "false")
+    raw = Raw(fmu, unzip)
+    try:
+        assert raw.set("groove_count", 9) == ERROR and "groove_count = 9 must be in 0 .. 8" in raw.last()
+        assert raw.set("groove_count", 2) == OK and raw.set("groove_1", math.pi / 2) == OK
+        assert raw.set("partial_arc", True) == OK
+        assert raw.init() == ERROR
+        assert ("this native FMU's taylor data were made for one bore (full 360 deg circular bore): the geometry "
+                "parameters set away from it are groove_count = 2 (the data's: 0), partial_arc = true (the data's: "
+                "false), groove_1 = 1.5707963267948966 (the data's: 0)") in raw.last()
+    finally:
+        raw.close()
+    raw = Raw(fmu, unzip)
+    try:
+        assert raw.set("groove_width", float(md["groove_width"].start)) == OK and raw.init() == OK  # its own: fine
+        assert raw.get("lobes") == (OK, 1)
+    finally:
+        raw.close()
+
+
 def test_refused_states_discard_and_a_restore_recovers(native):
     fmu, unzip, py, params = native["taylor:paper_22hz_16.7N"]
     s = py.taylor.surrogate

@@ -93,18 +93,27 @@ enum {
 #define VR_Q_SIDE (VR_T_SUPPLY + 2)
 #define VR_T_EFF (VR_T_SUPPLY + 3)
 #define VR_MU_EFF (VR_T_SUPPLY + 4)
-#define N_REAL (VR_T_SUPPLY + 5)
+/* the bore (ports.py's geometry parameters): this FMU's data hold one; its values are the starts
+ * and another is refused at initialisation (bn_prepare), naming the parameters. The Reals
+ * groove_1 .. groove_8, groove_width, supply_pressure, arc_start, arc_end, preload, lobe_offset,
+ * lobe_angle follow the thermal ports; the Integers groove_count, lobes the enumerations; the
+ * Boolean partial_arc the others */
+#define VR_GEOMETRY0 (VR_T_SUPPLY + 5)
+#define N_GEOMETRY_REALS 15
+#define N_REAL (VR_GEOMETRY0 + N_GEOMETRY_REALS)
 #define BN_IS_INPUT(vr) ((vr) < N_INPUTS || (vr) == VR_T_SUPPLY)
 #define BN_IS_THERMAL_OUTPUT(vr) ((vr) >= VR_P_LOSS && (vr) <= VR_MU_EFF)
 #define VR_BOOL0 1000
-enum { B_OUT_OF_DOMAIN, B_COMPUTE_TANGENT, B_THERMAL, N_BOOL };
+enum { B_OUT_OF_DOMAIN, B_COMPUTE_TANGENT, B_THERMAL, B_PARTIAL_ARC, N_BOOL };
 #define VR_STRING0 2000
 #define S_INTERNAL 0                                     /* then the internal's String options */
 #define N_STRING (1 + BN_N_STRING_OPTIONS)
 #define STRING_MAX 256
 #define VR_INT0 3000
 #define N_ENUM BN_N_ENUMS                                /* internal_enum, then the String options' */
-#define N_PARAM_SLOTS (N_REAL + N_BOOL + N_STRING + N_ENUM)
+#define N_INT 2                                          /* then the Integers groove_count, lobes */
+#define VR_INT_PARAM0 (VR_INT0 + N_ENUM)
+#define N_PARAM_SLOTS (N_REAL + N_BOOL + N_STRING + N_ENUM + N_INT)
 
 /* the FMI 2.0 modes (bearing_fmu/fmi_order.py: MODES; which call is allowed in which: BN_ALLOW_<call>) */
 typedef enum { BN_MODE_ENUM } Mode;
@@ -124,6 +133,7 @@ typedef struct Instance {
     int b[N_BOOL];
     char s[N_STRING][STRING_MAX];
     int e[N_ENUM];              /* the enumerations as set */
+    int n[N_INT];               /* the Integer parameters (groove_count, lobes) as set */
     char eff[N_STRING][STRING_MAX]; /* the String choices as they count (a String, or its enumeration): setup() */
     double t;
     Mode mode;
@@ -180,6 +190,8 @@ typedef struct Instance {
 #define bn_check_real BN_NAME(BN_ID, bn_check_real)
 #define bn_check_string BN_NAME(BN_ID, bn_check_string)
 #define bn_check_enum BN_NAME(BN_ID, bn_check_enum)
+#define bn_check_int BN_NAME(BN_ID, bn_check_int)
+#define bn_int_name BN_NAME(BN_ID, bn_int_name)
 #define bn_prepare BN_NAME(BN_ID, bn_prepare)
 #define bn_show_choices BN_NAME(BN_ID, bn_show_choices)
 #define bn_evaluate BN_NAME(BN_ID, bn_evaluate)

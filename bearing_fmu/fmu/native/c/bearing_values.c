@@ -60,8 +60,18 @@ static const char *const CORE_UNITS[VR_REAL_OPTIONS] = {
 static const double START_INPUTS[N_INPUTS] = BN_START_INPUTS;
 static const double START_BEARING[4] = BN_START_BEARING;
 const char *const BN_BOOL_NAMES[N_BOOL] = {"out_of_domain", "compute_tangent", "thermal"};
-static const char *const THERMAL_NAMES[N_REAL - VR_T_SUPPLY] = {"T_supply", "P_loss", "Q_side", "T_eff", "mu_eff"};
-static const char *const THERMAL_UNITS[N_REAL - VR_T_SUPPLY] = {"K", "W", "m3/s", "K", "Pa.s"};
+static const char *const THERMAL_NAMES[VR_GEOMETRY0 - VR_T_SUPPLY] = {"T_supply", "P_loss", "Q_side", "T_eff", "mu_eff"};
+static const char *const THERMAL_UNITS[VR_GEOMETRY0 - VR_T_SUPPLY] = {"K", "W", "m3/s", "K", "Pa.s"};
+static const char *const GEOMETRY_NAMES[N_GEOMETRY_REALS] = {
+    "groove_1", "groove_2", "groove_3", "groove_4", "groove_5", "groove_6", "groove_7", "groove_8", "groove_width",
+    "supply_pressure", "arc_start", "arc_end", "preload", "lobe_offset", "lobe_angle"};
+static const char *const GEOMETRY_UNITS[N_GEOMETRY_REALS] = {
+    "rad", "rad", "rad", "rad", "rad", "rad", "rad", "rad", "rad", "Pa", "rad", "rad", "1", "1", "rad"};
+/* the bore this FMU's data were made for (codegen: the build's bearing): the geometry parameters' starts */
+static const double GEOMETRY_START[N_GEOMETRY_REALS] = BN_GEOMETRY_REAL_START;
+static const int INT_START[N_INT] = BN_GEOMETRY_INT_START;
+static const char *const INT_NAMES[N_INT] = {"groove_count", "lobes"};
+static const int INT_LOW[N_INT] = {0, 1}, INT_HIGH[N_INT] = {8, 8};
 
 /* ------------------------------------------------------------------------------ names */
 
@@ -76,6 +86,7 @@ const char *bn_num(char *buf, size_t n, double x, int digits) {
 }
 
 const char *bn_real_name(int vr) {
+    if (vr >= VR_GEOMETRY0) return GEOMETRY_NAMES[vr - VR_GEOMETRY0];
     if (vr >= VR_T_SUPPLY) return THERMAL_NAMES[vr - VR_T_SUPPLY];
     return vr < VR_REAL_OPTIONS ? CORE_NAMES[vr] : REAL_OPTIONS[vr - VR_REAL_OPTIONS].name;
 }
@@ -86,11 +97,22 @@ const char *bn_string_name(int k) {
 
 const char *bn_real_unit(int vr) {
     if (vr < VR_REAL_OPTIONS) return CORE_UNITS[vr];
+    if (vr >= VR_GEOMETRY0) return GEOMETRY_UNITS[vr - VR_GEOMETRY0];
     if (vr >= VR_T_SUPPLY) return THERMAL_UNITS[vr - VR_T_SUPPLY];
     return "";
 }
 
 const char *bn_enum_name(int j) { return ENUMS[j].name; }
+
+const char *bn_int_name(int k) { return INT_NAMES[k]; }
+
+int bn_check_int(int k, long long v, char *why, size_t n) {
+    if (v < INT_LOW[k] || v > INT_HIGH[k]) {
+        snprintf(why, n, "%s = %.0f must be in %d .. %d", INT_NAMES[k], (double)v, INT_LOW[k], INT_HIGH[k]);
+        return 1;
+    }
+    return 0;
+}
 
 int bn_is_output_real(int vr) { return (vr >= VR_FY && vr < VR_D) || BN_IS_THERMAL_OUTPUT(vr); }
 
@@ -135,6 +157,9 @@ void bn_set_starts(Instance *m) {
     for (int i = 0; i < 4; i++) m->r[VR_D + i] = START_BEARING[i];
     for (int i = 0; i < BN_N_REAL_OPTIONS; i++) m->r[VR_REAL_OPTIONS + i] = REAL_OPTIONS[i].start;
     m->r[VR_T_SUPPLY] = BN_START_T_SUPPLY;
+    for (int i = 0; i < N_GEOMETRY_REALS; i++) m->r[VR_GEOMETRY0 + i] = GEOMETRY_START[i];
+    for (int i = 0; i < N_INT; i++) m->n[i] = INT_START[i];
+    m->b[B_PARTIAL_ARC] = BN_GEOMETRY_ARC_START;
     m->b[B_OUT_OF_DOMAIN] = 0;
     m->b[B_COMPUTE_TANGENT] = 1;
     m->b[B_THERMAL] = 0;
@@ -162,6 +187,13 @@ int bn_check_real(int vr, double v, char *why, size_t n) {
         if (!(v > 0.0 && v < INFINITY)) {
             snprintf(why, n, "%s = %s %s must be finite and > 0", CORE_NAMES[vr], bn_num(a, sizeof a, v, 17),
                      CORE_UNITS[vr]);
+            return 1;
+        }
+        return 0;
+    }
+    if (vr >= VR_GEOMETRY0) { /* the bore: any finite value here, the data's bore at initialisation */
+        if (!isfinite(v)) {
+            snprintf(why, n, "%s = %s must be finite", GEOMETRY_NAMES[vr - VR_GEOMETRY0], bn_num(a, sizeof a, v, 17));
             return 1;
         }
         return 0;
@@ -300,6 +332,32 @@ static int check_bearing(const Instance *m, char *why, size_t n) {
     return 0;
 }
 
+/* The bore the geometry parameters describe against the one this FMU's data were made for: 0, or 1
+ * with why naming every parameter set away from it (the Python FMU's map and taylor do the same). */
+static int check_bore(const Instance *m, char *why, size_t n) {
+    char a[32], b[32];
+    size_t off = 0;
+    for (int k = 0; k < N_INT; k++)
+        if (m->n[k] != INT_START[k] && off < n)
+            off += (size_t)snprintf(why + off, n - off, "%s%s = %d (the data's: %d)", off ? ", " : "", INT_NAMES[k],
+                                    m->n[k], INT_START[k]);
+    if (m->b[B_PARTIAL_ARC] != BN_GEOMETRY_ARC_START && off < n)
+        off += (size_t)snprintf(why + off, n - off, "%spartial_arc = %s (the data's: %s)", off ? ", " : "",
+                                m->b[B_PARTIAL_ARC] ? "true" : "false", BN_GEOMETRY_ARC_START ? "true" : "false");
+    for (int i = 0; i < N_GEOMETRY_REALS; i++)
+        if (m->r[VR_GEOMETRY0 + i] != GEOMETRY_START[i] && off < n)
+            off += (size_t)snprintf(why + off, n - off, "%s%s = %s (the data's: %s)", off ? ", " : "",
+                                    GEOMETRY_NAMES[i], bn_num(a, sizeof a, m->r[VR_GEOMETRY0 + i], 17),
+                                    bn_num(b, sizeof b, GEOMETRY_START[i], 17));
+    if (!off) return 0;
+    char list[1024];
+    snprintf(list, sizeof list, "%s", why);
+    snprintf(why, n, "this native FMU's %s data were made for one bore (%s): the geometry parameters set away from "
+             "it are %.900s; build another FMU for another bore (bearing-fmu build --native --bearing FILE)",
+             BN_INTERNAL, BN_BORE_WORDS, list);
+    return 1;
+}
+
 /* Parameters checked together and the internal prepared: 0, or 1 with m->init_error set. */
 int bn_prepare(Instance *m) {
     char why[2048];
@@ -313,7 +371,8 @@ int bn_prepare(Instance *m) {
         snprintf(why, sizeof why, "thermal = true needs the film's friction and flows, which internal = '%s' does "
                  "not have (%s); the native FMU has no thermal model: use thermal = false, or the Python FMU "
                  "(bearing-fmu build) with internal = 'reynolds'", BN_INTERNAL, BN_FILM_FLOW_WHY);
-    if (!why[0] && resolve_choices(m, why, sizeof why) == 0 && check_bearing(m, why, sizeof why) == 0) {
+    if (!why[0] && resolve_choices(m, why, sizeof why) == 0 && check_bearing(m, why, sizeof why) == 0
+        && check_bore(m, why, sizeof why) == 0) {
         if (bn_setup(m) == 0) {
             m->init_error[0] = 0;
             return 0;

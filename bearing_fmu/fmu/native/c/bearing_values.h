@@ -27,6 +27,9 @@ BN_HIDDEN void bn_set_starts(Instance *m);
 BN_HIDDEN int bn_check_real(int vr, double v, char *why, size_t n);
 BN_HIDDEN int bn_check_string(int k, const char *value, char *out, char *why, size_t n);
 BN_HIDDEN int bn_check_enum(int j, int v, char *why, size_t n);
+/* an Integer parameter's name and its value alone (k < N_INT) */
+BN_HIDDEN const char *bn_int_name(int k);
+BN_HIDDEN int bn_check_int(int k, long long v, char *why, size_t n);
 /* the parameters together and the internal prepared (bn_setup); the reason in m->init_error */
 BN_HIDDEN int bn_prepare(Instance *m);
 /* after initialisation: each String and its enumeration show the choice that counted */
@@ -67,7 +70,7 @@ typedef struct {
     char id[64];
     double t;
     double values[VR_D];
-    double thermal[N_REAL - VR_T_SUPPLY]; /* T_supply and the thermal outputs */
+    double thermal[VR_GEOMETRY0 - VR_T_SUPPLY]; /* T_supply and the thermal outputs */
     int out_of_domain;
 } BnState;
 BN_HIDDEN void bn_state_save(const Instance *m, BnState *s, const char *tag, const char *id);

@@ -229,9 +229,9 @@ fmi2Status fmi2GetInteger(fmi2Component c, const fmi2ValueReference vr[], size_t
     if (!m) return fmi2Error;
     ORDER(getInteger, BN_ANY_TYPE);
     for (size_t i = 0; i < nvr; i++) {
-        if (vr[i] < VR_INT0 || vr[i] >= VR_INT0 + N_ENUM)
+        if (vr[i] < VR_INT0 || vr[i] >= VR_INT_PARAM0 + N_INT)
             return bn2_fail(m, "getInteger: value reference %u is not an Integer variable of this FMU", vr[i]);
-        value[i] = m->e[vr[i] - VR_INT0];
+        value[i] = vr[i] >= VR_INT_PARAM0 ? m->n[vr[i] - VR_INT_PARAM0] : m->e[vr[i] - VR_INT0];
     }
     return fmi2OK;
 }
@@ -318,8 +318,25 @@ fmi2Status fmi2SetInteger(fmi2Component c, const fmi2ValueReference vr[], size_t
     fmi2Status status = fmi2OK;
     char why[512], keeps[32];
     for (size_t i = 0; i < nvr; i++) {
-        if (vr[i] < VR_INT0 || vr[i] >= VR_INT0 + N_ENUM) {
+        if (vr[i] < VR_INT0 || vr[i] >= VR_INT_PARAM0 + N_INT) {
             status = bn2_fail(m, "setInteger: value reference %u is not an Integer variable of this FMU", vr[i]);
+            continue;
+        }
+        if (vr[i] >= VR_INT_PARAM0) { /* groove_count, lobes: the bore, checked against the data's at initialisation */
+            int k = (int)(vr[i] - VR_INT_PARAM0), slot = N_REAL + N_BOOL + N_STRING + N_ENUM + k;
+            snprintf(keeps, sizeof keeps, "%d", m->n[k]);
+            if (parameter_fixed(m, "setInteger", bn_int_name(k), keeps)) {
+                status = fmi2Error;
+                continue;
+            }
+            if (bn_check_int(k, value[i], why, sizeof why)) {
+                m->refused[slot] = 1;
+                snprintf(m->refused_msg[slot], sizeof m->refused_msg[slot], "%s", why);
+                status = bn2_fail(m, "setInteger: %s; %s keeps %s", why, bn_int_name(k), keeps);
+                continue;
+            }
+            m->refused[slot] = 0;
+            m->n[k] = value[i];
             continue;
         }
         int j = (int)(vr[i] - VR_INT0);

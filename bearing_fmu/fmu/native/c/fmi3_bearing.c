@@ -324,9 +324,10 @@ fmi3Status fmi3GetInt64(fmi3Instance instance, const fmi3ValueReference vr[], si
     ORDER3(GetInt64, BN_ANY_TYPE);
     if (nValues != nvr) return counts_differ(m, "fmi3GetInt64", nvr, nValues);
     for (size_t i = 0; i < nvr; i++) {
-        if (vr[i] < VR_INT0 || vr[i] >= VR_INT0 + N_ENUM)
-            return bn3_fail(m, "fmi3GetInt64: value reference %u is not an Enumeration variable of this FMU", vr[i]);
-        values[i] = m->e[vr[i] - VR_INT0];
+        if (vr[i] < VR_INT0 || vr[i] >= VR_INT_PARAM0 + N_INT)
+            return bn3_fail(m, "fmi3GetInt64: value reference %u is not an Int64 or Enumeration variable of this FMU",
+                            vr[i]);
+        values[i] = vr[i] >= VR_INT_PARAM0 ? m->n[vr[i] - VR_INT_PARAM0] : m->e[vr[i] - VR_INT0];
     }
     return fmi3OK;
 }
@@ -435,8 +436,24 @@ fmi3Status fmi3SetInt64(fmi3Instance instance, const fmi3ValueReference vr[], si
     fmi3Status status = fmi3OK;
     char why[512], keeps[32];
     for (size_t i = 0; i < nvr; i++) {
-        if (vr[i] < VR_INT0 || vr[i] >= VR_INT0 + N_ENUM) {
-            status = bn3_fail(m, "fmi3SetInt64: value reference %u is not an Enumeration variable of this FMU", vr[i]);
+        if (vr[i] < VR_INT0 || vr[i] >= VR_INT_PARAM0 + N_INT) {
+            status = bn3_fail(m, "fmi3SetInt64: value reference %u is not an Int64 or Enumeration variable of this FMU",
+                              vr[i]);
+            continue;
+        }
+        if (vr[i] >= VR_INT_PARAM0) { /* groove_count, lobes: the bore, checked against the data's at initialisation */
+            int k = (int)(vr[i] - VR_INT_PARAM0), slot = N_REAL + N_BOOL + N_STRING + N_ENUM + k;
+            snprintf(keeps, sizeof keeps, "%d", m->n[k]);
+            if (parameter_fixed(m, "fmi3SetInt64", bn_int_name(k), keeps)) {
+                status = fmi3Error;
+                continue;
+            }
+            if (bn_check_int(k, (long long)values[i], why, sizeof why)) {
+                status = refuse_parameter(m, slot, "fmi3SetInt64", why, bn_int_name(k), keeps);
+                continue;
+            }
+            m->refused[slot] = 0;
+            m->n[k] = (int)values[i];
             continue;
         }
         int j = (int)(vr[i] - VR_INT0), slot = N_REAL + N_BOOL + N_STRING + j;
