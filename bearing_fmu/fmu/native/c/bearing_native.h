@@ -190,7 +190,7 @@ typedef struct Instance {
 #define bn_check_real BN_NAME(BN_ID, bn_check_real)
 #define bn_check_string BN_NAME(BN_ID, bn_check_string)
 #define bn_check_enum BN_NAME(BN_ID, bn_check_enum)
-#define bn_check_int BN_NAME(BN_ID, bn_check_int)
+#define bn_set_int BN_NAME(BN_ID, bn_set_int)
 #define bn_int_name BN_NAME(BN_ID, bn_int_name)
 #define bn_prepare BN_NAME(BN_ID, bn_prepare)
 #define bn_show_choices BN_NAME(BN_ID, bn_show_choices)

@@ -106,11 +106,15 @@ const char *bn_enum_name(int j) { return ENUMS[j].name; }
 
 const char *bn_int_name(int k) { return INT_NAMES[k]; }
 
-int bn_check_int(int k, long long v, char *why, size_t n) {
-    if (v < INT_LOW[k] || v > INT_HIGH[k]) {
+int bn_set_int(Instance *m, int k, long long v, char *why, size_t n) {
+    int slot = N_REAL + N_BOOL + N_STRING + N_ENUM + k;
+    m->refused[slot] = v < INT_LOW[k] || v > INT_HIGH[k];
+    if (m->refused[slot]) {
         snprintf(why, n, "%s = %.0f must be in %d .. %d", INT_NAMES[k], (double)v, INT_LOW[k], INT_HIGH[k]);
+        snprintf(m->refused_msg[slot], sizeof m->refused_msg[slot], "%s", why);
         return 1;
     }
+    m->n[k] = (int)v;
     return 0;
 }
 

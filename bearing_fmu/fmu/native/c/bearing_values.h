@@ -27,9 +27,10 @@ BN_HIDDEN void bn_set_starts(Instance *m);
 BN_HIDDEN int bn_check_real(int vr, double v, char *why, size_t n);
 BN_HIDDEN int bn_check_string(int k, const char *value, char *out, char *why, size_t n);
 BN_HIDDEN int bn_check_enum(int j, int v, char *why, size_t n);
-/* an Integer parameter's name and its value alone (k < N_INT) */
+/* an Integer parameter's name; its value set (0), or refused as bn_check_* are (1, why; kept refused
+ * until a valid value is set: initialisation fails naming it) (k < N_INT) */
 BN_HIDDEN const char *bn_int_name(int k);
-BN_HIDDEN int bn_check_int(int k, long long v, char *why, size_t n);
+BN_HIDDEN int bn_set_int(Instance *m, int k, long long v, char *why, size_t n);
 /* the parameters together and the internal prepared (bn_setup); the reason in m->init_error */
 BN_HIDDEN int bn_prepare(Instance *m);
 /* after initialisation: each String and its enumeration show the choice that counted */

@@ -323,20 +323,12 @@ fmi2Status fmi2SetInteger(fmi2Component c, const fmi2ValueReference vr[], size_t
             continue;
         }
         if (vr[i] >= VR_INT_PARAM0) { /* groove_count, lobes: the bore, checked against the data's at initialisation */
-            int k = (int)(vr[i] - VR_INT_PARAM0), slot = N_REAL + N_BOOL + N_STRING + N_ENUM + k;
+            int k = (int)(vr[i] - VR_INT_PARAM0);
             snprintf(keeps, sizeof keeps, "%d", m->n[k]);
-            if (parameter_fixed(m, "setInteger", bn_int_name(k), keeps)) {
+            if (parameter_fixed(m, "setInteger", bn_int_name(k), keeps))
                 status = fmi2Error;
-                continue;
-            }
-            if (bn_check_int(k, value[i], why, sizeof why)) {
-                m->refused[slot] = 1;
-                snprintf(m->refused_msg[slot], sizeof m->refused_msg[slot], "%s", why);
+            else if (bn_set_int(m, k, value[i], why, sizeof why))
                 status = bn2_fail(m, "setInteger: %s; %s keeps %s", why, bn_int_name(k), keeps);
-                continue;
-            }
-            m->refused[slot] = 0;
-            m->n[k] = value[i];
             continue;
         }
         int j = (int)(vr[i] - VR_INT0);

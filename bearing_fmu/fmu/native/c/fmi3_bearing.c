@@ -442,18 +442,12 @@ fmi3Status fmi3SetInt64(fmi3Instance instance, const fmi3ValueReference vr[], si
             continue;
         }
         if (vr[i] >= VR_INT_PARAM0) { /* groove_count, lobes: the bore, checked against the data's at initialisation */
-            int k = (int)(vr[i] - VR_INT_PARAM0), slot = N_REAL + N_BOOL + N_STRING + N_ENUM + k;
+            int k = (int)(vr[i] - VR_INT_PARAM0);
             snprintf(keeps, sizeof keeps, "%d", m->n[k]);
-            if (parameter_fixed(m, "fmi3SetInt64", bn_int_name(k), keeps)) {
+            if (parameter_fixed(m, "fmi3SetInt64", bn_int_name(k), keeps))
                 status = fmi3Error;
-                continue;
-            }
-            if (bn_check_int(k, (long long)values[i], why, sizeof why)) {
-                status = refuse_parameter(m, slot, "fmi3SetInt64", why, bn_int_name(k), keeps);
-                continue;
-            }
-            m->refused[slot] = 0;
-            m->n[k] = (int)values[i];
+            else if (bn_set_int(m, k, (long long)values[i], why, sizeof why))
+                status = bn3_fail(m, "fmi3SetInt64: %s; %s keeps %s", why, bn_int_name(k), keeps);
             continue;
         }
         int j = (int)(vr[i] - VR_INT0), slot = N_REAL + N_BOOL + N_STRING + j;
