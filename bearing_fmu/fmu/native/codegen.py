@@ -30,6 +30,7 @@ import numpy as np
 from ...internals import registry
 from ..order import c_defines
 from ..variables import ENUMERATIONS, VARIABLES  # the one table of the FMU interface
+from .portgen import port_config, port_variables
 from ...physics.params import BearingParams
 
 ID_TOKEN, GUID_TOKEN = "BN_MODEL_IDENTIFIER", "{BN-GUID}"  # in model_config.h until assign_identity
@@ -40,21 +41,6 @@ MODEL_SOURCES = ("bearing_values.c", "bearing_model.c", "bearing_derivatives.c")
 REAL_BASE, BOOL_BASE, STRING_BASE, ENUM_BASE = 0, 1000, 2000, 3000  # value references by type (bearing_native.h)
 CORE_REALS = ("y", "z", "vy", "vz", "omega", "Fy", "Fz", "eccentricity", "h_min", "Kyy", "Kyz", "Kzy", "Kzz",
               "Cyy", "Cyz", "Czy", "Czz", "D", "L", "CR", "mu")
-# the thermal ports (fmu/ports.py), after the internal's Real options: the input, then the outputs
-THERMAL_REALS = ("T_supply", "P_loss", "Q_side", "T_eff", "mu_eff")
-# the bore's parameters (fmu/ports.py), after the thermal ports: Reals, Integers, the Boolean; the
-# data hold one bore, so their starts are its values and another is refused at initialisation
-GEOMETRY_REALS = tuple([f"groove_{k}" for k in range(1, 9)] + ["groove_width", "supply_pressure", "arc_start",
-                                                                "arc_end", "preload", "lobe_offset", "lobe_angle"])
-GEOMETRY_INTS = ("groove_count", "lobes")
-
-
-def bore_starts(params: BearingParams) -> dict:
-    """The geometry parameters' values for the bore ``params`` has (every one: the ports' defaults
-    where the bore sets none)."""
-    from ..ports import GEOMETRY_ROWS, port_defaults
-
-    return {**{r[0]: r[4] for r in GEOMETRY_ROWS}, **port_defaults(params)}
 FALLBACK_WHY = ("the fallback evaluates the Reynolds solver, which a native FMU does not have; use warn or discard, "
                 "or the Python FMU (bearing-fmu build) for fallback")
 # the native FMU's options per internal (registry names); the rest stay in the Python FMU
@@ -189,32 +175,9 @@ def _variables(internal: str, params: BearingParams, starts: dict, inputs: tuple
     for name, k in (("out_of_domain", 0), ("compute_tangent", 1)):
         _n, typ, causality, unit, start, desc = table[name]
         out.append(Variable(name, BOOL_BASE + k, typ, causality, bool(start), None, desc))
-    # the thermal ports: the Python FMU's interface; a native internal without the film's flows
-    # keeps them off (thermal = true refused at initialisation, naming why)
-    for k, name in enumerate(THERMAL_REALS):
-        _n, typ, causality, unit, start, desc = table[name]
-        out.append(Variable(name, REAL_BASE + len(CORE_REALS) + len(reals) + k, typ, causality,
-                            float(start) if causality == "input" else 0.0, unit, desc))
-    spec = registry.get(internal)
-    out.append(Variable("thermal", BOOL_BASE + 2, "Boolean", "parameter", False, None,
-                        "thermal model on (T_supply connected, the film at the viscosity of its effective temperature)"
-                        + ("" if spec.can.film_flow else f": not in this native FMU, whose {internal} internal has no "
-                           f"film flows ({spec.can.film_flow_why}); it stays false, T_eff reads T_supply, mu_eff mu, "
-                           "P_loss and Q_side 0")))
-    # the bore: the build's, fixed by the data (any other refused at initialisation, naming the parameters)
-    bore, words = bore_starts(params), params.geometry.describe()
-    n_enums = len(native_enumerations(internal))
-    for k, name in enumerate(GEOMETRY_INTS):
-        desc = table[name][5]
-        out.append(Variable(name, ENUM_BASE + n_enums + k, "Integer", "parameter", int(bore[name]), None,
-                            f"{desc}; this FMU's data hold one bore ({words}): another is refused"))
-    for k, name in enumerate(GEOMETRY_REALS):
-        _n, typ, causality, unit, _start, desc = table[name]
-        out.append(Variable(name, REAL_BASE + len(CORE_REALS) + len(reals) + len(THERMAL_REALS) + k, typ, causality,
-                            float(bore[name]), unit, f"{desc}; this FMU's data hold one bore ({words}): another is "
-                            "refused"))
-    out.append(Variable("partial_arc", BOOL_BASE + 3, "Boolean", "parameter", bool(bore["partial_arc"]), None,
-                        f"{table['partial_arc'][5]}; this FMU's data hold one bore ({words}): another is refused"))
+    # the thermal ports and the bore (portgen.py): after the Real options and the enumerations
+    out += port_variables(internal, params, REAL_BASE + len(CORE_REALS) + len(reals),
+                          ENUM_BASE + len(native_enumerations(internal)), BOOL_BASE)
     out.append(Variable("internal", STRING_BASE, "String", "parameter", internal, None,
                         f"which internal computes the force: this native FMU computes {internal} only"))
     for k, o in enumerate(strings):
@@ -280,7 +243,6 @@ def assign_identity(model: "NativeModel", sources: dict[str, str], describe) -> 
 
 def _config(internal: str, params: BearingParams, starts: dict, inputs) -> str:
     """model_config.h, the model identifier and GUID as tokens (``assign_identity``)."""
-    bore = bore_starts(params)
     opts = [registry_option(n) for n in NATIVE_OPTIONS[internal]]
     reals = [o for o in opts if o.type is float]
     strings = [o for o in opts if o.type is str]
@@ -296,16 +258,7 @@ def _config(internal: str, params: BearingParams, starts: dict, inputs) -> str:
         f"#define BN_N_STRING_OPTIONS {len(strings)}",
         f"#define BN_START_INPUTS {{{', '.join(c_double(v) for v in inputs)}}}",
         f"#define BN_START_BEARING {{{', '.join(c_double(v) for v in (params.D, params.L, params.CR, params.mu))}}}",
-        # the thermal ports: the supply temperature's start [K]; whether the internal has the film's
-        # flows (registry capability film_flow), and why not
-        f"#define BN_START_T_SUPPLY {c_double(next(v[4] for v in VARIABLES if v[0] == 'T_supply'))}",
-        f"#define BN_FILM_FLOW {int(registry.get(internal).can.film_flow)}",
-        f"#define BN_FILM_FLOW_WHY {c_string(registry.get(internal).can.film_flow_why)}",
-        # the bore the data hold: the geometry parameters' starts, and in words
-        f"#define BN_GEOMETRY_REAL_START {{{', '.join(c_double(bore[n]) for n in GEOMETRY_REALS)}}}",
-        f"#define BN_GEOMETRY_INT_START {{{', '.join(str(int(bore[n])) for n in GEOMETRY_INTS)}}}",
-        f"#define BN_GEOMETRY_ARC_START {int(bool(bore['partial_arc']))}",
-        f"#define BN_BORE_WORDS {c_string(params.geometry.describe())}",
+        *port_config(internal, params),  # the thermal ports and the bore (portgen.py)
     ]
     rows = []
     for k, o in enumerate(reals):
