@@ -176,8 +176,8 @@ def _variables(internal: str, params: BearingParams, starts: dict, inputs: tuple
         _n, typ, causality, unit, start, desc = table[name]
         out.append(Variable(name, BOOL_BASE + k, typ, causality, bool(start), None, desc))
     # the thermal ports and the bore (portgen.py): after the Real options and the enumerations
-    out += port_variables(internal, params, REAL_BASE + len(CORE_REALS) + len(reals),
-                          ENUM_BASE + len(native_enumerations(internal)), BOOL_BASE)
+    out += [Variable(*v) for v in port_variables(internal, params, REAL_BASE + len(CORE_REALS) + len(reals),
+                                                 ENUM_BASE + len(native_enumerations(internal)), BOOL_BASE)]
     out.append(Variable("internal", STRING_BASE, "String", "parameter", internal, None,
                         f"which internal computes the force: this native FMU computes {internal} only"))
     for k, o in enumerate(strings):
@@ -258,7 +258,7 @@ def _config(internal: str, params: BearingParams, starts: dict, inputs) -> str:
         f"#define BN_N_STRING_OPTIONS {len(strings)}",
         f"#define BN_START_INPUTS {{{', '.join(c_double(v) for v in inputs)}}}",
         f"#define BN_START_BEARING {{{', '.join(c_double(v) for v in (params.D, params.L, params.CR, params.mu))}}}",
-        *port_config(internal, params),  # the thermal ports and the bore (portgen.py)
+        *port_config(internal, params, c_double, c_string),  # the thermal ports and the bore (portgen.py)
     ]
     rows = []
     for k, o in enumerate(reals):

@@ -32,18 +32,17 @@ def bore_starts(params: BearingParams) -> dict:
 
 
 def port_variables(internal: str, params: BearingParams, first_real: int, first_int: int, bool_base: int) -> list:
-    """The ``codegen.Variable``s of the thermal ports and the bore: Reals from value reference
-    ``first_real``, Integers from ``first_int``, Booleans 2 and 3 above ``bool_base``."""
-    from .codegen import Variable
-
+    """The variables of the thermal ports and the bore as ``codegen.Variable``'s fields (name, value
+    reference, type, causality, start, unit, description): Reals from value reference ``first_real``,
+    Integers from ``first_int``, Booleans 2 and 3 above ``bool_base``."""
     table = {v[0]: v for v in VARIABLES}
     spec = registry.get(internal)
     out = []
     for k, name in enumerate(THERMAL_REALS):
         _n, typ, causality, unit, start, desc = table[name]
-        out.append(Variable(name, first_real + k, typ, causality, float(start) if causality == "input" else 0.0,
+        out.append((name, first_real + k, typ, causality, float(start) if causality == "input" else 0.0,
                             unit, desc))
-    out.append(Variable("thermal", bool_base + 2, "Boolean", "parameter", False, None,
+    out.append(("thermal", bool_base + 2, "Boolean", "parameter", False, None,
                         "thermal model on (T_supply connected, the film at the viscosity of its effective temperature)"
                         + ("" if spec.can.film_flow else f": not in this native FMU, whose {internal} internal has no "
                            f"film flows ({spec.can.film_flow_why}); it stays false, T_eff reads T_supply, mu_eff mu, "
@@ -51,21 +50,20 @@ def port_variables(internal: str, params: BearingParams, first_real: int, first_
     bore = bore_starts(params)
     fixed = f"; this FMU's data hold one bore ({params.geometry.describe()}): another is refused"
     for k, name in enumerate(GEOMETRY_INTS):
-        out.append(Variable(name, first_int + k, "Integer", "parameter", int(bore[name]), None, table[name][5] + fixed))
+        out.append((name, first_int + k, "Integer", "parameter", int(bore[name]), None, table[name][5] + fixed))
     for k, name in enumerate(GEOMETRY_REALS):
         _n, typ, causality, unit, _start, desc = table[name]
-        out.append(Variable(name, first_real + len(THERMAL_REALS) + k, typ, causality, float(bore[name]), unit,
+        out.append((name, first_real + len(THERMAL_REALS) + k, typ, causality, float(bore[name]), unit,
                             desc + fixed))
-    out.append(Variable("partial_arc", bool_base + 3, "Boolean", "parameter", bool(bore["partial_arc"]), None,
+    out.append(("partial_arc", bool_base + 3, "Boolean", "parameter", bool(bore["partial_arc"]), None,
                         table["partial_arc"][5] + fixed))
     return out
 
 
-def port_config(internal: str, params: BearingParams) -> list[str]:
+def port_config(internal: str, params: BearingParams, c_double, c_string) -> list[str]:
     """model_config.h's lines of the thermal ports (the supply temperature's start [K], whether the
-    internal has the film's flows and why not) and of the bore the data hold."""
-    from .codegen import c_double, c_string
-
+    internal has the film's flows and why not) and of the bore the data hold; ``c_double``,
+    ``c_string``: codegen's literals."""
     can, bore = registry.get(internal).can, bore_starts(params)
     return [
         f"#define BN_START_T_SUPPLY {c_double(next(v[4] for v in VARIABLES if v[0] == 'T_supply'))}",
