@@ -11,27 +11,39 @@ state by state (tests/test_native_reynolds.py, benchmarks/bench_native_reynolds.
 from __future__ import annotations
 
 import ctypes
+import hashlib
+import os
 from pathlib import Path
 
 import numpy as np
 
 from ...physics.params import BearingParams
 from ...physics.reynolds import DEFAULT_N_THETA, DEFAULT_N_X
-from .compile import C_FLAGS, _run, zig_cc
+from .compile import C_FLAGS, run_compiler, zig_cc
 
 C_DIR = Path(__file__).resolve().parent / "c"
 HOST_TARGET = "native"  # zig cc -target native: this machine
+SOURCES = ("reynolds_solver.h", "reynolds_kernels.c", "reynolds_solver.c")
 
 __all__ = ["solver_library", "bore_arrays", "NativeReynolds"]
 
 
 def solver_library(folder: Path) -> ctypes.CDLL:
-    """Compile c/reynolds_solver.c with its API exported (RS_EXPORT) into ``folder`` and load it."""
+    """Compile c/reynolds_solver.c with its API exported (RS_EXPORT) into ``folder`` and load it;
+    the library is named by a hash of the sources and flags, so a folder kept between runs
+    compiles again only when they change."""
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
-    out = folder / "reynolds_solver.so"
-    _run([*zig_cc(), "-target", HOST_TARGET, *C_FLAGS, "-fPIC", "-shared", "-DRS_EXPORT", "-I", str(C_DIR),
-          str(C_DIR / "reynolds_solver.c"), "-o", str(out), "-lm"], "zig cc (the Reynolds solver alone)")
+    cmd = [*C_FLAGS, "-fPIC", "-shared", "-DRS_EXPORT"]
+    h = hashlib.sha256(" ".join(cmd).encode())
+    for name in SOURCES:
+        h.update(name.encode() + b"\0" + (C_DIR / name).read_bytes())
+    out = folder / f"reynolds_solver_{h.hexdigest()[:12]}.so"
+    if not out.is_file():
+        part = folder / f"{out.stem}.{os.getpid()}.part"
+        run_compiler([*zig_cc(), "-target", HOST_TARGET, *cmd, "-I", str(C_DIR), str(C_DIR / "reynolds_solver.c"),
+              "-o", str(part), "-lm"], "zig cc (the Reynolds solver alone)")
+        os.replace(part, out)
     lib = ctypes.CDLL(str(out))
     d, i, p = ctypes.c_double, ctypes.c_int, ctypes.c_void_p
     lib.rs_bytes.restype = ctypes.c_size_t
