@@ -56,6 +56,8 @@ def solver_library(folder: Path) -> ctypes.CDLL:
     lib.rs_results.argtypes = [p, p]
     lib.rs_forget.restype = None
     lib.rs_forget.argtypes = [p]
+    lib.rs_call_many.restype = i
+    lib.rs_call_many.argtypes = [p, p, i, i, p]
     return lib
 
 
@@ -112,6 +114,15 @@ class NativeReynolds:
         self.lib.rs_results(self._s, self._out.ctypes.data)
         c = self._out[16:20]
         return {"calls": int(c[0]), "passes": int(c[1]), "warm_starts": int(c[2]), "cold_fallbacks": int(c[3])}
+
+    def call_many(self, states: np.ndarray, want_jac: bool = True) -> np.ndarray:
+        """(n, 10) rows F, dF/dq, dF/dv (row-major) at the (n, 5) states, in one C loop."""
+        states = np.ascontiguousarray(states, float)
+        out = np.zeros((states.shape[0], 10))
+        bad = self.lib.rs_call_many(self._s, states.ctypes.data, states.shape[0], int(want_jac), out.ctypes.data)
+        if bad:
+            raise RuntimeError(f"native Reynolds: {bad} of {states.shape[0]} calls failed")
+        return out
 
     def forget(self) -> None:
         self.lib.rs_forget(self._s)

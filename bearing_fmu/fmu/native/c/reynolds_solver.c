@@ -457,3 +457,24 @@ RS_API void rs_results(const rs_solver *s, double *out) {
     for (i = 0; i < 6; i++) out[10 + i] = s->info[i];
     for (i = 0; i < 4; i++) out[16 + i] = s->counts[i];
 }
+
+#if defined(RS_EXPORT)
+/* The benchmark's floor (benchmarks/bench_native_reynolds.py): n calls at states[5 k ..] in one
+ * compiled loop, F and the Jacobian into out[10 k ..]; the number of calls that failed */
+RS_API int rs_call_many(rs_solver *s, const double *states, int n, int want_jac, double *out) {
+    int k, bad = 0;
+    for (k = 0; k < n; k++) {
+        const double *x = states + 5 * k;
+        bad += rs_call(s, x[0], x[1], x[2], x[3], x[4], want_jac) != RS_OK;
+        double *o = out + 10 * k;
+        int i;
+        o[0] = s->F[0];
+        o[1] = s->F[1];
+        for (i = 0; i < 4; i++) {
+            o[2 + i] = s->dFq[i];
+            o[6 + i] = s->dFv[i];
+        }
+    }
+    return bad;
+}
+#endif
