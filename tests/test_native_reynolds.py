@@ -134,6 +134,20 @@ def test_every_bore(lib, bore, cavitation):
     assert worst_difference(py, c, random_states(params, 100, 4)) <= RTOL
 
 
+@pytest.mark.parametrize("bore", ["full", "lemon"])
+@pytest.mark.parametrize("cavitation", ["reynolds", "gumbel"])
+def test_omega_derivative(lib, bore, cavitation):
+    """dF/domega (the FMU's directional derivative along omega) against central differences of
+    the Python force, step 1e-6 omega (the active set does not change within it)."""
+    params, py, c = both(lib, BORES[bore], (24, 4), cavitation)
+    for s in random_states(params, 5, 5):
+        h = 1e-6 * s[4]
+        fp = np.array(py.force(*s[:4], s[4] + h))
+        fm = np.array(py.force(*s[:4], s[4] - h))
+        fd = (fp - fm) / (2 * h)
+        np.testing.assert_allclose(c.omega_derivative(*s), fd, rtol=0, atol=1e-6 * np.max(np.abs(fd)))
+
+
 def test_grid_too_coarse_for_the_bore(lib):
     params = BearingParams(**PAPER, geometry=Geometry(grooves=tuple(math.radians(a) for a in (0, 90, 180, 270)),
                                                       groove_width=math.radians(10.0)))

@@ -92,7 +92,7 @@ class NativeReynolds:
                                 fixed.ctypes.data, supply.ctypes.data, lobes, preload, offset, angle, msg, 512)
         if not self._s:
             raise ValueError(f"native Reynolds: {msg.value.decode()}")
-        self._out = np.zeros(20)
+        self._out = np.zeros(22)
 
     def _call(self, y, z, vy, vz, omega, want_jac: bool) -> np.ndarray:
         status = self.lib.rs_call(self._s, float(y), float(z), float(vy), float(vz), float(omega), int(want_jac))
@@ -108,6 +108,10 @@ class NativeReynolds:
     def force_and_jacobian(self, y, z, vy, vz, omega):
         out = self._call(y, z, vy, vz, omega, True)
         return out[0:2].copy(), out[2:6].reshape(2, 2).copy(), out[6:10].reshape(2, 2).copy()
+
+    def omega_derivative(self, y, z, vy, vz, omega) -> np.ndarray:
+        """dF/domega [N s/rad] (2,), from the same adjoints (the Python internal has no such output)."""
+        return self._call(y, z, vy, vz, omega, True)[20:22].copy()
 
     def counts(self) -> dict:
         """As ``Reynolds.counts``: calls, factorizations, warm starts, cold fallbacks."""

@@ -40,7 +40,7 @@ static size_t rs_align(size_t x) { return (x + 15) / 16 * 16; }
 /* doubles of a solver of n_theta x n_x cells */
 static size_t rs_doubles(size_t N, size_t m) {
     size_t n = N * m;
-    return 23 * N /* sin_c .. dax, db */ + 3 * m + 3 * n + (N - 1) * m * (m + 1) + (N - 1) * m * m + m * m +
+    return 24 * N /* sin_c .. dax, db (5 N) */ + 3 * m + 3 * n + (N - 1) * m * (m + 1) + (N - 1) * m * m + m * m +
            (N - 1) * m + m + 7 * n + RS_HISTORY * n;
 }
 
@@ -193,7 +193,7 @@ RS_API rs_solver *rs_create(void *mem, int n_theta, int n_x, int mode, int warm,
     double **arrays[] = {&s->sin_c, &s->cos_c, &s->sin_f, &s->cos_f, &s->ds, &s->dc, &s->H0f, &s->H0c, &s->dH0,
                          &s->ct, &s->cx, &s->gy, &s->gz, &s->psup, &s->at, &s->ax, &s->b, &s->dat, &s->dax};
     for (i = 0; i < (int)(sizeof arrays / sizeof arrays[0]); i++, d += N) *arrays[i] = d;
-    s->db = d; d += 4 * N;
+    s->db = d; d += 5 * N;
     s->tdiag = d; d += m;
     s->rs = d; d += m;
     s->qw = d; d += m;
@@ -285,7 +285,7 @@ RS_API void rs_forget(rs_solver *s) { s->nvalid = 0; }
  * (F(db) - F(-db)) / 2 of the first-order film response (reynolds_kernels.reynolds_kernel) */
 static int rs_quiet_jacobian(rs_solver *s) {
     int N = s->N, n = N * s->m, q, i, k, sg, s0, hb;
-    for (q = 0; q < 4; q++) {
+    for (q = 0; q < 5; q++) {
         double cy = 0.0, cz = 0.0;
         for (sg = 0; sg < 2; sg++) {
             double sgn = sg == 0 ? 1.0 : -1.0;
@@ -300,9 +300,12 @@ static int rs_quiet_jacobian(rs_solver *s) {
         if (q < 2) {
             s->dFq[q] = cy;
             s->dFq[2 + q] = cz;
-        } else {
+        } else if (q < 4) {
             s->dFv[q - 2] = cy;
             s->dFv[q] = cz;
+        } else {
+            s->dFw[0] = cy;
+            s->dFw[1] = cz;
         }
     }
     s->nvalid = 0; /* the state's own (zero) film again; no source to warm-start from */
@@ -359,7 +362,7 @@ static void rs_jacobian(rs_solver *s, double y, double z, int s0, int hb) {
         s->dFq[q] = sy;
         s->dFq[2 + q] = sz;
     }
-    for (q = 0; q < 2; q++) { /* dF/dv = mu^T db/dv (A does not depend on v) */
+    for (q = 0; q < 3; q++) { /* dF/dv, dF/domega = mu^T db/d. (A depends on neither) */
         double sy = 0.0, sz = 0.0;
         for (i = 0; i < N; i++) {
             double ty = 0.0, tz = 0.0;
@@ -370,13 +373,19 @@ static void rs_jacobian(rs_solver *s, double y, double z, int s0, int hb) {
             sy += ty * s->db[(q + 2) * N + i];
             sz += tz * s->db[(q + 2) * N + i];
         }
-        s->dFv[q] = sy;
-        s->dFv[2 + q] = sz;
+        if (q < 2) {
+            s->dFv[q] = sy;
+            s->dFv[2 + q] = sz;
+        } else {
+            s->dFw[0] = sy;
+            s->dFw[1] = sz;
+        }
     }
 }
 
 /* One call at a checked state (finite, inside the wall): s->F, and with want_jac s->dFq, s->dFv
- * (row-major 2 x 2: dF_i/dq_j). RS_OK, RS_NOT_CONVERGED (guards against cycling; not observed)
+ * (row-major 2 x 2: dF_i/dq_j) and s->dFw (dF/domega: not in the Python internal; checked
+ * against central differences). RS_OK, RS_NOT_CONVERGED (guards against cycling; not observed)
  * or RS_OVERFLOW (finite inputs whose film is beyond the float range). */
 RS_API int rs_call(rs_solver *s, double y, double z, double vy, double vz, double omega, int want_jac) {
     int N = s->N, m = s->m, n = N * m, i, k, s0, hb, iters;
@@ -418,6 +427,8 @@ RS_API int rs_call(rs_solver *s, double y, double z, double vy, double vz, doubl
             s->db[N + i] = sc * 6.0 * mu * omega * s->dc[i];
             s->db[2 * N + i] = sc * 12.0 * mu * s->dc[i];
             s->db[3 * N + i] = sc * 12.0 * mu * s->ds[i];
+            s->db[4 * N + i] = -sc * 6.0 * mu * (s->bore ? y * s->ds[i] - z * s->dc[i] + s->CR * s->dH0[i]
+                                                          : y * s->ds[i] - z * s->dc[i]);
         }
         int quiet = 1;
         if (s->bore) {
@@ -442,10 +453,11 @@ RS_API int rs_call(rs_solver *s, double y, double z, double vy, double vz, doubl
     if (status != RS_OK) return status;
     int finite = isfinite(s->F[0]) && isfinite(s->F[1]);
     for (i = 0; want_jac && i < 4; i++) finite = finite && isfinite(s->dFq[i]) && isfinite(s->dFv[i]);
+    finite = finite && (!want_jac || (isfinite(s->dFw[0]) && isfinite(s->dFw[1])));
     return finite ? RS_OK : RS_OVERFLOW;
 }
 
-/* The last call's results: F (2), dFq (4), dFv (4), info (6), counts (4) into out (20) */
+/* The last call's results: F (2), dFq (4), dFv (4), info (6), counts (4), dFw (2) into out (22) */
 RS_API void rs_results(const rs_solver *s, double *out) {
     int i;
     out[0] = s->F[0];
@@ -456,6 +468,8 @@ RS_API void rs_results(const rs_solver *s, double *out) {
     }
     for (i = 0; i < 6; i++) out[10 + i] = s->info[i];
     for (i = 0; i < 4; i++) out[16 + i] = s->counts[i];
+    out[20] = s->dFw[0];
+    out[21] = s->dFw[1];
 }
 
 #if defined(RS_EXPORT)

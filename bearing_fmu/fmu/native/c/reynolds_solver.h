@@ -51,7 +51,7 @@ typedef struct rs_solver {
     int nvalid;
     double *wring;
     /* results of the last call */
-    double F[2], dFq[4], dFv[4], Ft[2];
+    double F[2], dFq[4], dFv[4], dFw[2], Ft[2]; /* dFw = dF/domega */
     double info[6]; /* as the numba kernel's: passes, cavitated fraction, residual, factorizations,
                        warm, cold fallback */
     double counts[4]; /* calls, factorizations, warm starts, cold fallbacks */
