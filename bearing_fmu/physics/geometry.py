@@ -277,6 +277,11 @@ class Geometry:
         a, b = self._closure_weights
         return float(np.max(y * a + z * b)) / CR
 
+    def closure_weights(self) -> tuple[np.ndarray, np.ndarray]:
+        """(-sin(theta), cos(theta)) / H0(theta) over the film's sample angles: ``closure`` is the
+        largest y a + z b over them, divided by CR (the native solver checks the wall with them)."""
+        return self._closure_weights
+
     @cached_property
     def _closure_weights(self) -> tuple[np.ndarray, np.ndarray]:
         """(-sin(theta), cos(theta)) / H0(theta) over the film's sample angles (see ``closure``)."""

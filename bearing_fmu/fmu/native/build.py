@@ -35,7 +35,7 @@ from xml.etree import ElementTree as ET
 
 from ... import __version__
 from ...physics.params import PAPER_BEARING, BearingParams
-from .codegen import NativeModel, assign_identity, native_model
+from .codegen import INCLUDED_SOURCES, NativeModel, assign_identity, native_model
 from .compile import (C_FLAGS, NativeBuildError, compile_binaries, find_compiler, fmi_headers,  # noqa: F401
                       parse_platforms)
 
@@ -46,14 +46,16 @@ COMMON_SOURCES = ("bearing_native.h", "fmi2_bearing.c", "fmi2_order.c")
 def build_native_fmu(output, internal: str, *, surrogate=None, map=None, bearing: BearingParams | None = None,
                      options: dict | None = None, cmake: bool = False, bearing_source="", platforms=None,
                      compiler: str | None = None, speed_hz: float | None = None, fmi_version: int = 2) -> Path:
-    """Write the native FMU of ``internal`` (taylor | map | linear) to ``output`` (.fmu).
+    """Write the native FMU of ``internal`` (reynolds | taylor | map | linear) to ``output`` (.fmu).
 
     surrogate : taylor: the surrogate JSON file compiled in (the bearing defaults to its own)
     map       : map: the force map JSON file; linear: linearise on this map (no Reynolds)
-    bearing   : the bearing (default: the surrogate's for taylor, else the paper bearing)
+    bearing   : the bearing (default: the surrogate's for taylor, else the paper bearing); reynolds: any
+                bore (its geometry compiled in), the others the full bore
     bearing_source : where ``bearing`` came from (its file: recorded with its SHA-256)
     options   : registry options: taylor's domain_action / domain_limit start values, linear's
-                linear_from, load_y, load_z, omega_lin, lin_* (the coefficients' start values)
+                linear_from, load_y, load_z, omega_lin, lin_* (the coefficients' start values),
+                reynolds's n_theta, n_x, cavitation (start values; parameters of the FMU)
     speed_hz  : map, linear: the start value of the input omega [Hz] (linear: its omega_lin); default
                 the linear model's speed, map 22 Hz; taylor: always the surrogate's speed
     platforms : binaries/ folders to compile (compile.PLATFORMS; default: all with zig, else the host's)
@@ -70,7 +72,7 @@ def build_native_fmu(output, internal: str, *, surrogate=None, map=None, bearing
     for label, path in (("surrogate", surrogate), ("map", map)):
         if path is not None and not Path(path).is_file():
             raise FileNotFoundError(f"build_native_fmu: {label} file {str(path)!r} not found")
-    if bearing is not None:
+    if bearing is not None and str(internal).strip().lower() != "reynolds":  # the solver has the bore compiled in
         bearing.require_full_bore(f"the native bearing FMU ({bearing_source or 'build_native_fmu'})",
                                   "its parameters are D, L, CR and mu; the geometry parameters are a later step")
     compiler = compiler or ("cmake" if cmake else "zig")
@@ -127,7 +129,7 @@ def stage(model: NativeModel, root: Path, record: dict | None = None) -> None:
     record = record if record is not None else build_record(model)
     src = root / "sources"
     src.mkdir(parents=True)
-    names = (*COMMON_SOURCES, f"internal_{model.internal}.c")
+    names = (*COMMON_SOURCES, *INCLUDED_SOURCES.get(model.internal, ()), f"internal_{model.internal}.c")
     assign_identity(model, {n: (C_DIR / n).read_text(encoding="ascii") for n in names},
                     lambda: model_description(model, record))
     for name in names:

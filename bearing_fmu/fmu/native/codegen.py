@@ -33,7 +33,9 @@ from ..variables import ENUMERATIONS, VARIABLES  # the one table of the FMU inte
 from ...physics.params import BearingParams
 
 ID_TOKEN, GUID_TOKEN = "BN_MODEL_IDENTIFIER", "{BN-GUID}"  # in model_config.h until assign_identity
-INTERNALS = ("linear", "map", "taylor")  # what a native FMU can compute (no solver at run time)
+INTERNALS = ("linear", "map", "taylor", "reynolds")  # what a native FMU can compute
+# C files an internal's file includes (so that all of it stays static): staged beside it, not compiled alone
+INCLUDED_SOURCES = {"reynolds": ("reynolds_solver.h", "reynolds_kernels.c", "reynolds_solver.c")}
 REAL_BASE, BOOL_BASE, STRING_BASE, ENUM_BASE = 0, 1000, 2000, 3000  # value references by type (bearing_native.h)
 CORE_REALS = ("y", "z", "vy", "vz", "omega", "Fy", "Fz", "eccentricity", "h_min", "Kyy", "Kyz", "Kzy", "Kzz",
               "Cyy", "Cyz", "Czy", "Czz", "D", "L", "CR", "mu")
@@ -42,10 +44,11 @@ FALLBACK_WHY = ("the fallback evaluates the Reynolds solver, which a native FMU 
 # the native FMU's options per internal (registry names); the rest stay in the Python FMU
 # does the internal's force depend on (the bearing D, L, CR, mu as set; the speed omega)? The
 # Taylor surrogate holds its own bearing and speed (others refused), so does the linear model
-FORCE_DEPENDS = {"map": (1, 1), "taylor": (0, 0), "linear": (0, 0)}
+FORCE_DEPENDS = {"map": (1, 1), "taylor": (0, 0), "linear": (0, 0), "reynolds": (1, 1)}
 NATIVE_OPTIONS = {
     "taylor": ("surrogate", "domain_action", "domain_limit"),
     "map": ("map",),
+    "reynolds": ("n_theta", "n_x", "cavitation"),
     "linear": ("omega_lin", "lin_y0", "lin_z0", "lin_Fy0", "lin_Fz0", "lin_Kyy", "lin_Kyz", "lin_Kzy", "lin_Kzz",
                "lin_Cyy", "lin_Cyz", "lin_Czy", "lin_Czz"),
 }
@@ -138,7 +141,7 @@ def native_model(internal: str, params: BearingParams, *, surrogate=None, map=No
     internal = str(internal).strip().lower()
     if internal not in INTERNALS:
         raise ValueError(f"a native FMU computes one of {', '.join(INTERNALS)}; got internal {internal!r} "
-                         "(reynolds needs its solver at run time: the Python FMU, `bearing-fmu build`)")
+                         "(an internal registered from outside the package: the Python FMU, `bearing-fmu build`)")
     options = dict(options or {})
     if omega is not None:
         if internal == "taylor":
@@ -147,7 +150,8 @@ def native_model(internal: str, params: BearingParams, *, surrogate=None, map=No
         if not (math.isfinite(omega) and omega > 0):
             raise ValueError(f"the start speed omega = {omega!r} rad/s must be finite and > 0")
         options["omega_lin" if internal == "linear" else "_omega"] = float(omega)
-    return {"taylor": _taylor, "map": _map, "linear": _linear}[internal](params, surrogate, map, options)
+    return {"taylor": _taylor, "map": _map, "linear": _linear, "reynolds": _reynolds}[internal](
+        params, surrogate, map, options)
 
 
 def _variables(internal: str, params: BearingParams, starts: dict, inputs: tuple) -> list[Variable]:
@@ -190,6 +194,10 @@ def _variables(internal: str, params: BearingParams, starts: dict, inputs: tuple
         out.append(Variable(name, ENUM_BASE + k, "Enumeration", "parameter", value, None,
                             f"{string} as an enumeration ({words}): the same choice as the String parameter {string}; "
                             "set either (set both, they must agree)", enum_type_name(string)))
+    n_enums = len(native_enumerations(internal))
+    for k, o in enumerate(o for o in opts if o.type is int):  # Integers after the enumerations
+        out.append(Variable(o.name, ENUM_BASE + n_enums + k, "Integer", "parameter", int(starts[o.name]), o.unit,
+                            f"{o.help} ({o.allowed()})"))
     return out
 
 
@@ -283,6 +291,17 @@ def _config(internal: str, params: BearingParams, starts: dict, inputs) -> str:
                     f"{c_string('|'.join(ENUMERATIONS[name][1]))}}}")
     lines.append(f"#define BN_N_ENUMS {len(rows)}")
     lines.append("#define BN_ENUM_TABLE \\\n" + ", \\\n".join(rows))
+    # the Integer options (after the enumerations): name, start, minimum, maximum, even, the
+    # special value (0: the default) or -1, the allowed values in words
+    ints = [o for o in opts if o.type is int]
+    lines.append(f"#define BN_N_INT_OPTIONS {len(ints)}")
+    rows = []
+    for k, o in enumerate(ints):
+        lines.append(f"#define I_OPT_{o.name.upper()} {k}")
+        special = 0 if o.special else -1
+        rows.append(f"    {{{c_string(o.name)}, {int(starts[o.name])}, {int(o.minimum)}, {int(o.maximum)}, {int(o.even)}, "
+                    f"{special}, {c_string(o.allowed())}}}")
+    lines.append("#define BN_INT_OPTION_TABLE \\\n" + ", \\\n".join(rows) if rows else "#define BN_INT_OPTION_TABLE")
     lines += c_defines()  # the FMI 2.0 calling sequence: the one table both FMUs check
     lines.append("#endif\n")
     return "\n".join(lines)
@@ -503,3 +522,22 @@ def _linear(params: BearingParams, surrogate, map_path, options: dict) -> Native
                        "hydrodynamic journal bearing, linear model F = F0 - K (q - q0) - C v (8 Lund coefficients as "
                        "parameters" + (f", linearised on the force map {source.name}" if source else "")
                        + "), compiled (no Python)", info)
+
+
+# ----------------------------------------------------------------------------- reynolds
+
+def _reynolds(params: BearingParams, surrogate, map_path, options: dict) -> NativeModel:
+    from .reynolds_data import reynolds_data_h
+
+    starts = {"n_theta": 0, "n_x": 0, "cavitation": "reynolds"}
+    for name in starts:
+        if name in options:
+            starts[name] = registry_option(name).check(options[name], "native FMU option")
+    # a nonzero speed: an omega a master forgets to connect still gives the film's force
+    inputs = (0.0, 0.0, 0.0, 0.0, float(options.get("_omega", registry.DEFAULT_OMEGA_LIN)))
+    grid = f"{starts['n_theta'] or 'default'} x {starts['n_x'] or 'default'}"
+    info = {"bore": params.geometry.describe(), "grid": grid, "cavitation": starts["cavitation"]}
+    return NativeModel("reynolds", params, _variables("reynolds", params, starts, inputs),
+                       _config("reynolds", params, starts, inputs), reynolds_data_h(params, c_double, c_string), None,
+                       f"hydrodynamic journal bearing, finite-volume Reynolds solver ({params.geometry.describe()}; any "
+                       "speed, load and velocity), compiled (no Python)", info)

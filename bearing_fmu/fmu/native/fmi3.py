@@ -33,7 +33,7 @@ from ... import __version__
 from ...internals import registry
 from .. import meta as fmu_meta
 from ..order import MODES
-from .codegen import NativeModel, assign_identity, native_enumerations
+from .codegen import INCLUDED_SOURCES, NativeModel, assign_identity, native_enumerations
 
 C_DIR = Path(__file__).resolve().parent / "c"
 VR_TIME = 4000  # the independent variable (FMI 3.0 only; the others keep the FMI 2.0 FMU's references)
@@ -264,12 +264,13 @@ def stage3(model: NativeModel, root: Path, record: dict) -> None:
 
     record = {**record, "fmi_version": "3.0"}
     # the model identifier hashes the sources and data (as the FMI 2.0 build: codegen.assign_identity)
-    assign_identity(model, {n: (C_DIR / n).read_text(encoding="ascii") for n in (*HEADERS3, *source_files3(model))},
+    names = (*HEADERS3, *INCLUDED_SOURCES.get(model.internal, ()), *source_files3(model))
+    assign_identity(model, {n: (C_DIR / n).read_text(encoding="ascii") for n in names},
                     lambda: model_description3(model, record, "", "2000-01-01T00:00:00Z"))
     token = instantiation_token(model, record)
     src = root / "sources"
     src.mkdir(parents=True)
-    for name in (*HEADERS3, *source_files3(model)):
+    for name in names:
         shutil.copyfile(C_DIR / name, src / name)
     (src / "model_config.h").write_text(model.config_h, encoding="ascii")
     (src / "model_data.h").write_text(model.data_h, encoding="ascii")

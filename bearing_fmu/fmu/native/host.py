@@ -1,7 +1,8 @@
 """What a host sets on a native FMU: the parameters of one bearing, from the internal's options.
 
 The native FMU keeps the options that make sense without Python (``codegen.NATIVE_OPTIONS``):
-taylor's surrogate, domain_action, domain_limit; map's map; linear's omega_lin and lin_*.
+taylor's surrogate, domain_action, domain_limit; map's map; linear's omega_lin and lin_*;
+reynolds's n_theta, n_x and cavitation.
 The linear model is made here, per bearing (its static load differs), by the Python ``Linear``
 internal, and handed to the FMU as its coefficients."""
 
@@ -37,6 +38,8 @@ def native_parameters(internal: str, params, options: dict, context=None, where:
                    domain_limit=opts["domain_limit"])
     elif spec.name == "map":
         out["map"] = Path(opts["map"]).name
+    elif spec.name == "reynolds":
+        out.update(n_theta=opts["n_theta"], n_x=opts["n_x"], cavitation=opts["cavitation"])
     else:
         out.update(linear_starts(params, options, context))
     return out
