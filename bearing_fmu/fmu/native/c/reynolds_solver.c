@@ -278,8 +278,6 @@ RS_API rs_solver *rs_create(void *mem, int n_theta, int n_x, int mode, int warm,
     return s;
 }
 
-/* Drop the remembered calls: the next call starts cold (results do not change) */
-RS_API void rs_forget(rs_solver *s) { s->nvalid = 0; }
 
 /* With no source at all p = 0 and the force is only directionally differentiable: the odd part
  * (F(db) - F(-db)) / 2 of the first-order film response (reynolds_kernels.reynolds_kernel) */
@@ -457,6 +455,10 @@ RS_API int rs_call(rs_solver *s, double y, double z, double vy, double vz, doubl
     return finite ? RS_OK : RS_OVERFLOW;
 }
 
+#if defined(RS_EXPORT) /* what the ctypes comparison calls besides (bearing_fmu/fmu/native/solver_lib.py) */
+/* Drop the remembered calls: the next call starts cold (results do not change) */
+RS_API void rs_forget(rs_solver *s) { s->nvalid = 0; }
+
 /* The last call's results: F (2), dFq (4), dFv (4), info (6), counts (4), dFw (2) into out (22) */
 RS_API void rs_results(const rs_solver *s, double *out) {
     int i;
@@ -472,7 +474,6 @@ RS_API void rs_results(const rs_solver *s, double *out) {
     out[21] = s->dFw[1];
 }
 
-#if defined(RS_EXPORT)
 /* The benchmark's floor (benchmarks/bench_native_reynolds.py): n calls at states[5 k ..] in one
  * compiled loop, F and the Jacobian into out[10 k ..]; the number of calls that failed */
 RS_API int rs_call_many(rs_solver *s, const double *states, int n, int want_jac, double *out) {
