@@ -4,8 +4,9 @@ sources in ``sources/``, the binary for this platform compiled from them, no Pyt
 ``build_native_fmu(output, internal, ...)``:
 
 1. ``codegen.native_model``: the internal's data as C headers, its variables and options;
-2. stage ``sources/`` (``bearing_native.h``, ``fmi2_bearing.c``, ``fmi2_order.c``,
-   ``internal_<name>.c`` from ``bearing_fmu/fmu/native/c/`` and the two generated headers),
+2. stage ``sources/`` (the FMI 2.0 layer ``fmi2_*.c``, the model layer ``bearing_*.c`` that the
+   FMI 3.0 FMU shares, ``internal_<name>.c``, their headers, from ``bearing_fmu/fmu/native/c/``,
+   and the two generated headers),
    ``modelDescription.xml`` (both interfaces, units, output dependencies, the source files; what
    a system-simulation engineer reads in it: ``bearing_fmu.fmu.meta``), ``documentation/``
    (``bearing_fmu.fmu.docs``) and ``resources/build_info.json`` (the bearing, the data file and
@@ -35,12 +36,14 @@ from xml.etree import ElementTree as ET
 
 from ... import __version__
 from ...physics.params import PAPER_BEARING, BearingParams
-from .codegen import INCLUDED_SOURCES, NativeModel, assign_identity, native_model
+from .codegen import INCLUDED_SOURCES, MODEL_HEADERS, MODEL_SOURCES, NativeModel, assign_identity, native_model
 from .compile import (C_FLAGS, NativeBuildError, compile_binaries, find_compiler, fmi_headers,  # noqa: F401
                       parse_platforms)
 
 C_DIR = Path(__file__).resolve().parent / "c"
-COMMON_SOURCES = ("bearing_native.h", "fmi2_bearing.c", "fmi2_order.c")
+# the FMI 2.0 layer over the model layer (codegen.MODEL_SOURCES)
+HEADERS2 = (*MODEL_HEADERS, "fmi2_layer.h")
+SOURCES2 = ("fmi2_bearing.c", "fmi2_modes.c", "fmi2_order.c", *MODEL_SOURCES)
 
 
 def build_native_fmu(output, internal: str, *, surrogate=None, map=None, bearing: BearingParams | None = None,
@@ -103,7 +106,7 @@ def build_native_fmu(output, internal: str, *, surrogate=None, map=None, bearing
 
 def source_files(model: NativeModel) -> list[str]:
     """The C files the compiler builds (the headers are included by them)."""
-    return ["fmi2_bearing.c", "fmi2_order.c", f"internal_{model.internal}.c"]
+    return [*SOURCES2, f"internal_{model.internal}.c"]
 
 
 def build_record(model: NativeModel, bearing_source="") -> dict:
@@ -129,7 +132,7 @@ def stage(model: NativeModel, root: Path, record: dict | None = None) -> None:
     record = record if record is not None else build_record(model)
     src = root / "sources"
     src.mkdir(parents=True)
-    names = (*COMMON_SOURCES, *INCLUDED_SOURCES.get(model.internal, ()), f"internal_{model.internal}.c")
+    names = (*HEADERS2, *INCLUDED_SOURCES.get(model.internal, ()), *source_files(model))
     assign_identity(model, {n: (C_DIR / n).read_text(encoding="ascii") for n in names},
                     lambda: model_description(model, record))
     for name in names:

@@ -36,6 +36,9 @@ ID_TOKEN, GUID_TOKEN = "BN_MODEL_IDENTIFIER", "{BN-GUID}"  # in model_config.h u
 INTERNALS = ("linear", "map", "taylor", "reynolds")  # what a native FMU can compute
 # C files an internal's file includes (so that all of it stays static): staged beside it, not compiled alone
 INCLUDED_SOURCES = {"reynolds": ("reynolds_solver.h", "reynolds_kernels.c", "reynolds_solver.c")}
+# the model layer (c/bearing_values.h), the same C files under the FMI 2.0 and the FMI 3.0 layer
+MODEL_HEADERS = ("bearing_native.h", "bearing_values.h")
+MODEL_SOURCES = ("bearing_values.c", "bearing_model.c", "bearing_derivatives.c")
 REAL_BASE, BOOL_BASE, STRING_BASE, ENUM_BASE = 0, 1000, 2000, 3000  # value references by type (bearing_native.h)
 CORE_REALS = ("y", "z", "vy", "vz", "omega", "Fy", "Fz", "eccentricity", "h_min", "Kyy", "Kyz", "Kzy", "Kzz",
               "Cyy", "Cyz", "Czy", "Czz", "D", "L", "CR", "mu")

@@ -33,13 +33,14 @@ from ... import __version__
 from ...internals import registry
 from .. import meta as fmu_meta
 from ..order import MODES
-from .codegen import INCLUDED_SOURCES, NativeModel, assign_identity, native_enumerations
+from .codegen import (INCLUDED_SOURCES, MODEL_HEADERS, MODEL_SOURCES, NativeModel, assign_identity,
+                      native_enumerations)
 
 C_DIR = Path(__file__).resolve().parent / "c"
 VR_TIME = 4000  # the independent variable (FMI 3.0 only; the others keep the FMI 2.0 FMU's references)
 # the C files compiled, with internal_<name>.c
-SOURCES3 = ("fmi3_bearing.c", "fmi3_state.c", "fmi3_derivatives.c", "fmi3_modes.c", "bearing_values.c")
-HEADERS3 = ("bearing_native.h", "bearing_values.h", "fmi3_layer.h")
+SOURCES3 = ("fmi3_bearing.c", "fmi3_state.c", "fmi3_derivatives.c", "fmi3_modes.c", *MODEL_SOURCES)
+HEADERS3 = (*MODEL_HEADERS, "fmi3_layer.h")
 DEFINES3 = {"BN_FMI_VERSION": "3"}  # bearing_native.h: the FMI 3.0 headers and instance fields
 LOG_CATEGORIES = (("logStatusWarning", ("a state outside the fitted domain (once per excursion, counted at "
                                         "terminate), outputs left at their start values")),

@@ -1,8 +1,10 @@
-/* The native bearing FMU: what the FMI layer (fmi2_bearing.c) and the internal
- * (internal_<name>.c) share. Generated per build: model_config.h (the internal's name, its
- * options and value references, start values, the GUID) and model_data.h (the internal's
- * data as static arrays). Units are SI throughout (m, m/s, rad/s, N, Pa s).
- * The FMI 3.0 FMU compiles the same internals under fmi3_bearing.c with BN_FMI_VERSION=3.
+/* The native bearing FMU: what its three layers share, as the FMI Reference FMUs share their
+ * model code across FMI versions: the FMI layer (FMI 2.0: fmi2_*.c; FMI 3.0, compiled with
+ * BN_FMI_VERSION=3: fmi3_*.c), the model layer of either (bearing_values.h: the variables, the
+ * parameters' checks, the evaluation and its derivatives) and the internal (internal_<name>.c).
+ * Generated per build: model_config.h (the internal's name, its options and value references,
+ * start values, the GUID) and model_data.h (the internal's data as static arrays). Units are SI
+ * throughout (m, m/s, rad/s, N, Pa s).
  *
  * Value references: Reals 0..; Booleans from 1000; Strings from 2000; Integers (the enumerations,
  * each the same choice as a String parameter) from 3000. */
@@ -18,11 +20,21 @@
 #if BN_FMI3
 #include "fmi3Functions.h"
 typedef fmi3Status bn_status; /* FMI 2's and FMI 3's statuses have the same values */
+#define BN_OK fmi3OK
 #define BN_WARNING fmi3Warning
+#define BN_DISCARD fmi3Discard
+#define BN_ERROR fmi3Error
+#define BN_FMI_TEXT "FMI 3.0"
+#define BN_REAL_TYPE "Float64"
 #else
 #include "fmi2Functions.h"
 typedef fmi2Status bn_status;
+#define BN_OK fmi2OK
 #define BN_WARNING fmi2Warning
+#define BN_DISCARD fmi2Discard
+#define BN_ERROR fmi2Error
+#define BN_FMI_TEXT "FMI 2.0"
+#define BN_REAL_TYPE "Real"
 #endif
 #include "model_config.h"
 
@@ -112,7 +124,8 @@ typedef struct Instance {
     int refused_state;          /* ME: the inputs as set were refused (logged once, until they change) */
     int ood_now;                /* out_of_domain of the last evaluated state (ME: out_of_domain takes it at events) */
     int still;                  /* the force was asked at omega = 0 with no squeeze (warned once, until it moves) */
-    int warn_pending;           /* a warning was logged: the FMI call returns fmi2Warning */
+    int warn_pending;           /* a warning was logged: the FMI call returns a warning status */
+    int mute;                   /* no log lines (the states a derivative's differences evaluate) */
     int refused[N_PARAM_SLOTS]; /* a parameter whose last set was refused */
     char refused_msg[N_PARAM_SLOTS][512];
     char init_error[2400];
@@ -125,8 +138,6 @@ typedef struct Instance {
     fmi3InstanceEnvironment env;
     fmi3LogMessageCallback log_message;
     unsigned log_off;           /* bit k: log category of status k switched off (fmi3SetDebugLogging) */
-    int ood_event;              /* ME: out_of_domain as of the last event (discrete: it changes at events only) */
-    int mute;                   /* no log lines (the finite differences of the derivatives) */
     double stop_time;           /* fmi3EnterInitializationMode's; INFINITY when not defined */
 #else
     fmi2Type type;
@@ -149,6 +160,29 @@ typedef struct Instance {
 #define bn_order_refused BN_NAME(BN_ID, bn_order_refused)
 #define bn_live_add BN_NAME(BN_ID, bn_live_add)
 #define bn_live_remove BN_NAME(BN_ID, bn_live_remove)
+/* the model layer (bearing_values.h) */
+#define BN_BOOL_NAMES BN_NAME(BN_ID, BN_BOOL_NAMES)
+#define bn_real_name BN_NAME(BN_ID, bn_real_name)
+#define bn_real_unit BN_NAME(BN_ID, bn_real_unit)
+#define bn_string_name BN_NAME(BN_ID, bn_string_name)
+#define bn_enum_name BN_NAME(BN_ID, bn_enum_name)
+#define bn_is_output_real BN_NAME(BN_ID, bn_is_output_real)
+#define bn_set_starts BN_NAME(BN_ID, bn_set_starts)
+#define bn_check_real BN_NAME(BN_ID, bn_check_real)
+#define bn_check_string BN_NAME(BN_ID, bn_check_string)
+#define bn_check_enum BN_NAME(BN_ID, bn_check_enum)
+#define bn_prepare BN_NAME(BN_ID, bn_prepare)
+#define bn_show_choices BN_NAME(BN_ID, bn_show_choices)
+#define bn_evaluate BN_NAME(BN_ID, bn_evaluate)
+#define bn_outputs BN_NAME(BN_ID, bn_outputs)
+#define bn_warned BN_NAME(BN_ID, bn_warned)
+#define bn_check_known BN_NAME(BN_ID, bn_check_known)
+#define bn_derivative BN_NAME(BN_ID, bn_derivative)
+#define bn_state_save BN_NAME(BN_ID, bn_state_save)
+#define bn_state_restore BN_NAME(BN_ID, bn_state_restore)
+#define bn_state_valid BN_NAME(BN_ID, bn_state_valid)
+#define bn_state_serialize BN_NAME(BN_ID, bn_state_serialize)
+#define bn_state_deserialize BN_NAME(BN_ID, bn_state_deserialize)
 
 /* Shared between this FMU's files, never exported: only the FMI functions are (a binary built
  * by any CMake project too; Windows exports only what fmi2Functions.h marks dllexport). */
@@ -178,12 +212,12 @@ BN_HIDDEN void bn_log(Instance *m, bn_status status, const char *fmt, ...)
 /* a double the way Python's %.{digits}g writes it, into buf */
 BN_HIDDEN const char *bn_num(char *buf, size_t n, double x, int digits);
 
-/* the calling sequence (fmi2_order.c): 0 if `call` (an FMI 2.0 function without "fmi2") is
+/* the FMI 2.0 calling sequence (fmi2_order.c): 0 if `call` (an FMI 2.0 function without "fmi2") is
  * allowed in the instance's mode (`allowed`: its BN_ALLOW_ mask), else 1 with an fmi2Error logged
  * naming it, the mode and what to do, in the words of bearing_fmu/fmi_order.py's refusal */
 enum { BN_ANY_TYPE, BN_CS_ONLY, BN_ME_ONLY };
 BN_HIDDEN int bn_order_refused(Instance *m, const char *call, unsigned allowed, int kind);
-/* the live instances: add one; remove one (1, or 0 if it was not live) */
+/* the live instances (bearing_model.c): add one; remove one (1, or 0 if it was not live) */
 BN_HIDDEN void bn_live_add(Instance *m);
 BN_HIDDEN int bn_live_remove(Instance *m);
 

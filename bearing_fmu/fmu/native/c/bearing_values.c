@@ -1,6 +1,7 @@
-/* The values of a native bearing FMU whatever its FMI version: see bearing_values.h. The same
- * code as fmi2_bearing.c's helpers (there static), with the FMI version left out: every check
- * answers 0, or 1 with the reason in words, and the FMI layer turns that into its status. */
+/* The values of a native bearing FMU whatever its FMI version (the model layer: bearing_values.h):
+ * the variables' names and start values, the parameters' checks alone and together, the internal
+ * prepared. Every check answers 0, or 1 with the reason in words; the FMI layer turns that into
+ * its status. */
 #include <ctype.h>
 #include <math.h>
 #include <stdio.h>
@@ -141,6 +142,9 @@ void bn_set_starts(Instance *m) {
     m->initialized = 0;
     m->terminated = 0;
     m->dirty = 1;
+    m->refused_state = 0;
+    m->ood_now = 0;
+    m->still = 0;
     m->work.last_nn = -1;
     m->work.excursions = 0;
 }
@@ -266,7 +270,7 @@ static int resolve_choices(Instance *m, char *why, size_t n) {
 /* The bearing's physical ranges (bearing_fmu/params.py, BearingParams): 0, or 1 with why. */
 static int check_bearing(const Instance *m, char *why, size_t n) {
     double D = m->r[VR_D], L = m->r[VR_L], CR = m->r[VR_CR], mu = m->r[VR_MU];
-    char a[32], b[32], c[32];
+    char a[32], b[32], c[32], d[32];
     if (!(D >= 1e-3 && D <= 5.0)) {
         snprintf(why, n, "D = %s m is outside the physical range 1 mm .. 5 m", bn_num(a, sizeof a, D, 4));
         return 1;
@@ -274,13 +278,13 @@ static int check_bearing(const Instance *m, char *why, size_t n) {
     if (!(L >= 0.05 * D && L <= 5.0 * D)) {
         snprintf(why, n, "L = %s m is outside the physical range %s .. %s m (L/D 0.05 .. 5 at D = %s m)",
                  bn_num(a, sizeof a, L, 4), bn_num(b, sizeof b, 0.05 * D, 4), bn_num(c, sizeof c, 5.0 * D, 4),
-                 bn_num(c, sizeof c, D, 4));
+                 bn_num(d, sizeof d, D, 4));
         return 1;
     }
     if (!(CR >= 1e-5 * 0.5 * D && CR <= 0.05 * 0.5 * D)) {
         snprintf(why, n, "CR = %s m is outside the physical range %s .. %s m (CR/R 1e-05 .. 0.05 at D = %s m)",
                  bn_num(a, sizeof a, CR, 4), bn_num(b, sizeof b, 1e-5 * 0.5 * D, 4),
-                 bn_num(c, sizeof c, 0.05 * 0.5 * D, 4), bn_num(c, sizeof c, D, 4));
+                 bn_num(c, sizeof c, 0.05 * 0.5 * D, 4), bn_num(d, sizeof d, D, 4));
         return 1;
     }
     if (!(mu >= 1e-5 && mu <= 10.0)) {
@@ -311,49 +315,10 @@ int bn_prepare(Instance *m) {
 }
 
 void bn_show_choices(Instance *m) {
-    for (int k = 0; k < N_STRING; k++) snprintf(m->s[k], STRING_MAX, "%s", m->eff[k]);
+    memcpy(m->s, m->eff, sizeof m->s); /* same shape; gcc's -Wrestrict took snprintf here for an overlap */
     for (int j = 0; j < N_ENUM; j++) {
         char item[STRING_MAX];
         for (int v = 1; enum_choice(&ENUMS[j], v, item, sizeof item); v++)
             if (strcmp(item, m->s[ENUMS[j].string]) == 0) m->e[j] = v;
     }
-}
-
-/* Evaluate the internal at the inputs and set the outputs: 0, or 1 with the reason in m->msg
- * (outputs untouched). */
-int bn_evaluate(Instance *m) {
-    static const char *const in_names[5] = {"y", "z", "vy", "vz", "omega"};
-    double x[5], F[2], J[8], dw[2];
-    int ood = 0;
-    char a[32], b[32], c[32], d[32], e[32];
-    for (int i = 0; i < 5; i++) {
-        x[i] = m->r[i];
-        if (!isfinite(x[i])) {
-            snprintf(m->msg, sizeof m->msg, "bearing input %s = %s is not finite", in_names[i],
-                     bn_num(a, sizeof a, x[i], 17));
-            return 1;
-        }
-    }
-    int jac = m->b[B_COMPUTE_TANGENT];
-    if (bn_eval(m, x, jac, F, J, dw, &ood)) return 1;
-    int finite = isfinite(F[0]) && isfinite(F[1]);
-    for (int i = 0; jac && i < 8; i++) finite = finite && isfinite(J[i]);
-    if (!finite) {
-        snprintf(m->msg, sizeof m->msg, "the %s internal returned a non-finite force or tangent at y = %s m, "
-                 "z = %s m, vy = %s m/s, vz = %s m/s, omega = %s rad/s", BN_INTERNAL, bn_num(a, 32, x[0], 6),
-                 bn_num(b, 32, x[1], 6), bn_num(c, 32, x[2], 6), bn_num(d, 32, x[3], 6), bn_num(e, 32, x[4], 6));
-        return 1;
-    }
-    double eps = hypot(x[0], x[1]) / m->r[VR_CR];
-    m->r[VR_FY] = F[0];
-    m->r[VR_FZ] = F[1];
-    m->r[VR_ECC] = eps;
-    m->r[VR_HMIN] = m->r[VR_CR] * (1.0 - eps);
-    m->b[B_OUT_OF_DOMAIN] = ood;
-    if (jac) { /* Lund's sign: K = -dF/dq, C = -dF/dv */
-        m->r[VR_KYY] = -J[0]; m->r[VR_KYZ] = -J[1]; m->r[VR_CYY] = -J[2]; m->r[VR_CYZ] = -J[3];
-        m->r[VR_KZY] = -J[4]; m->r[VR_KZZ] = -J[5]; m->r[VR_CZY] = -J[6]; m->r[VR_CZZ] = -J[7];
-    }
-    m->dirty = 0;
-    return 0;
 }
