@@ -203,6 +203,8 @@ def model_description(model: NativeModel, record: dict) -> bytes:
                               ("true" if v.start else "false") if v.type == "Boolean" else str(v.start))
         if v.type == "Real":
             typed.update(fmu_meta.real_attributes(v.name, v.unit, model.params, omega_ref))
+        if v.type == "Integer":
+            typed.update(fmu_meta.integer_attributes(v.name))
         ET.SubElement(sv, v.type, typed)
     inputs = [index[v.name] for v in model.variables if v.causality == "input"]
     outputs = [index[v.name] for v in model.variables if v.causality == "output"]

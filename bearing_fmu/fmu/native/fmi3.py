@@ -123,6 +123,8 @@ def _attrs(v, model: NativeModel, omega_ref: float) -> dict:
         attrs["declaredType"] = v.declared_type
     if v.type == "Real":
         attrs.update(fmu_meta.real_attributes(v.name, v.unit, model.params, omega_ref))
+    if v.type == "Integer":  # an Integer option: an Int64, read and set as the enumerations are
+        attrs.update(fmu_meta.integer_attributes(v.name))
     if v.causality != "output" and v.type != "String":
         attrs["start"] = (repr(float(v.start)) if v.type == "Real" else
                           ("true" if v.start else "false") if v.type == "Boolean" else str(v.start))
@@ -192,7 +194,7 @@ def model_description3(model: NativeModel, record: dict, token: str, generated: 
     ET.SubElement(mvars, "Float64", name="time", valueReference=str(VR_TIME), causality="independent",
                   variability="continuous", description="simulation time [s]: the independent variable")
     omega_ref = fmu_meta.reference_speed(next(v.start for v in model.variables if v.name == "omega"))
-    tag = {"Real": "Float64", "Boolean": "Boolean", "String": "String", "Enumeration": "Enumeration"}
+    tag = {"Real": "Float64", "Boolean": "Boolean", "String": "String", "Enumeration": "Enumeration", "Integer": "Int64"}
     for v in model.variables:
         el = ET.SubElement(mvars, tag[v.type], _attrs(v, model, omega_ref))
         if v.type == "String":

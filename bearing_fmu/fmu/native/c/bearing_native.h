@@ -7,7 +7,7 @@
  * throughout (m, m/s, rad/s, N, Pa s).
  *
  * Value references: Reals 0..; Booleans from 1000; Strings from 2000; Integers (the enumerations,
- * each the same choice as a String parameter) from 3000. */
+ * each the same choice as a String parameter, then the internal's Integer options) from 3000. */
 #ifndef BEARING_NATIVE_H
 #define BEARING_NATIVE_H
 
@@ -95,7 +95,11 @@ enum { B_OUT_OF_DOMAIN, B_COMPUTE_TANGENT, N_BOOL };
 #define STRING_MAX 256
 #define VR_INT0 3000
 #define N_ENUM BN_N_ENUMS                                /* internal_enum, then the String options' */
-#define N_PARAM_SLOTS (N_REAL + N_BOOL + N_STRING + N_ENUM)
+#define N_INTS (N_ENUM + BN_N_INT_OPTIONS)               /* the Integers: the enumerations, then the internal's
+                                                            Integer options (reynolds: n_theta, n_x) */
+#define N_PARAM_SLOTS (N_REAL + N_BOOL + N_STRING + N_INTS)
+/* an Integer option's value (model_config.h I_OPT_<NAME>) */
+#define BN_INT_OPTION(m, name) ((m)->e[N_ENUM + I_OPT_##name])
 
 /* the FMI 2.0 modes (bearing_fmu/fmi_order.py: MODES; which call is allowed in which: BN_ALLOW_<call>) */
 typedef enum { BN_MODE_ENUM } Mode;
@@ -108,13 +112,16 @@ typedef struct {
     double scale;     /* map: S = mu R L (R / CR)^2 [N s] */
     int avx;          /* taylor: the CPU runs the AVX2 kernels */
     int quiet;        /* evaluations for a derivative: no excursion warning (internal_taylor.c) */
+    void *block;      /* reynolds: the solver's memory (the FMI callbacks'), block_bytes long; freed by bn_release */
+    void *solver;     /* reynolds: the solver inside it */
+    size_t block_bytes;
 } Work;
 
 typedef struct Instance {
     double r[N_REAL];
     int b[N_BOOL];
     char s[N_STRING][STRING_MAX];
-    int e[N_ENUM];              /* the enumerations as set */
+    int e[N_INTS];              /* the enumerations as set, then the Integer options */
     char eff[N_STRING][STRING_MAX]; /* the String choices as they count (a String, or its enumeration): setup() */
     double t;
     Mode mode;
@@ -155,6 +162,7 @@ typedef struct Instance {
 #define bn_setup BN_NAME(BN_ID, bn_setup)
 #define bn_eval BN_NAME(BN_ID, bn_eval)
 #define bn_option_derivative BN_NAME(BN_ID, bn_option_derivative)
+#define bn_release BN_NAME(BN_ID, bn_release)
 #define bn_log BN_NAME(BN_ID, bn_log)
 #define bn_num BN_NAME(BN_ID, bn_num)
 #define bn_order_refused BN_NAME(BN_ID, bn_order_refused)
@@ -202,6 +210,8 @@ BN_HIDDEN int bn_eval(Instance *m, const double x[5], int want_jac, double F[2],
 /* dF and dJ (as in bn_eval) with respect to the internal's k-th Real option (model_config.h
  * BN_REAL_OPTION_TABLE), at x: linear's coefficients; 0 for options the force does not depend on. */
 BN_HIDDEN void bn_option_derivative(Instance *m, const double x[5], int k, double dF[2], double dJ[8]);
+/* Free what bn_setup allocated (the instance is being freed; nothing for most internals). */
+BN_HIDDEN void bn_release(Instance *m);
 
 /* the FMI layer: log one line (printf-style) with a status */
 BN_HIDDEN void bn_log(Instance *m, bn_status status, const char *fmt, ...)

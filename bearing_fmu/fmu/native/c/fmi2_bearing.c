@@ -129,6 +129,7 @@ void fmi2FreeInstance(fmi2Component c) {
         fflush(stderr);
         return;
     }
+    bn_release(m); /* what the internal allocated (reynolds: the solver's memory) */
     if (m->cb.freeMemory) {
         fmi2CallbackFreeMemory release = m->cb.freeMemory;
         release(m);
@@ -229,7 +230,7 @@ fmi2Status fmi2GetInteger(fmi2Component c, const fmi2ValueReference vr[], size_t
     if (!m) return fmi2Error;
     ORDER(getInteger, BN_ANY_TYPE);
     for (size_t i = 0; i < nvr; i++) {
-        if (vr[i] < VR_INT0 || vr[i] >= VR_INT0 + N_ENUM)
+        if (vr[i] < VR_INT0 || vr[i] >= VR_INT0 + N_INTS)
             return bn2_fail(m, "getInteger: value reference %u is not an Integer variable of this FMU", vr[i]);
         value[i] = m->e[vr[i] - VR_INT0];
     }
@@ -318,7 +319,7 @@ fmi2Status fmi2SetInteger(fmi2Component c, const fmi2ValueReference vr[], size_t
     fmi2Status status = fmi2OK;
     char why[512], keeps[32];
     for (size_t i = 0; i < nvr; i++) {
-        if (vr[i] < VR_INT0 || vr[i] >= VR_INT0 + N_ENUM) {
+        if (vr[i] < VR_INT0 || vr[i] >= VR_INT0 + N_INTS) {
             status = bn2_fail(m, "setInteger: value reference %u is not an Integer variable of this FMU", vr[i]);
             continue;
         }

@@ -211,6 +211,7 @@ void fmi3FreeInstance(fmi3Instance instance) {
         fflush(stderr);
         return;
     }
+    bn_release(m); /* what the internal allocated (reynolds: the solver's memory) */
     free(m);
 }
 
@@ -324,7 +325,7 @@ fmi3Status fmi3GetInt64(fmi3Instance instance, const fmi3ValueReference vr[], si
     ORDER3(GetInt64, BN_ANY_TYPE);
     if (nValues != nvr) return counts_differ(m, "fmi3GetInt64", nvr, nValues);
     for (size_t i = 0; i < nvr; i++) {
-        if (vr[i] < VR_INT0 || vr[i] >= VR_INT0 + N_ENUM)
+        if (vr[i] < VR_INT0 || vr[i] >= VR_INT0 + N_INTS)
             return bn3_fail(m, "fmi3GetInt64: value reference %u is not an Enumeration variable of this FMU", vr[i]);
         values[i] = m->e[vr[i] - VR_INT0];
     }
@@ -435,7 +436,7 @@ fmi3Status fmi3SetInt64(fmi3Instance instance, const fmi3ValueReference vr[], si
     fmi3Status status = fmi3OK;
     char why[512], keeps[32];
     for (size_t i = 0; i < nvr; i++) {
-        if (vr[i] < VR_INT0 || vr[i] >= VR_INT0 + N_ENUM) {
+        if (vr[i] < VR_INT0 || vr[i] >= VR_INT0 + N_INTS) {
             status = bn3_fail(m, "fmi3SetInt64: value reference %u is not an Enumeration variable of this FMU", vr[i]);
             continue;
         }

@@ -68,7 +68,7 @@ static int dependencies(fmi3ValueReference v) {
 
 static int known_variable(fmi3ValueReference v) {
     return v < (fmi3ValueReference)N_REAL || v == BN3_VR_TIME || (v >= VR_BOOL0 && v < VR_BOOL0 + N_BOOL)
-           || (v >= VR_STRING0 && v < VR_STRING0 + N_STRING) || (v >= VR_INT0 && v < VR_INT0 + N_ENUM);
+           || (v >= VR_STRING0 && v < VR_STRING0 + N_STRING) || (v >= VR_INT0 && v < VR_INT0 + N_INTS);
 }
 
 fmi3Status fmi3GetNumberOfVariableDependencies(fmi3Instance instance, fmi3ValueReference valueReference,
