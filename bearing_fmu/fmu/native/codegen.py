@@ -47,7 +47,7 @@ FALLBACK_WHY = ("the fallback evaluates the Reynolds solver, which a native FMU 
 # the native FMU's options per internal (registry names); the rest stay in the Python FMU
 # does the internal's force depend on (the bearing D, L, CR, mu as set; the speed omega)? The
 # Taylor surrogate holds its own bearing and speed (others refused), so does the linear model
-FORCE_DEPENDS = {"map": (1, 1), "taylor": (0, 0), "linear": (0, 0), "reynolds": (1, 1)}
+FORCE_DEPENDS = {"map": (1, 1), "taylor": (0, 0), "linear": (0, 0), "reynolds": (2, 1)}  # 2: and on L/D
 NATIVE_OPTIONS = {
     "taylor": ("surrogate", "domain_action", "domain_limit"),
     "map": ("map",),

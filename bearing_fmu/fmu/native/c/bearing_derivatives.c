@@ -12,7 +12,10 @@
  *   eccentricity, h_min   analytic (0 along the velocities and the speed; at the centre, 0)
  *   D, L, CR, mu   the map: F = S P(q/CR, v/CR, omega) with S = mu L D^3 / (8 CR^2), so a change
  *                  of the bearing is a scale and, for CR, a move of the state along (q, v); the
- *                  Taylor and linear models hold their own bearing: 0 (eccentricity, h_min follow CR)
+ *                  Reynolds solver (BN_BEARING_IN_FORCE 2): the same, and P depends on L/D too
+ *                  (the map holds one L/D): its part along ln(L/D) from the internal,
+ *                  bn_shape_derivative; the Taylor and linear models hold their own bearing: 0
+ *                  (eccentricity, h_min follow CR)
  *   the internal's Real options   bn_option_derivative (the linear model's coefficients)
  * The states a difference evaluates are evaluated quietly: no log line, no excursion counted. */
 #include <math.h>
@@ -114,6 +117,15 @@ int bn_derivative(Instance *m, const double d[N_REAL], int with_kc, double out[N
         }
         for (int i = 0; i < 8; i++) dJ[i] += J[i] * (gain + 3.0 * along); /* J ~ S / CR */
     }
+#if BN_BEARING_IN_FORCE == 2
+    double s_ld = db[1] / m->r[VR_L] - db[0] / m->r[VR_D]; /* d ln(L/D) */
+    if (s_ld != 0.0) {
+        double gF[2], gJ[8];
+        if (bn_shape_derivative(m, x, tangent, gF, gJ)) return 1;
+        for (int r = 0; r < 2; r++) out[r] += gF[r] * s_ld;
+        for (int i = 0; tangent && i < 8; i++) dJ[i] += gJ[i] * s_ld;
+    }
+#endif
     for (int k = 0; k < BN_N_REAL_OPTIONS; k++)
         if (d[VR_REAL_OPTIONS + k] != 0.0) {
             double oF[2], oJ[8];

@@ -163,6 +163,7 @@ typedef struct Instance {
 #define bn_eval BN_NAME(BN_ID, bn_eval)
 #define bn_option_derivative BN_NAME(BN_ID, bn_option_derivative)
 #define bn_release BN_NAME(BN_ID, bn_release)
+#define bn_shape_derivative BN_NAME(BN_ID, bn_shape_derivative)
 #define bn_log BN_NAME(BN_ID, bn_log)
 #define bn_num BN_NAME(BN_ID, bn_num)
 #define bn_order_refused BN_NAME(BN_ID, bn_order_refused)
@@ -212,6 +213,9 @@ BN_HIDDEN int bn_eval(Instance *m, const double x[5], int want_jac, double F[2],
 BN_HIDDEN void bn_option_derivative(Instance *m, const double x[5], int k, double dF[2], double dJ[8]);
 /* Free what bn_setup allocated (the instance is being freed; nothing for most internals). */
 BN_HIDDEN void bn_release(Instance *m);
+/* BN_BEARING_IN_FORCE 2 (reynolds: F = mu R L (R / CR)^2 G(L/D, q/CR, v/CR, omega)): dF and, with
+ * want_jac, dJ along ln(L/D) at a fixed scale, at x. 0, or 1 with the reason in m->msg. */
+BN_HIDDEN int bn_shape_derivative(Instance *m, const double x[5], int want_jac, double dF[2], double dJ[8]);
 
 /* the FMI layer: log one line (printf-style) with a status */
 BN_HIDDEN void bn_log(Instance *m, bn_status status, const char *fmt, ...)
