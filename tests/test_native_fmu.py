@@ -770,7 +770,7 @@ def test_native_parameters_of_a_scene(paper_scene):
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("internal", ["map", "taylor"])
+@pytest.mark.parametrize("internal", ["map", "taylor", "reynolds"])
 def test_rotor_host_runs_native_fmus_like_the_direct_internal(tmp_path, internal):
     """rotor-host run --native: the paper's 22 Hz scene through native FMUs (fmpy, the conformant
     iteration of rotor_host/coupling/cosim.py) follows the run with the internal called in-process."""
