@@ -124,7 +124,8 @@ def timings(lib, n: int, repeat: int) -> list[dict]:
     params = BearingParams(**PAPER)
     for grid in GRIDS:
         for cav in ("reynolds", "gumbel"):
-            for label, states in (("random", np.array(random_states(params, n, 3))), ("transient", transient(params, n))):
+            for label, states in (("random", np.array(random_states(params, n, 3))),
+                                  ("transient", transient(params, n))):
                 py = Reynolds(params, *grid, cavitation=cav)
                 c = NativeReynolds(lib, params, *grid, cavitation=cav)
 

@@ -96,8 +96,12 @@ def native(tmp_path_factory, native_build_cache):
     out["reynolds"] = (fmu, registry.create("reynolds", PAPER_BEARING, rey_opts), PAPER_BEARING)
     lemon = ROOT / "models" / "bearing_paper_lemon.toml"
     argv = ["build", "--native", "--internal", "reynolds", "--bearing", str(lemon), "--platforms", "linux64"]
-    fmu = native_build_cache(folder / "reynolds_lemon.fmu",
-                             lambda target: main([*argv, "-o", str(target)]) == 0 and target, [lemon], ("cli", *argv[1:]))
+
+    def cli_lemon(target):
+        assert main([*argv, "-o", str(target)]) == 0
+        return target
+
+    fmu = native_build_cache(folder / "reynolds_lemon.fmu", cli_lemon, [lemon], ("cli", *argv[1:]))
     lemon_params = BearingParams.from_toml(lemon)
     out["reynolds:lemon"] = (fmu, registry.create("reynolds", lemon_params, {}), lemon_params)
     return {k: (fmu, fmpy.extract(str(fmu)), py, params) for k, (fmu, py, params) in out.items()}
@@ -770,18 +774,20 @@ def test_native_parameters_of_a_scene(paper_scene):
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("internal", ["map", "taylor", "reynolds"])
-def test_rotor_host_runs_native_fmus_like_the_direct_internal(tmp_path, internal):
-    """rotor-host run --native: the paper's 22 Hz scene through native FMUs (fmpy, the conformant
-    iteration of rotor_host/coupling/cosim.py) follows the run with the internal called in-process."""
+@pytest.mark.parametrize("internal, scene", [("map", "paper_22hz"), ("taylor", "paper_22hz"),
+                                             ("reynolds", "paper_22hz"), ("reynolds", "paper_lemon_22hz")])
+def test_rotor_host_runs_native_fmus_like_the_direct_internal(tmp_path, internal, scene):
+    """rotor-host run --native: the paper's 22 Hz scene (and for Reynolds the same on lemon-bore
+    bearings, the bore compiled into the FMU) through native FMUs (fmpy, the conformant iteration of
+    rotor_host/coupling/cosim.py) follows the run with the internal called in-process."""
     from rotor_host.cli import main
     from rotor_host.scenes.run import run_scene
     from rotor_host.scenes.scene import load_scene
 
-    scene_file = ROOT / "models" / "scenes" / "paper_22hz.toml"
-    assert main(["run", str(scene_file), "--internal", internal, "--native", "--t-end", "0.01", "--out",
+    scene_file = ROOT / "models" / "scenes" / f"{scene}.toml"
+    assert main(["run", str(scene_file), "--internal", internal, "--via", "fmu", "--native", "--t-end", "0.01", "--out",
                  str(tmp_path), "--no-plots", "--quiet"]) == 0
-    native = np.load(tmp_path / f"paper_22hz_{internal}_native.npz")
+    native = np.load(tmp_path / f"{scene}_{internal}_native.npz")
     direct = run_scene(load_scene(scene_file).with_internal(internal, via="direct", t_end_s=0.01), tmp_path,
                        stem="direct")
     assert direct.ok and len(native["t"]) == len(direct.arrays["t"]) == 101

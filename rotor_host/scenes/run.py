@@ -220,7 +220,16 @@ def build_bearings(scene: Scene, rotor: Rotor, loads: np.ndarray, work_dir: Path
         return DirectBearings(internals, pairs, scene.omega, names, tangent=scene.newton_tangent)
     from ..coupling.cosim import FMUBearings
 
-    for name, p in zip(names, rotor.bearings):  # the FMU's parameters would drop the bore: refuse it
+    # the FMU's parameters would drop the bore: refuse it, unless a native FMU of an internal of any
+    # bore has it compiled in (the first bearing's, for every bearing of the same bore)
+    compiled = scene.fmu_kind == "native" and scene.fmu is None and registry.get(scene.internal).can.any_geometry
+    for name, p in zip(names, rotor.bearings):
+        if compiled and p.geometry != rotor.bearings[0].geometry:
+            raise SceneError(f"{scene.source}: fmu_kind = 'native': the native FMU has the bore of {names[0]} "
+                             f"compiled in ({rotor.bearings[0].geometry.describe()}), {name} has another "
+                             f"({p.geometry.describe()}): give the bearings one bore, or use via = 'direct'")
+        if compiled:
+            continue
         try:
             p.require_full_bore(f"{scene.source}: via = 'fmu': the bearing FMU of {name}",
                                 "its parameters are D, L, CR and mu; the geometry parameters are a later step")

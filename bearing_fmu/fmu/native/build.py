@@ -75,7 +75,11 @@ def build_native_fmu(output, internal: str, *, surrogate=None, map=None, bearing
     for label, path in (("surrogate", surrogate), ("map", map)):
         if path is not None and not Path(path).is_file():
             raise FileNotFoundError(f"build_native_fmu: {label} file {str(path)!r} not found")
-    if bearing is not None and str(internal).strip().lower() != "reynolds":  # the solver has the bore compiled in
+    from ...internals import registry
+
+    # an internal of any bore (the Reynolds solver) has the bearing's bore compiled in
+    any_bore = str(internal).strip().lower() in registry.names() and registry.get(internal).can.any_geometry
+    if bearing is not None and not any_bore:
         bearing.require_full_bore(f"the native bearing FMU ({bearing_source or 'build_native_fmu'})",
                                   "its parameters are D, L, CR and mu; the geometry parameters are a later step")
     compiler = compiler or ("cmake" if cmake else "zig")

@@ -302,8 +302,8 @@ def _config(internal: str, params: BearingParams, starts: dict, inputs) -> str:
     for k, o in enumerate(ints):
         lines.append(f"#define I_OPT_{o.name.upper()} {k}")
         special = 0 if o.special else -1
-        rows.append(f"    {{{c_string(o.name)}, {int(starts[o.name])}, {int(o.minimum)}, {int(o.maximum)}, {int(o.even)}, "
-                    f"{special}, {c_string(o.allowed())}}}")
+        rows.append(f"    {{{c_string(o.name)}, {int(starts[o.name])}, {int(o.minimum)}, {int(o.maximum)}, "
+                    f"{int(o.even)}, {special}, {c_string(o.allowed())}}}")
     lines.append("#define BN_INT_OPTION_TABLE \\\n" + ", \\\n".join(rows) if rows else "#define BN_INT_OPTION_TABLE")
     lines += c_defines()  # the FMI 2.0 calling sequence: the one table both FMUs check
     lines.append("#endif\n")
@@ -542,5 +542,5 @@ def _reynolds(params: BearingParams, surrogate, map_path, options: dict) -> Nati
     info = {"bore": params.geometry.describe(), "grid": grid, "cavitation": starts["cavitation"]}
     return NativeModel("reynolds", params, _variables("reynolds", params, starts, inputs),
                        _config("reynolds", params, starts, inputs), reynolds_data_h(params, c_double, c_string), None,
-                       f"hydrodynamic journal bearing, finite-volume Reynolds solver ({params.geometry.describe()}; any "
-                       "speed, load and velocity), compiled (no Python)", info)
+                       f"hydrodynamic journal bearing, finite-volume Reynolds solver ({params.geometry.describe()}; "
+                       "any speed, load and velocity), compiled (no Python)", info)

@@ -194,7 +194,8 @@ def model_description3(model: NativeModel, record: dict, token: str, generated: 
     ET.SubElement(mvars, "Float64", name="time", valueReference=str(VR_TIME), causality="independent",
                   variability="continuous", description="simulation time [s]: the independent variable")
     omega_ref = fmu_meta.reference_speed(next(v.start for v in model.variables if v.name == "omega"))
-    tag = {"Real": "Float64", "Boolean": "Boolean", "String": "String", "Enumeration": "Enumeration", "Integer": "Int64"}
+    tag = {"Real": "Float64", "Boolean": "Boolean", "String": "String", "Enumeration": "Enumeration",
+           "Integer": "Int64"}
     for v in model.variables:
         el = ET.SubElement(mvars, tag[v.type], _attrs(v, model, omega_ref))
         if v.type == "String":
