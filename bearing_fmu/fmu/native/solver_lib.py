@@ -23,7 +23,7 @@ from .compile import C_FLAGS, run_compiler, zig_cc
 
 C_DIR = Path(__file__).resolve().parent / "c"
 HOST_TARGET = "native"  # zig cc -target native: this machine
-SOURCES = ("reynolds_solver.h", "reynolds_kernels.c", "reynolds_solver.c")
+SOURCES = ("py_mod.h", "reynolds_solver.h", "reynolds_kernels.c", "reynolds_solver.c")
 
 __all__ = ["solver_library", "bore_arrays", "NativeReynolds"]
 

@@ -10,6 +10,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "py_mod.h"
 #include "reynolds_kernels.c"
 
 #ifndef M_PI
@@ -17,16 +18,6 @@
 #endif
 #define RS_TWO_PI (2.0 * M_PI)
 
-/* Python's float modulo (numpy's np.mod): the sign of the divisor */
-static double rs_mod(double x, double p) {
-    double r = fmod(x, p);
-    if (r != 0.0) {
-        if ((p < 0) != (r < 0)) r += p;
-    } else {
-        r = copysign(0.0, p);
-    }
-    return r;
-}
 
 /* Python's round() of a positive double: half to even */
 static double rs_round_even(double x) {
@@ -54,7 +45,7 @@ RS_API size_t rs_bytes(int n_theta, int n_x) {
 static int rs_lobe_of(int lobes, double lobe_angle, double t) {
     if (lobes < 2) return 0;
     double step = RS_TWO_PI / lobes;
-    int k = (int)floor(rs_mod(t - lobe_angle + 0.5 * step, RS_TWO_PI) / step);
+    int k = (int)floor(py_mod(t - lobe_angle + 0.5 * step, RS_TWO_PI) / step);
     return ((k % lobes) + lobes) % lobes;
 }
 
@@ -153,7 +144,7 @@ static void rs_grid_bore(rs_solver *s, int lobes, double preload, double offset,
         s->dH0[i] = film ? rs_base_film(lobes, preload, offset, angle, right, lobe) -
                                rs_base_film(lobes, preload, offset, angle, left[i], lobe)
                          : 0.0;
-        double dist = film && film_n ? rs_mod(cn - centre, RS_TWO_PI)
+        double dist = film && film_n ? py_mod(cn - centre, RS_TWO_PI)
                                      : (film ? 0.5 * width[i] : (film_n ? 0.5 * width[nx] : 0.0));
         s->ct[i] = dist > 0.0 ? s->dx / (R * R * dist) : 0.0;
         s->cx[i] = width[i] / s->dx;
@@ -456,11 +447,8 @@ RS_API int rs_call(rs_solver *s, double y, double z, double vy, double vz, doubl
 }
 
 #if defined(RS_EXPORT) /* what the ctypes comparison calls besides (bearing_fmu/fmu/native/solver_lib.py) */
-/* Drop the remembered calls: the next call starts cold (results do not change) */
-RS_API void rs_forget(rs_solver *s) { s->nvalid = 0; }
-
-/* The last call's results: F (2), dFq (4), dFv (4), info (6), counts (4), dFw (2) into out (22) */
-RS_API void rs_results(const rs_solver *s, double *out) {
+/* F (2), dFq (4), dFv (4) into out */
+static void rs_force_and_jacobian(const rs_solver *s, double *out) {
     int i;
     out[0] = s->F[0];
     out[1] = s->F[1];
@@ -468,6 +456,15 @@ RS_API void rs_results(const rs_solver *s, double *out) {
         out[2 + i] = s->dFq[i];
         out[6 + i] = s->dFv[i];
     }
+}
+
+/* Drop the remembered calls: the next call starts cold (results do not change) */
+RS_API void rs_forget(rs_solver *s) { s->nvalid = 0; }
+
+/* The last call's results: F (2), dFq (4), dFv (4), info (6), counts (4), dFw (2) into out (22) */
+RS_API void rs_results(const rs_solver *s, double *out) {
+    int i;
+    rs_force_and_jacobian(s, out);
     for (i = 0; i < 6; i++) out[10 + i] = s->info[i];
     for (i = 0; i < 4; i++) out[16 + i] = s->counts[i];
     out[20] = s->dFw[0];
@@ -481,14 +478,7 @@ RS_API int rs_call_many(rs_solver *s, const double *states, int n, int want_jac,
     for (k = 0; k < n; k++) {
         const double *x = states + 5 * k;
         bad += rs_call(s, x[0], x[1], x[2], x[3], x[4], want_jac) != RS_OK;
-        double *o = out + 10 * k;
-        int i;
-        o[0] = s->F[0];
-        o[1] = s->F[1];
-        for (i = 0; i < 4; i++) {
-            o[2 + i] = s->dFq[i];
-            o[6 + i] = s->dFv[i];
-        }
+        rs_force_and_jacobian(s, out + 10 * k);
     }
     return bad;
 }
