@@ -154,7 +154,7 @@ def _native_fmu(scene: Scene, work_dir: Path, bearing=None) -> Path:
     if not spec.can.native:
         native = registry.having(native=True)
         raise SceneError(f"{scene.source}: fmu_kind = 'native' computes one of {', '.join(native)}, not internal = "
-                         f"{scene.internal!r} (it needs its solver at run time): use fmu_kind = 'python'")
+                         f"{scene.internal!r} (registered from outside the package): use fmu_kind = 'python'")
     work_dir.mkdir(parents=True, exist_ok=True)
     files = {o.name: required_file(scene, spec.name, o.name) for o in spec.file_options()}
     path = next(iter(files.values()), None)  # a native FMU compiles at most one data file in

@@ -28,7 +28,7 @@ def native_parameters(internal: str, params, options: dict, context=None, where:
     spec = registry.get(internal)
     if spec.name not in INTERNALS:
         raise ValueError(f"{where + ': ' if where else ''}a native FMU computes one of {', '.join(INTERNALS)}, not "
-                         f"{spec.name} (it needs its solver at run time: use the Python FMU)")
+                         f"{spec.name} (an internal registered from outside the package: use the Python FMU)")
     opts = spec.check_options(options, where or f"internal {spec.name!r}", context=context)
     out = {"D": params.D, "L": params.L, "CR": params.CR, "mu": params.mu, "internal": spec.name}
     if spec.name == "taylor":

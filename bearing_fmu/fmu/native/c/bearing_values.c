@@ -192,8 +192,8 @@ int bn_check_string(int k, const char *value, char *out, char *why, size_t n) {
         lower_strip(value, v, sizeof v);
         if (strcmp(v, BN_INTERNAL) != 0) {
             snprintf(why, n, "internal = '%s': this native FMU computes the %s internal only; for another build "
-                     "one with `bearing-fmu build --native --internal NAME` (reynolds: the Python FMU, "
-                     "`bearing-fmu build`)", value, BN_INTERNAL);
+                     "one with `bearing-fmu build --native --internal NAME` (an internal registered from outside "
+                     "the package: the Python FMU, `bearing-fmu build`)", value, BN_INTERNAL);
             return 1;
         }
         snprintf(out, STRING_MAX, "%s", v);
