@@ -794,3 +794,22 @@ def test_rotor_host_runs_native_fmus_like_the_direct_internal(tmp_path, internal
     CR = PAPER_BEARING.CR
     for key in ("y", "z"):  # forces equal to ~1e-14, so the same Newton iterates: orbits to 1e-9 CR
         assert np.max(np.abs(native[key] - direct.arrays[key])) < 1e-9 * CR
+
+
+def test_a_native_reynolds_fmu_serves_one_bore(paper_scene, tmp_path):
+    """The native Reynolds FMU has the first bearing's bore compiled in: a rotor whose bearings have
+    different bores is refused by name before anything is built (the lemon rotor's second bearing
+    on the plain bore here)."""
+    from rotor_host.scenes.run import run_scene
+    from rotor_host.scenes.scene import SceneError, load_scene
+
+    text = (ROOT / "models" / "rotor_paper_lemon.toml").read_text()
+    lemon, plain = ROOT / "models" / "bearing_paper_lemon.toml", ROOT / "models" / "bearing_paper.toml"
+    head, _, tail = text.partition('bearing = "bearing_paper_lemon.toml"')
+    rotor = tmp_path / "rotor_mixed.toml"
+    rotor.write_text(head + f"bearing = {str(lemon)!r}" + tail.replace('"bearing_paper_lemon.toml"', repr(str(plain))))
+    sc = load_scene(paper_scene(internal="reynolds", via="fmu", fmu_kind="native", rotor=str(rotor)))
+    with pytest.raises(SceneError, match=r"the native FMU has the bore of bearing 1 \(node 3\) compiled in \(.*2 lobes"
+                                         r".*\), bearing 2 \(node 9\) has another \(full 360 deg circular bore\)"):
+        run_scene(sc, tmp_path / "out")
+    assert not list(tmp_path.rglob("*.fmu"))

@@ -220,9 +220,11 @@ def build_bearings(scene: Scene, rotor: Rotor, loads: np.ndarray, work_dir: Path
         return DirectBearings(internals, pairs, scene.omega, names, tangent=scene.newton_tangent)
     from ..coupling.cosim import FMUBearings
 
-    # the FMU's parameters would drop the bore: refuse it, unless a native FMU of an internal of any
-    # bore has it compiled in (the first bearing's, for every bearing of the same bore)
-    compiled = scene.fmu_kind == "native" and scene.fmu is None and registry.get(scene.internal).can.any_geometry
+    from bearing_fmu.fmu.native.codegen import BORE_COMPILED_IN
+
+    # the FMU's parameters would drop the bore: refuse it, unless a native FMU has it compiled in
+    # (the first bearing's, for every bearing of the same bore)
+    compiled = scene.fmu_kind == "native" and scene.fmu is None and scene.internal in BORE_COMPILED_IN
     for name, p in zip(names, rotor.bearings):
         if compiled and p.geometry != rotor.bearings[0].geometry:
             raise SceneError(f"{scene.source}: fmu_kind = 'native': the native FMU has the bore of {names[0]} "

@@ -36,7 +36,8 @@ from xml.etree import ElementTree as ET
 
 from ... import __version__
 from ...physics.params import PAPER_BEARING, BearingParams
-from .codegen import INCLUDED_SOURCES, MODEL_HEADERS, MODEL_SOURCES, NativeModel, assign_identity, native_model
+from .codegen import (BORE_COMPILED_IN, INCLUDED_SOURCES, MODEL_HEADERS, MODEL_SOURCES, NativeModel, assign_identity,
+                      native_model)
 from .compile import (C_FLAGS, NativeBuildError, compile_binaries, find_compiler, fmi_headers,  # noqa: F401
                       parse_platforms)
 
@@ -75,11 +76,7 @@ def build_native_fmu(output, internal: str, *, surrogate=None, map=None, bearing
     for label, path in (("surrogate", surrogate), ("map", map)):
         if path is not None and not Path(path).is_file():
             raise FileNotFoundError(f"build_native_fmu: {label} file {str(path)!r} not found")
-    from ...internals import registry
-
-    # an internal of any bore (the Reynolds solver) has the bearing's bore compiled in
-    any_bore = str(internal).strip().lower() in registry.names() and registry.get(internal).can.any_geometry
-    if bearing is not None and not any_bore:
+    if bearing is not None and str(internal).strip().lower() not in BORE_COMPILED_IN:
         bearing.require_full_bore(f"the native bearing FMU ({bearing_source or 'build_native_fmu'})",
                                   "its parameters are D, L, CR and mu; the geometry parameters are a later step")
     compiler = compiler or ("cmake" if cmake else "zig")

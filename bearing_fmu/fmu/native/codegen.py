@@ -49,6 +49,8 @@ FALLBACK_WHY = ("the fallback evaluates the Reynolds solver, which a native Tayl
 # does the internal's force depend on (the bearing D, L, CR, mu as set; the speed omega)? The
 # Taylor surrogate holds its own bearing and speed (others refused), so does the linear model
 FORCE_DEPENDS = {"map": (1, 1), "taylor": (0, 0), "linear": (0, 0), "reynolds": (2, 1)}  # 2: and on L/D
+# the native FMUs that have the bearing's bore compiled in (any bore; the others: the full bore only)
+BORE_COMPILED_IN = ("reynolds",)
 NATIVE_OPTIONS = {
     "taylor": ("surrogate", "domain_action", "domain_limit"),
     "map": ("map",),
