@@ -36,7 +36,7 @@ from xml.etree import ElementTree as ET
 
 from ... import __version__
 from ...physics.params import PAPER_BEARING, BearingParams
-from .codegen import (BORE_COMPILED_IN, INCLUDED_SOURCES, MODEL_HEADERS, MODEL_SOURCES, NativeModel, assign_identity,
+from .codegen import (BORE_COMPILED_IN, MODEL_HEADERS, MODEL_SOURCES, NativeModel, assign_identity, internal_sources,
                       native_model)
 from .compile import (C_FLAGS, NativeBuildError, compile_binaries, find_compiler, fmi_headers,  # noqa: F401
                       parse_platforms)
@@ -76,12 +76,15 @@ def build_native_fmu(output, internal: str, *, surrogate=None, map=None, bearing
     for label, path in (("surrogate", surrogate), ("map", map)):
         if path is not None and not Path(path).is_file():
             raise FileNotFoundError(f"build_native_fmu: {label} file {str(path)!r} not found")
-    if bearing is not None and str(internal).strip().lower() not in BORE_COMPILED_IN:
+    from .several import parse_internals
+
+    parts = parse_internals(internal)
+    if bearing is not None and any(p not in BORE_COMPILED_IN for p in parts):
         bearing.require_full_bore(f"the native bearing FMU ({bearing_source or 'build_native_fmu'})",
                                   "its parameters are D, L, CR and mu; the geometry parameters are a later step")
     compiler = compiler or ("cmake" if cmake else "zig")
     platforms = parse_platforms(",".join(platforms) if platforms else None, compiler)  # refused before any work
-    params = bearing if bearing is not None else (None if str(internal).lower() == "taylor" else PAPER_BEARING)
+    params = bearing if bearing is not None else (None if "taylor" in parts else PAPER_BEARING)
     model = native_model(internal, params, surrogate=surrogate, map=map, options=options,
                          omega=None if speed_hz is None else 2.0 * math.pi * float(speed_hz))
     from ...io.outputs import write_bytes
@@ -107,7 +110,7 @@ def build_native_fmu(output, internal: str, *, surrogate=None, map=None, bearing
 
 def source_files(model: NativeModel) -> list[str]:
     """The C files the compiler builds (the headers are included by them)."""
-    return [*SOURCES2, f"internal_{model.internal}.c"]
+    return [*SOURCES2, *internal_sources(model)[0]]
 
 
 def build_record(model: NativeModel, bearing_source="") -> dict:
@@ -116,10 +119,10 @@ def build_record(model: NativeModel, bearing_source="") -> dict:
     from ..meta import build_record as record
 
     source, is_file = bearing_source, True
-    if not bearing_source and model.internal == "taylor":
+    if not bearing_source and "taylor" in model.all_parts:
         source, is_file = f"the bearing the surrogate {model.source.name} was fitted for", False
     compiled = {k: v for k, v in model.info.items() if k not in ("provenance", "source")}
-    return record("native", [model.internal], model.internal, model.params, source,
+    return record("native", list(model.all_parts), model.internal, model.params, source,
                   [model.source] if model.source else [], is_file, {"compiled": compiled})
 
 
@@ -133,7 +136,7 @@ def stage(model: NativeModel, root: Path, record: dict | None = None) -> None:
     record = record if record is not None else build_record(model)
     src = root / "sources"
     src.mkdir(parents=True)
-    names = (*HEADERS2, *INCLUDED_SOURCES.get(model.internal, ()), *source_files(model))
+    names = (*HEADERS2, *internal_sources(model)[1], *source_files(model))
     assign_identity(model, {n: (C_DIR / n).read_text(encoding="ascii") for n in names},
                     lambda: model_description(model, record))
     for name in names:
@@ -179,7 +182,7 @@ def model_description(model: NativeModel, record: dict) -> bytes:
         for name in source_files(model):
             ET.SubElement(files, "File", name=name)
     root.append(fmu_meta.unit_definitions({v.unit for v in model.variables if v.unit}))
-    root.append(fmu_meta.type_definitions([(string, items) for _n, string, items in native_enumerations(model.internal)]))
+    root.append(fmu_meta.type_definitions([(string, items) for _n, string, items in native_enumerations(model.all_parts)]))
     cats = ET.SubElement(root, "LogCategories")
     for name, what in (("warning", "a state outside the fitted domain (once per excursion, counted at terminate), "
                         "outputs left at their start values"),

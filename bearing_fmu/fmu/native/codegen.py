@@ -124,7 +124,13 @@ class NativeModel:
     source: Path | None  # the data file compiled in (surrogate, map), if any
     description: str
     info: dict = field(default_factory=dict)  # what the documentation records (order, table size, ...)
+    parts: tuple = ()  # an FMU of several internals: all of them (internal: the first, the start value)
     identifier: str = ""  # assign_identity: bearing_<internal>_<content hash>
+
+    @property
+    def all_parts(self) -> tuple[str, ...]:
+        """The internals the FMU holds (one, or several)."""
+        return self.parts or (self.internal,)
 
     @property
     def model_identifier(self) -> str:
@@ -144,6 +150,10 @@ def native_model(internal: str, params: BearingParams, *, surrogate=None, map=No
     omega  : the start value of the input omega [rad/s] (map, linear: its omega_lin); the Taylor
              surrogate's speed is its own
     ValueError naming what is wrong otherwise."""
+    if not isinstance(internal, str) or "," in internal:  # several: "taylor,reynolds"
+        from .several import several_model
+
+        return several_model(internal, params, surrogate=surrogate, map=map, options=options, omega=omega)
     internal = str(internal).strip().lower()
     if internal not in INTERNALS:
         raise ValueError(f"a native FMU computes one of {', '.join(INTERNALS)}; got internal {internal!r} "
@@ -160,8 +170,10 @@ def native_model(internal: str, params: BearingParams, *, surrogate=None, map=No
         params, surrogate, map, options)
 
 
-def _variables(internal: str, params: BearingParams, starts: dict, inputs: tuple) -> list[Variable]:
-    """The Python FMU's variables that apply, in value-reference order (bearing_native.h)."""
+def native_variables(internal, params: BearingParams, starts: dict, inputs: tuple) -> list[Variable]:
+    """The Python FMU's variables that apply, in value-reference order (bearing_native.h), for
+    ``internal`` (a name, or a tuple of the names an FMU of several holds)."""
+    parts = parts_of(internal)
     table = {v[0]: v for v in VARIABLES}
     out = []
     bearing = dict(zip(("D", "L", "CR", "mu"), (params.D, params.L, params.CR, params.mu)))
@@ -172,7 +184,7 @@ def _variables(internal: str, params: BearingParams, starts: dict, inputs: tuple
             out.append(Variable(name, REAL_BASE + vr, typ, causality, float(start), unit, desc))
         else:
             out.append(Variable(name, REAL_BASE + vr, typ, causality, 0.0, unit, desc))
-    opts = [registry_option(n) for n in NATIVE_OPTIONS[internal]]
+    opts = [registry_option(n) for n in option_names(internal)]
     reals = [o for o in opts if o.type is float]
     strings = [o for o in opts if o.type is str]
     for k, o in enumerate(reals):
@@ -181,20 +193,23 @@ def _variables(internal: str, params: BearingParams, starts: dict, inputs: tuple
     for name, k in (("out_of_domain", 0), ("compute_tangent", 1)):
         _n, typ, causality, unit, start, desc = table[name]
         out.append(Variable(name, BOOL_BASE + k, typ, causality, bool(start), None, desc))
-    out.append(Variable("internal", STRING_BASE, "String", "parameter", internal, None,
-                        f"which internal computes the force: this native FMU computes {internal} only"))
+    what = f"this native FMU computes {parts[0]} only" if len(parts) == 1 else " | ".join(parts)
+    out.append(Variable("internal", STRING_BASE, "String", "parameter", parts[0], None,
+                        f"which internal computes the force: {what}"))
     for k, o in enumerate(strings):
         desc = o.help
         if o.name == "domain_action":
             desc = ("taylor, state outside the fitted domain: warn (surrogate value, warned once per excursion) | "
-                    "discard (refuse the step); fallback needs the Python FMU")
+                    + ("fallback (the Reynolds internal of this FMU, blended over the domain's edge) | " if
+                       "reynolds" in parts else "") + "discard (refuse the step)"
+                    + ("" if "reynolds" in parts else "; fallback needs the Reynolds internal in the FMU"))
         elif o.file:
             desc = f"{o.name} file compiled into this FMU ('' or its name)"
         out.append(Variable(o.name, STRING_BASE + 1 + k, "String", "parameter", str(starts[o.name]), None, desc))
     from ..meta import enum_type_name  # noqa: PLC0415
 
     for k, (name, string, items) in enumerate(native_enumerations(internal)):
-        start = internal if string == "internal" else str(starts[string])
+        start = parts[0] if string == "internal" else str(starts[string])
         value = next(v for v, item in items if item == start)
         words = ", ".join(f"{v} = {item}" for v, item in items)
         out.append(Variable(name, ENUM_BASE + k, "Enumeration", "parameter", value, None,
@@ -207,23 +222,43 @@ def _variables(internal: str, params: BearingParams, starts: dict, inputs: tuple
     return out
 
 
-def native_enumerations(internal: str) -> list[tuple[str, str, list[tuple[int, str]]]]:
+def native_enumerations(internal) -> list[tuple[str, str, list[tuple[int, str]]]]:
     """(enumeration parameter, its String parameter, [(value, item), ...]) of the native FMU of
-    ``internal``: the Python FMU's enumerations (``fmu_variables.ENUMERATIONS``, the same numbers) of
-    the String parameters it has, with the items it accepts (internal: its own; domain_action: not
-    fallback)."""
-    strings = ["internal"] + [n for n in NATIVE_OPTIONS[internal] if registry_option(n).choices]
+    ``internal`` (a name, or a tuple of them): the Python FMU's enumerations
+    (``fmu_variables.ENUMERATIONS``, the same numbers) of the String parameters it has, with the
+    items it accepts (internal: its own; domain_action: fallback only with reynolds in the FMU)."""
+    parts = parts_of(internal)
+    strings = ["internal"] + [n for n in option_names(internal) if registry_option(n).choices]
     out = []
     for name, (string, items) in ENUMERATIONS.items():
         if string in strings:
-            allowed = [internal] if string == "internal" else [c for c in items if not (
-                string == "domain_action" and c == "fallback")]
+            allowed = [c for c in items if c in parts] if string == "internal" else [c for c in items if not (
+                string == "domain_action" and c == "fallback" and "reynolds" not in parts)]
             out.append((name, string, [(items.index(c) + 1, c) for c in allowed]))
     return out
 
 
 def registry_option(name: str) -> registry.Option:
     return next(o for o in registry.all_options() if o.name == name)
+
+
+def internal_sources(model: "NativeModel") -> tuple[list[str], list[str]]:
+    """(the internals' C files the compiler builds, the files they include) of ``model``: each
+    internal's file, and for several bn_parts.c, which dispatches among them."""
+    parts = model.all_parts
+    compiled = [f"internal_{p}.c" for p in parts] + (["bn_parts.c"] if len(parts) > 1 else [])
+    return compiled, list(dict.fromkeys(f for p in parts for f in INCLUDED_SOURCES.get(p, ())))
+
+
+def parts_of(internal) -> tuple[str, ...]:
+    """The internals of a native model: one name, or a tuple of them (an FMU of several, the first
+    the start value of the parameter internal)."""
+    return (internal,) if isinstance(internal, str) else tuple(internal)
+
+
+def option_names(internal) -> tuple[str, ...]:
+    """The native options of ``internal`` (a name or a tuple of names), each once, in order."""
+    return tuple(dict.fromkeys(n for p in parts_of(internal) for n in NATIVE_OPTIONS[p]))
 
 
 def assign_identity(model: "NativeModel", sources: dict[str, str], describe) -> None:
@@ -240,7 +275,7 @@ def assign_identity(model: "NativeModel", sources: dict[str, str], describe) -> 
     for name in sorted(sources):
         h.update(name.encode() + b"\0" + sources[name].encode() + b"\0")
     h.update(model.config_h.encode() + b"\0" + model.data_h.encode() + b"\0")
-    model.identifier = f"bearing_{model.internal}_{h.hexdigest()[:6]}"
+    model.identifier = f"bearing_{'_'.join(model.parts or (model.internal,))}_{h.hexdigest()[:6]}"
     model.info["guid"] = GUID_TOKEN
     h.update(re.sub(rb'generationDateAndTime="[^"]*"', b"", describe()))
     g = h.hexdigest()
@@ -248,19 +283,26 @@ def assign_identity(model: "NativeModel", sources: dict[str, str], describe) -> 
     model.config_h = model.config_h.replace(ID_TOKEN, model.identifier).replace(GUID_TOKEN, model.info["guid"])
 
 
-def _config(internal: str, params: BearingParams, starts: dict, inputs) -> str:
-    """model_config.h, the model identifier and GUID as tokens (``assign_identity``)."""
-    opts = [registry_option(n) for n in NATIVE_OPTIONS[internal]]
+def model_config(internal, params: BearingParams, starts: dict, inputs) -> str:
+    """model_config.h, the model identifier and GUID as tokens (``assign_identity``); ``internal``
+    a name or a tuple of them (an FMU of several: bn_parts.c dispatches among them)."""
+    parts = parts_of(internal)
+    opts = [registry_option(n) for n in option_names(internal)]
     reals = [o for o in opts if o.type is float]
     strings = [o for o in opts if o.type is str]
     lines = [
         "/* Generated by bearing_fmu.fmu.native.codegen. Do not edit. */",
         "#ifndef MODEL_CONFIG_H", "#define MODEL_CONFIG_H",
-        f"#define BN_INTERNAL {c_string(internal)}",
+        f"#define BN_INTERNAL {c_string(parts[0])}",
         f"#define BN_ID {ID_TOKEN}",  # names every symbol shared between the files (bearing_native.h)
         f"#define BN_GUID {c_string(GUID_TOKEN)}",
-        f"#define BN_BEARING_IN_FORCE {FORCE_DEPENDS[internal][0]}",
-        f"#define BN_SPEED_IN_FORCE {FORCE_DEPENDS[internal][1]}",
+        # several internals: the largest (bearing_derivatives.c asks the one set, bn_force_depends)
+        f"#define BN_BEARING_IN_FORCE {max(FORCE_DEPENDS[p][0] for p in parts)}",
+        f"#define BN_SPEED_IN_FORCE {max(FORCE_DEPENDS[p][1] for p in parts)}",
+        f"#define BN_PARTS {len(parts)}",
+        f"#define BN_INTERNALS {c_string('|'.join(parts))}",
+        "#define BN_PART_LIST(X) " + " ".join(f"X({p}, {FORCE_DEPENDS[p][0]}, {FORCE_DEPENDS[p][1]})" for p in parts),
+        *(f"#define BN_HOLDS_{p.upper()} {int(p in parts)}" for p in INTERNALS),
         f"#define BN_N_REAL_OPTIONS {len(reals)}",
         f"#define BN_N_STRING_OPTIONS {len(strings)}",
         f"#define BN_START_INPUTS {{{', '.join(c_double(v) for v in inputs)}}}",
@@ -280,8 +322,9 @@ def _config(internal: str, params: BearingParams, starts: dict, inputs) -> str:
         if o.file:
             rows.append(f"    {{{c_string(o.name)}, {c_string(starts[o.name])}, NULL, 1, NULL, NULL}}")
         else:
-            choices = [c for c in o.choices if not (o.name == "domain_action" and c == "fallback")]
-            refuse = ("fallback", FALLBACK_WHY) if o.name == "domain_action" else None
+            fallback = "reynolds" in parts  # taylor's fallback: the Reynolds internal of the same FMU
+            choices = [c for c in o.choices if not (o.name == "domain_action" and c == "fallback" and not fallback)]
+            refuse = ("fallback", FALLBACK_WHY) if o.name == "domain_action" and not fallback else None
             rows.append(f"    {{{c_string(o.name)}, {c_string(starts[o.name])}, {c_string('|'.join(choices))}, 0, "
                         + (f"{c_string(refuse[0])}, {c_string(refuse[1])}}}" if refuse else "NULL, NULL}"))
     lines.append("#define BN_STRING_OPTION_TABLE \\\n" + ", \\\n".join(rows) if rows else
@@ -291,7 +334,7 @@ def _config(internal: str, params: BearingParams, starts: dict, inputs) -> str:
     rows = []
     string_names = ["internal"] + [o.name for o in strings]
     for name, string, items in native_enumerations(internal):
-        start = internal if string == "internal" else str(starts[string])
+        start = parts[0] if string == "internal" else str(starts[string])
         value = next(v for v, item in items if item == start)
         rows.append(f"    {{{c_string(name)}, {string_names.index(string)}, {value}, "
                     f"{c_string('|'.join(ENUMERATIONS[name][1]))}}}")
@@ -452,12 +495,12 @@ def _taylor(params: BearingParams, surrogate, map_path, options: dict) -> Native
         raise ValueError(f"domain_action = 'fallback': {FALLBACK_WHY}")
     inputs = (sur.y0, sur.z0, 0.0, 0.0, sur.omega)
     data_h = "\n".join(parts)
-    config_h = _config("taylor", params, starts, inputs)
+    config_h = model_config("taylor", params, starts, inputs)
     info = {"source": path.name, "recipe": sur.recipe, "order": sur.order, "terms": int(exps.shape[0]),
             "wall_power": sur.wall_power, "shape_order": sur.shape_order, "omega": sur.omega,
             "training_states": 0 if nb is None else len(nb.points),
             "provenance": sur.provenance}
-    return NativeModel("taylor", params, _variables("taylor", params, starts, inputs), config_h, data_h, path,
+    return NativeModel("taylor", params, native_variables("taylor", params, starts, inputs), config_h, data_h, path,
                        f"hydrodynamic journal bearing, Taylor surrogate {path.name} ({sur.recipe}) at "
                        f"{sur.omega / (2 * math.pi):.6g} Hz, compiled (no Python)", info)
 
@@ -492,11 +535,11 @@ def _map(params: BearingParams, surrogate, map_path, options: dict) -> NativeMod
     starts = {"map": path.name}
     # a nonzero speed: an omega a master forgets to connect still gives the film's force
     inputs = (0.0, 0.0, 0.0, 0.0, float(options.get("_omega", registry.DEFAULT_OMEGA_LIN)))
-    config_h = _config("map", params, starts, inputs)
+    config_h = model_config("map", params, starts, inputs)
     info = {"source": path.name, "table": f"{table.n_eps} x {table.n_beta}", "eps_max": table.eps_max,
             "L_over_D": table.L_over_D, "reynolds": f"{table.n_theta} x {table.n_x} {table.cavitation}",
             "provenance": table.provenance}
-    return NativeModel("map", params, _variables("map", params, starts, inputs), config_h, data_h, path,
+    return NativeModel("map", params, native_variables("map", params, starts, inputs), config_h, data_h, path,
                        f"hydrodynamic journal bearing, force map {path.name} (L/D {table.L_over_D:.4g}, any speed, "
                        "load and velocity), compiled (no Python)", info)
 
@@ -520,11 +563,11 @@ def _linear(params: BearingParams, surrogate, map_path, options: dict) -> Native
     starts = {k: float(v) for k, v in linear_starts(params, options).items()}
     data_h = "/* Generated by bearing_fmu.fmu.native.codegen: the linear internal has no data. */\n"
     inputs = (0.0, 0.0, 0.0, 0.0, starts["omega_lin"])
-    config_h = _config("linear", params, starts, inputs)
+    config_h = model_config("linear", params, starts, inputs)
     info = {"from": options.get("linear_from", "load"), "omega_lin": starts["omega_lin"]}
     # the coefficients' source: a force map file when linearised on one (recorded with its hash)
     source = Path(options["map"]) if options.get("linear_from") == "map" and options.get("map") else None
-    return NativeModel("linear", params, _variables("linear", params, starts, inputs), config_h, data_h, source,
+    return NativeModel("linear", params, native_variables("linear", params, starts, inputs), config_h, data_h, source,
                        "hydrodynamic journal bearing, linear model F = F0 - K (q - q0) - C v (8 Lund coefficients as "
                        "parameters" + (f", linearised on the force map {source.name}" if source else "")
                        + "), compiled (no Python)", info)
@@ -543,7 +586,8 @@ def _reynolds(params: BearingParams, surrogate, map_path, options: dict) -> Nati
     inputs = (0.0, 0.0, 0.0, 0.0, float(options.get("_omega", registry.DEFAULT_OMEGA_LIN)))
     grid = f"{starts['n_theta'] or 'default'} x {starts['n_x'] or 'default'}"
     info = {"bore": params.geometry.describe(), "grid": grid, "cavitation": starts["cavitation"]}
-    return NativeModel("reynolds", params, _variables("reynolds", params, starts, inputs),
-                       _config("reynolds", params, starts, inputs), reynolds_data_h(params, c_double, c_string), None,
+    return NativeModel("reynolds", params, native_variables("reynolds", params, starts, inputs),
+                       model_config("reynolds", params, starts, inputs), reynolds_data_h(params, c_double, c_string),
+                       None,
                        f"hydrodynamic journal bearing, finite-volume Reynolds solver ({params.geometry.describe()}; "
                        "any speed, load and velocity), compiled (no Python)", info)

@@ -159,11 +159,21 @@ typedef struct Instance {
  * each one's "<modelIdentifier>_" for the FMI functions). */
 #define BN_PASTE(a, b) a##_##b
 #define BN_NAME(a, b) BN_PASTE(a, b)
-#define bn_setup BN_NAME(BN_ID, bn_setup)
-#define bn_eval BN_NAME(BN_ID, bn_eval)
-#define bn_option_derivative BN_NAME(BN_ID, bn_option_derivative)
-#define bn_release BN_NAME(BN_ID, bn_release)
-#define bn_shape_derivative BN_NAME(BN_ID, bn_shape_derivative)
+/* An FMU of several internals (BN_PARTS > 1): each internal_<name>.c (which sets BN_PART to its
+ * name) defines <id>_<name>_bn_setup ..., and bn_parts.c the plain ones, dispatching on the
+ * parameter internal. One internal: the internal's file defines the plain ones. */
+#if BN_PARTS > 1 && defined(BN_PART)
+#define BN_FN(name) BN_NAME(BN_ID, BN_NAME(BN_PART, name))
+#else
+#define BN_FN(name) BN_NAME(BN_ID, name)
+#endif
+#define bn_setup BN_FN(bn_setup)
+#define bn_eval BN_FN(bn_eval)
+#define bn_option_derivative BN_FN(bn_option_derivative)
+#define bn_release BN_FN(bn_release)
+#define bn_shape_derivative BN_FN(bn_shape_derivative)
+#define bn_force_depends BN_NAME(BN_ID, bn_force_depends)
+#define bn_fallback_eval BN_NAME(BN_ID, bn_fallback_eval)
 #define bn_log BN_NAME(BN_ID, bn_log)
 #define bn_num BN_NAME(BN_ID, bn_num)
 #define bn_order_refused BN_NAME(BN_ID, bn_order_refused)
@@ -216,6 +226,16 @@ BN_HIDDEN void bn_release(Instance *m);
 /* BN_BEARING_IN_FORCE 2 (reynolds: F = mu R L (R / CR)^2 G(L/D, q/CR, v/CR, omega)): dF and, with
  * want_jac, dJ along ln(L/D) at a fixed scale, at x. 0, or 1 with the reason in m->msg. */
 BN_HIDDEN int bn_shape_derivative(Instance *m, const double x[5], int want_jac, double dF[2], double dJ[8]);
+/* Does the force of the internal as set depend on the bearing (0 no, 1 by the scale law, 2 and on
+ * L/D) and on the speed? One internal: BN_BEARING_IN_FORCE, BN_SPEED_IN_FORCE; several: its own. */
+#if BN_PARTS > 1
+BN_HIDDEN void bn_force_depends(const Instance *m, int *bearing, int *speed);
+#else
+#define bn_force_depends(m, bearing, speed) (*(bearing) = BN_BEARING_IN_FORCE, *(speed) = BN_SPEED_IN_FORCE)
+#endif
+/* Taylor's domain_action = fallback in an FMU that holds the Reynolds internal too (bn_parts.c):
+ * the Reynolds force at x, as bn_eval */
+BN_HIDDEN int bn_fallback_eval(Instance *m, const double x[5], int want_jac, double F[2], double J[8], double dw[2]);
 
 /* the FMI layer: log one line (printf-style) with a status */
 BN_HIDDEN void bn_log(Instance *m, bn_status status, const char *fmt, ...)

@@ -190,12 +190,23 @@ int bn_check_string(int k, const char *value, char *out, char *why, size_t n) {
     }
     if (k == S_INTERNAL) {
         lower_strip(value, v, sizeof v);
+#if BN_PARTS > 1
+        if (!in_choices(v, BN_INTERNALS)) {
+            char words[256];
+            choices_words(BN_INTERNALS, words, sizeof words);
+            snprintf(why, n, "internal = '%s': this native FMU computes %s; for another build one with "
+                     "`bearing-fmu build --native --internal NAME,...` (an internal registered from outside the "
+                     "package: the Python FMU, `bearing-fmu build`)", value, words);
+            return 1;
+        }
+#else
         if (strcmp(v, BN_INTERNAL) != 0) {
             snprintf(why, n, "internal = '%s': this native FMU computes the %s internal only; for another build "
                      "one with `bearing-fmu build --native --internal NAME` (an internal registered from outside "
                      "the package: the Python FMU, `bearing-fmu build`)", value, BN_INTERNAL);
             return 1;
         }
+#endif
         snprintf(out, STRING_MAX, "%s", v);
         return 0;
     }

@@ -5,6 +5,8 @@
 #include <math.h>
 #include <stdio.h>
 
+#define BN_PART linear /* its functions' names in an FMU of several internals */
+#define BN_PART_LINEAR 1 /* its part of model_data.h */
 #include "bearing_native.h"
 
 #define P(name) (m->r[VR_OPT_##name])

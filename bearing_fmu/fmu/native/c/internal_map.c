@@ -7,6 +7,8 @@
 #include <math.h>
 #include <stdio.h>
 
+#define BN_PART map /* its functions' names in an FMU of several internals */
+#define BN_PART_MAP 1 /* its part of model_data.h */
 #include "bearing_native.h"
 #include "model_data.h"
 #include "py_mod.h"

@@ -12,6 +12,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#define BN_PART reynolds /* its functions' names in an FMU of several internals */
+#define BN_PART_REYNOLDS 1 /* its part of model_data.h */
 #include "bearing_native.h"
 #include "model_data.h"
 #include "reynolds_solver.c"
