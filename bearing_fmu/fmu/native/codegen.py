@@ -43,8 +43,8 @@ MODEL_SOURCES = ("bearing_values.c", "bearing_model.c", "bearing_derivatives.c")
 REAL_BASE, BOOL_BASE, STRING_BASE, ENUM_BASE = 0, 1000, 2000, 3000  # value references by type (bearing_native.h)
 CORE_REALS = ("y", "z", "vy", "vz", "omega", "Fy", "Fz", "eccentricity", "h_min", "Kyy", "Kyz", "Kzy", "Kzz",
               "Cyy", "Cyz", "Czy", "Czz", "D", "L", "CR", "mu")
-FALLBACK_WHY = ("the fallback evaluates the Reynolds solver, which a native Taylor FMU does not hold (a native FMU "
-                "holds one internal); use warn or discard, or the Python FMU (bearing-fmu build) for fallback")
+FALLBACK_WHY = ("the fallback evaluates the Reynolds solver, which this native FMU does not hold; build one with it "
+                "(bearing-fmu build --native --internal taylor,reynolds), use warn or discard, or the Python FMU")
 # the native FMU's options per internal (registry names); the rest stay in the Python FMU
 # does the internal's force depend on (the bearing D, L, CR, mu as set; the speed omega)? The
 # Taylor surrogate holds its own bearing and speed (others refused), so does the linear model
