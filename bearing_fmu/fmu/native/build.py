@@ -3,7 +3,8 @@ sources in ``sources/``, the binary for this platform compiled from them, no Pyt
 
 ``build_native_fmu(output, internal, ...)``:
 
-1. ``codegen.native_model``: the internal's data as C headers, its variables and options;
+1. ``codegen.native_model``: the internal's data as C headers, its variables and options (several
+   internals: ``several.several_model``, one binary switching among them);
 2. stage ``sources/`` (the FMI 2.0 layer ``fmi2_*.c``, the model layer ``bearing_*.c`` that the
    FMI 3.0 FMU shares, ``internal_<name>.c``, their headers, from ``bearing_fmu/fmu/native/c/``,
    and the two generated headers),
@@ -36,8 +37,7 @@ from xml.etree import ElementTree as ET
 
 from ... import __version__
 from ...physics.params import PAPER_BEARING, BearingParams
-from .codegen import (BORE_COMPILED_IN, MODEL_HEADERS, MODEL_SOURCES, NativeModel, assign_identity, internal_sources,
-                      native_model)
+from .codegen import BORE_COMPILED_IN, MODEL_HEADERS, MODEL_SOURCES, NativeModel, assign_identity, internal_sources
 from .compile import (C_FLAGS, NativeBuildError, compile_binaries, find_compiler, fmi_headers,  # noqa: F401
                       parse_platforms)
 
@@ -76,7 +76,7 @@ def build_native_fmu(output, internal: str, *, surrogate=None, map=None, bearing
     for label, path in (("surrogate", surrogate), ("map", map)):
         if path is not None and not Path(path).is_file():
             raise FileNotFoundError(f"build_native_fmu: {label} file {str(path)!r} not found")
-    from .several import parse_internals
+    from .several import parse_internals, several_model
 
     parts = parse_internals(internal)
     if bearing is not None and any(p not in BORE_COMPILED_IN for p in parts):
@@ -85,8 +85,8 @@ def build_native_fmu(output, internal: str, *, surrogate=None, map=None, bearing
     compiler = compiler or ("cmake" if cmake else "zig")
     platforms = parse_platforms(",".join(platforms) if platforms else None, compiler)  # refused before any work
     params = bearing if bearing is not None else (None if "taylor" in parts else PAPER_BEARING)
-    model = native_model(internal, params, surrogate=surrogate, map=map, options=options,
-                         omega=None if speed_hz is None else 2.0 * math.pi * float(speed_hz))
+    model = several_model(parts, params, surrogate=surrogate, map=map, options=options,  # one, or several
+                          omega=None if speed_hz is None else 2.0 * math.pi * float(speed_hz))
     from ...io.outputs import write_bytes
 
     record = build_record(model, bearing_source if bearing is not None else "")

@@ -150,10 +150,6 @@ def native_model(internal: str, params: BearingParams, *, surrogate=None, map=No
     omega  : the start value of the input omega [rad/s] (map, linear: its omega_lin); the Taylor
              surrogate's speed is its own
     ValueError naming what is wrong otherwise."""
-    if not isinstance(internal, str) or "," in internal:  # several: "taylor,reynolds"
-        from .several import several_model
-
-        return several_model(internal, params, surrogate=surrogate, map=map, options=options, omega=omega)
     internal = str(internal).strip().lower()
     if internal not in INTERNALS:
         raise ValueError(f"a native FMU computes one of {', '.join(INTERNALS)}; got internal {internal!r} "

@@ -24,6 +24,8 @@ def parse_internals(internal) -> tuple[str, ...]:
     """("taylor", "reynolds") from "taylor,reynolds" or a sequence; ValueError naming what is wrong."""
     names = [n.strip().lower() for n in (internal.split(",") if isinstance(internal, str) else internal)]
     names = [n for n in names if n]
+    if len(names) == 1:  # one: codegen.native_model names what is wrong with it
+        return tuple(names)
     bad = [n for n in names if n not in INTERNALS]
     if bad or not names:
         raise ValueError(f"internals {internal!r}: a native FMU holds some of {', '.join(INTERNALS)} (comma-separated)")
