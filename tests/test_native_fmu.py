@@ -758,7 +758,7 @@ def test_native_parameters_of_a_scene(paper_scene):
     """The host's parameters for a native FMU: the options it keeps; the linear model made per
     bearing by the Python Linear internal (its coefficients), fallback refused in one line."""
     from rotor_host.scenes.run import _fmu_parameters
-    from rotor_host.scenes.scene import SceneError, load_scene
+    from rotor_host.scenes.scene import load_scene
 
     sc = load_scene(paper_scene(internal="linear", via="fmu", fmu_kind="native", unbalance_g=None,
                                 linear={"linear_from": "map"}, map={"map": PAPER_MAP},
@@ -769,8 +769,13 @@ def test_native_parameters_of_a_scene(paper_scene):
                           registry.Context(load=(0.0, -16.7), omega=sc.omega))
     assert p["lin_Kyz"] == lin.K[0, 1] and p["lin_Czz"] == lin.C[1, 1] and p["omega_lin"] == sc.omega
     assert "n_theta" not in p and "linear_from" not in p  # options a native FMU does not have
-    with pytest.raises(SceneError, match="domain_action = 'fallback': the fallback evaluates the Reynolds"):
-        _fmu_parameters(sc.with_internal("taylor"), PAPER_BEARING, (0.0, -16.7))
+    # Taylor's fallback: its FMU holds the Reynolds internal too, with the scene's grid
+    p = _fmu_parameters(sc.with_internal("taylor"), PAPER_BEARING, (0.0, -16.7))
+    assert p["domain_action"] == "fallback" and (p["n_theta"], p["n_x"], p["cavitation"]) == (0, 0, "reynolds")
+    from bearing_fmu.fmu.native.host import fmu_internals
+
+    assert fmu_internals("taylor", sc.with_internal("taylor").internal_options()) == "taylor,reynolds"
+    assert fmu_internals("map", {}) == "map"
 
 
 @pytest.mark.slow
@@ -813,3 +818,24 @@ def test_a_native_reynolds_fmu_serves_one_bore(paper_scene, tmp_path):
                                          r".*\), bearing 2 \(node 9\) has another \(full 360 deg circular bore\)"):
         run_scene(sc, tmp_path / "out")
     assert not list(tmp_path.rglob("*.fmu"))
+
+
+@pytest.mark.slow
+def test_rotor_host_runs_taylor_with_its_fallback_natively(paper_scene, tmp_path):
+    """A Taylor scene with domain_action = fallback through native FMUs: the host builds one FMU of
+    taylor and reynolds (fmu_internals) and the run follows the direct one (300 g of unbalance: the
+    orbit leaves the 22 Hz surrogate's fitted domain in 46 % of the steps, up to 8.9 % beyond it,
+    inside the band where both blend the surrogate with Reynolds)."""
+    from rotor_host.scenes.run import run_scene
+    from rotor_host.scenes.scene import load_scene
+
+    opts = {"surrogate": str(ROOT / "models" / "surrogates" / "paper_22hz_16.7N.json"), "domain_action": "fallback"}
+    sc = load_scene(paper_scene(internal="taylor", via="fmu", fmu_kind="native", taylor=opts, grid=(32, 8),
+                                unbalance_g=300.0))
+    native = run_scene(sc, tmp_path, stem="native")
+    direct = run_scene(sc.with_internal("taylor", via="direct"), tmp_path, stem="direct")
+    assert native.ok and direct.ok and len(native.arrays["t"]) == 101
+    assert direct.meta["out_of_domain_fraction"][0] > 0.3  # the fallback was used
+    assert any(p.name.startswith("bearing_native_taylor") for p in tmp_path.rglob("*.fmu"))
+    for key in ("y", "z"):
+        assert np.max(np.abs(native.arrays[key] - direct.arrays[key])) < 1e-9 * PAPER_BEARING.CR

@@ -146,7 +146,7 @@ def _native_fmu(scene: Scene, work_dir: Path, bearing=None) -> Path:
     hashes the C sources, the generator, the internal's data file, the bearing and the speed, so
     runs of the same scene share one build. The linear FMU holds no data: the host sets each
     bearing's coefficients."""
-    from bearing_fmu.fmu.native.host import host_build_options
+    from bearing_fmu.fmu.native.host import fmu_internals, host_build_options
     from bearing_fmu.fmu.native.build import C_DIR, build_native_fmu
     from bearing_fmu.fmu.native.compile import host_platform
 
@@ -161,7 +161,8 @@ def _native_fmu(scene: Scene, work_dir: Path, bearing=None) -> Path:
     taylor = spec.name == "taylor"  # its bearing and speed are the surrogate's
     speed_hz = None if taylor or not scene.omega else scene.omega / (2.0 * math.pi)
     bearing = None if taylor else bearing
-    h = hashlib.sha256(f"{scene.internal} {bearing!r} {speed_hz!r}".encode())
+    internals = fmu_internals(scene.internal, scene.internal_options())  # taylor's fallback: with reynolds
+    h = hashlib.sha256(f"{internals} {bearing!r} {speed_hz!r}".encode())
     fmu_pkg = C_DIR.parent.parent  # bearing_fmu/fmu: the model description and docs generators too
     for f in (sorted(C_DIR.glob("*")) + sorted(C_DIR.parent.glob("*.py")) + [fmu_pkg / "meta.py", fmu_pkg / "docs.py"]
               + ([path] if path else [])):
@@ -170,7 +171,7 @@ def _native_fmu(scene: Scene, work_dir: Path, bearing=None) -> Path:
     if out.is_file():
         return out
     # this machine's binary only: the run loads it here (bearing-fmu build --native makes every platform's)
-    return Path(build_native_fmu(out, scene.internal, options=host_build_options(scene.internal),
+    return Path(build_native_fmu(out, internals, options=host_build_options(scene.internal),
                                  platforms=[host_platform()], bearing=bearing, speed_hz=speed_hz, **files))
 
 

@@ -11,7 +11,13 @@ from __future__ import annotations
 from pathlib import Path
 
 from ...internals import registry
-from .codegen import FALLBACK_WHY, INTERNALS, linear_starts
+from .codegen import INTERNALS, linear_starts
+
+
+def fmu_internals(internal: str, options: dict) -> str:
+    """The internals of the native FMU a host builds for ``internal`` with its registry ``options``:
+    Taylor with domain_action = fallback holds the Reynolds internal too (it falls back to it)."""
+    return f"{internal},reynolds" if internal == "taylor" and options.get("domain_action") == "fallback" else internal
 
 
 def host_build_options(internal: str) -> dict | None:
@@ -23,8 +29,9 @@ def host_build_options(internal: str) -> dict | None:
 def native_parameters(internal: str, params, options: dict, context=None, where: str = "") -> dict:
     """FMU parameters of one bearing for a native FMU of ``internal``: D, L, CR, mu, internal and
     the native options, from the registry ``options`` of the internal (and those it uses), with
-    ``context`` (static load, speed) filling what the options leave open. ValueError naming
-    ``where`` for an option a native FMU cannot honour (domain_action = fallback)."""
+    ``context`` (static load, speed) filling what the options leave open (Taylor with
+    domain_action = fallback: the Reynolds options too, its FMU holds both: ``fmu_internals``).
+    ValueError naming ``where`` for options the internal refuses."""
     spec = registry.get(internal)
     if spec.name not in INTERNALS:
         raise ValueError(f"{where + ': ' if where else ''}a native FMU computes one of {', '.join(INTERNALS)}, not "
@@ -32,10 +39,10 @@ def native_parameters(internal: str, params, options: dict, context=None, where:
     opts = spec.check_options(options, where or f"internal {spec.name!r}", context=context)
     out = {"D": params.D, "L": params.L, "CR": params.CR, "mu": params.mu, "internal": spec.name}
     if spec.name == "taylor":
-        if opts["domain_action"] == "fallback":
-            raise ValueError(f"{where + ': ' if where else ''}domain_action = 'fallback': {FALLBACK_WHY}")
         out.update(surrogate=Path(opts["surrogate"]).name, domain_action=opts["domain_action"],
                    domain_limit=opts["domain_limit"])
+        if opts["domain_action"] == "fallback":  # the FMU holds the Reynolds internal too (fmu_internals)
+            out.update(n_theta=opts["n_theta"], n_x=opts["n_x"], cavitation=opts["cavitation"])
     elif spec.name == "map":
         out["map"] = Path(opts["map"]).name
     elif spec.name == "reynolds":

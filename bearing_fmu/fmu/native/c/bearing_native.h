@@ -172,7 +172,6 @@ typedef struct Instance {
 #define bn_option_derivative BN_FN(bn_option_derivative)
 #define bn_release BN_FN(bn_release)
 #define bn_shape_derivative BN_FN(bn_shape_derivative)
-#define bn_force_depends BN_NAME(BN_ID, bn_force_depends)
 #define bn_fallback_eval BN_NAME(BN_ID, bn_fallback_eval)
 #define bn_log BN_NAME(BN_ID, bn_log)
 #define bn_num BN_NAME(BN_ID, bn_num)
@@ -229,6 +228,7 @@ BN_HIDDEN int bn_shape_derivative(Instance *m, const double x[5], int want_jac, 
 /* Does the force of the internal as set depend on the bearing (0 no, 1 by the scale law, 2 and on
  * L/D) and on the speed? One internal: BN_BEARING_IN_FORCE, BN_SPEED_IN_FORCE; several: its own. */
 #if BN_PARTS > 1
+#define bn_force_depends BN_NAME(BN_ID, bn_force_depends)
 BN_HIDDEN void bn_force_depends(const Instance *m, int *bearing, int *speed);
 #else
 #define bn_force_depends(m, bearing, speed) (*(bearing) = BN_BEARING_IN_FORCE, *(speed) = BN_SPEED_IN_FORCE)
