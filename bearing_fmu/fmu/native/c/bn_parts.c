@@ -70,9 +70,9 @@ int BN_NAME(BN_ID, bn_setup)(Instance *m) {
     if (active(m)->setup(m)) return 1;
 #if BN_HOLDS_REYNOLDS
     if (fallback_set(m) && PART_FN(reynolds, bn_setup)(m)) {
-        char why[sizeof m->msg - 64];
-        snprintf(why, sizeof why, "%s", m->msg);
-        snprintf(m->msg, sizeof m->msg, "domain_action = 'fallback': %s", why);
+        char why[sizeof m->msg];
+        memcpy(why, m->msg, sizeof why);
+        snprintf(m->msg, sizeof m->msg, "domain_action = 'fallback': %.1900s", why);
         return 1;
     }
 #endif
