@@ -120,7 +120,8 @@ def test_the_parameter_internal_chooses(several, how):
                 got, _ood = inst.outputs(st, k)
                 # Reynolds: the same operations (to a few ulps); Taylor: its polynomial's sums in another
                 # order, terms of 1e6 N cancelling to 50 N (test_native_fmu.rounding_scale): 1e-10
-                assert worst(got, python_outputs(py, st)) <= (1e-14 if internal == "reynolds" else 1e-10), (internal, st)
+                tol = 1e-14 if internal == "reynolds" else 1e-10
+                assert worst(got, python_outputs(py, st)) <= tol, (internal, st)
         finally:
             inst.close()
 

@@ -182,7 +182,8 @@ def model_description(model: NativeModel, record: dict) -> bytes:
         for name in source_files(model):
             ET.SubElement(files, "File", name=name)
     root.append(fmu_meta.unit_definitions({v.unit for v in model.variables if v.unit}))
-    root.append(fmu_meta.type_definitions([(string, items) for _n, string, items in native_enumerations(model.all_parts)]))
+    enums = native_enumerations(model.all_parts)
+    root.append(fmu_meta.type_definitions([(string, items) for _n, string, items in enums]))
     cats = ET.SubElement(root, "LogCategories")
     for name, what in (("warning", "a state outside the fitted domain (once per excursion, counted at terminate), "
                         "outputs left at their start values"),
