@@ -183,3 +183,34 @@ def test_an_internal_it_does_not_hold_is_refused(several):
         assert items == ["reynolds", "taylor"]
     finally:
         f.freeInstance()
+
+
+@pytest.mark.slow
+def test_fmi3_fmu_of_several_internals(tmp_path):
+    """The FMI 3.0 FMU of all four internals (this machine's binary): fmpy validates it, and each
+    internal chosen by its Int64 enumeration gives the FMI 2.0 route's force (here: the Python
+    internals') at the start state, in Model Exchange and Co-Simulation."""
+    from fmpy.validation import validate_fmu
+
+    from bearing_fmu.fmu.native.build import build_native_fmu
+
+    paper_map = ROOT / "models" / "maps" / "paper_bearing.json"
+    fmu = build_native_fmu(tmp_path / "all.fmu", "taylor,reynolds,map,linear", surrogate=SURROGATE, map=paper_map,
+                           options={"linear_from": "map", "map": str(paper_map), **GRID}, fmi_version=3,
+                           compiler="cc")
+    assert validate_fmu(str(fmu)) == []
+    md = fmpy.read_model_description(str(fmu))
+    enum = next(v for v in md.modelVariables if v.name == "internal_enum")
+    assert sorted(i.name for i in enum.declaredType.items) == ["linear", "map", "reynolds", "taylor"]
+    start = {v.name: float(v.start) for v in md.modelVariables if v.name in IN}
+    st = tuple(start[n] for n in IN)
+    params = load_surrogate(SURROGATE).params
+    for internal, options in (("taylor", {"surrogate": str(SURROGATE)}), ("reynolds", GRID),
+                              ("map", {"map": str(paper_map)})):
+        want = registry.create(internal, params, options).force(*st)
+        for fmi_type in ("ModelExchange", "CoSimulation"):
+            res = fmpy.simulate_fmu(str(fmu), fmi_type=fmi_type, stop_time=1e-3, output_interval=1e-3,
+                                    start_values={"internal_enum": registry.names().index(internal) + 1},
+                                    output=["Fy", "Fz"])
+            got = (res["Fy"][-1], res["Fz"][-1])
+            assert np.allclose(got, want, rtol=1e-10, atol=1e-10 * np.max(np.abs(want))), (internal, fmi_type)
