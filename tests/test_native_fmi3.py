@@ -42,7 +42,8 @@ SURROGATE = ROOT / "models" / "surrogates" / "paper_22hz_16.7N.json"
 OK, WARNING, DISCARD, ERROR = 0, 1, 2, 3
 IN = ("y", "z", "vy", "vz", "omega")
 OUT = ("Fy", "Fz", "eccentricity", "h_min", "Kyy", "Kyz", "Kzy", "Kzz", "Cyy", "Cyz", "Czy", "Czz")
-KINDS = ("map", "taylor", "linear")
+KINDS = ("map", "taylor", "linear", "reynolds")
+REYNOLDS_GRID = {"n_theta": 32, "n_x": 8}  # the native Reynolds FMU's start values: a small grid
 
 pytestmark = [pytest.mark.slow,  # six FMI 3.0 and FMI 2.0 builds compiled and driven: end to end, in CI (the whole suite)
               pytest.mark.filterwarnings("ignore:state outside the surrogate's fitted domain")]
@@ -62,7 +63,9 @@ def fmus(tmp_path_factory):
                       registry.create("map", PAPER_BEARING, {"map": str(PAPER_MAP)})),
               "taylor": ({"surrogate": SURROGATE}, load_surrogate(SURROGATE).params,
                          registry.create("taylor", load_surrogate(SURROGATE).params, {"surrogate": str(SURROGATE)})),
-              "linear": ({"options": lin}, PAPER_BEARING, registry.create("linear", PAPER_BEARING, lin))}
+              "linear": ({"options": lin}, PAPER_BEARING, registry.create("linear", PAPER_BEARING, lin)),
+              "reynolds": ({"options": REYNOLDS_GRID}, PAPER_BEARING,
+                           registry.create("reynolds", PAPER_BEARING, REYNOLDS_GRID))}
     out = {}
     for internal, (kw, params, py) in builds.items():
         paths = {}
@@ -163,7 +166,7 @@ def states(internal, py, params, n=12, seed=0):
     0.9 at any speed and velocity; the surrogate at its training states, moved across its domain's
     edge; the linear model about its point at its speed."""
     rng = np.random.default_rng(seed)
-    if internal == "map":
+    if internal in ("map", "reynolds"):
         out = []
         for _ in range(n):
             e, a, w = rng.uniform(0, 0.9), rng.uniform(-math.pi, math.pi), rng.uniform(20, 400)
@@ -208,7 +211,7 @@ def test_archive_binary_and_instantiation_token(fmus):
         "modelDescription.xml").decode()
     config = Path(unzip, "sources", "fmi3_config.h").read_text()
     assert f'#define BN3_TOKEN "{md.guid}"' in config
-    assert len({fmpy.read_model_description(str(f["fmu3"][0])).guid for f in fmus.values()}) == 3
+    assert len({fmpy.read_model_description(str(f["fmu3"][0])).guid for f in fmus.values()}) == len(fmus)
     build = fmpy.read_model_description(str(path)).buildConfigurations[0]
     assert build.sourceFileSets[0].language == "C99"
     assert [(d.name, d.value) for d in build.sourceFileSets[0].preprocessorDefinitions] == [("BN_FMI_VERSION", "3")]
@@ -366,7 +369,7 @@ def test_directional_and_adjoint_derivatives(fmus, internal):
             # K, C along each input: central differences of the K, C outputs, a step 30 times the FMU's
             h = 3e-5 * _scale(params, st)
             for j in range(5):
-                if internal != "map" and j == 4:
+                if internal not in ("map", "reynolds") and j == 4:
                     assert np.all(J[4:, 4] == 0.0)  # a model of one speed: its K, C do not move with it
                     continue
                 plus, minus = list(st), list(st)
@@ -428,7 +431,9 @@ def test_derivatives_in_initialization_mode_and_without_the_tangent(fmus):
 # together; a surrogate refuses any bearing but its own (its CR: analytic, below)
 PARAMETER_DIRECTIONS = {"map": (("D", "L"), ("CR",), ("mu",)),
                         "taylor": (("domain_limit",),),
-                        "linear": (("lin_Kyy",), ("lin_Czy",), ("lin_y0",), ("lin_Fz0",), ("CR",), ("D", "L"))}
+                        "linear": (("lin_Kyy",), ("lin_Czy",), ("lin_y0",), ("lin_Fz0",), ("CR",), ("D", "L")),
+                        # Reynolds: any bearing; D or L alone changes L/D (bn_shape_derivative)
+                        "reynolds": (("D",), ("L",), ("D", "L"), ("CR",), ("mu",))}
 
 
 @pytest.mark.parametrize("internal", KINDS)

@@ -154,7 +154,7 @@ def _native_fmu(scene: Scene, work_dir: Path, bearing=None) -> Path:
     hashes the C sources, the generator, the internal's data file, the bearing and the speed, so
     runs of the same scene share one build. The linear FMU holds no data: the host sets each
     bearing's coefficients."""
-    from bearing_fmu.fmu.native.host import host_build_options
+    from bearing_fmu.fmu.native.host import fmu_internals, host_build_options
     from bearing_fmu.fmu.native.build import C_DIR, build_native_fmu
     from bearing_fmu.fmu.native.compile import host_platform
 
@@ -162,14 +162,15 @@ def _native_fmu(scene: Scene, work_dir: Path, bearing=None) -> Path:
     if not spec.can.native:
         native = registry.having(native=True)
         raise SceneError(f"{scene.source}: fmu_kind = 'native' computes one of {', '.join(native)}, not internal = "
-                         f"{scene.internal!r} (it needs its solver at run time): use fmu_kind = 'python'")
+                         f"{scene.internal!r} (registered from outside the package): use fmu_kind = 'python'")
     work_dir.mkdir(parents=True, exist_ok=True)
     files = {o.name: required_file(scene, spec.name, o.name) for o in spec.file_options()}
     path = next(iter(files.values()), None)  # a native FMU compiles at most one data file in
     taylor = spec.name == "taylor"  # its bearing and speed are the surrogate's
     speed_hz = None if taylor or not scene.omega else scene.omega / (2.0 * math.pi)
     bearing = None if taylor else bearing
-    h = hashlib.sha256(f"{scene.internal} {bearing!r} {speed_hz!r}".encode())
+    internals = fmu_internals(scene.internal, scene.internal_options())  # taylor's fallback: with reynolds
+    h = hashlib.sha256(f"{internals} {bearing!r} {speed_hz!r}".encode())
     fmu_pkg = C_DIR.parent.parent  # bearing_fmu/fmu: the model description and docs generators too
     for f in (sorted(C_DIR.glob("*")) + sorted(C_DIR.parent.glob("*.py")) + [fmu_pkg / "meta.py", fmu_pkg / "docs.py"]
               + ([path] if path else [])):
@@ -178,7 +179,7 @@ def _native_fmu(scene: Scene, work_dir: Path, bearing=None) -> Path:
     if out.is_file():
         return out
     # this machine's binary only: the run loads it here (bearing-fmu build --native makes every platform's)
-    return Path(build_native_fmu(out, scene.internal, options=host_build_options(scene.internal),
+    return Path(build_native_fmu(out, internals, options=host_build_options(scene.internal),
                                  platforms=[host_platform()], bearing=bearing, speed_hz=speed_hz, **files))
 
 
@@ -226,9 +227,20 @@ def build_bearings(scene: Scene, rotor: Rotor, loads: np.ndarray, work_dir: Path
         return DirectBearings(internals, pairs, scene.omega, names, tangent=scene.newton_tangent)
     from ..coupling.cosim import FMUBearings
 
-    for name, p in zip(names, rotor.bearings):  # the native FMU's parameters would drop the bore: refuse it
+    from bearing_fmu.fmu.native.codegen import BORE_COMPILED_IN
+
+    # the Python FMU takes any bore as parameters; a native FMU has one: its data's, or the first
+    # bearing's compiled in (an internal in BORE_COMPILED_IN) for every bearing of that bore
+    compiled = scene.fmu_kind == "native" and scene.fmu is None and scene.internal in BORE_COMPILED_IN
+    for name, p in zip(names, rotor.bearings):
         if scene.fmu_kind != "native":
             break
+        if compiled and p.geometry != rotor.bearings[0].geometry:
+            raise SceneError(f"{scene.source}: fmu_kind = 'native': the native FMU has the bore of {names[0]} "
+                             f"compiled in ({rotor.bearings[0].geometry.describe()}), {name} has another "
+                             f"({p.geometry.describe()}): give the bearings one bore, or use via = 'direct'")
+        if compiled:
+            continue
         try:
             p.require_full_bore(f"{scene.source}: via = 'fmu', fmu_kind = 'native': the bearing FMU of {name}",
                                 "its parameters are D, L, CR and mu; the geometry parameters are the Python FMU's")

@@ -2,9 +2,10 @@
 their variables and their lines of model_config.h, for ``codegen``.
 
 * Thermal ports: the input ``T_supply`` and the outputs ``P_loss``, ``Q_side``, ``T_eff``,
-  ``mu_eff`` after the internal's Real options, the parameter ``thermal`` (Boolean 2). A native
-  internal without the film's flows (registry capability ``film_flow``: none today) keeps them off:
-  ``thermal = true`` is refused at initialisation naming why (``BN_FILM_FLOW_WHY``).
+  ``mu_eff`` after the internal's Real options, the parameter ``thermal`` (Boolean 2). No native
+  internal computes the film's flows yet (the C Reynolds solver gives the force and its
+  derivatives, not ``film_report``), so the ports stay off: ``thermal = true`` is refused at
+  initialisation naming why (``BN_FILM_FLOW_WHY``).
 * The bore: the Reals ``groove_1`` .. ``lobe_angle`` after the thermal ports, the Integers
   ``groove_count``, ``lobes`` after the enumerations, the Boolean ``partial_arc`` (3). The data hold
   one bore, so their starts are its values (``BN_GEOMETRY_*``) and another is refused at
@@ -13,7 +14,6 @@ their variables and their lines of model_config.h, for ``codegen``.
 
 from __future__ import annotations
 
-from ...internals import registry
 from ...physics.params import BearingParams
 from ..variables import VARIABLES
 
@@ -31,12 +31,15 @@ def bore_starts(params: BearingParams) -> dict:
     return {**{r[0]: r[4] for r in GEOMETRY_ROWS}, **port_defaults(params)}
 
 
-def port_variables(internal: str, params: BearingParams, first_real: int, first_int: int, bool_base: int) -> list:
+NATIVE_FILM_FLOW_WHY = ("the native internals compute the force only, not the film's friction and flows "
+                        "(the Python FMU's Reynolds internal has them)")
+
+
+def port_variables(internal, params: BearingParams, first_real: int, first_int: int, bool_base: int) -> list:
     """The variables of the thermal ports and the bore as ``codegen.Variable``'s fields (name, value
     reference, type, causality, start, unit, description): Reals from value reference ``first_real``,
     Integers from ``first_int``, Booleans 2 and 3 above ``bool_base``."""
     table = {v[0]: v for v in VARIABLES}
-    spec = registry.get(internal)
     out = []
     for k, name in enumerate(THERMAL_REALS):
         _n, typ, causality, unit, start, desc = table[name]
@@ -44,9 +47,8 @@ def port_variables(internal: str, params: BearingParams, first_real: int, first_
                             unit, desc))
     out.append(("thermal", bool_base + 2, "Boolean", "parameter", False, None,
                         "thermal model on (T_supply connected, the film at the viscosity of its effective temperature)"
-                        + ("" if spec.can.film_flow else f": not in this native FMU, whose {internal} internal has no "
-                           f"film flows ({spec.can.film_flow_why}); it stays false, T_eff reads T_supply, mu_eff mu, "
-                           "P_loss and Q_side 0")))
+                        + f": not in this native FMU ({NATIVE_FILM_FLOW_WHY}); it stays false, T_eff reads "
+                          "T_supply, mu_eff mu, P_loss and Q_side 0"))
     bore = bore_starts(params)
     fixed = f"; this FMU's data hold one bore ({params.geometry.describe()}): another is refused"
     for k, name in enumerate(GEOMETRY_INTS):
@@ -60,15 +62,15 @@ def port_variables(internal: str, params: BearingParams, first_real: int, first_
     return out
 
 
-def port_config(internal: str, params: BearingParams, c_double, c_string) -> list[str]:
+def port_config(params: BearingParams, c_double, c_string) -> list[str]:
     """model_config.h's lines of the thermal ports (the supply temperature's start [K], whether the
     internal has the film's flows and why not) and of the bore the data hold; ``c_double``,
     ``c_string``: codegen's literals."""
-    can, bore = registry.get(internal).can, bore_starts(params)
+    bore = bore_starts(params)
     return [
         f"#define BN_START_T_SUPPLY {c_double(next(v[4] for v in VARIABLES if v[0] == 'T_supply'))}",
-        f"#define BN_FILM_FLOW {int(can.film_flow)}",
-        f"#define BN_FILM_FLOW_WHY {c_string(can.film_flow_why)}",
+        "#define BN_FILM_FLOW 0",
+        f"#define BN_FILM_FLOW_WHY {c_string(NATIVE_FILM_FLOW_WHY)}",
         f"#define BN_GEOMETRY_REAL_START {{{', '.join(c_double(bore[n]) for n in GEOMETRY_REALS)}}}",
         f"#define BN_GEOMETRY_INT_START {{{', '.join(str(int(bore[n])) for n in GEOMETRY_INTS)}}}",
         f"#define BN_GEOMETRY_ARC_START {int(bool(bore['partial_arc']))}",

@@ -12,7 +12,10 @@
  *   eccentricity, h_min   analytic (0 along the velocities and the speed; at the centre, 0)
  *   D, L, CR, mu   the map: F = S P(q/CR, v/CR, omega) with S = mu L D^3 / (8 CR^2), so a change
  *                  of the bearing is a scale and, for CR, a move of the state along (q, v); the
- *                  Taylor and linear models hold their own bearing: 0 (eccentricity, h_min follow CR)
+ *                  Reynolds solver (BN_BEARING_IN_FORCE 2): the same, and P depends on L/D too
+ *                  (the map holds one L/D): its part along ln(L/D) from the internal,
+ *                  bn_shape_derivative; the Taylor and linear models hold their own bearing: 0
+ *                  (eccentricity, h_min follow CR)
  *   the internal's Real options   bn_option_derivative (the linear model's coefficients)
  *   P_loss, Q_side, T_eff, mu_eff   the thermal ports, off: 0, 0, along T_supply, along mu
  * The states a difference evaluates are evaluated quietly: no log line, no excursion counted. */
@@ -33,7 +36,7 @@ static int eval_quiet(Instance *m, const double x[5], double F[2], double J[8], 
     m->work = saved;
     for (int i = 0; !refused && i < 8; i++)
         if (!isfinite(J[i])) {
-            snprintf(m->msg, sizeof m->msg, "the %s internal returned a non-finite tangent", BN_INTERNAL);
+            snprintf(m->msg, sizeof m->msg, "the %s internal returned a non-finite tangent", m->eff[S_INTERNAL]);
             refused = 1;
         }
     return refused;
@@ -92,13 +95,15 @@ int bn_derivative(Instance *m, const double d[N_REAL], int with_kc, double out[N
     double CR = m->r[VR_CR];
     /* the bearing: a scale of F (S) and J (S / CR), and for CR a move along (q, v) (see above) */
     double gain = 0.0, along = 0.0;
-#if BN_BEARING_IN_FORCE
-    gain = 3.0 * db[0] / m->r[VR_D] + db[1] / m->r[VR_L] + db[3] / m->r[VR_MU];
-    along = -db[2] / CR;
-#endif
+    int bearing_in_force, speed_in_force;
+    bn_force_depends(m, &bearing_in_force, &speed_in_force);
+    if (bearing_in_force) {
+        gain = 3.0 * db[0] / m->r[VR_D] + db[1] / m->r[VR_L] + db[3] / m->r[VR_MU];
+        along = -db[2] / CR;
+    }
     double d_eff[5];
     for (int i = 0; i < 4; i++) d_eff[i] = dx[i] + along * x[i];
-    d_eff[4] = BN_SPEED_IN_FORCE ? dx[4] : 0.0; /* a model of one speed: its force does not move with omega */
+    d_eff[4] = speed_in_force ? dx[4] : 0.0; /* a model of one speed: its force does not move with omega */
     for (int r = 0; r < 2; r++) {
         const double *row = J + 4 * r;
         out[r] = row[0] * d_eff[0] + row[1] * d_eff[1] + row[2] * d_eff[2] + row[3] * d_eff[3] + dw[r] * d_eff[4]
@@ -115,6 +120,15 @@ int bn_derivative(Instance *m, const double d[N_REAL], int with_kc, double out[N
         }
         for (int i = 0; i < 8; i++) dJ[i] += J[i] * (gain + 3.0 * along); /* J ~ S / CR */
     }
+#if BN_BEARING_IN_FORCE == 2 /* an internal of the build's (several: the largest) */
+    double s_ld = db[1] / m->r[VR_L] - db[0] / m->r[VR_D]; /* d ln(L/D) */
+    if (bearing_in_force == 2 && s_ld != 0.0) {
+        double gF[2], gJ[8];
+        if (bn_shape_derivative(m, x, tangent, gF, gJ)) return 1;
+        for (int r = 0; r < 2; r++) out[r] += gF[r] * s_ld;
+        for (int i = 0; tangent && i < 8; i++) dJ[i] += gJ[i] * s_ld;
+    }
+#endif
     for (int k = 0; k < BN_N_REAL_OPTIONS; k++)
         if (d[VR_REAL_OPTIONS + k] != 0.0) {
             double oF[2], oJ[8];

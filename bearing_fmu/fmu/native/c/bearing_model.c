@@ -28,7 +28,7 @@ int bn_evaluate(Instance *m) {
     for (int i = 0; jac && i < 8; i++) finite = finite && isfinite(J[i]);
     if (!finite) {
         snprintf(m->msg, sizeof m->msg, "the %s internal returned a non-finite force or tangent at y = %s m, "
-                 "z = %s m, vy = %s m/s, vz = %s m/s, omega = %s rad/s", BN_INTERNAL, bn_num(a, 32, x[0], 6),
+                 "z = %s m, vy = %s m/s, vz = %s m/s, omega = %s rad/s", m->eff[S_INTERNAL], bn_num(a, 32, x[0], 6),
                  bn_num(b, 32, x[1], 6), bn_num(c, 32, x[2], 6), bn_num(d, 32, x[3], 6), bn_num(e, 32, x[4], 6));
         return 1;
     }

@@ -7,7 +7,7 @@
  * throughout (m, m/s, rad/s, N, Pa s).
  *
  * Value references: Reals 0..; Booleans from 1000; Strings from 2000; Integers (the enumerations,
- * each the same choice as a String parameter) from 3000. */
+ * each the same choice as a String parameter, then the internal's Integer options) from 3000. */
 #ifndef BEARING_NATIVE_H
 #define BEARING_NATIVE_H
 
@@ -111,9 +111,13 @@ enum { B_OUT_OF_DOMAIN, B_COMPUTE_TANGENT, B_THERMAL, B_PARTIAL_ARC, N_BOOL };
 #define STRING_MAX 256
 #define VR_INT0 3000
 #define N_ENUM BN_N_ENUMS                                /* internal_enum, then the String options' */
+#define N_INTS (N_ENUM + BN_N_INT_OPTIONS)               /* the enumerations, then the internal's Integer
+                                                            options (reynolds: n_theta, n_x) */
 #define N_INT 2                                          /* then the Integers groove_count, lobes */
-#define VR_INT_PARAM0 (VR_INT0 + N_ENUM)
-#define N_PARAM_SLOTS (N_REAL + N_BOOL + N_STRING + N_ENUM + N_INT)
+#define VR_INT_PARAM0 (VR_INT0 + N_INTS)
+#define N_PARAM_SLOTS (N_REAL + N_BOOL + N_STRING + N_INTS + N_INT)
+/* an Integer option's value (model_config.h I_OPT_<NAME>) */
+#define BN_INT_OPTION(m, name) ((m)->e[N_ENUM + I_OPT_##name])
 
 /* the FMI 2.0 modes (bearing_fmu/fmi_order.py: MODES; which call is allowed in which: BN_ALLOW_<call>) */
 typedef enum { BN_MODE_ENUM } Mode;
@@ -126,13 +130,16 @@ typedef struct {
     double scale;     /* map: S = mu R L (R / CR)^2 [N s] */
     int avx;          /* taylor: the CPU runs the AVX2 kernels */
     int quiet;        /* evaluations for a derivative: no excursion warning (internal_taylor.c) */
+    void *block;      /* reynolds: the solver's memory (the FMI callbacks'), block_bytes long; freed by bn_release */
+    void *solver;     /* reynolds: the solver inside it */
+    size_t block_bytes;
 } Work;
 
 typedef struct Instance {
     double r[N_REAL];
     int b[N_BOOL];
     char s[N_STRING][STRING_MAX];
-    int e[N_ENUM];              /* the enumerations as set */
+    int e[N_INTS];              /* the enumerations as set, then the Integer options */
     int n[N_INT];               /* the Integer parameters (groove_count, lobes) as set */
     char eff[N_STRING][STRING_MAX]; /* the String choices as they count (a String, or its enumeration): setup() */
     double t;
@@ -171,9 +178,20 @@ typedef struct Instance {
  * each one's "<modelIdentifier>_" for the FMI functions). */
 #define BN_PASTE(a, b) a##_##b
 #define BN_NAME(a, b) BN_PASTE(a, b)
-#define bn_setup BN_NAME(BN_ID, bn_setup)
-#define bn_eval BN_NAME(BN_ID, bn_eval)
-#define bn_option_derivative BN_NAME(BN_ID, bn_option_derivative)
+/* An FMU of several internals (BN_PARTS > 1): each internal_<name>.c (which sets BN_PART to its
+ * name) defines <id>_<name>_bn_setup ..., and bn_parts.c the plain ones, dispatching on the
+ * parameter internal. One internal: the internal's file defines the plain ones. */
+#if BN_PARTS > 1 && defined(BN_PART)
+#define BN_FN(name) BN_NAME(BN_ID, BN_NAME(BN_PART, name))
+#else
+#define BN_FN(name) BN_NAME(BN_ID, name)
+#endif
+#define bn_setup BN_FN(bn_setup)
+#define bn_eval BN_FN(bn_eval)
+#define bn_option_derivative BN_FN(bn_option_derivative)
+#define bn_release BN_FN(bn_release)
+#define bn_shape_derivative BN_FN(bn_shape_derivative)
+#define bn_fallback_eval BN_NAME(BN_ID, bn_fallback_eval)
 #define bn_log BN_NAME(BN_ID, bn_log)
 #define bn_num BN_NAME(BN_ID, bn_num)
 #define bn_order_refused BN_NAME(BN_ID, bn_order_refused)
@@ -224,6 +242,22 @@ BN_HIDDEN int bn_eval(Instance *m, const double x[5], int want_jac, double F[2],
 /* dF and dJ (as in bn_eval) with respect to the internal's k-th Real option (model_config.h
  * BN_REAL_OPTION_TABLE), at x: linear's coefficients; 0 for options the force does not depend on. */
 BN_HIDDEN void bn_option_derivative(Instance *m, const double x[5], int k, double dF[2], double dJ[8]);
+/* Free what bn_setup allocated (the instance is being freed; nothing for most internals). */
+BN_HIDDEN void bn_release(Instance *m);
+/* BN_BEARING_IN_FORCE 2 (reynolds: F = mu R L (R / CR)^2 G(L/D, q/CR, v/CR, omega)): dF and, with
+ * want_jac, dJ along ln(L/D) at a fixed scale, at x. 0, or 1 with the reason in m->msg. */
+BN_HIDDEN int bn_shape_derivative(Instance *m, const double x[5], int want_jac, double dF[2], double dJ[8]);
+/* Does the force of the internal as set depend on the bearing (0 no, 1 by the scale law, 2 and on
+ * L/D) and on the speed? One internal: BN_BEARING_IN_FORCE, BN_SPEED_IN_FORCE; several: its own. */
+#if BN_PARTS > 1
+#define bn_force_depends BN_NAME(BN_ID, bn_force_depends)
+BN_HIDDEN void bn_force_depends(const Instance *m, int *bearing, int *speed);
+#else
+#define bn_force_depends(m, bearing, speed) (*(bearing) = BN_BEARING_IN_FORCE, *(speed) = BN_SPEED_IN_FORCE)
+#endif
+/* Taylor's domain_action = fallback in an FMU that holds the Reynolds internal too (bn_parts.c):
+ * the Reynolds force at x, as bn_eval */
+BN_HIDDEN int bn_fallback_eval(Instance *m, const double x[5], int want_jac, double F[2], double J[8], double dw[2]);
 
 /* the FMI layer: log one line (printf-style) with a status */
 BN_HIDDEN void bn_log(Instance *m, bn_status status, const char *fmt, ...)

@@ -40,6 +40,19 @@ typedef struct {
 
 static const EnumOption ENUMS[BN_N_ENUMS] = { BN_ENUM_TABLE };
 
+/* An Integer option (FMI 2.0: Integer; FMI 3.0: Int64): a range, maybe even, and a special value
+ * allowed besides it (-1: none; reynolds' grid: 0, the default) */
+typedef struct {
+    const char *name;
+    int start, minimum, maximum, even, special;
+    const char *allowed;    /* in words, for messages */
+} IntOption;
+#if BN_N_INT_OPTIONS > 0
+static const IntOption INT_OPTIONS[BN_N_INT_OPTIONS] = { BN_INT_OPTION_TABLE };
+#else
+static const IntOption *INT_OPTIONS = NULL;
+#endif
+
 #if BN_N_REAL_OPTIONS > 0
 static const RealOption REAL_OPTIONS[BN_N_REAL_OPTIONS] = { BN_REAL_OPTION_TABLE };
 #else
@@ -102,12 +115,12 @@ const char *bn_real_unit(int vr) {
     return "";
 }
 
-const char *bn_enum_name(int j) { return ENUMS[j].name; }
+const char *bn_enum_name(int j) { return j < N_ENUM ? ENUMS[j].name : INT_OPTIONS[j - N_ENUM].name; }
 
 const char *bn_int_name(int k) { return INT_NAMES[k]; }
 
 int bn_set_int(Instance *m, int k, long long v, char *why, size_t n) {
-    int slot = N_REAL + N_BOOL + N_STRING + N_ENUM + k;
+    int slot = N_REAL + N_BOOL + N_STRING + N_INTS + k;
     m->refused[slot] = v < INT_LOW[k] || v > INT_HIGH[k];
     if (m->refused[slot]) {
         snprintf(why, n, "%s = %.0f must be in %d .. %d", INT_NAMES[k], (double)v, INT_LOW[k], INT_HIGH[k]);
@@ -171,6 +184,7 @@ void bn_set_starts(Instance *m) {
     for (int i = 0; i < BN_N_STRING_OPTIONS; i++) snprintf(m->s[1 + i], STRING_MAX, "%s", STRING_OPTIONS[i].start);
     for (int i = 0; i < N_STRING; i++) snprintf(m->eff[i], STRING_MAX, "%s", m->s[i]);
     for (int i = 0; i < N_ENUM; i++) m->e[i] = ENUMS[i].start;
+    for (int i = 0; i < BN_N_INT_OPTIONS; i++) m->e[N_ENUM + i] = INT_OPTIONS[i].start;
     memset(m->refused, 0, sizeof m->refused);
     m->init_error[0] = 0;
     m->t = 0.0;
@@ -218,12 +232,23 @@ int bn_check_string(int k, const char *value, char *out, char *why, size_t n) {
     }
     if (k == S_INTERNAL) {
         lower_strip(value, v, sizeof v);
-        if (strcmp(v, BN_INTERNAL) != 0) {
-            snprintf(why, n, "internal = '%s': this native FMU computes the %s internal only; for another build "
-                     "one with `bearing-fmu build --native --internal NAME` (reynolds: the Python FMU, "
-                     "`bearing-fmu build`)", value, BN_INTERNAL);
+#if BN_PARTS > 1
+        if (!in_choices(v, BN_INTERNALS)) {
+            char words[256];
+            choices_words(BN_INTERNALS, words, sizeof words);
+            snprintf(why, n, "internal = '%s': this native FMU computes %s; for another build one with "
+                     "`bearing-fmu build --native --internal NAME,...` (an internal registered from outside the "
+                     "package: the Python FMU, `bearing-fmu build`)", value, words);
             return 1;
         }
+#else
+        if (strcmp(v, BN_INTERNAL) != 0) {
+            snprintf(why, n, "internal = '%s': this native FMU computes the %s internal only; for another build "
+                     "one with `bearing-fmu build --native --internal NAME` (an internal registered from outside "
+                     "the package: the Python FMU, `bearing-fmu build`)", value, BN_INTERNAL);
+            return 1;
+        }
+#endif
         snprintf(out, STRING_MAX, "%s", v);
         return 0;
     }
@@ -272,6 +297,12 @@ static int enum_choice(const EnumOption *o, int v, char *out, size_t n) {
 /* An enumeration parameter's value alone: 0, or 1 with the reason in why (the String's reason for
  * a choice this FMU does not take, else the values it takes). */
 int bn_check_enum(int j, int v, char *why, size_t n) {
+    if (j >= N_ENUM) { /* an Integer option */
+        const IntOption *io = &INT_OPTIONS[j - N_ENUM];
+        int bad = v != io->special && (v < io->minimum || v > io->maximum || (io->even && v % 2 != 0));
+        if (bad) snprintf(why, n, "%s = %d must be %s", io->name, v, io->allowed);
+        return bad;
+    }
     const EnumOption *o = &ENUMS[j];
     char item[STRING_MAX], out[STRING_MAX], sub[400]; /* a reason fits the caller's 512 with the words around it */
     if (enum_choice(o, v, item, sizeof item)) {

@@ -18,7 +18,7 @@ BN_HIDDEN extern const char *const BN_BOOL_NAMES[N_BOOL];
 BN_HIDDEN const char *bn_real_name(int vr);          /* a Real variable's name (vr < N_REAL) */
 BN_HIDDEN const char *bn_real_unit(int vr);          /* its unit ("" for options without one) */
 BN_HIDDEN const char *bn_string_name(int k);         /* a String variable's name (k < N_STRING) */
-BN_HIDDEN const char *bn_enum_name(int j);           /* an enumeration's name (j < N_ENUM) */
+BN_HIDDEN const char *bn_enum_name(int j);           /* an Integer's name (j < N_INTS: enumeration, option) */
 BN_HIDDEN int bn_is_output_real(int vr);
 
 /* every variable at its start value; time 0, not initialised, outputs to compute */

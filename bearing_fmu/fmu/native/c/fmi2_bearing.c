@@ -129,6 +129,7 @@ void fmi2FreeInstance(fmi2Component c) {
         fflush(stderr);
         return;
     }
+    bn_release(m); /* what the internal allocated (reynolds: the solver's memory) */
     if (m->cb.freeMemory) {
         fmi2CallbackFreeMemory release = m->cb.freeMemory;
         release(m);

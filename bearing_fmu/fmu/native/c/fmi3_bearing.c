@@ -211,6 +211,7 @@ void fmi3FreeInstance(fmi3Instance instance) {
         fflush(stderr);
         return;
     }
+    bn_release(m); /* what the internal allocated (reynolds: the solver's memory) */
     free(m);
 }
 
