@@ -305,6 +305,9 @@ class Capabilities:
                     and {made}, if present, are filled per FMU kind by ``bearing_fmu.fmu.docs``).
     any_geometry  : takes a bore that is not the full circle (grooves, arc, lobes; physics.geometry);
                     False: ``create`` refuses such a bearing by name, ``geometry_why`` says why.
+    film_flow     : has ``film_report(y, z, vy, vz, omega)`` (``physics.film.FilmReport``: friction power,
+                    inflow, side flow at any state, its own bore included): what the FMU's thermal ports
+                    need (``thermal = true``); False: the FMU refuses them, ``film_flow_why`` says why.
     compiled      : has ``compiled_force()``: its force and Jacobian as a compiled kernel and its
                     data (``internals.compiled``), which a host's compiled loop calls with no
                     Python per evaluation (the rotor host's Newmark chunks); an instance may
@@ -320,6 +323,8 @@ class Capabilities:
     validity: str = ""
     any_geometry: bool = True
     geometry_why: str = ""
+    film_flow: bool = False
+    film_flow_why: str = ""
     compiled: bool = False
 
 
@@ -491,7 +496,7 @@ register(InternalSpec(
                "(half-Sommerfeld)", choices=("reynolds", "gumbel")),
     ),
     can=Capabilities(
-        any_state=True, truth=True,
+        any_state=True, truth=True, film_flow=True, native=True,
         validity="The finite-volume Reynolds solver evaluates any journal state inside the clearance circle at any "
                  "speed, load and velocity; it is the reference the other internals are measured against. Its "
                  "accuracy is set by the grid n_theta x n_x (0: the default 128 x 16, docs/reynolds.md). The journal "
@@ -521,6 +526,7 @@ register(InternalSpec(
     uses=("reynolds", "map"),
     can=Capabilities(
         native=True, compiled=True,
+        film_flow_why="a linear model holds the force about one point, not the film's flows",
         validity="The linear model holds near its expansion point at the speed omega_lin (any other omega is "
                  "refused); it evaluates beyond the clearance circle, where it means nothing physically (h_min < 0).{made}"),
     case="internals.cases:linear_case",
@@ -543,6 +549,7 @@ register(InternalSpec(
     can=Capabilities(
         fixed_speed=True, fitted_domain=True, native=True, any_geometry=False, compiled=True,
         geometry_why="a surrogate file does not record the bore it was fitted for",
+        film_flow_why="the surrogate fits the force only; the film's inflow and side flow would need their own fit",
         validity="The surrogate answers for the speed it was fitted at (any other omega is refused) and inside its "
                  "fitted domain of journal states; outside it the FMU {actions}, and beyond domain_limit it always "
                  "refuses. The journal at or beyond the wall is refused (fmi2Discard)."),
@@ -560,6 +567,7 @@ register(InternalSpec(
     can=Capabilities(
         any_state=True, native=True, any_geometry=False, compiled=True,
         geometry_why="its reduction to eccentricity and one angle assumes the circular full bore",
+        film_flow_why="the map tabulates the force only; the film's inflow and side flow would need their own tables",
         validity="The force map holds the Reynolds force for every speed, load and velocity of bearings with its "
                  "L/D; states beyond its last eccentricity (eps_max) are refused (fmi2Discard)."),
     case="internals.cases:map_case",

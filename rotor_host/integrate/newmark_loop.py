@@ -24,7 +24,8 @@ from bearing_fmu.internals.compiled import OUT_SIZE, address, advance, kernel_at
 from .loads import rotating_loads
 from .newmark_kernels import Q0, Q1, k_accept, k_begin, k_iter
 
-__all__ = ["run_chunk", "ChunkBuffers", "ChunkDriver", "CFG_SIZE", "CNT_STEPS", "CNT_EVAL", "CNT_REC", "CNT_HAVE_J", "CNT_WHY"]
+__all__ = ["run_chunk", "ChunkBuffers", "ChunkDriver", "CFG_SIZE", "CNT_STEPS", "CNT_EVAL", "CNT_REC", "CNT_HAVE_J",
+           "CNT_WHY"]
 
 # cfg (float64): rtol_force, rtol_disp, atol_disp, max_iter, alpha, t0, dt, Ma_norm (in/out)
 CFG_SIZE = 8
