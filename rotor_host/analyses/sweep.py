@@ -247,9 +247,9 @@ def sweep(client, scene, pts: list[Point], out_dir: Path, settle_s: float, disk_
     """Run every point as a task on ``client``; return the rows in the order the points are
     given. Each worker first loads the code and kernels the runs call (``warm_worker``; the
     slowest worker's seconds go to ``info["warm_s"]``). ``rows`` (point -> row) fills as the runs
-    finish, for a caller whose interrupt may come after this returns (in closing the cluster). On an interrupt the tasks not finished
-    are cancelled; the rows that are there are attached to the exception (``exc.sweep_rows``)
-    and it is raised again."""
+    finish, for a caller whose interrupt may come after this returns (in closing the cluster).
+    On an interrupt the tasks not finished are cancelled; the rows that are there are attached
+    to the exception (``exc.sweep_rows``) and it is raised again."""
     from dask.distributed import as_completed
     from tqdm import tqdm
 
@@ -582,7 +582,6 @@ def command(*, scene, speeds_hz=None, unbalance_g=None, settle_s: float | None =
 
 
 __all__ = ["scheduler_address", "Point", "run_base", "points", "point_scene", "settled_metrics", "warm_worker",
-           "run_point",
-           "check_fixed_speed", "check_scheduler", "dask_client", "sweep", "sweep_title", "write_summary",
+           "run_point", "check_fixed_speed", "check_scheduler", "dask_client", "sweep", "sweep_title", "write_summary",
            "summary_diagram", "plot_bifurcation",
            "command"]
