@@ -26,6 +26,7 @@ from __future__ import annotations
 import argparse
 import json
 import os
+import resource
 import subprocess
 import sys
 import tempfile
@@ -77,12 +78,19 @@ for p in points(scene, float_range("Hz", 0.0)(sys.argv[5])):
 """
 
 
+CPU_S = [0.0]  # CPU seconds (user + system) of the last run's process and the processes it waited for
+
+
 def run(tree: Path, argv: list[str], timeout: float = 900.0) -> tuple[float, str]:
-    """Wall time [s] and stdout of ``python argv`` with ``tree`` first on the path."""
+    """Wall time [s] and stdout of ``python argv`` with ``tree`` first on the path (its CPU
+    seconds, workers included, in ``CPU_S[0]``)."""
     env = {**os.environ, "PYTHONPATH": str(tree)}
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
     t0 = time.perf_counter()
     r = subprocess.run([sys.executable, *argv], cwd=tree, env=env, capture_output=True, text=True, timeout=timeout)
     wall = time.perf_counter() - t0
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    CPU_S[0] = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
     if r.returncode != 0:
         raise RuntimeError(f"{' '.join(argv[:4])} in {tree}: exit {r.returncode}\n{r.stderr[-2000:]}")
     return wall, r.stdout
@@ -130,6 +138,7 @@ def sweeps(trees: dict[str, Path], t_end: float, via: str) -> str:
     for name, tree in trees.items():
         with tempfile.TemporaryDirectory() as tmp:
             loop, _ = run(tree, ["-c", LOOP, str(SCENE), str(t_end), str(Path(tmp) / "loop"), via, SPEEDS])
+            cpu_s = {0: CPU_S[0]}
             walls = {}
             for n in (1, 2):
                 cmd = ["-m", "rotor_host.cli", "sweep", str(SCENE), "--internal", "map", "--speeds-hz", SPEEDS,
@@ -137,13 +146,16 @@ def sweeps(trees: dict[str, Path], t_end: float, via: str) -> str:
                 if via:
                     cmd += ["--via", via]
                 walls[n], _ = run(tree, cmd)
+                cpu_s[n] = CPU_S[0]
         rows.append([name, f"{loop:.1f}", f"{walls[1]:.1f}", f"{walls[2]:.1f}", f"{walls[1] / walls[2]:.2f}",
-                     f"{loop / walls[1]:.2f}", f"{loop / walls[2]:.2f}"])
+                     f"{loop / walls[1]:.2f}", f"{loop / walls[2]:.2f}",
+                     " / ".join(f"{cpu_s[n]:.1f}" for n in (0, 1, 2))])
         ratios.append(walls[1] / walls[2])
     return (table(["code", "plain loop [s]", "1 worker [s]", "2 workers [s]", "1 / 2 workers", "loop / 1 worker",
-                   "loop / 2 workers"], rows)
+                   "loop / 2 workers", "CPU loop / 1 / 2 workers [s]"], rows)
             + f"\n\n(20 speeds {SPEEDS} Hz, map internal{', via ' + via if via else ' (the scene route: fmu)'}, "
-              f"t_end {t_end:g} s each; whole processes; target 1 / 2 workers >= 1.7, loop / n >= 1)")
+              f"t_end {t_end:g} s each; whole processes, their CPU seconds with the workers'; target 1 / 2 "
+              "workers >= 1.7, loop / n >= 1)")
 
 
 def main() -> int:

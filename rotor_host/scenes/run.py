@@ -11,6 +11,7 @@ The scene itself -- its file, keys and checks -- is ``rotor_host.scenes.scene``.
 
 from __future__ import annotations
 
+import functools
 import hashlib
 import math
 import os
@@ -321,6 +322,11 @@ def _domain_report(scene: Scene, rotor: Rotor, q: np.ndarray, v: np.ndarray) -> 
 
 
 def package_versions() -> dict:
+    return dict(_versions())
+
+
+@functools.cache  # once per process: a sweep's worker runs many scenes (~17 ms each time)
+def _versions() -> dict:
     import importlib.metadata as md
 
     out = {"python": platform.python_version()}
