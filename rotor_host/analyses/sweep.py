@@ -253,9 +253,11 @@ def sweep(client, scene, pts: list[Point], out_dir: Path, settle_s: float, disk_
     from dask.distributed import as_completed
     from tqdm import tqdm
 
-    warm = client.run(warm_worker, scene, str(Path(out_dir) / "fmu"))  # all workers at once, before any run
+    # all workers at once, before any run; a worker lost meanwhile is the business of the runs' rows
+    warm = [s for s in client.run(warm_worker, scene, str(Path(out_dir) / "fmu"), on_error="return").values()
+            if isinstance(s, float)]
     if info is not None and warm:
-        info["warm_s"] = max(warm.values())
+        info["warm_s"] = max(warm)
     futures = {client.submit(run_point, point_scene(scene, p, disk_nodes), p, str(out_dir), settle_s, disk_nodes,
                              key=f"sweep-{p.stem}-{os.getpid()}-{time.time_ns()}", pure=False, priority=-i): p
                for i, p in enumerate(pts)}
