@@ -19,6 +19,7 @@ and raised as ``Interrupted`` right after it.
 
 from __future__ import annotations
 
+import atexit
 import ctypes
 import shutil
 import tempfile
@@ -35,6 +36,38 @@ _OUT = ("Fy", "Fz", "Kyy", "Kyz", "Kzy", "Kzz", "Cyy", "Cyz", "Czy", "Czz", "ecc
 _IN = ("y", "z", "vy", "vz", "omega")
 _STATIC_PROBE_S = 1e-9  # doStep length of a static evaluation [s], never committed
 _FMI_STATUS = ("ok", "warning", "discard", "error", "fatal", "pending")
+
+
+_EXTRACTED: dict[tuple, str] = {}  # (FMU file, modification time, size) -> its extraction
+
+
+def extracted(fmu_path: Path) -> str:
+    """The folder of the FMU extracted, once per process while the file is unchanged: a sweep's
+    worker (or a script's loop) instantiates the same FMU for run after run, and extracting it
+    and the slave reading its resources afresh each time cost ~0.1-0.3 s per run. The folders
+    are removed when the process exits (``remove_extracted``)."""
+    st = fmu_path.stat()
+    key = (str(fmu_path.resolve()), st.st_mtime_ns, st.st_size)
+    folder = _EXTRACTED.get(key)
+    if folder is None or not Path(folder).is_dir():
+        from fmpy import extract
+
+        folder = tempfile.mkdtemp(prefix="bearing_fmu_")
+        try:
+            extract(str(fmu_path), folder)
+        except BaseException:
+            shutil.rmtree(folder, ignore_errors=True)
+            raise
+        if not _EXTRACTED:
+            atexit.register(remove_extracted)
+        _EXTRACTED[key] = folder
+    return folder
+
+
+def remove_extracted() -> None:
+    """Remove every FMU extraction of this process (at its exit; the instances are freed by then)."""
+    while _EXTRACTED:
+        shutil.rmtree(_EXTRACTED.popitem()[1], ignore_errors=True)
 
 
 class FMUError(RuntimeError):
@@ -58,7 +91,7 @@ class FMUBearings(BearingSet):
     def __init__(self, fmu_path, bearing_dofs, omega: float, parameters, names=None,
                  start_time: float = 0.0, log=None, tangent: str = "bearing"):
         super().__init__(bearing_dofs, omega, names, tangent)
-        from fmpy import calloc, extract, free, read_model_description
+        from fmpy import calloc, free, read_model_description
         from fmpy.fmi2 import (FMU2Slave, fmi2CallbackAllocateMemoryTYPE, fmi2CallbackFreeMemoryTYPE,
                                fmi2CallbackFunctions, fmi2CallbackLoggerTYPE)
 
@@ -72,7 +105,7 @@ class FMUBearings(BearingSet):
             raise FileNotFoundError(f"bearing FMU {self.fmu_path} not found; build it with `bearing-fmu build -o PATH.fmu`")
         self.log = log  # optional callable(str) for every FMU log line
         self.messages: list[list[str]] = [[] for _ in range(self.n)]
-        self._unzip = tempfile.mkdtemp(prefix="bearing_fmu_")
+        self._unzip = None
         self.instances = []
         self._states = [None] * self.n
         self._static = False
@@ -85,7 +118,7 @@ class FMUBearings(BearingSet):
             missing = [n for n in _IN + _OUT if n not in self._vars]
             if missing:
                 raise FMUError(f"{self.fmu_path.name} lacks the variable(s) {', '.join(missing)}: not a bearing FMU?")
-            extract(str(self.fmu_path), self._unzip)
+            self._unzip = extracted(self.fmu_path)
 
             def make_logger(k):
                 def logger(component, instance_name, status, category, message):
@@ -265,8 +298,8 @@ class FMUBearings(BearingSet):
                     self._states[k] = None
 
     def close(self) -> None:
-        """Terminate and free every instance and remove the extracted FMU (idempotent; a second
-        Ctrl-C waits until this is done)."""
+        """Terminate and free every instance (idempotent; a second Ctrl-C waits until this is
+        done). The extracted FMU stays for this process's next run of it (``extracted``)."""
         with deferred():
             self._close()
 
@@ -285,6 +318,4 @@ class FMUBearings(BearingSet):
             except Exception:  # noqa: BLE001
                 pass
         self.instances = []
-        if getattr(self, "_unzip", None):
-            shutil.rmtree(self._unzip, ignore_errors=True)
-            self._unzip = None
+        self._unzip = None  # the extraction stays for this process's next run of the FMU (``extracted``)
