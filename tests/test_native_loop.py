@@ -137,3 +137,53 @@ def test_compiled_native_scene_equals_the_python_driver(native_scene, internal):
     _assert_same(new, ref)
     np.testing.assert_array_equal(ecc, ecc_ref)
     np.testing.assert_array_equal(ecc_lean, ecc_ref)
+
+
+class _FailingDll:
+    """The FMU's library with fmi2DoStep answering ``status`` from its ``after``-th call on (the
+    calls before go to the FMU): a C function, so the compiled loop calls it too."""
+
+    def __init__(self, dll, status, after):
+        import ctypes
+
+        real, self._dll, self.calls = dll.fmi2DoStep, dll, 0
+
+        def do_step(c, t, h, flag):
+            self.calls += 1
+            return status if self.calls >= after else real(c, t, h, flag)
+
+        self.fmi2DoStep = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.c_void_p, ctypes.c_double, ctypes.c_double,
+                                           ctypes.c_int)(do_step)
+
+    def __getattr__(self, name):
+        return getattr(self._dll, name)
+
+
+@pytest.mark.parametrize("status", [3, 4])
+def test_an_error_in_the_compiled_loop_stops_the_run_as_in_python(native_scene, status):
+    # fmi2Error / fmi2Fatal from the 40th doStep of bearing 1 on (inside a compiled chunk): the
+    # step goes back to Python, whose driver asks again and raises FMUError, as the Python driver
+    # does at the same step (not a cut step: tests/test_cosim.py::test_only_a_discard_cuts_the_step)
+    from rotor_host.coupling.cosim import FMUError
+
+    s = native_scene("map", t_end=0.003)
+    rotor = Rotor.from_toml(s.rotor_path)
+    fs = rotor.weight_vector(9.81) + rotor.point_load_vector(s.static_loads)
+    loads = scene_run.bearing_loads(rotor, fs)
+    messages = []
+    for compiled in (False, True):
+        with scene_run.build_bearings(s, rotor, loads, Path(s.fmu).parent) as b:
+            q0 = scene_run.initial_state(s, rotor, fs, loads, b)
+            real = b.instances[0].dll
+            b.instances[0].dll = _FailingDll(real, status, after=40)
+            try:
+                integ = Newmark(rotor.M, rotor.K, rotor.C, rotor.G, s.omega, scene_run.external_force(s, rotor, fs),
+                                b, NewmarkConfig(compiled=compiled))
+                assert (integ._compiled_plan() is not None) == compiled
+                with pytest.raises(FMUError, match="bearing 1.*fmi2DoStep returned") as err:
+                    integ.run(q0, np.zeros(rotor.n_dof), 0.0, s.t_end_s, s.dt_s, progress=lambda t: None,
+                              progress_every=7)
+                messages.append(str(err.value))
+            finally:
+                b.instances[0].dll = real
+    assert messages[0] == messages[1]
