@@ -42,6 +42,9 @@ from .compile import (C_FLAGS, NativeBuildError, compile_binaries, find_compiler
                       parse_platforms)
 
 C_DIR = Path(__file__).resolve().parent / "c"
+# native internals with no state: their FMU's outputs follow its inputs and parameters alone (not
+# reynolds: its solver warm-starts from the previous call's film; not taylor: see model_description)
+MEMORYLESS_INTERNALS = ("map", "linear")
 # the FMI 2.0 layer over the model layer (codegen.MODEL_SOURCES)
 HEADERS2 = (*MODEL_HEADERS, "fmi2_layer.h")
 SOURCES2 = ("fmi2_bearing.c", "fmi2_modes.c", "fmi2_order.c", *MODEL_SOURCES)
@@ -192,6 +195,12 @@ def model_description(model: NativeModel, record: dict) -> bytes:
                        ("error", "a refused call (a bad value, a call out of the FMI 2.0 calling sequence)")):
         ET.SubElement(cats, "Category", name=name, description=what)
     ET.SubElement(root, "DefaultExperiment", startTime="0.0", stopTime="0.1", stepSize="0.0001")
+    # the internals whose outputs follow the inputs alone (fmu_meta.memoryless_annotation): a master
+    # iterates them without saving and restoring FMU states; the Taylor surrogate is not among them
+    # (its warnings count excursions from the previous call's state, out_of_domain in the FMU state)
+    memoryless = [p for p in model.all_parts if p in MEMORYLESS_INTERNALS]
+    if memoryless:
+        root.append(fmu_meta.memoryless_annotation(memoryless))
     mvars = ET.SubElement(root, "ModelVariables")
     omega_ref = fmu_meta.reference_speed(next(v.start for v in model.variables if v.name == "omega"))
     index = {}
