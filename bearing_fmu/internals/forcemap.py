@@ -49,7 +49,8 @@ LD_RTOL = 1e-9  # a map serves bearings whose L/D equals its own to this relativ
 
 # the map reduces the force to F = r G(eps, beta): true for the circular full bore only (a groove,
 # an arc or a lobe fixes directions in the bore, docs/geometry.md)
-REDUCTION_WHY = "its reduction to eccentricity and one angle assumes the circular full bore"
+REDUCTION_WHY = ("a version 1 map's reduction to eccentricity and one angle assumes the circular full bore; "
+                 "`bearing-fmu map --bearing FILE` builds a 3-D map for grooves and partial arcs")
 
 def scale(params: BearingParams) -> float:
     """S = mu R L (R / CR)^2 [N s]: the map's force per unit r [1/s]."""
@@ -197,7 +198,7 @@ def tabulate(params: BearingParams, *, n_eps: int = DEFAULT_N_EPS, n_beta: int =
 
             task = partial(_row, params, rey.n_theta, rey.n_x, rey.cavitation, betas=table.beta,
                            wall_exponent=wall_exponent, n_phase=n_phase)
-            pool = multiprocessing.Pool(workers, initializer=_worker_signals)
+            pool = multiprocessing.Pool(workers, initializer=worker_signals)
             try:
                 for done, h in enumerate(pool.imap(task, table.eps), 1):
                     table.H[done - 1] = h
@@ -224,7 +225,7 @@ def tabulate(params: BearingParams, *, n_eps: int = DEFAULT_N_EPS, n_beta: int =
     return table
 
 
-def _worker_signals() -> None:
+def worker_signals() -> None:
     """A pool worker: Ctrl-C (sent to the whole group) is the parent's to act on; the parent's
     terminate() (SIGTERM) ends the worker at once, without a traceback."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)
@@ -305,8 +306,8 @@ def load_map(path) -> MapTable:
         for k in ("n_theta", "n_x", "cavitation"):
             if k not in rey:
                 raise KeyError(f"reynolds.{k}")
-        table = MapTable(_number(data, "L_over_D"), rey["n_theta"], rey["n_x"], rey["cavitation"],
-                         _number(data, "eps_max"), _number(data, "wall_exponent"), _array(data, "H"),
+        table = MapTable(number_key(data, "L_over_D"), rey["n_theta"], rey["n_x"], rey["cavitation"],
+                         number_key(data, "eps_max"), number_key(data, "wall_exponent"), array_key(data, "H"),
                          data.get("provenance", {}))
     except KeyError as exc:
         raise ValueError(f"force map file {path}: missing key {exc.args[0]!r}") from None
@@ -328,7 +329,7 @@ def load_map(path) -> MapTable:
         try:
             if not isinstance(sp, dict):
                 raise ValueError(f"an object {{knots_s, knots_beta, coefficients}} is expected, got {sp!r:.60}")
-            ts, tb, C = (np.ascontiguousarray(_array(sp, k)) for k in ("knots_s", "knots_beta", "coefficients"))
+            ts, tb, C = (np.ascontiguousarray(array_key(sp, k)) for k in ("knots_s", "knots_beta", "coefficients"))
         except (KeyError, ValueError) as exc:
             raise ValueError(f"force map file {path}: key 'spline' is incomplete or damaged ({exc})") from None
         problem = spline_problem(table, ts, tb, C)
@@ -339,14 +340,14 @@ def load_map(path) -> MapTable:
     return table
 
 
-def _number(data: dict, key: str) -> float:
+def number_key(data: dict, key: str) -> float:
     v = data[key]
     if isinstance(v, bool) or not isinstance(v, (int, float)):
         raise ValueError(f"key {key!r} = {v!r:.60} must be a number")
     return float(v)
 
 
-def _array(data: dict, key: str) -> np.ndarray:
+def array_key(data: dict, key: str) -> np.ndarray:
     """data[key] as a float array: a ragged or non-numeric list, or a non-finite entry, named."""
     v = data[key]
     try:
@@ -375,7 +376,7 @@ def spline_problem(table: MapTable, ts, tb, C) -> str | None:
         return "has knots out of order (they must not decrease)"
     nb = C.shape[1]
     b = tb[3] + np.mod(table.beta - tb[3], tb[nb] - tb[3])  # periodic in beta, as the kernel folds it
-    Bs, Bb = _bspline_matrix(ts, table.s, C.shape[0]), _bspline_matrix(tb, b, nb)
+    Bs, Bb = bspline_matrix(ts, table.s, C.shape[0]), bspline_matrix(tb, b, nb)
     at_points = Bs @ np.ascontiguousarray(np.moveaxis(C, 2, 0)) @ Bb.T  # (2, n_eps, n_beta)
     err = float(np.max(np.abs(at_points - np.moveaxis(table.H, 2, 0))))
     if not err <= SPLINE_RTOL * max(1.0, float(np.max(np.abs(table.H)))):
@@ -383,7 +384,7 @@ def spline_problem(table: MapTable, ts, tb, C) -> str | None:
     return None
 
 
-def _bspline_matrix(t: np.ndarray, x: np.ndarray, n: int) -> np.ndarray:
+def bspline_matrix(t: np.ndarray, x: np.ndarray, n: int) -> np.ndarray:
     """B[m, p] = N_p(x_m), the n cubic B-splines on knots t (Cox-de Boor, as map_kernels._basis
     but in numpy: the loader needs neither scipy nor the compiled kernels)."""
     m = len(x)
@@ -460,18 +461,7 @@ class ForceMap:
             self._refuse(y, z, vy, vz, omega, want_jac)
 
     def _refuse(self, y, z, vy, vz, omega, want_jac):
-        check_finite(y, z, vy, vz, omega)
-        eps = math.hypot(y, z) / self.params.CR  # as the kernel has it (which returns NaN on overflow)
-        if eps < self._eps_max:  # finite inputs inside the table: the force overflowed
-            # F = S r G is linear in r ~ |v| / CR: beyond the float range no finite value is the
-            # model's answer, so the state is refused by name rather than returned as inf or NaN
-            raise overflow_error(self.params, y, z, vy, vz, omega,
-                                 "force and its Jacobian" if want_jac else "force")
-        CR = self.params.CR
-        why = "at or beyond the bearing wall" if eps >= 1.0 else "beyond the force map's last point"
-        raise BearingStateError(
-            f"eccentricity ratio {eps:.4g} >= {1.0 if eps >= 1.0 else self._eps_max:g}: the journal "
-            f"(y = {y:.4g} m, z = {z:.4g} m) is {why} (CR = {CR:.4g} m; the map covers eps < {self._eps_max:g})")
+        refuse_state(self.params, self._eps_max, y, z, vy, vz, omega, want_jac)
 
     def force(self, y: float, z: float, vy: float, vz: float, omega: float) -> tuple[float, float]:
         """Film force (Fy, Fz) [N]."""
@@ -482,3 +472,20 @@ class ForceMap:
         """(F (2,), dF/dq (2, 2), dF/dv (2, 2)) [N, N/m, N s/m]."""
         self._run(y, z, vy, vz, omega, True)
         return self._F.copy(), self._J[:, :2].copy(), self._J[:, 2:].copy()
+
+
+def refuse_state(params: BearingParams, eps_max: float, y, z, vy, vz, omega, want_jac) -> None:
+    """Raise the error of a state a map cannot answer (the map kernels returned eps >= eps_max,
+    NaN, or took a non-finite velocity): a non-finite input, the wall, beyond the table, or a
+    force that overflows, each by name."""
+    check_finite(y, z, vy, vz, omega)
+    eps = math.hypot(y, z) / params.CR  # as the kernel has it (which returns NaN on overflow)
+    if eps < eps_max:  # finite inputs inside the table: the force overflowed
+        # F = S r G is linear in r ~ |v| / CR: beyond the float range no finite value is the
+        # model's answer, so the state is refused by name rather than returned as inf or NaN
+        raise overflow_error(params, y, z, vy, vz, omega, "force and its Jacobian" if want_jac else "force")
+    CR = params.CR
+    why = "at or beyond the bearing wall" if eps >= 1.0 else "beyond the force map's last point"
+    raise BearingStateError(
+        f"eccentricity ratio {eps:.4g} >= {1.0 if eps >= 1.0 else eps_max:g}: the journal "
+        f"(y = {y:.4g} m, z = {z:.4g} m) is {why} (CR = {CR:.4g} m; the map covers eps < {eps_max:g})")

@@ -14,7 +14,7 @@ name       module                                what it is
 reynolds   physics.reynolds.Reynolds             finite-volume Reynolds solver (the truth)
 linear     internals.linear.Linear               8 Lund coefficients about an equilibrium
 taylor     internals.guard.DomainGuard           fitted Taylor surrogate behind its guard
-map        internals.forcemap.ForceMap           the Reynolds force as a 2-D table per L/D
+map        internals.mapfile (forcemap, groovemap) the Reynolds force as a 2-D (3-D grooved) table per L/D
 =========  ====================================  =====================================
 
 How to add an internal
@@ -542,16 +542,16 @@ register(InternalSpec(
 ))
 
 register(InternalSpec(
-    "map", "internals.forcemap:ForceMap.from_options", "force map: the Reynolds force reduced exactly to a 2-D table of "
-    "eccentricity and one angle (any speed, load and velocity; docs/forcemap.md)",
+    "map", "internals.mapfile:from_options", "force map: the Reynolds force reduced exactly to a 2-D table of "
+    "eccentricity and one angle (full bore), 3-D with the attitude for grooves and partial arcs (any speed, load and "
+    "velocity; docs/forcemap.md)",
     options=(
         Option("map", str, "", "map: the force map JSON file, built by `bearing-fmu map` for the bearing's L/D "
                "(in the FMU: a file name in its resources folder surrogates/)", file=True, required=True,
                file_format="bearing-fmu-force-map"),
     ),
     can=Capabilities(
-        any_state=True, native=True, any_geometry=False,
-        geometry_why="its reduction to eccentricity and one angle assumes the circular full bore",
+        any_state=True, native=True,  # the map file records its bore; the internal refuses another one
         validity="The force map holds the Reynolds force for every speed, load and velocity of bearings with its "
                  "L/D; states beyond its last eccentricity (eps_max) are refused (fmi2Discard)."),
     case="internals.cases:map_case",
