@@ -533,8 +533,7 @@ register(InternalSpec(
     ),
     uses=("reynolds",),
     can=Capabilities(
-        fixed_speed=True, fitted_domain=True, native=True, any_geometry=False,
-        geometry_why="a surrogate file does not record the bore it was fitted for",
+        fixed_speed=True, fitted_domain=True, native=True,  # the file records its bore; loading checks it
         validity="The surrogate answers for the speed it was fitted at (any other omega is refused) and inside its "
                  "fitted domain of journal states; outside it the FMU {actions}, and beyond domain_limit it always "
                  "refuses. The journal at or beyond the wall is refused (fmi2Discard)."),

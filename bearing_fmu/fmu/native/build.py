@@ -70,7 +70,8 @@ def build_native_fmu(output, internal: str, *, surrogate=None, map=None, bearing
     for label, path in (("surrogate", surrogate), ("map", map)):
         if path is not None and not Path(path).is_file():
             raise FileNotFoundError(f"build_native_fmu: {label} file {str(path)!r} not found")
-    if bearing is not None:
+    if bearing is not None and not (map is not None and str(internal).lower() == "map"):
+        # a map FMU's bore is its map's (checked against the bearing's by the codegen)
         bearing.require_full_bore(f"the native bearing FMU ({bearing_source or 'build_native_fmu'})",
                                   "its parameters are D, L, CR and mu; the geometry parameters are a later step")
     compiler = compiler or ("cmake" if cmake else "zig")
