@@ -48,8 +48,9 @@ GEOMETRY_RTOL = 1e-9  # [rad] a map serves bearings whose grooves and arc equal 
 DIGITS = 10  # significant digits of H in the file (the interpolation error is ~1e-5)
 
 LOBES_WHY = ("a lobed bore's film depends on the journal position in two coordinates and on the direction "
-             "of (omega, omega y - 2 vz, omega z + 2 vy): a 4-D table (about 150 MB and 1e6 Reynolds solves "
-             "at the grooved map's resolution, docs/forcemap.md); use the Reynolds or Taylor internal")
+             "of (omega, omega y - 2 vz, omega z + 2 vy): a 4-D table (1.3 million points, about 35 MB and 2.7 "
+             "million Reynolds solves at the grooved map's resolution, docs/forcemap.md); use the Reynolds or "
+             "Taylor internal")
 SUPPLY_WHY = ("a supply pressure adds a film source independent of the journal's motion and, with "
               "cavitation, the force is not the sum of the two parts (docs/forcemap.md): the map needs "
               "supply_pressure_kPa = 0; use the Reynolds or Taylor internal")
