@@ -9,8 +9,8 @@ checked on the solver, the supply-pressure test, and the resolution study, in on
   n_beta, attitudes), against Reynolds at the same grid at random states (eps <= 0.95, any
   attitude, speeds of both signs 0.2-3 x 22 Hz, velocities up to 1.5 omega CR):
   |F_map - F_rey| / max(|F_rey|, S |omega|), median / p95 / max; the interpolation error alone
-  (against the averaged function the table samples) and the solver's own scatter (its G over
-  attitudes turned by a fraction of a cell: the grooves move with them by < 3 deg).
+  (against the averaged function the table samples) and the solver's own roughness in phi (its
+  G over +-1 cell of attitude minus the quadratic through it).
 
     .venv/bin/python benchmarks/groovemap_study.py [--bearing FILE] [--quick] [--out DIR]
 """
@@ -37,7 +37,7 @@ from bearing_fmu.physics.reynolds import Reynolds
 
 OMEGA = 2 * math.pi * 22.0
 TABLES = [(48, 8, 48, 2), (48, 12, 48, 2), (48, 16, 48, 2), (48, 24, 48, 2), (48, 32, 48, 2),
-          (32, 24, 32, 2), (64, 24, 64, 2), (48, 24, 48, 1), (48, 24, 48, 4)]
+          (32, 24, 32, 2), (64, 24, 64, 2), (48, 24, 48, 1), (48, 24, 48, 4), (64, 24, 64, 1), (64, 32, 64, 1)]
 QUICK = [(24, 8, 24, 1), (32, 12, 32, 2)]
 
 
@@ -102,15 +102,33 @@ def sampled(P, rey, x, n_phase):
     return scale(P) * math.hypot(a, c) * (G[0] * u + G[1] * np.array([-u[1], u[0]]))
 
 
-def scatter(P, rey, xs, n_turn=5):
+def roughness(P, rey, xs, n_turn=9):
+    """The solver's cell-scale roughness in phi at each state's (eps, beta): G at n_turn attitudes
+    over +-1 cell, minus its least-squares quadratic in phi (the smooth dependence on the grooves'
+    position), largest residual relative to max(|G|, 1). No table finer than a cell follows it."""
     out = []
     cell = 2 * math.pi / rey.n_theta
+    d = np.linspace(-cell, cell, n_turn)
     for x in xs:
         eps, phi, a, c = reduced(*x[:4], x[4], P.CR)
-        G = np.array([G_of(P, rey, eps, phi + (k / (n_turn - 1) - 0.5) * cell, math.atan2(c, a), 1.0, 1.0)
-                      for k in range(n_turn)])
-        out.append(np.ptp(G, axis=0).max() / max(np.linalg.norm(G.mean(axis=0)), 1.0))
+        G = np.array([G_of(P, rey, eps, phi + k, math.atan2(c, a), 1.0, 1.0) for k in d])
+        fit = np.polynomial.polynomial.polyvander(d / cell, 2)
+        res = G - fit @ np.linalg.lstsq(fit, G, rcond=None)[0]
+        out.append(np.abs(res).max() / max(np.linalg.norm(G.mean(axis=0)), 1.0))
     return np.array(out)
+
+
+def cost(P, fmap, rey, xs):
+    """Force + Jacobian per call from Python [us]: the map against Reynolds, side by side."""
+    out = []
+    for f, n in ((fmap.force_and_jacobian, 20), (rey.force_and_jacobian, 1)):
+        t0 = time.perf_counter()
+        for _ in range(n):
+            for x in xs:
+                f(*x)
+        out.append((time.perf_counter() - t0) / (n * len(xs)) * 1e6)
+    print(f"cost per call, force + Jacobian from Python: map {out[0]:.1f} us, Reynolds {rey.n_theta} x {rey.n_x} "
+          f"{out[1]:.0f} us ({out[1] / out[0]:.0f}x)")
 
 
 def q(e):
@@ -124,17 +142,25 @@ def main():
     ap.add_argument("--states", type=int, default=300)
     ap.add_argument("--out", default=None, help="keep the maps in this folder")
     ap.add_argument("--tables", default=None, help="n_eps,n_phi,n_beta,phases;... instead of the ladder")
+    ap.add_argument("--cost", default=None, metavar="MAP", help="only the cost per call of this map file")
     args = ap.parse_args()
     P = BearingParams.from_toml(args.bearing)
     rey = Reynolds(P)
+    if args.cost:
+        from bearing_fmu.internals.mapfile import open_map
+
+        fmap = open_map(args.cost, P)
+        xs = states(P, 200, 2)
+        fmap.force_and_jacobian(*xs[0])
+        return cost(P, fmap, rey, xs)
     print(f"{args.bearing}: {P.geometry.describe()}, L/D {P.L / P.D:.4g}, Reynolds {rey.n_theta} x {rey.n_x}; "
           f"{time.strftime('%Y-%m-%d %H:%M')}")
     reduction_check(P, rey)
     supply_check(P)
     xs = states(P, 40 if args.quick else args.states, 1)
     Fr = [rey.force(*x) for x in xs]
-    sc = scatter(P, rey, xs[:100])
-    print(f"solver scatter over one cell (grooves turned with the journal), 100 states: {q(sc)}")
+    sc = roughness(P, rey, xs[:100])
+    print(f"solver roughness in phi (G over +-1 cell minus its quadratic), 100 states: {q(sc)}")
     tables = QUICK if args.quick else TABLES
     if args.tables:
         tables = [tuple(int(v) for v in t.split(",")) for t in args.tables.split(";")]

@@ -39,13 +39,16 @@ from .forcemap import (EPS_MIN, FORMAT, LD_RTOL, array_key, bspline_matrix, numb
                        state_for, worker_signals)
 
 VERSION = 2
-DEFAULT_N_EPS = 48  # the convergence study (docs/studies/2026-11-26-geometry-maps.md)
-DEFAULT_N_PHI = 24  # points over one period of the bore's symmetry
-DEFAULT_N_BETA = 48
-DEFAULT_N_PHASE = 2  # attitudes per table point, spread over one Reynolds cell (averaged)
+# the convergence study (docs/studies/2026-11-26-geometry-maps.md): against the solver at random
+# states 48 x 24 x 48 is as good, but the paper rotor's 10 Hz orbit needs 64 x 32 x 64 (0.012 ->
+# 0.003 % CR); averaging attitudes only biases the table (the solver's grid is fixed to the grooves)
+DEFAULT_N_EPS = 64
+DEFAULT_N_PHI = 32  # points over one period of the bore's symmetry
+DEFAULT_N_BETA = 64
+DEFAULT_N_PHASE = 1  # attitudes per table point, spread over one Reynolds cell (averaged)
 DEFAULT_EPS_MAX = 0.99
 GEOMETRY_RTOL = 1e-9  # [rad] a map serves bearings whose grooves and arc equal its own to this
-DIGITS = 10  # significant digits of H in the file (the interpolation error is ~1e-5)
+DIGITS = 8  # significant digits of H in the file (1e-8; the interpolation error is ~1e-5)
 
 LOBES_WHY = ("a lobed bore's film depends on the journal position in two coordinates and on the direction "
              "of (omega, omega y - 2 vz, omega z + 2 vy): a 4-D table (1.3 million points, about 35 MB and 2.7 "
