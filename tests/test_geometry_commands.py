@@ -98,6 +98,7 @@ def test_map_and_taylor_internals_take_the_bore_their_file_records(tmp_path):
         registry.create("linear", g, {"linear_from": "map", "map": str(MODELS / "maps" / "paper_bearing.json")})
 
 
+@pytest.mark.slow
 def test_the_grooved_map_serves_the_internals_and_the_linear_model():
     """The shipped grooved map: the map internal for the grooved bearing, and the linear model
     linearised on it, whose stiffness is within 1 % of Reynolds' (at the map's truth grid)."""
