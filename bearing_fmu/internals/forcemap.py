@@ -80,8 +80,24 @@ def state_for(eps: float, beta: float, params: BearingParams, phi: float = -0.5 
 
 # ------------------------------------------------------------------------------ the table
 
+class TableAxes:
+    """The s, eps and beta axes of a map table (``n_eps``, ``n_beta``, ``eps_max``)."""
+
+    @property
+    def s(self) -> np.ndarray:
+        return np.linspace(0.0, -math.log1p(-self.eps_max), self.n_eps)
+
+    @property
+    def eps(self) -> np.ndarray:
+        return -np.expm1(-self.s)
+
+    @property
+    def beta(self) -> np.ndarray:
+        return -math.pi + 2.0 * math.pi * np.arange(self.n_beta) / self.n_beta
+
+
 @dataclass
-class MapTable:
+class MapTable(TableAxes):
     """G tabulated as H = G (1 - eps)^k on s_i = i s_max / (n_eps - 1), s = -ln(1 - eps), and
     beta_j = -pi + j 2 pi / n_beta; H has shape (n_eps, n_beta, 2) (radial, tangential)."""
 
@@ -105,26 +121,12 @@ class MapTable:
         """What makes the table unusable, naming its file key and what it must be, or None. A NaN
         L/D would pass every L/D comparison (NaN compares false) and a NaN wall exponent makes
         every force NaN: both are refused here, before any bearing meets the map."""
-        lo, hi = L_OVER_D_RANGE
-        if not lo <= self.L_over_D <= hi:  # NaN fails too
-            return f"key 'L_over_D' = {self.L_over_D!r} must be a finite number in {lo:g} .. {hi:g} (a bearing's L/D)"
-        if not 0.0 < self.eps_max < 1.0:
-            return f"key 'eps_max' = {self.eps_max!r} must lie in (0, 1) (the table's last eccentricity ratio)"
-        if not (math.isfinite(self.wall_exponent) and self.wall_exponent >= 0.0):
-            return (f"key 'wall_exponent' = {self.wall_exponent!r} must be a finite number >= 0 "
-                    "(k in H = G (1 - eps)^k)")
-        for name in ("n_theta", "n_x"):
-            v = getattr(self, name)
-            if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or v < 1:
-                return f"key 'reynolds.{name}' = {v!r} must be an integer >= 1 (the Reynolds grid it was built on)"
-        if not isinstance(self.cavitation, str) or not self.cavitation:
-            return f"key 'reynolds.cavitation' = {self.cavitation!r} must be the name of a cavitation model"
+        problem = header_problem(self)
+        if problem:
+            return problem
         if self.H.ndim != 3 or self.H.shape[2] != 2 or self.H.shape[0] < 4 or self.H.shape[1] < 4:
             return f"key 'H' has shape {self.H.shape}, expected (n_eps >= 4, n_beta >= 4, 2)"
-        if not np.all(np.isfinite(self.H)):
-            i = tuple(int(k) for k in np.argwhere(~np.isfinite(self.H))[0])
-            return f"key 'H' has a non-finite entry H{list(i)} = {float(self.H[i])!r}, expected finite numbers"
-        return None
+        return finite_problem(self.H)
 
     @property
     def n_eps(self) -> int:
@@ -133,18 +135,6 @@ class MapTable:
     @property
     def n_beta(self) -> int:
         return self.H.shape[1]
-
-    @property
-    def s(self) -> np.ndarray:
-        return np.linspace(0.0, -math.log1p(-self.eps_max), self.n_eps)
-
-    @property
-    def eps(self) -> np.ndarray:
-        return -np.expm1(-self.s)
-
-    @property
-    def beta(self) -> np.ndarray:
-        return -math.pi + 2.0 * math.pi * np.arange(self.n_beta) / self.n_beta
 
     def spline(self):
         """(ts, tb, C): knots in s and beta and the tensor spline coefficients C (ns, nb, 2);
@@ -174,6 +164,33 @@ class MapTable:
                 "H": np.round(self.H, 12).tolist(),
                 "spline": dict(zip(("knots_s", "knots_beta", "coefficients"), (a.tolist() for a in self.spline()))),
                 "provenance": self.provenance}
+
+
+def header_problem(t) -> str | None:
+    """What makes a map table's L/D, eps_max, wall exponent, Reynolds grid or cavitation model
+    unusable (``t`` a MapTable or a grooved table), naming the file key, or None."""
+    lo, hi = L_OVER_D_RANGE
+    if not lo <= t.L_over_D <= hi:  # NaN fails too
+        return f"key 'L_over_D' = {t.L_over_D!r} must be a finite number in {lo:g} .. {hi:g} (a bearing's L/D)"
+    if not 0.0 < t.eps_max < 1.0:
+        return f"key 'eps_max' = {t.eps_max!r} must lie in (0, 1) (the table's last eccentricity ratio)"
+    if not (math.isfinite(t.wall_exponent) and t.wall_exponent >= 0.0):
+        return f"key 'wall_exponent' = {t.wall_exponent!r} must be a finite number >= 0 (k in H = G (1 - eps)^k)"
+    for name in ("n_theta", "n_x"):
+        v = getattr(t, name)
+        if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or v < 1:
+            return f"key 'reynolds.{name}' = {v!r} must be an integer >= 1 (the Reynolds grid it was built on)"
+    if not isinstance(t.cavitation, str) or not t.cavitation:
+        return f"key 'reynolds.cavitation' = {t.cavitation!r} must be the name of a cavitation model"
+    return None
+
+
+def finite_problem(H: np.ndarray) -> str | None:
+    """The first non-finite entry of a table H, named, or None."""
+    if not np.all(np.isfinite(H)):
+        i = tuple(int(k) for k in np.argwhere(~np.isfinite(H))[0])
+        return f"key 'H' has a non-finite entry H{list(i)} = {float(H[i])!r}, expected finite numbers"
+    return None
 
 
 def tabulate(params: BearingParams, *, n_eps: int = DEFAULT_N_EPS, n_beta: int = DEFAULT_N_BETA,

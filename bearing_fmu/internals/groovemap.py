@@ -34,9 +34,9 @@ import numpy as np
 
 from ..io.schema import find_non_finite
 from ..physics.geometry import Geometry
-from ..physics.params import L_OVER_D_RANGE, BearingParams
-from .forcemap import (EPS_MIN, FORMAT, LD_RTOL, array_key, bspline_matrix, number_key, refuse_state, scale,
-                       state_for, worker_signals)
+from ..physics.params import BearingParams
+from .forcemap import (EPS_MIN, FORMAT, LD_RTOL, ForceMap, array_key, bspline_matrix, finite_problem, header_problem,
+                       number_key, scale, state_for, TableAxes, worker_signals)
 
 VERSION = 2
 # the convergence study (docs/studies/2026-11-26-geometry-maps.md): against the solver at random
@@ -142,7 +142,7 @@ def fit_axis(values: np.ndarray, axis: int, t: np.ndarray, x: np.ndarray, period
 
 
 @dataclass
-class GroovedMapTable:
+class GroovedMapTable(TableAxes):
     """G tabulated on s_i = i s_max / (n_eps - 1), s = -ln(1 - eps), phi_j = j P / n_phi (P the
     bore's symmetry period) and beta_k = -pi + k 2 pi / n_beta; H has shape (n_eps, n_phi,
     n_beta, 2) (radial, tangential). No wall factor: the s axis follows the wall growth."""
@@ -166,26 +166,15 @@ class GroovedMapTable:
             raise ValueError(f"force map table: {problem}")
 
     def problem(self) -> str | None:
-        lo, hi = L_OVER_D_RANGE
-        if not lo <= self.L_over_D <= hi:
-            return f"key 'L_over_D' = {self.L_over_D!r} must be a finite number in {lo:g} .. {hi:g} (a bearing's L/D)"
-        if not 0.0 < self.eps_max < 1.0:
-            return f"key 'eps_max' = {self.eps_max!r} must lie in (0, 1) (the table's last eccentricity ratio)"
-        for name in ("n_theta", "n_x"):
-            v = getattr(self, name)
-            if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or v < 1:
-                return f"key 'reynolds.{name}' = {v!r} must be an integer >= 1 (the Reynolds grid it was built on)"
-        if not isinstance(self.cavitation, str) or not self.cavitation:
-            return f"key 'reynolds.cavitation' = {self.cavitation!r} must be the name of a cavitation model"
+        problem = header_problem(self)
+        if problem:
+            return problem
         why = map_geometry_problem(self.geometry)
         if why:
             return f"key 'geometry': {why}"
         if self.H.ndim != 4 or self.H.shape[3] != 2 or min(self.H.shape[:3]) < 4:
             return f"key 'H' has shape {self.H.shape}, expected (n_eps >= 4, n_phi >= 4, n_beta >= 4, 2)"
-        if not np.all(np.isfinite(self.H)):
-            i = tuple(int(k) for k in np.argwhere(~np.isfinite(self.H))[0])
-            return f"key 'H' has a non-finite entry H{list(i)} = {float(self.H[i])!r}, expected finite numbers"
-        return None
+        return finite_problem(self.H)
 
     n_eps = property(lambda self: self.H.shape[0])
     n_phi = property(lambda self: self.H.shape[1])
@@ -193,20 +182,8 @@ class GroovedMapTable:
     period = property(lambda self: symmetry_period(self.geometry))
 
     @property
-    def s(self) -> np.ndarray:
-        return np.linspace(0.0, -math.log1p(-self.eps_max), self.n_eps)
-
-    @property
-    def eps(self) -> np.ndarray:
-        return -np.expm1(-self.s)
-
-    @property
     def phi(self) -> np.ndarray:
         return self.period * np.arange(self.n_phi) / self.n_phi
-
-    @property
-    def beta(self) -> np.ndarray:
-        return -math.pi + 2.0 * math.pi * np.arange(self.n_beta) / self.n_beta
 
     def knots(self):
         return (not_a_knot_knots(self.s), periodic_knots(0.0, self.period, self.n_phi),
@@ -362,11 +339,12 @@ def grooved_from_data(path: Path, data: dict) -> GroovedMapTable:
 
 # ---------------------------------------------------------------------------- internal
 
-class GroovedForceMap:
+class GroovedForceMap(ForceMap):
     """The map internal for a grooved or partial-arc bore: ``force`` and ``force_and_jacobian``
-    (analytic, from the 3-D spline's derivatives) for a bearing whose L/D and bore equal the
-    table's; states at or beyond eps_max are refused."""
+    (analytic, from the 3-D spline's derivatives; ForceMap's, with this kernel) for a bearing whose
+    L/D and bore equal the table's; states at or beyond eps_max are refused."""
 
+    # not ForceMap.__init__, which refuses every bore but the full circle
     def __init__(self, params: BearingParams, table: GroovedMapTable, source: str = ""):
         where = f"force map{' ' + source if source else ''}"
         if not same_bore(params.geometry, table.geometry):
@@ -388,23 +366,12 @@ class GroovedForceMap:
         self._args = (ts, tp, tb, C, EPS_MIN, scale(params), float(params.CR))
         self._eps_max = float(table.eps_max)
 
+    @classmethod
+    def from_file(cls, path, params: BearingParams) -> "GroovedForceMap":
+        data = json.loads(Path(path).read_text())
+        return cls(params, grooved_from_data(Path(path), data), source=str(path))
+
     def __repr__(self) -> str:
         t = self.table
         return (f"GroovedForceMap(L/D {t.L_over_D:.4g}, {t.geometry.describe()}, {t.n_eps} x {t.n_phi} x "
                 f"{t.n_beta}, eps <= {t.eps_max:g}, Reynolds {t.n_theta} x {t.n_x} {t.cavitation})")
-
-    def _run(self, y, z, vy, vz, omega, want_jac):
-        y, z, vy, vz, omega = float(y), float(z), float(vy), float(vz), float(omega)
-        eps = self._kernel(*self._args, y, z, vy, vz, omega, want_jac, self._F, self._J)
-        if not eps < self._eps_max or not math.isfinite(vy + vz + omega):
-            refuse_state(self.params, self._eps_max, y, z, vy, vz, omega, want_jac)
-
-    def force(self, y: float, z: float, vy: float, vz: float, omega: float) -> tuple[float, float]:
-        """Film force (Fy, Fz) [N]."""
-        self._run(y, z, vy, vz, omega, False)
-        return float(self._F[0]), float(self._F[1])
-
-    def force_and_jacobian(self, y: float, z: float, vy: float, vz: float, omega: float):
-        """(F (2,), dF/dq (2, 2), dF/dv (2, 2)) [N, N/m, N s/m]."""
-        self._run(y, z, vy, vz, omega, True)
-        return self._F.copy(), self._J[:, :2].copy(), self._J[:, 2:].copy()

@@ -163,12 +163,24 @@ def map_force(ts, tb, C, ns, nb, kwall, eps_min, scale, CR, y, z, vy, vz, omega,
         return math.nan  # overflow (a huge velocity or speed): the caller refuses the state
     if not want_jac:
         return eps
+    if not _jacobian(scale, CR, cp, sp, eps_eval, omega, a, c, Pr, Pt, Pr_a, Pr_c, Pt_a, Pt_c, Pr_e, Pt_e, 0.0, 0.0,
+                     J):
+        return math.nan
+    return eps
+
+
+@njit(cache=True)
+def _jacobian(scale, CR, cp, sp, eps_eval, omega, a, c, Pr, Pt, Pr_a, Pr_c, Pt_a, Pt_c, Pr_e, Pt_e, Pr_p, Pt_p,
+              J):
+    """J (2, 4) = dF/d(y, z, vy, vz) of F = S (Pr u + Pt w) from the partial derivatives of
+    P = r G in (eps, a, c) and, for a grooved bore's table, r dG/dphi (Pr_p, Pt_p; 0 for the full
+    bore); False when an entry is not finite."""
     # chain rule through (eps, phi, a, c); phi enters through u, w and v_r, v_t:
     # da/dphi = 2 v_r / CR = c, dc/dphi = 2 v_t / CR = eps omega - a (at fixed eps)
     da_dphi = c
     dc_dphi = eps_eval * omega - a
-    dPr_dphi = Pr_a * da_dphi + Pr_c * dc_dphi
-    dPt_dphi = Pt_a * da_dphi + Pt_c * dc_dphi
+    dPr_dphi = Pr_a * da_dphi + Pr_c * dc_dphi + Pr_p
+    dPt_dphi = Pt_a * da_dphi + Pt_c * dc_dphi + Pt_p
     # d(Pr u + Pt w)/dphi = dPr u + Pr w + dPt w - Pt u
     dFphi_y = scale * ((dPr_dphi - Pt) * cp - (dPt_dphi + Pr) * sp)
     dFphi_z = scale * ((dPr_dphi - Pt) * sp + (dPt_dphi + Pr) * cp)
@@ -197,8 +209,8 @@ def map_force(ts, tb, C, ns, nb, kwall, eps_min, scale, CR, y, z, vy, vz, omega,
     for i in range(2):
         for j in range(4):
             if not math.isfinite(J[i, j]):
-                return math.nan
-    return eps
+                return False
+    return True
 
 
 # ------------------------------------------------------- grooved bores: G(eps, phi, beta)
@@ -299,30 +311,7 @@ def map3_force(ts, tp, tb, C, eps_min, scale, CR, y, z, vy, vz, omega, want_jac,
     if not want_jac:
         return eps
     # as map_force, plus the table's own attitude dependence r dG/dphi
-    dPr_dphi = Pr_a * c + Pr_c * (eps_eval * omega - a) + Pr_p
-    dPt_dphi = Pt_a * c + Pt_c * (eps_eval * omega - a) + Pt_p
-    dFphi_y = scale * ((dPr_dphi - Pt) * cp - (dPt_dphi + Pr) * sp)
-    dFphi_z = scale * ((dPr_dphi - Pt) * sp + (dPt_dphi + Pr) * cp)
-    dPr_de = Pr_e + Pr_a * omega
-    dPt_de = Pt_e + Pt_a * omega
-    dFe_y = scale * (dPr_de * cp - dPt_de * sp)
-    dFe_z = scale * (dPr_de * sp + dPt_de * cp)
-    e_eval = eps_eval * CR
-    J[0, 0] = dFe_y * cp / CR - dFphi_y * sp / e_eval
-    J[1, 0] = dFe_z * cp / CR - dFphi_z * sp / e_eval
-    J[0, 1] = dFe_y * sp / CR + dFphi_y * cp / e_eval
-    J[1, 1] = dFe_z * sp / CR + dFphi_z * cp / e_eval
-    for col in range(2):
-        dvr = cp if col == 0 else sp
-        dvt = -sp if col == 0 else cp
-        da = -2.0 * dvt / CR
-        dc = 2.0 * dvr / CR
-        dPr = Pr_a * da + Pr_c * dc
-        dPt = Pt_a * da + Pt_c * dc
-        J[0, 2 + col] = scale * (dPr * cp - dPt * sp)
-        J[1, 2 + col] = scale * (dPr * sp + dPt * cp)
-    for i in range(2):
-        for j in range(4):
-            if not math.isfinite(J[i, j]):
-                return math.nan
+    if not _jacobian(scale, CR, cp, sp, eps_eval, omega, a, c, Pr, Pt, Pr_a, Pr_c, Pt_a, Pt_c, Pr_e, Pt_e, Pr_p, Pt_p,
+                     J):
+        return math.nan
     return eps
