@@ -289,7 +289,7 @@ def _grooved_map(args: argparse.Namespace, params) -> int:
     if why:
         raise ValueError(f"map: {args.bearing}: [geometry] {why}")
     n_eps, n_beta = args.resolution or (gm.DEFAULT_N_EPS, gm.DEFAULT_N_BETA)
-    n_phi = args.phi_points or gm.DEFAULT_N_PHI
+    n_phi = args.phi_points or gm.default_n_phi(params.geometry)
     n_theta, n_x = args.grid if args.grid else (None, None)
     workers = args.workers if args.workers is not None else min(os.cpu_count() or 1, max(1, n_eps // 8))
     bar = None
@@ -411,7 +411,8 @@ def main(argv: list[str] | None = None) -> int:
                         f"partial-arc bore {gm.DEFAULT_N_EPS}x{gm.DEFAULT_N_BETA})")
     p.add_argument("--phi-points", type=int_at_least(4), default=None, metavar="N",
                    help="grooved or partial-arc bore: table points in the journal's attitude over one period of the "
-                        f"bore's symmetry (default {gm.DEFAULT_N_PHI})")
+                        f"bore's symmetry (default {gm.DEFAULT_PHI_PER_PI} per 180 deg: {gm.DEFAULT_PHI_PER_PI} for two "
+                        f"opposite grooves, {2 * gm.DEFAULT_PHI_PER_PI} for an arc)")
     p.add_argument("--grid", type=grid, default=None, metavar="N_THETAxN_X",
                    help="Reynolds grid of the truth (default: the solver's default)")
     p.add_argument("--cavitation", choices=("reynolds", "gumbel"), default="reynolds")

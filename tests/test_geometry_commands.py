@@ -124,4 +124,8 @@ def test_fmu_builds_refuse_the_bore_by_name(tmp_path, capsys):
     code, _, err = _cli("bearing-fmu", ["map", "--bearing", str(LEMON), "-o", str(tmp_path / "m.json"),
                                           "--quiet"], capsys)
     assert code == 2 and "[geometry] lobes = 2: a lobed bore's film depends on the journal position" in err
+    # the Python FMU has no bore parameters: a grooved map is refused before any build
+    code, _, err = _cli("bearing-fmu", ["build", "-o", str(tmp_path / "g.fmu"), "--map",
+                                          str(MODELS / "maps" / "paper_2groove.json")], capsys)
+    assert code == 2 and "only the native map FMU takes it" in err and not (tmp_path / "g.fmu").exists()
     assert not (tmp_path / "m.json").exists()

@@ -395,7 +395,12 @@ def check_data_file(path) -> None:
     elif option.name == "map":
         from ..internals.mapfile import load_any_map
 
-        load_any_map(path).spline()
+        table = load_any_map(path)
+        if table.H.ndim == 4:  # this FMU has no bore parameters: it could never serve the map's bore
+            raise ValueError(f"{path}: a grooved or partial-arc bore's force map ({table.geometry.describe()}); the "
+                             f"bearing FMU's parameters are D, L, CR and mu, so only the native map FMU takes it "
+                             "(`bearing-fmu build --native --internal map --map FILE --bearing FILE`)")
+        table.spline()
     else:  # pragma: no cover - a new file option adds its check here
         raise ValueError(f"{path}: no build check for the {option.name} option's files")
 

@@ -43,7 +43,7 @@ VERSION = 2
 # states 48 x 24 x 48 is as good, but the paper rotor's 10 Hz orbit needs 64 x 32 x 64 (0.012 ->
 # 0.003 % CR); averaging attitudes only biases the table (the solver's grid is fixed to the grooves)
 DEFAULT_N_EPS = 64
-DEFAULT_N_PHI = 32  # points over one period of the bore's symmetry
+DEFAULT_PHI_PER_PI = 32  # attitude points per 180 deg (5.6 deg apart): n_phi = this x period / pi
 DEFAULT_N_BETA = 64
 DEFAULT_N_PHASE = 1  # attitudes per table point, spread over one Reynolds cell (averaged)
 DEFAULT_EPS_MAX = 0.99
@@ -215,7 +215,13 @@ class GroovedMapTable(TableAxes):
 
 # ------------------------------------------------------------------------------ building
 
-def tabulate_grooved(params: BearingParams, *, n_eps: int = DEFAULT_N_EPS, n_phi: int = DEFAULT_N_PHI,
+def default_n_phi(geometry: Geometry) -> int:
+    """Table points in phi over one symmetry period at the studied spacing (32 per 180 deg: 32
+    for two opposite grooves, 64 for an arc, 21 for three grooves)."""
+    return max(8, round(DEFAULT_PHI_PER_PI * symmetry_period(geometry) / math.pi))
+
+
+def tabulate_grooved(params: BearingParams, *, n_eps: int = DEFAULT_N_EPS, n_phi: int | None = None,
                      n_beta: int = DEFAULT_N_BETA, eps_max: float = DEFAULT_EPS_MAX, n_theta: int | None = None,
                      n_x: int | None = None, cavitation: str = "reynolds", n_phase: int = DEFAULT_N_PHASE,
                      workers: int = 1, progress=None) -> GroovedMapTable:
@@ -227,6 +233,7 @@ def tabulate_grooved(params: BearingParams, *, n_eps: int = DEFAULT_N_EPS, n_phi
     if why:
         raise ValueError(f"no force map for this bearing's bore ({params.geometry.describe()}): {why}")
     rey = Reynolds(params, n_theta, n_x, cavitation)
+    n_phi = n_phi or default_n_phi(params.geometry)
     t0 = time.perf_counter()
     table = GroovedMapTable(params.L / params.D, rey.n_theta, rey.n_x, rey.cavitation, eps_max, params.geometry,
                             np.zeros((n_eps, n_phi, n_beta, 2)))
