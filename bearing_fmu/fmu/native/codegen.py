@@ -447,7 +447,12 @@ def _map(params: BearingParams, surrogate, map_path, options: dict) -> NativeMod
         raise ValueError("a native map FMU needs a force map file (--map FILE)")
     path = Path(map_path)
     table = load_any_map(path)
-    map_internal(params, table, source=str(path))  # refuses another L/D or bore, as the FMU will
+    try:
+        map_internal(params, table, source=str(path))  # refuses another L/D or bore, as the FMU will
+    except ValueError as exc:
+        if table.H.ndim == 4 and params.geometry.is_full_bore:  # the bore comes from the bearing file
+            raise ValueError(f"{exc}; for the native map FMU give the bearing file with --bearing") from None
+        raise
     shape = " x ".join(str(n) for n in table.H.shape[:-1])
     *knots, C = table.spline()
     ts, tb = knots[0], knots[-1]
