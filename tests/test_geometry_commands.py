@@ -124,13 +124,4 @@ def test_fmu_builds_refuse_the_bore_by_name(tmp_path, capsys):
     code, _, err = _cli("bearing-fmu", ["map", "--bearing", str(LEMON), "-o", str(tmp_path / "m.json"),
                                           "--quiet"], capsys)
     assert code == 2 and "[geometry] lobes = 2: a lobed bore's film depends on the journal position" in err
-    # the Python FMU has no bore parameters: a grooved map is refused before any build
-    code, _, err = _cli("bearing-fmu", ["build", "-o", str(tmp_path / "g.fmu"), "--map",
-                                          str(MODELS / "maps" / "paper_2groove.json")], capsys)
-    assert code == 2 and "only the native map FMU takes it" in err and not (tmp_path / "g.fmu").exists()
-    # the native map FMU takes the grooved map with its bearing file (tests/test_native_fmu.py), not without
-    code, _, err = _cli("bearing-fmu", ["build", "--native", "--internal", "map", "--map",
-                                          str(MODELS / "maps" / "paper_2groove.json"), "-o", str(tmp_path / "n.fmu")],
-                        capsys)
-    assert code == 2 and "give the bearing file with --bearing" in err and not (tmp_path / "n.fmu").exists()
     assert not (tmp_path / "m.json").exists()

@@ -46,6 +46,19 @@ def test_the_shipped_grooved_maps_are_for_their_bearings():
 
 
 @pytest.mark.slow
+def test_fmu_builds_take_a_grooved_map_only_natively_with_its_bearing(tmp_path, capsys):
+    # the Python FMU has no bore parameters: a grooved map is refused before any build
+    code, _, err = _cli("bearing-fmu", ["build", "-o", str(tmp_path / "g.fmu"), "--map",
+                                          str(PAPER_MAP)], capsys)
+    assert code == 2 and "only the native map FMU takes it" in err and not (tmp_path / "g.fmu").exists()
+    # the native map FMU takes the grooved map with its bearing file (tests/test_native_fmu.py), not without
+    code, _, err = _cli("bearing-fmu", ["build", "--native", "--internal", "map", "--map",
+                                          str(PAPER_MAP), "-o", str(tmp_path / "n.fmu")],
+                        capsys)
+    assert code == 2 and "give the bearing file with --bearing" in err and not (tmp_path / "n.fmu").exists()
+
+
+@pytest.mark.slow
 def test_map_command_writes_a_grooved_map_that_runs_a_scene(tmp_path, capsys):
     out = tmp_path / "m.json"
     code, text, err = _cli("bearing-fmu", ["map", "--bearing", str(GROOVED), "-o", str(out), "--resolution", "8x8",
