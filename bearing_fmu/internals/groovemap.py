@@ -373,6 +373,11 @@ class GroovedForceMap(ForceMap):
         self._args = (ts, tp, tb, C, EPS_MIN, scale(params), float(params.CR))
         self._eps_max = float(table.eps_max)
 
+    def compiled_force(self):
+        """None: no compiled kernel of the 3-D map yet (a host calls ``force_and_jacobian``); not
+        the full bore's, which a ForceMap may offer and which would read this table wrongly."""
+        return None
+
     @classmethod
     def from_file(cls, path, params: BearingParams) -> "GroovedForceMap":
         data = json.loads(Path(path).read_text())
