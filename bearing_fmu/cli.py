@@ -200,9 +200,9 @@ def _build_native(args: argparse.Namespace) -> int:
     if internal is None:
         raise ValueError(f"--native needs --internal {'|'.join(native)} ("
                          + ", ".join(f"{owners[f]} with --{f} FILE" for f in given if f in owners) + ")")
-    spec = registry.get(internal)
-    readable = {o.name for o in spec.all_options() if o.file}
-    for o in spec.file_options():
+    specs = [registry.get(p) for p in internal.split(",")]
+    readable = {o.name for spec in specs for o in spec.all_options() if o.file}
+    for o in (o for spec in specs for o in spec.file_options()):
         if o.required and not given.get(o.name):
             raise ValueError(f"--native --internal {internal} needs --{o.name} FILE")
     for name, files in given.items():
@@ -222,7 +222,8 @@ def _build_native(args: argparse.Namespace) -> int:
     import zipfile
 
     folders = sorted({n.split("/")[1] for n in zipfile.ZipFile(path).namelist() if n.startswith("binaries/")})
-    print(f"wrote {path} (native FMU, FMI {args.fmi}.0, {internal} internal, Model Exchange and Co-Simulation, no Python; "
+    kind = f"{internal} internal{'s' if ',' in internal else ''}"
+    print(f"wrote {path} (native FMU, FMI {args.fmi}.0, {kind}, Model Exchange and Co-Simulation, no Python; "
           f"binaries: {', '.join(folders)})")
     return 0
 
@@ -326,6 +327,16 @@ def _native_choices() -> tuple[str, ...]:
     return having(native=True)
 
 
+def _native_internal(text: str) -> str:
+    """--internal of a native FMU: one internal, or several comma-separated (each once)."""
+    names = [t.strip().lower() for t in str(text).split(",") if t.strip()]
+    allowed = _native_choices()
+    if not names or any(n not in allowed for n in names) or len(set(names)) != len(names):
+        raise argparse.ArgumentTypeError(f"{text!r}: one of {', '.join(allowed)}, or several comma-separated, each "
+                                         "once (an FMU switching among them by its parameter internal)")
+    return ",".join(names)
+
+
 def _resolution(text: str) -> tuple[int, int]:
     n_eps, n_beta = (int(v) for v in text.lower().split("x"))
     if not (4 <= n_eps <= 2000 and 8 <= n_beta <= 4000):
@@ -377,9 +388,11 @@ def main(argv: list[str] | None = None) -> int:
                         "one, the FMU parameter 'map' defaults to it)")
     p.add_argument("--native", action="store_true",
                    help="a native FMU: the internal compiled to C (Model Exchange and Co-Simulation, no Python at run "
-                        "time; needs a C compiler now); taylor, map or linear")
-    p.add_argument("--internal", choices=_native_choices(), default=None,
-                   help="--native: the internal (default: taylor with --surrogate, map with --map)")
+                        "time; needs a C compiler now); reynolds, taylor, map or linear, or several in one FMU")
+    p.add_argument("--internal", type=_native_internal, default=None,
+                   help="--native: the internal, " + " | ".join(_native_choices()) + ", or several comma-separated "
+                        "(one FMU, the parameter internal chooses; taylor,reynolds: domain_action = fallback) "
+                        "(default: taylor with --surrogate, map with --map)")
     p.add_argument("--fmi", type=int, choices=(2, 3), default=2,
                    help="--native: the FMI version of the FMU, 2 (2.0, default) or 3 (3.0: binaries per platform "
                         "tuple, sources/buildDescription.xml)")

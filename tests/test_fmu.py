@@ -66,7 +66,7 @@ def test_validate_and_model_description(fmu):
     assert v["Fy"].unit == "N" and v["Kyy"].unit == "N/m" and v["omega"].unit == "rad/s"
     assert float(v["CR"].start) == 90e-6 and v["internal"].start == "reynolds"
     assert v["surrogate"].start == "paper_22hz.json"  # the one bundled surrogate
-    inputs = {v[n] for n in IN}
+    inputs = {v[n] for n in (*IN, "T_supply")}  # the thermal port's input too (docs/fmu.md)
     assert {u.variable.name for u in md.initialUnknowns} == {x.name for x in md.modelVariables
                                                             if x.causality == "output"}
     for u in md.outputs:

@@ -46,11 +46,7 @@ def test_the_shipped_grooved_maps_are_for_their_bearings():
 
 
 @pytest.mark.slow
-def test_fmu_builds_take_a_grooved_map_only_natively_with_its_bearing(tmp_path, capsys):
-    # the Python FMU has no bore parameters: a grooved map is refused before any build
-    code, _, err = _cli("bearing-fmu", ["build", "-o", str(tmp_path / "g.fmu"), "--map",
-                                          str(PAPER_MAP)], capsys)
-    assert code == 2 and "only the native map FMU takes it" in err and not (tmp_path / "g.fmu").exists()
+def test_the_native_map_build_of_a_grooved_map_needs_its_bearing(tmp_path, capsys):
     # the native map FMU takes the grooved map with its bearing file (tests/test_native_fmu.py), not without
     code, _, err = _cli("bearing-fmu", ["build", "--native", "--internal", "map", "--map",
                                           str(PAPER_MAP), "-o", str(tmp_path / "n.fmu")],

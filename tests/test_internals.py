@@ -124,10 +124,24 @@ def check_capabilities_hold(b: Built):
         assert math.isfinite(internal.domain_distance(y, z, vy, vz))
         internal.force(y, z, vy, vz, omega)
         assert internal.last_out_of_domain in (False, True)
+    if can.film_flow:  # the FMU's thermal ports read its film report: friction and flows at any state
+        rep = internal.film_report(y, z, vy, vz, omega)
+        assert rep.inflow_m3_s > 0.0 and rep.side_flow_m3_s > 0.0 and math.isfinite(rep.friction_power_W)
     if can.native:
         from bearing_fmu.fmu.native import INTERNALS
 
         assert b.spec.name in INTERNALS, "declared native, but the native FMU has no C model of it"
+    assert hasattr(internal, "compiled_force") == can.compiled, "compiled_force() and Capabilities.compiled"
+    if can.compiled:  # its compiled kernel: the numbers force_and_jacobian gives, and its refusals
+        from bearing_fmu.internals.compiled import evaluate
+
+        status, F, dq, dv = evaluate(internal.compiled_force(), y, z, vy, vz, omega)
+        want = internal.force_and_jacobian(y, z, vy, vz, omega)
+        assert status == 0
+        for got, exp in zip((F, dq, dv), want):
+            np.testing.assert_array_equal(got, exp)
+        assert evaluate(internal.compiled_force(), y, math.nan, vy, vz, omega)[0] != 0
+        assert evaluate(internal.compiled_force(), y, z, vy, vz, 2.0 * omega)[0] == (0 if can.any_state else 1)
 
 
 def check_fmu_equals_the_direct_call(b: Built):

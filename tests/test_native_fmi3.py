@@ -42,7 +42,8 @@ SURROGATE = ROOT / "models" / "surrogates" / "paper_22hz_16.7N.json"
 OK, WARNING, DISCARD, ERROR = 0, 1, 2, 3
 IN = ("y", "z", "vy", "vz", "omega")
 OUT = ("Fy", "Fz", "eccentricity", "h_min", "Kyy", "Kyz", "Kzy", "Kzz", "Cyy", "Cyz", "Czy", "Czz")
-KINDS = ("map", "taylor", "linear")
+KINDS = ("map", "taylor", "linear", "reynolds")
+REYNOLDS_GRID = {"n_theta": 32, "n_x": 8}  # the native Reynolds FMU's start values: a small grid
 
 pytestmark = [pytest.mark.slow,  # six FMI 3.0 and FMI 2.0 builds compiled and driven: end to end, in CI (the whole suite)
               pytest.mark.filterwarnings("ignore:state outside the surrogate's fitted domain")]
@@ -62,7 +63,9 @@ def fmus(tmp_path_factory):
                       registry.create("map", PAPER_BEARING, {"map": str(PAPER_MAP)})),
               "taylor": ({"surrogate": SURROGATE}, load_surrogate(SURROGATE).params,
                          registry.create("taylor", load_surrogate(SURROGATE).params, {"surrogate": str(SURROGATE)})),
-              "linear": ({"options": lin}, PAPER_BEARING, registry.create("linear", PAPER_BEARING, lin))}
+              "linear": ({"options": lin}, PAPER_BEARING, registry.create("linear", PAPER_BEARING, lin)),
+              "reynolds": ({"options": REYNOLDS_GRID}, PAPER_BEARING,
+                           registry.create("reynolds", PAPER_BEARING, REYNOLDS_GRID))}
     out = {}
     for internal, (kw, params, py) in builds.items():
         paths = {}
@@ -163,7 +166,7 @@ def states(internal, py, params, n=12, seed=0):
     0.9 at any speed and velocity; the surrogate at its training states, moved across its domain's
     edge; the linear model about its point at its speed."""
     rng = np.random.default_rng(seed)
-    if internal == "map":
+    if internal in ("map", "reynolds"):
         out = []
         for _ in range(n):
             e, a, w = rng.uniform(0, 0.9), rng.uniform(-math.pi, math.pi), rng.uniform(20, 400)
@@ -208,7 +211,7 @@ def test_archive_binary_and_instantiation_token(fmus):
         "modelDescription.xml").decode()
     config = Path(unzip, "sources", "fmi3_config.h").read_text()
     assert f'#define BN3_TOKEN "{md.guid}"' in config
-    assert len({fmpy.read_model_description(str(f["fmu3"][0])).guid for f in fmus.values()}) == 3
+    assert len({fmpy.read_model_description(str(f["fmu3"][0])).guid for f in fmus.values()}) == len(fmus)
     build = fmpy.read_model_description(str(path)).buildConfigurations[0]
     assert build.sourceFileSets[0].language == "C99"
     assert [(d.name, d.value) for d in build.sourceFileSets[0].preprocessorDefinitions] == [("BN_FMI_VERSION", "3")]
@@ -236,7 +239,8 @@ def test_same_variables_as_the_fmi2_fmu(fmus):
     """The FMI 2.0 FMU's variables with their value references, causality, variability, start,
     units, display units and bounds; Real as Float64; the independent variable time; the outputs'
     dependencies as fmi3GetVariableDependencies gives them."""
-    types = {"Real": "Float64", "Boolean": "Boolean", "String": "String", "Enumeration": "Enumeration"}
+    types = {"Real": "Float64", "Boolean": "Boolean", "String": "String", "Enumeration": "Enumeration",
+             "Integer": "Int64"}
     for internal, f in fmus.items():
         v2 = {v.name: v for v in fmpy.read_model_description(str(f["fmu2"][0])).modelVariables}
         md3 = fmpy.read_model_description(str(f["fmu3"][0]))
@@ -365,7 +369,7 @@ def test_directional_and_adjoint_derivatives(fmus, internal):
             # K, C along each input: central differences of the K, C outputs, a step 30 times the FMU's
             h = 3e-5 * _scale(params, st)
             for j in range(5):
-                if internal != "map" and j == 4:
+                if internal not in ("map", "reynolds") and j == 4:
                     assert np.all(J[4:, 4] == 0.0)  # a model of one speed: its K, C do not move with it
                     continue
                 plus, minus = list(st), list(st)
@@ -392,9 +396,9 @@ def test_directional_and_adjoint_derivatives(fmus, internal):
             v = np.array([0.3, -0.2, 0.5, 0.1, 0.0 if internal != "map" else 0.7])
             status, jv = raw.derivative(["Fy", "Fz", "eccentricity"], list(IN), v)
             assert status == OK and np.allclose(jv, J[:3] @ v, rtol=1e-12, atol=1e-9 * np.max(np.abs(J[:3] @ v)))
-        # refused: a parameter as known, a Boolean as unknown, seed and sensitivity sizes
+        # refused: a parameter as known after initialisation, a Boolean as unknown, seed and sensitivity sizes
         assert raw.derivative(["Fy"], ["D"], [1.0])[0] == ERROR and "known D" in raw.last()
-        assert "not provided" in raw.last()
+        assert "in Initialization Mode only" in raw.last()
         assert raw.derivative(["Fy"], ["time"], [1.0])[0] == ERROR and "no output depends on time" in raw.last()
         assert raw.derivative(["out_of_domain"], ["y"], [1.0])[0] == ERROR and "not a Float64 output" in raw.last()
         out = (ctypes.c_double * 1)()
@@ -419,6 +423,79 @@ def test_derivatives_in_initialization_mode_and_without_the_tangent(fmus):
         _f, dq, _dv = f["py"].force_and_jacobian(*st)
         assert status == OK and d[0] == dq[0][0] and d[1] == 0.0  # K is 0 without the tangent: so is its derivative
     finally:
+        raw.close()
+
+
+# the Float64 parameters whose derivatives are checked against differences of the outputs: the
+# map's bearing moves only with its L/D (LD_RTOL 1e-9: D alone is refused), so D and L go
+# together; a surrogate refuses any bearing but its own (its CR: analytic, below)
+PARAMETER_DIRECTIONS = {"map": (("D", "L"), ("CR",), ("mu",)),
+                        "taylor": (("domain_limit",),),
+                        "linear": (("lin_Kyy",), ("lin_Czy",), ("lin_y0",), ("lin_Fz0",), ("CR",), ("D", "L")),
+                        # Reynolds: any bearing; D or L alone changes L/D (bn_shape_derivative)
+                        "reynolds": (("D",), ("L",), ("D", "L"), ("CR",), ("mu",))}
+
+
+@pytest.mark.parametrize("internal", KINDS)
+def test_parameter_derivatives_in_initialization_mode(fmus, internal):
+    """Directional and adjoint derivatives along the Float64 parameters in Initialization Mode
+    (their InitialUnknown dependencies), against central differences of the FMU's own outputs
+    computed in Initialization Mode at the parameters moved by +-1e-6 of their values: the map's
+    D, L, CR, mu (F = S P(q/CR, v/CR, omega), S = mu L D^3 / 8 CR^2: D alone is 3 F / D), the
+    Taylor model's (its bearing compiled in: 0 for the force; eccentricity and h_min follow CR),
+    the linear model's coefficients. The same bits as the FMI 2.0 FMU's; an adjoint's unit seed
+    gives the directional derivative's bits. After initialisation a parameter is no known."""
+    f = fmus[internal]
+    st = states(internal, f["py"], f["params"], n=1, seed=13)[0]
+    raw = Raw3(f["fmu3"])
+    md2 = fmpy.read_model_description(str(f["fmu2"][0]))
+    fmu2 = FMU2Slave(guid=md2.guid, unzipDirectory=f["fmu2"][1], modelIdentifier=md2.coSimulation.modelIdentifier,
+                     instanceName="fmi2")
+    vr2 = {v.name: v.valueReference for v in md2.modelVariables}
+    try:
+        fmu2.instantiate()
+        fmu2.setupExperiment(startTime=0.0)
+        fmu2.enterInitializationMode()
+        fmu2.setReal([vr2[n] for n in IN], list(st))
+        assert raw.enter() == OK and raw.set(IN, st) == OK
+        start = {k: float(v.start) for k, v in raw.vars.items() if v.causality == "parameter" and v.type == "Float64"}
+
+        def outputs_at(values):
+            assert raw.set(list(values), list(values.values())) == OK, raw.last()
+            status, out = raw.get(OUT)
+            assert status == OK, raw.last()
+            return np.array(out)
+
+        base = outputs_at(start)
+        for names in PARAMETER_DIRECTIONS[internal]:
+            seed = [start[n] for n in names]  # d/ds of the outputs at p (1 + s)
+            status, got = raw.derivative(OUT, list(names), seed)
+            assert status == OK, raw.last()
+            h = 1e-6
+            up = outputs_at({**start, **{n: start[n] * (1 + h) for n in names}})
+            down = outputs_at({**start, **{n: start[n] * (1 - h) for n in names}})
+            outputs_at(start)
+            want = (up - down) / (2 * h)
+            assert np.allclose(got, want, rtol=1e-5, atol=1e-6 * np.abs(want).max() + 1e-300), (names, got, want)
+            assert got.tolist() == fmu2.getDirectionalDerivative([vr2[n] for n in OUT], [vr2[n] for n in names], seed)
+            # the adjoint's unit seeds: the bits of the directional derivatives along each known alone
+            unit = np.array([raw.derivative(OUT, [n], [1.0])[1] for n in names]).T  # (outputs, knowns)
+            for i, name in enumerate(OUT):
+                status, row = raw.derivative([name], list(names), [1.0], adjoint=True)
+                assert status == OK and np.array_equal(row, unit[i]), (name, row, unit[i])
+            assert np.allclose(unit @ np.array(seed), got, rtol=1e-12, atol=1e-12 * np.abs(got).max() + 1e-300)
+        if internal == "map":
+            status, got = raw.derivative(["Fy", "Fz", "Kyy"], ["D"], [1.0])
+            assert status == OK and np.allclose(got, 3 * base[[0, 1, 4]] / start["D"], rtol=1e-14)
+        if internal == "taylor":
+            status, got = raw.derivative(["Fy", "Fz", "Kyy", "eccentricity", "h_min"], ["CR"], [1.0])
+            assert status == OK and np.array_equal(got[:3], np.zeros(3))
+            assert got[3] == pytest.approx(-base[2] / start["CR"], rel=1e-14) and got[4] == pytest.approx(1.0, rel=1e-14)
+        assert raw.call("fmi3ExitInitializationMode") == OK
+        assert raw.derivative(["Fy"], ["mu"], [1.0])[0] == ERROR and "Initialization Mode only" in raw.last()
+        assert raw.derivative(["Fy"], ["mu"], [1.0], adjoint=True)[0] == ERROR
+    finally:
+        fmu2.freeInstance()
         raw.close()
 
 
@@ -720,3 +797,27 @@ def test_fmpy_cmake_project_builds_the_same_binary(fmus, tmp_path):
         finally:
             raw.close()
     assert got[0] == got[1]
+
+
+def test_thermal_ports_and_their_derivatives(fmus):
+    """The thermal ports off (no native internal has the film's flows): T_eff = T_supply, mu_eff = mu;
+    dT_eff/dT_supply = 1 directional and adjoint, the force not along T_supply; thermal = true refused."""
+    f = fmus["map"]
+    raw = Raw3(f["fmu3"])
+    try:
+        assert raw.init() == OK
+        assert raw.set(["T_supply"], [333.0]) == OK and raw.step()[0] == OK  # CS: the outputs of the step
+        status, out = raw.get(["P_loss", "Q_side", "T_eff", "mu_eff"])
+        assert status == OK and out[:3] == [0.0, 0.0, 333.0] and out[3] == raw.get(["mu"])[1][0]
+        status, d = raw.derivative(["Fy", "Fz", "P_loss", "Q_side", "T_eff", "mu_eff"], ["T_supply"], [1.0])
+        assert status == OK and list(d) == [0.0, 0.0, 0.0, 0.0, 1.0, 0.0]
+        status, row = raw.derivative(["T_eff", "Fy"], ["T_supply", "y"], [2.0, 0.0], adjoint=True)
+        assert status == OK and list(row) == [2.0, 0.0]
+    finally:
+        raw.close()
+    raw = Raw3(f["fmu3"])
+    try:
+        assert raw.set(["thermal"], [True], "Boolean") == OK and raw.enter() == OK
+        assert raw.call("fmi3ExitInitializationMode") == ERROR and "thermal = true needs the film's" in raw.last()
+    finally:
+        raw.close()

@@ -1,7 +1,7 @@
 """The native FMU's binaries for every desktop platform (bearing_fmu/fmu/native/compile.py):
 what each binary exports and needs, read by our own reader and by binutils / LLVM; the Linux
 binary's glibc baseline; the universal macOS binary; the sources clean under every compiler's
-warnings; the data's decimal literals exact. One FMU of each kind (map, taylor, linear) built
+warnings; the data's decimal literals exact. One FMU of each kind (map, taylor, linear, reynolds) built
 once per session with all three platforms.
 """
 
@@ -34,14 +34,22 @@ FMI2 = set(re.findall(r"#define (fmi2\w+)\s+fmi2FullName\(\1\)", (FH / "fmi2Func
 
 @pytest.fixture(scope="session")
 def every_platform(tmp_path_factory):
-    """kind -> (fmu, extracted dir): map, taylor and linear native FMUs with every platform's binary."""
+    """kind -> (fmu, extracted dir): map, taylor, linear, reynolds and several (taylor and reynolds in one)
+    native FMUs with every platform's binary."""
     from bearing_fmu.fmu.native.build import build_native_fmu
+    from bearing_fmu.physics.params import BearingParams
 
     folder = tmp_path_factory.mktemp("platforms")
     out = {"map": build_native_fmu(folder / "map.fmu", "map", map=PAPER_MAP),
            "taylor": build_native_fmu(folder / "taylor.fmu", "taylor", surrogate=SURROGATE),
            "linear": build_native_fmu(folder / "linear.fmu", "linear",
-                                      options={"linear_from": "map", "map": str(PAPER_MAP)})}
+                                      options={"linear_from": "map", "map": str(PAPER_MAP)}),
+           # the Reynolds solver on the lemon bore (grooves, lobes: every path of its grid), a 64 x 8 grid
+           "reynolds": build_native_fmu(folder / "reynolds.fmu", "reynolds", options={"n_theta": 64, "n_x": 8},
+                                        bearing=BearingParams.from_toml(ROOT / "models" / "bearing_paper_lemon.toml")),
+           # several internals in one binary (bn_parts.c), Taylor falling back to Reynolds
+           "several": build_native_fmu(folder / "several.fmu", "taylor,reynolds", surrogate=SURROGATE,
+                                       options={"domain_action": "fallback", "n_theta": 64, "n_x": 8})}
     return {k: (fmu, Path(fmpy.extract(str(fmu)))) for k, fmu in out.items()}
 
 
@@ -125,7 +133,7 @@ def _sources(unzip: Path) -> list[Path]:
     return [unzip / "sources" / f for f in md.buildConfigurations[0].sourceFileSets[0].sourceFiles]
 
 
-@pytest.mark.parametrize("kind", ["map", "taylor", "linear"])
+@pytest.mark.parametrize("kind", ["map", "taylor", "linear", "reynolds", "several"])
 def test_sources_compile_without_a_warning(every_platform, kind, tmp_path):
     """gcc and clang (zig's, for Windows and arm64 macOS) with -Wall -Wextra -Wpedantic -Werror:
     what `fmpy compile --all-warnings --warning-as-error` asks, in ISO C99."""
@@ -211,7 +219,7 @@ def _input_file(fmu: Path, path: Path) -> Path:
     return path
 
 
-@pytest.mark.parametrize("kind", ["map", "taylor", "linear"])
+@pytest.mark.parametrize("kind", ["map", "taylor", "linear", "reynolds", "several"])
 @pytest.mark.parametrize("interface", ["me", "cs"])
 def test_compliance_checker_reports_nothing(every_platform, kind, interface, tmp_path):
     """The Modelica Association's FMU Compliance Checker, started with an empty environment (no
@@ -255,7 +263,7 @@ def _wine() -> str:
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("kind", ["map", "taylor", "linear"])
+@pytest.mark.parametrize("kind", ["map", "taylor", "linear", "reynolds", "several"])
 def test_windows_binary_under_wine_gives_the_linux_binarys_forces(every_platform, kind, tmp_path_factory):
     """example_host.c cross-compiled for Windows with zig runs the win64 binary under wine; the
     same host compiled for Linux runs the linux64 binary: the outputs agree to 1e-13 relative (the

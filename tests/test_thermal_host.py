@@ -94,9 +94,14 @@ def test_scene_supply_temperature_runs_at_mu_eff(tmp_path):
 
 
 @pytest.mark.parametrize("edit, match", [
-    (lambda t: t.replace('via = "direct"', 'via = "fmu"'), r"supply_temperature_C = 40 needs via = 'direct'"),
-    (lambda t: t.replace("speed_hz = 44.0", "[speed_profile]\ntimes_s = [0.0, 0.1]\nspeeds_hz = [40.0, 44.0]\n"),
-     r"supply_temperature_C = 40 with a \[speed_profile\]"),
+    (lambda t: t.replace('via = "direct"', 'via = "fmu"\nfmu_kind = "native"'),
+     r"supply_temperature_C = 40 needs via = 'direct' or fmu_kind = 'python': the native FMU's thermal ports stay off"),
+    (lambda t: t.replace('via = "direct"', 'via = "fmu"').replace('internal = "reynolds"', 'internal = "linear"'),
+     r"supply_temperature_C = 40 through an FMU's thermal ports needs an internal with the film's friction and "
+     r"flows \(reynolds\); internal = 'linear': a linear model holds the force about one point"),
+    (lambda t: t.replace("speed_hz = 44.0", "[speed_profile]\ntimes_s = [0.0, 0.1]\nspeeds_hz = [40.0, 44.0]\n")
+     .replace('internal = "reynolds"', 'internal = "linear"'),
+     r"supply_temperature_C = 40 with a \[speed_profile\] needs an internal with the film's friction and flows"),
     (lambda t: t.replace("rotor_paper_vg46.toml", "rotor_paper.toml"),
      r"supply_temperature_C = 40: bearing 1 \(node 3\) has no \[oil\] table"),
     (lambda t: t.replace("supply_temperature_C = 40.0", "supply_temperature_C = 190.0"),
@@ -119,3 +124,48 @@ def test_shipped_oil_files_load():
     b = BearingParams.from_toml(MODELS / "bearing_paper_vg46.toml")
     assert b.oil is not None and b.mu == pytest.approx(46e-6 * 861.0, rel=1e-12)
     assert all(p.oil is not None for p in Rotor.from_toml(VG46_ROTOR).bearings)
+
+
+def _runs(tmp_path, scene, t_end_s):
+    """The scene run in-process and through the Python FMU (its thermal ports): their npz arrays."""
+    import dataclasses
+
+    out = {}
+    for via in ("direct", "fmu"):
+        run = run_scene(dataclasses.replace(scene.with_internal("reynolds", t_end_s=t_end_s), via=via), tmp_path / via)
+        assert run.ok, run
+        out[via] = np.load(run.npz)
+    return out["direct"], out["fmu"]
+
+
+@pytest.mark.slow
+def test_fmu_run_with_a_supply_temperature_equals_the_direct_run(tmp_path):
+    """The shipped 44 Hz scene through the FMU's thermal ports (T_supply in, T_eff a state of the FMU,
+    restored at every Newton iteration) equals the in-process run (the same lagged film temperature,
+    LaggedThermal) to round-off, and differs from the run at the file's isothermal viscosity."""
+    import dataclasses
+
+    scene = load_scene(VG46_SCENE)
+    direct, fmu = _runs(tmp_path, scene, 0.004)
+    for key in ("y", "z", "Fy", "Fz"):
+        scale = np.max(np.abs(direct[key]))
+        assert np.max(np.abs(fmu[key] - direct[key])) <= 1e-9 * scale, key
+    iso = run_scene(dataclasses.replace(scene.with_internal("reynolds", t_end_s=0.004), supply_temperature_K=None),
+                    tmp_path / "iso")
+    iso_ecc = np.load(iso.npz)["eccentricity"]  # a thinner oil: the journal runs more eccentric
+    assert np.min(direct["eccentricity"][0] - iso_ecc[0]) > 1e-3
+
+
+@pytest.mark.slow
+def test_run_up_with_a_supply_temperature(tmp_path):
+    """A run-up 44 -> 60 Hz in 5 ms with the oil supplied at 40 C (refused before): in-process and
+    through the FMU the same to round-off (the film temperature lags the heat balance in both)."""
+    import dataclasses
+
+    from rotor_host.model.speed import SpeedProfile
+
+    scene = dataclasses.replace(load_scene(VG46_SCENE), speed_profile=SpeedProfile((0.0, 0.005), (44.0, 60.0)))
+    direct, fmu = _runs(tmp_path, scene, 0.005)
+    for key in ("y", "z", "Fy", "Fz"):
+        assert np.max(np.abs(fmu[key] - direct[key])) <= 1e-9 * np.max(np.abs(direct[key])), key
+    assert direct["speed_hz"][-1] == pytest.approx(60.0)

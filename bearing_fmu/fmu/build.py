@@ -46,7 +46,7 @@ PACKAGE = HERE.parent  # bearing_fmu
 # internals, the surrogate file) and the slave's own helpers (call order, resources, variables);
 # not the fitting, the FMU build tooling or the command lines.
 IN_FMU = ("__init__.py", "physics", "internals", "surrogates", "io/__init__.py", "io/schema.py", "fmu/__init__.py",
-          "fmu/order.py", "fmu/resources.py", "fmu/variables.py")
+          "fmu/order.py", "fmu/ports.py", "fmu/resources.py", "fmu/variables.py")
 MODEL_IDENTIFIER = "BearingFMU"
 REQUIREMENTS = "numpy>=1.26\nscipy>=1.11\nnumba>=0.59\n"
 
@@ -56,9 +56,6 @@ _ABS_FROM = re.compile(r"^(\s*)from\s+bearing_fmu(?=[.\s])", re.M)
 _REL_FROM = re.compile(r"^(\s*)from\s+\.(\w*)", re.M)
 _DYNAMIC = re.compile(r"""import_module\(\s*['"]bearing_fmu""")
 
-
-# the FMU carries D, L, CR, mu as parameters: a bore it cannot carry is refused, not dropped
-FMU_GEOMETRY_WHY = "its parameters are D, L, CR and mu; the geometry parameters are a later step"
 
 def package_sources() -> dict[str, str]:
     """The package modules bundled in the FMU, name -> source text (sorted by name)."""
@@ -260,6 +257,14 @@ def _postprocess(xml_bytes: bytes, pkg: str, bearing: dict | None = None, record
         causality = sv.get("causality")
         {"input": inputs, "output": outputs, "parameter": params_idx}.get(causality, []).append(index)
         real, integer = sv.find("Real"), sv.find("Integer")
+        if entry is not None and name in (bearing or {}):  # a built-in bearing's bore and oil: their starts
+            typed = sv.find(entry[1])
+            if typed is not None and entry[1] != "Real":
+                typed.set("start", {"Boolean": lambda x: "true" if x else "false", "Integer": lambda x: str(int(x)),
+                                    "String": str}[entry[1]](entry[4]))
+        if name in ENUMERATIONS and ENUMERATIONS[name][0] in (bearing or {}):  # the enumeration of such a choice
+            string, items = ENUMERATIONS[name]
+            sv.find("Integer").set("start", str(items.index(bearing[string]) + 1))
         if real is not None:
             if "start" in real.attrib:  # pythonfmu writes %.16g, which does not round-trip 9e-05
                 start = entry[4] if entry is not None else real.get("start")
@@ -327,6 +332,7 @@ def _rewrite_zip(path: Path, pkg: str, bearing: dict | None = None, record: dict
 
     from .binary import STATUS_PATCHES, patch_pythonfmu_binary, status_patched
     from .docs import documentation_html
+    from .resources import PORT_DEFAULTS
     from .slave import BEARING_DEFAULTS, BUILD_INFO, PATCH_NOTES
 
     tmp = path.with_name(path.name + ".tmp")
@@ -351,8 +357,12 @@ def _rewrite_zip(path: Path, pkg: str, bearing: dict | None = None, record: dict
         # fmi2Fatal with a released instance (pythonfmu as is: then it never raises)
         zout.writestr(f"resources/{PATCH_NOTES}", json.dumps(notes, indent=1, sort_keys=True) + "\n",
                       compress_type=zipfile.ZIP_DEFLATED)
-        if bearing:  # the slave's defaults for D, L, CR, mu (build --bearing)
-            zout.writestr(f"resources/{BEARING_DEFAULTS}", json.dumps(bearing, indent=1) + "\n",
+        if bearing:  # the slave's defaults for D, L, CR, mu (build --bearing), and for its bore and oil
+            fields = ("D", "L", "CR", "mu", "source")
+            zout.writestr(f"resources/{BEARING_DEFAULTS}",
+                          json.dumps({k: bearing[k] for k in fields}, indent=1) + "\n", compress_type=zipfile.ZIP_DEFLATED)
+            zout.writestr(f"resources/{PORT_DEFAULTS}",
+                          json.dumps({k: v for k, v in bearing.items() if k not in fields}, indent=1) + "\n",
                           compress_type=zipfile.ZIP_DEFLATED)
     os.replace(tmp, path)
 
@@ -395,12 +405,7 @@ def check_data_file(path) -> None:
     elif option.name == "map":
         from ..internals.mapfile import load_any_map
 
-        table = load_any_map(path)
-        if table.H.ndim == 4:  # this FMU has no bore parameters: it could never serve the map's bore
-            raise ValueError(f"{path}: a grooved or partial-arc bore's force map ({table.geometry.describe()}); the "
-                             f"bearing FMU's parameters are D, L, CR and mu, so only the native map FMU takes it "
-                             "(`bearing-fmu build --native --internal map --map FILE --bearing FILE`)")
-        table.spline()
+        load_any_map(path).spline()
     else:  # pragma: no cover - a new file option adds its check here
         raise ValueError(f"{path}: no build check for the {option.name} option's files")
 
@@ -411,8 +416,9 @@ def build_fmu(output, surrogate=None, bearing=None, bearing_source: str = "") ->
     ``surrogate``: one path or a list of paths of surrogate JSON files to bundle in
     ``resources/surrogates/``; with exactly one, the parameter ``surrogate`` defaults to it.
     The default internal stays ``reynolds`` (at the solver's default grid).
-    ``bearing``: a BearingParams whose D, L, CR, mu become the FMU's defaults (the paper
-    bearing's without), recorded with ``bearing_source`` (e.g. the bearing file) in the FMU.
+    ``bearing``: a BearingParams whose D, L, CR, mu, bore and oil (``ports.port_defaults``) become
+    the FMU's defaults (the paper bearing's without), recorded with ``bearing_source`` (e.g. the
+    bearing file) in the FMU.
     """
     from pythonfmu import FmuBuilder
 
@@ -425,7 +431,9 @@ def build_fmu(output, surrogate=None, bearing=None, bearing_source: str = "") ->
     if output.suffix != ".fmu":
         raise ValueError(f"build_fmu: output {str(output)!r} must end in .fmu")
     if bearing is not None:
-        bearing.require_full_bore(f"the bearing FMU ({bearing_source or 'build_fmu'})", FMU_GEOMETRY_WHY)
+        from .ports import port_defaults
+
+        bore_and_oil = port_defaults(bearing)  # refuses what the parameters cannot hold, before building
     if surrogate is None:
         surrogates = []
     elif isinstance(surrogate, (str, os.PathLike)):
@@ -455,7 +463,7 @@ def build_fmu(output, surrogate=None, bearing=None, bearing_source: str = "") ->
                                  canGetAndSetFMUstate=True, canSerializeFMUstate=True)
             defaults = None
             if bearing is not None:
-                defaults = {**bearing.as_dict(), "source": str(bearing_source) or "given to build_fmu"}
+                defaults = {**bearing.as_dict(), "source": str(bearing_source) or "given to build_fmu", **bore_and_oil}
             record = fmu_meta.build_record("python", registry.names(), "reynolds", bearing or PAPER_BEARING,
                                            bearing_source, surrogates)
             _rewrite_zip(tmp_fmu, pkg, defaults, record)

@@ -25,6 +25,7 @@ from xml.etree import ElementTree as ET
 
 from .. import __version__
 from ..internals import registry
+from . import ports
 from ..physics.params import CR_OVER_R_RANGE, D_RANGE_M, L_OVER_D_RANGE, MU_RANGE_PA_S, PAPER_BEARING, BearingParams
 
 # unit name -> SI base-unit exponents (FMI 2.0 BaseUnit attributes)
@@ -37,13 +38,27 @@ UNITS = {
     "N.s/m": {"kg": 1, "s": -1},
     "Pa.s": {"kg": 1, "m": -1, "s": -1},
     "1": {},
+    # the bore, the oil and the thermal ports (ports.py)
+    "rad": {"rad": 1},
+    "Pa": {"kg": 1, "m": -1, "s": -2},
+    "K": {"K": 1},
+    "W": {"kg": 1, "m": 2, "s": -3},
+    "m3/s": {"m": 3, "s": -1},
+    "m2/s": {"m": 2, "s": -1},
+    "kg/m3": {"kg": 1, "m": -3},
+    "J/(kg.K)": {"m": 2, "s": -2, "K": -1},
 }
 # display units (FMI 2.0 DisplayUnit: shown value = factor * value in the unit)
 DISPLAY_UNITS = {"m": {"um": 1e6, "mm": 1e3}, "m/s": {"mm/s": 1e3}, "rad/s": {"rpm": 60.0 / (2.0 * math.pi)},
-                 "Pa.s": {"mPa.s": 1e3}}
+                 "Pa.s": {"mPa.s": 1e3}, "rad": {"deg": 180.0 / math.pi}, "Pa": {"kPa": 1e-3}, "K": {"degC": 1.0},
+                 "m3/s": {"l/min": 6e4}, "m2/s": {"cSt": 1e6}}
+DISPLAY_OFFSETS = {"degC": -273.15}  # shown value = factor * value + offset
 # the display unit of each variable that has a natural one
 DISPLAY = {"y": "um", "z": "um", "h_min": "um", "CR": "um", "lin_y0": "um", "lin_z0": "um", "D": "mm", "L": "mm",
-           "vy": "mm/s", "vz": "mm/s", "omega": "rpm", "omega_lin": "rpm", "mu": "mPa.s"}
+           "vy": "mm/s", "vz": "mm/s", "omega": "rpm", "omega_lin": "rpm", "mu": "mPa.s",
+           **{n: "deg" for n in ports.ROW_UNITS if ports.ROW_UNITS[n] == "rad"}, "supply_pressure": "kPa",
+           **{n: "degC" for n in ports.ROW_UNITS if ports.ROW_UNITS[n] == "K"}, "Q_side": "l/min",
+           "oil_nu_1": "cSt", "oil_nu_2": "cSt", "mu_eff": "mPa.s", "oil_vogel_a": "mPa.s"}
 
 PAPER_LABEL = "paper bearing (Table 2)"
 FALLBACK_AUTHOR = "bearing_fmu maintainers"  # when the project's metadata names no author
@@ -58,7 +73,10 @@ def unit_definitions(used) -> ET.Element:
         unit = ET.SubElement(units, "Unit", name=u)
         ET.SubElement(unit, "BaseUnit", {k: str(v) for k, v in UNITS[u].items()})
         for name, factor in DISPLAY_UNITS.get(u, {}).items():
-            ET.SubElement(unit, "DisplayUnit", name=name, factor=repr(factor))
+            attrs = {"name": name, "factor": repr(factor)}
+            if name in DISPLAY_OFFSETS:
+                attrs["offset"] = repr(DISPLAY_OFFSETS[name])
+            ET.SubElement(unit, "DisplayUnit", attrs)
     return units
 
 
@@ -113,6 +131,10 @@ def real_attributes(name: str, unit: str | None, params: BearingParams, omega_re
         nominal = force / (params.CR * omega_ref)
     elif name in _options():
         lo, hi = _option_bounds(_options()[name])
+    elif name in ports.BOUNDS:
+        lo, hi = ports.BOUNDS[name]
+    elif name in ("T_eff", "mu_eff", "Q_side"):
+        lo = 0.0
     for key, value in (("min", lo), ("max", hi), ("nominal", nominal)):
         if value is not None:
             out[key] = repr(float(value))
@@ -134,9 +156,9 @@ def _option_bounds(o: registry.Option) -> tuple:
 def integer_attributes(name: str) -> dict[str, str]:
     """min, max of an Integer parameter (a registry option)."""
     o = _options().get(name)
-    if o is None:
+    if o is None and name not in ports.BOUNDS:
         return {}
-    lo, hi = _option_bounds(o)
+    lo, hi = _option_bounds(o) if o is not None else ports.BOUNDS[name]
     return {k: str(int(v)) for k, v in (("min", lo), ("max", hi)) if v is not None}
 
 

@@ -18,6 +18,7 @@ from ..internals import registry
 SURROGATE_DIR = "surrogates"  # inside the FMU's resources folder: the files of file options
 PATCH_NOTES = "pythonfmu_patches.json"  # written by build.py into resources/
 BEARING_DEFAULTS = "bearing.json"  # in resources/: D, L, CR, mu of `bearing-fmu build --bearing FILE`
+PORT_DEFAULTS = "parameters.json"  # in resources/: the bore and oil parameters of `bearing-fmu build --bearing FILE`
 BUILD_INFO = "build_info.json"  # in resources/: what the FMU was built from (bearing, data files, hashes)
 # fmu_binary.STATUS_PATCHES (build tooling, not bundled in the FMU; a test keeps the two equal)
 STATUS_PATCHES = ("keep-instance", "error-status", "error-message", "step-terminated", "restore-terminated")
@@ -109,3 +110,32 @@ def bearing_defaults(resources) -> dict:
     if path is None or not path.is_file():
         return {}
     return BearingParams.from_json(path).as_dict()
+
+
+def port_defaults(resources) -> dict:
+    """The built-in bearing's bore and oil parameters (``ports.port_defaults``) when the FMU was
+    built for one, else {}; every name and value checked (``ports.check_value``), a damaged file
+    fails the instantiation naming it and the parameter."""
+    import json
+
+    from . import ports
+
+    path = Path(resources) / PORT_DEFAULTS if resources else None
+    if path is None or not path.is_file():
+        return {}
+    try:
+        data = json.loads(path.read_text(encoding="utf-8"))
+        if not isinstance(data, dict):
+            raise ValueError("not a JSON object")
+        for name, value in data.items():
+            if name not in ports.PARAMETER_NAMES:
+                raise ValueError(f"{name!r} is not a bore or oil parameter of the FMU")
+            if name == "oil_law" and value not in ports.OIL_LAWS:
+                raise ValueError(f"oil_law = {value!r} must be one of {', '.join(ports.OIL_LAWS)}")
+            if name != "oil_law" and (isinstance(value, str) or value is None):
+                raise ValueError(f"{name} = {value!r} must be a number or a Boolean")
+            if name != "oil_law":
+                ports.check_value(name, value)
+    except (OSError, ValueError) as exc:
+        raise ValueError(f"FMU resource {path}: {exc}") from None
+    return data

@@ -51,9 +51,10 @@ from bearing_fmu.internals import registry
 from bearing_fmu.fmu.order import INIT, INSTANTIATED, STEP, TERMINATED, FMUState, is_freed, refusal
 from bearing_fmu.fmu.resources import BEARING_DEFAULTS, BUILD_INFO, PATCH_NOTES  # noqa: F401 - build.py reads them here
 from bearing_fmu.fmu.resources import (BEARING_FIELDS, SURROGATE_DIR, LoggingFlag, bearing_defaults, default_file,
-                                       status_patched)
+                                       port_defaults, status_patched)
+from bearing_fmu.fmu import ports
 from bearing_fmu.fmu.variables import (ENUMERATIONS, INPUT, INPUTS, OUTPUT, OUTPUTS, PARAMETER, PARAMETERS,
-                                       STRING_DEFAULTS, VARIABLES, enum_value)
+                                       VARIABLES, enum_value)
 from bearing_fmu.internals.registry import BearingStateError, Context, check_finite
 from bearing_fmu.physics.params import BearingParams
 
@@ -92,7 +93,7 @@ class BearingFMU(Fmi2Slave):
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
         self._by_vr = {}  # value reference -> (name, type, causality)
-        built_in = bearing_defaults(self.resources)
+        built_in = {**bearing_defaults(self.resources), **port_defaults(self.resources)}
         for name, typ, causality, _unit, default, desc in VARIABLES:
             if name in _FILE_OPTIONS:
                 default = default_file(self.resources, _OPTIONS[name])
@@ -111,6 +112,10 @@ class BearingFMU(Fmi2Slave):
             )
             self.register_variable(var)
             self._by_vr[var.value_reference] = (name, typ, causality)
+        # the String choices' starts (a built-in bearing's oil law among them), their enumerations with them
+        self._starts = {string: getattr(self, string) for string, _items in ENUMERATIONS.values()}
+        for name, (string, _items) in ENUMERATIONS.items():
+            setattr(self, name, enum_value(name, self._starts[string]))
         self._real_names = {vr: e[0] for vr, e in self._by_vr.items() if e[1] == "Real"}
         # getReal's fast path: outside Step Mode without the outputs, so reading them in
         # Initialization Mode takes the checked path, which computes them from the inputs
@@ -122,6 +127,7 @@ class BearingFMU(Fmi2Slave):
         self._choices_built = {}  # the String choices the internal was built with (_choices)
         self._jacobian = None
         self._params = None
+        self._oil = None  # the oil law of the thermal model, when thermal is true (ports.py)
         self._enter(INSTANTIATED)
         self._initialized = False  # exit_initialization_mode was called: parameters are fixed
         self._init_error = None
@@ -277,19 +283,24 @@ class BearingFMU(Fmi2Slave):
         out = {}
         for name, (string, items) in ENUMERATIONS.items():
             value, text = getattr(self, name), str(getattr(self, string)).strip().lower()
-            enum_set = value != enum_value(name, STRING_DEFAULTS[string])
-            if enum_set and text != STRING_DEFAULTS[string] and text != items[value - 1]:
+            enum_set = value != enum_value(name, self._starts[string])
+            if enum_set and text != self._starts[string] and text != items[value - 1]:
                 raise ValueError(f"{string} = {getattr(self, string)!r} and {name} = {value} ({items[value - 1]}) "
                                  f"disagree: set one of them ({name} is the same choice as an enumeration)")
             out[string] = items[value - 1] if enum_set else text
         return out
 
     def _build_internal(self) -> None:
-        params = BearingParams(D=self.D, L=self.L, CR=self.CR, mu=self.mu)
-        self._params = params
         choices = self._choices()
-        self._choices_built = choices
         spec = registry.get(choices["internal"])
+        geometry = ports.geometry_of(self)
+        ports.check_geometry(geometry, spec)
+        oil = ports.oil_of(self, choices["oil_law"])
+        ports.check_thermal(self.thermal, oil, spec)
+        params = BearingParams(D=self.D, L=self.L, CR=self.CR, mu=self.mu, geometry=geometry, oil=oil)
+        self._params = params
+        self._oil = oil if self.thermal else None
+        self._choices_built = choices
         options = {o.name: choices.get(o.name, getattr(self, o.name)) for o in spec.all_options()}
         context = Context(resolve=self._resource_file, warn=self._warn)
         internal = spec.create(params, options, context, where="FMU parameter")
@@ -341,7 +352,7 @@ class BearingFMU(Fmi2Slave):
         if not (0.0 < step_size < _INF and -_INF < current_time < _INF and t < _INF):
             return self._bad_step(current_time, step_size)
         try:
-            self._step_outputs()
+            self._step_outputs(step_size)
         except BearingStateError as exc:
             self._log(f"{exc} at t = {t:.10g} s", Fmi2Status.discard)
             return False
@@ -362,9 +373,10 @@ class BearingFMU(Fmi2Slave):
                    f"{step_size!r} s is not finite")
         return self._fail(msg) or False
 
-    def _step_outputs(self) -> None:
+    def _step_outputs(self, dt: float | None = None) -> None:
         """Evaluate the internal at the current inputs and set the outputs, or raise
-        BearingStateError (outputs untouched)."""
+        BearingStateError (outputs untouched). With thermal on, T_eff lags over a step of ``dt``
+        [s] from its committed value; ``dt`` None: quasi-static (Initialization Mode)."""
         y, z, vy, vz, omega = self.y, self.z, self.vy, self.vz, self.omega
         params = self._params
         check_finite(y, z, vy, vz, omega)  # the internals refuse the wall themselves where they must
@@ -389,6 +401,16 @@ class BearingFMU(Fmi2Slave):
         finally:
             pending, self._pending = self._pending, None
         fy, fz = float(f[0]), float(f[1])
+        if self._oil is not None:  # the film at its effective viscosity: F ~ mu at a fixed state
+            try:
+                factor, *heat = ports.thermal_state(internal, params, self._oil, self.T_supply, (y, z, vy, vz, omega),
+                                                    None if dt is None else self.T_eff, dt or 0.0)
+            except ValueError as exc:
+                raise BearingStateError(f"thermal model: {exc}") from None
+            fy, fz = fy * factor, fz * factor
+            tangent = None if tangent is None else tuple(factor * t for t in tangent)
+        else:
+            heat = (self.T_supply, params.mu, 0.0, 0.0)
         if not (math.isfinite(fy) and math.isfinite(fz)) or (tangent and not all(map(math.isfinite, tangent))):
             raise BearingStateError(
                 f"the {self._internal_name} internal returned a non-finite force or tangent at "
@@ -399,6 +421,7 @@ class BearingFMU(Fmi2Slave):
         self.eccentricity = eps
         self.h_min = params.CR * (1.0 - eps)
         self.out_of_domain = ood
+        self.T_eff, self.mu_eff, self.P_loss, self.Q_side = heat
         if tangent is not None:
             (self.Kyy, self.Kyz, self.Kzy, self.Kzz, self.Cyy, self.Cyz, self.Czy, self.Czz) = tangent
         if pending:
@@ -524,6 +547,11 @@ class BearingFMU(Fmi2Slave):
                 raise ValueError(f"{name} = {value!r} {_UNITS[name]} must be finite and > 0")
         elif name in _OPTIONS:
             value = _OPTIONS[name].check(value)
+        elif name == "oil_law":
+            if str(value).strip().lower() not in ports.OIL_LAWS:
+                raise ValueError(f"oil_law = {value!r} must be one of {', '.join(ports.OIL_LAWS)}")
+        elif name in ports.PARAMETER_NAMES:
+            value = ports.check_value(name, value)
         return value
 
     def get_real(self, vrs):

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 from ..internals import registry
 from ..physics.params import PAPER_BEARING
+from . import ports
 
 # VARIABLES rows: name, type, causality, unit, default, description; the internals' parameters
 # come from their registry options
@@ -21,8 +22,10 @@ DEFAULT_INTERNAL = "reynolds"
 # value away from its start wins, and if both are set away from their starts they must agree
 # (BearingFMU._choices). New internals and choices go at the end: the numbers stay.
 ENUMERATIONS = {"internal_enum": ("internal", registry.names()),
-                **{f"{o.name}_enum": (o.name, o.choices) for o in registry.all_options() if o.choices}}
-STRING_DEFAULTS = {"internal": DEFAULT_INTERNAL, **{o.name: o.default for o in registry.all_options()}}
+                **{f"{o.name}_enum": (o.name, o.choices) for o in registry.all_options() if o.choices},
+                "oil_law_enum": ("oil_law", ports.OIL_LAWS)}
+STRING_DEFAULTS = {"internal": DEFAULT_INTERNAL, **{o.name: o.default for o in registry.all_options()},
+                   "oil_law": ports.OIL_LAWS[0]}
 
 
 def enum_value(name: str, item: str) -> int:
@@ -71,6 +74,8 @@ VARIABLES = (
        f"{string} as an enumeration ({', '.join(f'{k + 1} = {c}' for k, c in enumerate(items))}): the same choice "
        f"as the String parameter {string}; set either (set both, they must agree)")
       for name, (string, items) in ENUMERATIONS.items()),
+    # the bore, the oil and the thermal ports (ports.py; after the rest: the value references stay)
+    *ports.ROWS,
 )
 
 INPUTS = tuple(v[0] for v in VARIABLES if v[2] == INPUT)

@@ -480,6 +480,13 @@ class ForceMap:
     def _refuse(self, y, z, vy, vz, omega, want_jac):
         refuse_state(self.params, self._eps_max, y, z, vy, vz, omega, want_jac)
 
+    def compiled_force(self):
+        """Its force and Jacobian as a compiled kernel (``internals.compiled``)."""
+        from .compiled import CompiledForce
+        from .map_kernels import map_kernel, pack
+
+        return CompiledForce(map_kernel(), pack(*self._args[:3], *self._args[5:], self._eps_max))
+
     def force(self, y: float, z: float, vy: float, vz: float, omega: float) -> tuple[float, float]:
         """Film force (Fy, Fz) [N]."""
         self._run(y, z, vy, vz, omega, False)

@@ -209,6 +209,29 @@ class DomainGuard:
             g[i] = (self._blend_weight(self.distance(*hi)) - self._blend_weight(self.distance(*lo))) / (2 * h[i])
         return g
 
+    def compiled_force(self):
+        """Its force and Jacobian inside the fitted domain as a compiled kernel
+        (``internals.compiled``, ``guard_kernels``): outside it the kernel hands the state back
+        and this guard decides (warn, fall back, refuse)."""
+        from .compiled import CompiledForce
+        from .guard_kernels import pack, taylor_kernel
+
+        t, near = self.taylor, self.taylor.neighbours
+        meta, exps, coef, *shape = t._args
+        sexps, scoef = shape if shape else (None, None)
+        data = pack(meta, t._dom, exps, coef, sexps, scoef, None if near is None else near.points,
+                    near.radius if near is not None else 0.0, near.size if near is not None else 1.0, t._cr2)
+        return CompiledForce(taylor_kernel, data, sync=self._kept_inside)
+
+    def _kept_inside(self, n: int) -> None:
+        """n evaluations the compiled kernel answered inside the domain were kept: the
+        excursion bookkeeping ``_select`` does for each."""
+        if n > 0:
+            self.last_out_of_domain = False
+            self._inside_run += n
+            if self._inside_run >= REARM:
+                self.outside = False
+
     def force(self, y: float, z: float, vy: float, vz: float, omega: float):
         internal = self._select(y, z, vy, vz)
         if internal is self.taylor or internal is not self._truth:

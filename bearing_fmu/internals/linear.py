@@ -99,6 +99,13 @@ class Linear:
         f = np.array(self.force(y, z, vy, vz, omega))
         return f, -self.K.copy(), -self.C.copy()
 
+    def compiled_force(self):
+        """Its force and Jacobian as a compiled kernel (``internals.compiled``)."""
+        from .compiled import CompiledForce
+        from .linear_kernels import linear_kernel, pack
+
+        return CompiledForce(linear_kernel, pack(self.y0, self.z0, self.omega0, self.F0, self.K, self.C))
+
     def to_dict(self) -> dict:
         return {
             "params": self.params.as_dict(),

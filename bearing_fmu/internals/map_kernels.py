@@ -7,6 +7,7 @@ v_r = v . u, v_t = v . w with u = (cos phi, sin phi), w = (-sin phi, cos phi);
 a = eps omega - 2 v_t / CR  (= eps (omega - 2 phidot)),  c = 2 v_r / CR  (= 2 epsdot);
 r = hypot(a, c), beta = atan2(c, a). The force is F = S r (G_r(eps, beta) u + G_t(eps, beta) w)
 with S = mu R L (R / CR)^2; the table holds H = G (1 - eps)^k on s = -ln(1 - eps).
+``map_kernel`` is the same force as a compiled-force kernel (``internals.compiled``).
 """
 
 from __future__ import annotations
@@ -14,7 +15,9 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
+from numba import carray, cfunc, njit
+
+from .compiled import KERNEL_SIG, advance
 
 TWO_PI = 2.0 * math.pi
 
@@ -315,3 +318,42 @@ def map3_force(ts, tp, tb, C, eps_min, scale, CR, y, z, vy, vz, omega, want_jac,
                      J):
         return math.nan
     return eps
+
+
+# ------------------------------------------------------------------ the compiled-force kernel
+# data layout (``pack``): ns, nb, len(ts), len(tb), kwall, eps_min, scale, CR, eps_max, ts, tb, C
+_HEAD = 9
+
+
+def pack(ts, tb, C, kwall, eps_min, scale, CR, eps_max) -> np.ndarray:
+    """The map's arrays and constants as the one float64 array ``map_kernel`` reads."""
+    ns, nb = C.shape[0], C.shape[1]
+    head = np.array([ns, nb, ts.size, tb.size, kwall, eps_min, scale, CR, eps_max], dtype=np.float64)
+    return np.ascontiguousarray(np.concatenate([head, np.ravel(ts), np.ravel(tb), np.ravel(C)]), dtype=np.float64)
+
+
+def _map_kernel(dp, y, z, vy, vz, omega, op):
+    """``internals.compiled`` kernel of the force map: ``map_force`` with its Jacobian and the
+    refusals of ``ForceMap._run`` (beyond eps_max, a non-finite input or result): status 1."""
+    head = carray(dp, _HEAD)
+    ns, nb, nts, ntb = int(head[0]), int(head[1]), int(head[2]), int(head[3])
+    ts = carray(advance(dp, _HEAD), nts)
+    tb = carray(advance(dp, _HEAD + nts), ntb)
+    C = carray(advance(dp, _HEAD + nts + ntb), (ns, nb, 2))
+    F = carray(op, 2)
+    J = carray(advance(op, 2), (2, 4))
+    eps = map_force(ts, tb, C, ns, nb, head[4], head[5], head[6], head[7], y, z, vy, vz, omega, True, F, J)
+    if not eps < head[8] or not math.isfinite(vy + vz + omega):
+        return 1
+    return 0
+
+
+_KERNEL = []
+
+
+def map_kernel():
+    """The cfunc of ``_map_kernel``, compiled (or loaded from its cache) at the first call, not
+    at import: the FMU and the Python driver import this module and never call it."""
+    if not _KERNEL:
+        _KERNEL.append(cfunc(KERNEL_SIG, cache=True)(_map_kernel))
+    return _KERNEL[0]

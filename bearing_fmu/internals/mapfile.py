@@ -29,11 +29,17 @@ def load_any_map(path) -> MapTable | GroovedMapTable:
     return load_map(path)
 
 
-def map_internal(params: BearingParams, table, source: str = ""):
-    """The map internal of a loaded table for ``params`` (refusing another L/D or bore)."""
-    if isinstance(table, GroovedMapTable):
+def map_internal(params: BearingParams, table, source: str = "", hint: str = ""):
+    """The map internal of a loaded table for ``params`` (refusing another L/D or bore; ``hint``
+    added to the refusal of a grooved map for a full-bore bearing)."""
+    if not isinstance(table, GroovedMapTable):
+        return ForceMap(params, table, source)
+    try:
         return GroovedForceMap(params, table, source)
-    return ForceMap(params, table, source)
+    except ValueError as exc:
+        if hint and params.geometry.is_full_bore:
+            raise ValueError(f"{exc}; {hint}") from None
+        raise
 
 
 def open_map(path, params: BearingParams):

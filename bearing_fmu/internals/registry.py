@@ -23,7 +23,10 @@ How to add an internal
    ``force(y, z, vy, vz, omega) -> (Fy, Fz)`` [N] and, if it can, ``force_and_jacobian`` (raw
    derivatives, see ``DifferentiableInternal``). Refuse states it cannot evaluate with
    ``BearingStateError`` (``check_finite``, ``check_state``; ``overflow_error`` for finite
-   inputs whose result overflows), never return NaN or inf.
+   inputs whose result overflows), never return NaN or inf. If its force and Jacobian are
+   compiled code, also give it ``compiled_force()`` (``internals.compiled``: a numba cfunc of
+   one signature and its data; set ``Capabilities.compiled``): the host then runs whole chunks
+   of time steps without Python.
 2. Give the class a ``from_options(params, options, context)`` classmethod: ``options`` is a
    dict of its checked option values (and of the internals it ``uses``), ``context`` the
    ``Context`` (static load, speed, where files are, a warning sink).
@@ -32,7 +35,7 @@ How to add an internal
    ``Option``s (an option name is also the FMU parameter and the scene key; it may share a
    name with another internal's only if it is the same option), and:
    - ``can``: its ``Capabilities`` (valid at any state or one operating point, fixed speed,
-     fitted domain, native, compare variant, truth, where it holds): stability, sweep,
+     fitted domain, native, compare variant, truth, where it holds, a compiled kernel): stability, sweep,
      compare, the run report, the FMU builds and their documentation ask these, never the name;
    - ``case``: ``"internals.cases:<name>_case"``, a function (data_dir) -> ``ContractCase``
      (``internals/cases.py``): option values that build a working instance for the paper
@@ -302,6 +305,13 @@ class Capabilities:
                     and {made}, if present, are filled per FMU kind by ``bearing_fmu.fmu.docs``).
     any_geometry  : takes a bore that is not the full circle (grooves, arc, lobes; physics.geometry);
                     False: ``create`` refuses such a bearing by name, ``geometry_why`` says why.
+    film_flow     : has ``film_report(y, z, vy, vz, omega)`` (``physics.film.FilmReport``: friction power,
+                    inflow, side flow at any state, its own bore included): what the FMU's thermal ports
+                    need (``thermal = true``); False: the FMU refuses them, ``film_flow_why`` says why.
+    compiled      : has ``compiled_force()``: its force and Jacobian as a compiled kernel and its
+                    data (``internals.compiled``), which a host's compiled loop calls with no
+                    Python per evaluation (the rotor host's Newmark chunks); an instance may
+                    still answer None, and the caller then uses ``force_and_jacobian``.
     """
 
     any_state: bool = False
@@ -313,6 +323,9 @@ class Capabilities:
     validity: str = ""
     any_geometry: bool = True
     geometry_why: str = ""
+    film_flow: bool = False
+    film_flow_why: str = ""
+    compiled: bool = False
 
 
 @dataclass(frozen=True)
@@ -483,7 +496,7 @@ register(InternalSpec(
                "(half-Sommerfeld)", choices=("reynolds", "gumbel")),
     ),
     can=Capabilities(
-        any_state=True, truth=True,
+        any_state=True, truth=True, film_flow=True, native=True,
         validity="The finite-volume Reynolds solver evaluates any journal state inside the clearance circle at any "
                  "speed, load and velocity; it is the reference the other internals are measured against. Its "
                  "accuracy is set by the grid n_theta x n_x (0: the default 128 x 16, docs/reynolds.md). The journal "
@@ -512,7 +525,8 @@ register(InternalSpec(
     ),
     uses=("reynolds", "map"),
     can=Capabilities(
-        native=True,
+        native=True, compiled=True,
+        film_flow_why="a linear model holds the force about one point, not the film's flows",
         validity="The linear model holds near its expansion point at the speed omega_lin (any other omega is "
                  "refused); it evaluates beyond the clearance circle, where it means nothing physically (h_min < 0).{made}"),
     case="internals.cases:linear_case",
@@ -533,7 +547,8 @@ register(InternalSpec(
     ),
     uses=("reynolds",),
     can=Capabilities(
-        fixed_speed=True, fitted_domain=True, native=True,  # the file records its bore; loading checks it
+        fixed_speed=True, fitted_domain=True, native=True, compiled=True,  # the file records its bore
+        film_flow_why="the surrogate fits the force only; the film's inflow and side flow would need their own fit",
         validity="The surrogate answers for the speed it was fitted at (any other omega is refused) and inside its "
                  "fitted domain of journal states; outside it the FMU {actions}, and beyond domain_limit it always "
                  "refuses. The journal at or beyond the wall is refused (fmi2Discard)."),
@@ -550,7 +565,8 @@ register(InternalSpec(
                file_format="bearing-fmu-force-map"),
     ),
     can=Capabilities(
-        any_state=True, native=True,  # the map file records its bore; the internal refuses another one
+        any_state=True, native=True, compiled=True,  # the map file records its bore; the internal refuses another one
+        film_flow_why="the map tabulates the force only; the film's inflow and side flow would need their own tables",
         validity="The force map holds the Reynolds force for every speed, load and velocity of bearings with its "
                  "L/D; states beyond its last eccentricity (eps_max) are refused (fmi2Discard)."),
     case="internals.cases:map_case",

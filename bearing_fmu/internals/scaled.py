@@ -14,7 +14,7 @@ import math
 
 import numpy as np
 
-__all__ = ["ViscosityScaled"]
+__all__ = ["ViscosityScaled", "LaggedThermal"]
 
 
 class ViscosityScaled:
@@ -54,3 +54,58 @@ class ViscosityScaled:
 
     def __repr__(self) -> str:
         return f"ViscosityScaled({self.inner!r}, mu_eff={self.mu_eff!r})"
+
+
+class LaggedThermal(ViscosityScaled):
+    """``inner`` (an internal with ``film_report``: ``Capabilities.film_flow``) at the viscosity of its
+    film's temperature, which lags the film's heat balance by the residence time
+    (``physics.thermal.film_temperature``): the bearing FMU's thermal model (``fmu/ports.py``)
+    in-process, for runs whose speed or load changes (docs/thermal.md).
+
+    oil, T_supply_K : the oil law and its supply temperature [K]
+    ``start(y, z, vy, vz, omega)`` sets the temperature quasi-statically at a state (the FMU's
+    Initialization Mode); ``begin_step(dt)`` [s] then makes every evaluation lag from the committed
+    temperature over dt (0: held, the static evaluations), ``accept_step`` commits the last one."""
+
+    def __init__(self, inner, oil, T_supply_K: float):
+        if getattr(inner, "film_report", None) is None:
+            raise ValueError(f"LaggedThermal: {type(inner).__name__} has no film_report (the film's flows)")
+        super().__init__(inner)
+        self.oil, self.T_supply = oil, float(T_supply_K)
+        self.T = self.T_trial = oil.check_temperature(T_supply_K, "T_supply")
+        self.dt = 0.0
+
+    def _at(self, state, lagged: bool = True) -> None:
+        from ..physics.thermal import film_temperature
+        from .registry import BearingStateError
+
+        report = self.inner.film_report(*state)
+        try:
+            self.T_trial, mu, _ = film_temperature(self.inner.params, report, self.oil, self.T_supply,
+                                                   self.T if lagged else None, self.dt)
+        except ValueError as exc:  # the oil's range left: a state this film cannot take
+            raise BearingStateError(f"thermal model: {exc}") from None
+        self.set_viscosity(mu)
+
+    def start(self, y: float, z: float, vy: float, vz: float, omega: float) -> float:
+        """The quasi-static temperature [K] at this state, committed."""
+        self._at((y, z, vy, vz, omega), lagged=False)
+        self.T = self.T_trial
+        return self.T
+
+    def begin_step(self, dt: float) -> None:
+        self.dt = float(dt)
+
+    def accept_step(self) -> None:
+        self.T = self.T_trial
+
+    def force(self, y: float, z: float, vy: float, vz: float, omega: float) -> tuple[float, float]:
+        f = self.inner.force(y, z, vy, vz, omega)  # refuses the wall before the film report is made
+        self._at((y, z, vy, vz, omega))
+        return self.factor * f[0], self.factor * f[1]
+
+    def _force_and_jacobian(self, y: float, z: float, vy: float, vz: float, omega: float):
+        F, dq, dv = self.inner.force_and_jacobian(y, z, vy, vz, omega)
+        self._at((y, z, vy, vz, omega))
+        f = self.factor
+        return f * np.asarray(F, float), f * np.asarray(dq, float), f * np.asarray(dv, float)

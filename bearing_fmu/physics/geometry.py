@@ -277,6 +277,11 @@ class Geometry:
         a, b = self._closure_weights
         return float(np.max(y * a + z * b)) / CR
 
+    def closure_weights(self) -> tuple[np.ndarray, np.ndarray]:
+        """(-sin(theta), cos(theta)) / H0(theta) over the film's sample angles: ``closure`` is the
+        largest y a + z b over them, divided by CR (the native solver checks the wall with them)."""
+        return self._closure_weights
+
     @cached_property
     def _closure_weights(self) -> tuple[np.ndarray, np.ndarray]:
         """(-sin(theta), cos(theta)) / H0(theta) over the film's sample angles (see ``closure``)."""
@@ -305,14 +310,24 @@ class Geometry:
         return merged
 
     # ------------------------------------------------------------------ the solver's grid
+    def segments(self) -> tuple[list[tuple[float, float]], list[bool], list[float]]:
+        """The stretches between consecutive ``edges``: ((start, end) [rad] with end > start, the
+        last one wrapping past 2 pi), whether each has a prescribed pressure, and that pressure
+        [Pa] (a groove's supply, 0 outside the arc). What ``theta_grid`` divides into cells (the
+        native solver does the same from these, bearing_fmu/fmu/native/c/reynolds_solver.c)."""
+        edges = self.edges()
+        segs = [(a, b) for a, b in zip(edges, edges[1:] + [edges[0] + TWO_PI])]
+        fixed = [self.is_prescribed(0.5 * (a + b)) for a, b in segs]
+        supply = [self.supply_pressure if f and any(_within(0.5 * (a + b), ga, gb - ga) for ga, gb in
+                                                    self.groove_edges()) else 0.0 for (a, b), f in zip(segs, fixed)]
+        return segs, fixed, supply
+
     def theta_grid(self, n_theta: int) -> "ThetaGrid":
         """The circumferential cells of the Reynolds solver for this bore: a face on every edge
         (``edges``), one cell per groove and per stretch outside the arc (their pressure is
         prescribed), the other n_theta - (those) cells spread over the film segments in
         proportion to their length (uniform inside each, at least 2 per segment)."""
-        edges = self.edges()
-        segs = [(a, b) for a, b in zip(edges, edges[1:] + [edges[0] + TWO_PI])]
-        fixed = [self.is_prescribed(0.5 * (a + b)) for a, b in segs]
+        segs, fixed, supply_of = self.segments()
         film = [k for k, f in enumerate(fixed) if not f]
         n_film = n_theta - (len(segs) - len(film))
         if n_film < 2 * len(film):
@@ -333,8 +348,7 @@ class Geometry:
             left += [a + (b - a) * i / n for i in range(n)]
             width += [(b - a) / n] * n
             is_fixed += [fixed[k]] * n
-            in_groove = fixed[k] and any(_within(0.5 * (a + b), ga, gb - ga) for ga, gb in self.groove_edges())
-            supply += [self.supply_pressure if in_groove else 0.0] * n
+            supply += [supply_of[k]] * n
         return ThetaGrid(self, np.array(left), np.array(width), np.array(is_fixed), np.array(supply))
 
     def as_table(self) -> dict:

@@ -227,6 +227,7 @@ class Reynolds:
         self._wring = f((WARM_HISTORY, n))
         self._max_turn = min(WARM_MAX_TURN_CELLS * self._dth, math.pi)
         self._warm_cap = self._grow + 4
+        self._solved = None  # the state of the last converged solve (film_report reads its field)
         self.reset_counts()
 
     def _bore(self, params: BearingParams, N: int) -> dict:
@@ -307,6 +308,7 @@ class Reynolds:
                 self._hs, self._order, self._nvalid, self._wring,
             )
         self._count()
+        self._solved = None  # the state whose field _p holds, once it is known to be finite
         if self._info[0] < 0:  # pragma: no cover - not observed; guards against cycling
             raise RuntimeError(
                 f"Reynolds: active-set iteration did not converge in {self._max_iter} steps at "
@@ -317,6 +319,7 @@ class Reynolds:
             # finite inputs (checked above) whose source overflows (|v| / CR or omega near 1e308):
             # the force is linear in the source, so no finite value is the answer; refused by name
             raise overflow_error(pr, y, z, vy, vz, omega, "force and its Jacobian" if want_jac else "force")
+        self._solved = (y, z, vy, vz, omega)
 
     def _run_bore(self, y, z, vy, vz, omega, want_jac):
         pr, g = self.params, self._geo
@@ -353,8 +356,11 @@ class Reynolds:
     def film_report(self, y: float, z: float, vy: float, vz: float, omega: float) -> FilmReport:
         """Friction (torque, force, power, coefficient) and flow (inflow, side flow) of the film at a
         state, from its converged pressure field (``physics.film``: the definitions, Raimondi &
-        Boyd's assumptions); not part of the force call, so it costs the hot loop nothing."""
-        self._run(y, z, vy, vz, omega, False)
+        Boyd's assumptions); not part of the force call, so it costs the hot loop nothing. Right
+        after a force call at the same state it reads that call's field (no second solve)."""
+        state = (float(y), float(z), float(vy), float(vz), float(omega))
+        if self._solved != state:
+            self._run(*state, False)
         half = self._p.reshape(self.n_theta, self._m).copy()
         return field_report(self.params, float(y), float(z), float(vy), float(vz), float(omega),
                             (float(self._F[0]), float(self._F[1])), half, self._dx, self._grid)

@@ -25,6 +25,18 @@ more. So T_eff is computed at the static equilibrium of each speed and load, not
 
 The film force is proportional to mu at a fixed state, so every internal (Reynolds, linear, the
 force map, the Taylor surrogate) is exact under mu_eff: its force scaled by mu_eff / mu.
+
+At a fixed journal state (an FMU, which does not know the static load: ``film_temperature``)
+-----------------------------------------------------------------------------------------
+The friction power is proportional to mu at a fixed state (Couette torque, the force's torque and
+F . v all are), the flows do not depend on it (the pressure-driven part h^3 dp / (12 mu) holds
+p / mu). So one film report at the reference viscosity mu_ref serves every temperature:
+P(T) = P_ref mu(T) / mu_ref, and the heat balance's target T*(T) = T_supply + k dT(mu(T)) is
+a scalar function. The quasi-static temperature at the state solves T = T*(T) (at a static
+equilibrium the same fixed point as ``effective_temperature``'s); the lagged one follows it with
+the residence time t_res as a first-order lag, dT/dt = (T*(T) - T) / t_res, stepped over dt
+exactly for a target held at the step's end: T_new = T*(T_new) + (T_old - T*(T_new)) exp(-dt / t_res),
+an implicit step (stable for any dt; its steady state is the quasi-static fixed point).
 """
 
 from __future__ import annotations
@@ -40,7 +52,8 @@ from .params import BearingParams
 from .reynolds import Reynolds
 from .statics import EquilibriumError, equilibrium
 
-__all__ = ["ThermalError", "ThermalState", "temperature_rise", "effective_temperature", "residence_time_s"]
+__all__ = ["ThermalError", "ThermalState", "temperature_rise", "effective_temperature", "residence_time_s",
+           "film_temperature"]
 
 
 class ThermalError(ValueError):
@@ -139,3 +152,44 @@ def effective_temperature(params: BearingParams, load, omega: float, T_supply_K:
     mu, y, z, rep, dT = film(T_eff)
     return ThermalState(T_supply_K=T_s, T_eff_K=float(T_eff), dT_K=dT, mu_eff_Pa_s=mu, y_m=y, z_m=z, report=rep,
                         evaluations=len(seen))
+
+
+def film_temperature(params: BearingParams, report: FilmReport, oil: Oil, T_supply_K: float,
+                     T_old_K: float | None = None, dt_s: float = 0.0) -> tuple[float, float, float]:
+    """(T [K], mu(T) [Pa s], residence time [s]) of the film at one journal state (module
+    docstring, "At a fixed journal state"): ``report`` the film there at the viscosity
+    ``params.mu``; quasi-static when ``T_old_K`` is None, else lagged from T_old_K over ``dt_s``.
+    A film that takes in no oil (no rotation) keeps T_old_K (quasi-static: T_supply). ThermalError
+    outside the oil's range, or when it dissipates power with no oil carried away."""
+    T_s = oil.check_temperature(T_supply_K, "T_supply")
+    q_in = report.inflow_m3_s
+    tau = residence_time_s(params, report) if q_in > 0.0 else math.inf
+    lagged = T_old_K is not None
+    a = math.exp(-dt_s / tau) if lagged else 0.0
+    if lagged:
+        T_old = oil.check_temperature(T_old_K, "the film temperature (T_eff)")
+    else:
+        T_old = T_s
+    per_mu = report.friction_power_W / params.mu  # P / mu [W / (Pa s)] at this state
+    if per_mu <= 0.0 or a == 1.0:
+        T = T_old if lagged else T_s
+        return T, oil.mu(T), tau
+    carried = q_in - 0.5 * report.side_flow_m3_s
+    if not carried > 0.0:
+        raise ThermalError(f"film temperature: the film carries no oil away (inflow {q_in:.4g} m^3/s, side flow "
+                           f"{report.side_flow_m3_s:.4g} m^3/s) while it dissipates {report.friction_power_W:.4g} W")
+    gain = oil.rise_factor * per_mu / (oil.density * oil.heat_capacity * carried)  # k dT / mu [K / (Pa s)]
+
+    def g(T: float) -> float:  # decreasing in T: the target falls as the oil thins
+        return (1.0 - a) * (T_s + gain * oil.mu(T)) + a * T_old - T
+
+    lo = min(T_old, T_s)
+    hi = min(max(T_old, T_s + gain * oil.mu(lo)), oil.T_max)
+    if g(hi) > 0.0:
+        raise ThermalError(f"film temperature: above the oil's range ({oil.name}: up to {oil.T_max - KELVIN:.4g} C): "
+                           f"the heat balance at {oil.T_max - KELVIN:.4g} C still heats the film (dissipation "
+                           f"{report.friction_power_W * oil.mu(hi) / params.mu:.4g} W); cool the supply or widen the "
+                           "oil's range")
+    g_lo = g(lo)
+    T = lo if g_lo <= 0.0 else (hi if g(hi) == 0.0 else brentq(g, lo, hi, xtol=1e-10, rtol=1e-15))
+    return float(T), oil.mu(T), tau

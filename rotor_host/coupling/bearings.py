@@ -95,6 +95,11 @@ class BearingSet:
     def reject_step(self) -> None:
         pass
 
+    def compiled(self):
+        """The bearings as compiled kernels for the integrator's compiled loop
+        (``NodalForce.compiled``), or None; a set of FMUs has none."""
+        return None
+
     def close(self) -> None:
         pass
 
@@ -128,6 +133,35 @@ class DirectBearings(BearingSet):
         self._jac = [getattr(i, "force_and_jacobian", None)
                      or (lambda y, z, vy, vz, om, i=i: film_jacobian(i, y, z, vy, vz, om))
                      for i in self.internals]
+        # internals with a state over the step (a film temperature that lags: LaggedThermal)
+        self._stepped = [i for i in self.internals if hasattr(i, "begin_step")]
+
+    def begin_step(self, t: float, dt: float) -> None:
+        super().begin_step(t, dt)
+        for i in self._stepped:
+            i.begin_step(self.dt)
+
+    def accept_step(self) -> None:
+        if self.dt > 0.0:  # a static evaluation (dt = 0) is never committed, as in an FMU
+            for i in self._stepped:
+                i.accept_step()
+
+    def compiled(self):
+        """(forces, omega): each internal's compiled force (``compiled_force``,
+        ``bearing_fmu.internals.compiled``) for the integrator's compiled loop, or None when one
+        has none, or the set does more per evaluation than call its internals: a speed that
+        follows a profile, internals with a state over the step (``begin_step``), or a tangent
+        other than each bearing's own ("frozen" keeps one, "fd" and "linear" skip it)."""
+        if self.speed is not None or self.tangent != "bearing" or self.lund_sign or self._stepped:
+            return None  # (a stepped internal needs its step hooks, which a compiled chunk does not call)
+        forces = []
+        for internal in self.internals:
+            get = getattr(internal, "compiled_force", None)
+            cf = get() if get is not None else None
+            if cf is None:
+                return None
+            forces.append(cf)
+        return tuple(forces), self.omega
 
     def _bearing(self, k, y, z, vy, vz):
         try:

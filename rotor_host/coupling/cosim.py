@@ -48,7 +48,9 @@ class FMUBearings(BearingSet):
     bearing_dofs  : (dof_y, dof_z) per bearing
     omega         : shaft speed [rad/s]
     parameters    : one dict per bearing, FMU parameter name -> value (D, L, CR, mu, internal,
-                    surrogate, n_theta, ...); unknown names raise FMUError listing the known ones
+                    surrogate, n_theta, ...); unknown names raise FMUError listing the known ones.
+                    Inputs may be given too (T_supply, a start state): set in Initialization Mode,
+                    where the thermal model's T_eff starts (docs/fmu.md)
     """
 
     lund_sign = True  # the FMU outputs K, C
@@ -112,9 +114,14 @@ class FMUBearings(BearingSet):
                         raise FMUError(self._instantiate_failed(k, exc)) from None
                     self.instances.append(fmu)
                     try:
-                        self._set_parameters(k, fmu, parameters[k])
+                        params = {n: v for n, v in parameters[k].items()
+                                  if getattr(self._vars.get(n), "causality", None) != "input"}
+                        self._set_parameters(k, fmu, params)
                         fmu.setupExperiment(startTime=start_time)
                         fmu.enterInitializationMode()
+                        for n, v in parameters[k].items():
+                            if n not in params:
+                                fmu.setReal([self._vars[n].valueReference], [float(v)])
                         fmu.exitInitializationMode()
                         self._initialised.add(k)
                     except FMUError:

@@ -4,8 +4,11 @@
 module            what it holds
 ================  =============================================================
 forces            the ``NodalForce`` protocol the integrator sees, Newton tangent words
+loads             external forces the compiled loop evaluates itself (``RotatingLoads``)
+banded            band storage, banded LU and products (the FE matrices are banded)
 newmark,          implicit Newmark / HHT-alpha with Newton and step cutting; its
 newmark_kernels   compiled kernels
+newmark_loop      the compiled driver: chunks of whole steps in one numba call
 newmark_data      its settings, result and error (NewmarkConfig, NewmarkResult,
                   IntegrationError)
 equilibrium       the static equilibrium of the rotor on nonlinear bearings

@@ -88,6 +88,14 @@ class NodalForce(Protocol):
     state is still the last one evaluated before ``accept_step()``.
     ``static_equilibrium`` brackets its evaluations in ``begin_step(t, 0.0)`` ...
     ``accept_step()`` (``reject_step()`` on failure); dt = 0.0 marks a static evaluation.
+
+    Optional: ``compiled()`` -> (forces, omega) or None. A force whose hooks do nothing and
+    whose evaluation is, per pair of DOFs (y, z), one compiled kernel of
+    ``bearing_fmu.internals.compiled`` at the speed omega [rad/s] (with its own derivatives)
+    may hand the integrator those kernels, one ``CompiledForce`` per pair; the
+    integrator then runs whole chunks of steps compiled (``newmark_loop``), with no call of
+    the hooks or of ``evaluate`` there, and calls them as usual for any step it gives back
+    to Python.
     """
 
     dofs: np.ndarray

@@ -27,14 +27,23 @@ The unknown of Newton's method is q1. With a(q) = c0 q - ahat, v(q) = c1 q - vha
 
     R(q) = S0 q - b - (1 + alpha) P^T f_nl(P q, P v(q)),   S0 = c0 M + (1 + alpha)(c1 D + K),
 
-where b holds everything known at the start of the step. S0 is constant for a fixed h; it is
-factorised once per step size (LU) and kept as its explicit inverse, because a 44 x 44
-matrix-vector product costs well under a microsecond while a LAPACK triangular solve called
-from Python costs several (benchmarks/bench_newmark.py measures both). The tangent S0 - (1 + alpha) P^T J P,
-J = df/dq + c1 df/dv, differs from S0 only on the m nonlinear DOFs, so each Newton correction
-uses the Woodbury identity: one n x n product and one m x m solve. The inner linear algebra is
-compiled with numba (``rotor_host.integrate.newmark_kernels``); Python does the protocol calls and the
-decisions.
+where b holds everything known at the start of the step. S0 is constant for a fixed h. The
+beam FE matrices are banded (4 DOFs per node, node by node: half-bandwidth 7 at any size), so
+S0 is kept in band storage and factorised once per step size by a banded LU
+(``rotor_host.integrate.banded``): a product or a solve costs O(n), not O(n^2) as an explicit
+inverse does. The tangent S0 - (1 + alpha) P^T J P, J = df/dq + c1 df/dv, differs from S0 only
+on the m nonlinear DOFs, so each Newton correction uses the Woodbury identity against the
+banded factors: one banded solve, m precomputed columns W = S0^{-1} P^T and one m x m solve.
+The inner linear algebra is compiled with numba (``rotor_host.integrate.newmark_kernels``).
+
+Two drivers run the same kernels. The compiled one (``rotor_host.integrate.newmark_loop``)
+runs whole chunks of steps in one numba call, Newton iterations and force evaluations
+included, when the nonlinear force offers compiled kernels (``NodalForce.compiled``: the
+bearing internals that have one, through the internals' registry) and the external force is
+a constant or a ``RotatingLoads``; Python handles, between chunks, the recording, progress
+(checkpoints, interrupts) and any step the compiled loop gives back (a rejected state, a
+Newton failure, a step to cut), which it redoes from the same state. The Python driver does
+everything else, one protocol call at a time.
 
 Predictor: the nonlinear force is linearised about the last accepted state with its last
 tangent, and the linearised step is solved exactly. With linear forces (or none) the predictor
@@ -60,11 +69,13 @@ import time
 from typing import Callable, Sequence
 
 import numpy as np
-import scipy.linalg as sla
 
+from .banded import BandLU, bandwidth, to_band
 from .forces import NodalForce, StepRejected, as_dofs, as_nodal_force
+from .loads import RotatingLoads
 from .newmark_data import IntegrationError, NewmarkConfig, NewmarkResult
 from .newmark_kernels import Q0, Q1, StepOps, k_accept, k_begin, k_iter
+from .newmark_loop import ChunkDriver
 
 OMEGA_RTOL = 1e-3  # a varying speed rebuilds D = C + Omega G when Omega has moved by this fraction
 
@@ -104,14 +115,24 @@ class Newmark:
         self.omega = float(omega(0.0)) if callable(omega) else float(omega)
         self.D = self.C + self.omega * self.G
         self.n = n
+        # band storage of everything a step touches (banded.py): O(n) per step
+        self.w = w = bandwidth(self.M, self.K, self.C, self.G)
+        self.MB, self.KB, self.CB, self.GB = (to_band(A, w) for A in (self.M, self.K, self.C, self.G))
+        self.DB = self.CB + self.omega * self.GB
+        # the external force as the compiled loop evaluates it (loads.py), None: Python only
+        self._loads = f_ext if isinstance(f_ext, RotatingLoads) else None
         if f_ext is None:
             zero = np.zeros(n)
             self.f_ext = lambda t: zero
+            self._loads = RotatingLoads(zero)
         elif callable(f_ext):
             self.f_ext = f_ext
         else:
             const = np.asarray(f_ext, dtype=float).reshape(n)
             self.f_ext = lambda t: const
+            self._loads = RotatingLoads(const)
+        if self._loads is not None and self._loads.f_static.shape != (n,):
+            raise ValueError(f"f_ext has {self._loads.f_static.size} entries, expected {n}")
         self.nf = as_nodal_force(nodal_force)
         self.dofs = as_dofs(self.nf.dofs)
         if self.dofs.size and (self.dofs.min() < 0 or self.dofs.max() >= n):
@@ -131,7 +152,7 @@ class Newmark:
     def _ops(self, h: float) -> StepOps:
         ops = self._ops_cache.get(h)
         if ops is None:
-            ops = self._ops_cache[h] = StepOps(h, self.M, self.D, self.K, self.dofs, self.cfg)
+            ops = self._ops_cache[h] = StepOps(h, self.MB, self.DB, self.KB, self.dofs, self.cfg)
         return ops
 
     # ------------------------------------------------------------------ public
@@ -183,8 +204,8 @@ class Newmark:
         F[self.dofs] += st.f0
         rhs = F - self.D @ v0 - self.K @ q0
         try:
-            a0 = sla.cho_solve(sla.cho_factor(self.M), rhs)
-        except np.linalg.LinAlgError:
+            a0 = BandLU(self.M, w=self.w, what="M").solve(rhs)
+        except ValueError:
             a0 = np.linalg.solve(self.M, rhs)
         X[2 * n:] = a0
         st.Ma_norm = float(np.linalg.norm(self.M @ a0))
@@ -194,8 +215,20 @@ class Newmark:
         attempt = self._attempt
         record = self._record
         iters = st.iters
+        plan = self._compiled_plan()
+        if plan is not None:
+            chunk = ChunkDriver(self, plan, n, rec)
+        k = 0
         try:
-            for k in range(n_steps):
+            while k < n_steps:
+                if plan is not None:
+                    # compiled up to the next progress call; a step it gives back is done below
+                    k_end = min(n_steps, (k // progress_every + 1) * progress_every)
+                    k = chunk.run(k, k_end)
+                    if k == k_end:
+                        if progress is not None and k % progress_every == 0:
+                            progress(t0 + k * dt)
+                        continue
                 t_a = t0 + k * dt
                 t_b = t0 + (k + 1) * dt
                 st.step_its = 0
@@ -208,6 +241,7 @@ class Newmark:
                     record((k + 1) // record_every)
                 if progress is not None and (k + 1) % progress_every == 0:
                     progress(t_b)
+                k += 1
         except _StepFailure as fail:
             res = self._partial(status="failed", message=fail.message)
             raise IntegrationError(fail.message, res, t=fail.t, iterations=fail.iterations,
@@ -218,6 +252,18 @@ class Newmark:
         return self._partial()
 
     # ------------------------------------------------------------------ internals
+    def _compiled_plan(self):
+        """The nonlinear force's compiled kernels (``NodalForce.compiled``: (forces, omega))
+        when the compiled driver can run this integration, else None: the setting is
+        off, the speed varies, the residuals are traced, the tangent is built here (fd,
+        linear), f_ext is not a RotatingLoads or a constant, or the force has no kernels."""
+        cfg = self.cfg
+        if (not cfg.compiled or self.omega_of_t is not None or cfg.trace or cfg.tangent in ("fd", "linear")
+                or self._loads is None or not self.dofs.size):
+            return None
+        get = getattr(self.nf, "compiled", None)
+        return get() if get is not None else None
+
     def _fext(self, t):
         fe = np.asarray(self.f_ext(t), dtype=float)
         if fe.shape != (self.n,):
@@ -319,7 +365,7 @@ class Newmark:
         fscale = fe1n + st.Ma_norm
         floor = 1e-13 * bn
         rtol_f, rtol_q, atol_q = cfg.rtol_force, cfg.rtol_disp, cfg.atol_disp
-        SS, cs, V, Pm, AJ = ops.SS, ops.cs, st.V, st.Pm, st.AJ
+        SB, W, cs, V, Pm, AJ = ops.SB, ops.W, ops.cs, st.V, st.Pm, st.AJ
         trace = [] if st.trace is not None else None
         qP, vP = st.qP, st.vP
         iq = Q0  # the row of V holding the iterate
@@ -341,7 +387,7 @@ class Newmark:
                 cause = e
                 break
             # residual, Newton correction, and the next iterate in the other row of V
-            rn, dn, qnorm, fn, ok = k_iter(iq, f, Jq, Jv, SS, dofs, cs, V, Pm, AJ)
+            rn, dn, qnorm, fn, ok = k_iter(iq, f, Jq, Jv, SB, W, dofs, cs, V, Pm, AJ)
             # the convergence test: accept the iterate just evaluated, or see why Newton stops
             tol = rtol_f * (fscale + fn) + floor
             if trace is not None:
@@ -366,7 +412,7 @@ class Newmark:
                     cause = e
                     break
                 fd_fresh = True
-                k_iter(iq, f, st.fd_J, st.Z, SS, dofs, cs, V, Pm, AJ)
+                k_iter(iq, f, st.fd_J, st.Z, SB, W, dofs, cs, V, Pm, AJ)
             prev_rn = rn
             iq = Q0 + Q1 - iq
         self._abandon(its, trace)
@@ -379,6 +425,7 @@ class Newmark:
         if abs(om - self.omega) > OMEGA_RTOL * max(abs(self.omega), 1.0):
             self.omega = om
             self.D = self.C + om * self.G
+            self.DB = self.CB + om * self.GB
             self._ops_cache.clear()
 
     def _predict(self, t_a, t_b, h, ops):
@@ -403,7 +450,7 @@ class Newmark:
             Jq0, Jv0 = st.fd_J, Z
         else:
             Jq0, Jv0 = Z, Z
-        ok, fe1n, bn = k_begin(st.X, ops.H, ops.SS, self.dofs, fe1, st.fe0, st.f0, Jq0, Jv0, ops.cs,
+        ok, fe1n, bn = k_begin(st.X, ops.MDK, ops.SB, ops.W, self.dofs, fe1, st.fe0, st.f0, Jq0, Jv0, ops.cs,
                                 st.V, st.Pm, st.AJ)
         return ok, fe1, fe1n, bn
 
@@ -433,7 +480,7 @@ class Newmark:
     def _accept(self, iq, t_b, cs, fe1, f, exact, its, trace):
         """The iterate in V[iq], the state evaluated last, becomes the state at t_b."""
         st = self._state
-        st.Ma_norm = k_accept(st.X, iq, cs, st.V, self.M)
+        st.Ma_norm = k_accept(st.X, iq, cs, st.V, self.MB)
         st.t = t_b
         if self.cfg.alpha != 0.0:
             st.fe0[:] = fe1

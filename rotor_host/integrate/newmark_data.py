@@ -49,6 +49,9 @@ class NewmarkConfig:
         "linear" = never use the nonlinear tangent.
     fd_rel, fd_qtyp: finite-difference step h_j = fd_rel * max(|q_j|, fd_qtyp) (q units).
     trace: keep each step's residual norms ||R(q_k)|| (one array per attempt) in the result.
+    compiled: run chunks of steps in one compiled call (``newmark_loop``) when the nonlinear
+        force offers compiled kernels (same numbers, same Newton statistics); False: the Python
+        driver always (for comparisons and benchmarks).
     """
 
     alpha: float = 0.0
@@ -63,6 +66,7 @@ class NewmarkConfig:
     fd_rel: float = 1.5e-8
     fd_qtyp: float = 1e-6
     trace: bool = False
+    compiled: bool = True
 
     def __post_init__(self):
         if not (-1.0 / 3.0 - 1e-15 <= self.alpha <= 0.0):

@@ -230,6 +230,19 @@ class Rotor:
         return cls(elements=elements, material=material, disks=disks,
                    bearing_nodes=bearing_nodes, bearings=bearings, name=d["name"] or "")
 
+    def refined(self, k: int) -> "Rotor":
+        """The same rotor with each shaft element cut into ``k`` equal elements (disks and
+        bearings at the same places): 4 (k n_elements + 1) DOFs, for convergence and scaling
+        studies."""
+        k = int(k)
+        if k < 1:
+            raise ValueError(f"refined(k): k = {k} must be an integer >= 1")
+        elements = [ShaftElement(e.length / k, e.od, e.id) for e in self.elements for _ in range(k)]
+        disks = [Disk(d.node * k, d.od, d.id, d.width) for d in self.disks]
+        return Rotor(elements=elements, material=self.material, disks=disks,
+                     bearing_nodes=[nd * k for nd in self.bearing_nodes], bearings=list(self.bearings),
+                     name=f"{self.name} x{k}" if self.name else "")
+
     # ------------------------------------------------------------------ sizes and indexing
     @property
     def n_nodes(self) -> int:

@@ -29,6 +29,7 @@ from bearing_fmu.io.exits import as_interrupted, handled, note_kept
 from bearing_fmu.io.outputs import claim, ensure_writable, savez, write_json
 
 from ..integrate.equilibrium import static_equilibrium
+from ..integrate.loads import RotatingLoads
 from ..integrate.newmark import IntegrationError, Newmark, NewmarkConfig
 from ..model.rotor import Rotor
 from .scene import G, Scene, SceneError, required_file, scene_files
@@ -86,11 +87,13 @@ def _context(scene: Scene, load, warn=None) -> Context:
     return Context(load=(float(load[0]), float(load[1])), omega=scene.omega, warn=warn)
 
 
-def _fmu_parameters(scene: Scene, params, load) -> dict:
-    """FMU parameters of one bearing: the bearing, the internal and all its options (the
-    static load and speed filled in where the internal takes them; files by their name in
-    the FMU's resources). A native FMU takes the options it keeps (``native_parameters``:
-    the linear model's coefficients are made here, per bearing)."""
+def _fmu_parameters(scene: Scene, params, load, thermal=None) -> dict:
+    """FMU parameters of one bearing: the bearing (its bore and oil too), the internal and all its
+    options (the static load and speed filled in where the internal takes them; files by their
+    name in the FMU's resources); with ``thermal`` (the bearing's ``ThermalState``) the thermal
+    model on and the inputs of Initialization Mode at its static equilibrium, where T_eff starts
+    quasi-static. A native FMU takes the options it keeps (``native_parameters``: the linear
+    model's coefficients are made here, per bearing)."""
     if scene.fmu_kind == "native":
         from bearing_fmu.fmu.native import native_parameters
 
@@ -104,7 +107,13 @@ def _fmu_parameters(scene: Scene, params, load) -> dict:
     for o in spec.all_options():
         if o.file and opts[o.name]:
             opts[o.name] = Path(opts[o.name]).name
-    return {"D": params.D, "L": params.L, "CR": params.CR, "mu": params.mu, "internal": spec.name, **opts}
+    from bearing_fmu.fmu.ports import port_defaults
+
+    out = {"D": params.D, "L": params.L, "CR": params.CR, "mu": params.mu, "internal": spec.name, **opts,
+           **port_defaults(params)}
+    if thermal is not None:
+        out.update(thermal=True, T_supply=thermal.T_supply_K, y=thermal.y_m, z=thermal.z_m, omega=scene.omega)
+    return out
 
 
 def _direct_internal(scene: Scene, params, load, warn=None):
@@ -146,7 +155,7 @@ def _native_fmu(scene: Scene, work_dir: Path, bearing=None) -> Path:
     hashes the C sources, the generator, the internal's data file, the bearing and the speed, so
     runs of the same scene share one build. The linear FMU holds no data: the host sets each
     bearing's coefficients."""
-    from bearing_fmu.fmu.native.host import host_build_options
+    from bearing_fmu.fmu.native.host import fmu_internals, host_build_options
     from bearing_fmu.fmu.native.build import C_DIR, build_native_fmu
     from bearing_fmu.fmu.native.compile import host_platform
 
@@ -154,14 +163,15 @@ def _native_fmu(scene: Scene, work_dir: Path, bearing=None) -> Path:
     if not spec.can.native:
         native = registry.having(native=True)
         raise SceneError(f"{scene.source}: fmu_kind = 'native' computes one of {', '.join(native)}, not internal = "
-                         f"{scene.internal!r} (it needs its solver at run time): use fmu_kind = 'python'")
+                         f"{scene.internal!r} (registered from outside the package): use fmu_kind = 'python'")
     work_dir.mkdir(parents=True, exist_ok=True)
     files = {o.name: required_file(scene, spec.name, o.name) for o in spec.file_options()}
     path = next(iter(files.values()), None)  # a native FMU compiles at most one data file in
     taylor = spec.name == "taylor"  # its bearing and speed are the surrogate's
     speed_hz = None if taylor or not scene.omega else scene.omega / (2.0 * math.pi)
     bearing = None if taylor else bearing
-    h = hashlib.sha256(f"{scene.internal} {bearing!r} {speed_hz!r}".encode())
+    internals = fmu_internals(scene.internal, scene.internal_options())  # taylor's fallback: with reynolds
+    h = hashlib.sha256(f"{internals} {bearing!r} {speed_hz!r}".encode())
     fmu_pkg = C_DIR.parent.parent  # bearing_fmu/fmu: the model description and docs generators too
     for f in (sorted(C_DIR.glob("*")) + sorted(C_DIR.parent.glob("*.py")) + [fmu_pkg / "meta.py", fmu_pkg / "docs.py"]
               + ([path] if path else [])):
@@ -170,7 +180,7 @@ def _native_fmu(scene: Scene, work_dir: Path, bearing=None) -> Path:
     if out.is_file():
         return out
     # this machine's binary only: the run loads it here (bearing-fmu build --native makes every platform's)
-    return Path(build_native_fmu(out, scene.internal, options=host_build_options(scene.internal),
+    return Path(build_native_fmu(out, internals, options=host_build_options(scene.internal),
                                  platforms=[host_platform()], bearing=bearing, speed_hz=speed_hz, **files))
 
 
@@ -214,21 +224,46 @@ def build_bearings(scene: Scene, rotor: Rotor, loads: np.ndarray, work_dir: Path
 
         internals = [_direct_internal(scene, p, w, warn) for p, w in zip(rotor.bearings, loads)]
         if thermal is not None:
-            from bearing_fmu.internals.scaled import ViscosityScaled
-
-            internals = [ViscosityScaled(i, st.mu_eff_Pa_s) for i, st in zip(internals, thermal)]
+            internals = [_thermal_internal(scene, i, p, st) for i, p, st in zip(internals, rotor.bearings, thermal)]
         return DirectBearings(internals, pairs, scene.omega, names, tangent=scene.newton_tangent)
     from ..coupling.cosim import FMUBearings
 
-    for name, p in zip(names, rotor.bearings):  # the FMU's parameters would drop the bore: refuse it
+    from bearing_fmu.fmu.native.codegen import BORE_COMPILED_IN
+
+    # the Python FMU takes any bore as parameters; a native FMU has one: its data's, or the first
+    # bearing's compiled in (an internal in BORE_COMPILED_IN) for every bearing of that bore
+    compiled = scene.fmu_kind == "native" and scene.fmu is None and scene.internal in BORE_COMPILED_IN
+    for name, p in zip(names, rotor.bearings):
+        if scene.fmu_kind != "native":
+            break
+        if compiled and p.geometry != rotor.bearings[0].geometry:
+            raise SceneError(f"{scene.source}: fmu_kind = 'native': the native FMU has the bore of {names[0]} "
+                             f"compiled in ({rotor.bearings[0].geometry.describe()}), {name} has another "
+                             f"({p.geometry.describe()}): give the bearings one bore, or use via = 'direct'")
+        if compiled:
+            continue
         try:
-            p.require_full_bore(f"{scene.source}: via = 'fmu': the bearing FMU of {name}",
-                                "its parameters are D, L, CR and mu; the geometry parameters are a later step")
+            p.require_full_bore(f"{scene.source}: via = 'fmu', fmu_kind = 'native': the bearing FMU of {name}",
+                                "its parameters are D, L, CR and mu; the geometry parameters are the Python FMU's")
         except ValueError as exc:
             raise SceneError(str(exc)) from None
     fmu = scene_fmu(scene, work_dir, rotor.bearings[0])
-    params = [_fmu_parameters(scene, p, w) for p, w in zip(rotor.bearings, loads)]
+    params = [_fmu_parameters(scene, p, w, st) for p, w, st in zip(rotor.bearings, loads, thermal or [None] * len(loads))]
     return FMUBearings(fmu, pairs, scene.omega, params, names, tangent=scene.newton_tangent)
+
+
+def _thermal_internal(scene: Scene, internal, params, state):
+    """One bearing's internal at its film's temperature: lagging the heat balance by the residence
+    time from the quasi-static value at its static equilibrium (``LaggedThermal``, the FMU's model)
+    when the internal has the film's flows, else held at the static equilibrium's mu_eff (exact for
+    one speed: F ~ mu; ``scene.py`` refuses a run-up then)."""
+    from bearing_fmu.internals.scaled import LaggedThermal, ViscosityScaled
+
+    if not registry.get(scene.internal).can.film_flow:
+        return ViscosityScaled(internal, state.mu_eff_Pa_s)
+    lagged = LaggedThermal(internal, params.oil, state.T_supply_K)
+    lagged.start(state.y_m, state.z_m, 0.0, 0.0, scene.omega)
+    return lagged
 
 
 def external_force(scene: Scene, rotor: Rotor, f_static: np.ndarray):
@@ -241,16 +276,8 @@ def external_force(scene: Scene, rotor: Rotor, f_static: np.ndarray):
         parts.append((rotor.dof(u.node, "y"), rotor.dof(u.node, "z"), u.mass_kg * u.radius_m, u.phase_rad, u.t_on_s))
     out = np.empty_like(f_static)
     profile = scene.speed_profile
-
-    def f_ext(t: float) -> np.ndarray:
-        out[:] = f_static
-        for iy, iz, mr, ph, t_on in parts:
-            if t >= t_on:
-                a = om * t + ph
-                amp = mr * om * om
-                out[iy] += amp * math.cos(a)
-                out[iz] += amp * math.sin(a)
-        return out
+    if profile is None:  # a constant speed: loads the compiled integrator loop evaluates itself
+        return RotatingLoads(f_static, parts, om)
 
     def f_ext_profile(t: float) -> np.ndarray:
         out[:] = f_static
@@ -263,7 +290,7 @@ def external_force(scene: Scene, rotor: Rotor, f_static: np.ndarray):
                     out[iz] += mr * (w * w * s - dw * c)
         return out
 
-    return f_ext if profile is None else f_ext_profile
+    return f_ext_profile
 
 
 def initial_state(scene: Scene, rotor: Rotor, f_static, loads, bearings) -> np.ndarray:

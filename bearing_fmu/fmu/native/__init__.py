@@ -1,4 +1,4 @@
-"""Native bearing FMUs: the linear, map and Taylor internals as compiled C, no Python at run time.
+"""Native bearing FMUs: the Reynolds, linear, map and Taylor internals as compiled C, no Python at run time.
 
 ``build_native_fmu`` (``build``) writes an FMI 2.0 FMU with Model Exchange and Co-Simulation,
 its C sources in ``sources/`` and binaries for linux64, win64 and darwin64:
@@ -11,6 +11,8 @@ its C sources in ``sources/`` and binaries for linux64, win64 and darwin64:
 | objfile | ELF, PE and Mach-O exports and imports; the universal Mach-O writer |
 | fmi3 | the FMI 3.0 FMU of the same internals: its model and build descriptions (``fmi_version=3``) |
 | host | what a host sets on a native FMU (per bearing) |
+| reynolds_data | the bore of a native Reynolds FMU (its segments, the wall's sample angles) as a C header |
+| solver_lib | the C Reynolds solver alone, compiled and called through ctypes (tests, benchmarks) |
 
 The hand-written C is in ``c/`` (the FMI 2 and FMI 3 layers, calling sequences, one file per
 internal, a C host).

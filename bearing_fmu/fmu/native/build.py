@@ -3,9 +3,11 @@ sources in ``sources/``, the binary for this platform compiled from them, no Pyt
 
 ``build_native_fmu(output, internal, ...)``:
 
-1. ``codegen.native_model``: the internal's data as C headers, its variables and options;
-2. stage ``sources/`` (``bearing_native.h``, ``fmi2_bearing.c``, ``fmi2_order.c``,
-   ``internal_<name>.c`` from ``bearing_fmu/fmu/native/c/`` and the two generated headers),
+1. ``codegen.native_model``: the internal's data as C headers, its variables and options (several
+   internals: ``several.several_model``, one binary switching among them);
+2. stage ``sources/`` (the FMI 2.0 layer ``fmi2_*.c``, the model layer ``bearing_*.c`` that the
+   FMI 3.0 FMU shares, ``internal_<name>.c``, their headers, from ``bearing_fmu/fmu/native/c/``,
+   and the two generated headers),
    ``modelDescription.xml`` (both interfaces, units, output dependencies, the source files; what
    a system-simulation engineer reads in it: ``bearing_fmu.fmu.meta``), ``documentation/``
    (``bearing_fmu.fmu.docs``) and ``resources/build_info.json`` (the bearing, the data file and
@@ -35,25 +37,29 @@ from xml.etree import ElementTree as ET
 
 from ... import __version__
 from ...physics.params import PAPER_BEARING, BearingParams
-from .codegen import NativeModel, assign_identity, native_model
+from .codegen import BORE_COMPILED_IN, MODEL_HEADERS, MODEL_SOURCES, NativeModel, assign_identity, internal_sources
 from .compile import (C_FLAGS, NativeBuildError, compile_binaries, find_compiler, fmi_headers,  # noqa: F401
                       parse_platforms)
 
 C_DIR = Path(__file__).resolve().parent / "c"
-COMMON_SOURCES = ("bearing_native.h", "fmi2_bearing.c", "fmi2_order.c")
+# the FMI 2.0 layer over the model layer (codegen.MODEL_SOURCES)
+HEADERS2 = (*MODEL_HEADERS, "fmi2_layer.h")
+SOURCES2 = ("fmi2_bearing.c", "fmi2_modes.c", "fmi2_order.c", *MODEL_SOURCES)
 
 
 def build_native_fmu(output, internal: str, *, surrogate=None, map=None, bearing: BearingParams | None = None,
                      options: dict | None = None, cmake: bool = False, bearing_source="", platforms=None,
                      compiler: str | None = None, speed_hz: float | None = None, fmi_version: int = 2) -> Path:
-    """Write the native FMU of ``internal`` (taylor | map | linear) to ``output`` (.fmu).
+    """Write the native FMU of ``internal`` (reynolds | taylor | map | linear) to ``output`` (.fmu).
 
     surrogate : taylor: the surrogate JSON file compiled in (the bearing defaults to its own)
     map       : map: the force map JSON file; linear: linearise on this map (no Reynolds)
-    bearing   : the bearing (default: the surrogate's for taylor, else the paper bearing)
+    bearing   : the bearing (default: the surrogate's for taylor, else the paper bearing); reynolds: any
+                bore (its geometry compiled in), the others the full bore
     bearing_source : where ``bearing`` came from (its file: recorded with its SHA-256)
     options   : registry options: taylor's domain_action / domain_limit start values, linear's
-                linear_from, load_y, load_z, omega_lin, lin_* (the coefficients' start values)
+                linear_from, load_y, load_z, omega_lin, lin_* (the coefficients' start values),
+                reynolds's n_theta, n_x, cavitation (start values; parameters of the FMU)
     speed_hz  : map, linear: the start value of the input omega [Hz] (linear: its omega_lin); default
                 the linear model's speed, map 22 Hz; taylor: always the surrogate's speed
     platforms : binaries/ folders to compile (compile.PLATFORMS; default: all with zig, else the host's)
@@ -70,15 +76,18 @@ def build_native_fmu(output, internal: str, *, surrogate=None, map=None, bearing
     for label, path in (("surrogate", surrogate), ("map", map)):
         if path is not None and not Path(path).is_file():
             raise FileNotFoundError(f"build_native_fmu: {label} file {str(path)!r} not found")
-    if bearing is not None and not (map is not None and str(internal).lower() == "map"):
-        # a map FMU's bore is its map's (checked against the bearing's by the codegen)
+    from .several import parse_internals, several_model
+
+    parts = parse_internals(internal)
+    # a map FMU's bore is its map's (a grooved bore's 3-D map; the codegen checks it against the bearing's)
+    if bearing is not None and any(p not in BORE_COMPILED_IN and not (p == "map" and map is not None) for p in parts):
         bearing.require_full_bore(f"the native bearing FMU ({bearing_source or 'build_native_fmu'})",
                                   "its parameters are D, L, CR and mu; the geometry parameters are a later step")
     compiler = compiler or ("cmake" if cmake else "zig")
     platforms = parse_platforms(",".join(platforms) if platforms else None, compiler)  # refused before any work
-    params = bearing if bearing is not None else (None if str(internal).lower() == "taylor" else PAPER_BEARING)
-    model = native_model(internal, params, surrogate=surrogate, map=map, options=options,
-                         omega=None if speed_hz is None else 2.0 * math.pi * float(speed_hz))
+    params = bearing if bearing is not None else (None if "taylor" in parts else PAPER_BEARING)
+    model = several_model(parts, params, surrogate=surrogate, map=map, options=options,  # one, or several
+                          omega=None if speed_hz is None else 2.0 * math.pi * float(speed_hz))
     from ...io.outputs import write_bytes
 
     record = build_record(model, bearing_source if bearing is not None else "")
@@ -102,7 +111,7 @@ def build_native_fmu(output, internal: str, *, surrogate=None, map=None, bearing
 
 def source_files(model: NativeModel) -> list[str]:
     """The C files the compiler builds (the headers are included by them)."""
-    return ["fmi2_bearing.c", "fmi2_order.c", f"internal_{model.internal}.c"]
+    return [*SOURCES2, *internal_sources(model)[0]]
 
 
 def build_record(model: NativeModel, bearing_source="") -> dict:
@@ -111,10 +120,10 @@ def build_record(model: NativeModel, bearing_source="") -> dict:
     from ..meta import build_record as record
 
     source, is_file = bearing_source, True
-    if not bearing_source and model.internal == "taylor":
+    if not bearing_source and "taylor" in model.all_parts:
         source, is_file = f"the bearing the surrogate {model.source.name} was fitted for", False
     compiled = {k: v for k, v in model.info.items() if k not in ("provenance", "source")}
-    return record("native", [model.internal], model.internal, model.params, source,
+    return record("native", list(model.all_parts), model.internal, model.params, source,
                   [model.source] if model.source else [], is_file, {"compiled": compiled})
 
 
@@ -128,7 +137,7 @@ def stage(model: NativeModel, root: Path, record: dict | None = None) -> None:
     record = record if record is not None else build_record(model)
     src = root / "sources"
     src.mkdir(parents=True)
-    names = (*COMMON_SOURCES, f"internal_{model.internal}.c")
+    names = (*HEADERS2, *internal_sources(model)[1], *source_files(model))
     assign_identity(model, {n: (C_DIR / n).read_text(encoding="ascii") for n in names},
                     lambda: model_description(model, record))
     for name in names:
@@ -174,7 +183,8 @@ def model_description(model: NativeModel, record: dict) -> bytes:
         for name in source_files(model):
             ET.SubElement(files, "File", name=name)
     root.append(fmu_meta.unit_definitions({v.unit for v in model.variables if v.unit}))
-    root.append(fmu_meta.type_definitions([(string, items) for _n, string, items in native_enumerations(model.internal)]))
+    enums = native_enumerations(model.all_parts)
+    root.append(fmu_meta.type_definitions([(string, items) for _n, string, items in enums]))
     cats = ET.SubElement(root, "LogCategories")
     for name, what in (("warning", "a state outside the fitted domain (once per excursion, counted at terminate), "
                         "outputs left at their start values"),
@@ -199,15 +209,21 @@ def model_description(model: NativeModel, record: dict) -> bytes:
                               ("true" if v.start else "false") if v.type == "Boolean" else str(v.start))
         if v.type == "Real":
             typed.update(fmu_meta.real_attributes(v.name, v.unit, model.params, omega_ref))
+        elif v.type == "Integer":
+            typed.update(fmu_meta.integer_attributes(v.name))
         ET.SubElement(sv, v.type, typed)
     inputs = [index[v.name] for v in model.variables if v.causality == "input"]
     outputs = [index[v.name] for v in model.variables if v.causality == "output"]
     params = [index[v.name] for v in model.variables if v.causality == "parameter"]
     structure = ET.SubElement(root, "ModelStructure")
     node = ET.SubElement(structure, "Outputs")
-    for i in outputs:
-        ET.SubElement(node, "Unknown", index=str(i), dependencies=" ".join(map(str, inputs)),
-                      dependenciesKind=" ".join(["dependent"] * len(inputs)))
+    from .fmi3 import output_dependencies  # noqa: PLC0415 - one table of what depends on what, both versions
+
+    depends = output_dependencies(model)
+    for i, v in zip(outputs, [v for v in model.variables if v.causality == "output"]):
+        own = [index[n] for n in depends[v.name]] if v.name in depends else inputs
+        ET.SubElement(node, "Unknown", index=str(i), dependencies=" ".join(map(str, own)),
+                      dependenciesKind=" ".join(["dependent"] * len(own)))
     node = ET.SubElement(structure, "InitialUnknowns")
     deps = sorted(inputs + params)
     for i in outputs:

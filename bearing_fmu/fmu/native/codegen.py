@@ -30,22 +30,32 @@ import numpy as np
 from ...internals import registry
 from ..order import c_defines
 from ..variables import ENUMERATIONS, VARIABLES  # the one table of the FMU interface
+from .portgen import port_config, port_variables
 from ...physics.params import BearingParams
 
 ID_TOKEN, GUID_TOKEN = "BN_MODEL_IDENTIFIER", "{BN-GUID}"  # in model_config.h until assign_identity
-INTERNALS = ("linear", "map", "taylor")  # what a native FMU can compute (no solver at run time)
+INTERNALS = ("linear", "map", "taylor", "reynolds")  # what a native FMU can compute
+# C files an internal's file includes (so that all of it stays static): staged beside it, not compiled alone
+INCLUDED_SOURCES = {"reynolds": ("py_mod.h", "reynolds_solver.h", "reynolds_kernels.c", "reynolds_solver.c"),
+                    "map": ("py_mod.h",)}
+# the model layer (c/bearing_values.h), the same C files under the FMI 2.0 and the FMI 3.0 layer
+MODEL_HEADERS = ("bearing_native.h", "bearing_values.h")
+MODEL_SOURCES = ("bearing_values.c", "bearing_model.c", "bearing_derivatives.c")
 REAL_BASE, BOOL_BASE, STRING_BASE, ENUM_BASE = 0, 1000, 2000, 3000  # value references by type (bearing_native.h)
 CORE_REALS = ("y", "z", "vy", "vz", "omega", "Fy", "Fz", "eccentricity", "h_min", "Kyy", "Kyz", "Kzy", "Kzz",
               "Cyy", "Cyz", "Czy", "Czz", "D", "L", "CR", "mu")
-FALLBACK_WHY = ("the fallback evaluates the Reynolds solver, which a native FMU does not have; use warn or discard, "
-                "or the Python FMU (bearing-fmu build) for fallback")
+FALLBACK_WHY = ("the fallback evaluates the Reynolds solver, which this native FMU does not hold; build one with it "
+                "(bearing-fmu build --native --internal taylor,reynolds), use warn or discard, or the Python FMU")
 # the native FMU's options per internal (registry names); the rest stay in the Python FMU
 # does the internal's force depend on (the bearing D, L, CR, mu as set; the speed omega)? The
 # Taylor surrogate holds its own bearing and speed (others refused), so does the linear model
-FORCE_DEPENDS = {"map": (1, 1), "taylor": (0, 0), "linear": (0, 0)}
+FORCE_DEPENDS = {"map": (1, 1), "taylor": (0, 0), "linear": (0, 0), "reynolds": (2, 1)}  # 2: and on L/D
+# the native FMUs that have the bearing's bore compiled in (any bore; the others: the full bore only)
+BORE_COMPILED_IN = ("reynolds",)
 NATIVE_OPTIONS = {
     "taylor": ("surrogate", "domain_action", "domain_limit"),
     "map": ("map",),
+    "reynolds": ("n_theta", "n_x", "cavitation"),
     "linear": ("omega_lin", "lin_y0", "lin_z0", "lin_Fy0", "lin_Fz0", "lin_Kyy", "lin_Kyz", "lin_Kzy", "lin_Kzz",
                "lin_Cyy", "lin_Cyz", "lin_Czy", "lin_Czz"),
 }
@@ -115,7 +125,13 @@ class NativeModel:
     source: Path | None  # the data file compiled in (surrogate, map), if any
     description: str
     info: dict = field(default_factory=dict)  # what the documentation records (order, table size, ...)
+    parts: tuple = ()  # an FMU of several internals: all of them (internal: the first, the start value)
     identifier: str = ""  # assign_identity: bearing_<internal>_<content hash>
+
+    @property
+    def all_parts(self) -> tuple[str, ...]:
+        """The internals the FMU holds (one, or several)."""
+        return self.parts or (self.internal,)
 
     @property
     def model_identifier(self) -> str:
@@ -138,7 +154,7 @@ def native_model(internal: str, params: BearingParams, *, surrogate=None, map=No
     internal = str(internal).strip().lower()
     if internal not in INTERNALS:
         raise ValueError(f"a native FMU computes one of {', '.join(INTERNALS)}; got internal {internal!r} "
-                         "(reynolds needs its solver at run time: the Python FMU, `bearing-fmu build`)")
+                         "(an internal registered from outside the package: the Python FMU, `bearing-fmu build`)")
     options = dict(options or {})
     if omega is not None:
         if internal == "taylor":
@@ -147,11 +163,14 @@ def native_model(internal: str, params: BearingParams, *, surrogate=None, map=No
         if not (math.isfinite(omega) and omega > 0):
             raise ValueError(f"the start speed omega = {omega!r} rad/s must be finite and > 0")
         options["omega_lin" if internal == "linear" else "_omega"] = float(omega)
-    return {"taylor": _taylor, "map": _map, "linear": _linear}[internal](params, surrogate, map, options)
+    return {"taylor": _taylor, "map": _map, "linear": _linear, "reynolds": _reynolds}[internal](
+        params, surrogate, map, options)
 
 
-def _variables(internal: str, params: BearingParams, starts: dict, inputs: tuple) -> list[Variable]:
-    """The Python FMU's variables that apply, in value-reference order (bearing_native.h)."""
+def native_variables(internal, params: BearingParams, starts: dict, inputs: tuple) -> list[Variable]:
+    """The Python FMU's variables that apply, in value-reference order (bearing_native.h), for
+    ``internal`` (a name, or a tuple of the names an FMU of several holds)."""
+    parts = parts_of(internal)
     table = {v[0]: v for v in VARIABLES}
     out = []
     bearing = dict(zip(("D", "L", "CR", "mu"), (params.D, params.L, params.CR, params.mu)))
@@ -162,7 +181,7 @@ def _variables(internal: str, params: BearingParams, starts: dict, inputs: tuple
             out.append(Variable(name, REAL_BASE + vr, typ, causality, float(start), unit, desc))
         else:
             out.append(Variable(name, REAL_BASE + vr, typ, causality, 0.0, unit, desc))
-    opts = [registry_option(n) for n in NATIVE_OPTIONS[internal]]
+    opts = [registry_option(n) for n in option_names(internal)]
     reals = [o for o in opts if o.type is float]
     strings = [o for o in opts if o.type is str]
     for k, o in enumerate(reals):
@@ -171,45 +190,77 @@ def _variables(internal: str, params: BearingParams, starts: dict, inputs: tuple
     for name, k in (("out_of_domain", 0), ("compute_tangent", 1)):
         _n, typ, causality, unit, start, desc = table[name]
         out.append(Variable(name, BOOL_BASE + k, typ, causality, bool(start), None, desc))
-    out.append(Variable("internal", STRING_BASE, "String", "parameter", internal, None,
-                        f"which internal computes the force: this native FMU computes {internal} only"))
+    # the thermal ports and the bore (portgen.py): after the Real options, and after the
+    # enumerations and the Integer options
+    n_ints = len(native_enumerations(internal)) + sum(o.type is int for o in opts)
+    out += [Variable(*v) for v in port_variables(internal, params, REAL_BASE + len(CORE_REALS) + len(reals),
+                                                 ENUM_BASE + n_ints, BOOL_BASE)]
+    what = f"this native FMU computes {parts[0]} only" if len(parts) == 1 else " | ".join(parts)
+    out.append(Variable("internal", STRING_BASE, "String", "parameter", parts[0], None,
+                        f"which internal computes the force: {what}"))
     for k, o in enumerate(strings):
         desc = o.help
         if o.name == "domain_action":
             desc = ("taylor, state outside the fitted domain: warn (surrogate value, warned once per excursion) | "
-                    "discard (refuse the step); fallback needs the Python FMU")
+                    + ("fallback (the Reynolds internal of this FMU, blended over the domain's edge) | " if
+                       "reynolds" in parts else "") + "discard (refuse the step)"
+                    + ("" if "reynolds" in parts else "; fallback needs the Reynolds internal in the FMU"))
         elif o.file:
             desc = f"{o.name} file compiled into this FMU ('' or its name)"
         out.append(Variable(o.name, STRING_BASE + 1 + k, "String", "parameter", str(starts[o.name]), None, desc))
     from ..meta import enum_type_name  # noqa: PLC0415
 
     for k, (name, string, items) in enumerate(native_enumerations(internal)):
-        start = internal if string == "internal" else str(starts[string])
+        start = parts[0] if string == "internal" else str(starts[string])
         value = next(v for v, item in items if item == start)
         words = ", ".join(f"{v} = {item}" for v, item in items)
         out.append(Variable(name, ENUM_BASE + k, "Enumeration", "parameter", value, None,
                             f"{string} as an enumeration ({words}): the same choice as the String parameter {string}; "
                             "set either (set both, they must agree)", enum_type_name(string)))
+    n_enums = len(native_enumerations(internal))
+    for k, o in enumerate(o for o in opts if o.type is int):  # Integers after the enumerations
+        out.append(Variable(o.name, ENUM_BASE + n_enums + k, "Integer", "parameter", int(starts[o.name]), o.unit,
+                            f"{o.help} ({o.allowed()})"))
     return out
 
 
-def native_enumerations(internal: str) -> list[tuple[str, str, list[tuple[int, str]]]]:
+def native_enumerations(internal) -> list[tuple[str, str, list[tuple[int, str]]]]:
     """(enumeration parameter, its String parameter, [(value, item), ...]) of the native FMU of
-    ``internal``: the Python FMU's enumerations (``fmu_variables.ENUMERATIONS``, the same numbers) of
-    the String parameters it has, with the items it accepts (internal: its own; domain_action: not
-    fallback)."""
-    strings = ["internal"] + [n for n in NATIVE_OPTIONS[internal] if registry_option(n).choices]
+    ``internal`` (a name, or a tuple of them): the Python FMU's enumerations
+    (``fmu_variables.ENUMERATIONS``, the same numbers) of the String parameters it has, with the
+    items it accepts (internal: its own; domain_action: fallback only with reynolds in the FMU)."""
+    parts = parts_of(internal)
+    strings = ["internal"] + [n for n in option_names(internal) if registry_option(n).choices]
     out = []
     for name, (string, items) in ENUMERATIONS.items():
         if string in strings:
-            allowed = [internal] if string == "internal" else [c for c in items if not (
-                string == "domain_action" and c == "fallback")]
+            allowed = [c for c in items if c in parts] if string == "internal" else [c for c in items if not (
+                string == "domain_action" and c == "fallback" and "reynolds" not in parts)]
             out.append((name, string, [(items.index(c) + 1, c) for c in allowed]))
     return out
 
 
 def registry_option(name: str) -> registry.Option:
     return next(o for o in registry.all_options() if o.name == name)
+
+
+def internal_sources(model: "NativeModel") -> tuple[list[str], list[str]]:
+    """(the internals' C files the compiler builds, the files they include) of ``model``: each
+    internal's file, and for several bn_parts.c, which dispatches among them."""
+    parts = model.all_parts
+    compiled = [f"internal_{p}.c" for p in parts] + (["bn_parts.c"] if len(parts) > 1 else [])
+    return compiled, list(dict.fromkeys(f for p in parts for f in INCLUDED_SOURCES.get(p, ())))
+
+
+def parts_of(internal) -> tuple[str, ...]:
+    """The internals of a native model: one name, or a tuple of them (an FMU of several, the first
+    the start value of the parameter internal)."""
+    return (internal,) if isinstance(internal, str) else tuple(internal)
+
+
+def option_names(internal) -> tuple[str, ...]:
+    """The native options of ``internal`` (a name or a tuple of names), each once, in order."""
+    return tuple(dict.fromkeys(n for p in parts_of(internal) for n in NATIVE_OPTIONS[p]))
 
 
 def assign_identity(model: "NativeModel", sources: dict[str, str], describe) -> None:
@@ -226,7 +277,7 @@ def assign_identity(model: "NativeModel", sources: dict[str, str], describe) -> 
     for name in sorted(sources):
         h.update(name.encode() + b"\0" + sources[name].encode() + b"\0")
     h.update(model.config_h.encode() + b"\0" + model.data_h.encode() + b"\0")
-    model.identifier = f"bearing_{model.internal}_{h.hexdigest()[:6]}"
+    model.identifier = f"bearing_{'_'.join(model.parts or (model.internal,))}_{h.hexdigest()[:6]}"
     model.info["guid"] = GUID_TOKEN
     h.update(re.sub(rb'generationDateAndTime="[^"]*"', b"", describe()))
     g = h.hexdigest()
@@ -234,23 +285,31 @@ def assign_identity(model: "NativeModel", sources: dict[str, str], describe) -> 
     model.config_h = model.config_h.replace(ID_TOKEN, model.identifier).replace(GUID_TOKEN, model.info["guid"])
 
 
-def _config(internal: str, params: BearingParams, starts: dict, inputs) -> str:
-    """model_config.h, the model identifier and GUID as tokens (``assign_identity``)."""
-    opts = [registry_option(n) for n in NATIVE_OPTIONS[internal]]
+def model_config(internal, params: BearingParams, starts: dict, inputs) -> str:
+    """model_config.h, the model identifier and GUID as tokens (``assign_identity``); ``internal``
+    a name or a tuple of them (an FMU of several: bn_parts.c dispatches among them)."""
+    parts = parts_of(internal)
+    opts = [registry_option(n) for n in option_names(internal)]
     reals = [o for o in opts if o.type is float]
     strings = [o for o in opts if o.type is str]
     lines = [
         "/* Generated by bearing_fmu.fmu.native.codegen. Do not edit. */",
         "#ifndef MODEL_CONFIG_H", "#define MODEL_CONFIG_H",
-        f"#define BN_INTERNAL {c_string(internal)}",
+        f"#define BN_INTERNAL {c_string(parts[0])}",
         f"#define BN_ID {ID_TOKEN}",  # names every symbol shared between the files (bearing_native.h)
         f"#define BN_GUID {c_string(GUID_TOKEN)}",
-        f"#define BN_BEARING_IN_FORCE {FORCE_DEPENDS[internal][0]}",
-        f"#define BN_SPEED_IN_FORCE {FORCE_DEPENDS[internal][1]}",
+        # several internals: the largest (bearing_derivatives.c asks the one set, bn_force_depends)
+        f"#define BN_BEARING_IN_FORCE {max(FORCE_DEPENDS[p][0] for p in parts)}",
+        f"#define BN_SPEED_IN_FORCE {max(FORCE_DEPENDS[p][1] for p in parts)}",
+        f"#define BN_PARTS {len(parts)}",
+        f"#define BN_INTERNALS {c_string('|'.join(parts))}",
+        "#define BN_PART_LIST(X) " + " ".join(f"X({p}, {FORCE_DEPENDS[p][0]}, {FORCE_DEPENDS[p][1]})" for p in parts),
+        *(f"#define BN_HOLDS_{p.upper()} {int(p in parts)}" for p in INTERNALS),
         f"#define BN_N_REAL_OPTIONS {len(reals)}",
         f"#define BN_N_STRING_OPTIONS {len(strings)}",
         f"#define BN_START_INPUTS {{{', '.join(c_double(v) for v in inputs)}}}",
         f"#define BN_START_BEARING {{{', '.join(c_double(v) for v in (params.D, params.L, params.CR, params.mu))}}}",
+        *port_config(params, c_double, c_string),  # the thermal ports and the bore (portgen.py)
     ]
     rows = []
     for k, o in enumerate(reals):
@@ -266,8 +325,9 @@ def _config(internal: str, params: BearingParams, starts: dict, inputs) -> str:
         if o.file:
             rows.append(f"    {{{c_string(o.name)}, {c_string(starts[o.name])}, NULL, 1, NULL, NULL}}")
         else:
-            choices = [c for c in o.choices if not (o.name == "domain_action" and c == "fallback")]
-            refuse = ("fallback", FALLBACK_WHY) if o.name == "domain_action" else None
+            fallback = "reynolds" in parts  # taylor's fallback: the Reynolds internal of the same FMU
+            choices = [c for c in o.choices if not (o.name == "domain_action" and c == "fallback" and not fallback)]
+            refuse = ("fallback", FALLBACK_WHY) if o.name == "domain_action" and not fallback else None
             rows.append(f"    {{{c_string(o.name)}, {c_string(starts[o.name])}, {c_string('|'.join(choices))}, 0, "
                         + (f"{c_string(refuse[0])}, {c_string(refuse[1])}}}" if refuse else "NULL, NULL}"))
     lines.append("#define BN_STRING_OPTION_TABLE \\\n" + ", \\\n".join(rows) if rows else
@@ -277,12 +337,23 @@ def _config(internal: str, params: BearingParams, starts: dict, inputs) -> str:
     rows = []
     string_names = ["internal"] + [o.name for o in strings]
     for name, string, items in native_enumerations(internal):
-        start = internal if string == "internal" else str(starts[string])
+        start = parts[0] if string == "internal" else str(starts[string])
         value = next(v for v, item in items if item == start)
         rows.append(f"    {{{c_string(name)}, {string_names.index(string)}, {value}, "
                     f"{c_string('|'.join(ENUMERATIONS[name][1]))}}}")
     lines.append(f"#define BN_N_ENUMS {len(rows)}")
     lines.append("#define BN_ENUM_TABLE \\\n" + ", \\\n".join(rows))
+    # the Integer options (after the enumerations): name, start, minimum, maximum, even, the
+    # special value (0: the default) or -1, the allowed values in words
+    ints = [o for o in opts if o.type is int]
+    lines.append(f"#define BN_N_INT_OPTIONS {len(ints)}")
+    rows = []
+    for k, o in enumerate(ints):
+        lines.append(f"#define I_OPT_{o.name.upper()} {k}")
+        special = 0 if o.special else -1
+        rows.append(f"    {{{c_string(o.name)}, {int(starts[o.name])}, {int(o.minimum)}, {int(o.maximum)}, "
+                    f"{int(o.even)}, {special}, {c_string(o.allowed())}}}")
+    lines.append("#define BN_INT_OPTION_TABLE \\\n" + ", \\\n".join(rows) if rows else "#define BN_INT_OPTION_TABLE")
     lines += c_defines()  # the FMI 2.0 calling sequence: the one table both FMUs check
     lines.append("#endif\n")
     return "\n".join(lines)
@@ -427,12 +498,12 @@ def _taylor(params: BearingParams, surrogate, map_path, options: dict) -> Native
         raise ValueError(f"domain_action = 'fallback': {FALLBACK_WHY}")
     inputs = (sur.y0, sur.z0, 0.0, 0.0, sur.omega)
     data_h = "\n".join(parts)
-    config_h = _config("taylor", params, starts, inputs)
+    config_h = model_config("taylor", params, starts, inputs)
     info = {"source": path.name, "recipe": sur.recipe, "order": sur.order, "terms": int(exps.shape[0]),
             "wall_power": sur.wall_power, "shape_order": sur.shape_order, "omega": sur.omega,
             "training_states": 0 if nb is None else len(nb.points),
             "provenance": sur.provenance}
-    return NativeModel("taylor", params, _variables("taylor", params, starts, inputs), config_h, data_h, path,
+    return NativeModel("taylor", params, native_variables("taylor", params, starts, inputs), config_h, data_h, path,
                        f"hydrodynamic journal bearing, Taylor surrogate {path.name} ({sur.recipe}) at "
                        f"{sur.omega / (2 * math.pi):.6g} Hz, compiled (no Python)", info)
 
@@ -447,42 +518,35 @@ def _map(params: BearingParams, surrogate, map_path, options: dict) -> NativeMod
         raise ValueError("a native map FMU needs a force map file (--map FILE)")
     path = Path(map_path)
     table = load_any_map(path)
-    try:
-        map_internal(params, table, source=str(path))  # refuses another L/D or bore, as the FMU will
-    except ValueError as exc:
-        if table.H.ndim == 4 and params.geometry.is_full_bore:  # the bore comes from the bearing file
-            raise ValueError(f"{exc}; for the native map FMU give the bearing file with --bearing") from None
-        raise
+    # refuses another L/D or bore, as the FMU will (a grooved map's bore comes from --bearing)
+    map_internal(params, table, str(path), hint="for the native map FMU give the bearing file with --bearing")
     shape = " x ".join(str(n) for n in table.H.shape[:-1])
-    *knots, C = table.spline()
-    ts, tb = knots[0], knots[-1]
-    grooved = len(knots) == 3  # a grooved or partial-arc bore's 3-D map: the attitude phi too
+    *knots, C = table.spline()  # (ts, tb) or, for a grooved bore's 3-D map, (ts, tp, tb)
     parts = [
         "/* Generated by bearing_fmu.fmu.native.codegen from the force map file "
         f"{path.name} ({shape}). Do not edit. */",
         "#ifndef MODEL_DATA_H", "#define MODEL_DATA_H",
         f"#define MAP_SOURCE {c_string(path.name)}",
-        f"#define MAP_DIMS {3 if grooved else 2}",
+        f"#define MAP_DIMS {len(knots)}",
         f"#define MAP_NS {C.shape[0]}",
-        *([f"#define MAP_NP {C.shape[1]}", c_array("MAP_TP", knots[1])] if grooved else []),
+        *([f"#define MAP_NP {C.shape[1]}", c_array("MAP_TP", knots[1])] if len(knots) == 3 else []),
         f"#define MAP_NB {C.shape[-2]}",
         f"#define MAP_WALL_EXPONENT {c_double(table.wall_exponent)}",
         f"#define MAP_EPS_MIN {c_double(EPS_MIN)}",
         f"#define MAP_EPS_MAX {c_double(table.eps_max)}",
         f"#define MAP_L_OVER_D {c_double(table.L_over_D)}",
         f"#define MAP_LD_RTOL {c_double(LD_RTOL)}",
-        c_array("MAP_TS", ts), c_array("MAP_TB", tb), c_array("MAP_C", C),
+        c_array("MAP_TS", knots[0]), c_array("MAP_TB", knots[-1]), c_array("MAP_C", C),
         "#endif\n",
     ]
     data_h = "\n".join(parts)
     starts = {"map": path.name}
     # a nonzero speed: an omega a master forgets to connect still gives the film's force
     inputs = (0.0, 0.0, 0.0, 0.0, float(options.get("_omega", registry.DEFAULT_OMEGA_LIN)))
-    config_h = _config("map", params, starts, inputs)
-    info = {"source": path.name, "table": shape, "eps_max": table.eps_max,
-            "L_over_D": table.L_over_D, "reynolds": f"{table.n_theta} x {table.n_x} {table.cavitation}",
-            "provenance": table.provenance}
-    return NativeModel("map", params, _variables("map", params, starts, inputs), config_h, data_h, path,
+    config_h = model_config("map", params, starts, inputs)
+    info = {"source": path.name, "table": shape, "eps_max": table.eps_max, "L_over_D": table.L_over_D,
+            "reynolds": f"{table.n_theta} x {table.n_x} {table.cavitation}", "provenance": table.provenance}
+    return NativeModel("map", params, native_variables("map", params, starts, inputs), config_h, data_h, path,
                        f"hydrodynamic journal bearing, force map {path.name} (L/D {table.L_over_D:.4g}, any speed, "
                        "load and velocity), compiled (no Python)", info)
 
@@ -506,11 +570,31 @@ def _linear(params: BearingParams, surrogate, map_path, options: dict) -> Native
     starts = {k: float(v) for k, v in linear_starts(params, options).items()}
     data_h = "/* Generated by bearing_fmu.fmu.native.codegen: the linear internal has no data. */\n"
     inputs = (0.0, 0.0, 0.0, 0.0, starts["omega_lin"])
-    config_h = _config("linear", params, starts, inputs)
+    config_h = model_config("linear", params, starts, inputs)
     info = {"from": options.get("linear_from", "load"), "omega_lin": starts["omega_lin"]}
     # the coefficients' source: a force map file when linearised on one (recorded with its hash)
     source = Path(options["map"]) if options.get("linear_from") == "map" and options.get("map") else None
-    return NativeModel("linear", params, _variables("linear", params, starts, inputs), config_h, data_h, source,
+    return NativeModel("linear", params, native_variables("linear", params, starts, inputs), config_h, data_h, source,
                        "hydrodynamic journal bearing, linear model F = F0 - K (q - q0) - C v (8 Lund coefficients as "
                        "parameters" + (f", linearised on the force map {source.name}" if source else "")
                        + "), compiled (no Python)", info)
+
+
+# ----------------------------------------------------------------------------- reynolds
+
+def _reynolds(params: BearingParams, surrogate, map_path, options: dict) -> NativeModel:
+    from .reynolds_data import reynolds_data_h
+
+    starts = {"n_theta": 0, "n_x": 0, "cavitation": "reynolds"}
+    for name in starts:
+        if name in options:
+            starts[name] = registry_option(name).check(options[name], "native FMU option")
+    # a nonzero speed: an omega a master forgets to connect still gives the film's force
+    inputs = (0.0, 0.0, 0.0, 0.0, float(options.get("_omega", registry.DEFAULT_OMEGA_LIN)))
+    grid = f"{starts['n_theta'] or 'default'} x {starts['n_x'] or 'default'}"
+    info = {"bore": params.geometry.describe(), "grid": grid, "cavitation": starts["cavitation"]}
+    return NativeModel("reynolds", params, native_variables("reynolds", params, starts, inputs),
+                       model_config("reynolds", params, starts, inputs), reynolds_data_h(params, c_double, c_string),
+                       None,
+                       f"hydrodynamic journal bearing, finite-volume Reynolds solver ({params.geometry.describe()}; "
+                       "any speed, load and velocity), compiled (no Python)", info)

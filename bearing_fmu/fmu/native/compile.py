@@ -113,7 +113,7 @@ def zig_cc() -> list[str]:
     return [sys.executable, "-m", "ziglang", "cc"]
 
 
-def _run(cmd: list[str], what: str) -> None:
+def run_compiler(cmd: list[str], what: str) -> None:
     try:
         done = subprocess.run(cmd, capture_output=True, text=True, timeout=900)
     except OSError as exc:
@@ -157,14 +157,14 @@ def compile_binaries(root: Path, identifier: str, sources: list[str], platforms=
             if sys.platform == "win32":
                 raise NativeBuildError("--compiler cc is for Linux and macOS; on Windows use --compiler cmake "
                                        "(fmpy's CMake project with Visual Studio) or zig")
-            _run([find_compiler(), *C_FLAGS, "-fPIC", "-shared", "-I", str(src), "-I", str(fmi_headers()),
+            run_compiler([find_compiler(), *C_FLAGS, "-fPIC", "-shared", "-I", str(src), "-I", str(fmi_headers()),
                   *(str(src / f) for f in sources), "-o", str(target), "-lm"], "the C compiler")
         else:
             with tempfile.TemporaryDirectory(prefix="bearing_zig_") as tmp:  # zig writes .pdb, .lib beside a dll
                 slices = []
                 for k, t in enumerate(p.targets):
                     one = Path(tmp) / f"{k}{p.ext}"
-                    _run(zig_command(t, src, sources, one), f"zig cc -target {t}")
+                    run_compiler(zig_command(t, src, sources, one), f"zig cc -target {t}")
                     slices.append(one.read_bytes())
                 target.write_bytes(fat_binary(slices) if len(slices) > 1 else slices[0])
         if not target.is_file():
@@ -189,13 +189,14 @@ def _compile_fmi3(root: Path, identifier: str, sources: list[str], platforms, co
             if compiler == "cmake":
                 _compile_cmake(root)
             elif compiler == "cc":
-                _run([find_compiler(), *C_FLAGS, *defines, "-fPIC", "-shared", "-I", str(src), "-I",
+                run_compiler([find_compiler(), *C_FLAGS, *defines, "-fPIC", "-shared", "-I", str(src), "-I",
                       str(fmi_headers()), *(str(src / f) for f in sources), "-o", str(target), "-lm"],
                      "the C compiler")
             else:
                 with tempfile.TemporaryDirectory(prefix="bearing_zig_") as tmp:
                     one = Path(tmp) / f"one{p.ext}"
-                    _run(zig_command(target_triple, src, sources, one, defines), f"zig cc -target {target_triple}")
+                    run_compiler(zig_command(target_triple, src, sources, one, defines),
+                                 f"zig cc -target {target_triple}")
                     target.write_bytes(one.read_bytes())
             if not target.is_file():
                 raise NativeBuildError(f"the build wrote no {target.relative_to(root)}")
@@ -249,5 +250,5 @@ def _compile_cmake(root: Path) -> None:
             os.environ["PATH"] = old
 
 
-__all__ = ["PLATFORMS", "COMPILERS", "C_FLAGS", "NativeBuildError", "parse_platforms", "host_platform",
+__all__ = ["PLATFORMS", "COMPILERS", "C_FLAGS", "NativeBuildError", "run_compiler", "parse_platforms", "host_platform",
            "fmi_headers", "find_compiler", "zig_cc", "zig_command", "compile_binaries", "check_binary"]

@@ -33,13 +33,14 @@ from ... import __version__
 from ...internals import registry
 from .. import meta as fmu_meta
 from ..order import MODES
-from .codegen import NativeModel, assign_identity, native_enumerations
+from .codegen import (MODEL_HEADERS, MODEL_SOURCES, NativeModel, assign_identity, internal_sources,
+                      native_enumerations)
 
 C_DIR = Path(__file__).resolve().parent / "c"
 VR_TIME = 4000  # the independent variable (FMI 3.0 only; the others keep the FMI 2.0 FMU's references)
 # the C files compiled, with internal_<name>.c
-SOURCES3 = ("fmi3_bearing.c", "fmi3_state.c", "fmi3_derivatives.c", "fmi3_modes.c", "bearing_values.c")
-HEADERS3 = ("bearing_native.h", "bearing_values.h", "fmi3_layer.h")
+SOURCES3 = ("fmi3_bearing.c", "fmi3_state.c", "fmi3_derivatives.c", "fmi3_modes.c", *MODEL_SOURCES)
+HEADERS3 = (*MODEL_HEADERS, "fmi3_layer.h")
 DEFINES3 = {"BN_FMI_VERSION": "3"}  # bearing_native.h: the FMI 3.0 headers and instance fields
 LOG_CATEGORIES = (("logStatusWarning", ("a state outside the fitted domain (once per excursion, counted at "
                                         "terminate), outputs left at their start values")),
@@ -122,6 +123,8 @@ def _attrs(v, model: NativeModel, omega_ref: float) -> dict:
         attrs["declaredType"] = v.declared_type
     if v.type == "Real":
         attrs.update(fmu_meta.real_attributes(v.name, v.unit, model.params, omega_ref))
+    elif v.type == "Integer":
+        attrs.update(fmu_meta.integer_attributes(v.name))
     if v.causality != "output" and v.type != "String":
         attrs["start"] = (repr(float(v.start)) if v.type == "Real" else
                           ("true" if v.start else "false") if v.type == "Boolean" else str(v.start))
@@ -130,7 +133,7 @@ def _attrs(v, model: NativeModel, omega_ref: float) -> dict:
 
 def _type_definitions(model: NativeModel) -> ET.Element:
     types = ET.Element("TypeDefinitions")
-    for _name, string, items in native_enumerations(model.internal):
+    for _name, string, items in native_enumerations(model.all_parts):
         enum = ET.SubElement(types, "EnumerationType", name=fmu_meta.enum_type_name(string),
                              description=f"the choices of the parameter {string}")
         for value, item in items:
@@ -146,7 +149,7 @@ def output_dependencies(model: NativeModel) -> dict[str, list[str]]:
     so they are no knowns: FMI 3.0, section 2.2.11): the film force and its tangent on the whole
     journal state, the eccentricity and the minimum film on the position, out_of_domain on the
     state the fitted domain is drawn in (none for an internal without one: always false)."""
-    fitted = registry.get(model.internal).can.fitted_domain
+    fitted = any(registry.get(p).can.fitted_domain for p in model.all_parts)
     out = {}
     for v in model.variables:
         if v.causality != "output":
@@ -155,6 +158,10 @@ def output_dependencies(model: NativeModel) -> dict[str, list[str]]:
             out[v.name] = ["y", "z"]
         elif v.name == "out_of_domain":
             out[v.name] = ["y", "z", "vy", "vz"] if fitted else []
+        elif v.name == "T_eff":  # the thermal ports, off in a native FMU (no film flows): T_eff is T_supply
+            out[v.name] = ["T_supply"]
+        elif v.name in ("P_loss", "Q_side", "mu_eff"):  # 0, 0, mu: no input
+            out[v.name] = []
         else:
             out[v.name] = ["y", "z", "vy", "vz", "omega"]
     return out
@@ -178,7 +185,7 @@ def model_description3(model: NativeModel, record: dict, token: str, generated: 
               "providesAdjointDerivatives": "true", "providesPerElementDependencies": "true"}
     # out_of_domain is discrete: in Continuous-Time Mode it keeps its value of the last event, and
     # fmi3CompletedIntegratorStep asks for an event when the state crossed the domain's edge
-    fitted = registry.get(model.internal).can.fitted_domain
+    fitted = any(registry.get(p).can.fitted_domain for p in model.all_parts)
     ET.SubElement(root, "ModelExchange", {**common, "needsCompletedIntegratorStep": "true" if fitted else "false"})
     ET.SubElement(root, "CoSimulation", {**common, "canHandleVariableCommunicationStepSize": "true"})
     root.append(fmu_meta.unit_definitions({v.unit for v in model.variables if v.unit}))
@@ -191,7 +198,7 @@ def model_description3(model: NativeModel, record: dict, token: str, generated: 
     ET.SubElement(mvars, "Float64", name="time", valueReference=str(VR_TIME), causality="independent",
                   variability="continuous", description="simulation time [s]: the independent variable")
     omega_ref = fmu_meta.reference_speed(next(v.start for v in model.variables if v.name == "omega"))
-    tag = {"Real": "Float64", "Boolean": "Boolean", "String": "String", "Enumeration": "Enumeration"}
+    tag = {"Real": "Float64", "Boolean": "Boolean", "String": "String", "Enumeration": "Enumeration", "Integer": "Int64"}
     for v in model.variables:
         el = ET.SubElement(mvars, tag[v.type], _attrs(v, model, omega_ref))
         if v.type == "String":
@@ -214,7 +221,7 @@ def model_description3(model: NativeModel, record: dict, token: str, generated: 
 
 def source_files3(model: NativeModel) -> list[str]:
     """The C files the compiler builds for the FMI 3.0 FMU (the headers are included by them)."""
-    return [*SOURCES3, f"internal_{model.internal}.c"]
+    return [*SOURCES3, *internal_sources(model)[0]]
 
 
 def build_description3(model: NativeModel) -> bytes:
@@ -237,7 +244,7 @@ def build_description3(model: NativeModel) -> bytes:
 
 def config3_h(model: NativeModel, token: str) -> str:
     """fmi3_config.h: the instantiation token, the independent variable, the calling sequence."""
-    fitted = registry.get(model.internal).can.fitted_domain
+    fitted = any(registry.get(p).can.fitted_domain for p in model.all_parts)
     lines = ["/* Generated by bearing_fmu.fmu.native.fmi3. Do not edit. */", "#ifndef FMI3_CONFIG_H",
              "#define FMI3_CONFIG_H", f'#define BN3_TOKEN "{token}"', f"#define BN3_VR_TIME {VR_TIME}",
              f"#define BN3_FITTED_DOMAIN {int(fitted)}", *c_defines3(), "#endif", ""]
@@ -264,12 +271,13 @@ def stage3(model: NativeModel, root: Path, record: dict) -> None:
 
     record = {**record, "fmi_version": "3.0"}
     # the model identifier hashes the sources and data (as the FMI 2.0 build: codegen.assign_identity)
-    assign_identity(model, {n: (C_DIR / n).read_text(encoding="ascii") for n in (*HEADERS3, *source_files3(model))},
+    names = (*HEADERS3, *internal_sources(model)[1], *source_files3(model))
+    assign_identity(model, {n: (C_DIR / n).read_text(encoding="ascii") for n in names},
                     lambda: model_description3(model, record, "", "2000-01-01T00:00:00Z"))
     token = instantiation_token(model, record)
     src = root / "sources"
     src.mkdir(parents=True)
-    for name in (*HEADERS3, *source_files3(model)):
+    for name in names:
         shutil.copyfile(C_DIR / name, src / name)
     (src / "model_config.h").write_text(model.config_h, encoding="ascii")
     (src / "model_data.h").write_text(model.data_h, encoding="ascii")

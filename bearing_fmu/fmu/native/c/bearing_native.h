@@ -1,11 +1,13 @@
-/* The native bearing FMU: what the FMI layer (fmi2_bearing.c) and the internal
- * (internal_<name>.c) share. Generated per build: model_config.h (the internal's name, its
- * options and value references, start values, the GUID) and model_data.h (the internal's
- * data as static arrays). Units are SI throughout (m, m/s, rad/s, N, Pa s).
- * The FMI 3.0 FMU compiles the same internals under fmi3_bearing.c with BN_FMI_VERSION=3.
+/* The native bearing FMU: what its three layers share, as the FMI Reference FMUs share their
+ * model code across FMI versions: the FMI layer (FMI 2.0: fmi2_*.c; FMI 3.0, compiled with
+ * BN_FMI_VERSION=3: fmi3_*.c), the model layer of either (bearing_values.h: the variables, the
+ * parameters' checks, the evaluation and its derivatives) and the internal (internal_<name>.c).
+ * Generated per build: model_config.h (the internal's name, its options and value references,
+ * start values, the GUID) and model_data.h (the internal's data as static arrays). Units are SI
+ * throughout (m, m/s, rad/s, N, Pa s).
  *
  * Value references: Reals 0..; Booleans from 1000; Strings from 2000; Integers (the enumerations,
- * each the same choice as a String parameter) from 3000. */
+ * each the same choice as a String parameter, then the internal's Integer options) from 3000. */
 #ifndef BEARING_NATIVE_H
 #define BEARING_NATIVE_H
 
@@ -18,11 +20,21 @@
 #if BN_FMI3
 #include "fmi3Functions.h"
 typedef fmi3Status bn_status; /* FMI 2's and FMI 3's statuses have the same values */
+#define BN_OK fmi3OK
 #define BN_WARNING fmi3Warning
+#define BN_DISCARD fmi3Discard
+#define BN_ERROR fmi3Error
+#define BN_FMI_TEXT "FMI 3.0"
+#define BN_REAL_TYPE "Float64"
 #else
 #include "fmi2Functions.h"
 typedef fmi2Status bn_status;
+#define BN_OK fmi2OK
 #define BN_WARNING fmi2Warning
+#define BN_DISCARD fmi2Discard
+#define BN_ERROR fmi2Error
+#define BN_FMI_TEXT "FMI 2.0"
+#define BN_REAL_TYPE "Real"
 #endif
 #include "model_config.h"
 
@@ -74,16 +86,38 @@ enum {
 };
 #define N_INPUTS 5
 #define N_OUTPUTS_REAL (VR_D - VR_FY)
-#define N_REAL (VR_REAL_OPTIONS + BN_N_REAL_OPTIONS)
+/* the thermal ports (bearing_fmu/fmu/ports.py) after the internal's Real options: the input
+ * T_supply, the outputs P_loss, Q_side, T_eff, mu_eff; the parameter thermal (a Boolean) */
+#define VR_T_SUPPLY (VR_REAL_OPTIONS + BN_N_REAL_OPTIONS)
+#define VR_P_LOSS (VR_T_SUPPLY + 1)
+#define VR_Q_SIDE (VR_T_SUPPLY + 2)
+#define VR_T_EFF (VR_T_SUPPLY + 3)
+#define VR_MU_EFF (VR_T_SUPPLY + 4)
+/* the bore (ports.py's geometry parameters): this FMU's data hold one; its values are the starts
+ * and another is refused at initialisation (bn_prepare), naming the parameters. The Reals
+ * groove_1 .. groove_8, groove_width, supply_pressure, arc_start, arc_end, preload, lobe_offset,
+ * lobe_angle follow the thermal ports; the Integers groove_count, lobes the enumerations; the
+ * Boolean partial_arc the others */
+#define VR_GEOMETRY0 (VR_T_SUPPLY + 5)
+#define N_GEOMETRY_REALS 15
+#define N_REAL (VR_GEOMETRY0 + N_GEOMETRY_REALS)
+#define BN_IS_INPUT(vr) ((vr) < N_INPUTS || (vr) == VR_T_SUPPLY)
+#define BN_IS_THERMAL_OUTPUT(vr) ((vr) >= VR_P_LOSS && (vr) <= VR_MU_EFF)
 #define VR_BOOL0 1000
-enum { B_OUT_OF_DOMAIN, B_COMPUTE_TANGENT, N_BOOL };
+enum { B_OUT_OF_DOMAIN, B_COMPUTE_TANGENT, B_THERMAL, B_PARTIAL_ARC, N_BOOL };
 #define VR_STRING0 2000
 #define S_INTERNAL 0                                     /* then the internal's String options */
 #define N_STRING (1 + BN_N_STRING_OPTIONS)
 #define STRING_MAX 256
 #define VR_INT0 3000
 #define N_ENUM BN_N_ENUMS                                /* internal_enum, then the String options' */
-#define N_PARAM_SLOTS (N_REAL + N_BOOL + N_STRING + N_ENUM)
+#define N_INTS (N_ENUM + BN_N_INT_OPTIONS)               /* the enumerations, then the internal's Integer
+                                                            options (reynolds: n_theta, n_x) */
+#define N_INT 2                                          /* then the Integers groove_count, lobes */
+#define VR_INT_PARAM0 (VR_INT0 + N_INTS)
+#define N_PARAM_SLOTS (N_REAL + N_BOOL + N_STRING + N_INTS + N_INT)
+/* an Integer option's value (model_config.h I_OPT_<NAME>) */
+#define BN_INT_OPTION(m, name) ((m)->e[N_ENUM + I_OPT_##name])
 
 /* the FMI 2.0 modes (bearing_fmu/fmi_order.py: MODES; which call is allowed in which: BN_ALLOW_<call>) */
 typedef enum { BN_MODE_ENUM } Mode;
@@ -96,13 +130,17 @@ typedef struct {
     double scale;     /* map: S = mu R L (R / CR)^2 [N s] */
     int avx;          /* taylor: the CPU runs the AVX2 kernels */
     int quiet;        /* evaluations for a derivative: no excursion warning (internal_taylor.c) */
+    void *block;      /* reynolds: the solver's memory (the FMI callbacks'), block_bytes long; freed by bn_release */
+    void *solver;     /* reynolds: the solver inside it */
+    size_t block_bytes;
 } Work;
 
 typedef struct Instance {
     double r[N_REAL];
     int b[N_BOOL];
     char s[N_STRING][STRING_MAX];
-    int e[N_ENUM];              /* the enumerations as set */
+    int e[N_INTS];              /* the enumerations as set, then the Integer options */
+    int n[N_INT];               /* the Integer parameters (groove_count, lobes) as set */
     char eff[N_STRING][STRING_MAX]; /* the String choices as they count (a String, or its enumeration): setup() */
     double t;
     Mode mode;
@@ -112,7 +150,8 @@ typedef struct Instance {
     int refused_state;          /* ME: the inputs as set were refused (logged once, until they change) */
     int ood_now;                /* out_of_domain of the last evaluated state (ME: out_of_domain takes it at events) */
     int still;                  /* the force was asked at omega = 0 with no squeeze (warned once, until it moves) */
-    int warn_pending;           /* a warning was logged: the FMI call returns fmi2Warning */
+    int warn_pending;           /* a warning was logged: the FMI call returns a warning status */
+    int mute;                   /* no log lines (the states a derivative's differences evaluate) */
     int refused[N_PARAM_SLOTS]; /* a parameter whose last set was refused */
     char refused_msg[N_PARAM_SLOTS][512];
     char init_error[2400];
@@ -125,8 +164,6 @@ typedef struct Instance {
     fmi3InstanceEnvironment env;
     fmi3LogMessageCallback log_message;
     unsigned log_off;           /* bit k: log category of status k switched off (fmi3SetDebugLogging) */
-    int ood_event;              /* ME: out_of_domain as of the last event (discrete: it changes at events only) */
-    int mute;                   /* no log lines (the finite differences of the derivatives) */
     double stop_time;           /* fmi3EnterInitializationMode's; INFINITY when not defined */
 #else
     fmi2Type type;
@@ -141,14 +178,51 @@ typedef struct Instance {
  * each one's "<modelIdentifier>_" for the FMI functions). */
 #define BN_PASTE(a, b) a##_##b
 #define BN_NAME(a, b) BN_PASTE(a, b)
-#define bn_setup BN_NAME(BN_ID, bn_setup)
-#define bn_eval BN_NAME(BN_ID, bn_eval)
-#define bn_option_derivative BN_NAME(BN_ID, bn_option_derivative)
+/* An FMU of several internals (BN_PARTS > 1): each internal_<name>.c (which sets BN_PART to its
+ * name) defines <id>_<name>_bn_setup ..., and bn_parts.c the plain ones, dispatching on the
+ * parameter internal. One internal: the internal's file defines the plain ones. */
+#if BN_PARTS > 1 && defined(BN_PART)
+#define BN_FN(name) BN_NAME(BN_ID, BN_NAME(BN_PART, name))
+#else
+#define BN_FN(name) BN_NAME(BN_ID, name)
+#endif
+#define bn_setup BN_FN(bn_setup)
+#define bn_eval BN_FN(bn_eval)
+#define bn_option_derivative BN_FN(bn_option_derivative)
+#define bn_release BN_FN(bn_release)
+#define bn_shape_derivative BN_FN(bn_shape_derivative)
+#define bn_fallback_eval BN_NAME(BN_ID, bn_fallback_eval)
 #define bn_log BN_NAME(BN_ID, bn_log)
 #define bn_num BN_NAME(BN_ID, bn_num)
 #define bn_order_refused BN_NAME(BN_ID, bn_order_refused)
 #define bn_live_add BN_NAME(BN_ID, bn_live_add)
 #define bn_live_remove BN_NAME(BN_ID, bn_live_remove)
+/* the model layer (bearing_values.h) */
+#define BN_BOOL_NAMES BN_NAME(BN_ID, BN_BOOL_NAMES)
+#define bn_real_name BN_NAME(BN_ID, bn_real_name)
+#define bn_real_unit BN_NAME(BN_ID, bn_real_unit)
+#define bn_string_name BN_NAME(BN_ID, bn_string_name)
+#define bn_enum_name BN_NAME(BN_ID, bn_enum_name)
+#define bn_is_output_real BN_NAME(BN_ID, bn_is_output_real)
+#define bn_set_starts BN_NAME(BN_ID, bn_set_starts)
+#define bn_check_real BN_NAME(BN_ID, bn_check_real)
+#define bn_check_string BN_NAME(BN_ID, bn_check_string)
+#define bn_check_enum BN_NAME(BN_ID, bn_check_enum)
+#define bn_set_int BN_NAME(BN_ID, bn_set_int)
+#define bn_int_name BN_NAME(BN_ID, bn_int_name)
+#define bn_prepare BN_NAME(BN_ID, bn_prepare)
+#define bn_show_choices BN_NAME(BN_ID, bn_show_choices)
+#define bn_evaluate BN_NAME(BN_ID, bn_evaluate)
+#define bn_outputs BN_NAME(BN_ID, bn_outputs)
+#define bn_warned BN_NAME(BN_ID, bn_warned)
+#define bn_check_known BN_NAME(BN_ID, bn_check_known)
+#define bn_derivative BN_NAME(BN_ID, bn_derivative)
+#define bn_thermal_derivative BN_NAME(BN_ID, bn_thermal_derivative)
+#define bn_state_save BN_NAME(BN_ID, bn_state_save)
+#define bn_state_restore BN_NAME(BN_ID, bn_state_restore)
+#define bn_state_valid BN_NAME(BN_ID, bn_state_valid)
+#define bn_state_serialize BN_NAME(BN_ID, bn_state_serialize)
+#define bn_state_deserialize BN_NAME(BN_ID, bn_state_deserialize)
 
 /* Shared between this FMU's files, never exported: only the FMI functions are (a binary built
  * by any CMake project too; Windows exports only what fmi2Functions.h marks dllexport). */
@@ -168,6 +242,22 @@ BN_HIDDEN int bn_eval(Instance *m, const double x[5], int want_jac, double F[2],
 /* dF and dJ (as in bn_eval) with respect to the internal's k-th Real option (model_config.h
  * BN_REAL_OPTION_TABLE), at x: linear's coefficients; 0 for options the force does not depend on. */
 BN_HIDDEN void bn_option_derivative(Instance *m, const double x[5], int k, double dF[2], double dJ[8]);
+/* Free what bn_setup allocated (the instance is being freed; nothing for most internals). */
+BN_HIDDEN void bn_release(Instance *m);
+/* BN_BEARING_IN_FORCE 2 (reynolds: F = mu R L (R / CR)^2 G(L/D, q/CR, v/CR, omega)): dF and, with
+ * want_jac, dJ along ln(L/D) at a fixed scale, at x. 0, or 1 with the reason in m->msg. */
+BN_HIDDEN int bn_shape_derivative(Instance *m, const double x[5], int want_jac, double dF[2], double dJ[8]);
+/* Does the force of the internal as set depend on the bearing (0 no, 1 by the scale law, 2 and on
+ * L/D) and on the speed? One internal: BN_BEARING_IN_FORCE, BN_SPEED_IN_FORCE; several: its own. */
+#if BN_PARTS > 1
+#define bn_force_depends BN_NAME(BN_ID, bn_force_depends)
+BN_HIDDEN void bn_force_depends(const Instance *m, int *bearing, int *speed);
+#else
+#define bn_force_depends(m, bearing, speed) (*(bearing) = BN_BEARING_IN_FORCE, *(speed) = BN_SPEED_IN_FORCE)
+#endif
+/* Taylor's domain_action = fallback in an FMU that holds the Reynolds internal too (bn_parts.c):
+ * the Reynolds force at x, as bn_eval */
+BN_HIDDEN int bn_fallback_eval(Instance *m, const double x[5], int want_jac, double F[2], double J[8], double dw[2]);
 
 /* the FMI layer: log one line (printf-style) with a status */
 BN_HIDDEN void bn_log(Instance *m, bn_status status, const char *fmt, ...)
@@ -178,12 +268,12 @@ BN_HIDDEN void bn_log(Instance *m, bn_status status, const char *fmt, ...)
 /* a double the way Python's %.{digits}g writes it, into buf */
 BN_HIDDEN const char *bn_num(char *buf, size_t n, double x, int digits);
 
-/* the calling sequence (fmi2_order.c): 0 if `call` (an FMI 2.0 function without "fmi2") is
+/* the FMI 2.0 calling sequence (fmi2_order.c): 0 if `call` (an FMI 2.0 function without "fmi2") is
  * allowed in the instance's mode (`allowed`: its BN_ALLOW_ mask), else 1 with an fmi2Error logged
  * naming it, the mode and what to do, in the words of bearing_fmu/fmi_order.py's refusal */
 enum { BN_ANY_TYPE, BN_CS_ONLY, BN_ME_ONLY };
 BN_HIDDEN int bn_order_refused(Instance *m, const char *call, unsigned allowed, int kind);
-/* the live instances: add one; remove one (1, or 0 if it was not live) */
+/* the live instances (bearing_model.c): add one; remove one (1, or 0 if it was not live) */
 BN_HIDDEN void bn_live_add(Instance *m);
 BN_HIDDEN int bn_live_remove(Instance *m);
 

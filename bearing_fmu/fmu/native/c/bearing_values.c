@@ -1,6 +1,7 @@
-/* The values of a native bearing FMU whatever its FMI version: see bearing_values.h. The same
- * code as fmi2_bearing.c's helpers (there static), with the FMI version left out: every check
- * answers 0, or 1 with the reason in words, and the FMI layer turns that into its status. */
+/* The values of a native bearing FMU whatever its FMI version (the model layer: bearing_values.h):
+ * the variables' names and start values, the parameters' checks alone and together, the internal
+ * prepared. Every check answers 0, or 1 with the reason in words; the FMI layer turns that into
+ * its status. */
 #include <ctype.h>
 #include <math.h>
 #include <stdio.h>
@@ -39,6 +40,19 @@ typedef struct {
 
 static const EnumOption ENUMS[BN_N_ENUMS] = { BN_ENUM_TABLE };
 
+/* An Integer option (FMI 2.0: Integer; FMI 3.0: Int64): a range, maybe even, and a special value
+ * allowed besides it (-1: none; reynolds' grid: 0, the default) */
+typedef struct {
+    const char *name;
+    int start, minimum, maximum, even, special;
+    const char *allowed;    /* in words, for messages */
+} IntOption;
+#if BN_N_INT_OPTIONS > 0
+static const IntOption INT_OPTIONS[BN_N_INT_OPTIONS] = { BN_INT_OPTION_TABLE };
+#else
+static const IntOption *INT_OPTIONS = NULL;
+#endif
+
 #if BN_N_REAL_OPTIONS > 0
 static const RealOption REAL_OPTIONS[BN_N_REAL_OPTIONS] = { BN_REAL_OPTION_TABLE };
 #else
@@ -58,7 +72,19 @@ static const char *const CORE_UNITS[VR_REAL_OPTIONS] = {
     "N/m", "N/m", "N/m", "N/m", "N.s/m", "N.s/m", "N.s/m", "N.s/m", "m", "m", "m", "Pa.s"};
 static const double START_INPUTS[N_INPUTS] = BN_START_INPUTS;
 static const double START_BEARING[4] = BN_START_BEARING;
-const char *const BN_BOOL_NAMES[N_BOOL] = {"out_of_domain", "compute_tangent"};
+const char *const BN_BOOL_NAMES[N_BOOL] = {"out_of_domain", "compute_tangent", "thermal"};
+static const char *const THERMAL_NAMES[VR_GEOMETRY0 - VR_T_SUPPLY] = {"T_supply", "P_loss", "Q_side", "T_eff", "mu_eff"};
+static const char *const THERMAL_UNITS[VR_GEOMETRY0 - VR_T_SUPPLY] = {"K", "W", "m3/s", "K", "Pa.s"};
+static const char *const GEOMETRY_NAMES[N_GEOMETRY_REALS] = {
+    "groove_1", "groove_2", "groove_3", "groove_4", "groove_5", "groove_6", "groove_7", "groove_8", "groove_width",
+    "supply_pressure", "arc_start", "arc_end", "preload", "lobe_offset", "lobe_angle"};
+static const char *const GEOMETRY_UNITS[N_GEOMETRY_REALS] = {
+    "rad", "rad", "rad", "rad", "rad", "rad", "rad", "rad", "rad", "Pa", "rad", "rad", "1", "1", "rad"};
+/* the bore this FMU's data were made for (codegen: the build's bearing): the geometry parameters' starts */
+static const double GEOMETRY_START[N_GEOMETRY_REALS] = BN_GEOMETRY_REAL_START;
+static const int INT_START[N_INT] = BN_GEOMETRY_INT_START;
+static const char *const INT_NAMES[N_INT] = {"groove_count", "lobes"};
+static const int INT_LOW[N_INT] = {0, 1}, INT_HIGH[N_INT] = {8, 8};
 
 /* ------------------------------------------------------------------------------ names */
 
@@ -73,6 +99,8 @@ const char *bn_num(char *buf, size_t n, double x, int digits) {
 }
 
 const char *bn_real_name(int vr) {
+    if (vr >= VR_GEOMETRY0) return GEOMETRY_NAMES[vr - VR_GEOMETRY0];
+    if (vr >= VR_T_SUPPLY) return THERMAL_NAMES[vr - VR_T_SUPPLY];
     return vr < VR_REAL_OPTIONS ? CORE_NAMES[vr] : REAL_OPTIONS[vr - VR_REAL_OPTIONS].name;
 }
 
@@ -82,12 +110,28 @@ const char *bn_string_name(int k) {
 
 const char *bn_real_unit(int vr) {
     if (vr < VR_REAL_OPTIONS) return CORE_UNITS[vr];
+    if (vr >= VR_GEOMETRY0) return GEOMETRY_UNITS[vr - VR_GEOMETRY0];
+    if (vr >= VR_T_SUPPLY) return THERMAL_UNITS[vr - VR_T_SUPPLY];
     return "";
 }
 
-const char *bn_enum_name(int j) { return ENUMS[j].name; }
+const char *bn_enum_name(int j) { return j < N_ENUM ? ENUMS[j].name : INT_OPTIONS[j - N_ENUM].name; }
 
-int bn_is_output_real(int vr) { return vr >= VR_FY && vr < VR_D; }
+const char *bn_int_name(int k) { return INT_NAMES[k]; }
+
+int bn_set_int(Instance *m, int k, long long v, char *why, size_t n) {
+    int slot = N_REAL + N_BOOL + N_STRING + N_INTS + k;
+    m->refused[slot] = v < INT_LOW[k] || v > INT_HIGH[k];
+    if (m->refused[slot]) {
+        snprintf(why, n, "%s = %.0f must be in %d .. %d", INT_NAMES[k], (double)v, INT_LOW[k], INT_HIGH[k]);
+        snprintf(m->refused_msg[slot], sizeof m->refused_msg[slot], "%s", why);
+        return 1;
+    }
+    m->n[k] = (int)v;
+    return 0;
+}
+
+int bn_is_output_real(int vr) { return (vr >= VR_FY && vr < VR_D) || BN_IS_THERMAL_OUTPUT(vr); }
 
 static void lower_strip(const char *in, char *out, size_t n) {
     while (*in && isspace((unsigned char)*in)) in++;
@@ -129,18 +173,27 @@ void bn_set_starts(Instance *m) {
     for (int i = 0; i < N_INPUTS; i++) m->r[i] = START_INPUTS[i];
     for (int i = 0; i < 4; i++) m->r[VR_D + i] = START_BEARING[i];
     for (int i = 0; i < BN_N_REAL_OPTIONS; i++) m->r[VR_REAL_OPTIONS + i] = REAL_OPTIONS[i].start;
+    m->r[VR_T_SUPPLY] = BN_START_T_SUPPLY;
+    for (int i = 0; i < N_GEOMETRY_REALS; i++) m->r[VR_GEOMETRY0 + i] = GEOMETRY_START[i];
+    for (int i = 0; i < N_INT; i++) m->n[i] = INT_START[i];
+    m->b[B_PARTIAL_ARC] = BN_GEOMETRY_ARC_START;
     m->b[B_OUT_OF_DOMAIN] = 0;
     m->b[B_COMPUTE_TANGENT] = 1;
+    m->b[B_THERMAL] = 0;
     snprintf(m->s[S_INTERNAL], STRING_MAX, "%s", BN_INTERNAL);
     for (int i = 0; i < BN_N_STRING_OPTIONS; i++) snprintf(m->s[1 + i], STRING_MAX, "%s", STRING_OPTIONS[i].start);
     for (int i = 0; i < N_STRING; i++) snprintf(m->eff[i], STRING_MAX, "%s", m->s[i]);
     for (int i = 0; i < N_ENUM; i++) m->e[i] = ENUMS[i].start;
+    for (int i = 0; i < BN_N_INT_OPTIONS; i++) m->e[N_ENUM + i] = INT_OPTIONS[i].start;
     memset(m->refused, 0, sizeof m->refused);
     m->init_error[0] = 0;
     m->t = 0.0;
     m->initialized = 0;
     m->terminated = 0;
     m->dirty = 1;
+    m->refused_state = 0;
+    m->ood_now = 0;
+    m->still = 0;
     m->work.last_nn = -1;
     m->work.excursions = 0;
 }
@@ -152,6 +205,13 @@ int bn_check_real(int vr, double v, char *why, size_t n) {
         if (!(v > 0.0 && v < INFINITY)) {
             snprintf(why, n, "%s = %s %s must be finite and > 0", CORE_NAMES[vr], bn_num(a, sizeof a, v, 17),
                      CORE_UNITS[vr]);
+            return 1;
+        }
+        return 0;
+    }
+    if (vr >= VR_GEOMETRY0) { /* the bore: any finite value here, the data's bore at initialisation */
+        if (!isfinite(v)) {
+            snprintf(why, n, "%s = %s must be finite", GEOMETRY_NAMES[vr - VR_GEOMETRY0], bn_num(a, sizeof a, v, 17));
             return 1;
         }
         return 0;
@@ -172,12 +232,23 @@ int bn_check_string(int k, const char *value, char *out, char *why, size_t n) {
     }
     if (k == S_INTERNAL) {
         lower_strip(value, v, sizeof v);
-        if (strcmp(v, BN_INTERNAL) != 0) {
-            snprintf(why, n, "internal = '%s': this native FMU computes the %s internal only; for another build "
-                     "one with `bearing-fmu build --native --internal NAME` (reynolds: the Python FMU, "
-                     "`bearing-fmu build`)", value, BN_INTERNAL);
+#if BN_PARTS > 1
+        if (!in_choices(v, BN_INTERNALS)) {
+            char words[256];
+            choices_words(BN_INTERNALS, words, sizeof words);
+            snprintf(why, n, "internal = '%s': this native FMU computes %s; for another build one with "
+                     "`bearing-fmu build --native --internal NAME,...` (an internal registered from outside the "
+                     "package: the Python FMU, `bearing-fmu build`)", value, words);
             return 1;
         }
+#else
+        if (strcmp(v, BN_INTERNAL) != 0) {
+            snprintf(why, n, "internal = '%s': this native FMU computes the %s internal only; for another build "
+                     "one with `bearing-fmu build --native --internal NAME` (an internal registered from outside "
+                     "the package: the Python FMU, `bearing-fmu build`)", value, BN_INTERNAL);
+            return 1;
+        }
+#endif
         snprintf(out, STRING_MAX, "%s", v);
         return 0;
     }
@@ -226,6 +297,12 @@ static int enum_choice(const EnumOption *o, int v, char *out, size_t n) {
 /* An enumeration parameter's value alone: 0, or 1 with the reason in why (the String's reason for
  * a choice this FMU does not take, else the values it takes). */
 int bn_check_enum(int j, int v, char *why, size_t n) {
+    if (j >= N_ENUM) { /* an Integer option */
+        const IntOption *io = &INT_OPTIONS[j - N_ENUM];
+        int bad = v != io->special && (v < io->minimum || v > io->maximum || (io->even && v % 2 != 0));
+        if (bad) snprintf(why, n, "%s = %d must be %s", io->name, v, io->allowed);
+        return bad;
+    }
     const EnumOption *o = &ENUMS[j];
     char item[STRING_MAX], out[STRING_MAX], sub[400]; /* a reason fits the caller's 512 with the words around it */
     if (enum_choice(o, v, item, sizeof item)) {
@@ -266,7 +343,7 @@ static int resolve_choices(Instance *m, char *why, size_t n) {
 /* The bearing's physical ranges (bearing_fmu/params.py, BearingParams): 0, or 1 with why. */
 static int check_bearing(const Instance *m, char *why, size_t n) {
     double D = m->r[VR_D], L = m->r[VR_L], CR = m->r[VR_CR], mu = m->r[VR_MU];
-    char a[32], b[32], c[32];
+    char a[32], b[32], c[32], d[32];
     if (!(D >= 1e-3 && D <= 5.0)) {
         snprintf(why, n, "D = %s m is outside the physical range 1 mm .. 5 m", bn_num(a, sizeof a, D, 4));
         return 1;
@@ -274,13 +351,13 @@ static int check_bearing(const Instance *m, char *why, size_t n) {
     if (!(L >= 0.05 * D && L <= 5.0 * D)) {
         snprintf(why, n, "L = %s m is outside the physical range %s .. %s m (L/D 0.05 .. 5 at D = %s m)",
                  bn_num(a, sizeof a, L, 4), bn_num(b, sizeof b, 0.05 * D, 4), bn_num(c, sizeof c, 5.0 * D, 4),
-                 bn_num(c, sizeof c, D, 4));
+                 bn_num(d, sizeof d, D, 4));
         return 1;
     }
     if (!(CR >= 1e-5 * 0.5 * D && CR <= 0.05 * 0.5 * D)) {
         snprintf(why, n, "CR = %s m is outside the physical range %s .. %s m (CR/R 1e-05 .. 0.05 at D = %s m)",
                  bn_num(a, sizeof a, CR, 4), bn_num(b, sizeof b, 1e-5 * 0.5 * D, 4),
-                 bn_num(c, sizeof c, 0.05 * 0.5 * D, 4), bn_num(c, sizeof c, D, 4));
+                 bn_num(c, sizeof c, 0.05 * 0.5 * D, 4), bn_num(d, sizeof d, D, 4));
         return 1;
     }
     if (!(mu >= 1e-5 && mu <= 10.0)) {
@@ -288,6 +365,32 @@ static int check_bearing(const Instance *m, char *why, size_t n) {
         return 1;
     }
     return 0;
+}
+
+/* The bore the geometry parameters describe against the one this FMU's data were made for: 0, or 1
+ * with why naming every parameter set away from it (the Python FMU's map and taylor do the same). */
+static int check_bore(const Instance *m, char *why, size_t n) {
+    char a[32], b[32];
+    size_t off = 0;
+    for (int k = 0; k < N_INT; k++)
+        if (m->n[k] != INT_START[k] && off < n)
+            off += (size_t)snprintf(why + off, n - off, "%s%s = %d (the data's: %d)", off ? ", " : "", INT_NAMES[k],
+                                    m->n[k], INT_START[k]);
+    if (m->b[B_PARTIAL_ARC] != BN_GEOMETRY_ARC_START && off < n)
+        off += (size_t)snprintf(why + off, n - off, "%spartial_arc = %s (the data's: %s)", off ? ", " : "",
+                                m->b[B_PARTIAL_ARC] ? "true" : "false", BN_GEOMETRY_ARC_START ? "true" : "false");
+    for (int i = 0; i < N_GEOMETRY_REALS; i++)
+        if (m->r[VR_GEOMETRY0 + i] != GEOMETRY_START[i] && off < n)
+            off += (size_t)snprintf(why + off, n - off, "%s%s = %s (the data's: %s)", off ? ", " : "",
+                                    GEOMETRY_NAMES[i], bn_num(a, sizeof a, m->r[VR_GEOMETRY0 + i], 17),
+                                    bn_num(b, sizeof b, GEOMETRY_START[i], 17));
+    if (!off) return 0;
+    char list[1024];
+    snprintf(list, sizeof list, "%s", why);
+    snprintf(why, n, "this native FMU's %s data were made for one bore (%s): the geometry parameters set away from "
+             "it are %.900s; build another FMU for another bore (bearing-fmu build --native --bearing FILE)",
+             BN_INTERNAL, BN_BORE_WORDS, list);
+    return 1;
 }
 
 /* Parameters checked together and the internal prepared: 0, or 1 with m->init_error set. */
@@ -299,7 +402,12 @@ int bn_prepare(Instance *m) {
         if (m->refused[i])
             off += (size_t)snprintf(why + off, off < sizeof why ? sizeof why - off : 0,
                                     "%s%s (refused when it was set)", off ? "; " : "", m->refused_msg[i]);
-    if (!why[0] && resolve_choices(m, why, sizeof why) == 0 && check_bearing(m, why, sizeof why) == 0) {
+    if (!why[0] && !BN_FILM_FLOW && m->b[B_THERMAL])
+        snprintf(why, sizeof why, "thermal = true needs the film's friction and flows, which internal = '%s' does "
+                 "not have (%s); the native FMU has no thermal model: use thermal = false, or the Python FMU "
+                 "(bearing-fmu build) with internal = 'reynolds'", BN_INTERNAL, BN_FILM_FLOW_WHY);
+    if (!why[0] && resolve_choices(m, why, sizeof why) == 0 && check_bearing(m, why, sizeof why) == 0
+        && check_bore(m, why, sizeof why) == 0) {
         if (bn_setup(m) == 0) {
             m->init_error[0] = 0;
             return 0;
@@ -311,49 +419,10 @@ int bn_prepare(Instance *m) {
 }
 
 void bn_show_choices(Instance *m) {
-    for (int k = 0; k < N_STRING; k++) snprintf(m->s[k], STRING_MAX, "%s", m->eff[k]);
+    memcpy(m->s, m->eff, sizeof m->s); /* same shape; gcc's -Wrestrict took snprintf here for an overlap */
     for (int j = 0; j < N_ENUM; j++) {
         char item[STRING_MAX];
         for (int v = 1; enum_choice(&ENUMS[j], v, item, sizeof item); v++)
             if (strcmp(item, m->s[ENUMS[j].string]) == 0) m->e[j] = v;
     }
-}
-
-/* Evaluate the internal at the inputs and set the outputs: 0, or 1 with the reason in m->msg
- * (outputs untouched). */
-int bn_evaluate(Instance *m) {
-    static const char *const in_names[5] = {"y", "z", "vy", "vz", "omega"};
-    double x[5], F[2], J[8], dw[2];
-    int ood = 0;
-    char a[32], b[32], c[32], d[32], e[32];
-    for (int i = 0; i < 5; i++) {
-        x[i] = m->r[i];
-        if (!isfinite(x[i])) {
-            snprintf(m->msg, sizeof m->msg, "bearing input %s = %s is not finite", in_names[i],
-                     bn_num(a, sizeof a, x[i], 17));
-            return 1;
-        }
-    }
-    int jac = m->b[B_COMPUTE_TANGENT];
-    if (bn_eval(m, x, jac, F, J, dw, &ood)) return 1;
-    int finite = isfinite(F[0]) && isfinite(F[1]);
-    for (int i = 0; jac && i < 8; i++) finite = finite && isfinite(J[i]);
-    if (!finite) {
-        snprintf(m->msg, sizeof m->msg, "the %s internal returned a non-finite force or tangent at y = %s m, "
-                 "z = %s m, vy = %s m/s, vz = %s m/s, omega = %s rad/s", BN_INTERNAL, bn_num(a, 32, x[0], 6),
-                 bn_num(b, 32, x[1], 6), bn_num(c, 32, x[2], 6), bn_num(d, 32, x[3], 6), bn_num(e, 32, x[4], 6));
-        return 1;
-    }
-    double eps = hypot(x[0], x[1]) / m->r[VR_CR];
-    m->r[VR_FY] = F[0];
-    m->r[VR_FZ] = F[1];
-    m->r[VR_ECC] = eps;
-    m->r[VR_HMIN] = m->r[VR_CR] * (1.0 - eps);
-    m->b[B_OUT_OF_DOMAIN] = ood;
-    if (jac) { /* Lund's sign: K = -dF/dq, C = -dF/dv */
-        m->r[VR_KYY] = -J[0]; m->r[VR_KYZ] = -J[1]; m->r[VR_CYY] = -J[2]; m->r[VR_CYZ] = -J[3];
-        m->r[VR_KZY] = -J[4]; m->r[VR_KZZ] = -J[5]; m->r[VR_CZY] = -J[6]; m->r[VR_CZZ] = -J[7];
-    }
-    m->dirty = 0;
-    return 0;
 }

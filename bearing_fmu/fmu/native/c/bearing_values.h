@@ -1,36 +1,86 @@
-/* The values of a native bearing FMU whatever its FMI version (bearing_values.c): the variables'
- * names, start values, the parameters' checks alone and together, the internal's preparation and
- * its evaluation into the outputs. Each check answers 0, or 1 with the reason in words.
- *
- * Used by the FMI 3.0 layer (fmi3_*.c). fmi2_bearing.c still has its own copy of the checks and
- * the option tables (static; the same code to the letter, kept so by hand until the FMI 2 layer
- * calls this file: its setup and evaluation have since gained the FMI rules' additions, which
- * this file's bn_prepare and bn_evaluate must take over first). */
+/* The model layer of the native bearing FMU, the same code under its FMI 2.0 and its FMI 3.0 layer
+ * (as the FMI Reference FMUs share their model code across FMI versions):
+ *   bearing_values.c   the variables' names and start values, the parameters' checks alone and
+ *                      together, the internal prepared (bn_setup);
+ *   bearing_model.c    the evaluation into the outputs (out_of_domain a discrete output, the
+ *                      warning at omega = 0), the outputs for a get (a refused state logged once),
+ *                      FMU states, the live instances;
+ *   bearing_derivatives.c   the outputs' derivatives along the inputs and the Real parameters.
+ * Each check answers 0, or 1 with the reason in words; statuses are bn_status (FMI 2.0's and
+ * 3.0's have the same values), logged through the FMI layer's bn_log. */
 #ifndef BEARING_VALUES_H
 #define BEARING_VALUES_H
 
 #include "bearing_native.h"
 
-extern const char *const BN_BOOL_NAMES[N_BOOL];
+BN_HIDDEN extern const char *const BN_BOOL_NAMES[N_BOOL];
 
-const char *bn_real_name(int vr);          /* a Real variable's name (vr < N_REAL) */
-const char *bn_real_unit(int vr);          /* its unit ("" for options without one) */
-const char *bn_string_name(int k);         /* a String variable's name (k < N_STRING) */
-const char *bn_enum_name(int j);           /* an enumeration's name (j < N_ENUM) */
-int bn_is_output_real(int vr);
+BN_HIDDEN const char *bn_real_name(int vr);          /* a Real variable's name (vr < N_REAL) */
+BN_HIDDEN const char *bn_real_unit(int vr);          /* its unit ("" for options without one) */
+BN_HIDDEN const char *bn_string_name(int k);         /* a String variable's name (k < N_STRING) */
+BN_HIDDEN const char *bn_enum_name(int j);           /* an Integer's name (j < N_INTS: enumeration, option) */
+BN_HIDDEN int bn_is_output_real(int vr);
 
 /* every variable at its start value; time 0, not initialised, outputs to compute */
-void bn_set_starts(Instance *m);
+BN_HIDDEN void bn_set_starts(Instance *m);
 /* one parameter's value alone (Real vr, String k normalised into out, enumeration j) */
-int bn_check_real(int vr, double v, char *why, size_t n);
-int bn_check_string(int k, const char *value, char *out, char *why, size_t n);
-int bn_check_enum(int j, int v, char *why, size_t n);
+BN_HIDDEN int bn_check_real(int vr, double v, char *why, size_t n);
+BN_HIDDEN int bn_check_string(int k, const char *value, char *out, char *why, size_t n);
+BN_HIDDEN int bn_check_enum(int j, int v, char *why, size_t n);
+/* an Integer parameter's name; its value set (0), or refused as bn_check_* are (1, why; kept refused
+ * until a valid value is set: initialisation fails naming it) (k < N_INT) */
+BN_HIDDEN const char *bn_int_name(int k);
+BN_HIDDEN int bn_set_int(Instance *m, int k, long long v, char *why, size_t n);
 /* the parameters together and the internal prepared (bn_setup); the reason in m->init_error */
-int bn_prepare(Instance *m);
+BN_HIDDEN int bn_prepare(Instance *m);
 /* after initialisation: each String and its enumeration show the choice that counted */
-void bn_show_choices(Instance *m);
-/* the internal at the inputs into the outputs (compute_tangent: K, C too); the reason in m->msg,
- * outputs untouched */
-int bn_evaluate(Instance *m);
+BN_HIDDEN void bn_show_choices(Instance *m);
+
+/* the internal at the inputs into the outputs (compute_tangent: K, C too): 0, or 1 with the reason
+ * in m->msg, outputs untouched. out_of_domain is a discrete output: in Continuous-Time Mode it
+ * keeps its value and the state's own goes to m->ood_now (it takes that at the next event). A
+ * force asked at omega = 0 with no squeeze warns once (warn_pending). */
+BN_HIDDEN int bn_evaluate(Instance *m);
+/* the outputs for a get by `call` of variable `name`: Initialization Mode computes them from the
+ * inputs and parameters set so far (BN_ERROR, logged, when it cannot); Event and Continuous-Time
+ * Mode when the inputs changed, a refused state BN_DISCARD, logged once (until the inputs change);
+ * else BN_OK, or BN_WARNING when a warning was logged since the last call that said so */
+BN_HIDDEN bn_status bn_outputs(Instance *m, const char *call, const char *name);
+/* BN_WARNING if a warning was logged since the last call that reported one, else BN_OK */
+BN_HIDDEN bn_status bn_warned(Instance *m);
+
+/* a known of a directional derivative: 0 if vr is an input, or a Real parameter in
+ * Initialization Mode; else 1 with the reason in why */
+BN_HIDDEN int bn_check_known(const Instance *m, unsigned vr, char *why, size_t n);
+/* the derivatives of the Real outputs (out[vr - VR_FY]) along d (d[vr]: the direction in each
+ * input and Real parameter, vr < N_REAL; the outputs' entries unused) at the inputs and
+ * parameters set; with_kc: K.., C.. too (else 0). 0, or 1 with the reason in m->msg (the state
+ * refused; for K, C: no state next to it). Quiet: no log line, no excursion counted. */
+BN_HIDDEN int bn_derivative(Instance *m, const double d[N_REAL], int with_kc, double out[N_OUTPUTS_REAL]);
+/* the derivative of a thermal output (BN_IS_THERMAL_OUTPUT(vr)) along d: with the thermal model off
+ * (the native internals have no film flows) T_eff is T_supply and mu_eff is mu, P_loss, Q_side 0 */
+BN_HIDDEN double bn_thermal_derivative(const double d[N_REAL], int vr);
+/* the derivative of Real output vr along d: out (bn_derivative's) or the thermal one */
+#define BN_OUTPUT_DERIVATIVE(vr, d, out) \
+    (BN_IS_THERMAL_OUTPUT(vr) ? bn_thermal_derivative(d, (int)(vr)) : (out)[(vr) - VR_FY])
+
+/* an FMU state: the time, the inputs and Real outputs, out_of_domain; tagged with the layer's
+ * tag and the build's GUID (FMI 3.0: instantiation token), so a state of another build is refused */
+typedef struct {
+    char tag[24];
+    char id[64];
+    double t;
+    double values[VR_D];
+    double thermal[VR_GEOMETRY0 - VR_T_SUPPLY]; /* T_supply and the thermal outputs */
+    int out_of_domain;
+} BnState;
+BN_HIDDEN void bn_state_save(const Instance *m, BnState *s, const char *tag, const char *id);
+BN_HIDDEN void bn_state_restore(Instance *m, const BnState *s);
+BN_HIDDEN int bn_state_valid(const BnState *s, const char *tag, const char *id);
+/* a state into bytes (size: the buffer's) and back into *out: 0, or 1 with the reason in why */
+BN_HIDDEN int bn_state_serialize(const BnState *s, unsigned char *bytes, size_t size, const char *tag, const char *id,
+                                 char *why, size_t n);
+BN_HIDDEN int bn_state_deserialize(const unsigned char *bytes, size_t size, BnState *out, const char *tag,
+                                   const char *id, char *why, size_t n);
 
 #endif

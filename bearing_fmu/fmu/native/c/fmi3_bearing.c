@@ -1,9 +1,10 @@
 /* The FMI 3.0 layer of the native bearing FMU (Model Exchange and Co-Simulation in one binary),
- * over the model API of bearing_native.h and the internal compiled beside it, as the FMI 2.0
- * layer (fmi2_bearing.c) is: the same variables and value references, the same checks and words
- * (bearing_values.c), the same statuses (docs/fmu.md, "FMI status"): a parameter refused alone
- * or together, an unknown value reference, a call out of the calling sequence -> fmi3Error; a
- * state the internal refuses -> fmi3Discard with the reason, the outputs kept.
+ * over the model layer (bearing_values.h) and the internal compiled beside it, as the FMI 2.0
+ * layer (fmi2_*.c) is: the same variables and value references, the same checks, evaluation,
+ * derivatives and words (the model layer's code), the same statuses (docs/fmu.md, "FMI
+ * status"): a parameter refused alone or together, an unknown value reference, a call out of the
+ * calling sequence -> fmi3Error; a state the internal refuses -> fmi3Discard with the reason
+ * (logged once), the outputs kept; a force asked at omega = 0 with no squeeze -> fmi3Warning.
  *
  * What FMI 3.0 changes:
  *   - the variables are Float64, Boolean, String and Enumeration (fmi3GetInt64/fmi3SetInt64),
@@ -12,9 +13,7 @@
  *     discards as their log category is on (fmi3SetDebugLogging);
  *   - a refused doStep (fmi3_modes.c) leaves the instance as before the call, with
  *     terminateSimulation false: the importer may restore a state and go on;
- *   - out_of_domain, a discrete output, changes at events only in Model Exchange (ood_event);
- *   - directional and adjoint derivatives of every Float64 output along the inputs (K, C:
- *     central differences of the analytic Jacobian).
+ *   - adjoint derivatives beside the directional ones (fmi3_derivatives.c).
  * After an fmi3Error the instance stays usable (the standard lets the importer only reset or
  * free it then; both work).
  *
@@ -120,8 +119,6 @@ fmi3Status fmi3SetDebugLogging(fmi3Instance instance, fmi3Boolean loggingOn, siz
 
 static void fmi3_starts(Instance *m) {
     bn_set_starts(m);
-    m->ood_event = 0;
-    m->mute = 0;
     m->stop_time = INFINITY;
 }
 
@@ -153,7 +150,7 @@ static fmi3Instance instantiate(const char *call, fmi3String instanceName, fmi3S
     snprintf(m->name, sizeof m->name, "%s", name);
     fmi3_starts(m);
     m->mode = MODE_INSTANTIATED;
-    bn3_live_add(m);
+    bn_live_add(m);
     return m;
 }
 
@@ -208,12 +205,13 @@ fmi3Instance fmi3InstantiateScheduledExecution(fmi3String instanceName, fmi3Stri
 void fmi3FreeInstance(fmi3Instance instance) {
     Instance *m = instance;
     if (!m) return;
-    if (!bn3_live_remove(m)) { /* freed already (or never ours): its memory is not touched */
+    if (!bn_live_remove(m)) { /* freed already (or never ours): its memory is not touched */
         fprintf(stderr, "bearing FMU: fmi3FreeInstance(%p): not a live instance of this FMU (freed already?); "
                         "nothing done\n", instance);
         fflush(stderr);
         return;
     }
+    bn_release(m); /* what the internal allocated (reynolds: the solver's memory) */
     free(m);
 }
 
@@ -249,12 +247,12 @@ fmi3Status fmi3ExitInitializationMode(fmi3Instance instance) {
     bn_show_choices(m);
     /* outputs at the start time from the initial inputs when they can be evaluated: a master
      * may set the inputs only before the first step, so a refused state is no initialisation error */
-    if (bn_evaluate(m)) {
+    if (bn_evaluate(m)) { /* logged; the initialisation itself succeeded */
         bn_log(m, fmi3Warning, "outputs at the start time left at their start values: %s", m->msg);
         m->dirty = 1;
+        return fmi3OK;
     }
-    m->ood_event = m->b[B_OUT_OF_DOMAIN];
-    return fmi3OK;
+    return bn_warned(m);
 }
 
 fmi3Status fmi3Terminate(fmi3Instance instance) {
@@ -283,28 +281,10 @@ fmi3Status fmi3Reset(fmi3Instance instance) {
 /* ------------------------------------------------------------------------------ getting values */
 
 fmi3Status bn3_outputs(Instance *m, const char *call, const char *name) {
-    char t[32];
     if (m->mode == MODE_INSTANTIATED)
         return bn3_fail(m, "%s %s in Instantiated: an output has no value before Initialization Mode (initial = "
                         "calculated)", call, name);
-    if (m->mode == MODE_INIT) {
-        if (bn_prepare(m))
-            return bn3_fail(m, "%s %s in Initialization Mode: the outputs cannot be computed: %s", call, name,
-                            m->init_error);
-        if (bn_evaluate(m))
-            return bn3_fail(m, "%s %s in Initialization Mode: the outputs cannot be computed at the inputs set: %s "
-                            "(set valid inputs and read again)", call, name, m->msg);
-        m->ood_event = m->b[B_OUT_OF_DOMAIN];
-        return fmi3OK;
-    }
-    if ((m->mode == MODE_EVENT || m->mode == MODE_CONTINUOUS) && m->dirty) {
-        if (bn_evaluate(m)) {
-            bn_log(m, fmi3Discard, "%s at t = %s s", m->msg, bn_num(t, sizeof t, m->t, 10));
-            return fmi3Discard;
-        }
-        if (m->mode == MODE_EVENT) m->ood_event = m->b[B_OUT_OF_DOMAIN];
-    }
-    return fmi3OK;
+    return bn_outputs(m, call, name);
 }
 
 static fmi3Status counts_differ(Instance *m, const char *call, size_t nvr, size_t nValues) {
@@ -345,9 +325,10 @@ fmi3Status fmi3GetInt64(fmi3Instance instance, const fmi3ValueReference vr[], si
     ORDER3(GetInt64, BN_ANY_TYPE);
     if (nValues != nvr) return counts_differ(m, "fmi3GetInt64", nvr, nValues);
     for (size_t i = 0; i < nvr; i++) {
-        if (vr[i] < VR_INT0 || vr[i] >= VR_INT0 + N_ENUM)
-            return bn3_fail(m, "fmi3GetInt64: value reference %u is not an Enumeration variable of this FMU", vr[i]);
-        values[i] = m->e[vr[i] - VR_INT0];
+        if (vr[i] < VR_INT0 || vr[i] >= VR_INT_PARAM0 + N_INT)
+            return bn3_fail(m, "fmi3GetInt64: value reference %u is not an Int64 or Enumeration variable of this FMU",
+                            vr[i]);
+        values[i] = vr[i] >= VR_INT_PARAM0 ? m->n[vr[i] - VR_INT_PARAM0] : m->e[vr[i] - VR_INT0];
     }
     return fmi3OK;
 }
@@ -362,15 +343,13 @@ fmi3Status fmi3GetBoolean(fmi3Instance instance, const fmi3ValueReference vr[], 
     for (size_t i = 0; i < nvr; i++) {
         if (vr[i] < VR_BOOL0 || vr[i] >= VR_BOOL0 + N_BOOL)
             return bn3_fail(m, "fmi3GetBoolean: value reference %u is not a Boolean variable of this FMU", vr[i]);
-        int k = (int)(vr[i] - VR_BOOL0), v = m->b[k];
-        if (k == B_OUT_OF_DOMAIN) {
+        int k = (int)(vr[i] - VR_BOOL0);
+        if (k == B_OUT_OF_DOMAIN) { /* a discrete output: in Continuous-Time Mode, the value of the last event */
             fmi3Status s = bn3_outputs(m, "fmi3GetBoolean", "out_of_domain");
             if (s == fmi3Error) return s;
             if (s > status) status = s;
-            /* a discrete output: between events (Continuous-Time Mode) the value of the last one */
-            v = m->mode == MODE_CONTINUOUS ? m->ood_event : m->b[k];
         }
-        values[i] = v ? true : false;
+        values[i] = m->b[k] ? true : false;
     }
     return status;
 }
@@ -416,7 +395,7 @@ fmi3Status fmi3SetFloat64(fmi3Instance instance, const fmi3ValueReference vr[], 
     char a[32], why[512];
     for (size_t i = 0; i < nvr; i++) {
         fmi3ValueReference k = vr[i];
-        if (k < N_INPUTS) { /* inputs: any value; a non-finite one is refused when evaluated */
+        if (BN_IS_INPUT(k)) { /* inputs: any value; a non-finite one is refused when evaluated */
             m->r[k] = values[i];
             m->dirty = 1;
             continue;
@@ -458,8 +437,18 @@ fmi3Status fmi3SetInt64(fmi3Instance instance, const fmi3ValueReference vr[], si
     fmi3Status status = fmi3OK;
     char why[512], keeps[32];
     for (size_t i = 0; i < nvr; i++) {
-        if (vr[i] < VR_INT0 || vr[i] >= VR_INT0 + N_ENUM) {
-            status = bn3_fail(m, "fmi3SetInt64: value reference %u is not an Enumeration variable of this FMU", vr[i]);
+        if (vr[i] < VR_INT0 || vr[i] >= VR_INT_PARAM0 + N_INT) {
+            status = bn3_fail(m, "fmi3SetInt64: value reference %u is not an Int64 or Enumeration variable of this FMU",
+                              vr[i]);
+            continue;
+        }
+        if (vr[i] >= VR_INT_PARAM0) { /* groove_count, lobes: the bore, checked against the data's at initialisation */
+            int k = (int)(vr[i] - VR_INT_PARAM0);
+            snprintf(keeps, sizeof keeps, "%d", m->n[k]);
+            if (parameter_fixed(m, "fmi3SetInt64", bn_int_name(k), keeps))
+                status = fmi3Error;
+            else if (bn_set_int(m, k, (long long)values[i], why, sizeof why))
+                status = bn3_fail(m, "fmi3SetInt64: %s; %s keeps %s", why, bn_int_name(k), keeps);
             continue;
         }
         int j = (int)(vr[i] - VR_INT0), slot = N_REAL + N_BOOL + N_STRING + j;

@@ -1,6 +1,6 @@
 /* The FMI 3.0 bearing FMU's calling sequence and its interfaces: the check every function makes
  * first (bearing_fmu/fmu/native/fmi3.py: ALLOWED3, generated into fmi3_config.h as one bit mask
- * per function), the live instances, Model Exchange (no continuous states, no event indicators:
+ * per function), Model Exchange (no continuous states, no event indicators:
  * the outputs are a direct feedthrough of the inputs), Co-Simulation (no Event Mode), the
  * variables' dependencies, and what this FMU does not provide (other variable types, clocks,
  * configuration mode, output derivatives, Scheduled Execution): fmi3Error saying so. */
@@ -55,55 +55,21 @@ int bn3_refused(Instance *m, const char *call, unsigned allowed, int kind) {
     return 1;
 }
 
-/* fmi3FreeInstance gets only a pointer: a second free of the same instance would free freed
- * memory and abort the host. So the live instances are listed (under a spin lock: importers may
- * make and free instances on several threads) and a pointer not in the list is left alone. */
-#if defined(_MSC_VER)
-#include <intrin.h>
-static volatile long live_lock;
-static void lock_live(void) { while (_InterlockedExchange(&live_lock, 1)) {} }
-static void unlock_live(void) { _InterlockedExchange(&live_lock, 0); }
-#else
-static volatile char live_lock;
-static void lock_live(void) { while (__atomic_test_and_set(&live_lock, __ATOMIC_ACQUIRE)) {} }
-static void unlock_live(void) { __atomic_clear(&live_lock, __ATOMIC_RELEASE); }
-#endif
-static Instance *live;
-
-void bn3_live_add(Instance *m) {
-    lock_live();
-    m->next_live = live;
-    live = m;
-    unlock_live();
-}
-
-int bn3_live_remove(Instance *m) {
-    int found = 0;
-    lock_live();
-    for (Instance **p = &live; *p; p = &(*p)->next_live)
-        if (*p == m) {
-            *p = m->next_live;
-            found = 1;
-            break;
-        }
-    unlock_live();
-    return found;
-}
-
 /* ------------------------------------------------------------------------------ dependencies */
 
-/* the inputs (value references 0..) a variable depends on after initialisation: fmi3.py's
- * output_dependencies, the ModelStructure's Output elements */
+/* the inputs (value references 0..; T_eff: T_supply) a variable depends on after initialisation:
+ * fmi3.py's output_dependencies, the ModelStructure's Output elements */
 static int dependencies(fmi3ValueReference v) {
     if (v == VR_ECC || v == VR_HMIN) return 2;                    /* y, z */
     if (v == VR_BOOL0 + B_OUT_OF_DOMAIN) return BN3_FITTED_DOMAIN ? 4 : 0; /* y, z, vy, vz */
     if (v >= VR_FY && v < VR_D) return 5;                         /* the whole journal state */
+    if (v == VR_T_EFF) return 1;                                  /* T_supply (the thermal model off) */
     return 0;
 }
 
 static int known_variable(fmi3ValueReference v) {
     return v < (fmi3ValueReference)N_REAL || v == BN3_VR_TIME || (v >= VR_BOOL0 && v < VR_BOOL0 + N_BOOL)
-           || (v >= VR_STRING0 && v < VR_STRING0 + N_STRING) || (v >= VR_INT0 && v < VR_INT0 + N_ENUM);
+           || (v >= VR_STRING0 && v < VR_STRING0 + N_STRING) || (v >= VR_INT0 && v < VR_INT_PARAM0 + N_INT);
 }
 
 fmi3Status fmi3GetNumberOfVariableDependencies(fmi3Instance instance, fmi3ValueReference valueReference,
@@ -134,7 +100,7 @@ fmi3Status fmi3GetVariableDependencies(fmi3Instance instance, fmi3ValueReference
                         dependent < (fmi3ValueReference)N_REAL ? bn_real_name((int)dependent) : "the variable", n);
     for (int k = 0; k < n; k++) { /* scalars: element index 0, the whole variable */
         elementIndicesOfDependent[k] = 0;
-        independents[k] = (fmi3ValueReference)k;
+        independents[k] = dependent == VR_T_EFF ? (fmi3ValueReference)VR_T_SUPPLY : (fmi3ValueReference)k;
         elementIndicesOfIndependents[k] = 0;
         dependencyKinds[k] = fmi3Dependent;
     }
@@ -148,16 +114,8 @@ fmi3Status fmi3EnterEventMode(fmi3Instance instance) {
     if (!m) return fmi3Error;
     ORDER3(EnterEventMode, BN_ME_ONLY);
     m->mode = MODE_EVENT;
-    m->ood_event = m->b[B_OUT_OF_DOMAIN]; /* a discrete output takes its value at the event */
+    if (!m->refused_state) m->b[B_OUT_OF_DOMAIN] = m->ood_now; /* a discrete output takes its value at the event */
     return fmi3OK;
-}
-
-/* the outputs at the inputs set, before a mode changes: 0, or 1 with the discard logged */
-static int evaluate_if_dirty(Instance *m, const char *call) {
-    char t[32];
-    if (!m->dirty || bn_evaluate(m) == 0) return 0;
-    bn_log(m, fmi3Discard, "%s: %s at t = %s s", call, m->msg, bn_num(t, sizeof t, m->t, 10));
-    return 1;
 }
 
 fmi3Status fmi3UpdateDiscreteStates(fmi3Instance instance, fmi3Boolean *discreteStatesNeedUpdate,
@@ -176,9 +134,7 @@ fmi3Status fmi3UpdateDiscreteStates(fmi3Instance instance, fmi3Boolean *discrete
     *valuesOfContinuousStatesChanged = false;
     *nextEventTimeDefined = false;
     *nextEventTime = 0.0;
-    if (evaluate_if_dirty(m, "fmi3UpdateDiscreteStates")) return fmi3Discard;
-    m->ood_event = m->b[B_OUT_OF_DOMAIN];
-    return fmi3OK;
+    return bn_outputs(m, "fmi3UpdateDiscreteStates", "out_of_domain"); /* in Event Mode it takes the state's value */
 }
 
 fmi3Status fmi3EvaluateDiscreteStates(fmi3Instance instance) {
@@ -192,9 +148,10 @@ fmi3Status fmi3EnterContinuousTimeMode(fmi3Instance instance) {
     Instance *m = instance;
     if (!m) return fmi3Error;
     ORDER3(EnterContinuousTimeMode, BN_ME_ONLY);
-    if (m->dirty && bn_evaluate(m) == 0) m->ood_event = m->b[B_OUT_OF_DOMAIN]; /* refused: said at the next get */
+    /* out_of_domain of the inputs set in Event Mode, before it holds (a refused state: fmi3Discard at the next get) */
+    bn_status s = bn_outputs(m, "fmi3EnterContinuousTimeMode", "out_of_domain");
     m->mode = MODE_CONTINUOUS;
-    return fmi3OK;
+    return s == fmi3Discard ? fmi3OK : s;
 }
 
 fmi3Status fmi3CompletedIntegratorStep(fmi3Instance instance, fmi3Boolean noSetFMUStatePriorToCurrentPoint,
@@ -207,10 +164,11 @@ fmi3Status fmi3CompletedIntegratorStep(fmi3Instance instance, fmi3Boolean noSetF
         return bn3_fail(m, "fmi3CompletedIntegratorStep: an output argument is NULL");
     *enterEventMode = false;
     *terminateSimulation = false;
-    if (evaluate_if_dirty(m, "fmi3CompletedIntegratorStep")) return fmi3Discard;
+    bn_status s = bn_outputs(m, "fmi3CompletedIntegratorStep", "out_of_domain");
+    if (s == fmi3Discard || s == fmi3Error) return s;
     /* a step event where the state crossed the fitted domain's edge: out_of_domain changes there */
-    *enterEventMode = m->b[B_OUT_OF_DOMAIN] != m->ood_event;
-    return fmi3OK;
+    *enterEventMode = m->ood_now != m->b[B_OUT_OF_DOMAIN];
+    return s;
 }
 
 fmi3Status fmi3SetTime(fmi3Instance instance, fmi3Float64 time) {
@@ -319,7 +277,7 @@ fmi3Status fmi3DoStep(fmi3Instance instance, fmi3Float64 currentCommunicationPoi
     }
     m->t = t;
     *lastSuccessfulTime = t;
-    return fmi3OK;
+    return bn_warned(m);
 }
 
 fmi3Status fmi3GetOutputDerivatives(fmi3Instance instance, const fmi3ValueReference valueReferences[],

@@ -1,7 +1,7 @@
-/* FMU states of the FMI 3.0 bearing FMU: the inputs, the outputs, out_of_domain as of the last
- * event and the time (a few hundred bytes), tagged with the instantiation token so that a state
- * of another build is refused; serialised as they are (same platform, same build). The FMU has
- * no state of its own besides: the internals keep only caches and counts. */
+/* FMU states of the FMI 3.0 bearing FMU: the model layer's BnState (the inputs, the outputs,
+ * out_of_domain and the time, a few hundred bytes), tagged with the instantiation token so that a
+ * state of another build is refused; serialised as they are (same platform, same build). The FMU
+ * has no state of its own besides: the internals keep only caches and counts. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -9,17 +9,9 @@
 #include "fmi3_layer.h"
 
 #define STATE_TAG "bearing-native3/1"
-typedef struct {
-    char tag[24];
-    char token[64];
-    double t;
-    double values[VR_D]; /* inputs and Float64 outputs */
-    int out_of_domain, ood_event;
-} State;
+typedef BnState State;
 
-static int valid_state(const State *s) {
-    return s && strncmp(s->tag, STATE_TAG, sizeof s->tag) == 0 && strncmp(s->token, BN3_TOKEN, sizeof s->token) == 0;
-}
+static int valid_state(const State *s) { return bn_state_valid(s, STATE_TAG, BN3_TOKEN); }
 
 fmi3Status fmi3GetFMUState(fmi3Instance instance, fmi3FMUState *FMUState) {
     Instance *m = instance;
@@ -32,13 +24,7 @@ fmi3Status fmi3GetFMUState(fmi3Instance instance, fmi3FMUState *FMUState) {
         if (!s) return bn3_fail(m, "fmi3GetFMUState: out of memory");
         *FMUState = s;
     }
-    memset(s, 0, sizeof *s);
-    snprintf(s->tag, sizeof s->tag, "%s", STATE_TAG);
-    snprintf(s->token, sizeof s->token, "%s", BN3_TOKEN);
-    s->t = m->t;
-    memcpy(s->values, m->r, sizeof s->values);
-    s->out_of_domain = m->b[B_OUT_OF_DOMAIN];
-    s->ood_event = m->ood_event;
+    bn_state_save(m, s, STATE_TAG, BN3_TOKEN);
     return fmi3OK;
 }
 
@@ -49,11 +35,7 @@ fmi3Status fmi3SetFMUState(fmi3Instance instance, fmi3FMUState FMUState) {
     ORDER3(SetFMUState, BN_ANY_TYPE);
     if (!valid_state(s))
         return bn3_fail(m, "fmi3SetFMUState: not a %s state of this FMU; the instance keeps its state", STATE_TAG);
-    m->t = s->t;
-    memcpy(m->r, s->values, sizeof s->values);
-    m->b[B_OUT_OF_DOMAIN] = s->out_of_domain;
-    m->ood_event = s->ood_event;
-    m->dirty = 1;
+    bn_state_restore(m, s);
     return fmi3OK;
 }
 
@@ -85,13 +67,11 @@ fmi3Status fmi3SerializedFMUStateSize(fmi3Instance instance, fmi3FMUState FMUSta
 fmi3Status fmi3SerializeFMUState(fmi3Instance instance, fmi3FMUState FMUState, fmi3Byte serializedState[],
                                  size_t size) {
     Instance *m = instance;
+    char why[200];
     if (!m) return fmi3Error;
     ORDER3(SerializeFMUState, BN_ANY_TYPE);
-    if (!valid_state(FMUState)) return bn3_fail(m, "fmi3SerializeFMUState: not a %s state of this FMU", STATE_TAG);
-    if (size < sizeof(State))
-        return bn3_fail(m, "fmi3SerializeFMUState: a buffer of %lu bytes is smaller than the state (%lu bytes)",
-                        (unsigned long)size, (unsigned long)sizeof(State));
-    memcpy(serializedState, FMUState, sizeof(State));
+    if (bn_state_serialize(FMUState, serializedState, size, STATE_TAG, BN3_TOKEN, why, sizeof why))
+        return bn3_fail(m, "fmi3SerializeFMUState: %s", why);
     return fmi3OK;
 }
 
@@ -99,17 +79,14 @@ fmi3Status fmi3DeserializeFMUState(fmi3Instance instance, const fmi3Byte seriali
                                    fmi3FMUState *FMUState) {
     Instance *m = instance;
     State s;
+    char why[200];
     if (!m) return fmi3Error;
     ORDER3(DeserializeFMUState, BN_ANY_TYPE);
     if (!FMUState) return bn3_fail(m, "fmi3DeserializeFMUState: FMUState is NULL");
-    if (size == sizeof(State)) memcpy(&s, serializedState, sizeof s);
-    if (size != sizeof(State) || !valid_state(&s))
-        return bn3_fail(m, "fmi3DeserializeFMUState: %lu bytes are not a serialised %s state of this FMU",
-                        (unsigned long)size, STATE_TAG);
-    if (!*FMUState) {
-        *FMUState = calloc(1, sizeof(State));
-        if (!*FMUState) return bn3_fail(m, "fmi3DeserializeFMUState: out of memory");
-    }
-    memcpy(*FMUState, &s, sizeof s);
+    if (bn_state_deserialize(serializedState, size, &s, STATE_TAG, BN3_TOKEN, why, sizeof why))
+        return bn3_fail(m, "fmi3DeserializeFMUState: %s", why);
+    if (!*FMUState && !(*FMUState = calloc(1, sizeof(State))))
+        return bn3_fail(m, "fmi3DeserializeFMUState: out of memory");
+    *(State *)*FMUState = s;
     return fmi3OK;
 }

@@ -10,8 +10,11 @@
 #include <math.h>
 #include <stdio.h>
 
+#define BN_PART map /* its functions' names in an FMU of several internals */
+#define BN_PART_MAP 1 /* its part of model_data.h */
 #include "bearing_native.h"
 #include "model_data.h"
+#include "py_mod.h"
 
 #ifndef MAP_DIMS
 #define MAP_DIMS 2
@@ -58,17 +61,6 @@ static void basis(const double *t, int i, double x, double N[4], double dN[4]) {
         if (r <= 2) d -= N2[r] / (t[i + 1 + r] - t[i - 2 + r]);
         dN[r] = 3.0 * d;
     }
-}
-
-/* Python's float modulo: the result has the sign of the divisor */
-static double py_mod(double x, double p) {
-    double r = fmod(x, p);
-    if (r != 0.0) {
-        if ((p < 0) != (r < 0)) r += p;
-    } else {
-        r = copysign(0.0, p);
-    }
-    return r;
 }
 
 #if MAP_DIMS != 3
@@ -275,3 +267,5 @@ void bn_option_derivative(Instance *m, const double x[5], int k, double dF[2], d
     dF[0] = dF[1] = 0.0;
     for (int i = 0; i < 8; i++) dJ[i] = 0.0;
 }
+
+void bn_release(Instance *m) { (void)m; } /* nothing allocated */

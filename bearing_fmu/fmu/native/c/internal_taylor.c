@@ -14,11 +14,15 @@
  * stays within the radius of the point nearest to the previous one, as guard.NearestTraining
  * does). Outside (d > 1e-12): refused beyond domain_limit or with domain_action = discard,
  * else warned once per excursion (excursion()) and counted (the count at fmi2Terminate).
- * "fallback" (Reynolds) does not exist natively: refused when set. */
+ * "fallback": the Reynolds internal of the same FMU (one of several internals, bn_parts.c), blended
+ * with the surrogate over the band beyond the domain's edge as guard.DomainGuard does (fallback());
+ * an FMU without it refuses "fallback" when set. */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
 
+#define BN_PART taylor /* its functions' names in an FMU of several internals */
+#define BN_PART_TAYLOR 1 /* its part of model_data.h */
 #include "bearing_native.h"
 #include "model_data.h"
 
@@ -391,7 +395,7 @@ static int guard(Instance *m, const double x[5], int *ood) {
  * communication point (a host's Newton iterates of one step all start from its state), and
  * counted. A refused state (wrong speed, the wall) never counts: the zero-speed start a master
  * initialises with used to spend the one warning of an instance. */
-static void excursion(Instance *m, const double x[5]) {
+static void excursion(Instance *m, const double x[5], const char *what) {
     Work *w = &m->work;
     if (w->quiet || m->b[B_OUT_OF_DOMAIN] || (w->excursions > 0 && w->excursion_t[1] == m->t)) return;
     if (w->excursions++ == 0) w->excursion_t[0] = m->t;
@@ -401,14 +405,14 @@ static void excursion(Instance *m, const double x[5]) {
              bn_num(a, 32, x[0], 4), bn_num(b, 32, x[1], 4), bn_num(c, 32, x[2], 4), bn_num(e, 32, x[3], 4),
              hypot(x[0], x[1]) / TAY_PARAMS[2]);
     reasons(x[0], x[1], x[2], x[3], why, sizeof why);
-    bn_log(m, BN_WARNING, "t = %s s: state outside the surrogate's fitted domain (%s) at %s; its value is an "
-           "extrapolation (excursion %d: warned once per excursion, counted at terminate)", bn_num(t, 32, m->t, 10),
-           why, where, w->excursions);
+    bn_log(m, BN_WARNING, "t = %s s: state outside the surrogate's fitted domain (%s) at %s; %s (excursion %d: "
+           "warned once per excursion, counted at terminate)", bn_num(t, 32, m->t, 10), why, where, what,
+           w->excursions);
 }
 
-int bn_eval(Instance *m, const double x[5], int want_jac, double F[2], double J[8], double dw[2], int *ood) {
+/* the surrogate at x (the guard passed) */
+static int taylor_eval(Instance *m, const double x[5], int want_jac, double F[2], double J[8], double dw[2]) {
     const double y = x[0], z = x[1], vy = x[2], vz = x[3], omega = x[4];
-    if (guard(m, x, ood)) return 1;
     /* _check_nb: the inputs are finite (the FMI layer checked them); the speed */
     if (fabs(omega - OMEGA0) > RTOL * fmax(fabs(OMEGA0), 1.0)) return refuse_taylor(m, 1, x);
     if (!(y * y + z * z < TAY_CR2)) return refuse_taylor(m, 0, x);
@@ -436,7 +440,6 @@ int bn_eval(Instance *m, const double x[5], int want_jac, double F[2], double J[
             F[1] = F[1] + out[1] * FS;
         }
 #endif
-        if (*ood) excursion(m, x);
         return 0;
     }
     /* _force_jac_nb (+ shape terms), then _to_si */
@@ -475,7 +478,65 @@ int bn_eval(Instance *m, const double x[5], int want_jac, double F[2], double J[
         J[4 * i + 3] = out[5 + 4 * i] * gv;
     }
     dw[0] = dw[1] = 0.0; /* defined at its fitted speed only (any other is refused) */
-    if (*ood) excursion(m, x);
+    return 0;
+}
+
+#if BN_HOLDS_REYNOLDS
+#define FALLBACK_BAND 0.1 /* guard.FALLBACK_BAND: Taylor and Reynolds blended from the edge to 10 % beyond it */
+
+/* the weight of Reynolds at domain distance d: 0 at the edge, a smoothstep to 1 at FALLBACK_BAND */
+static double blend_weight(double d) {
+    double s = fmin(fmax(d / FALLBACK_BAND, 0.0), 1.0);
+    return s * s * (3.0 - 2.0 * s);
+}
+
+/* domain_action = fallback outside the domain (d > 0): the Reynolds force, blended with the
+ * surrogate's inside the band; the weight's gradient (central differences of the domain distance,
+ * steps 1e-7 of the scales, as guard.DomainGuard._blend_gradient) joins the tangent, since across
+ * the band the force changes by F_reynolds - F_taylor */
+static int fallback(Instance *m, const double x[5], double d, int want_jac, double F[2], double J[8], double dw[2]) {
+    double Fr[2], Jr[8], dwr[2], Ft[2], Jt[8], dwt[2], g[4];
+    if (bn_fallback_eval(m, x, want_jac, Fr, Jr, dwr)) return 1;
+    double w = blend_weight(d);
+    if (w >= 1.0) {
+        memcpy(F, Fr, sizeof Fr);
+        if (want_jac) {
+            memcpy(J, Jr, sizeof Jr);
+            memcpy(dw, dwr, sizeof dwr);
+        }
+        return 0;
+    }
+    if (taylor_eval(m, x, want_jac, Ft, Jt, dwt)) return 1;
+    for (int i = 0; i < 2; i++) F[i] = (1.0 - w) * Ft[i] + w * Fr[i];
+    if (!want_jac) return 0;
+    const double h[4] = {1e-7 * POS, 1e-7 * POS, 1e-7 * VEL, 1e-7 * VEL};
+    for (int v = 0; v < 4; v++) {
+        double hi[4] = {x[0], x[1], x[2], x[3]}, lo[4] = {x[0], x[1], x[2], x[3]};
+        hi[v] += h[v];
+        lo[v] -= h[v];
+        g[v] = (blend_weight(domain_distance(m, hi[0], hi[1], hi[2], hi[3])) -
+                blend_weight(domain_distance(m, lo[0], lo[1], lo[2], lo[3]))) / (2 * h[v]);
+    }
+    for (int r = 0; r < 2; r++) {
+        for (int c = 0; c < 4; c++)
+            J[4 * r + c] = (1.0 - w) * Jt[4 * r + c] + w * Jr[4 * r + c] + (Fr[r] - Ft[r]) * g[c];
+        dw[r] = (1.0 - w) * dwt[r] + w * dwr[r];
+    }
+    return 0;
+}
+#endif
+
+int bn_eval(Instance *m, const double x[5], int want_jac, double F[2], double J[8], double dw[2], int *ood) {
+    if (guard(m, x, ood)) return 1;
+#if BN_HOLDS_REYNOLDS
+    if (*ood && strcmp(m->eff[S_OPT_DOMAIN_ACTION], "fallback") == 0) {
+        if (fallback(m, x, domain_distance(m, x[0], x[1], x[2], x[3]), want_jac, F, J, dw)) return 1;
+        excursion(m, x, "the Reynolds internal evaluates such states");
+        return 0;
+    }
+#endif
+    if (taylor_eval(m, x, want_jac, F, J, dw)) return 1;
+    if (*ood) excursion(m, x, "its value is an extrapolation");
     return 0;
 }
 
@@ -484,3 +545,5 @@ void bn_option_derivative(Instance *m, const double x[5], int k, double dF[2], d
     dF[0] = dF[1] = 0.0;
     for (int i = 0; i < 8; i++) dJ[i] = 0.0;
 }
+
+void bn_release(Instance *m) { (void)m; } /* nothing allocated */

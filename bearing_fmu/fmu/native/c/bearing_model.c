@@ -1,0 +1,190 @@
+/* The native bearing FMU's model at the inputs, whatever its FMI version (the model layer:
+ * bearing_values.h): the evaluation into the outputs, the outputs for a get, FMU states and the
+ * list of live instances. The FMI layers (fmi2_*.c, fmi3_*.c) turn what it answers into their
+ * calls' statuses; it logs through their bn_log. */
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "bearing_values.h"
+
+/* ------------------------------------------------------------------------------ evaluation */
+
+int bn_evaluate(Instance *m) {
+    double x[5], F[2], J[8], dw[2];
+    int ood = 0;
+    char a[32], b[32], c[32], d[32], e[32];
+    for (int i = 0; i < 5; i++) {
+        x[i] = m->r[i];
+        if (!isfinite(x[i])) {
+            snprintf(m->msg, sizeof m->msg, "bearing input %s = %s is not finite", bn_real_name(i),
+                     bn_num(a, sizeof a, x[i], 17));
+            return 1;
+        }
+    }
+    int jac = m->b[B_COMPUTE_TANGENT];
+    if (bn_eval(m, x, jac, F, J, dw, &ood)) return 1;
+    int finite = isfinite(F[0]) && isfinite(F[1]);
+    for (int i = 0; jac && i < 8; i++) finite = finite && isfinite(J[i]);
+    if (!finite) {
+        snprintf(m->msg, sizeof m->msg, "the %s internal returned a non-finite force or tangent at y = %s m, "
+                 "z = %s m, vy = %s m/s, vz = %s m/s, omega = %s rad/s", m->eff[S_INTERNAL], bn_num(a, 32, x[0], 6),
+                 bn_num(b, 32, x[1], 6), bn_num(c, 32, x[2], 6), bn_num(d, 32, x[3], 6), bn_num(e, 32, x[4], 6));
+        return 1;
+    }
+    double eps = hypot(x[0], x[1]) / m->r[VR_CR];
+    m->r[VR_FY] = F[0];
+    m->r[VR_FZ] = F[1];
+    m->r[VR_ECC] = eps;
+    m->r[VR_HMIN] = m->r[VR_CR] * (1.0 - eps);
+    m->ood_now = ood;
+    if (m->mode != MODE_CONTINUOUS) m->b[B_OUT_OF_DOMAIN] = ood;
+    /* the thermal ports off (bn_prepare refuses thermal = true: no film flows): the isoviscous film */
+    m->r[VR_T_EFF] = m->r[VR_T_SUPPLY];
+    m->r[VR_MU_EFF] = m->r[VR_MU];
+    m->r[VR_P_LOSS] = 0.0;
+    m->r[VR_Q_SIDE] = 0.0;
+    if (jac) { /* Lund's sign: K = -dF/dq, C = -dF/dv */
+        m->r[VR_KYY] = -J[0]; m->r[VR_KYZ] = -J[1]; m->r[VR_CYY] = -J[2]; m->r[VR_CYZ] = -J[3];
+        m->r[VR_KZY] = -J[4]; m->r[VR_KZZ] = -J[5]; m->r[VR_CZY] = -J[6]; m->r[VR_CZZ] = -J[7];
+    }
+    /* a shaft at rest with no squeeze carries no load: most likely omega is not connected */
+    int still = x[4] == 0.0 && x[2] == 0.0 && x[3] == 0.0;
+    if (still && !m->still) {
+        bn_log(m, BN_WARNING, "the force was asked at omega = 0 rad/s with no squeeze velocity (vy = vz = 0): the "
+               "film carries no load, the force is zero; is the input omega connected? (warned once, until the "
+               "journal moves or turns)");
+        m->warn_pending = 1;
+    }
+    m->still = still;
+    m->dirty = 0;
+    return 0;
+}
+
+bn_status bn_warned(Instance *m) {
+    bn_status s = m->warn_pending ? BN_WARNING : BN_OK;
+    m->warn_pending = 0;
+    return s;
+}
+
+bn_status bn_outputs(Instance *m, const char *call, const char *name) {
+    int me = m->mode == MODE_EVENT || m->mode == MODE_CONTINUOUS;
+    if (m->mode == MODE_INIT) {
+        if (bn_prepare(m)) {
+            bn_log(m, BN_ERROR, "%s %s in Initialization Mode: the outputs cannot be computed: %s", call, name,
+                   m->init_error);
+            return BN_ERROR;
+        }
+        if (bn_evaluate(m)) {
+            bn_log(m, BN_ERROR, "%s %s in Initialization Mode: the outputs cannot be computed at the inputs set: %s "
+                   "(set valid inputs and read again)", call, name, m->msg);
+            return BN_ERROR;
+        }
+        return bn_warned(m);
+    }
+    if (me && m->dirty) {
+        m->refused_state = bn_evaluate(m);
+        if (m->refused_state) {
+            char t[32];
+            m->dirty = 0; /* until the inputs change */
+            bn_log(m, BN_DISCARD, "%s at t = %s s (outputs keep their last values)", m->msg,
+                   bn_num(t, sizeof t, m->t, 10));
+        }
+    }
+    if (me && m->refused_state) return BN_DISCARD;
+    return bn_warned(m);
+}
+
+/* ------------------------------------------------------------------------------ FMU states */
+
+void bn_state_save(const Instance *m, BnState *s, const char *tag, const char *id) {
+    memset(s, 0, sizeof *s);
+    snprintf(s->tag, sizeof s->tag, "%s", tag);
+    snprintf(s->id, sizeof s->id, "%s", id);
+    s->t = m->t;
+    memcpy(s->values, m->r, sizeof s->values);
+    memcpy(s->thermal, m->r + VR_T_SUPPLY, sizeof s->thermal);
+    s->out_of_domain = m->b[B_OUT_OF_DOMAIN];
+}
+
+void bn_state_restore(Instance *m, const BnState *s) {
+    m->t = s->t;
+    memcpy(m->r, s->values, sizeof s->values);
+    memcpy(m->r + VR_T_SUPPLY, s->thermal, sizeof s->thermal);
+    m->b[B_OUT_OF_DOMAIN] = s->out_of_domain;
+    m->terminated = 0;
+    m->refused_state = 0;
+    m->dirty = 1; /* the outputs follow the inputs restored at the next get */
+}
+
+int bn_state_valid(const BnState *s, const char *tag, const char *id) {
+    return s && strncmp(s->tag, tag, sizeof s->tag) == 0 && strncmp(s->id, id, sizeof s->id) == 0;
+}
+
+/* serialised as it is (the same platform, the same build: the tag and id say so) */
+int bn_state_serialize(const BnState *s, unsigned char *bytes, size_t size, const char *tag, const char *id,
+                       char *why, size_t n) {
+    if (!bn_state_valid(s, tag, id)) {
+        snprintf(why, n, "not a %s state of this FMU", tag);
+        return 1;
+    }
+    if (size < sizeof *s) {
+        snprintf(why, n, "a buffer of %lu bytes is smaller than the state (%lu bytes)", (unsigned long)size,
+                 (unsigned long)sizeof *s);
+        return 1;
+    }
+    memcpy(bytes, s, sizeof *s);
+    return 0;
+}
+
+int bn_state_deserialize(const unsigned char *bytes, size_t size, BnState *out, const char *tag, const char *id,
+                         char *why, size_t n) {
+    BnState s;
+    if (size == sizeof s) memcpy(&s, bytes, sizeof s); /* a copy: the bytes need not be aligned */
+    if (size != sizeof s || !bn_state_valid(&s, tag, id)) {
+        snprintf(why, n, "%lu bytes are not a serialised %s state of this FMU", (unsigned long)size, tag);
+        return 1;
+    }
+    *out = s;
+    return 0;
+}
+
+/* ------------------------------------------------------------------------------ live instances */
+
+/* fmi2FreeInstance and fmi3FreeInstance get only a pointer: a second free of the same instance
+ * would free freed memory and abort the host. So the live instances are listed (linked through
+ * next_live, changed under a spin lock: importers may make and free instances on several
+ * threads), and a pointer not in the list is left alone. What this cannot tell: a pointer whose
+ * memory a later instantiation got again is live again; and any other call on a freed instance
+ * reads freed memory, as with any FMU. */
+#if defined(_MSC_VER)
+#include <intrin.h>
+static volatile long live_lock;
+static void lock_live(void) { while (_InterlockedExchange(&live_lock, 1)) {} }
+static void unlock_live(void) { _InterlockedExchange(&live_lock, 0); }
+#else
+static volatile char live_lock;
+static void lock_live(void) { while (__atomic_test_and_set(&live_lock, __ATOMIC_ACQUIRE)) {} }
+static void unlock_live(void) { __atomic_clear(&live_lock, __ATOMIC_RELEASE); }
+#endif
+static Instance *live;
+
+void bn_live_add(Instance *m) {
+    lock_live();
+    m->next_live = live;
+    live = m;
+    unlock_live();
+}
+
+int bn_live_remove(Instance *m) {
+    int found = 0;
+    lock_live();
+    for (Instance **p = &live; *p; p = &(*p)->next_live)
+        if (*p == m) {
+            *p = m->next_live;
+            found = 1;
+            break;
+        }
+    unlock_live();
+    return found;
+}

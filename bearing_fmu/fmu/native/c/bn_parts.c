@@ -1,0 +1,118 @@
+/* An FMU of several internals (model_config.h: BN_PARTS > 1, BN_PART_LIST): each internal's file
+ * defines its functions under its own name (<id>_<internal>_bn_setup ...: bearing_native.h
+ * BN_FN), and this file the ones the model layer calls, dispatching on the parameter internal as
+ * it counts (m->eff, the String or its enumeration). Taylor's domain_action = fallback evaluates
+ * the Reynolds internal of the same FMU (bn_fallback_eval), prepared with Taylor's when set. */
+#include <stdio.h>
+#include <string.h>
+
+#include "bearing_native.h"
+
+/* the plain names from here on: this file defines them */
+#undef bn_setup
+#undef bn_eval
+#undef bn_option_derivative
+#undef bn_release
+#undef bn_shape_derivative
+#define PART_FN(p, name) BN_NAME(BN_ID, BN_NAME(p, name))
+
+#define DECLARE(p, bearing, speed)                                                                              \
+    BN_HIDDEN int PART_FN(p, bn_setup)(Instance * m);                                                          \
+    BN_HIDDEN int PART_FN(p, bn_eval)(Instance * m, const double x[5], int want_jac, double F[2], double J[8], \
+                                      double dw[2], int *ood);                                                 \
+    BN_HIDDEN void PART_FN(p, bn_option_derivative)(Instance * m, const double x[5], int k, double dF[2],      \
+                                                    double dJ[8]);                                             \
+    BN_HIDDEN void PART_FN(p, bn_release)(Instance * m);
+BN_PART_LIST(DECLARE)
+#if BN_HOLDS_REYNOLDS
+BN_HIDDEN int PART_FN(reynolds, bn_shape_derivative)(Instance *m, const double x[5], int want_jac, double dF[2],
+                                                     double dJ[8]);
+#endif
+
+typedef struct {
+    const char *name;
+    int (*setup)(Instance *m);
+    int (*eval)(Instance *m, const double x[5], int want_jac, double F[2], double J[8], double dw[2], int *ood);
+    void (*option_derivative)(Instance *m, const double x[5], int k, double dF[2], double dJ[8]);
+    void (*release)(Instance *m);
+    int bearing, speed; /* does its force depend on the bearing (1 by the scale law, 2 and on L/D), the speed */
+} Part;
+
+#define ENTRY(p, bearing, speed)                                                                                  \
+    {#p, PART_FN(p, bn_setup), PART_FN(p, bn_eval), PART_FN(p, bn_option_derivative), PART_FN(p, bn_release), \
+     bearing, speed},
+static const Part PARTS[BN_PARTS] = {BN_PART_LIST(ENTRY)};
+
+/* the internal as set (checked against BN_INTERNALS when set: one of the parts) */
+static const Part *active(const Instance *m) {
+    for (int i = 0; i < BN_PARTS; i++)
+        if (strcmp(m->eff[S_INTERNAL], PARTS[i].name) == 0) return &PARTS[i];
+    return &PARTS[0];
+}
+
+void bn_force_depends(const Instance *m, int *bearing, int *speed) {
+    const Part *p = active(m);
+    *bearing = p->bearing;
+    *speed = p->speed;
+}
+
+/* Taylor's fallback: the surrogate's bearing and the grid and cavitation as set, prepared with it */
+static int fallback_set(const Instance *m) {
+#if BN_HOLDS_TAYLOR && BN_HOLDS_REYNOLDS
+    return strcmp(m->eff[S_INTERNAL], "taylor") == 0 && strcmp(m->eff[S_OPT_DOMAIN_ACTION], "fallback") == 0;
+#else
+    (void)m;
+    return 0;
+#endif
+}
+
+int BN_NAME(BN_ID, bn_setup)(Instance *m) {
+    if (active(m)->setup(m)) return 1;
+#if BN_HOLDS_REYNOLDS
+    if (fallback_set(m) && PART_FN(reynolds, bn_setup)(m)) {
+        char why[sizeof m->msg];
+        memcpy(why, m->msg, sizeof why);
+        snprintf(m->msg, sizeof m->msg, "domain_action = 'fallback': %.1900s", why);
+        return 1;
+    }
+#endif
+    return 0;
+}
+
+int BN_NAME(BN_ID, bn_eval)(Instance *m, const double x[5], int want_jac, double F[2], double J[8], double dw[2],
+                            int *ood) {
+    return active(m)->eval(m, x, want_jac, F, J, dw, ood);
+}
+
+void BN_NAME(BN_ID, bn_option_derivative)(Instance *m, const double x[5], int k, double dF[2], double dJ[8]) {
+    active(m)->option_derivative(m, x, k, dF, dJ);
+}
+
+void BN_NAME(BN_ID, bn_release)(Instance *m) {
+    for (int i = 0; i < BN_PARTS; i++) PARTS[i].release(m);
+}
+
+int bn_fallback_eval(Instance *m, const double x[5], int want_jac, double F[2], double J[8], double dw[2]) {
+#if BN_HOLDS_REYNOLDS
+    int ood = 0;
+    if (!fallback_set(m) || !m->work.solver) {
+        snprintf(m->msg, sizeof m->msg, "domain_action = 'fallback': the Reynolds internal was not prepared");
+        return 1;
+    }
+    return PART_FN(reynolds, bn_eval)(m, x, want_jac, F, J, dw, &ood);
+#else
+    (void)x;
+    (void)want_jac;
+    (void)F;
+    (void)J;
+    (void)dw;
+    snprintf(m->msg, sizeof m->msg, "domain_action = 'fallback' needs the Reynolds internal in this FMU");
+    return 1;
+#endif
+}
+
+#if BN_BEARING_IN_FORCE == 2
+int BN_NAME(BN_ID, bn_shape_derivative)(Instance *m, const double x[5], int want_jac, double dF[2], double dJ[8]) {
+    return PART_FN(reynolds, bn_shape_derivative)(m, x, want_jac, dF, dJ);
+}
+#endif

@@ -1,0 +1,132 @@
+"""The native FMU's Reynolds solver (c/reynolds_solver.c) alone: compiled into a small shared
+library with zig (the compiler and flags of the FMU builds, ``compile``) and called through
+ctypes, so that it can be compared with the Python internal (``physics.reynolds.Reynolds``)
+state by state (tests/test_native_reynolds.py, benchmarks/bench_native_reynolds.py).
+
+    lib = solver_library(tmp_dir)
+    solver = NativeReynolds(lib, params, n_theta=64, n_x=8, cavitation="reynolds")
+    F, dFq, dFv = solver.force_and_jacobian(y, z, vy, vz, omega)
+"""
+
+from __future__ import annotations
+
+import ctypes
+import hashlib
+import os
+from pathlib import Path
+
+import numpy as np
+
+from ...physics.params import BearingParams
+from ...physics.reynolds import DEFAULT_N_THETA, DEFAULT_N_X
+from .compile import C_FLAGS, run_compiler, zig_cc
+
+C_DIR = Path(__file__).resolve().parent / "c"
+HOST_TARGET = "native"  # zig cc -target native: this machine
+SOURCES = ("py_mod.h", "reynolds_solver.h", "reynolds_kernels.c", "reynolds_solver.c")
+
+__all__ = ["solver_library", "bore_arrays", "NativeReynolds"]
+
+
+def solver_library(folder: Path) -> ctypes.CDLL:
+    """Compile c/reynolds_solver.c with its API exported (RS_EXPORT) into ``folder`` and load it;
+    the library is named by a hash of the sources and flags, so a folder kept between runs
+    compiles again only when they change."""
+    folder = Path(folder)
+    folder.mkdir(parents=True, exist_ok=True)
+    cmd = [*C_FLAGS, "-fPIC", "-shared", "-DRS_EXPORT"]
+    h = hashlib.sha256(" ".join(cmd).encode())
+    for name in SOURCES:
+        h.update(name.encode() + b"\0" + (C_DIR / name).read_bytes())
+    out = folder / f"reynolds_solver_{h.hexdigest()[:12]}.so"
+    if not out.is_file():
+        part = folder / f"{out.stem}.{os.getpid()}.part"
+        run_compiler([*zig_cc(), "-target", HOST_TARGET, *cmd, "-I", str(C_DIR), str(C_DIR / "reynolds_solver.c"),
+              "-o", str(part), "-lm"], "zig cc (the Reynolds solver alone)")
+        os.replace(part, out)
+    lib = ctypes.CDLL(str(out))
+    d, i, p = ctypes.c_double, ctypes.c_int, ctypes.c_void_p
+    lib.rs_bytes.restype = ctypes.c_size_t
+    lib.rs_bytes.argtypes = [i, i]
+    lib.rs_create.restype = p
+    lib.rs_create.argtypes = [p, i, i, i, i, d, d, d, d, i, p, p, p, i, d, d, d, ctypes.c_char_p, ctypes.c_size_t]
+    lib.rs_call.restype = i
+    lib.rs_call.argtypes = [p, d, d, d, d, d, i]
+    lib.rs_results.restype = None
+    lib.rs_results.argtypes = [p, p]
+    lib.rs_forget.restype = None
+    lib.rs_forget.argtypes = [p]
+    lib.rs_call_many.restype = i
+    lib.rs_call_many.argtypes = [p, p, i, i, p]
+    return lib
+
+
+def bore_arrays(params: BearingParams) -> tuple:
+    """(nseg, edges [rad], fixed (int32), supply [Pa], lobes, preload, lobe_offset, lobe_angle [rad]) of
+    the bore, as the C solver takes them (nseg = 0: the full bore); from ``Geometry.segments``."""
+    g = params.geometry
+    if g.is_full_bore:
+        return 0, np.zeros(1), np.zeros(1, np.int32), np.zeros(1), 1, 0.0, 0.5, 0.0
+    segs, fixed, supply = g.segments()
+    return (len(segs), np.array([a for a, _b in segs]), np.array(fixed, np.int32), np.array(supply, float),
+            g.lobes, g.preload, g.lobe_offset, g.lobe_angle)
+
+
+class NativeReynolds:
+    """The C solver for one bearing and grid, with the Python internal's call signatures (the
+    state is assumed checked: finite, inside the wall)."""
+
+    def __init__(self, lib: ctypes.CDLL, params: BearingParams, n_theta: int | None = None, n_x: int | None = None,
+                 cavitation: str = "reynolds", warm_start: bool = True):
+        self.lib = lib
+        self.n_theta = DEFAULT_N_THETA if n_theta is None else int(n_theta)
+        self.n_x = DEFAULT_N_X if n_x is None else int(n_x)
+        self._bore = bore_arrays(params)  # kept alive: the solver copies what it needs at creation
+        nseg, edges, fixed, supply, lobes, preload, offset, angle = self._bore
+        self._mem = ctypes.create_string_buffer(lib.rs_bytes(self.n_theta, self.n_x) + 16)
+        base = ctypes.addressof(self._mem)
+        aligned = (base + 15) // 16 * 16
+        msg = ctypes.create_string_buffer(512)
+        self._s = lib.rs_create(aligned, self.n_theta, self.n_x, int(cavitation == "reynolds"), int(bool(warm_start)),
+                                params.D, params.L, params.CR, params.mu, nseg, edges.ctypes.data,
+                                fixed.ctypes.data, supply.ctypes.data, lobes, preload, offset, angle, msg, 512)
+        if not self._s:
+            raise ValueError(f"native Reynolds: {msg.value.decode()}")
+        self._out = np.zeros(22)
+
+    def _call(self, y, z, vy, vz, omega, want_jac: bool) -> np.ndarray:
+        status = self.lib.rs_call(self._s, float(y), float(z), float(vy), float(vz), float(omega), int(want_jac))
+        if status:
+            raise RuntimeError(f"native Reynolds: status {status} at {(y, z, vy, vz, omega)!r}")
+        self.lib.rs_results(self._s, self._out.ctypes.data)
+        return self._out
+
+    def force(self, y, z, vy, vz, omega) -> tuple[float, float]:
+        out = self._call(y, z, vy, vz, omega, False)
+        return float(out[0]), float(out[1])
+
+    def force_and_jacobian(self, y, z, vy, vz, omega):
+        out = self._call(y, z, vy, vz, omega, True)
+        return out[0:2].copy(), out[2:6].reshape(2, 2).copy(), out[6:10].reshape(2, 2).copy()
+
+    def omega_derivative(self, y, z, vy, vz, omega) -> np.ndarray:
+        """dF/domega [N s/rad] (2,), from the same adjoints (the Python internal has no such output)."""
+        return self._call(y, z, vy, vz, omega, True)[20:22].copy()
+
+    def counts(self) -> dict:
+        """As ``Reynolds.counts``: calls, factorizations, warm starts, cold fallbacks."""
+        self.lib.rs_results(self._s, self._out.ctypes.data)
+        c = self._out[16:20]
+        return {"calls": int(c[0]), "passes": int(c[1]), "warm_starts": int(c[2]), "cold_fallbacks": int(c[3])}
+
+    def call_many(self, states: np.ndarray, want_jac: bool = True) -> np.ndarray:
+        """(n, 10) rows F, dF/dq, dF/dv (row-major) at the (n, 5) states, in one C loop."""
+        states = np.ascontiguousarray(states, float)
+        out = np.zeros((states.shape[0], 10))
+        bad = self.lib.rs_call_many(self._s, states.ctypes.data, states.shape[0], int(want_jac), out.ctypes.data)
+        if bad:
+            raise RuntimeError(f"native Reynolds: {bad} of {states.shape[0]} calls failed")
+        return out
+
+    def forget(self) -> None:
+        self.lib.rs_forget(self._s)
