@@ -127,3 +127,19 @@ def test_the_grooved_map_orbit_follows_reynolds(tmp_path):
     bearings = [list(rey.arrays["nodes"]).index(n) for n in rey.arrays["bearing_nodes"]]
     assert np.ptp(rey.arrays["z"][:, bearings], axis=0).min() > 0.02 * BearingParams.from_toml(GROOVED).CR
     assert math.isfinite(err["orbit_max_pct_cr"])
+
+
+@pytest.mark.slow
+def test_the_python_fmu_runs_the_grooved_map_like_the_direct_call(tmp_path):
+    """The Python FMU takes the bore as parameters (from the scene's bearing): with the grooved
+    map it gives the in-process map run (the same kernel), to 1e-9 of each array's largest value."""
+    from rotor_host.scenes.run import run_scene
+    from rotor_host.scenes.scene import load_scene
+
+    scene = load_scene(MODELS / "scenes" / "paper_2groove_22hz.toml")
+    direct = run_scene(scene.with_internal("map", via="direct", t_end_s=0.005), tmp_path, stem="direct")
+    cosim = run_scene(scene.with_internal("map", via="fmu", t_end_s=0.005), tmp_path, stem="fmu")
+    assert direct.ok and cosim.ok, (direct.meta["message"], cosim.meta["message"])
+    for key in ("y", "z", "Fy", "Fz"):
+        a, b = direct.arrays[key], cosim.arrays[key]
+        np.testing.assert_allclose(b, a, rtol=0, atol=1e-9 * np.abs(a).max(), err_msg=key)
