@@ -77,15 +77,31 @@ def test_scene_through_the_python_fmu_takes_the_bore(tmp_path, capsys):
 
 
 def test_scene_through_the_native_fmu_is_refused_before_any_build(tmp_path, capsys):
-    # the native Reynolds FMU has the bore compiled in (it runs); the host does not yet hand a
-    # grooved map to a native map FMU (bearing-fmu build --native --internal map takes it)
+    # the native Reynolds FMU has the bore compiled in and the native map FMU its map's bore (both
+    # run: test_grooved_scene_through_the_native_map_fmu); the native linear FMU has neither
     code, _, err = _cli("rotor-host", ["run", str(MODELS / "scenes" / "paper_2groove_22hz.toml"), "--via", "fmu",
-                                         "--native", "--internal", "map", "--t-end", "0.01", "--out", str(tmp_path),
+                                         "--native", "--internal", "linear", "--t-end", "0.01", "--out", str(tmp_path),
                                          "--quiet"], capsys)
     assert code == 2
     assert "fmu_kind = 'native': the bearing FMU of bearing 1 (node 3) models only the full 360 deg circular bore" in err
     assert "2 axial grooves at 90, 270 deg" in err and "via = 'direct'" in err
     assert not list(tmp_path.rglob("*.fmu"))
+
+
+@pytest.mark.slow
+def test_grooved_scene_through_the_native_map_fmu(tmp_path, capsys):
+    """The grooved scene's 3-D map compiled into a native FMU (its bore checked against the
+    bearing's at build) gives the in-process map run's orbit: the same table, spline and
+    Jacobian in C (tests/test_groovemap.py: the native map equals the Python one bit for bit)."""
+    runs = {}
+    for via in ("direct", "fmu"):
+        code, _, err = _cli("rotor-host", ["run", str(MODELS / "scenes" / "paper_2groove_22hz.toml"), "--via", via,
+                                             "--internal", "map", "--t-end", "0.005", "--out", str(tmp_path / via),
+                                             "--quiet"] + (["--native"] if via == "fmu" else []), capsys)
+        assert code == 0, err
+        runs[via] = np.load(next((tmp_path / via).glob("*.npz")))
+    for key in ("y", "z", "Fy", "Fz"):
+        assert np.max(np.abs(runs["fmu"][key] - runs["direct"][key])) <= 1e-9 * np.max(np.abs(runs["direct"][key]))
 
 
 def test_stability_takes_the_grooved_rotor(tmp_path, capsys):

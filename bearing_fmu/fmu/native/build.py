@@ -37,7 +37,7 @@ from xml.etree import ElementTree as ET
 
 from ... import __version__
 from ...physics.params import PAPER_BEARING, BearingParams
-from .codegen import BORE_COMPILED_IN, MODEL_HEADERS, MODEL_SOURCES, NativeModel, assign_identity, internal_sources
+from .codegen import BORE_COMPILED_IN, BORE_FROM_DATA, MODEL_HEADERS, MODEL_SOURCES, NativeModel, assign_identity, internal_sources
 from .compile import (C_FLAGS, NativeBuildError, compile_binaries, find_compiler, fmi_headers,  # noqa: F401
                       parse_platforms)
 
@@ -83,7 +83,8 @@ def build_native_fmu(output, internal: str, *, surrogate=None, map=None, bearing
 
     parts = parse_internals(internal)
     # a map FMU's bore is its map's (a grooved bore's 3-D map; the codegen checks it against the bearing's)
-    if bearing is not None and any(p not in BORE_COMPILED_IN and not (p == "map" and map is not None) for p in parts):
+    if bearing is not None and any(p not in BORE_COMPILED_IN and not (p in BORE_FROM_DATA and map is not None)
+                                   for p in parts):
         bearing.require_full_bore(f"the native bearing FMU ({bearing_source or 'build_native_fmu'})",
                                   "its parameters are D, L, CR and mu; the geometry parameters are a later step")
     compiler = compiler or ("cmake" if cmake else "zig")

@@ -52,6 +52,9 @@ FALLBACK_WHY = ("the fallback evaluates the Reynolds solver, which this native F
 FORCE_DEPENDS = {"map": (1, 1), "taylor": (0, 0), "linear": (0, 0), "reynolds": (2, 1)}  # 2: and on L/D
 # the native FMUs that have the bearing's bore compiled in (any bore; the others: the full bore only)
 BORE_COMPILED_IN = ("reynolds",)
+# the native FMUs whose data file records the bore it was made for (a grooved bore's 3-D map): that
+# bore, checked against the bearing's at build
+BORE_FROM_DATA = ("map",)
 NATIVE_OPTIONS = {
     "taylor": ("surrogate", "domain_action", "domain_limit"),
     "map": ("map",),
