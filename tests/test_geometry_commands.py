@@ -15,22 +15,11 @@ import pytest
 
 from bearing_fmu.internals import registry
 from bearing_fmu.physics.params import PAPER_BEARING, BearingParams
+from conftest import run_cli
 
 MODELS = Path(__file__).resolve().parents[1] / "models"
 GROOVED = MODELS / "bearing_paper_2groove.toml"
 LEMON = MODELS / "bearing_paper_lemon.toml"
-
-
-def _cli(prog: str, argv: list[str], capsys) -> tuple[int, str, str]:
-    from bearing_fmu.cli import main as bearing_fmu
-    from rotor_host.cli import main as rotor_host
-
-    try:
-        code = {"rotor-host": rotor_host, "bearing-fmu": bearing_fmu}[prog](argv)
-    except SystemExit as exc:
-        code = exc.code
-    out = capsys.readouterr()
-    return code, out.out, out.err
 
 
 def test_shipped_bearings_are_the_paper_bearing_with_their_bore():
@@ -46,14 +35,14 @@ def test_shipped_bearings_are_the_paper_bearing_with_their_bore():
                                          (LEMON, "2 lobes, preload 0.5, offset 0.5, first lobe centred at 0 deg; "
                                                  "pad clearance 180 um")])
 def test_demo_takes_the_bore(path, words, capsys):
-    code, out, err = _cli("bearing-fmu", ["demo", "--bearing", str(path)], capsys)
+    code, out, err = run_cli("bearing-fmu", ["demo", "--bearing", str(path)], capsys)
     assert code == 0, err
     assert words in out and "equilibrium:" in out and "minimum film" in out
 
 
 @pytest.mark.parametrize("scene", ["paper_2groove_22hz", "paper_lemon_22hz"])
 def test_scene_runs_with_reynolds_in_process(scene, tmp_path, capsys):
-    code, _, err = _cli("rotor-host", ["run", str(MODELS / "scenes" / f"{scene}.toml"), "--internal", "reynolds",
+    code, _, err = run_cli("rotor-host", ["run", str(MODELS / "scenes" / f"{scene}.toml"), "--internal", "reynolds",
                                          "--via", "direct", "--t-end", "0.01", "--out", str(tmp_path), "--no-plots",
                                          "--quiet"], capsys)
     assert code == 0, err
@@ -68,7 +57,7 @@ def test_scene_through_the_python_fmu_takes_the_bore(tmp_path, capsys):
     """The grooved scene through the Python FMU (the bore as its parameters) equals the in-process run."""
     runs = {}
     for via in ("direct", "fmu"):
-        code, _, err = _cli("rotor-host", ["run", str(MODELS / "scenes" / "paper_2groove_22hz.toml"), "--via", via,
+        code, _, err = run_cli("rotor-host", ["run", str(MODELS / "scenes" / "paper_2groove_22hz.toml"), "--via", via,
                                              "--t-end", "0.002", "--out", str(tmp_path / via), "--quiet"], capsys)
         assert code == 0, err
         runs[via] = np.load(next((tmp_path / via).glob("*.npz")))
@@ -79,7 +68,7 @@ def test_scene_through_the_python_fmu_takes_the_bore(tmp_path, capsys):
 def test_scene_through_the_native_fmu_is_refused_before_any_build(tmp_path, capsys):
     # the native Reynolds FMU has the bore compiled in and the native map FMU its map's bore (both
     # run: test_grooved_scene_through_the_native_map_fmu); the native linear FMU has neither
-    code, _, err = _cli("rotor-host", ["run", str(MODELS / "scenes" / "paper_2groove_22hz.toml"), "--via", "fmu",
+    code, _, err = run_cli("rotor-host", ["run", str(MODELS / "scenes" / "paper_2groove_22hz.toml"), "--via", "fmu",
                                          "--native", "--internal", "linear", "--t-end", "0.01", "--out", str(tmp_path),
                                          "--quiet"], capsys)
     assert code == 2
@@ -95,7 +84,7 @@ def test_grooved_scene_through_the_native_map_fmu(tmp_path, capsys):
     Jacobian in C (tests/test_groovemap.py: the native map equals the Python one bit for bit)."""
     runs = {}
     for via in ("direct", "fmu"):
-        code, _, err = _cli("rotor-host", ["run", str(MODELS / "scenes" / "paper_2groove_22hz.toml"), "--via", via,
+        code, _, err = run_cli("rotor-host", ["run", str(MODELS / "scenes" / "paper_2groove_22hz.toml"), "--via", via,
                                              "--internal", "map", "--t-end", "0.005", "--out", str(tmp_path / via),
                                              "--quiet"] + (["--native"] if via == "fmu" else []), capsys)
         assert code == 0, err
@@ -105,7 +94,7 @@ def test_grooved_scene_through_the_native_map_fmu(tmp_path, capsys):
 
 
 def test_stability_takes_the_grooved_rotor(tmp_path, capsys):
-    code, out, err = _cli("rotor-host", ["stability", str(MODELS / "rotor_paper_2groove.toml"), "--speeds-hz",
+    code, out, err = run_cli("rotor-host", ["stability", str(MODELS / "rotor_paper_2groove.toml"), "--speeds-hz",
                                          "38:46:4", "--internal", "reynolds", "--out", str(tmp_path), "--no-plots"],
                           capsys)
     assert code == 0, err
@@ -151,7 +140,7 @@ def test_fmu_builds_refuse_the_bore_by_name(tmp_path, capsys):
 
     with pytest.raises(ValueError, match=r"the native bearing FMU \(.*\) models only the full 360 deg circular bore"):
         build_native_fmu(tmp_path / "n.fmu", "linear", bearing=BearingParams.from_toml(GROOVED))
-    code, _, err = _cli("bearing-fmu", ["map", "--bearing", str(LEMON), "-o", str(tmp_path / "m.json"),
+    code, _, err = run_cli("bearing-fmu", ["map", "--bearing", str(LEMON), "-o", str(tmp_path / "m.json"),
                                           "--quiet"], capsys)
     assert code == 2 and "[geometry] lobes = 2: a lobed bore's film depends on the journal position" in err
     assert not (tmp_path / "m.json").exists()

@@ -13,24 +13,13 @@ import numpy as np
 import pytest
 
 from bearing_fmu.physics.params import BearingParams
+from conftest import run_cli
 
 ROOT = Path(__file__).resolve().parents[1]
 MODELS = ROOT / "models"
 GROOVED = MODELS / "bearing_paper_2groove.toml"
 PAPER_MAP = MODELS / "maps" / "paper_2groove.json"
 FRISWELL_MAP = MODELS / "maps" / "friswell_2groove.json"
-
-
-def _cli(prog: str, argv: list[str], capsys) -> tuple[int, str, str]:
-    from bearing_fmu.cli import main as bearing_fmu
-    from rotor_host.cli import main as rotor_host
-
-    try:
-        code = {"rotor-host": rotor_host, "bearing-fmu": bearing_fmu}[prog](argv)
-    except SystemExit as exc:
-        code = exc.code
-    out = capsys.readouterr()
-    return code, out.out, out.err
 
 
 @pytest.mark.slow
@@ -48,7 +37,7 @@ def test_the_shipped_grooved_maps_are_for_their_bearings():
 @pytest.mark.slow
 def test_the_native_map_build_of_a_grooved_map_needs_its_bearing(tmp_path, capsys):
     # the native map FMU takes the grooved map with its bearing file (tests/test_native_fmu.py), not without
-    code, _, err = _cli("bearing-fmu", ["build", "--native", "--internal", "map", "--map",
+    code, _, err = run_cli("bearing-fmu", ["build", "--native", "--internal", "map", "--map",
                                           str(PAPER_MAP), "-o", str(tmp_path / "n.fmu")],
                         capsys)
     assert code == 2 and "give the bearing file with --bearing" in err and not (tmp_path / "n.fmu").exists()
@@ -57,34 +46,34 @@ def test_the_native_map_build_of_a_grooved_map_needs_its_bearing(tmp_path, capsy
 @pytest.mark.slow
 def test_map_command_writes_a_grooved_map_that_runs_a_scene(tmp_path, capsys):
     out = tmp_path / "m.json"
-    code, text, err = _cli("bearing-fmu", ["map", "--bearing", str(GROOVED), "-o", str(out), "--resolution", "8x8",
+    code, text, err = run_cli("bearing-fmu", ["map", "--bearing", str(GROOVED), "-o", str(out), "--resolution", "8x8",
                                            "--phi-points", "4", "--grid", "32x4", "--phases", "1", "--quiet"], capsys)
     assert code == 0, err
     assert "8 x 4 x 8 points (eps x phi over 180 deg x beta)" in text and "2 axial grooves" in text
     assert json.loads(out.read_text())["version"] == 2
-    code, _, err = _cli("rotor-host", ["run", str(MODELS / "scenes" / "paper_2groove_22hz.toml"), "--internal", "map",
+    code, _, err = run_cli("rotor-host", ["run", str(MODELS / "scenes" / "paper_2groove_22hz.toml"), "--internal", "map",
                                        "--map", str(out), "--t-end", "0.005", "--out", str(tmp_path), "--no-plots",
                                        "--quiet"], capsys)
     assert code == 0, err
     assert json.loads((tmp_path / "paper_2groove_22hz_map.json").read_text())["status"] == "ok"
     # --phi-points is for a grooved bore only
-    code, _, err = _cli("bearing-fmu", ["map", "-o", str(tmp_path / "n.json"), "--phi-points", "8"], capsys)
+    code, _, err = run_cli("bearing-fmu", ["map", "-o", str(tmp_path / "n.json"), "--phi-points", "8"], capsys)
     assert code == 2 and "--phi-points is for a grooved or partial-arc bore" in err
 
 
 @pytest.mark.slow
 def test_fit_takes_a_grooved_bearing_and_its_surrogate_runs_the_scene(tmp_path, capsys):
     sur = tmp_path / "s.json"
-    code, _, err = _cli("bearing-fmu", ["fit", "--bearing", str(GROOVED), "--order", "2", "--n-train", "80",
+    code, _, err = run_cli("bearing-fmu", ["fit", "--bearing", str(GROOVED), "--order", "2", "--n-train", "80",
                                         "--n-test", "20", "--grid", "32", "4", "-o", str(sur)], capsys)
     assert code == 0, err
     assert json.loads(sur.read_text())["geometry"]["grooves_deg"] == [90.0, 270.0]
-    code, _, err = _cli("rotor-host", ["run", str(MODELS / "scenes" / "paper_2groove_22hz.toml"), "--internal",
+    code, _, err = run_cli("rotor-host", ["run", str(MODELS / "scenes" / "paper_2groove_22hz.toml"), "--internal",
                                        "taylor", "--surrogate", str(sur), "--t-end", "0.002", "--out", str(tmp_path),
                                        "--no-plots", "--quiet"], capsys)
     assert code == 0, err
     # the full-bore scene refuses it, by name
-    code, _, err = _cli("rotor-host", ["run", str(MODELS / "scenes" / "paper_22hz.toml"), "--internal", "taylor",
+    code, _, err = run_cli("rotor-host", ["run", str(MODELS / "scenes" / "paper_22hz.toml"), "--internal", "taylor",
                                        "--via", "direct", "--surrogate", str(sur), "--t-end", "0.002", "--out",
                                        str(tmp_path), "--no-plots", "--quiet"], capsys)
     assert code == 2 and "fitted for the bore '2 axial grooves" in err
@@ -92,18 +81,18 @@ def test_fit_takes_a_grooved_bearing_and_its_surrogate_runs_the_scene(tmp_path, 
 
 @pytest.mark.slow
 def test_run_up_stability_and_sweep_take_the_grooved_map(tmp_path, capsys):
-    code, _, err = _cli("rotor-host", ["run", str(MODELS / "scenes" / "paper_2groove_runup_10_60hz.toml"), "--t-end",
+    code, _, err = run_cli("rotor-host", ["run", str(MODELS / "scenes" / "paper_2groove_runup_10_60hz.toml"), "--t-end",
                                        "0.01", "--out", str(tmp_path), "--no-plots", "--quiet"], capsys)
     assert code == 0, err
     res = json.loads((tmp_path / "paper_2groove_runup_10_60hz_map.json").read_text())
     assert res["status"] == "ok"
-    code, out, err = _cli("rotor-host", ["stability", str(MODELS / "rotor_paper_2groove.toml"), "--speeds-hz",
+    code, out, err = run_cli("rotor-host", ["stability", str(MODELS / "rotor_paper_2groove.toml"), "--speeds-hz",
                                          "40:44:2", "--internal", "map", "--map", str(PAPER_MAP), "--out",
                                          str(tmp_path), "--no-plots"], capsys)
     assert code == 0, err
     threshold = float(out.split("\nthreshold ")[1].split(" Hz")[0])
     assert threshold == pytest.approx(42.35, abs=0.15)  # Reynolds 128 x 16: 42.35 Hz (docs/geometry.md)
-    code, _, err = _cli("rotor-host", ["sweep", str(MODELS / "scenes" / "paper_2groove_22hz.toml"), "--speeds-hz",
+    code, _, err = run_cli("rotor-host", ["sweep", str(MODELS / "scenes" / "paper_2groove_22hz.toml"), "--speeds-hz",
                                        "20", "30", "--internal", "map", "--t-end", "0.005", "--workers", "1", "--out",
                                        str(tmp_path / "sweep"), "--quiet"], capsys)
     assert code == 0, err
