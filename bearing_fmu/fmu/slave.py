@@ -20,7 +20,7 @@ fmi2Fatal with the instance released. The build patches pythonfmu's binary
 * a state the internal cannot evaluate (journal at the wall, a non-finite input) discards
   the step: ``do_step`` logs why (status Discard) and returns False; the outputs keep their
   last valid values and the instance stays usable (restore a state, set valid inputs, step
-  on). A good step or a restore clears fmi2Terminated (patched binary);
+  on). fmi2Terminated stays false (patched binary: pythonfmu set it at every discard);
 * outputs read in Initialization Mode are computed from the inputs and parameters set so far.
 
 Without the patches (``resources/pythonfmu_patches.json`` says which are in; the Windows
