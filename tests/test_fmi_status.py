@@ -360,6 +360,8 @@ def test_discard_then_recovery_is_not_terminated(raw, recover, refused):
     assert r.step(1e-4, 1e-4, bad) == DISCARD
     assert [s for s, _m in r.messages[n:]] == [DISCARD]  # the reason, logged as a discard
     assert r.terminated() == 0 and r.fmu.getBooleanStatus(fmi2Terminated) is False  # the master may go on
+    # the same inputs again, unchanged (a master that retries forever, fmpy's simulate_fmu): an error
+    assert r.call("fmi2DoStep", 1e-4, 5e-5, 0) == ERROR and "unchanged" in r.errors(n)[-1]
     if recover == "restore":
         assert r.call("fmi2SetFMUstate", saved) == OK
         assert r.terminated() == 0
@@ -412,6 +414,7 @@ _ECHO = textwrap.dedent("""
         statuses.append(d.fmi2DoStep(c, 0.0, 1e-4, 0))           # OK
         set_("y", math.nan)
         statuses.append(d.fmi2DoStep(c, 1e-4, 1e-4, 0))          # discard
+        set_("z", math.nan)                                      # another refused state (the same again: an error)
         statuses.append(d.fmi2DoStep(c, 1e-4, 1e-4, 0))          # discard again: not printed again
         statuses.append(d.fmi2DoStep(c, 1e-4, 0.0, 0))           # error
         statuses.append(d.fmi2DoStep(c, 1e-4, -1.0, 0))          # error again: not printed again
