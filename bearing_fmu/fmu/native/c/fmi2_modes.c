@@ -224,7 +224,7 @@ fmi2Status fmi2GetStringStatus(fmi2Component c, const fmi2StatusKind s, fmi2Stri
 
 /* ------------------------------------------------------------------------------ FMI: Model Exchange */
 /* No continuous states and no event indicators: the outputs are a direct feedthrough of the
- * inputs, computed when read (outputs_for_get). */
+ * inputs, computed when read (the model layer's bn_outputs). */
 
 fmi2Status fmi2EnterEventMode(fmi2Component c) {
     Instance *m = c;
