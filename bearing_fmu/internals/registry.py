@@ -14,7 +14,7 @@ name       module                                what it is
 reynolds   physics.reynolds.Reynolds             finite-volume Reynolds solver (the truth)
 linear     internals.linear.Linear               8 Lund coefficients about an equilibrium
 taylor     internals.guard.DomainGuard           fitted Taylor surrogate behind its guard
-map        internals.forcemap.ForceMap           the Reynolds force as a 2-D table per L/D
+map        internals.mapfile (forcemap, groovemap) the Reynolds force as a 2-D (3-D grooved) table per L/D
 =========  ====================================  =====================================
 
 How to add an internal
@@ -554,8 +554,7 @@ register(InternalSpec(
     ),
     uses=("reynolds",),
     can=Capabilities(
-        fixed_speed=True, fitted_domain=True, native=True, any_geometry=False, compiled=True,
-        geometry_why="a surrogate file does not record the bore it was fitted for",
+        fixed_speed=True, fitted_domain=True, native=True, compiled=True,  # the file records its bore
         film_flow_why="the surrogate fits the force only; the film's inflow and side flow would need their own fit",
         validity="The surrogate answers for the speed it was fitted at (any other omega is refused) and inside its "
                  "fitted domain of journal states; outside it the FMU {actions}, and beyond domain_limit it always "
@@ -565,16 +564,16 @@ register(InternalSpec(
 ))
 
 register(InternalSpec(
-    "map", "internals.forcemap:ForceMap.from_options", "force map: the Reynolds force reduced exactly to a 2-D table of "
-    "eccentricity and one angle (any speed, load and velocity; docs/forcemap.md)",
+    "map", "internals.mapfile:from_options", "force map: the Reynolds force reduced exactly to a 2-D table of "
+    "eccentricity and one angle (full bore), 3-D with the attitude for grooves and partial arcs (any speed, load and "
+    "velocity; docs/forcemap.md)",
     options=(
         Option("map", str, "", "map: the force map JSON file, built by `bearing-fmu map` for the bearing's L/D "
                "(in the FMU: a file name in its resources folder surrogates/)", file=True, required=True,
                file_format="bearing-fmu-force-map"),
     ),
     can=Capabilities(
-        any_state=True, native=True, any_geometry=False, compiled=True,
-        geometry_why="its reduction to eccentricity and one angle assumes the circular full bore",
+        any_state=True, native=True, compiled=True,  # the map file records its bore; the internal refuses another one
         film_flow_why="the map tabulates the force only; the film's inflow and side flow would need their own tables",
         validity="The force map holds the Reynolds force for every speed, load and velocity of bearings with its "
                  "L/D; states beyond its last eccentricity (eps_max) are refused (fmi2Discard)."),

@@ -82,7 +82,8 @@ def build_native_fmu(output, internal: str, *, surrogate=None, map=None, bearing
     from .several import parse_internals, several_model
 
     parts = parse_internals(internal)
-    if bearing is not None and any(p not in BORE_COMPILED_IN for p in parts):
+    # a map FMU's bore is its map's (a grooved bore's 3-D map; the codegen checks it against the bearing's)
+    if bearing is not None and any(p not in BORE_COMPILED_IN and not (p == "map" and map is not None) for p in parts):
         bearing.require_full_bore(f"the native bearing FMU ({bearing_source or 'build_native_fmu'})",
                                   "its parameters are D, L, CR and mu; the geometry parameters are a later step")
     compiler = compiler or ("cmake" if cmake else "zig")
