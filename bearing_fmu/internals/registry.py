@@ -473,12 +473,13 @@ def film_flow_of(spec: "InternalSpec", internal=None) -> str:
     """'' when the internal has the film's flows (``Capabilities.film_flow``), else why not. With the
     built ``internal`` its own answer counts: a data file may lack the tables (its ``film_flow_why``),
     or its kind have no ``film_report`` at all (then the capability's ``film_flow_why``)."""
+    lacking = spec.can.film_flow_why or f"the {spec.name} internal has no film report"
     if not spec.can.film_flow:
-        return spec.can.film_flow_why
+        return lacking
     if internal is None:
         return ""
     if getattr(internal, "film_report", None) is None:
-        return spec.can.film_flow_why or f"this {spec.name} internal has no film report"
+        return lacking
     return getattr(internal, "film_flow_why", "")
 
 
