@@ -120,3 +120,55 @@ def test_damaged_flow_tables_are_refused_by_key(tiny, tmp_path, damage, expected
     bad.write_text(json.dumps(d))
     with pytest.raises(ValueError, match=rf"force map file {bad}: .*{expected}"):
         load_map(bad)
+
+
+@pytest.mark.slow
+def test_a_scene_with_a_supply_temperature_runs_on_the_map(tmp_path):
+    """The shipped 44 Hz scene with ISO VG 46 supplied at 40 C on the shipped map (its flow tables):
+    in-process (LaggedThermal) and through the Python FMU's thermal ports the same to round-off (the
+    same model); against the Reynolds run within the map's force error (docs/forcemap.md: 0.008 % CR
+    orbit RMS isothermal); the quasi-static film temperature at the start (the map's film report at the
+    Reynolds equilibrium) equals the Reynolds T_eff to 1e-3 K (the root's tolerance). A version 1 map
+    (no flow tables) is refused through the FMU naming the file and the rebuild."""
+    import dataclasses
+    from pathlib import Path
+
+    from bearing_fmu.internals.scaled import LaggedThermal
+    from bearing_fmu.physics.thermal import effective_temperature
+    from rotor_host.scenes.run import run_scene
+    from rotor_host.scenes.scene import load_scene
+
+    models = Path(__file__).resolve().parents[1] / "models"
+    scene = load_scene(models / "scenes" / "paper_vg46_44hz.toml")
+    shipped = str(models / "maps" / "paper_bearing.json")
+    out = {}
+    for name, internal, via in (("rey", "reynolds", "direct"), ("map", "map", "direct"), ("fmu", "map", "fmu")):
+        opts = {"map": {"map": shipped}} if internal == "map" else {}
+        run = run_scene(dataclasses.replace(scene.with_internal(internal, options=opts, t_end_s=0.004), via=via),
+                        tmp_path / name)
+        assert run.ok, run
+        out[name] = np.load(run.npz)
+    for key in ("y", "z", "Fy", "Fz"):
+        scale = np.max(np.abs(out["map"][key]))
+        assert np.max(np.abs(out["fmu"][key] - out["map"][key])) <= 1e-9 * scale, key
+        assert np.max(np.abs(out["rey"][key] - out["map"][key])) <= 1e-3 * scale, key
+    prm = load_scene(models / "scenes" / "paper_vg46_44hz.toml").rotor_path
+    from rotor_host.model.rotor import Rotor
+
+    bearing = Rotor.from_toml(prm).bearings[0]
+    om = 2 * math.pi * 44.0
+    st = effective_temperature(bearing, (0.0, -16.66), om, 313.15, n_theta=128, n_x=16)
+    lagged = LaggedThermal(ForceMap.from_file(shipped, bearing), bearing.oil, 313.15)
+    assert lagged.start(st.y_m, st.z_m, 0.0, 0.0, om) == pytest.approx(st.T_eff_K, abs=1e-3)
+    # a map file from before the flow tables: through the FMU's thermal ports it is refused by name
+    old = tmp_path / "old.json"
+    d = json.loads(Path(shipped).read_text())
+    d["version"] = 1
+    for k in ("Q", "flow_spline", "flow_meaning"):
+        d.pop(k)
+    old.write_text(json.dumps(d))
+    from rotor_host.coupling.cosim import FMUError
+
+    with pytest.raises(FMUError, match=r"thermal = true needs .* has no flow tables .*rebuild it with `bearing-fmu map"):
+        run_scene(dataclasses.replace(scene.with_internal("map", options={"map": {"map": str(old)}}, t_end_s=0.001),
+                                      via="fmu"), tmp_path / "old")
