@@ -51,7 +51,6 @@ EPS_MIN = 1e-6  # below: evaluated at EPS_MIN along the same direction (kernel d
 # attitude derivatives would amplify round-off; the shift moves the force by ~1e-6 of S omega)
 LD_RTOL = 1e-9  # a map serves bearings whose L/D equals its own to this relative tolerance
 
-
 # the map reduces the force to F = r G(eps, beta): true for the circular full bore only (a groove,
 # an arc or a lobe fixes directions in the bore, docs/geometry.md)
 REDUCTION_WHY = ("a version 1 map's reduction to eccentricity and one angle assumes the circular full bore; "
@@ -497,6 +496,9 @@ class ForceMap:
     derivatives) for a bearing whose L/D equals the table's. States at or beyond the table's
     last eccentricity (eps_max) are refused like Reynolds refuses the wall."""
 
+    # no flow tables unless __init__ finds them (a subclass with its own table, the grooved map, has none)
+    film_flow_why, _flow = "a grooved or partial-arc map tabulates the force only (docs/forcemap.md)", None
+
     def __init__(self, params: BearingParams, table: MapTable, source: str = ""):
         params.require_full_bore(f"the force map{' ' + source if source else ''}", REDUCTION_WHY)
         ld = params.L / params.D
@@ -518,8 +520,7 @@ class ForceMap:
         self._eps_max = float(table.eps_max)
         # the film's flows (registry capability film_flow, per file): '' when the file has them
         self.film_flow_why = "" if table.Q is not None else NO_FLOWS_WHY.format(source=source or "(in memory)")
-        self._flow = table.flow_spline()
-        self._Jq = np.zeros((2, 3))
+        self._flow, self._Jq = table.flow_spline(), np.zeros((2, 3))
 
     @classmethod
     def from_file(cls, path, params: BearingParams) -> "ForceMap":
@@ -567,9 +568,8 @@ class ForceMap:
         return self._F.copy(), self._J[:, :2].copy(), self._J[:, 2:].copy()
 
     def film_report(self, y: float, z: float, vy: float, vz: float, omega: float) -> FilmReport:
-        """Friction and flows of the film (``Reynolds.film_report``'s fields): the friction in closed
-        form from the map's force, the flows from the file's flow table (docs/forcemap.md, "The
-        flows"). ValueError naming the file when it has no flow table."""
+        """Friction (closed form, from the force) and flows (the file's flow table) of the film, as
+        ``Reynolds.film_report`` (docs/forcemap.md, "The flows"); ValueError without the table."""
         if self._flow is None:
             raise ValueError(f"film_report: {self.film_flow_why}")
         from .map_kernels import spline2
