@@ -124,7 +124,8 @@ def test_damaged_flow_tables_are_refused_by_key(tiny, tmp_path, damage, expected
 
 @pytest.mark.slow
 def test_a_scene_with_a_supply_temperature_runs_on_the_map(tmp_path):
-    """The shipped 44 Hz scene with ISO VG 46 supplied at 40 C on the shipped map (its flow tables):
+    """The shipped 44 Hz scene with ISO VG 46 supplied at 40 C, as a run-up to 60 Hz in 4 ms, on the
+    shipped map (its flow tables; refused before: no flows, no run-up with a supply temperature):
     in-process (LaggedThermal) and through the Python FMU's thermal ports the same to round-off (the
     same model); against the Reynolds run within the map's force error (docs/forcemap.md: 0.008 % CR
     orbit RMS isothermal); the quasi-static film temperature at the start (the map's film report at the
@@ -136,10 +137,12 @@ def test_a_scene_with_a_supply_temperature_runs_on_the_map(tmp_path):
     from bearing_fmu.internals.scaled import LaggedThermal
     from bearing_fmu.physics.thermal import effective_temperature
     from rotor_host.scenes.run import run_scene
+    from rotor_host.model.speed import SpeedProfile
     from rotor_host.scenes.scene import load_scene
 
     models = Path(__file__).resolve().parents[1] / "models"
-    scene = load_scene(models / "scenes" / "paper_vg46_44hz.toml")
+    scene = dataclasses.replace(load_scene(models / "scenes" / "paper_vg46_44hz.toml"),
+                                speed_profile=SpeedProfile((0.0, 0.004), (44.0, 60.0)))
     shipped = str(models / "maps" / "paper_bearing.json")
     out = {}
     for name, internal, via in (("rey", "reynolds", "direct"), ("map", "map", "direct"), ("fmu", "map", "fmu")):
@@ -152,6 +155,7 @@ def test_a_scene_with_a_supply_temperature_runs_on_the_map(tmp_path):
         scale = np.max(np.abs(out["map"][key]))
         assert np.max(np.abs(out["fmu"][key] - out["map"][key])) <= 1e-9 * scale, key
         assert np.max(np.abs(out["rey"][key] - out["map"][key])) <= 1e-3 * scale, key
+    assert out["map"]["speed_hz"][-1] == pytest.approx(60.0)
     prm = load_scene(models / "scenes" / "paper_vg46_44hz.toml").rotor_path
     from rotor_host.model.rotor import Rotor
 
