@@ -98,7 +98,7 @@ def test_scene_supply_temperature_runs_at_mu_eff(tmp_path):
      r"supply_temperature_C = 40 needs via = 'direct' or fmu_kind = 'python': the native FMU's thermal ports stay off"),
     (lambda t: t.replace('via = "direct"', 'via = "fmu"').replace('internal = "reynolds"', 'internal = "linear"'),
      r"supply_temperature_C = 40 through an FMU's thermal ports needs an internal with the film's friction and "
-     r"flows \(reynolds\); internal = 'linear': a linear model holds the force about one point"),
+     r"flows \(reynolds, map\); internal = 'linear': a linear model holds the force about one point"),
     (lambda t: t.replace("speed_hz = 44.0", "[speed_profile]\ntimes_s = [0.0, 0.1]\nspeeds_hz = [40.0, 44.0]\n")
      .replace('internal = "reynolds"', 'internal = "linear"'),
      r"supply_temperature_C = 40 with a \[speed_profile\] needs an internal with the film's friction and flows"),

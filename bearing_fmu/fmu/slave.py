@@ -306,6 +306,7 @@ class BearingFMU(Fmi2Slave):
         options = {o.name: choices.get(o.name, getattr(self, o.name)) for o in spec.all_options()}
         context = Context(resolve=self._resource_file, warn=self._warn)
         internal = spec.create(params, options, context, where="FMU parameter")
+        ports.check_thermal(self.thermal, oil, spec, internal)  # a map file may lack the flow tables
         self._internal = internal
         self._internal_name = spec.name
         self._jacobian = getattr(internal, "force_and_jacobian", None)
