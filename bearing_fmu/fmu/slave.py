@@ -354,7 +354,7 @@ class BearingFMU(Fmi2Slave):
             return self._fail(refusal("doStep", self._mode)) or False
         if not (0.0 < step_size < _INF and -_INF < current_time < _INF and t < _INF):
             return self._bad_step(current_time, step_size)
-        state = tuple(float(x).hex() for x in (self.y, self.z, self.vy, self.vz, self.omega))
+        state = tuple(float(getattr(self, name)).hex() for name in INPUTS)  # T_supply too
         if state == self._discarded:  # no fmi2Terminated: a master retrying unchanged would loop forever
             return self._fail(f"doStep: step to t = {t:.10g} s refused: the inputs of the step discarded just before, "
                               "unchanged (the state is refused again whatever the step size); set other inputs or "
