@@ -63,13 +63,22 @@ def isoviscous(mu: float) -> dict:
             "liquid_density": 860.0, "liquid_specific_heat": 1951.0, "liquid_thermal_conductivity": 0.13}
 
 
-def lund_thomsen_frame(bearing, load: float, cp: float) -> dict:
+def lund_thomsen_frame(bearing, load: float, cp: float, L: float) -> dict:
+    """eps, phi, K, B as Lund & Thomsen; the friction variable (R / C_p) f (f = friction force /
+    load, the friction force = ROSS's power loss / (omega R)), the flow variable Q / (R C_p N L)
+    (Q: ROSS's q_in, the oil entering the pads at their leading edges, summed) and the side flow
+    ratio Q_s / Q, as Raimondi & Boyd define them."""
     out = bearing._results.outputs[0]
+    R = D / 2
+    q_in = float(np.sum(out["q_in"]))
+    q_side = float(np.sum(out["q_sides"]))
 
     def dim(name):
         return float(getattr(bearing, name)[0])
 
-    return {"eps": float(out["eccentricity"][0]) * bearing.radial_clearance / cp,
+    return {"friction_variable": R / cp * float(out["power_loss"][0]) / (OMEGA * R) / load,
+            "flow_variable": q_in / (R * cp * N_REV * L), "side_flow_ratio": q_side / q_in,
+            "eps": float(out["eccentricity"][0]) * bearing.radial_clearance / cp,
             "phi": float(np.degrees(out["attitude"][0])),
             "Kxx": dim("kyy") * cp / load, "Kxy": -dim("kyx") * cp / load,
             "Kyx": -dim("kxy") * cp / load, "Kyy": dim("kxx") * cp / load,
@@ -96,13 +105,14 @@ def solve(kind: str, l_over_d: float, S: float, nx: int, nz: int, arc=None, lobe
         b = FixedGeometryBearing(pivot_angle=Q_(pivots, "deg"), pad_arc=Q_([160.0, 160.0], "deg"),
                                  preload=[0.5, 0.5], offset=[offset, offset], pad_axial_length=[L, L],
                                  radial_clearance=cp * 0.5, **common)
-    row = lund_thomsen_frame(b, load, cp)
+    row = lund_thomsen_frame(b, load, cp, L)
     row.update(kind=kind, l_over_d=l_over_d, S=S, nx=nx, nz=nz, arc=arc, lobe_offset=lobe_offset,
                seconds=round(time.time() - t0, 1))
     return row
 
 
 def cases(grids=((80, 40), (40, 20))):
+    """Every row at each grid (``--fine-only``: 80 x 40 alone)."""
     for nx, nz in grids:
         for (arc, ld), values in ARC_S.items():
             for S in values:
@@ -114,6 +124,6 @@ def cases(grids=((80, 40), (40, 20))):
 
 
 if __name__ == "__main__":
-    for case in cases():
+    for case in cases(((80, 40),) if "--fine-only" in sys.argv else ((80, 40), (40, 20))):
         print(json.dumps(solve(**case)), flush=True)
     sys.exit(0)
