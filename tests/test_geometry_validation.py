@@ -161,7 +161,8 @@ def short_arc_force(prm: BearingParams, arc, y, z, vy, vz, omega, n=100_000) -> 
 @pytest.mark.parametrize("arc_deg", [(90.0, 270.0), (120.0, 240.0)])
 def test_partial_arc_tends_to_the_short_bearing(arc_deg):
     """No published partial-arc table could be reached (Raimondi & Boyd's 180 and 120 deg tables
-    are not quoted here from memory); the independent check is the short-bearing limit.
+    are not quoted here from memory); the independent checks are the short-bearing limit and an
+    independent solver (ROSS, below).
     The arc's edges hold p = 0 over a boundary layer ~L wide that the short theory lacks, so the
     difference falls like L/D: from L/D = 0.1 to 0.05 it halves (ratio 1.8 .. 2.2), and the
     extrapolation 2 F(0.05) - F(0.1) meets the short-bearing force within 2.5 % (measured
@@ -226,7 +227,8 @@ def test_partial_arc_grid_convergence(arc_deg):
 @pytest.mark.slow  # a grid-convergence study: several fine grids
 @pytest.mark.parametrize("offset", [0.5, 1.0])
 def test_lobed_bores_grid_convergence(offset):
-    """No published offset-halves table could be reached: its checks are independent ones. The
+    """No published offset-halves table could be reached: its checks are independent ones (and an
+    independent solver, ROSS, below). The
     lemon (offset 0.5) and offset-halves (1.0) bores of preload 0.5 with 20 deg grooves at the
     split, L/D = 1: default grid within 0.5 % of the grid refined 4x in both directions (force,
     eps 0.3 .. 0.9 of the assembled clearance, journal below and turned toward the rotation).
