@@ -36,7 +36,8 @@ from ...physics.params import BearingParams
 ID_TOKEN, GUID_TOKEN = "BN_MODEL_IDENTIFIER", "{BN-GUID}"  # in model_config.h until assign_identity
 INTERNALS = ("linear", "map", "taylor", "reynolds")  # what a native FMU can compute
 # C files an internal's file includes (so that all of it stays static): staged beside it, not compiled alone
-INCLUDED_SOURCES = {"reynolds": ("py_mod.h", "reynolds_solver.h", "reynolds_kernels.c", "reynolds_solver.c"),
+INCLUDED_SOURCES = {"reynolds": ("py_mod.h", "reynolds_solver.h", "reynolds_kernels.c", "reynolds_film.c",
+                                 "reynolds_solver.c"),
                     "map": ("py_mod.h",)}
 # the model layer (c/bearing_values.h), the same C files under the FMI 2.0 and the FMI 3.0 layer
 MODEL_HEADERS = ("bearing_native.h", "bearing_values.h")

@@ -23,7 +23,7 @@ from .compile import C_FLAGS, run_compiler, zig_cc
 
 C_DIR = Path(__file__).resolve().parent / "c"
 HOST_TARGET = "native"  # zig cc -target native: this machine
-SOURCES = ("py_mod.h", "reynolds_solver.h", "reynolds_kernels.c", "reynolds_solver.c")
+SOURCES = ("py_mod.h", "reynolds_solver.h", "reynolds_kernels.c", "reynolds_film.c", "reynolds_solver.c")
 
 __all__ = ["solver_library", "bore_arrays", "NativeReynolds"]
 
@@ -56,6 +56,8 @@ def solver_library(folder: Path) -> ctypes.CDLL:
     lib.rs_results.argtypes = [p, p]
     lib.rs_forget.restype = None
     lib.rs_forget.argtypes = [p]
+    lib.rs_film_report.restype = None
+    lib.rs_film_report.argtypes = [p, d, d, d, d, d, p]
     lib.rs_call_many.restype = i
     lib.rs_call_many.argtypes = [p, p, i, i, p]
     return lib
@@ -112,6 +114,14 @@ class NativeReynolds:
     def omega_derivative(self, y, z, vy, vz, omega) -> np.ndarray:
         """dF/domega [N s/rad] (2,), from the same adjoints (the Python internal has no such output)."""
         return self._call(y, z, vy, vz, omega, True)[20:22].copy()
+
+    def film_report(self, y, z, vy, vz, omega) -> np.ndarray:
+        """(Couette torque, pressure torque [N m], friction power [W], inflow, side flow [m^3/s]) of
+        the film at a state (c/reynolds_film.c; ``Reynolds.film_report``'s), after a force call there."""
+        self._call(y, z, vy, vz, omega, False)
+        out = np.zeros(5)
+        self.lib.rs_film_report(self._s, float(y), float(z), float(vy), float(vz), float(omega), out.ctypes.data)
+        return out
 
     def counts(self) -> dict:
         """As ``Reynolds.counts``: calls, factorizations, warm starts, cold fallbacks."""
