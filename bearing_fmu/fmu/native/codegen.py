@@ -40,7 +40,7 @@ INCLUDED_SOURCES = {"reynolds": ("py_mod.h", "reynolds_solver.h", "reynolds_kern
                                  "reynolds_solver.c"),
                     "map": ("py_mod.h",)}
 # the model layer (c/bearing_values.h), the same C files under the FMI 2.0 and the FMI 3.0 layer
-MODEL_HEADERS = ("bearing_native.h", "bearing_values.h")
+MODEL_HEADERS = ("bearing_native.h", "bearing_values.h", "oil_thermal.h", "oil_thermal.c")  # the last included
 MODEL_SOURCES = ("bearing_values.c", "bearing_model.c", "bearing_derivatives.c")
 REAL_BASE, BOOL_BASE, STRING_BASE, ENUM_BASE = 0, 1000, 2000, 3000  # value references by type (bearing_native.h)
 CORE_REALS = ("y", "z", "vy", "vz", "omega", "Fy", "Fz", "eccentricity", "h_min", "Kyy", "Kyz", "Kzy", "Kzz",
@@ -310,7 +310,7 @@ def model_config(internal, params: BearingParams, starts: dict, inputs) -> str:
         f"#define BN_N_STRING_OPTIONS {len(strings)}",
         f"#define BN_START_INPUTS {{{', '.join(c_double(v) for v in inputs)}}}",
         f"#define BN_START_BEARING {{{', '.join(c_double(v) for v in (params.D, params.L, params.CR, params.mu))}}}",
-        *port_config(params, c_double, c_string),  # the thermal ports and the bore (portgen.py)
+        *port_config(internal, params, c_double, c_string),  # the thermal ports and the bore (portgen.py)
     ]
     rows = []
     for k, o in enumerate(reals):

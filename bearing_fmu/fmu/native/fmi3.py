@@ -35,6 +35,7 @@ from .. import meta as fmu_meta
 from ..order import MODES
 from .codegen import (MODEL_HEADERS, MODEL_SOURCES, NativeModel, assign_identity, internal_sources,
                       native_enumerations)
+from .portgen import film_flow
 
 C_DIR = Path(__file__).resolve().parent / "c"
 VR_TIME = 4000  # the independent variable (FMI 3.0 only; the others keep the FMI 2.0 FMU's references)
@@ -150,6 +151,7 @@ def output_dependencies(model: NativeModel) -> dict[str, list[str]]:
     journal state, the eccentricity and the minimum film on the position, out_of_domain on the
     state the fitted domain is drawn in (none for an internal without one: always false)."""
     fitted = any(registry.get(p).can.fitted_domain for p in model.all_parts)
+    thermal = film_flow(model.all_parts)[0] and model.params.oil is not None  # thermal = true can be set
     out = {}
     for v in model.variables:
         if v.causality != "output":
@@ -158,12 +160,14 @@ def output_dependencies(model: NativeModel) -> dict[str, list[str]]:
             out[v.name] = ["y", "z"]
         elif v.name == "out_of_domain":
             out[v.name] = ["y", "z", "vy", "vz"] if fitted else []
-        elif v.name == "T_eff":  # the thermal ports, off in a native FMU (no film flows): T_eff is T_supply
+        elif thermal and v.name in ("T_eff", "P_loss", "Q_side", "mu_eff"):  # the film's heat balance
+            out[v.name] = ["y", "z", "vy", "vz", "omega", "T_supply"]
+        elif v.name == "T_eff":  # the thermal ports off (no film flows or no oil law): T_eff is T_supply
             out[v.name] = ["T_supply"]
         elif v.name in ("P_loss", "Q_side", "mu_eff"):  # 0, 0, mu: no input
             out[v.name] = []
-        else:
-            out[v.name] = ["y", "z", "vy", "vz", "omega"]
+        else:  # with the thermal model the force is at the viscosity of T_eff, which T_supply moves
+            out[v.name] = ["y", "z", "vy", "vz", "omega"] + (["T_supply"] if thermal else [])
     return out
 
 

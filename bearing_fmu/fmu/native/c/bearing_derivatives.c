@@ -17,7 +17,8 @@
  *                  bn_shape_derivative; the Taylor and linear models hold their own bearing: 0
  *                  (eccentricity, h_min follow CR)
  *   the internal's Real options   bn_option_derivative (the linear model's coefficients)
- *   P_loss, Q_side, T_eff, mu_eff   the thermal ports, off: 0, 0, along T_supply, along mu
+ *   P_loss, Q_side, T_eff, mu_eff   the thermal ports, off: 0, 0, along T_supply, along mu; with
+ *                  thermal = true no derivative is given (refused, naming why)
  * The states a difference evaluates are evaluated quietly: no log line, no excursion counted. */
 #include <math.h>
 #include <stdio.h>
@@ -89,6 +90,12 @@ int bn_derivative(Instance *m, const double d[N_REAL], int with_kc, double out[N
                      bn_num(v, sizeof v, x[i], 17));
             return 1;
         }
+    }
+    if (m->b[B_THERMAL]) { /* the heat balance's derivatives (P_loss, Q_side, T_eff's lag) are not ported */
+        snprintf(m->msg, sizeof m->msg, "directional derivatives with thermal = true are not provided by this native "
+                 "FMU (the film temperature's dependence on the inputs is not differentiated): use thermal = false "
+                 "or differences of doStep results");
+        return 1;
     }
     if (eval_quiet(m, x, F, J, dw)) return 1;
     const double *dx = d, *db = d + VR_D; /* the inputs; D, L, CR, mu */

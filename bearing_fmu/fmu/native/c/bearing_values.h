@@ -60,6 +60,8 @@ BN_HIDDEN int bn_derivative(Instance *m, const double d[N_REAL], int with_kc, do
 /* the derivative of a thermal output (BN_IS_THERMAL_OUTPUT(vr)) along d: with the thermal model off
  * (the native internals have no film flows) T_eff is T_supply and mu_eff is mu, P_loss, Q_side 0 */
 BN_HIDDEN double bn_thermal_derivative(const double d[N_REAL], int vr);
+/* thermal = true: the oil of the parameters into m->oil (bearing_model.c): 0, or 1 with the reason in why */
+BN_HIDDEN int bn_thermal_setup(Instance *m, char *why, size_t n);
 /* the derivative of Real output vr along d: out (bn_derivative's) or the thermal one */
 #define BN_OUTPUT_DERIVATIVE(vr, d, out) \
     (BN_IS_THERMAL_OUTPUT(vr) ? bn_thermal_derivative(d, (int)(vr)) : (out)[(vr) - VR_FY])

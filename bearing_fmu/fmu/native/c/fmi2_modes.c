@@ -166,7 +166,11 @@ fmi2Status fmi2DoStep(fmi2Component c, fmi2Real currentCommunicationPoint, fmi2R
     if (!isfinite(t))
         return bn2_fail(m, "doStep: currentCommunicationPoint + communicationStepSize = %s + %s s is not finite",
                         bn_num(a, 32, t0, 17), bn_num(b, 32, h, 17));
-    if (bn_evaluate(m)) {
+    m->thermal_lagged = 1; /* T_eff lags over the step (thermal = true) */
+    m->thermal_dt = h;
+    int refused = bn_evaluate(m);
+    m->thermal_lagged = 0;
+    if (refused) {
         /* not fmi2Terminated: the same step from a restored state, or a shorter one, can succeed */
         bn_log(m, fmi2Discard, "%s at t = %s s", m->msg, bn_num(a, 32, t, 10));
         return fmi2Discard;

@@ -10,12 +10,16 @@
 #define OT_KELVIN 273.15
 #define OT_WALTHER_MIN_CST 2.0 /* oil.WALTHER_MIN_CST */
 
+/* mu [Pa s] at T [K] (no range check: Oil._mu) */
 OT_API double ot_mu(const ot_oil *oil, double T) {
     if (oil->law == OT_WALTHER)
         return (pow(10.0, pow(10.0, oil->c[0] - oil->c[1] * log10(T))) - 0.7) * 1e-6 * oil->density;
     return oil->c[0] * exp(oil->c[1] / (T - oil->c[2]));
 }
 
+/* The oil of the FMU parameters (ports.oil_of): law (OT_*), Walther's two points nu [m^2/s] at
+ * T [K], Vogel's a [Pa s], b, c [K], the range, density, heat capacity, rise factor. 0, or 1 with
+ * the reason (Oil's checks, in the parameters' names) in why. */
 OT_API int ot_oil_of(ot_oil *oil, int law, double nu1, double T1, double nu2, double T2, double va, double vb,
                      double vc, double T_min, double T_max, double density, double heat_capacity, double rise_factor,
                      char *why, size_t n) {
@@ -149,6 +153,10 @@ static int ot_range(const ot_oil *oil, double T, const char *what, char *why, si
     return 1;
 }
 
+/* film_temperature: out = T [K], mu(T) [Pa s], residence time [s] from the film report at the
+ * viscosity mu_ref (power [W], inflow, side flow [m^3/s]) of a bearing R, CR, L [m], oil supplied
+ * at T_supply [K]; quasi-static (lagged 0) or lagged from T_old over dt [s]. 0, or 1 with the
+ * reason in why (the oil's range left, no oil carried away). */
 OT_API int ot_film_temperature(const ot_oil *oil, double mu_ref, double R, double CR, double L, double power,
                                double inflow, double side_flow, double T_supply, int lagged, double T_old, double dt,
                                double out[3], char *why, size_t n) {

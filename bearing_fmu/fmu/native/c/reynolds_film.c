@@ -13,7 +13,7 @@ static int rf_first_max(const double *x, int n) {
 }
 
 /* The report of the last rs_call's field at the state it was called at (y, z [m], vy, vz [m/s],
- * omega [rad/s]): out = Couette torque, pressure torque [N m], friction power [W], inflow, side
+ * omega [rad/s]; the field is 0 when the call had no source: s->p_stale): out = Couette torque, pressure torque [N m], friction power [W], inflow, side
  * flow [m^3/s]. Uses the solver's work arrays rhs, tmp, mu_y, mu_z as scratch (free between calls). */
 RS_API void rs_film_report(rs_solver *s, double y, double z, double vy, double vz, double omega, double out[5]) {
     int N = s->N, m = s->m, i, j, any_fixed = 0;
@@ -25,8 +25,8 @@ RS_API void rs_film_report(rs_solver *s, double y, double z, double vy, double v
         hf[i] = CR * s->H0f[i] + y * s->sin_f[i] - z * s->cos_f[i];
         double safe = s->dst[i] > 0.0 ? s->dst[i] : 1.0, sdp = 0.0, jump = 0.0;
         for (j = 0; j < m; j++) {
-            double p0 = s->fixed[i] ? s->psup[i] : s->p[i * m + j];
-            double p1 = s->fixed[nx] ? s->psup[nx] : s->p[nx * m + j];
+            double p0 = s->fixed[i] ? s->psup[i] : (s->p_stale ? 0.0 : s->p[i * m + j]);
+            double p1 = s->fixed[nx] ? s->psup[nx] : (s->p_stale ? 0.0 : s->p[nx * m + j]);
             sdp += (p1 - p0) / safe * (2.0 * dx);
             jump += (p1 - p0) * (2.0 * s->qw[j]);
         }
@@ -52,7 +52,8 @@ RS_API void rs_film_report(rs_solver *s, double y, double z, double vy, double v
     /* side flow: out of both ends of every film cell (the solver's end gradient) */
     for (i = 0; i < N; i++) {
         double hc = CR * s->H0c[i] + y * s->sin_c[i] - z * s->cos_c[i];
-        double grad = m == 1 ? 8.0 * s->p[i * m] / (3.0 * dx) : (9.0 * s->p[i * m] - s->p[i * m + 1]) / (3.0 * dx);
+        double grad = s->p_stale ? 0.0 : m == 1 ? 8.0 * s->p[i * m] / (3.0 * dx)
+                                                  : (9.0 * s->p[i * m] - s->p[i * m + 1]) / (3.0 * dx);
         a1[i] = s->fixed[i] ? 0.0 : hc * hc * hc / (12.0 * mu) * grad * R * s->wd[i];
     }
     double q_side = rs_np_sum(a1, N) * 2.0, q_in;

@@ -393,6 +393,7 @@ static void rs_jacobian(rs_solver *s, double y, double z, int s0, int hb) {
 RS_API int rs_call(rs_solver *s, double y, double z, double vy, double vz, double omega, int want_jac) {
     int N = s->N, m = s->m, n = N * m, i, k, s0, hb, iters;
     for (i = 0; i < 6; i++) s->info[i] = 0.0;
+    s->p_stale = 0;
     rs_assemble(s, y, z, vy, vz, omega);
     int use_warm = s->warm_on && s->mode == 1;
     if (!use_warm) s->nvalid = 0; /* act is overwritten below: nothing remembered stays valid */
@@ -442,6 +443,7 @@ RS_API int rs_call(rs_solver *s, double y, double z, double vy, double vz, doubl
                 if (s->b[i] != 0.0) quiet = 0;
         }
         if (quiet) {
+            s->p_stale = 1;
             if (rs_quiet_jacobian(s)) {
                 s->info[0] = -1.0;
                 status = RS_NOT_CONVERGED;

@@ -44,6 +44,7 @@ typedef struct rs_solver {
     double *wd, *cen, *rt, *lf, *dst, *hl0;
     int lobes;
     double preload;
+    int p_stale; /* the last call's Jacobian without a source overwrote p (its field: 0) */
     unsigned char *fixed;
     double F0[2];
     double *tdiag, *rs, *qw;  /* the axial stencil and quadrature (m) */
