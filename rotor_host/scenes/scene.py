@@ -105,8 +105,8 @@ SCENE_KEYS = (
     Key("supply_temperature_C", "oil supply temperature [C]: every bearing (each needs an [oil] table) at the "
         "viscosity of its film's effective temperature, from the static equilibrium at the start, lagging the "
         "heat balance by the film's residence time with the reynolds internal (docs/thermal.md); absent: the "
-        "bearings' own viscosity", None, "inside every oil's range_C; via = 'fmu' (python) and a [speed_profile] "
-        "need the reynolds internal, fmu_kind = 'native' is refused", kind=Number()),
+        "bearings' own viscosity", None, "inside every oil's range_C; via = 'fmu' (python or native) and a "
+        "[speed_profile] need the reynolds internal", kind=Number()),
     Key("surrogate", "older form of [taylor] surrogate", None, kind=FileName()),
 )
 
@@ -270,14 +270,11 @@ def load_scene(path) -> Scene:
 
 def _check_supply(supply_c: float, data: dict, rotor: Rotor, profile, where: str) -> None:
     """A scene's supply temperature: every bearing has an [oil] whose law covers it. In-process with
-    any internal at one speed (the static equilibrium's mu_eff); through the Python FMU (its thermal
-    ports) or under a [speed_profile] only with an internal that has the film's flows, whose
+    any internal at one speed (the static equilibrium's mu_eff); through an FMU (the Python or the
+    native one: its thermal ports) or under a [speed_profile] only with an internal that has the film's flows, whose
     temperature then lags the film's heat balance (docs/thermal.md)."""
     key = f"{where}: supply_temperature_C = {supply_c:g}"
     spec = registry.get(data["internal"])
-    if data["via"] != "direct" and data["fmu_kind"] == "native":
-        raise SceneError(f"{key} needs via = 'direct' or fmu_kind = 'python': the native FMU's thermal ports stay off "
-                         "(no native internal has the film's flows; docs/fmu.md, Thermal ports)")
     if (data["via"] != "direct" or profile is not None) and not spec.can.film_flow:
         why = "through an FMU's thermal ports" if data["via"] != "direct" else "with a [speed_profile]"
         raise SceneError(f"{key} {why} needs an internal with the film's friction and flows ("
