@@ -143,6 +143,16 @@ def test_equals_the_python_fmu(native3, fmu, version):
 
 
 @pytest.mark.slow
+def test_fmpy_validates_the_thermal_fmus(native3):
+    from fmpy.validation import validate_fmu
+
+    for version, (path, md) in native3.items():
+        assert validate_fmu(str(path)) == [], version
+        names = {v.name for v in md.modelVariables}
+        assert {"thermal", "T_supply", "T_eff", "oil_nu_1", "oil_rise_factor"} <= names and "oil_law" not in names
+
+
+@pytest.mark.slow
 def test_t_eff_is_part_of_the_fmu_state(native3):
     path, md = native3[2]
     states = trajectory()
