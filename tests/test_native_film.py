@@ -33,6 +33,7 @@ def worst_report_difference(params, py, c, states) -> float:
     return worst
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("cavitation", ["reynolds", "gumbel"])
 @pytest.mark.parametrize("bore", list(BORES))
 def test_film_report_every_bore(lib, bore, cavitation):  # noqa: F811

@@ -45,7 +45,7 @@ def test_viscosity_law(lib, name):  # noqa: F811
         assert c.mu(T) == pytest.approx(py.mu(T), rel=1e-13, abs=0.0)
 
 
-@pytest.mark.parametrize("name", list(OILS))
+@pytest.mark.parametrize("name", [n if n == "ISO VG 46" else pytest.param(n, marks=pytest.mark.slow) for n in OILS])
 def test_film_temperature(lib, name):  # noqa: F811
     py, c = both_oils(lib, OILS[name])
     params = BearingParams(**PAPER, oil=OILS[name])
