@@ -57,6 +57,12 @@ def film_flow(internal) -> tuple[bool, str]:
     return bool(can.film_flow), ("" if can.film_flow else can.film_flow_why)
 
 
+def has_state(internal, params: BearingParams) -> bool:
+    """Model Exchange's continuous state T_eff (its derivative the local der(T_eff)): a build whose
+    internal has the film's flows and whose bearing an oil law (thermal = true can be set)."""
+    return film_flow(internal)[0] and params.oil is not None
+
+
 def port_variables(internal, params: BearingParams, first_real: int, first_int: int, bool_base: int) -> list:
     """The variables of the thermal ports and the bore as ``codegen.Variable``'s fields (name, value
     reference, type, causality, start, unit, description): Reals from value reference ``first_real``,
@@ -70,8 +76,8 @@ def port_variables(internal, params: BearingParams, first_real: int, first_int: 
     flows, why = film_flow(internal)
     law = params.oil.law if params.oil is not None else "none"
     if flows and law != "none":
-        note = (f" (Co-Simulation; the oil's law is the bearing file's, {law}, its parameters oil_...; Model "
-                "Exchange refuses it: T_eff is no continuous state yet)")
+        note = (f" (the oil's law is the bearing file's, {law}, its parameters oil_...; Model Exchange: T_eff "
+                "is the continuous state, der(T_eff) its derivative)")
     else:
         note = (f": not in this native FMU ({why or 'the bearing file has no [oil] law'}); it stays false, T_eff "
                 "reads T_supply, mu_eff mu, P_loss and Q_side 0")
@@ -91,7 +97,26 @@ def port_variables(internal, params: BearingParams, first_real: int, first_int: 
     for k, name in enumerate(OIL_REALS):
         _n, typ, causality, unit, _start, desc = table[name]
         out.append((name, first_oil + k, typ, causality, float(bore[name]), unit, desc))
+    if has_state(internal, params):  # its value reference is C's VR_DER_T_EFF
+        out.append(("der(T_eff)", first_oil + len(OIL_REALS), "Real", "local", 0.0, "K/s",
+                    "the film temperature's rate (Model Exchange: T_eff's derivative, T_eff the continuous state): "
+                    "the heat balance's (T*(T_eff) - T_eff) / t_res with thermal = true, 0 (T_eff holds) with "
+                    "thermal = false"))
     return out
+
+
+def thermal_start(model) -> None:
+    """Make ``model`` (a ``codegen.NativeModel``) start with thermal = true (its variable's start and
+    ``BN_THERMAL_START``); ValueError naming why when its internal has no film flows or its bearing
+    no oil law."""
+    why = film_flow(model.all_parts)[1]
+    if not has_state(model.all_parts, model.params):
+        raise ValueError("a native FMU starting with thermal = true needs the film's flows and the bearing's oil "
+                         f"law: {why or 'the bearing has no [oil] table (build with --bearing FILE whose [oil] gives it)'}")
+    for v in model.variables:
+        if v.name == "thermal":
+            v.start = True
+    model.config_h = model.config_h.replace("#define BN_FILM_FLOW 1", "#define BN_FILM_FLOW 1\n#define BN_THERMAL_START 1")
 
 
 def port_config(internal, params: BearingParams, c_double, c_string) -> list[str]:
@@ -106,6 +131,7 @@ def port_config(internal, params: BearingParams, c_double, c_string) -> list[str
     return [
         f"#define BN_START_T_SUPPLY {c_double(next(v[4] for v in VARIABLES if v[0] == 'T_supply'))}",
         f"#define BN_FILM_FLOW {int(flows)}",
+        f"#define BN_N_STATES {int(has_state(internal, params))}",
         f"#define BN_FILM_FLOW_WHY {c_string(why)}",
         f"#define BN_OIL_LAW {OIL_LAWS.index(law)}",
         f"#define BN_OIL_START {{{', '.join(c_double(float(bore[n])) for n in OIL_REALS)}}}",

@@ -153,6 +153,7 @@ int bn_derivative(Instance *m, const double d[N_REAL], int with_kc, double out[N
 }
 
 double bn_thermal_derivative(const double d[N_REAL], int vr) {
+    if (vr == VR_DER_T_EFF) return 0.0; /* the thermal model off: T_eff holds */
     if (vr == VR_T_EFF) return d[VR_T_SUPPLY];
     if (vr == VR_MU_EFF) return d[VR_MU];
     return 0.0; /* P_loss, Q_side: not computed (0) */

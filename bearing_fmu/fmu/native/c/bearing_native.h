@@ -38,6 +38,9 @@ typedef fmi2Status bn_status;
 #endif
 #include "model_config.h"
 #include "oil_thermal.h"
+#ifndef BN_THERMAL_START
+#define BN_THERMAL_START 0 /* the parameter thermal's start (build_native_fmu(thermal=True): 1) */
+#endif
 
 /* FMI2_FUNCTION_PREFIX (FMI 2.0, 2.1.1): the FMI functions named "<prefix>fmi2GetReal" ..., to link
  * the sources of several FMUs into one program. fmpy's copy of fmi2Functions.h ignores it (its
@@ -105,9 +108,12 @@ enum {
  * the build's (BN_OIL_LAW) */
 #define VR_OIL0 (VR_GEOMETRY0 + N_GEOMETRY_REALS)
 #define N_OIL_REALS 12
-#define N_REAL (VR_OIL0 + N_OIL_REALS)
+/* der(T_eff), a local: in Model Exchange T_eff is the one continuous state of a build whose
+ * internal has the film's flows and whose bearing an oil law (BN_N_STATES 1), this its derivative */
+#define VR_DER_T_EFF (VR_OIL0 + N_OIL_REALS)
+#define N_REAL (VR_DER_T_EFF + 1)
 #define BN_IS_INPUT(vr) ((vr) < N_INPUTS || (vr) == VR_T_SUPPLY)
-#define BN_IS_THERMAL_OUTPUT(vr) ((vr) >= VR_P_LOSS && (vr) <= VR_MU_EFF)
+#define BN_IS_THERMAL_OUTPUT(vr) (((vr) >= VR_P_LOSS && (vr) <= VR_MU_EFF) || (vr) == VR_DER_T_EFF)
 #define VR_BOOL0 1000
 enum { B_OUT_OF_DOMAIN, B_COMPUTE_TANGENT, B_THERMAL, B_PARTIAL_ARC, N_BOOL };
 #define VR_STRING0 2000

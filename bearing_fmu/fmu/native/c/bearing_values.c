@@ -194,7 +194,7 @@ void bn_set_starts(Instance *m) {
     m->b[B_PARTIAL_ARC] = BN_GEOMETRY_ARC_START;
     m->b[B_OUT_OF_DOMAIN] = 0;
     m->b[B_COMPUTE_TANGENT] = 1;
-    m->b[B_THERMAL] = 0;
+    m->b[B_THERMAL] = BN_THERMAL_START;
     snprintf(m->s[S_INTERNAL], STRING_MAX, "%s", BN_INTERNAL);
     for (int i = 0; i < BN_N_STRING_OPTIONS; i++) snprintf(m->s[1 + i], STRING_MAX, "%s", STRING_OPTIONS[i].start);
     for (int i = 0; i < N_STRING; i++) snprintf(m->eff[i], STRING_MAX, "%s", m->s[i]);

@@ -153,6 +153,30 @@ static int ot_range(const ot_oil *oil, double T, const char *what, char *why, si
     return 1;
 }
 
+/* Model Exchange's form of the lag (thermal.py, "At a fixed journal state"): at the film temperature
+ * T [K] (a state), out = mu(T) [Pa s], the residence time [s] and dT/dt = (T*(T) - T) / t_res [K/s],
+ * T* = T_supply + k dT(mu(T)) the heat balance's target (0 when the film dissipates nothing or takes
+ * in no oil: its temperature holds). 0, or 1 with the reason in why. */
+OT_API int ot_film_rate(const ot_oil *oil, double mu_ref, double R, double CR, double L, double power, double inflow,
+                        double side_flow, double T_supply, double T, double out[3], char *why, size_t n) {
+    if (ot_range(oil, T_supply, "T_supply", why, n) || ot_range(oil, T, "the film temperature (T_eff)", why, n))
+        return 1;
+    double tau = inflow > 0.0 ? 2.0 * M_PI * R * CR * L / inflow : INFINITY, per_mu = power / mu_ref;
+    out[0] = ot_mu(oil, T);
+    out[1] = tau;
+    out[2] = 0.0;
+    if (per_mu <= 0.0 || !(tau < INFINITY)) return 0;
+    double carried = inflow - 0.5 * side_flow;
+    if (!(carried > 0.0)) {
+        snprintf(why, n, "film temperature: the film carries no oil away (inflow %.4g m^3/s, side flow %.4g m^3/s) "
+                 "while it dissipates %.4g W", inflow, side_flow, power);
+        return 1;
+    }
+    double gain = oil->rise_factor * per_mu / (oil->density * oil->heat_capacity * carried);
+    out[2] = (T_supply + gain * out[0] - T) / tau;
+    return 0;
+}
+
 /* film_temperature: out = T [K], mu(T) [Pa s], residence time [s] from the film report at the
  * viscosity mu_ref (power [W], inflow, side flow [m^3/s]) of a bearing R, CR, L [m], oil supplied
  * at T_supply [K]; quasi-static (lagged 0) or lagged from T_old over dt [s]. 0, or 1 with the
