@@ -232,14 +232,19 @@ def _map(args: argparse.Namespace) -> int:
     """``bearing-fmu map``: tabulate the force map of a bearing's L/D and write its file."""
     import os
 
-    from .internals.forcemap import save_map, tabulate
+    from .internals.forcemap import DEFAULT_N_BETA, DEFAULT_N_EPS, DEFAULT_N_PHASE, save_map, tabulate
     from .io.exits import note_kept, note_lost
     from .io.outputs import ensure_output_file
     from .physics.params import PAPER_BEARING, BearingParams
 
     ensure_output_file(args.output, "-o/--output")
     params = BearingParams.from_toml(args.bearing) if args.bearing else PAPER_BEARING
-    n_eps, n_beta = args.resolution
+    if not params.geometry.is_full_bore:
+        return _grooved_map(args, params)
+    if args.phi_points is not None:
+        raise ValueError(f"map: --phi-points is for a grooved or partial-arc bore; {args.bearing or 'the paper bearing'} "
+                         "has the full bore (its map is 2-D)")
+    n_eps, n_beta = args.resolution or (DEFAULT_N_EPS, DEFAULT_N_BETA)
     n_theta, n_x = args.grid if args.grid else (None, None)
     workers = args.workers if args.workers is not None else min(os.cpu_count() or 1, max(1, n_eps // 8))
     bar = None
@@ -251,7 +256,7 @@ def _map(args: argparse.Namespace) -> int:
     try:
         try:
             table = tabulate(params, n_eps=n_eps, n_beta=n_beta, eps_max=args.eps_max, n_theta=n_theta, n_x=n_x,
-                             cavitation=args.cavitation, n_phase=args.phases, workers=workers,
+                             cavitation=args.cavitation, n_phase=args.phases or DEFAULT_N_PHASE, workers=workers,
                              progress=(lambda k: bar.update(k - bar.n)) if bar is not None else None)
         finally:
             if bar is not None:
@@ -266,6 +271,50 @@ def _map(args: argparse.Namespace) -> int:
             note_kept(exc, f"{save_map(table, args.output)} (the map was complete)")
         raise
     print(f"force map for L/D = {table.L_over_D:.6g}: {n_eps} x {n_beta} points, eps <= {table.eps_max:g}, Reynolds "
+          f"{table.n_theta} x {table.n_x} ({table.cavitation}), {table.provenance['solves']} solves in "
+          f"{table.provenance['built_s']:.1f} s on {workers} process(es); wrote {path} "
+          f"({path.stat().st_size / 1e3:.0f} kB)")
+    return 0
+
+
+def _grooved_map(args: argparse.Namespace, params) -> int:
+    """``bearing-fmu map`` for a grooved or partial-arc bore: the 3-D map (docs/forcemap.md);
+    a lobed bore or a supply pressure is refused by name (exit 2), saying why."""
+    import math
+    import os
+
+    from .internals import groovemap as gm
+    from .io.exits import note_lost
+
+    why = gm.map_geometry_problem(params.geometry)
+    if why:
+        raise ValueError(f"map: {args.bearing}: [geometry] {why}")
+    n_eps, n_beta = args.resolution or (gm.DEFAULT_N_EPS, gm.DEFAULT_N_BETA)
+    n_phi = args.phi_points or gm.default_n_phi(params.geometry)
+    n_theta, n_x = args.grid if args.grid else (None, None)
+    workers = args.workers if args.workers is not None else min(os.cpu_count() or 1, max(1, n_eps // 8))
+    bar = None
+    if not args.quiet:
+        from tqdm import tqdm
+
+        bar = tqdm(total=n_eps, unit="row", desc=f"force map L/D {params.L / params.D:.4g}, grooved")
+    try:
+        try:
+            table = gm.tabulate_grooved(params, n_eps=n_eps, n_phi=n_phi, n_beta=n_beta, eps_max=args.eps_max,
+                                        n_theta=n_theta, n_x=n_x, cavitation=args.cavitation,
+                                        n_phase=args.phases or gm.DEFAULT_N_PHASE, workers=workers,
+                                        progress=(lambda k: bar.update(k - bar.n)) if bar is not None else None)
+        finally:
+            if bar is not None:
+                bar.close()
+    except KeyboardInterrupt as exc:
+        note_lost(exc, f"{getattr(exc, 'map_rows_done', 0)} of {n_eps} rows of the map had been computed "
+                       "(a map is written only whole: run again)")
+        raise
+    table.provenance["bearing_file"] = str(args.bearing)
+    path = gm.save_grooved_map(table, args.output)
+    print(f"force map for L/D = {table.L_over_D:.6g}, {params.geometry.describe()}: {n_eps} x {n_phi} x {n_beta} "
+          f"points (eps x phi over {math.degrees(table.period):g} deg x beta), eps <= {table.eps_max:g}, Reynolds "
           f"{table.n_theta} x {table.n_x} ({table.cavitation}), {table.provenance['solves']} solves in "
           f"{table.provenance['built_s']:.1f} s on {workers} process(es); wrote {path} "
           f"({path.stat().st_size / 1e3:.0f} kB)")
@@ -360,6 +409,7 @@ def main(argv: list[str] | None = None) -> int:
                         "speed; map: 22 Hz); taylor: the surrogate's speed, always")
     p.set_defaults(func=_build)
 
+    from .internals import groovemap as gm
     from .internals.forcemap import DEFAULT_EPS_MAX, DEFAULT_N_BETA, DEFAULT_N_EPS, DEFAULT_N_PHASE
     from .io.cliargs import grid, int_at_least, number, typed
 
@@ -369,15 +419,21 @@ def main(argv: list[str] | None = None) -> int:
                    "serves every bearing of the same L/D")
     p.add_argument("-o", "--output", type=output_file, required=True, help="map JSON file to write")
     p.add_argument("--resolution", type=typed("N_EPSxN_BETA, n_eps 4..2000 and n_beta 8..4000 (e.g. 96x96)",
-                                               _resolution), default=(DEFAULT_N_EPS, DEFAULT_N_BETA), metavar="N_EPSxN_BETA",
-                   help=f"table points in -ln(1 - eps) x beta (default {DEFAULT_N_EPS}x{DEFAULT_N_BETA})")
+                                               _resolution), default=None, metavar="N_EPSxN_BETA",
+                   help=f"table points in -ln(1 - eps) x beta (default {DEFAULT_N_EPS}x{DEFAULT_N_BETA}; grooved or "
+                        f"partial-arc bore {gm.DEFAULT_N_EPS}x{gm.DEFAULT_N_BETA})")
+    p.add_argument("--phi-points", type=int_at_least(4), default=None, metavar="N",
+                   help="grooved or partial-arc bore: table points in the journal's attitude over one period of the "
+                        f"bore's symmetry (default {gm.DEFAULT_PHI_PER_PI} per 180 deg: {gm.DEFAULT_PHI_PER_PI} for two "
+                        f"opposite grooves, {2 * gm.DEFAULT_PHI_PER_PI} for an arc)")
     p.add_argument("--grid", type=grid, default=None, metavar="N_THETAxN_X",
                    help="Reynolds grid of the truth (default: the solver's default)")
     p.add_argument("--cavitation", choices=("reynolds", "gumbel"), default="reynolds")
     p.add_argument("--eps-max", type=number("", 0.5, 0.999), default=DEFAULT_EPS_MAX,
                    help=f"last tabulated eccentricity ratio; the map refuses states beyond (default {DEFAULT_EPS_MAX})")
-    p.add_argument("--phases", type=int_at_least(1), default=DEFAULT_N_PHASE,
-                   help=f"attitudes per point averaged over one Reynolds cell (default {DEFAULT_N_PHASE})")
+    p.add_argument("--phases", type=int_at_least(1), default=None,
+                   help=f"attitudes per point averaged over one Reynolds cell (default {DEFAULT_N_PHASE}; grooved "
+                        f"{gm.DEFAULT_N_PHASE})")
     p.add_argument("--workers", type=int_at_least(1), default=None,
                    help="processes (default: the cores, for tables of 16 rows and more)")
     p.add_argument("--quiet", action="store_true", help="no progress bar")

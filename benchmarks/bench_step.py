@@ -24,7 +24,13 @@ directly; the map case again on the rotor cut into 4, 16, 64 elements per elemen
 ``rotor-host run`` reports it (wall) and the CPU time of ``Newmark.run``, the first run of a
 process and a second one.
 
-Targets (issue 27): map new <= 2 x floor; 644 DOF <= 16 x the 44-DOF step; the 44 Hz scene
+Then the same map case through the scene's native map FMU (fmpy, one instance per bearing):
+the Python driver with the FMU state saved and restored around every iterate (what any FMU gets),
+the Python driver without (the FMU declares itself memoryless), the compiled loop calling the
+FMU's C functions (``rotor_host.coupling.fmu_kernel``; chunks of 50 steps, recorded as "new"),
+against the compiled floor of the map called directly (``--only-fmu``: these rows alone).
+
+Targets (issue 27): map new <= 2 x floor; native FMU compiled <= 2.5 x floor; 644 DOF <= 16 x the 44-DOF step; the 44 Hz scene
 under 1 s of integration.
 """
 
@@ -179,6 +185,45 @@ def measure(modes, n_steps, quick):
     return table
 
 
+def native_fmu_rows(n_steps: int) -> dict:
+    """The map case (paper rotor, 2 bearings) through the scene's native map FMU (fmpy, one
+    instance per bearing), per step [us] and evaluations per step: {mode: (us, evals)} for the
+    Python driver with the FMU state saved and restored around every iterate (any FMU), the
+    Python driver without (the FMU is memoryless), the compiled loop calling the FMU (as a scene
+    runs it), and the compiled floor of the same problem called directly."""
+    import dataclasses
+    import tempfile
+
+    from rotor_host.scenes import run as scene_run
+    from rotor_host.scenes.scene import load_scene
+
+    rotor, f_ext, direct, q0 = problem("map", 1, 2)
+    sc = dataclasses.replace(load_scene(ROOT / "models" / "scenes" / "paper_22hz.toml"), internal="map", via="fmu",
+                             fmu_kind="native")
+    sc = sc.with_internal("map", options={"map": {"map": str(ROOT / "models" / "maps" / "paper_bearing.json")}})
+    loads = scene_run.bearing_loads(rotor, rotor.weight_vector(G))
+    work = Path(tempfile.mkdtemp(prefix="bench_step_"))
+    opened = []
+
+    def fmus(memoryless):
+        def make():
+            b = scene_run.build_bearings(sc, rotor, loads, work)
+            b.memoryless = memoryless and b.memoryless
+            opened.append(b)
+            return b
+        return make
+
+    try:
+        out = {"python, save/restore": time_run(rotor, f_ext, fmus(False), q0, n_steps, "python"),
+               "python, memoryless": time_run(rotor, f_ext, fmus(True), q0, n_steps, "python"),
+               "compiled": time_run(rotor, f_ext, fmus(True), q0, n_steps, "new"),
+               "floor (direct)": time_run(rotor, f_ext, direct, q0, n_steps, "floor")}
+    finally:
+        for b in opened:
+            b.close()
+    return out
+
+
 def scene_44hz(root: Path) -> list[float]:
     """[integration time [s] (wall, as reported), CPU time [s] of Newmark.run, evaluations per
     step] of the 44 Hz 6 s map scene, run twice in one process."""
@@ -209,6 +254,8 @@ def main(argv=None):
     ap.add_argument("--before", type=Path, help="another checkout to measure side by side (its integrator)")
     ap.add_argument("--steps", type=int, default=2000, help="timed steps of a 44-DOF case (fewer for big rotors)")
     ap.add_argument("--quick", action="store_true", help="leave out the 2564-DOF rotor")
+    ap.add_argument("--no-fmu", action="store_true", help="leave out the native FMU routes")
+    ap.add_argument("--only-fmu", action="store_true", help="the native FMU routes alone")
     ap.add_argument("--no-scene", action="store_true", help="leave out the 44 Hz scene")
     ap.add_argument("--worker", action="store_true", help=argparse.SUPPRESS)
     ap.add_argument("--root", type=Path, help=argparse.SUPPRESS)
@@ -230,10 +277,13 @@ def main(argv=None):
         before = json.loads(r.stdout.strip().splitlines()[-1])
     from bearing_fmu.internals import registry
 
-    table = measure(["python", "new", "floor"], a.steps, a.quick)
-    print("\n| case | DOF | bearings | evals/step | before [us] | python [us] | new [us] | floor [us] | "
-          "new/floor | before/new |")
-    print("|---|---|---|---|---|---|---|---|---|---|")
+    if a.only_fmu:
+        a.no_scene = True
+    table = {} if a.only_fmu else measure(["python", "new", "floor"], a.steps, a.quick)
+    if table:
+        print("\n| case | DOF | bearings | evals/step | before [us] | python [us] | new [us] | floor [us] | "
+              "new/floor | before/new |")
+        print("|---|---|---|---|---|---|---|---|---|---|")
     base = {}
     for key, row in table.items():
         kind, name, k, nb = key.split(":")
@@ -253,6 +303,15 @@ def main(argv=None):
         for dof, (b, new) in sorted(base.items()):
             rb = f"{b / base[44][0]:.1f}" if b and base[44][0] else "-"
             print(f"  {dof:5d} DOF: before {rb:>6} x, new {new / base[44][1]:6.1f} x")
+    if not a.no_fmu:
+        rows = native_fmu_rows(a.steps)
+        floor = rows["floor (direct)"][0]
+        print("\nnative map FMU (fmpy, 2 instances), paper 22 Hz scene, per step against the compiled floor of "
+              "the map called directly:\n")
+        print("| route | evals/step | per step [us] | / floor |")
+        print("|---|---|---|---|")
+        for mode, (us, ev) in rows.items():
+            print(f"| {mode} | {ev:.2f} | {fmt(us)} | {us / floor:.2f} |")
     if not a.no_scene:
         print("\n44 Hz 6 s map scene (direct), integration time (wall) / CPU time of Newmark.run [s], the first "
               "run of a process, then a second:")

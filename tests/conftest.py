@@ -324,3 +324,17 @@ def paper_scene(tmp_path):
         return p
 
     return write
+
+
+def run_cli(prog: str, argv: list[str], capsys) -> tuple[int, str, str]:
+    """(exit status, stdout, stderr) of ``prog``'s main(argv) in this process: argparse exits
+    (SystemExit with its code), main returns its code."""
+    from bearing_fmu.cli import main as bearing_fmu
+    from rotor_host.cli import main as rotor_host
+
+    try:
+        code = {"rotor-host": rotor_host, "bearing-fmu": bearing_fmu}[prog](argv)
+    except SystemExit as exc:
+        code = exc.code
+    out = capsys.readouterr()
+    return code, out.out, out.err

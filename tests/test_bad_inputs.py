@@ -21,6 +21,7 @@ import pytest
 from bearing_fmu.physics.params import BearingParams
 from rotor_host.model.rotor import Rotor, RotorFileError
 from rotor_host.scenes.scene import SceneError, load_scene
+from conftest import run_cli
 
 ROOT = Path(__file__).resolve().parents[1]
 MODELS = ROOT / "models"
@@ -233,16 +234,9 @@ def test_bad_bearing_file_names_the_key(tmp_path, text, words):
 # ----------------------------------------------------------------------------- command lines, in-process
 
 def _cli(prog: str, argv: list[str], capsys) -> tuple[int, str]:
-    """(exit status, stderr) of ``prog``'s main(argv) in this process; argparse exits, main returns."""
-    from bearing_fmu.cli import main as bearing_fmu
-    from rotor_host.cli import main as rotor_host
-
-    main = {"rotor-host": rotor_host, "bearing-fmu": bearing_fmu}[prog]
-    try:
-        code = main(argv)
-    except SystemExit as exc:
-        code = exc.code
-    return code, capsys.readouterr().err
+    """(exit status, stderr) of ``prog``'s main(argv) in this process."""
+    code, _out, err = run_cli(prog, argv, capsys)
+    return code, err
 
 
 S = str(SCENE)

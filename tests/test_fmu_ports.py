@@ -129,8 +129,8 @@ def test_T_eff_lags_by_the_residence_time_and_is_part_of_the_fmu_state(fmu_insta
     ({"thermal": True, "internal": "linear", "oil_law": "walther"}, ("thermal = true", "internal = 'linear'")),
     ({"thermal": True}, ("thermal = true needs the oil's viscosity law", "oil_law")),
     ({"internal": "map", "groove_count": 2, "groove_1": math.pi / 2, "groove_2": 1.5 * math.pi},
-     ("internal = 'map'", "groove_count = 2")),
-    ({"lobes": 2, "preload": 0.5, "internal": "taylor"}, ("internal = 'taylor'", "lobes = 2")),
+     ("models only the full 360 deg circular bore", "2 axial grooves")),  # a full-bore map (its file says)
+    ({"lobes": 2, "preload": 0.5, "internal": "taylor"}, ("fitted for the bore 'full 360 deg circular bore'", "2 lobes")),
     ({"groove_count": 2, "groove_1": 0.1, "groove_2": 0.2}, ("geometry parameters", "overlap")),
 ])
 def test_refused_by_name(fmu, unzip, params, words):

@@ -405,7 +405,8 @@ def test_model_names_and_the_data_recorded(native):
         label = bearing.stem if bearing else "paper bearing"
         assert md.modelName == f"BearingFMU {internal} {stem} native ({label})", key
         sha = hashlib.sha256(source.read_bytes()).hexdigest()
-        geometry = "D 31 mm, L 20 mm, CR 90 um" if bearing is None else "D 100 mm, L 30 mm"
+        b = PAPER_BEARING if bearing is None else BearingParams.from_toml(bearing)
+        geometry = f"D {b.D * 1e3:g} mm, L {b.L * 1e3:g} mm, CR {b.CR * 1e6:g} um"
         assert f"{source.name} sha256 {sha[:12]}" in md.description and geometry in md.description, key
         info = json.loads(Path(unzip, "resources", "build_info.json").read_text())
         assert [(f["name"], f["sha256"]) for f in info["data_files"]] == [(source.name, sha)]

@@ -14,25 +14,38 @@
               ``bearing-fmu fit`` without its command line (scene-trained fitting is the host's
               ``rotor-host fit``)
 
-The names below are re-exported for convenience (``from bearing_fmu import fitting as F``).
+The names below are re-exported for convenience (``from bearing_fmu import fitting as F``),
+each imported on first use: ``fitting.recipe`` (the command lines' fit options) must not pull
+in scipy and the compiled kernels of ``fit`` (a ``--help`` stays well under a second).
 """
 
-from .fit import (COMPONENTS, FitResult, expansion_point, fit_condition, fit_surrogate,
-                  refit_order, save_fit, truth_jacobian)
-from .neighbours import neighbours_for_fit
-from .output import fit_designed, write_fit
-from .recipe import FitRecipe, RecipeError, command_line_options, recipe_from_values, recipe_of
-from .report import format_report, plot_lambda
-from .ridge import (CrossValidation, RidgeSVD, fold_indices, nrmse, prune_terms, rel_rms,
-                    ridge_normal_equations, select_lambda)
-from .sampling import designed_samples, domain_from_data, load_npz, sample_forces, tube_samples
-from .truth import Truth, fit_truth, make_reynolds, truth_line
+import importlib
 
-__all__ = [
-    "FitRecipe", "RecipeError", "recipe_of", "command_line_options", "recipe_from_values",
-    "RidgeSVD", "CrossValidation", "select_lambda", "prune_terms", "fold_indices", "nrmse", "rel_rms",
-    "ridge_normal_equations", "designed_samples", "tube_samples", "sample_forces", "load_npz", "domain_from_data",
-    "FitResult", "fit_surrogate", "save_fit", "fit_condition", "make_reynolds", "truth_jacobian", "expansion_point",
-    "refit_order", "COMPONENTS", "neighbours_for_fit", "format_report", "plot_lambda",
-    "fit_designed", "write_fit", "Truth", "fit_truth", "truth_line",
-]
+_EXPORTS = {
+    "fit": ("COMPONENTS", "FitResult", "expansion_point", "fit_condition", "fit_surrogate", "refit_order",
+            "save_fit", "truth_jacobian"),
+    "neighbours": ("neighbours_for_fit",),
+    "output": ("fit_designed", "write_fit"),
+    "recipe": ("FitRecipe", "RecipeError", "command_line_options", "recipe_from_values", "recipe_of"),
+    "report": ("format_report", "plot_lambda"),
+    "ridge": ("CrossValidation", "RidgeSVD", "fold_indices", "nrmse", "prune_terms", "rel_rms",
+              "ridge_normal_equations", "select_lambda"),
+    "sampling": ("designed_samples", "domain_from_data", "load_npz", "sample_forces", "tube_samples"),
+    "truth": ("Truth", "fit_truth", "make_reynolds", "truth_line"),
+}
+_HOME = {name: module for module, names in _EXPORTS.items() for name in names}
+
+__all__ = sorted(_HOME)
+
+
+def __getattr__(name: str):
+    """A re-exported name, from its module (imported now, cached here)."""
+    if name not in _HOME:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    value = getattr(importlib.import_module(f".{_HOME[name]}", __name__), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__():
+    return sorted({*globals(), *__all__})

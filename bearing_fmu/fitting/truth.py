@@ -134,11 +134,11 @@ def fit_truth(recipe, params: BearingParams, statics=None, *, grid_hint: str = "
 def _load(path, params: BearingParams):
     """(table, ForceMap) of the map file ``path`` for ``params``; one line naming the setting
     and the file on a fault (missing, damaged, another L/D)."""
-    from ..internals.forcemap import ForceMap, load_map
+    from ..internals.mapfile import load_any_map, map_internal
 
     try:
-        table = load_map(path)
-        return table, ForceMap(params, table, source=str(path))
+        table = load_any_map(path)
+        return table, map_internal(params, table, source=str(path))
     except FileNotFoundError as exc:
         raise FileNotFoundError(f"fit: truth_map: {exc}") from None
     except ValueError as exc:

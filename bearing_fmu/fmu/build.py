@@ -403,9 +403,9 @@ def check_data_file(path) -> None:
     if option.name == "surrogate":
         check_surrogate_file(path)
     elif option.name == "map":
-        from ..internals.forcemap import load_map
+        from ..internals.mapfile import load_any_map
 
-        load_map(path).spline()
+        load_any_map(path).spline()
     else:  # pragma: no cover - a new file option adds its check here
         raise ValueError(f"{path}: no build check for the {option.name} option's files")
 

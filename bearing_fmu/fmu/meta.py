@@ -277,10 +277,10 @@ def data_file_record(path) -> dict:
                    speed_hz=float(f"{s.omega / (2 * math.pi):.12g}"), expansion_point=[s.y0, s.z0], wall_power=s.wall_power,
                    shape_order=s.shape_order, bearing=s.params.as_dict(), provenance=s.provenance)
     elif option.name == "map":
-        from ..internals.forcemap import load_map
+        from ..internals.mapfile import load_any_map
 
-        m = load_map(path)
-        rec.update(holds="force map", table=f"{m.n_eps} x {m.n_beta}", eps_max=m.eps_max, L_over_D=m.L_over_D,
+        m = load_any_map(path)
+        rec.update(holds="force map", table=" x ".join(str(n) for n in m.H.shape[:-1]), eps_max=m.eps_max, L_over_D=m.L_over_D,
                    reynolds=f"{m.n_theta} x {m.n_x} {m.cavitation}", provenance=m.provenance)
     return rec
 
@@ -347,3 +347,36 @@ def strip_whitespace(root: ET.Element) -> None:
             el.text = None
         if el.tail is not None and not el.tail.strip():
             el.tail = None
+
+
+# ----------------------------------------------------------------------------- memoryless
+
+# The annotation by which a bearing FMU tells a master that it has no state worth restoring:
+#   <VendorAnnotations><Tool name="bearing_fmu"><Memoryless internals="map linear" unless="thermal"/>
+# With one of ``internals`` chosen (the parameter ``internal``) and none of the Boolean parameters
+# ``unless`` true, a doStep's outputs depend on the inputs and parameters set alone (not on the
+# time, an earlier step or an earlier state) and a doStep may start at any currentCommunicationPoint.
+# A master may then iterate a step with setReal / doStep / getReal and no fmi2GetFMUstate /
+# fmi2SetFMUstate around it: the outputs are those of the conformant iteration. An FMU without
+# the annotation (a foreign one, the Python FMU) keeps the save and restore.
+MEMORYLESS_TOOL = "bearing_fmu"
+
+
+def memoryless_annotation(internals, unless=("thermal",)) -> ET.Element:
+    """The VendorAnnotations element declaring ``internals`` memoryless (see above)."""
+    va = ET.Element("VendorAnnotations")
+    tool = ET.SubElement(va, "Tool", name=MEMORYLESS_TOOL)
+    ET.SubElement(tool, "Memoryless", internals=" ".join(internals), unless=" ".join(unless))
+    return va
+
+
+def memoryless_declaration(model_description_xml: bytes | str):
+    """(internals, unless) declared memoryless by a model description (``memoryless_annotation``),
+    or None when it declares nothing."""
+    root = ET.fromstring(model_description_xml)
+    for tool in root.iterfind("VendorAnnotations/Tool"):
+        if tool.get("name") == MEMORYLESS_TOOL:
+            el = tool.find("Memoryless")
+            if el is not None:
+                return set(el.get("internals", "").split()), set(el.get("unless", "").split())
+    return None

@@ -15,6 +15,8 @@ forcemap,       the force map: the Reynolds force as a 2-D table per L/D, its fi
 map_kernels     and its compiled spline, force and Jacobian
 scaled          ``ViscosityScaled``: any internal at an effective viscosity (force and
                 Jacobian times mu_eff / mu: exact, F ~ mu; docs/thermal.md)
+warmup          compiled kernels loaded from numba's disk cache before a run's clocks
+                start (an internal's, by its registry entry's ``kernels``; the host's)
 ==============  ================================================================
 
 The Reynolds solver, the truth, is an internal too; it lives with the physics

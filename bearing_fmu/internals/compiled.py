@@ -40,7 +40,7 @@ from numba.extending import intrinsic
 warnings.filterwarnings("ignore", message="First-class function type feature is experimental",
                         category=NumbaExperimentalFeatureWarning)
 
-__all__ = ["KERNEL_SIG", "OUT_SIZE", "CompiledForce", "address", "advance", "as_int64", "kernel_at", "evaluate"]
+__all__ = ["KERNEL_SIG", "OUT_SIZE", "CompiledForce", "address", "advance", "as_int64", "function_at", "kernel_at", "evaluate"]
 
 KERNEL_SIG = types.int64(types.CPointer(types.float64), types.float64, types.float64, types.float64,
                          types.float64, types.float64, types.CPointer(types.float64))
@@ -81,22 +81,33 @@ def as_int64(typingctx, ptr):
     return sig, codegen
 
 
-@intrinsic
-def kernel_at(typingctx, addr):
-    """The kernel (a first-class function of KERNEL_SIG) at the integer address ``addr`` (a
-    cfunc's ``address``): called through its C entry point, as numba calls a cfunc argument."""
-    fty = types.FunctionType(KERNEL_SIG)
-    sig = fty(addr)
+def function_at(signature):
+    """An intrinsic: the C function of ``signature`` (a numba signature) at an integer address,
+    as a first-class function called through its C entry point (as numba calls a cfunc
+    argument). ``kernel_at`` is the one for KERNEL_SIG; a host makes others for C functions it
+    calls (an FMU's fmi2DoStep)."""
+    fty = types.FunctionType(signature)
 
-    def codegen(context, builder, signature, args):
-        sfunc = cgutils.create_struct_proxy(fty)(context, builder)
-        vp = context.get_value_type(types.voidptr)
-        sfunc.c_addr = builder.inttoptr(args[0], vp)
-        sfunc.py_addr = vp(None)
-        sfunc.jit_addr = vp(None)
-        return sfunc._getvalue()
+    @intrinsic
+    def at(typingctx, addr):
+        sig = fty(addr)
 
-    return sig, codegen
+        def codegen(context, builder, signature, args):
+            sfunc = cgutils.create_struct_proxy(fty)(context, builder)
+            vp = context.get_value_type(types.voidptr)
+            sfunc.c_addr = builder.inttoptr(args[0], vp)
+            sfunc.py_addr = vp(None)
+            sfunc.jit_addr = vp(None)
+            return sfunc._getvalue()
+
+        return sig, codegen
+
+    return at
+
+
+# The kernel (a first-class function of KERNEL_SIG) at the integer address ``addr`` (a cfunc's
+# ``address``)
+kernel_at = function_at(KERNEL_SIG)
 
 
 @dataclass(frozen=True)

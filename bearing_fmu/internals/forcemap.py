@@ -19,6 +19,7 @@ loading for a bearing checks its L/D.
 
 from __future__ import annotations
 
+import copy
 import json
 import math
 import signal
@@ -49,7 +50,8 @@ LD_RTOL = 1e-9  # a map serves bearings whose L/D equals its own to this relativ
 
 # the map reduces the force to F = r G(eps, beta): true for the circular full bore only (a groove,
 # an arc or a lobe fixes directions in the bore, docs/geometry.md)
-REDUCTION_WHY = "its reduction to eccentricity and one angle assumes the circular full bore"
+REDUCTION_WHY = ("a version 1 map's reduction to eccentricity and one angle assumes the circular full bore; "
+                 "`bearing-fmu map --bearing FILE` builds a 3-D map for grooves and partial arcs")
 
 def scale(params: BearingParams) -> float:
     """S = mu R L (R / CR)^2 [N s]: the map's force per unit r [1/s]."""
@@ -79,8 +81,24 @@ def state_for(eps: float, beta: float, params: BearingParams, phi: float = -0.5 
 
 # ------------------------------------------------------------------------------ the table
 
+class TableAxes:
+    """The s, eps and beta axes of a map table (``n_eps``, ``n_beta``, ``eps_max``)."""
+
+    @property
+    def s(self) -> np.ndarray:
+        return np.linspace(0.0, -math.log1p(-self.eps_max), self.n_eps)
+
+    @property
+    def eps(self) -> np.ndarray:
+        return -np.expm1(-self.s)
+
+    @property
+    def beta(self) -> np.ndarray:
+        return -math.pi + 2.0 * math.pi * np.arange(self.n_beta) / self.n_beta
+
+
 @dataclass
-class MapTable:
+class MapTable(TableAxes):
     """G tabulated as H = G (1 - eps)^k on s_i = i s_max / (n_eps - 1), s = -ln(1 - eps), and
     beta_j = -pi + j 2 pi / n_beta; H has shape (n_eps, n_beta, 2) (radial, tangential)."""
 
@@ -104,26 +122,12 @@ class MapTable:
         """What makes the table unusable, naming its file key and what it must be, or None. A NaN
         L/D would pass every L/D comparison (NaN compares false) and a NaN wall exponent makes
         every force NaN: both are refused here, before any bearing meets the map."""
-        lo, hi = L_OVER_D_RANGE
-        if not lo <= self.L_over_D <= hi:  # NaN fails too
-            return f"key 'L_over_D' = {self.L_over_D!r} must be a finite number in {lo:g} .. {hi:g} (a bearing's L/D)"
-        if not 0.0 < self.eps_max < 1.0:
-            return f"key 'eps_max' = {self.eps_max!r} must lie in (0, 1) (the table's last eccentricity ratio)"
-        if not (math.isfinite(self.wall_exponent) and self.wall_exponent >= 0.0):
-            return (f"key 'wall_exponent' = {self.wall_exponent!r} must be a finite number >= 0 "
-                    "(k in H = G (1 - eps)^k)")
-        for name in ("n_theta", "n_x"):
-            v = getattr(self, name)
-            if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or v < 1:
-                return f"key 'reynolds.{name}' = {v!r} must be an integer >= 1 (the Reynolds grid it was built on)"
-        if not isinstance(self.cavitation, str) or not self.cavitation:
-            return f"key 'reynolds.cavitation' = {self.cavitation!r} must be the name of a cavitation model"
+        problem = header_problem(self)
+        if problem:
+            return problem
         if self.H.ndim != 3 or self.H.shape[2] != 2 or self.H.shape[0] < 4 or self.H.shape[1] < 4:
             return f"key 'H' has shape {self.H.shape}, expected (n_eps >= 4, n_beta >= 4, 2)"
-        if not np.all(np.isfinite(self.H)):
-            i = tuple(int(k) for k in np.argwhere(~np.isfinite(self.H))[0])
-            return f"key 'H' has a non-finite entry H{list(i)} = {float(self.H[i])!r}, expected finite numbers"
-        return None
+        return finite_problem(self.H)
 
     @property
     def n_eps(self) -> int:
@@ -132,18 +136,6 @@ class MapTable:
     @property
     def n_beta(self) -> int:
         return self.H.shape[1]
-
-    @property
-    def s(self) -> np.ndarray:
-        return np.linspace(0.0, -math.log1p(-self.eps_max), self.n_eps)
-
-    @property
-    def eps(self) -> np.ndarray:
-        return -np.expm1(-self.s)
-
-    @property
-    def beta(self) -> np.ndarray:
-        return -math.pi + 2.0 * math.pi * np.arange(self.n_beta) / self.n_beta
 
     def spline(self):
         """(ts, tb, C): knots in s and beta and the tensor spline coefficients C (ns, nb, 2);
@@ -175,6 +167,33 @@ class MapTable:
                 "provenance": self.provenance}
 
 
+def header_problem(t) -> str | None:
+    """What makes a map table's L/D, eps_max, wall exponent, Reynolds grid or cavitation model
+    unusable (``t`` a MapTable or a grooved table), naming the file key, or None."""
+    lo, hi = L_OVER_D_RANGE
+    if not lo <= t.L_over_D <= hi:  # NaN fails too
+        return f"key 'L_over_D' = {t.L_over_D!r} must be a finite number in {lo:g} .. {hi:g} (a bearing's L/D)"
+    if not 0.0 < t.eps_max < 1.0:
+        return f"key 'eps_max' = {t.eps_max!r} must lie in (0, 1) (the table's last eccentricity ratio)"
+    if not (math.isfinite(t.wall_exponent) and t.wall_exponent >= 0.0):
+        return f"key 'wall_exponent' = {t.wall_exponent!r} must be a finite number >= 0 (k in H = G (1 - eps)^k)"
+    for name in ("n_theta", "n_x"):
+        v = getattr(t, name)
+        if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or v < 1:
+            return f"key 'reynolds.{name}' = {v!r} must be an integer >= 1 (the Reynolds grid it was built on)"
+    if not isinstance(t.cavitation, str) or not t.cavitation:
+        return f"key 'reynolds.cavitation' = {t.cavitation!r} must be the name of a cavitation model"
+    return None
+
+
+def finite_problem(H: np.ndarray) -> str | None:
+    """The first non-finite entry of a table H, named, or None."""
+    if not np.all(np.isfinite(H)):
+        i = tuple(int(k) for k in np.argwhere(~np.isfinite(H))[0])
+        return f"key 'H' has a non-finite entry H{list(i)} = {float(H[i])!r}, expected finite numbers"
+    return None
+
+
 def tabulate(params: BearingParams, *, n_eps: int = DEFAULT_N_EPS, n_beta: int = DEFAULT_N_BETA,
              eps_max: float = DEFAULT_EPS_MAX, wall_exponent: float = DEFAULT_WALL_EXPONENT,
              n_theta: int | None = None, n_x: int | None = None, cavitation: str = "reynolds",
@@ -197,7 +216,7 @@ def tabulate(params: BearingParams, *, n_eps: int = DEFAULT_N_EPS, n_beta: int =
 
             task = partial(_row, params, rey.n_theta, rey.n_x, rey.cavitation, betas=table.beta,
                            wall_exponent=wall_exponent, n_phase=n_phase)
-            pool = multiprocessing.Pool(workers, initializer=_worker_signals)
+            pool = multiprocessing.Pool(workers, initializer=worker_signals)
             try:
                 for done, h in enumerate(pool.imap(task, table.eps), 1):
                     table.H[done - 1] = h
@@ -224,7 +243,7 @@ def tabulate(params: BearingParams, *, n_eps: int = DEFAULT_N_EPS, n_beta: int =
     return table
 
 
-def _worker_signals() -> None:
+def worker_signals() -> None:
     """A pool worker: Ctrl-C (sent to the whole group) is the parent's to act on; the parent's
     terminate() (SIGTERM) ends the worker at once, without a traceback."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)
@@ -280,10 +299,30 @@ MAP_KEYS = ("format", "version", "L_over_D", "reynolds", "eps_max", "wall_expone
 SPLINE_RTOL = 1e-10  # the stored spline must give back the table at its points to this, relative to max |H|
 
 
+_READ: dict[tuple, MapTable] = {}  # (file, mtime, size) -> its checked table, once per process
+
+
 def load_map(path) -> MapTable:
     """Read a map file; every key checked (type, finiteness, range, and the stored spline
-    against the table), one line naming the file, the key, what was expected and given."""
+    against the table), one line naming the file, the key, what was expected and given.
+    A file read before in this process and unchanged since (path, modification time, size) is
+    not read again: each bearing of a run, and each run of a sweep's worker, gets a copy of the
+    table checked the first time (reading and checking it cost ~40 ms per bearing and run)."""
     path = Path(path)
+    try:
+        st = path.stat()
+        key = (str(path.resolve()), st.st_mtime_ns, st.st_size)
+    except OSError:
+        key = None  # not there: _read_map names it
+    if key not in _READ:
+        table = _read_map(path)
+        if key is None:
+            return table
+        _READ[key] = table
+    return copy.deepcopy(_READ[key])  # a caller may change its table; the kept one stays as read
+
+
+def _read_map(path: Path) -> MapTable:
     try:
         data = json.loads(path.read_text())
     except FileNotFoundError:
@@ -305,8 +344,8 @@ def load_map(path) -> MapTable:
         for k in ("n_theta", "n_x", "cavitation"):
             if k not in rey:
                 raise KeyError(f"reynolds.{k}")
-        table = MapTable(_number(data, "L_over_D"), rey["n_theta"], rey["n_x"], rey["cavitation"],
-                         _number(data, "eps_max"), _number(data, "wall_exponent"), _array(data, "H"),
+        table = MapTable(number_key(data, "L_over_D"), rey["n_theta"], rey["n_x"], rey["cavitation"],
+                         number_key(data, "eps_max"), number_key(data, "wall_exponent"), array_key(data, "H"),
                          data.get("provenance", {}))
     except KeyError as exc:
         raise ValueError(f"force map file {path}: missing key {exc.args[0]!r}") from None
@@ -328,7 +367,7 @@ def load_map(path) -> MapTable:
         try:
             if not isinstance(sp, dict):
                 raise ValueError(f"an object {{knots_s, knots_beta, coefficients}} is expected, got {sp!r:.60}")
-            ts, tb, C = (np.ascontiguousarray(_array(sp, k)) for k in ("knots_s", "knots_beta", "coefficients"))
+            ts, tb, C = (np.ascontiguousarray(array_key(sp, k)) for k in ("knots_s", "knots_beta", "coefficients"))
         except (KeyError, ValueError) as exc:
             raise ValueError(f"force map file {path}: key 'spline' is incomplete or damaged ({exc})") from None
         problem = spline_problem(table, ts, tb, C)
@@ -339,14 +378,14 @@ def load_map(path) -> MapTable:
     return table
 
 
-def _number(data: dict, key: str) -> float:
+def number_key(data: dict, key: str) -> float:
     v = data[key]
     if isinstance(v, bool) or not isinstance(v, (int, float)):
         raise ValueError(f"key {key!r} = {v!r:.60} must be a number")
     return float(v)
 
 
-def _array(data: dict, key: str) -> np.ndarray:
+def array_key(data: dict, key: str) -> np.ndarray:
     """data[key] as a float array: a ragged or non-numeric list, or a non-finite entry, named."""
     v = data[key]
     try:
@@ -375,7 +414,7 @@ def spline_problem(table: MapTable, ts, tb, C) -> str | None:
         return "has knots out of order (they must not decrease)"
     nb = C.shape[1]
     b = tb[3] + np.mod(table.beta - tb[3], tb[nb] - tb[3])  # periodic in beta, as the kernel folds it
-    Bs, Bb = _bspline_matrix(ts, table.s, C.shape[0]), _bspline_matrix(tb, b, nb)
+    Bs, Bb = bspline_matrix(ts, table.s, C.shape[0]), bspline_matrix(tb, b, nb)
     at_points = Bs @ np.ascontiguousarray(np.moveaxis(C, 2, 0)) @ Bb.T  # (2, n_eps, n_beta)
     err = float(np.max(np.abs(at_points - np.moveaxis(table.H, 2, 0))))
     if not err <= SPLINE_RTOL * max(1.0, float(np.max(np.abs(table.H)))):
@@ -383,7 +422,7 @@ def spline_problem(table: MapTable, ts, tb, C) -> str | None:
     return None
 
 
-def _bspline_matrix(t: np.ndarray, x: np.ndarray, n: int) -> np.ndarray:
+def bspline_matrix(t: np.ndarray, x: np.ndarray, n: int) -> np.ndarray:
     """B[m, p] = N_p(x_m), the n cubic B-splines on knots t (Cox-de Boor, as map_kernels._basis
     but in numpy: the loader needs neither scipy nor the compiled kernels)."""
     m = len(x)
@@ -460,18 +499,7 @@ class ForceMap:
             self._refuse(y, z, vy, vz, omega, want_jac)
 
     def _refuse(self, y, z, vy, vz, omega, want_jac):
-        check_finite(y, z, vy, vz, omega)
-        eps = math.hypot(y, z) / self.params.CR  # as the kernel has it (which returns NaN on overflow)
-        if eps < self._eps_max:  # finite inputs inside the table: the force overflowed
-            # F = S r G is linear in r ~ |v| / CR: beyond the float range no finite value is the
-            # model's answer, so the state is refused by name rather than returned as inf or NaN
-            raise overflow_error(self.params, y, z, vy, vz, omega,
-                                 "force and its Jacobian" if want_jac else "force")
-        CR = self.params.CR
-        why = "at or beyond the bearing wall" if eps >= 1.0 else "beyond the force map's last point"
-        raise BearingStateError(
-            f"eccentricity ratio {eps:.4g} >= {1.0 if eps >= 1.0 else self._eps_max:g}: the journal "
-            f"(y = {y:.4g} m, z = {z:.4g} m) is {why} (CR = {CR:.4g} m; the map covers eps < {self._eps_max:g})")
+        refuse_state(self.params, self._eps_max, y, z, vy, vz, omega, want_jac)
 
     def compiled_force(self):
         """Its force and Jacobian as a compiled kernel (``internals.compiled``)."""
@@ -489,3 +517,20 @@ class ForceMap:
         """(F (2,), dF/dq (2, 2), dF/dv (2, 2)) [N, N/m, N s/m]."""
         self._run(y, z, vy, vz, omega, True)
         return self._F.copy(), self._J[:, :2].copy(), self._J[:, 2:].copy()
+
+
+def refuse_state(params: BearingParams, eps_max: float, y, z, vy, vz, omega, want_jac) -> None:
+    """Raise the error of a state a map cannot answer (the map kernels returned eps >= eps_max,
+    NaN, or took a non-finite velocity): a non-finite input, the wall, beyond the table, or a
+    force that overflows, each by name."""
+    check_finite(y, z, vy, vz, omega)
+    eps = math.hypot(y, z) / params.CR  # as the kernel has it (which returns NaN on overflow)
+    if eps < eps_max:  # finite inputs inside the table: the force overflowed
+        # F = S r G is linear in r ~ |v| / CR: beyond the float range no finite value is the
+        # model's answer, so the state is refused by name rather than returned as inf or NaN
+        raise overflow_error(params, y, z, vy, vz, omega, "force and its Jacobian" if want_jac else "force")
+    CR = params.CR
+    why = "at or beyond the bearing wall" if eps >= 1.0 else "beyond the force map's last point"
+    raise BearingStateError(
+        f"eccentricity ratio {eps:.4g} >= {1.0 if eps >= 1.0 else eps_max:g}: the journal "
+        f"(y = {y:.4g} m, z = {z:.4g} m) is {why} (CR = {CR:.4g} m; the map covers eps < {eps_max:g})")

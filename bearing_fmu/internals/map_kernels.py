@@ -166,12 +166,24 @@ def map_force(ts, tb, C, ns, nb, kwall, eps_min, scale, CR, y, z, vy, vz, omega,
         return math.nan  # overflow (a huge velocity or speed): the caller refuses the state
     if not want_jac:
         return eps
+    if not _jacobian(scale, CR, cp, sp, eps_eval, omega, a, c, Pr, Pt, Pr_a, Pr_c, Pt_a, Pt_c, Pr_e, Pt_e, 0.0, 0.0,
+                     J):
+        return math.nan
+    return eps
+
+
+@njit(cache=True)
+def _jacobian(scale, CR, cp, sp, eps_eval, omega, a, c, Pr, Pt, Pr_a, Pr_c, Pt_a, Pt_c, Pr_e, Pt_e, Pr_p, Pt_p,
+              J):
+    """J (2, 4) = dF/d(y, z, vy, vz) of F = S (Pr u + Pt w) from the partial derivatives of
+    P = r G in (eps, a, c) and, for a grooved bore's table, r dG/dphi (Pr_p, Pt_p; 0 for the full
+    bore); False when an entry is not finite."""
     # chain rule through (eps, phi, a, c); phi enters through u, w and v_r, v_t:
     # da/dphi = 2 v_r / CR = c, dc/dphi = 2 v_t / CR = eps omega - a (at fixed eps)
     da_dphi = c
     dc_dphi = eps_eval * omega - a
-    dPr_dphi = Pr_a * da_dphi + Pr_c * dc_dphi
-    dPt_dphi = Pt_a * da_dphi + Pt_c * dc_dphi
+    dPr_dphi = Pr_a * da_dphi + Pr_c * dc_dphi + Pr_p
+    dPt_dphi = Pt_a * da_dphi + Pt_c * dc_dphi + Pt_p
     # d(Pr u + Pt w)/dphi = dPr u + Pr w + dPt w - Pt u
     dFphi_y = scale * ((dPr_dphi - Pt) * cp - (dPt_dphi + Pr) * sp)
     dFphi_z = scale * ((dPr_dphi - Pt) * sp + (dPt_dphi + Pr) * cp)
@@ -200,7 +212,111 @@ def map_force(ts, tb, C, ns, nb, kwall, eps_min, scale, CR, y, z, vy, vz, omega,
     for i in range(2):
         for j in range(4):
             if not math.isfinite(J[i, j]):
-                return math.nan
+                return False
+    return True
+
+
+# ------------------------------------------------------- grooved bores: G(eps, phi, beta)
+
+@njit(cache=True)
+def spline3(ts, tp, tb, C, s, phi, beta, out):
+    """Tensor cubic spline in (s, phi, beta), phi and beta periodic over their knots' base
+    intervals: out[k] = (value, d/ds, d/dphi, d/dbeta) of the components C[:, :, :, k]."""
+    ns, npp, nb = C.shape[0], C.shape[1], C.shape[2]
+    p = tp[3] + ((phi - tp[3]) % (tp[npp] - tp[3]))
+    b = tb[3] + ((beta - tb[3]) % (tb[nb] - tb[3]))
+    i = _span(ts, ns, s)
+    j = _span(tp, npp, p)
+    m = _span(tb, nb, b)
+    Ns, dNs, Np, dNp, Nb, dNb = np.empty(4), np.empty(4), np.empty(4), np.empty(4), np.empty(4), np.empty(4)
+    _basis(ts, i, s, Ns, dNs)
+    _basis(tp, j, p, Np, dNp)
+    _basis(tb, m, b, Nb, dNb)
+    for k in range(C.shape[3]):
+        v = vs = vp = vb = 0.0
+        for a in range(4):
+            pv = pp = pb = 0.0
+            for q in range(4):
+                bv = bb = 0.0
+                for r in range(4):
+                    c = C[i - 3 + a, j - 3 + q, m - 3 + r, k]
+                    bv += Nb[r] * c
+                    bb += dNb[r] * c
+                pv += Np[q] * bv
+                pp += dNp[q] * bv
+                pb += Np[q] * bb
+            v += Ns[a] * pv
+            vs += dNs[a] * pv
+            vp += Ns[a] * pp
+            vb += Ns[a] * pb
+        out[k, 0] = v
+        out[k, 1] = vs
+        out[k, 2] = vp
+        out[k, 3] = vb
+
+
+@njit(cache=True)
+def _g3(ts, tp, tb, C, eps, phi, beta, g):
+    """g[k] = (G_k, dG_k/deps, dG_k/dphi, dG_k/dbeta) from the spline in s = -ln(1 - eps)."""
+    s = -math.log1p(-eps)
+    spline3(ts, tp, tb, C, s, phi, beta, g)
+    dsde = math.exp(s)
+    for k in range(2):
+        g[k, 1] *= dsde
+
+
+@njit(cache=True)
+def map3_force(ts, tp, tb, C, eps_min, scale, CR, y, z, vy, vz, omega, want_jac, F, J):
+    """map_force for a grooved bore: F = S r (G_r u + G_t w) with G also a function of the
+    attitude phi; the Jacobian gains r dG/dphi in the attitude terms. Returns eps (NaN when F
+    or J is not finite); eps below eps_min is evaluated at eps_min along the same direction."""
+    e = math.hypot(y, z)
+    if e > 0.0:
+        cp, sp = y / e, z / e
+    else:
+        cp, sp = 1.0, 0.0
+    eps = e / CR
+    if not eps < 1.0:
+        return eps
+    phi = math.atan2(sp, cp)
+    eps_eval = max(eps, eps_min)
+    vr = vy * cp + vz * sp
+    vt = -vy * sp + vz * cp
+    a = eps_eval * omega - 2.0 * vt / CR
+    c = 2.0 * vr / CR
+    r = math.hypot(a, c)
+    g = np.empty((2, 4))
+    if r > 0.0:
+        _g3(ts, tp, tb, C, eps_eval, phi, math.atan2(c, a), g)
+        cb, sb = a / r, c / r
+        Pr, Pt = r * g[0, 0], r * g[1, 0]
+        Pr_a = cb * g[0, 0] - sb * g[0, 3]
+        Pr_c = sb * g[0, 0] + cb * g[0, 3]
+        Pt_a = cb * g[1, 0] - sb * g[1, 3]
+        Pt_c = sb * g[1, 0] + cb * g[1, 3]
+        Pr_e, Pt_e = r * g[0, 1], r * g[1, 1]
+        Pr_p, Pt_p = r * g[0, 2], r * g[1, 2]
+    else:  # no film source: no force; the odd part of the directional response (as map_force)
+        Pr = Pt = Pr_e = Pt_e = Pr_p = Pt_p = 0.0
+        g2 = np.empty((2, 4))
+        _g3(ts, tp, tb, C, eps_eval, phi, 0.0, g)
+        _g3(ts, tp, tb, C, eps_eval, phi, math.pi, g2)
+        Pr_a = 0.5 * (g[0, 0] - g2[0, 0])
+        Pt_a = 0.5 * (g[1, 0] - g2[1, 0])
+        _g3(ts, tp, tb, C, eps_eval, phi, 0.5 * math.pi, g)
+        _g3(ts, tp, tb, C, eps_eval, phi, -0.5 * math.pi, g2)
+        Pr_c = 0.5 * (g[0, 0] - g2[0, 0])
+        Pt_c = 0.5 * (g[1, 0] - g2[1, 0])
+    F[0] = scale * (Pr * cp - Pt * sp)
+    F[1] = scale * (Pr * sp + Pt * cp)
+    if not (math.isfinite(F[0]) and math.isfinite(F[1])):
+        return math.nan
+    if not want_jac:
+        return eps
+    # as map_force, plus the table's own attitude dependence r dG/dphi
+    if not _jacobian(scale, CR, cp, sp, eps_eval, omega, a, c, Pr, Pt, Pr_a, Pr_c, Pt_a, Pt_c, Pr_e, Pt_e, Pr_p, Pt_p,
+                     J):
+        return math.nan
     return eps
 
 

@@ -14,7 +14,7 @@ name       module                                what it is
 reynolds   physics.reynolds.Reynolds             finite-volume Reynolds solver (the truth)
 linear     internals.linear.Linear               8 Lund coefficients about an equilibrium
 taylor     internals.guard.DomainGuard           fitted Taylor surrogate behind its guard
-map        internals.forcemap.ForceMap           the Reynolds force as a 2-D table per L/D
+map        internals.mapfile (forcemap, groovemap) the Reynolds force as a 2-D (3-D grooved) table per L/D
 =========  ====================================  =====================================
 
 How to add an internal
@@ -37,6 +37,8 @@ How to add an internal
    - ``can``: its ``Capabilities`` (valid at any state or one operating point, fixed speed,
      fitted domain, native, compare variant, truth, where it holds, a compiled kernel): stability, sweep,
      compare, the run report, the FMU builds and their documentation ask these, never the name;
+   - ``kernels``: the modules of its compiled (numba, cache=True) kernels, loaded before a
+     timed run starts (``internals.warmup``), so the first step does not count their loading;
    - ``case``: ``"internals.cases:<name>_case"``, a function (data_dir) -> ``ContractCase``
      (``internals/cases.py``): option values that build a working instance for the paper
      bearing at 22 Hz (any data file it needs written into data_dir), a state (y, z, vy, vz)
@@ -340,6 +342,9 @@ class InternalSpec:
     uses    : other internals whose options it also reads (it builds one of them inside:
               linear and taylor's fallback build Reynolds), so one grid setting serves all
     can     : its ``Capabilities``
+    kernels : modules inside bearing_fmu ("physics.reynolds_kernels") holding the numba kernels its
+              evaluation calls, loaded from their disk cache before a run's clock starts
+              (``internals.warmup.warm_internal``); () for a pure-Python internal
     case    : its contract case for tests/test_internals.py: "module:function" or a callable
               (data_dir) -> ``cases.ContractCase`` (options that build a working instance for the
               paper bearing at 22 Hz, a state it answers for, what it does past the wall; data
@@ -353,6 +358,7 @@ class InternalSpec:
     uses: tuple[str, ...] = ()
     can: Capabilities = field(default_factory=Capabilities)
     case: str | Callable | None = None
+    kernels: tuple[str, ...] = ()
 
     def file_options(self) -> tuple[Option, ...]:
         """Its own options that name a data file (the surrogate, the map)."""
@@ -502,6 +508,7 @@ register(InternalSpec(
                  "accuracy is set by the grid n_theta x n_x (0: the default 128 x 16, docs/reynolds.md). The journal "
                  "at or beyond the wall is refused (fmi2Discard)."),
     case="internals.cases:reynolds_case",
+    kernels=("physics.reynolds_kernels", "physics.geometry_kernels"),
 ))
 
 register(InternalSpec(
@@ -547,28 +554,29 @@ register(InternalSpec(
     ),
     uses=("reynolds",),
     can=Capabilities(
-        fixed_speed=True, fitted_domain=True, native=True, any_geometry=False, compiled=True,
-        geometry_why="a surrogate file does not record the bore it was fitted for",
+        fixed_speed=True, fitted_domain=True, native=True, compiled=True,  # the file records its bore
         film_flow_why="the surrogate fits the force only; the film's inflow and side flow would need their own fit",
         validity="The surrogate answers for the speed it was fitted at (any other omega is refused) and inside its "
                  "fitted domain of journal states; outside it the FMU {actions}, and beyond domain_limit it always "
                  "refuses. The journal at or beyond the wall is refused (fmi2Discard)."),
     case="internals.cases:taylor_case",
+    kernels=("surrogates.taylor_kernels",),
 ))
 
 register(InternalSpec(
-    "map", "internals.forcemap:ForceMap.from_options", "force map: the Reynolds force reduced exactly to a 2-D table of "
-    "eccentricity and one angle (any speed, load and velocity; docs/forcemap.md)",
+    "map", "internals.mapfile:from_options", "force map: the Reynolds force reduced exactly to a 2-D table of "
+    "eccentricity and one angle (full bore), 3-D with the attitude for grooves and partial arcs (any speed, load and "
+    "velocity; docs/forcemap.md)",
     options=(
         Option("map", str, "", "map: the force map JSON file, built by `bearing-fmu map` for the bearing's L/D "
                "(in the FMU: a file name in its resources folder surrogates/)", file=True, required=True,
                file_format="bearing-fmu-force-map"),
     ),
     can=Capabilities(
-        any_state=True, native=True, any_geometry=False, compiled=True,
-        geometry_why="its reduction to eccentricity and one angle assumes the circular full bore",
+        any_state=True, native=True, compiled=True,  # the map file records its bore; the internal refuses another one
         film_flow_why="the map tabulates the force only; the film's inflow and side flow would need their own tables",
         validity="The force map holds the Reynolds force for every speed, load and velocity of bearings with its "
                  "L/D; states beyond its last eccentricity (eps_max) are refused (fmi2Discard)."),
     case="internals.cases:map_case",
+    kernels=("internals.map_kernels",),
 ))

@@ -351,6 +351,31 @@ class Geometry:
             supply += [supply_of[k]] * n
         return ThetaGrid(self, np.array(left), np.array(width), np.array(is_fixed), np.array(supply))
 
+    def as_table(self) -> dict:
+        """The bore as a bearing file's [geometry] table writes it (degrees, kPa; only what
+        differs from the defaults): what a surrogate file records; ``read_geometry`` reads it."""
+        out: dict = {}
+        if self.grooves:
+            out.update(grooves_deg=[math.degrees(g) for g in self.grooves],
+                       groove_width_deg=math.degrees(self.groove_width),
+                       supply_pressure_kPa=self.supply_pressure / 1e3)
+        if self.arc is not None:
+            out["arc_deg"] = [math.degrees(a) for a in self.arc]
+        if self.lobes > 1:
+            out.update(lobes=self.lobes, preload=self.preload, lobe_offset=self.lobe_offset,
+                       lobe_angle_deg=math.degrees(self.lobe_angle))
+        return out
+
+    def close_to(self, other: "Geometry", tol: float = 1e-9) -> bool:
+        """The same bore to ``tol`` (radians, relative for the pressure): what a file recorded in
+        degrees and read back compares equal to."""
+        a, b = self.as_table(), other.as_table()
+        if set(a) != set(b):
+            return False
+        flat = lambda t: np.concatenate([np.atleast_1d(np.asarray(t[k], float)) for k in sorted(t)]) if t else np.zeros(0)
+        x, y = flat(a), flat(b)
+        return x.shape == y.shape and bool(np.all(np.abs(x - y) <= tol * np.maximum(1.0, np.abs(x))))
+
     # ------------------------------------------------------------------ reading
     @classmethod
     def from_mapping(cls, d: dict, given: set, error) -> "Geometry":

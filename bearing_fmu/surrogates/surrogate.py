@@ -210,6 +210,7 @@ class Surrogate:
             "format": FILE_FORMAT,
             "version": FILE_VERSION,
             "params": self.params.as_dict(),
+            **({} if self.params.geometry.is_full_bore else {"geometry": self.params.geometry.as_table()}),
             "omega": self.omega,
             "speed_hz": self.omega / (2 * math.pi),
             "load": None if self.load is None else [float(self.load[0]), float(self.load[1])],
@@ -329,6 +330,8 @@ FILE_KEYS = (
     Key("format", "file format name", allowed=repr(FILE_FORMAT)),
     Key("version", "file format version", allowed=str(FILE_VERSION)),
     Key("params", "the bearing: D, L, CR [m], mu [Pa s]", allowed="numbers > 0, CR < D/2"),
+    Key("geometry", "the bore, as a bearing file's [geometry] table (absent: the full 360 deg bore)", None,
+        "the keys of [geometry] (docs/geometry.md)"),
     Key("omega", "shaft speed the surrogate was fitted at [rad/s]", allowed="a finite nonzero number"),
     Key("speed_hz", "omega / 2 pi [Hz], for readers", None, "equal to omega / 2 pi"),
     Key("load", "static bearing load (Wy, Wz) [N]", None, "two numbers or null"),
@@ -353,8 +356,10 @@ FILE_KEYS = (
 def _params(d: dict, where: str) -> BearingParams:
     p = get_key(d, "params", where)
     values = {k: read_number(p, k, f"{where}: params") for k in ("D", "L", "CR", "mu")}
+    from ..physics.params import read_geometry
+
     try:
-        return BearingParams(**values)
+        return BearingParams(**values, geometry=read_geometry(d.get("geometry"), f"{where}: key 'geometry'"))
     except ValueError as exc:
         raise ValueError(f"{where}: params: {exc}") from None
 
@@ -425,9 +430,11 @@ def save_surrogate(surrogate: Surrogate, path: str | Path) -> Path:
 
 
 def check_params(surrogate: Surrogate, params: BearingParams, where: str = "surrogate", rtol: float = 1e-9) -> None:
-    """Refuse a surrogate fitted for a different bearing, naming the field and both values; and
-    a bearing that is not the full bore (the file records D, L, CR, mu, not the bore)."""
-    params.require_full_bore(f"{where}", "the surrogate file does not record the bore it was fitted for")
+    """Refuse a surrogate fitted for a different bearing, naming the field and both values, or
+    for another bore (the file's ``geometry``, absent for the full bore)."""
+    if not surrogate.params.geometry.close_to(params.geometry):
+        raise ValueError(f"{where}: fitted for the bore '{surrogate.params.geometry.describe()}', but used with "
+                         f"'{params.geometry.describe()}' (a surrogate is only valid for the bearing it was fitted to)")
     for name in ("D", "L", "CR", "mu"):
         a, b = getattr(surrogate.params, name), getattr(params, name)
         if abs(a - b) > rtol * max(abs(a), abs(b)):

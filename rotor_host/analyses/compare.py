@@ -281,12 +281,12 @@ def scene_maps(scene: Scene) -> list[Path]:
 
 def map_variants(paths) -> list[Variant]:
     """One compare variant per force map file, labelled with its resolution and truth grid."""
-    from bearing_fmu.internals.forcemap import load_map
+    from bearing_fmu.internals.mapfile import load_any_map
 
     out = []
     for path in paths:
-        t = load_map(path)
-        out.append(Variant(f"map {t.n_eps}x{t.n_beta} (Reynolds {t.n_theta}x{t.n_x})", "map",
+        t = load_any_map(path)
+        out.append(Variant(f"map {'x'.join(str(n) for n in t.H.shape[:-1])} (Reynolds {t.n_theta}x{t.n_x})", "map",
                            {"map": {"map": Path(path).resolve()}}))
     return out
 

@@ -12,6 +12,14 @@ status is an ``FMUError`` that stops the run, as is an FMU that cannot be instan
 error quotes the FMU's own log lines: fmpy says only "Failed to instantiate model"). Every
 instance is freed on success and on error (use ``FMUBearings`` as a context manager or call ``close``).
 
+An FMU that declares itself memoryless (a vendor annotation in its model description,
+``bearing_fmu.fmu.meta.memoryless_annotation``, written by the native build for the map and
+linear internals; not with the thermal model on) has no state worth restoring: for it the
+iteration is setReal, doStep, getReal with no FMU state saved or restored, which gives the same
+outputs, and the integrator's compiled loop makes these calls itself (``compiled``,
+``rotor_host.coupling.fmu_kernel``). Any other FMU (a foreign one, the Python FMU, a native
+Taylor or Reynolds FMU) keeps the save and restore, in Python.
+
 A pythonfmu FMU runs its slave in this interpreter: a Ctrl-C raised inside it would come back
 as an FMI error, so signals are held while an FMU call runs (``bearing_fmu.io.exits.deferred``)
 and raised as ``Interrupted`` right after it.
@@ -19,6 +27,7 @@ and raised as ``Interrupted`` right after it.
 
 from __future__ import annotations
 
+import atexit
 import ctypes
 import shutil
 import tempfile
@@ -29,12 +38,45 @@ import numpy as np
 from bearing_fmu.io.exits import deferred, enter_deferred, leave_deferred
 
 from .bearings import BearingSet
+from .fmu_kernel import fmu_force
 
 # what the host reads from every bearing FMU, in this order
 _OUT = ("Fy", "Fz", "Kyy", "Kyz", "Kzy", "Kzz", "Cyy", "Cyz", "Czy", "Czz", "eccentricity")
 _IN = ("y", "z", "vy", "vz", "omega")
 _STATIC_PROBE_S = 1e-9  # doStep length of a static evaluation [s], never committed
 _FMI_STATUS = ("ok", "warning", "discard", "error", "fatal", "pending")
+
+
+_EXTRACTED: dict[tuple, str] = {}  # (FMU file, modification time, size) -> its extraction
+
+
+def extracted(fmu_path: Path) -> str:
+    """The folder of the FMU extracted, once per process while the file is unchanged: a sweep's
+    worker (or a script's loop) instantiates the same FMU for run after run, and extracting it
+    and the slave reading its resources afresh each time cost ~0.1-0.3 s per run. The folders
+    are removed when the process exits (``remove_extracted``)."""
+    st = fmu_path.stat()
+    key = (str(fmu_path.resolve()), st.st_mtime_ns, st.st_size)
+    folder = _EXTRACTED.get(key)
+    if folder is None or not Path(folder).is_dir():
+        from fmpy import extract
+
+        folder = tempfile.mkdtemp(prefix="bearing_fmu_")
+        try:
+            extract(str(fmu_path), folder)
+        except BaseException:
+            shutil.rmtree(folder, ignore_errors=True)
+            raise
+        if not _EXTRACTED:
+            atexit.register(remove_extracted)
+        _EXTRACTED[key] = folder
+    return folder
+
+
+def remove_extracted() -> None:
+    """Remove every FMU extraction of this process (at its exit; the instances are freed by then)."""
+    while _EXTRACTED:
+        shutil.rmtree(_EXTRACTED.popitem()[1], ignore_errors=True)
 
 
 class FMUError(RuntimeError):
@@ -58,7 +100,7 @@ class FMUBearings(BearingSet):
     def __init__(self, fmu_path, bearing_dofs, omega: float, parameters, names=None,
                  start_time: float = 0.0, log=None, tangent: str = "bearing"):
         super().__init__(bearing_dofs, omega, names, tangent)
-        from fmpy import calloc, extract, free, read_model_description
+        from fmpy import calloc, free, read_model_description
         from fmpy.fmi2 import (FMU2Slave, fmi2CallbackAllocateMemoryTYPE, fmi2CallbackFreeMemoryTYPE,
                                fmi2CallbackFunctions, fmi2CallbackLoggerTYPE)
 
@@ -72,12 +114,15 @@ class FMUBearings(BearingSet):
             raise FileNotFoundError(f"bearing FMU {self.fmu_path} not found; build it with `bearing-fmu build -o PATH.fmu`")
         self.log = log  # optional callable(str) for every FMU log line
         self.messages: list[list[str]] = [[] for _ in range(self.n)]
-        self._unzip = tempfile.mkdtemp(prefix="bearing_fmu_")
+        self._unzip = None
         self.instances = []
         self._states = [None] * self.n
         self._static = False
         self._h = 0.0
         self._fresh = [False] * self.n
+        self.memoryless = False  # set below: the FMU declares no state worth restoring
+        self._clock = np.zeros(2)  # (t, h) of the step, read by the compiled kernels
+        self._kernels = None
         self._initialised = set()  # instances past exitInitializationMode: only those are terminated (FMI 2.0)
         try:
             md = read_model_description(str(self.fmu_path))
@@ -85,7 +130,7 @@ class FMUBearings(BearingSet):
             missing = [n for n in _IN + _OUT if n not in self._vars]
             if missing:
                 raise FMUError(f"{self.fmu_path.name} lacks the variable(s) {', '.join(missing)}: not a bearing FMU?")
-            extract(str(self.fmu_path), self._unzip)
+            self._unzip = extracted(self.fmu_path)
 
             def make_logger(k):
                 def logger(component, instance_name, status, category, message):
@@ -142,9 +187,43 @@ class FMUBearings(BearingSet):
             self._f_view = self._out[0:2]
             self._dq_view = self._out[2:6].reshape(2, 2)
             self._dv_view = self._out[6:10].reshape(2, 2)
+            self.memoryless = self._declared_memoryless(parameters)
         except BaseException:
             self.close()
             raise
+
+    def _declared_memoryless(self, parameters) -> bool:
+        """Whether every instance, as set up by ``parameters``, has no state worth restoring: the
+        model description declares the chosen internal memoryless and none of the Boolean
+        parameters it names in ``unless`` is true (``bearing_fmu.fmu.meta.memoryless_declaration``)."""
+        from bearing_fmu.fmu.meta import memoryless_declaration
+
+        declared = memoryless_declaration((Path(self._unzip) / "modelDescription.xml").read_bytes())
+        if declared is None:
+            return False
+        internals, unless = declared
+        for k, p in enumerate(parameters):
+            if self._internal_chosen(k, p) not in internals:
+                return False
+            for name in unless:
+                var = self._vars.get(name)
+                value = p.get(name, var.start if var is not None else None)
+                if str(value).strip().lower() in ("true", "1", "1.0"):
+                    return False
+        return True
+
+    def _internal_chosen(self, k, p) -> str:
+        """The internal bearing k computes: the parameter ``internal`` as set (else its start),
+        a String, or an enumeration's number or item name."""
+        var = self._vars.get("internal")
+        if var is None:
+            return ""
+        value = p.get("internal", var.start)
+        if var.type == "Enumeration":
+            number = self._enum_value(k, var, value) if isinstance(value, str) and not value.strip().isdigit() \
+                else int(value)
+            return next((i.name.lower() for i in var.declaredType.items if int(i.value) == number), "")
+        return str(value).strip().lower()
 
     def _instantiate_failed(self, k: int, exc: Exception) -> str:
         """Why fmi2Instantiate returned no instance: the FMU's own log lines of it (the logger got
@@ -189,6 +268,8 @@ class FMUBearings(BearingSet):
         # positive step, so probe with a tiny one and never commit it (accept restores t)
         self._static = dt == 0.0
         self._h = _STATIC_PROBE_S if self._static else self.dt
+        if self.memoryless:  # nothing to save: every iterate is setReal, doStep, getReal
+            return
         with deferred():
             for k, fmu in enumerate(self.instances):
                 c, dll = fmu.component, fmu.dll
@@ -207,7 +288,7 @@ class FMUBearings(BearingSet):
         c, dll = fmu.component, fmu.dll
         enter_deferred()  # a signal waits until the FMU has returned (module docstring)
         try:
-            if self._fresh[k]:  # the instance still is in the state just saved: no restore needed
+            if self._fresh[k] or self.memoryless:  # the instance is in the state saved, or has none
                 self._fresh[k] = False
             else:
                 self._check(k, "fmi2SetFMUstate", dll.fmi2SetFMUstate(c, self._states[k]))
@@ -231,6 +312,21 @@ class FMUBearings(BearingSet):
         if not self.with_jacobian:
             return self._f_view, None, None
         return self._f_view, self._dq_view, self._dv_view
+
+    def compiled(self):
+        """(forces, omega, clock) for the integrator's compiled loop: each instance's setReal,
+        doStep, getReal as a compiled kernel (``fmu_kernel.fmu_force``), when the FMU is
+        memoryless (no state to save and restore) and each bearing's own tangent is used at a
+        constant speed; else None (the Python driver)."""
+        if not self.memoryless or self.speed is not None or self.tangent != "bearing" or not self.with_jacobian:
+            return None
+        if self._kernels is None:
+            vr_in = [self._vars[n].valueReference for n in _IN]
+            vr_out = [self._vars[n].valueReference for n in _OUT]
+            self._kernels = tuple(fmu_force(fmu.dll, fmu.component.value if hasattr(fmu.component, "value")
+                                            else fmu.component, vr_in, vr_out, self._clock, self.max_eccentricity, k)
+                                  for k, fmu in enumerate(self.instances))
+        return self._kernels, self.omega, self._clock
 
     @staticmethod
     def _status_name(status: int) -> str:
@@ -265,8 +361,8 @@ class FMUBearings(BearingSet):
                     self._states[k] = None
 
     def close(self) -> None:
-        """Terminate and free every instance and remove the extracted FMU (idempotent; a second
-        Ctrl-C waits until this is done)."""
+        """Terminate and free every instance (idempotent; a second Ctrl-C waits until this is
+        done). The extracted FMU stays for this process's next run of it (``extracted``)."""
         with deferred():
             self._close()
 
@@ -285,6 +381,4 @@ class FMUBearings(BearingSet):
             except Exception:  # noqa: BLE001
                 pass
         self.instances = []
-        if getattr(self, "_unzip", None):
-            shutil.rmtree(self._unzip, ignore_errors=True)
-            self._unzip = None
+        self._unzip = None  # the extraction stays for this process's next run of the FMU (``extracted``)

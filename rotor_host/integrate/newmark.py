@@ -39,7 +39,8 @@ The inner linear algebra is compiled with numba (``rotor_host.integrate.newmark_
 Two drivers run the same kernels. The compiled one (``rotor_host.integrate.newmark_loop``)
 runs whole chunks of steps in one numba call, Newton iterations and force evaluations
 included, when the nonlinear force offers compiled kernels (``NodalForce.compiled``: the
-bearing internals that have one, through the internals' registry) and the external force is
+bearing internals that have one, through the internals' registry, and memoryless native
+bearing FMUs, ``rotor_host.coupling.fmu_kernel``) and the external force is
 a constant or a ``RotatingLoads``; Python handles, between chunks, the recording, progress
 (checkpoints, interrupts) and any step the compiled loop gives back (a rejected state, a
 Newton failure, a step to cut), which it redoes from the same state. The Python driver does

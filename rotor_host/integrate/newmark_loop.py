@@ -20,6 +20,7 @@ import numpy as np
 from numba import njit
 
 from bearing_fmu.internals.compiled import OUT_SIZE, address, advance, kernel_at
+from bearing_fmu.io.exits import enter_deferred, leave_deferred
 
 from .loads import rotating_loads
 from .newmark_kernels import Q0, Q1, k_accept, k_begin, k_iter
@@ -75,11 +76,13 @@ def _forces(kaddr, data, doff, omega, qP, vP, out, f, Jq, Jv):
 
 
 @njit(cache=True)
-def run_chunk(kaddr, data, doff, omega, k0, k1, X, MDK, SB, W, MB, dofs, cs, V, Pm, AJ,
+def run_chunk(kaddr, data, doff, omega, clock, k0, k1, X, MDK, SB, W, MB, dofs, cs, V, Pm, AJ,
               loads_static, loads_idx, loads_par, fe0, fe1, f0, f, Jq, Jv, Z, Jsave, out, cfg, cnt,
               iters, rec, rec_every, out_t, out_q, out_v, out_f):
     """Steps k0 .. k1 - 1 of the run (t = t0 + k dt) at the full step dt. Returns the index of
-    the first step not done (k1 when all were); cnt[CNT_WHY] says why it stopped early."""
+    the first step not done (k1 when all were); cnt[CNT_WHY] says why it stopped early. clock
+    (t, h) is the step's start and size, written at each step for kernels that read it (a
+    bearing FMU's doStep: ``rotor_host.coupling.fmu_kernel``)."""
     rtol_f, rtol_q, atol_q = cfg[0], cfg[1], cfg[2]
     max_iter = int(cfg[3])
     alpha, t0, dt = cfg[4], cfg[5], cfg[6]
@@ -90,6 +93,8 @@ def run_chunk(kaddr, data, doff, omega, k0, k1, X, MDK, SB, W, MB, dofs, cs, V, 
     cnt[CNT_WHY] = 0
     for k in range(k0, k1):
         t_b = t0 + (k + 1) * dt
+        clock[0] = t0 + k * dt
+        clock[1] = dt
         rotating_loads(loads_static, loads_idx, loads_par, t_b, fe1)
         have_J = cnt[CNT_HAVE_J] != 0
         for i in range(m):  # the predictor's tangent, restored if the step goes back to Python
@@ -154,12 +159,16 @@ def run_chunk(kaddr, data, doff, omega, k0, k1, X, MDK, SB, W, MB, dofs, cs, V, 
 class ChunkDriver:
     """The compiled driver's side of a run of ``integ`` (a ``newmark.Newmark``): its buffers,
     and the state handed to and from ``run_chunk`` (the integrator's run state stays the one
-    record). ``plan`` = (forces, omega) from ``NodalForce.compiled``; ``rec`` the recorded
-    DOFs."""
+    record). ``plan`` = (forces, omega) or (forces, omega, clock) from ``NodalForce.compiled``
+    (clock: the float64 (2,) array the forces read the step's (t, h) from; such forces call
+    foreign code, FMUs, so signals are held while a chunk runs, as the Python driver holds them
+    around each FMU call: ``bearing_fmu.io.exits.deferred``); ``rec`` the recorded DOFs."""
 
     def __init__(self, integ, plan, n: int, rec):
         self.integ = integ
         forces, self.omega = plan[0], float(plan[1])
+        self.foreign = len(plan) > 2
+        self.clock = plan[2] if self.foreign else np.zeros(2)
         self.forces = forces  # keeps the kernels and their data alive while their addresses are used
         self.kaddr = np.array([cf.address for cf in forces], dtype=np.int64)
         self.data = np.ascontiguousarray(np.concatenate([cf.data for cf in forces]), dtype=np.float64)
@@ -181,10 +190,22 @@ class ChunkDriver:
         cnt[:] = (st.steps_done, st.n_eval, st.n_rec, int(st.have_J), 0)
         loads = integ._loads
         n_eval = st.n_eval
-        k = run_chunk(self.kaddr, self.data, self.doff, self.omega, k0, k1, st.X, ops.MDK, ops.SB, ops.W, integ.MB,
-                      integ.dofs, ops.cs, st.V, st.Pm, st.AJ, loads.f_static, loads.idx, loads.par, st.fe0, b.fe1,
-                      b.f0, b.f, b.Jq, b.Jv, b.Z, b.Jsave, b.out, b.cfg, cnt, st.iters, self.rec, st.record_every,
-                      st.out_t, st.out_q, st.out_v, st.out_f)
+        if self.foreign:
+            enter_deferred()
+        try:
+            k = run_chunk(self.kaddr, self.data, self.doff, self.omega, self.clock, k0, k1, st.X, ops.MDK, ops.SB,
+                          ops.W, integ.MB, integ.dofs, ops.cs, st.V, st.Pm, st.AJ, loads.f_static, loads.idx,
+                          loads.par, st.fe0, b.fe1, b.f0, b.f, b.Jq, b.Jv, b.Z, b.Jsave, b.out, b.cfg, cnt, st.iters,
+                          self.rec, st.record_every, st.out_t, st.out_q, st.out_v, st.out_f)
+            self._kept(k0, k, n_eval)
+        finally:
+            if self.foreign:
+                leave_deferred()  # a signal held meanwhile is raised here, the steps done kept
+        return k
+
+    def _kept(self, k0: int, k: int, n_eval: int) -> None:
+        """The run state after a chunk that did steps k0 .. k - 1."""
+        st, b, cnt = self.integ._state, self.b, self.b.cnt
         if k > k0:
             st.steps_done, st.n_eval, st.n_rec = int(cnt[CNT_STEPS]), int(cnt[CNT_EVAL]), int(cnt[CNT_REC])
             st.have_J = bool(cnt[CNT_HAVE_J])
@@ -196,4 +217,3 @@ class ChunkDriver:
             for cf in self.forces:
                 if cf.sync is not None:
                     cf.sync(kept)
-        return k

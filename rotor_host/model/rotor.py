@@ -20,7 +20,6 @@ from pathlib import Path
 from typing import Iterable, Mapping, Sequence
 
 import numpy as np
-import scipy.linalg
 
 from bearing_fmu.io.schema import FileName, Key, List, Number, Table, Tables, Text, check_table, read_toml
 from bearing_fmu.physics.params import BearingParams
@@ -345,6 +344,8 @@ class Rotor:
         K = self.K + self.bearing_matrix([np.eye(2) * k for k in kb]) if len(kb) else self.K
         tol = _zero_tol(self.M, K)
         if speed == 0.0:
+            import scipy.linalg  # here: a scene or a --help that never asks for modes skips scipy
+
             w = np.sqrt(np.clip(scipy.linalg.eigh(K, self.M, eigvals_only=True), 0.0, None))
             w[w < tol] = 0.0
             return w[:n] / (2.0 * math.pi)

@@ -37,11 +37,14 @@ from xml.etree import ElementTree as ET
 
 from ... import __version__
 from ...physics.params import PAPER_BEARING, BearingParams
-from .codegen import BORE_COMPILED_IN, MODEL_HEADERS, MODEL_SOURCES, NativeModel, assign_identity, internal_sources
+from .codegen import BORE_COMPILED_IN, BORE_FROM_DATA, MODEL_HEADERS, MODEL_SOURCES, NativeModel, assign_identity, internal_sources
 from .compile import (C_FLAGS, NativeBuildError, compile_binaries, find_compiler, fmi_headers,  # noqa: F401
                       parse_platforms)
 
 C_DIR = Path(__file__).resolve().parent / "c"
+# native internals with no state: their FMU's outputs follow its inputs and parameters alone (not
+# reynolds: its solver warm-starts from the previous call's film; not taylor: see model_description)
+MEMORYLESS_INTERNALS = ("map", "linear")
 # the FMI 2.0 layer over the model layer (codegen.MODEL_SOURCES)
 HEADERS2 = (*MODEL_HEADERS, "fmi2_layer.h")
 SOURCES2 = ("fmi2_bearing.c", "fmi2_modes.c", "fmi2_order.c", *MODEL_SOURCES)
@@ -83,7 +86,9 @@ def build_native_fmu(output, internal: str, *, surrogate=None, map=None, bearing
     from .several import parse_internals, several_model
 
     parts = parse_internals(internal)
-    if bearing is not None and any(p not in BORE_COMPILED_IN for p in parts):
+    # a map FMU's bore is its map's (a grooved bore's 3-D map; the codegen checks it against the bearing's)
+    if bearing is not None and any(p not in BORE_COMPILED_IN and not (p in BORE_FROM_DATA and map is not None)
+                                   for p in parts):
         bearing.require_full_bore(f"the native bearing FMU ({bearing_source or 'build_native_fmu'})",
                                   "its parameters are D, L, CR and mu; the geometry parameters are a later step")
     compiler = compiler or ("cmake" if cmake else "zig")
@@ -200,6 +205,12 @@ def model_description(model: NativeModel, record: dict) -> bytes:
                        ("error", "a refused call (a bad value, a call out of the FMI 2.0 calling sequence)")):
         ET.SubElement(cats, "Category", name=name, description=what)
     ET.SubElement(root, "DefaultExperiment", startTime="0.0", stopTime="0.1", stepSize="0.0001")
+    # the internals whose outputs follow the inputs alone (fmu_meta.memoryless_annotation): a master
+    # iterates them without saving and restoring FMU states; the Taylor surrogate is not among them
+    # (its warnings count excursions from the previous call's state, out_of_domain in the FMU state)
+    memoryless = [p for p in model.all_parts if p in MEMORYLESS_INTERNALS]
+    if memoryless:
+        root.append(fmu_meta.memoryless_annotation(memoryless))
     mvars = ET.SubElement(root, "ModelVariables")
     omega_ref = fmu_meta.reference_speed(next(v.start for v in model.variables if v.name == "omega"))
     index = {}

@@ -3,7 +3,10 @@
  * s = -ln(1 - eps) and beta (periodic), F = S r (G_r u + G_t w), S = mu R L (R / CR)^2.
  * The knots and coefficients are model_data.h (MAP_TS, MAP_TB, MAP_C); this file is a line-by-line
  * port of map_force, so the force and Jacobian equal the Python internal's to rounding.
- * States at or beyond the table's last eccentricity (MAP_EPS_MAX) are refused. */
+ * States at or beyond the table's last eccentricity (MAP_EPS_MAX) are refused.
+ * A grooved or partial-arc bore's map (MAP_DIMS 3, internals/groovemap.py) adds the journal's
+ * attitude phi as a third, periodic axis (MAP_TP, MAP_NP): G(eps, phi, beta), a port of
+ * map_kernels.map3_force; a full-bore map has MAP_DIMS 2 (or none: files generated before). */
 #include <math.h>
 #include <stdio.h>
 
@@ -12,6 +15,10 @@
 #include "bearing_native.h"
 #include "model_data.h"
 #include "py_mod.h"
+
+#ifndef MAP_DIMS
+#define MAP_DIMS 2
+#endif
 
 /* knot span i (3 <= i <= n - 1) with t[i] <= x < t[i + 1], clamped to the base interval */
 static int span(const double *t, int n, double x) {
@@ -56,6 +63,7 @@ static void basis(const double *t, int i, double x, double N[4], double dN[4]) {
     }
 }
 
+#if MAP_DIMS != 3
 /* out[k] = (value, d/ds, d/dbeta) of the two components */
 static void spline2(double s, double beta, double out[2][3]) {
     const double *ts = MAP_TS, *tb = MAP_TB;
@@ -84,18 +92,74 @@ static void spline2(double s, double beta, double out[2][3]) {
         out[k][2] = vb;
     }
 }
+#endif
 
-/* G = H / (1 - eps)^k and its eps and beta derivatives */
-static void gfun(double eps, double beta, double g[2][3]) {
+#if MAP_DIMS == 3
+/* out[k] = (value, d/ds, d/dphi, d/dbeta): the tensor spline in (s, phi, beta), phi and beta periodic */
+static void spline3(double s, double phi, double beta, double out[2][4]) {
+    const double *ts = MAP_TS, *tp = MAP_TP, *tb = MAP_TB;
+    int ns = MAP_NS, np = MAP_NP, nb = MAP_NB;
+    double p = tp[3] + py_mod(phi - tp[3], tp[np] - tp[3]);
+    double b = tb[3] + py_mod(beta - tb[3], tb[nb] - tb[3]);
+    int i = span(ts, ns, s), j = span(tp, np, p), m = span(tb, nb, b);
+    double Ns[4], dNs[4], Np[4], dNp[4], Nb[4], dNb[4];
+    basis(ts, i, s, Ns, dNs);
+    basis(tp, j, p, Np, dNp);
+    basis(tb, m, b, Nb, dNb);
+    for (int k = 0; k < 2; k++) {
+        double v = 0.0, vs = 0.0, vp = 0.0, vb = 0.0;
+        for (int a = 0; a < 4; a++) {
+            double pv = 0.0, pp = 0.0, pb = 0.0;
+            for (int q = 0; q < 4; q++) {
+                double bv = 0.0, bb = 0.0;
+                for (int r = 0; r < 4; r++) {
+                    double c = MAP_C[(((i - 3 + a) * np + (j - 3 + q)) * nb + (m - 3 + r)) * 2 + k];
+                    bv += Nb[r] * c;
+                    bb += dNb[r] * c;
+                }
+                pv += Np[q] * bv;
+                pp += dNp[q] * bv;
+                pb += Np[q] * bb;
+            }
+            v += Ns[a] * pv;
+            vs += dNs[a] * pv;
+            vp += Ns[a] * pp;
+            vb += Ns[a] * pb;
+        }
+        out[k][0] = v;
+        out[k][1] = vs;
+        out[k][2] = vp;
+        out[k][3] = vb;
+    }
+}
+#endif
+
+/* g[k] = (G, dG/deps, dG/dbeta, dG/dphi) of the radial (k = 0) and tangential parts: a full-bore
+ * map's G = H / (1 - eps)^k does not depend on phi; a grooved bore's has no wall factor */
+static void gfun(double eps, double phi, double beta, double g[2][4]) {
     double s = -log1p(-eps);
-    spline2(s, beta, g);
+#if MAP_DIMS == 3
+    double o[2][4];
+    spline3(s, phi, beta, o);
+    for (int k = 0; k < 2; k++) {
+        g[k][0] = o[k][0];
+        g[k][1] = o[k][1] * exp(s);
+        g[k][2] = o[k][3];
+        g[k][3] = o[k][2];
+    }
+#else
+    (void)phi;
+    double o[2][3];
+    spline2(s, beta, o);
     double grow = exp(MAP_WALL_EXPONENT * s), dsde = exp(s);
     for (int k = 0; k < 2; k++) {
-        double h = g[k][0], hs = g[k][1], hb = g[k][2];
+        double h = o[k][0], hs = o[k][1], hb = o[k][2];
         g[k][0] = h * grow;
         g[k][1] = (hs + MAP_WALL_EXPONENT * h) * grow * dsde;
         g[k][2] = hb * grow;
+        g[k][3] = 0.0;
     }
+#endif
 }
 
 int bn_setup(Instance *m) {
@@ -140,11 +204,12 @@ int bn_eval(Instance *m, const double x[5], int want_jac, double F[2], double J[
     double vr = vy * cp + vz * sp, vt = -vy * sp + vz * cp;
     double a = eps_eval * omega - 2.0 * vt / CR, c = 2.0 * vr / CR;
     double r = hypot(a, c);
-    double g[2][3], g2[2][3];
-    double Pr, Pt, Pr_a, Pr_c, Pt_a, Pt_c, Pr_e, Pt_e;
+    double g[2][4], g2[2][4];
+    double Pr, Pt, Pr_a, Pr_c, Pt_a, Pt_c, Pr_e, Pt_e, Pr_p, Pt_p;
+    double phi = atan2(sp, cp); /* the attitude: a grooved bore's G depends on it */
     if (r > 0.0) {
         double beta = atan2(c, a);
-        gfun(eps_eval, beta, g);
+        gfun(eps_eval, phi, beta, g);
         double cb = a / r, sb = c / r;
         Pr = r * g[0][0];
         Pt = r * g[1][0];
@@ -154,14 +219,16 @@ int bn_eval(Instance *m, const double x[5], int want_jac, double F[2], double J[
         Pt_c = sb * g[1][0] + cb * g[1][2];
         Pr_e = r * g[0][1];
         Pt_e = r * g[1][1];
+        Pr_p = r * g[0][3];
+        Pt_p = r * g[1][3];
     } else { /* no film source: no force; the derivative is the odd part of the directional response */
-        Pr = Pt = Pr_e = Pt_e = 0.0;
-        gfun(eps_eval, 0.0, g);
-        gfun(eps_eval, M_PI, g2);
+        Pr = Pt = Pr_e = Pt_e = Pr_p = Pt_p = 0.0;
+        gfun(eps_eval, phi, 0.0, g);
+        gfun(eps_eval, phi, M_PI, g2);
         Pr_a = 0.5 * (g[0][0] - g2[0][0]);
         Pt_a = 0.5 * (g[1][0] - g2[1][0]);
-        gfun(eps_eval, 0.5 * M_PI, g);
-        gfun(eps_eval, -0.5 * M_PI, g2);
+        gfun(eps_eval, phi, 0.5 * M_PI, g);
+        gfun(eps_eval, phi, -0.5 * M_PI, g2);
         Pr_c = 0.5 * (g[0][0] - g2[0][0]);
         Pt_c = 0.5 * (g[1][0] - g2[1][0]);
     }
@@ -169,8 +236,8 @@ int bn_eval(Instance *m, const double x[5], int want_jac, double F[2], double J[
     F[1] = scale * (Pr * sp + Pt * cp);
     if (!want_jac) return 0;
     double da_dphi = c, dc_dphi = eps_eval * omega - a;
-    double dPr_dphi = Pr_a * da_dphi + Pr_c * dc_dphi;
-    double dPt_dphi = Pt_a * da_dphi + Pt_c * dc_dphi;
+    double dPr_dphi = Pr_a * da_dphi + Pr_c * dc_dphi + Pr_p; /* + the table's own attitude dependence */
+    double dPt_dphi = Pt_a * da_dphi + Pt_c * dc_dphi + Pt_p;
     double dFphi_y = scale * ((dPr_dphi - Pt) * cp - (dPt_dphi + Pr) * sp);
     double dFphi_z = scale * ((dPr_dphi - Pt) * sp + (dPt_dphi + Pr) * cp);
     double dPr_de = Pr_e + Pr_a * omega, dPt_de = Pt_e + Pt_a * omega;
