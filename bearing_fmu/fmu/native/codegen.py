@@ -30,7 +30,7 @@ import numpy as np
 from ...internals import registry
 from ..order import c_defines
 from ..variables import ENUMERATIONS, VARIABLES  # the one table of the FMU interface
-from .portgen import port_config, port_variables
+from .portgen import parts_of, port_config, port_variables
 from ...physics.params import BearingParams
 
 ID_TOKEN, GUID_TOKEN = "BN_MODEL_IDENTIFIER", "{BN-GUID}"  # in model_config.h until assign_identity
@@ -254,12 +254,6 @@ def internal_sources(model: "NativeModel") -> tuple[list[str], list[str]]:
     parts = model.all_parts
     compiled = [f"internal_{p}.c" for p in parts] + (["bn_parts.c"] if len(parts) > 1 else [])
     return compiled, list(dict.fromkeys(f for p in parts for f in INCLUDED_SOURCES.get(p, ())))
-
-
-def parts_of(internal) -> tuple[str, ...]:
-    """The internals of a native model: one name, or a tuple of them (an FMU of several, the first
-    the start value of the parameter internal)."""
-    return (internal,) if isinstance(internal, str) else tuple(internal)
 
 
 def option_names(internal) -> tuple[str, ...]:

@@ -45,12 +45,18 @@ def bore_starts(params: BearingParams) -> dict:
 SEVERAL_WHY = "an FMU of several internals has no thermal model yet: build the reynolds internal alone"
 
 
+def parts_of(internal) -> tuple[str, ...]:
+    """The internals of a native model: one name, or a tuple of them (an FMU of several, the first
+    the start value of the parameter internal)."""
+    return (internal,) if isinstance(internal, str) else tuple(internal)
+
+
 def film_flow(internal) -> tuple[bool, str]:
     """(has the film's flows, why not) of a native model of ``internal`` (a name, or a tuple of the
     names an FMU of several holds): the registry's capability ``film_flow``."""
     from ...internals import registry
 
-    parts = (internal,) if isinstance(internal, str) else tuple(internal)
+    parts = parts_of(internal)
     if len(parts) > 1:
         return False, SEVERAL_WHY
     can = registry.get(parts[0]).can
