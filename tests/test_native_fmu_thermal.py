@@ -311,3 +311,22 @@ def test_compliance_checker_with_thermal_on(thermal_on, interface, tmp_path):
     head = [h.strip('"') for h in rows[0].split(",")]
     T = np.array([float(r.split(",")[head.index("T_eff")]) for r in rows[1:]])
     assert len(rows) >= 100 and T[-1] - T[0] > 0.5
+
+
+@pytest.mark.slow
+def test_model_exchange_thermal_off_t_eff_is_a_known(native3):
+    """thermal = false in Model Exchange: T_eff is the state, holding its start (T_supply at
+    initialisation; der(T_eff) = 0); its directional derivatives along T_eff as a known: itself 1,
+    der(T_eff) and the force 0; along T_supply: T_eff 0 (the state does not follow it)."""
+    path, md = native3[2]
+    vr = {v.name: v.valueReference for v in md.modelVariables}
+    r = Run(path, md, {"T_supply": T_SUPPLY, **dict(zip(IN, trajectory()[3]))}, kind="ME", thermal=False)
+    try:
+        r.f.exitInitializationMode()
+        r.f.enterContinuousTimeMode()
+        assert list(r.get(["T_eff", "der(T_eff)"])) == [T_SUPPLY, 0.0]
+        unknowns = [vr[n] for n in ("T_eff", "der(T_eff)", "Fy")]
+        assert r.f.getDirectionalDerivative(unknowns, [vr["T_eff"]], [1.0]) == [1.0, 0.0, 0.0]
+        assert r.f.getDirectionalDerivative(unknowns, [vr["T_supply"]], [1.0]) == [0.0, 0.0, 0.0]
+    finally:
+        r.close()

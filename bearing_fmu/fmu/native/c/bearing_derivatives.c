@@ -65,8 +65,12 @@ static int jacobian_derivative(Instance *m, const double x[5], const double J[8]
     return 0;
 }
 
+/* Model Exchange after initialisation, a build with the state T_eff: T_eff is the state */
+#define STATE_T_EFF(m) (BN_N_STATES > 0 && BN_IS_ME(m) && (m)->mode != MODE_INIT)
+
 int bn_check_known(const Instance *m, unsigned vr, char *why, size_t n) {
     const char *name = vr < (unsigned)N_REAL ? bn_real_name((int)vr) : "?";
+    if (vr == VR_T_EFF && STATE_T_EFF(m)) return 0; /* the continuous state: a known of Model Exchange */
     if (vr >= (unsigned)N_REAL || bn_is_output_real((int)vr)) {
         snprintf(why, n, "known %s (value reference %u) is not an input or a Real parameter", name, vr);
         return 1;
@@ -152,9 +156,9 @@ int bn_derivative(Instance *m, const double d[N_REAL], int with_kc, double out[N
     return 0;
 }
 
-double bn_thermal_derivative(const double d[N_REAL], int vr) {
+double bn_thermal_derivative(const Instance *m, const double d[N_REAL], int vr) {
     if (vr == VR_DER_T_EFF) return 0.0; /* the thermal model off: T_eff holds */
-    if (vr == VR_T_EFF) return d[VR_T_SUPPLY];
+    if (vr == VR_T_EFF) return STATE_T_EFF(m) ? d[VR_T_EFF] : d[VR_T_SUPPLY];
     if (vr == VR_MU_EFF) return d[VR_MU];
     return 0.0; /* P_loss, Q_side: not computed (0) */
 }
