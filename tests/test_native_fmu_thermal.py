@@ -219,7 +219,8 @@ def python_rate(md, state, T):
 def test_model_exchange_state_and_derivative(native3, version):
     """Model Exchange: T_eff is the one continuous state, starting at the quasi-static film
     temperature (the Co-Simulation start: der(T_eff) ~ 0 there), its derivative the heat balance's
-    rate at the state as set, the force and mu_eff at that temperature (Python's within 1e-12)."""
+    rate at the state as set, the force and mu_eff at that temperature (Python's within 1e-12; measured:
+    der(T_eff) and mu_eff the same bits, the force within 2.2e-16)."""
     from fmpy.fmi3 import FMU3Model
 
     path, md = native3[version]
@@ -264,7 +265,7 @@ def test_model_exchange_state_and_derivative(native3, version):
             want_der, want_mu, want_F = python_rate(md, state, T)
             got = getr([vr[n] for n in ("der(T_eff)", "mu_eff", "T_eff", "Fy", "Fz")])
             assert got[0] == der and got[2] == T
-            assert der == pytest.approx(want_der, rel=1e-9, abs=1e-9 * abs(want_der) + (1e-6 if T == T0 else 0.0))
+            assert der == pytest.approx(want_der, rel=1e-12, abs=1e-9)  # the same bits, measured
             assert got[1] == pytest.approx(want_mu, rel=1e-12)
             assert got[3:] == pytest.approx(want_F, rel=1e-12)
         assert abs(python_rate(md, state, T0)[0]) < 1e-6  # the start is the fixed point
