@@ -86,6 +86,7 @@ OT_API int ot_oil_of(ot_oil *oil, int law, double nu1, double T1, double nu2, do
     return 0;
 }
 
+#if defined(RS_EXPORT) || BN_FILM_FLOW /* the heat balance: only where an internal has the film's flows */
 /* the heat balance's residual at T (thermal.film_temperature's g) */
 typedef struct {
     const ot_oil *oil;
@@ -229,3 +230,4 @@ OT_API int ot_film_temperature(const ot_oil *oil, double mu_ref, double R, doubl
     out[1] = ot_mu(oil, T);
     return 0;
 }
+#endif
