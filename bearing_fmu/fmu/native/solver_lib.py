@@ -1,7 +1,9 @@
-"""The native FMU's Reynolds solver (c/reynolds_solver.c) alone: compiled into a small shared
+"""The native FMU's Reynolds solver (c/reynolds_solver.c, with its film report c/reynolds_film.c)
+and its oil law and film temperature (c/oil_thermal.c) alone: compiled into a small shared
 library with zig (the compiler and flags of the FMU builds, ``compile``) and called through
-ctypes, so that it can be compared with the Python internal (``physics.reynolds.Reynolds``)
-state by state (tests/test_native_reynolds.py, benchmarks/bench_native_reynolds.py).
+ctypes, so that they can be compared with the Python internal (``physics.reynolds.Reynolds``,
+``physics.film``, ``physics.oil``, ``physics.thermal``) state by state (tests/test_native_reynolds.py,
+tests/test_native_film.py, tests/test_native_thermal.py, benchmarks/bench_native_reynolds.py).
 
     lib = solver_library(tmp_dir)
     solver = NativeReynolds(lib, params, n_theta=64, n_x=8, cavitation="reynolds")
