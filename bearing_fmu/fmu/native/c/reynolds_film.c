@@ -4,6 +4,7 @@
  * functions stay static in an FMU); equal to Python's to about 1e-14 relative
  * (tests/test_native_reynolds.py: 1e-12 the tolerance; the sums' order differs). */
 
+#if defined(RS_EXPORT) || BN_FILM_FLOW /* an FMU whose internal offers the film's flows (several: not yet) */
 /* numpy's argmax/argmin: the first of equal values */
 static int rf_first_max(const double *x, int n) {
     int i, k = 0;
@@ -88,3 +89,4 @@ RS_API void rs_film_report(rs_solver *s, double y, double z, double vy, double v
     out[3] = q_in;
     out[4] = q_side;
 }
+#endif
