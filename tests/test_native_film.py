@@ -9,7 +9,6 @@ near zero. The states: tests/test_native_reynolds.py's random ones (closure 0.05
 attitude, velocities up to omega CR).
 """
 
-import math
 
 import numpy as np
 import pytest

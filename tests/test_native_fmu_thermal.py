@@ -18,11 +18,11 @@ import numpy as np
 import pytest
 
 fmpy = pytest.importorskip("fmpy")
-from fmpy.fmi1 import FMICallException  # noqa: E402
-from fmpy.fmi2 import FMU2Model, FMU2Slave  # noqa: E402
-from fmpy.fmi3 import FMU3Slave  # noqa: E402
+from fmpy.fmi1 import FMICallException
+from fmpy.fmi2 import FMU2Model, FMU2Slave
+from fmpy.fmi3 import FMU3Slave
 
-from bearing_fmu.physics.params import BearingParams  # noqa: E402
+from bearing_fmu.physics.params import BearingParams
 
 ROOT = Path(__file__).resolve().parents[1]
 VG46 = ROOT / "models" / "bearing_paper_vg46.toml"
@@ -302,7 +302,7 @@ def test_compliance_checker_with_thermal_on(thermal_on, interface, tmp_path):
     done = subprocess.run(["env", "-i", str(checker / "tools" / "fmu-compliance-checker" / "fmuCheck.linux64"),
                            "-h", "1e-4", "-s", "0.01", "-k", interface, "-i", str(tmp_path / "in.csv"), "-o",
                            str(tmp_path / "out.csv"), "-e", str(log), str(thermal_on)],
-                          capture_output=True, text=True, timeout=300)
+                          capture_output=True, text=True, timeout=300, check=False)
     text = log.read_text()
     summary = text[text.index("FMU check summary:"):]
     assert done.returncode == 0, summary

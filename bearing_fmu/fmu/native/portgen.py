@@ -35,9 +35,7 @@ OIL_REALS = ("oil_nu_1", "oil_T_1", "oil_nu_2", "oil_T_2", "oil_vogel_a", "oil_v
 def bore_starts(params: BearingParams) -> dict:
     """The geometry parameters' values for the bore ``params`` has (every one: the ports' defaults
     where the bore sets none)."""
-    from ..ports import GEOMETRY_ROWS, port_defaults
-
-    from ..ports import OIL_ROWS
+    from ..ports import GEOMETRY_ROWS, OIL_ROWS, port_defaults
 
     return {**{r[0]: r[4] for r in GEOMETRY_ROWS + OIL_ROWS}, **port_defaults(params)}
 
@@ -104,10 +102,9 @@ def port_variables(internal, params: BearingParams, first_real: int, first_int: 
         _n, typ, causality, unit, _start, desc = table[name]
         out.append((name, first_oil + k, typ, causality, float(bore[name]), unit, desc))
     if has_state(internal, params):  # its value reference is C's VR_DER_T_EFF
-        out.append(("der(T_eff)", first_oil + len(OIL_REALS), "Real", "local", 0.0, "K/s",
-                    "the film temperature's rate (Model Exchange: T_eff's derivative, T_eff the continuous state): "
-                    "the heat balance's (T*(T_eff) - T_eff) / t_res with thermal = true, 0 (T_eff holds) with "
-                    "thermal = false"))
+        desc = ("the film temperature's rate (Model Exchange: T_eff's derivative, T_eff the continuous state): the "
+                "heat balance's (T*(T_eff) - T_eff) / t_res with thermal = true, 0 (T_eff holds) with thermal = false")
+        out.append(("der(T_eff)", first_oil + len(OIL_REALS), "Real", "local", 0.0, "K/s", desc))
     return out
 
 

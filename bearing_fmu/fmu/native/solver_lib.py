@@ -28,7 +28,7 @@ HOST_TARGET = "native"  # zig cc -target native: this machine
 SOURCES = ("py_mod.h", "reynolds_solver.h", "reynolds_kernels.c", "reynolds_film.c", "reynolds_solver.c",
            "oil_thermal.h", "oil_thermal.c")
 
-__all__ = ["solver_library", "bore_arrays", "NativeReynolds", "NativeOil"]
+__all__ = ["NativeOil", "NativeReynolds", "bore_arrays", "solver_library"]
 
 
 def solver_library(folder: Path) -> ctypes.CDLL:
