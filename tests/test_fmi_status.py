@@ -340,17 +340,28 @@ def test_initialization_mode_outputs_equal_a_reynolds_step(fmu_instance, raw):
     assert (r.get("Fy"), r.get("Fz")) == ((OK, out["Fy"]), (OK, out["Fz"]))
 
 
-# ----------------------------------------------------------------------------- 6. terminated after a discard
+# ----------------------------------------------------------------------------- 6. no terminated after a discard
 
 @pytest.mark.parametrize("recover", ["restore", "good step"])
-def test_discard_then_recovery_is_not_terminated(raw, recover):
+@pytest.mark.parametrize("refused", ["nan", "speed"])
+def test_discard_then_recovery_is_not_terminated(raw, recover, refused):
+    """A refused state (a non-finite input; a speed outside the linear model's domain, its one
+    speed omega_lin) is fmi2Discard without fmi2Terminated (the patched binary's step-terminated):
+    a retry with another state succeeds. Read through fmpy's FMU2Slave.getBooleanStatus too."""
+    from fmpy.fmi2 import fmi2Terminated
+
     r = raw()
     assert set(r.initialise(**LINEAR).values()) == {OK}
     assert r.step(0.0, 1e-4, STATE) == OK and r.terminated() == 0
     saved = ctypes.c_void_p()
     assert r.call("fmi2GetFMUstate", ctypes.byref(saved)) == OK
-    assert r.step(1e-4, 1e-4, (math.nan, *STATE[1:])) == DISCARD
-    assert r.terminated() == 1  # right after a discard, as pythonfmu says (simulate_fmu stops there)
+    bad = (math.nan, *STATE[1:]) if refused == "nan" else (*STATE[:4], 1.5 * OMEGA)
+    n = len(r.messages)
+    assert r.step(1e-4, 1e-4, bad) == DISCARD
+    assert [s for s, _m in r.messages[n:]] == [DISCARD]  # the reason, logged as a discard
+    assert r.terminated() == 0 and r.fmu.getBooleanStatus(fmi2Terminated) is False  # the master may go on
+    # the same inputs again, unchanged (a master that retries forever, fmpy's simulate_fmu): an error
+    assert r.call("fmi2DoStep", 1e-4, 5e-5, 0) == ERROR and "unchanged" in r.errors(n)[-1]
     if recover == "restore":
         assert r.call("fmi2SetFMUstate", saved) == OK
         assert r.terminated() == 0
@@ -403,6 +414,7 @@ _ECHO = textwrap.dedent("""
         statuses.append(d.fmi2DoStep(c, 0.0, 1e-4, 0))           # OK
         set_("y", math.nan)
         statuses.append(d.fmi2DoStep(c, 1e-4, 1e-4, 0))          # discard
+        set_("z", math.nan)                                      # another refused state (the same again: an error)
         statuses.append(d.fmi2DoStep(c, 1e-4, 1e-4, 0))          # discard again: not printed again
         statuses.append(d.fmi2DoStep(c, 1e-4, 0.0, 0))           # error
         statuses.append(d.fmi2DoStep(c, 1e-4, -1.0, 0))          # error again: not printed again

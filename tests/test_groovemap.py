@@ -131,7 +131,7 @@ def test_the_file_round_trips_and_is_checked(tiny_map, tmp_path):
         p.write_text(json.dumps(bad))
         return p
 
-    for change, words in (({"version": 3}, "version 3, this code reads 1 .* and 2"),
+    for change, words in (({"version": 4}, "version 4, this code reads 1 .* and 2"),
                           ({"extra": 1}, "unknown key.*extra"),
                           ({"H": data["H"][:-1]}, "key 'H' has 767 numbers, n_eps x n_phi x n_beta x 2 = 768"),
                           ({"n_phi": 2}, "key 'n_phi' = 2 must be an integer >= 4"),

@@ -11,8 +11,11 @@ pythonfmu's C++ layer decides every FMI status the Python slave can give (python
 * every other return value (``exit_initialization_mode``, setters) is dropped: fmi2OK.
 
 So fmi2Error, the status FMI 2.0 gives a refused call, cannot be had from Python at all. The
-patches below make a Python exception an fmi2Error that leaves the instance intact, and let a
-good step or a state restore clear the terminated flag. Each one is located through the ELF
+patches below make a Python exception an fmi2Error that leaves the instance intact, and make a
+discarded step fmi2Discard without fmi2Terminated: the slave discards a step only for a state it
+refuses (a non-finite input, the wall, a state too far outside a surrogate's domain), and a retry
+with another state can succeed; where the slave cannot serve a call it raises (fmi2Error, the
+instance intact), so nothing is left that would need fmi2Terminated. Each one is located through the ELF
 symbol and relocation tables and verified byte for byte (original or already patched) before
 anything is written; if one does not match (another pythonfmu build), none of the status
 patches is applied and the slave keeps pythonfmu's statuses (``STATUS_PATCHES``).
@@ -30,7 +33,8 @@ error-status       the exception is thrown with the type ``std::runtime_error`` 
                    ``fatal_error``: fmi2.cpp's ``catch (std::exception&)`` returns fmi2Error
 error-message      its log line reads "fmi2Error from the Python slave [doStep] ... <repr>"
                    on one line (was "Fatal py exception encountered: [doStep] ...\\n<repr>")
-step-terminated    fmi2DoStep: a successful step clears ``wantsToTerminate``
+step-terminated    fmi2DoStep: a discarded step leaves ``wantsToTerminate`` false (was: set,
+                   and never cleared), a successful step clears it
 restore-terminated fmi2SetFMUstate: a successful restore clears ``wantsToTerminate``
 free-once          fmi2FreeInstance frees the logger and the slave (the Python instance with
                    it) and sets their pointers to null, but keeps the 32-byte component: a
@@ -227,16 +231,20 @@ _DOSTEP = bytes.fromhex(
     "4883c440" "5b" "5d" "415c" "c3"
     "0f1f440000"                           # padding
     "f20f100424" "f20f58442408" "31c0" "f20f1103" "ebcf")  # ok: lastSuccessfulTime = t + h, status 0
-_DOSTEP_NEW = (_DOSTEP[:2] + b"\x75\x2b" + _DOSTEP[4:47] + bytes.fromhex(
+# the ok path, moved into the padding, also stores al = 0 into terminated; the discard path stores
+# 0 instead of 1 (the same instruction, its immediate byte): Discard without Terminated
+_DISCARD_AT = _DOSTEP.index(bytes.fromhex("c6430801")) + 3
+_DOSTEP_CLEARS = (_DOSTEP[:2] + b"\x75\x2b" + _DOSTEP[4:47] + bytes.fromhex(
     "f20f100424" "f20f58442408" "31c0" "884308" "f20f1103" "ebd1" "6690"))  # + terminated = al = 0
+_DOSTEP_NEW = _DOSTEP_CLEARS[:_DISCARD_AT] + b"\x00" + _DOSTEP_CLEARS[_DISCARD_AT + 1:]
 
 
 def _step_terminated(elf: _Elf, data: bytes):
     _addr, off, code = _function(elf, data, "fmi2DoStep")
-    for body in (_DOSTEP, _DOSTEP_NEW):
+    for body in (_DOSTEP, _DOSTEP_CLEARS, _DOSTEP_NEW):  # pythonfmu's; this patch's earlier version; this one
         at = code.find(body)
         if at >= 0 and code.find(body, at + 1) < 0:
-            return [(off + at, _DOSTEP, _DOSTEP_NEW)]
+            return [(off + at, body if body != _DOSTEP_NEW else _DOSTEP, _DOSTEP_NEW)]
     raise PatchMismatch("fmi2DoStep has unexpected code")
 
 

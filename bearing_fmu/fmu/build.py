@@ -313,8 +313,8 @@ def _postprocess(xml_bytes: bytes, pkg: str, bearing: dict | None = None, record
 def patch_linux_binary(data: bytes) -> tuple[bytes, str]:
     """pythonfmu 0.7.0's Linux binary with the bearing FMU's fixes (``fmu_binary``): the
     double release of its interpreter state at process exit, and the FMI statuses (a Python
-    exception gives fmi2Error and keeps the instance; a good step or a restore clears
-    fmi2Terminated). Returns (data, note): "already patched" when every patch was in,
+    exception gives fmi2Error and keeps the instance; a discarded step leaves fmi2Terminated
+    false). Returns (data, note): "already patched" when every patch was in,
     "patched" (plus what was left out, if anything) when the exit fix is in, else why not."""
     from .binary import patch_pythonfmu_binary
 

@@ -281,7 +281,8 @@ def data_file_record(path) -> dict:
 
         m = load_any_map(path)
         rec.update(holds="force map", table=" x ".join(str(n) for n in m.H.shape[:-1]), eps_max=m.eps_max, L_over_D=m.L_over_D,
-                   reynolds=f"{m.n_theta} x {m.n_x} {m.cavitation}", provenance=m.provenance)
+                   reynolds=f"{m.n_theta} x {m.n_x} {m.cavitation}", provenance=m.provenance,
+                   flow_tables=getattr(m, "Q", None) is not None)  # the film's flows: thermal ports (Python FMU)
     return rec
 
 

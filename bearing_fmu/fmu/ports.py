@@ -29,6 +29,7 @@ from __future__ import annotations
 
 import math
 
+from ..internals import registry
 from ..physics.geometry import FULL_BORE, MAX_LOBES, MAX_SUPPLY_KPA, Geometry
 from ..physics.oil import DEFAULT_DENSITY, DEFAULT_HEAT_CAPACITY, DEFAULT_RANGE_C, KELVIN, Oil
 
@@ -188,17 +189,19 @@ def port_defaults(params) -> dict:
     return out
 
 
-def check_thermal(thermal: bool, oil: Oil | None, spec) -> None:
+def check_thermal(thermal: bool, oil: Oil | None, spec, internal=None) -> None:
     """ValueError naming ``thermal`` when the thermal model cannot run: no oil law, or an internal
-    without the film's flows (``Capabilities.film_flow``)."""
+    without the film's flows (``Capabilities.film_flow``; with the built ``internal``, its own
+    answer: a map file may lack the flow tables)."""
     if not thermal:
         return
     if oil is None:
         raise ValueError("thermal = true needs the oil's viscosity law: set oil_law = 'walther' or 'vogel' with its "
                          "parameters (or build the FMU with --bearing FILE whose [oil] gives them)")
-    if not spec.can.film_flow:
+    why = registry.film_flow_of(spec, internal)
+    if why:
         raise ValueError(f"thermal = true needs the film's friction and flows, which internal = {spec.name!r} does not "
-                         f"have ({spec.can.film_flow_why}); use internal = 'reynolds' or thermal = false")
+                         f"have ({why}); use internal = 'reynolds' or thermal = false")
 
 
 def thermal_state(internal, params, oil: Oil, T_supply: float, state, T_old: float | None, dt: float):

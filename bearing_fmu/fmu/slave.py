@@ -20,7 +20,8 @@ fmi2Fatal with the instance released. The build patches pythonfmu's binary
 * a state the internal cannot evaluate (journal at the wall, a non-finite input) discards
   the step: ``do_step`` logs why (status Discard) and returns False; the outputs keep their
   last valid values and the instance stays usable (restore a state, set valid inputs, step
-  on). A good step or a restore clears fmi2Terminated (patched binary);
+  on). fmi2Terminated stays false (patched binary: pythonfmu set it at every discard); a
+  doStep again at the same refused inputs raises (a master retrying unchanged would loop);
 * outputs read in Initialization Mode are computed from the inputs and parameters set so far.
 
 Without the patches (``resources/pythonfmu_patches.json`` says which are in; the Windows
@@ -132,6 +133,7 @@ class BearingFMU(Fmi2Slave):
         self._initialized = False  # exit_initialization_mode was called: parameters are fixed
         self._init_error = None
         self._refused = {}  # parameter name -> why its last set was refused (fails the initialisation)
+        self._discarded = None  # the inputs of the last discarded step (None after a good one)
         self._t = 0.0
         self._raises = status_patched(self.resources)  # an exception gives fmi2Error, not fmi2Fatal
         # the logger's layout is known for the binary the patches verified, and only for that one
@@ -304,6 +306,7 @@ class BearingFMU(Fmi2Slave):
         options = {o.name: choices.get(o.name, getattr(self, o.name)) for o in spec.all_options()}
         context = Context(resolve=self._resource_file, warn=self._warn)
         internal = spec.create(params, options, context, where="FMU parameter")
+        ports.check_thermal(self.thermal, oil, spec, internal)  # a map file may lack the flow tables
         self._internal = internal
         self._internal_name = spec.name
         self._jacobian = getattr(internal, "force_and_jacobian", None)
@@ -351,14 +354,21 @@ class BearingFMU(Fmi2Slave):
             return self._fail(refusal("doStep", self._mode)) or False
         if not (0.0 < step_size < _INF and -_INF < current_time < _INF and t < _INF):
             return self._bad_step(current_time, step_size)
+        state = tuple(float(getattr(self, name)).hex() for name in INPUTS)  # T_supply too
+        if state == self._discarded:  # no fmi2Terminated: a master retrying unchanged would loop forever
+            return self._fail(f"doStep: step to t = {t:.10g} s refused: the inputs of the step discarded just before, "
+                              "unchanged (the state is refused again whatever the step size); set other inputs or "
+                              "restore an FMU state") or False
         try:
             self._step_outputs(step_size)
         except BearingStateError as exc:
             self._log(f"{exc} at t = {t:.10g} s", Fmi2Status.discard)
+            self._discarded = state
             return False
         except Exception as exc:  # noqa: BLE001 - a failure of the internal itself, not of the state
             return self._fail(f"doStep: step to t = {t:.10g} s failed in the {self._internal_name} internal: "
                               f"{self._describe(exc)}") or False
+        self._discarded = None
         self._t = t
         return True
 
@@ -464,6 +474,7 @@ class BearingFMU(Fmi2Slave):
             return self._fail(f"setFMUstate: {exc}; the instance keeps its state")
         self._t = t
         self.__dict__.update(zip(_STATE_NAMES, state[2]))
+        self._discarded = None  # a restored state may be stepped with any inputs
 
     # pythonfmu calls these on the class (fmi2SerializedFMUstateSize, fmi2SerializeFMUstate,
     # fmi2DeSerializeFMUstate); a refusal raises (fmi2Error)

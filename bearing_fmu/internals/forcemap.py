@@ -30,11 +30,15 @@ from pathlib import Path
 import numpy as np
 
 from ..io.schema import find_non_finite
+from ..physics.film import FilmReport, reduced_flows, reduced_report
 from ..physics.params import L_OVER_D_RANGE, BearingParams
 from .registry import BearingStateError, check_finite, overflow_error
 
 FORMAT = "bearing-fmu-force-map"
-VERSION = 1
+VERSION = 1  # the force table alone (read still: such a map has no film flows)
+FLOW_VERSION = 3  # with the flow table Q (2 is the grooved map's, groovemap.py)
+NO_FLOWS_WHY = ("the map file {source} has no flow tables (format version 1, built before they were added): "
+                "rebuild it with `bearing-fmu map --bearing FILE -o MAP` to get the film's inflow and side flow")
 # defaults from the resolution study (docs/studies/2026-11-24-forcemap-resolution.md): 96 points in
 # s and k = 0 take the interpolation error near the centre, where a growing 44 Hz whirl spends its
 # first seconds, from 1.4e-3 (48 points, k = 2) to 5e-5; the held-out 44 Hz orbit from 0.059 to 0.002 % CR
@@ -46,7 +50,6 @@ DEFAULT_N_PHASE = 4  # attitudes per table point, spread over one Reynolds cell 
 EPS_MIN = 1e-6  # below: evaluated at EPS_MIN along the same direction (kernel docstring: 1/e in the
 # attitude derivatives would amplify round-off; the shift moves the force by ~1e-6 of S omega)
 LD_RTOL = 1e-9  # a map serves bearings whose L/D equals its own to this relative tolerance
-
 
 # the map reduces the force to F = r G(eps, beta): true for the circular full bore only (a groove,
 # an arc or a lobe fixes directions in the bore, docs/geometry.md)
@@ -111,9 +114,12 @@ class MapTable(TableAxes):
     H: np.ndarray
     provenance: dict = field(default_factory=dict)
     coefficients: tuple | None = field(default=None, repr=False)  # (ts, tb, C) of ``spline``
+    Q: np.ndarray | None = None  # (n_eps, n_beta, 2): (J_s, J_i) of film.reduced_flows, or None
+    flow_coefficients: tuple | None = field(default=None, repr=False)  # (ts, tb, C) of ``flow_spline``
 
     def __post_init__(self):
         self.H = np.asarray(self.H, float)
+        self.Q = None if self.Q is None else np.asarray(self.Q, float)
         problem = self.problem()
         if problem:
             raise ValueError(f"force map table: {problem}")
@@ -127,7 +133,9 @@ class MapTable(TableAxes):
             return problem
         if self.H.ndim != 3 or self.H.shape[2] != 2 or self.H.shape[0] < 4 or self.H.shape[1] < 4:
             return f"key 'H' has shape {self.H.shape}, expected (n_eps >= 4, n_beta >= 4, 2)"
-        return finite_problem(self.H)
+        if self.Q is not None and self.Q.shape != self.H.shape:
+            return f"key 'Q' has shape {self.Q.shape}, expected that of 'H' {self.H.shape}"
+        return finite_problem(self.H) or (None if self.Q is None else finite_problem(self.Q, "Q"))
 
     @property
     def n_eps(self) -> int:
@@ -141,14 +149,20 @@ class MapTable(TableAxes):
         """(ts, tb, C): knots in s and beta and the tensor spline coefficients C (ns, nb, 2);
         stored in the file, so loading needs no scipy (0.6 s of import)."""
         if self.coefficients is None:
-            self.coefficients = self._fit_spline()
+            self.coefficients = self._fit_spline(self.H)
         return self.coefficients
 
-    def _fit_spline(self):
+    def flow_spline(self):
+        """(ts, tb, C) of the flow table Q, as ``spline`` of H (None without flow tables)."""
+        if self.flow_coefficients is None and self.Q is not None:
+            self.flow_coefficients = self._fit_spline(self.Q)
+        return self.flow_coefficients
+
+    def _fit_spline(self, H):
         from scipy.interpolate import make_interp_spline
 
         s, beta = self.s, self.beta
-        along_s = make_interp_spline(s, self.H, k=3, axis=0)  # not-a-knot
+        along_s = make_interp_spline(s, H, k=3, axis=0)  # not-a-knot
         wrapped = np.concatenate([along_s.c, along_s.c[:, :1]], axis=1)  # periodic: first column again
         along_b = make_interp_spline(np.append(beta, math.pi), wrapped, k=3, axis=1, bc_type="periodic")
         # scipy keeps a BSpline's coefficients with the interpolation axis first: put beta back second
@@ -156,7 +170,12 @@ class MapTable(TableAxes):
                 np.ascontiguousarray(np.moveaxis(along_b.c, 0, 1)))
 
     def to_dict(self) -> dict:
-        return {"format": FORMAT, "version": VERSION, "L_over_D": self.L_over_D,
+        flows = {} if self.Q is None else {
+            "flow_meaning": "Q[i][j] = (J_s, J_i): side flow r R L CR J_s, inflow |omega R L CR (1 + eps) / 2 - r R L CR J_i|",
+            "Q": np.round(self.Q, 12).tolist(),
+            "flow_spline": dict(zip(("knots_s", "knots_beta", "coefficients"),
+                                    (a.tolist() for a in self.flow_spline())))}
+        return {"format": FORMAT, "version": VERSION if self.Q is None else FLOW_VERSION, "L_over_D": self.L_over_D,
                 "reynolds": {"n_theta": self.n_theta, "n_x": self.n_x, "cavitation": self.cavitation},
                 "eps_max": self.eps_max, "wall_exponent": self.wall_exponent,
                 "n_eps": self.n_eps, "n_beta": self.n_beta,
@@ -164,7 +183,7 @@ class MapTable(TableAxes):
                 "meaning": "H[i][j] = (G_r, G_t) (1 - eps_i)^wall_exponent; F = mu R L (R/CR)^2 r (G_r u + G_t w)",
                 "H": np.round(self.H, 12).tolist(),
                 "spline": dict(zip(("knots_s", "knots_beta", "coefficients"), (a.tolist() for a in self.spline()))),
-                "provenance": self.provenance}
+                "provenance": self.provenance, **flows}
 
 
 def header_problem(t) -> str | None:
@@ -186,28 +205,29 @@ def header_problem(t) -> str | None:
     return None
 
 
-def finite_problem(H: np.ndarray) -> str | None:
-    """The first non-finite entry of a table H, named, or None."""
+def finite_problem(H: np.ndarray, key: str = "H") -> str | None:
+    """The first non-finite entry of a table H (file key ``key``), named, or None."""
     if not np.all(np.isfinite(H)):
         i = tuple(int(k) for k in np.argwhere(~np.isfinite(H))[0])
-        return f"key 'H' has a non-finite entry H{list(i)} = {float(H[i])!r}, expected finite numbers"
+        return f"key '{key}' has a non-finite entry {key}{list(i)} = {float(H[i])!r}, expected finite numbers"
     return None
 
 
 def tabulate(params: BearingParams, *, n_eps: int = DEFAULT_N_EPS, n_beta: int = DEFAULT_N_BETA,
              eps_max: float = DEFAULT_EPS_MAX, wall_exponent: float = DEFAULT_WALL_EXPONENT,
              n_theta: int | None = None, n_x: int | None = None, cavitation: str = "reynolds",
-             n_phase: int = DEFAULT_N_PHASE, workers: int = 1, progress=None) -> MapTable:
+             n_phase: int = DEFAULT_N_PHASE, workers: int = 1, progress=None, flows: bool = True) -> MapTable:
     """The map of ``params``' L/D from the Reynolds internal on the given grid: one solve per
     table point at r = 1, omega = 1 rad/s, the journal straight below the centre (phi = -90 deg).
-    ``workers`` > 1 splits the eps rows over processes; ``progress(n_done)`` per row."""
+    ``workers`` > 1 splits the eps rows over processes; ``progress(n_done)`` per row. ``flows``: the
+    flow table Q too (one more solve per point), else the force alone (a version 1 map)."""
     from ..physics.reynolds import Reynolds
 
     params.require_full_bore("a force map", REDUCTION_WHY)
     rey = Reynolds(params, n_theta, n_x, cavitation)
     t0 = time.perf_counter()
     table = MapTable(params.L / params.D, rey.n_theta, rey.n_x, rey.cavitation, eps_max, wall_exponent,
-                     np.zeros((n_eps, n_beta, 2)))
+                     np.zeros((n_eps, n_beta, 2)), Q=np.zeros((n_eps, n_beta, 2)) if flows else None)
     done = 0
     try:
         if workers > 1:
@@ -215,11 +235,13 @@ def tabulate(params: BearingParams, *, n_eps: int = DEFAULT_N_EPS, n_beta: int =
             from functools import partial
 
             task = partial(_row, params, rey.n_theta, rey.n_x, rey.cavitation, betas=table.beta,
-                           wall_exponent=wall_exponent, n_phase=n_phase)
+                           wall_exponent=wall_exponent, n_phase=n_phase, flows=flows)
             pool = multiprocessing.Pool(workers, initializer=worker_signals)
             try:
-                for done, h in enumerate(pool.imap(task, table.eps), 1):
+                for done, (h, q) in enumerate(pool.imap(task, table.eps), 1):
                     table.H[done - 1] = h
+                    if flows:
+                        table.Q[done - 1] = q
                     if progress is not None:
                         progress(done)
                 pool.close()
@@ -228,8 +250,11 @@ def tabulate(params: BearingParams, *, n_eps: int = DEFAULT_N_EPS, n_beta: int =
                 pool.join()
         else:
             for i, e in enumerate(table.eps):
-                table.H[i] = _row(params, rey.n_theta, rey.n_x, rey.cavitation, e, table.beta, wall_exponent,
-                                  n_phase, rey)
+                h, q = _row(params, rey.n_theta, rey.n_x, rey.cavitation, e, table.beta, wall_exponent, n_phase, rey,
+                            flows)
+                table.H[i] = h
+                if flows:
+                    table.Q[i] = q
                 done = i + 1
                 if progress is not None:
                     progress(done)
@@ -237,7 +262,9 @@ def tabulate(params: BearingParams, *, n_eps: int = DEFAULT_N_EPS, n_beta: int =
         exc.map_rows_done = done  # the command says how far it got (a map is written only whole)
         raise
     _centre_row(table)
-    table.provenance = {"built_s": round(time.perf_counter() - t0, 3), "solves": n_eps * n_beta * n_phase,
+    if flows:  # the centre's side flow: the uniform film turns with the source
+        table.Q[0, :, 0] = np.mean(table.Q[0, :, 0])
+    table.provenance = {"built_s": round(time.perf_counter() - t0, 3), "solves": (1 + flows) * n_eps * n_beta * n_phase,
                         "n_phase": n_phase,
                         "truth": repr(rey), "date": time.strftime("%Y-%m-%dT%H:%M:%S%z")}
     return table
@@ -264,14 +291,17 @@ def _centre_row(table: MapTable) -> None:
     table.H[0, :, 1] = s * g[0] + c * g[1]
 
 
-def _row(params, n_theta, n_x, cavitation, eps, betas, wall_exponent, n_phase, rey=None) -> np.ndarray:
-    """H at one eps for every beta (a process-pool task when ``rey`` is None)."""
+def _row(params, n_theta, n_x, cavitation, eps, betas, wall_exponent, n_phase, rey=None, flows=True):
+    """(H, Q) at one eps for every beta (a process-pool task when ``rey`` is None). Q from the
+    solver's film reports at omega = 1 and 2 rad/s (``film.reduced_flows``; at the centre at
+    EPS_MIN, where the line of thickest film has the journal's direction)."""
     if rey is None:
         from ..physics.reynolds import Reynolds
 
         rey = Reynolds(params, n_theta, n_x, cavitation)
     S = scale(params)
-    out = np.zeros((len(betas), 2))
+    out, Q = np.zeros((len(betas), 2)), np.zeros((len(betas), 2))
+    eps_flow = max(eps, EPS_MIN)
     # the solver's grid is fixed to the bearing: the same (eps, beta) at another attitude
     # differs by its discretisation (up to a few 1e-3 near the wall, docs/forcemap.md);
     # averaging over attitudes spread across one cell tabulates the grid-independent part
@@ -283,7 +313,10 @@ def _row(params, n_theta, n_x, cavitation, eps, betas, wall_exponent, n_phase, r
             y, z, vy, vz = state_for(eps, b, params, phi)
             F = np.array(rey.force(y, z, vy, vz, 1.0))
             out[j] += (F @ u / S, F @ w / S)
-    return out / n_phase * (1.0 - eps) ** wall_exponent
+            if flows:
+                Q[j] += reduced_flows(params, eps_flow, 1.0, {
+                    om: rey.film_report(*state_for(eps_flow, b, params, phi, omega=om), om) for om in (1.0, 2.0)})
+    return out / n_phase * (1.0 - eps) ** wall_exponent, Q / n_phase
 
 
 # ------------------------------------------------------------------------------- files
@@ -296,6 +329,7 @@ def save_map(table: MapTable, path) -> Path:
 
 MAP_KEYS = ("format", "version", "L_over_D", "reynolds", "eps_max", "wall_exponent", "n_eps", "n_beta", "grid",
             "meaning", "H", "spline", "provenance")  # what save_map writes; the loader refuses others
+FLOW_KEYS = ("flow_meaning", "Q", "flow_spline")  # and these in a version 3 file
 SPLINE_RTOL = 1e-10  # the stored spline must give back the table at its points to this, relative to max |H|
 
 
@@ -332,9 +366,10 @@ def _read_map(path: Path) -> MapTable:
                          f"column {exc.colno}); truncated?") from None
     if not isinstance(data, dict) or data.get("format") != FORMAT:
         raise ValueError(f"force map file {path}: 'format' is not {FORMAT!r}: not a force map")
-    if data.get("version") != VERSION:
-        raise ValueError(f"force map file {path}: version {data.get('version')!r}, this code reads {VERSION}")
-    unknown = sorted(set(data) - set(MAP_KEYS))
+    version = data.get("version")
+    if version not in (VERSION, FLOW_VERSION):
+        raise ValueError(f"force map file {path}: version {version!r}, this code reads {VERSION} and {FLOW_VERSION}")
+    unknown = sorted(set(data) - set(MAP_KEYS + (FLOW_KEYS if version == FLOW_VERSION else ())))
     if unknown:
         raise ValueError(f"force map file {path}: unknown key(s) {', '.join(unknown)}; allowed: {', '.join(MAP_KEYS)}")
     try:
@@ -346,7 +381,7 @@ def _read_map(path: Path) -> MapTable:
                 raise KeyError(f"reynolds.{k}")
         table = MapTable(number_key(data, "L_over_D"), rey["n_theta"], rey["n_x"], rey["cavitation"],
                          number_key(data, "eps_max"), number_key(data, "wall_exponent"), array_key(data, "H"),
-                         data.get("provenance", {}))
+                         data.get("provenance", {}), Q=array_key(data, "Q") if version == FLOW_VERSION else None)
     except KeyError as exc:
         raise ValueError(f"force map file {path}: missing key {exc.args[0]!r}") from None
     except ValueError as exc:
@@ -355,26 +390,32 @@ def _read_map(path: Path) -> MapTable:
         raise ValueError(f"force map file {path}: key 'provenance' must be an object, got {table.provenance!r:.60}")
     # every other number (the arrays were checked by numpy; JSON has no NaN, but Python's reader
     # takes one): a damaged value named by its key before anything shows or uses it
-    bad = find_non_finite({k: v for k, v in data.items() if k not in ("H", "spline")})
+    bad = find_non_finite({k: v for k, v in data.items() if k not in ("H", "spline", "Q", "flow_spline")})
     if bad is not None:
         raise ValueError(f"force map file {path}: key {bad!r} is not a finite number (NaN, Infinity or beyond "
                          "the float range); expected finite numbers only")
     if (table.n_eps, table.n_beta) != (data.get("n_eps"), data.get("n_beta")):
         raise ValueError(f"force map file {path}: table shape {table.H.shape[:2]} differs from n_eps, n_beta = "
                          f"{data.get('n_eps')}, {data.get('n_beta')}")
-    sp = data.get("spline")
-    if sp is not None:  # written by save_map from this table: checked for shape, finiteness and values
+    for key, values in (("spline", table.H), ("flow_spline", table.Q)):
+        sp = data.get(key)
+        if sp is None or values is None:
+            continue
+        # written by save_map from this table: checked for shape, finiteness and values
         try:
             if not isinstance(sp, dict):
                 raise ValueError(f"an object {{knots_s, knots_beta, coefficients}} is expected, got {sp!r:.60}")
             ts, tb, C = (np.ascontiguousarray(array_key(sp, k)) for k in ("knots_s", "knots_beta", "coefficients"))
         except (KeyError, ValueError) as exc:
-            raise ValueError(f"force map file {path}: key 'spline' is incomplete or damaged ({exc})") from None
-        problem = spline_problem(table, ts, tb, C)
+            raise ValueError(f"force map file {path}: key {key!r} is incomplete or damaged ({exc})") from None
+        problem = spline_problem(table, ts, tb, C, values, "Q" if key == "flow_spline" else "H")
         if problem:
-            raise ValueError(f"force map file {path}: key 'spline' {problem}: rebuild the map "
+            raise ValueError(f"force map file {path}: key {key!r} {problem}: rebuild the map "
                              "(`bearing-fmu map --bearing FILE -o MAP`)")
-        table.coefficients = (ts, tb, C)
+        if key == "spline":
+            table.coefficients = (ts, tb, C)
+        else:
+            table.flow_coefficients = (ts, tb, C)
     return table
 
 
@@ -401,10 +442,12 @@ def array_key(data: dict, key: str) -> np.ndarray:
     return a
 
 
-def spline_problem(table: MapTable, ts, tb, C) -> str | None:
+def spline_problem(table: MapTable, ts, tb, C, values=None, key: str = "H") -> str | None:
     """Whether the spline (ts, tb, C) is the interpolant of ``table``: shapes, ordered knots and
     its values at the table points (a spline from another table, or a table edited after the
-    spline was written, would otherwise be evaluated silently: the map serves the spline)."""
+    spline was written, would otherwise be evaluated silently: the map serves the spline).
+    ``values``: the table it interpolates (H, or the flow table Q, file key ``key``)."""
+    values = table.H if values is None else values
     if (C.shape != (table.n_eps, table.n_beta + 3, 2) or ts.shape != (table.n_eps + 4,)
             or tb.shape != (table.n_beta + 7,)):
         return (f"has shapes knots_s {ts.shape}, knots_beta {tb.shape}, coefficients {C.shape}; the table "
@@ -416,9 +459,9 @@ def spline_problem(table: MapTable, ts, tb, C) -> str | None:
     b = tb[3] + np.mod(table.beta - tb[3], tb[nb] - tb[3])  # periodic in beta, as the kernel folds it
     Bs, Bb = bspline_matrix(ts, table.s, C.shape[0]), bspline_matrix(tb, b, nb)
     at_points = Bs @ np.ascontiguousarray(np.moveaxis(C, 2, 0)) @ Bb.T  # (2, n_eps, n_beta)
-    err = float(np.max(np.abs(at_points - np.moveaxis(table.H, 2, 0))))
-    if not err <= SPLINE_RTOL * max(1.0, float(np.max(np.abs(table.H)))):
-        return f"does not reproduce the table 'H' at its points (largest difference {err:.3g})"
+    err = float(np.max(np.abs(at_points - np.moveaxis(values, 2, 0))))
+    if not err <= SPLINE_RTOL * max(1.0, float(np.max(np.abs(values)))):
+        return f"does not reproduce the table '{key}' at its points (largest difference {err:.3g})"
     return None
 
 
@@ -453,6 +496,9 @@ class ForceMap:
     derivatives) for a bearing whose L/D equals the table's. States at or beyond the table's
     last eccentricity (eps_max) are refused like Reynolds refuses the wall."""
 
+    # no flow tables unless __init__ finds them (a subclass with its own table, the grooved map, has none)
+    film_flow_why, _flow = "a grooved or partial-arc map tabulates the force only (docs/forcemap.md)", None
+
     def __init__(self, params: BearingParams, table: MapTable, source: str = ""):
         params.require_full_bore(f"the force map{' ' + source if source else ''}", REDUCTION_WHY)
         ld = params.L / params.D
@@ -472,6 +518,9 @@ class ForceMap:
         self._args = (self._ts, self._tb, self._C, self._ns, self._nb, float(table.wall_exponent), EPS_MIN,
                       self._scale, float(params.CR))
         self._eps_max = float(table.eps_max)
+        # the film's flows (registry capability film_flow, per file): '' when the file has them
+        self.film_flow_why = "" if table.Q is not None else NO_FLOWS_WHY.format(source=source or "(in memory)")
+        self._flow, self._Jq = table.flow_spline(), np.zeros((2, 3))
 
     @classmethod
     def from_file(cls, path, params: BearingParams) -> "ForceMap":
@@ -517,6 +566,20 @@ class ForceMap:
         """(F (2,), dF/dq (2, 2), dF/dv (2, 2)) [N, N/m, N s/m]."""
         self._run(y, z, vy, vz, omega, True)
         return self._F.copy(), self._J[:, :2].copy(), self._J[:, 2:].copy()
+
+    def film_report(self, y: float, z: float, vy: float, vz: float, omega: float) -> FilmReport:
+        """Friction (closed form, from the force) and flows (the file's flow table) of the film, as
+        ``Reynolds.film_report`` (docs/forcemap.md, "The flows"); ValueError without the table."""
+        if self._flow is None:
+            raise ValueError(f"film_report: {self.film_flow_why}")
+        from .map_kernels import spline2
+
+        F = self.force(y, z, vy, vz, omega)
+        eps, _phi, a, c = reduced(float(y), float(z), float(vy), float(vz), float(omega), self.params.CR)
+        e = max(eps, EPS_MIN)  # as the table's centre row (and the force) have it
+        spline2(*self._flow, self._ns, self._nb, -math.log1p(-e), math.atan2(c, a), self._Jq)
+        return reduced_report(self.params, float(y), float(z), float(vy), float(vz), float(omega), F, eps,
+                              math.hypot(a, c), float(self._Jq[0, 0]), float(self._Jq[1, 0]))
 
 
 def refuse_state(params: BearingParams, eps_max: float, y, z, vy, vz, omega, want_jac) -> None:

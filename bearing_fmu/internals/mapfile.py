@@ -1,5 +1,6 @@
-"""Any force map file: the full bore's 2-D table (version 1, ``forcemap``) or a grooved or
-partial-arc bore's 3-D table (version 2, ``groovemap``), and the map internal for either."""
+"""Any force map file: the full bore's 2-D table (version 1; version 3 with its flow tables,
+``forcemap``) or a grooved or partial-arc bore's 3-D table (version 2, ``groovemap``), and the map
+internal for either."""
 
 from __future__ import annotations
 
@@ -7,11 +8,11 @@ import json
 from pathlib import Path
 
 from ..physics.params import BearingParams
-from .forcemap import FORMAT, ForceMap, MapTable, load_map
+from .forcemap import FLOW_VERSION, FORMAT, ForceMap, MapTable, load_map
 from .groovemap import VERSION as GROOVED_VERSION
 from .groovemap import GroovedForceMap, GroovedMapTable, grooved_from_data
 
-VERSIONS = (1, GROOVED_VERSION)
+VERSIONS = (1, GROOVED_VERSION, FLOW_VERSION)
 
 
 def load_any_map(path) -> MapTable | GroovedMapTable:
@@ -24,8 +25,9 @@ def load_any_map(path) -> MapTable | GroovedMapTable:
     if isinstance(data, dict) and data.get("format") == FORMAT and data.get("version") == GROOVED_VERSION:
         return grooved_from_data(path, data)
     if isinstance(data, dict) and data.get("format") == FORMAT and data.get("version") not in VERSIONS:
-        raise ValueError(f"force map file {path}: version {data.get('version')!r}, this code reads 1 (the full "
-                         f"bore's 2-D map) and {GROOVED_VERSION} (a grooved or partial-arc bore's 3-D map)")
+        raise ValueError(f"force map file {path}: version {data.get('version')!r}, this code reads 1 and "
+                         f"{FLOW_VERSION} (the full bore's 2-D map, {FLOW_VERSION} with flow tables) and {GROOVED_VERSION} (a "
+                         "grooved or partial-arc bore's 3-D map)")
     return load_map(path)
 
 

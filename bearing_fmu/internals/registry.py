@@ -310,6 +310,8 @@ class Capabilities:
     film_flow     : has ``film_report(y, z, vy, vz, omega)`` (``physics.film.FilmReport``: friction power,
                     inflow, side flow at any state, its own bore included): what the FMU's thermal ports
                     need (``thermal = true``); False: the FMU refuses them, ``film_flow_why`` says why.
+                    An internal whose data file may lack them (a map file without flow tables) has
+                    film_flow True and says so per instance: ``film_flow_of(spec, internal)``.
     compiled      : has ``compiled_force()``: its force and Jacobian as a compiled kernel and its
                     data (``internals.compiled``), which a host's compiled loop calls with no
                     Python per evaluation (the rotor host's Newmark chunks); an instance may
@@ -467,6 +469,20 @@ def having(**wanted: bool) -> tuple[str, ...]:
     return tuple(n for n, s in REGISTRY.items() if all(getattr(s.can, k) == v for k, v in wanted.items()))
 
 
+def film_flow_of(spec: "InternalSpec", internal=None) -> str:
+    """'' when the internal has the film's flows (``Capabilities.film_flow``), else why not. With the
+    built ``internal`` its own answer counts: a data file may lack the tables (its ``film_flow_why``),
+    or its kind have no ``film_report`` at all (then the capability's ``film_flow_why``)."""
+    lacking = spec.can.film_flow_why or f"the {spec.name} internal has no film report"
+    if not spec.can.film_flow:
+        return lacking
+    if internal is None:
+        return ""
+    if getattr(internal, "film_report", None) is None:
+        return lacking
+    return getattr(internal, "film_flow_why", "")
+
+
 def all_options() -> list[Option]:
     """Every registered option once, in registration order: the FMU's internal parameters."""
     seen: dict[str, Option] = {}
@@ -574,7 +590,9 @@ register(InternalSpec(
     ),
     can=Capabilities(
         any_state=True, native=True, compiled=True,  # the map file records its bore; the internal refuses another one
-        film_flow_why="the map tabulates the force only; the film's inflow and side flow would need their own tables",
+        film_flow=True,  # per file (film_flow_of): a full-bore map with its flow tables (version 3)
+        film_flow_why="a grooved or partial-arc map (version 2) tabulates the force only; the grooves' inflow would "
+                      "need its own table",
         validity="The force map holds the Reynolds force for every speed, load and velocity of bearings with its "
                  "L/D; states beyond its last eccentricity (eps_max) are refused (fmi2Discard)."),
     case="internals.cases:map_case",

@@ -49,7 +49,7 @@ import numpy as np
 
 from .params import BearingParams
 
-__all__ = ["FilmReport", "full_bore_friction", "field_report"]
+__all__ = ["FilmReport", "full_bore_friction", "field_report", "flow_scale", "reduced_flows", "reduced_report"]
 
 
 @dataclass(frozen=True)
@@ -187,3 +187,43 @@ def field_report(params: BearingParams, y: float, z: float, vy: float, vz: float
         q_in = float((1.0 - s) * flux[a] + s * flux[b])
         q_in = abs(q_in)
     return _report(params, tc, tp, F, v, omega, q_in, q_side)
+
+
+# ------------------------------------------------------------------ the force map's reduction
+# (docs/forcemap.md, "The flows"): with the pressure p = 6 mu r (R / CR)^2 Pi(psi, x; eps, beta) and
+# h = CR (1 + eps cos psi), both flows are Q0 = R L CR times a function of the map's coordinates:
+#     side flow  Q_s = r Q0 J_s(eps, beta)
+#     inflow     Q   = | omega Q0 (1 + eps) / 2 - r Q0 J_i(eps, beta) |   (across the thickest line)
+
+def flow_scale(params: BearingParams) -> float:
+    """Q0 = R L CR [m^3]: the map's flow per unit omega or r [1/s]."""
+    return params.R * params.L * params.CR
+
+
+def reduced_flows(params: BearingParams, eps: float, r: float,
+                  at_omega: dict[float, FilmReport]) -> tuple[float, float]:
+    """(J_s, J_i) of a full-bore state from the Reynolds reports at two speeds ``at_omega`` {omega:
+    report} with equal (eps, beta, r) (the same pressure field): the side flow gives J_s; the inflow
+    is |omega Q0 (1 + eps) / 2 - r Q0 J_i|, whose sign each report loses, so J_i is the value both
+    reports agree on: the pair of signs whose difference is the Couette part's. The solver's own
+    Couette part (interpolated between two faces) is solved for with it, so J_i holds the pressure
+    part alone and the map adds the exact Couette part."""
+    q0 = flow_scale(params)
+    (w1, rep1), (w2, rep2) = sorted(at_omega.items())
+    couette = 0.5 * q0 * (1.0 + eps)  # per unit omega
+    q1, q2 = rep1.inflow_m3_s, rep2.inflow_m3_s
+    s1, s2 = min(((a * q1, b * q2) for a in (1.0, -1.0) for b in (1.0, -1.0)),
+                 key=lambda p: abs((p[1] - p[0]) - (w2 - w1) * couette))
+    c_solver = (s2 - s1) / (w2 - w1)
+    j_i = (w1 * c_solver - s1) / (r * q0)
+    return 0.5 * (rep1.side_flow_m3_s + rep2.side_flow_m3_s) / (r * q0), j_i
+
+
+def reduced_report(params: BearingParams, y: float, z: float, vy: float, vz: float, omega: float, F,
+                   eps: float, r: float, j_s: float, j_i: float) -> FilmReport:
+    """The film report of the full bore from the map's force F and its flow functions (J_s, J_i) at
+    (eps, beta): the friction in closed form (``full_bore_friction``), the flows by the reduction."""
+    tc, tp, _power = full_bore_friction(params, y, z, vy, vz, omega, F)
+    q0 = flow_scale(params)
+    q_in = abs(omega * q0 * 0.5 * (1.0 + eps) - r * q0 * j_i)
+    return _report(params, tc, tp, F, (vy, vz), omega, q_in, r * q0 * j_s)

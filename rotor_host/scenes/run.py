@@ -267,10 +267,15 @@ def _thermal_internal(scene: Scene, internal, params, state):
     """One bearing's internal at its film's temperature: lagging the heat balance by the residence
     time from the quasi-static value at its static equilibrium (``LaggedThermal``, the FMU's model)
     when the internal has the film's flows, else held at the static equilibrium's mu_eff (exact for
-    one speed: F ~ mu; ``scene.py`` refuses a run-up then)."""
+    one speed: F ~ mu; ``scene.py`` refuses a run-up for an internal without them by capability, and
+    here one whose file lacks them, e.g. a map file without flow tables)."""
     from bearing_fmu.internals.scaled import LaggedThermal, ViscosityScaled
 
-    if not registry.get(scene.internal).can.film_flow:
+    why = registry.film_flow_of(registry.get(scene.internal), internal)
+    if why:
+        if scene.speed_profile is not None:
+            raise SceneError(f"{scene.source}: supply_temperature_C with a [speed_profile] needs the film's flows: "
+                             f"{why}")
         return ViscosityScaled(internal, state.mu_eff_Pa_s)
     lagged = LaggedThermal(internal, params.oil, state.T_supply_K)
     lagged.start(state.y_m, state.z_m, 0.0, 0.0, scene.omega)

@@ -1,5 +1,4 @@
-"""C source of a native bearing FMU: the internal's data as static arrays, its options, the
-variables of the model description.
+"""C source of a native bearing FMU: the internal's data, its options, its model description's variables.
 
 ``native_model(internal, params, ...)`` gathers everything a native FMU of one internal is:
 ``NativeModel`` with its variables (the Python FMU's where they apply, ``fmu_variables.VARIABLES``),
@@ -51,11 +50,9 @@ FALLBACK_WHY = ("the fallback evaluates the Reynolds solver, which this native F
 # does the internal's force depend on (the bearing D, L, CR, mu as set; the speed omega)? The
 # Taylor surrogate holds its own bearing and speed (others refused), so does the linear model
 FORCE_DEPENDS = {"map": (1, 1), "taylor": (0, 0), "linear": (0, 0), "reynolds": (2, 1)}  # 2: and on L/D
-# the native FMUs that have the bearing's bore compiled in (any bore; the others: the full bore only)
-BORE_COMPILED_IN = ("reynolds",)
-# the native FMUs whose data file records the bore it was made for (a grooved bore's 3-D map): that
-# bore, checked against the bearing's at build
-BORE_FROM_DATA = ("map",)
+# native FMUs with the bearing's bore compiled in (any bore), or their data file's (a grooved bore's
+# 3-D map, checked against the bearing's at build); the others take the full bore only
+BORE_COMPILED_IN, BORE_FROM_DATA = ("reynolds",), ("map",)
 NATIVE_OPTIONS = {
     "taylor": ("surrogate", "domain_action", "domain_limit"),
     "map": ("map",),

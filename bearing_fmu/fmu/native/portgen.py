@@ -49,16 +49,27 @@ def parts_of(internal) -> tuple[str, ...]:
     return (internal,) if isinstance(internal, str) else tuple(internal)
 
 
+# the native internals whose C file computes the film's flows (defines bn_film: internal_reynolds.c
+# through reynolds_film.c); the Python map's flow tables are not compiled into the native map yet
+C_FILM_REPORT = ("reynolds",)
+
+
 def film_flow(internal) -> tuple[bool, str]:
     """(has the film's flows, why not) of a native model of ``internal`` (a name, or a tuple of the
-    names an FMU of several holds): the registry's capability ``film_flow``."""
+    names an FMU of several holds): the registry's capability ``film_flow`` and a film report in C
+    (``C_FILM_REPORT``)."""
     from ...internals import registry
 
     parts = parts_of(internal)
     if len(parts) > 1:
         return False, SEVERAL_WHY
     can = registry.get(parts[0]).can
-    return bool(can.film_flow), ("" if can.film_flow else can.film_flow_why)
+    if not can.film_flow:
+        return False, can.film_flow_why or f"the {parts[0]} internal has no film report"
+    if parts[0] not in C_FILM_REPORT:
+        return False, (f"the native {parts[0]} FMU computes the force only: the film's flows of the Python "
+                       f"{parts[0]} internal are not compiled into it (use the Python FMU, or internal = 'reynolds')")
+    return True, ""
 
 
 def has_state(internal, params: BearingParams) -> bool:

@@ -228,7 +228,7 @@ fmi2Status fmi2GetStringStatus(fmi2Component c, const fmi2StatusKind s, fmi2Stri
 
 /* ------------------------------------------------------------------------------ FMI: Model Exchange */
 /* No event indicators; the outputs are a direct feedthrough of the inputs, computed when read
- * (outputs_for_get). Continuous states: none, or (a build whose internal has the film's flows and
+ * (the model layer's bn_outputs). Continuous states: none, or (a build whose internal has the film's flows and
  * whose bearing an oil law: BN_N_STATES 1) T_eff, whose derivative is the heat balance's rate with
  * thermal = true and 0 (T_eff holds) with thermal = false. */
 
