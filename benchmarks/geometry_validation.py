@@ -27,7 +27,8 @@ from bearing_fmu.physics.geometry import Geometry  # noqa: E402
 from bearing_fmu.physics.params import PAPER_BEARING, BearingParams  # noqa: E402
 from bearing_fmu.physics.reynolds import Reynolds  # noqa: E402
 from test_geometry_validation import (COEFFS, D90, D270, LT_ELLIPTICAL, LT_TWO_AXIAL_GROOVE,  # noqa: E402
-                                      lund_thomsen_row, published, raimondi_boyd_case)
+                                      ROSS_KEYS, ROSS_LOBED, ROSS_PARTIAL_ARC, lund_thomsen_row, published,
+                                      raimondi_boyd_case)
 
 
 def lt_table(title, geo, l_over_d, cp, rows, grid=(None, None)):
@@ -72,6 +73,35 @@ def lobed():
                   + " | ".join(f"{g[n]:.3g}" for n in COEFFS) + " |")
 
 
+def against_ross():
+    """The partial arcs and lobed bores against ROSS's rows (tests/test_geometry_validation.py; made
+    by benchmarks/ross_crosscheck.py): computed on the default grid, ROSS in brackets."""
+    print("\n### Partial arcs, centrally loaded, and lobed bores against ROSS 3.1.0 (in brackets), "
+          "default grid\n")
+    print("| bore | L/D | S | eps | phi [deg] | " + " | ".join(COEFFS) + " | worst |")
+    print("|---|---:|---:|---|---|" + "---:|" * (len(COEFFS) + 1))
+    rows = [(f"arc {a:g} deg", ld, S, Geometry(arc=(math.pi - math.radians(a) / 2, math.pi + math.radians(a) / 2)),
+             1e-4, v) for a, ld, S, *v in ROSS_PARTIAL_ARC]
+    rows += [("lemon" if off == 0.5 else f"offset halves, offset {off:.3g}", 1.0, S,
+              Geometry(grooves=(D90, D270), lobes=2, preload=0.5, lobe_offset=off), 2e-4, v)
+             for off, S, *v in ROSS_LOBED]
+    flows = []
+    for name, ld, S, geo, cp, values in rows:
+        ref = dict(zip(ROSS_KEYS, values))
+        got = lund_thomsen_row(geo, ld, cp, S)
+        flows.append(f"| {name} | {ld:g} | {S:g} | {got['Q']:.4g} ({ref['Q']:.4g}) | {got['Qs_Q']:.4g} ({ref['Qs_Q']:.4g}) |")
+        errs = {n: 100 * (got[n] - ref[n]) / abs(ref[n]) for n in COEFFS if abs(ref[n]) >= 0.5}
+        w = max(errs, key=lambda n: abs(errs[n]))  # relative errors of small terms mislead
+        cells = " | ".join(f"{got[n]:.3g} ({ref[n]:.4g})" for n in COEFFS)
+        print(f"| {name} | {ld:g} | {S:g} | {got['eps']:.4f} ({ref['eps']:.4f}) | {got['phi']:.2f} ({ref['phi']:.2f}) | "
+              f"{cells} | {w} {errs[w]:+.1f} % |")
+    print("\nRaimondi & Boyd's flow variable Q / (R C_p N L) (Q: the oil entering the film) and side-flow "
+          "ratio, ROSS in brackets:\n")
+    print("| bore | L/D | S | Q / (R C_p N L) | Q_s / Q |")
+    print("|---|---:|---:|---|---|")
+    print("\n".join(flows))
+
+
 def speed():
     print("\n### Cost of a force call, paper bearing, default grid 128 x 16 (median of 300, warm start)\n")
     print("| bore | eps 0.3 [ms] | eps 0.6 [ms] | eps 0.9 [ms] |")
@@ -107,6 +137,7 @@ def main():
              preload=0.5), 1.0, 2e-4, LT_ELLIPTICAL)
     partial_arcs()
     lobed()
+    against_ross()
     speed()
 
 

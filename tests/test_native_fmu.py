@@ -14,6 +14,7 @@ import re
 import shutil
 import struct
 import subprocess
+import sys
 import zipfile
 from pathlib import Path
 
@@ -707,6 +708,40 @@ def test_refused_states_discard_and_a_restore_recovers(native):
         raw.call("fmi2FreeFMUstate", ctypes.byref(state))
     finally:
         raw.close()
+
+
+def test_a_discarded_step_retried_unchanged_is_an_error(native):
+    """No fmi2Terminated after a discard (a restore or other inputs can go on), so a master that
+    retries the same step with nothing changed would loop (fmpy 0.3's simulate_fmu does: it stops
+    at a discard only when Terminated is set): that retry is fmi2Error, naming why; setting the
+    inputs (even to the same values: the host's iteration) or restoring a state steps again."""
+    fmu, unzip, py, params = native["map:paper_bearing"]
+    bad = (0.0, -1.01 * params.CR, 0.0, 0.0, 2 * math.pi * 22)
+    good = (1e-5, -4e-5, 1e-3, -2e-3, 2 * math.pi * 22)
+    raw = Raw(fmu, unzip)
+    try:
+        assert raw.init() == OK
+        raw.set_inputs(bad)
+        assert raw.step(1e-4) == DISCARD
+        assert raw.step(1e-4) == ERROR and "inputs of the step discarded just before, unchanged" in raw.last(ERROR)
+        raw.set_inputs(bad)  # set again: the master decided to try it, it is refused as a state again
+        assert raw.step(1e-4) == DISCARD
+        raw.set_inputs(good)
+        assert raw.step(1e-4) == OK
+    finally:
+        raw.close()
+
+
+@pytest.mark.slow
+def test_fmpy_simulate_stops_at_a_state_it_cannot_step(native, tmp_path):
+    """simulate_fmu from a start state beyond the wall raises with the FMU's reason instead of
+    retrying the discarded step for ever (a subprocess, so a regression fails by its timeout)."""
+    fmu, _unzip, _py, params = native["map:paper_bearing"]
+    code = (f"import fmpy\ntry:\n    fmpy.simulate_fmu({str(fmu)!r}, stop_time=0.01, output_interval=1e-3, "
+            f"start_values={{'z': {-1.01 * params.CR!r}}})\nexcept Exception as exc:\n    print('raised', exc)\n")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert "raised" in out.stdout and "fmi2DoStep" in out.stdout, out.stdout + out.stderr
+    assert "inputs of the step discarded just before, unchanged" in out.stderr, out.stderr
 
 
 def test_a_foreign_state_is_refused(native):

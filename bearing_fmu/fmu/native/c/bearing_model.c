@@ -185,6 +185,7 @@ void bn_state_restore(Instance *m, const BnState *s) {
     m->b[B_OUT_OF_DOMAIN] = s->out_of_domain;
     m->terminated = 0;
     m->refused_state = 0;
+    m->step_refused = 0;
     m->dirty = 1; /* the outputs follow the inputs restored at the next get */
 }
 

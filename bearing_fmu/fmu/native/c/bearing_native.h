@@ -159,6 +159,8 @@ typedef struct Instance {
     int terminated;             /* fmi2Terminated: never set (every refused state can be retried with another) */
     int dirty;                  /* ME: inputs changed since the outputs were computed */
     int refused_state;          /* ME: the inputs as set were refused (logged once, until they change) */
+    int step_refused;           /* CS: the last doStep was discarded and no input was set since (a retry
+                                   unchanged is an error: the same state is refused whatever the step) */
     int ood_now;                /* out_of_domain of the last evaluated state (ME: out_of_domain takes it at events) */
     int still;                  /* the force was asked at omega = 0 with no squeeze (warned once, until it moves) */
     int warn_pending;           /* a warning was logged: the FMI call returns a warning status */

@@ -207,6 +207,7 @@ void bn_set_starts(Instance *m) {
     m->terminated = 0;
     m->dirty = 1;
     m->refused_state = 0;
+    m->step_refused = 0;
     m->ood_now = 0;
     m->still = 0;
     m->work.last_nn = -1;

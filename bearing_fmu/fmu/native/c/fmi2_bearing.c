@@ -288,6 +288,7 @@ fmi2Status fmi2SetReal(fmi2Component c, const fmi2ValueReference vr[], size_t nv
         if (BN_IS_INPUT(k)) { /* inputs: any value; a non-finite one is refused when evaluated */
             m->r[k] = value[i];
             m->dirty = 1;
+            m->step_refused = 0;
             continue;
         }
         if (k >= (fmi2ValueReference)N_REAL) {

@@ -166,13 +166,18 @@ fmi2Status fmi2DoStep(fmi2Component c, fmi2Real currentCommunicationPoint, fmi2R
     if (!isfinite(t))
         return bn2_fail(m, "doStep: currentCommunicationPoint + communicationStepSize = %s + %s s is not finite",
                         bn_num(a, 32, t0, 17), bn_num(b, 32, h, 17));
+    if (m->step_refused) /* a master retrying unchanged (fmpy's simulate_fmu) would loop forever */
+        return bn2_fail(m, "doStep: step to t = %s s refused: the inputs of the step discarded just before, "
+                        "unchanged (the state is refused again whatever the step size); set the inputs or restore "
+                        "an FMU state", bn_num(a, 32, t, 10));
     m->thermal_lagged = 1; /* T_eff lags over the step (thermal = true) */
     m->thermal_dt = h;
     int refused = bn_evaluate(m);
     m->thermal_lagged = 0;
     if (refused) {
-        /* not fmi2Terminated: the same step from a restored state, or a shorter one, can succeed */
+        /* not fmi2Terminated: the same step from a restored state, or with other inputs, can succeed */
         bn_log(m, fmi2Discard, "%s at t = %s s", m->msg, bn_num(a, 32, t, 10));
+        m->step_refused = 1;
         return fmi2Discard;
     }
     m->t = t;

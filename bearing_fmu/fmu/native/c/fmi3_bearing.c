@@ -400,6 +400,7 @@ fmi3Status fmi3SetFloat64(fmi3Instance instance, const fmi3ValueReference vr[], 
         if (BN_IS_INPUT(k)) { /* inputs: any value; a non-finite one is refused when evaluated */
             m->r[k] = values[i];
             m->dirty = 1;
+            m->step_refused = 0;
             continue;
         }
         if (k == BN3_VR_TIME) {

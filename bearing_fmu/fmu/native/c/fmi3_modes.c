@@ -318,12 +318,17 @@ fmi3Status fmi3DoStep(fmi3Instance instance, fmi3Float64 currentCommunicationPoi
     if (t > m->stop_time + 1e-9 * fmax(fabs(m->stop_time), h))
         return bn3_fail(m, "fmi3DoStep: a step to t = %s s goes beyond the stopTime %s s given to "
                         "fmi3EnterInitializationMode", bn_num(a, 32, t, 17), bn_num(b, 32, m->stop_time, 17));
+    if (m->step_refused) /* a master retrying unchanged would loop forever */
+        return bn3_fail(m, "fmi3DoStep: step to t = %s s refused: the inputs of the step discarded just before, "
+                        "unchanged (the state is refused again whatever the step size); set the inputs or restore "
+                        "an FMU state", bn_num(a, 32, t, 10));
     m->thermal_lagged = 1; /* T_eff lags over the step (thermal = true) */
     m->thermal_dt = h;
     int refused = bn_evaluate(m);
     m->thermal_lagged = 0;
     if (refused) { /* the instance as before the call: the importer may restore a state and go on */
         bn_log(m, fmi3Discard, "%s at t = %s s", m->msg, bn_num(a, 32, t, 10));
+        m->step_refused = 1;
         return fmi3Discard;
     }
     m->t = t;
