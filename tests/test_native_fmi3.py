@@ -800,7 +800,7 @@ def test_fmpy_cmake_project_builds_the_same_binary(fmus, tmp_path):
 
 
 def test_thermal_ports_and_their_derivatives(fmus):
-    """The thermal ports off (no native internal has the film's flows): T_eff = T_supply, mu_eff = mu;
+    """The thermal ports off (the map has no film flows): T_eff = T_supply, mu_eff = mu;
     dT_eff/dT_supply = 1 directional and adjoint, the force not along T_supply; thermal = true refused."""
     f = fmus["map"]
     raw = Raw3(f["fmu3"])

@@ -606,8 +606,8 @@ def test_statuses_of_parameters_and_calls(native):
 
 
 def test_thermal_ports_are_there_and_off(native):
-    """The Python FMU's thermal ports (docs/fmu.md): no native internal has the film's flows (registry
-    capability film_flow), so thermal = true is refused at initialisation naming why, and with
+    """The Python FMU's thermal ports (docs/fmu.md): the map has no film flows (registry capability
+    film_flow), so thermal = true is refused at initialisation naming why, and with
     thermal = false the outputs are the isoviscous film's: T_eff = T_supply, mu_eff = mu, P_loss and
     Q_side 0 (not computed); their directional derivatives say so (dT_eff/dT_supply = 1); T_supply
     is an input an FMU state restores; the force does not move with it."""

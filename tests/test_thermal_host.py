@@ -94,8 +94,15 @@ def test_scene_supply_temperature_runs_at_mu_eff(tmp_path):
 
 
 @pytest.mark.parametrize("edit, match", [
-    (lambda t: t.replace('via = "direct"', 'via = "fmu"\nfmu_kind = "native"'),
-     r"supply_temperature_C = 40 needs via = 'direct' or fmu_kind = 'python': the native FMU's thermal ports stay off"),
+    (lambda t: t.replace('via = "direct"', 'via = "fmu"\nfmu_kind = "native"').replace('internal = "reynolds"',
+                                                                                     'internal = "linear"'),
+     r"supply_temperature_C = 40 through an FMU's thermal ports needs an internal with the film's friction and "
+     r"flows \(reynolds, map\); internal = 'linear'"),
+    (lambda t: t.replace('via = "direct"', 'via = "fmu"\nfmu_kind = "native"').replace('internal = "reynolds"',
+                                                                                     'internal = "map"')
+     + f'\n[map]\nmap = "{MODELS / "maps" / "paper_bearing.json"}"\n',
+     r"supply_temperature_C = 40 through the native FMU's thermal ports needs a native internal with the film's "
+     r"flows \(reynolds\); internal = 'map': the native map FMU computes the force only"),
     (lambda t: t.replace('via = "direct"', 'via = "fmu"').replace('internal = "reynolds"', 'internal = "linear"'),
      r"supply_temperature_C = 40 through an FMU's thermal ports needs an internal with the film's friction and "
      r"flows \(reynolds, map\); internal = 'linear': a linear model holds the force about one point"),
@@ -154,6 +161,23 @@ def test_fmu_run_with_a_supply_temperature_equals_the_direct_run(tmp_path):
                     tmp_path / "iso")
     iso_ecc = np.load(iso.npz)["eccentricity"]  # a thinner oil: the journal runs more eccentric
     assert np.min(direct["eccentricity"][0] - iso_ecc[0]) > 1e-3
+
+
+@pytest.mark.slow
+def test_native_fmu_run_with_a_supply_temperature_equals_the_python_fmu_run(tmp_path):
+    """The shipped 44 Hz scene through the native Reynolds FMU's thermal ports (its film report, oil
+    law and lagged film temperature in C) equals the run through the Python FMU to round-off."""
+    import dataclasses
+
+    scene = load_scene(VG46_SCENE).with_internal("reynolds", t_end_s=0.003)
+    out = {}
+    for kind in ("python", "native"):
+        run = run_scene(dataclasses.replace(scene, via="fmu", fmu_kind=kind), tmp_path / kind)
+        assert run.ok, run
+        out[kind] = np.load(run.npz)
+    for key in ("y", "z", "Fy", "Fz"):
+        scale = np.max(np.abs(out["python"][key]))
+        assert np.max(np.abs(out["native"][key] - out["python"][key])) <= 1e-12 * scale, key
 
 
 @pytest.mark.slow

@@ -99,10 +99,18 @@ def _fmu_parameters(scene: Scene, params, load, thermal=None) -> dict:
         from bearing_fmu.fmu.native import native_parameters
 
         try:
-            return native_parameters(scene.internal, params, scene.internal_options(), _context(scene, load),
-                                     where=f"{scene.source}: fmu_kind = 'native'")
+            out = native_parameters(scene.internal, params, scene.internal_options(), _context(scene, load),
+                                    where=f"{scene.source}: fmu_kind = 'native'")
         except ValueError as exc:
             raise SceneError(str(exc)) from None
+        if thermal is not None:  # its oil law is the bearing's (compiled in), its Real parameters set here
+            from bearing_fmu.fmu.native.portgen import OIL_REALS
+            from bearing_fmu.fmu.ports import port_defaults
+
+            oil = port_defaults(params)
+            out.update({n: oil[n] for n in OIL_REALS if n in oil}, thermal=True, T_supply=thermal.T_supply_K,
+                       y=thermal.y_m, z=thermal.z_m, omega=scene.omega)
+        return out
     spec = registry.get(scene.internal)
     opts = spec.check_options(scene.internal_options(), str(scene.source), context=_context(scene, load))
     for o in spec.all_options():

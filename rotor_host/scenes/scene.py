@@ -105,8 +105,8 @@ SCENE_KEYS = (
     Key("supply_temperature_C", "oil supply temperature [C]: every bearing (each needs an [oil] table) at the "
         "viscosity of its film's effective temperature, from the static equilibrium at the start, lagging the "
         "heat balance by the film's residence time with the reynolds internal (docs/thermal.md); absent: the "
-        "bearings' own viscosity", None, "inside every oil's range_C; via = 'fmu' (python) and a [speed_profile] "
-        "need the reynolds internal, fmu_kind = 'native' is refused", kind=Number()),
+        "bearings' own viscosity", None, "inside every oil's range_C; via = 'fmu' (python or native) and a "
+        "[speed_profile] need the reynolds internal", kind=Number()),
     Key("surrogate", "older form of [taylor] surrogate", None, kind=FileName()),
 )
 
@@ -270,19 +270,23 @@ def load_scene(path) -> Scene:
 
 def _check_supply(supply_c: float, data: dict, rotor: Rotor, profile, where: str) -> None:
     """A scene's supply temperature: every bearing has an [oil] whose law covers it. In-process with
-    any internal at one speed (the static equilibrium's mu_eff); through the Python FMU (its thermal
-    ports) or under a [speed_profile] only with an internal that has the film's flows, whose
-    temperature then lags the film's heat balance (docs/thermal.md)."""
+    any internal at one speed (the static equilibrium's mu_eff); through an FMU (its thermal ports;
+    the native one: an internal with the film's flows in C) or under a [speed_profile] only with an
+    internal that has the film's flows, whose temperature then lags the heat balance (docs/thermal.md)."""
     key = f"{where}: supply_temperature_C = {supply_c:g}"
     spec = registry.get(data["internal"])
-    if data["via"] != "direct" and data["fmu_kind"] == "native":
-        raise SceneError(f"{key} needs via = 'direct' or fmu_kind = 'python': the native FMU's thermal ports stay off "
-                         "(no native internal has the film's flows; docs/fmu.md, Thermal ports)")
     if (data["via"] != "direct" or profile is not None) and not spec.can.film_flow:
         why = "through an FMU's thermal ports" if data["via"] != "direct" else "with a [speed_profile]"
         raise SceneError(f"{key} {why} needs an internal with the film's friction and flows ("
                          f"{', '.join(registry.having(film_flow=True))}); internal = {spec.name!r}: "
                          f"{spec.can.film_flow_why}")
+    if data["via"] != "direct" and data["fmu_kind"] == "native":  # the film's flows in C: not every internal's
+        from bearing_fmu.fmu.native.portgen import C_FILM_REPORT, film_flow
+
+        flows, why = film_flow(spec.name)
+        if not flows:
+            raise SceneError(f"{key} through the native FMU's thermal ports needs a native internal with the film's "
+                             f"flows ({', '.join(C_FILM_REPORT)}); internal = {spec.name!r}: {why}")
     for k, p in enumerate(rotor.bearings):
         if p.oil is None:
             raise SceneError(f"{key}: bearing {k + 1} (node {rotor.bearing_nodes[k] + 1}) has no [oil] table in its "

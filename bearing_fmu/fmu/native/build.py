@@ -52,7 +52,8 @@ SOURCES2 = ("fmi2_bearing.c", "fmi2_modes.c", "fmi2_order.c", *MODEL_SOURCES)
 
 def build_native_fmu(output, internal: str, *, surrogate=None, map=None, bearing: BearingParams | None = None,
                      options: dict | None = None, cmake: bool = False, bearing_source="", platforms=None,
-                     compiler: str | None = None, speed_hz: float | None = None, fmi_version: int = 2) -> Path:
+                     compiler: str | None = None, speed_hz: float | None = None, fmi_version: int = 2,
+                     thermal: bool = False) -> Path:
     """Write the native FMU of ``internal`` (reynolds | taylor | map | linear) to ``output`` (.fmu).
 
     surrogate : taylor: the surrogate JSON file compiled in (the bearing defaults to its own)
@@ -70,6 +71,9 @@ def build_native_fmu(output, internal: str, *, surrogate=None, map=None, bearing
                 project), the last two for this machine's platform only; ``cmake=True`` means cmake
     fmi_version : 2, or 3 for an FMI 3.0 FMU of the same internal (``fmi3``; binaries per platform
                 tuple)
+    thermal   : the start value of the parameter thermal: True starts the thermal model without a
+                master setting it (a tool that sets no parameters, the Compliance Checker); needs the
+                Reynolds internal and a bearing with an [oil] law (``portgen.thermal_start``)
     """
     output = Path(output)
     if fmi_version not in (2, 3):
@@ -92,6 +96,10 @@ def build_native_fmu(output, internal: str, *, surrogate=None, map=None, bearing
     params = bearing if bearing is not None else (None if "taylor" in parts else PAPER_BEARING)
     model = several_model(parts, params, surrogate=surrogate, map=map, options=options,  # one, or several
                           omega=None if speed_hz is None else 2.0 * math.pi * float(speed_hz))
+    if thermal:
+        from .portgen import thermal_start
+
+        thermal_start(model)
     from ...io.outputs import write_bytes
 
     record = build_record(model, bearing_source if bearing is not None else "")
@@ -210,11 +218,13 @@ def model_description(model: NativeModel, record: dict) -> bytes:
         index[v.name] = k
         attrs = {"name": v.name, "valueReference": str(v.vr), "description": v.description,
                  "causality": v.causality, "variability": v.variability}
-        if v.causality == "output":
+        if v.causality in ("output", "local"):
             attrs["initial"] = "calculated"
         sv = ET.SubElement(mvars, "ScalarVariable", attrs)
         typed = {"declaredType": v.declared_type} if v.declared_type else {}
-        if v.causality != "output":
+        if v.name.startswith("der("):  # Model Exchange's state derivative (portgen.has_state)
+            typed["derivative"] = str(index[v.name[4:-1]])
+        if v.causality not in ("output", "local"):
             typed["start"] = (repr(float(v.start)) if v.type == "Real" else
                               ("true" if v.start else "false") if v.type == "Boolean" else str(v.start))
         if v.type == "Real":
@@ -234,9 +244,16 @@ def model_description(model: NativeModel, record: dict) -> bytes:
         own = [index[n] for n in depends[v.name]] if v.name in depends else inputs
         ET.SubElement(node, "Unknown", index=str(i), dependencies=" ".join(map(str, own)),
                       dependenciesKind=" ".join(["dependent"] * len(own)))
+    derivatives = [index[v.name] for v in model.variables if v.name.startswith("der(")]
+    if derivatives:  # der(T_eff): the state and every input
+        node = ET.SubElement(structure, "Derivatives")
+        for i in derivatives:
+            own = sorted(inputs + [index["T_eff"]])
+            ET.SubElement(node, "Unknown", index=str(i), dependencies=" ".join(map(str, own)),
+                          dependenciesKind=" ".join(["dependent"] * len(own)))
     node = ET.SubElement(structure, "InitialUnknowns")
     deps = sorted(inputs + params)
-    for i in outputs:
+    for i in sorted(outputs + derivatives):
         ET.SubElement(node, "Unknown", index=str(i), dependencies=" ".join(map(str, deps)),
                       dependenciesKind=" ".join(["dependent"] * len(deps)))
     return parseString(ET.tostring(root, encoding="UTF-8")).toprettyxml(indent="  ", encoding="UTF-8")

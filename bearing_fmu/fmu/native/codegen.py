@@ -29,16 +29,17 @@ import numpy as np
 from ...internals import registry
 from ..order import c_defines
 from ..variables import ENUMERATIONS, VARIABLES  # the one table of the FMU interface
-from .portgen import port_config, port_variables
+from .portgen import parts_of, port_config, port_variables
 from ...physics.params import BearingParams
 
 ID_TOKEN, GUID_TOKEN = "BN_MODEL_IDENTIFIER", "{BN-GUID}"  # in model_config.h until assign_identity
 INTERNALS = ("linear", "map", "taylor", "reynolds")  # what a native FMU can compute
 # C files an internal's file includes (so that all of it stays static): staged beside it, not compiled alone
-INCLUDED_SOURCES = {"reynolds": ("py_mod.h", "reynolds_solver.h", "reynolds_kernels.c", "reynolds_solver.c"),
+INCLUDED_SOURCES = {"reynolds": ("py_mod.h", "reynolds_solver.h", "reynolds_kernels.c", "reynolds_film.c",
+                                 "reynolds_solver.c"),
                     "map": ("py_mod.h",)}
 # the model layer (c/bearing_values.h), the same C files under the FMI 2.0 and the FMI 3.0 layer
-MODEL_HEADERS = ("bearing_native.h", "bearing_values.h")
+MODEL_HEADERS = ("bearing_native.h", "bearing_values.h", "oil_thermal.h", "oil_thermal.c")  # the last included
 MODEL_SOURCES = ("bearing_values.c", "bearing_model.c", "bearing_derivatives.c")
 REAL_BASE, BOOL_BASE, STRING_BASE, ENUM_BASE = 0, 1000, 2000, 3000  # value references by type (bearing_native.h)
 CORE_REALS = ("y", "z", "vy", "vz", "omega", "Fy", "Fz", "eccentricity", "h_min", "Kyy", "Kyz", "Kzy", "Kzz",
@@ -252,12 +253,6 @@ def internal_sources(model: "NativeModel") -> tuple[list[str], list[str]]:
     return compiled, list(dict.fromkeys(f for p in parts for f in INCLUDED_SOURCES.get(p, ())))
 
 
-def parts_of(internal) -> tuple[str, ...]:
-    """The internals of a native model: one name, or a tuple of them (an FMU of several, the first
-    the start value of the parameter internal)."""
-    return (internal,) if isinstance(internal, str) else tuple(internal)
-
-
 def option_names(internal) -> tuple[str, ...]:
     """The native options of ``internal`` (a name or a tuple of names), each once, in order."""
     return tuple(dict.fromkeys(n for p in parts_of(internal) for n in NATIVE_OPTIONS[p]))
@@ -309,7 +304,7 @@ def model_config(internal, params: BearingParams, starts: dict, inputs) -> str:
         f"#define BN_N_STRING_OPTIONS {len(strings)}",
         f"#define BN_START_INPUTS {{{', '.join(c_double(v) for v in inputs)}}}",
         f"#define BN_START_BEARING {{{', '.join(c_double(v) for v in (params.D, params.L, params.CR, params.mu))}}}",
-        *port_config(params, c_double, c_string),  # the thermal ports and the bore (portgen.py)
+        *port_config(internal, params, c_double, c_string),  # the thermal ports and the bore (portgen.py)
     ]
     rows = []
     for k, o in enumerate(reals):

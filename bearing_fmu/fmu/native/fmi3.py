@@ -35,6 +35,7 @@ from .. import meta as fmu_meta
 from ..order import MODES
 from .codegen import (MODEL_HEADERS, MODEL_SOURCES, NativeModel, assign_identity, internal_sources,
                       native_enumerations)
+from .portgen import has_state
 
 C_DIR = Path(__file__).resolve().parent / "c"
 VR_TIME = 4000  # the independent variable (FMI 3.0 only; the others keep the FMI 2.0 FMU's references)
@@ -117,15 +118,17 @@ def _attrs(v, model: NativeModel, omega_ref: float) -> dict:
     """One variable's attributes (FMI 3.0: on the typed element itself)."""
     attrs = {"name": v.name, "valueReference": str(v.vr), "description": v.description,
              "causality": v.causality, "variability": v.variability}
-    if v.causality == "output":
+    if v.causality in ("output", "local"):
         attrs["initial"] = "calculated"
+    if v.name.startswith("der("):  # Model Exchange's state derivative (portgen.has_state)
+        attrs["derivative"] = str(next(w.vr for w in model.variables if w.name == v.name[4:-1]))
     if v.declared_type:
         attrs["declaredType"] = v.declared_type
     if v.type == "Real":
         attrs.update(fmu_meta.real_attributes(v.name, v.unit, model.params, omega_ref))
     elif v.type == "Integer":
         attrs.update(fmu_meta.integer_attributes(v.name))
-    if v.causality != "output" and v.type != "String":
+    if v.causality not in ("output", "local") and v.type != "String":
         attrs["start"] = (repr(float(v.start)) if v.type == "Real" else
                           ("true" if v.start else "false") if v.type == "Boolean" else str(v.start))
     return attrs
@@ -150,6 +153,7 @@ def output_dependencies(model: NativeModel) -> dict[str, list[str]]:
     journal state, the eccentricity and the minimum film on the position, out_of_domain on the
     state the fitted domain is drawn in (none for an internal without one: always false)."""
     fitted = any(registry.get(p).can.fitted_domain for p in model.all_parts)
+    thermal = has_state(model.all_parts, model.params)  # thermal = true can be set (T_eff: ME's state)
     out = {}
     for v in model.variables:
         if v.causality != "output":
@@ -158,12 +162,14 @@ def output_dependencies(model: NativeModel) -> dict[str, list[str]]:
             out[v.name] = ["y", "z"]
         elif v.name == "out_of_domain":
             out[v.name] = ["y", "z", "vy", "vz"] if fitted else []
-        elif v.name == "T_eff":  # the thermal ports, off in a native FMU (no film flows): T_eff is T_supply
+        elif thermal and v.name in ("T_eff", "P_loss", "Q_side", "mu_eff"):  # the film's heat balance
+            out[v.name] = ["y", "z", "vy", "vz", "omega", "T_supply", "T_eff"]
+        elif v.name == "T_eff":  # the thermal ports off (no film flows or no oil law): T_eff is T_supply
             out[v.name] = ["T_supply"]
         elif v.name in ("P_loss", "Q_side", "mu_eff"):  # 0, 0, mu: no input
             out[v.name] = []
-        else:
-            out[v.name] = ["y", "z", "vy", "vz", "omega"]
+        else:  # with the thermal model the force is at the viscosity of T_eff (Model Exchange: the state)
+            out[v.name] = ["y", "z", "vy", "vz", "omega"] + (["T_supply", "T_eff"] if thermal else [])
     return out
 
 
@@ -209,10 +215,15 @@ def model_description3(model: NativeModel, record: dict, token: str, generated: 
         ET.SubElement(structure, "Output", valueReference=str(vr[name]),
                       dependencies=" ".join(str(vr[d]) for d in deps),
                       dependenciesKind=" ".join(["dependent"] * len(deps)))
+    for v in model.variables:
+        if v.name.startswith("der("):  # der(T_eff): the state and every input
+            deps = sorted([w.vr for w in model.variables if w.causality == "input"] + [vr[v.name[4:-1]]])
+            ET.SubElement(structure, "ContinuousStateDerivative", valueReference=str(v.vr),
+                          dependencies=" ".join(map(str, deps)), dependenciesKind=" ".join(["dependent"] * len(deps)))
     # in Initialization Mode the knowns are the inputs and every parameter (initial = exact)
     knowns = sorted(v.vr for v in model.variables if v.causality in ("input", "parameter"))
     for v in model.variables:
-        if v.causality == "output":
+        if v.causality == "output" or v.name.startswith("der("):
             ET.SubElement(structure, "InitialUnknown", valueReference=str(v.vr),
                           dependencies=" ".join(map(str, knowns)),
                           dependenciesKind=" ".join(["dependent"] * len(knowns)))

@@ -2,10 +2,15 @@
 their variables and their lines of model_config.h, for ``codegen``.
 
 * Thermal ports: the input ``T_supply`` and the outputs ``P_loss``, ``Q_side``, ``T_eff``,
-  ``mu_eff`` after the internal's Real options, the parameter ``thermal`` (Boolean 2). No native
-  internal computes the film's flows yet (the C Reynolds solver gives the force and its
-  derivatives, not ``film_report``), so the ports stay off: ``thermal = true`` is refused at
-  initialisation naming why (``BN_FILM_FLOW_WHY``).
+  ``mu_eff`` after the internal's Real options, the parameter ``thermal`` (Boolean 2). Whether
+  the internal has the film's flows is its registry capability ``film_flow`` (``BN_FILM_FLOW``;
+  the Reynolds internal's report is c/reynolds_film.c); one without them refuses
+  ``thermal = true`` at initialisation naming why (``BN_FILM_FLOW_WHY``, the capability's
+  ``film_flow_why``), as does an FMU of several internals (not ported yet).
+* The oil: the bearing file's law (``BN_OIL_LAW``: none, walther, vogel) compiled in, as the
+  bore is; its Real parameters (``fmu.ports.OIL_ROWS``: oil_nu_1 .. oil_rise_factor) after the
+  bore's, their starts the file's (``ports.port_defaults``) and settable. No ``oil_law``
+  parameter: another law is another build.
 * The bore: the Reals ``groove_1`` .. ``lobe_angle`` after the thermal ports, the Integers
   ``groove_count``, ``lobes`` after the enumerations, the Boolean ``partial_arc`` (3). The data hold
   one bore, so their starts are its values (``BN_GEOMETRY_*``) and another is refused at
@@ -23,16 +28,54 @@ GEOMETRY_REALS = tuple([f"groove_{k}" for k in range(1, 9)] + ["groove_width", "
 GEOMETRY_INTS = ("groove_count", "lobes")
 
 
+OIL_REALS = ("oil_nu_1", "oil_T_1", "oil_nu_2", "oil_T_2", "oil_vogel_a", "oil_vogel_b", "oil_vogel_c", "oil_T_min",
+             "oil_T_max", "oil_density", "oil_heat_capacity", "oil_rise_factor")
+
+
 def bore_starts(params: BearingParams) -> dict:
     """The geometry parameters' values for the bore ``params`` has (every one: the ports' defaults
     where the bore sets none)."""
-    from ..ports import GEOMETRY_ROWS, port_defaults
+    from ..ports import GEOMETRY_ROWS, OIL_ROWS, port_defaults
 
-    return {**{r[0]: r[4] for r in GEOMETRY_ROWS}, **port_defaults(params)}
+    return {**{r[0]: r[4] for r in GEOMETRY_ROWS + OIL_ROWS}, **port_defaults(params)}
 
 
-NATIVE_FILM_FLOW_WHY = ("the native internals compute the force only, not the film's friction and flows "
-                        "(the Python FMU's Reynolds internal has them)")
+SEVERAL_WHY = "an FMU of several internals has no thermal model yet: build the reynolds internal alone"
+
+
+def parts_of(internal) -> tuple[str, ...]:
+    """The internals of a native model: one name, or a tuple of them (an FMU of several, the first
+    the start value of the parameter internal)."""
+    return (internal,) if isinstance(internal, str) else tuple(internal)
+
+
+# the native internals whose C file computes the film's flows (defines bn_film: internal_reynolds.c
+# through reynolds_film.c); the Python map's flow tables are not compiled into the native map yet
+C_FILM_REPORT = ("reynolds",)
+
+
+def film_flow(internal) -> tuple[bool, str]:
+    """(has the film's flows, why not) of a native model of ``internal`` (a name, or a tuple of the
+    names an FMU of several holds): the registry's capability ``film_flow`` and a film report in C
+    (``C_FILM_REPORT``)."""
+    from ...internals import registry
+
+    parts = parts_of(internal)
+    if len(parts) > 1:
+        return False, SEVERAL_WHY
+    can = registry.get(parts[0]).can
+    if not can.film_flow:
+        return False, can.film_flow_why or f"the {parts[0]} internal has no film report"
+    if parts[0] not in C_FILM_REPORT:
+        return False, (f"the native {parts[0]} FMU computes the force only: the film's flows of the Python "
+                       f"{parts[0]} internal are not compiled into it (use the Python FMU, or internal = 'reynolds')")
+    return True, ""
+
+
+def has_state(internal, params: BearingParams) -> bool:
+    """Model Exchange's continuous state T_eff (its derivative the local der(T_eff)): a build whose
+    internal has the film's flows and whose bearing an oil law (thermal = true can be set)."""
+    return film_flow(internal)[0] and params.oil is not None
 
 
 def port_variables(internal, params: BearingParams, first_real: int, first_int: int, bool_base: int) -> list:
@@ -45,10 +88,16 @@ def port_variables(internal, params: BearingParams, first_real: int, first_int: 
         _n, typ, causality, unit, start, desc = table[name]
         out.append((name, first_real + k, typ, causality, float(start) if causality == "input" else 0.0,
                             unit, desc))
+    flows, why = film_flow(internal)
+    law = params.oil.law if params.oil is not None else "none"
+    if flows and law != "none":
+        note = (f" (the oil's law is the bearing file's, {law}, its parameters oil_...; Model Exchange: T_eff "
+                "is the continuous state, der(T_eff) its derivative)")
+    else:
+        note = (f": not in this native FMU ({why or 'the bearing file has no [oil] law'}); it stays false, T_eff "
+                "reads T_supply, mu_eff mu, P_loss and Q_side 0")
     out.append(("thermal", bool_base + 2, "Boolean", "parameter", False, None,
-                        "thermal model on (T_supply connected, the film at the viscosity of its effective temperature)"
-                        + f": not in this native FMU ({NATIVE_FILM_FLOW_WHY}); it stays false, T_eff reads "
-                          "T_supply, mu_eff mu, P_loss and Q_side 0"))
+                "thermal model on (T_supply connected, the film at the viscosity of its effective temperature)" + note))
     bore = bore_starts(params)
     fixed = f"; this FMU's data hold one bore ({params.geometry.describe()}): another is refused"
     for k, name in enumerate(GEOMETRY_INTS):
@@ -59,18 +108,47 @@ def port_variables(internal, params: BearingParams, first_real: int, first_int: 
                             desc + fixed))
     out.append(("partial_arc", bool_base + 3, "Boolean", "parameter", bool(bore["partial_arc"]), None,
                         table["partial_arc"][5] + fixed))
+    first_oil = first_real + len(THERMAL_REALS) + len(GEOMETRY_REALS)
+    for k, name in enumerate(OIL_REALS):
+        _n, typ, causality, unit, _start, desc = table[name]
+        out.append((name, first_oil + k, typ, causality, float(bore[name]), unit, desc))
+    if has_state(internal, params):  # its value reference is C's VR_DER_T_EFF
+        desc = ("the film temperature's rate (Model Exchange: T_eff's derivative, T_eff the continuous state): the "
+                "heat balance's (T*(T_eff) - T_eff) / t_res with thermal = true, 0 (T_eff holds) with thermal = false")
+        out.append(("der(T_eff)", first_oil + len(OIL_REALS), "Real", "local", 0.0, "K/s", desc))
     return out
 
 
-def port_config(params: BearingParams, c_double, c_string) -> list[str]:
+def thermal_start(model) -> None:
+    """Make ``model`` (a ``codegen.NativeModel``) start with thermal = true (its variable's start and
+    ``BN_THERMAL_START``); ValueError naming why when its internal has no film flows or its bearing
+    no oil law."""
+    why = film_flow(model.all_parts)[1]
+    if not has_state(model.all_parts, model.params):
+        raise ValueError("a native FMU starting with thermal = true needs the film's flows and the bearing's oil "
+                         f"law: {why or 'the bearing has no [oil] table (build with --bearing FILE whose [oil] gives it)'}")
+    for v in model.variables:
+        if v.name == "thermal":
+            v.start = True
+    model.config_h = model.config_h.replace("#define BN_FILM_FLOW 1", "#define BN_FILM_FLOW 1\n#define BN_THERMAL_START 1")
+
+
+def port_config(internal, params: BearingParams, c_double, c_string) -> list[str]:
     """model_config.h's lines of the thermal ports (the supply temperature's start [K], whether the
-    internal has the film's flows and why not) and of the bore the data hold; ``c_double``,
-    ``c_string``: codegen's literals."""
+    internal has the film's flows and why not, the oil's law and its parameters' starts) and of
+    the bore the data hold; ``c_double``, ``c_string``: codegen's literals."""
+    from ..ports import OIL_LAWS
+
     bore = bore_starts(params)
+    flows, why = film_flow(internal)
+    law = params.oil.law if params.oil is not None else "none"
     return [
         f"#define BN_START_T_SUPPLY {c_double(next(v[4] for v in VARIABLES if v[0] == 'T_supply'))}",
-        "#define BN_FILM_FLOW 0",
-        f"#define BN_FILM_FLOW_WHY {c_string(NATIVE_FILM_FLOW_WHY)}",
+        f"#define BN_FILM_FLOW {int(flows)}",
+        f"#define BN_N_STATES {int(has_state(internal, params))}",
+        f"#define BN_FILM_FLOW_WHY {c_string(why)}",
+        f"#define BN_OIL_LAW {OIL_LAWS.index(law)}",
+        f"#define BN_OIL_START {{{', '.join(c_double(float(bore[n])) for n in OIL_REALS)}}}",
         f"#define BN_GEOMETRY_REAL_START {{{', '.join(c_double(bore[n]) for n in GEOMETRY_REALS)}}}",
         f"#define BN_GEOMETRY_INT_START {{{', '.join(str(int(bore[n])) for n in GEOMETRY_INTS)}}}",
         f"#define BN_GEOMETRY_ARC_START {int(bool(bore['partial_arc']))}",

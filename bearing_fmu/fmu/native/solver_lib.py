@@ -1,7 +1,9 @@
-"""The native FMU's Reynolds solver (c/reynolds_solver.c) alone: compiled into a small shared
+"""The native FMU's Reynolds solver (c/reynolds_solver.c, with its film report c/reynolds_film.c)
+and its oil law and film temperature (c/oil_thermal.c) alone: compiled into a small shared
 library with zig (the compiler and flags of the FMU builds, ``compile``) and called through
-ctypes, so that it can be compared with the Python internal (``physics.reynolds.Reynolds``)
-state by state (tests/test_native_reynolds.py, benchmarks/bench_native_reynolds.py).
+ctypes, so that they can be compared with the Python internal (``physics.reynolds.Reynolds``,
+``physics.film``, ``physics.oil``, ``physics.thermal``) state by state (tests/test_native_reynolds.py,
+tests/test_native_film.py, tests/test_native_thermal.py, benchmarks/bench_native_reynolds.py).
 
     lib = solver_library(tmp_dir)
     solver = NativeReynolds(lib, params, n_theta=64, n_x=8, cavitation="reynolds")
@@ -23,9 +25,10 @@ from .compile import C_FLAGS, run_compiler, zig_cc
 
 C_DIR = Path(__file__).resolve().parent / "c"
 HOST_TARGET = "native"  # zig cc -target native: this machine
-SOURCES = ("py_mod.h", "reynolds_solver.h", "reynolds_kernels.c", "reynolds_solver.c")
+SOURCES = ("py_mod.h", "reynolds_solver.h", "reynolds_kernels.c", "reynolds_film.c", "reynolds_solver.c",
+           "oil_thermal.h", "oil_thermal.c")
 
-__all__ = ["solver_library", "bore_arrays", "NativeReynolds"]
+__all__ = ["NativeOil", "NativeReynolds", "bore_arrays", "solver_library"]
 
 
 def solver_library(folder: Path) -> ctypes.CDLL:
@@ -42,7 +45,7 @@ def solver_library(folder: Path) -> ctypes.CDLL:
     if not out.is_file():
         part = folder / f"{out.stem}.{os.getpid()}.part"
         run_compiler([*zig_cc(), "-target", HOST_TARGET, *cmd, "-I", str(C_DIR), str(C_DIR / "reynolds_solver.c"),
-              "-o", str(part), "-lm"], "zig cc (the Reynolds solver alone)")
+              str(C_DIR / "oil_thermal.c"), "-o", str(part), "-lm"], "zig cc (the Reynolds solver alone)")
         os.replace(part, out)
     lib = ctypes.CDLL(str(out))
     d, i, p = ctypes.c_double, ctypes.c_int, ctypes.c_void_p
@@ -56,6 +59,14 @@ def solver_library(folder: Path) -> ctypes.CDLL:
     lib.rs_results.argtypes = [p, p]
     lib.rs_forget.restype = None
     lib.rs_forget.argtypes = [p]
+    lib.rs_film_report.restype = None
+    lib.rs_film_report.argtypes = [p, d, d, d, d, d, p]
+    lib.ot_oil_of.restype = i
+    lib.ot_oil_of.argtypes = [p, i, *[d] * 12, ctypes.c_char_p, ctypes.c_size_t]
+    lib.ot_mu.restype = d
+    lib.ot_mu.argtypes = [p, d]
+    lib.ot_film_temperature.restype = i
+    lib.ot_film_temperature.argtypes = [p, *[d] * 8, i, d, d, p, ctypes.c_char_p, ctypes.c_size_t]
     lib.rs_call_many.restype = i
     lib.rs_call_many.argtypes = [p, p, i, i, p]
     return lib
@@ -113,6 +124,14 @@ class NativeReynolds:
         """dF/domega [N s/rad] (2,), from the same adjoints (the Python internal has no such output)."""
         return self._call(y, z, vy, vz, omega, True)[20:22].copy()
 
+    def film_report(self, y, z, vy, vz, omega) -> np.ndarray:
+        """(Couette torque, pressure torque [N m], friction power [W], inflow, side flow [m^3/s]) of
+        the film at a state (c/reynolds_film.c; ``Reynolds.film_report``'s), after a force call there."""
+        self._call(y, z, vy, vz, omega, False)
+        out = np.zeros(5)
+        self.lib.rs_film_report(self._s, float(y), float(z), float(vy), float(vz), float(omega), out.ctypes.data)
+        return out
+
     def counts(self) -> dict:
         """As ``Reynolds.counts``: calls, factorizations, warm starts, cold fallbacks."""
         self.lib.rs_results(self._s, self._out.ctypes.data)
@@ -130,3 +149,42 @@ class NativeReynolds:
 
     def forget(self) -> None:
         self.lib.rs_forget(self._s)
+
+
+class _OtOil(ctypes.Structure):  # c/oil_thermal.h ot_oil
+    _fields_ = [("law", ctypes.c_int), ("c", ctypes.c_double * 3), ("T_min", ctypes.c_double),
+                ("T_max", ctypes.c_double), ("density", ctypes.c_double), ("heat_capacity", ctypes.c_double),
+                ("rise_factor", ctypes.c_double)]
+
+
+class NativeOil:
+    """The oil law and the film temperature in C (c/oil_thermal.c) from the FMU's oil parameters
+    ``values`` (a dict of ``fmu.ports`` names: oil_law, oil_nu_1 .. oil_rise_factor)."""
+
+    LAWS = ("none", "walther", "vogel")
+
+    def __init__(self, lib: ctypes.CDLL, values: dict):
+        self.lib = lib
+        self._oil = _OtOil()
+        why = ctypes.create_string_buffer(512)
+        names = ("oil_nu_1", "oil_T_1", "oil_nu_2", "oil_T_2", "oil_vogel_a", "oil_vogel_b", "oil_vogel_c",
+                 "oil_T_min", "oil_T_max", "oil_density", "oil_heat_capacity", "oil_rise_factor")
+        if lib.ot_oil_of(ctypes.byref(self._oil), self.LAWS.index(values["oil_law"]),
+                         *[float(values[n]) for n in names], why, 512):
+            raise ValueError(why.value.decode())
+
+    def mu(self, T_K: float) -> float:
+        return self.lib.ot_mu(ctypes.byref(self._oil), float(T_K))
+
+    def film_temperature(self, params: BearingParams, report, T_supply_K: float, T_old_K: float | None = None,
+                         dt_s: float = 0.0) -> tuple[float, float, float]:
+        """As ``physics.thermal.film_temperature`` (the same arguments: ``report`` a FilmReport)."""
+        out = np.zeros(3)
+        why = ctypes.create_string_buffer(512)
+        if self.lib.ot_film_temperature(ctypes.byref(self._oil), params.mu, params.R, params.CR, params.L,
+                                        report.friction_power_W, report.inflow_m3_s, report.side_flow_m3_s,
+                                        float(T_supply_K), int(T_old_K is not None),
+                                        0.0 if T_old_K is None else float(T_old_K), float(dt_s), out.ctypes.data,
+                                        why, 512):
+            raise ValueError(why.value.decode())
+        return float(out[0]), float(out[1]), float(out[2])

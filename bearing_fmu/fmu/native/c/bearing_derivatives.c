@@ -17,7 +17,8 @@
  *                  bn_shape_derivative; the Taylor and linear models hold their own bearing: 0
  *                  (eccentricity, h_min follow CR)
  *   the internal's Real options   bn_option_derivative (the linear model's coefficients)
- *   P_loss, Q_side, T_eff, mu_eff   the thermal ports, off: 0, 0, along T_supply, along mu
+ *   P_loss, Q_side, T_eff, mu_eff   the thermal ports, off: 0, 0, along T_supply, along mu; with
+ *                  thermal = true no derivative is given (refused, naming why)
  * The states a difference evaluates are evaluated quietly: no log line, no excursion counted. */
 #include <math.h>
 #include <stdio.h>
@@ -64,8 +65,12 @@ static int jacobian_derivative(Instance *m, const double x[5], const double J[8]
     return 0;
 }
 
+/* Model Exchange after initialisation, a build with the state T_eff: T_eff is the state */
+#define STATE_T_EFF(m) (BN_N_STATES > 0 && BN_IS_ME(m) && (m)->mode != MODE_INIT)
+
 int bn_check_known(const Instance *m, unsigned vr, char *why, size_t n) {
     const char *name = vr < (unsigned)N_REAL ? bn_real_name((int)vr) : "?";
+    if (vr == VR_T_EFF && STATE_T_EFF(m)) return 0; /* the continuous state: a known of Model Exchange */
     if (vr >= (unsigned)N_REAL || bn_is_output_real((int)vr)) {
         snprintf(why, n, "known %s (value reference %u) is not an input or a Real parameter", name, vr);
         return 1;
@@ -89,6 +94,12 @@ int bn_derivative(Instance *m, const double d[N_REAL], int with_kc, double out[N
                      bn_num(v, sizeof v, x[i], 17));
             return 1;
         }
+    }
+    if (m->b[B_THERMAL]) { /* the heat balance's derivatives (P_loss, Q_side, T_eff's lag) are not ported */
+        snprintf(m->msg, sizeof m->msg, "directional derivatives with thermal = true are not provided by this native "
+                 "FMU (the film temperature's dependence on the inputs is not differentiated): use thermal = false "
+                 "or differences of doStep results");
+        return 1;
     }
     if (eval_quiet(m, x, F, J, dw)) return 1;
     const double *dx = d, *db = d + VR_D; /* the inputs; D, L, CR, mu */
@@ -145,8 +156,9 @@ int bn_derivative(Instance *m, const double d[N_REAL], int with_kc, double out[N
     return 0;
 }
 
-double bn_thermal_derivative(const double d[N_REAL], int vr) {
-    if (vr == VR_T_EFF) return d[VR_T_SUPPLY];
+double bn_thermal_derivative(const Instance *m, const double d[N_REAL], int vr) {
+    if (vr == VR_DER_T_EFF) return 0.0; /* the thermal model off: T_eff holds */
+    if (vr == VR_T_EFF) return STATE_T_EFF(m) ? d[VR_T_EFF] : d[VR_T_SUPPLY];
     if (vr == VR_MU_EFF) return d[VR_MU];
     return 0.0; /* P_loss, Q_side: not computed (0) */
 }

@@ -37,6 +37,10 @@ typedef fmi2Status bn_status;
 #define BN_REAL_TYPE "Real"
 #endif
 #include "model_config.h"
+#include "oil_thermal.h"
+#ifndef BN_THERMAL_START
+#define BN_THERMAL_START 0 /* the parameter thermal's start (build_native_fmu(thermal=True): 1) */
+#endif
 
 /* FMI2_FUNCTION_PREFIX (FMI 2.0, 2.1.1): the FMI functions named "<prefix>fmi2GetReal" ..., to link
  * the sources of several FMUs into one program. fmpy's copy of fmi2Functions.h ignores it (its
@@ -100,9 +104,16 @@ enum {
  * Boolean partial_arc the others */
 #define VR_GEOMETRY0 (VR_T_SUPPLY + 5)
 #define N_GEOMETRY_REALS 15
-#define N_REAL (VR_GEOMETRY0 + N_GEOMETRY_REALS)
+/* the oil's Reals (ports.OIL_ROWS: oil_nu_1 .. oil_rise_factor) after the bore's; its law is
+ * the build's (BN_OIL_LAW) */
+#define VR_OIL0 (VR_GEOMETRY0 + N_GEOMETRY_REALS)
+#define N_OIL_REALS 12
+/* der(T_eff), a local: in Model Exchange T_eff is the one continuous state of a build whose
+ * internal has the film's flows and whose bearing an oil law (BN_N_STATES 1), this its derivative */
+#define VR_DER_T_EFF (VR_OIL0 + N_OIL_REALS)
+#define N_REAL (VR_DER_T_EFF + 1)
 #define BN_IS_INPUT(vr) ((vr) < N_INPUTS || (vr) == VR_T_SUPPLY)
-#define BN_IS_THERMAL_OUTPUT(vr) ((vr) >= VR_P_LOSS && (vr) <= VR_MU_EFF)
+#define BN_IS_THERMAL_OUTPUT(vr) (((vr) >= VR_P_LOSS && (vr) <= VR_MU_EFF) || (vr) == VR_DER_T_EFF)
 #define VR_BOOL0 1000
 enum { B_OUT_OF_DOMAIN, B_COMPUTE_TANGENT, B_THERMAL, B_PARTIAL_ARC, N_BOOL };
 #define VR_STRING0 2000
@@ -172,6 +183,9 @@ typedef struct Instance {
     fmi2CallbackFunctions cb;
 #endif
     Work work;
+    ot_oil oil;                 /* thermal = true: the oil of the parameters (bn_thermal_setup) */
+    int thermal_lagged;         /* the next evaluation lags T_eff from its value over thermal_dt (a step), */
+    double thermal_dt;          /* else (Initialization Mode) it is quasi-static */
     struct Instance *next_live; /* the list of live instances (fmi2FreeInstance) */
 } Instance;
 
@@ -193,6 +207,7 @@ typedef struct Instance {
 #define bn_option_derivative BN_FN(bn_option_derivative)
 #define bn_release BN_FN(bn_release)
 #define bn_shape_derivative BN_FN(bn_shape_derivative)
+#define bn_film BN_FN(bn_film)
 #define bn_fallback_eval BN_NAME(BN_ID, bn_fallback_eval)
 #define bn_log BN_NAME(BN_ID, bn_log)
 #define bn_num BN_NAME(BN_ID, bn_num)
@@ -220,6 +235,7 @@ typedef struct Instance {
 #define bn_check_known BN_NAME(BN_ID, bn_check_known)
 #define bn_derivative BN_NAME(BN_ID, bn_derivative)
 #define bn_thermal_derivative BN_NAME(BN_ID, bn_thermal_derivative)
+#define bn_thermal_setup BN_NAME(BN_ID, bn_thermal_setup)
 #define bn_state_save BN_NAME(BN_ID, bn_state_save)
 #define bn_state_restore BN_NAME(BN_ID, bn_state_restore)
 #define bn_state_valid BN_NAME(BN_ID, bn_state_valid)
@@ -249,6 +265,12 @@ BN_HIDDEN void bn_release(Instance *m);
 /* BN_BEARING_IN_FORCE 2 (reynolds: F = mu R L (R / CR)^2 G(L/D, q/CR, v/CR, omega)): dF and, with
  * want_jac, dJ along ln(L/D) at a fixed scale, at x. 0, or 1 with the reason in m->msg. */
 BN_HIDDEN int bn_shape_derivative(Instance *m, const double x[5], int want_jac, double dF[2], double dJ[8]);
+#if BN_FILM_FLOW
+/* The film's report at x, right after bn_eval there (an internal with the film's flows:
+ * BN_FILM_FLOW, its registry capability film_flow): Couette and pressure torque [N m], friction
+ * power [W], inflow, side flow [m^3/s]. 0, or 1 with the reason in m->msg. */
+BN_HIDDEN int bn_film(Instance *m, const double x[5], double out[5]);
+#endif
 /* Does the force of the internal as set depend on the bearing (0 no, 1 by the scale law, 2 and on
  * L/D) and on the speed? One internal: BN_BEARING_IN_FORCE, BN_SPEED_IN_FORCE; several: its own. */
 #if BN_PARTS > 1

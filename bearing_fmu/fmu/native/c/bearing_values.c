@@ -82,6 +82,16 @@ static const char *const GEOMETRY_UNITS[N_GEOMETRY_REALS] = {
     "rad", "rad", "rad", "rad", "rad", "rad", "rad", "rad", "rad", "Pa", "rad", "rad", "1", "1", "rad"};
 /* the bore this FMU's data were made for (codegen: the build's bearing): the geometry parameters' starts */
 static const double GEOMETRY_START[N_GEOMETRY_REALS] = BN_GEOMETRY_REAL_START;
+/* the oil (ports.OIL_ROWS, ports.BOUNDS): names, units, starts (the build's bearing's), bounds */
+static const char *const OIL_NAMES[N_OIL_REALS] = {
+    "oil_nu_1", "oil_T_1", "oil_nu_2", "oil_T_2", "oil_vogel_a", "oil_vogel_b", "oil_vogel_c", "oil_T_min",
+    "oil_T_max", "oil_density", "oil_heat_capacity", "oil_rise_factor"};
+static const char *const OIL_UNITS[N_OIL_REALS] = {"m2/s", "K", "m2/s", "K", "Pa.s", "K", "K", "K", "K", "kg/m3",
+                                                   "J/(kg.K)", "1"};
+static const double OIL_START[N_OIL_REALS] = BN_OIL_START;
+static const double OIL_LOW[N_OIL_REALS] = {0, 0, 0, 0, 0, 0, 0, 0, 0, 500.0, 500.0, 0.0};
+static const double OIL_HIGH[N_OIL_REALS] = {INFINITY, INFINITY, INFINITY, INFINITY, INFINITY, INFINITY, INFINITY,
+                                             INFINITY, INFINITY, 2000.0, 5000.0, 1.0};
 static const int INT_START[N_INT] = BN_GEOMETRY_INT_START;
 static const char *const INT_NAMES[N_INT] = {"groove_count", "lobes"};
 static const int INT_LOW[N_INT] = {0, 1}, INT_HIGH[N_INT] = {8, 8};
@@ -99,6 +109,7 @@ const char *bn_num(char *buf, size_t n, double x, int digits) {
 }
 
 const char *bn_real_name(int vr) {
+    if (vr >= VR_OIL0) return OIL_NAMES[vr - VR_OIL0];
     if (vr >= VR_GEOMETRY0) return GEOMETRY_NAMES[vr - VR_GEOMETRY0];
     if (vr >= VR_T_SUPPLY) return THERMAL_NAMES[vr - VR_T_SUPPLY];
     return vr < VR_REAL_OPTIONS ? CORE_NAMES[vr] : REAL_OPTIONS[vr - VR_REAL_OPTIONS].name;
@@ -110,6 +121,7 @@ const char *bn_string_name(int k) {
 
 const char *bn_real_unit(int vr) {
     if (vr < VR_REAL_OPTIONS) return CORE_UNITS[vr];
+    if (vr >= VR_OIL0) return OIL_UNITS[vr - VR_OIL0];
     if (vr >= VR_GEOMETRY0) return GEOMETRY_UNITS[vr - VR_GEOMETRY0];
     if (vr >= VR_T_SUPPLY) return THERMAL_UNITS[vr - VR_T_SUPPLY];
     return "";
@@ -175,11 +187,14 @@ void bn_set_starts(Instance *m) {
     for (int i = 0; i < BN_N_REAL_OPTIONS; i++) m->r[VR_REAL_OPTIONS + i] = REAL_OPTIONS[i].start;
     m->r[VR_T_SUPPLY] = BN_START_T_SUPPLY;
     for (int i = 0; i < N_GEOMETRY_REALS; i++) m->r[VR_GEOMETRY0 + i] = GEOMETRY_START[i];
+    for (int i = 0; i < N_OIL_REALS; i++) m->r[VR_OIL0 + i] = OIL_START[i];
+    m->thermal_lagged = 0;
+    m->thermal_dt = 0.0;
     for (int i = 0; i < N_INT; i++) m->n[i] = INT_START[i];
     m->b[B_PARTIAL_ARC] = BN_GEOMETRY_ARC_START;
     m->b[B_OUT_OF_DOMAIN] = 0;
     m->b[B_COMPUTE_TANGENT] = 1;
-    m->b[B_THERMAL] = 0;
+    m->b[B_THERMAL] = BN_THERMAL_START;
     snprintf(m->s[S_INTERNAL], STRING_MAX, "%s", BN_INTERNAL);
     for (int i = 0; i < BN_N_STRING_OPTIONS; i++) snprintf(m->s[1 + i], STRING_MAX, "%s", STRING_OPTIONS[i].start);
     for (int i = 0; i < N_STRING; i++) snprintf(m->eff[i], STRING_MAX, "%s", m->s[i]);
@@ -206,6 +221,16 @@ int bn_check_real(int vr, double v, char *why, size_t n) {
         if (!(v > 0.0 && v < INFINITY)) {
             snprintf(why, n, "%s = %s %s must be finite and > 0", CORE_NAMES[vr], bn_num(a, sizeof a, v, 17),
                      CORE_UNITS[vr]);
+            return 1;
+        }
+        return 0;
+    }
+    if (vr >= VR_OIL0) { /* the oil: each alone here (ports.check_value), together at initialisation */
+        int k = vr - VR_OIL0;
+        if (!(isfinite(v) && v >= OIL_LOW[k] && v <= OIL_HIGH[k])) {
+            char lo[32], hi[32];
+            snprintf(why, n, "%s = %s must be finite and in %s .. %s", OIL_NAMES[k], bn_num(a, sizeof a, v, 17),
+                     bn_num(lo, sizeof lo, OIL_LOW[k], 6), bn_num(hi, sizeof hi, OIL_HIGH[k], 6));
             return 1;
         }
         return 0;
@@ -405,8 +430,9 @@ int bn_prepare(Instance *m) {
                                     "%s%s (refused when it was set)", off ? "; " : "", m->refused_msg[i]);
     if (!why[0] && !BN_FILM_FLOW && m->b[B_THERMAL])
         snprintf(why, sizeof why, "thermal = true needs the film's friction and flows, which internal = '%s' does "
-                 "not have (%s); the native FMU has no thermal model: use thermal = false, or the Python FMU "
-                 "(bearing-fmu build) with internal = 'reynolds'", BN_INTERNAL, BN_FILM_FLOW_WHY);
+                 "not have (%s): use thermal = false, or internal = 'reynolds' (bearing-fmu build --native "
+                 "--internal reynolds)", BN_INTERNAL, BN_FILM_FLOW_WHY);
+    if (!why[0] && m->b[B_THERMAL]) bn_thermal_setup(m, why, sizeof why);
     if (!why[0] && resolve_choices(m, why, sizeof why) == 0 && check_bearing(m, why, sizeof why) == 0
         && check_bore(m, why, sizeof why) == 0) {
         if (bn_setup(m) == 0) {

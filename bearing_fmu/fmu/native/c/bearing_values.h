@@ -57,12 +57,24 @@ BN_HIDDEN int bn_check_known(const Instance *m, unsigned vr, char *why, size_t n
  * parameters set; with_kc: K.., C.. too (else 0). 0, or 1 with the reason in m->msg (the state
  * refused; for K, C: no state next to it). Quiet: no log line, no excursion counted. */
 BN_HIDDEN int bn_derivative(Instance *m, const double d[N_REAL], int with_kc, double out[N_OUTPUTS_REAL]);
-/* the derivative of a thermal output (BN_IS_THERMAL_OUTPUT(vr)) along d: with the thermal model off
- * (the native internals have no film flows) T_eff is T_supply and mu_eff is mu, P_loss, Q_side 0 */
-BN_HIDDEN double bn_thermal_derivative(const double d[N_REAL], int vr);
+/* the derivative of a thermal output (BN_IS_THERMAL_OUTPUT(vr), T_eff) along d, with the thermal
+ * model off (on, bn_derivative refuses): T_eff is T_supply (Model Exchange's state T_eff after
+ * initialisation: itself), mu_eff is mu, P_loss, Q_side and der(T_eff) 0 */
+BN_HIDDEN double bn_thermal_derivative(const Instance *m, const double d[N_REAL], int vr);
+/* thermal = true: the oil of the parameters into m->oil (bearing_model.c): 0, or 1 with the reason in why */
+BN_HIDDEN int bn_thermal_setup(Instance *m, char *why, size_t n);
 /* the derivative of Real output vr along d: out (bn_derivative's) or the thermal one */
 #define BN_OUTPUT_DERIVATIVE(vr, d, out) \
-    (BN_IS_THERMAL_OUTPUT(vr) ? bn_thermal_derivative(d, (int)(vr)) : (out)[(vr) - VR_FY])
+    (BN_IS_THERMAL_OUTPUT(vr) || (vr) == VR_T_EFF ? bn_thermal_derivative(m, d, (int)(vr)) : (out)[(vr) - VR_FY])
+
+/* Model Exchange: the continuous states (BN_N_STATES: T_eff, thermal = true), into x (get) or from
+ * x (set: the outputs follow at the next get) */
+#define BN_ME_THERMAL(m) (BN_N_STATES > 0 && (m)->b[B_THERMAL])
+#if BN_FMI3
+#define BN_IS_ME(m) ((m)->model_exchange)
+#else
+#define BN_IS_ME(m) ((m)->type == fmi2ModelExchange)
+#endif
 
 /* an FMU state: the time, the inputs and Real outputs, out_of_domain; tagged with the layer's
  * tag and the build's GUID (FMI 3.0: instantiation token), so a state of another build is refused */

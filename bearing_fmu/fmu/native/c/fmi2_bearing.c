@@ -170,11 +170,13 @@ fmi2Status fmi2ExitInitializationMode(fmi2Component c) {
     ORDER(exitInitializationMode, BN_ANY_TYPE);
     m->initialized = 1;
     if (bn_prepare(m)) return bn2_fail(m, "%s", m->init_error);
-    m->mode = m->type == fmi2ModelExchange ? MODE_EVENT : MODE_STEP;
     bn_show_choices(m); /* both the String and its enumeration show the choice that counts */
-    /* outputs at the start time from the initial inputs, when they can be evaluated: a master
+    /* outputs at the start time from the initial inputs, when they can be evaluated (still in
+     * Initialization Mode: T_eff quasi-static, Model Exchange's state starts there): a master
      * may set the inputs only before the first step, so a refused state is no initialisation error */
-    if (bn_evaluate(m)) {
+    int refused = bn_evaluate(m);
+    m->mode = m->type == fmi2ModelExchange ? MODE_EVENT : MODE_STEP;
+    if (refused) {
         bn_log(m, fmi2Warning, "outputs at the start time left at their start values: %s", m->msg);
         m->warn_pending = 1;
         m->dirty = 1;

@@ -170,7 +170,11 @@ fmi2Status fmi2DoStep(fmi2Component c, fmi2Real currentCommunicationPoint, fmi2R
         return bn2_fail(m, "doStep: step to t = %s s refused: the inputs of the step discarded just before, "
                         "unchanged (the state is refused again whatever the step size); set the inputs or restore "
                         "an FMU state", bn_num(a, 32, t, 10));
-    if (bn_evaluate(m)) {
+    m->thermal_lagged = 1; /* T_eff lags over the step (thermal = true) */
+    m->thermal_dt = h;
+    int refused = bn_evaluate(m);
+    m->thermal_lagged = 0;
+    if (refused) {
         /* not fmi2Terminated: the same step from a restored state, or with other inputs, can succeed */
         bn_log(m, fmi2Discard, "%s at t = %s s", m->msg, bn_num(a, 32, t, 10));
         m->step_refused = 1;
@@ -228,8 +232,10 @@ fmi2Status fmi2GetStringStatus(fmi2Component c, const fmi2StatusKind s, fmi2Stri
 }
 
 /* ------------------------------------------------------------------------------ FMI: Model Exchange */
-/* No continuous states and no event indicators: the outputs are a direct feedthrough of the
- * inputs, computed when read (the model layer's bn_outputs). */
+/* No event indicators; the outputs are a direct feedthrough of the inputs, computed when read
+ * (the model layer's bn_outputs). Continuous states: none, or (a build whose internal has the film's flows and
+ * whose bearing an oil law: BN_N_STATES 1) T_eff, whose derivative is the heat balance's rate with
+ * thermal = true and 0 (T_eff holds) with thermal = false. */
 
 fmi2Status fmi2EnterEventMode(fmi2Component c) {
     Instance *m = c;
@@ -299,14 +305,40 @@ static fmi2Status no_states(Instance *m, const char *call, unsigned allowed, siz
 }
 #define NO_STATES(call, n, what) no_states(c, #call, BN_ALLOW_##call, n, what)
 
+/* the continuous states' calls: allowed here, nx the FMU's number of states (BN_N_STATES) */
+static int states_refused(Instance *m, const char *call, unsigned allowed, size_t nx, const void *p) {
+    if (bn_order_refused(m, call, allowed, BN_ME_ONLY)) return 1;
+    if (nx != BN_N_STATES) {
+        bn2_fail(m, "%s: this FMU has %d continuous state(s), got nx = %lu", call, BN_N_STATES, (unsigned long)nx);
+        return 1;
+    }
+    if (nx && !p) {
+        bn2_fail(m, "%s: the array is NULL", call);
+        return 1;
+    }
+    return 0;
+}
+#define STATES_REFUSED(call, nx, p) states_refused(m, #call, BN_ALLOW_##call, nx, p)
+
 fmi2Status fmi2SetContinuousStates(fmi2Component c, const fmi2Real x[], size_t nx) {
-    (void)x;
-    return NO_STATES(setContinuousStates, nx, "continuous states");
+    Instance *m = c;
+    if (!m) return fmi2Error;
+    if (STATES_REFUSED(setContinuousStates, nx, x)) return fmi2Error;
+    if (nx) {
+        m->r[VR_T_EFF] = x[0];
+        m->dirty = 1;
+    }
+    return fmi2OK;
 }
 
 fmi2Status fmi2GetDerivatives(fmi2Component c, fmi2Real derivatives[], size_t nx) {
-    (void)derivatives;
-    return NO_STATES(getDerivatives, nx, "continuous states");
+    Instance *m = c;
+    if (!m) return fmi2Error;
+    if (STATES_REFUSED(getDerivatives, nx, derivatives)) return fmi2Error;
+    if (!nx) return fmi2OK;
+    fmi2Status s = bn_outputs(m, "getDerivatives", "der(T_eff)");
+    derivatives[0] = m->r[VR_DER_T_EFF];
+    return s;
 }
 
 fmi2Status fmi2GetEventIndicators(fmi2Component c, fmi2Real eventIndicators[], size_t ni) {
@@ -315,11 +347,19 @@ fmi2Status fmi2GetEventIndicators(fmi2Component c, fmi2Real eventIndicators[], s
 }
 
 fmi2Status fmi2GetContinuousStates(fmi2Component c, fmi2Real x[], size_t nx) {
-    (void)x;
-    return NO_STATES(getContinuousStates, nx, "continuous states");
+    Instance *m = c;
+    if (!m) return fmi2Error;
+    if (STATES_REFUSED(getContinuousStates, nx, x)) return fmi2Error;
+    if (!nx) return fmi2OK;
+    fmi2Status s = m->mode == MODE_INIT ? bn_outputs(m, "getContinuousStates", "T_eff") : fmi2OK; /* its start */
+    x[0] = m->r[VR_T_EFF];
+    return s;
 }
 
 fmi2Status fmi2GetNominalsOfContinuousStates(fmi2Component c, fmi2Real x_nominal[], size_t nx) {
-    (void)x_nominal;
-    return NO_STATES(getNominalsOfContinuousStates, nx, "continuous states");
+    Instance *m = c;
+    if (!m) return fmi2Error;
+    if (STATES_REFUSED(getNominalsOfContinuousStates, nx, x_nominal)) return fmi2Error;
+    if (nx) x_nominal[0] = 1.0; /* the model description gives T_eff no nominal */
+    return fmi2OK;
 }

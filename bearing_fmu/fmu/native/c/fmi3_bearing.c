@@ -243,11 +243,13 @@ fmi3Status fmi3ExitInitializationMode(fmi3Instance instance) {
     ORDER3(ExitInitializationMode, BN_ANY_TYPE);
     if (bn_prepare(m)) return bn3_fail(m, "fmi3ExitInitializationMode: %s", m->init_error);
     m->initialized = 1;
-    m->mode = m->model_exchange ? MODE_EVENT : MODE_STEP;
     bn_show_choices(m);
-    /* outputs at the start time from the initial inputs when they can be evaluated: a master
+    /* outputs at the start time from the initial inputs when they can be evaluated (still in
+     * Initialization Mode: T_eff quasi-static, Model Exchange's state starts there): a master
      * may set the inputs only before the first step, so a refused state is no initialisation error */
-    if (bn_evaluate(m)) { /* logged; the initialisation itself succeeded */
+    int refused = bn_evaluate(m);
+    m->mode = m->model_exchange ? MODE_EVENT : MODE_STEP;
+    if (refused) { /* logged; the initialisation itself succeeded */
         bn_log(m, fmi3Warning, "outputs at the start time left at their start values: %s", m->msg);
         m->dirty = 1;
         return fmi3OK;

@@ -57,14 +57,25 @@ int bn3_refused(Instance *m, const char *call, unsigned allowed, int kind) {
 
 /* ------------------------------------------------------------------------------ dependencies */
 
-/* the inputs (value references 0..; T_eff: T_supply) a variable depends on after initialisation:
- * fmi3.py's output_dependencies, the ModelStructure's Output elements */
-static int dependencies(fmi3ValueReference v) {
-    if (v == VR_ECC || v == VR_HMIN) return 2;                    /* y, z */
-    if (v == VR_BOOL0 + B_OUT_OF_DOMAIN) return BN3_FITTED_DOMAIN ? 4 : 0; /* y, z, vy, vz */
-    if (v >= VR_FY && v < VR_D) return 5;                         /* the whole journal state */
-    if (v == VR_T_EFF) return 1;                                  /* T_supply (the thermal model off) */
-    return 0;
+/* the inputs and states a variable depends on after initialisation (into deps, their number):
+ * fmi3.py's output_dependencies, the ModelStructure's Output and ContinuousStateDerivative elements.
+ * A build with the state T_eff (BN_N_STATES): the force, K, C and the thermal outputs on the
+ * journal state, T_supply and T_eff; else T_eff on T_supply, P_loss, Q_side, mu_eff on nothing. */
+static int dependencies(fmi3ValueReference v, fmi3ValueReference deps[8]) {
+    int n = 0, k;
+    if (v == VR_ECC || v == VR_HMIN) n = 2;                                  /* y, z */
+    else if (v == VR_BOOL0 + B_OUT_OF_DOMAIN) n = BN3_FITTED_DOMAIN ? 4 : 0; /* y, z, vy, vz */
+    else if ((v >= VR_FY && v < VR_D) || (BN_N_STATES && BN_IS_THERMAL_OUTPUT(v))) n = 5; /* the journal state */
+    for (k = 0; k < n; k++) deps[k] = (fmi3ValueReference)k;
+    if (BN_N_STATES && ((v >= VR_FY && v < VR_D) || BN_IS_THERMAL_OUTPUT(v) || v == VR_T_EFF)) {
+        if (n == 0) /* T_eff: the journal state too */
+            for (; n < 5; n++) deps[n] = (fmi3ValueReference)n;
+        deps[n++] = VR_T_SUPPLY;
+        deps[n++] = VR_T_EFF;
+    } else if (v == VR_T_EFF) {
+        deps[n++] = VR_T_SUPPLY; /* the thermal model off */
+    }
+    return n;
 }
 
 static int known_variable(fmi3ValueReference v) {
@@ -80,7 +91,8 @@ fmi3Status fmi3GetNumberOfVariableDependencies(fmi3Instance instance, fmi3ValueR
     if (!known_variable(valueReference) || !nDependencies)
         return bn3_fail(m, "fmi3GetNumberOfVariableDependencies: value reference %u is not a variable of this FMU%s",
                         valueReference, nDependencies ? "" : " (or nDependencies is NULL)");
-    *nDependencies = (size_t)dependencies(valueReference);
+    fmi3ValueReference deps[8];
+    *nDependencies = (size_t)dependencies(valueReference, deps);
     return fmi3OK;
 }
 
@@ -93,14 +105,15 @@ fmi3Status fmi3GetVariableDependencies(fmi3Instance instance, fmi3ValueReference
     ORDER3(GetVariableDependencies, BN_ANY_TYPE);
     if (!known_variable(dependent))
         return bn3_fail(m, "fmi3GetVariableDependencies: value reference %u is not a variable of this FMU", dependent);
-    int n = dependencies(dependent);
+    fmi3ValueReference deps[8];
+    int n = dependencies(dependent, deps);
     if (nDependencies != (size_t)n)
         return bn3_fail(m, "fmi3GetVariableDependencies: nDependencies = %lu, but %s has %d (ask "
                         "fmi3GetNumberOfVariableDependencies)", (unsigned long)nDependencies,
                         dependent < (fmi3ValueReference)N_REAL ? bn_real_name((int)dependent) : "the variable", n);
     for (int k = 0; k < n; k++) { /* scalars: element index 0, the whole variable */
         elementIndicesOfDependent[k] = 0;
-        independents[k] = dependent == VR_T_EFF ? (fmi3ValueReference)VR_T_SUPPLY : (fmi3ValueReference)k;
+        independents[k] = deps[k];
         elementIndicesOfIndependents[k] = 0;
         dependencyKinds[k] = fmi3Dependent;
     }
@@ -193,29 +206,9 @@ static fmi3Status no_states(Instance *m, const char *call, unsigned allowed, siz
 }
 #define NO_STATES(call, n, what) no_states(instance, "fmi3" #call, BN3_ALLOW_##call, n, what)
 
-fmi3Status fmi3SetContinuousStates(fmi3Instance instance, const fmi3Float64 continuousStates[], size_t n) {
-    (void)continuousStates;
-    return NO_STATES(SetContinuousStates, n, "continuous states");
-}
-
-fmi3Status fmi3GetContinuousStateDerivatives(fmi3Instance instance, fmi3Float64 derivatives[], size_t n) {
-    (void)derivatives;
-    return NO_STATES(GetContinuousStateDerivatives, n, "continuous states");
-}
-
 fmi3Status fmi3GetEventIndicators(fmi3Instance instance, fmi3Float64 eventIndicators[], size_t n) {
     (void)eventIndicators;
     return NO_STATES(GetEventIndicators, n, "event indicators");
-}
-
-fmi3Status fmi3GetContinuousStates(fmi3Instance instance, fmi3Float64 continuousStates[], size_t n) {
-    (void)continuousStates;
-    return NO_STATES(GetContinuousStates, n, "continuous states");
-}
-
-fmi3Status fmi3GetNominalsOfContinuousStates(fmi3Instance instance, fmi3Float64 nominals[], size_t n) {
-    (void)nominals;
-    return NO_STATES(GetNominalsOfContinuousStates, n, "continuous states");
 }
 
 fmi3Status fmi3GetNumberOfEventIndicators(fmi3Instance instance, size_t *nEventIndicators) {
@@ -224,9 +217,63 @@ fmi3Status fmi3GetNumberOfEventIndicators(fmi3Instance instance, size_t *nEventI
     return s;
 }
 
+/* the continuous states (fmi2_modes.c says which): n the FMU's number (BN_N_STATES) */
+static int states_refused(Instance *m, const char *call, unsigned allowed, size_t n, const void *p) {
+    if (bn3_refused(m, call, allowed, BN_ME_ONLY)) return 1;
+    if (n != BN_N_STATES) {
+        bn3_fail(m, "%s: this FMU has %d continuous state(s), got %lu", call, BN_N_STATES, (unsigned long)n);
+        return 1;
+    }
+    if (n && !p) {
+        bn3_fail(m, "%s: the array is NULL", call);
+        return 1;
+    }
+    return 0;
+}
+#define STATES_REFUSED(call, n, p) states_refused(m, "fmi3" #call, BN3_ALLOW_##call, n, p)
+
+fmi3Status fmi3SetContinuousStates(fmi3Instance instance, const fmi3Float64 continuousStates[], size_t n) {
+    Instance *m = instance;
+    if (!m) return fmi3Error;
+    if (STATES_REFUSED(SetContinuousStates, n, continuousStates)) return fmi3Error;
+    if (n) {
+        m->r[VR_T_EFF] = continuousStates[0];
+        m->dirty = 1;
+    }
+    return fmi3OK;
+}
+
+fmi3Status fmi3GetContinuousStateDerivatives(fmi3Instance instance, fmi3Float64 derivatives[], size_t n) {
+    Instance *m = instance;
+    if (!m) return fmi3Error;
+    if (STATES_REFUSED(GetContinuousStateDerivatives, n, derivatives)) return fmi3Error;
+    if (!n) return fmi3OK;
+    fmi3Status s = bn_outputs(m, "fmi3GetContinuousStateDerivatives", "der(T_eff)");
+    derivatives[0] = m->r[VR_DER_T_EFF];
+    return s;
+}
+
+fmi3Status fmi3GetContinuousStates(fmi3Instance instance, fmi3Float64 continuousStates[], size_t n) {
+    Instance *m = instance;
+    if (!m) return fmi3Error;
+    if (STATES_REFUSED(GetContinuousStates, n, continuousStates)) return fmi3Error;
+    if (!n) return fmi3OK;
+    fmi3Status s = m->mode == MODE_INIT ? bn_outputs(m, "fmi3GetContinuousStates", "T_eff") : fmi3OK; /* its start */
+    continuousStates[0] = m->r[VR_T_EFF];
+    return s;
+}
+
+fmi3Status fmi3GetNominalsOfContinuousStates(fmi3Instance instance, fmi3Float64 nominals[], size_t n) {
+    Instance *m = instance;
+    if (!m) return fmi3Error;
+    if (STATES_REFUSED(GetNominalsOfContinuousStates, n, nominals)) return fmi3Error;
+    if (n) nominals[0] = 1.0; /* the model description gives T_eff no nominal */
+    return fmi3OK;
+}
+
 fmi3Status fmi3GetNumberOfContinuousStates(fmi3Instance instance, size_t *nContinuousStates) {
     fmi3Status s = NO_STATES(GetNumberOfContinuousStates, 0, "continuous states");
-    if (s == fmi3OK && nContinuousStates) *nContinuousStates = 0;
+    if (s == fmi3OK && nContinuousStates) *nContinuousStates = BN_N_STATES;
     return s;
 }
 
@@ -275,7 +322,11 @@ fmi3Status fmi3DoStep(fmi3Instance instance, fmi3Float64 currentCommunicationPoi
         return bn3_fail(m, "fmi3DoStep: step to t = %s s refused: the inputs of the step discarded just before, "
                         "unchanged (the state is refused again whatever the step size); set the inputs or restore "
                         "an FMU state", bn_num(a, 32, t, 10));
-    if (bn_evaluate(m)) { /* the instance as before the call: the importer may restore a state and go on */
+    m->thermal_lagged = 1; /* T_eff lags over the step (thermal = true) */
+    m->thermal_dt = h;
+    int refused = bn_evaluate(m);
+    m->thermal_lagged = 0;
+    if (refused) { /* the instance as before the call: the importer may restore a state and go on */
         bn_log(m, fmi3Discard, "%s at t = %s s", m->msg, bn_num(a, 32, t, 10));
         m->step_refused = 1;
         return fmi3Discard;

@@ -158,6 +158,13 @@ int bn_eval(Instance *m, const double x[5], int want_jac, double F[2], double J[
     return 0;
 }
 
+#if BN_FILM_FLOW
+int bn_film(Instance *m, const double x[5], double out[5]) {
+    rs_film_report((rs_solver *)m->work.solver, x[0], x[1], x[2], x[3], x[4], out);
+    return 0;
+}
+#endif
+
 /* n_theta, n_x and cavitation are no Real options: nothing to differentiate */
 void bn_option_derivative(Instance *m, const double x[5], int k, double dF[2], double dJ[8]) {
     int i;

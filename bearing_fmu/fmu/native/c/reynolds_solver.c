@@ -31,7 +31,7 @@ static size_t rs_align(size_t x) { return (x + 15) / 16 * 16; }
 /* doubles of a solver of n_theta x n_x cells */
 static size_t rs_doubles(size_t N, size_t m) {
     size_t n = N * m;
-    return 24 * N /* sin_c .. dax, db (5 N) */ + 3 * m + 3 * n + (N - 1) * m * (m + 1) + (N - 1) * m * m + m * m +
+    return 30 * N /* sin_c .. dax, wd .. hl0, db (5 N) */ + 3 * m + 3 * n + (N - 1) * m * (m + 1) + (N - 1) * m * m + m * m +
            (N - 1) * m + m + 7 * n + RS_HISTORY * n;
 }
 
@@ -146,6 +146,12 @@ static void rs_grid_bore(rs_solver *s, int lobes, double preload, double offset,
                          : 0.0;
         double dist = film && film_n ? py_mod(cn - centre, RS_TWO_PI)
                                      : (film ? 0.5 * width[i] : (film_n ? 0.5 * width[nx] : 0.0));
+        s->wd[i] = width[i];
+        s->cen[i] = centre;
+        s->rt[i] = right;
+        s->lf[i] = left[i];
+        s->dst[i] = dist;
+        s->hl0[i] = rs_base_film(lobes, preload, offset, angle, left[i], lobe);
         s->ct[i] = dist > 0.0 ? s->dx / (R * R * dist) : 0.0;
         s->cx[i] = width[i] / s->dx;
         s->sin_f[i] = sin(right);
@@ -182,7 +188,8 @@ RS_API rs_solver *rs_create(void *mem, int n_theta, int n_x, int mode, int warm,
     memset(s, 0, sizeof *s);
     double *d = (double *)((char *)mem + rs_align(sizeof(rs_solver)));
     double **arrays[] = {&s->sin_c, &s->cos_c, &s->sin_f, &s->cos_f, &s->ds, &s->dc, &s->H0f, &s->H0c, &s->dH0,
-                         &s->ct, &s->cx, &s->gy, &s->gz, &s->psup, &s->at, &s->ax, &s->b, &s->dat, &s->dax};
+                         &s->ct, &s->cx, &s->gy, &s->gz, &s->psup, &s->at, &s->ax, &s->b, &s->dat, &s->dax,
+                         &s->wd, &s->cen, &s->rt, &s->lf, &s->dst, &s->hl0};
     for (i = 0; i < (int)(sizeof arrays / sizeof arrays[0]); i++, d += N) *arrays[i] = d;
     s->db = d; d += 5 * N;
     s->tdiag = d; d += m;
@@ -215,6 +222,8 @@ RS_API rs_solver *rs_create(void *mem, int n_theta, int n_x, int mode, int warm,
     s->dth = 2.0 * M_PI / N;
     s->dx = L / n_x;
     s->bore = nseg > 0;
+    s->lobes = lobes;
+    s->preload = preload;
     for (i = 0; i < N; i++) {
         s->fixed[i] = 0;
         s->psup[i] = 0.0;
@@ -234,6 +243,11 @@ RS_API rs_solver *rs_create(void *mem, int n_theta, int n_x, int mode, int warm,
             s->dH0[i] = 0.0;
             s->ct[i] = s->dx / (s->R * s->R * s->dth);
             s->cx[i] = s->dth / s->dx;
+            s->wd[i] = s->dst[i] = s->dth; /* film.field_report's grid of the full bore */
+            s->cen[i] = i * s->dth;
+            s->rt[i] = s->cen[i] + 0.5 * s->dth;
+            s->lf[i] = s->cen[i] - 0.5 * s->dth;
+            s->hl0[i] = 1.0;
         }
     }
     for (i = 0; i < N; i++) { /* differences of face values */
@@ -379,6 +393,7 @@ static void rs_jacobian(rs_solver *s, double y, double z, int s0, int hb) {
 RS_API int rs_call(rs_solver *s, double y, double z, double vy, double vz, double omega, int want_jac) {
     int N = s->N, m = s->m, n = N * m, i, k, s0, hb, iters;
     for (i = 0; i < 6; i++) s->info[i] = 0.0;
+    s->p_stale = 0;
     rs_assemble(s, y, z, vy, vz, omega);
     int use_warm = s->warm_on && s->mode == 1;
     if (!use_warm) s->nvalid = 0; /* act is overwritten below: nothing remembered stays valid */
@@ -428,6 +443,7 @@ RS_API int rs_call(rs_solver *s, double y, double z, double vy, double vz, doubl
                 if (s->b[i] != 0.0) quiet = 0;
         }
         if (quiet) {
+            s->p_stale = 1;
             if (rs_quiet_jacobian(s)) {
                 s->info[0] = -1.0;
                 status = RS_NOT_CONVERGED;
@@ -445,6 +461,8 @@ RS_API int rs_call(rs_solver *s, double y, double z, double vy, double vz, doubl
     finite = finite && (!want_jac || (isfinite(s->dFw[0]) && isfinite(s->dFw[1])));
     return finite ? RS_OK : RS_OVERFLOW;
 }
+
+#include "reynolds_film.c"
 
 #if defined(RS_EXPORT) /* what the ctypes comparison calls besides (bearing_fmu/fmu/native/solver_lib.py) */
 /* F (2), dFq (4), dFv (4) into out */

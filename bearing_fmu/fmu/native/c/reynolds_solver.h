@@ -38,6 +38,13 @@ typedef struct rs_solver {
     double max_turn, max_dlog;
     /* the grid: per theta cell (centres c, right faces f) */
     double *sin_c, *cos_c, *sin_f, *cos_f, *ds, *dc, *H0f, *H0c, *dH0, *ct, *cx, *gy, *gz, *psup;
+    /* and for the film report (reynolds_film.c; geometry.ThetaGrid's): cell widths, centres,
+     * right and left faces [rad], the distance across each right face [rad], h / CR of the
+     * centred journal at the left face on the cell's own lobe */
+    double *wd, *cen, *rt, *lf, *dst, *hl0;
+    int lobes;
+    double preload;
+    int p_stale; /* the last call's Jacobian without a source overwrote p (its field: 0) */
     unsigned char *fixed;
     double F0[2];
     double *tdiag, *rs, *qw;  /* the axial stencil and quadrature (m) */

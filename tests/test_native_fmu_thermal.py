@@ -1,0 +1,333 @@
+"""The native Reynolds FMU's thermal ports (docs/thermal.md, docs/fmu.md) against the Python FMU's.
+
+Expected values: the Python FMU (bearing_fmu/fmu/slave.py, its thermal model in Python:
+physics/thermal.py film_temperature through fmu/ports.py thermal_state) at the same parameters
+(the native FMU's starts: the ISO VG 46 paper bearing of models/bearing_paper_vg46.toml, a
+32 x 4 grid) over the same short Co-Simulation run: T_eff, mu_eff, P_loss, Q_side and the force
+with its tangent within 1e-12 relative (round-off: the C film report and oil law equal Python's to
+about 1e-16, tests/test_native_film.py, tests/test_native_thermal.py). The native FMU's own
+contract: T_eff is part of the FMU state (a restored state steps the same), a supply temperature
+outside the oil's range refuses the step (Discard); in Model Exchange T_eff is the continuous
+state, its derivative the heat balance's rate (Python's formula at the state set).
+"""
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+fmpy = pytest.importorskip("fmpy")
+from fmpy.fmi1 import FMICallException
+from fmpy.fmi2 import FMU2Model, FMU2Slave
+from fmpy.fmi3 import FMU3Slave
+
+from bearing_fmu.physics.params import BearingParams
+
+ROOT = Path(__file__).resolve().parents[1]
+VG46 = ROOT / "models" / "bearing_paper_vg46.toml"
+GRID = {"n_theta": 32, "n_x": 4}
+IN = ("y", "z", "vy", "vz", "omega")
+OUT = ("Fy", "Fz", "T_eff", "mu_eff", "P_loss", "Q_side", "Kyy", "Kzy", "Cyy", "Czz")
+T_SUPPLY = 318.15  # 45 C
+RTOL = 1e-12
+
+
+@pytest.fixture(scope="module")
+def thermal_on(tmp_path_factory, native_build_cache):
+    """The native Reynolds FMU (FMI 2.0) of the VG 46 bearing starting with thermal = true."""
+    from bearing_fmu.fmu.native.build import build_native_fmu
+
+    params = BearingParams.from_toml(VG46)
+    return native_build_cache(tmp_path_factory.mktemp("thermal_on") / "reynolds_vg46_on.fmu",
+                              lambda target: build_native_fmu(target, "reynolds", bearing=params, options=GRID,
+                                                              compiler="cc", thermal=True),
+                              [VG46], ("thermal on", "reynolds", tuple(GRID.items())))
+
+
+@pytest.fixture(scope="module")
+def native3(tmp_path_factory, native_build_cache):
+    """FMI version -> (the native Reynolds FMU of the VG 46 bearing, its model description)."""
+    from bearing_fmu.fmu.native.build import build_native_fmu
+
+    folder = tmp_path_factory.mktemp("native_thermal")
+    params = BearingParams.from_toml(VG46)
+    out = {}
+    for version in (2, 3):
+        def build(target, version=version):
+            return build_native_fmu(target, "reynolds", bearing=params, options=GRID, fmi_version=version,
+                                    compiler="cc")
+        path = native_build_cache(folder / f"reynolds_vg46_fmi{version}.fmu", build, [VG46],
+                                  ("thermal", "reynolds", version, tuple(GRID.items())))
+        out[version] = (path, fmpy.read_model_description(str(path)))
+    return out
+
+
+def trajectory(n=12):
+    """The journal on a widening, speeding spiral: the load and the friction change every step."""
+    CR, out = 90e-6, []
+    for k in range(n):
+        a, e, w = 0.3 * k, 0.5 + 0.02 * k, 300.0 + 20.0 * k
+        out.append((e * CR * math.sin(a), -e * CR * math.cos(a), 0.01 * w * CR * math.cos(a),
+                    0.01 * w * CR * math.sin(a), w))
+    return out
+
+
+class Run:
+    """One Co-Simulation instance through fmpy (FMI 2.0 or 3.0) with the thermal model on."""
+
+    def __init__(self, path, md, reals: dict, strings: dict | None = None, kind="CS", thermal=True):
+        self.md, self.v3 = md, md.fmiVersion.startswith("3")
+        self.vr = {v.name: v.valueReference for v in md.modelVariables}
+        unzip = fmpy.extract(str(path))
+        if self.v3:
+            self.f = FMU3Slave(guid=md.guid, unzipDirectory=unzip, modelIdentifier=md.coSimulation.modelIdentifier,
+                               instanceName="thermal")
+        else:
+            cls, ident = ((FMU2Slave, md.coSimulation.modelIdentifier) if kind == "CS" else
+                          (FMU2Model, md.modelExchange.modelIdentifier))
+            self.f = cls(guid=md.guid, unzipDirectory=unzip, modelIdentifier=ident, instanceName="thermal")
+        self.f.instantiate()
+        if self.v3:
+            self.f.enterInitializationMode(startTime=0.0)
+        else:
+            self.f.setupExperiment(startTime=0.0)
+            self.f.enterInitializationMode()
+        self.f.setBoolean([self.vr["thermal"]], [thermal])
+        for k, v in (strings or {}).items():
+            self.f.setString([self.vr[k]], [v])
+        self.set(reals)
+        self.t = 0.0
+
+    def set(self, values: dict):
+        ids, vals = [self.vr[k] for k in values], [float(v) for v in values.values()]
+        (self.f.setFloat64 if self.v3 else self.f.setReal)(ids, vals)
+
+    def get(self, names=OUT) -> np.ndarray:
+        ids = [self.vr[k] for k in names]
+        return np.array((self.f.getFloat64 if self.v3 else self.f.getReal)(ids))
+
+    def step(self, state, h):
+        self.set(dict(zip(IN, state)))
+        self.f.doStep(self.t, h)
+        self.t += h
+
+    def close(self):
+        self.f.terminate()
+        self.f.freeInstance()
+
+
+def parameters(md) -> dict:
+    """The native FMU's bearing and oil parameters (its starts), for the Python FMU too."""
+    return {v.name: float(v.start) for v in md.modelVariables
+            if v.causality == "parameter" and v.type in ("Real", "Float64") and (v.name in ("D", "L", "CR", "mu")
+                                                                   or v.name.startswith("oil_"))}
+
+
+def run(fmu, md, h=1e-3, python=False, native_md=None):
+    states = trajectory()
+    reals = {**parameters(native_md or md), "T_supply": T_SUPPLY, **dict(zip(IN, states[0]))}
+    strings = {"internal": "reynolds", "oil_law": "walther"} if python else None
+    r = Run(fmu, md, reals, strings)
+    try:
+        if python:
+            ints = [r.vr["n_theta"], r.vr["n_x"]]
+            r.f.setInteger(ints, [GRID["n_theta"], GRID["n_x"]])
+        r.f.exitInitializationMode()
+        rows = [r.get()]
+        for s in states[1:]:
+            r.step(s, h)
+            rows.append(r.get())
+        return np.array(rows)
+    finally:
+        r.close()
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("version", [2, 3])
+def test_equals_the_python_fmu(native3, fmu, version):
+    path, md = native3[version]
+    got = run(path, md)
+    want = run(fmu, fmpy.read_model_description(str(fmu)), python=True, native_md=md)
+    scale = np.max(np.abs(want), axis=0)  # each output against its largest value over the run
+    assert np.max(np.abs(got - want) / scale) <= RTOL
+    T = got[:, OUT.index("T_eff")]
+    assert np.all(T > T_SUPPLY) and np.ptp(T) > 0.1  # the film runs hot, and its temperature moves
+
+
+@pytest.mark.slow
+def test_fmpy_validates_the_thermal_fmus(native3):
+    from fmpy.validation import validate_fmu
+
+    for version, (path, md) in native3.items():
+        assert validate_fmu(str(path)) == [], version
+        names = {v.name for v in md.modelVariables}
+        assert {"thermal", "T_supply", "T_eff", "oil_nu_1", "oil_rise_factor"} <= names and "oil_law" not in names
+
+
+@pytest.mark.slow
+def test_t_eff_is_part_of_the_fmu_state(native3):
+    path, md = native3[2]
+    states = trajectory()
+    r = Run(path, md, {"T_supply": T_SUPPLY, **dict(zip(IN, states[0]))})
+    try:
+        r.f.exitInitializationMode()
+        for s in states[1:5]:
+            r.step(s, 1e-3)
+        blob = r.f.serializeFMUstate(r.f.getFMUstate())
+        before = r.get()
+        r.step(states[5], 1e-3)
+        after = r.get()
+        assert after[OUT.index("T_eff")] != before[OUT.index("T_eff")]
+        r.f.setFMUstate(r.f.deSerializeFMUstate(blob))
+        r.t -= 1e-3
+        assert np.array_equal(r.get(), before)
+        r.step(states[5], 1e-3)
+        assert np.array_equal(r.get(), after)  # the same lag from the same T_eff
+        # a supply temperature outside the oil's range (0 .. 150 C): the step is refused
+        r.set({"T_supply": 450.0})
+        with pytest.raises(FMICallException, match="discard"):
+            r.f.doStep(r.t, 1e-3)
+    finally:
+        r.close()
+
+
+def python_rate(md, state, T):
+    """(der(T_eff) [K/s], mu(T) [Pa s], the force at T [N]) by Python: the Reynolds film report at the
+    FMU's mu (physics/film.py), the oil of the FMU's parameters (fmu/ports.oil_of), the lag's rate
+    dT/dt = (T*(T) - T) / t_res (physics/thermal.py, "At a fixed journal state")."""
+    from types import SimpleNamespace
+
+    from bearing_fmu.fmu import ports
+    from bearing_fmu.physics.reynolds import Reynolds
+    from bearing_fmu.physics.thermal import residence_time_s
+
+    p = parameters(md)
+    oil = ports.oil_of(SimpleNamespace(**p), "walther")
+    params = BearingParams(D=p["D"], L=p["L"], CR=p["CR"], mu=p["mu"])
+    rey = Reynolds(params, GRID["n_theta"], GRID["n_x"])
+    F = rey.force(*state)
+    rep = rey.film_report(*state)
+    gain = oil.rise_factor * rep.friction_power_W / params.mu / (
+        oil.density * oil.heat_capacity * (rep.inflow_m3_s - 0.5 * rep.side_flow_m3_s))
+    mu = oil.mu(T)
+    return (T_SUPPLY + gain * mu - T) / residence_time_s(params, rep), mu, np.array(F) * mu / params.mu
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("version", [2, 3])
+def test_model_exchange_state_and_derivative(native3, version):
+    """Model Exchange: T_eff is the one continuous state, starting at the quasi-static film
+    temperature (the Co-Simulation start: der(T_eff) ~ 0 there), its derivative the heat balance's
+    rate at the state as set, the force and mu_eff at that temperature (Python's within 1e-12; measured:
+    der(T_eff) and mu_eff the same bits, the force within 2.2e-16)."""
+    from fmpy.fmi3 import FMU3Model
+
+    path, md = native3[version]
+    vr = {v.name: v.valueReference for v in md.modelVariables}
+    state = trajectory()[3]
+    unzip = fmpy.extract(str(path))
+    if version == 3:
+        f = FMU3Model(guid=md.guid, unzipDirectory=unzip, modelIdentifier=md.modelExchange.modelIdentifier,
+                      instanceName="me")
+        f.instantiate()
+        f.enterInitializationMode()
+        setr, getr = f.setFloat64, f.getFloat64
+    else:
+        f = FMU2Model(guid=md.guid, unzipDirectory=unzip, modelIdentifier=md.modelExchange.modelIdentifier,
+                      instanceName="me")
+        f.instantiate()
+        f.setupExperiment(startTime=0.0)
+        f.enterInitializationMode()
+        setr, getr = f.setReal, f.getReal
+    try:
+        f.setBoolean([vr["thermal"]], [True])
+        setr([vr[n] for n in (*IN, "T_supply")], [*state, T_SUPPLY])
+        f.exitInitializationMode()
+        if version == 3:
+            assert f.getNumberOfContinuousStates() == 1
+        import ctypes
+
+        buf = np.zeros(1)
+        ptr = buf.ctypes.data_as(ctypes.POINTER(ctypes.c_double))
+        f.getContinuousStates(ptr, 1)
+        T0 = float(buf[0])
+        cs = Run(path, md, {"T_supply": T_SUPPLY, **dict(zip(IN, state))})  # Co-Simulation's start
+        cs.f.exitInitializationMode()
+        assert T0 == cs.get(["T_eff"])[0] and T0 > T_SUPPLY
+        cs.close()
+        f.enterContinuousTimeMode()
+        for T in (T0, T0 + 5.0, T0 - 2.0):
+            buf[0] = T
+            f.setContinuousStates(ptr, 1)
+            (f.getContinuousStateDerivatives if version == 3 else f.getDerivatives)(ptr, 1)
+            der = float(buf[0])
+            want_der, want_mu, want_F = python_rate(md, state, T)
+            got = getr([vr[n] for n in ("der(T_eff)", "mu_eff", "T_eff", "Fy", "Fz")])
+            assert got[0] == der and got[2] == T
+            assert der == pytest.approx(want_der, rel=1e-12, abs=1e-9)  # the same bits, measured
+            assert got[1] == pytest.approx(want_mu, rel=1e-12)
+            assert got[3:] == pytest.approx(want_F, rel=1e-12)
+        assert abs(python_rate(md, state, T0)[0]) < 1e-6  # the start is the fixed point
+        assert python_rate(md, state, T0 + 5.0)[0] < 0.0  # hotter than the balance: it cools
+    finally:
+        f.terminate()
+        f.freeInstance()
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("interface", ["me", "cs"])
+def test_compliance_checker_with_thermal_on(thermal_on, interface, tmp_path):
+    """The FMU Compliance Checker (../shared/tools/fmu-compliance-checker, an empty environment)
+    simulates the thermal FMU with an input signal that ramps T_supply 40 -> 60 C while the journal
+    circles: 0 warnings and 0 errors from the FMU and the checker; T_eff moves (ME: the state)."""
+    import os
+    import subprocess
+
+    checker = next((p for p in (ROOT.parent / "shared", ROOT.parent.parent / "shared", Path("/work/shared"))
+                    if (p / "tools" / "fmu-compliance-checker" / "fmuCheck.linux64").is_file()), None)
+    if checker is None:
+        if os.environ.get("CI"):
+            raise AssertionError("the FMU Compliance Checker is not in ../shared/tools/fmu-compliance-checker/")
+        pytest.skip("the FMU Compliance Checker (../shared/tools/fmu-compliance-checker/) is not here")
+    md = fmpy.read_model_description(str(thermal_on))
+    start = {v.name: float(v.start) for v in md.modelVariables if v.name in ("omega", "CR")}
+    rows = ["time,y,z,vy,vz,omega,T_supply"]
+    for k in range(11):
+        t, r, w = 1e-3 * k, 0.3 * start["CR"], start["omega"]
+        rows.append(f"{t!r},{r * math.cos(w * t)!r},{-r * math.sin(w * t) - 0.3 * start['CR']!r},"
+                    f"{-r * w * math.sin(w * t)!r},{-r * w * math.cos(w * t)!r},{w!r},{313.15 + 2.0 * k!r}")
+    (tmp_path / "in.csv").write_text("\n".join(rows) + "\n")
+    log = tmp_path / "check.log"
+    done = subprocess.run(["env", "-i", str(checker / "tools" / "fmu-compliance-checker" / "fmuCheck.linux64"),
+                           "-h", "1e-4", "-s", "0.01", "-k", interface, "-i", str(tmp_path / "in.csv"), "-o",
+                           str(tmp_path / "out.csv"), "-e", str(log), str(thermal_on)],
+                          capture_output=True, text=True, timeout=300, check=False)
+    text = log.read_text()
+    summary = text[text.index("FMU check summary:"):]
+    assert done.returncode == 0, summary
+    assert "FMU reported:\n\t0 warning(s) and error(s)" in summary, summary
+    assert "0 Warning(s)" in summary and "0 Error(s)" in summary, summary
+    rows = (tmp_path / "out.csv").read_text().splitlines()
+    head = [h.strip('"') for h in rows[0].split(",")]
+    T = np.array([float(r.split(",")[head.index("T_eff")]) for r in rows[1:]])
+    assert len(rows) >= 100 and T[-1] - T[0] > 0.5
+
+
+@pytest.mark.slow
+def test_model_exchange_thermal_off_t_eff_is_a_known(native3):
+    """thermal = false in Model Exchange: T_eff is the state, holding its start (T_supply at
+    initialisation; der(T_eff) = 0); its directional derivatives along T_eff as a known: itself 1,
+    der(T_eff) and the force 0; along T_supply: T_eff 0 (the state does not follow it)."""
+    path, md = native3[2]
+    vr = {v.name: v.valueReference for v in md.modelVariables}
+    r = Run(path, md, {"T_supply": T_SUPPLY, **dict(zip(IN, trajectory()[3]))}, kind="ME", thermal=False)
+    try:
+        r.f.exitInitializationMode()
+        r.f.enterContinuousTimeMode()
+        assert list(r.get(["T_eff", "der(T_eff)"])) == [T_SUPPLY, 0.0]
+        unknowns = [vr[n] for n in ("T_eff", "der(T_eff)", "Fy")]
+        assert r.f.getDirectionalDerivative(unknowns, [vr["T_eff"]], [1.0]) == [1.0, 0.0, 0.0]
+        assert r.f.getDirectionalDerivative(unknowns, [vr["T_supply"]], [1.0]) == [0.0, 0.0, 0.0]
+    finally:
+        r.close()
