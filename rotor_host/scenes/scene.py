@@ -93,7 +93,7 @@ SCENE_KEYS = (
     Key("via", "bearings as FMUs through fmpy, or internals called in-process", "fmu", ", ".join(VIA),
         kind=Choice(VIA)),
     Key("fmu_kind", "via = fmu: the Python FMU (any internal) or the native one (the internal compiled to C, no "
-        "Python at run time: linear, map, taylor; needs a C compiler at build time)", "python",
+        "Python at run time: reynolds, map, taylor, linear; built with zig from PyPI)", "python",
         ", ".join(FMU_KINDS), kind=Choice(FMU_KINDS)),
     Key("fmu", "a bearing FMU to use instead of building one, relative to the scene file", None,
         "file name of an .fmu", kind=FileName()),
