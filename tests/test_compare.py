@@ -37,6 +37,7 @@ def test_envelope_error_ignores_whirl_phase_and_sees_size():
     assert late_max_eccentricity(_whirl(t, 0.52, 0.0)) == pytest.approx(0.52)
 
 
+@pytest.mark.slow
 def test_short_compare_run(tmp_path):
     # 10 ms of the 22 Hz scene (100 steps), called directly: Reynolds default grid as reference,
     # a coarse grid, the shipped order-5 surrogate and the linear model. Expected: the reference

@@ -189,6 +189,7 @@ def _simulate(fmu, cases: dict) -> tuple[dict, str]:
     return json.loads(run.stdout.strip().splitlines()[-1]), run.stderr
 
 
+@pytest.mark.slow
 def test_simulate_fmu_without_logging_raises_and_prints_the_reason(fmu):
     cases = {"D": {"D": -1.0}, "mu": {"mu": 0.0}, "internal": {"internal": "magic"},
              "surrogate": {"internal": "taylor", "surrogate": "missing.json"},

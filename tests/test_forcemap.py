@@ -192,6 +192,7 @@ def test_compiled_spline_equals_scipy(table):
         np.testing.assert_allclose(out[:, 0], want, rtol=1e-12, atol=1e-14)
 
 
+@pytest.mark.slow
 def test_linear_from_the_map_needs_no_reynolds(table, tmp_path):
     # linear_from = "map": the Lund coefficients from the map's analytic Jacobian, within the
     # map's accuracy of those from Reynolds, without importing the solver (a fresh process)

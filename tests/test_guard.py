@@ -354,6 +354,7 @@ def _paths(d, prefix=()):
         yield from _paths(v, prefix + (k,))
 
 
+@pytest.mark.slow
 def test_loader_refuses_every_damaged_key_with_one_named_line():
     good = json.loads(json.dumps(small_surrogate().to_dict()))
     n = 0

@@ -72,6 +72,7 @@ def test_sweep_interrupted_while_drawing_its_diagram_keeps_the_table(tmp_path):
     assert not stem.with_suffix(".png").exists()
 
 
+@pytest.mark.slow
 def test_compare_interrupted_while_plotting_keeps_its_table(tmp_path):
     out = tmp_path / "out"
     marker = tmp_path / "paused"

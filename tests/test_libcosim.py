@@ -274,6 +274,7 @@ def test_native_fmu_force_in_libcosim_equals_the_map_internal(native_map, map_in
     del ex
 
 
+@pytest.mark.slow
 def test_native_fmu_closed_loop_in_libcosim_settles_at_the_map_equilibrium(fmus, native_map, map_internal):
     """The native map FMU and the journal mass in libcosim's fixed-step master (the loop of (b),
     its stable step 1e-5 s, 0.1 s): the journal dropped at the bearing centre approaches the

@@ -153,6 +153,7 @@ def paper_map_scene(write_scene):
                                     t_end=1.0))
 
 
+@pytest.mark.slow
 def test_peak_is_a_critical_speed_only_where_one_is_crossed(paper_map_scene, tmp_path):
     """The paper rotor on its map crosses its first bending pair (22.30, 22.40 Hz) in a 10 -> 40 Hz
     run: a 1x peak at 22.7 Hz (a Jeffcott response with fc = 22.7 Hz) is that critical speed; a

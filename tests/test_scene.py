@@ -109,6 +109,7 @@ def test_failed_run_keeps_what_it_computed(tmp_path, paper_scene):
     assert np.all(np.isfinite(saved["y"]))
 
 
+@pytest.mark.slow
 def test_taylor_scene_does_not_import_reynolds(paper_scene):
     """Leave out what a scene does not use: a Taylor scene run in-process never imports (or
     compiles) the Reynolds solver."""
@@ -130,6 +131,7 @@ def test_taylor_override_without_a_surrogate_names_what_is_missing(tmp_path):
         run_scene(scene, None)
 
 
+@pytest.mark.slow
 def test_newton_tangents_reach_the_same_orbit_at_their_own_cost():
     """The Newton tangent changes how the step equations are solved, not which: every
     tangent that converges must land on the exact-Newton orbit to the Newton tolerance
@@ -153,6 +155,7 @@ def test_newton_tangents_reach_the_same_orbit_at_their_own_cost():
     assert evals["bearing"] < 2.5 < evals["frozen"] < evals["linear"]
 
 
+@pytest.mark.slow
 def test_a_direct_run_shows_its_first_domain_warning_and_counts_the_rest():
     # the Taylor scene driven with the rotor's own tangent leaves its fitted domain at many
     # iterates (test_newton_tangents_...: 200 warnings before): one warning on screen, the count

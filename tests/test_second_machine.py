@@ -51,6 +51,7 @@ def run_cli(scene, out, *extra, real=True):
     return proc.returncode, proc.stderr + proc.stdout
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("internal, real", [("reynolds", True), ("map", False)])
 def test_second_machine_runs_end_to_end_from_the_cli(tmp_path, internal, real):
     """The scene as shipped (Reynolds, through the real command) and with its force map

@@ -357,6 +357,7 @@ def test_figures_mode_shape_from_zero_and_heavily_damped_modes_explained(monkeyp
     assert legend.get_bbox_to_anchor().x0 > camp.axes[0].get_window_extent().x1 - 1  # right of the axes
 
 
+@pytest.mark.slow
 def test_verdicts_without_a_threshold():
     """Below the threshold: every mode stable, named as such; above it: unstable from the first
     speed, the threshold below the range. Neither is an error (the command exits 0)."""
@@ -411,6 +412,7 @@ def _cli(capsys, *argv):
     return code, out.out, out.err
 
 
+@pytest.mark.slow
 def test_cli_writes_table_and_figures(tmp_path, capsys):
     code, out, _ = _cli(capsys, ROTOR, "--speeds-hz", "40:46:2", "--internal", "map", "--out", tmp_path)
     assert code == 0

@@ -92,6 +92,7 @@ def test_bad_input_names_the_option_before_any_work(tmp_path, capsys, paper_scen
     assert not list(tmp_path.glob("sweep_*"))
 
 
+@pytest.mark.slow
 def test_no_scheduler_there_is_one_line():
     from rotor_host.analyses.sweep import dask_client
 
@@ -290,6 +291,7 @@ def test_unbalance_sweep_on_an_existing_cluster(tmp_path, scheduler):
     assert amp[8.0] / amp[4.0] == pytest.approx(2.0, rel=0.02)
 
 
+@pytest.mark.slow
 def test_a_full_disk_rescues_the_runs_and_the_summary(tmp_path, scheduler, tmpfs, capsys):
     """The runs write in the workers, the summary in the client: all of it lands beside the
     full folder, each run's row says where, and the sweep exits 1 (not 2)."""

@@ -280,6 +280,7 @@ def test_reynolds_trained_fit_22hz_coarse_grid():
     np.testing.assert_allclose(C, C0, rtol=1e-9, atol=1e-9 * np.abs(C0).max())
 
 
+@pytest.mark.slow
 def test_fit_command_writes_file_plots_and_report(tmp_path, capsys):
     # `bearing-fmu fit` end to end, tiny and on a coarse grid: the file loads, the plots exist
     import argparse

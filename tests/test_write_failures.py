@@ -129,6 +129,7 @@ SCENE = """
 """
 
 
+@pytest.mark.slow
 def test_a_run_into_a_full_disk_keeps_running_and_rescues_its_result(tmp_path, tmpfs, code_cache):
     """Full but for one page (the run's name lock): every checkpoint fails (one warning), the
     run goes on, its result lands beside the folder; exit 1, not 2."""
