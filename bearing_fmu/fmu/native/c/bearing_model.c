@@ -132,6 +132,15 @@ int bn_evaluate(Instance *m) {
     return 0;
 }
 
+void bn_log_excursions(Instance *m) {
+    if (m->work.excursions > 0) { /* the count of what was warned once per excursion */
+        char a[32], b[32];
+        bn_log(m, BN_WARNING, "terminate: the state left the surrogate's fitted domain %d time(s) in this run (each "
+               "excursion warned when it began; the first at t = %s s, the last at t = %s s)", m->work.excursions,
+               bn_num(a, sizeof a, m->work.excursion_t[0], 10), bn_num(b, sizeof b, m->work.excursion_t[1], 10));
+    }
+}
+
 bn_status bn_warned(Instance *m) {
     bn_status s = m->warn_pending ? BN_WARNING : BN_OK;
     m->warn_pending = 0;

@@ -232,6 +232,7 @@ typedef struct Instance {
 #define bn_evaluate BN_NAME(BN_ID, bn_evaluate)
 #define bn_outputs BN_NAME(BN_ID, bn_outputs)
 #define bn_warned BN_NAME(BN_ID, bn_warned)
+#define bn_log_excursions BN_NAME(BN_ID, bn_log_excursions)
 #define bn_check_known BN_NAME(BN_ID, bn_check_known)
 #define bn_derivative BN_NAME(BN_ID, bn_derivative)
 #define bn_thermal_derivative BN_NAME(BN_ID, bn_thermal_derivative)

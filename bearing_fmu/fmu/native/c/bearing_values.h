@@ -48,6 +48,8 @@ BN_HIDDEN int bn_evaluate(Instance *m);
 BN_HIDDEN bn_status bn_outputs(Instance *m, const char *call, const char *name);
 /* BN_WARNING if a warning was logged since the last call that reported one, else BN_OK */
 BN_HIDDEN bn_status bn_warned(Instance *m);
+/* at termination: how often the state left the surrogate's fitted domain (a warning), if it did */
+BN_HIDDEN void bn_log_excursions(Instance *m);
 
 /* a known of a directional derivative: 0 if vr is an input, or a Real parameter in
  * Initialization Mode; else 1 with the reason in why */

@@ -189,12 +189,7 @@ fmi2Status fmi2Terminate(fmi2Component c) {
     if (!m) return fmi2Error;
     ORDER(terminate, BN_ANY_TYPE);
     m->mode = MODE_TERMINATED;
-    if (m->work.excursions > 0) { /* the count of what was warned once per excursion */
-        char a[32], b[32];
-        bn_log(m, fmi2Warning, "terminate: the state left the surrogate's fitted domain %d time(s) in this run (each "
-               "excursion warned when it began; the first at t = %s s, the last at t = %s s)", m->work.excursions,
-               bn_num(a, sizeof a, m->work.excursion_t[0], 10), bn_num(b, sizeof b, m->work.excursion_t[1], 10));
-    }
+    bn_log_excursions(m);
     return fmi2OK;
 }
 

@@ -262,12 +262,7 @@ fmi3Status fmi3Terminate(fmi3Instance instance) {
     if (!m) return fmi3Error;
     ORDER3(Terminate, BN_ANY_TYPE);
     m->mode = MODE_TERMINATED;
-    if (m->work.excursions > 0) { /* the count of what was warned once per excursion */
-        char a[32], b[32];
-        bn_log(m, fmi3Warning, "terminate: the state left the surrogate's fitted domain %d time(s) in this run (each "
-               "excursion warned when it began; the first at t = %s s, the last at t = %s s)", m->work.excursions,
-               bn_num(a, sizeof a, m->work.excursion_t[0], 10), bn_num(b, sizeof b, m->work.excursion_t[1], 10));
-    }
+    bn_log_excursions(m);
     return fmi3OK;
 }
 
