@@ -486,3 +486,59 @@ def test_parameter_derivatives_with_thermal_on(native3):
         assert k[0] > 0.0 and k[1] < 0.0
     finally:
         r.f.freeInstance()  # in Initialization Mode: nothing to terminate
+
+
+@pytest.mark.slow
+def test_declared_dependencies_are_the_computed_ones(native3):
+    """After initialisation each Real output's dependencies as declared (the FMI 2.0 and 3.0 model
+    descriptions, fmi3GetVariableDependencies) are exactly the knowns along which its directional
+    derivative is not 0 in Model Exchange or Co-Simulation, thermal = true or false (the damping along
+    the velocities and the speed aside: below): none left out, none always 0. So T_supply reaches the force, P_loss and Q_side only through the state T_eff
+    (no direct feedthrough: an oil circuit making T_supply from P_loss is no algebraic loop)."""
+    x, _scale = dd_state()
+    declared = {}
+    for version, (path, md) in native3.items():
+        deps = {u.variable.name: sorted(d.name for d in u.dependencies) for u in (*md.outputs, *md.derivatives)}
+        deps.pop("out_of_domain")
+        assert declared in ({}, deps), version
+        declared = deps
+    path, md = native3[3]
+    r = Run(path, md, dict(zip(DD_IN, x)))
+    try:
+        import ctypes
+
+        names = {v.valueReference: v.name for v in md.modelVariables}
+        for name, deps in declared.items():  # raw: fmpy 0.3's getNumberOfVariableDependencies passes a type
+            n = ctypes.c_size_t()
+            r.f.fmi3GetNumberOfVariableDependencies(r.f.component, r.vr[name], ctypes.byref(n))
+            got = (ctypes.c_uint * n.value)()
+            r.f.fmi3GetVariableDependencies(r.f.component, r.vr[name], (ctypes.c_size_t * n.value)(), got,
+                                            (ctypes.c_size_t * n.value)(), (ctypes.c_int * n.value)(), n.value)
+            assert sorted(names[k] for k in got) == deps, name
+    finally:
+        r.f.freeInstance()
+    assert declared["Fy"] == sorted((*IN, "T_eff")) and declared["Q_side"] == sorted(IN)
+    found = {name: set() for name in declared}
+    for kind in ("ME", "CS"):
+        for thermal in (True, False):
+            path, md = native3[2]
+            r = Run(path, md, dict(zip(DD_IN, x)), kind=kind, thermal=thermal)
+            try:
+                r.f.exitInitializationMode()
+                knowns = DD_IN
+                if kind == "ME":
+                    r.f.enterContinuousTimeMode()
+                    r.set_state(r.get(["T_eff"])[0] + 3.0)  # off the root: der(T_eff) moves along everything
+                    knowns += ("T_eff",)
+                outs = [n for n in declared if kind == "ME" or n != "der(T_eff)"]
+                for k in knowns:
+                    for name, value in zip(outs, r.dd(outs, [k], [1.0])):
+                        if value != 0.0:
+                            found[name].add(k)
+            finally:
+                r.close()
+    # the Reynolds film's force is linear in the velocities and the speed while its cavitated zone
+    # stays: the damping C = -dF/dv moves with them only where that zone changes, in steps (its
+    # derivative 0 between); the declarations are the interface's, for every internal
+    steps = {name: {"vy", "vz", "omega"} for name in ("Cyy", "Cyz", "Czy", "Czz")}
+    assert {name: sorted(ks | steps.get(name, set())) for name, ks in found.items()} == declared
