@@ -190,7 +190,7 @@ static int parameter_differences(Instance *m, const double d[N_REAL], double out
         if (real_parameter(k) && d[k] != 0.0) big = fmax(big, fabs(d[k]) / (saved[k] != 0.0 ? fabs(saved[k]) : 1.0));
     if (big == 0.0) return 0;
     double h = 1e-6 / big;
-    Work work = m->work;
+    int quiet = m->work.quiet;
     m->mute = 1;
     m->work.quiet = 1;
     for (int s = 0; s < 2; s++) {
@@ -208,7 +208,7 @@ static int parameter_differences(Instance *m, const double d[N_REAL], double out
     snprintf(why, sizeof why, "%s", m->msg);
     int lost = bn_prepare(m); /* the solver and the oil of the parameters as set, again */
     m->mute = 0;
-    m->work = work;
+    m->work.quiet = quiet;
     m->b[B_OUT_OF_DOMAIN] = flags[0];
     m->ood_now = flags[1];
     m->still = flags[2];
