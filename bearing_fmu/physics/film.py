@@ -49,7 +49,7 @@ import numpy as np
 
 from .params import BearingParams
 
-__all__ = ["FilmReport", "assemble_report", "full_bore_friction", "field_report", "flow_scale", "reduced_flows",
+__all__ = ["FilmReport", "assemble_report", "at_viscosity", "full_bore_friction", "field_report", "flow_scale", "reduced_flows",
            "reduced_report"]
 
 
@@ -92,6 +92,16 @@ def assemble_report(params: BearingParams, tc: float, tp: float, F, v, omega: fl
     return FilmReport(friction_torque_Nm=t, friction_force_N=ff, friction_power_W=power,
                       friction_coefficient=ff / w if w > 0.0 else math.nan, couette_torque_Nm=tc,
                       pressure_torque_Nm=tp, inflow_m3_s=q_in, side_flow_m3_s=q_s, load_N=w)
+
+
+def at_viscosity(report: FilmReport, factor: float) -> FilmReport:
+    """The report of the same state at the viscosity ``factor`` times the report's: the pressure, the
+    shear, the force and the friction scale with mu, the flows (pressure / mu) and the friction
+    coefficient do not (what an internal's report gives at an effective viscosity, docs/thermal.md)."""
+    f = float(factor)
+    return FilmReport(**{k: v * f if k.startswith(("friction_torque", "friction_force", "friction_power", "couette",
+                                                   "pressure", "load")) else v
+                         for k, v in report.as_dict().items()})
 
 
 def full_bore_friction(params: BearingParams, y: float, z: float, vy: float, vz: float, omega: float,
