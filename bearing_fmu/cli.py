@@ -362,6 +362,16 @@ def _native_internal(text: str) -> str:
     return ",".join(names)
 
 
+def _film_internal(text: str) -> str:
+    """--internal of demo: a registered internal with the film's flows (``Capabilities.film_flow``)."""
+    from .internals import registry
+
+    allowed = registry.having(film_flow=True)
+    if str(text).strip().lower() not in allowed:
+        raise argparse.ArgumentTypeError(f"{text!r}: one of {', '.join(allowed)} (the internals with a film report)")
+    return str(text).strip().lower()
+
+
 def _resolution(text: str) -> tuple[int, int]:
     n_eps, n_beta = (int(v) for v in text.lower().split("x"))
     if not (4 <= n_eps <= 2000 and 8 <= n_beta <= 4000):
@@ -388,7 +398,7 @@ def main(argv: list[str] | None = None) -> int:
                    help="downward load magnitude [N], the same as --load-z -LOAD (the older form)")
     p.add_argument("--supply-c", type=finite_float("C"), default=None,
                    help="oil supply temperature [C] (default: the bearing file's [oil] supply_C; needs an [oil] table)")
-    p.add_argument("--internal", default="reynolds",
+    p.add_argument("--internal", type=_film_internal, default="reynolds",
                    help="the bearing internal with a film report: reynolds (default), map (--map), taylor (--surrogate)")
     p.add_argument("--surrogate", type=existing_file, default=None, metavar="FILE",
                    help="--internal taylor: the surrogate file (its film fit gives the flows)")

@@ -239,7 +239,7 @@ def test_a_scene_with_a_supply_temperature_runs_on_taylor(fitted, tmp_path):
     (LaggedThermal on its film report) and through the Python FMU's thermal ports the same to
     round-off (measured 2e-12 of the force); against the Reynolds run within the surrogate's force
     error (measured 6e-4 of the largest force over 10 ms; bound 2e-3). A version 1 file through the
-    FMU's thermal ports is refused naming the file."""
+    FMU's thermal ports is refused at initialisation naming the file."""
     import dataclasses
 
     from rotor_host.coupling.cosim import FMUError
@@ -258,7 +258,11 @@ def test_a_scene_with_a_supply_temperature_runs_on_taylor(fitted, tmp_path):
         scale = np.max(np.abs(out["tay"][key]))
         assert np.max(np.abs(out["fmu"][key] - out["tay"][key])) <= 1e-9 * scale, key
         assert np.max(np.abs(out["rey"][key] - out["tay"][key])) <= 2e-3 * scale, key
-    old = surrogate_file(tmp_path)  # made-up coefficients, version 1: refused before any step
+    d = json.loads(fitted(44.0).read_text())  # the same file as before the film fit: version 1
+    d["version"] = 1
+    d.pop("film")
+    old = tmp_path / "old.json"
+    old.write_text(json.dumps(d))
     with pytest.raises(FMUError, match=r"thermal = true needs .* has no film fit \(format version 1"):
         run_scene(dataclasses.replace(scene.with_internal("taylor", options={"taylor": {"surrogate": str(old)}},
                                                           t_end_s=0.001), via="fmu"), tmp_path / "old")

@@ -124,22 +124,37 @@ def fit_film(internal, states, omega: float, *, test_states=None, degree: int = 
     return fit
 
 
+def basis_for(n_states: int) -> tuple[int, int] | None:
+    """(degree, harmonics) of the film fit to ``n_states`` training states: FILM_DEGREE and
+    FILM_HARMONICS, lowered by turns while the states are fewer than twice the features (down to
+    2 and 2); None when even those are too many."""
+    degree, harmonics = FILM_DEGREE, FILM_HARMONICS
+    while n_states < 2 * n_features(degree, harmonics):
+        if degree == harmonics == 2:
+            return None
+        degree, harmonics = (degree - 1, harmonics) if degree >= harmonics else (degree, harmonics - 1)
+    return degree, harmonics
+
+
 def attach_film(res, truth, states, *, test_states=None, seed: int = 0, log=None) -> None:
     """Add the film fit to the FitResult ``res`` (``Surrogate.film``; the force untouched) from the
     film reports of the fit's truth (``film_truth``) at up to FILM_MAX_ROWS of its training
-    ``states``; ``res.report["film"]`` gets its errors, or why there is none."""
+    ``states`` (``basis_for`` their number); ``res.report["film"]`` gets its errors, or why there
+    is none."""
     internal = film_truth(truth)
     sur = res.surrogate
-    if internal is None or not sur.params.geometry.is_full_bore:
-        res.report["film"] = "none: " + ("the fit's truth has no film report" if internal is None else NO_BORE_WHY)
+    basis = basis_for(min(len(states), FILM_MAX_ROWS))
+    if internal is None or not sur.params.geometry.is_full_bore or basis is None:
+        res.report["film"] = "none: " + ("the fit's truth has no film report" if internal is None else NO_BORE_WHY
+                                         if basis is not None else f"{len(states)} training states are too few")
         return
     train = strided(states, FILM_MAX_ROWS)
     test = None if test_states is None else strided(test_states, FILM_TEST_ROWS)
     if log is not None:
         log(f"film fit: the film reports of {type(internal).__name__} at {len(train)} states")
-    sur.film = fit_film(internal, train, sur.omega, test_states=test, seed=seed)
+    sur.film = fit_film(internal, train, sur.omega, test_states=test, degree=basis[0], harmonics=basis[1], seed=seed)
     res.report["film"] = sur.film.errors
 
 
-__all__ = ["FILM_DEGREE", "FILM_HARMONICS", "FILM_MAX_ROWS", "NO_BORE_WHY", "attach_film", "fit_film", "film_truth",
+__all__ = ["basis_for", "FILM_DEGREE", "FILM_HARMONICS", "FILM_MAX_ROWS", "NO_BORE_WHY", "attach_film", "fit_film", "film_truth",
            "flow_functions", "predicted_flows", "reduced_state", "relative_errors", "strided"]
