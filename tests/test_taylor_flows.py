@@ -247,17 +247,10 @@ def test_a_scene_with_a_supply_temperature_runs_on_taylor(fitted, tmp_path):
     from rotor_host.scenes.scene import load_scene
 
     scene = load_scene(MODELS / "scenes" / "paper_vg46_44hz.toml")
-    opts = {"taylor": {"surrogate": str(fitted(44.0))}}
-    out = {}
-    for name, internal, via in (("rey", "reynolds", "direct"), ("tay", "taylor", "direct"), ("fmu", "taylor", "fmu")):
-        run = run_scene(dataclasses.replace(scene.with_internal(internal, options=opts if internal == "taylor"
-                                                                else {}, t_end_s=0.005), via=via), tmp_path / name)
-        assert run.ok, run
-        out[name] = np.load(run.npz)
-    for key in ("y", "z", "Fy", "Fz"):
-        scale = np.max(np.abs(out["tay"][key]))
-        assert np.max(np.abs(out["fmu"][key] - out["tay"][key])) <= 1e-9 * scale, key
-        assert np.max(np.abs(out["rey"][key] - out["tay"][key])) <= 2e-3 * scale, key
+    from thermal_runs import check_three_runs, three_runs
+
+    out = three_runs(scene, "taylor", {"taylor": {"surrogate": str(fitted(44.0))}}, 0.005, tmp_path)
+    check_three_runs(out, reynolds_rtol=2e-3)
     d = json.loads(fitted(44.0).read_text())  # the same file as before the film fit: version 1
     d["version"] = 1
     d.pop("film")
