@@ -1,4 +1,4 @@
-"""The native Reynolds FMU's thermal ports (docs/thermal.md, docs/fmu.md) against the Python FMU's.
+"""The native Reynolds and map FMUs' thermal ports (docs/thermal.md, docs/fmu.md) against the Python FMU's.
 
 Expected values: the Python FMU (bearing_fmu/fmu/slave.py, its thermal model in Python:
 physics/thermal.py film_temperature through fmu/ports.py thermal_state) at the same parameters
@@ -9,6 +9,11 @@ about 1e-16, tests/test_native_film.py, tests/test_native_thermal.py). The nativ
 contract: T_eff is part of the FMU state (a restored state steps the same), a supply temperature
 outside the oil's range refuses the step (Discard); in Model Exchange T_eff is the continuous
 state, its derivative the heat balance's rate (Python's formula at the state set).
+
+The native map FMU (its film report in C from the map file's flow table, c/internal_map.c) the
+same way against the Python FMU with the same map (the session's coarse contract map, tests/
+conftest.py map_file), over a run whose T_supply ramps, and against the Python map internal's
+film_report (ForceMap.film_report); a map file without flow tables (version 1) refuses thermal.
 """
 
 import math
@@ -61,6 +66,31 @@ def native3(tmp_path_factory, native_build_cache):
                                   ("thermal", "reynolds", version, tuple(GRID.items())))
         out[version] = (path, fmpy.read_model_description(str(path)))
     return out
+
+
+@pytest.fixture(scope="module")
+def map3(tmp_path_factory, native_build_cache, map_file):
+    """FMI version -> (the native map FMU of the VG 46 bearing on the session's contract map, with its
+    flow table: version 3, starting with thermal = true, its model description)."""
+    from bearing_fmu.fmu.native.build import build_native_fmu
+
+    folder = tmp_path_factory.mktemp("native_map_thermal")
+    params = BearingParams.from_toml(VG46)
+    out = {}
+    for version in (2, 3):
+        def build(target, version=version):
+            return build_native_fmu(target, "map", map=map_file, bearing=params, fmi_version=version,
+                                    compiler="cc", thermal=True)
+        path = native_build_cache(folder / f"map_vg46_fmi{version}.fmu", build, [VG46, map_file],
+                                  ("thermal on", "map", version))
+        out[version] = (path, fmpy.read_model_description(str(path)))
+    return out
+
+
+@pytest.fixture(scope="module")
+def map_thermal_on(map3):
+    """The native map FMU (FMI 2.0) of the VG 46 bearing starting with thermal = true."""
+    return map3[2][0]
 
 
 def trajectory(n=12):
@@ -124,18 +154,22 @@ def parameters(md) -> dict:
                                                                    or v.name.startswith("oil_"))}
 
 
-def run(fmu, md, h=1e-3, python=False, native_md=None):
+def run(fmu, md, h=1e-3, python=False, native_md=None, map_name=None, ramp=0.0):
+    """The outputs OUT over the trajectory, Co-Simulation; ``python``: the Python FMU with the
+    Reynolds internal on GRID, or with ``map_name`` the map internal; T_supply rises by ``ramp`` [K]
+    per step."""
     states = trajectory()
     reals = {**parameters(native_md or md), "T_supply": T_SUPPLY, **dict(zip(IN, states[0]))}
-    strings = {"internal": "reynolds", "oil_law": "walther"} if python else None
-    r = Run(fmu, md, reals, strings)
+    strings = ({"internal": "map", "map": map_name} if map_name else {"internal": "reynolds"}) if python else None
+    r = Run(fmu, md, reals, {**strings, "oil_law": "walther"} if python else None)
     try:
-        if python:
+        if python and not map_name:
             ints = [r.vr["n_theta"], r.vr["n_x"]]
             r.f.setInteger(ints, [GRID["n_theta"], GRID["n_x"]])
         r.f.exitInitializationMode()
         rows = [r.get()]
-        for s in states[1:]:
+        for k, s in enumerate(states[1:], 1):
+            r.set({"T_supply": T_SUPPLY + ramp * k})
             r.step(s, h)
             rows.append(r.get())
         return np.array(rows)
@@ -153,6 +187,72 @@ def test_equals_the_python_fmu(native3, fmu, version):
     assert np.max(np.abs(got - want) / scale) <= RTOL
     T = got[:, OUT.index("T_eff")]
     assert np.all(T > T_SUPPLY) and np.ptp(T) > 0.1  # the film runs hot, and its temperature moves
+
+
+RAMP = 2.0  # K per step: T_supply 45 -> 67 C over the run
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("version", [2, 3])
+def test_map_equals_the_python_fmu(map3, fmu, map_file, version):
+    """The native map FMU with thermal on over a Co-Simulation run whose T_supply ramps 45 -> 67 C:
+    T_eff, mu_eff, P_loss, Q_side, the force and its tangent equal the Python FMU's with the same map
+    within RTOL = 1e-12 of each output's largest value (round-off: the C film report is
+    ForceMap.film_report's operations in the same order, the oil law and heat balance the ones the
+    Reynolds comparison above checks; measured: every output the same bits). And the Python map
+    internal's film_report at each state (its own force at the file's mu): P_loss its friction power
+    times mu_eff / mu, Q_side its side flow, within 1e-13 relative (measured: 2.2e-16 and 0)."""
+    from bearing_fmu.internals.forcemap import ForceMap
+
+    path, md = map3[version]
+    got = run(path, md, ramp=RAMP)
+    want = run(fmu, fmpy.read_model_description(str(fmu)), python=True, native_md=md, map_name=map_file.name,
+               ramp=RAMP)
+    scale = np.max(np.abs(want), axis=0)
+    assert np.max(np.abs(got - want) / scale) <= RTOL
+    p = parameters(md)
+    internal = ForceMap.from_file(map_file, BearingParams(D=p["D"], L=p["L"], CR=p["CR"], mu=p["mu"]))
+    col = {n: OUT.index(n) for n in OUT}
+    for state, row in zip(trajectory(), got):
+        rep = internal.film_report(*state)
+        assert row[col["P_loss"]] == pytest.approx(rep.friction_power_W * row[col["mu_eff"]] / p["mu"], rel=1e-13)
+        assert row[col["Q_side"]] == pytest.approx(rep.side_flow_m3_s, rel=1e-13) and rep.side_flow_m3_s > 0.0
+    T = got[:, col["T_eff"]]
+    assert T[0] > T_SUPPLY and np.all(np.diff(T) > 0.0) and T[-1] - T[0] > 5.0  # hot, lagging the rising supply
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("version", [2, 3])
+def test_map_model_exchange_state_and_derivative(map3, map_file, version):
+    """Model Exchange of the native map FMU: as test_model_exchange_state_and_derivative, the rate
+    and the force against the Python map internal's film report and force (within 1e-12)."""
+    from bearing_fmu.internals.forcemap import ForceMap
+
+    model_exchange_check(*map3[version], version, lambda params: ForceMap.from_file(map_file, params))
+
+
+def test_a_map_without_flow_tables_refuses_thermal(map_file, tmp_path):
+    """A version 1 map file (the force alone): a native map FMU starting with thermal = true is
+    refused before anything is compiled, naming why (the Python map's film_flow_why, as for a grooved
+    bore's map: test_native_fmu.py); without thermal its thermal parameter says why it stays false."""
+    import json
+
+    from bearing_fmu.fmu.native.build import build_native_fmu
+    from bearing_fmu.fmu.native.codegen import native_model
+
+    data = json.loads(map_file.read_text())
+    for key in ("Q", "flow_spline", "flow_meaning"):
+        data.pop(key)
+    old = tmp_path / "v1.json"
+    old.write_text(json.dumps({**data, "version": 1}))
+    params = BearingParams.from_toml(VG46)
+    with pytest.raises(ValueError, match=r"thermal = true needs the film's flows and the bearing's oil law: the "
+                                         r"map file .*v1.json has no flow tables \(format version 1"):
+        build_native_fmu(tmp_path / "x.fmu", "map", map=old, bearing=params, compiler="cc", thermal=True)
+    model = native_model("map", params, map=old)
+    thermal = next(v for v in model.variables if v.name == "thermal")
+    assert "not in this native FMU (the map file" in thermal.description and "#define BN_FILM_FLOW 0" in model.config_h
+    assert "der(T_eff)" not in {v.name for v in model.variables}
 
 
 @pytest.mark.slow
@@ -192,20 +292,26 @@ def test_t_eff_is_part_of_the_fmu_state(native3):
         r.close()
 
 
-def python_rate(md, state, T):
-    """(der(T_eff) [K/s], mu(T) [Pa s], the force at T [N]) by Python: the Reynolds film report at the
-    FMU's mu (physics/film.py), the oil of the FMU's parameters (fmu/ports.oil_of), the lag's rate
-    dT/dt = (T*(T) - T) / t_res (physics/thermal.py, "At a fixed journal state")."""
+def reynolds_on_grid(params):
+    from bearing_fmu.physics.reynolds import Reynolds
+
+    return Reynolds(params, GRID["n_theta"], GRID["n_x"])
+
+
+def python_rate(md, state, T, internal=reynolds_on_grid):
+    """(der(T_eff) [K/s], mu(T) [Pa s], the force at T [N]) by Python: the film report of
+    ``internal(params)`` (the Reynolds solver on GRID, or the map) at the FMU's mu (physics/film.py),
+    the oil of the FMU's parameters (fmu/ports.oil_of), the lag's rate dT/dt = (T*(T) - T) / t_res
+    (physics/thermal.py, "At a fixed journal state")."""
     from types import SimpleNamespace
 
     from bearing_fmu.fmu import ports
-    from bearing_fmu.physics.reynolds import Reynolds
     from bearing_fmu.physics.thermal import residence_time_s
 
     p = parameters(md)
     oil = ports.oil_of(SimpleNamespace(**p), "walther")
     params = BearingParams(D=p["D"], L=p["L"], CR=p["CR"], mu=p["mu"])
-    rey = Reynolds(params, GRID["n_theta"], GRID["n_x"])
+    rey = internal(params)
     F = rey.force(*state)
     rep = rey.film_report(*state)
     gain = oil.rise_factor * rep.friction_power_W / params.mu / (
@@ -221,9 +327,13 @@ def test_model_exchange_state_and_derivative(native3, version):
     temperature (the Co-Simulation start: der(T_eff) ~ 0 there), its derivative the heat balance's
     rate at the state as set, the force and mu_eff at that temperature (Python's within 1e-12; measured:
     der(T_eff) and mu_eff the same bits, the force within 2.2e-16)."""
+    model_exchange_check(*native3[version], version, reynolds_on_grid)
+
+
+def model_exchange_check(path, md, version, internal):
+    """test_model_exchange_state_and_derivative's checks of the FMU ``path`` against ``internal``."""
     from fmpy.fmi3 import FMU3Model
 
-    path, md = native3[version]
     vr = {v.name: v.valueReference for v in md.modelVariables}
     state = trajectory()[3]
     unzip = fmpy.extract(str(path))
@@ -262,14 +372,14 @@ def test_model_exchange_state_and_derivative(native3, version):
             f.setContinuousStates(ptr, 1)
             (f.getContinuousStateDerivatives if version == 3 else f.getDerivatives)(ptr, 1)
             der = float(buf[0])
-            want_der, want_mu, want_F = python_rate(md, state, T)
+            want_der, want_mu, want_F = python_rate(md, state, T, internal)
             got = getr([vr[n] for n in ("der(T_eff)", "mu_eff", "T_eff", "Fy", "Fz")])
             assert got[0] == der and got[2] == T
             assert der == pytest.approx(want_der, rel=1e-12, abs=1e-9)  # the same bits, measured
             assert got[1] == pytest.approx(want_mu, rel=1e-12)
             assert got[3:] == pytest.approx(want_F, rel=1e-12)
-        assert abs(python_rate(md, state, T0)[0]) < 1e-6  # the start is the fixed point
-        assert python_rate(md, state, T0 + 5.0)[0] < 0.0  # hotter than the balance: it cools
+        assert abs(python_rate(md, state, T0, internal)[0]) < 1e-6  # the start is the fixed point
+        assert python_rate(md, state, T0 + 5.0, internal)[0] < 0.0  # hotter than the balance: it cools
     finally:
         f.terminate()
         f.freeInstance()
@@ -277,13 +387,16 @@ def test_model_exchange_state_and_derivative(native3, version):
 
 @pytest.mark.slow
 @pytest.mark.parametrize("interface", ["me", "cs"])
-def test_compliance_checker_with_thermal_on(thermal_on, interface, tmp_path):
+@pytest.mark.parametrize("which", ["thermal_on", "map_thermal_on"])
+def test_compliance_checker_with_thermal_on(which, interface, tmp_path, request):
     """The FMU Compliance Checker (../shared/tools/fmu-compliance-checker, an empty environment)
-    simulates the thermal FMU with an input signal that ramps T_supply 40 -> 60 C while the journal
-    circles: 0 warnings and 0 errors from the FMU and the checker; T_eff moves (ME: the state)."""
+    simulates the thermal FMU (Reynolds; the map) with an input signal that ramps T_supply 40 -> 60 C
+    while the journal circles: 0 warnings and 0 errors from the FMU and the checker; T_eff moves
+    (ME: the state)."""
     import os
     import subprocess
 
+    thermal_on = request.getfixturevalue(which)
     checker = next((p for p in (ROOT.parent / "shared", ROOT.parent.parent / "shared", Path("/work/shared"))
                     if (p / "tools" / "fmu-compliance-checker" / "fmuCheck.linux64").is_file()), None)
     if checker is None:

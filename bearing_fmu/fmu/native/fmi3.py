@@ -153,7 +153,7 @@ def output_dependencies(model: NativeModel) -> dict[str, list[str]]:
     journal state, the eccentricity and the minimum film on the position, out_of_domain on the
     state the fitted domain is drawn in (none for an internal without one: always false)."""
     fitted = any(registry.get(p).can.fitted_domain for p in model.all_parts)
-    thermal = has_state(model.all_parts, model.params)  # thermal = true can be set (T_eff: ME's state)
+    thermal = has_state(model.all_parts, model.params, model.flows_why)  # thermal = true can be set (T_eff: ME's state)
     out = {}
     for v in model.variables:
         if v.causality != "output":

@@ -3,10 +3,12 @@ their variables and their lines of model_config.h, for ``codegen``.
 
 * Thermal ports: the input ``T_supply`` and the outputs ``P_loss``, ``Q_side``, ``T_eff``,
   ``mu_eff`` after the internal's Real options, the parameter ``thermal`` (Boolean 2). Whether
-  the internal has the film's flows is its registry capability ``film_flow`` (``BN_FILM_FLOW``;
-  the Reynolds internal's report is c/reynolds_film.c); one without them refuses
-  ``thermal = true`` at initialisation naming why (``BN_FILM_FLOW_WHY``, the capability's
-  ``film_flow_why``), as does an FMU of several internals (not ported yet).
+  the internal has the film's flows is its registry capability ``film_flow`` and, per data file,
+  the Python internal's answer (``registry.film_flow_of``: a map file without flow tables)
+  (``BN_FILM_FLOW``; the Reynolds internal's report is c/reynolds_film.c, the map's
+  c/internal_map.c from its flow table, ``map_data``); one without them refuses
+  ``thermal = true`` at initialisation naming why (``BN_FILM_FLOW_WHY``), as does an FMU of
+  several internals (not ported yet).
 * The oil: the bearing file's law (``BN_OIL_LAW``: none, walther, vogel) compiled in, as the
   bore is; its Real parameters (``fmu.ports.OIL_ROWS``: oil_nu_1 .. oil_rise_factor) after the
   bore's, their starts the file's (``ports.port_defaults``) and settable. No ``oil_law``
@@ -40,7 +42,7 @@ def bore_starts(params: BearingParams) -> dict:
     return {**{r[0]: r[4] for r in GEOMETRY_ROWS + OIL_ROWS}, **port_defaults(params)}
 
 
-SEVERAL_WHY = "an FMU of several internals has no thermal model yet: build the reynolds internal alone"
+SEVERAL_WHY = "an FMU of several internals has no thermal model yet: build the reynolds or the map internal alone"
 
 
 def parts_of(internal) -> tuple[str, ...]:
@@ -50,14 +52,15 @@ def parts_of(internal) -> tuple[str, ...]:
 
 
 # the native internals whose C file computes the film's flows (defines bn_film: internal_reynolds.c
-# through reynolds_film.c); the Python map's flow tables are not compiled into the native map yet
-C_FILM_REPORT = ("reynolds",)
+# through reynolds_film.c; internal_map.c from a full-bore map file's flow table)
+C_FILM_REPORT = ("reynolds", "map")
 
 
-def film_flow(internal) -> tuple[bool, str]:
+def film_flow(internal, data_why: str = "") -> tuple[bool, str]:
     """(has the film's flows, why not) of a native model of ``internal`` (a name, or a tuple of the
-    names an FMU of several holds): the registry's capability ``film_flow`` and a film report in C
-    (``C_FILM_REPORT``)."""
+    names an FMU of several holds): the registry's capability ``film_flow``, a film report in C
+    (``C_FILM_REPORT``) and, for the data file compiled in, ``data_why`` (the Python internal's
+    ``registry.film_flow_of``: '' when the file has the flows; a version 1 or a grooved map: why not)."""
     from ...internals import registry
 
     parts = parts_of(internal)
@@ -69,26 +72,29 @@ def film_flow(internal) -> tuple[bool, str]:
     if parts[0] not in C_FILM_REPORT:
         return False, (f"the native {parts[0]} FMU computes the force only: the film's flows of the Python "
                        f"{parts[0]} internal are not compiled into it (use the Python FMU, or internal = 'reynolds')")
+    if data_why:
+        return False, data_why
     return True, ""
 
 
-def has_state(internal, params: BearingParams) -> bool:
+def has_state(internal, params: BearingParams, data_why: str = "") -> bool:
     """Model Exchange's continuous state T_eff (its derivative the local der(T_eff)): a build whose
     internal has the film's flows and whose bearing an oil law (thermal = true can be set)."""
-    return film_flow(internal)[0] and params.oil is not None
+    return film_flow(internal, data_why)[0] and params.oil is not None
 
 
-def port_variables(internal, params: BearingParams, first_real: int, first_int: int, bool_base: int) -> list:
+def port_variables(internal, params: BearingParams, first_real: int, first_int: int, bool_base: int,
+                   data_why: str = "") -> list:
     """The variables of the thermal ports and the bore as ``codegen.Variable``'s fields (name, value
     reference, type, causality, start, unit, description): Reals from value reference ``first_real``,
-    Integers from ``first_int``, Booleans 2 and 3 above ``bool_base``."""
+    Integers from ``first_int``, Booleans 2 and 3 above ``bool_base``; ``data_why`` as ``film_flow``'s."""
     table = {v[0]: v for v in VARIABLES}
     out = []
     for k, name in enumerate(THERMAL_REALS):
         _n, typ, causality, unit, start, desc = table[name]
         out.append((name, first_real + k, typ, causality, float(start) if causality == "input" else 0.0,
                             unit, desc))
-    flows, why = film_flow(internal)
+    flows, why = film_flow(internal, data_why)
     law = params.oil.law if params.oil is not None else "none"
     if flows and law != "none":
         note = (f" (the oil's law is the bearing file's, {law}, its parameters oil_...; Model Exchange: T_eff "
@@ -112,7 +118,7 @@ def port_variables(internal, params: BearingParams, first_real: int, first_int: 
     for k, name in enumerate(OIL_REALS):
         _n, typ, causality, unit, _start, desc = table[name]
         out.append((name, first_oil + k, typ, causality, float(bore[name]), unit, desc))
-    if has_state(internal, params):  # its value reference is C's VR_DER_T_EFF
+    if has_state(internal, params, data_why):  # its value reference is C's VR_DER_T_EFF
         desc = ("the film temperature's rate (Model Exchange: T_eff's derivative, T_eff the continuous state): the "
                 "heat balance's (T*(T_eff) - T_eff) / t_res with thermal = true, 0 (T_eff holds) with thermal = false")
         out.append(("der(T_eff)", first_oil + len(OIL_REALS), "Real", "local", 0.0, "K/s", desc))
@@ -123,8 +129,8 @@ def thermal_start(model) -> None:
     """Make ``model`` (a ``codegen.NativeModel``) start with thermal = true (its variable's start and
     ``BN_THERMAL_START``); ValueError naming why when its internal has no film flows or its bearing
     no oil law."""
-    why = film_flow(model.all_parts)[1]
-    if not has_state(model.all_parts, model.params):
+    why = film_flow(model.all_parts, model.flows_why)[1]
+    if not has_state(model.all_parts, model.params, model.flows_why):
         raise ValueError("a native FMU starting with thermal = true needs the film's flows and the bearing's oil "
                          f"law: {why or 'the bearing has no [oil] table (build with --bearing FILE whose [oil] gives it)'}")
     for v in model.variables:
@@ -133,19 +139,20 @@ def thermal_start(model) -> None:
     model.config_h = model.config_h.replace("#define BN_FILM_FLOW 1", "#define BN_FILM_FLOW 1\n#define BN_THERMAL_START 1")
 
 
-def port_config(internal, params: BearingParams, c_double, c_string) -> list[str]:
+def port_config(internal, params: BearingParams, c_double, c_string, data_why: str = "") -> list[str]:
     """model_config.h's lines of the thermal ports (the supply temperature's start [K], whether the
     internal has the film's flows and why not, the oil's law and its parameters' starts) and of
-    the bore the data hold; ``c_double``, ``c_string``: codegen's literals."""
+    the bore the data hold; ``c_double``, ``c_string``: codegen's literals; ``data_why`` as
+    ``film_flow``'s."""
     from ..ports import OIL_LAWS
 
     bore = bore_starts(params)
-    flows, why = film_flow(internal)
+    flows, why = film_flow(internal, data_why)
     law = params.oil.law if params.oil is not None else "none"
     return [
         f"#define BN_START_T_SUPPLY {c_double(next(v[4] for v in VARIABLES if v[0] == 'T_supply'))}",
         f"#define BN_FILM_FLOW {int(flows)}",
-        f"#define BN_N_STATES {int(has_state(internal, params))}",
+        f"#define BN_N_STATES {int(has_state(internal, params, data_why))}",
         f"#define BN_FILM_FLOW_WHY {c_string(why)}",
         f"#define BN_OIL_LAW {OIL_LAWS.index(law)}",
         f"#define BN_OIL_START {{{', '.join(c_double(float(bore[n])) for n in OIL_REALS)}}}",
