@@ -253,6 +253,11 @@ def test_a_map_without_flow_tables_refuses_thermal(map_file, tmp_path):
     thermal = next(v for v in model.variables if v.name == "thermal")
     assert "not in this native FMU (the map file" in thermal.description and "#define BN_FILM_FLOW 0" in model.config_h
     assert "der(T_eff)" not in {v.name for v in model.variables}
+    # every native internal with the film's flows has its film report in C (the scene checks only the capability)
+    from bearing_fmu.fmu.native.portgen import C_FILM_REPORT
+    from bearing_fmu.internals import registry
+
+    assert set(registry.having(film_flow=True, native=True)) <= set(C_FILM_REPORT)
 
 
 @pytest.mark.slow
