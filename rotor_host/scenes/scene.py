@@ -104,9 +104,10 @@ SCENE_KEYS = (
     Key("record", "what to record besides the bearing nodes ([record])", None, kind=Table(RECORD_KEYS)),
     Key("supply_temperature_C", "oil supply temperature [C]: every bearing (each needs an [oil] table) at the "
         "viscosity of its film's effective temperature, from the static equilibrium at the start, lagging the "
-        "heat balance by the film's residence time with the reynolds internal (docs/thermal.md); absent: the "
-        "bearings' own viscosity", None, "inside every oil's range_C; via = 'fmu' (python or native) and a "
-        "[speed_profile] need the reynolds internal", kind=Number()),
+        "heat balance by the film's residence time with an internal that has the film's flows (reynolds, a map "
+        "with flow tables; docs/thermal.md); absent: the bearings' own viscosity", None, "inside every oil's "
+        "range_C; via = 'fmu' (python or native) and a [speed_profile] need the reynolds internal or a map file "
+        "with flow tables (version 3)", kind=Number()),
     Key("surrogate", "older form of [taylor] surrogate", None, kind=FileName()),
 )
 
