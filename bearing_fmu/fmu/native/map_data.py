@@ -41,7 +41,8 @@ def map_data_h(path: Path, table, c_double, c_string, c_array) -> str:
         f"#define MAP_FLOWS {int(flows is not None)}",
         c_array("MAP_TS", knots[0]), c_array("MAP_TB", knots[-1]), c_array("MAP_C", C),
         *(["#if BN_FILM_FLOW /* the flow table's spline: (J_s, J_i) per point, as MAP_C */",
-           c_array("MAP_QTS", flows[0]), c_array("MAP_QTB", flows[1]), c_array("MAP_QC", flows[2]), "#endif"]
+           c_array("MAP_QTS", flows[0]), c_array("MAP_QTB", flows[1]), c_array("MAP_QC", flows[2]),
+           "#endif /* BN_FILM_FLOW (a comment: several.py drops the file's bare closing #endif) */"]
           if flows is not None else []),
         "#endif\n",
     ])
