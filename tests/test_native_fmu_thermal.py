@@ -50,41 +50,34 @@ def thermal_on(tmp_path_factory, native_build_cache):
                               [VG46], ("thermal on", "reynolds", tuple(GRID.items())))
 
 
-@pytest.fixture(scope="module")
-def native3(tmp_path_factory, native_build_cache):
-    """FMI version -> (the native Reynolds FMU of the VG 46 bearing, its model description)."""
+def by_version(folder, native_build_cache, internal, inputs, **kw) -> dict:
+    """FMI version (2, 3) -> (the native FMU of ``internal`` for the VG 46 bearing, built with ``kw``
+    and cached on ``inputs``, its model description)."""
     from bearing_fmu.fmu.native.build import build_native_fmu
 
-    folder = tmp_path_factory.mktemp("native_thermal")
     params = BearingParams.from_toml(VG46)
     out = {}
     for version in (2, 3):
         def build(target, version=version):
-            return build_native_fmu(target, "reynolds", bearing=params, options=GRID, fmi_version=version,
-                                    compiler="cc")
-        path = native_build_cache(folder / f"reynolds_vg46_fmi{version}.fmu", build, [VG46],
-                                  ("thermal", "reynolds", version, tuple(GRID.items())))
+            return build_native_fmu(target, internal, bearing=params, fmi_version=version, compiler="cc", **kw)
+        path = native_build_cache(folder / f"{internal}_vg46_fmi{version}.fmu", build, [VG46, *inputs],
+                                  ("thermal", internal, version, tuple(sorted((k, str(v)) for k, v in kw.items()))))
         out[version] = (path, fmpy.read_model_description(str(path)))
     return out
+
+
+@pytest.fixture(scope="module")
+def native3(tmp_path_factory, native_build_cache):
+    """FMI version -> (the native Reynolds FMU of the VG 46 bearing, its model description)."""
+    return by_version(tmp_path_factory.mktemp("native_thermal"), native_build_cache, "reynolds", [], options=GRID)
 
 
 @pytest.fixture(scope="module")
 def map3(tmp_path_factory, native_build_cache, map_file):
     """FMI version -> (the native map FMU of the VG 46 bearing on the session's contract map, with its
     flow table: version 3, starting with thermal = true, its model description)."""
-    from bearing_fmu.fmu.native.build import build_native_fmu
-
-    folder = tmp_path_factory.mktemp("native_map_thermal")
-    params = BearingParams.from_toml(VG46)
-    out = {}
-    for version in (2, 3):
-        def build(target, version=version):
-            return build_native_fmu(target, "map", map=map_file, bearing=params, fmi_version=version,
-                                    compiler="cc", thermal=True)
-        path = native_build_cache(folder / f"map_vg46_fmi{version}.fmu", build, [VG46, map_file],
-                                  ("thermal on", "map", version))
-        out[version] = (path, fmpy.read_model_description(str(path)))
-    return out
+    return by_version(tmp_path_factory.mktemp("native_map_thermal"), native_build_cache, "map", [map_file],
+                      map=map_file, thermal=True)
 
 
 @pytest.fixture(scope="module")
