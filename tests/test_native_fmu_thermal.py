@@ -99,7 +99,7 @@ def trajectory(n=12):
 class Run:
     """One Co-Simulation instance through fmpy (FMI 2.0 or 3.0) with the thermal model on."""
 
-    def __init__(self, path, md, reals: dict, strings: dict | None = None, kind="CS", thermal=True):
+    def __init__(self, path, md, reals: dict, strings: dict | None = None, kind="CS", thermal=True, log=None):
         self.md, self.v3 = md, md.fmiVersion.startswith("3")
         self.vr = {v.name: v.valueReference for v in md.modelVariables}
         unzip = fmpy.extract(str(path))
@@ -110,7 +110,13 @@ class Run:
             cls, ident = ((FMU2Slave, md.coSimulation.modelIdentifier) if kind == "CS" else
                           (FMU2Model, md.modelExchange.modelIdentifier))
             self.f = cls(guid=md.guid, unzipDirectory=unzip, modelIdentifier=ident, instanceName="thermal")
-        self.f.instantiate()
+        if log is None:
+            self.f.instantiate()
+        else:  # FMI 2.0: every log line into the list log
+            from test_native_several import callbacks
+
+            self._cb = callbacks(log)
+            self.f.instantiate(callbacks=self._cb, loggingOn=True)
         if self.v3:
             self.f.enterInitializationMode(startTime=0.0)
         else:
@@ -147,14 +153,14 @@ def parameters(md) -> dict:
                                                                    or v.name.startswith("oil_"))}
 
 
-def run(fmu, md, h=1e-3, python=False, native_md=None, map_name=None, ramp=0.0):
+def run(fmu, md, h=1e-3, python=False, native_md=None, map_name=None, ramp=0.0, internal=None):
     """The outputs OUT over the trajectory, Co-Simulation; ``python``: the Python FMU with the
     Reynolds internal on GRID, or with ``map_name`` the map internal; T_supply rises by ``ramp`` [K]
-    per step."""
+    per step; ``internal``: the one a native FMU of several sets."""
     states = trajectory()
     reals = {**parameters(native_md or md), "T_supply": T_SUPPLY, **dict(zip(IN, states[0]))}
     strings = ({"internal": "map", "map": map_name} if map_name else {"internal": "reynolds"}) if python else None
-    r = Run(fmu, md, reals, {**strings, "oil_law": "walther"} if python else None)
+    r = Run(fmu, md, reals, {**strings, "oil_law": "walther"} if python else {"internal": internal} if internal else None)
     try:
         if python and not map_name:
             ints = [r.vr["n_theta"], r.vr["n_x"]]
@@ -251,6 +257,40 @@ def test_a_map_without_flow_tables_refuses_thermal(map_file, tmp_path):
     from bearing_fmu.internals import registry
 
     assert set(registry.having(film_flow=True, native=True)) <= set(C_FILM_REPORT)
+
+
+@pytest.mark.slow
+def test_several_internals_with_thermal(map3, native3, map_file, tmp_path_factory, native_build_cache):
+    """An FMU of several internals (reynolds and map, c/bn_parts.c) runs the thermal model of the
+    internal set: over the CS run with T_supply ramped, internal = 'map' gives the native map FMU's
+    bits, internal = 'reynolds' the native Reynolds FMU's (one C film report each, dispatched). With
+    a map file without flow tables (version 1) in it, thermal = true is refused at initialisation
+    for internal = 'map', naming the internal and the file, and runs for internal = 'reynolds'."""
+    import json
+
+    folder = tmp_path_factory.mktemp("several_thermal")
+    both = by_version(folder, native_build_cache, "reynolds,map", [map_file], map=map_file, options=GRID)[2]
+    for internal, single in (("map", map3[2]), ("reynolds", native3[2])):
+        want = run(*single, ramp=RAMP)
+        assert np.array_equal(run(*both, ramp=RAMP, internal=internal), want), internal
+    data = json.loads(map_file.read_text())
+    for key in ("Q", "flow_spline", "flow_meaning"):
+        data.pop(key)
+    old = folder / "v1.json"
+    old.write_text(json.dumps({**data, "version": 1}))
+    path, md = by_version(folder, native_build_cache, "reynolds,map", [old], map=old, options=GRID)[2]
+    state = dict(zip(IN, trajectory()[3]))
+    log = []
+    r = Run(path, md, {"T_supply": T_SUPPLY, **state}, {"internal": "map"}, log=log)
+    with pytest.raises(FMICallException):
+        r.f.exitInitializationMode()
+    r.f.freeInstance()  # refused initialisation: no terminate
+    assert ("thermal = true needs the film's friction and flows, which internal = 'map' does not have (the map "
+            "file") in log[-1] and "v1.json has no flow tables (format version 1" in log[-1]
+    r = Run(path, md, {"T_supply": T_SUPPLY, **state}, {"internal": "reynolds"})
+    r.f.exitInitializationMode()
+    assert r.get(["T_eff"])[0] > T_SUPPLY
+    r.close()
 
 
 @pytest.mark.slow

@@ -129,7 +129,7 @@ class NativeModel:
     info: dict = field(default_factory=dict)  # what the documentation records (order, table size, ...)
     parts: tuple = ()  # an FMU of several internals: all of them (internal: the first, the start value)
     identifier: str = ""  # assign_identity: bearing_<internal>_<content hash>
-    flows_why: str = ""  # why its data lack the film's flows ('' when they have them: portgen.film_flow)
+    flows_why: str | dict = ""  # why its data lack the film's flows ('' if not; several: per internal; portgen)
 
     @property
     def all_parts(self) -> tuple[str, ...]:

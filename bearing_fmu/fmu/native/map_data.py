@@ -5,8 +5,8 @@ The force: the knots and coefficients of the tensor spline the Python map evalua
 full-bore map with flow tables (format version 3) also gives the spline of its flow table Q,
 (J_s, J_i) over the same (s, beta) axes (``MapTable.flow_spline``), from which the C file computes
 the film report as ``ForceMap.film_report`` does (``physics/film.py``: ``reduced_report``). Those
-arrays sit inside ``#if BN_FILM_FLOW``: an FMU that holds the map among several internals, which
-has no thermal model yet, compiles none of them (an unused static array is a warning).
+arrays sit inside ``#if BN_FLOWS_MAP`` (model_config.h: the map's film report is compiled), as
+its use does (an unused static array is a warning).
 """
 
 from __future__ import annotations
@@ -40,9 +40,9 @@ def map_data_h(path: Path, table, c_double, c_string, c_array) -> str:
         f"#define MAP_LD_RTOL {c_double(LD_RTOL)}",
         f"#define MAP_FLOWS {int(flows is not None)}",
         c_array("MAP_TS", knots[0]), c_array("MAP_TB", knots[-1]), c_array("MAP_C", C),
-        *(["#if BN_FILM_FLOW /* the flow table's spline: (J_s, J_i) per point, as MAP_C */",
+        *(["#if BN_FLOWS_MAP /* the flow table's spline: (J_s, J_i) per point, as MAP_C */",
            c_array("MAP_QTS", flows[0]), c_array("MAP_QTB", flows[1]), c_array("MAP_QC", flows[2]),
-           "#endif /* BN_FILM_FLOW (a comment: several.py drops the file's bare closing #endif) */"]
+           "#endif /* BN_FLOWS_MAP (a comment: several.py drops the file's bare closing #endif) */"]
           if flows is not None else []),
         "#endif\n",
     ])

@@ -7,7 +7,7 @@
  * A grooved or partial-arc bore's map (MAP_DIMS 3, internals/groovemap.py) adds the journal's
  * attitude phi as a third, periodic axis (MAP_TP, MAP_NP): G(eps, phi, beta), a port of
  * map_kernels.map3_force; a full-bore map has MAP_DIMS 2 (or none: files generated before).
- * The film report (bn_film, BN_FILM_FLOW: a full-bore map with its flow table, MAP_FLOWS) is a
+ * The film report (bn_film, BN_FLOWS_MAP: a full-bore map with its flow table, MAP_FLOWS) is a
  * port of ForceMap.film_report: the friction in closed form from the force (film_friction.c), the
  * inflow and side flow from the flow table's spline (MAP_QTS, MAP_QTB, MAP_QC: (J_s, J_i)). */
 #include <math.h>
@@ -274,7 +274,7 @@ int bn_eval(Instance *m, const double x[5], int want_jac, double F[2], double J[
     return 0;
 }
 
-#if BN_FILM_FLOW
+#if BN_FLOWS_MAP
 #if MAP_DIMS == 3 || !MAP_FLOWS
 #error "the film report needs a full-bore map with its flow table (portgen.film_flow)"
 #endif
