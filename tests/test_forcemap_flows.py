@@ -143,19 +143,12 @@ def test_a_scene_with_a_supply_temperature_runs_on_the_map(tmp_path):
     models = Path(__file__).resolve().parents[1] / "models"
     scene = dataclasses.replace(load_scene(models / "scenes" / "paper_vg46_44hz.toml"),
                                 speed_profile=SpeedProfile((0.0, 0.004), (44.0, 60.0)))
+    from thermal_runs import check_three_runs, three_runs
+
     shipped = str(models / "maps" / "paper_bearing.json")
-    out = {}
-    for name, internal, via in (("rey", "reynolds", "direct"), ("map", "map", "direct"), ("fmu", "map", "fmu")):
-        opts = {"map": {"map": shipped}} if internal == "map" else {}
-        run = run_scene(dataclasses.replace(scene.with_internal(internal, options=opts, t_end_s=0.004), via=via),
-                        tmp_path / name)
-        assert run.ok, run
-        out[name] = np.load(run.npz)
-    for key in ("y", "z", "Fy", "Fz"):
-        scale = np.max(np.abs(out["map"][key]))
-        assert np.max(np.abs(out["fmu"][key] - out["map"][key])) <= 1e-9 * scale, key
-        assert np.max(np.abs(out["rey"][key] - out["map"][key])) <= 1e-3 * scale, key
-    assert out["map"]["speed_hz"][-1] == pytest.approx(60.0)
+    out = three_runs(scene, "map", {"map": {"map": shipped}}, 0.004, tmp_path)
+    check_three_runs(out, reynolds_rtol=1e-3)
+    assert out["direct"]["speed_hz"][-1] == pytest.approx(60.0)
     prm = load_scene(models / "scenes" / "paper_vg46_44hz.toml").rotor_path
     from rotor_host.model.rotor import Rotor
 

@@ -25,7 +25,7 @@ import pytest
 fmpy = pytest.importorskip("fmpy")
 from fmpy.fmi1 import FMICallException
 from fmpy.fmi2 import FMU2Model, FMU2Slave
-from fmpy.fmi3 import FMU3Slave
+from fmpy.fmi3 import FMU3Model, FMU3Slave
 
 from bearing_fmu.physics.params import BearingParams
 
@@ -72,20 +72,6 @@ def native3(tmp_path_factory, native_build_cache):
     return by_version(tmp_path_factory.mktemp("native_thermal"), native_build_cache, "reynolds", [], options=GRID)
 
 
-@pytest.fixture(scope="module")
-def map3(tmp_path_factory, native_build_cache, map_file):
-    """FMI version -> (the native map FMU of the VG 46 bearing on the session's contract map, with its
-    flow table: version 3, starting with thermal = true, its model description)."""
-    return by_version(tmp_path_factory.mktemp("native_map_thermal"), native_build_cache, "map", [map_file],
-                      map=map_file, thermal=True)
-
-
-@pytest.fixture(scope="module")
-def map_thermal_on(map3):
-    """The native map FMU (FMI 2.0) of the VG 46 bearing starting with thermal = true."""
-    return map3[2][0]
-
-
 def trajectory(n=12):
     """The journal on a widening, speeding spiral: the load and the friction change every step."""
     CR, out = 90e-6, []
@@ -104,8 +90,9 @@ class Run:
         self.vr = {v.name: v.valueReference for v in md.modelVariables}
         unzip = fmpy.extract(str(path))
         if self.v3:
-            self.f = FMU3Slave(guid=md.guid, unzipDirectory=unzip, modelIdentifier=md.coSimulation.modelIdentifier,
-                               instanceName="thermal")
+            cls, ident = ((FMU3Slave, md.coSimulation.modelIdentifier) if kind == "CS" else
+                          (FMU3Model, md.modelExchange.modelIdentifier))
+            self.f = cls(guid=md.guid, unzipDirectory=unzip, modelIdentifier=ident, instanceName="thermal")
         else:
             cls, ident = ((FMU2Slave, md.coSimulation.modelIdentifier) if kind == "CS" else
                           (FMU2Model, md.modelExchange.modelIdentifier))
@@ -140,6 +127,23 @@ class Run:
         self.set(dict(zip(IN, state)))
         self.f.doStep(self.t, h)
         self.t += h
+
+    def dd(self, unknowns, knowns, seed) -> np.ndarray:
+        return np.array(self.f.getDirectionalDerivative([self.vr[k] for k in unknowns], [self.vr[k] for k in knowns],
+                                                        list(seed)))
+
+    def save(self):
+        return self.f.getFMUState() if self.v3 else self.f.getFMUstate()
+
+    def restore(self, state):
+        (self.f.setFMUState if self.v3 else self.f.setFMUstate)(state)
+
+    def set_state(self, T):
+        """Model Exchange: the continuous state T_eff."""
+        import ctypes
+
+        buf = np.array([float(T)])
+        self.f.setContinuousStates(buf.ctypes.data_as(ctypes.POINTER(ctypes.c_double)), 1)
 
     def close(self):
         self.f.terminate()
@@ -186,111 +190,6 @@ def test_equals_the_python_fmu(native3, fmu, version):
     assert np.max(np.abs(got - want) / scale) <= RTOL
     T = got[:, OUT.index("T_eff")]
     assert np.all(T > T_SUPPLY) and np.ptp(T) > 0.1  # the film runs hot, and its temperature moves
-
-
-RAMP = 2.0  # K per step: T_supply 45 -> 67 C over the run
-
-
-@pytest.mark.slow
-@pytest.mark.parametrize("version", [2, 3])
-def test_map_equals_the_python_fmu(map3, fmu, map_file, version):
-    """The native map FMU with thermal on over a Co-Simulation run whose T_supply ramps 45 -> 67 C:
-    T_eff, mu_eff, P_loss, Q_side, the force and its tangent equal the Python FMU's with the same map
-    within RTOL = 1e-12 of each output's largest value (round-off: the C film report is
-    ForceMap.film_report's operations in the same order, the oil law and heat balance the ones the
-    Reynolds comparison above checks; measured: every output the same bits). And the Python map
-    internal's film_report at each state (its own force at the file's mu): P_loss its friction power
-    times mu_eff / mu, Q_side its side flow, within 1e-13 relative (measured: 2.2e-16 and 0)."""
-    from bearing_fmu.internals.forcemap import ForceMap
-
-    path, md = map3[version]
-    got = run(path, md, ramp=RAMP)
-    want = run(fmu, fmpy.read_model_description(str(fmu)), python=True, native_md=md, map_name=map_file.name,
-               ramp=RAMP)
-    scale = np.max(np.abs(want), axis=0)
-    assert np.max(np.abs(got - want) / scale) <= RTOL
-    p = parameters(md)
-    internal = ForceMap.from_file(map_file, BearingParams(D=p["D"], L=p["L"], CR=p["CR"], mu=p["mu"]))
-    col = {n: OUT.index(n) for n in OUT}
-    for state, row in zip(trajectory(), got):
-        rep = internal.film_report(*state)
-        assert row[col["P_loss"]] == pytest.approx(rep.friction_power_W * row[col["mu_eff"]] / p["mu"], rel=1e-13)
-        assert row[col["Q_side"]] == pytest.approx(rep.side_flow_m3_s, rel=1e-13) and rep.side_flow_m3_s > 0.0
-    T = got[:, col["T_eff"]]
-    assert T[0] > T_SUPPLY and np.all(np.diff(T) > 0.0) and T[-1] - T[0] > 5.0  # hot, lagging the rising supply
-
-
-@pytest.mark.slow
-@pytest.mark.parametrize("version", [2, 3])
-def test_map_model_exchange_state_and_derivative(map3, map_file, version):
-    """Model Exchange of the native map FMU: as test_model_exchange_state_and_derivative, the rate
-    and the force against the Python map internal's film report and force (within 1e-12)."""
-    from bearing_fmu.internals.forcemap import ForceMap
-
-    model_exchange_check(*map3[version], version, lambda params: ForceMap.from_file(map_file, params))
-
-
-def test_a_map_without_flow_tables_refuses_thermal(map_file, tmp_path):
-    """A version 1 map file (the force alone): a native map FMU starting with thermal = true is
-    refused before anything is compiled, naming why (the Python map's film_flow_why, as for a grooved
-    bore's map: test_native_fmu.py); without thermal its thermal parameter says why it stays false."""
-    import json
-
-    from bearing_fmu.fmu.native.build import build_native_fmu
-    from bearing_fmu.fmu.native.codegen import native_model
-
-    data = json.loads(map_file.read_text())
-    for key in ("Q", "flow_spline", "flow_meaning"):
-        data.pop(key)
-    old = tmp_path / "v1.json"
-    old.write_text(json.dumps({**data, "version": 1}))
-    params = BearingParams.from_toml(VG46)
-    with pytest.raises(ValueError, match=r"thermal = true needs the film's flows and the bearing's oil law: the "
-                                         r"map file .*v1.json has no flow tables \(format version 1"):
-        build_native_fmu(tmp_path / "x.fmu", "map", map=old, bearing=params, compiler="cc", thermal=True)
-    model = native_model("map", params, map=old)
-    thermal = next(v for v in model.variables if v.name == "thermal")
-    assert "not in this native FMU (the map file" in thermal.description and "#define BN_FILM_FLOW 0" in model.config_h
-    assert "der(T_eff)" not in {v.name for v in model.variables}
-    # every native internal with the film's flows has its film report in C (the scene checks only the capability)
-    from bearing_fmu.fmu.native.portgen import C_FILM_REPORT
-    from bearing_fmu.internals import registry
-
-    assert set(registry.having(film_flow=True, native=True)) <= set(C_FILM_REPORT)
-
-
-@pytest.mark.slow
-def test_several_internals_with_thermal(map3, native3, map_file, tmp_path_factory, native_build_cache):
-    """An FMU of several internals (reynolds and map, c/bn_parts.c) runs the thermal model of the
-    internal set: over the CS run with T_supply ramped, internal = 'map' gives the native map FMU's
-    bits, internal = 'reynolds' the native Reynolds FMU's (one C film report each, dispatched). With
-    a map file without flow tables (version 1) in it, thermal = true is refused at initialisation
-    for internal = 'map', naming the internal and the file, and runs for internal = 'reynolds'."""
-    import json
-
-    folder = tmp_path_factory.mktemp("several_thermal")
-    both = by_version(folder, native_build_cache, "reynolds,map", [map_file], map=map_file, options=GRID)[2]
-    for internal, single in (("map", map3[2]), ("reynolds", native3[2])):
-        want = run(*single, ramp=RAMP)
-        assert np.array_equal(run(*both, ramp=RAMP, internal=internal), want), internal
-    data = json.loads(map_file.read_text())
-    for key in ("Q", "flow_spline", "flow_meaning"):
-        data.pop(key)
-    old = folder / "v1.json"
-    old.write_text(json.dumps({**data, "version": 1}))
-    path, md = by_version(folder, native_build_cache, "reynolds,map", [old], map=old, options=GRID)[2]
-    state = dict(zip(IN, trajectory()[3]))
-    log = []
-    r = Run(path, md, {"T_supply": T_SUPPLY, **state}, {"internal": "map"}, log=log)
-    with pytest.raises(FMICallException):
-        r.f.exitInitializationMode()
-    r.f.freeInstance()  # refused initialisation: no terminate
-    assert ("thermal = true needs the film's friction and flows, which internal = 'map' does not have (the map "
-            "file") in log[-1] and "v1.json has no flow tables (format version 1" in log[-1]
-    r = Run(path, md, {"T_supply": T_SUPPLY, **state}, {"internal": "reynolds"})
-    r.f.exitInitializationMode()
-    assert r.get(["T_eff"])[0] > T_SUPPLY
-    r.close()
 
 
 @pytest.mark.slow
@@ -370,8 +269,6 @@ def test_model_exchange_state_and_derivative(native3, version):
 
 def model_exchange_check(path, md, version, internal):
     """test_model_exchange_state_and_derivative's checks of the FMU ``path`` against ``internal``."""
-    from fmpy.fmi3 import FMU3Model
-
     vr = {v.name: v.valueReference for v in md.modelVariables}
     state = trajectory()[3]
     unzip = fmpy.extract(str(path))
@@ -425,16 +322,18 @@ def model_exchange_check(path, md, version, internal):
 
 @pytest.mark.slow
 @pytest.mark.parametrize("interface", ["me", "cs"])
-@pytest.mark.parametrize("which", ["thermal_on", "map_thermal_on"])
-def test_compliance_checker_with_thermal_on(which, interface, tmp_path, request):
+def test_compliance_checker_with_thermal_on(thermal_on, interface, tmp_path):
     """The FMU Compliance Checker (../shared/tools/fmu-compliance-checker, an empty environment)
-    simulates the thermal FMU (Reynolds; the map) with an input signal that ramps T_supply 40 -> 60 C
-    while the journal circles: 0 warnings and 0 errors from the FMU and the checker; T_eff moves
-    (ME: the state)."""
+    simulates the thermal FMU with an input signal that ramps T_supply 40 -> 60 C while the journal
+    circles: 0 warnings and 0 errors from the FMU and the checker; T_eff moves (ME: the state)."""
+    compliance_check(thermal_on, interface, tmp_path)
+
+
+def compliance_check(thermal_on, interface, tmp_path):
+    """test_compliance_checker_with_thermal_on's run and checks of the FMU ``thermal_on``."""
     import os
     import subprocess
 
-    thermal_on = request.getfixturevalue(which)
     checker = next((p for p in (ROOT.parent / "shared", ROOT.parent.parent / "shared", Path("/work/shared"))
                     if (p / "tools" / "fmu-compliance-checker" / "fmuCheck.linux64").is_file()), None)
     if checker is None:
@@ -482,3 +381,198 @@ def test_model_exchange_thermal_off_t_eff_is_a_known(native3):
         assert r.f.getDirectionalDerivative(unknowns, [vr["T_supply"]], [1.0]) == [0.0, 0.0, 0.0]
     finally:
         r.close()
+
+
+# directional derivatives with thermal = true (docs/thermal.md, "Directional derivatives")
+DD_IN = (*IN, "T_supply")
+DD_OUT = ("Fy", "Fz", "eccentricity", "h_min", "Kyy", "Kyz", "Kzy", "Kzz", "Cyy", "Cyz", "Czy", "Czz", "P_loss",
+          "Q_side", "T_eff", "mu_eff")
+DD_RTOL = 1e-6  # measured: within 2.2e-8 of the differences (FMI 2.0 and 3.0, ME and CS)
+
+
+def dd_state():
+    """A loaded, whirling journal at 40 Hz (eccentricity 0.58), the supply at 45 C; each input's scale."""
+    CR, w = 90e-6, 2 * math.pi * 40.0
+    return (0.3 * CR, -0.5 * CR, 0.05 * w * CR, -0.08 * w * CR, w, T_SUPPLY), (CR, CR, w * CR, w * CR, w, 1.0)
+
+
+def central(r: Run, outs, name, x, h, evaluate) -> np.ndarray:
+    """Central differences of the outputs ``outs`` along input ``name`` (a step h) or, for "T_eff",
+    Model Exchange's state; ``evaluate()`` makes the outputs at the inputs set (a get, or a step)."""
+    rows = []
+    for sign in (1, -1):
+        if name == "T_eff":
+            r.set_state(x + sign * h)
+        else:
+            r.set({name: x + sign * h})
+        rows.append(evaluate())
+    if name == "T_eff":
+        r.set_state(x)
+    else:
+        r.set({name: x})
+    return (rows[0] - rows[1]) / (2 * h)
+
+
+def assert_close(got, want, floor, what):
+    """Each derivative within DD_RTOL of the difference, or of ``floor`` (the size of the same
+    derivative where the film temperature follows the inputs: what the differences' own errors, the
+    heat balance's root to 1e-10 K and a step's lag, are small against)."""
+    tol = DD_RTOL * (np.abs(want) + np.abs(floor)) + 1e-12 * np.max(np.abs(want))
+    assert np.all(np.abs(got - want) <= tol), (what, got, want)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("version", [2, 3])
+@pytest.mark.parametrize("kind", ["ME", "CS"])
+def test_directional_derivatives_with_thermal_on(native3, version, kind):
+    """Every Real output (the thermal ones and der(T_eff) too) along every input, thermal = true,
+    against central differences of the FMU's own outputs (a step of 1e-5 of each input's scale;
+    T_eff 1e-3 K): in Initialization Mode, where T_eff is the heat balance's root (the outputs read
+    there); after it in Model Exchange, where T_eff is the state (the outputs read after setting
+    the inputs or the state); in Co-Simulation, where T_eff is the step's internal state, held (the
+    outputs of a step of 1e-9 s from one FMU state: its lag moves T_eff by (1 - exp(-dt / t_res)) ~
+    3e-8 of the quasi-static change, below the tolerance). Tolerance DD_RTOL (1e-6; measured 2.2e-8:
+    the differences' truncation and the 1e-10 K root). Independent: in Initialization Mode
+    dT_eff/dT_supply = 1 / (1 - g dmu/dT) lies in (0, 1) (a hotter supply thins the oil, which
+    dissipates less) and der(T_eff) is stationary (the root makes T* - T vanish to first order);
+    FMI 3.0's adjoint derivative is the directional ones' transpose."""
+    path, md = native3[version]
+    x, scale = dd_state()
+    r = Run(path, md, dict(zip(DD_IN, x)), kind=kind)
+    outs = DD_OUT + (("der(T_eff)",) if kind == "ME" else ())
+    try:
+        quasi = {}
+        for j, name in enumerate(DD_IN):
+            got = r.dd(outs, [name], [1.0])
+            want = central(r, outs, name, x[j], 1e-5 * scale[j], lambda: r.get(outs))
+            quasi[name] = got
+            if kind == "ME":  # der(T_eff): the differences see the root's 1e-10 K only
+                assert abs(got[-1]) <= 1e-6 * abs(want[-1]) + 1e-3
+                got, want = got[:-1], want[:-1]
+            assert_close(got, want, 0.0, ("initialization", name))
+        assert 0.5 < quasi["T_supply"][DD_OUT.index("T_eff")] < 1.0
+        r.f.exitInitializationMode()
+        T0 = r.get(["T_eff"])[0]
+        if kind == "ME":
+            r.f.enterContinuousTimeMode()
+            T0 += 3.0  # off the heat balance's root: der(T_eff) < 0, and t_res's change counts
+            r.set_state(T0)
+            rate = {}
+            for j, name in enumerate((*DD_IN, "T_eff")):
+                got = r.dd(outs, [name], [1.0])
+                x0, h = (T0, 1e-3) if name == "T_eff" else (x[j], 1e-5 * scale[j])
+                want = central(r, outs, name, x0, h, lambda: r.get(outs))
+                assert_close(got, want, 0.0, ("model exchange", name))
+                rate[name] = got[-1]
+                if name != "T_eff":  # at the state, der(T_eff) moves; in Initialization Mode it did not
+                    assert abs(quasi[name][-1]) <= 1e-9 * abs(got[-1])
+            assert rate["T_eff"] < 0.0 and rate["T_supply"] > 0.0  # a stable lag, fed by the supply
+        else:
+            saved = r.save()
+            for j, name in enumerate(DD_IN):
+                got = r.dd(outs, [name], [1.0])
+                rows = []
+                for sign in (1, -1):  # a step from the same FMU state (inputs, T_eff) at the inputs moved
+                    r.restore(saved)
+                    r.set({**dict(zip(DD_IN, x)), name: x[j] + sign * 1e-5 * scale[j]})
+                    r.f.doStep(r.t, 1e-9)
+                    rows.append(r.get(outs))
+                r.restore(saved)
+                want = (rows[0] - rows[1]) / (2e-5 * scale[j])
+                assert_close(got, want, quasi[name], ("co-simulation", name))
+                assert got[DD_OUT.index("T_eff")] == 0.0  # held between steps
+        if version == 3:  # the adjoint: sum_i seed_i dU_i/dk for each known k
+            knowns = (*DD_IN, "T_eff") if kind == "ME" else DD_IN
+            seed = np.linspace(-1.0, 2.0, len(outs))
+            adjoint = np.array(r.f.getAdjointDerivative([r.vr[k] for k in outs], [r.vr[k] for k in knowns],
+                                                        list(seed), len(knowns)))
+            rows = np.array([r.dd(outs, [k], [1.0]) for k in knowns])
+            assert adjoint == pytest.approx(rows @ seed, rel=1e-12)
+    finally:
+        r.close()
+
+
+@pytest.mark.slow
+def test_parameter_derivatives_with_thermal_on(native3):
+    """Initialization Mode, thermal = true: the outputs along the Real parameters (the bearing, the
+    oil: the FMU differences its outputs with a step of 1e-6 of each value) against central
+    differences of the outputs read with a step 100 times larger (1e-4 of each value): within 1e-5
+    (the two steps' truncation errors and the 1e-10 K root). Independent: along mu nothing moves
+    (every force is mu_eff / mu times one proportional to mu, the heat balance sees the friction
+    power over mu); the rise factor k heats the film, so T_eff grows along it, mu_eff falls."""
+    path, md = native3[2]
+    x, _scale = dd_state()
+    r = Run(path, md, dict(zip(DD_IN, x)), kind="ME")
+    outs = (*DD_OUT, "der(T_eff)")
+    try:
+        p = {k: r.get([k])[0] for k in ("D", "L", "CR", "mu", "oil_nu_1", "oil_T_2", "oil_heat_capacity",
+                                            "oil_rise_factor")}
+        base = r.get(outs)
+        for name, value in p.items():
+            got = r.dd(outs, [name], [1.0])
+            want = central(r, outs, name, value, 1e-4 * value, lambda: r.get(outs))
+            if name == "mu":
+                assert np.all(np.abs(got) <= 1e-7 * np.abs(base) / value), got
+                continue
+            tol = 1e-5 * np.abs(want) + 1e-9 * np.abs(base) / value
+            assert np.all(np.abs(got[:-1] - want[:-1]) <= tol[:-1]), (name, got, want)
+        k = r.dd(["T_eff", "mu_eff"], ["oil_rise_factor"], [1.0])
+        assert k[0] > 0.0 and k[1] < 0.0
+    finally:
+        r.f.freeInstance()  # in Initialization Mode: nothing to terminate
+
+
+@pytest.mark.slow
+def test_declared_dependencies_are_the_computed_ones(native3):
+    """After initialisation each Real output's dependencies as declared (the FMI 2.0 and 3.0 model
+    descriptions, fmi3GetVariableDependencies) are exactly the knowns along which its directional
+    derivative is not 0 in Model Exchange or Co-Simulation, thermal = true or false (the damping along
+    the velocities and the speed aside: below): none left out, none always 0. So T_supply reaches the force, P_loss and Q_side only through the state T_eff
+    (no direct feedthrough: an oil circuit making T_supply from P_loss is no algebraic loop)."""
+    x, _scale = dd_state()
+    declared = {}
+    for version, (path, md) in native3.items():
+        deps = {u.variable.name: sorted(d.name for d in u.dependencies) for u in (*md.outputs, *md.derivatives)}
+        deps.pop("out_of_domain")
+        assert declared in ({}, deps), version
+        declared = deps
+    path, md = native3[3]
+    r = Run(path, md, dict(zip(DD_IN, x)))
+    try:
+        import ctypes
+
+        names = {v.valueReference: v.name for v in md.modelVariables}
+        for name, deps in declared.items():  # raw: fmpy 0.3's getNumberOfVariableDependencies passes a type
+            n = ctypes.c_size_t()
+            r.f.fmi3GetNumberOfVariableDependencies(r.f.component, r.vr[name], ctypes.byref(n))
+            got = (ctypes.c_uint * n.value)()
+            r.f.fmi3GetVariableDependencies(r.f.component, r.vr[name], (ctypes.c_size_t * n.value)(), got,
+                                            (ctypes.c_size_t * n.value)(), (ctypes.c_int * n.value)(), n.value)
+            assert sorted(names[k] for k in got) == deps, name
+    finally:
+        r.f.freeInstance()
+    assert declared["Fy"] == sorted((*IN, "T_eff")) and declared["Q_side"] == sorted(IN)
+    found = {name: set() for name in declared}
+    for kind in ("ME", "CS"):
+        for thermal in (True, False):
+            path, md = native3[2]
+            r = Run(path, md, dict(zip(DD_IN, x)), kind=kind, thermal=thermal)
+            try:
+                r.f.exitInitializationMode()
+                knowns = DD_IN
+                if kind == "ME":
+                    r.f.enterContinuousTimeMode()
+                    r.set_state(r.get(["T_eff"])[0] + 3.0)  # off the root: der(T_eff) moves along everything
+                    knowns += ("T_eff",)
+                outs = [n for n in declared if kind == "ME" or n != "der(T_eff)"]
+                for k in knowns:
+                    for name, value in zip(outs, r.dd(outs, [k], [1.0])):
+                        if value != 0.0:
+                            found[name].add(k)
+            finally:
+                r.close()
+    # the Reynolds film's force is linear in the velocities and the speed while its cavitated zone
+    # stays: the damping C = -dF/dv moves with them only where that zone changes, in steps (its
+    # derivative 0 between); the declarations are the interface's, for every internal
+    steps = {name: {"vy", "vz", "omega"} for name in ("Cyy", "Cyz", "Czy", "Czz")}
+    assert {name: sorted(ks | steps.get(name, set())) for name, ks in found.items()} == declared

@@ -97,10 +97,15 @@ def test_scene_supply_temperature_runs_at_mu_eff(tmp_path):
     (lambda t: t.replace('via = "direct"', 'via = "fmu"\nfmu_kind = "native"').replace('internal = "reynolds"',
                                                                                      'internal = "linear"'),
      r"supply_temperature_C = 40 through an FMU's thermal ports needs an internal with the film's friction and "
-     r"flows \(reynolds, map\); internal = 'linear'"),
+     r"flows \(reynolds, taylor, map\); internal = 'linear'"),
+    (lambda t: t.replace('via = "direct"', 'via = "fmu"\nfmu_kind = "native"').replace('internal = "reynolds"',
+                                                                                     'internal = "taylor"')
+     + f'\n[taylor]\nsurrogate = "{MODELS / "surrogates" / "paper_22hz_16.7N.json"}"\n',
+     r"supply_temperature_C = 40 through the native FMU's thermal ports needs a native internal with the film's "
+     r"flows \(reynolds, map\); internal = 'taylor': the native taylor FMU computes the force only"),
     (lambda t: t.replace('via = "direct"', 'via = "fmu"').replace('internal = "reynolds"', 'internal = "linear"'),
      r"supply_temperature_C = 40 through an FMU's thermal ports needs an internal with the film's friction and "
-     r"flows \(reynolds, map\); internal = 'linear': a linear model holds the force about one point"),
+     r"flows \(reynolds, taylor, map\); internal = 'linear': a linear model holds the force about one point"),
     (lambda t: t.replace("speed_hz = 44.0", "[speed_profile]\ntimes_s = [0.0, 0.1]\nspeeds_hz = [40.0, 44.0]\n")
      .replace('internal = "reynolds"', 'internal = "linear"'),
      r"supply_temperature_C = 40 with a \[speed_profile\] needs an internal with the film's friction and flows"),
