@@ -250,9 +250,13 @@ def sweep(client, scene, pts: list[Point], out_dir: Path, settle_s: float, disk_
     finish, for a caller whose interrupt may come after this returns (in closing the cluster).
     On an interrupt the tasks not finished are cancelled; the rows that are there are attached
     to the exception (``exc.sweep_rows``) and it is raised again."""
+    import threading
+
     from dask.distributed import as_completed
     from tqdm import tqdm
 
+    # the diagram's matplotlib imported while the workers run (0.6 s the command would wait for after them)
+    threading.Thread(target=pyplot, daemon=True, name="import-matplotlib").start()
     # all workers at once, before any run; a worker lost meanwhile is the business of the runs' rows
     warm = [s for s in client.run(warm_worker, scene, str(Path(out_dir) / "fmu"), on_error="return").values()
             if isinstance(s, float)]
