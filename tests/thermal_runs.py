@@ -1,31 +1,62 @@
 """A scene with a supply temperature on one internal, in-process and through the Python FMU's
-thermal ports, beside the same scene on the Reynolds solver (tests/test_forcemap_flows.py,
-tests/test_taylor_flows.py)."""
+thermal ports (and the native FMU's, where the internal has its film report in C), beside the same
+scene on the Reynolds solver (tests/test_forcemap_flows.py, tests/test_taylor_flows.py,
+tests/test_thermal_host.py)."""
 
 import dataclasses
 
 import numpy as np
 
+# what every route records of the film over time (docs/file-formats.md, "Run result: the thermal
+# arrays"); the inflow Q_in only in-process (the FMUs have no inflow output)
+THERMAL = ("T_eff", "mu_eff", "P_loss", "Q_side")
 
-def three_runs(scene, internal: str, options: dict, t_end_s: float, tmp_path) -> dict:
-    """{"rey", "direct", "fmu"}: the recorded series (npz) of ``scene`` (its ``t_end_s`` replaced) on
-    Reynolds in-process, on ``internal`` with ``options`` ({internal: {option: value}}) in-process,
-    and the same through the Python FMU."""
+
+def three_runs(scene, internal: str, options: dict, t_end_s: float, tmp_path, native: bool = False) -> dict:
+    """{"rey", "direct", "fmu"} (and "native" with ``native``): the recorded series (npz) of ``scene``
+    (its ``t_end_s`` replaced) on Reynolds in-process, on ``internal`` with ``options`` ({internal:
+    {option: value}}) in-process, the same through the Python FMU (and the native FMU)."""
     from rotor_host.scenes.run import run_scene
 
     out = {}
-    for name, which, via in (("rey", "reynolds", "direct"), ("direct", internal, "direct"), ("fmu", internal, "fmu")):
+    routes = [("rey", "reynolds", {"via": "direct"}), ("direct", internal, {"via": "direct"}),
+              ("fmu", internal, {"via": "fmu"})] + ([("native", internal, {"via": "fmu", "fmu_kind": "native"})]
+                                                    if native else [])
+    for name, which, how in routes:
         run = run_scene(dataclasses.replace(scene.with_internal(which, options=options if which == internal else {},
-                                                                t_end_s=t_end_s), via=via), tmp_path / name)
+                                                                t_end_s=t_end_s), **how), tmp_path / name)
         assert run.ok, run
         out[name] = np.load(run.npz)
     return out
 
 
 def check_three_runs(out: dict, reynolds_rtol: float, fmu_rtol: float = 1e-9) -> None:
-    """The FMU run equals the in-process one to ``fmu_rtol`` and the Reynolds run is within
-    ``reynolds_rtol`` of it, each of the largest value of y, z, Fy, Fz."""
+    """The FMU runs equal the in-process one to ``fmu_rtol`` and the Reynolds run is within
+    ``reynolds_rtol`` of it, each of the largest value of y, z, Fy, Fz; with a supply temperature
+    every route records the same film history (``check_thermal_records``)."""
     for key in ("y", "z", "Fy", "Fz"):
         scale = np.max(np.abs(out["direct"][key]))
-        assert np.max(np.abs(out["fmu"][key] - out["direct"][key])) <= fmu_rtol * scale, key
+        for route in ("fmu", "native"):
+            if route in out:
+                assert np.max(np.abs(out[route][key] - out["direct"][key])) <= fmu_rtol * scale, (route, key)
         assert np.max(np.abs(out["rey"][key] - out["direct"][key])) <= reynolds_rtol * scale, key
+    if "T_eff" in out["direct"].files:
+        check_thermal_records(out, fmu_rtol)
+
+
+def check_thermal_records(out: dict, rtol: float = 1e-9, reference: str = "direct") -> None:
+    """Every run of ``out`` but the Reynolds one ("rey") records T_eff, mu_eff, P_loss and Q_side at
+    the same times as ``out[reference]``, equal to ``rtol`` of each array's largest value (T_eff: to
+    ``rtol`` K, of the order of the film's rise of 1-2 K over the supply; a step's lag moves it by
+    ~1e-6 K at the 44 Hz scene's); an in-process run records the inflow too, an FMU run not; none of
+    them records anything not finite."""
+    ref = out[reference]
+    for name, run in out.items():
+        if name == "rey":
+            continue
+        assert np.array_equal(run["t"], ref["t"]), name
+        for key in THERMAL:
+            assert run[key].shape == ref["Fy"].shape and np.all(np.isfinite(run[key])), (name, key)
+            scale = 1.0 if key == "T_eff" else np.max(np.abs(ref[key]))  # T_eff [K]: its rise is ~1 K
+            assert np.max(np.abs(run[key] - ref[key])) <= rtol * scale, (name, key, np.max(np.abs(run[key] - ref[key])))
+        assert ("Q_in" in run.files) == (name in ("direct", "rey")), name
