@@ -246,7 +246,7 @@ def test_native_map_fmu_run_with_a_supply_temperature(tmp_path):
         assert np.max(np.abs(out["native"][key] - out["python"][key])) <= 1e-12 * scale, key
         assert np.max(np.abs(out["native"][key] - out["direct"][key])) <= 1e-9 * scale, key
     check_thermal_records(out)  # T_eff, mu_eff, P_loss, Q_side: the FMUs' outputs as LaggedThermal's
-    check_thermal_records(out, 1e-12, reference="python")
+    check_thermal_records({k: out[k] for k in ("python", "native")}, 1e-12, reference="python")
     # a map file without flow tables (version 1): the native FMU refuses thermal at initialisation, by name
     from rotor_host.coupling.cosim import FMUError
 
@@ -282,13 +282,14 @@ def test_run_up_with_a_supply_temperature(tmp_path):
 @pytest.mark.slow
 def test_t_eff_settles_on_the_quasi_static_heat_balance(tmp_path):
     """The lag's fixed point is the quasi-static balance: the shipped scene on the shipped map (its
-    flow tables) without unbalance, the speed raised from 20 to 30 Hz in 10 ms and then held for
-    0.59 s (about 11 residence times at 30 Hz, 53 ms; both below the 43 Hz threshold: the journal
-    settles at its static equilibrium). The recorded T_eff, mu_eff, P_loss and Q_side at the end
-    equal ``physics.thermal.effective_temperature`` at 30 Hz under the bearing's load on the same map
-    (an independent solution: Brent on T_supply + k dT(mu(T)) - T at the equilibrium found at each
-    viscosity; its tolerance set to 1e-7 K) to 1e-4 K and 1e-4 relative, having risen from the value
-    at 20 Hz by more than 0.1 K (the run's first record: the quasi-static start)."""
+    flow tables) without unbalance, the speed raised from 20 to 30 Hz over 0.3 s and then held for
+    0.6 s (11 residence times at 30 Hz, 53 ms; below the 43 Hz threshold: the journal settles at its
+    static equilibrium, slowly raised so that it does not whirl). At the end the recorded T_eff equals
+    ``physics.thermal.effective_temperature`` at 30 Hz under the bearing's load on the same map (an
+    independent solution: Brent on T_supply + k dT(mu(T)) - T at the equilibrium found at each
+    viscosity, its tolerance set to 1e-7 K) to 1e-5 K (measured 1.1e-6 K), mu_eff and P_loss to 1e-5
+    (5e-8, 1.5e-6), the side flow to 1e-3 (8e-5: a velocity of 1e-7 m/s is left, and the squeeze
+    moves the flows), having risen by 0.28 K from the quasi-static start at 20 Hz (the first record)."""
     import dataclasses
 
     from bearing_fmu.internals.forcemap import ForceMap
@@ -296,8 +297,8 @@ def test_t_eff_settles_on_the_quasi_static_heat_balance(tmp_path):
 
     shipped = MODELS / "maps" / "paper_bearing.json"
     scene = dataclasses.replace(load_scene(VG46_SCENE).with_internal("map", options={"map": {"map": shipped}},
-                                                                     t_end_s=0.6, dt_s=5e-4),
-                                unbalances=[], speed_hz=20.0, speed_profile=SpeedProfile((0.0, 0.01), (20.0, 30.0)))
+                                                                     t_end_s=0.9, dt_s=5e-4),
+                                unbalances=[], speed_hz=20.0, speed_profile=SpeedProfile((0.0, 0.3), (20.0, 30.0)))
     run = run_scene(scene, tmp_path)
     assert run.ok, run.meta["message"]
     a = run.arrays
@@ -306,11 +307,11 @@ def test_t_eff_settles_on_the_quasi_static_heat_balance(tmp_path):
     st = {f: effective_temperature(bearing, load, 2 * math.pi * f, 313.15, tol_K=1e-7,
                                    internal=ForceMap.from_file(shipped, bearing)) for f in (20.0, 30.0)}
     assert abs(a["T_eff"][0, 0] - st[20.0].T_eff_K) < 1e-4
-    assert a["T_eff"][-1, 0] - a["T_eff"][0, 0] > 0.1
-    assert abs(a["T_eff"][-1, 0] - st[30.0].T_eff_K) < 1e-4
-    assert a["mu_eff"][-1, 0] == pytest.approx(st[30.0].mu_eff_Pa_s, rel=1e-4)
-    assert a["P_loss"][-1, 0] == pytest.approx(st[30.0].report.friction_power_W, rel=1e-4)
-    assert a["Q_side"][-1, 0] == pytest.approx(st[30.0].report.side_flow_m3_s, rel=1e-4)
+    assert a["T_eff"][-1, 0] - a["T_eff"][0, 0] > 0.25
+    assert abs(a["T_eff"][-1, 0] - st[30.0].T_eff_K) < 1e-5
+    assert a["mu_eff"][-1, 0] == pytest.approx(st[30.0].mu_eff_Pa_s, rel=1e-5)
+    assert a["P_loss"][-1, 0] == pytest.approx(st[30.0].report.friction_power_W, rel=1e-5)
+    assert a["Q_side"][-1, 0] == pytest.approx(st[30.0].report.side_flow_m3_s, rel=1e-3)
 
 
 def test_thermal_lines_say_how_hot_and_how_much_power():
