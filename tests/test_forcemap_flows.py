@@ -176,17 +176,3 @@ def test_a_scene_with_a_supply_temperature_runs_on_the_map(tmp_path):
     with pytest.raises(FMUError, match=r"thermal = true needs .* has no flow tables .*rebuild it with `bearing-fmu map"):
         run_scene(dataclasses.replace(scene.with_internal("map", options={"map": {"map": str(old)}}, t_end_s=0.001),
                                       via="fmu"), tmp_path / "old")
-
-
-def test_a_grooved_map_says_it_has_no_flows():
-    # its inflow is a sum over the grooves' edges of positive parts (docs/forcemap.md): no table yet
-    from pathlib import Path
-
-    from bearing_fmu.internals.groovemap import GroovedForceMap, tabulate_grooved
-
-    grooved = P.from_toml(Path(__file__).resolve().parents[1] / "models" / "bearing_paper_2groove.toml")
-    m = GroovedForceMap(grooved, tabulate_grooved(grooved, n_eps=4, n_phi=4, n_beta=4, n_phase=1, n_theta=16, n_x=4))
-    why = registry.film_flow_of(registry.get("map"), m)
-    assert why.startswith("a grooved or partial-arc map tabulates the force only")
-    with pytest.raises(ValueError, match="film_report: a grooved or partial-arc map"):
-        m.film_report(0.0, -0.3 * grooved.CR, 0.0, 0.0, OMEGA)

@@ -1,0 +1,192 @@
+"""The grooved map's flow tables (internals/groovemap.py, docs/forcemap.md, "Grooved bores: the
+flows"): the reduction of the side flow and of each supply edge's inflow checked on the Reynolds
+solver itself, the map's film report against the solver's, the closed-form Couette integral, and
+the files with and without the tables.
+
+Independent references: (1) the Reynolds solver's own film report (``physics.film.field_report``,
+validated against Raimondi & Boyd in tests/test_film.py) at states with equal (eps, phi, beta) and
+other r (0.01 .. 2500 1/s) and speeds of both signs; (2) numerical quadrature (scipy.integrate.quad)
+for the film's Couette integral, and 2 pi / sqrt(1 - eps^2) for the full circle; (3) the bore's
+symmetry: two opposite grooves turned by 180 deg are the same bore with the edges renumbered.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from bearing_fmu.internals import registry
+from bearing_fmu.internals.forcemap import state_for
+from bearing_fmu.internals.groovemap import GroovedForceMap, save_grooved_map, tabulate_grooved
+from bearing_fmu.internals.mapfile import load_any_map, open_map
+from bearing_fmu.physics.film import film_couette_integral, flow_scale
+from bearing_fmu.physics.geometry import Geometry
+from bearing_fmu.physics.params import PAPER_BEARING, BearingParams
+from bearing_fmu.physics.reynolds import Reynolds
+
+MODELS = Path(__file__).resolve().parents[1] / "models"
+GROOVED = BearingParams.from_toml(MODELS / "bearing_paper_2groove.toml")
+ARC = dataclasses.replace(PAPER_BEARING, geometry=Geometry(arc=(math.radians(90.0), math.radians(270.0))))
+COARSE = dict(n_theta=32, n_x=4)
+OMEGA = 2 * math.pi * 22.0
+
+
+def _components(P, rey, eps, phi, beta, r, omega):
+    """(J_s, P_1 .. P_E) of the solver's field at a state, and the inflow assembled from them with
+    the Couette parts in closed form (groovemap's docstring), beside the solver's own report."""
+    s = state_for(eps, beta, P, phi, omega, r)
+    e = rey.supply_flows(*s, omega)
+    q0 = flow_scale(P)
+    comp = np.r_[e["side_flow"], -e["pressure"]] / (r * q0)
+    q_in = sum(max(sg * omega * q0 * 0.5 * (1 + eps * math.sin(t - phi)) - r * q0 * p, 0.0)
+               for t, sg, p in zip(e["theta"], e["sign"], comp[1:]))
+    return comp, q_in, rey.film_report(*s, omega), e
+
+
+@pytest.mark.parametrize("P", [GROOVED, ARC], ids=["two grooves", "180 deg arc"])
+def test_the_edge_flow_reduction_holds_for_the_reynolds_solver(P):
+    """Equal (eps, phi, beta) give equal J_s and P_e whatever r and the speed's sign (to 1e-12), and
+    the positive parts taken after the sum give the solver's inflow to round-off, also where the
+    edges switch between inflow and outflow with omega / r (the solver's inflow is not linear there)."""
+    rey = Reynolds(P, **COARSE)
+    q0 = flow_scale(P)
+    for eps, phi, beta in ((0.3, -1.2, 0.4), (0.85, 0.3, -2.5), (0.6, 2.0, 2.9)):
+        ref = _components(P, rey, eps, phi, beta, 1.0, 1.0)[0]
+        for r, omega in ((0.01, 3.0), (2500.0, -50.0), (40.0, -900.0), (1.0, 0.2), (1.0, 3.0)):
+            comp, q_in, rep, e = _components(P, rey, eps, phi, beta, r, omega)
+            np.testing.assert_allclose(comp, ref, rtol=0, atol=1e-12 * np.abs(ref).max())
+            assert q_in == pytest.approx(rep.inflow_m3_s, rel=1e-12, abs=1e-15 * q0 * (r + abs(omega)))
+            assert comp[0] * r * q0 == pytest.approx(rep.side_flow_m3_s, rel=1e-14)
+            # the solver's edges are the bore's (Geometry.supply_edges: the file's flow_edges_deg)
+            np.testing.assert_allclose(np.c_[np.mod(e["theta"], 2 * math.pi), e["sign"]], P.geometry.supply_edges(),
+                                       rtol=0, atol=1e-12)
+    # not linear in (omega, r) as one table: (0.3, -1.2, 0.4) at omega / r = 0.2, 1, 3 (docs/forcemap.md)
+    q = [_components(P, rey, 0.3, -1.2, 0.4, 1.0, w)[2].inflow_m3_s / q0 for w in (0.2, 1.0, 3.0)]
+    if P is GROOVED:
+        assert q[2] - q[1] == pytest.approx(2.0, rel=1e-9)  # slope 1 between 1 and 3: the Couette part
+        assert q[0] > q[1] - 0.8 * 1.0 + 0.05  # but not at 0.2: an edge has turned to outflow
+
+
+def test_two_opposite_grooves_turned_by_half_a_turn_renumber_the_edges():
+    # the table covers phi over one period (180 deg) only: the map folds phi there and the edges'
+    # P_e belong to the folded attitude; the solver at phi + pi gives the same with edges (1, 2) <-> (3, 4)
+    rey = Reynolds(GROOVED, **COARSE)
+    a = _components(GROOVED, rey, 0.7, 0.4, 1.3, 1.0, 1.0)[0]
+    b = _components(GROOVED, rey, 0.7, 0.4 + math.pi, 1.3, 1.0, 1.0)[0]
+    np.testing.assert_allclose(b, np.r_[a[0], a[3:5], a[1:3]], rtol=0, atol=1e-12 * np.abs(a).max())
+    assert np.abs(a[1:] - b[1:]).max() > 0.01  # so the renumbering matters
+
+
+@pytest.mark.parametrize("geometry", [GROOVED.geometry, ARC.geometry, Geometry()], ids=["grooves", "arc", "full"])
+def test_the_couette_integral_in_closed_form(geometry):
+    from scipy.integrate import quad
+
+    segs, fixed, _ = geometry.segments() if not geometry.is_full_bore else ([(0.0, 2 * math.pi)], [False], None)
+    for eps, phi in ((0.0, 0.3), (0.5, -2.0), (0.95, 1.1), (0.99, 4.0)):
+        want = sum(quad(lambda t: 1 / (1 + eps * math.sin(t - phi)), a, b, epsabs=1e-13, epsrel=1e-13, limit=400)[0]
+                   for (a, b), f in zip(segs, fixed) if not f)
+        assert film_couette_integral(geometry, eps, phi) == pytest.approx(want, rel=1e-11)
+        if geometry.is_full_bore:
+            assert want == pytest.approx(2 * math.pi / math.sqrt(1 - eps * eps), rel=1e-11)
+
+
+@pytest.fixture(scope="module")
+def tiny(tmp_path_factory):
+    path = tmp_path_factory.mktemp("groove_flows") / "tiny.json"
+    return save_grooved_map(tabulate_grooved(GROOVED, n_eps=8, n_phi=6, n_beta=8, n_phase=1, **COARSE), path)
+
+
+def test_the_map_reports_the_solvers_flows_at_its_points(tiny):
+    """At a table point, any r and speed (both signs) and the attitude also half a turn on (folded):
+    the solver's inflow and side flow (the spline interpolates its data; 8 digits in the file), the
+    Couette torque (exact) to the solver's Simpson sum over
+    its cells (eps <= 0.93 here: 2e-5 on 32 cells, 7e-4 at eps 0.98; 1e-8 on the shipped maps' 128), the pressure torque to the cells'
+    midpoint rule of the solver's force (sinc(w/2) - 1 ~ 2e-3 of it at w = 0.17 rad)."""
+    fmap = open_map(tiny, GROOVED)
+    assert registry.film_flow_of(registry.get("map"), fmap) == ""
+    t, rey, q0 = fmap.table, Reynolds(GROOVED, **COARSE), flow_scale(GROOVED)
+    for (i, j, k), r, omega, turn in (((2, 1, 3), 37.0, OMEGA, 0.0), ((3, 4, 0), 900.0, -OMEGA, math.pi),
+                                      ((4, 5, 7), 3.0, 2 * OMEGA, -math.pi), ((1, 2, 5), 300.0, 0.5 * OMEGA, 0.0)):
+        x = state_for(t.eps[i], t.beta[k], GROOVED, t.phi[j] + turn, omega, r)
+        a, b = fmap.film_report(*x, omega), rey.film_report(*x, omega)
+        floor = 1e-7 * q0 * (r + abs(omega))
+        assert a.inflow_m3_s == pytest.approx(b.inflow_m3_s, rel=1e-7, abs=floor)
+        assert a.side_flow_m3_s == pytest.approx(b.side_flow_m3_s, rel=1e-7, abs=floor)
+        assert a.couette_torque_Nm == pytest.approx(b.couette_torque_Nm, rel=1e-4)
+        assert a.pressure_torque_Nm == pytest.approx(b.pressure_torque_Nm, rel=3e-3)
+        assert set(a.as_dict()) == set(b.as_dict())
+
+
+def test_flows_scale_with_speed_and_velocity_together(tiny):
+    m = open_map(tiny, GROOVED)
+    s = (0.2 * GROOVED.CR, -0.5 * GROOVED.CR, 0.1 * OMEGA * GROOVED.CR, 0.05 * OMEGA * GROOVED.CR)
+    a = m.film_report(*s, OMEGA)
+    b = m.film_report(*s[:2], 3 * s[2], 3 * s[3], 3 * OMEGA)
+    assert b.inflow_m3_s == pytest.approx(3 * a.inflow_m3_s, rel=1e-12)
+    assert b.side_flow_m3_s == pytest.approx(3 * a.side_flow_m3_s, rel=1e-12)
+    assert b.friction_power_W == pytest.approx(9 * a.friction_power_W, rel=1e-12)
+
+
+@pytest.mark.slow
+def test_the_map_reports_the_solvers_flows_at_random_states(tmp_path):
+    # a coarse 12 x 16 x 24 map on the solver's grid against the solver, as the full bore's test
+    # (tests/test_forcemap_flows.py); bounds from the measured errors with margin (measured: median
+    # 2e-4, 8e-4, 3e-4; max 6e-3, 5e-3, 7e-3); the shipped maps' figures are in docs/forcemap.md
+    m = GroovedForceMap(GROOVED, tabulate_grooved(GROOVED, n_eps=12, n_phi=16, n_beta=24, **COARSE))
+    rey = Reynolds(GROOVED, **COARSE)
+    rng = np.random.default_rng(1)
+    err = {"inflow": [], "side": [], "power": []}
+    for _ in range(60):
+        eps, phi = rng.uniform(0, 0.9), rng.uniform(-math.pi, math.pi)
+        om = OMEGA * rng.uniform(0.2, 3) * rng.choice([1, -1])
+        v = rng.uniform(-1.5, 1.5, 2) * abs(om) * GROOVED.CR / math.sqrt(2)
+        s = (eps * GROOVED.CR * math.cos(phi), eps * GROOVED.CR * math.sin(phi), v[0], v[1], om)
+        a, b = m.film_report(*s), rey.film_report(*s)
+        floor = 0.1 * abs(om) * flow_scale(GROOVED)
+        err["inflow"].append(abs(a.inflow_m3_s - b.inflow_m3_s) / max(b.inflow_m3_s, floor))
+        err["side"].append(abs(a.side_flow_m3_s - b.side_flow_m3_s) / max(b.side_flow_m3_s, floor))
+        err["power"].append(abs(a.friction_power_W - b.friction_power_W) / abs(b.friction_power_W))
+    for k, e in err.items():
+        assert np.median(e) < 3e-3 and np.max(e) < 3e-2, (k, np.median(e), np.max(e))
+
+
+def test_a_grooved_map_without_flow_tables_says_to_rebuild_it(tiny, tmp_path):
+    # a version 2 file (before the flow tables) still loads and serves the force, but no flows:
+    # the registry's per-instance answer names the file and the rebuild
+    d = json.loads(tiny.read_text())
+    for k in ("Q", "flow_edges_deg", "flow_meaning"):
+        d.pop(k)
+    d["version"] = 2
+    old = tmp_path / "old.json"
+    old.write_text(json.dumps(d))
+    m = open_map(old, GROOVED)
+    assert isinstance(m, GroovedForceMap) and m.table.Q is None
+    why = registry.film_flow_of(registry.get("map"), m)
+    assert why.startswith(f"the grooved map file {old} has no flow tables") and "rebuild it with `bearing-fmu map" in why
+    with pytest.raises(ValueError, match="film_report: the grooved map file .* has no flow tables"):
+        m.film_report(0.0, -0.3 * GROOVED.CR, 0.0, 0.0, OMEGA)
+    x = (0.1 * GROOVED.CR, -0.3 * GROOVED.CR, 0.0, 0.0, OMEGA)
+    assert m.force(*x) == open_map(tiny, GROOVED).force(*x)
+
+
+@pytest.mark.parametrize("damage, expected", [
+    (lambda d: d.__setitem__("Q", d["Q"][:-1]), r"key 'Q' has 1919 numbers, n_eps x n_phi x n_beta x \(1 \+ 4 supply "
+                                                r"edges\) = 1920"),
+    (lambda d: d["flow_edges_deg"][1].__setitem__(1, 1.0), r"key 'flow_edges_deg' = .* must list the bore's supply "
+                                                          r"edges \[theta_deg, sign\] in order: \[\[100.0, 1.0\]"),
+    (lambda d: d.pop("flow_edges_deg"), r"missing key 'flow_edges_deg'"),
+    (lambda d: d.__setitem__("version", 2), r"unknown key\(s\) Q, flow_edges_deg, flow_meaning"),
+    (lambda d: d["Q"].__setitem__(7, float("nan")), r"key 'Q' has a non-finite entry"),
+])
+def test_damaged_flow_tables_are_refused_by_key(tiny, tmp_path, damage, expected):
+    d = json.loads(tiny.read_text())
+    damage(d)
+    bad = tmp_path / "bad.json"
+    bad.write_text(json.dumps(d))
+    with pytest.raises(ValueError, match=rf"force map file {bad}: {expected}"):
+        load_any_map(bad)
