@@ -78,9 +78,19 @@ def test_the_map_reports_the_solvers_flows_at_random_states(table, rey):
         assert np.median(e) < 2e-3 and np.max(e) < 2e-2, (k, np.median(e), np.max(e))
 
 
-def test_flows_scale_with_speed_and_velocity_together(tiny):
-    # the flows are linear in (omega, v) together (both parts: omega Q0 and r Q0)
+@pytest.mark.parametrize("bore", ["full", "two grooves"])
+def test_flows_scale_with_speed_and_velocity_together(tiny, bore):
+    # the flows are linear in (omega, v) together (both parts: omega Q0 and r Q0; on a grooved map
+    # each edge's positive part too, tests/test_groovemap_flows.py)
     m = ForceMap(P, tiny)
+    if bore == "two grooves":
+        from pathlib import Path
+
+        from bearing_fmu.internals.groovemap import GroovedForceMap, tabulate_grooved
+
+        grooved = P.from_toml(Path(__file__).resolve().parents[1] / "models" / "bearing_paper_2groove.toml")
+        m = GroovedForceMap(grooved, tabulate_grooved(grooved, n_eps=4, n_phi=4, n_beta=4, n_phase=1, n_theta=16,
+                                                      n_x=4))
     s = (0.2 * P.CR, -0.5 * P.CR, 0.1 * OMEGA * P.CR, 0.05 * OMEGA * P.CR)
     a = m.film_report(*s, OMEGA)
     b = m.film_report(*s[:2], 3 * s[2], 3 * s[3], 3 * OMEGA)

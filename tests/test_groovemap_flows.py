@@ -98,7 +98,7 @@ def test_the_couette_integral_in_closed_form(geometry):
 @pytest.fixture(scope="module")
 def tiny(tmp_path_factory):
     path = tmp_path_factory.mktemp("groove_flows") / "tiny.json"
-    return save_grooved_map(tabulate_grooved(GROOVED, n_eps=8, n_phi=6, n_beta=8, n_phase=1, **COARSE), path)
+    return save_grooved_map(tabulate_grooved(GROOVED, n_eps=8, n_phi=12, n_beta=8, n_phase=1, **COARSE), path)
 
 
 def test_the_map_reports_the_solvers_flows_at_its_points(tiny):
@@ -122,14 +122,26 @@ def test_the_map_reports_the_solvers_flows_at_its_points(tiny):
         assert set(a.as_dict()) == set(b.as_dict())
 
 
-def test_flows_scale_with_speed_and_velocity_together(tiny):
-    m = open_map(tiny, GROOVED)
-    s = (0.2 * GROOVED.CR, -0.5 * GROOVED.CR, 0.1 * OMEGA * GROOVED.CR, 0.05 * OMEGA * GROOVED.CR)
-    a = m.film_report(*s, OMEGA)
-    b = m.film_report(*s[:2], 3 * s[2], 3 * s[3], 3 * OMEGA)
-    assert b.inflow_m3_s == pytest.approx(3 * a.inflow_m3_s, rel=1e-12)
-    assert b.side_flow_m3_s == pytest.approx(3 * a.side_flow_m3_s, rel=1e-12)
-    assert b.friction_power_W == pytest.approx(9 * a.friction_power_W, rel=1e-12)
+def test_the_edges_flows_are_splined_over_the_whole_turn(tiny):
+    """The table holds phi over one period (180 deg) of the bore, but an edge's P_e repeats only after
+    a whole turn: past the period the journal meets the other groove's edges (``unrolled_flows``). A
+    spline periodic over the period would join P_e to itself across the period's end: there, half a
+    cell before 180 deg, the inflow was 5.4e-2 off the solver at worst (relative to max(Q, 0.1 omega
+    Q0)); over the whole turn 4.5e-3, as between any two points (3.2e-3 half a cell after 0 deg)."""
+    fmap = open_map(tiny, GROOVED)
+    t, rey, q0 = fmap.table, Reynolds(GROOVED, **COARSE), flow_scale(GROOVED)
+    u = t.unrolled_flows()
+    assert u.shape == (8, 24, 8, 5)
+    np.testing.assert_array_equal(u[:, 12:], t.Q[..., [0, 3, 4, 1, 2]])  # edges (100, 260) <-> (280, 80) deg
+    h = t.period / t.n_phi
+    for phi in (t.period - 0.5 * h, 0.5 * h):
+        err = []
+        for eps in t.eps[1:5]:
+            for b in t.beta:
+                x = state_for(eps, b, GROOVED, phi, OMEGA, OMEGA)
+                a, c = fmap.film_report(*x, OMEGA), rey.film_report(*x, OMEGA)
+                err.append(abs(a.inflow_m3_s - c.inflow_m3_s) / max(c.inflow_m3_s, 0.1 * OMEGA * q0))
+        assert max(err) < 1e-2, (phi, max(err))
 
 
 @pytest.mark.slow
@@ -152,7 +164,7 @@ def test_the_map_reports_the_solvers_flows_at_random_states(tmp_path):
         err["side"].append(abs(a.side_flow_m3_s - b.side_flow_m3_s) / max(b.side_flow_m3_s, floor))
         err["power"].append(abs(a.friction_power_W - b.friction_power_W) / abs(b.friction_power_W))
     for k, e in err.items():
-        assert np.median(e) < 3e-3 and np.max(e) < 3e-2, (k, np.median(e), np.max(e))
+        assert np.median(e) < 3e-3 and np.max(e) < 2e-2, (k, np.median(e), np.max(e))
 
 
 def test_a_grooved_map_without_flow_tables_says_to_rebuild_it(tiny, tmp_path):
@@ -175,8 +187,8 @@ def test_a_grooved_map_without_flow_tables_says_to_rebuild_it(tiny, tmp_path):
 
 
 @pytest.mark.parametrize("damage, expected", [
-    (lambda d: d.__setitem__("Q", d["Q"][:-1]), r"key 'Q' has 1919 numbers, n_eps x n_phi x n_beta x \(1 \+ 4 supply "
-                                                r"edges\) = 1920"),
+    (lambda d: d.__setitem__("Q", d["Q"][:-1]), r"key 'Q' has 3839 numbers, n_eps x n_phi x n_beta x \(1 \+ 4 supply "
+                                                r"edges\) = 3840"),
     (lambda d: d["flow_edges_deg"][1].__setitem__(1, 1.0), r"key 'flow_edges_deg' = .* must list the bore's supply "
                                                           r"edges \[theta_deg, sign\] in order: \[\[100.0, 1.0\]"),
     (lambda d: d.pop("flow_edges_deg"), r"missing key 'flow_edges_deg'"),
@@ -190,3 +202,20 @@ def test_damaged_flow_tables_are_refused_by_key(tiny, tmp_path, damage, expected
     bad.write_text(json.dumps(d))
     with pytest.raises(ValueError, match=rf"force map file {bad}: {expected}"):
         load_any_map(bad)
+
+
+@pytest.mark.slow
+def test_the_shipped_grooved_map_gives_the_reynolds_film_temperature():
+    """The paper bearing with two grooves and ISO VG 46 (bearing_paper_vg46.toml's oil) supplied at
+    40 C, at 44 Hz under 16.66 N: the quasi-static film temperature from the shipped map's film report
+    at the Reynolds equilibrium equals the Reynolds T_eff (physics.thermal.effective_temperature,
+    128 x 16, the map's grid) to 1e-3 K, the root's tolerance (docs/studies/2026-11-26-groove-flows.md:
+    the fixed point on the map alone, at three speeds)."""
+    from bearing_fmu.internals.scaled import LaggedThermal
+    from bearing_fmu.physics.thermal import effective_temperature
+
+    bearing = dataclasses.replace(GROOVED, oil=BearingParams.from_toml(MODELS / "bearing_paper_vg46.toml").oil)
+    om = 2 * math.pi * 44.0
+    st = effective_temperature(bearing, (0.0, -16.66), om, 313.15, n_theta=128, n_x=16)
+    lagged = LaggedThermal(open_map(MODELS / "maps" / "paper_2groove.json", bearing), bearing.oil, 313.15)
+    assert lagged.start(st.y_m, st.z_m, 0.0, 0.0, om) == pytest.approx(st.T_eff_K, abs=1e-3)

@@ -216,15 +216,34 @@ class GroovedMapTable(TableAxes):
         return self.coefficients
 
     def flow_spline(self):
-        """(ts, tp, tb, C) of the flow table Q, as ``spline`` of H (None without flow tables)."""
+        """(ts, tp, tb, C) of the flow table Q over the whole turn in phi (``unrolled_flows``), as
+        ``spline`` of H otherwise (None without flow tables)."""
         if self.flow_coefficients is None and self.Q is not None:
-            self.flow_coefficients = self._fit(self.Q)
+            self.flow_coefficients = self._fit(self.unrolled_flows(), round(2.0 * math.pi / self.period))
         return self.flow_coefficients
 
-    def _fit(self, values):
+    def unrolled_flows(self) -> np.ndarray:
+        """Q over phi in [0, 2 pi) (n_eps, k n_phi, n_beta, 1 + E), k = 2 pi / period. The side flow
+        repeats with the bore's period, an edge's P_e does not: turned by j periods, the journal sees
+        the edge that lies j periods behind, P_e(phi + j P) = P_e'(phi), theta_e' = theta_e - j P.
+        A spline periodic over one period would join P_e to itself across the period's end."""
+        theta = np.array([t for t, _ in self.edges])
+        sign = np.array([sg for _, sg in self.edges])
+        blocks = []
+        for j in range(round(2.0 * math.pi / self.period)):
+            d = np.abs(np.remainder(theta[None, :] - (theta[:, None] - j * self.period) + math.pi, 2.0 * math.pi)
+                       - math.pi)  # d[e, e']: edge e' against the place of e turned back by j periods
+            d[sign[:, None] != sign[None, :]] = math.inf
+            blocks.append(self.Q[..., np.r_[0, 1 + np.argmin(d, axis=1)]])
+        return np.concatenate(blocks, axis=1)
+
+    def _fit(self, values, turns: int = 1):
+        """The spline of a table on the map's axes (``turns`` periods in phi: ``unrolled_flows``)."""
         ts, tp, tb = self.knots()
+        n_phi = self.n_phi * turns
+        tp = periodic_knots(0.0, self.period * turns, n_phi)
         C = fit_axis(values, 0, ts, self.s, False)
-        C = fit_axis(C, 1, tp, self.phi, True)
+        C = fit_axis(C, 1, tp, self.period * turns * np.arange(n_phi) / n_phi, True)
         C = fit_axis(C, 2, tb, self.beta, True)
         return ts, tp, tb, np.ascontiguousarray(C)
 
@@ -232,8 +251,9 @@ class GroovedMapTable(TableAxes):
         flows = {} if self.Q is None else {
             "flow_meaning": ("Q[i][j][k] = (J_s, P_1 .. P_E), the last index fastest: side flow r R L CR J_s; inflow "
                              "sum over the supply edges e of max(sign_e omega R L h_e / 2 - r R L CR P_e, 0), h_e = CR + "
-                             "eps CR sin(theta_e - phi) the film at the edge (phi folded into the table's period); "
-                             "flow_edges_deg[e] = (theta_e, sign_e)"),
+                             "eps CR sin(theta_e - phi) the film at the edge; flow_edges_deg[e] = (theta_e, sign_e); Q over "
+                             "phi in one period of the bore, P_e(phi + j P) = P_e'(phi) with theta_e' = theta_e - j P "
+                             "(the spline is fitted over the whole turn)"),
             "flow_edges_deg": [[math.degrees(t), sg] for t, sg in self.edges],
             "Q": [float(f"{v:.{DIGITS}g}") for v in self.Q.ravel()]}
         return {"format": FORMAT, "version": VERSION if self.Q is None else FLOW_VERSION, "L_over_D": self.L_over_D,
@@ -441,7 +461,7 @@ class GroovedForceMap(ForceMap):
         self._eps_max = float(table.eps_max)
         # the film's flows (registry capability film_flow, per file): '' when the file has them
         self.film_flow_why = "" if table.Q is not None else NO_FLOWS_WHY.format(source=source or "(in memory)")
-        self._flow, self._edges = table.flow_spline(), table.edges
+        self._edges = table.edges  # the flow spline is fitted at the first film report (0.2 s for a shipped map)
         self._Jq = None if table.Q is None else np.zeros((table.Q.shape[3], 4))
 
     def compiled_force(self):
@@ -453,16 +473,14 @@ class GroovedForceMap(ForceMap):
         """Friction (closed form, from the force) and flows (the file's flow table, the inflow summed
         over the supply edges) of the film, as ``Reynolds.film_report`` (``film.grooved_report``;
         docs/forcemap.md, "Grooved bores: the flows"); ValueError without the table."""
-        if self._flow is None:
+        if self.table.Q is None:
             raise ValueError(f"film_report: {self.film_flow_why}")
         from .map_kernels import spline3
 
         F = self.force(y, z, vy, vz, omega)
         eps, phi, a, c = reduced(float(y), float(z), float(vy), float(vz), float(omega), self.params.CR)
-        # the table's attitude: phi folded into the bore's symmetry period (the edges' P_e belong to it)
-        phi_t = phi % self.table.period
-        spline3(*self._flow, -math.log1p(-max(eps, EPS_MIN)), phi_t, math.atan2(c, a), self._Jq)
-        return grooved_report(self.params, float(y), float(z), float(vy), float(vz), float(omega), F, phi_t,
+        spline3(*self.table.flow_spline(), -math.log1p(-max(eps, EPS_MIN)), phi, math.atan2(c, a), self._Jq)  # any phi
+        return grooved_report(self.params, float(y), float(z), float(vy), float(vz), float(omega), F,
                               math.hypot(a, c), float(self._Jq[0, 0]), self._Jq[1:, 0], self._edges)
 
     @classmethod

@@ -257,24 +257,25 @@ def film_couette_integral(geometry, eps: float, phi: float) -> float:
 
 
 def grooved_report(params: BearingParams, y: float, z: float, vy: float, vz: float, omega: float, F,
-                   phi_t: float, r: float, j_s: float, p_e, edges) -> FilmReport:
+                   r: float, j_s: float, p_e, edges) -> FilmReport:
     """The film report of a grooved or partial-arc bore from the grooved map's force F and flow
-    functions at the state's (eps, phi_t, beta), phi_t its attitude turned into the table's symmetry
-    period (the bore looks the same from there; the edges' P_e belong to that attitude): the Couette
-    torque over the film in closed form (``film_couette_integral``), the pressure torque
-    (y Fz - z Fy) / 2 (by parts: the grooves and the ambient hold p = 0 at the film's edges), the side
-    flow r Q0 J_s, and the inflow the sum over the supply edges ``edges`` ((theta [rad], sign),
-    ``Geometry.supply_edges``) of max(sign omega Q0 h_e / (2 CR) - r Q0 P_e, 0), h_e / CR =
-    1 + eps sin(theta - phi_t) (docs/forcemap.md, "Grooved bores: the flows")."""
+    functions at the state's (eps, phi, beta): the Couette torque over the film in closed form
+    (``film_couette_integral``), the pressure torque (y Fz - z Fy) / 2 (by parts: the grooves and the
+    ambient hold p = 0 at the film's edges), the side flow r Q0 J_s, and the inflow the sum over the
+    supply edges ``edges`` ((theta [rad], sign), ``Geometry.supply_edges``) of
+    max(sign omega Q0 h_e / (2 CR) - r Q0 P_e, 0), h_e = CR + y sin(theta) - z cos(theta)
+    (docs/forcemap.md, "Grooved bores: the flows")."""
     eps = math.hypot(y, z) / params.CR
     if not eps < 1.0:
         raise ValueError(f"grooved_report: eccentricity ratio {eps:.6g} >= 1 (the journal touches the bore)")
-    tc = params.mu * omega * params.R ** 3 * params.L / params.CR * film_couette_integral(params.geometry, eps, phi_t)
+    phi = math.atan2(z, y)
+    tc = params.mu * omega * params.R ** 3 * params.L / params.CR * film_couette_integral(params.geometry, eps, phi)
     tp = 0.5 * (y * float(F[1]) - z * float(F[0]))
     q0 = flow_scale(params)
     q_in = 0.0
     for (theta, sign), p in zip(edges, p_e):
-        q_in += max(sign * omega * q0 * 0.5 * (1.0 + eps * math.sin(theta - phi_t)) - r * q0 * float(p), 0.0)
+        h = params.CR + y * math.sin(theta) - z * math.cos(theta)
+        q_in += max(sign * omega * q0 * h / (2.0 * params.CR) - r * q0 * float(p), 0.0)
     return _report(params, tc, tp, F, (vy, vz), omega, q_in, r * q0 * j_s)
 
 
