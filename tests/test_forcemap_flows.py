@@ -20,6 +20,7 @@ from bearing_fmu.internals.forcemap import ForceMap, load_map, save_map, state_f
 from bearing_fmu.physics.film import flow_scale, reduced_flows
 from bearing_fmu.physics.params import PAPER_BEARING
 from bearing_fmu.physics.reynolds import Reynolds
+from conftest import damaged_map_refused, thermal_runs_agree
 
 P = PAPER_BEARING
 OMEGA = 2 * math.pi * 22.0
@@ -124,12 +125,8 @@ def test_a_map_file_without_flow_tables_says_to_rebuild_it(tiny, tmp_path):
     (lambda d: d.pop("Q"), r"missing key 'Q'"),
 ])
 def test_damaged_flow_tables_are_refused_by_key(tiny, tmp_path, damage, expected):
-    d = json.loads(save_map(tiny, tmp_path / "good.json").read_text())
-    damage(d)
-    bad = tmp_path / "bad.json"
-    bad.write_text(json.dumps(d))
-    with pytest.raises(ValueError, match=rf"force map file {bad}: .*{expected}"):
-        load_map(bad)
+    damaged_map_refused(json.loads(save_map(tiny, tmp_path / "good.json").read_text()), damage, expected, tmp_path,
+                        load_map)
 
 
 @pytest.mark.slow
@@ -154,17 +151,7 @@ def test_a_scene_with_a_supply_temperature_runs_on_the_map(tmp_path):
     scene = dataclasses.replace(load_scene(models / "scenes" / "paper_vg46_44hz.toml"),
                                 speed_profile=SpeedProfile((0.0, 0.004), (44.0, 60.0)))
     shipped = str(models / "maps" / "paper_bearing.json")
-    out = {}
-    for name, internal, via in (("rey", "reynolds", "direct"), ("map", "map", "direct"), ("fmu", "map", "fmu")):
-        opts = {"map": {"map": shipped}} if internal == "map" else {}
-        run = run_scene(dataclasses.replace(scene.with_internal(internal, options=opts, t_end_s=0.004), via=via),
-                        tmp_path / name)
-        assert run.ok, run
-        out[name] = np.load(run.npz)
-    for key in ("y", "z", "Fy", "Fz"):
-        scale = np.max(np.abs(out["map"][key]))
-        assert np.max(np.abs(out["fmu"][key] - out["map"][key])) <= 1e-9 * scale, key
-        assert np.max(np.abs(out["rey"][key] - out["map"][key])) <= 1e-3 * scale, key
+    out = thermal_runs_agree(scene, tmp_path, {"map": shipped})
     assert out["map"]["speed_hz"][-1] == pytest.approx(60.0)
     prm = load_scene(models / "scenes" / "paper_vg46_44hz.toml").rotor_path
     from rotor_host.model.rotor import Rotor

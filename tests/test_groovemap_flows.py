@@ -28,6 +28,7 @@ from bearing_fmu.physics.film import film_couette_integral, flow_scale
 from bearing_fmu.physics.geometry import Geometry
 from bearing_fmu.physics.params import PAPER_BEARING, BearingParams
 from bearing_fmu.physics.reynolds import Reynolds
+from conftest import damaged_map_refused, thermal_runs_agree
 
 MODELS = Path(__file__).resolve().parents[1] / "models"
 GROOVED = BearingParams.from_toml(MODELS / "bearing_paper_2groove.toml")
@@ -196,12 +197,7 @@ def test_a_grooved_map_without_flow_tables_says_to_rebuild_it(tiny, tmp_path):
     (lambda d: d["Q"].__setitem__(7, float("nan")), r"key 'Q' has a non-finite entry"),
 ])
 def test_damaged_flow_tables_are_refused_by_key(tiny, tmp_path, damage, expected):
-    d = json.loads(tiny.read_text())
-    damage(d)
-    bad = tmp_path / "bad.json"
-    bad.write_text(json.dumps(d))
-    with pytest.raises(ValueError, match=rf"force map file {bad}: {expected}"):
-        load_any_map(bad)
+    damaged_map_refused(json.loads(tiny.read_text()), damage, expected, tmp_path, load_any_map)
 
 
 @pytest.mark.slow
@@ -229,7 +225,6 @@ def test_a_scene_with_a_supply_temperature_runs_on_the_grooved_map(tmp_path):
     round-off (the same model), and against the Reynolds run within the map's force error (docs/forcemap.md:
     0.0035 % CR orbit RMS isothermal)."""
     from rotor_host.model.speed import SpeedProfile
-    from rotor_host.scenes.run import run_scene
     from rotor_host.scenes.scene import load_scene
 
     oil = (MODELS / "bearing_paper_vg46.toml").read_text().split("[oil]")[1]
@@ -244,13 +239,5 @@ def test_a_scene_with_a_supply_temperature_runs_on_the_grooved_map(tmp_path):
     (tmp_path / "scene.toml").write_text(scene_text)
     scene = dataclasses.replace(load_scene(tmp_path / "scene.toml"), speed_profile=SpeedProfile((0.0, 0.004), (22.0, 30.0)))
     assert scene.supply_temperature_K == pytest.approx(313.15)
-    out = {}
-    for name, internal, via in (("rey", "reynolds", "direct"), ("map", "map", "direct"), ("fmu", "map", "fmu")):
-        run = run_scene(dataclasses.replace(scene.with_internal(internal, t_end_s=0.004), via=via), tmp_path / name)
-        assert run.ok, run
-        out[name] = np.load(run.npz)
-    for key in ("y", "z", "Fy", "Fz"):
-        scale = np.max(np.abs(out["map"][key]))
-        assert np.max(np.abs(out["fmu"][key] - out["map"][key])) <= 1e-9 * scale, key
-        assert np.max(np.abs(out["rey"][key] - out["map"][key])) <= 1e-3 * scale, key
+    out = thermal_runs_agree(scene, tmp_path)  # the scene's own [map]: the shipped grooved map
     assert out["map"]["speed_hz"][-1] == pytest.approx(30.0)
