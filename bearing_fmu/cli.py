@@ -101,17 +101,19 @@ def _demo(args: argparse.Namespace) -> int:
     params = BearingParams.from_toml(args.bearing) if args.bearing else PAPER_BEARING
     load = (args.load_y, -args.load if args.load is not None else args.load_z)
     supply = None if args.supply_c is None else args.supply_c + KELVIN
-    rec = operating_point(params, load, args.speed_hz, supply)
+    internal = _demo_internal(args, params, load)
+    rec = operating_point(params, load, args.speed_hz, supply, internal=internal)
     if args.json:
-        rec = {"bearing": str(args.bearing) if args.bearing else "paper Table 2", **rec}
+        rec = {"bearing": str(args.bearing) if args.bearing else "paper Table 2", "internal": args.internal, **rec}
         print(json.dumps(rec, indent=2))
         return 0
     name = (f"{args.bearing}" if args.bearing else "Paper bearing (Table 2)")
     np.set_printoptions(precision=4)
     K, C = np.array(rec["K_N_m"]), np.array(rec["C_N_s_m"])
+    model = (f"Reynolds grid {DEFAULT_N_THETA} x {DEFAULT_N_X}, Swift-Stieber cavitation" if internal is None
+             else f"internal {args.internal} ({args.surrogate or args.map or 'its defaults'})")
     print(f"{name}: D {params.D * 1e3:g} mm, L {params.L * 1e3:g} mm (L/D {params.L / params.D:.3g}), "
-          f"CR {params.CR * 1e6:g} um, mu {rec['mu_Pa_s']:.4g} Pa s; Reynolds grid {DEFAULT_N_THETA} x {DEFAULT_N_X}, "
-          "Swift-Stieber cavitation")
+          f"CR {params.CR * 1e6:g} um, mu {rec['mu_Pa_s']:.4g} Pa s; {model}")
     geo = params.geometry
     if not geo.is_full_bore:
         print(f"bore: {geo.describe()}" + (f"; pad clearance {geo.pad_clearance(params.CR) * 1e6:.4g} um"
@@ -154,6 +156,29 @@ def _demo(args: argparse.Namespace) -> int:
         print(f"thermal: no [oil] table, isoviscous at mu; with rho c_p of a mineral oil the film would rise by "
               f"dT = {rec['temperature_rise_K']:.3g} K (docs/thermal.md)")
     return 0
+
+
+def _demo_internal(args: argparse.Namespace, params, load):
+    """The internal of ``demo --internal NAME`` (None: the Reynolds solver on its default grid), its
+    data file from --surrogate or --map; refused by name when it has no film report."""
+    import math
+
+    from .internals import registry
+
+    if args.internal == "reynolds" and not (args.surrogate or args.map):
+        return None
+    spec = registry.get(args.internal)
+    names = {o.name for o in spec.all_options()}
+    options = {k: v for k, v in (("surrogate", args.surrogate), ("map", args.map)) if v}
+    for key in set(options) - names:
+        raise ValueError(f"--{key}: the {args.internal} internal takes no {key} file")
+    internal = spec.create(params, options, registry.Context(load=load, omega=2.0 * math.pi * args.speed_hz),
+                           where=f"--internal {args.internal}")
+    why = registry.film_flow_of(spec, internal)
+    if why:
+        raise ValueError(f"--internal {args.internal}: demo reports the film's friction and flows, which it does not "
+                         f"have ({why})")
+    return internal
 
 
 def _build(args: argparse.Namespace) -> int:
@@ -337,6 +362,16 @@ def _native_internal(text: str) -> str:
     return ",".join(names)
 
 
+def _film_internal(text: str) -> str:
+    """--internal of demo: a registered internal with the film's flows (``Capabilities.film_flow``)."""
+    from .internals import registry
+
+    allowed = registry.having(film_flow=True)
+    if str(text).strip().lower() not in allowed:
+        raise argparse.ArgumentTypeError(f"{text!r}: one of {', '.join(allowed)} (the internals with a film report)")
+    return str(text).strip().lower()
+
+
 def _resolution(text: str) -> tuple[int, int]:
     n_eps, n_beta = (int(v) for v in text.lower().split("x"))
     if not (4 <= n_eps <= 2000 and 8 <= n_beta <= 4000):
@@ -363,6 +398,12 @@ def main(argv: list[str] | None = None) -> int:
                    help="downward load magnitude [N], the same as --load-z -LOAD (the older form)")
     p.add_argument("--supply-c", type=finite_float("C"), default=None,
                    help="oil supply temperature [C] (default: the bearing file's [oil] supply_C; needs an [oil] table)")
+    p.add_argument("--internal", type=_film_internal, default="reynolds",
+                   help="the bearing internal with a film report: reynolds (default), map (--map), taylor (--surrogate)")
+    p.add_argument("--surrogate", type=existing_file, default=None, metavar="FILE",
+                   help="--internal taylor: the surrogate file (its film fit gives the flows)")
+    p.add_argument("--map", type=existing_file, default=None, metavar="FILE",
+                   help="--internal map: the force map file (with its flow tables)")
     p.add_argument("--json", action="store_true",
                    help="print the record as JSON (eccentricity, attitude, h_min, Sommerfeld, friction, flows, T_eff, "
                         "mu_eff, K and C dimensional and dimensionless; SI, keys carry their unit)")

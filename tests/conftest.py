@@ -340,30 +340,6 @@ def run_cli(prog: str, argv: list[str], capsys) -> tuple[int, str, str]:
     return code, out.out, out.err
 
 
-def thermal_runs_agree(scene, folder: Path, map_options: dict | None = None, t_end: float = 0.004) -> dict:
-    """A scene with a supply temperature run three ways over ``t_end`` [s]: on Reynolds and on the map
-    called directly (LaggedThermal) and on the map through the Python FMU's thermal ports (``map_options``:
-    the scene's [map] options, None: its own). The map in-process and through the FMU are the same
-    model (to 1e-9 of each array's largest value); Reynolds within the map's force error (1e-3). The
-    three runs' arrays by name (rey, map, fmu)."""
-    import dataclasses
-
-    from rotor_host.scenes.run import run_scene
-
-    out = {}
-    for name, internal, via in (("rey", "reynolds", "direct"), ("map", "map", "direct"), ("fmu", "map", "fmu")):
-        opts = {"map": map_options} if internal == "map" and map_options else {}
-        run = run_scene(dataclasses.replace(scene.with_internal(internal, options=opts, t_end_s=t_end), via=via),
-                        folder / name)
-        assert run.ok, run
-        out[name] = np.load(run.npz)
-    for key in ("y", "z", "Fy", "Fz"):
-        scale = np.max(np.abs(out["map"][key]))
-        assert np.max(np.abs(out["fmu"][key] - out["map"][key])) <= 1e-9 * scale, key
-        assert np.max(np.abs(out["rey"][key] - out["map"][key])) <= 1e-3 * scale, key
-    return out
-
-
 def damaged_map_refused(data: dict, damage, expected: str, folder: Path, load) -> None:
     """A force map file's parsed JSON ``data`` changed by ``damage(data)`` and written to ``folder``:
     ``load`` (the loader) refuses it with one line naming the file and matching ``expected``."""

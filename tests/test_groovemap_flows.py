@@ -28,7 +28,7 @@ from bearing_fmu.physics.film import film_couette_integral, flow_scale
 from bearing_fmu.physics.geometry import Geometry
 from bearing_fmu.physics.params import PAPER_BEARING, BearingParams
 from bearing_fmu.physics.reynolds import Reynolds
-from conftest import damaged_map_refused, thermal_runs_agree
+from conftest import damaged_map_refused
 
 MODELS = Path(__file__).resolve().parents[1] / "models"
 GROOVED = BearingParams.from_toml(MODELS / "bearing_paper_2groove.toml")
@@ -226,6 +226,7 @@ def test_a_scene_with_a_supply_temperature_runs_on_the_grooved_map(tmp_path):
     0.0035 % CR orbit RMS isothermal)."""
     from rotor_host.model.speed import SpeedProfile
     from rotor_host.scenes.scene import load_scene
+    from thermal_runs import check_three_runs, three_runs
 
     oil = (MODELS / "bearing_paper_vg46.toml").read_text().split("[oil]")[1]
     bearing = (MODELS / "bearing_paper_2groove.toml").read_text()
@@ -239,5 +240,6 @@ def test_a_scene_with_a_supply_temperature_runs_on_the_grooved_map(tmp_path):
     (tmp_path / "scene.toml").write_text(scene_text)
     scene = dataclasses.replace(load_scene(tmp_path / "scene.toml"), speed_profile=SpeedProfile((0.0, 0.004), (22.0, 30.0)))
     assert scene.supply_temperature_K == pytest.approx(313.15)
-    out = thermal_runs_agree(scene, tmp_path)  # the scene's own [map]: the shipped grooved map
-    assert out["map"]["speed_hz"][-1] == pytest.approx(30.0)
+    out = three_runs(scene, "map", {"map": {"map": str(MODELS / "maps" / "paper_2groove.json")}}, 0.004, tmp_path)
+    check_three_runs(out, reynolds_rtol=1e-3)
+    assert out["direct"]["speed_hz"][-1] == pytest.approx(30.0)

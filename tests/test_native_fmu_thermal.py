@@ -20,7 +20,7 @@ import pytest
 fmpy = pytest.importorskip("fmpy")
 from fmpy.fmi1 import FMICallException
 from fmpy.fmi2 import FMU2Model, FMU2Slave
-from fmpy.fmi3 import FMU3Slave
+from fmpy.fmi3 import FMU3Model, FMU3Slave
 
 from bearing_fmu.physics.params import BearingParams
 
@@ -81,8 +81,9 @@ class Run:
         self.vr = {v.name: v.valueReference for v in md.modelVariables}
         unzip = fmpy.extract(str(path))
         if self.v3:
-            self.f = FMU3Slave(guid=md.guid, unzipDirectory=unzip, modelIdentifier=md.coSimulation.modelIdentifier,
-                               instanceName="thermal")
+            cls, ident = ((FMU3Slave, md.coSimulation.modelIdentifier) if kind == "CS" else
+                          (FMU3Model, md.modelExchange.modelIdentifier))
+            self.f = cls(guid=md.guid, unzipDirectory=unzip, modelIdentifier=ident, instanceName="thermal")
         else:
             cls, ident = ((FMU2Slave, md.coSimulation.modelIdentifier) if kind == "CS" else
                           (FMU2Model, md.modelExchange.modelIdentifier))
@@ -111,6 +112,23 @@ class Run:
         self.set(dict(zip(IN, state)))
         self.f.doStep(self.t, h)
         self.t += h
+
+    def dd(self, unknowns, knowns, seed) -> np.ndarray:
+        return np.array(self.f.getDirectionalDerivative([self.vr[k] for k in unknowns], [self.vr[k] for k in knowns],
+                                                        list(seed)))
+
+    def save(self):
+        return self.f.getFMUState() if self.v3 else self.f.getFMUstate()
+
+    def restore(self, state):
+        (self.f.setFMUState if self.v3 else self.f.setFMUstate)(state)
+
+    def set_state(self, T):
+        """Model Exchange: the continuous state T_eff."""
+        import ctypes
+
+        buf = np.array([float(T)])
+        self.f.setContinuousStates(buf.ctypes.data_as(ctypes.POINTER(ctypes.c_double)), 1)
 
     def close(self):
         self.f.terminate()
@@ -221,8 +239,6 @@ def test_model_exchange_state_and_derivative(native3, version):
     temperature (the Co-Simulation start: der(T_eff) ~ 0 there), its derivative the heat balance's
     rate at the state as set, the force and mu_eff at that temperature (Python's within 1e-12; measured:
     der(T_eff) and mu_eff the same bits, the force within 2.2e-16)."""
-    from fmpy.fmi3 import FMU3Model
-
     path, md = native3[version]
     vr = {v.name: v.valueReference for v in md.modelVariables}
     state = trajectory()[3]
@@ -331,3 +347,198 @@ def test_model_exchange_thermal_off_t_eff_is_a_known(native3):
         assert r.f.getDirectionalDerivative(unknowns, [vr["T_supply"]], [1.0]) == [0.0, 0.0, 0.0]
     finally:
         r.close()
+
+
+# directional derivatives with thermal = true (docs/thermal.md, "Directional derivatives")
+DD_IN = (*IN, "T_supply")
+DD_OUT = ("Fy", "Fz", "eccentricity", "h_min", "Kyy", "Kyz", "Kzy", "Kzz", "Cyy", "Cyz", "Czy", "Czz", "P_loss",
+          "Q_side", "T_eff", "mu_eff")
+DD_RTOL = 1e-6  # measured: within 2.2e-8 of the differences (FMI 2.0 and 3.0, ME and CS)
+
+
+def dd_state():
+    """A loaded, whirling journal at 40 Hz (eccentricity 0.58), the supply at 45 C; each input's scale."""
+    CR, w = 90e-6, 2 * math.pi * 40.0
+    return (0.3 * CR, -0.5 * CR, 0.05 * w * CR, -0.08 * w * CR, w, T_SUPPLY), (CR, CR, w * CR, w * CR, w, 1.0)
+
+
+def central(r: Run, outs, name, x, h, evaluate) -> np.ndarray:
+    """Central differences of the outputs ``outs`` along input ``name`` (a step h) or, for "T_eff",
+    Model Exchange's state; ``evaluate()`` makes the outputs at the inputs set (a get, or a step)."""
+    rows = []
+    for sign in (1, -1):
+        if name == "T_eff":
+            r.set_state(x + sign * h)
+        else:
+            r.set({name: x + sign * h})
+        rows.append(evaluate())
+    if name == "T_eff":
+        r.set_state(x)
+    else:
+        r.set({name: x})
+    return (rows[0] - rows[1]) / (2 * h)
+
+
+def assert_close(got, want, floor, what):
+    """Each derivative within DD_RTOL of the difference, or of ``floor`` (the size of the same
+    derivative where the film temperature follows the inputs: what the differences' own errors, the
+    heat balance's root to 1e-10 K and a step's lag, are small against)."""
+    tol = DD_RTOL * (np.abs(want) + np.abs(floor)) + 1e-12 * np.max(np.abs(want))
+    assert np.all(np.abs(got - want) <= tol), (what, got, want)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("version", [2, 3])
+@pytest.mark.parametrize("kind", ["ME", "CS"])
+def test_directional_derivatives_with_thermal_on(native3, version, kind):
+    """Every Real output (the thermal ones and der(T_eff) too) along every input, thermal = true,
+    against central differences of the FMU's own outputs (a step of 1e-5 of each input's scale;
+    T_eff 1e-3 K): in Initialization Mode, where T_eff is the heat balance's root (the outputs read
+    there); after it in Model Exchange, where T_eff is the state (the outputs read after setting
+    the inputs or the state); in Co-Simulation, where T_eff is the step's internal state, held (the
+    outputs of a step of 1e-9 s from one FMU state: its lag moves T_eff by (1 - exp(-dt / t_res)) ~
+    3e-8 of the quasi-static change, below the tolerance). Tolerance DD_RTOL (1e-6; measured 2.2e-8:
+    the differences' truncation and the 1e-10 K root). Independent: in Initialization Mode
+    dT_eff/dT_supply = 1 / (1 - g dmu/dT) lies in (0, 1) (a hotter supply thins the oil, which
+    dissipates less) and der(T_eff) is stationary (the root makes T* - T vanish to first order);
+    FMI 3.0's adjoint derivative is the directional ones' transpose."""
+    path, md = native3[version]
+    x, scale = dd_state()
+    r = Run(path, md, dict(zip(DD_IN, x)), kind=kind)
+    outs = DD_OUT + (("der(T_eff)",) if kind == "ME" else ())
+    try:
+        quasi = {}
+        for j, name in enumerate(DD_IN):
+            got = r.dd(outs, [name], [1.0])
+            want = central(r, outs, name, x[j], 1e-5 * scale[j], lambda: r.get(outs))
+            quasi[name] = got
+            if kind == "ME":  # der(T_eff): the differences see the root's 1e-10 K only
+                assert abs(got[-1]) <= 1e-6 * abs(want[-1]) + 1e-3
+                got, want = got[:-1], want[:-1]
+            assert_close(got, want, 0.0, ("initialization", name))
+        assert 0.5 < quasi["T_supply"][DD_OUT.index("T_eff")] < 1.0
+        r.f.exitInitializationMode()
+        T0 = r.get(["T_eff"])[0]
+        if kind == "ME":
+            r.f.enterContinuousTimeMode()
+            T0 += 3.0  # off the heat balance's root: der(T_eff) < 0, and t_res's change counts
+            r.set_state(T0)
+            rate = {}
+            for j, name in enumerate((*DD_IN, "T_eff")):
+                got = r.dd(outs, [name], [1.0])
+                x0, h = (T0, 1e-3) if name == "T_eff" else (x[j], 1e-5 * scale[j])
+                want = central(r, outs, name, x0, h, lambda: r.get(outs))
+                assert_close(got, want, 0.0, ("model exchange", name))
+                rate[name] = got[-1]
+                if name != "T_eff":  # at the state, der(T_eff) moves; in Initialization Mode it did not
+                    assert abs(quasi[name][-1]) <= 1e-9 * abs(got[-1])
+            assert rate["T_eff"] < 0.0 and rate["T_supply"] > 0.0  # a stable lag, fed by the supply
+        else:
+            saved = r.save()
+            for j, name in enumerate(DD_IN):
+                got = r.dd(outs, [name], [1.0])
+                rows = []
+                for sign in (1, -1):  # a step from the same FMU state (inputs, T_eff) at the inputs moved
+                    r.restore(saved)
+                    r.set({**dict(zip(DD_IN, x)), name: x[j] + sign * 1e-5 * scale[j]})
+                    r.f.doStep(r.t, 1e-9)
+                    rows.append(r.get(outs))
+                r.restore(saved)
+                want = (rows[0] - rows[1]) / (2e-5 * scale[j])
+                assert_close(got, want, quasi[name], ("co-simulation", name))
+                assert got[DD_OUT.index("T_eff")] == 0.0  # held between steps
+        if version == 3:  # the adjoint: sum_i seed_i dU_i/dk for each known k
+            knowns = (*DD_IN, "T_eff") if kind == "ME" else DD_IN
+            seed = np.linspace(-1.0, 2.0, len(outs))
+            adjoint = np.array(r.f.getAdjointDerivative([r.vr[k] for k in outs], [r.vr[k] for k in knowns],
+                                                        list(seed), len(knowns)))
+            rows = np.array([r.dd(outs, [k], [1.0]) for k in knowns])
+            assert adjoint == pytest.approx(rows @ seed, rel=1e-12)
+    finally:
+        r.close()
+
+
+@pytest.mark.slow
+def test_parameter_derivatives_with_thermal_on(native3):
+    """Initialization Mode, thermal = true: the outputs along the Real parameters (the bearing, the
+    oil: the FMU differences its outputs with a step of 1e-6 of each value) against central
+    differences of the outputs read with a step 100 times larger (1e-4 of each value): within 1e-5
+    (the two steps' truncation errors and the 1e-10 K root). Independent: along mu nothing moves
+    (every force is mu_eff / mu times one proportional to mu, the heat balance sees the friction
+    power over mu); the rise factor k heats the film, so T_eff grows along it, mu_eff falls."""
+    path, md = native3[2]
+    x, _scale = dd_state()
+    r = Run(path, md, dict(zip(DD_IN, x)), kind="ME")
+    outs = (*DD_OUT, "der(T_eff)")
+    try:
+        p = {k: r.get([k])[0] for k in ("D", "L", "CR", "mu", "oil_nu_1", "oil_T_2", "oil_heat_capacity",
+                                            "oil_rise_factor")}
+        base = r.get(outs)
+        for name, value in p.items():
+            got = r.dd(outs, [name], [1.0])
+            want = central(r, outs, name, value, 1e-4 * value, lambda: r.get(outs))
+            if name == "mu":
+                assert np.all(np.abs(got) <= 1e-7 * np.abs(base) / value), got
+                continue
+            tol = 1e-5 * np.abs(want) + 1e-9 * np.abs(base) / value
+            assert np.all(np.abs(got[:-1] - want[:-1]) <= tol[:-1]), (name, got, want)
+        k = r.dd(["T_eff", "mu_eff"], ["oil_rise_factor"], [1.0])
+        assert k[0] > 0.0 and k[1] < 0.0
+    finally:
+        r.f.freeInstance()  # in Initialization Mode: nothing to terminate
+
+
+@pytest.mark.slow
+def test_declared_dependencies_are_the_computed_ones(native3):
+    """After initialisation each Real output's dependencies as declared (the FMI 2.0 and 3.0 model
+    descriptions, fmi3GetVariableDependencies) are exactly the knowns along which its directional
+    derivative is not 0 in Model Exchange or Co-Simulation, thermal = true or false (the damping along
+    the velocities and the speed aside: below): none left out, none always 0. So T_supply reaches the force, P_loss and Q_side only through the state T_eff
+    (no direct feedthrough: an oil circuit making T_supply from P_loss is no algebraic loop)."""
+    x, _scale = dd_state()
+    declared = {}
+    for version, (path, md) in native3.items():
+        deps = {u.variable.name: sorted(d.name for d in u.dependencies) for u in (*md.outputs, *md.derivatives)}
+        deps.pop("out_of_domain")
+        assert declared in ({}, deps), version
+        declared = deps
+    path, md = native3[3]
+    r = Run(path, md, dict(zip(DD_IN, x)))
+    try:
+        import ctypes
+
+        names = {v.valueReference: v.name for v in md.modelVariables}
+        for name, deps in declared.items():  # raw: fmpy 0.3's getNumberOfVariableDependencies passes a type
+            n = ctypes.c_size_t()
+            r.f.fmi3GetNumberOfVariableDependencies(r.f.component, r.vr[name], ctypes.byref(n))
+            got = (ctypes.c_uint * n.value)()
+            r.f.fmi3GetVariableDependencies(r.f.component, r.vr[name], (ctypes.c_size_t * n.value)(), got,
+                                            (ctypes.c_size_t * n.value)(), (ctypes.c_int * n.value)(), n.value)
+            assert sorted(names[k] for k in got) == deps, name
+    finally:
+        r.f.freeInstance()
+    assert declared["Fy"] == sorted((*IN, "T_eff")) and declared["Q_side"] == sorted(IN)
+    found = {name: set() for name in declared}
+    for kind in ("ME", "CS"):
+        for thermal in (True, False):
+            path, md = native3[2]
+            r = Run(path, md, dict(zip(DD_IN, x)), kind=kind, thermal=thermal)
+            try:
+                r.f.exitInitializationMode()
+                knowns = DD_IN
+                if kind == "ME":
+                    r.f.enterContinuousTimeMode()
+                    r.set_state(r.get(["T_eff"])[0] + 3.0)  # off the root: der(T_eff) moves along everything
+                    knowns += ("T_eff",)
+                outs = [n for n in declared if kind == "ME" or n != "der(T_eff)"]
+                for k in knowns:
+                    for name, value in zip(outs, r.dd(outs, [k], [1.0])):
+                        if value != 0.0:
+                            found[name].add(k)
+            finally:
+                r.close()
+    # the Reynolds film's force is linear in the velocities and the speed while its cavitated zone
+    # stays: the damping C = -dF/dv moves with them only where that zone changes, in steps (its
+    # derivative 0 between); the declarations are the interface's, for every internal
+    steps = {name: {"vy", "vz", "omega"} for name in ("Cyy", "Cyz", "Czy", "Czz")}
+    assert {name: sorted(ks | steps.get(name, set())) for name, ks in found.items()} == declared

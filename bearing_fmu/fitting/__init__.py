@@ -6,6 +6,7 @@
     sampling  training data: designed samples, tubes about orbits, time series, their domain
     truth     the truth of a fit: Reynolds for the statics, Reynolds or a force map (truth_map)
               for the samples; its record in the file and its line in the report
+    flows     the film fit: the film's flows (and a non-circular bore's torques) beside the force
     neighbours  the training states stored for the domain guard's nearest-neighbour distance
     fit       fit_surrogate (the fit, step by step), fit_condition (a designed domain at one
               load and speed), save_fit, refit_order
@@ -24,6 +25,7 @@ import importlib
 _EXPORTS = {
     "fit": ("COMPONENTS", "FitResult", "expansion_point", "fit_condition", "fit_surrogate", "refit_order",
             "save_fit", "truth_jacobian"),
+    "flows": ("attach_film", "fit_film"),
     "neighbours": ("neighbours_for_fit",),
     "output": ("fit_designed", "write_fit"),
     "recipe": ("FitRecipe", "RecipeError", "command_line_options", "recipe_from_values", "recipe_of"),

@@ -33,6 +33,7 @@ from ..physics.params import PAPER_BEARING, BearingParams
 from ..surrogates.basis import design_matrix, exponents, natural_force_scale, shape_force
 from ..surrogates.surrogate import Domain, Surrogate, load_surrogate, save_surrogate
 from ..surrogates.taylor_kernels import short_bearing_at
+from .flows import attach_film
 from .neighbours import neighbours_for_fit
 from .recipe import FitRecipe, recipe_of
 from .ridge import CrossValidation, RidgeSVD, fold_indices, nrmse, prune_terms, rel_rms, select_lambda
@@ -425,7 +426,8 @@ def fit_condition(recipe: FitRecipe, *, internal=None, params: BearingParams = P
     Designed: train on a Latin hypercube with ``recipe.seed``, report errors on another with
     seed + 1000. npz: the first 80 % of the time series trains (blocked CV), the last 20 % is
     held out. The report adds the time of the truth's samples (``sampling_seconds``) and of
-    the whole call (``total_seconds``)."""
+    the whole call (``total_seconds``). The film fit (``flows.attach_film``) follows the force's,
+    from the same truth at the training states, its errors at the held-out ones."""
     t_start = time.perf_counter()
     if recipe.kind != "designed":
         raise ValueError("fit_condition: the recipe names training scenes; a scene-trained surrogate is fitted by "
@@ -465,6 +467,9 @@ def fit_condition(recipe: FitRecipe, *, internal=None, params: BearingParams = P
     anc = truth_jacobian(internal, y0, z0, omega) if r.anchor else None
     res = fit_surrogate(states, forces, params, omega, y0, z0, r, domain=domain, anchor=anc, blocked=blocked,
                         test=(ts, tf), load=r.load, provenance=prov, bias_variance=bias_variance)
+    t_film = time.perf_counter()
+    attach_film(res, truth, states, test_states=ts, seed=r.seed)  # the film's flows; the force as fitted above
+    res.report["film_seconds"] = time.perf_counter() - t_film
     eq = math.hypot(y0, z0) / params.CR
     res.report.update({"speed_hz": r.speed_hz, "load": list(r.load), "equilibrium": [y0, z0], "eps0": eq,
                        "domain": domain.to_dict(), "sampling_seconds": t_samples,

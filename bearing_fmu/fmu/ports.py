@@ -61,8 +61,8 @@ GEOMETRY_ROWS = (
 )
 OIL_ROWS = (
     ("thermal", "Boolean", P, None, False, "thermal model on: the input T_supply is connected, the film runs at the "
-     "viscosity of its effective temperature (needs oil_law and the reynolds internal); false: isoviscous at mu, "
-     "T_supply ignored"),
+     "viscosity of its effective temperature (needs oil_law and an internal with the film's flows: reynolds, a map "
+     "with flow tables, a Taylor surrogate with its film fit); false: isoviscous at mu, T_supply ignored"),
     ("oil_law", "String", P, None, "none", "the oil's viscosity law: none | walther | vogel (or oil_law_enum)"),
     ("oil_nu_1", "Real", P, "m2/s", _VG46[0], "walther: kinematic viscosity at oil_T_1"),
     ("oil_T_1", "Real", P, "K", _VG46[1], "walther: temperature of oil_nu_1"),

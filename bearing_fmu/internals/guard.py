@@ -261,6 +261,31 @@ class DomainGuard:
         return F, dq + np.outer(diff, dw[:2]), dv + np.outer(diff, dw[2:])
 
 
+    @property
+    def film_flow_why(self) -> str:
+        """'' when the surrogate file has its film fit, else why not (``Taylor.film_flow_why``)."""
+        return self.taylor.film_flow_why
+
+    def film_report(self, y: float, z: float, vy: float, vz: float, omega: float):
+        """The film's friction and flows (``physics.film.FilmReport``) as the force is guarded: inside
+        the fitted domain the surrogate's film fit (``Taylor.film_report``), with no bookkeeping (the
+        force call at the state has done it); outside it what ``force`` does (warn: the surrogate's
+        value, once warned; fallback: the Reynolds report, blended over the same band; discard or
+        beyond domain_limit: BearingStateError), so the report never extrapolates silently."""
+        if self.distance(y, z, vy, vz) <= 1e-12:
+            return self.taylor.film_report(y, z, vy, vz, omega)
+        internal = self._select(y, z, vy, vz)
+        if internal is self.taylor:
+            return self.taylor.film_report(y, z, vy, vz, omega)
+        w = self._blend_weight()
+        truth = internal.film_report(y, z, vy, vz, omega)
+        if w >= 1.0:
+            return truth
+        tay = self.taylor.film_report(y, z, vy, vz, omega)
+        return type(truth)(**{k: (1.0 - w) * a + w * b for (k, a), b in zip(tay.as_dict().items(),
+                                                                            truth.as_dict().values())})
+
+
 def _reynolds(params, options):
     from ..physics.reynolds import Reynolds
 

@@ -570,8 +570,8 @@ register(InternalSpec(
     ),
     uses=("reynolds",),
     can=Capabilities(
-        fixed_speed=True, fitted_domain=True, native=True, compiled=True,  # the file records its bore
-        film_flow_why="the surrogate fits the force only; the film's inflow and side flow would need their own fit",
+        fixed_speed=True, fitted_domain=True, native=True, compiled=True, film_flow=True,  # per file: film_flow_of
+        film_flow_why="a surrogate file of format version 1 fits the force only: fit it again for the film's flows",
         validity="The surrogate answers for the speed it was fitted at (any other omega is refused) and inside its "
                  "fitted domain of journal states; outside it the FMU {actions}, and beyond domain_limit it always "
                  "refuses. The journal at or beyond the wall is refused (fmi2Discard)."),

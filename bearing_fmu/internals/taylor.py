@@ -10,13 +10,15 @@ solver; fitting lives in :mod:`bearing_fmu.fitting`.
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
 import numpy as np
 
+from ..physics.film import FilmReport, reduced_report
 from ..physics.params import BearingParams
 from ..physics.shortbearing import short_bearing_constant
-from ..surrogates.surrogate import Surrogate, check_params, load_surrogate
+from ..surrogates.surrogate import NO_FLOWS_WHY, Surrogate, check_params, load_surrogate
 from ..surrogates.taylor_kernels import (NOT_FINITE, WRONG_OMEGA, domain_distance_nb, force_jac_shape_si_nb,
                                          force_jac_si_nb, force_nb, force_shape_nb)
 from .nearest import NearestTraining
@@ -35,13 +37,16 @@ class Taylor:
     Refuses, like Reynolds, with ``BearingStateError``: non-finite inputs (named), the journal
     at or beyond the wall (eccentricity ratio >= 1, where a polynomial's value is no film
     force), and ``omega`` other than the fitted speed (relative tolerance 1e-9).
+    ``film_report`` from the file's film fit (format version 2); ``film_flow_why`` says why not
+    ('' when it has one: registry.film_flow_of).
     """
 
-    def __init__(self, surrogate: Surrogate, params: BearingParams | None = None):
+    def __init__(self, surrogate: Surrogate, params: BearingParams | None = None, source: str = ""):
         if params is not None:
             check_params(surrogate, params)
         self.surrogate = surrogate
         self.params = surrogate.params
+        self.film_flow_why = "" if surrogate.film is not None else NO_FLOWS_WHY.format(source=source or "(in memory)")
         s = surrogate
         self._meta = np.array([s.y0, s.z0, s.omega, s.pos_scale, s.vel_scale, s.force_scale, OMEGA_RTOL,
                                float(max(s.order, 1)), s.wall_power, short_bearing_constant(s.params),
@@ -74,7 +79,7 @@ class Taylor:
 
     @classmethod
     def from_file(cls, path: str | Path, params: BearingParams | None = None) -> "Taylor":
-        return cls(load_surrogate(path, params))
+        return cls(load_surrogate(path, params), source=str(path))
 
     @property
     def omega(self) -> float:
@@ -111,6 +116,23 @@ class Taylor:
         if code or not y * y + z * z < self._cr2:
             self._raise(code, y, z, vy, vz, omega)
         return F, dF_dq, dF_dv
+
+    def film_report(self, y: float, z: float, vy: float, vz: float, omega: float) -> FilmReport:
+        """Friction and flows of the film (``Reynolds.film_report``'s quantities) as the force map has
+        them (``film.reduced_report``): the friction in closed form from this surrogate's force, the
+        flows from the file's flow functions J_s, J_i at the state's (eps, beta)
+        (``surrogates.film``). Refuses what ``force`` refuses; ValueError without a film fit. The
+        fitted domain is the force's: the guard (``DomainGuard.film_report``) acts on it."""
+        film = self.surrogate.film
+        if film is None:
+            raise ValueError(f"film_report: {self.film_flow_why}")
+        F = self.force(y, z, vy, vz, omega)
+        from .forcemap import reduced
+
+        y, z, vy, vz, omega = float(y), float(z), float(vy), float(vz), float(omega)
+        eps, _phi, a, c = reduced(y, z, vy, vz, omega, self.params.CR)
+        j_s, j_i = film.values(eps, math.atan2(c, a))[0]
+        return reduced_report(self.params, y, z, vy, vz, omega, F, eps, math.hypot(a, c), float(j_s), float(j_i))
 
     # ------------------------------------------------------------------ fitted domain
     def bounds_distance(self, y: float, z: float, vy: float, vz: float) -> float:

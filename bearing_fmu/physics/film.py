@@ -49,8 +49,9 @@ import numpy as np
 
 from .params import BearingParams
 
-__all__ = ["FilmReport", "edge_flows", "face_fluxes", "field_report", "film_couette_integral", "flow_scale",
-           "full_bore_friction", "grooved_report", "reduced_flows", "reduced_report", "side_flow", "supply_edges"]
+__all__ = ["FilmReport", "assemble_report", "at_viscosity", "edge_flows", "face_fluxes", "field_report",
+           "film_couette_integral", "flow_scale", "full_bore_friction", "grooved_report", "reduced_flows",
+           "reduced_report", "side_flow", "supply_edges"]
 
 
 @dataclass(frozen=True)
@@ -81,7 +82,10 @@ class FilmReport:
         return {k: float(v) for k, v in asdict(self).items()}
 
 
-def _report(params: BearingParams, tc: float, tp: float, F, v, omega: float, q_in: float, q_s: float) -> FilmReport:
+def assemble_report(params: BearingParams, tc: float, tp: float, F, v, omega: float, q_in: float,
+                    q_s: float) -> FilmReport:
+    """The report from its parts: Couette and pressure torques [N m], the film force F and the
+    journal velocity v [N, m/s] at omega [rad/s], inflow and side flow [m^3/s]."""
     t = tc + tp
     w = float(math.hypot(F[0], F[1]))
     ff = abs(t) / params.R
@@ -89,6 +93,16 @@ def _report(params: BearingParams, tc: float, tp: float, F, v, omega: float, q_i
     return FilmReport(friction_torque_Nm=t, friction_force_N=ff, friction_power_W=power,
                       friction_coefficient=ff / w if w > 0.0 else math.nan, couette_torque_Nm=tc,
                       pressure_torque_Nm=tp, inflow_m3_s=q_in, side_flow_m3_s=q_s, load_N=w)
+
+
+def at_viscosity(report: FilmReport, factor: float) -> FilmReport:
+    """The report of the same state at the viscosity ``factor`` times the report's: the pressure, the
+    shear, the force and the friction scale with mu, the flows (pressure / mu) and the friction
+    coefficient do not (what an internal's report gives at an effective viscosity, docs/thermal.md)."""
+    f = float(factor)
+    return FilmReport(**{k: v * f if k.startswith(("friction_torque", "friction_force", "friction_power", "couette",
+                                                   "pressure", "load")) else v
+                         for k, v in report.as_dict().items()})
 
 
 def full_bore_friction(params: BearingParams, y: float, z: float, vy: float, vz: float, omega: float,
@@ -202,7 +216,7 @@ def field_report(params: BearingParams, y: float, z: float, vy: float, vz: float
         s = float(d[a]) / span
         q_in = float((1.0 - s) * flux[a] + s * flux[b])
         q_in = abs(q_in)
-    return _report(params, tc, tp, F, v, omega, q_in, q_side)
+    return assemble_report(params, tc, tp, F, v, omega, q_in, q_side)
 
 
 def face_fluxes(params: BearingParams, omega: float, hf: np.ndarray, dp: np.ndarray, dx: float):
@@ -276,7 +290,7 @@ def grooved_report(params: BearingParams, y: float, z: float, vy: float, vz: flo
     for (theta, sign), p in zip(edges, p_e):
         h = params.CR + y * math.sin(theta) - z * math.cos(theta)
         q_in += max(sign * omega * q0 * h / (2.0 * params.CR) - r * q0 * float(p), 0.0)
-    return _report(params, tc, tp, F, (vy, vz), omega, q_in, r * q0 * j_s)
+    return assemble_report(params, tc, tp, F, (vy, vz), omega, q_in, r * q0 * j_s)
 
 
 # ------------------------------------------------------------------ the force map's reduction
@@ -316,4 +330,4 @@ def reduced_report(params: BearingParams, y: float, z: float, vy: float, vz: flo
     tc, tp, _power = full_bore_friction(params, y, z, vy, vz, omega, F)
     q0 = flow_scale(params)
     q_in = abs(omega * q0 * 0.5 * (1.0 + eps) - r * q0 * j_i)
-    return _report(params, tc, tp, F, (vy, vz), omega, q_in, r * q0 * j_s)
+    return assemble_report(params, tc, tp, F, (vy, vz), omega, q_in, r * q0 * j_s)

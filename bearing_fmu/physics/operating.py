@@ -14,6 +14,7 @@ import math
 import numpy as np
 
 from .oil import DEFAULT_DENSITY, DEFAULT_HEAT_CAPACITY, KELVIN
+from .film import at_viscosity
 from .params import BearingParams
 from .reynolds import Reynolds
 from .statics import dimensionless_coefficients, equilibrium, linearize, sommerfeld_number
@@ -28,10 +29,13 @@ def _attitude_deg(load, y0: float, z0: float) -> float:
     return math.degrees(math.atan2(load[0] * z0 - load[1] * y0, load[0] * y0 + load[1] * z0))
 
 
-def operating_point(params: BearingParams, load, speed_hz: float, T_supply_K: float | None = None) -> dict:
+def operating_point(params: BearingParams, load, speed_hz: float, T_supply_K: float | None = None,
+                    internal=None) -> dict:
     """The record of the bearing under the static ``load`` = (Wy, Wz) [N] at ``speed_hz`` [Hz]
     (> 0), oil supplied at ``T_supply_K`` [K] (default: the bearing file's supply_C; refused without
-    an [oil] table). Keys carry their unit; K, C are 2 x 2 lists (K_ij = -dF_i/dq_j, axes y, z)."""
+    an [oil] table). Keys carry their unit; K, C are 2 x 2 lists (K_ij = -dF_i/dq_j, axes y, z).
+    ``internal``: another internal with a film report (a map, a Taylor surrogate with its film fit)
+    at the viscosity ``params.mu`` in place of the Reynolds solver, scaled to mu_eff exactly (F ~ mu)."""
     if not (math.isfinite(speed_hz) and speed_hz > 0.0):
         raise ValueError(f"operating point: speed_hz = {speed_hz!r} must be a finite number > 0")
     load = (float(load[0]), float(load[1]))
@@ -40,16 +44,19 @@ def operating_point(params: BearingParams, load, speed_hz: float, T_supply_K: fl
     oil = params.oil
     thermal = None
     if oil is not None:
-        thermal = effective_temperature(params, load, omega, T_supply_K)
+        thermal = effective_temperature(params, load, omega, T_supply_K, internal=internal)
         params = params.with_viscosity(thermal.mu_eff_Pa_s)
     elif T_supply_K is not None:
         raise ValueError("operating point: a supply temperature needs the bearing's [oil] table (its viscosity law); "
                          f"this bearing is isoviscous at {params.mu:g} Pa s")
-    rey = Reynolds(params)
     start = None if thermal is None else (thermal.y_m, thermal.z_m)
-    y0, z0 = equilibrium(rey, load, omega, start=start)
-    K, C = linearize(rey, y0, z0, omega)
-    rep = rey.film_report(y0, z0, 0.0, 0.0, omega)
+    if internal is None:
+        rey, f = Reynolds(params), 1.0
+    else:  # the internal at mu_eff: its force times f, so its equilibrium under the load / f
+        rey, f = internal, params.mu / internal.params.mu
+    y0, z0 = equilibrium(rey, (load[0] / f, load[1] / f), omega, start=start)
+    K, C = (f * np.asarray(a) for a in linearize(rey, y0, z0, omega))
+    rep = at_viscosity(rey.film_report(y0, z0, 0.0, 0.0, omega), f)
     eps = math.hypot(y0, z0) / params.CR
     geo = params.geometry
     h_min = params.CR * (1.0 - eps) if geo.is_full_bore else geo.min_film(y0, z0, params.CR)

@@ -46,7 +46,7 @@ from dataclasses import dataclass
 
 from scipy.optimize import brentq
 
-from .film import FilmReport
+from .film import FilmReport, at_viscosity
 from .oil import KELVIN, Oil
 from .params import BearingParams
 from .reynolds import Reynolds
@@ -101,11 +101,14 @@ def residence_time_s(params: BearingParams, report: FilmReport) -> float:
 
 def effective_temperature(params: BearingParams, load, omega: float, T_supply_K: float | None = None, *,
                           n_theta: int | None = None, n_x: int | None = None, tol_K: float = 1e-3,
-                          name: str = "the bearing") -> ThermalState:
+                          name: str = "the bearing", internal=None) -> ThermalState:
     """The effective temperature of the bearing's film under the static ``load`` = (Wy, Wz) [N] at
     ``omega`` [rad/s], oil supplied at ``T_supply_K`` [K] (default: the bearing file's supply_C),
     converged to ``tol_K``; the Reynolds solver on an n_theta x n_x grid (default: its own).
-    ThermalError when the bearing has no [oil], at omega = 0, or when no root lies in the oil's range."""
+    ThermalError when the bearing has no [oil], at omega = 0, or when no root lies in the oil's range.
+    ``internal``: another internal with a film report (``Capabilities.film_flow``) at the viscosity
+    ``params.mu``, in place of the solver: F ~ mu at a state, so at mu(T) its equilibrium is the one
+    under the load times mu / mu(T) and its report is ``film.at_viscosity``'s (exact)."""
     oil = params.oil
     if oil is None:
         raise ThermalError(f"effective temperature of {name}: the bearing has no [oil] table (a viscosity law); "
@@ -122,14 +125,15 @@ def effective_temperature(params: BearingParams, load, omega: float, T_supply_K:
         if T in seen:
             return seen[T]
         mu = oil.mu(T)
+        f = 1.0 if internal is None else mu / internal.params.mu
         try:
-            rey = Reynolds(params.with_viscosity(mu), n_theta, n_x)
-            y, z = equilibrium(rey, load, omega, start=start[0], name=name)
+            rey = Reynolds(params.with_viscosity(mu), n_theta, n_x) if internal is None else internal
+            y, z = equilibrium(rey, (load[0] / f, load[1] / f), omega, start=start[0], name=name)
         except (EquilibriumError, ValueError) as exc:
             raise ThermalError(f"effective temperature of {name}: at T = {T - KELVIN:.4g} C (mu = {mu:.4g} Pa s): "
                                f"{exc}") from None
         start[0] = (y, z)
-        rep = rey.film_report(y, z, 0.0, 0.0, omega)
+        rep = at_viscosity(rey.film_report(y, z, 0.0, 0.0, omega), f)
         seen[T] = (mu, y, z, rep, temperature_rise(rep, oil))
         return seen[T]
 

@@ -21,8 +21,13 @@ fitted to, in u, and a radius; the domain guard (:mod:`bearing_fmu.internals.gua
 distance of a state to its nearest stored point, so a state inside the bounds but far from
 every training orbit is out of domain too (docs/taylor.md).
 
+Film fit (``film``, optional, full bore only): the film's flows by the force map's reduction, two
+fitted functions of eccentricity and one angle (:mod:`bearing_fmu.surrogates.film`); a file with it
+is format version 2 (FILM_VERSION), one without it version 1, which still loads: such a surrogate
+has no film flows (``NO_FLOWS_WHY``).
+
 The file: ``save_surrogate`` / ``load_surrogate`` (format ``bearing-fmu-taylor-surrogate``,
-version 1; older files without ``wall_power``, ``shape`` or ``neighbours`` load as the plain
+version 1 or 2; older files without ``wall_power``, ``shape`` or ``neighbours`` load as the plain
 polynomial, without shape columns, guarded by the bounds only). ``load_surrogate`` checks the
 whole file (every key the evaluation needs, its type, shape, range and consistency) and names
 the file and the key; ``check_params`` refuses a file fitted for another bearing. ``Domain``,
@@ -47,9 +52,14 @@ from ..physics.params import BearingParams
 from .basis import N_VARS, design_matrix, exponents, n_terms, shape_force
 from .domain import (Domain, Neighbours, SurrogateKeyError, close_to, get_key, json_clean, read_int, read_number,
                      read_object, read_vector)
+from .film import FilmFit
 
 FILE_FORMAT = "bearing-fmu-taylor-surrogate"
-FILE_VERSION = 1
+FILE_VERSION = 1  # the force alone (read still: such a surrogate has no film flows)
+FILM_VERSION = 2  # with the film fit (key 'film')
+NO_FLOWS_WHY = ("the surrogate file {source} has no film fit (format version 1, fitted before it was added): fit it "
+                "again (`bearing-fmu fit` or `rotor-host fit`), or add the film fit to it, its force unchanged, with "
+                "benchmarks/add_film.py, to get the film's inflow, side flow and friction")
 SHAPE_ROWS = ("Fy_Sy", "Fy_Sz", "Fz_Sy", "Fz_Sz")  # shape_coef rows: force component by short-bearing component
 
 
@@ -85,6 +95,7 @@ class Surrogate:
     shape_order: int | None = None
     shape_coef: np.ndarray | None = None
     neighbours: Neighbours | None = None
+    film: FilmFit | None = None
 
     def __post_init__(self) -> None:
         self.order = int(self.order)
@@ -126,6 +137,8 @@ class Surrogate:
             if not np.all(np.isfinite(sc)):
                 raise ValueError("Surrogate.shape_coef has non-finite entries")
             self.shape_coef = sc
+        if self.film is not None and not self.params.geometry.is_full_bore:
+            raise ValueError("Surrogate.film: the flows' reduction holds for the full 360 deg bore only")
         if self.neighbours is not None and not isinstance(self.neighbours, Neighbours):
             raise ValueError(f"Surrogate.neighbours must be a Neighbours or None, got {type(self.neighbours).__name__}")
 
@@ -208,7 +221,7 @@ class Surrogate:
         prov.setdefault("date", _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"))
         return {
             "format": FILE_FORMAT,
-            "version": FILE_VERSION,
+            "version": FILE_VERSION if self.film is None else FILM_VERSION,
             "params": self.params.as_dict(),
             **({} if self.params.geometry.is_full_bore else {"geometry": self.params.geometry.as_table()}),
             "omega": self.omega,
@@ -239,6 +252,7 @@ class Surrogate:
             "pruning": json_clean(self.pruning),
             "provenance": json_clean(prov),
             **({} if self.neighbours is None else {"neighbours": self.neighbours.to_dict()}),
+            **({} if self.film is None else {"film": self.film.to_dict()}),
         }
 
     @classmethod
@@ -251,8 +265,12 @@ class Surrogate:
         fmt = d.get("format")
         if fmt != FILE_FORMAT:
             raise ValueError(f"{where}: key 'format' is {fmt!r}, expected {FILE_FORMAT!r}")
-        if d.get("version") != FILE_VERSION:
-            raise ValueError(f"{where}: key 'version' is {d.get('version')!r}, this reader knows {FILE_VERSION}")
+        version = d.get("version")
+        if version not in (FILE_VERSION, FILM_VERSION) or isinstance(version, bool):
+            raise ValueError(f"{where}: key 'version' is {version!r}, this reader knows {FILE_VERSION} and {FILM_VERSION}")
+        if (version == FILM_VERSION) != ("film" in d):
+            raise ValueError(f"{where}: key 'version' is {version}: " + ("missing key 'film' (the film fit)" if
+                             version == FILM_VERSION else f"key 'film' belongs to version {FILM_VERSION} only"))
         params = _params(d, where)
         omega = read_number(d, "omega", where)
         if omega == 0.0:
@@ -310,6 +328,7 @@ class Surrogate:
                 raise ValueError(f"{where}: shape: key 'exponents' is not the full basis of order {shape_order}")
         domain = Domain.from_dict(get_key(d, "domain", where), f"{where}: domain")
         neighbours = Neighbours.from_dict(d["neighbours"], f"{where}: neighbours") if "neighbours" in d else None
+        film = FilmFit.from_dict(d["film"], f"{where}: film") if "film" in d else None
         meta = {k: read_object(d, k, where) for k in ("errors", "pruning", "provenance")}
         bad = find_non_finite(d)  # the metadata too (the writer stores None, never NaN): shown by reports
         if bad is not None:
@@ -318,7 +337,8 @@ class Surrogate:
         try:
             return cls(params=params, omega=omega, y0=y0, z0=z0, order=order, exponents=exps, coef=coef,
                        force_scale=force_scale, domain=domain, kept=kept, lam=lam, load=load, **meta,
-                       wall_power=wall_power, shape_order=shape_order, shape_coef=shape_coef, neighbours=neighbours)
+                       wall_power=wall_power, shape_order=shape_order, shape_coef=shape_coef, neighbours=neighbours,
+                       film=film)
         except ValueError as exc:  # what only the whole model can check (e.g. an exponent beyond the order)
             raise ValueError(f"{where}: {exc}") from None
 
@@ -328,7 +348,7 @@ COMPONENTS = ("Fy", "Fz")
 # The top-level keys of a surrogate file (docs/taylor.md, File); the loader checks each value.
 FILE_KEYS = (
     Key("format", "file format name", allowed=repr(FILE_FORMAT)),
-    Key("version", "file format version", allowed=str(FILE_VERSION)),
+    Key("version", "file format version", allowed=f"{FILE_VERSION} (force only) or {FILM_VERSION} (with film)"),
     Key("params", "the bearing: D, L, CR [m], mu [Pa s]", allowed="numbers > 0, CR < D/2"),
     Key("geometry", "the bore, as a bearing file's [geometry] table (absent: the full 360 deg bore)", None,
         "the keys of [geometry] (docs/geometry.md)"),
@@ -350,6 +370,8 @@ FILE_KEYS = (
     Key("pruning", "the pruning's record", None, "a table"),
     Key("provenance", "truth, training data, recipe, date, version", None, "a table"),
     Key("neighbours", "training states for the nearest-neighbour guard: radius, points in u", None, "a table"),
+    Key("film", "the film fit: the flow functions J_s, J_i of (eps, beta) (version 2)", None,
+        "degree, harmonics, coef, lambda, errors"),
 )
 
 
@@ -466,5 +488,5 @@ def load_surrogate(path: str | Path, params: BearingParams | None = None) -> Sur
 
 
 # Domain, Neighbours and SurrogateKeyError live in .domain; re-exported: callers import them from here
-__all__ = ["FILE_FORMAT", "FILE_VERSION", "FILE_KEYS", "SHAPE_ROWS", "Domain", "Neighbours", "Surrogate",
+__all__ = ["FILE_FORMAT", "FILE_VERSION", "FILM_VERSION", "NO_FLOWS_WHY", "FilmFit", "FILE_KEYS", "SHAPE_ROWS", "Domain", "Neighbours", "Surrogate",
            "SurrogateKeyError", "save_surrogate", "load_surrogate", "surrogate_json", "check_params"]

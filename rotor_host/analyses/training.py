@@ -199,6 +199,8 @@ def fit_scene(recipe: FitRecipe, *, cache_dir=None, log=print):
     res = F.fit_surrogate(s_fit, f_fit, params, omega, y0, z0, r, domain=domain, anchor=anc, weights=weights,
                           blocked=True, test=(np.vstack(ho_states), np.vstack(ho_forces)), load=tuple(load),
                           provenance=prov)
+    # the film's flows from the same truth (the series' Reynolds, or the map) at the training states
+    F.attach_film(res, samples_truth, s_fit, test_states=np.vstack(ho_states), seed=r.seed, log=log)
     others = {}
     for p in r.test_scenes:
         other = load_scene(p)

@@ -148,12 +148,21 @@ def _type_definitions(model: NativeModel) -> ET.Element:
 
 
 def output_dependencies(model: NativeModel) -> dict[str, list[str]]:
-    """Output -> the inputs it depends on after initialisation (fixed parameters cannot change then,
-    so they are no knowns: FMI 3.0, section 2.2.11): the film force and its tangent on the whole
-    journal state, the eccentricity and the minimum film on the position, out_of_domain on the
-    state the fitted domain is drawn in (none for an internal without one: always false)."""
+    """Output -> the inputs (and Model Exchange's state) it depends on after initialisation (fixed
+    parameters cannot change then, so they are no knowns: FMI 3.0, section 2.2.11): the film force
+    and its tangent on the whole journal state, the eccentricity and the minimum film on the
+    position, out_of_domain on the state the fitted domain is drawn in (none for an internal
+    without one: always false). A build with the state T_eff (``portgen.has_state``): the force,
+    K, C and P_loss at the viscosity of T_eff, so on it too; Q_side on the journal state alone,
+    mu_eff on T_eff alone; T_eff on itself and on T_supply (Co-Simulation with thermal = false:
+    T_eff reads T_supply). T_supply reaches the others only through T_eff, a state (Model Exchange's,
+    or held between Co-Simulation steps): no direct feedthrough, so an oil circuit that makes
+    T_supply from P_loss is no algebraic loop (docs/thermal.md, "Directional derivatives")."""
     fitted = any(registry.get(p).can.fitted_domain for p in model.all_parts)
     thermal = has_state(model.all_parts, model.params)  # thermal = true can be set (T_eff: ME's state)
+    journal = ["y", "z", "vy", "vz", "omega"]
+    ports = ({"T_eff": ["T_supply", "T_eff"], "P_loss": journal + ["T_eff"], "Q_side": journal, "mu_eff": ["T_eff"]}
+             if thermal else {"T_eff": ["T_supply"], "P_loss": [], "Q_side": [], "mu_eff": []})  # off: Ts, 0, 0, mu
     out = {}
     for v in model.variables:
         if v.causality != "output":
@@ -162,14 +171,10 @@ def output_dependencies(model: NativeModel) -> dict[str, list[str]]:
             out[v.name] = ["y", "z"]
         elif v.name == "out_of_domain":
             out[v.name] = ["y", "z", "vy", "vz"] if fitted else []
-        elif thermal and v.name in ("T_eff", "P_loss", "Q_side", "mu_eff"):  # the film's heat balance
-            out[v.name] = ["y", "z", "vy", "vz", "omega", "T_supply", "T_eff"]
-        elif v.name == "T_eff":  # the thermal ports off (no film flows or no oil law): T_eff is T_supply
-            out[v.name] = ["T_supply"]
-        elif v.name in ("P_loss", "Q_side", "mu_eff"):  # 0, 0, mu: no input
-            out[v.name] = []
+        elif v.name in ports:
+            out[v.name] = ports[v.name]
         else:  # with the thermal model the force is at the viscosity of T_eff (Model Exchange: the state)
-            out[v.name] = ["y", "z", "vy", "vz", "omega"] + (["T_supply", "T_eff"] if thermal else [])
+            out[v.name] = journal + (["T_eff"] if thermal else [])
     return out
 
 

@@ -17,8 +17,18 @@
  *                  bn_shape_derivative; the Taylor and linear models hold their own bearing: 0
  *                  (eccentricity, h_min follow CR)
  *   the internal's Real options   bn_option_derivative (the linear model's coefficients)
- *   P_loss, Q_side, T_eff, mu_eff   the thermal ports, off: 0, 0, along T_supply, along mu; with
- *                  thermal = true no derivative is given (refused, naming why)
+ *   P_loss, Q_side, T_eff, mu_eff, der(T_eff)   thermal = false: 0, 0, along T_supply (Model
+ *                  Exchange after initialisation: along the state T_eff), along mu, 0
+ * thermal = true (thermal_derivative, docs/thermal.md "Directional derivatives"): the film runs at
+ * mu_eff = mu(T), so every force output is (mu_eff / mu) times the isoviscous one at the parameter
+ * mu; T is the quasi-static root of T = T*(T) in Initialization Mode (dT by the implicit function
+ * theorem: dT = (dT_supply + mu dg) / (1 - g dmu/dT), T* = T_supply + g mu(T)), Model Exchange's
+ * state after it (a known), Co-Simulation's internal state after it (held: dT = 0). dmu/dT is the
+ * oil law's, analytic; the film report's friction power and flows (in g = k P / (mu rho c_p (Q -
+ * Qs / 2)) and t_res = 2 pi R CR L / Q) by central differences along the input direction with the
+ * step of K, C (~1e-8 relative: the report's sums to round-off over a step of 1e-6); along the
+ * Real parameters (Initialization Mode) the outputs evaluated anew at the parameters +- 1e-6 of
+ * their values, central differences (~1e-6 relative: the root of the heat balance to 1e-10 K).
  * The states a difference evaluates are evaluated quietly: no log line, no excursion counted. */
 #include <math.h>
 #include <stdio.h>
@@ -26,16 +36,17 @@
 
 #include "bearing_values.h"
 
-/* the internal's F, J at x, quietly (a derivative's evaluation is no state of the run): 0, or 1 (m->msg) */
-static int eval_quiet(Instance *m, const double x[5], double F[2], double J[8], double dw[2]) {
+/* the internal's F (and, with want_jac, J) at x, quietly (a derivative's evaluation is no state of
+ * the run): 0, or 1 (m->msg) */
+static int eval_quiet(Instance *m, const double x[5], int want_jac, double F[2], double J[8], double dw[2]) {
     int ood, refused;
     Work saved = m->work;
     m->work.quiet = 1;
     m->mute = 1;
-    refused = bn_eval(m, x, 1, F, J, dw, &ood);
+    refused = bn_eval(m, x, want_jac, F, J, dw, &ood);
     m->mute = 0;
     m->work = saved;
-    for (int i = 0; !refused && i < 8; i++)
+    for (int i = 0; want_jac && !refused && i < 8; i++)
         if (!isfinite(J[i])) {
             snprintf(m->msg, sizeof m->msg, "the %s internal returned a non-finite tangent", m->eff[S_INTERNAL]);
             refused = 1;
@@ -43,25 +54,37 @@ static int eval_quiet(Instance *m, const double x[5], double F[2], double J[8], 
     return refused;
 }
 
-/* dJ: the derivative of the analytic Jacobian J along the input direction dx, by central
- * differences (one-sided next to a state the internal refuses): the force has no second
- * derivative in closed form. 0, or 1 (m->msg) when neither side evaluates. */
-static int jacobian_derivative(Instance *m, const double x[5], const double J[8], const double dx[5], double dJ[8]) {
+/* the derivative from the values at x (mid) and x +- h dx (up, down): central, or one-sided when
+ * a side is refused (bad[0]: up, bad[1]: down) */
+static double difference(const int bad[2], double h, double mid, double up, double down) {
+    return bad[0] ? (mid - down) / h : bad[1] ? (up - mid) / h : (up - down) / (2.0 * h);
+}
+
+/* dJ (non-NULL: with J, the analytic Jacobian at x) and drep (non-NULL: with rep, the film report at
+ * x; thermal = true) along the input direction dx, by central differences (one-sided next to a
+ * state the internal refuses): the force has no second derivative in closed form, the film
+ * report no derivative. 0, or 1 (m->msg) when neither side evaluates. */
+static int state_differences(Instance *m, const double x[5], const double J[8], double dJ[8], const double rep[5],
+                             double drep[5], const double dx[5]) {
     double w = fmax(fabs(x[4]), 1.0), CR = m->r[VR_CR];
     double scale[5] = {CR, CR, w * CR, w * CR, w};
-    double big = 0.0, xp[5], xm[5], Fp[2], Fm[2], Jp[8], Jm[8], wp[2], wm[2];
+    double big = 0.0, xs[2][5], Fs[2][2], Js[2][8], ws[2][2], rs[2][5];
+    int bad[2];
     for (int i = 0; i < 5; i++) big = fmax(big, fabs(dx[i]) / scale[i]);
-    for (int i = 0; i < 8; i++) dJ[i] = 0.0;
+    for (int i = 0; dJ && i < 8; i++) dJ[i] = 0.0;
+    for (int i = 0; drep && i < 5; i++) drep[i] = 0.0;
     if (big == 0.0) return 0;
     double h = 1e-6 / big;
-    for (int i = 0; i < 5; i++) {
-        xp[i] = x[i] + h * dx[i];
-        xm[i] = x[i] - h * dx[i];
+    for (int k = 0; k < 2; k++) {
+        for (int i = 0; i < 5; i++) xs[k][i] = x[i] + (k ? -h : h) * dx[i];
+        bad[k] = eval_quiet(m, xs[k], dJ != NULL, Fs[k], Js[k], ws[k]);
+#if BN_FILM_FLOW
+        if (drep && !bad[k]) bad[k] = bn_film(m, xs[k], rs[k]);
+#endif
     }
-    int bad_p = eval_quiet(m, xp, Fp, Jp, wp), bad_m = eval_quiet(m, xm, Fm, Jm, wm);
-    if (bad_p && bad_m) return 1;
-    for (int i = 0; i < 8; i++)
-        dJ[i] = bad_p ? (J[i] - Jm[i]) / h : bad_m ? (Jp[i] - J[i]) / h : (Jp[i] - Jm[i]) / (2.0 * h);
+    if (bad[0] && bad[1]) return 1;
+    for (int i = 0; dJ && i < 8; i++) dJ[i] = difference(bad, h, J[i], Js[0][i], Js[1][i]);
+    for (int i = 0; drep && i < 5; i++) drep[i] = difference(bad, h, rep[i], rs[0][i], rs[1][i]);
     return 0;
 }
 
@@ -83,25 +106,22 @@ int bn_check_known(const Instance *m, unsigned vr, char *why, size_t n) {
     return 0;
 }
 
-int bn_derivative(Instance *m, const double d[N_REAL], int with_kc, double out[N_OUTPUTS_REAL]) {
-    double x[5], F[2], J[8], dw[2], dJ[8] = {0, 0, 0, 0, 0, 0, 0, 0};
-    for (int i = 0; i < N_OUTPUTS_REAL; i++) out[i] = 0.0;
-    for (int i = 0; i < 5; i++) {
-        x[i] = m->r[i];
-        if (!isfinite(x[i])) {
-            char v[32];
-            snprintf(m->msg, sizeof m->msg, "bearing input %s = %s is not finite", bn_real_name(i),
-                     bn_num(v, sizeof v, x[i], 17));
-            return 1;
-        }
-    }
-    if (m->b[B_THERMAL]) { /* the heat balance's derivatives (P_loss, Q_side, T_eff's lag) are not ported */
-        snprintf(m->msg, sizeof m->msg, "directional derivatives with thermal = true are not provided by this native "
-                 "FMU (the film temperature's dependence on the inputs is not differentiated): use thermal = false "
-                 "or differences of doStep results");
-        return 1;
-    }
-    if (eval_quiet(m, x, F, J, dw)) return 1;
+static const int jac_index[8] = {0, 1, 4, 5, 2, 3, 6, 7}; /* Kyy Kyz Kzy Kzz Cyy Cyz Czy Czz in J */
+
+/* m->msg for a K, C that cannot be differentiated */
+static int kc_refused(Instance *m) {
+    char msg[sizeof m->msg];
+    snprintf(msg, sizeof msg, "%s", m->msg);
+    snprintf(m->msg, sizeof m->msg, "K, C cannot be differentiated here: the internal refuses the states on both "
+             "sides (%.1900s)", msg);
+    return 1;
+}
+
+/* thermal = false: the isoviscous film (see above) */
+static int isoviscous(Instance *m, const double x[5], const double d[N_REAL], int with_kc,
+                      double out[N_DERIVATIVES]) {
+    double F[2], J[8], dw[2], dJ[8] = {0, 0, 0, 0, 0, 0, 0, 0};
+    if (eval_quiet(m, x, 1, F, J, dw)) return 1;
     const double *dx = d, *db = d + VR_D; /* the inputs; D, L, CR, mu */
     double CR = m->r[VR_CR];
     /* the bearing: a scale of F (S) and J (S / CR), and for CR a move along (q, v) (see above) */
@@ -122,13 +142,7 @@ int bn_derivative(Instance *m, const double d[N_REAL], int with_kc, double out[N
     }
     int tangent = with_kc && m->b[B_COMPUTE_TANGENT];
     if (tangent) {
-        if (jacobian_derivative(m, x, J, d_eff, dJ)) {
-            char msg[sizeof m->msg];
-            snprintf(msg, sizeof msg, "%s", m->msg);
-            snprintf(m->msg, sizeof m->msg, "K, C cannot be differentiated here: the internal refuses the states on "
-                     "both sides (%.1900s)", msg);
-            return 1;
-        }
+        if (state_differences(m, x, J, dJ, NULL, NULL, d_eff)) return kc_refused(m);
         for (int i = 0; i < 8; i++) dJ[i] += J[i] * (gain + 3.0 * along); /* J ~ S / CR */
     }
 #if BN_BEARING_IN_FORCE == 2 /* an internal of the build's (several: the largest) */
@@ -151,14 +165,124 @@ int bn_derivative(Instance *m, const double d[N_REAL], int with_kc, double out[N
     double de = e > 0.0 ? (x[0] * dx[0] + x[1] * dx[1]) / e : 0.0; /* d|q| */
     out[VR_ECC - VR_FY] = de / CR - e / CR * db[2] / CR;
     out[VR_HMIN - VR_FY] = db[2] - de;
-    static const int jac_index[8] = {0, 1, 4, 5, 2, 3, 6, 7}; /* Kyy Kyz Kzy Kzz Cyy Cyz Czy Czz in J */
     for (int i = 0; tangent && i < 8; i++) out[VR_KYY - VR_FY + i] = -dJ[jac_index[i]]; /* Lund's sign */
+    /* T_eff is T_supply (Model Exchange after initialisation: the state, holding), mu_eff mu;
+     * P_loss, Q_side are not computed (0), der(T_eff) is 0 */
+    out[D_T_EFF] = STATE_T_EFF(m) ? d[VR_T_EFF] : d[VR_T_SUPPLY];
+    out[D_MU_EFF] = d[VR_MU];
     return 0;
 }
 
-double bn_thermal_derivative(const Instance *m, const double d[N_REAL], int vr) {
-    if (vr == VR_DER_T_EFF) return 0.0; /* the thermal model off: T_eff holds */
-    if (vr == VR_T_EFF) return STATE_T_EFF(m) ? d[VR_T_EFF] : d[VR_T_SUPPLY];
-    if (vr == VR_MU_EFF) return d[VR_MU];
-    return 0.0; /* P_loss, Q_side: not computed (0) */
+#if BN_FILM_FLOW
+/* is vr a Real parameter (a known in Initialization Mode)? */
+static int real_parameter(int vr) { return vr >= VR_D && !BN_IS_INPUT(vr) && !bn_is_output_real(vr); }
+
+/* thermal = true, along the Real parameters in d (Initialization Mode): the outputs evaluated anew
+ * (bn_prepare, bn_evaluate: the quasi-static film temperature) at the parameters p +- h d, h =
+ * 1e-6 of each one's value (1 for a zero) over the largest, central differences added to out; the
+ * instance as before (its parameters, outputs, solver and oil). 0, or 1 (m->msg) when a side is
+ * refused. */
+static int parameter_differences(Instance *m, const double d[N_REAL], double out[N_DERIVATIVES]) {
+    double saved[N_REAL], rows[2][N_DERIVATIVES], big = 0.0;
+    int bad[2], flags[5] = {m->b[B_OUT_OF_DOMAIN], m->ood_now, m->still, m->warn_pending, m->dirty};
+    memcpy(saved, m->r, sizeof saved);
+    for (int k = 0; k < N_REAL; k++)
+        if (real_parameter(k) && d[k] != 0.0) big = fmax(big, fabs(d[k]) / (saved[k] != 0.0 ? fabs(saved[k]) : 1.0));
+    if (big == 0.0) return 0;
+    double h = 1e-6 / big;
+    int quiet = m->work.quiet;
+    m->mute = 1;
+    m->work.quiet = 1;
+    for (int s = 0; s < 2; s++) {
+        for (int k = 0; k < N_REAL; k++)
+            if (real_parameter(k)) m->r[k] = saved[k] + (s ? -h : h) * d[k];
+        int prepared = !bn_prepare(m);
+        bad[s] = !prepared || bn_evaluate(m);
+        if (!prepared) snprintf(m->msg, sizeof m->msg, "%.1900s", m->init_error);
+        for (int i = 0; i < N_OUTPUTS_REAL; i++) rows[s][i] = m->r[VR_FY + i];
+        for (int i = 0; i < 4; i++) rows[s][D_P_LOSS + i] = m->r[VR_P_LOSS + i];
+        rows[s][D_DER_T_EFF] = m->r[VR_DER_T_EFF];
+        memcpy(m->r, saved, sizeof saved);
+    }
+    char why[sizeof m->msg];
+    snprintf(why, sizeof why, "%s", m->msg);
+    int lost = bn_prepare(m); /* the solver and the oil of the parameters as set, again */
+    m->mute = 0;
+    m->work.quiet = quiet;
+    m->b[B_OUT_OF_DOMAIN] = flags[0];
+    m->ood_now = flags[1];
+    m->still = flags[2];
+    m->warn_pending = flags[3];
+    m->dirty = flags[4];
+    if (lost) {
+        snprintf(m->msg, sizeof m->msg, "%.1900s", m->init_error);
+        return 1;
+    }
+    if (bad[0] || bad[1]) {
+        snprintf(m->msg, sizeof m->msg, "the outputs' derivative along the parameters (thermal = true: differences "
+                 "of the outputs) needs the parameters on both sides of those set, refused at %s h: %.1800s",
+                 bad[0] ? "+" : "-", why);
+        return 1;
+    }
+    for (int i = 0; i < N_DERIVATIVES; i++) out[i] += (rows[0][i] - rows[1][i]) / (2.0 * h);
+    return 0;
+}
+
+/* thermal = true (see above) */
+static int thermal_derivative(Instance *m, const double x[5], const double d[N_REAL], int with_kc,
+                              double out[N_DERIVATIVES]) {
+    double F[2], J[8], dw[2], dJ[8], rep[5], drep[5], hb[7], dx[5];
+    int tangent = with_kc && m->b[B_COMPUTE_TANGENT], held = m->mode != MODE_INIT, bearing_in_force, speed_in_force;
+    if (eval_quiet(m, x, 1, F, J, dw) || bn_film(m, x, rep) || bn_heat_balance(m, rep, !held, hb)) return 1;
+    bn_force_depends(m, &bearing_in_force, &speed_in_force);
+    for (int i = 0; i < 5; i++) dx[i] = d[i];
+    if (!speed_in_force) dx[4] = 0.0;
+    if (state_differences(m, x, J, tangent ? dJ : NULL, rep, drep, dx)) return tangent ? kc_refused(m) : 1;
+    double mu_ref = m->r[VR_MU], mu = hb[1], dmu_dT = hb[2], g = hb[3], carried = hb[4], tau = hb[5];
+    double per_mu = rep[2] / mu_ref, dper_mu = drep[2] / mu_ref, dcarried = drep[3] - 0.5 * drep[4];
+    double dTs = d[VR_T_SUPPLY];
+    double dg = g > 0.0 ? g * (dper_mu / per_mu - dcarried / carried) : 0.0; /* g = k per_mu / (rho c_p carried) */
+    double dT = STATE_T_EFF(m) ? d[VR_T_EFF]                           /* Model Exchange: the state, a known */
+                : held ? 0.0                                           /* Co-Simulation: the step's, held */
+                : (dTs + dg * mu) / (1.0 - g * dmu_dT);                /* the root of T = T_supply + g mu(T) */
+    double s = mu / mu_ref, dmu = dmu_dT * dT, ds = dmu / mu_ref;
+    for (int r = 0; r < 2; r++) {
+        const double *row = J + 4 * r;
+        double dF = row[0] * dx[0] + row[1] * dx[1] + row[2] * dx[2] + row[3] * dx[3] + dw[r] * dx[4];
+        out[r] = s * dF + F[r] * ds;
+    }
+    for (int i = 0; tangent && i < 8; i++)
+        out[VR_KYY - VR_FY + i] = -(s * dJ[jac_index[i]] + J[jac_index[i]] * ds); /* Lund's sign */
+    double e = hypot(x[0], x[1]), CR = m->r[VR_CR];
+    double de = e > 0.0 ? (x[0] * dx[0] + x[1] * dx[1]) / e : 0.0; /* d|q| */
+    out[VR_ECC - VR_FY] = de / CR;
+    out[VR_HMIN - VR_FY] = -de;
+    out[D_P_LOSS] = dper_mu * mu + per_mu * dmu;
+    out[D_Q_SIDE] = drep[4];
+    out[D_T_EFF] = dT;
+    out[D_MU_EFF] = dmu;
+    if (g > 0.0 && tau < INFINITY) /* der(T_eff) = (T* - T) / t_res, t_res ~ 1 / inflow; else 0 (T holds) */
+        out[D_DER_T_EFF] = (dTs + dg * mu + g * dmu - dT) / tau + hb[6] * drep[3] / rep[3];
+    for (int k = 0; k < N_REAL; k++)
+        if (real_parameter(k) && d[k] != 0.0) return parameter_differences(m, d, out);
+    return 0;
+}
+#endif
+
+int bn_derivative(Instance *m, const double d[N_REAL], int with_kc, double out[N_DERIVATIVES]) {
+    double x[5];
+    for (int i = 0; i < N_DERIVATIVES; i++) out[i] = 0.0;
+    for (int i = 0; i < 5; i++) {
+        x[i] = m->r[i];
+        if (!isfinite(x[i])) {
+            char v[32];
+            snprintf(m->msg, sizeof m->msg, "bearing input %s = %s is not finite", bn_real_name(i),
+                     bn_num(v, sizeof v, x[i], 17));
+            return 1;
+        }
+    }
+#if BN_FILM_FLOW
+    if (m->b[B_THERMAL]) return thermal_derivative(m, x, d, with_kc, out);
+#endif
+    return isoviscous(m, x, d, with_kc, out);
 }

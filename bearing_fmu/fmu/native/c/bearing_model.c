@@ -71,6 +71,28 @@ static int thermal_state(Instance *m, const double x[5], double out[6]) {
 #endif
 }
 
+#if BN_FILM_FLOW
+int bn_heat_balance(Instance *m, const double rep[5], int quasi, double out[7]) {
+    double mu = m->r[VR_MU], R = 0.5 * m->r[VR_D], CR = m->r[VR_CR], L = m->r[VR_L], Ts = m->r[VR_T_SUPPLY];
+    double t[3] = {m->r[VR_T_EFF], 0.0, 0.0}, rate[3], per_mu = rep[2] / mu, carried = rep[3] - 0.5 * rep[4];
+    char why[700];
+    if ((quasi && ot_film_temperature(&m->oil, mu, R, CR, L, rep[2], rep[3], rep[4], Ts, 0, Ts, 0.0, t, why,
+                                      sizeof why))
+        || ot_film_rate(&m->oil, mu, R, CR, L, rep[2], rep[3], rep[4], Ts, t[0], rate, why, sizeof why)) {
+        snprintf(m->msg, sizeof m->msg, "thermal model: %s", why);
+        return 1;
+    }
+    out[0] = t[0];
+    out[1] = rate[0];
+    out[2] = ot_dmu_dT(&m->oil, t[0]);
+    out[3] = per_mu > 0.0 && carried > 0.0 ? ot_gain(&m->oil, per_mu, carried) : 0.0; /* 0: T* = T_supply */
+    out[4] = carried;
+    out[5] = rate[1];
+    out[6] = rate[2];
+    return 0;
+}
+#endif
+
 /* ------------------------------------------------------------------------------ evaluation */
 
 int bn_evaluate(Instance *m) {

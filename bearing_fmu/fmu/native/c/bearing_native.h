@@ -235,7 +235,7 @@ typedef struct Instance {
 #define bn_log_excursions BN_NAME(BN_ID, bn_log_excursions)
 #define bn_check_known BN_NAME(BN_ID, bn_check_known)
 #define bn_derivative BN_NAME(BN_ID, bn_derivative)
-#define bn_thermal_derivative BN_NAME(BN_ID, bn_thermal_derivative)
+#define bn_heat_balance BN_NAME(BN_ID, bn_heat_balance)
 #define bn_thermal_setup BN_NAME(BN_ID, bn_thermal_setup)
 #define bn_state_save BN_NAME(BN_ID, bn_state_save)
 #define bn_state_restore BN_NAME(BN_ID, bn_state_restore)

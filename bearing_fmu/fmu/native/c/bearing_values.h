@@ -54,20 +54,34 @@ BN_HIDDEN void bn_log_excursions(Instance *m);
 /* a known of a directional derivative: 0 if vr is an input, or a Real parameter in
  * Initialization Mode; else 1 with the reason in why */
 BN_HIDDEN int bn_check_known(const Instance *m, unsigned vr, char *why, size_t n);
-/* the derivatives of the Real outputs (out[vr - VR_FY]) along d (d[vr]: the direction in each
- * input and Real parameter, vr < N_REAL; the outputs' entries unused) at the inputs and
- * parameters set; with_kc: K.., C.. too (else 0). 0, or 1 with the reason in m->msg (the state
- * refused; for K, C: no state next to it). Quiet: no log line, no excursion counted. */
-BN_HIDDEN int bn_derivative(Instance *m, const double d[N_REAL], int with_kc, double out[N_OUTPUTS_REAL]);
-/* the derivative of a thermal output (BN_IS_THERMAL_OUTPUT(vr), T_eff) along d, with the thermal
- * model off (on, bn_derivative refuses): T_eff is T_supply (Model Exchange's state T_eff after
- * initialisation: itself), mu_eff is mu, P_loss, Q_side and der(T_eff) 0 */
-BN_HIDDEN double bn_thermal_derivative(const Instance *m, const double d[N_REAL], int vr);
+/* bn_derivative's out: the Real outputs Fy .. Czz (out[vr - VR_FY]), then the thermal ones */
+#define D_P_LOSS N_OUTPUTS_REAL
+#define D_Q_SIDE (N_OUTPUTS_REAL + 1)
+#define D_T_EFF (N_OUTPUTS_REAL + 2)
+#define D_MU_EFF (N_OUTPUTS_REAL + 3)
+#define D_DER_T_EFF (N_OUTPUTS_REAL + 4)
+#define N_DERIVATIVES (N_OUTPUTS_REAL + 5)
+/* the derivative of Real output vr along d, out bn_derivative's */
+#define BN_OUTPUT_DERIVATIVE(vr, d, out) \
+    ((vr) == VR_DER_T_EFF ? (out)[D_DER_T_EFF] : (vr) >= VR_P_LOSS && (vr) <= VR_MU_EFF \
+     ? (out)[D_P_LOSS + (int)(vr) - VR_P_LOSS] : (out)[(vr) - VR_FY])
+/* the derivatives of the Real outputs (out: BN_OUTPUT_DERIVATIVE) along d (d[vr]: the direction in
+ * each input, Real parameter and, in Model Exchange after initialisation, the state T_eff, vr <
+ * N_REAL; the outputs' entries unused) at the inputs and parameters set; with_kc: K.., C.. too
+ * (else 0). 0, or 1 with the reason in m->msg (the state refused; for K, C: no state next to it).
+ * Quiet: no log line, no excursion counted. */
+BN_HIDDEN int bn_derivative(Instance *m, const double d[N_REAL], int with_kc, double out[N_DERIVATIVES]);
 /* thermal = true: the oil of the parameters into m->oil (bearing_model.c): 0, or 1 with the reason in why */
 BN_HIDDEN int bn_thermal_setup(Instance *m, char *why, size_t n);
-/* the derivative of Real output vr along d: out (bn_derivative's) or the thermal one */
-#define BN_OUTPUT_DERIVATIVE(vr, d, out) \
-    (BN_IS_THERMAL_OUTPUT(vr) || (vr) == VR_T_EFF ? bn_thermal_derivative(m, d, (int)(vr)) : (out)[(vr) - VR_FY])
+#if BN_FILM_FLOW
+/* thermal = true, for the derivatives: the heat balance at the film report rep (bn_film's, at the
+ * parameter mu) and the film temperature T: quasi-static (quasi 1: Initialization Mode) or the one
+ * held (m->r[VR_T_EFF]: Model Exchange's state, Co-Simulation's of the last step). out = T [K],
+ * mu(T) [Pa s], dmu/dT [Pa s/K], the gain g [K/(Pa s)] of T* = T_supply + g mu(T) (0 when the film
+ * dissipates nothing), the oil carried away inflow - side flow / 2 [m^3/s], the residence time
+ * t_res [s], der(T_eff) = (T* - T) / t_res [K/s]. 0, or 1 with the reason in m->msg. */
+BN_HIDDEN int bn_heat_balance(Instance *m, const double rep[5], int quasi, double out[7]);
+#endif
 
 /* Model Exchange: the continuous states (BN_N_STATES: T_eff, thermal = true), into x (get) or from
  * x (set: the outputs follow at the next get) */

@@ -97,7 +97,7 @@ fmi2Status fmi2GetDirectionalDerivative(fmi2Component c, const fmi2ValueReferenc
                                         const fmi2Real dvKnown[], fmi2Real dvUnknown[]) {
     Instance *m = c;
     char a[32], why[512];
-    double d[N_REAL], out[N_OUTPUTS_REAL];
+    double d[N_REAL], out[N_DERIVATIVES];
     int with_kc = 0;
     if (!m) return fmi2Error;
     ORDER(getDirectionalDerivative, BN_ANY_TYPE);

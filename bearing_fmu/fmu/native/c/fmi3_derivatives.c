@@ -14,7 +14,7 @@ static fmi3Status derivatives(Instance *m, const char *call, int adjoint, const 
                               size_t nUnknowns, const fmi3ValueReference knowns[], size_t nKnowns,
                               const fmi3Float64 seed[], size_t nSeed, fmi3Float64 sensitivity[], size_t nSensitivity) {
     char a[32], why[512];
-    double d[N_REAL], out[N_OUTPUTS_REAL];
+    double d[N_REAL], out[N_DERIVATIVES];
     int with_kc = 0;
     if (nSeed != (adjoint ? nUnknowns : nKnowns) || nSensitivity != (adjoint ? nKnowns : nUnknowns))
         return bn3_fail(m, "%s: nSeed = %lu and nSensitivity = %lu for %lu unknowns and %lu knowns (scalars: the "

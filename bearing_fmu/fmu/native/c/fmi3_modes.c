@@ -59,22 +59,18 @@ int bn3_refused(Instance *m, const char *call, unsigned allowed, int kind) {
 
 /* the inputs and states a variable depends on after initialisation (into deps, their number):
  * fmi3.py's output_dependencies, the ModelStructure's Output and ContinuousStateDerivative elements.
- * A build with the state T_eff (BN_N_STATES): the force, K, C and the thermal outputs on the
- * journal state, T_supply and T_eff; else T_eff on T_supply, P_loss, Q_side, mu_eff on nothing. */
+ * A build with the state T_eff (BN_N_STATES): the force, K, C and P_loss on the journal state and
+ * T_eff, Q_side on the journal state, mu_eff on T_eff, T_eff on T_supply and itself, der(T_eff) on
+ * the journal state, T_supply and T_eff; else T_eff on T_supply, P_loss, Q_side, mu_eff on nothing. */
 static int dependencies(fmi3ValueReference v, fmi3ValueReference deps[8]) {
-    int n = 0, k;
+    int n = 0, k, force = v >= VR_FY && v < VR_D && v != VR_ECC && v != VR_HMIN;
     if (v == VR_ECC || v == VR_HMIN) n = 2;                                  /* y, z */
     else if (v == VR_BOOL0 + B_OUT_OF_DOMAIN) n = BN3_FITTED_DOMAIN ? 4 : 0; /* y, z, vy, vz */
-    else if ((v >= VR_FY && v < VR_D) || (BN_N_STATES && BN_IS_THERMAL_OUTPUT(v))) n = 5; /* the journal state */
-    for (k = 0; k < n; k++) deps[k] = (fmi3ValueReference)k;
-    if (BN_N_STATES && ((v >= VR_FY && v < VR_D) || BN_IS_THERMAL_OUTPUT(v) || v == VR_T_EFF)) {
-        if (n == 0) /* T_eff: the journal state too */
-            for (; n < 5; n++) deps[n] = (fmi3ValueReference)n;
-        deps[n++] = VR_T_SUPPLY;
+    else if (force || (BN_N_STATES && (v == VR_P_LOSS || v == VR_Q_SIDE || v == VR_DER_T_EFF))) n = 5;
+    for (k = 0; k < n; k++) deps[k] = (fmi3ValueReference)k;                 /* the journal state */
+    if (v == VR_T_EFF || (BN_N_STATES && v == VR_DER_T_EFF)) deps[n++] = VR_T_SUPPLY;
+    if (BN_N_STATES && (force || v == VR_P_LOSS || v == VR_MU_EFF || v == VR_T_EFF || v == VR_DER_T_EFF))
         deps[n++] = VR_T_EFF;
-    } else if (v == VR_T_EFF) {
-        deps[n++] = VR_T_SUPPLY; /* the thermal model off */
-    }
     return n;
 }
 

@@ -87,6 +87,23 @@ OT_API int ot_oil_of(ot_oil *oil, int law, double nu1, double T1, double nu2, do
 }
 
 #if defined(RS_EXPORT) || BN_FILM_FLOW /* the heat balance: only where an internal has the film's flows */
+/* dmu/dT [Pa s/K] at T [K], analytic (the directional derivatives: bearing_derivatives.c). Walther:
+ * with w = 10^(A - B log10 T) = log10(nu + 0.7), d(nu + 0.7)/dT = -(nu + 0.7) ln(10) B w / T;
+ * Vogel: -mu b / (T - c)^2 */
+OT_API double ot_dmu_dT(const ot_oil *oil, double T) {
+    if (oil->law == OT_WALTHER) {
+        double w = pow(10.0, oil->c[0] - oil->c[1] * log10(T));
+        return -pow(10.0, w) * log(10.0) * oil->c[1] * w / T * 1e-6 * oil->density;
+    }
+    return -ot_mu(oil, T) * oil->c[1] / ((T - oil->c[2]) * (T - oil->c[2]));
+}
+
+/* the heat balance's gain [K/(Pa s)]: T* = T_supply + gain mu(T), from the friction power per
+ * viscosity per_mu [W/(Pa s)] and the oil carried away, inflow - side flow / 2 [m^3/s] (> 0) */
+OT_API double ot_gain(const ot_oil *oil, double per_mu, double carried) {
+    return oil->rise_factor * per_mu / (oil->density * oil->heat_capacity * carried);
+}
+
 /* the heat balance's residual at T (thermal.film_temperature's g) */
 typedef struct {
     const ot_oil *oil;
@@ -173,8 +190,7 @@ OT_API int ot_film_rate(const ot_oil *oil, double mu_ref, double R, double CR, d
                  "while it dissipates %.4g W", inflow, side_flow, power);
         return 1;
     }
-    double gain = oil->rise_factor * per_mu / (oil->density * oil->heat_capacity * carried);
-    out[2] = (T_supply + gain * out[0] - T) / tau;
+    out[2] = (T_supply + ot_gain(oil, per_mu, carried) * out[0] - T) / tau;
     return 0;
 }
 
@@ -207,8 +223,7 @@ OT_API int ot_film_temperature(const ot_oil *oil, double mu_ref, double R, doubl
                  "while it dissipates %.4g W", inflow, side_flow, power);
         return 1;
     }
-    ot_balance bal = {oil, a, T_supply, oil->rise_factor * per_mu / (oil->density * oil->heat_capacity * carried),
-                      T_old};
+    ot_balance bal = {oil, a, T_supply, ot_gain(oil, per_mu, carried), T_old};
     double lo = T_old < T_supply ? T_old : T_supply;
     double hi = T_supply + bal.gain * ot_mu(oil, lo);
     if (T_old > hi) hi = T_old;
