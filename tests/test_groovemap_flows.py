@@ -105,8 +105,8 @@ def tiny(tmp_path_factory):
 def test_the_map_reports_the_solvers_flows_at_its_points(tiny):
     """At a table point, any r and speed (both signs) and the attitude also half a turn on (folded):
     the solver's inflow and side flow (the spline interpolates its data; 8 digits in the file), the
-    Couette torque (exact) to the solver's Simpson sum over
-    its cells (eps <= 0.93 here: 2e-5 on 32 cells, 7e-4 at eps 0.98; 1e-8 on the shipped maps' 128), the pressure torque to the cells'
+    Couette torque (exact) to the solver's Simpson sum over its cells (eps <= 0.93 here: 2e-5 on 32
+    cells, 7e-4 at eps 0.98; 1e-8 on the shipped maps' 128), the pressure torque to the cells'
     midpoint rule of the solver's force (sinc(w/2) - 1 ~ 2e-3 of it at w = 0.17 rad)."""
     fmap = open_map(tiny, GROOVED)
     assert registry.film_flow_of(registry.get("map"), fmap) == ""
@@ -180,7 +180,8 @@ def test_a_grooved_map_without_flow_tables_says_to_rebuild_it(tiny, tmp_path):
     m = open_map(old, GROOVED)
     assert isinstance(m, GroovedForceMap) and m.table.Q is None
     why = registry.film_flow_of(registry.get("map"), m)
-    assert why.startswith(f"the grooved map file {old} has no flow tables") and "rebuild it with `bearing-fmu map" in why
+    assert why.startswith(f"the grooved map file {old} has no flow tables")
+    assert "rebuild it with `bearing-fmu map" in why
     with pytest.raises(ValueError, match="film_report: the grooved map file .* has no flow tables"):
         m.film_report(0.0, -0.3 * GROOVED.CR, 0.0, 0.0, OMEGA)
     x = (0.1 * GROOVED.CR, -0.3 * GROOVED.CR, 0.0, 0.0, OMEGA)
@@ -193,6 +194,7 @@ def test_a_grooved_map_without_flow_tables_says_to_rebuild_it(tiny, tmp_path):
     (lambda d: d["flow_edges_deg"][1].__setitem__(1, 1.0), r"key 'flow_edges_deg' = .* must list the bore's supply "
                                                           r"edges \[theta_deg, sign\] in order: \[\[100.0, 1.0\]"),
     (lambda d: d.pop("flow_edges_deg"), r"missing key 'flow_edges_deg'"),
+    (lambda d: d["flow_edges_deg"][0].__setitem__(0, "100"), r"key 'flow_edges_deg' = .* must list the bore's"),
     (lambda d: d.__setitem__("version", 2), r"unknown key\(s\) Q, flow_edges_deg, flow_meaning"),
     (lambda d: d["Q"].__setitem__(7, float("nan")), r"key 'Q' has a non-finite entry"),
 ])
@@ -238,7 +240,8 @@ def test_a_scene_with_a_supply_temperature_runs_on_the_grooved_map(tmp_path):
         'rotor = "../rotor_paper_2groove.toml"', 'rotor = "rotor.toml"\nsupply_temperature_C = 40.0').replace(
         '"../maps/paper_2groove.json"', json.dumps(str(MODELS / "maps" / "paper_2groove.json")))
     (tmp_path / "scene.toml").write_text(scene_text)
-    scene = dataclasses.replace(load_scene(tmp_path / "scene.toml"), speed_profile=SpeedProfile((0.0, 0.004), (22.0, 30.0)))
+    scene = dataclasses.replace(load_scene(tmp_path / "scene.toml"),
+                                speed_profile=SpeedProfile((0.0, 0.004), (22.0, 30.0)))
     assert scene.supply_temperature_K == pytest.approx(313.15)
     out = three_runs(scene, "map", {"map": {"map": str(MODELS / "maps" / "paper_2groove.json")}}, 0.004, tmp_path)
     check_three_runs(out, reynolds_rtol=1e-3)

@@ -190,9 +190,10 @@ class GroovedMapTable(TableAxes):
             return f"key 'geometry': {why}"
         if self.H.ndim != 4 or self.H.shape[3] != 2 or min(self.H.shape[:3]) < 4:
             return f"key 'H' has shape {self.H.shape}, expected (n_eps >= 4, n_phi >= 4, n_beta >= 4, 2)"
-        if self.Q is not None and self.Q.shape != (*self.H.shape[:3], 1 + len(self.edges)):
-            return (f"key 'Q' has shape {self.Q.shape}, expected {(*self.H.shape[:3], 1 + len(self.edges))} (side flow and "
-                    f"one per supply edge of the bore, {len(self.edges)})")
+        want = (*self.H.shape[:3], 1 + len(self.edges))
+        if self.Q is not None and self.Q.shape != want:
+            return (f"key 'Q' has shape {self.Q.shape}, expected {want} (side flow and one per supply edge of the "
+                    f"bore, {len(self.edges)})")
         return finite_problem(self.H) or (None if self.Q is None else finite_problem(self.Q, "Q"))
 
     n_eps = property(lambda self: self.H.shape[0])
@@ -249,11 +250,11 @@ class GroovedMapTable(TableAxes):
 
     def to_dict(self) -> dict:
         flows = {} if self.Q is None else {
-            "flow_meaning": ("Q[i][j][k] = (J_s, P_1 .. P_E), the last index fastest: side flow r R L CR J_s; inflow "
-                             "sum over the supply edges e of max(sign_e omega R L h_e / 2 - r R L CR P_e, 0), h_e = CR + "
-                             "eps CR sin(theta_e - phi) the film at the edge; flow_edges_deg[e] = (theta_e, sign_e); Q over "
-                             "phi in one period of the bore, P_e(phi + j P) = P_e'(phi) with theta_e' = theta_e - j P "
-                             "(the spline is fitted over the whole turn)"),
+            "flow_meaning": ("Q[i][j][k] = (J_s, P_1 .. P_E), the last index fastest: side flow r R L CR J_s; "
+                             "inflow sum over the supply edges e of max(sign_e omega R L h_e / 2 - r R L CR P_e, 0), "
+                             "h_e = CR + eps CR sin(theta_e - phi) the film at the edge; flow_edges_deg[e] = (theta_e, "
+                             "sign_e); Q over phi in one period P of the bore, P_e(phi + j P) = P_e'(phi) with "
+                             "theta_e' = theta_e - j P (the spline is fitted over the whole turn)"),
             "flow_edges_deg": [[math.degrees(t), sg] for t, sg in self.edges],
             "Q": [float(f"{v:.{DIGITS}g}") for v in self.Q.ravel()]}
         return {"format": FORMAT, "version": VERSION if self.Q is None else FLOW_VERSION, "L_over_D": self.L_over_D,
@@ -293,8 +294,9 @@ def tabulate_grooved(params: BearingParams, *, n_eps: int = DEFAULT_N_EPS, n_phi
     n_phi = n_phi or default_n_phi(params.geometry)
     t0 = time.perf_counter()
     n_q = 1 + len(params.geometry.supply_edges())
+    Q = np.zeros((n_eps, n_phi, n_beta, n_q)) if flows else None
     table = GroovedMapTable(params.L / params.D, rey.n_theta, rey.n_x, rey.cavitation, eps_max, params.geometry,
-                            np.zeros((n_eps, n_phi, n_beta, 2)), Q=np.zeros((n_eps, n_phi, n_beta, n_q)) if flows else None)
+                            np.zeros((n_eps, n_phi, n_beta, 2)), Q=Q)
     args = (params, rey.n_theta, rey.n_x, rey.cavitation)
     done = 0
     try:
@@ -384,7 +386,7 @@ def grooved_from_data(path: Path, data: dict) -> GroovedMapTable:
     unknown = sorted(set(data) - set(GROOVED_KEYS + (FLOW_KEYS if flows else ())))
     if unknown:
         raise ValueError(f"force map file {path}: unknown key(s) {', '.join(unknown)}; allowed: "
-                         f"{', '.join(GROOVED_KEYS)}")
+                         f"{', '.join(GROOVED_KEYS + (FLOW_KEYS if flows else ()))}")
     try:
         rey = data["reynolds"]
         if not isinstance(rey, dict) or set(rey) != {"n_theta", "n_x", "cavitation"}:
@@ -415,8 +417,9 @@ def grooved_from_data(path: Path, data: dict) -> GroovedMapTable:
             Q = Q.reshape(*shape, 1 + len(edges))
             rec = data["flow_edges_deg"]
             if not (isinstance(rec, list) and len(rec) == len(edges) and all(
-                    isinstance(x, list) and len(x) == 2 and abs(math.remainder(math.radians(x[0]) - t, 2 * math.pi))
-                    < GEOMETRY_RTOL and x[1] == sg for x, (t, sg) in zip(rec, edges))):
+                    isinstance(x, list) and len(x) == 2 and isinstance(x[0], (int, float)) and x[1] == sg
+                    and abs(math.remainder(math.radians(x[0]) - t, 2 * math.pi)) < GEOMETRY_RTOL
+                    for x, (t, sg) in zip(rec, edges))):
                 raise ValueError(f"key 'flow_edges_deg' = {rec!r:.80} must list the bore's supply edges [theta_deg, "
                                  f"sign] in order: {[[round(math.degrees(t), 9), sg] for t, sg in edges]}")
         table = GroovedMapTable(number_key(data, "L_over_D"), rey["n_theta"], rey["n_x"], rey["cavitation"],

@@ -28,9 +28,9 @@ def load_any_map(path) -> MapTable | GroovedMapTable:
         return grooved_from_data(path, data)
     if isinstance(data, dict) and data.get("format") == FORMAT and data.get("version") not in VERSIONS:
         raise ValueError(f"force map file {path}: version {data.get('version')!r}, this code reads 1 and "
-                         f"{FLOW_VERSION} (the full bore's 2-D map, {FLOW_VERSION} with flow tables), {GROOVED_VERSION} and "
-                         f"{GROOVED_FLOW_VERSION} (a grooved or partial-arc bore's 3-D map, {GROOVED_FLOW_VERSION} with "
-                         "flow tables)")
+                         f"{FLOW_VERSION} (the full bore's 2-D map, {FLOW_VERSION} with flow tables), "
+                         f"{GROOVED_VERSION} and {GROOVED_FLOW_VERSION} (a grooved or partial-arc bore's 3-D map, "
+                         f"{GROOVED_FLOW_VERSION} with flow tables)")
     return load_map(path)
 
 
