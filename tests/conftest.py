@@ -2,6 +2,7 @@
 bundled), its extraction and instances, a scene writer, the central-difference Jacobian, and
 file systems that refuse writes (a small tmpfs: full, or remounted read-only; as root)."""
 
+import fcntl
 import hashlib
 import json
 import math
@@ -96,13 +97,16 @@ def native_build_cache(request):
         for f in inputs:
             h.update(b"\0" + Path(f).name.encode() + b"\0" + Path(f).read_bytes())
         kept = root / f"{h.hexdigest()[:24]}.fmu"
-        if kept.is_file():
-            shutil.copyfile(kept, target)
-            return target
-        build(target)
-        tmp = kept.with_suffix(f".{os.getpid()}.tmp")
-        shutil.copyfile(target, tmp)
-        os.replace(tmp, kept)  # whole or not at all, if another session writes it too
+        # one build per key: a second pytest-xdist worker asking for it waits for the first's
+        with open(kept.with_suffix(".lock"), "w") as lock:
+            fcntl.flock(lock, fcntl.LOCK_EX)
+            if kept.is_file():
+                shutil.copyfile(kept, target)
+                return target
+            build(target)
+            tmp = kept.with_suffix(f".{os.getpid()}.tmp")
+            shutil.copyfile(target, tmp)
+            os.replace(tmp, kept)  # whole or not at all, if another session writes it too
         return target
 
     return cached

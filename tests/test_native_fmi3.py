@@ -800,8 +800,9 @@ def test_fmpy_cmake_project_builds_the_same_binary(fmus, tmp_path):
 
 
 def test_thermal_ports_and_their_derivatives(fmus):
-    """The thermal ports off (the map has no film flows): T_eff = T_supply, mu_eff = mu;
-    dT_eff/dT_supply = 1 directional and adjoint, the force not along T_supply; thermal = true refused."""
+    """The thermal ports off (the map has the film's flows, but the paper bearing no oil law): T_eff =
+    T_supply, mu_eff = mu; dT_eff/dT_supply = 1 directional and adjoint, the force not along
+    T_supply; thermal = true refused, naming the missing law."""
     f = fmus["map"]
     raw = Raw3(f["fmu3"])
     try:
@@ -818,6 +819,7 @@ def test_thermal_ports_and_their_derivatives(fmus):
     raw = Raw3(f["fmu3"])
     try:
         assert raw.set(["thermal"], [True], "Boolean") == OK and raw.enter() == OK
-        assert raw.call("fmi3ExitInitializationMode") == ERROR and "thermal = true needs the film's" in raw.last()
+        assert (raw.call("fmi3ExitInitializationMode") == ERROR
+                and "thermal = true needs the oil's viscosity law" in raw.last())
     finally:
         raw.close()

@@ -1,4 +1,4 @@
-"""The native Reynolds FMU's thermal ports (docs/thermal.md, docs/fmu.md) against the Python FMU's.
+"""The native Reynolds and map FMUs' thermal ports (docs/thermal.md, docs/fmu.md) against the Python FMU's.
 
 Expected values: the Python FMU (bearing_fmu/fmu/slave.py, its thermal model in Python:
 physics/thermal.py film_temperature through fmu/ports.py thermal_state) at the same parameters
@@ -9,6 +9,11 @@ about 1e-16, tests/test_native_film.py, tests/test_native_thermal.py). The nativ
 contract: T_eff is part of the FMU state (a restored state steps the same), a supply temperature
 outside the oil's range refuses the step (Discard); in Model Exchange T_eff is the continuous
 state, its derivative the heat balance's rate (Python's formula at the state set).
+
+The native map FMU (its film report in C from the map file's flow table, c/internal_map.c) the
+same way against the Python FMU with the same map (the session's coarse contract map, tests/
+conftest.py map_file), over a run whose T_supply ramps, and against the Python map internal's
+film_report (ForceMap.film_report); a map file without flow tables (version 1) refuses thermal.
 """
 
 import math
@@ -45,22 +50,26 @@ def thermal_on(tmp_path_factory, native_build_cache):
                               [VG46], ("thermal on", "reynolds", tuple(GRID.items())))
 
 
-@pytest.fixture(scope="module")
-def native3(tmp_path_factory, native_build_cache):
-    """FMI version -> (the native Reynolds FMU of the VG 46 bearing, its model description)."""
+def by_version(folder, native_build_cache, internal, inputs, **kw) -> dict:
+    """FMI version (2, 3) -> (the native FMU of ``internal`` for the VG 46 bearing, built with ``kw``
+    and cached on ``inputs``, its model description)."""
     from bearing_fmu.fmu.native.build import build_native_fmu
 
-    folder = tmp_path_factory.mktemp("native_thermal")
     params = BearingParams.from_toml(VG46)
     out = {}
     for version in (2, 3):
         def build(target, version=version):
-            return build_native_fmu(target, "reynolds", bearing=params, options=GRID, fmi_version=version,
-                                    compiler="cc")
-        path = native_build_cache(folder / f"reynolds_vg46_fmi{version}.fmu", build, [VG46],
-                                  ("thermal", "reynolds", version, tuple(GRID.items())))
+            return build_native_fmu(target, internal, bearing=params, fmi_version=version, compiler="cc", **kw)
+        path = native_build_cache(folder / f"{internal}_vg46_fmi{version}.fmu", build, [VG46, *inputs],
+                                  ("thermal", internal, version, tuple(sorted((k, str(v)) for k, v in kw.items()))))
         out[version] = (path, fmpy.read_model_description(str(path)))
     return out
+
+
+@pytest.fixture(scope="module")
+def native3(tmp_path_factory, native_build_cache):
+    """FMI version -> (the native Reynolds FMU of the VG 46 bearing, its model description)."""
+    return by_version(tmp_path_factory.mktemp("native_thermal"), native_build_cache, "reynolds", [], options=GRID)
 
 
 def trajectory(n=12):
@@ -76,7 +85,7 @@ def trajectory(n=12):
 class Run:
     """One Co-Simulation instance through fmpy (FMI 2.0 or 3.0) with the thermal model on."""
 
-    def __init__(self, path, md, reals: dict, strings: dict | None = None, kind="CS", thermal=True):
+    def __init__(self, path, md, reals: dict, strings: dict | None = None, kind="CS", thermal=True, log=None):
         self.md, self.v3 = md, md.fmiVersion.startswith("3")
         self.vr = {v.name: v.valueReference for v in md.modelVariables}
         unzip = fmpy.extract(str(path))
@@ -88,7 +97,13 @@ class Run:
             cls, ident = ((FMU2Slave, md.coSimulation.modelIdentifier) if kind == "CS" else
                           (FMU2Model, md.modelExchange.modelIdentifier))
             self.f = cls(guid=md.guid, unzipDirectory=unzip, modelIdentifier=ident, instanceName="thermal")
-        self.f.instantiate()
+        if log is None:
+            self.f.instantiate()
+        else:  # FMI 2.0: every log line into the list log
+            from test_native_several import callbacks
+
+            self._cb = callbacks(log)
+            self.f.instantiate(callbacks=self._cb, loggingOn=True)
         if self.v3:
             self.f.enterInitializationMode(startTime=0.0)
         else:
@@ -142,18 +157,22 @@ def parameters(md) -> dict:
                                                                    or v.name.startswith("oil_"))}
 
 
-def run(fmu, md, h=1e-3, python=False, native_md=None):
+def run(fmu, md, h=1e-3, python=False, native_md=None, map_name=None, ramp=0.0, internal=None):
+    """The outputs OUT over the trajectory, Co-Simulation; ``python``: the Python FMU with the
+    Reynolds internal on GRID, or with ``map_name`` the map internal; T_supply rises by ``ramp`` [K]
+    per step; ``internal``: the one a native FMU of several sets."""
     states = trajectory()
     reals = {**parameters(native_md or md), "T_supply": T_SUPPLY, **dict(zip(IN, states[0]))}
-    strings = {"internal": "reynolds", "oil_law": "walther"} if python else None
-    r = Run(fmu, md, reals, strings)
+    strings = ({"internal": "map", "map": map_name} if map_name else {"internal": "reynolds"}) if python else None
+    r = Run(fmu, md, reals, {**strings, "oil_law": "walther"} if python else {"internal": internal} if internal else None)
     try:
-        if python:
+        if python and not map_name:
             ints = [r.vr["n_theta"], r.vr["n_x"]]
             r.f.setInteger(ints, [GRID["n_theta"], GRID["n_x"]])
         r.f.exitInitializationMode()
         rows = [r.get()]
-        for s in states[1:]:
+        for k, s in enumerate(states[1:], 1):
+            r.set({"T_supply": T_SUPPLY + ramp * k})
             r.step(s, h)
             rows.append(r.get())
         return np.array(rows)
@@ -210,20 +229,26 @@ def test_t_eff_is_part_of_the_fmu_state(native3):
         r.close()
 
 
-def python_rate(md, state, T):
-    """(der(T_eff) [K/s], mu(T) [Pa s], the force at T [N]) by Python: the Reynolds film report at the
-    FMU's mu (physics/film.py), the oil of the FMU's parameters (fmu/ports.oil_of), the lag's rate
-    dT/dt = (T*(T) - T) / t_res (physics/thermal.py, "At a fixed journal state")."""
+def reynolds_on_grid(params):
+    from bearing_fmu.physics.reynolds import Reynolds
+
+    return Reynolds(params, GRID["n_theta"], GRID["n_x"])
+
+
+def python_rate(md, state, T, internal=reynolds_on_grid):
+    """(der(T_eff) [K/s], mu(T) [Pa s], the force at T [N]) by Python: the film report of
+    ``internal(params)`` (the Reynolds solver on GRID, or the map) at the FMU's mu (physics/film.py),
+    the oil of the FMU's parameters (fmu/ports.oil_of), the lag's rate dT/dt = (T*(T) - T) / t_res
+    (physics/thermal.py, "At a fixed journal state")."""
     from types import SimpleNamespace
 
     from bearing_fmu.fmu import ports
-    from bearing_fmu.physics.reynolds import Reynolds
     from bearing_fmu.physics.thermal import residence_time_s
 
     p = parameters(md)
     oil = ports.oil_of(SimpleNamespace(**p), "walther")
     params = BearingParams(D=p["D"], L=p["L"], CR=p["CR"], mu=p["mu"])
-    rey = Reynolds(params, GRID["n_theta"], GRID["n_x"])
+    rey = internal(params)
     F = rey.force(*state)
     rep = rey.film_report(*state)
     gain = oil.rise_factor * rep.friction_power_W / params.mu / (
@@ -239,7 +264,11 @@ def test_model_exchange_state_and_derivative(native3, version):
     temperature (the Co-Simulation start: der(T_eff) ~ 0 there), its derivative the heat balance's
     rate at the state as set, the force and mu_eff at that temperature (Python's within 1e-12; measured:
     der(T_eff) and mu_eff the same bits, the force within 2.2e-16)."""
-    path, md = native3[version]
+    model_exchange_check(*native3[version], version, reynolds_on_grid)
+
+
+def model_exchange_check(path, md, version, internal):
+    """test_model_exchange_state_and_derivative's checks of the FMU ``path`` against ``internal``."""
     vr = {v.name: v.valueReference for v in md.modelVariables}
     state = trajectory()[3]
     unzip = fmpy.extract(str(path))
@@ -278,14 +307,14 @@ def test_model_exchange_state_and_derivative(native3, version):
             f.setContinuousStates(ptr, 1)
             (f.getContinuousStateDerivatives if version == 3 else f.getDerivatives)(ptr, 1)
             der = float(buf[0])
-            want_der, want_mu, want_F = python_rate(md, state, T)
+            want_der, want_mu, want_F = python_rate(md, state, T, internal)
             got = getr([vr[n] for n in ("der(T_eff)", "mu_eff", "T_eff", "Fy", "Fz")])
             assert got[0] == der and got[2] == T
             assert der == pytest.approx(want_der, rel=1e-12, abs=1e-9)  # the same bits, measured
             assert got[1] == pytest.approx(want_mu, rel=1e-12)
             assert got[3:] == pytest.approx(want_F, rel=1e-12)
-        assert abs(python_rate(md, state, T0)[0]) < 1e-6  # the start is the fixed point
-        assert python_rate(md, state, T0 + 5.0)[0] < 0.0  # hotter than the balance: it cools
+        assert abs(python_rate(md, state, T0, internal)[0]) < 1e-6  # the start is the fixed point
+        assert python_rate(md, state, T0 + 5.0, internal)[0] < 0.0  # hotter than the balance: it cools
     finally:
         f.terminate()
         f.freeInstance()
@@ -297,6 +326,11 @@ def test_compliance_checker_with_thermal_on(thermal_on, interface, tmp_path):
     """The FMU Compliance Checker (../shared/tools/fmu-compliance-checker, an empty environment)
     simulates the thermal FMU with an input signal that ramps T_supply 40 -> 60 C while the journal
     circles: 0 warnings and 0 errors from the FMU and the checker; T_eff moves (ME: the state)."""
+    compliance_check(thermal_on, interface, tmp_path)
+
+
+def compliance_check(thermal_on, interface, tmp_path):
+    """test_compliance_checker_with_thermal_on's run and checks of the FMU ``thermal_on``."""
     import os
     import subprocess
 

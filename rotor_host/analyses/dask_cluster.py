@@ -72,6 +72,7 @@ def dask_client(scheduler: str | None, workers: int | None, connect_timeout_s: f
     processes (default: the cores) with one thread each, closed on leaving."""
     import logging
 
+    import dask
     from dask.distributed import Client, LocalCluster
 
     if scheduler:
@@ -98,8 +99,11 @@ def dask_client(scheduler: str | None, workers: int | None, connect_timeout_s: f
     main = threading.current_thread() is threading.main_thread()
     old = signal.signal(signal.SIGINT, signal.SIG_IGN) if main else None
     try:
-        cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None,
-                               silence_logs=logging.CRITICAL)
+        # no statistical profiler in the workers: it samples the run's thread every 10 ms for a
+        # dashboard this cluster does not have (3-4 % of a worker's CPU, measured per run)
+        with dask.config.set({"distributed.worker.profile.enabled": False}):
+            cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None,
+                                   silence_logs=logging.CRITICAL)
     finally:
         if main:
             signal.signal(signal.SIGINT, old)

@@ -104,9 +104,11 @@ SCENE_KEYS = (
     Key("record", "what to record besides the bearing nodes ([record])", None, kind=Table(RECORD_KEYS)),
     Key("supply_temperature_C", "oil supply temperature [C]: every bearing (each needs an [oil] table) at the "
         "viscosity of its film's effective temperature, from the static equilibrium at the start, lagging the "
-        "heat balance by the film's residence time with the reynolds internal (docs/thermal.md); absent: the "
-        "bearings' own viscosity", None, "inside every oil's range_C; via = 'fmu' (python or native) and a "
-        "[speed_profile] need the reynolds internal", kind=Number()),
+        "heat balance by the film's residence time with an internal that has the film's flows (reynolds, a map "
+        "with flow tables, a Taylor surrogate with its film fit; docs/thermal.md); absent: the bearings' own "
+        "viscosity", None, "inside every oil's range_C; via = 'fmu' and a [speed_profile] need an internal with "
+        "the film's flows; fmu_kind = 'native' the reynolds internal or a map file with flow tables (version 3)",
+        kind=Number()),
     Key("surrogate", "older form of [taylor] surrogate", None, kind=FileName()),
 )
 
@@ -271,8 +273,10 @@ def load_scene(path) -> Scene:
 def _check_supply(supply_c: float, data: dict, rotor: Rotor, profile, where: str) -> None:
     """A scene's supply temperature: every bearing has an [oil] whose law covers it. In-process with
     any internal at one speed (the static equilibrium's mu_eff); through an FMU (its thermal ports;
-    the native one: an internal with the film's flows in C) or under a [speed_profile] only with an
-    internal that has the film's flows, whose temperature then lags the heat balance (docs/thermal.md)."""
+    the native one: an internal with the film's flows in C, portgen.C_FILM_REPORT) or under a
+    [speed_profile] only with an internal that has the film's flows, whose temperature then lags the
+    heat balance (docs/thermal.md). A data file without them (a map without flow tables) is refused
+    by the FMU at initialisation, naming the file."""
     key = f"{where}: supply_temperature_C = {supply_c:g}"
     spec = registry.get(data["internal"])
     if (data["via"] != "direct" or profile is not None) and not spec.can.film_flow:

@@ -73,7 +73,8 @@ def build_native_fmu(output, internal: str, *, surrogate=None, map=None, bearing
                 tuple)
     thermal   : the start value of the parameter thermal: True starts the thermal model without a
                 master setting it (a tool that sets no parameters, the Compliance Checker); needs the
-                Reynolds internal and a bearing with an [oil] law (``portgen.thermal_start``)
+                Reynolds internal or a map with flow tables, and a bearing with an [oil] law
+                (``portgen.thermal_start``)
     """
     output = Path(output)
     if fmi_version not in (2, 3):

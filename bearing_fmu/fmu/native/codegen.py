@@ -10,7 +10,8 @@ its options (registry ``Option``s the native FMU keeps) and two generated header
 * ``model_data.h``: the internal's data. Taylor: the same arrays ``taylor.Taylor`` hands its
   numba kernels (meta, domain, only the kept terms), the polynomials as coefficient rows over
   their monomials (``taylor_polynomials``: the C kernel sums them as vectorised dot
-  products), the stored training states. Map: the spline's knots and coefficients. Linear:
+  products), the stored training states. Map: the spline's knots and coefficients, its flow table's
+  too (``map_data``). Linear:
   nothing (its coefficients are parameters).
 
 Every double is written as the shortest decimal literal that parses back to it (``repr``): exact.
@@ -29,15 +30,15 @@ import numpy as np
 from ...internals import registry
 from ..order import c_defines
 from ..variables import ENUMERATIONS, VARIABLES  # the one table of the FMU interface
-from .portgen import parts_of, port_config, port_variables
+from .portgen import GROOVED_MAP_WHY, parts_of, port_config, port_variables
 from ...physics.params import BearingParams
 
 ID_TOKEN, GUID_TOKEN = "BN_MODEL_IDENTIFIER", "{BN-GUID}"  # in model_config.h until assign_identity
 INTERNALS = ("linear", "map", "taylor", "reynolds")  # what a native FMU can compute
 # C files an internal's file includes (so that all of it stays static): staged beside it, not compiled alone
-INCLUDED_SOURCES = {"reynolds": ("py_mod.h", "reynolds_solver.h", "reynolds_kernels.c", "reynolds_film.c",
-                                 "reynolds_solver.c"),
-                    "map": ("py_mod.h",)}
+INCLUDED_SOURCES = {"reynolds": ("py_mod.h", "reynolds_solver.h", "reynolds_kernels.c", "film_friction.c",
+                                 "reynolds_film.c", "reynolds_solver.c"),
+                    "map": ("py_mod.h", "film_friction.c")}
 # the model layer (c/bearing_values.h), the same C files under the FMI 2.0 and the FMI 3.0 layer
 MODEL_HEADERS = ("bearing_native.h", "bearing_values.h", "oil_thermal.h", "oil_thermal.c")  # the last included
 MODEL_SOURCES = ("bearing_values.c", "bearing_model.c", "bearing_derivatives.c")
@@ -128,6 +129,7 @@ class NativeModel:
     info: dict = field(default_factory=dict)  # what the documentation records (order, table size, ...)
     parts: tuple = ()  # an FMU of several internals: all of them (internal: the first, the start value)
     identifier: str = ""  # assign_identity: bearing_<internal>_<content hash>
+    flows_why: str | dict = ""  # why its data lack the film's flows ('' if not; several: per internal; portgen)
 
     @property
     def all_parts(self) -> tuple[str, ...]:
@@ -168,9 +170,10 @@ def native_model(internal: str, params: BearingParams, *, surrogate=None, map=No
         params, surrogate, map, options)
 
 
-def native_variables(internal, params: BearingParams, starts: dict, inputs: tuple) -> list[Variable]:
+def native_variables(internal, params: BearingParams, starts: dict, inputs: tuple, flows_why="") -> list[Variable]:
     """The Python FMU's variables that apply, in value-reference order (bearing_native.h), for
-    ``internal`` (a name, or a tuple of the names an FMU of several holds)."""
+    ``internal`` (a name, or a tuple of the names an FMU of several holds; ``flows_why``: why its
+    data file lacks the film's flows, portgen.film_flow)."""
     parts = parts_of(internal)
     table = {v[0]: v for v in VARIABLES}
     out = []
@@ -195,7 +198,7 @@ def native_variables(internal, params: BearingParams, starts: dict, inputs: tupl
     # enumerations and the Integer options
     n_ints = len(native_enumerations(internal)) + sum(o.type is int for o in opts)
     out += [Variable(*v) for v in port_variables(internal, params, REAL_BASE + len(CORE_REALS) + len(reals),
-                                                 ENUM_BASE + n_ints, BOOL_BASE)]
+                                                 ENUM_BASE + n_ints, BOOL_BASE, flows_why)]
     what = f"this native FMU computes {parts[0]} only" if len(parts) == 1 else " | ".join(parts)
     out.append(Variable("internal", STRING_BASE, "String", "parameter", parts[0], None,
                         f"which internal computes the force: {what}"))
@@ -280,7 +283,7 @@ def assign_identity(model: "NativeModel", sources: dict[str, str], describe) -> 
     model.config_h = model.config_h.replace(ID_TOKEN, model.identifier).replace(GUID_TOKEN, model.info["guid"])
 
 
-def model_config(internal, params: BearingParams, starts: dict, inputs) -> str:
+def model_config(internal, params: BearingParams, starts: dict, inputs, flows_why="") -> str:
     """model_config.h, the model identifier and GUID as tokens (``assign_identity``); ``internal``
     a name or a tuple of them (an FMU of several: bn_parts.c dispatches among them)."""
     parts = parts_of(internal)
@@ -304,7 +307,7 @@ def model_config(internal, params: BearingParams, starts: dict, inputs) -> str:
         f"#define BN_N_STRING_OPTIONS {len(strings)}",
         f"#define BN_START_INPUTS {{{', '.join(c_double(v) for v in inputs)}}}",
         f"#define BN_START_BEARING {{{', '.join(c_double(v) for v in (params.D, params.L, params.CR, params.mu))}}}",
-        *port_config(internal, params, c_double, c_string),  # the thermal ports and the bore (portgen.py)
+        *port_config(internal, params, c_double, c_string, flows_why),  # the thermal ports, the bore (portgen.py)
     ]
     rows = []
     for k, o in enumerate(reals):
@@ -506,44 +509,29 @@ def _taylor(params: BearingParams, surrogate, map_path, options: dict) -> Native
 # ----------------------------------------------------------------------------- map
 
 def _map(params: BearingParams, surrogate, map_path, options: dict) -> NativeModel:
-    from ...internals.forcemap import EPS_MIN, LD_RTOL
     from ...internals.mapfile import load_any_map, map_internal
+    from .map_data import map_data_h
 
     if not map_path:
         raise ValueError("a native map FMU needs a force map file (--map FILE)")
     path = Path(map_path)
     table = load_any_map(path)
     # refuses another L/D or bore, as the FMU will (a grooved map's bore comes from --bearing)
-    map_internal(params, table, str(path), hint="for the native map FMU give the bearing file with --bearing")
-    shape = " x ".join(str(n) for n in table.H.shape[:-1])
-    *knots, C = table.spline()  # (ts, tb) or, for a grooved bore's 3-D map, (ts, tp, tb)
-    parts = [
-        "/* Generated by bearing_fmu.fmu.native.codegen from the force map file "
-        f"{path.name} ({shape}). Do not edit. */",
-        "#ifndef MODEL_DATA_H", "#define MODEL_DATA_H",
-        f"#define MAP_SOURCE {c_string(path.name)}",
-        f"#define MAP_DIMS {len(knots)}",
-        f"#define MAP_NS {C.shape[0]}",
-        *([f"#define MAP_NP {C.shape[1]}", c_array("MAP_TP", knots[1])] if len(knots) == 3 else []),
-        f"#define MAP_NB {C.shape[-2]}",
-        f"#define MAP_WALL_EXPONENT {c_double(table.wall_exponent)}",
-        f"#define MAP_EPS_MIN {c_double(EPS_MIN)}",
-        f"#define MAP_EPS_MAX {c_double(table.eps_max)}",
-        f"#define MAP_L_OVER_D {c_double(table.L_over_D)}",
-        f"#define MAP_LD_RTOL {c_double(LD_RTOL)}",
-        c_array("MAP_TS", knots[0]), c_array("MAP_TB", knots[-1]), c_array("MAP_C", C),
-        "#endif\n",
-    ]
-    data_h = "\n".join(parts)
+    internal = map_internal(params, table, str(path), hint="for the native map FMU give the bearing file with --bearing")
+    flows_why = registry.film_flow_of(registry.get("map"), internal)  # the file's: '' with its flow tables
+    if not flows_why and table.H.ndim == 4:  # a grooved bore's 3-D map: its flows have no C reader yet
+        flows_why = GROOVED_MAP_WHY
     starts = {"map": path.name}
     # a nonzero speed: an omega a master forgets to connect still gives the film's force
     inputs = (0.0, 0.0, 0.0, 0.0, float(options.get("_omega", registry.DEFAULT_OMEGA_LIN)))
-    config_h = model_config("map", params, starts, inputs)
+    shape = " x ".join(str(n) for n in table.H.shape[:-1])
     info = {"source": path.name, "table": shape, "eps_max": table.eps_max, "L_over_D": table.L_over_D,
             "reynolds": f"{table.n_theta} x {table.n_x} {table.cavitation}", "provenance": table.provenance}
-    return NativeModel("map", params, native_variables("map", params, starts, inputs), config_h, data_h, path,
+    return NativeModel("map", params, native_variables("map", params, starts, inputs, flows_why),
+                       model_config("map", params, starts, inputs, flows_why),
+                       map_data_h(path, table, c_double, c_string, c_array), path,
                        f"hydrodynamic journal bearing, force map {path.name} (L/D {table.L_over_D:.4g}, any speed, "
-                       "load and velocity), compiled (no Python)", info)
+                       "load and velocity), compiled (no Python)", info, flows_why=flows_why)
 
 
 # ----------------------------------------------------------------------------- linear

@@ -123,6 +123,17 @@ def run_compiler(cmd: list[str], what: str) -> None:
         raise NativeBuildError(f"{what} failed (exit {done.returncode}): {' '.join(cmd)}\n" + "\n".join(tail))
 
 
+def run_compilers(jobs: list[tuple[list[str], str]]) -> None:
+    """``run_compiler`` over (command, what) jobs, as many at once as this machine has cores (each
+    zig target is its own process; a build of every platform is 4-5 of them); the first failure
+    is raised once all have ended."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    with ThreadPoolExecutor(max_workers=max(1, min(len(jobs), os.cpu_count() or 1))) as pool:
+        for f in [pool.submit(run_compiler, cmd, what) for cmd, what in jobs]:
+            f.result()
+
+
 def zig_command(target: str, src: Path, sources: list[str], out: Path, defines: tuple[str, ...] = ()) -> list[str]:
     """zig cc compiling ``sources`` (in ``src``) into the shared library ``out`` for ``target``."""
     pic = () if "windows" in target else ("-fPIC",)
@@ -146,7 +157,7 @@ def compile_binaries(root: Path, identifier: str, sources: list[str], platforms=
     platforms = parse_platforms(",".join(platforms) if platforms else None, compiler)
     if fmi_version == 3:
         return _compile_fmi3(root, identifier, sources, platforms, compiler, defines)
-    src, out = root / "sources", []
+    src, out, zig_jobs = root / "sources", [], []
     for name in platforms:
         p = PLATFORMS[name]
         target = root / "binaries" / name / f"{identifier}{p.ext}"
@@ -160,23 +171,29 @@ def compile_binaries(root: Path, identifier: str, sources: list[str], platforms=
             run_compiler([find_compiler(), *C_FLAGS, "-fPIC", "-shared", "-I", str(src), "-I", str(fmi_headers()),
                   *(str(src / f) for f in sources), "-o", str(target), "-lm"], "the C compiler")
         else:
-            with tempfile.TemporaryDirectory(prefix="bearing_zig_") as tmp:  # zig writes .pdb, .lib beside a dll
-                slices = []
-                for k, t in enumerate(p.targets):
-                    one = Path(tmp) / f"{k}{p.ext}"
-                    run_compiler(zig_command(t, src, sources, one), f"zig cc -target {t}")
-                    slices.append(one.read_bytes())
-                target.write_bytes(fat_binary(slices) if len(slices) > 1 else slices[0])
+            zig_jobs.append((name, target))
+            continue
         if not target.is_file():
             raise NativeBuildError(f"the build wrote no {target.relative_to(root)}")
         check_binary(target, name)
         out.append(target)
+    if zig_jobs:
+        with tempfile.TemporaryDirectory(prefix="bearing_zig_") as tmp:  # zig writes .pdb, .lib beside a dll
+            slices = {(name, t): Path(tmp) / f"{name}-{k}{PLATFORMS[name].ext}"
+                      for name, _ in zig_jobs for k, t in enumerate(PLATFORMS[name].targets)}
+            run_compilers([(zig_command(t, src, sources, one), f"zig cc -target {t}")
+                           for (_, t), one in slices.items()])
+            for name, target in zig_jobs:
+                parts = [slices[name, t].read_bytes() for t in PLATFORMS[name].targets]
+                target.write_bytes(fat_binary(parts) if len(parts) > 1 else parts[0])
+                check_binary(target, name)
+                out.append(target)
     return out
 
 
 def _compile_fmi3(root: Path, identifier: str, sources: list[str], platforms, compiler: str,
                   defines: tuple[str, ...]) -> list[Path]:
-    src, out = root / "sources", []
+    src, out, zig_jobs = root / "sources", [], []
     for name in platforms:
         p = PLATFORMS[name]
         if compiler == "zig":
@@ -193,15 +210,21 @@ def _compile_fmi3(root: Path, identifier: str, sources: list[str], platforms, co
                       str(fmi_headers()), *(str(src / f) for f in sources), "-o", str(target), "-lm"],
                      "the C compiler")
             else:
-                with tempfile.TemporaryDirectory(prefix="bearing_zig_") as tmp:
-                    one = Path(tmp) / f"one{p.ext}"
-                    run_compiler(zig_command(target_triple, src, sources, one, defines),
-                                 f"zig cc -target {target_triple}")
-                    target.write_bytes(one.read_bytes())
+                zig_jobs.append((name, target, target_triple))
+                continue
             if not target.is_file():
                 raise NativeBuildError(f"the build wrote no {target.relative_to(root)}")
             check_binary(target, name, prefix="fmi3")
             out.append(target)
+    if zig_jobs:
+        with tempfile.TemporaryDirectory(prefix="bearing_zig_") as tmp:
+            ones = [Path(tmp) / f"{k}{PLATFORMS[name].ext}" for k, (name, _, _) in enumerate(zig_jobs)]
+            run_compilers([(zig_command(t, src, sources, one, defines), f"zig cc -target {t}")
+                           for (_, _, t), one in zip(zig_jobs, ones)])
+            for (name, target, _), one in zip(zig_jobs, ones):
+                target.write_bytes(one.read_bytes())
+                check_binary(target, name, prefix="fmi3")
+                out.append(target)
     return out
 
 

@@ -159,7 +159,7 @@ def output_dependencies(model: NativeModel) -> dict[str, list[str]]:
     or held between Co-Simulation steps): no direct feedthrough, so an oil circuit that makes
     T_supply from P_loss is no algebraic loop (docs/thermal.md, "Directional derivatives")."""
     fitted = any(registry.get(p).can.fitted_domain for p in model.all_parts)
-    thermal = has_state(model.all_parts, model.params)  # thermal = true can be set (T_eff: ME's state)
+    thermal = has_state(model.all_parts, model.params, model.flows_why)  # thermal = true can be set (T_eff: ME's state)
     journal = ["y", "z", "vy", "vz", "omega"]
     ports = ({"T_eff": ["T_supply", "T_eff"], "P_loss": journal + ["T_eff"], "Q_side": journal, "mu_eff": ["T_eff"]}
              if thermal else {"T_eff": ["T_supply"], "P_loss": [], "Q_side": [], "mu_eff": []})  # off: Ts, 0, 0, mu

@@ -3,10 +3,14 @@ their variables and their lines of model_config.h, for ``codegen``.
 
 * Thermal ports: the input ``T_supply`` and the outputs ``P_loss``, ``Q_side``, ``T_eff``,
   ``mu_eff`` after the internal's Real options, the parameter ``thermal`` (Boolean 2). Whether
-  the internal has the film's flows is its registry capability ``film_flow`` (``BN_FILM_FLOW``;
-  the Reynolds internal's report is c/reynolds_film.c); one without them refuses
-  ``thermal = true`` at initialisation naming why (``BN_FILM_FLOW_WHY``, the capability's
-  ``film_flow_why``), as does an FMU of several internals (not ported yet).
+  the internal has the film's flows is its registry capability ``film_flow`` and, per data file,
+  the Python internal's answer (``registry.film_flow_of``: a map file without flow tables)
+  (``BN_FILM_FLOW``; the Reynolds internal's report is c/reynolds_film.c, the map's
+  c/internal_map.c from its flow table, ``map_data``); one without them refuses
+  ``thermal = true`` at initialisation naming why (``BN_FILM_FLOW_WHY``). An FMU of several
+  internals has the thermal model when one of them has the flows (``BN_FLOWS_<NAME>``: its
+  bn_film, bn_parts.c dispatching); initialisation refuses thermal = true with the internal set
+  to one without them, naming it and why (``BN_FLOW_WHY_<name>``).
 * The oil: the bearing file's law (``BN_OIL_LAW``: none, walther, vogel) compiled in, as the
   bore is; its Real parameters (``fmu.ports.OIL_ROWS``: oil_nu_1 .. oil_rise_factor) after the
   bore's, their starts the file's (``ports.port_defaults``) and settable. No ``oil_law``
@@ -40,9 +44,6 @@ def bore_starts(params: BearingParams) -> dict:
     return {**{r[0]: r[4] for r in GEOMETRY_ROWS + OIL_ROWS}, **port_defaults(params)}
 
 
-SEVERAL_WHY = "an FMU of several internals has no thermal model yet: build the reynolds internal alone"
-
-
 def parts_of(internal) -> tuple[str, ...]:
     """The internals of a native model: one name, or a tuple of them (an FMU of several, the first
     the start value of the parameter internal)."""
@@ -50,49 +51,69 @@ def parts_of(internal) -> tuple[str, ...]:
 
 
 # the native internals whose C file computes the film's flows (defines bn_film: internal_reynolds.c
-# through reynolds_film.c); the Python map's flow tables are not compiled into the native map yet
-C_FILM_REPORT = ("reynolds",)
+# through reynolds_film.c; internal_map.c from a full-bore map file's flow table)
+C_FILM_REPORT = ("reynolds", "map")
+# a grooved or partial-arc map's flow tables (version 4: per supply edge, over the whole turn) have no C reader
+GROOVED_MAP_WHY = ("the native map FMU computes the film report of a full-bore map only: a grooved or partial-arc "
+                   "map's flow tables (version 4) are not compiled in (use the Python FMU)")
 
 
-def film_flow(internal) -> tuple[bool, str]:
-    """(has the film's flows, why not) of a native model of ``internal`` (a name, or a tuple of the
-    names an FMU of several holds): the registry's capability ``film_flow`` and a film report in C
-    (``C_FILM_REPORT``)."""
+def part_flows(internal, data_why="") -> dict[str, str]:
+    """{internal: why its native model lacks the film's flows, '' when it has them} for ``internal``
+    (a name, or a tuple of the names an FMU of several holds): the registry's capability
+    ``film_flow``, a film report in C (``C_FILM_REPORT``) and, for the data file compiled in,
+    ``data_why`` (the Python internal's ``registry.film_flow_of``: '' when the file has the flows; a
+    version 1 or a grooved map: why not), for several internals {internal: its data's why}."""
     from ...internals import registry
 
     parts = parts_of(internal)
-    if len(parts) > 1:
-        return False, SEVERAL_WHY
-    can = registry.get(parts[0]).can
-    if not can.film_flow:
-        return False, can.film_flow_why or f"the {parts[0]} internal has no film report"
-    if parts[0] not in C_FILM_REPORT:
-        return False, (f"the native {parts[0]} FMU computes the force only: the film's flows of the Python "
-                       f"{parts[0]} internal are not compiled into it (use the Python FMU, or internal = 'reynolds')")
-    return True, ""
+    files = data_why if isinstance(data_why, dict) else {parts[0]: data_why}
+    out = {}
+    for p in parts:
+        can = registry.get(p).can
+        if not can.film_flow:
+            out[p] = can.film_flow_why or f"the {p} internal has no film report"
+        elif p not in C_FILM_REPORT:
+            out[p] = (f"the native {p} FMU computes the force only: the film's flows of the Python {p} internal are "
+                      "not compiled into it (use the Python FMU, or internal = 'reynolds')")
+        else:
+            out[p] = files.get(p, "")
+    return out
 
 
-def has_state(internal, params: BearingParams) -> bool:
+def film_flow(internal, data_why="") -> tuple[bool, str]:
+    """(has the film's flows, why not) of a native model of ``internal`` (``part_flows``' arguments):
+    an FMU of several has them when one of its internals has (the one set is checked at
+    initialisation, bn_film_why); why: each internal's without them."""
+    whys = part_flows(internal, data_why)
+    flows = any(not w for w in whys.values())
+    if len(whys) == 1:
+        return flows, next(iter(whys.values()))
+    return flows, "; ".join(f"internal = {p!r}: {w}" for p, w in whys.items() if w)
+
+
+def has_state(internal, params: BearingParams, data_why="") -> bool:
     """Model Exchange's continuous state T_eff (its derivative the local der(T_eff)): a build whose
     internal has the film's flows and whose bearing an oil law (thermal = true can be set)."""
-    return film_flow(internal)[0] and params.oil is not None
+    return film_flow(internal, data_why)[0] and params.oil is not None
 
 
-def port_variables(internal, params: BearingParams, first_real: int, first_int: int, bool_base: int) -> list:
+def port_variables(internal, params: BearingParams, first_real: int, first_int: int, bool_base: int,
+                   data_why="") -> list:
     """The variables of the thermal ports and the bore as ``codegen.Variable``'s fields (name, value
     reference, type, causality, start, unit, description): Reals from value reference ``first_real``,
-    Integers from ``first_int``, Booleans 2 and 3 above ``bool_base``."""
+    Integers from ``first_int``, Booleans 2 and 3 above ``bool_base``; ``data_why`` as ``film_flow``'s."""
     table = {v[0]: v for v in VARIABLES}
     out = []
     for k, name in enumerate(THERMAL_REALS):
         _n, typ, causality, unit, start, desc = table[name]
         out.append((name, first_real + k, typ, causality, float(start) if causality == "input" else 0.0,
                             unit, desc))
-    flows, why = film_flow(internal)
+    flows, why = film_flow(internal, data_why)
     law = params.oil.law if params.oil is not None else "none"
     if flows and law != "none":
         note = (f" (the oil's law is the bearing file's, {law}, its parameters oil_...; Model Exchange: T_eff "
-                "is the continuous state, der(T_eff) its derivative)")
+                "is the continuous state, der(T_eff) its derivative" + (f"; refused with {why}" if why else "") + ")")
     else:
         note = (f": not in this native FMU ({why or 'the bearing file has no [oil] law'}); it stays false, T_eff "
                 "reads T_supply, mu_eff mu, P_loss and Q_side 0")
@@ -112,7 +133,7 @@ def port_variables(internal, params: BearingParams, first_real: int, first_int: 
     for k, name in enumerate(OIL_REALS):
         _n, typ, causality, unit, _start, desc = table[name]
         out.append((name, first_oil + k, typ, causality, float(bore[name]), unit, desc))
-    if has_state(internal, params):  # its value reference is C's VR_DER_T_EFF
+    if has_state(internal, params, data_why):  # its value reference is C's VR_DER_T_EFF
         desc = ("the film temperature's rate (Model Exchange: T_eff's derivative, T_eff the continuous state): the "
                 "heat balance's (T*(T_eff) - T_eff) / t_res with thermal = true, 0 (T_eff holds) with thermal = false")
         out.append(("der(T_eff)", first_oil + len(OIL_REALS), "Real", "local", 0.0, "K/s", desc))
@@ -121,10 +142,11 @@ def port_variables(internal, params: BearingParams, first_real: int, first_int: 
 
 def thermal_start(model) -> None:
     """Make ``model`` (a ``codegen.NativeModel``) start with thermal = true (its variable's start and
-    ``BN_THERMAL_START``); ValueError naming why when its internal has no film flows or its bearing
-    no oil law."""
-    why = film_flow(model.all_parts)[1]
-    if not has_state(model.all_parts, model.params):
+    ``BN_THERMAL_START``); ValueError naming why when its internal (of several: the first, the one
+    it starts with) has no film flows or its bearing no oil law."""
+    first = model.all_parts[0]
+    why = part_flows(model.all_parts, model.flows_why)[first]
+    if why or model.params.oil is None:
         raise ValueError("a native FMU starting with thermal = true needs the film's flows and the bearing's oil "
                          f"law: {why or 'the bearing has no [oil] table (build with --bearing FILE whose [oil] gives it)'}")
     for v in model.variables:
@@ -133,20 +155,25 @@ def thermal_start(model) -> None:
     model.config_h = model.config_h.replace("#define BN_FILM_FLOW 1", "#define BN_FILM_FLOW 1\n#define BN_THERMAL_START 1")
 
 
-def port_config(internal, params: BearingParams, c_double, c_string) -> list[str]:
+def port_config(internal, params: BearingParams, c_double, c_string, data_why="") -> list[str]:
     """model_config.h's lines of the thermal ports (the supply temperature's start [K], whether the
     internal has the film's flows and why not, the oil's law and its parameters' starts) and of
-    the bore the data hold; ``c_double``, ``c_string``: codegen's literals."""
+    the bore the data hold; ``c_double``, ``c_string``: codegen's literals; ``data_why`` as
+    ``film_flow``'s."""
     from ..ports import OIL_LAWS
 
     bore = bore_starts(params)
-    flows, why = film_flow(internal)
+    flows, why = film_flow(internal, data_why)
     law = params.oil.law if params.oil is not None else "none"
     return [
         f"#define BN_START_T_SUPPLY {c_double(next(v[4] for v in VARIABLES if v[0] == 'T_supply'))}",
         f"#define BN_FILM_FLOW {int(flows)}",
-        f"#define BN_N_STATES {int(has_state(internal, params))}",
+        f"#define BN_N_STATES {int(has_state(internal, params, data_why))}",
         f"#define BN_FILM_FLOW_WHY {c_string(why)}",
+        # per internal (an FMU of several: bn_parts.c): has it the flows in C, why not
+        *(f"#define BN_FLOWS_{p.upper()} {int(w == '')}" for p, w in part_flows(internal, data_why).items()
+          if p in C_FILM_REPORT),
+        *(f"#define BN_FLOW_WHY_{p} {c_string(w)}" for p, w in part_flows(internal, data_why).items()),
         f"#define BN_OIL_LAW {OIL_LAWS.index(law)}",
         f"#define BN_OIL_START {{{', '.join(c_double(float(bore[n])) for n in OIL_REALS)}}}",
         f"#define BN_GEOMETRY_REAL_START {{{', '.join(c_double(bore[n]) for n in GEOMETRY_REALS)}}}",

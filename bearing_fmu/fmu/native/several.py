@@ -7,7 +7,9 @@ enumerations' items those held), ``model_data.h`` one section per internal (``BN
 which each internal's file sets). Taylor's ``domain_action = fallback`` is allowed when the FMU
 holds the Reynolds internal too: outside the fitted domain the Reynolds force, blended with the
 surrogate's over the band beyond the edge (``internals.guard.DomainGuard``), on the surrogate's
-bearing with the FMU's grid and cavitation parameters.
+bearing with the FMU's grid and cavitation parameters. The thermal model runs with the internal
+set to one that has the film's flows (reynolds, a map with flow tables: portgen.part_flows);
+initialisation refuses thermal = true with another, naming it and why.
 """
 
 from __future__ import annotations
@@ -78,8 +80,9 @@ def several_model(internal, params: BearingParams | None, *, surrogate=None, map
     sources = [m.source for m in models.values() if m.source is not None]
     info = {"internals": list(parts), **{p: {k: v for k, v in models[p].info.items() if k != "provenance"}
                                          for p in parts}}
-    return NativeModel(parts[0], params, native_variables(parts, params, starts, inputs),
-                       model_config(parts, params, starts, inputs), data_h, sources[0] if sources else None,
+    flows_why = {p: models[p].flows_why for p in parts}  # a data file's reason it lacks the film's flows
+    return NativeModel(parts[0], params, native_variables(parts, params, starts, inputs, flows_why),
+                       model_config(parts, params, starts, inputs, flows_why), data_h, sources[0] if sources else None,
                        "hydrodynamic journal bearing, several internals switched by the parameter internal: "
                        + "; ".join(models[p].description.removeprefix("hydrodynamic journal bearing, ") for p in parts),
-                       info, parts=parts)
+                       info, parts=parts, flows_why=flows_why)

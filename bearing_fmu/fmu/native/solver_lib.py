@@ -25,8 +25,8 @@ from .compile import C_FLAGS, run_compiler, zig_cc
 
 C_DIR = Path(__file__).resolve().parent / "c"
 HOST_TARGET = "native"  # zig cc -target native: this machine
-SOURCES = ("py_mod.h", "reynolds_solver.h", "reynolds_kernels.c", "reynolds_film.c", "reynolds_solver.c",
-           "oil_thermal.h", "oil_thermal.c")
+SOURCES = ("py_mod.h", "reynolds_solver.h", "reynolds_kernels.c", "film_friction.c", "reynolds_film.c",
+           "reynolds_solver.c", "oil_thermal.h", "oil_thermal.c")
 
 __all__ = ["NativeOil", "NativeReynolds", "bore_arrays", "solver_library"]
 

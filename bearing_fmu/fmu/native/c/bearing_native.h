@@ -268,9 +268,17 @@ BN_HIDDEN void bn_release(Instance *m);
 BN_HIDDEN int bn_shape_derivative(Instance *m, const double x[5], int want_jac, double dF[2], double dJ[8]);
 #if BN_FILM_FLOW
 /* The film's report at x, right after bn_eval there (an internal with the film's flows:
- * BN_FILM_FLOW, its registry capability film_flow): Couette and pressure torque [N m], friction
- * power [W], inflow, side flow [m^3/s]. 0, or 1 with the reason in m->msg. */
+ * BN_FLOWS_<NAME>, its registry capability film_flow and its data's): Couette and pressure torque
+ * [N m], friction power [W], inflow, side flow [m^3/s]. 0, or 1 with the reason in m->msg. */
 BN_HIDDEN int bn_film(Instance *m, const double x[5], double out[5]);
+#endif
+/* Why the internal as set has no film report ("" when it has one: thermal = true can run). One
+ * internal: BN_FILM_FLOW_WHY; several: the one set's (bn_parts.c, model_config.h BN_FLOW_WHY_<name>). */
+#if BN_PARTS > 1
+#define bn_film_why BN_NAME(BN_ID, bn_film_why)
+BN_HIDDEN const char *bn_film_why(const Instance *m);
+#else
+#define bn_film_why(m) ((void)(m), BN_FILM_FLOW ? "" : BN_FILM_FLOW_WHY)
 #endif
 /* Does the force of the internal as set depend on the bearing (0 no, 1 by the scale law, 2 and on
  * L/D) and on the speed? One internal: BN_BEARING_IN_FORCE, BN_SPEED_IN_FORCE; several: its own. */

@@ -428,13 +428,14 @@ int bn_prepare(Instance *m) {
         if (m->refused[i])
             off += (size_t)snprintf(why + off, off < sizeof why ? sizeof why - off : 0,
                                     "%s%s (refused when it was set)", off ? "; " : "", m->refused_msg[i]);
-    if (!why[0] && !BN_FILM_FLOW && m->b[B_THERMAL])
-        snprintf(why, sizeof why, "thermal = true needs the film's friction and flows, which internal = '%s' does "
-                 "not have (%s): use thermal = false, or internal = 'reynolds' (bearing-fmu build --native "
-                 "--internal reynolds)", BN_INTERNAL, BN_FILM_FLOW_WHY);
-    if (!why[0] && m->b[B_THERMAL]) bn_thermal_setup(m, why, sizeof why);
-    if (!why[0] && resolve_choices(m, why, sizeof why) == 0 && check_bearing(m, why, sizeof why) == 0
-        && check_bore(m, why, sizeof why) == 0) {
+    if (!why[0] && resolve_choices(m, why, sizeof why) == 0) { /* the internal as it counts: m->eff */
+        if (m->b[B_THERMAL] && bn_film_why(m)[0])
+            snprintf(why, sizeof why, "thermal = true needs the film's friction and flows, which internal = '%s' "
+                     "does not have (%.1500s): use thermal = false, or internal = 'reynolds' (bearing-fmu build "
+                     "--native --internal reynolds)", m->eff[S_INTERNAL], bn_film_why(m));
+        if (!why[0] && m->b[B_THERMAL]) bn_thermal_setup(m, why, sizeof why);
+    }
+    if (!why[0] && check_bearing(m, why, sizeof why) == 0 && check_bore(m, why, sizeof why) == 0) {
         if (bn_setup(m) == 0) {
             m->init_error[0] = 0;
             return 0;

@@ -14,6 +14,7 @@
 #undef bn_option_derivative
 #undef bn_release
 #undef bn_shape_derivative
+#undef bn_film
 #define PART_FN(p, name) BN_NAME(BN_ID, BN_NAME(p, name))
 
 #define DECLARE(p, bearing, speed)                                                                              \
@@ -29,6 +30,23 @@ BN_HIDDEN int PART_FN(reynolds, bn_shape_derivative)(Instance *m, const double x
                                                      double dJ[8]);
 #endif
 
+/* the film report of each internal with the film's flows (model_config.h BN_FLOWS_<NAME>), NULL for
+ * the others: their why (BN_FLOW_WHY_<name>) refuses thermal = true at initialisation */
+#if BN_FLOWS_REYNOLDS
+BN_HIDDEN int PART_FN(reynolds, bn_film)(Instance *m, const double x[5], double out[5]);
+#define FILM_reynolds PART_FN(reynolds, bn_film)
+#else
+#define FILM_reynolds NULL
+#endif
+#if BN_FLOWS_MAP
+BN_HIDDEN int PART_FN(map, bn_film)(Instance *m, const double x[5], double out[5]);
+#define FILM_map PART_FN(map, bn_film)
+#else
+#define FILM_map NULL
+#endif
+#define FILM_taylor NULL
+#define FILM_linear NULL
+
 typedef struct {
     const char *name;
     int (*setup)(Instance *m);
@@ -36,11 +54,13 @@ typedef struct {
     void (*option_derivative)(Instance *m, const double x[5], int k, double dF[2], double dJ[8]);
     void (*release)(Instance *m);
     int bearing, speed; /* does its force depend on the bearing (1 by the scale law, 2 and on L/D), the speed */
+    int (*film)(Instance *m, const double x[5], double out[5]);
+    const char *film_why;
 } Part;
 
 #define ENTRY(p, bearing, speed)                                                                                  \
     {#p, PART_FN(p, bn_setup), PART_FN(p, bn_eval), PART_FN(p, bn_option_derivative), PART_FN(p, bn_release), \
-     bearing, speed},
+     bearing, speed, FILM_##p, BN_FLOW_WHY_##p},
 static const Part PARTS[BN_PARTS] = {BN_PART_LIST(ENTRY)};
 
 /* the internal as set (checked against BN_INTERNALS when set: one of the parts) */
@@ -87,6 +107,19 @@ int BN_NAME(BN_ID, bn_eval)(Instance *m, const double x[5], int want_jac, double
 void BN_NAME(BN_ID, bn_option_derivative)(Instance *m, const double x[5], int k, double dF[2], double dJ[8]) {
     active(m)->option_derivative(m, x, k, dF, dJ);
 }
+
+const char *bn_film_why(const Instance *m) {
+    return active(m)->film ? "" : active(m)->film_why;
+}
+
+#if BN_FILM_FLOW
+int BN_NAME(BN_ID, bn_film)(Instance *m, const double x[5], double out[5]) {
+    const Part *p = active(m);
+    if (p->film) return p->film(m, x, out);
+    snprintf(m->msg, sizeof m->msg, "the film report of internal = '%s': %.1900s", p->name, p->film_why);
+    return 1;
+}
+#endif
 
 void BN_NAME(BN_ID, bn_release)(Instance *m) {
     for (int i = 0; i < BN_PARTS; i++) PARTS[i].release(m);

@@ -6,7 +6,10 @@
  * States at or beyond the table's last eccentricity (MAP_EPS_MAX) are refused.
  * A grooved or partial-arc bore's map (MAP_DIMS 3, internals/groovemap.py) adds the journal's
  * attitude phi as a third, periodic axis (MAP_TP, MAP_NP): G(eps, phi, beta), a port of
- * map_kernels.map3_force; a full-bore map has MAP_DIMS 2 (or none: files generated before). */
+ * map_kernels.map3_force; a full-bore map has MAP_DIMS 2 (or none: files generated before).
+ * The film report (bn_film, BN_FLOWS_MAP: a full-bore map with its flow table, MAP_FLOWS) is a
+ * port of ForceMap.film_report: the friction in closed form from the force (film_friction.c), the
+ * inflow and side flow from the flow table's spline (MAP_QTS, MAP_QTB, MAP_QC: (J_s, J_i)). */
 #include <math.h>
 #include <stdio.h>
 
@@ -64,9 +67,9 @@ static void basis(const double *t, int i, double x, double N[4], double dN[4]) {
 }
 
 #if MAP_DIMS != 3
-/* out[k] = (value, d/ds, d/dbeta) of the two components */
-static void spline2(double s, double beta, double out[2][3]) {
-    const double *ts = MAP_TS, *tb = MAP_TB;
+/* out[k] = (value, d/ds, d/dbeta) of the two components of the spline (ts, tb, C): the force's
+ * (MAP_TS, MAP_TB, MAP_C) or the flow table's, on the same axes */
+static void spline2(const double *ts, const double *tb, const double *C, double s, double beta, double out[2][3]) {
     int ns = MAP_NS, nb = MAP_NB;
     double period = tb[nb] - tb[3];
     double b = tb[3] + py_mod(beta - tb[3], period);
@@ -79,7 +82,7 @@ static void spline2(double s, double beta, double out[2][3]) {
         for (int p = 0; p < 4; p++) {
             double row_v = 0.0, row_b = 0.0;
             for (int q = 0; q < 4; q++) {
-                double c = MAP_C[((i - 3 + p) * nb + (j - 3 + q)) * 2 + k];
+                double c = C[((i - 3 + p) * nb + (j - 3 + q)) * 2 + k];
                 row_v += Nb[q] * c;
                 row_b += dNb[q] * c;
             }
@@ -150,7 +153,7 @@ static void gfun(double eps, double phi, double beta, double g[2][4]) {
 #else
     (void)phi;
     double o[2][3];
-    spline2(s, beta, o);
+    spline2(MAP_TS, MAP_TB, MAP_C, s, beta, o);
     double grow = exp(MAP_WALL_EXPONENT * s), dsde = exp(s);
     for (int k = 0; k < 2; k++) {
         double h = o[k][0], hs = o[k][1], hb = o[k][2];
@@ -160,6 +163,24 @@ static void gfun(double eps, double phi, double beta, double g[2][4]) {
         g[k][3] = 0.0;
     }
 #endif
+}
+
+/* the state in the line-of-centres frame (forcemap.reduced): returns eps = e / CR; (cp, sp) the
+ * unit vector toward the journal, a = max(eps, eps_floor) omega - 2 v_t / CR, c = 2 v_r / CR (the
+ * force: eps_floor MAP_EPS_MIN, as map_force; the film report: 0, as ForceMap.film_report) */
+static double reduce(const double x[5], double CR, double eps_floor, double *cp, double *sp, double *a, double *c) {
+    double e = hypot(x[0], x[1]);
+    if (e > 0.0) {
+        *cp = x[0] / e;
+        *sp = x[1] / e;
+    } else {
+        *cp = 1.0;
+        *sp = 0.0;
+    }
+    double eps = e / CR, vr = x[2] * *cp + x[3] * *sp, vt = -x[2] * *sp + x[3] * *cp;
+    *a = fmax(eps, eps_floor) * x[4] - 2.0 * vt / CR;
+    *c = 2.0 * vr / CR;
+    return eps;
 }
 
 int bn_setup(Instance *m) {
@@ -178,18 +199,11 @@ int bn_setup(Instance *m) {
 }
 
 int bn_eval(Instance *m, const double x[5], int want_jac, double F[2], double J[8], double dw[2], int *ood) {
-    const double y = x[0], z = x[1], vy = x[2], vz = x[3], omega = x[4];
+    const double y = x[0], z = x[1], omega = x[4];
     const double CR = m->r[VR_CR], scale = m->work.scale;
     *ood = 0;
-    double e = hypot(y, z), cp, sp;
-    if (e > 0.0) {
-        cp = y / e;
-        sp = z / e;
-    } else {
-        cp = 1.0;
-        sp = 0.0;
-    }
-    double eps = e / CR;
+    double cp, sp, a, c;
+    double eps = reduce(x, CR, MAP_EPS_MIN, &cp, &sp, &a, &c);
     if (!(eps < MAP_EPS_MAX)) {
         char a[32], b[32], c[32], d[32], f[32];
         int wall = eps >= 1.0;
@@ -201,8 +215,6 @@ int bn_eval(Instance *m, const double x[5], int want_jac, double F[2], double J[
         return 1;
     }
     double eps_eval = fmax(eps, MAP_EPS_MIN);
-    double vr = vy * cp + vz * sp, vt = -vy * sp + vz * cp;
-    double a = eps_eval * omega - 2.0 * vt / CR, c = 2.0 * vr / CR;
     double r = hypot(a, c);
     double g[2][4], g2[2][4];
     double Pr, Pt, Pr_a, Pr_c, Pt_a, Pt_c, Pr_e, Pt_e, Pr_p, Pt_p;
@@ -261,6 +273,33 @@ int bn_eval(Instance *m, const double x[5], int want_jac, double F[2], double J[
     dw[1] = scale * (dPr_w * sp + dPt_w * cp);
     return 0;
 }
+
+#if BN_FLOWS_MAP
+#if MAP_DIMS == 3 || !MAP_FLOWS
+#error "the film report needs a full-bore map with its flow table (portgen.film_flow)"
+#endif
+#include "film_friction.c"
+
+/* The film report at x (ForceMap.film_report; docs/forcemap.md, "The flows"): the full bore's
+ * friction from the map's force, the flows Q0 = R L CR (film.flow_scale) times the table's
+ * (J_s, J_i) at (eps, beta): side flow r Q0 J_s, inflow |omega Q0 (1 + eps) / 2 - r Q0 J_i|
+ * (film.reduced_report). out as bn_film's (bearing_native.h). */
+int bn_film(Instance *m, const double x[5], double out[5]) {
+    double F[2], J[8], dw[2], cp, sp, a, c, q[2][3];
+    int ood;
+    if (bn_eval(m, x, 0, F, J, dw, &ood)) return 1;
+    const double CR = m->r[VR_CR], R = 0.5 * m->r[VR_D], L = m->r[VR_L], omega = x[4];
+    double eps = reduce(x, CR, 0.0, &cp, &sp, &a, &c);
+    spline2(MAP_QTS, MAP_QTB, MAP_QC, -log1p(-fmax(eps, MAP_EPS_MIN)), atan2(c, a), q);
+    double r = hypot(a, c), q0 = R * L * CR;
+    out[0] = ff_couette(m->r[VR_MU], omega, R, L, CR, eps);
+    out[1] = ff_pressure(x[0], x[1], F);
+    out[2] = ff_power(out[0], out[1], omega, F, x[2], x[3]);
+    out[3] = fabs(omega * q0 * 0.5 * (1.0 + eps) - r * q0 * q[1][0]);
+    out[4] = r * q0 * q[0][0];
+    return 0;
+}
+#endif
 
 void bn_option_derivative(Instance *m, const double x[5], int k, double dF[2], double dJ[8]) {
     (void)m; (void)x; (void)k; /* the map has no Real option */

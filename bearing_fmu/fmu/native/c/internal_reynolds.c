@@ -158,7 +158,7 @@ int bn_eval(Instance *m, const double x[5], int want_jac, double F[2], double J[
     return 0;
 }
 
-#if BN_FILM_FLOW
+#if BN_FLOWS_REYNOLDS
 int bn_film(Instance *m, const double x[5], double out[5]) {
     rs_film_report((rs_solver *)m->work.solver, x[0], x[1], x[2], x[3], x[4], out);
     return 0;

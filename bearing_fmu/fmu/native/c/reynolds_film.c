@@ -4,7 +4,8 @@
  * functions stay static in an FMU); equal to Python's to about 1e-14 relative
  * (tests/test_native_reynolds.py: 1e-12 the tolerance; the sums' order differs). */
 
-#if defined(RS_EXPORT) || BN_FILM_FLOW /* an FMU whose internal offers the film's flows (several: not yet) */
+#if defined(RS_EXPORT) || BN_FLOWS_REYNOLDS /* alone, or in an FMU with the thermal model */
+#include "film_friction.c" /* the full bore's friction in closed form, the friction power */
 /* numpy's argmax/argmin: the first of equal values */
 static int rf_first_max(const double *x, int n) {
     int i, k = 0;
@@ -37,9 +38,8 @@ RS_API void rs_film_report(rs_solver *s, double y, double z, double vy, double v
         any_fixed |= s->fixed[i];
     }
     if (!s->bore) {
-        double eps = hypot(y, z) / CR;
-        tc = 2.0 * M_PI * mu * omega * R * R * R * L / (CR * sqrt(1.0 - eps * eps));
-        tp = 0.5 * (y * s->F[1] - z * s->F[0]);
+        tc = ff_couette(mu, omega, R, L, CR, hypot(y, z) / CR);
+        tp = ff_pressure(y, z, s->F);
     } else {
         for (i = 0; i < N; i++) { /* Simpson's 1/h over each film cell */
             double hc = CR * s->H0c[i] + y * s->sin_c[i] - z * s->cos_c[i];
@@ -85,7 +85,7 @@ RS_API void rs_film_report(rs_solver *s, double y, double z, double vy, double v
     }
     out[0] = tc;
     out[1] = tp;
-    out[2] = (tc + tp) * omega - (s->F[0] * vy + s->F[1] * vz);
+    out[2] = ff_power(tc, tp, omega, s->F, vy, vz);
     out[3] = q_in;
     out[4] = q_side;
 }
