@@ -33,8 +33,8 @@ against the compiled floor of the map called directly (``--only-fmu``: these row
 Then the Reynolds internal (no compiled kernel: the Python driver) against the same solver calls
 replayed alone.
 
-Targets (issue 27): map new <= 2 x floor; native FMU compiled <= 2.5 x floor; 644 DOF <= 16 x the 44-DOF step; the 44 Hz scene
-under 1 s of integration.
+Targets (issue 27): map new <= 2 x floor; native FMU compiled <= 2.5 x floor; 644 DOF <= 16 x the
+44-DOF step; the 44 Hz scene under 1 s of integration; Reynolds at its floor.
 """
 
 from __future__ import annotations
