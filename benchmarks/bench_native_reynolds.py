@@ -37,7 +37,6 @@ from bench_cosim import cpu  # noqa: E402
 from test_native_reynolds import BORES, PAPER, random_states  # noqa: E402
 
 from bearing_fmu.fmu.native.solver_lib import NativeReynolds, solver_library  # noqa: E402
-from bearing_fmu.physics.geometry_kernels import geometry_kernel  # noqa: E402
 from bearing_fmu.physics.params import BearingParams  # noqa: E402
 from bearing_fmu.physics.reynolds import WARM_MAX_DLOG, Reynolds  # noqa: E402
 from bearing_fmu.physics.reynolds_kernels import reynolds_kernel  # noqa: E402

@@ -30,8 +30,11 @@ the Python driver without (the FMU declares itself memoryless), the compiled loo
 FMU's C functions (``rotor_host.coupling.fmu_kernel``; chunks of 50 steps, recorded as "new"),
 against the compiled floor of the map called directly (``--only-fmu``: these rows alone).
 
-Targets (issue 27): map new <= 2 x floor; native FMU compiled <= 2.5 x floor; 644 DOF <= 16 x the 44-DOF step; the 44 Hz scene
-under 1 s of integration.
+Then the Reynolds internal (no compiled kernel: the Python driver) against the same solver calls
+replayed alone.
+
+Targets (issue 27): map new <= 2 x floor; native FMU compiled <= 2.5 x floor; 644 DOF <= 16 x the
+44-DOF step; the 44 Hz scene under 1 s of integration; Reynolds at its floor.
 """
 
 from __future__ import annotations
@@ -92,7 +95,7 @@ def internals(name: str, rotor, loads):
     from bearing_fmu.internals import registry
     from bearing_fmu.internals.registry import Context
 
-    opts = {"map": {"map": str(ROOT / "models" / "maps" / "paper_bearing.json")},
+    opts = {"reynolds": {}, "map": {"map": str(ROOT / "models" / "maps" / "paper_bearing.json")},
             "taylor": {"surrogate": str(ROOT / "models" / "surrogates" / "paper_22hz_16.7N.json")},
             "linear": {"linear_from": "map", "map": str(ROOT / "models" / "maps" / "paper_bearing.json")}}[name]
     return [registry.create(name, p, opts, Context(load=tuple(w), omega=OMEGA, warn=lambda m: None))
@@ -224,6 +227,51 @@ def native_fmu_rows(n_steps: int) -> dict:
     return out
 
 
+class Recorded:
+    """An internal whose force_and_jacobian calls are logged (their arguments, in order)."""
+
+    def __init__(self, inner, log: list):
+        self.inner, self.log = inner, log
+
+    def force_and_jacobian(self, *args):
+        self.log.append(args)
+        return self.inner.force_and_jacobian(*args)
+
+    def __getattr__(self, name):
+        return getattr(self.inner, name)
+
+
+def reynolds_row(n_steps: int) -> tuple[float, float, float]:
+    """The Reynolds internal (default grid, paper rotor, 2 bearings, Python driver: it has no
+    compiled kernel): (per step [us], evaluations per step, its floor [us]): the floor is the same
+    solver calls (the run's own, logged, warm start and all) replayed on fresh internals in a plain
+    loop, so step - floor is what the driver costs around them."""
+    from rotor_host.coupling.bearings import DirectBearings
+    from rotor_host.integrate.newmark import Newmark, NewmarkConfig
+
+    rotor, f_ext, _, q0 = problem("reynolds", 1, 2)
+    pairs = [(rotor.dof(n, "y"), rotor.dof(n, "z")) for n in rotor.bearing_nodes]
+    loads = [(0.0, 0.0)] * 2
+    dt, best, floor, evals = 1e-4, math.inf, math.inf, 0.0
+    for _ in range(REPEATS):
+        logs = [[], []]
+        fresh = internals("reynolds", rotor, loads)
+        integ = Newmark(rotor.M, rotor.K, rotor.C, rotor.G, OMEGA, f_ext,
+                        DirectBearings([Recorded(i, lg) for i, lg in zip(fresh, logs)], pairs, OMEGA), NewmarkConfig())
+        t = time.process_time()
+        res = integ.run(q0, np.zeros(rotor.n_dof), 0.0, n_steps * dt, dt, record_every=1,
+                        record_dofs=[rotor.dof(2, "y")], progress=lambda t: None, progress_every=50)
+        best = min(best, time.process_time() - t)
+        evals = float(res.mean_iterations)
+        again = internals("reynolds", rotor, loads)
+        t = time.process_time()
+        for internal, log in zip(again, logs):
+            for args in log:
+                internal.force_and_jacobian(*args)
+        floor = min(floor, time.process_time() - t)
+    return 1e6 * best / n_steps, evals, 1e6 * floor / n_steps
+
+
 def scene_44hz(root: Path) -> list[float]:
     """[integration time [s] (wall, as reported), CPU time [s] of Newmark.run, evaluations per
     step] of the 44 Hz 6 s map scene, run twice in one process."""
@@ -303,6 +351,10 @@ def main(argv=None):
         for dof, (b, new) in sorted(base.items()):
             rb = f"{b / base[44][0]:.1f}" if b and base[44][0] else "-"
             print(f"  {dof:5d} DOF: before {rb:>6} x, new {new / base[44][1]:6.1f} x")
+    if not a.only_fmu:
+        step, ev, floor = reynolds_row(max(50, a.steps // 10))
+        print(f"\nreynolds (default grid, Python driver): {step:.1f} us per step, {ev:.2f} evals/step; the same "
+              f"solver calls replayed alone {floor:.1f} us: {step / floor:.3f} x its floor")
     if not a.no_fmu:
         rows = native_fmu_rows(a.steps)
         floor = rows["floor (direct)"][0]

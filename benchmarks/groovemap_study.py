@@ -97,7 +97,7 @@ def supply_check(P):
 
 def sampled(P, rey, x, n_phase):
     eps, phi, a, c = reduced(*x[:4], x[4], P.CR)
-    G = grooved_row(P, rey.n_theta, rey.n_x, rey.cavitation, eps, [phi], [math.atan2(c, a)], n_phase, rey)[0, 0]
+    G = grooved_row(P, rey.n_theta, rey.n_x, rey.cavitation, eps, [phi], [math.atan2(c, a)], n_phase, rey, False)[0][0, 0]
     u = np.array([math.cos(phi), math.sin(phi)])
     return scale(P) * math.hypot(a, c) * (G[0] * u + G[1] * np.array([-u[1], u[0]]))
 

@@ -342,3 +342,13 @@ def run_cli(prog: str, argv: list[str], capsys) -> tuple[int, str, str]:
         code = exc.code
     out = capsys.readouterr()
     return code, out.out, out.err
+
+
+def damaged_map_refused(data: dict, damage, expected: str, folder: Path, load) -> None:
+    """A force map file's parsed JSON ``data`` changed by ``damage(data)`` and written to ``folder``:
+    ``load`` (the loader) refuses it with one line naming the file and matching ``expected``."""
+    damage(data)
+    bad = folder / "bad.json"
+    bad.write_text(json.dumps(data))
+    with pytest.raises(ValueError, match=rf"force map file {bad}: .*{expected}"):
+        load(bad)

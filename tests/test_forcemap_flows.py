@@ -20,6 +20,7 @@ from bearing_fmu.internals.forcemap import ForceMap, load_map, save_map, state_f
 from bearing_fmu.physics.film import flow_scale, reduced_flows
 from bearing_fmu.physics.params import PAPER_BEARING
 from bearing_fmu.physics.reynolds import Reynolds
+from conftest import damaged_map_refused
 
 P = PAPER_BEARING
 OMEGA = 2 * math.pi * 22.0
@@ -78,9 +79,19 @@ def test_the_map_reports_the_solvers_flows_at_random_states(table, rey):
         assert np.median(e) < 2e-3 and np.max(e) < 2e-2, (k, np.median(e), np.max(e))
 
 
-def test_flows_scale_with_speed_and_velocity_together(tiny):
-    # the flows are linear in (omega, v) together (both parts: omega Q0 and r Q0)
+@pytest.mark.parametrize("bore", ["full", "two grooves"])
+def test_flows_scale_with_speed_and_velocity_together(tiny, bore):
+    # the flows are linear in (omega, v) together (both parts: omega Q0 and r Q0; on a grooved map
+    # each edge's positive part too, tests/test_groovemap_flows.py)
     m = ForceMap(P, tiny)
+    if bore == "two grooves":
+        from pathlib import Path
+
+        from bearing_fmu.internals.groovemap import GroovedForceMap, tabulate_grooved
+
+        grooved = P.from_toml(Path(__file__).resolve().parents[1] / "models" / "bearing_paper_2groove.toml")
+        m = GroovedForceMap(grooved, tabulate_grooved(grooved, n_eps=4, n_phi=4, n_beta=4, n_phase=1, n_theta=16,
+                                                      n_x=4))
     s = (0.2 * P.CR, -0.5 * P.CR, 0.1 * OMEGA * P.CR, 0.05 * OMEGA * P.CR)
     a = m.film_report(*s, OMEGA)
     b = m.film_report(*s[:2], 3 * s[2], 3 * s[3], 3 * OMEGA)
@@ -114,12 +125,8 @@ def test_a_map_file_without_flow_tables_says_to_rebuild_it(tiny, tmp_path):
     (lambda d: d.pop("Q"), r"missing key 'Q'"),
 ])
 def test_damaged_flow_tables_are_refused_by_key(tiny, tmp_path, damage, expected):
-    d = json.loads(save_map(tiny, tmp_path / "good.json").read_text())
-    damage(d)
-    bad = tmp_path / "bad.json"
-    bad.write_text(json.dumps(d))
-    with pytest.raises(ValueError, match=rf"force map file {bad}: .*{expected}"):
-        load_map(bad)
+    damaged_map_refused(json.loads(save_map(tiny, tmp_path / "good.json").read_text()), damage, expected, tmp_path,
+                        load_map)
 
 
 @pytest.mark.slow
@@ -169,17 +176,3 @@ def test_a_scene_with_a_supply_temperature_runs_on_the_map(tmp_path):
     with pytest.raises(FMUError, match=r"thermal = true needs .* has no flow tables .*rebuild it with `bearing-fmu map"):
         run_scene(dataclasses.replace(scene.with_internal("map", options={"map": {"map": str(old)}}, t_end_s=0.001),
                                       via="fmu"), tmp_path / "old")
-
-
-def test_a_grooved_map_says_it_has_no_flows():
-    # its inflow is a sum over the grooves' edges of positive parts (docs/forcemap.md): no table yet
-    from pathlib import Path
-
-    from bearing_fmu.internals.groovemap import GroovedForceMap, tabulate_grooved
-
-    grooved = P.from_toml(Path(__file__).resolve().parents[1] / "models" / "bearing_paper_2groove.toml")
-    m = GroovedForceMap(grooved, tabulate_grooved(grooved, n_eps=4, n_phi=4, n_beta=4, n_phase=1, n_theta=16, n_x=4))
-    why = registry.film_flow_of(registry.get("map"), m)
-    assert why.startswith("a grooved or partial-arc map tabulates the force only")
-    with pytest.raises(ValueError, match="film_report: a grooved or partial-arc map"):
-        m.film_report(0.0, -0.3 * grooved.CR, 0.0, 0.0, OMEGA)

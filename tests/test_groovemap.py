@@ -113,16 +113,18 @@ def test_the_map_gives_the_solver_at_its_points_and_its_own_derivatives(tiny_map
 def test_the_row_averages_attitudes_symmetrically_about_the_point():
     rey = Reynolds(GROOVED, **COARSE)
     cell = 2 * math.pi / rey.n_theta
-    row = grooved_row(GROOVED, rey.n_theta, rey.n_x, rey.cavitation, 0.5, [0.7], [1.1], 2, rey)[0, 0]
+    row = grooved_row(GROOVED, rey.n_theta, rey.n_x, rey.cavitation, 0.5, [0.7], [1.1], 2, rey, False)[0][0, 0]
     want = (_G(GROOVED, rey, 0.5, 0.7 - cell / 4, 1.1, 1, 1) + _G(GROOVED, rey, 0.5, 0.7 + cell / 4, 1.1, 1, 1)) / 2
     np.testing.assert_allclose(row, want, rtol=1e-12)
 
 
 def test_the_file_round_trips_and_is_checked(tiny_map, tmp_path):
     data = json.loads(tiny_map.read_text())
-    assert data["version"] == 2 and data["geometry"]["grooves_deg"] == [90.0, 270.0]
+    assert data["version"] == 4 and data["geometry"]["grooves_deg"] == [90.0, 270.0]
     t = load_any_map(tiny_map)
     assert t.H.shape == (8, 6, 8, 2) and t.period == pytest.approx(math.pi)
+    assert t.Q.shape == (8, 6, 8, 5)  # side flow and the four groove edges, in theta order from the first groove
+    np.testing.assert_allclose(data["flow_edges_deg"], [[100, 1], [260, -1], [280, 1], [80, -1]], rtol=1e-14)
     # version 1 files still load through the same door: tests/test_forcemap.py::test_the_shipped_maps_pass_the_checks
 
     def damaged(**change):
@@ -131,7 +133,7 @@ def test_the_file_round_trips_and_is_checked(tiny_map, tmp_path):
         p.write_text(json.dumps(bad))
         return p
 
-    for change, words in (({"version": 4}, "version 4, this code reads 1 .* and 2"),
+    for change, words in (({"version": 5}, "version 5, this code reads 1 .* 2 and 4"),
                           ({"extra": 1}, "unknown key.*extra"),
                           ({"H": data["H"][:-1]}, "key 'H' has 767 numbers, n_eps x n_phi x n_beta x 2 = 768"),
                           ({"n_phi": 2}, "key 'n_phi' = 2 must be an integer >= 4"),

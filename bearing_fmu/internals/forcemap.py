@@ -36,7 +36,7 @@ from .registry import BearingStateError, check_finite, overflow_error
 
 FORMAT = "bearing-fmu-force-map"
 VERSION = 1  # the force table alone (read still: such a map has no film flows)
-FLOW_VERSION = 3  # with the flow table Q (2 is the grooved map's, groovemap.py)
+FLOW_VERSION = 3  # with the flow table Q (2 and 4 are the grooved map's, groovemap.py)
 NO_FLOWS_WHY = ("the map file {source} has no flow tables (format version 1, built before they were added): "
                 "rebuild it with `bearing-fmu map --bearing FILE -o MAP` to get the film's inflow and side flow")
 # defaults from the resolution study (docs/studies/2026-11-24-forcemap-resolution.md): 96 points in
@@ -496,8 +496,8 @@ class ForceMap:
     derivatives) for a bearing whose L/D equals the table's. States at or beyond the table's
     last eccentricity (eps_max) are refused like Reynolds refuses the wall."""
 
-    # no flow tables unless __init__ finds them (a subclass with its own table, the grooved map, has none)
-    film_flow_why, _flow = "a grooved or partial-arc map tabulates the force only (docs/forcemap.md)", None
+    # no flow tables unless __init__ finds them (the grooved map, a subclass, sets its own)
+    film_flow_why, _flow = "the map has no flow tables (docs/forcemap.md)", None
 
     def __init__(self, params: BearingParams, table: MapTable, source: str = ""):
         params.require_full_bore(f"the force map{' ' + source if source else ''}", REDUCTION_WHY)

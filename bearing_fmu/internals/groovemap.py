@@ -16,10 +16,19 @@ by 2-4x), so such a bearing is refused by name. Lobed bores are refused too: the
 on the position in two coordinates and on the direction of (omega, A, B), a 4-D table
 (docs/forcemap.md, "Grooved bores").
 
-The file (format ``bearing-fmu-force-map``, version 2) holds the table H only: the tensor cubic
-spline (not-a-knot in s, periodic in phi and beta) is fitted when it is loaded, by one
-collocation solve per axis in numpy, so the file stays about half the size and cannot
-disagree with its spline.
+The flows (docs/forcemap.md, "Grooved bores: the flows"): the side flow reduces as the force,
+Q_s = r Q0 J_s(eps, phi, beta), Q0 = R L CR. The inflow is the oil entering the film at the
+supply edges (a groove's two sides, an arc's ends), each the positive part of the signed flux
+into the film there. At fixed (eps, phi, beta) that flux is linear in omega and r: its Couette
+part sign_e omega Q0 h_e / (2 CR), h_e the film at the edge (closed form), minus r Q0 P_e(eps, phi,
+beta), its pressure part. So the table holds P_e per edge and the positive part is taken after
+the sum, at run time: exact, whatever the sign of each edge's flux. The friction needs no table
+(the Couette torque over the film in closed form, the pressure torque from the force).
+
+The file (format ``bearing-fmu-force-map``, version 2; version 4 with the flow table Q =
+(J_s, P_1 .. P_E) and the edges) holds the tables only: the tensor cubic splines (not-a-knot in s,
+periodic in phi and beta) are fitted when it is loaded, by one collocation solve per axis in
+numpy, so the file stays about half the size and cannot disagree with its splines.
 """
 
 from __future__ import annotations
@@ -33,12 +42,16 @@ from pathlib import Path
 import numpy as np
 
 from ..io.schema import find_non_finite
+from ..physics.film import FilmReport, flow_scale, grooved_report
 from ..physics.geometry import Geometry
 from ..physics.params import BearingParams
 from .forcemap import (EPS_MIN, FORMAT, LD_RTOL, ForceMap, array_key, bspline_matrix, finite_problem, header_problem,
-                       number_key, scale, state_for, TableAxes, worker_signals)
+                       number_key, reduced, scale, state_for, TableAxes, worker_signals)
 
-VERSION = 2
+VERSION = 2  # the force table alone (read still: such a map has no film flows)
+FLOW_VERSION = 4  # with the flow table Q and the supply edges
+NO_FLOWS_WHY = ("the grooved map file {source} has no flow tables (format version 2, built before they were added): "
+                "rebuild it with `bearing-fmu map --bearing FILE -o MAP` to get the film's inflow and side flow")
 # the convergence study (docs/studies/2026-11-26-geometry-maps.md): against the solver at random
 # states 48 x 24 x 48 is as good, but the paper rotor's 10 Hz orbit needs 64 x 32 x 64 (0.012 ->
 # 0.003 % CR); averaging attitudes only biases the table (the solver's grid is fixed to the grooves)
@@ -156,11 +169,14 @@ class GroovedMapTable(TableAxes):
     H: np.ndarray
     provenance: dict = field(default_factory=dict)
     coefficients: tuple | None = field(default=None, repr=False)
+    Q: np.ndarray | None = None  # (n_eps, n_phi, n_beta, 1 + E): (J_s, P_1 .. P_E), the module docstring; or None
+    flow_coefficients: tuple | None = field(default=None, repr=False)  # ``flow_spline``
 
     wall_exponent = 0.0  # read like a version 1 table's
 
     def __post_init__(self):
         self.H = np.asarray(self.H, float)
+        self.Q = None if self.Q is None else np.asarray(self.Q, float)
         problem = self.problem()
         if problem:
             raise ValueError(f"force map table: {problem}")
@@ -174,12 +190,17 @@ class GroovedMapTable(TableAxes):
             return f"key 'geometry': {why}"
         if self.H.ndim != 4 or self.H.shape[3] != 2 or min(self.H.shape[:3]) < 4:
             return f"key 'H' has shape {self.H.shape}, expected (n_eps >= 4, n_phi >= 4, n_beta >= 4, 2)"
-        return finite_problem(self.H)
+        want = (*self.H.shape[:3], 1 + len(self.edges))
+        if self.Q is not None and self.Q.shape != want:
+            return (f"key 'Q' has shape {self.Q.shape}, expected {want} (side flow and one per supply edge of the "
+                    f"bore, {len(self.edges)})")
+        return finite_problem(self.H) or (None if self.Q is None else finite_problem(self.Q, "Q"))
 
     n_eps = property(lambda self: self.H.shape[0])
     n_phi = property(lambda self: self.H.shape[1])
     n_beta = property(lambda self: self.H.shape[2])
     period = property(lambda self: symmetry_period(self.geometry))
+    edges = property(lambda self: self.geometry.supply_edges())  # (theta [rad], sign) in the order of Q's P_e
 
     @property
     def phi(self) -> np.ndarray:
@@ -192,15 +213,51 @@ class GroovedMapTable(TableAxes):
     def spline(self):
         """(ts, tp, tb, C): knots in s, phi, beta and coefficients C (n_eps, n_phi + 3, n_beta + 3, 2)."""
         if self.coefficients is None:
-            ts, tp, tb = self.knots()
-            C = fit_axis(self.H, 0, ts, self.s, False)
-            C = fit_axis(C, 1, tp, self.phi, True)
-            C = fit_axis(C, 2, tb, self.beta, True)
-            self.coefficients = (ts, tp, tb, np.ascontiguousarray(C))
+            self.coefficients = self._fit(self.H)
         return self.coefficients
 
+    def flow_spline(self):
+        """(ts, tp, tb, C) of the flow table Q over the whole turn in phi (``unrolled_flows``), as
+        ``spline`` of H otherwise (None without flow tables)."""
+        if self.flow_coefficients is None and self.Q is not None:
+            self.flow_coefficients = self._fit(self.unrolled_flows(), round(2.0 * math.pi / self.period))
+        return self.flow_coefficients
+
+    def unrolled_flows(self) -> np.ndarray:
+        """Q over phi in [0, 2 pi) (n_eps, k n_phi, n_beta, 1 + E), k = 2 pi / period. The side flow
+        repeats with the bore's period, an edge's P_e does not: turned by j periods, the journal sees
+        the edge that lies j periods behind, P_e(phi + j P) = P_e'(phi), theta_e' = theta_e - j P.
+        A spline periodic over one period would join P_e to itself across the period's end."""
+        theta = np.array([t for t, _ in self.edges])
+        sign = np.array([sg for _, sg in self.edges])
+        blocks = []
+        for j in range(round(2.0 * math.pi / self.period)):
+            d = np.abs(np.remainder(theta[None, :] - (theta[:, None] - j * self.period) + math.pi, 2.0 * math.pi)
+                       - math.pi)  # d[e, e']: edge e' against the place of e turned back by j periods
+            d[sign[:, None] != sign[None, :]] = math.inf
+            blocks.append(self.Q[..., np.r_[0, 1 + np.argmin(d, axis=1)]])
+        return np.concatenate(blocks, axis=1)
+
+    def _fit(self, values, turns: int = 1):
+        """The spline of a table on the map's axes (``turns`` periods in phi: ``unrolled_flows``)."""
+        ts, tp, tb = self.knots()
+        n_phi = self.n_phi * turns
+        tp = periodic_knots(0.0, self.period * turns, n_phi)
+        C = fit_axis(values, 0, ts, self.s, False)
+        C = fit_axis(C, 1, tp, self.period * turns * np.arange(n_phi) / n_phi, True)
+        C = fit_axis(C, 2, tb, self.beta, True)
+        return ts, tp, tb, np.ascontiguousarray(C)
+
     def to_dict(self) -> dict:
-        return {"format": FORMAT, "version": VERSION, "L_over_D": self.L_over_D,
+        flows = {} if self.Q is None else {
+            "flow_meaning": ("Q[i][j][k] = (J_s, P_1 .. P_E), the last index fastest: side flow r R L CR J_s; "
+                             "inflow sum over the supply edges e of max(sign_e omega R L h_e / 2 - r R L CR P_e, 0), "
+                             "h_e = CR + eps CR sin(theta_e - phi) the film at the edge; flow_edges_deg[e] = (theta_e, "
+                             "sign_e); Q over phi in one period P of the bore, P_e(phi + j P) = P_e'(phi) with "
+                             "theta_e' = theta_e - j P (the spline is fitted over the whole turn)"),
+            "flow_edges_deg": [[math.degrees(t), sg] for t, sg in self.edges],
+            "Q": [float(f"{v:.{DIGITS}g}") for v in self.Q.ravel()]}
+        return {"format": FORMAT, "version": VERSION if self.Q is None else FLOW_VERSION, "L_over_D": self.L_over_D,
                 "reynolds": {"n_theta": self.n_theta, "n_x": self.n_x, "cavitation": self.cavitation},
                 "eps_max": self.eps_max, "geometry": geometry_record(self.geometry),
                 "n_eps": self.n_eps, "n_phi": self.n_phi, "n_beta": self.n_beta,
@@ -210,7 +267,7 @@ class GroovedMapTable(TableAxes):
                             "attitude atan2(z, y); spline: cubic, not-a-knot in s, periodic in phi and beta, fitted "
                             "on loading"),
                 "H": [float(f"{v:.{DIGITS}g}") for v in self.H.ravel()],
-                "provenance": self.provenance}
+                "provenance": self.provenance, **flows}
 
 
 # ------------------------------------------------------------------------------ building
@@ -224,9 +281,10 @@ def default_n_phi(geometry: Geometry) -> int:
 def tabulate_grooved(params: BearingParams, *, n_eps: int = DEFAULT_N_EPS, n_phi: int | None = None,
                      n_beta: int = DEFAULT_N_BETA, eps_max: float = DEFAULT_EPS_MAX, n_theta: int | None = None,
                      n_x: int | None = None, cavitation: str = "reynolds", n_phase: int = DEFAULT_N_PHASE,
-                     workers: int = 1, progress=None) -> GroovedMapTable:
+                     workers: int = 1, progress=None, flows: bool = True) -> GroovedMapTable:
     """The 3-D map of ``params``' grooved or partial-arc bore from the Reynolds internal: one
-    solve per table point and phase at r = 1, omega = 1 rad/s; rows of eps over ``workers``."""
+    solve per table point and phase at r = 1, omega = 1 rad/s; rows of eps over ``workers``.
+    ``flows``: the flow table Q too, from the same solves' fields (else the force alone, version 2)."""
     from ..physics.reynolds import Reynolds
 
     why = map_geometry_problem(params.geometry)
@@ -235,8 +293,10 @@ def tabulate_grooved(params: BearingParams, *, n_eps: int = DEFAULT_N_EPS, n_phi
     rey = Reynolds(params, n_theta, n_x, cavitation)
     n_phi = n_phi or default_n_phi(params.geometry)
     t0 = time.perf_counter()
+    n_q = 1 + len(params.geometry.supply_edges())
+    Q = np.zeros((n_eps, n_phi, n_beta, n_q)) if flows else None
     table = GroovedMapTable(params.L / params.D, rey.n_theta, rey.n_x, rey.cavitation, eps_max, params.geometry,
-                            np.zeros((n_eps, n_phi, n_beta, 2)))
+                            np.zeros((n_eps, n_phi, n_beta, 2)), Q=Q)
     args = (params, rey.n_theta, rey.n_x, rey.cavitation)
     done = 0
     try:
@@ -246,9 +306,11 @@ def tabulate_grooved(params: BearingParams, *, n_eps: int = DEFAULT_N_EPS, n_phi
 
             pool = multiprocessing.Pool(workers, initializer=worker_signals)
             try:
-                task = partial(grooved_row, *args, phis=table.phi, betas=table.beta, n_phase=n_phase)
-                for done, h in enumerate(pool.imap(task, table.eps), 1):
+                task = partial(grooved_row, *args, phis=table.phi, betas=table.beta, n_phase=n_phase, flows=flows)
+                for done, (h, q) in enumerate(pool.imap(task, table.eps), 1):
                     table.H[done - 1] = h
+                    if flows:
+                        table.Q[done - 1] = q
                     if progress is not None:
                         progress(done)
                 pool.close()
@@ -257,7 +319,9 @@ def tabulate_grooved(params: BearingParams, *, n_eps: int = DEFAULT_N_EPS, n_phi
                 pool.join()
         else:
             for i, e in enumerate(table.eps):
-                table.H[i] = grooved_row(*args, e, table.phi, table.beta, n_phase, rey)
+                table.H[i], q = grooved_row(*args, e, table.phi, table.beta, n_phase, rey, flows)
+                if flows:
+                    table.Q[i] = q
                 done = i + 1
                 if progress is not None:
                     progress(done)
@@ -271,10 +335,12 @@ def tabulate_grooved(params: BearingParams, *, n_eps: int = DEFAULT_N_EPS, n_phi
     return table
 
 
-def grooved_row(params, n_theta, n_x, cavitation, eps, phis, betas, n_phase, rey=None) -> np.ndarray:
-    """G at one eps for every (phi, beta) (a process-pool task when ``rey`` is None). Each point
-    averages n_phase attitudes spread symmetrically over one nominal cell about phi: the
-    solver's cell-scale scatter partly cancels, the grooves' own effect is kept to O(cell^2)."""
+def grooved_row(params, n_theta, n_x, cavitation, eps, phis, betas, n_phase, rey=None, flows=True):
+    """(G, Q) at one eps for every (phi, beta) (a process-pool task when ``rey`` is None; Q None
+    without ``flows``). Each point averages n_phase attitudes spread symmetrically over one nominal
+    cell about phi: the solver's cell-scale scatter partly cancels, the grooves' own effect is kept
+    to O(cell^2). Q from the same solve's field (``Reynolds.supply_flows``, r = 1): J_s = Q_s / Q0,
+    P_e = -(the pressure part of edge e's flux into the film) / Q0."""
     if rey is None:
         from ..physics.reynolds import Reynolds
 
@@ -282,21 +348,29 @@ def grooved_row(params, n_theta, n_x, cavitation, eps, phis, betas, n_phase, rey
     S = scale(params)
     cell = 2.0 * math.pi / rey.n_theta
     offsets = ((np.arange(n_phase) + 0.5) / n_phase - 0.5) * cell
+    q0 = flow_scale(params)
     out = np.zeros((len(phis), len(betas), 2))
+    Q = np.zeros((len(phis), len(betas), 1 + len(params.geometry.supply_edges()))) if flows else None
     for i, phi0 in enumerate(phis):
         for phi in phi0 + offsets:
             u = np.array([math.cos(phi), math.sin(phi)])
             w = np.array([-math.sin(phi), math.cos(phi)])
             for k, b in enumerate(betas):
-                F = np.array(rey.force(*state_for(eps, b, params, phi), 1.0))
+                state = state_for(eps, b, params, phi)
+                F = np.array(rey.force(*state, 1.0))
                 out[i, k] += (F @ u / S, F @ w / S)
-    return out / n_phase
+                if flows:
+                    e = rey.supply_flows(*state, 1.0)  # the field of the force call just made
+                    Q[i, k, 0] += e["side_flow"] / q0
+                    Q[i, k, 1:] -= e["pressure"] / q0
+    return out / n_phase, (None if Q is None else Q / n_phase)
 
 
 # ------------------------------------------------------------------------------- files
 
 GROOVED_KEYS = ("format", "version", "L_over_D", "reynolds", "eps_max", "geometry", "n_eps", "n_phi", "n_beta",
                 "grid", "meaning", "H", "provenance")
+FLOW_KEYS = ("flow_meaning", "flow_edges_deg", "Q")  # and these in a version 4 file
 
 
 def save_grooved_map(table: GroovedMapTable, path) -> Path:
@@ -306,17 +380,18 @@ def save_grooved_map(table: GroovedMapTable, path) -> Path:
 
 
 def grooved_from_data(path: Path, data: dict) -> GroovedMapTable:
-    """A version 2 map from the file's parsed JSON ``data``; every key checked, one line naming
+    """A version 2 or 4 map from the file's parsed JSON ``data``; every key checked, one line naming
     the file and the key."""
-    unknown = sorted(set(data) - set(GROOVED_KEYS))
+    flows = data.get("version") == FLOW_VERSION
+    unknown = sorted(set(data) - set(GROOVED_KEYS + (FLOW_KEYS if flows else ())))
     if unknown:
         raise ValueError(f"force map file {path}: unknown key(s) {', '.join(unknown)}; allowed: "
-                         f"{', '.join(GROOVED_KEYS)}")
+                         f"{', '.join(GROOVED_KEYS + (FLOW_KEYS if flows else ()))}")
     try:
         rey = data["reynolds"]
         if not isinstance(rey, dict) or set(rey) != {"n_theta", "n_x", "cavitation"}:
             raise ValueError(f"key 'reynolds' = {rey!r:.60} must be an object {{n_theta, n_x, cavitation}}")
-        bad = find_non_finite({k: v for k, v in data.items() if k != "H"})
+        bad = find_non_finite({k: v for k, v in data.items() if k not in ("H", "Q")})
         if bad is not None:
             raise ValueError(f"key {bad!r} is not a finite number (NaN, Infinity or beyond the float range)")
         shape = []
@@ -332,9 +407,24 @@ def grooved_from_data(path: Path, data: dict) -> GroovedMapTable:
             geometry = geometry_from_record(data["geometry"])
         except (TypeError, ValueError, IndexError) as exc:
             raise ValueError(f"key 'geometry': {exc}") from None
+        Q = None
+        if flows:
+            edges = geometry.supply_edges()
+            Q = array_key(data, "Q")
+            if Q.shape != (math.prod(shape) * (1 + len(edges)),):
+                raise ValueError(f"key 'Q' has {Q.size} numbers, n_eps x n_phi x n_beta x (1 + {len(edges)} supply "
+                                 f"edges) = {math.prod(shape) * (1 + len(edges))}")
+            Q = Q.reshape(*shape, 1 + len(edges))
+            rec = data["flow_edges_deg"]
+            if not (isinstance(rec, list) and len(rec) == len(edges) and all(
+                    isinstance(x, list) and len(x) == 2 and isinstance(x[0], (int, float)) and x[1] == sg
+                    and abs(math.remainder(math.radians(x[0]) - t, 2 * math.pi)) < GEOMETRY_RTOL
+                    for x, (t, sg) in zip(rec, edges))):
+                raise ValueError(f"key 'flow_edges_deg' = {rec!r:.80} must list the bore's supply edges [theta_deg, "
+                                 f"sign] in order: {[[round(math.degrees(t), 9), sg] for t, sg in edges]}")
         table = GroovedMapTable(number_key(data, "L_over_D"), rey["n_theta"], rey["n_x"], rey["cavitation"],
                                 number_key(data, "eps_max"), geometry, H.reshape(*shape, 2),
-                                data.get("provenance", {}))
+                                data.get("provenance", {}), Q=Q)
     except KeyError as exc:
         raise ValueError(f"force map file {path}: missing key {exc.args[0]!r}") from None
     except ValueError as exc:
@@ -372,11 +462,29 @@ class GroovedForceMap(ForceMap):
         self._kernel = map3_force
         self._args = (ts, tp, tb, C, EPS_MIN, scale(params), float(params.CR))
         self._eps_max = float(table.eps_max)
+        # the film's flows (registry capability film_flow, per file): '' when the file has them
+        self.film_flow_why = "" if table.Q is not None else NO_FLOWS_WHY.format(source=source or "(in memory)")
+        self._edges = table.edges  # the flow spline is fitted at the first film report (0.2 s for a shipped map)
+        self._Jq = None if table.Q is None else np.zeros((table.Q.shape[3], 4))
 
     def compiled_force(self):
         """None: no compiled kernel of the 3-D map yet (a host calls ``force_and_jacobian``); not
         the full bore's, which a ForceMap may offer and which would read this table wrongly."""
         return None
+
+    def film_report(self, y: float, z: float, vy: float, vz: float, omega: float) -> FilmReport:
+        """Friction (closed form, from the force) and flows (the file's flow table, the inflow summed
+        over the supply edges) of the film, as ``Reynolds.film_report`` (``film.grooved_report``;
+        docs/forcemap.md, "Grooved bores: the flows"); ValueError without the table."""
+        if self.table.Q is None:
+            raise ValueError(f"film_report: {self.film_flow_why}")
+        from .map_kernels import spline3
+
+        F = self.force(y, z, vy, vz, omega)
+        eps, phi, a, c = reduced(float(y), float(z), float(vy), float(vz), float(omega), self.params.CR)
+        spline3(*self.table.flow_spline(), -math.log1p(-max(eps, EPS_MIN)), phi, math.atan2(c, a), self._Jq)  # any phi
+        return grooved_report(self.params, float(y), float(z), float(vy), float(vz), float(omega), F,
+                              math.hypot(a, c), float(self._Jq[0, 0]), self._Jq[1:, 0], self._edges)
 
     @classmethod
     def from_file(cls, path, params: BearingParams) -> "GroovedForceMap":

@@ -1,6 +1,6 @@
 """Any force map file: the full bore's 2-D table (version 1; version 3 with its flow tables,
-``forcemap``) or a grooved or partial-arc bore's 3-D table (version 2, ``groovemap``), and the map
-internal for either."""
+``forcemap``) or a grooved or partial-arc bore's 3-D table (version 2; version 4 with its flow
+tables, ``groovemap``), and the map internal for either."""
 
 from __future__ import annotations
 
@@ -9,10 +9,11 @@ from pathlib import Path
 
 from ..physics.params import BearingParams
 from .forcemap import FLOW_VERSION, FORMAT, ForceMap, MapTable, load_map
+from .groovemap import FLOW_VERSION as GROOVED_FLOW_VERSION
 from .groovemap import VERSION as GROOVED_VERSION
 from .groovemap import GroovedForceMap, GroovedMapTable, grooved_from_data
 
-VERSIONS = (1, GROOVED_VERSION, FLOW_VERSION)
+VERSIONS = (1, GROOVED_VERSION, FLOW_VERSION, GROOVED_FLOW_VERSION)
 
 
 def load_any_map(path) -> MapTable | GroovedMapTable:
@@ -22,12 +23,14 @@ def load_any_map(path) -> MapTable | GroovedMapTable:
         data = json.loads(path.read_text())
     except (FileNotFoundError, json.JSONDecodeError):
         return load_map(path)  # its messages for a missing or damaged file
-    if isinstance(data, dict) and data.get("format") == FORMAT and data.get("version") == GROOVED_VERSION:
+    grooved = (GROOVED_VERSION, GROOVED_FLOW_VERSION)
+    if isinstance(data, dict) and data.get("format") == FORMAT and data.get("version") in grooved:
         return grooved_from_data(path, data)
     if isinstance(data, dict) and data.get("format") == FORMAT and data.get("version") not in VERSIONS:
         raise ValueError(f"force map file {path}: version {data.get('version')!r}, this code reads 1 and "
-                         f"{FLOW_VERSION} (the full bore's 2-D map, {FLOW_VERSION} with flow tables) and {GROOVED_VERSION} (a "
-                         "grooved or partial-arc bore's 3-D map)")
+                         f"{FLOW_VERSION} (the full bore's 2-D map, {FLOW_VERSION} with flow tables), "
+                         f"{GROOVED_VERSION} and {GROOVED_FLOW_VERSION} (a grooved or partial-arc bore's 3-D map, "
+                         f"{GROOVED_FLOW_VERSION} with flow tables)")
     return load_map(path)
 
 

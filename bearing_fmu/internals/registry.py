@@ -590,9 +590,9 @@ register(InternalSpec(
     ),
     can=Capabilities(
         any_state=True, native=True, compiled=True,  # the map file records its bore; the internal refuses another one
-        film_flow=True,  # per file (film_flow_of): a full-bore map with its flow tables (version 3)
-        film_flow_why="a grooved or partial-arc map (version 2) tabulates the force only; the grooves' inflow would "
-                      "need its own table",
+        film_flow=True,  # per file (film_flow_of): a map with its flow tables (version 3 full bore, 4 grooved)
+        film_flow_why="a map file without flow tables (version 1 or 2, built before them) tabulates the force only: "
+                      "rebuild it with `bearing-fmu map`",
         validity="The force map holds the Reynolds force for every speed, load and velocity of bearings with its "
                  "L/D; states beyond its last eccentricity (eps_max) are refused (fmi2Discard)."),
     case="internals.cases:map_case",

@@ -49,8 +49,9 @@ import numpy as np
 
 from .params import BearingParams
 
-__all__ = ["FilmReport", "assemble_report", "at_viscosity", "full_bore_friction", "field_report", "flow_scale", "reduced_flows",
-           "reduced_report"]
+__all__ = ["FilmReport", "assemble_report", "at_viscosity", "edge_flows", "face_fluxes", "field_report",
+           "film_couette_integral", "flow_scale", "full_bore_friction", "grooved_report", "reduced_flows",
+           "reduced_report", "side_flow", "supply_edges"]
 
 
 @dataclass(frozen=True)
@@ -119,6 +120,40 @@ def full_bore_friction(params: BearingParams, y: float, z: float, vy: float, vz:
     return tc, tp, power
 
 
+def _cells(n: int, grid):
+    """(width, centre, right, fixed, supply, dist, face_h0, centre_h0) of the n cells (``grid`` a
+    ``geometry.ThetaGrid``, None: the full bore's uniform cells)."""
+    if grid is None:
+        w = np.full(n, 2.0 * math.pi / n)
+        centre = np.arange(n) * w[0]
+        return w, centre, centre + 0.5 * w, np.zeros(n, dtype=bool), np.zeros(n), w.copy(), np.ones(n), np.ones(n)
+    return (grid.width, grid.centre, grid.right, grid.fixed.astype(bool), grid.supply, grid.dist, grid.face_film,
+            grid.centre_film)
+
+
+def _faces(params: BearingParams, y: float, z: float, p_half: np.ndarray, cells):
+    """(p, hf, dp): the pressure with the prescribed cells' own along the whole length, the film at
+    every right face [m] and dp/dtheta across it [Pa/rad]."""
+    _w, _centre, right, fixed, psup, dist, face_h0, _ = cells
+    nxt = np.roll(np.arange(fixed.shape[0]), -1)
+    hf = params.CR * face_h0 + y * np.sin(right) - z * np.cos(right)
+    p = np.where(fixed[:, None], psup[:, None], p_half)
+    safe = np.where(dist > 0.0, dist, 1.0)
+    return p, hf, (p[nxt] - p) / safe[:, None]
+
+
+def side_flow(params: BearingParams, y: float, z: float, p_half: np.ndarray, dx: float, grid=None) -> float:
+    """The axial flow [m^3/s] out of both ends of every film cell (the arguments as ``field_report``'s):
+    the end gradient the solver's own second-order one."""
+    w, centre, _right, fixed, _psup, _dist, _fh0, centre_h0 = _cells(p_half.shape[0], grid)
+    hc = params.CR * centre_h0 + y * np.sin(centre) - z * np.cos(centre)
+    if p_half.shape[1] == 1:
+        grad_end = 8.0 * p_half[:, 0] / (3.0 * dx)
+    else:
+        grad_end = (9.0 * p_half[:, 0] - p_half[:, 1]) / (3.0 * dx)
+    return float(np.sum(np.where(fixed, 0.0, hc ** 3 / (12.0 * params.mu) * grad_end * params.R * w))) * 2.0
+
+
 def field_report(params: BearingParams, y: float, z: float, vy: float, vz: float, omega: float, F,
                  p_half: np.ndarray, dx: float, grid=None) -> FilmReport:
     """The film report from a converged pressure field (``Reynolds.film_report`` calls it).
@@ -131,23 +166,11 @@ def field_report(params: BearingParams, y: float, z: float, vy: float, vz: float
     n, m = p_half.shape
     F = (float(F[0]), float(F[1]))
     v = (float(vy), float(vz))
-    if grid is None:
-        w = np.full(n, 2.0 * math.pi / n)
-        centre = np.arange(n) * w[0]
-        right = centre + 0.5 * w
-        fixed = np.zeros(n, dtype=bool)
-        psup = np.zeros(n)
-        dist = w.copy()
-        face_h0 = centre_h0 = np.ones(n)
-    else:
-        w, centre, right = grid.width, grid.centre, grid.right
-        fixed, psup, dist = grid.fixed.astype(bool), grid.supply, grid.dist
-        face_h0, centre_h0 = grid.face_film, grid.centre_film
+    cells = _cells(n, grid)
+    w, centre, right, fixed = cells[:4]
     nxt = np.roll(np.arange(n), -1)
-    hc = CR * centre_h0 + y * np.sin(centre) - z * np.cos(centre)
-    hf = CR * face_h0 + y * np.sin(right) - z * np.cos(right)
-    # the prescribed cells hold their pressure along the whole length
-    p = np.where(fixed[:, None], psup[:, None], p_half)
+    hc = CR * cells[7] + y * np.sin(centre) - z * np.cos(centre)
+    p, hf, dp = _faces(params, y, z, p_half, cells)
     # axial weights of the half length (both halves: x 2): the solver's quadrature for p, plain
     # cell lengths for the fluxes through the faces
     qw = np.full(m, dx)
@@ -157,8 +180,6 @@ def field_report(params: BearingParams, y: float, z: float, vy: float, vz: float
         qw[0] -= dx / 8.0
         qw[1] += dx / 72.0
     film_face = ~(fixed & fixed[nxt])                    # faces with film on at least one side
-    safe = np.where(dist > 0.0, dist, 1.0)
-    dp = (p[nxt] - p) / safe[:, None]                    # dp/dtheta across each right face
     # --- friction: Couette over the film (as a full film), pressure part summed over the faces
     if grid is None:
         eps = math.hypot(y, z) / CR
@@ -175,18 +196,13 @@ def field_report(params: BearingParams, y: float, z: float, vy: float, vz: float
         # (R / 2) int h dp/dtheta dtheta over the film: h_f (p_next - p) per face, both halves
         jump = (p[nxt] - p) @ (2.0 * qw)
         tp = 0.5 * R * float(np.sum(np.where(film_face, hf * jump, 0.0)))
-    # --- side flow: out of both ends of every film cell
-    if m == 1:
-        grad_end = 8.0 * p_half[:, 0] / (3.0 * dx)
-    else:
-        grad_end = (9.0 * p_half[:, 0] - p_half[:, 1]) / (3.0 * dx)
-    q_side = float(np.sum(np.where(fixed, 0.0, hc ** 3 / (12.0 * mu) * grad_end * R * w))) * 2.0
+    q_side = side_flow(params, y, z, p_half, dx, grid)
     # --- inflow: circumferential face fluxes over the whole length (both halves)
-    flux = (omega * R * hf / 2.0) * params.L - hf ** 3 / (12.0 * mu * R) * (dp @ (2.0 * np.full(m, dx)))
+    couette, pressure = face_fluxes(params, omega, hf, dp, dx)
+    flux = couette - pressure
     if fixed.any():
-        into_next = np.where(fixed & ~fixed[nxt], flux, 0.0)          # a prescribed cell -> film on its right
-        into_prev = np.where(~fixed & fixed[nxt], -flux, 0.0)         # a prescribed cell -> film on its left
-        q_in = float(np.sum(np.maximum(into_next, 0.0)) + np.sum(np.maximum(into_prev, 0.0)))
+        faces, sign = supply_edges(fixed)
+        q_in = float(np.sum(np.maximum(flux[faces[sign > 0]], 0.0)) + np.sum(np.maximum(-flux[faces[sign < 0]], 0.0)))
     else:
         k = int(np.argmax(hf))                                          # the thickest face
         t_max = math.atan2(y, -z) if (y or z) else float(right[k])      # (sin, -cos) along (y, z)
@@ -201,6 +217,80 @@ def field_report(params: BearingParams, y: float, z: float, vy: float, vz: float
         q_in = float((1.0 - s) * flux[a] + s * flux[b])
         q_in = abs(q_in)
     return assemble_report(params, tc, tp, F, v, omega, q_in, q_side)
+
+
+def face_fluxes(params: BearingParams, omega: float, hf: np.ndarray, dp: np.ndarray, dx: float):
+    """(Couette, pressure) parts [m^3/s] of the circumferential flux across every right face over the
+    whole length, the flux their difference: omega R h L / 2 and h^3 / (12 mu R) int dp/dtheta dx
+    (``dp`` (n_theta, m) across the faces of the half length, cells ``dx`` long)."""
+    along = dp @ (2.0 * np.full(dp.shape[1], dx))
+    return (omega * params.R * hf / 2.0) * params.L, hf ** 3 / (12.0 * params.mu * params.R) * along
+
+
+def supply_edges(fixed: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(faces, signs) of the supply edges of a bore's cells (``fixed``: prescribed pressure): the
+    right faces between a prescribed cell and a film cell, in face order; sign +1 where the film is
+    on the face's right (the flux enters it as it is), -1 on its left (it enters as -flux)."""
+    nxt = np.roll(np.arange(fixed.shape[0]), -1)
+    into_next, into_prev = fixed & ~fixed[nxt], ~fixed & fixed[nxt]
+    faces = np.flatnonzero(into_next | into_prev)
+    return faces, np.where(into_next[faces], 1.0, -1.0)
+
+
+def edge_flows(params: BearingParams, y: float, z: float, p_half: np.ndarray, dx: float, grid) -> dict:
+    """The parts of a grooved or partial-arc bore's flows that scale with the pressure field alone
+    (``Reynolds.supply_flows`` calls it; the field as ``field_report`` takes it): ``side_flow`` [m^3/s]
+    and, per supply edge (``supply_edges`` order), ``theta`` [rad], ``sign`` and ``pressure`` [m^3/s],
+    the pressure part of the flux into the film there, so that the edge's inflow is
+    max(sign omega R L h_e / 2 + pressure, 0), h_e = CR + y sin(theta) - z cos(theta)."""
+    _p, hf, dp = _faces(params, y, z, p_half, _cells(p_half.shape[0], grid))
+    _couette, pressure = face_fluxes(params, 0.0, hf, dp, dx)
+    fixed = grid.fixed.astype(bool)
+    faces, sign = supply_edges(fixed)
+    return {"side_flow": side_flow(params, y, z, p_half, dx, grid), "theta": grid.right[faces], "sign": sign,
+            "pressure": -sign * pressure[faces]}
+
+
+def film_couette_integral(geometry, eps: float, phi: float) -> float:
+    """int dtheta / (1 + eps sin(theta - phi)) over the film of a bore without lobes (its segments
+    without a prescribed pressure) in closed form: the Couette torque is mu omega R^3 L / CR times it.
+    With u = theta - phi - pi/2, int_0^u dt / (1 + e cos t) = (u + 2 atan2((k - 1) sin u, (1 + k) +
+    (1 - k) cos u)) / sqrt(1 - e^2), k = sqrt((1 - e) / (1 + e)), continuous in u (2 pi / sqrt(1 - e^2)
+    over the full circle)."""
+    root = math.sqrt(1.0 - eps * eps)
+    k = math.sqrt((1.0 - eps) / (1.0 + eps))
+
+    def prim(theta):
+        u = theta - phi - 0.5 * math.pi
+        return (u + 2.0 * math.atan2((k - 1.0) * math.sin(u), (1.0 + k) + (1.0 - k) * math.cos(u))) / root
+
+    if geometry.is_full_bore:
+        return 2.0 * math.pi / root
+    segs, fixed, _supply = geometry.segments()
+    return sum(prim(b) - prim(a) for (a, b), f in zip(segs, fixed) if not f)
+
+
+def grooved_report(params: BearingParams, y: float, z: float, vy: float, vz: float, omega: float, F,
+                   r: float, j_s: float, p_e, edges) -> FilmReport:
+    """The film report of a grooved or partial-arc bore from the grooved map's force F and flow
+    functions at the state's (eps, phi, beta): the Couette torque over the film in closed form
+    (``film_couette_integral``), the pressure torque (y Fz - z Fy) / 2 (by parts: the grooves and the
+    ambient hold p = 0 at the film's edges), the side flow r Q0 J_s, and the inflow the sum over the
+    supply edges ``edges`` ((theta [rad], sign), ``Geometry.supply_edges``) of
+    max(sign omega Q0 h_e / (2 CR) - r Q0 P_e, 0), h_e = CR + y sin(theta) - z cos(theta)
+    (docs/forcemap.md, "Grooved bores: the flows")."""
+    eps = math.hypot(y, z) / params.CR
+    if not eps < 1.0:
+        raise ValueError(f"grooved_report: eccentricity ratio {eps:.6g} >= 1 (the journal touches the bore)")
+    phi = math.atan2(z, y)
+    tc = params.mu * omega * params.R ** 3 * params.L / params.CR * film_couette_integral(params.geometry, eps, phi)
+    tp = 0.5 * (y * float(F[1]) - z * float(F[0]))
+    q0 = flow_scale(params)
+    q_in = 0.0
+    for (theta, sign), p in zip(edges, p_e):
+        h = params.CR + y * math.sin(theta) - z * math.cos(theta)
+        q_in += max(sign * omega * q0 * h / (2.0 * params.CR) - r * q0 * float(p), 0.0)
+    return assemble_report(params, tc, tp, F, (vy, vz), omega, q_in, r * q0 * j_s)
 
 
 # ------------------------------------------------------------------ the force map's reduction

@@ -322,6 +322,15 @@ class Geometry:
                                                     self.groove_edges()) else 0.0 for (a, b), f in zip(segs, fixed)]
         return segs, fixed, supply
 
+    def supply_edges(self) -> list[tuple[float, float]]:
+        """(theta [rad], sign) of every edge between a prescribed stretch and the film, in the order of
+        ``segments`` (the solver's faces there, ``film.supply_edges``): sign +1 where the film lies
+        beyond the edge in theta, -1 before it (the oil enters the film against theta there)."""
+        segs, fixed, _supply = self.segments()
+        n = len(segs)
+        return [(segs[k][1] % TWO_PI, 1.0 if fixed[k] else -1.0) for k in range(n)
+                if fixed[k] != fixed[(k + 1) % n]]
+
     def theta_grid(self, n_theta: int) -> "ThetaGrid":
         """The circumferential cells of the Reynolds solver for this bore: a face on every edge
         (``edges``), one cell per groove and per stretch outside the arc (their pressure is

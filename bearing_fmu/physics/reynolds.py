@@ -98,7 +98,7 @@ import math
 import numpy as np
 
 from ..internals.registry import check_state, overflow_error
-from .film import FilmReport, field_report
+from .film import FilmReport, edge_flows, field_report
 from .params import BearingParams
 from .geometry_kernels import geometry_kernel
 from .reynolds_kernels import reynolds_kernel
@@ -364,6 +364,18 @@ class Reynolds:
         half = self._p.reshape(self.n_theta, self._m).copy()
         return field_report(self.params, float(y), float(z), float(vy), float(vz), float(omega),
                             (float(self._F[0]), float(self._F[1])), half, self._dx, self._grid)
+
+    def supply_flows(self, y: float, z: float, vy: float, vz: float, omega: float) -> dict:
+        """A grooved or partial-arc bore's side flow and the pressure parts of its supply edges' inflow
+        at a state (``film.edge_flows``: what the grooved map tabulates); as ``film_report``, it reads
+        the field of a force call at the same state."""
+        if self._grid is None or not self._grid.fixed.any():
+            raise ValueError("supply_flows: the bore has no grooves and no arc (no supply edges)")
+        state = (float(y), float(z), float(vy), float(vz), float(omega))
+        if self._solved != state:
+            self._run(*state, False)
+        half = self._p.reshape(self.n_theta, self._m).copy()
+        return edge_flows(self.params, state[0], state[1], half, self._dx, self._grid)
 
     def diagnostics(self, y: float, z: float, vy: float, vz: float, omega: float) -> dict:
         """Solver statistics of a call at a state: active-set iterations of the converged solve,

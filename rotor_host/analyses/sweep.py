@@ -31,14 +31,12 @@ from __future__ import annotations
 
 import math
 import os
-import re
 import time
 from dataclasses import asdict, dataclass, replace
 from pathlib import Path
 
 import numpy as np
 
-from bearing_fmu.io.cliargs import typed
 from bearing_fmu.io.exits import as_interrupted, note_kept
 from bearing_fmu.io.outputs import claim, ensure_writable, note_rescued, take_rescued, write_json, write_text
 
@@ -58,20 +56,6 @@ def _flat(groups, option: str) -> list[float]:
     if len(values) > MAX_RUNS:
         raise ValueError(f"{option}: {len(values)} runs; a sweep takes at most {MAX_RUNS} (a step in the wrong unit?)")
     return values
-
-
-_ADDRESS = re.compile(r"^(?:[a-z]+://)?[^\s/:]+:\d{1,5}$|^[a-z]+://\S+$")
-
-
-def _address(text: str) -> str:
-    if not _ADDRESS.match(text.strip()):
-        raise ValueError(text)
-    return text.strip()
-
-
-# An argparse type: a Dask scheduler address, ``tcp://HOST:PORT`` (or ``HOST:PORT``); that a
-# scheduler answers there is checked when the sweep connects.
-scheduler_address = typed("a Dask scheduler address such as tcp://10.0.0.5:8786", str, _address)
 
 
 @dataclass(frozen=True)
@@ -541,8 +525,13 @@ def command(*, scene, speeds_hz=None, unbalance_g=None, settle_s: float | None =
     rotor = Rotor.from_toml(scene.rotor_path)
     bearing_nodes = [n + 1 for n in rotor.bearing_nodes]
     disk_nodes = sorted({d.node + 1 for d in rotor.disks})
-    if scene.via == "fmu":  # one build for all runs, here (a missing file is named before any worker starts)
-        scene = replace(scene, fmu=scene_fmu(scene, out / "fmu"))
+    build = None
+    if scene.via == "fmu":  # one build for all runs, here, while the cluster starts (0.5 s each)
+        from concurrent.futures import ThreadPoolExecutor
+
+        pool = ThreadPoolExecutor(1, thread_name_prefix="build-fmu")
+        build = pool.submit(scene_fmu, scene, out / "fmu")
+        pool.shutdown(wait=False)
     base = f"sweep_{run_base(scene)}" + ("_unbalance" if unbalance else "")
     t0 = time.perf_counter()
     with claim(out, base) as name:
@@ -555,6 +544,8 @@ def command(*, scene, speeds_hz=None, unbalance_g=None, settle_s: float | None =
         try:
             with dask_client(scheduler, workers) as client:
                 info["workers"] = len(client.nthreads())
+                if build is not None:  # a build that failed (a missing file) raises here, by name
+                    scene = replace(scene, fmu=build.result())
                 rows = sweep(client, scene, pts, out, settle_s, disk_nodes, progress=not quiet, rows=finished,
                              info=info)
             info.update(wall_s=time.perf_counter() - t0, run_s=sum(r.get("wall_s") or 0 for r in rows))
@@ -594,7 +585,6 @@ def command(*, scene, speeds_hz=None, unbalance_g=None, settle_s: float | None =
     return 0 if n_ok else 1
 
 
-__all__ = ["scheduler_address", "Point", "run_base", "points", "point_scene", "settled_metrics", "warm_worker",
+__all__ = ["Point", "run_base", "points", "point_scene", "settled_metrics", "warm_worker",
            "run_point", "check_fixed_speed", "check_scheduler", "dask_client", "sweep", "sweep_title", "write_summary",
-           "summary_diagram", "plot_bifurcation",
-           "command"]
+           "summary_diagram", "plot_bifurcation", "command"]

@@ -30,7 +30,7 @@ import numpy as np
 from ...internals import registry
 from ..order import c_defines
 from ..variables import ENUMERATIONS, VARIABLES  # the one table of the FMU interface
-from .portgen import parts_of, port_config, port_variables
+from .portgen import GROOVED_MAP_WHY, parts_of, port_config, port_variables
 from ...physics.params import BearingParams
 
 ID_TOKEN, GUID_TOKEN = "BN_MODEL_IDENTIFIER", "{BN-GUID}"  # in model_config.h until assign_identity
@@ -519,6 +519,8 @@ def _map(params: BearingParams, surrogate, map_path, options: dict) -> NativeMod
     # refuses another L/D or bore, as the FMU will (a grooved map's bore comes from --bearing)
     internal = map_internal(params, table, str(path), hint="for the native map FMU give the bearing file with --bearing")
     flows_why = registry.film_flow_of(registry.get("map"), internal)  # the file's: '' with its flow tables
+    if not flows_why and table.H.ndim == 4:  # a grooved bore's 3-D map: its flows have no C reader yet
+        flows_why = GROOVED_MAP_WHY
     starts = {"map": path.name}
     # a nonzero speed: an omega a master forgets to connect still gives the film's force
     inputs = (0.0, 0.0, 0.0, 0.0, float(options.get("_omega", registry.DEFAULT_OMEGA_LIN)))

@@ -53,6 +53,9 @@ def parts_of(internal) -> tuple[str, ...]:
 # the native internals whose C file computes the film's flows (defines bn_film: internal_reynolds.c
 # through reynolds_film.c; internal_map.c from a full-bore map file's flow table)
 C_FILM_REPORT = ("reynolds", "map")
+# a grooved or partial-arc map's flow tables (version 4: per supply edge, over the whole turn) have no C reader
+GROOVED_MAP_WHY = ("the native map FMU computes the film report of a full-bore map only: a grooved or partial-arc "
+                   "map's flow tables (version 4) are not compiled in (use the Python FMU)")
 
 
 def part_flows(internal, data_why="") -> dict[str, str]:
