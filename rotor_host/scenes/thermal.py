@@ -13,11 +13,12 @@ a compare's row their values.
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
 
-from bearing_fmu.internals import registry
-
-from .scene import Scene, SceneError
+if TYPE_CHECKING:  # the run's (and a sweep's, which reads only the arrays) imports stay light
+    from .scene import Scene
 
 # the run's thermal arrays (npz, one column per bearing of ``bearing_nodes``): name (as the bearing
 # FMU's output), the json key of its start / end / max (unit in the name), unit, meaning
@@ -73,7 +74,10 @@ def thermal_internal(scene: Scene, internal, params, state):
     when the internal has the film's flows, else held at the static equilibrium's mu_eff (exact for
     one speed: F ~ mu; ``scene.py`` refuses a run-up for an internal without them by capability, and
     here one whose file lacks them, e.g. a map file without flow tables)."""
+    from bearing_fmu.internals import registry
     from bearing_fmu.internals.scaled import LaggedThermal, ViscosityScaled
+
+    from .scene import SceneError
 
     why = registry.film_flow_of(registry.get(scene.internal), internal)
     if why:
