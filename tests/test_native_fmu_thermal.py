@@ -183,6 +183,19 @@ def run(fmu, md, h=1e-3, python=False, native_md=None, map_name=None, ramp=0.0, 
         r.close()
 
 
+def check_reports(got, states, internal, mu, rel, rise):
+    """The rows ``got`` (OUT over ``states``, thermal on) against ``internal``'s film_report at each
+    state (its own force at mu): P_loss its friction power times mu_eff / mu, Q_side its side flow
+    (> 0), within ``rel``; T_eff above the supply, rising by more than ``rise`` [K] over the run."""
+    col = {n: OUT.index(n) for n in OUT}
+    for state, row in zip(states, got):
+        rep = internal.film_report(*state)
+        assert row[col["P_loss"]] == pytest.approx(rep.friction_power_W * row[col["mu_eff"]] / mu, rel=rel)
+        assert row[col["Q_side"]] == pytest.approx(rep.side_flow_m3_s, rel=rel) and rep.side_flow_m3_s > 0.0
+    T = got[:, col["T_eff"]]
+    assert T[0] > T_SUPPLY and np.all(np.diff(T) > 0.0) and T[-1] - T[0] > rise  # hot, lagging a rising supply
+
+
 @pytest.mark.slow
 @pytest.mark.parametrize("version", [2, 3])
 def test_equals_the_python_fmu(native3, fmu, version):

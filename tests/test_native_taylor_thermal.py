@@ -16,10 +16,19 @@ import pytest
 
 fmpy = pytest.importorskip("fmpy")
 
-from bearing_fmu.physics.params import BearingParams  # noqa: E402
+from test_native_fmu_thermal import (
+    GRID,
+    RTOL,
+    VG46,
+    by_version,
+    check_reports,
+    compliance_check,
+    model_exchange_check,
+    parameters,
+    run,
+)
 
-from test_native_fmu_thermal import (GRID, OUT, RTOL, T_SUPPLY, VG46, by_version, compliance_check,  # noqa: E402
-                                     model_exchange_check, parameters, run)
+from bearing_fmu.physics.params import BearingParams
 
 RAMP = 2.0  # K per step: T_supply 45 -> 67 C over the run
 
@@ -77,15 +86,7 @@ def test_taylor_equals_the_python_fmu(taylor3, python_fmu, taylor_film_file, ver
     want = python_run(python_fmu, md, taylor_film_file, states)
     scale = np.max(np.abs(want), axis=0)
     assert np.max(np.abs(got - want) / scale) <= RTOL
-    p = parameters(md)
-    internal = Taylor.from_file(taylor_film_file)
-    col = {n: OUT.index(n) for n in OUT}
-    for state, row in zip(states, got):
-        rep = internal.film_report(*state)
-        assert row[col["P_loss"]] == pytest.approx(rep.friction_power_W * row[col["mu_eff"]] / p["mu"], rel=1e-12)
-        assert row[col["Q_side"]] == pytest.approx(rep.side_flow_m3_s, rel=1e-12) and rep.side_flow_m3_s > 0.0
-    T = got[:, col["T_eff"]]
-    assert T[0] > T_SUPPLY and np.all(np.diff(T) > 0.0) and T[-1] - T[0] > 2.0  # hot, lagging the rising supply
+    check_reports(got, states, Taylor.from_file(taylor_film_file), parameters(md)["mu"], 1e-12, 2.0)
 
 
 @pytest.mark.slow
@@ -162,14 +163,14 @@ def test_the_film_fit_is_compiled_in_exactly(tmp_path):
     import dataclasses
     import re
 
-    from bearing_fmu.fmu.native.codegen import native_model
-
     from test_taylor_flows import made_up
+
+    from bearing_fmu.fmu.native.codegen import native_model
 
     sur, path = made_up(tmp_path)
     params = dataclasses.replace(sur.params, oil=BearingParams.from_toml(VG46).oil)
     model = native_model("taylor", params, surrogate=path)
-    body = re.search(r"TAY_FILM_COEF\[(\d+)\] = \{(.*?)\};", model.data_h, re.S)
+    body = re.search(r"TAY_FILM_COEF\[(\d+)\] = \{(.*?)\};", model.data_h, re.DOTALL)
     values = np.array([float(v) for v in body.group(2).split(",")])
     assert int(body.group(1)) == sur.film.coef.size and np.array_equal(values, sur.film.coef.ravel())
     assert "#define BN_FLOWS_TAYLOR 1" in model.config_h and "#define BN_FILM_FLOW 1" in model.config_h
@@ -199,10 +200,10 @@ def test_host_scene_through_the_native_taylor_fmu(taylor_film_file, tmp_path):
     the file's isothermal viscosity differs by 1.4e-2 of the largest y."""
     import dataclasses
 
+    from test_thermal_host import VG46_SCENE
+
     from rotor_host.scenes.run import run_scene
     from rotor_host.scenes.scene import load_scene
-
-    from test_thermal_host import VG46_SCENE
 
     scene = load_scene(VG46_SCENE).with_internal("taylor", options={"taylor": {"surrogate": taylor_film_file}},
                                                  t_end_s=0.003)
