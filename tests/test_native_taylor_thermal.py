@@ -147,13 +147,25 @@ def test_a_version_1_surrogate_refuses_thermal(surrogate_file, tmp_path):
     from bearing_fmu.fmu.native.codegen import native_model
 
     with pytest.raises(ValueError, match=r"thermal = true needs the film's flows and the bearing's oil law: the "
-                                         r"surrogate file .* has no film fit \(format version 1"):
+                                         rf"surrogate file {surrogate_file} has no film fit \(format version 1"):
         build_native_fmu(tmp_path / "x.fmu", "taylor", surrogate=surrogate_file, compiler="cc", thermal=True)
     model = native_model("taylor", None, surrogate=surrogate_file)
     thermal = next(v for v in model.variables if v.name == "thermal")
-    assert "not in this native FMU (the surrogate file" in thermal.description
+    assert f"not in this native FMU (the surrogate file {surrogate_file} has no film fit" in thermal.description
     assert "#define BN_FILM_FLOW 0" in model.config_h and "TAY_FILM_COEF" not in model.data_h
     assert "der(T_eff)" not in {v.name for v in model.variables}
+
+
+def test_a_version_1_surrogate_beside_reynolds(surrogate_file):
+    """An FMU of the taylor and reynolds internals with a version 1 surrogate (bn_parts.c): the
+    thermal model runs with internal = 'reynolds'; with internal = 'taylor' initialisation refuses
+    it by the file's why (BN_FLOW_WHY_taylor: the Python internal's film_flow_why)."""
+    from bearing_fmu.fmu.native.several import several_model
+
+    both = several_model("taylor,reynolds", None, surrogate=surrogate_file)
+    assert "#define BN_FLOWS_TAYLOR 0" in both.config_h and "#define BN_FLOWS_REYNOLDS 1" in both.config_h
+    why = next(line for line in both.config_h.splitlines() if line.startswith("#define BN_FLOW_WHY_taylor "))
+    assert f"the surrogate file {surrogate_file} has no film fit (format version 1" in why
 
 
 def test_the_film_fit_is_compiled_in_exactly(tmp_path):

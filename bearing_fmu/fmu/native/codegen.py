@@ -458,7 +458,7 @@ def _taylor(params: BearingParams, surrogate, map_path, options: dict) -> Native
         raise ValueError("a native taylor FMU needs a surrogate file (--surrogate FILE)")
     path = Path(surrogate)
     sur = load_surrogate(path, params) if params is not None else load_surrogate(path)
-    tay = Taylor(sur)
+    tay = Taylor(sur, source=str(path))  # its film_flow_why names the file
     flows_why = registry.film_flow_of(registry.get("taylor"), tay)  # the file's: '' with its film fit
     # the surrogate's bearing, with the bearing file's oil law when given (the thermal model's)
     params = sur.params if params is None or params.oil is None else dataclasses.replace(sur.params, oil=params.oil)
