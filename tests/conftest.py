@@ -129,6 +129,35 @@ def surrogate_file(contract_data):
 
 
 @pytest.fixture(scope="session")
+def taylor_film_file(request, tmp_path_factory):
+    """A Taylor surrogate with its film fit (format version 2) of the ISO VG 46 paper bearing
+    (models/bearing_paper_vg46.toml) at 44 Hz under 16.7 N: order 3 over a disc of 0.3 CR about the
+    equilibrium, |v| <= 0.3 omega CR, 200 training states (the recipe of tests/test_taylor_flows.py,
+    smaller: ~20 s). Kept in .pytest_cache/d/taylor-film under a hash of bearing_fmu's sources (a
+    second session, or pytest-xdist worker, reads it; changed code fits afresh)."""
+    from bearing_fmu.fitting import FitRecipe, fit_condition
+    from bearing_fmu.physics.params import BearingParams
+    from bearing_fmu.surrogates.surrogate import save_surrogate
+
+    bearing = MODELS / "bearing_paper_vg46.toml"
+    cache = getattr(request.config, "cache", None)
+    folder = cache.mkdir("taylor-film") if cache is not None else tmp_path_factory.mktemp("taylor_film")
+    key = hashlib.sha256((_package_digest() + bearing.read_text()).encode()).hexdigest()[:16]
+    kept = folder / f"vg46_44hz_{key}.json"
+    with open(kept.with_suffix(".lock"), "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        if not kept.is_file():
+            res = fit_condition(FitRecipe(load_y=0.0, load_z=-16.7, speed_hz=44.0, order=3, ecc_max=0.8, v_max=0.3,
+                                          radius=0.3, n_train=200, n_test=100, prune=False),
+                                params=BearingParams.from_toml(bearing), bias_variance=False)
+            tmp = save_surrogate(res.surrogate, kept.with_suffix(f".{os.getpid()}.tmp"))
+            os.replace(tmp, kept)
+    target = tmp_path_factory.mktemp("taylor_film") / "vg46_44hz_film.json"
+    target.write_bytes(kept.read_bytes())
+    return target
+
+
+@pytest.fixture(scope="session")
 def map_file(contract_data):
     """A coarse force map of the paper bearing (Reynolds 32 x 4, table 12 x 16): quick to build;
     its accuracy is the business of tests/test_forcemap.py."""

@@ -157,16 +157,19 @@ def parameters(md) -> dict:
                                                                    or v.name.startswith("oil_"))}
 
 
-def run(fmu, md, h=1e-3, python=False, native_md=None, map_name=None, ramp=0.0, internal=None):
-    """The outputs OUT over the trajectory, Co-Simulation; ``python``: the Python FMU with the
-    Reynolds internal on GRID, or with ``map_name`` the map internal; T_supply rises by ``ramp`` [K]
-    per step; ``internal``: the one a native FMU of several sets."""
-    states = trajectory()
+def run(fmu, md, h=1e-3, python=False, native_md=None, map_name=None, ramp=0.0, internal=None, states=None,
+        strings=None):
+    """The outputs OUT over the trajectory (or ``states``), Co-Simulation; ``python``: the Python FMU
+    with the Reynolds internal on GRID, with ``map_name`` the map internal, or the String parameters
+    ``strings``; T_supply rises by ``ramp`` [K] per step; ``internal``: the one a native FMU of
+    several sets."""
+    states = states or trajectory()
     reals = {**parameters(native_md or md), "T_supply": T_SUPPLY, **dict(zip(IN, states[0]))}
-    strings = ({"internal": "map", "map": map_name} if map_name else {"internal": "reynolds"}) if python else None
+    strings = (strings or ({"internal": "map", "map": map_name} if map_name else {"internal": "reynolds"})
+               if python else None)
     r = Run(fmu, md, reals, {**strings, "oil_law": "walther"} if python else {"internal": internal} if internal else None)
     try:
-        if python and not map_name:
+        if python and (strings["internal"] == "reynolds" or strings.get("domain_action") == "fallback"):
             ints = [r.vr["n_theta"], r.vr["n_x"]]
             r.f.setInteger(ints, [GRID["n_theta"], GRID["n_x"]])
         r.f.exitInitializationMode()
@@ -178,6 +181,19 @@ def run(fmu, md, h=1e-3, python=False, native_md=None, map_name=None, ramp=0.0, 
         return np.array(rows)
     finally:
         r.close()
+
+
+def check_reports(got, states, internal, mu, rel, rise):
+    """The rows ``got`` (OUT over ``states``, thermal on) against ``internal``'s film_report at each
+    state (its own force at mu): P_loss its friction power times mu_eff / mu, Q_side its side flow
+    (> 0), within ``rel``; T_eff above the supply, rising by more than ``rise`` [K] over the run."""
+    col = {n: OUT.index(n) for n in OUT}
+    for state, row in zip(states, got):
+        rep = internal.film_report(*state)
+        assert row[col["P_loss"]] == pytest.approx(rep.friction_power_W * row[col["mu_eff"]] / mu, rel=rel)
+        assert row[col["Q_side"]] == pytest.approx(rep.side_flow_m3_s, rel=rel) and rep.side_flow_m3_s > 0.0
+    T = got[:, col["T_eff"]]
+    assert T[0] > T_SUPPLY and np.all(np.diff(T) > 0.0) and T[-1] - T[0] > rise  # hot, lagging a rising supply
 
 
 @pytest.mark.slow
@@ -267,10 +283,11 @@ def test_model_exchange_state_and_derivative(native3, version):
     model_exchange_check(*native3[version], version, reynolds_on_grid)
 
 
-def model_exchange_check(path, md, version, internal):
-    """test_model_exchange_state_and_derivative's checks of the FMU ``path`` against ``internal``."""
+def model_exchange_check(path, md, version, internal, state=None):
+    """test_model_exchange_state_and_derivative's checks of the FMU ``path`` against ``internal`` at
+    ``state`` (default: the trajectory's fourth)."""
     vr = {v.name: v.valueReference for v in md.modelVariables}
-    state = trajectory()[3]
+    state = state or trajectory()[3]
     unzip = fmpy.extract(str(path))
     if version == 3:
         f = FMU3Model(guid=md.guid, unzipDirectory=unzip, modelIdentifier=md.modelExchange.modelIdentifier,
@@ -329,8 +346,9 @@ def test_compliance_checker_with_thermal_on(thermal_on, interface, tmp_path):
     compliance_check(thermal_on, interface, tmp_path)
 
 
-def compliance_check(thermal_on, interface, tmp_path):
-    """test_compliance_checker_with_thermal_on's run and checks of the FMU ``thermal_on``."""
+def compliance_check(thermal_on, interface, tmp_path, orbit=(0.0, -0.3, 0.3)):
+    """test_compliance_checker_with_thermal_on's run and checks of the FMU ``thermal_on``: the journal
+    circles about (orbit[0], orbit[1]) CR with the radius orbit[2] CR at the start omega."""
     import os
     import subprocess
 
@@ -344,8 +362,9 @@ def compliance_check(thermal_on, interface, tmp_path):
     start = {v.name: float(v.start) for v in md.modelVariables if v.name in ("omega", "CR")}
     rows = ["time,y,z,vy,vz,omega,T_supply"]
     for k in range(11):
-        t, r, w = 1e-3 * k, 0.3 * start["CR"], start["omega"]
-        rows.append(f"{t!r},{r * math.cos(w * t)!r},{-r * math.sin(w * t) - 0.3 * start['CR']!r},"
+        t, w = 1e-3 * k, start["omega"]
+        y0, z0, r = (c * start["CR"] for c in orbit)
+        rows.append(f"{t!r},{y0 + r * math.cos(w * t)!r},{-r * math.sin(w * t) + z0!r},"
                     f"{-r * w * math.sin(w * t)!r},{-r * w * math.cos(w * t)!r},{w!r},{313.15 + 2.0 * k!r}")
     (tmp_path / "in.csv").write_text("\n".join(rows) + "\n")
     log = tmp_path / "check.log"

@@ -15,8 +15,9 @@ from fmpy.fmi1 import FMICallException  # noqa: E402
 
 from bearing_fmu.physics.params import BearingParams  # noqa: E402
 
-from test_native_fmu_thermal import (GRID, IN, OUT, RTOL, T_SUPPLY, VG46, Run, by_version,  # noqa: E402
-                                     compliance_check, model_exchange_check, parameters, run, trajectory)
+from test_native_fmu_thermal import (GRID, IN, RTOL, T_SUPPLY, VG46, Run, by_version,  # noqa: E402
+                                     check_reports, compliance_check, model_exchange_check, parameters, run,
+                                     trajectory)
 
 
 @pytest.fixture(scope="module")
@@ -63,13 +64,7 @@ def test_map_equals_the_python_fmu(map3, fmu, map_file, version):
     assert np.max(np.abs(got - want) / scale) <= RTOL
     p = parameters(md)
     internal = ForceMap.from_file(map_file, BearingParams(D=p["D"], L=p["L"], CR=p["CR"], mu=p["mu"]))
-    col = {n: OUT.index(n) for n in OUT}
-    for state, row in zip(trajectory(), got):
-        rep = internal.film_report(*state)
-        assert row[col["P_loss"]] == pytest.approx(rep.friction_power_W * row[col["mu_eff"]] / p["mu"], rel=1e-13)
-        assert row[col["Q_side"]] == pytest.approx(rep.side_flow_m3_s, rel=1e-13) and rep.side_flow_m3_s > 0.0
-    T = got[:, col["T_eff"]]
-    assert T[0] > T_SUPPLY and np.all(np.diff(T) > 0.0) and T[-1] - T[0] > 5.0  # hot, lagging the rising supply
+    check_reports(got, trajectory(), internal, p["mu"], 1e-13, 5.0)
 
 
 @pytest.mark.slow

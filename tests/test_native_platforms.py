@@ -47,10 +47,24 @@ def every_platform(tmp_path_factory):
            # the Reynolds solver on the lemon bore (grooves, lobes: every path of its grid), a 64 x 8 grid
            "reynolds": build_native_fmu(folder / "reynolds.fmu", "reynolds", options={"n_theta": 64, "n_x": 8},
                                         bearing=BearingParams.from_toml(ROOT / "models" / "bearing_paper_lemon.toml")),
-           # several internals in one binary (bn_parts.c), Taylor falling back to Reynolds
-           "several": build_native_fmu(folder / "several.fmu", "taylor,reynolds", surrogate=SURROGATE,
+           # several internals in one binary (bn_parts.c), Taylor falling back to Reynolds; its surrogate
+           # with a (made-up) film fit: the Taylor film report and its fallback compiled too (taylor_film.c)
+           "several": build_native_fmu(folder / "several.fmu", "taylor,reynolds", surrogate=_with_film(folder),
                                        options={"domain_action": "fallback", "n_theta": 64, "n_x": 8})}
     return {k: (fmu, Path(fmpy.extract(str(fmu)))) for k, fmu in out.items()}
+
+
+def _with_film(folder: Path) -> Path:
+    """SURROGATE with a made-up film fit (file version 2: J_s = 0.2, J_i = 0.3 cos beta), its force
+    the file's."""
+    from bearing_fmu.surrogates.film import FilmFit, n_features
+    from bearing_fmu.surrogates.surrogate import load_surrogate, save_surrogate
+
+    sur = load_surrogate(SURROGATE)
+    coef = np.zeros((2, n_features(1, 1)))
+    coef[0, 0], coef[1, 1] = 0.2, 0.3
+    sur.film = FilmFit(1, 1, coef)
+    return save_surrogate(sur, folder / "paper_22hz_film.json")
 
 
 def binary(unzip: Path, platform: str) -> Path:

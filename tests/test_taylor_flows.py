@@ -260,10 +260,3 @@ def test_a_scene_with_a_supply_temperature_runs_on_taylor(fitted, tmp_path):
         run_scene(dataclasses.replace(scene.with_internal("taylor", options={"taylor": {"surrogate": str(old)}},
                                                           t_end_s=0.001), via="fmu"), tmp_path / "old")
 
-
-def test_the_native_fmu_still_refuses_taylor_thermal():
-    from bearing_fmu.fmu.native.portgen import film_flow
-
-    flows, why = film_flow("taylor")
-    assert not flows and "the native taylor FMU computes the force only" in why
-

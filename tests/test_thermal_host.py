@@ -138,11 +138,6 @@ def test_a_run_held_at_mu_eff_stays_at_its_equilibrium(tmp_path):
                                                                                      'internal = "linear"'),
      r"supply_temperature_C = 40 through an FMU's thermal ports needs an internal with the film's friction and "
      r"flows \(reynolds, taylor, map\); internal = 'linear'"),
-    (lambda t: t.replace('via = "direct"', 'via = "fmu"\nfmu_kind = "native"').replace('internal = "reynolds"',
-                                                                                     'internal = "taylor"')
-     + f'\n[taylor]\nsurrogate = "{MODELS / "surrogates" / "paper_22hz_16.7N.json"}"\n',
-     r"supply_temperature_C = 40 through the native FMU's thermal ports needs a native internal with the film's "
-     r"flows \(reynolds, map\); internal = 'taylor': the native taylor FMU computes the force only"),
     (lambda t: t.replace('via = "direct"', 'via = "fmu"').replace('internal = "reynolds"', 'internal = "linear"'),
      r"supply_temperature_C = 40 through an FMU's thermal ports needs an internal with the film's friction and "
      r"flows \(reynolds, taylor, map\); internal = 'linear': a linear model holds the force about one point"),

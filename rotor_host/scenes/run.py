@@ -179,7 +179,8 @@ def _native_fmu(scene: Scene, work_dir: Path, bearing=None) -> Path:
     path = next(iter(files.values()), None)  # a native FMU compiles at most one data file in
     taylor = spec.name == "taylor"  # its bearing and speed are the surrogate's
     speed_hz = None if taylor or not scene.omega else scene.omega / (2.0 * math.pi)
-    bearing = None if taylor else bearing
+    # taylor: the surrogate's bearing, with the bearing file's oil law when it has one (its thermal model's)
+    bearing = None if taylor and (bearing is None or bearing.oil is None) else bearing
     internals = fmu_internals(scene.internal, scene.internal_options())  # taylor's fallback: with reynolds
     h = hashlib.sha256(f"{internals} {bearing!r} {speed_hz!r}".encode())
     fmu_pkg = C_DIR.parent.parent  # bearing_fmu/fmu: the model description and docs generators too

@@ -106,9 +106,9 @@ SCENE_KEYS = (
         "viscosity of its film's effective temperature, from the static equilibrium at the start, lagging the "
         "heat balance by the film's residence time with an internal that has the film's flows (reynolds, a map "
         "with flow tables, a Taylor surrogate with its film fit; docs/thermal.md); absent: the bearings' own "
-        "viscosity", None, "inside every oil's range_C; via = 'fmu' and a [speed_profile] need an internal with "
-        "the film's flows; fmu_kind = 'native' the reynolds internal or a map file with flow tables (version 3)",
-        kind=Number()),
+        "viscosity", None, "inside every oil's range_C; via = 'fmu' (python or native) and a [speed_profile] need "
+        "an internal with the film's flows (a map file with flow tables, version 3; a surrogate file with its film "
+        "fit, version 2)", kind=Number()),
     Key("surrogate", "older form of [taylor] surrogate", None, kind=FileName()),
 )
 
@@ -272,11 +272,11 @@ def load_scene(path) -> Scene:
 
 def _check_supply(supply_c: float, data: dict, rotor: Rotor, profile, where: str) -> None:
     """A scene's supply temperature: every bearing has an [oil] whose law covers it. In-process with
-    any internal at one speed (the static equilibrium's mu_eff); through an FMU (its thermal ports;
-    the native one: an internal with the film's flows in C, portgen.C_FILM_REPORT) or under a
+    any internal at one speed (the static equilibrium's mu_eff); through an FMU (its thermal ports:
+    the native FMU has every such internal's film report in C, portgen.C_FILM_REPORT) or under a
     [speed_profile] only with an internal that has the film's flows, whose temperature then lags the
-    heat balance (docs/thermal.md). A data file without them (a map without flow tables) is refused
-    by the FMU at initialisation, naming the file."""
+    heat balance (docs/thermal.md). A data file without them (a map without flow tables, a version 1
+    surrogate) is refused by the FMU at initialisation, naming the file."""
     key = f"{where}: supply_temperature_C = {supply_c:g}"
     spec = registry.get(data["internal"])
     if (data["via"] != "direct" or profile is not None) and not spec.can.film_flow:
@@ -284,13 +284,6 @@ def _check_supply(supply_c: float, data: dict, rotor: Rotor, profile, where: str
         raise SceneError(f"{key} {why} needs an internal with the film's friction and flows ("
                          f"{', '.join(registry.having(film_flow=True))}); internal = {spec.name!r}: "
                          f"{spec.can.film_flow_why}")
-    if data["via"] != "direct" and data["fmu_kind"] == "native":  # the film's flows in C: not every internal's
-        from bearing_fmu.fmu.native.portgen import C_FILM_REPORT, film_flow
-
-        flows, why = film_flow(spec.name)
-        if not flows:
-            raise SceneError(f"{key} through the native FMU's thermal ports needs a native internal with the film's "
-                             f"flows ({', '.join(C_FILM_REPORT)}); internal = {spec.name!r}: {why}")
     for k, p in enumerate(rotor.bearings):
         if p.oil is None:
             raise SceneError(f"{key}: bearing {k + 1} (node {rotor.bearing_nodes[k] + 1}) has no [oil] table in its "

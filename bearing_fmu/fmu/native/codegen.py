@@ -10,9 +10,9 @@ its options (registry ``Option``s the native FMU keeps) and two generated header
 * ``model_data.h``: the internal's data. Taylor: the same arrays ``taylor.Taylor`` hands its
   numba kernels (meta, domain, only the kept terms), the polynomials as coefficient rows over
   their monomials (``taylor_polynomials``: the C kernel sums them as vectorised dot
-  products), the stored training states. Map: the spline's knots and coefficients, its flow table's
-  too (``map_data``). Linear:
-  nothing (its coefficients are parameters).
+  products), the stored training states, a version 2 file's film fit (``taylor_data``). Map: the
+  spline's knots and coefficients, its flow table's too (``map_data``). Linear: nothing (its
+  coefficients are parameters).
 
 Every double is written as the shortest decimal literal that parses back to it (``repr``): exact.
 """
@@ -22,6 +22,7 @@ from __future__ import annotations
 import hashlib
 import math
 import re
+import dataclasses
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -38,7 +39,7 @@ INTERNALS = ("linear", "map", "taylor", "reynolds")  # what a native FMU can com
 # C files an internal's file includes (so that all of it stays static): staged beside it, not compiled alone
 INCLUDED_SOURCES = {"reynolds": ("py_mod.h", "reynolds_solver.h", "reynolds_kernels.c", "film_friction.c",
                                  "reynolds_film.c", "reynolds_solver.c"),
-                    "map": ("py_mod.h", "film_friction.c")}
+                    "map": ("py_mod.h", "film_friction.c"), "taylor": ("film_friction.c", "taylor_film.c")}
 # the model layer (c/bearing_values.h), the same C files under the FMI 2.0 and the FMI 3.0 layer
 MODEL_HEADERS = ("bearing_native.h", "bearing_values.h", "oil_thermal.h", "oil_thermal.c")  # the last included
 MODEL_SOURCES = ("bearing_values.c", "bearing_model.c", "bearing_derivatives.c")
@@ -451,13 +452,16 @@ def c_matrix(name: str, rows: np.ndarray) -> str:
 def _taylor(params: BearingParams, surrogate, map_path, options: dict) -> NativeModel:
     from ...surrogates.surrogate import load_surrogate
     from ...internals.taylor import Taylor
+    from .taylor_data import film_data_lines
 
     if not surrogate:
         raise ValueError("a native taylor FMU needs a surrogate file (--surrogate FILE)")
     path = Path(surrogate)
     sur = load_surrogate(path, params) if params is not None else load_surrogate(path)
-    tay = Taylor(sur)
-    params = sur.params
+    tay = Taylor(sur, source=str(path))  # its film_flow_why names the file
+    flows_why = registry.film_flow_of(registry.get("taylor"), tay)  # the file's: '' with its film fit
+    # the surrogate's bearing, with the bearing file's oil law when given (the thermal model's)
+    params = sur.params if params is None or params.oil is None else dataclasses.replace(sur.params, oil=params.oil)
     exps, coef = tay._exps, tay._coef  # the kept terms, exactly what the numba kernels evaluate
     shape = sur.shape_order is not None
     what = " and ".join(([f"wall factor (1 - eps^2)^-{sur.wall_power:g}"] if sur.wall_power else [])
@@ -486,6 +490,7 @@ def _taylor(params: BearingParams, surrogate, map_path, options: dict) -> Native
         c_array("TAY_NN_POINTS", nb.points[np.argsort(nb.points[:, 0], kind="stable")] if nb is not None
                 else [0.0, 0.0, 0.0, 0.0]),
         taylor_polynomials(exps, coef, *((sur.shape_exponents, sur.shape_coef) if shape else ())),
+        *film_data_lines(sur.film, c_array),  # the film fit (format version 2): c/taylor_film.c
     ]
     parts.append("#endif\n")
     starts = {"surrogate": path.name, "domain_action": "warn", "domain_limit": registry.DEFAULT_DOMAIN_LIMIT}
@@ -496,14 +501,14 @@ def _taylor(params: BearingParams, surrogate, map_path, options: dict) -> Native
         raise ValueError(f"domain_action = 'fallback': {FALLBACK_WHY}")
     inputs = (sur.y0, sur.z0, 0.0, 0.0, sur.omega)
     data_h = "\n".join(parts)
-    config_h = model_config("taylor", params, starts, inputs)
+    config_h = model_config("taylor", params, starts, inputs, flows_why)
     info = {"source": path.name, "recipe": sur.recipe, "order": sur.order, "terms": int(exps.shape[0]),
             "wall_power": sur.wall_power, "shape_order": sur.shape_order, "omega": sur.omega,
             "training_states": 0 if nb is None else len(nb.points),
             "provenance": sur.provenance}
-    return NativeModel("taylor", params, native_variables("taylor", params, starts, inputs), config_h, data_h, path,
-                       f"hydrodynamic journal bearing, Taylor surrogate {path.name} ({sur.recipe}) at "
-                       f"{sur.omega / (2 * math.pi):.6g} Hz, compiled (no Python)", info)
+    return NativeModel("taylor", params, native_variables("taylor", params, starts, inputs, flows_why), config_h, data_h,
+                       path, f"hydrodynamic journal bearing, Taylor surrogate {path.name} ({sur.recipe}) at "
+                       f"{sur.omega / (2 * math.pi):.6g} Hz, compiled (no Python)", info, flows_why=flows_why)
 
 
 # ----------------------------------------------------------------------------- map

@@ -2,7 +2,8 @@
  * defines its functions under its own name (<id>_<internal>_bn_setup ...: bearing_native.h
  * BN_FN), and this file the ones the model layer calls, dispatching on the parameter internal as
  * it counts (m->eff, the String or its enumeration). Taylor's domain_action = fallback evaluates
- * the Reynolds internal of the same FMU (bn_fallback_eval), prepared with Taylor's when set. */
+ * the Reynolds internal of the same FMU (bn_fallback_eval, its film report bn_fallback_film),
+ * prepared with Taylor's when set. */
 #include <stdio.h>
 #include <string.h>
 
@@ -44,7 +45,12 @@ BN_HIDDEN int PART_FN(map, bn_film)(Instance *m, const double x[5], double out[5
 #else
 #define FILM_map NULL
 #endif
+#if BN_FLOWS_TAYLOR
+BN_HIDDEN int PART_FN(taylor, bn_film)(Instance *m, const double x[5], double out[5]);
+#define FILM_taylor PART_FN(taylor, bn_film)
+#else
 #define FILM_taylor NULL
+#endif
 #define FILM_linear NULL
 
 typedef struct {
@@ -143,6 +149,25 @@ int bn_fallback_eval(Instance *m, const double x[5], int want_jac, double F[2], 
     return 1;
 #endif
 }
+
+#if BN_FLOWS_TAYLOR && BN_HOLDS_REYNOLDS
+/* Taylor's film report outside its domain with fallback: the Reynolds field bn_fallback_eval just solved */
+int bn_fallback_film(Instance *m, const double x[5], double out[5]) {
+#if BN_FLOWS_REYNOLDS
+    if (!fallback_set(m) || !m->work.solver) {
+        snprintf(m->msg, sizeof m->msg, "domain_action = 'fallback': the Reynolds internal was not prepared");
+        return 1;
+    }
+    return PART_FN(reynolds, bn_film)(m, x, out);
+#else
+    (void)x;
+    (void)out;
+    snprintf(m->msg, sizeof m->msg, "domain_action = 'fallback': the film report of the Reynolds internal: %.1900s",
+             BN_FLOW_WHY_reynolds);
+    return 1;
+#endif
+}
+#endif
 
 #if BN_BEARING_IN_FORCE == 2
 int BN_NAME(BN_ID, bn_shape_derivative)(Instance *m, const double x[5], int want_jac, double dF[2], double dJ[8]) {

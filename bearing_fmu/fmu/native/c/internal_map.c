@@ -18,6 +18,7 @@
 #include "bearing_native.h"
 #include "model_data.h"
 #include "py_mod.h"
+#include "film_friction.c" /* ff_reduce; with the film report the friction */
 
 #ifndef MAP_DIMS
 #define MAP_DIMS 2
@@ -165,24 +166,6 @@ static void gfun(double eps, double phi, double beta, double g[2][4]) {
 #endif
 }
 
-/* the state in the line-of-centres frame (forcemap.reduced): returns eps = e / CR; (cp, sp) the
- * unit vector toward the journal, a = max(eps, eps_floor) omega - 2 v_t / CR, c = 2 v_r / CR (the
- * force: eps_floor MAP_EPS_MIN, as map_force; the film report: 0, as ForceMap.film_report) */
-static double reduce(const double x[5], double CR, double eps_floor, double *cp, double *sp, double *a, double *c) {
-    double e = hypot(x[0], x[1]);
-    if (e > 0.0) {
-        *cp = x[0] / e;
-        *sp = x[1] / e;
-    } else {
-        *cp = 1.0;
-        *sp = 0.0;
-    }
-    double eps = e / CR, vr = x[2] * *cp + x[3] * *sp, vt = -x[2] * *sp + x[3] * *cp;
-    *a = fmax(eps, eps_floor) * x[4] - 2.0 * vt / CR;
-    *c = 2.0 * vr / CR;
-    return eps;
-}
-
 int bn_setup(Instance *m) {
     double D = m->r[VR_D], L = m->r[VR_L], CR = m->r[VR_CR], mu = m->r[VR_MU];
     double ld = L / D;
@@ -203,7 +186,7 @@ int bn_eval(Instance *m, const double x[5], int want_jac, double F[2], double J[
     const double CR = m->r[VR_CR], scale = m->work.scale;
     *ood = 0;
     double cp, sp, a, c;
-    double eps = reduce(x, CR, MAP_EPS_MIN, &cp, &sp, &a, &c);
+    double eps = ff_reduce(x, CR, MAP_EPS_MIN, &cp, &sp, &a, &c);
     if (!(eps < MAP_EPS_MAX)) {
         char a[32], b[32], c[32], d[32], f[32];
         int wall = eps >= 1.0;
@@ -278,7 +261,6 @@ int bn_eval(Instance *m, const double x[5], int want_jac, double F[2], double J[
 #if MAP_DIMS == 3 || !MAP_FLOWS
 #error "the film report needs a full-bore map with its flow table (portgen.film_flow)"
 #endif
-#include "film_friction.c"
 
 /* The film report at x (ForceMap.film_report; docs/forcemap.md, "The flows"): the full bore's
  * friction from the map's force, the flows Q0 = R L CR (film.flow_scale) times the table's
@@ -289,7 +271,7 @@ int bn_film(Instance *m, const double x[5], double out[5]) {
     int ood;
     if (bn_eval(m, x, 0, F, J, dw, &ood)) return 1;
     const double CR = m->r[VR_CR], R = 0.5 * m->r[VR_D], L = m->r[VR_L], omega = x[4];
-    double eps = reduce(x, CR, 0.0, &cp, &sp, &a, &c);
+    double eps = ff_reduce(x, CR, 0.0, &cp, &sp, &a, &c);
     spline2(MAP_QTS, MAP_QTB, MAP_QC, -log1p(-fmax(eps, MAP_EPS_MIN)), atan2(c, a), q);
     double r = hypot(a, c), q0 = R * L * CR;
     out[0] = ff_couette(m->r[VR_MU], omega, R, L, CR, eps);

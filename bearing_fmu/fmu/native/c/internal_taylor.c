@@ -16,7 +16,7 @@
  * else warned once per excursion (excursion()) and counted (the count at fmi2Terminate).
  * "fallback": the Reynolds internal of the same FMU (one of several internals, bn_parts.c), blended
  * with the surrogate over the band beyond the domain's edge as guard.DomainGuard does (fallback());
- * an FMU without it refuses "fallback" when set. */
+ * an FMU without it refuses "fallback" when set. The film report (BN_FLOWS_TAYLOR): taylor_film.c. */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -539,6 +539,10 @@ int bn_eval(Instance *m, const double x[5], int want_jac, double F[2], double J[
     if (*ood) excursion(m, x, "its value is an extrapolation");
     return 0;
 }
+
+#if BN_FLOWS_TAYLOR /* a surrogate file with its film fit: the film report (taylor_film.c) */
+#include "taylor_film.c"
+#endif
 
 void bn_option_derivative(Instance *m, const double x[5], int k, double dF[2], double dJ[8]) {
     (void)m; (void)x; (void)k; /* domain_limit decides refusals only: the force does not depend on it */

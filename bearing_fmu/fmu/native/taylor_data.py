@@ -1,0 +1,27 @@
+"""The film fit's part of a native Taylor FMU's model_data.h (c/taylor_film.c).
+
+A surrogate file of format version 2 holds the film's flow functions J_s, J_i of (eps, beta)
+(``surrogates.film.FilmFit``: coefficient rows over the basis eps^i t_j(beta), i = 0 .. degree
+outer, t = 1, cos beta, sin beta, cos 2 beta, ... inner). The header gives the degree, the
+harmonics and the two rows (``TAY_FILM_COEF``: J_s's then J_i's, each n_features long), from which
+the C file evaluates the basis as ``surrogates.film.features`` does and the film report as
+``Taylor.film_report`` does. They sit inside ``#if BN_FLOWS_TAYLOR`` (model_config.h: the
+Taylor film report is compiled), as their use does (an unused static array is a warning).
+"""
+
+from __future__ import annotations
+
+__all__ = ["film_data_lines"]
+
+
+def film_data_lines(film, c_array) -> list[str]:
+    """The header's lines of the film fit ``film`` (a ``FilmFit``, or None: a version 1 file, no
+    lines); ``c_array``: codegen's exact literals."""
+    if film is None:
+        return []
+    return ["#if BN_FLOWS_TAYLOR /* the film fit: J_s, J_i over the basis of surrogates.film.features */",
+            f"#define TAY_FILM_DEGREE {film.degree}",
+            f"#define TAY_FILM_HARMONICS {film.harmonics}",
+            f"#define TAY_FILM_NF {film.coef.shape[1]}",
+            c_array("TAY_FILM_COEF", film.coef),
+            "#endif /* BN_FLOWS_TAYLOR (a comment: several.py drops the file's bare closing #endif) */"]
