@@ -1,8 +1,8 @@
 /* The film's friction in closed form for the full 360 deg bore, and its friction power (ports of
  * bearing_fmu/physics/film.py full_bore_friction and _report, whose docstrings give the
  * definitions, in their order of operations: pow(R, 3) is Python's R ** 3). Included by
- * reynolds_film.c (the Reynolds film report of the full bore) and by internal_map.c (the map's,
- * film.reduced_report): one definition for both, every function static in either. */
+ * reynolds_film.c (the Reynolds film report of the full bore) and by map_flows.c (the map's,
+ * film.reduced_report and grooved_report): one definition for both, every function static in either. */
 #ifndef FILM_FRICTION_C
 #define FILM_FRICTION_C
 #include <math.h>
