@@ -107,7 +107,7 @@ SCENE_KEYS = (
         "heat balance by the film's residence time with an internal that has the film's flows (reynolds, a map "
         "with flow tables, a Taylor surrogate with its film fit; docs/thermal.md); absent: the bearings' own "
         "viscosity", None, "inside every oil's range_C; via = 'fmu' and a [speed_profile] need an internal with "
-        "the film's flows; fmu_kind = 'native' the reynolds internal or a map file with flow tables (version 3)",
+        "the film's flows; fmu_kind = 'native' the reynolds internal or a map file with flow tables (version 3; 4 grooved)",
         kind=Number()),
     Key("surrogate", "older form of [taylor] surrogate", None, kind=FileName()),
 )
