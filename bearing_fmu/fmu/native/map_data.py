@@ -65,6 +65,6 @@ def flow_arrays(table, flows, geometry, c_array) -> list[str]:
                 f"#define MAP_N_EDGES {len(table.edges)}", f"#define MAP_N_FILM {len(film) // 2}",
                 c_array("MAP_QTS", flows[0]), c_array("MAP_QTP", flows[1]), c_array("MAP_QTB", flows[2]),
                 c_array("MAP_QC", flows[3]),
-                "/* the supply edges (theta [rad], sign) in the order of P_1 .. P_E; the film's segments "
-                "(start, end) [rad] */", c_array("MAP_EDGES", edges), c_array("MAP_FILM_SEGS", film)]
+                ("/* the supply edges (theta [rad], sign) in the order of P_1 .. P_E; the film's segments "
+                 "(start, end) [rad] */"), c_array("MAP_EDGES", edges), c_array("MAP_FILM_SEGS", film)]
     return out + ["#endif /* BN_FLOWS_MAP (a comment: several.py drops the file's bare closing #endif) */"]
