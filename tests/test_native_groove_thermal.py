@@ -162,7 +162,9 @@ def test_a_grooved_map_without_flow_tables_refuses_thermal(files, tmp_path):
     with thermal = true is refused before anything is compiled, naming the file and why (the Python
     map's film_flow_why: rebuild it); without thermal, the parameter thermal says why it stays false
     and no flow table is compiled in. The version 4 map's header has the flow spline over the whole
-    turn (2 x 8 attitudes + 3), its 4 supply edges and 2 film segments (the two 160 deg pads)."""
+    turn (2 x 8 attitudes + 3), its 4 supply edges and 2 film segments (the two 160 deg pads); for a
+    bearing without an oil law it leaves them out (codegen.GROOVED_NO_OIL_WHY: 4.8 times the force's
+    coefficients, of no use without the law)."""
     from bearing_fmu.fmu.native.build import build_native_fmu
     from bearing_fmu.fmu.native.codegen import native_model
 
@@ -185,6 +187,12 @@ def test_a_grooved_map_without_flow_tables_refuses_thermal(files, tmp_path):
     assert "#define BN_FILM_FLOW 1" in model.config_h and "der(T_eff)" in {v.name for v in model.variables}
     for line in ("#define MAP_NQ 5", "#define MAP_NQP 19", "#define MAP_N_EDGES 4", "#define MAP_N_FILM 2"):
         assert line in model.data_h
+    # a bearing without an oil law, with which thermal = true is refused anyway: the tables are left out
+    from bearing_fmu.fmu.native.codegen import GROOVED_NO_OIL_WHY
+
+    model = native_model("map", dataclasses.replace(params, oil=None), map=path)
+    thermal = next(v for v in model.variables if v.name == "thermal")
+    assert GROOVED_NO_OIL_WHY in thermal.description and "MAP_QC" not in model.data_h
 
 
 @pytest.mark.slow
