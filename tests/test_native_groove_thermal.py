@@ -24,12 +24,11 @@ fmpy = pytest.importorskip("fmpy")
 
 from bearing_fmu.physics.params import BearingParams  # noqa: E402
 
-from test_native_fmu_thermal import (IN, OUT, RTOL, T_SUPPLY, Run, compliance_check,  # noqa: E402
-                                     model_exchange_check, parameters, trajectory)
+from test_native_fmu_thermal import compliance_check, model_exchange_check  # noqa: E402
+from test_native_map_thermal import check_against_python  # noqa: E402
 
 MODELS = Path(__file__).resolve().parents[1] / "models"
 SHIPPED = MODELS / "maps" / "paper_2groove.json"
-RAMP = 2.0  # K per step: T_supply 45 -> 67 C over the run
 
 
 def grooved_oil_bearing(folder: Path) -> Path:
@@ -81,7 +80,7 @@ def groove3(files, tmp_path_factory, native_build_cache):
 @pytest.fixture(scope="module")
 def python_groove(files, tmp_path_factory):
     """The Python FMU with the coarse map bundled and the grooved VG 46 bearing's bore and oil as its
-    defaults."""
+    defaults (test_native_fmu_thermal.run sets D, L, CR, mu and the oil: the bore is these)."""
     from bearing_fmu.fmu.build import build_fmu
 
     _bearing, params, path = files
@@ -96,24 +95,6 @@ def internal_of(files):
     return lambda params: open_map(path, dataclasses.replace(params, geometry=bore.geometry))
 
 
-def cs_run(fmu, md, strings=None, native_md=None) -> np.ndarray:
-    """The outputs OUT over test_native_fmu_thermal's trajectory, Co-Simulation, T_supply rising by
-    RAMP per step from T_SUPPLY; ``strings``: the Python FMU's internal and map."""
-    states = trajectory()
-    reals = {**parameters(native_md or md), "T_supply": T_SUPPLY, **dict(zip(IN, states[0]))}
-    r = Run(fmu, md, reals, strings)
-    try:
-        r.f.exitInitializationMode()
-        rows = [r.get()]
-        for k, s in enumerate(states[1:], 1):
-            r.set({"T_supply": T_SUPPLY + RAMP * k})
-            r.step(s, 1e-3)
-            rows.append(r.get())
-        return np.array(rows)
-    finally:
-        r.close()
-
-
 @pytest.mark.slow
 @pytest.mark.parametrize("version", [2, 3])
 def test_grooved_map_equals_the_python_fmu(groove3, python_groove, files, version):
@@ -121,23 +102,10 @@ def test_grooved_map_equals_the_python_fmu(groove3, python_groove, files, versio
     67 C: T_eff, mu_eff, P_loss, Q_side, the force and its tangent equal the Python FMU's with the same
     map within RTOL = 1e-12 of each output's largest value (c/map_flows.c is GroovedForceMap.film_report's
     operations in their order; the oil law and heat balance the ones tests/test_native_fmu_thermal.py
-    checks). And the Python map internal's film_report at each state (its force at the file's mu):
-    P_loss its friction power times mu_eff / mu, Q_side its side flow, within 1e-13 relative."""
-    path, md = groove3[version]
-    got = cs_run(path, md)
-    want = cs_run(python_groove, fmpy.read_model_description(str(python_groove)),
-                  {"internal": "map", "map": files[2].name, "oil_law": "walther"}, native_md=md)
-    scale = np.max(np.abs(want), axis=0)
-    assert np.max(np.abs(got - want) / scale) <= RTOL
-    p = parameters(md)
-    internal = internal_of(files)(BearingParams(D=p["D"], L=p["L"], CR=p["CR"], mu=p["mu"]))
-    col = {n: OUT.index(n) for n in OUT}
-    for state, row in zip(trajectory(), got):
-        rep = internal.film_report(*state)
-        assert row[col["P_loss"]] == pytest.approx(rep.friction_power_W * row[col["mu_eff"]] / p["mu"], rel=1e-13)
-        assert row[col["Q_side"]] == pytest.approx(rep.side_flow_m3_s, rel=1e-13) and rep.side_flow_m3_s > 0.0
-    T = got[:, col["T_eff"]]
-    assert T[0] > T_SUPPLY and np.all(np.diff(T) > 0.0) and T[-1] - T[0] > 5.0  # hot, lagging the rising supply
+    checks; measured: every output the same bits). And the Python map internal's film_report at each
+    state (its force at the file's mu): P_loss its friction power times mu_eff / mu, Q_side its side
+    flow, within 1e-13 relative (test_native_map_thermal.py's check_against_python)."""
+    check_against_python(*groove3[version], python_groove, files[2].name, internal_of(files))
 
 
 @pytest.mark.slow
