@@ -24,8 +24,8 @@ fmpy = pytest.importorskip("fmpy")
 
 from bearing_fmu.physics.params import BearingParams  # noqa: E402
 
-from test_native_fmu_thermal import compliance_check, model_exchange_check  # noqa: E402
-from test_native_map_thermal import check_against_python  # noqa: E402
+from test_native_fmu_thermal import GRID, compliance_check, model_exchange_check, run  # noqa: E402
+from test_native_map_thermal import RAMP, check_against_python  # noqa: E402
 
 MODELS = Path(__file__).resolve().parents[1] / "models"
 SHIPPED = MODELS / "maps" / "paper_2groove.json"
@@ -122,6 +122,22 @@ def test_grooved_map_compliance_checker_with_thermal_on(groove3, interface, tmp_
     """The FMU Compliance Checker on the native grooved map FMU (FMI 2.0) with thermal on, T_supply
     ramped 40 -> 60 C while the journal circles: 0 warnings and 0 errors; T_eff moves."""
     compliance_check(groove3[2][0], interface, tmp_path)
+
+
+@pytest.mark.slow
+def test_several_internals_with_a_grooved_map(groove3, files, tmp_path, native_build_cache):
+    """An FMU of several internals (reynolds and the grooved map, c/bn_parts.c) with internal = 'map'
+    runs the thermal model of the native grooved map FMU: the same bits over the ramped CS run (the
+    map's data section holds its flow tables beside the Reynolds solver's)."""
+    from bearing_fmu.fmu.native.build import build_native_fmu
+
+    bearing, params, path = files
+    both = native_build_cache(tmp_path / "reynolds_map_2groove.fmu",
+                              lambda target: build_native_fmu(target, "reynolds,map", map=path, bearing=params,
+                                                              compiler="cc", options=GRID),
+                              [bearing, path], ("grooved thermal", "reynolds,map"))
+    md = fmpy.read_model_description(str(both))
+    assert np.array_equal(run(both, md, ramp=RAMP, internal="map"), run(*groove3[2], ramp=RAMP))
 
 
 @pytest.mark.slow  # 0.7 s: the shipped map read, two models generated
