@@ -140,6 +140,16 @@ def test_several_internals_with_a_grooved_map(groove3, files, tmp_path, native_b
     assert np.array_equal(run(both, md, ramp=RAMP, internal="map"), run(*groove3[2], ramp=RAMP))
 
 
+@pytest.mark.slow
+def test_grooved_map_sources_compile_without_a_warning(groove3, tmp_path):
+    """The grooved map FMU's sources (map_flows.c with its flow tables) under gcc and zig's clang with
+    -Wall -Wextra -Wpedantic -Werror, as test_native_platforms.py's full-bore map (the full bore's
+    Couette torque, unused here, is left out: an unused static function is a warning)."""
+    from test_native_platforms import sources_compile_without_a_warning
+
+    sources_compile_without_a_warning(Path(fmpy.extract(str(groove3[2][0]))), tmp_path)
+
+
 @pytest.mark.slow  # 0.7 s: the shipped map read, two models generated
 def test_a_grooved_map_without_flow_tables_refuses_thermal(files, tmp_path):
     """A version 2 grooved map (the coarse map with its flow keys dropped): a native map FMU starting

@@ -7,11 +7,13 @@
 #define FILM_FRICTION_C
 #include <math.h>
 
+#ifndef FF_NO_FULL_BORE /* a grooved map's report (map_flows.c) integrates over its film's segments */
 /* Couette torque [N m] of the full bore at the eccentricity ratio eps: 2 pi mu omega R^3 L /
  * (CR sqrt(1 - eps^2)) (the integral of 1/h over the circle, exactly) */
 static double ff_couette(double mu, double omega, double R, double L, double CR, double eps) {
     return 2.0 * M_PI * mu * omega * pow(R, 3.0) * L / (CR * sqrt(1.0 - eps * eps));
 }
+#endif
 
 /* pressure (Poiseuille) torque [N m] of the full bore: (y Fz - z Fy) / 2, F the film force [N] */
 static double ff_pressure(double y, double z, const double F[2]) {

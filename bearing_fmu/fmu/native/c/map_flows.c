@@ -13,6 +13,9 @@
 #if !MAP_FLOWS
 #error "the film report needs a map with its flow table (portgen.film_flow)"
 #endif
+#if MAP_DIMS == 3
+#define FF_NO_FULL_BORE 1 /* ff_couette unused (an unused static function is a warning) */
+#endif
 #include "film_friction.c"
 
 #if MAP_DIMS == 3
