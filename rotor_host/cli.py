@@ -304,7 +304,7 @@ def _add_stability(sub) -> None:
 
 
 def _add_sweep(sub) -> None:
-    from .analyses.sweep import scheduler_address
+    from .analyses.dask_cluster import scheduler_address
 
     p = sub.add_parser("sweep", help="run a scene at many speeds or unbalances in parallel on Dask: summary table "
                                      "and bifurcation diagram")

@@ -142,16 +142,18 @@ def test_sources_compile_without_a_warning(every_platform, kind, tmp_path):
 
 def sources_compile_without_a_warning(unzip: Path, tmp_path: Path) -> None:
     """test_sources_compile_without_a_warning's compiles of the extracted FMU ``unzip``'s sources."""
-    from bearing_fmu.fmu.native.compile import zig_cc
+    from bearing_fmu.fmu.native.compile import NativeBuildError, run_compilers, zig_cc
 
     flags = ["-std=c99", "-O2", "-Wall", "-Wextra", "-Wpedantic", "-Werror", "-c", "-I", str(unzip / "sources"),
              "-I", str(FH)]
-    for k, src in enumerate(_sources(unzip)):
-        for cmd in ([shutil.which("gcc") or "cc"], [*zig_cc(), "-target", "x86_64-windows-gnu"],
-                    [*zig_cc(), "-target", "aarch64-macos"]):
-            done = subprocess.run([*cmd, *flags, str(src), "-o", str(tmp_path / f"{k}.o")], capture_output=True,
-                                  text=True)
-            assert done.returncode == 0, (cmd[-1], src.name, done.stderr[-2000:])
+    jobs = [([*cmd, *flags, str(src), "-o", str(tmp_path / f"{k}-{j}.o")], f"{cmd[-1]} {src.name}")
+            for k, src in enumerate(_sources(unzip))
+            for j, cmd in enumerate(([shutil.which("gcc") or "cc"], [*zig_cc(), "-target", "x86_64-windows-gnu"],
+                                     [*zig_cc(), "-target", "aarch64-macos"]))]
+    try:
+        run_compilers(jobs)  # side by side, as many as there are cores
+    except NativeBuildError as exc:
+        pytest.fail(str(exc)[-3000:])
 
 
 @pytest.mark.slow

@@ -142,13 +142,15 @@ def test_a_peer_that_is_not_a_scheduler_is_refused(tmp_path, not_a_scheduler, mo
 
 
 @pytest.mark.slow
-def test_a_silent_peer_ends_the_command_within_10_s(tmp_path, not_a_scheduler):
-    """The command line with its defaults, as a user meets it: exit 2 in about 5 s."""
+def test_a_silent_peer_ends_the_command_in_seconds(tmp_path, not_a_scheduler):
+    """The command line with its defaults, as a user meets it: exit 2 in about 5 s (the handshake's
+    5 s and the start-up; left to dask.distributed it would wait for ever). Bounded at 20 s: the
+    tests run beside each other (pytest-xdist), and a loaded machine doubles the start-up."""
     proc = start_command("rotor-host", "sweep", SCENE, "--speeds-hz", "22", *CHEAP, "--scheduler", not_a_scheduler,
                          "--out", tmp_path)
     t0 = time.monotonic()
     _, err = proc.communicate(timeout=60)
-    assert proc.returncode == 2 and time.monotonic() - t0 < 10.0, err
+    assert proc.returncode == 2 and time.monotonic() - t0 < 20.0, err
     assert f"--scheduler {not_a_scheduler}: something accepts connections there but did not answer as a Dask " \
            "scheduler within 5 s" in err
 

@@ -1,10 +1,15 @@
 """A scene with a supply temperature on one internal, in-process and through the Python FMU's
 thermal ports, beside the same scene on the Reynolds solver (tests/test_forcemap_flows.py,
-tests/test_taylor_flows.py)."""
+tests/test_taylor_flows.py), and the thermal records of such runs compared (the native FMU's too:
+tests/test_thermal_host.py)."""
 
 import dataclasses
 
 import numpy as np
+
+# what every route records of the film over time (docs/file-formats.md, "Run result: the thermal
+# arrays"); the inflow Q_in only in-process (the FMUs have no inflow output)
+THERMAL = ("T_eff", "mu_eff", "P_loss", "Q_side")
 
 
 def three_runs(scene, internal: str, options: dict, t_end_s: float, tmp_path) -> dict:
@@ -24,8 +29,31 @@ def three_runs(scene, internal: str, options: dict, t_end_s: float, tmp_path) ->
 
 def check_three_runs(out: dict, reynolds_rtol: float, fmu_rtol: float = 1e-9) -> None:
     """The FMU run equals the in-process one to ``fmu_rtol`` and the Reynolds run is within
-    ``reynolds_rtol`` of it, each of the largest value of y, z, Fy, Fz."""
+    ``reynolds_rtol`` of it, each of the largest value of y, z, Fy, Fz; with a supply temperature
+    both record the same film history (``check_thermal_records``), and the Reynolds run's T_eff is
+    within ``reynolds_rtol`` K of it (the film's rise over the supply is ~1 K)."""
     for key in ("y", "z", "Fy", "Fz"):
         scale = np.max(np.abs(out["direct"][key]))
         assert np.max(np.abs(out["fmu"][key] - out["direct"][key])) <= fmu_rtol * scale, key
         assert np.max(np.abs(out["rey"][key] - out["direct"][key])) <= reynolds_rtol * scale, key
+    if "T_eff" in out["direct"].files:
+        check_thermal_records(out, fmu_rtol)
+        assert np.max(np.abs(out["rey"]["T_eff"] - out["direct"]["T_eff"])) <= reynolds_rtol
+
+
+def check_thermal_records(out: dict, rtol: float = 1e-9, reference: str = "direct") -> None:
+    """Every run of ``out`` but the Reynolds one ("rey") records T_eff, mu_eff, P_loss and Q_side at
+    the same times as ``out[reference]``, equal to ``rtol`` of each array's largest value (T_eff: to
+    ``rtol`` K, of the order of the film's rise of 1-2 K over the supply; a step's lag moves it by
+    ~1e-6 K at the 44 Hz scene's); an in-process run records the inflow too, an FMU run not; none of
+    them records anything not finite."""
+    ref = out[reference]
+    for name, run in out.items():
+        if name == "rey":
+            continue
+        assert np.array_equal(run["t"], ref["t"]), name
+        for key in THERMAL:
+            assert run[key].shape == ref["Fy"].shape and np.all(np.isfinite(run[key])), (name, key)
+            scale = 1.0 if key == "T_eff" else np.max(np.abs(ref[key]))  # T_eff [K]: its rise is ~1 K
+            assert np.max(np.abs(run[key] - ref[key])) <= rtol * scale, (name, key, np.max(np.abs(run[key] - ref[key])))
+        assert ("Q_in" in run.files) == (name in ("direct", "rey")), name

@@ -48,7 +48,8 @@ class ViscosityScaled:
         return f * np.asarray(F, float), f * np.asarray(dq, float), f * np.asarray(dv, float)
 
     def __getattr__(self, name):  # domain_distance, counts, ... of the inner internal
-        if name in ("inner", "force_and_jacobian"):
+        # not the inner's compiled force: it would run at the inner's viscosity, unscaled
+        if name in ("inner", "force_and_jacobian", "compiled_force"):
             raise AttributeError(name)
         return getattr(self.inner, name)
 
@@ -65,7 +66,9 @@ class LaggedThermal(ViscosityScaled):
     oil, T_supply_K : the oil law and its supply temperature [K]
     ``start(y, z, vy, vz, omega)`` sets the temperature quasi-statically at a state (the FMU's
     Initialization Mode); ``begin_step(dt)`` [s] then makes every evaluation lag from the committed
-    temperature over dt (0: held, the static evaluations), ``accept_step`` commits the last one."""
+    temperature over dt (0: held, the static evaluations), ``accept_step`` commits the last one.
+    ``thermal_record()``: what the last evaluation had, as the FMU's thermal outputs have it (a
+    run records it at its recorded times)."""
 
     def __init__(self, inner, oil, T_supply_K: float):
         if getattr(inner, "film_report", None) is None:
@@ -74,12 +77,13 @@ class LaggedThermal(ViscosityScaled):
         self.oil, self.T_supply = oil, float(T_supply_K)
         self.T = self.T_trial = oil.check_temperature(T_supply_K, "T_supply")
         self.dt = 0.0
+        self.report = None  # the film report of the last evaluation, at the inner's viscosity
 
     def _at(self, state, lagged: bool = True) -> None:
         from ..physics.thermal import film_temperature
         from .registry import BearingStateError
 
-        report = self.inner.film_report(*state)
+        self.report = report = self.inner.film_report(*state)
         try:
             self.T_trial, mu, _ = film_temperature(self.inner.params, report, self.oil, self.T_supply,
                                                    self.T if lagged else None, self.dt)
@@ -95,6 +99,12 @@ class LaggedThermal(ViscosityScaled):
 
     def begin_step(self, dt: float) -> None:
         self.dt = float(dt)
+
+    def thermal_record(self) -> tuple[float, float, float, float, float]:
+        """(T_eff [K], mu_eff [Pa s], friction power P_loss [W], side flow Q_side [m^3/s], inflow Q_in
+        [m^3/s]) of the last evaluation (the FMU's P_loss: the report's power times mu_eff / mu)."""
+        r = self.report
+        return self.T_trial, self.mu_eff, r.friction_power_W * self.factor, r.side_flow_m3_s, r.inflow_m3_s
 
     def accept_step(self) -> None:
         self.T = self.T_trial

@@ -21,6 +21,7 @@ from bearing_fmu.io.outputs import ensure_writable, write_json, write_text
 
 from ..scenes.run import run_scene
 from ..scenes.scene import Scene
+from ..scenes.thermal import compared_thermal
 from .plotting import pyplot, save_figure
 from .report import errors_against, markdown_table, plot_runs
 
@@ -48,6 +49,9 @@ COLUMNS = [
     ("speedup_vs_ref", "speed-up vs ref", ".1f"), ("speedup_vs_default", "speed-up vs Reynolds default", ".1f"),
     ("evals_per_step", "evals/step", ".2f"),
 ]
+# with a supply temperature (docs/thermal.md): how hot the films run and how much power they take
+THERMAL_COLUMNS = [("T_eff_end_C", "T_eff end [C]", ".2f"), ("T_eff_error_K", "T_eff error max [K]", ".2g"),
+                   ("P_loss_end_W", "P_loss end [W]", ".3g")]
 
 
 def compare(base: Scene, reference: Variant, variants: list[Variant], out_dir, *, progress: bool = False,
@@ -113,6 +117,7 @@ def _run_variant(base, reference, v, out_dir, stem, runs, rows, progress, log) -
         row["envelope_rms_pct_cr"] = envelope_error(runs[reference.label].arrays, run.arrays, base.speed_hz)
     else:
         row.update(force_nrmse_pct=0.0, orbit_rms_pct_cr=0.0, orbit_max_pct_cr=0.0, envelope_rms_pct_cr=0.0)
+    row.update(compared_thermal(runs[reference.label].arrays, run.arrays))
     rows.append(row)
     log(f"  {status}: {row['integration_s']:.2f} s, force NRMSE {row['force_nrmse_pct']:.3g} %, "
         f"orbit RMS {row['orbit_rms_pct_cr']:.3g} % CR")
@@ -225,7 +230,8 @@ def print_table(rows) -> str:
         if r.get("out_of_domain_pct"):
             notes.append(f"- {r['label']}: {r['out_of_domain_pct']:.3g} % of the recorded states outside the "
                          f"surrogate's fitted domain, up to {r['domain_excess_pct']:.3g} % of its size beyond it")
-    return markdown_table(rows, COLUMNS) + ("\n\n" + "\n".join(notes) if notes else "")
+    columns = COLUMNS + (THERMAL_COLUMNS if any("T_eff_end_C" in r for r in rows) else [])
+    return markdown_table(rows, columns) + ("\n\n" + "\n".join(notes) if notes else "")
 
 
 # ----------------------------------------------------------------------------- the variants

@@ -1,6 +1,7 @@
 """The Dask cluster a sweep runs on: an existing scheduler, checked before use, or a local
 cluster of worker processes, closed at once on an interrupt.
 
+``scheduler_address`` is the command line's type of a scheduler's address (``--scheduler``).
 ``check_scheduler`` refuses in one line an address where nothing answers, or where something
 answers that is not a Dask scheduler (dask.distributed bounds the connection but not its
 handshake, so a silent socket or an HTTP server would hold the sweep forever).
@@ -12,12 +13,28 @@ close waits 10 s).
 from __future__ import annotations
 
 import os
+import re
 import signal
 import threading
 import time
 from contextlib import contextmanager
 
+from bearing_fmu.io.cliargs import typed
+
 HANDSHAKE_TIMEOUT_S = 5.0  # a scheduler answers the Dask handshake in milliseconds
+
+_ADDRESS = re.compile(r"^(?:[a-z]+://)?[^\s/:]+:\d{1,5}$|^[a-z]+://\S+$")
+
+
+def _address(text: str) -> str:
+    if not _ADDRESS.match(text.strip()):
+        raise ValueError(text)
+    return text.strip()
+
+
+# An argparse type: a Dask scheduler address, ``tcp://HOST:PORT`` (or ``HOST:PORT``); that a
+# scheduler answers there is checked when the sweep connects.
+scheduler_address = typed("a Dask scheduler address such as tcp://10.0.0.5:8786", str, _address)
 
 
 def check_scheduler(address: str, connect_timeout_s: float = 15.0, handshake_timeout_s: float = HANDSHAKE_TIMEOUT_S):

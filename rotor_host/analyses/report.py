@@ -220,6 +220,7 @@ def run_and_report(scene, out, *, progress: bool = True, plots: bool = True) -> 
     from bearing_fmu.io.outputs import ensure_writable
 
     from ..scenes.run import run_scene
+    from ..scenes.thermal import thermal_lines
 
     out = ensure_writable(out)  # refused before any work
     run = run_scene(scene, out, progress=progress)
@@ -231,6 +232,8 @@ def run_and_report(scene, out, *, progress: bool = True, plots: bool = True) -> 
           f"evaluations per step, {m['step_cuts']} step cuts")
     print(f"max eccentricity ratio per bearing: {', '.join(f'{e:.3f}' for e in m['max_eccentricity'])}"
           + ("  (the orbit crossed the clearance circle)" if m["crossed_clearance"] else ""))
+    for line in thermal_lines(run.arrays):  # a supply temperature: how hot, how much power
+        print(line)
     if m["status"] != "ok":
         print(f"stopped: {m['message']}")
     if scene.speed_profile is not None and plots and run.arrays["t"].size > 1:

@@ -31,17 +31,16 @@ from __future__ import annotations
 
 import math
 import os
-import re
 import time
 from dataclasses import asdict, dataclass, replace
 from pathlib import Path
 
 import numpy as np
 
-from bearing_fmu.io.cliargs import typed
 from bearing_fmu.io.exits import as_interrupted, note_kept
 from bearing_fmu.io.outputs import claim, ensure_writable, note_rescued, take_rescued, write_json, write_text
 
+from ..scenes.thermal import settled_thermal
 from .dask_cluster import check_scheduler, dask_client
 from .plotting import pyplot, save_figure
 
@@ -57,20 +56,6 @@ def _flat(groups, option: str) -> list[float]:
     if len(values) > MAX_RUNS:
         raise ValueError(f"{option}: {len(values)} runs; a sweep takes at most {MAX_RUNS} (a step in the wrong unit?)")
     return values
-
-
-_ADDRESS = re.compile(r"^(?:[a-z]+://)?[^\s/:]+:\d{1,5}$|^[a-z]+://\S+$")
-
-
-def _address(text: str) -> str:
-    if not _ADDRESS.match(text.strip()):
-        raise ValueError(text)
-    return text.strip()
-
-
-# An argparse type: a Dask scheduler address, ``tcp://HOST:PORT`` (or ``HOST:PORT``); that a
-# scheduler answers there is checked when the sweep connects.
-scheduler_address = typed("a Dask scheduler address such as tcp://10.0.0.5:8786", str, _address)
 
 
 @dataclass(frozen=True)
@@ -127,7 +112,8 @@ def settled_metrics(arrays: dict, settle_s: float, speed_hz: float, disk_nodes: 
     * per bearing: largest and smallest eccentricity ratio, and the eccentricity once per
       shaft revolution (linearly interpolated at settle_s + k / speed);
     * per disk (1-based node, recorded): largest and smallest distance of the disk centre
-      from its static equilibrium position [um], and the same once per revolution.
+      from its static equilibrium position [um], and the same once per revolution;
+    * with a supply temperature, per bearing its mean T_eff [K] and P_loss [W] (``settled_thermal``).
 
     Empty lists when fewer than two recorded steps lie in the window (a run that stopped
     before it), and no disk entry without a static position to measure from: nothing that
@@ -146,6 +132,8 @@ def settled_metrics(arrays: dict, settle_s: float, speed_hz: float, disk_nodes: 
         e = ecc[:, k]
         out["bearings"].append({"node": int(node), "ecc_max": float(e.max()), "ecc_min": float(e.min()),
                                 "once_per_rev": np.interp(revs, tw, e).tolist()})
+    for b, th in zip(out["bearings"], settled_thermal(arrays, win)):
+        b.update(th)
     q0 = np.asarray(arrays["q0"], float)
     for node in disk_nodes:
         c = nodes.index(node)
@@ -311,18 +299,20 @@ def _flat_row(r: dict) -> dict:
     out = dict(r)
     for k, b in enumerate(r.get("bearings", [])):
         out[f"b{k}_max"], out[f"b{k}_min"] = b["ecc_max"], b["ecc_min"]
+        out[f"b{k}_T"], out[f"b{k}_P"] = b.get("T_eff_K", math.nan) - 273.15, b.get("P_loss_W")
     for k, d in enumerate(r.get("disks", [])):
         out[f"d{k}_max"], out[f"d{k}_min"] = d["amp_max_um"], d["amp_min_um"]
     return out
 
 
-def summary_columns(bearing_nodes: list[int], disk_nodes: list[int], unbalance: bool) -> list[tuple]:
+def summary_columns(bearing_nodes: list[int], disk_nodes: list[int], unbalance: bool, thermal=False) -> list[tuple]:
     cols = [("speed_hz", "speed [Hz]", "g")]
     if unbalance:
         cols.append(("unbalance_g", "unbalance [g]", "g"))
     cols.append(("status", "status", ""))
     for k, n in enumerate(bearing_nodes):
         cols += [(f"b{k}_max", f"bearing {k + 1} (node {n}) ecc. max", ".3f"), (f"b{k}_min", "min", ".3f")]
+        cols += [(f"b{k}_T", "T_eff [C]", ".2f"), (f"b{k}_P", "P_loss [W]", ".3g")] if thermal else []
     for k, n in enumerate(disk_nodes):
         cols += [(f"d{k}_max", f"disk (node {n}) amplitude max [um]", ".1f"), (f"d{k}_min", "min [um]", ".1f")]
     cols += [("wall_s", "run time [s]", ".1f"), ("integration_s", "integration [s]", ".1f")]
@@ -363,7 +353,8 @@ def write_summary(path_stem: Path, scene, rows: list[dict], *, settle_s: float, 
                 if info.get("warm_s") is not None else "") + ".", ""]
     if note:
         lines += [f"**{note}**", ""]
-    lines.append(markdown_table([_flat_row(r) for r in rows], summary_columns(bearing_nodes, disk_nodes, unbalance)))
+    oil = any("T_eff_K" in b for r in rows for b in r.get("bearings", []))  # a supply temperature
+    lines.append(markdown_table([_flat_row(r) for r in rows], summary_columns(bearing_nodes, disk_nodes, unbalance, oil)))
     bad = [r for r in rows if r["status"] != "ok"]
     if bad:
         lines += ["", "Runs that did not finish cleanly:", ""]
@@ -594,6 +585,6 @@ def command(*, scene, speeds_hz=None, unbalance_g=None, settle_s: float | None =
     return 0 if n_ok else 1
 
 
-__all__ = ["scheduler_address", "Point", "run_base", "points", "point_scene", "settled_metrics", "warm_worker",
+__all__ = ["Point", "run_base", "points", "point_scene", "settled_metrics", "warm_worker",
            "run_point", "check_fixed_speed", "check_scheduler", "dask_client", "sweep", "sweep_title", "write_summary",
            "summary_diagram", "plot_bifurcation", "command"]

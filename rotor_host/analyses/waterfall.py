@@ -184,7 +184,8 @@ def plot_waterfall(arrays: dict, path, *, nodes, window_s: float = DEFAULT_WINDO
     """One panel per node: whirl amplitude (log colour) against frequency and speed, with the
     1x, 0.5x and -1x lines and the critical speeds on the 1x line; a row of orbits (bearing
     journal and each node) at chosen speeds inside the run's (default: the start, the 1x peak and
-    the end)."""
+    the end); with a supply temperature (the run's ``T_eff``) beside them each bearing's effective
+    film temperature against the speed."""
 
     plt = pyplot()
     specs = [spectra(arrays, n, window_s) for n in nodes]
@@ -196,8 +197,10 @@ def plot_waterfall(arrays: dict, path, *, nodes, window_s: float = DEFAULT_WINDO
     if bad:
         lo, hi = speed_range(arrays)
         raise ValueError(f"orbit speed {bad[0]:g} Hz is outside the run's speeds {lo:g}-{hi:g} Hz")
-    fig = plt.figure(figsize=(5.2 * len(specs), 8.2))
-    grid = fig.add_gridspec(2, max(len(specs), len(orbit_speeds_hz)), height_ratios=(2.2, 1))
+    thermal = bool(np.size(arrays.get("T_eff", ())))
+    cols = max(len(specs), len(orbit_speeds_hz) + thermal)
+    fig = plt.figure(figsize=(max(5.2 * len(specs), 3.8 * cols), 8.2))
+    grid = fig.add_gridspec(2, cols, height_ratios=(2.2, 1))
     for i, sp in enumerate(specs):
         ax = fig.add_subplot(grid[0, i])
         fmax = 1.3 * float(np.nanmax(sp.speed_hz))
@@ -230,6 +233,14 @@ def plot_waterfall(arrays: dict, path, *, nodes, window_s: float = DEFAULT_WINDO
         ax.set_title(f"{speed[k]:.1f} Hz (t = {t[k]:.2f} s)", fontsize=9)
         ax.set_xlabel("y [um]")
         ax.set_ylabel("z [um]")
+        ax.legend(fontsize=7)
+    if thermal:
+        ax = fig.add_subplot(grid[1, len(orbit_speeds_hz)])
+        for k, n in enumerate(np.asarray(arrays["bearing_nodes"]).ravel()):
+            ax.plot(speed, np.asarray(arrays["T_eff"])[:, k] - 273.15, lw=1.0, label=f"bearing at node {n}")
+        ax.set_xlabel("shaft speed [Hz]")
+        ax.set_ylabel("T_eff [C]")
+        ax.set_title("effective film temperature", fontsize=9)
         ax.legend(fontsize=7)
     if title:
         fig.suptitle(title)

@@ -11,6 +11,11 @@ stacked force and a block-diagonal tangent. Two kinds share this bookkeeping:
 
 A bearing that cannot evaluate a state (journal at the wall, non-finite input) raises
 ``StepRejected`` naming the bearing, the state and the time, so the integrator cuts the step.
+
+With a film temperature that lags (a scene with a supply temperature: ``LaggedThermal``
+in-process, an FMU's thermal ports) a set has ``thermal_fields`` and ``thermal_record()``: each
+bearing's film temperature, viscosity, friction power and flows at its last evaluation, which a
+run reads at its recorded times only (``Newmark.run``'s ``record_extra``), never per iteration.
 """
 
 from __future__ import annotations
@@ -21,6 +26,10 @@ from bearing_fmu.internals.registry import BearingStateError
 from bearing_fmu.physics.statics import film_jacobian
 
 from ..integrate.forces import FORCE_TANGENTS, StepRejected, check_tangent
+
+# what ``thermal_record`` gives per bearing, in this order: T_eff [K], mu_eff [Pa s], P_loss [W],
+# Q_side [m^3/s] (the bearing FMU's thermal outputs, by their names) and Q_in [m^3/s] (in-process only)
+THERMAL_FIELDS = ("T_eff", "mu_eff", "P_loss", "Q_side", "Q_in")
 
 
 class BearingSet:
@@ -42,6 +51,7 @@ class BearingSet:
     """
 
     lund_sign = False  # True: _bearing returns K = -dF/dq, C = -dF/dv (evaluate negates them)
+    thermal_fields: tuple = ()  # the columns of thermal_record (a prefix of THERMAL_FIELDS); () none
 
     def __init__(self, bearing_dofs, omega: float, names=None, tangent: str = "bearing"):
         pairs = [(int(a), int(b)) for a, b in bearing_dofs]
@@ -100,6 +110,10 @@ class BearingSet:
         (``NodalForce.compiled``), or None; a set of FMUs has none."""
         return None
 
+    def thermal_record(self) -> np.ndarray:
+        """(n, len(thermal_fields)): each bearing's ``thermal_fields`` at its last evaluation."""
+        raise NotImplementedError(f"{type(self).__name__}: no film temperature (thermal_fields is empty)")
+
     def close(self) -> None:
         pass
 
@@ -135,6 +149,8 @@ class DirectBearings(BearingSet):
                      for i in self.internals]
         # internals with a state over the step (a film temperature that lags: LaggedThermal)
         self._stepped = [i for i in self.internals if hasattr(i, "begin_step")]
+        if self.n and all(hasattr(i, "thermal_record") for i in self.internals):
+            self.thermal_fields = THERMAL_FIELDS
 
     def begin_step(self, t: float, dt: float) -> None:
         super().begin_step(t, dt)
@@ -162,6 +178,11 @@ class DirectBearings(BearingSet):
                 return None
             forces.append(cf)
         return tuple(forces), self.omega
+
+    def thermal_record(self) -> np.ndarray:
+        if not self.thermal_fields:
+            return super().thermal_record()
+        return np.array([i.thermal_record() for i in self.internals])
 
     def _bearing(self, k, y, z, vy, vz):
         try:

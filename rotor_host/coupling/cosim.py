@@ -37,7 +37,7 @@ import numpy as np
 
 from bearing_fmu.io.exits import deferred, enter_deferred, leave_deferred
 
-from .bearings import BearingSet
+from .bearings import THERMAL_FIELDS, BearingSet
 from .fmu_kernel import fmu_force
 
 # what the host reads from every bearing FMU, in this order
@@ -188,6 +188,11 @@ class FMUBearings(BearingSet):
             self._dq_view = self._out[2:6].reshape(2, 2)
             self._dv_view = self._out[6:10].reshape(2, 2)
             self.memoryless = self._declared_memoryless(parameters)
+            if self.n and all(str(p.get("thermal", "")).strip().lower() in ("true", "1", "1.0") for p in parameters):
+                # its thermal ports on: T_eff, mu_eff, P_loss, Q_side are outputs (no inflow)
+                self.thermal_fields = THERMAL_FIELDS[:4]
+                self._vr_thermal = (ctypes.c_uint * 4)(*[self._vars[n].valueReference for n in self.thermal_fields])
+                self._buf_thermal = (ctypes.c_double * 4)()
         except BaseException:
             self.close()
             raise
@@ -327,6 +332,18 @@ class FMUBearings(BearingSet):
                                             else fmu.component, vr_in, vr_out, self._clock, self.max_eccentricity, k)
                                   for k, fmu in enumerate(self.instances))
         return self._kernels, self.omega, self._clock
+
+    def thermal_record(self) -> np.ndarray:
+        """The thermal outputs of each instance's last doStep (an fmi2GetReal per instance)."""
+        if not self.thermal_fields:
+            return super().thermal_record()
+        out = np.empty((self.n, len(self.thermal_fields)))
+        with deferred():
+            for k, fmu in enumerate(self.instances):
+                status = fmu.dll.fmi2GetReal(fmu.component, self._vr_thermal, 4, self._buf_thermal)
+                self._check(k, "fmi2GetReal", status)
+                out[k] = self._buf_thermal
+        return out
 
     @staticmethod
     def _status_name(status: int) -> str:

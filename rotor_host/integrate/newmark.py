@@ -159,11 +159,13 @@ class Newmark:
     # ------------------------------------------------------------------ public
     def run(self, q0, v0, t0: float, t_end: float, dt: float, *, record_every: int = 1,
             record_dofs=None, progress: Callable[[float], None] | None = None,
-            progress_every: int | None = None) -> NewmarkResult:
+            progress_every: int | None = None, record_extra: Callable[[], np.ndarray] | None = None) -> NewmarkResult:
         """Integrate from t0 to t_end (a whole number of steps dt). Outputs every
         ``record_every`` steps at t0 + k dt; ``record_dofs`` selects the recorded DOFs
         (default all). ``progress(t)`` is called every ``progress_every`` steps (default
-        ~200 calls per run) and at the end. Raises IntegrationError with the partial result."""
+        ~200 calls per run) and at the end. ``record_extra()``, when given, at every record right
+        after the force recorded there was evaluated (the Python driver: no compiled chunks), its
+        array kept in the result's ``extra``. Raises IntegrationError with the partial result."""
         cfg = self.cfg
         n, m = self.n, self.dofs.size
         dt = float(dt)
@@ -180,7 +182,7 @@ class Newmark:
 
         self._wall0 = time.perf_counter()
         st = self._state = _RunState(n, m, n_steps, n_out, rec, cfg.trace, cfg.tangent)
-        st.t0, st.dt, st.record_every = float(t0), dt, record_every
+        st.t0, st.dt, st.record_every, st.extra_fn = float(t0), dt, record_every, record_extra
 
         q0 = np.asarray(q0, dtype=float).reshape(n)
         v0 = np.asarray(v0, dtype=float).reshape(n)
@@ -216,7 +218,7 @@ class Newmark:
         attempt = self._attempt
         record = self._record
         iters = st.iters
-        plan = self._compiled_plan()
+        plan = self._compiled_plan() if record_extra is None else None
         if plan is not None:
             chunk = ChunkDriver(self, plan, n, rec)
         k = 0
@@ -304,6 +306,8 @@ class Newmark:
             st.out_q[i] = st.X[:n][st.rec]
             st.out_v[i] = st.X[n:2 * n][st.rec]
         st.out_f[i] = st.f0
+        if st.extra_fn is not None:  # what the force had at its recorded evaluation (the last one)
+            st.out_x[i:] = [np.array(st.extra_fn(), dtype=float)]
         st.n_rec = i + 1
 
     @property
@@ -324,13 +328,13 @@ class Newmark:
             t=st.out_t[:k].copy(), q=st.out_q[:k].copy(), v=st.out_v[:k].copy(), f_nl=st.out_f[:k].copy(),
             dofs=st.rec.copy(), nl_dofs=self.dofs.copy(), iterations=st.iters[:st.steps_done].copy(),
             n_cuts=st.n_cuts, n_evaluations=st.n_eval, wall_time=time.perf_counter() - self._wall0,
-            status=status, message=message, residual_history=st.trace)
+            status=status, message=message, residual_history=st.trace,
+            extra=None if st.extra_fn is None else np.array(st.out_x[:k]))
 
     def _advance(self, t_a, t_b, level):
         ok, info = self._attempt(t_a, t_b, level)
-        if ok:
-            return
-        self._cut(t_a, t_b, level, info)
+        if not ok:
+            self._cut(t_a, t_b, level, info)
 
     def _cut(self, t_a, t_b, level, info):
         st = self._state
@@ -574,6 +578,7 @@ class _RunState:
         self.Ma_norm = 0.0
         self.trace = [] if trace else None
         self.in_first_bracket = False
+        self.extra_fn, self.out_x = None, []  # record_extra and its records
 
 
 class _StepFailure(Exception):

@@ -90,7 +90,8 @@ class NewmarkResult:
     nonlinear force on ``nl_dofs``; iterations (n_steps,) force evaluations (= Newton
     iterations, 1 = predictor accepted) spent on each grid step, failed attempts and sub-steps
     included; n_cuts step halvings; n_evaluations all force evaluations (incl. the initial
-    one and finite differences); wall_time [s]; status "ok" or "failed" with message.
+    one and finite differences); wall_time [s]; status "ok" or "failed" with message; extra
+    (n_out, ...) what ``Newmark.run``'s ``record_extra`` returned at each record (None without it).
     """
 
     t: np.ndarray
@@ -106,6 +107,7 @@ class NewmarkResult:
     status: str = "ok"
     message: str = ""
     residual_history: list | None = field(default=None, repr=False)
+    extra: np.ndarray | None = field(default=None, repr=False)
 
     @property
     def mean_iterations(self) -> float:

@@ -22,6 +22,7 @@ from bearing_fmu.physics.params import BEARING_KEYS
 from ..model.rotor import BEARING_ENTRY_KEYS, DISK_KEYS, ELEMENT_KEYS, MATERIAL_KEYS, ROTOR_KEYS
 from .scene import (INITIAL_KEYS, RECORD_KEYS, SCENE_KEYS, SPEED_PROFILE_KEYS, STATIC_LOAD_KEYS, TIME_KEYS,
                     UNBALANCE_KEYS)
+from .thermal import thermal_arrays_table
 
 
 def reference_tables() -> dict[str, str]:
@@ -46,6 +47,7 @@ def reference_tables() -> dict[str, str]:
     out = {h: markdown_table(k) for h, k in tables.items()}
     for spec in registry.REGISTRY.values():
         out[f"Scene file: [{spec.name}]"] = markdown_table(option_keys(spec.options))
+    out["Run result: the thermal arrays"] = thermal_arrays_table()
     return out
 
 

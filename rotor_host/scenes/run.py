@@ -34,6 +34,7 @@ from ..integrate.loads import RotatingLoads
 from ..integrate.newmark import IntegrationError, Newmark, NewmarkConfig
 from ..model.rotor import Rotor
 from .scene import G, Scene, SceneError, required_file, scene_files
+from .thermal import scene_thermal, thermal_arrays, thermal_internal, thermal_meta, with_history
 
 # ---------------------------------------------------------------------------------- statics
 
@@ -193,34 +194,6 @@ def _native_fmu(scene: Scene, work_dir: Path, bearing=None) -> Path:
                                  platforms=[host_platform()], bearing=bearing, speed_hz=speed_hz, **files))
 
 
-def scene_thermal(scene: Scene, rotor: Rotor, loads: np.ndarray) -> list | None:
-    """Each bearing's film at its effective temperature (``physics.thermal.ThermalState``) at the
-    scene's speed under its static load, with the scene's supply temperature; None without one.
-    A bearing without a film temperature there is an EquilibriumError naming it."""
-    if scene.supply_temperature_K is None:
-        return None
-    from bearing_fmu.physics.statics import EquilibriumError
-    from bearing_fmu.physics.thermal import ThermalError, effective_temperature
-
-    out = []
-    for k, (p, w) in enumerate(zip(rotor.bearings, loads)):
-        name = f"bearing {k + 1} (node {rotor.bearing_nodes[k] + 1})"
-        try:
-            out.append(effective_temperature(p, (float(w[0]), float(w[1])), scene.omega, scene.supply_temperature_K,
-                                             name=name))
-        except ThermalError as exc:
-            raise EquilibriumError(str(exc), bearing=name) from None
-    return out
-
-
-def thermal_meta(states) -> list[dict]:
-    """The run's json entry of ``scene_thermal``: per bearing T_eff, mu_eff and the film's friction and flows."""
-    return [{"T_supply_K": st.T_supply_K, "T_eff_K": st.T_eff_K, "dT_K": st.dT_K, "mu_eff_Pa_s": st.mu_eff_Pa_s,
-             "P_loss_W": st.report.friction_power_W, "inflow_m3_s": st.report.inflow_m3_s,
-             "side_flow_m3_s": st.report.side_flow_m3_s, "friction_coefficient": st.report.friction_coefficient}
-            for st in states]
-
-
 def build_bearings(scene: Scene, rotor: Rotor, loads: np.ndarray, work_dir: Path, warn=None, thermal=None):
     """The BearingSet of the scene: FMU instances (via = fmu) or internals in-process (their
     warnings to ``warn``, default: warnings.warn); ``thermal`` (``scene_thermal``): each internal
@@ -233,7 +206,7 @@ def build_bearings(scene: Scene, rotor: Rotor, loads: np.ndarray, work_dir: Path
 
         internals = [_direct_internal(scene, p, w, warn) for p, w in zip(rotor.bearings, loads)]
         if thermal is not None:
-            internals = [_thermal_internal(scene, i, p, st) for i, p, st in zip(internals, rotor.bearings, thermal)]
+            internals = [thermal_internal(scene, i, p, st) for i, p, st in zip(internals, rotor.bearings, thermal)]
         return DirectBearings(internals, pairs, scene.omega, names, tangent=scene.newton_tangent)
     from ..coupling.cosim import FMUBearings
 
@@ -261,25 +234,6 @@ def build_bearings(scene: Scene, rotor: Rotor, loads: np.ndarray, work_dir: Path
     fmu = scene_fmu(scene, work_dir, rotor.bearings[0])
     params = [_fmu_parameters(scene, p, w, st) for p, w, st in zip(rotor.bearings, loads, thermal or [None] * len(loads))]
     return FMUBearings(fmu, pairs, scene.omega, params, names, tangent=scene.newton_tangent)
-
-
-def _thermal_internal(scene: Scene, internal, params, state):
-    """One bearing's internal at its film's temperature: lagging the heat balance by the residence
-    time from the quasi-static value at its static equilibrium (``LaggedThermal``, the FMU's model)
-    when the internal has the film's flows, else held at the static equilibrium's mu_eff (exact for
-    one speed: F ~ mu; ``scene.py`` refuses a run-up for an internal without them by capability, and
-    here one whose file lacks them, e.g. a map file without flow tables)."""
-    from bearing_fmu.internals.scaled import LaggedThermal, ViscosityScaled
-
-    why = registry.film_flow_of(registry.get(scene.internal), internal)
-    if why:
-        if scene.speed_profile is not None:
-            raise SceneError(f"{scene.source}: supply_temperature_C with a [speed_profile] needs the film's flows: "
-                             f"{why}")
-        return ViscosityScaled(internal, state.mu_eff_Pa_s)
-    lagged = LaggedThermal(internal, params.oil, state.T_supply_K)
-    lagged.start(state.y_m, state.z_m, 0.0, 0.0, scene.omega)
-    return lagged
 
 
 def external_force(scene: Scene, rotor: Rotor, f_static: np.ndarray):
@@ -417,6 +371,7 @@ class _Writer:
         self.rec_nodes = sorted(set(scene.record_nodes) | set(rotor.bearing_nodes) | {d.node for d in rotor.disks})
         self.rec_dofs = [rotor.dof(n, d) for n in self.rec_nodes for d in ("y", "z")]
         self.q0 = None
+        self.thermal_fields = ()  # the bearings' (BearingSet.thermal_fields): a film temperature recorded
         self.checkpoint_failed = False
         self.warnings = InternalWarnings()
         self.times = {"setup_time_s": 0.0, "kernels_time_s": 0.0, "equilibrium_time_s": 0.0}
@@ -474,9 +429,13 @@ class _Writer:
             "disk_nodes": np.array([d.node for d in rotor.disks], dtype=int) + 1,
             "speed_hz": np.asarray(scene.speed.hz(t), float),  # at every recorded time, one interp
         }
+        if self.thermal_fields:
+            arrays.update(thermal_arrays(None if res is None else res.extra, self.thermal_fields, len(t), nb))
         max_ecc = ecc.max(axis=0) if ecc.size else np.zeros(nb)
         meta = dict(self.meta)
         meta.update(status=status, message=message, internal_warnings=self.warnings.report(), **extra)
+        if self.thermal_fields:
+            meta["thermal"] = with_history(meta["thermal"], arrays)
         meta.update({
             "wall_time_s": time.perf_counter() - self.t_wall0, **self.times,
             "integration_time_s": wall, "steps": int(its.size),
@@ -523,6 +482,7 @@ def _run(scene: Scene, holder, work: Path, progress: bool) -> SceneRun:
         if thermal is not None:
             out.meta["thermal"] = thermal_meta(thermal)
         with build_bearings(scene, rotor, loads, work, warn=out.warnings, thermal=thermal) as bearings:
+            out.thermal_fields = bearings.thermal_fields
             out.times["kernels_time_s"] = load_kernels(scene)
             t_setup = time.perf_counter()
             out.times["setup_time_s"] = t_setup - t_wall0
@@ -557,7 +517,8 @@ def _run(scene: Scene, holder, work: Path, progress: bool) -> SceneRun:
             try:
                 res = integ.run(out.q0, np.zeros(rotor.n_dof), 0.0, scene.t_end_s, scene.dt_s,
                                 record_every=scene.record_every, record_dofs=out.rec_dofs, progress=tick,
-                                progress_every=_progress_every(scene))
+                                progress_every=_progress_every(scene),
+                                record_extra=bearings.thermal_record if bearings.thermal_fields else None)
                 status, message = "ok", ""
             except IntegrationError as exc:
                 res, status, message = exc.result, "failed", str(exc)
