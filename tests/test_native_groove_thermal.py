@@ -26,6 +26,7 @@ from bearing_fmu.physics.params import BearingParams  # noqa: E402
 
 from test_native_fmu_thermal import GRID, compliance_check, model_exchange_check, run  # noqa: E402
 from test_native_map_thermal import RAMP, check_against_python  # noqa: E402
+from thermal_runs import native_equals_python  # noqa: E402
 
 MODELS = Path(__file__).resolve().parents[1] / "models"
 SHIPPED = MODELS / "maps" / "paper_2groove.json"
@@ -194,9 +195,9 @@ def test_a_scene_on_the_native_grooved_map_with_a_supply_temperature(files, tmp_
     """The paper rotor on two-groove bearings with ISO VG 46 supplied at 40 C, a run-up 22 -> 30 Hz in
     4 ms on the coarse grooved map through the native map FMU's thermal ports (refused before: its film
     report was not in C) equals the run through the Python FMU to round-off (1e-12 of each signal's
-    largest value: the same film report, oil law and lag, the tests above)."""
+    largest value: the same film report, oil law and lag, the tests above), its thermal records too
+    (T_eff, mu_eff, P_loss, Q_side over time)."""
     from rotor_host.model.speed import SpeedProfile
-    from rotor_host.scenes.run import run_scene
     from rotor_host.scenes.scene import load_scene
 
     bearing, _params, path = files
@@ -209,14 +210,7 @@ def test_a_scene_on_the_native_grooved_map_with_a_supply_temperature(files, tmp_
     scene = dataclasses.replace(load_scene(tmp_path / "scene.toml"), speed_profile=SpeedProfile((0.0, 0.004),
                                                                                                (22.0, 30.0)))
     scene = scene.with_internal("map", options={"map": {"map": str(path)}}, t_end_s=0.004)
-    out = {}
-    for kind in ("python", "native"):
-        run = run_scene(dataclasses.replace(scene, via="fmu", fmu_kind=kind), tmp_path / kind)
-        assert run.ok, run
-        out[kind] = np.load(run.npz)
-    for key in ("y", "z", "Fy", "Fz"):
-        scale = np.max(np.abs(out["python"][key]))
-        assert np.max(np.abs(out["native"][key] - out["python"][key])) <= 1e-12 * scale, key
+    out = native_equals_python(scene, tmp_path)
     assert out["native"]["speed_hz"][-1] == pytest.approx(30.0)
 
 
