@@ -247,26 +247,3 @@ def test_a_scene_with_a_supply_temperature_runs_on_the_grooved_map(tmp_path):
     check_three_runs(out, reynolds_rtol=1e-3)
     assert out["direct"]["speed_hz"][-1] == pytest.approx(30.0)
 
-
-@pytest.mark.slow
-def test_the_native_map_fmu_keeps_a_grooved_maps_thermal_ports_off(tmp_path):
-    """The native map FMU reads a full-bore map's flow table in C, not a grooved one's (version 4: per
-    edge, over the whole turn): its film report is not compiled (BN_FILM_FLOW 0) and the parameter
-    thermal says why, though the Python map instance has the flows (tests/test_native_fmu.py: thermal
-    = true refused at initialisation with that reason; a build with thermal = true before compiling)."""
-    from bearing_fmu.fmu.native.codegen import native_model
-    from bearing_fmu.fmu.native.portgen import GROOVED_MAP_WHY
-
-    bearing = dataclasses.replace(GROOVED, oil=BearingParams.from_toml(MODELS / "bearing_paper_vg46.toml").oil)
-    path = MODELS / "maps" / "paper_2groove.json"
-    assert registry.film_flow_of(registry.get("map"), open_map(path, bearing)) == ""
-    model = native_model("map", bearing, map=path)
-    thermal = next(v for v in model.variables if v.name == "thermal")
-    assert GROOVED_MAP_WHY in thermal.description and "#define BN_FILM_FLOW 0" in model.config_h
-    assert "der(T_eff)" not in {v.name for v in model.variables}
-    from bearing_fmu.fmu.native.build import build_native_fmu
-
-    with pytest.raises(ValueError, match="thermal = true needs the film's flows .*grooved or partial-arc map's flow "
-                                         r"tables \(version 4\) are not compiled in"):
-        build_native_fmu(tmp_path / "x.fmu", "map", map=path, bearing=bearing, compiler="cc", thermal=True)
-    assert not (tmp_path / "x.fmu").exists()

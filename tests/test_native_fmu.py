@@ -606,14 +606,16 @@ def test_statuses_of_parameters_and_calls(native):
 
 
 def test_thermal_ports_are_there_and_off(native):
-    """The Python FMU's thermal ports (docs/fmu.md): a grooved bore's map has no film flows in C (its
-    flow tables, version 4, have no C reader), so thermal = true is refused at initialisation naming why; the full
-    bore's map has them (tests/test_native_fmu_thermal.py), but the paper bearing no oil law: refused
-    too, naming that. With thermal = false the outputs are the isoviscous film's: T_eff = T_supply,
+    """The Python FMU's thermal ports (docs/fmu.md): the shipped maps' bearings have no oil law, so
+    thermal = true is refused at initialisation naming why: for the full bore's map, whose film
+    flows are in C (tests/test_native_map_thermal.py), the missing law; for a grooved map, whose
+    flow tables are compiled in only with an oil law (they are 4.8 times the force's;
+    tests/test_native_groove_thermal.py), the flows left out. With thermal = false the outputs are the isoviscous film's: T_eff = T_supply,
     mu_eff = mu, P_loss and Q_side 0 (not computed); their directional derivatives say so
     (dT_eff/dT_supply = 1); T_supply is an input an FMU state restores; the force does not move with it."""
     for name, why in (("map:paper_2groove", "thermal = true needs the film's friction and flows, which internal = "
-                       "'map' does not have (the native map FMU computes the film report of a full-bore map only"),
+                       "'map' does not have (the bearing has no [oil] viscosity law, so a grooved map's flow tables "
+                       "are not compiled in"),
                       ("map:paper_bearing", "thermal = true needs the oil's viscosity law: this native FMU was built "
                        "from a bearing without one")):
         raw = Raw(*native[name][:2])

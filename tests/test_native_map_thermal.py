@@ -56,15 +56,21 @@ def test_map_equals_the_python_fmu(map3, fmu, map_file, version):
     times mu_eff / mu, Q_side its side flow, within 1e-13 relative (measured: 2.2e-16 and 0)."""
     from bearing_fmu.internals.forcemap import ForceMap
 
-    path, md = map3[version]
+    check_against_python(*map3[version], fmu, map_file.name, lambda params: ForceMap.from_file(map_file, params))
+
+
+def check_against_python(path, md, python_fmu, map_name, internal, rise_K=5.0):
+    """test_map_equals_the_python_fmu's run and checks of the native FMU ``path`` against the Python
+    FMU ``python_fmu`` with the map ``map_name`` and the map internal ``internal(params)``; T_eff
+    rises by more than ``rise_K`` over the run."""
     got = run(path, md, ramp=RAMP)
-    want = run(fmu, fmpy.read_model_description(str(fmu)), python=True, native_md=md, map_name=map_file.name,
-               ramp=RAMP)
+    want = run(python_fmu, fmpy.read_model_description(str(python_fmu)), python=True, native_md=md,
+               map_name=map_name, ramp=RAMP)
     scale = np.max(np.abs(want), axis=0)
     assert np.max(np.abs(got - want) / scale) <= RTOL
     p = parameters(md)
-    internal = ForceMap.from_file(map_file, BearingParams(D=p["D"], L=p["L"], CR=p["CR"], mu=p["mu"]))
-    check_reports(got, trajectory(), internal, p["mu"], 1e-13, 5.0)
+    internal = internal(BearingParams(D=p["D"], L=p["L"], CR=p["CR"], mu=p["mu"]))
+    check_reports(got, trajectory(), internal, p["mu"], 1e-13, rise_K)
 
 
 @pytest.mark.slow

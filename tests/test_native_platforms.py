@@ -151,9 +151,13 @@ def _sources(unzip: Path) -> list[Path]:
 def test_sources_compile_without_a_warning(every_platform, kind, tmp_path):
     """gcc and clang (zig's, for Windows and arm64 macOS) with -Wall -Wextra -Wpedantic -Werror:
     what `fmpy compile --all-warnings --warning-as-error` asks, in ISO C99."""
+    sources_compile_without_a_warning(every_platform[kind][1], tmp_path)
+
+
+def sources_compile_without_a_warning(unzip: Path, tmp_path: Path) -> None:
+    """test_sources_compile_without_a_warning's compiles of the extracted FMU ``unzip``'s sources."""
     from bearing_fmu.fmu.native.compile import NativeBuildError, run_compilers, zig_cc
 
-    _fmu, unzip = every_platform[kind]
     flags = ["-std=c99", "-O2", "-Wall", "-Wextra", "-Wpedantic", "-Werror", "-c", "-I", str(unzip / "sources"),
              "-I", str(FH)]
     jobs = [([*cmd, *flags, str(src), "-o", str(tmp_path / f"{k}-{j}.o")], f"{cmd[-1]} {src.name}")

@@ -19,7 +19,7 @@ from rotor_host.analyses.stability import Stability, stability
 from rotor_host.model.rotor import Rotor
 from rotor_host.scenes.run import run_scene
 from rotor_host.scenes.scene import SceneError, load_scene
-from thermal_runs import check_thermal_records
+from thermal_runs import check_thermal_records, native_equals_python
 
 MODELS = Path(__file__).resolve().parents[1] / "models"
 VG46_ROTOR = MODELS / "rotor_paper_vg46.toml"
@@ -203,18 +203,7 @@ def test_fmu_run_with_a_supply_temperature_equals_the_direct_run(tmp_path):
 def test_native_fmu_run_with_a_supply_temperature_equals_the_python_fmu_run(tmp_path):
     """The shipped 44 Hz scene through the native Reynolds FMU's thermal ports (its film report, oil
     law and lagged film temperature in C) equals the run through the Python FMU to round-off."""
-    import dataclasses
-
-    scene = load_scene(VG46_SCENE).with_internal("reynolds", t_end_s=0.003)
-    out = {}
-    for kind in ("python", "native"):
-        run = run_scene(dataclasses.replace(scene, via="fmu", fmu_kind=kind), tmp_path / kind)
-        assert run.ok, run
-        out[kind] = np.load(run.npz)
-    for key in ("y", "z", "Fy", "Fz"):
-        scale = np.max(np.abs(out["python"][key]))
-        assert np.max(np.abs(out["native"][key] - out["python"][key])) <= 1e-12 * scale, key
-    check_thermal_records(out, 1e-12, reference="python")
+    native_equals_python(load_scene(VG46_SCENE).with_internal("reynolds", t_end_s=0.003), tmp_path)
 
 
 @pytest.mark.slow

@@ -1,7 +1,7 @@
 """A scene with a supply temperature on one internal, in-process and through the Python FMU's
 thermal ports, beside the same scene on the Reynolds solver (tests/test_forcemap_flows.py,
 tests/test_taylor_flows.py), and the thermal records of such runs compared (the native FMU's too:
-tests/test_thermal_host.py)."""
+tests/test_thermal_host.py, tests/test_native_groove_thermal.py)."""
 
 import dataclasses
 
@@ -57,3 +57,20 @@ def check_thermal_records(out: dict, rtol: float = 1e-9, reference: str = "direc
             scale = 1.0 if key == "T_eff" else np.max(np.abs(ref[key]))  # T_eff [K]: its rise is ~1 K
             assert np.max(np.abs(run[key] - ref[key])) <= rtol * scale, (name, key, np.max(np.abs(run[key] - ref[key])))
         assert ("Q_in" in run.files) == (name in ("direct", "rey")), name
+
+
+def native_equals_python(scene, tmp_path, rtol: float = 1e-12) -> dict:
+    """{"python", "native"}: the recorded series of ``scene`` through the Python and the native FMU,
+    checked equal to ``rtol`` of the largest y, z, Fy, Fz and in their thermal records."""
+    from rotor_host.scenes.run import run_scene
+
+    out = {}
+    for kind in ("python", "native"):
+        run = run_scene(dataclasses.replace(scene, via="fmu", fmu_kind=kind), tmp_path / kind)
+        assert run.ok, run
+        out[kind] = np.load(run.npz)
+    for key in ("y", "z", "Fy", "Fz"):
+        scale = np.max(np.abs(out["python"][key]))
+        assert np.max(np.abs(out["native"][key] - out["python"][key])) <= rtol * scale, key
+    check_thermal_records(out, rtol, reference="python")
+    return out

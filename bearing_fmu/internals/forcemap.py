@@ -63,8 +63,9 @@ def scale(params: BearingParams) -> float:
 
 def reduced(y: float, z: float, vy: float, vz: float, omega: float, CR: float):
     """(eps, phi, a, c): eccentricity ratio, attitude [rad], and the source coefficients
-    a = eps (omega - 2 phidot), c = 2 epsdot [1/s] (docs/forcemap.md)."""
-    e = math.hypot(y, z)
+    a = eps (omega - 2 phidot), c = 2 epsdot [1/s] (docs/forcemap.md). e by libm's hypot, as the numba
+    kernels and the native map (CPython's math.hypot rounds its own way, at times 1 ulp apart)."""
+    e = float(np.hypot(y, z))
     cp, sp = (y / e, z / e) if e > 0.0 else (1.0, 0.0)
     vr, vt = vy * cp + vz * sp, -vy * sp + vz * cp
     eps = e / CR

@@ -484,7 +484,7 @@ class GroovedForceMap(ForceMap):
         eps, phi, a, c = reduced(float(y), float(z), float(vy), float(vz), float(omega), self.params.CR)
         spline3(*self.table.flow_spline(), -math.log1p(-max(eps, EPS_MIN)), phi, math.atan2(c, a), self._Jq)  # any phi
         return grooved_report(self.params, float(y), float(z), float(vy), float(vz), float(omega), F,
-                              math.hypot(a, c), float(self._Jq[0, 0]), self._Jq[1:, 0], self._edges)
+                              float(np.hypot(a, c)), float(self._Jq[0, 0]), self._Jq[1:, 0], self._edges)
 
     @classmethod
     def from_file(cls, path, params: BearingParams) -> "GroovedForceMap":

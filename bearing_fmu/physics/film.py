@@ -279,7 +279,7 @@ def grooved_report(params: BearingParams, y: float, z: float, vy: float, vz: flo
     supply edges ``edges`` ((theta [rad], sign), ``Geometry.supply_edges``) of
     max(sign omega Q0 h_e / (2 CR) - r Q0 P_e, 0), h_e = CR + y sin(theta) - z cos(theta)
     (docs/forcemap.md, "Grooved bores: the flows")."""
-    eps = math.hypot(y, z) / params.CR
+    eps = float(np.hypot(y, z)) / params.CR  # libm's, as forcemap.reduced (the native C map's too)
     if not eps < 1.0:
         raise ValueError(f"grooved_report: eccentricity ratio {eps:.6g} >= 1 (the journal touches the bore)")
     phi = math.atan2(z, y)

@@ -107,8 +107,8 @@ SCENE_KEYS = (
         "heat balance by the film's residence time with an internal that has the film's flows (reynolds, a map "
         "with flow tables, a Taylor surrogate with its film fit; docs/thermal.md); absent: the bearings' own "
         "viscosity", None, "inside every oil's range_C; via = 'fmu' (python or native) and a [speed_profile] need "
-        "an internal with the film's flows (a map file with flow tables, version 3; a surrogate file with its film "
-        "fit, version 2)", kind=Number()),
+        "an internal with the film's flows (a map file with flow tables, version 3, or 4 for a grooved bore; a "
+        "surrogate file with its film fit, version 2)", kind=Number()),
     Key("surrogate", "older form of [taylor] surrogate", None, kind=FileName()),
 )
 

@@ -31,7 +31,7 @@ import numpy as np
 from ...internals import registry
 from ..order import c_defines
 from ..variables import ENUMERATIONS, VARIABLES  # the one table of the FMU interface
-from .portgen import GROOVED_MAP_WHY, parts_of, port_config, port_variables
+from .portgen import parts_of, port_config, port_variables
 from ...physics.params import BearingParams
 
 ID_TOKEN, GUID_TOKEN = "BN_MODEL_IDENTIFIER", "{BN-GUID}"  # in model_config.h until assign_identity
@@ -39,7 +39,7 @@ INTERNALS = ("linear", "map", "taylor", "reynolds")  # what a native FMU can com
 # C files an internal's file includes (so that all of it stays static): staged beside it, not compiled alone
 INCLUDED_SOURCES = {"reynolds": ("py_mod.h", "reynolds_solver.h", "reynolds_kernels.c", "film_friction.c",
                                  "reynolds_film.c", "reynolds_solver.c"),
-                    "map": ("py_mod.h", "film_friction.c"), "taylor": ("film_friction.c", "taylor_film.c")}
+                    "map": ("py_mod.h", "film_friction.c", "map_flows.c"), "taylor": ("film_friction.c", "taylor_film.c")}
 # the model layer (c/bearing_values.h), the same C files under the FMI 2.0 and the FMI 3.0 layer
 MODEL_HEADERS = ("bearing_native.h", "bearing_values.h", "oil_thermal.h", "oil_thermal.c")  # the last included
 MODEL_SOURCES = ("bearing_values.c", "bearing_model.c", "bearing_derivatives.c")
@@ -513,6 +513,12 @@ def _taylor(params: BearingParams, surrogate, map_path, options: dict) -> Native
 
 # ----------------------------------------------------------------------------- map
 
+# a grooved map's flow spline is 4.8 times its force's coefficients (docs/forcemap.md, "Cost"): left out when
+# the bearing has no oil law, with which thermal = true is refused anyway
+GROOVED_NO_OIL_WHY = ("the bearing has no [oil] viscosity law, so a grooved map's flow tables are not compiled in "
+                      "(build with --bearing FILE whose [oil] gives the law)")
+
+
 def _map(params: BearingParams, surrogate, map_path, options: dict) -> NativeModel:
     from ...internals.mapfile import load_any_map, map_internal
     from .map_data import map_data_h
@@ -524,8 +530,8 @@ def _map(params: BearingParams, surrogate, map_path, options: dict) -> NativeMod
     # refuses another L/D or bore, as the FMU will (a grooved map's bore comes from --bearing)
     internal = map_internal(params, table, str(path), hint="for the native map FMU give the bearing file with --bearing")
     flows_why = registry.film_flow_of(registry.get("map"), internal)  # the file's: '' with its flow tables
-    if not flows_why and table.H.ndim == 4:  # a grooved bore's 3-D map: its flows have no C reader yet
-        flows_why = GROOVED_MAP_WHY
+    if not flows_why and table.H.ndim == 4 and params.oil is None:  # no run could use them: not compiled in
+        flows_why = GROOVED_NO_OIL_WHY
     starts = {"map": path.name}
     # a nonzero speed: an omega a master forgets to connect still gives the film's force
     inputs = (0.0, 0.0, 0.0, 0.0, float(options.get("_omega", registry.DEFAULT_OMEGA_LIN)))
@@ -534,7 +540,7 @@ def _map(params: BearingParams, surrogate, map_path, options: dict) -> NativeMod
             "reynolds": f"{table.n_theta} x {table.n_x} {table.cavitation}", "provenance": table.provenance}
     return NativeModel("map", params, native_variables("map", params, starts, inputs, flows_why),
                        model_config("map", params, starts, inputs, flows_why),
-                       map_data_h(path, table, c_double, c_string, c_array), path,
+                       map_data_h(path, table, c_double, c_string, c_array, params.geometry, not flows_why), path,
                        f"hydrodynamic journal bearing, force map {path.name} (L/D {table.L_over_D:.4g}, any speed, "
                        "load and velocity), compiled (no Python)", info, flows_why=flows_why)
 

@@ -6,7 +6,7 @@ their variables and their lines of model_config.h, for ``codegen``.
   the internal has the film's flows is its registry capability ``film_flow`` and, per data file,
   the Python internal's answer (``registry.film_flow_of``: a map file without flow tables, a
   version 1 surrogate file) (``BN_FILM_FLOW``; the Reynolds internal's report is
-  c/reynolds_film.c, the map's c/internal_map.c from its flow table, ``map_data``, the Taylor
+  c/reynolds_film.c, the map's c/map_flows.c from its flow table, ``map_data``, the Taylor
   surrogate's c/taylor_film.c from its film fit, ``taylor_data``); one without them refuses
   ``thermal = true`` at initialisation naming why (``BN_FILM_FLOW_WHY``). An FMU of several
   internals has the thermal model when one of them has the flows (``BN_FLOWS_<NAME>``: its
@@ -52,12 +52,9 @@ def parts_of(internal) -> tuple[str, ...]:
 
 
 # the native internals whose C file computes the film's flows (defines bn_film: internal_reynolds.c
-# through reynolds_film.c; internal_map.c from a full-bore map file's flow table; internal_taylor.c
-# through taylor_film.c from a surrogate file's film fit)
+# through reynolds_film.c; internal_map.c through map_flows.c from a map file's flow table, full-bore or
+# grooved; internal_taylor.c through taylor_film.c from a surrogate file's film fit)
 C_FILM_REPORT = ("reynolds", "map", "taylor")
-# a grooved or partial-arc map's flow tables (version 4: per supply edge, over the whole turn) have no C reader
-GROOVED_MAP_WHY = ("the native map FMU computes the film report of a full-bore map only: a grooved or partial-arc "
-                   "map's flow tables (version 4) are not compiled in (use the Python FMU)")
 
 
 def part_flows(internal, data_why="") -> dict[str, str]:

@@ -2,7 +2,8 @@
  * bearing_fmu/physics/film.py full_bore_friction and _report, whose docstrings give the
  * definitions, in their order of operations: pow(R, 3) is Python's R ** 3), and the state in the
  * map's reduced coordinates (forcemap.reduced). Included by reynolds_film.c (the Reynolds film
- * report of the full bore), by internal_map.c (the map's force and film.reduced_report) and by
+ * report of the full bore), by internal_map.c (the map's force; map_flows.c its film report,
+ * film.reduced_report and grooved_report) and by
  * taylor_film.c (the Taylor surrogate's, the same reduction): one definition for all, every
  * function static in each (inline: a file that does not use one is not warned). */
 #ifndef FILM_FRICTION_C

@@ -7,9 +7,8 @@
  * A grooved or partial-arc bore's map (MAP_DIMS 3, internals/groovemap.py) adds the journal's
  * attitude phi as a third, periodic axis (MAP_TP, MAP_NP): G(eps, phi, beta), a port of
  * map_kernels.map3_force; a full-bore map has MAP_DIMS 2 (or none: files generated before).
- * The film report (bn_film, BN_FLOWS_MAP: a full-bore map with its flow table, MAP_FLOWS) is a
- * port of ForceMap.film_report: the friction in closed form from the force (film_friction.c), the
- * inflow and side flow from the flow table's spline (MAP_QTS, MAP_QTB, MAP_QC: (J_s, J_i)). */
+ * The film report (bn_film, BN_FLOWS_MAP: a map with its flow table, MAP_FLOWS) is map_flows.c,
+ * included here: a port of ForceMap.film_report and GroovedForceMap.film_report. */
 #include <math.h>
 #include <stdio.h>
 
@@ -99,10 +98,12 @@ static void spline2(const double *ts, const double *tb, const double *C, double 
 #endif
 
 #if MAP_DIMS == 3
-/* out[k] = (value, d/ds, d/dphi, d/dbeta): the tensor spline in (s, phi, beta), phi and beta periodic */
-static void spline3(double s, double phi, double beta, double out[2][4]) {
-    const double *ts = MAP_TS, *tp = MAP_TP, *tb = MAP_TB;
-    int ns = MAP_NS, np = MAP_NP, nb = MAP_NB;
+/* out[k] = (value, d/ds, d/dphi, d/dbeta) of the nk components of the tensor spline (ts, tp, tb, C)
+ * in (s, phi, beta), phi and beta periodic, C (MAP_NS, np, MAP_NB, nk): the force's (MAP_TP, MAP_C,
+ * np MAP_NP, nk 2) or the flow table's over the whole turn (MAP_QTP, MAP_QC, map_flows.c) */
+static void spline3(const double *ts, const double *tp, const double *tb, const double *C, int np, int nk, double s,
+                    double phi, double beta, double out[][4]) {
+    int ns = MAP_NS, nb = MAP_NB;
     double p = tp[3] + py_mod(phi - tp[3], tp[np] - tp[3]);
     double b = tb[3] + py_mod(beta - tb[3], tb[nb] - tb[3]);
     int i = span(ts, ns, s), j = span(tp, np, p), m = span(tb, nb, b);
@@ -110,14 +111,14 @@ static void spline3(double s, double phi, double beta, double out[2][4]) {
     basis(ts, i, s, Ns, dNs);
     basis(tp, j, p, Np, dNp);
     basis(tb, m, b, Nb, dNb);
-    for (int k = 0; k < 2; k++) {
+    for (int k = 0; k < nk; k++) {
         double v = 0.0, vs = 0.0, vp = 0.0, vb = 0.0;
         for (int a = 0; a < 4; a++) {
             double pv = 0.0, pp = 0.0, pb = 0.0;
             for (int q = 0; q < 4; q++) {
                 double bv = 0.0, bb = 0.0;
                 for (int r = 0; r < 4; r++) {
-                    double c = MAP_C[(((i - 3 + a) * np + (j - 3 + q)) * nb + (m - 3 + r)) * 2 + k];
+                    double c = C[(((i - 3 + a) * np + (j - 3 + q)) * nb + (m - 3 + r)) * nk + k];
                     bv += Nb[r] * c;
                     bb += dNb[r] * c;
                 }
@@ -144,7 +145,7 @@ static void gfun(double eps, double phi, double beta, double g[2][4]) {
     double s = -log1p(-eps);
 #if MAP_DIMS == 3
     double o[2][4];
-    spline3(s, phi, beta, o);
+    spline3(MAP_TS, MAP_TP, MAP_TB, MAP_C, MAP_NP, 2, s, phi, beta, o);
     for (int k = 0; k < 2; k++) {
         g[k][0] = o[k][0];
         g[k][1] = o[k][1] * exp(s);
@@ -258,29 +259,7 @@ int bn_eval(Instance *m, const double x[5], int want_jac, double F[2], double J[
 }
 
 #if BN_FLOWS_MAP
-#if MAP_DIMS == 3 || !MAP_FLOWS
-#error "the film report needs a full-bore map with its flow table (portgen.film_flow)"
-#endif
-
-/* The film report at x (ForceMap.film_report; docs/forcemap.md, "The flows"): the full bore's
- * friction from the map's force, the flows Q0 = R L CR (film.flow_scale) times the table's
- * (J_s, J_i) at (eps, beta): side flow r Q0 J_s, inflow |omega Q0 (1 + eps) / 2 - r Q0 J_i|
- * (film.reduced_report). out as bn_film's (bearing_native.h). */
-int bn_film(Instance *m, const double x[5], double out[5]) {
-    double F[2], J[8], dw[2], cp, sp, a, c, q[2][3];
-    int ood;
-    if (bn_eval(m, x, 0, F, J, dw, &ood)) return 1;
-    const double CR = m->r[VR_CR], R = 0.5 * m->r[VR_D], L = m->r[VR_L], omega = x[4];
-    double eps = ff_reduce(x, CR, 0.0, &cp, &sp, &a, &c);
-    spline2(MAP_QTS, MAP_QTB, MAP_QC, -log1p(-fmax(eps, MAP_EPS_MIN)), atan2(c, a), q);
-    double r = hypot(a, c), q0 = R * L * CR;
-    out[0] = ff_couette(m->r[VR_MU], omega, R, L, CR, eps);
-    out[1] = ff_pressure(x[0], x[1], F);
-    out[2] = ff_power(out[0], out[1], omega, F, x[2], x[3]);
-    out[3] = fabs(omega * q0 * 0.5 * (1.0 + eps) - r * q0 * q[1][0]);
-    out[4] = r * q0 * q[0][0];
-    return 0;
-}
+#include "map_flows.c" /* bn_film: the film report from the flow table */
 #endif
 
 void bn_option_derivative(Instance *m, const double x[5], int k, double dF[2], double dJ[8]) {

@@ -1,0 +1,73 @@
+/* The force map's film report (bn_film, bearing_native.h): included by internal_map.c when the map
+ * file has flow tables (BN_FLOWS_MAP, MAP_FLOWS; model_data.h, fmu/native/map_data.py), its spline
+ * evaluation and ff_reduce (film_friction.c) shared with the force. Ports, in their order of operations, of
+ *  - a full-bore map (MAP_DIMS 2): ForceMap.film_report, film.reduced_report: the friction in closed
+ *    form from the force (film_friction.c), the flows from the table's (J_s, J_i) at (eps, beta);
+ *  - a grooved or partial-arc map (MAP_DIMS 3): GroovedForceMap.film_report, film.grooved_report:
+ *    the Couette torque over the film's segments in closed form (film.film_couette_integral), the
+ *    pressure torque from the force, the side flow r Q0 J_s and the inflow summed over the supply
+ *    edges, each max(sign omega Q0 h_e / (2 CR) - r Q0 P_e, 0), (J_s, P_1 .. P_E) the flow spline
+ *    over the whole turn in phi (GroovedMapTable.unrolled_flows) at (eps, phi, beta);
+ *    docs/forcemap.md, "Grooved bores: the flows".
+ * Q0 = R L CR (film.flow_scale). out as bn_film's. */
+#if !MAP_FLOWS
+#error "the film report needs a map with its flow table (portgen.film_flow)"
+#endif
+#include "film_friction.c" /* (included first by internal_map.c: ff_reduce) */
+
+#if MAP_DIMS == 3
+/* int dtheta / (1 + eps sin(theta - phi)) over the film's segments (MAP_FILM_SEGS), in closed form:
+ * film.film_couette_integral, whose docstring derives the primitive */
+static double mf_couette_integral(double eps, double phi) {
+    double root = sqrt(1.0 - eps * eps), k = sqrt((1.0 - eps) / (1.0 + eps)), sum = 0.0;
+    for (int n = 0; n < MAP_N_FILM; n++) {
+        double prim[2];
+        for (int end = 0; end < 2; end++) {
+            double u = MAP_FILM_SEGS[2 * n + end] - phi - 0.5 * M_PI;
+            prim[end] = (u + 2.0 * atan2((k - 1.0) * sin(u), (1.0 + k) + (1.0 - k) * cos(u))) / root;
+        }
+        sum += prim[1] - prim[0];
+    }
+    return sum;
+}
+
+int bn_film(Instance *m, const double x[5], double out[5]) {
+    double F[2], J[8], dw[2], cp, sp, a, c, q[MAP_NQ][4];
+    int ood;
+    if (bn_eval(m, x, 0, F, J, dw, &ood)) return 1;
+    const double y = x[0], z = x[1], omega = x[4];
+    const double CR = m->r[VR_CR], R = 0.5 * m->r[VR_D], L = m->r[VR_L], mu = m->r[VR_MU];
+    double eps = ff_reduce(x, CR, 0.0, &cp, &sp, &a, &c);
+    spline3(MAP_QTS, MAP_QTP, MAP_QTB, MAP_QC, MAP_NQP, MAP_NQ, -log1p(-fmax(eps, MAP_EPS_MIN)), atan2(sp, cp),
+            atan2(c, a), q);
+    double r = hypot(a, c), q0 = R * L * CR, q_in = 0.0;
+    for (int e = 0; e < MAP_N_EDGES; e++) {
+        double theta = MAP_EDGES[2 * e], sign = MAP_EDGES[2 * e + 1];
+        double h = CR + y * sin(theta) - z * cos(theta);
+        double v = sign * omega * q0 * h / (2.0 * CR) - r * q0 * q[1 + e][0];
+        q_in += 0.0 > v ? 0.0 : v; /* Python's max(v, 0.0) */
+    }
+    out[0] = mu * omega * pow(R, 3.0) * L / CR * mf_couette_integral(hypot(y, z) / CR, atan2(z, y));
+    out[1] = ff_pressure(y, z, F);
+    out[2] = ff_power(out[0], out[1], omega, F, x[2], x[3]);
+    out[3] = q_in;
+    out[4] = r * q0 * q[0][0];
+    return 0;
+}
+#else
+int bn_film(Instance *m, const double x[5], double out[5]) {
+    double F[2], J[8], dw[2], cp, sp, a, c, q[2][3];
+    int ood;
+    if (bn_eval(m, x, 0, F, J, dw, &ood)) return 1;
+    const double CR = m->r[VR_CR], R = 0.5 * m->r[VR_D], L = m->r[VR_L], omega = x[4];
+    double eps = ff_reduce(x, CR, 0.0, &cp, &sp, &a, &c);
+    spline2(MAP_QTS, MAP_QTB, MAP_QC, -log1p(-fmax(eps, MAP_EPS_MIN)), atan2(c, a), q);
+    double r = hypot(a, c), q0 = R * L * CR;
+    out[0] = ff_couette(m->r[VR_MU], omega, R, L, CR, eps);
+    out[1] = ff_pressure(x[0], x[1], F);
+    out[2] = ff_power(out[0], out[1], omega, F, x[2], x[3]);
+    out[3] = fabs(omega * q0 * 0.5 * (1.0 + eps) - r * q0 * q[1][0]);
+    out[4] = r * q0 * q[0][0];
+    return 0;
+}
+#endif
