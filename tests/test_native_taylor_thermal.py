@@ -210,21 +210,12 @@ def test_host_scene_through_the_native_taylor_fmu(taylor_film_file, tmp_path):
     Newton iteration stops within its tolerance of either. Measured: native - Python 4.2e-11 (Fy),
     the same runs without the supply temperature 2.4e-11; native - in-process 2.7e-11; the run at
     the file's isothermal viscosity differs by 1.4e-2 of the largest y."""
-    import dataclasses
-
     from test_thermal_host import VG46_SCENE
+    from thermal_runs import check_native, run_routes
 
-    from rotor_host.scenes.run import run_scene
     from rotor_host.scenes.scene import load_scene
 
     scene = load_scene(VG46_SCENE).with_internal("taylor", options={"taylor": {"surrogate": taylor_film_file}},
                                                  t_end_s=0.003)
-    out = {}
-    for name, kw in (("direct", {}), ("python", {"via": "fmu"}), ("native", {"via": "fmu", "fmu_kind": "native"})):
-        done = run_scene(dataclasses.replace(scene, **kw), tmp_path / name)
-        assert done.ok, done
-        out[name] = np.load(done.npz)
-    for key in ("y", "z", "Fy", "Fz"):
-        scale = np.max(np.abs(out["python"][key]))
-        assert np.max(np.abs(out["native"][key] - out["python"][key])) <= 1e-10 * scale, key
-        assert np.max(np.abs(out["native"][key] - out["direct"][key])) <= 1e-10 * scale, key
+    out = run_routes(scene, tmp_path)
+    check_native(out, 1e-10, 1e-10)

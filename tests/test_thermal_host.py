@@ -19,7 +19,7 @@ from rotor_host.analyses.stability import Stability, stability
 from rotor_host.model.rotor import Rotor
 from rotor_host.scenes.run import run_scene
 from rotor_host.scenes.scene import SceneError, load_scene
-from thermal_runs import check_thermal_records, native_equals_python
+from thermal_runs import check_native, check_thermal_records, native_equals_python, run_routes
 
 MODELS = Path(__file__).resolve().parents[1] / "models"
 VG46_ROTOR = MODELS / "rotor_paper_vg46.toml"
@@ -216,19 +216,10 @@ def test_native_map_fmu_run_with_a_supply_temperature(tmp_path):
     at every Newton iteration; the host's state is its own). Measured over 3 ms: the native and the
     Python FMU run the same bits; the in-process run within 4e-11 of the largest force (the run at the
     file's isothermal viscosity differs by 1.4 % of the largest y)."""
-    import dataclasses
-
     scene = load_scene(VG46_SCENE).with_internal("map", options={"map": {"map": MODELS / "maps" / "paper_bearing.json"}},
                                                  t_end_s=0.003)
-    out = {}
-    for name, kw in (("direct", {}), ("python", {"via": "fmu"}), ("native", {"via": "fmu", "fmu_kind": "native"})):
-        run = run_scene(dataclasses.replace(scene, **kw), tmp_path / name)
-        assert run.ok, run
-        out[name] = np.load(run.npz)
-    for key in ("y", "z", "Fy", "Fz"):
-        scale = np.max(np.abs(out["python"][key]))
-        assert np.max(np.abs(out["native"][key] - out["python"][key])) <= 1e-12 * scale, key
-        assert np.max(np.abs(out["native"][key] - out["direct"][key])) <= 1e-9 * scale, key
+    out = run_routes(scene, tmp_path)
+    check_native(out, 1e-12, 1e-9)
     check_thermal_records(out)  # T_eff, mu_eff, P_loss, Q_side: the FMUs' outputs as LaggedThermal's
     check_thermal_records({k: out[k] for k in ("python", "native")}, 1e-12, reference="python")
     # a map file without flow tables (version 1): the native FMU refuses thermal at initialisation, by name

@@ -59,18 +59,36 @@ def check_thermal_records(out: dict, rtol: float = 1e-9, reference: str = "direc
         assert ("Q_in" in run.files) == (name in ("direct", "rey")), name
 
 
-def native_equals_python(scene, tmp_path, rtol: float = 1e-12) -> dict:
-    """{"python", "native"}: the recorded series of ``scene`` through the Python and the native FMU,
-    checked equal to ``rtol`` of the largest y, z, Fy, Fz and in their thermal records."""
+ROUTES = {"direct": {}, "python": {"via": "fmu", "fmu_kind": "python"}, "native": {"via": "fmu", "fmu_kind": "native"}}
+
+
+def run_routes(scene, tmp_path, names=("direct", "python", "native")) -> dict:
+    """{name: the recorded series (npz)} of ``scene`` in-process ("direct"), through the Python FMU
+    ("python") and through the native FMU ("native")."""
     from rotor_host.scenes.run import run_scene
 
     out = {}
-    for kind in ("python", "native"):
-        run = run_scene(dataclasses.replace(scene, via="fmu", fmu_kind=kind), tmp_path / kind)
+    for name in names:
+        run = run_scene(dataclasses.replace(scene, **ROUTES[name]), tmp_path / name)
         assert run.ok, run
-        out[kind] = np.load(run.npz)
+        out[name] = np.load(run.npz)
+    return out
+
+
+def check_native(out: dict, rtol: float, direct_rtol: float | None = None) -> None:
+    """The native run of ``out`` equals the Python FMU's to ``rtol`` of the largest y, z, Fy, Fz
+    (and the in-process run's to ``direct_rtol``, if given)."""
     for key in ("y", "z", "Fy", "Fz"):
         scale = np.max(np.abs(out["python"][key]))
         assert np.max(np.abs(out["native"][key] - out["python"][key])) <= rtol * scale, key
+        if direct_rtol is not None:
+            assert np.max(np.abs(out["native"][key] - out["direct"][key])) <= direct_rtol * scale, key
+
+
+def native_equals_python(scene, tmp_path, rtol: float = 1e-12) -> dict:
+    """{"python", "native"}: the recorded series of ``scene`` through the Python and the native FMU,
+    checked equal to ``rtol`` of the largest y, z, Fy, Fz and in their thermal records."""
+    out = run_routes(scene, tmp_path, ("python", "native"))
+    check_native(out, rtol)
     check_thermal_records(out, rtol, reference="python")
     return out
