@@ -124,15 +124,6 @@ def test_the_guard_does_for_the_film_report_what_it_does_for_the_force(tmp_path)
         guards["fallback"].film_report(*far, om)
 
 
-def test_a_film_fit_needs_the_full_bore():
-    from bearing_fmu.fitting.flows import fit_film
-    from bearing_fmu.physics.reynolds import Reynolds
-
-    grooved = BearingParams.from_toml(MODELS / "bearing_paper_2groove.toml")
-    with pytest.raises(ValueError, match="film fit: the surrogate's bore is not the full circle"):
-        fit_film(Reynolds(grooved, n_theta=16, n_x=4), np.zeros((400, 4)), OMEGA_22HZ)
-
-
 # ----------------------------------------------------------------------------- fitted to Reynolds (slow)
 
 @pytest.fixture(scope="module")

@@ -15,8 +15,8 @@ relative error of the inflow and the side flow against the truth's report there.
 A grooved or partial-arc bore (``fit_grooved_film``; no supply pressure, no lobes, as the grooved
 map): at each training state one Reynolds solve gives the side flow and every supply edge's pressure
 part exactly (``Reynolds.supply_flows``, ``film.supply_functions``: the grooved map's own), so J_s
-and P_e at (eps, phi, beta); each fitted in the full bore's basis times (phi - phi_center)^l, l <=
-GROOVED_PHI_DEGREE (``surrogates.film.grooved_features``), with the same row weights and lambdas.
+and P_e at (eps, phi, beta); each fitted in the full bore's basis times a Fourier series in phi up
+to GROOVED_PHI_HARMONICS (``surrogates.film.grooved_features``), with the same row weights and lambdas.
 """
 
 from __future__ import annotations
@@ -33,7 +33,7 @@ FILM_DEGREE = 6  # eps^0 .. eps^6
 FILM_HARMONICS = 6  # 1, cos beta, sin beta .. cos 6 beta, sin 6 beta: 7 x 13 = 91 features
 FILM_MAX_ROWS = 3000  # training states whose film is computed at most (each two truth solves)
 FILM_TEST_ROWS = 300  # held-out states at most for the recorded errors
-GROOVED_PHI_DEGREE = 2  # (phi - phi_center)^0 .. ^2: the attitude varies little about one operating point
+GROOVED_PHI_HARMONICS = 4  # 1, cos phi, sin phi .. sin 4 phi: near the centre the attitude takes any value
 
 def film_truth(truth, grooved: bool = False):
     """The internal whose film reports a fit's film fit follows: the samples' truth when it has the
@@ -145,7 +145,7 @@ def grooved_problem(params) -> str:
 
 
 def fit_grooved_film(internal, states, omega: float, *, test_states=None, degree: int = FILM_DEGREE,
-                     harmonics: int = FILM_HARMONICS, phi_degree: int = GROOVED_PHI_DEGREE, k_folds: int = 5,
+                     harmonics: int = FILM_HARMONICS, phi_harmonics: int = GROOVED_PHI_HARMONICS, k_folds: int = 5,
                      seed: int = 0) -> GroovedFilmFit:
     """The film fit of a grooved or partial-arc bore to ``internal``'s (Reynolds) supply flows at
     ``states`` (M, 4) at ``omega``; its errors at ``test_states`` against its film reports."""
@@ -153,15 +153,14 @@ def fit_grooved_film(internal, states, omega: float, *, test_states=None, degree
     why = grooved_problem(params)
     if why:
         raise ValueError(f"film fit: {why}")
-    nf = (phi_degree + 1) * n_features(degree, harmonics)
+    nf = (2 * phi_harmonics + 1) * n_features(degree, harmonics)
     if len(states) < 2 * nf:
         raise ValueError(f"film fit: {len(states)} training states for {nf} features per flow function; need at "
                          "least twice as many")
     data = grooved_flow_functions(internal, states, omega)
-    phi_center = math.atan2(np.mean(np.sin(data[:, 1])), np.mean(np.cos(data[:, 1])))
-    X = grooved_features(data[:, 0], data[:, 1], data[:, 2], degree, harmonics, phi_degree, phi_center)
+    X = grooved_features(data[:, 0], data[:, 1], data[:, 2], degree, harmonics, phi_harmonics)
     coef, lam, rms = ridge_fit(X, data[:, 4:], data[:, 3] / abs(omega), k_folds, seed)
-    fit = GroovedFilmFit(degree, harmonics, phi_degree, phi_center, params.geometry.supply_edges(), coef, lam)
+    fit = GroovedFilmFit(degree, harmonics, phi_harmonics, params.geometry.supply_edges(), coef, lam)
     fit.errors = {"truth": type(internal).__name__, "n_train": int(len(states)),
                   "train_rms": dict(zip(fit.targets, rms.tolist())),
                   "train_rms_unit": "|omega| R L CR (the flows' unit)"}
@@ -196,12 +195,12 @@ def fit_film(internal, states, omega: float, *, test_states=None, degree: int = 
     return fit
 
 
-def basis_for(n_states: int, phi_degree: int = 0) -> tuple[int, int] | None:
+def basis_for(n_states: int, phi_harmonics: int = 0) -> tuple[int, int] | None:
     """(degree, harmonics) of the film fit to ``n_states`` training states (a grooved bore's:
-    ``phi_degree`` GROOVED_PHI_DEGREE): FILM_DEGREE and FILM_HARMONICS, lowered by turns while the
+    ``phi_harmonics`` GROOVED_PHI_HARMONICS): FILM_DEGREE and FILM_HARMONICS, lowered by turns while the
     states are fewer than twice the features (down to 2 and 2); None when even those are too many."""
     degree, harmonics = FILM_DEGREE, FILM_HARMONICS
-    while n_states < 2 * (phi_degree + 1) * n_features(degree, harmonics):
+    while n_states < 2 * (2 * phi_harmonics + 1) * n_features(degree, harmonics):
         if degree == harmonics == 2:
             return None
         degree, harmonics = (degree - 1, harmonics) if degree >= harmonics else (degree, harmonics - 1)
@@ -217,7 +216,7 @@ def attach_film(res, truth, states, *, test_states=None, seed: int = 0, log=None
     grooved = not sur.params.geometry.is_full_bore
     internal = film_truth(truth, grooved)
     why = grooved_problem(sur.params) if grooved else ""
-    basis = basis_for(min(len(states), FILM_MAX_ROWS), GROOVED_PHI_DEGREE if grooved else 0)
+    basis = basis_for(min(len(states), FILM_MAX_ROWS), GROOVED_PHI_HARMONICS if grooved else 0)
     if internal is None or why or basis is None:
         res.report["film"] = "none: " + ("the fit's truth has no film report" if internal is None else why
                                          if why else f"{len(states)} training states are too few")
@@ -230,6 +229,6 @@ def attach_film(res, truth, states, *, test_states=None, seed: int = 0, log=None
     res.report["film"] = sur.film.errors
 
 
-__all__ = ["GROOVED_PHI_DEGREE", "fit_grooved_film", "grooved_flow_functions", "grooved_problem", "ridge_fit",
+__all__ = ["GROOVED_PHI_HARMONICS", "fit_grooved_film", "grooved_flow_functions", "grooved_problem", "ridge_fit",
            "held_out_errors", "basis_for", "FILM_DEGREE", "FILM_HARMONICS", "FILM_MAX_ROWS", "attach_film", "fit_film", "film_truth",
            "flow_functions", "predicted_flows", "reduced_state", "relative_errors", "strided"]

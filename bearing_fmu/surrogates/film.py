@@ -18,7 +18,9 @@ so the functions depend on the attitude phi too, as the grooved force map's flow
 "Grooved bores: the flows"): side flow r Q0 J_s(eps, phi, beta) and per supply edge e the signed flux
 sign_e omega Q0 h_e / (2 CR) - r Q0 P_e(eps, phi, beta), the inflow the sum of their positive parts
 (``film.grooved_report``). The surrogate holds one operating point, so eps and phi vary little: the
-basis is the full bore's times (phi - phi_center)^k, k = 0 .. phi_degree.
+basis is the full bore's times a Fourier series in phi (1, cos phi, sin phi, .. up to phi_harmonics):
+near the centre the attitude takes any value, and at eps -> 0 the field depends on phi + beta alone,
+which a polynomial in phi about one attitude cannot follow.
 """
 
 from __future__ import annotations
@@ -37,8 +39,7 @@ MAX_DEGREE, MAX_HARMONICS = 12, 24
 GROOVED = "grooved"  # the key 'kind' of a grooved or partial-arc bore's film fit (absent: the full bore's)
 GROOVED_MEANING = ("side flow r R L CR J_s; per supply edge e (edges_deg: theta_e [deg], sign_e) the flux into the "
                    "film sign_e omega R L h_e / 2 - r R L CR P_e, inflow the sum of its positive parts; each function "
-                   "sum_k coef_k f_k, f = (the full bore's eps^i t_j(beta)) times (phi - phi_center)^l, l outer")
-MAX_PHI_DEGREE = 6
+                   "sum_k coef_k f_k, f = (the full bore's eps^i t_j(beta)) times t_l(phi) (1, cos phi, sin phi, ..), l outer")
 
 
 def n_features(degree: int, harmonics: int) -> int:
@@ -49,20 +50,25 @@ def features(eps, beta, degree: int, harmonics: int) -> np.ndarray:
     """(M, n_features): eps^i t_j(beta), i = 0 .. degree (outer), t_j = 1, cos beta, sin beta,
     cos 2 beta, ... (inner)."""
     eps, beta = np.atleast_1d(np.asarray(eps, float)), np.atleast_1d(np.asarray(beta, float))
-    t = [np.ones_like(beta)]
-    for m in range(1, harmonics + 1):
-        t += [np.cos(m * beta), np.sin(m * beta)]
-    T = np.stack(t, axis=1)
+    T = trig(beta, harmonics)
     P = eps[:, None] ** np.arange(degree + 1)
     return (P[:, :, None] * T[:, None, :]).reshape(len(eps), -1)
 
 
-def grooved_features(eps, phi, beta, degree: int, harmonics: int, phi_degree: int, phi_center: float) -> np.ndarray:
-    """(M, (phi_degree + 1) n_features): ``features(eps, beta)`` times dphi^l, l = 0 .. phi_degree
-    (outer), dphi = phi - phi_center wrapped to [-pi, pi)."""
+def trig(x, harmonics: int) -> np.ndarray:
+    """(M, 2 harmonics + 1): 1, cos x, sin x, cos 2x, sin 2x, .."""
+    x = np.atleast_1d(np.asarray(x, float))
+    t = [np.ones_like(x)]
+    for m in range(1, harmonics + 1):
+        t += [np.cos(m * x), np.sin(m * x)]
+    return np.stack(t, axis=1)
+
+
+def grooved_features(eps, phi, beta, degree: int, harmonics: int, phi_harmonics: int) -> np.ndarray:
+    """(M, (2 phi_harmonics + 1) n_features): ``features(eps, beta)`` times t_l(phi), l outer
+    (t = 1, cos phi, sin phi, .. up to phi_harmonics)."""
     base = features(eps, beta, degree, harmonics)
-    dphi = np.mod(np.atleast_1d(np.asarray(phi, float)) - phi_center + np.pi, 2.0 * np.pi) - np.pi
-    return (dphi[:, None, None] ** np.arange(phi_degree + 1)[None, :, None] * base[:, None, :]).reshape(len(base), -1)
+    return (trig(phi, phi_harmonics)[:, :, None] * base[:, None, :]).reshape(len(base), -1)
 
 
 @dataclass
@@ -126,8 +132,7 @@ class GroovedFilmFit:
 
     degree: int
     harmonics: int
-    phi_degree: int
-    phi_center: float
+    phi_harmonics: int
     edges: tuple
     coef: np.ndarray
     lam: tuple = ()
@@ -135,11 +140,11 @@ class GroovedFilmFit:
     kind = GROOVED
 
     def __post_init__(self) -> None:
-        self.degree, self.harmonics, self.phi_degree = int(self.degree), int(self.harmonics), int(self.phi_degree)
+        self.degree, self.harmonics, self.phi_harmonics = int(self.degree), int(self.harmonics), int(self.phi_harmonics)
         if not (0 <= self.degree <= MAX_DEGREE and 0 <= self.harmonics <= MAX_HARMONICS
-                and 0 <= self.phi_degree <= MAX_PHI_DEGREE):
+                and 0 <= self.phi_harmonics <= MAX_HARMONICS):
             raise ValueError(f"GroovedFilmFit: degree {self.degree} (0 .. {MAX_DEGREE}), harmonics {self.harmonics} "
-                             f"(0 .. {MAX_HARMONICS}), phi_degree {self.phi_degree} (0 .. {MAX_PHI_DEGREE})")
+                             f"and phi_harmonics {self.phi_harmonics} (0 .. {MAX_HARMONICS})")
         self.edges = tuple((float(t), float(s)) for t, s in self.edges)
         if not self.edges or any(s not in (1.0, -1.0) for _t, s in self.edges):
             raise ValueError("GroovedFilmFit: edges must list (theta [rad], sign +-1) of at least one supply edge")
@@ -147,13 +152,13 @@ class GroovedFilmFit:
         if self.coef.shape[1] != self.n_features:
             raise ValueError(f"GroovedFilmFit: {self.coef.shape[1]} coefficients per function, expected "
                              f"{self.n_features}")
-        if not (np.all(np.isfinite(self.coef)) and math.isfinite(self.phi_center)):
-            raise ValueError("GroovedFilmFit: coef or phi_center has non-finite entries")
+        if not np.all(np.isfinite(self.coef)):
+            raise ValueError("GroovedFilmFit: coef has non-finite entries")
         self.lam = tuple(float(v) for v in self.lam) or (0.0,) * len(self.coef)
 
     @property
     def n_features(self) -> int:
-        return (self.phi_degree + 1) * n_features(self.degree, self.harmonics)
+        return (2 * self.phi_harmonics + 1) * n_features(self.degree, self.harmonics)
 
     @property
     def targets(self) -> tuple:
@@ -161,12 +166,11 @@ class GroovedFilmFit:
 
     def values(self, eps, phi, beta) -> np.ndarray:
         """(M, 1 + E): J_s, P_1 .. P_E at (eps, phi, beta)."""
-        return grooved_features(eps, phi, beta, self.degree, self.harmonics, self.phi_degree,
-                                self.phi_center) @ self.coef.T
+        return grooved_features(eps, phi, beta, self.degree, self.harmonics, self.phi_harmonics) @ self.coef.T
 
     def to_dict(self) -> dict:
         return {"kind": GROOVED, "meaning": GROOVED_MEANING, "degree": self.degree, "harmonics": self.harmonics,
-                "phi_degree": self.phi_degree, "phi_center": self.phi_center,
+                "phi_harmonics": self.phi_harmonics,
                 "edges_deg": [[math.degrees(t), s] for t, s in self.edges],
                 "coef": {t: self.coef[i].tolist() for i, t in enumerate(self.targets)},
                 "lambda": dict(zip(self.targets, self.lam)), "errors": json_clean(self.errors)}
@@ -175,10 +179,10 @@ class GroovedFilmFit:
     def from_dict(cls, d, where: str, edges) -> "GroovedFilmFit":
         """The fit of a file's key ``film`` with kind 'grooved', for the bearing's supply ``edges``."""
         degree, harmonics = read_int(d, "degree", where), read_int(d, "harmonics", where)
-        phi_degree = read_int(d, "phi_degree", where)
-        if degree > MAX_DEGREE or harmonics > MAX_HARMONICS or phi_degree > MAX_PHI_DEGREE:
-            raise ValueError(f"{where}: degree {degree} must be <= {MAX_DEGREE}, harmonics {harmonics} <= "
-                             f"{MAX_HARMONICS}, phi_degree {phi_degree} <= {MAX_PHI_DEGREE}")
+        phi_harmonics = read_int(d, "phi_harmonics", where)
+        if degree > MAX_DEGREE or max(harmonics, phi_harmonics) > MAX_HARMONICS:
+            raise ValueError(f"{where}: degree {degree} must be <= {MAX_DEGREE}, harmonics {harmonics} and "
+                             f"phi_harmonics {phi_harmonics} <= {MAX_HARMONICS}")
         rec = get_key(d, "edges_deg", where)
         want = [[math.degrees(t), s] for t, s in edges]
         if not (isinstance(rec, list) and len(rec) == len(want) and all(
@@ -186,7 +190,7 @@ class GroovedFilmFit:
                 for r, w in zip(rec, want))):
             raise ValueError(f"{where}: key 'edges_deg' = {rec!r:.80} must list the bearing's supply edges "
                              f"[theta_deg, sign]: {want}")
-        nf = (phi_degree + 1) * n_features(degree, harmonics)
+        nf = (2 * phi_harmonics + 1) * n_features(degree, harmonics)
         targets = ("J_s",) + tuple(f"P_{k + 1}" for k in range(len(edges)))
         c = get_key(d, "coef", where)
         coef = np.array([read_vector(c, t, nf, f"{where}: coef") for t in targets])
@@ -195,8 +199,7 @@ class GroovedFilmFit:
             ld = get_key(d, "lambda", where)
             lam = tuple(read_number(ld, t, f"{where}: lambda", minimum=0.0) for t in targets)
         errors = read_object(d, "errors", where) if "errors" in d else {}
-        return cls(degree, harmonics, phi_degree, read_number(d, "phi_center", where), tuple(edges), coef, lam,
-                   errors)
+        return cls(degree, harmonics, phi_harmonics, tuple(edges), coef, lam, errors)
 
 
 def film_from_dict(d, where: str, geometry):
@@ -216,4 +219,4 @@ def film_from_dict(d, where: str, geometry):
 
 
 __all__ = ["FilmFit", "GROOVED", "GroovedFilmFit", "TARGETS", "MEANING", "features", "film_from_dict",
-           "grooved_features", "n_features"]
+           "grooved_features", "n_features", "trig"]
