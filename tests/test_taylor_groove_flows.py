@@ -27,6 +27,7 @@ from bearing_fmu.physics.film import flow_scale, film_couette_integral
 from bearing_fmu.physics.params import BearingParams
 from bearing_fmu.surrogates.film import GroovedFilmFit, n_features
 from bearing_fmu.surrogates.surrogate import load_surrogate, save_surrogate
+from test_taylor_flows import check_t_eff, held_out_errors_vs_reynolds
 
 MODELS = Path(__file__).resolve().parents[1] / "models"
 GROOVED = MODELS / "bearing_paper_2groove.toml"
@@ -154,27 +155,6 @@ def fit_grooved(params: BearingParams, hz: float, folder: Path):
     return save_surrogate(res.surrogate, folder / f"grooved_{hz:g}hz.json"), res.report
 
 
-def held_out_errors_vs_reynolds(params: BearingParams, guard, n: int, seed: int = 2026) -> np.ndarray:
-    """(n, 3): |Taylor / Reynolds - 1| of the inflow, side flow and friction power at n random states
-    inside the fitted domain (uniform over the training discs, kept where the guard says inside)."""
-    from bearing_fmu.physics.reynolds import Reynolds
-
-    s, om, rey, P = guard.taylor.surrogate, guard.omega, Reynolds(params), params
-    rng = np.random.default_rng(seed)
-    err = []
-    while len(err) < n:
-        r, a, rv, b = 0.3 * math.sqrt(rng.uniform()), rng.uniform(0, 2 * math.pi), 0.3 * math.sqrt(
-            rng.uniform()), rng.uniform(0, 2 * math.pi)
-        st = (s.y0 + r * math.cos(a) * P.CR, s.z0 + r * math.sin(a) * P.CR, rv * math.cos(b) * om * P.CR,
-              rv * math.sin(b) * om * P.CR)
-        if not guard.in_domain(*st):
-            continue
-        A, B = guard.film_report(*st, om), rey.film_report(*st, om)
-        err.append([abs(A.inflow_m3_s / B.inflow_m3_s - 1), abs(A.side_flow_m3_s / B.side_flow_m3_s - 1),
-                    abs(A.friction_power_W / B.friction_power_W - 1)])
-    return np.array(err)
-
-
 @pytest.fixture(scope="module")
 def fitted(tmp_path_factory):
     """(bearing, {speed_hz: surrogate file}) of the two-groove VG 46 bearing, fitted on first use."""
@@ -220,14 +200,5 @@ def test_grooved_t_eff_from_taylor_equals_reynolds_at_two_speeds(fitted):
     surrogate fitted at each speed against the Reynolds solver (physics.thermal.effective_temperature,
     the surrogate at mu(T) by the exact scaling F ~ mu). Measured: T_eff 313.5073, 313.7893 K;
     Taylor - Reynolds +1.3e-4, -5.3e-4 K. Bound 2e-3 K: twice the root's tolerance (1e-3 K)."""
-    from bearing_fmu.internals.guard import DomainGuard
-    from bearing_fmu.physics.thermal import effective_temperature
-
     params, get = fitted
-    for hz in (22.0, 44.0):
-        om = 2 * math.pi * hz
-        g = DomainGuard(Taylor.from_file(get(hz)), "discard")
-        a = effective_temperature(params, (0.0, -16.7), om, T_SUPPLY, internal=g)
-        b = effective_temperature(params, (0.0, -16.7), om, T_SUPPLY)
-        assert a.T_eff_K == pytest.approx(b.T_eff_K, abs=2e-3), hz
-        assert a.T_eff_K > T_SUPPLY + 0.3  # the film heats
+    check_t_eff(params, get, (22.0, 44.0))
