@@ -80,7 +80,6 @@ def grooved_flow_functions(internal, states, omega: float) -> np.ndarray:
     out = np.empty((len(states), 5 + len(params.geometry.supply_edges())))
     for i, s in enumerate(np.asarray(states, float)):
         eps, beta, r, phi = reduced_state(params, *s, omega)
-        internal.force(*s, omega)  # supply_flows reads this call's field
         j_s, p_e = supply_functions(params, internal.supply_flows(*s, omega), r)
         out[i] = (eps, phi, beta, r, j_s, *p_e)
     if not np.all(np.isfinite(out)):
