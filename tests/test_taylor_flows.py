@@ -124,15 +124,6 @@ def test_the_guard_does_for_the_film_report_what_it_does_for_the_force(tmp_path)
         guards["fallback"].film_report(*far, om)
 
 
-def test_a_film_fit_needs_the_full_bore():
-    from bearing_fmu.fitting.flows import fit_film
-    from bearing_fmu.physics.reynolds import Reynolds
-
-    grooved = BearingParams.from_toml(MODELS / "bearing_paper_2groove.toml")
-    with pytest.raises(ValueError, match="film fit: the surrogate's bore is not the full circle"):
-        fit_film(Reynolds(grooved, n_theta=16, n_x=4), np.zeros((400, 4)), OMEGA_22HZ)
-
-
 # ----------------------------------------------------------------------------- fitted to Reynolds (slow)
 
 @pytest.fixture(scope="module")
@@ -155,6 +146,28 @@ def fitted(tmp_path_factory):
     return get
 
 
+def held_out_errors_vs_reynolds(params: BearingParams, guard, n: int, seed: int = 2026) -> np.ndarray:
+    """(n, 3): |Taylor / Reynolds - 1| of the inflow, side flow and friction power at n random states
+    inside the fitted domain (uniform over the training discs, kept where the guard says inside)."""
+    from bearing_fmu.physics.reynolds import Reynolds
+
+    s, om, rey, P = guard.taylor.surrogate, guard.omega, Reynolds(params), params
+    rng = np.random.default_rng(seed)
+    err = []
+    while len(err) < n:
+        r, a, rv, b = 0.3 * math.sqrt(rng.uniform()), rng.uniform(0, 2 * math.pi), 0.3 * math.sqrt(
+            rng.uniform()), rng.uniform(0, 2 * math.pi)
+        st = (s.y0 + r * math.cos(a) * P.CR, s.z0 + r * math.sin(a) * P.CR, rv * math.cos(b) * om * P.CR,
+              rv * math.sin(b) * om * P.CR)
+        if not guard.in_domain(*st):
+            continue
+        A, B = guard.film_report(*st, om), rey.film_report(*st, om)
+        assert set(A.as_dict()) == set(B.as_dict())
+        err.append([abs(A.inflow_m3_s / B.inflow_m3_s - 1), abs(A.side_flow_m3_s / B.side_flow_m3_s - 1),
+                    abs(A.friction_power_W / B.friction_power_W - 1)])
+    return np.array(err)
+
+
 @pytest.mark.slow
 def test_the_film_report_follows_reynolds_at_held_out_states(fitted):
     """200 random states inside the fitted domain at 22 Hz (uniform over the training discs, seed
@@ -167,28 +180,25 @@ def test_the_film_report_follows_reynolds_at_held_out_states(fitted):
     friction power 3.0e-4   1.7e-3   3.9e-3   (closed form from the fitted force: its error)
 
     Bounds: about twice the measured figures."""
-    from bearing_fmu.physics.reynolds import Reynolds
-
     P = BearingParams.from_toml(VG46)
-    g = DomainGuard(Taylor.from_file(fitted(22.0)), "discard")
-    s, om, rey = g.taylor.surrogate, g.omega, Reynolds(P)
-    rng = np.random.default_rng(2026)
-    err = []
-    while len(err) < 200:
-        r, a, rv, b = 0.3 * math.sqrt(rng.uniform()), rng.uniform(0, 2 * math.pi), 0.3 * math.sqrt(
-            rng.uniform()), rng.uniform(0, 2 * math.pi)
-        st = (s.y0 + r * math.cos(a) * P.CR, s.z0 + r * math.sin(a) * P.CR, rv * math.cos(b) * om * P.CR,
-              rv * math.sin(b) * om * P.CR)
-        if not g.in_domain(*st):
-            continue
-        A, B = g.film_report(*st, om), rey.film_report(*st, om)
-        assert set(A.as_dict()) == set(B.as_dict())
-        err.append([abs(A.inflow_m3_s / B.inflow_m3_s - 1), abs(A.side_flow_m3_s / B.side_flow_m3_s - 1),
-                    abs(A.friction_power_W / B.friction_power_W - 1)])
-    e = np.array(err)
+    e = held_out_errors_vs_reynolds(P, DomainGuard(Taylor.from_file(fitted(22.0)), "discard"), 200)
     bounds = {"median": (2.5e-3, 1e-4, 1e-3), "p95": (7e-3, 2e-4, 4e-3), "max": (1.2e-2, 1e-3, 1e-2)}
     for name, got in (("median", np.median(e, 0)), ("p95", np.percentile(e, 95, 0)), ("max", e.max(0))):
         assert np.all(got < bounds[name]), (name, got)
+
+
+def check_t_eff(params: BearingParams, fitted, speeds_hz) -> None:
+    """T_eff under 16.7 N, oil at T_SUPPLY, of the guarded surrogate file ``fitted(hz)`` against the
+    Reynolds solver's at each speed: within 2e-3 K, and the film heats by more than 0.3 K."""
+    from bearing_fmu.physics.thermal import effective_temperature
+
+    for hz in speeds_hz:
+        om = 2 * math.pi * hz
+        g = DomainGuard(Taylor.from_file(fitted(hz)), "discard")
+        a = effective_temperature(params, (0.0, -16.7), om, T_SUPPLY, internal=g)
+        b = effective_temperature(params, (0.0, -16.7), om, T_SUPPLY)
+        assert a.T_eff_K == pytest.approx(b.T_eff_K, abs=2e-3), hz
+        assert a.T_eff_K > T_SUPPLY + 0.3  # the film heats
 
 
 @pytest.mark.slow
@@ -199,16 +209,7 @@ def test_t_eff_from_taylor_equals_reynolds_at_three_speeds(fitted):
     314.440 K; Taylor - Reynolds -5.7e-5, -3.9e-4, -5.8e-4 K. Bound 2e-3 K: twice the root's
     tolerance (1e-3 K); the film fit's share is smaller (at the equilibrium P and Q agree to
     about 1e-3, which moves the 0.7-1.3 K of T_eff - T_supply by about 1e-3 K)."""
-    from bearing_fmu.physics.thermal import effective_temperature
-
-    P = BearingParams.from_toml(VG46)
-    for hz in (22.0, 33.0, 44.0):
-        om = 2 * math.pi * hz
-        g = DomainGuard(Taylor.from_file(fitted(hz)), "discard")
-        a = effective_temperature(P, (0.0, -16.7), om, T_SUPPLY, internal=g)
-        b = effective_temperature(P, (0.0, -16.7), om, T_SUPPLY)
-        assert a.T_eff_K == pytest.approx(b.T_eff_K, abs=2e-3), hz
-        assert a.T_eff_K > T_SUPPLY + 0.3  # the film heats
+    check_t_eff(BearingParams.from_toml(VG46), fitted, (22.0, 33.0, 44.0))
 
 
 @pytest.mark.slow

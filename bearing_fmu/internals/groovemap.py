@@ -42,7 +42,7 @@ from pathlib import Path
 import numpy as np
 
 from ..io.schema import find_non_finite
-from ..physics.film import FilmReport, flow_scale, grooved_report
+from ..physics.film import FilmReport, grooved_report, supply_functions
 from ..physics.geometry import Geometry
 from ..physics.params import BearingParams
 from .forcemap import (EPS_MIN, FORMAT, LD_RTOL, ForceMap, array_key, bspline_matrix, finite_problem, header_problem,
@@ -348,7 +348,6 @@ def grooved_row(params, n_theta, n_x, cavitation, eps, phis, betas, n_phase, rey
     S = scale(params)
     cell = 2.0 * math.pi / rey.n_theta
     offsets = ((np.arange(n_phase) + 0.5) / n_phase - 0.5) * cell
-    q0 = flow_scale(params)
     out = np.zeros((len(phis), len(betas), 2))
     Q = np.zeros((len(phis), len(betas), 1 + len(params.geometry.supply_edges()))) if flows else None
     for i, phi0 in enumerate(phis):
@@ -360,9 +359,9 @@ def grooved_row(params, n_theta, n_x, cavitation, eps, phis, betas, n_phase, rey
                 F = np.array(rey.force(*state, 1.0))
                 out[i, k] += (F @ u / S, F @ w / S)
                 if flows:
-                    e = rey.supply_flows(*state, 1.0)  # the field of the force call just made
-                    Q[i, k, 0] += e["side_flow"] / q0
-                    Q[i, k, 1:] -= e["pressure"] / q0
+                    j_s, p_e = supply_functions(params, rey.supply_flows(*state, 1.0), 1.0)  # the force's field
+                    Q[i, k, 0] += j_s
+                    Q[i, k, 1:] += p_e
     return out / n_phase, (None if Q is None else Q / n_phase)
 
 

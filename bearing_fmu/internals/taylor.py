@@ -15,9 +15,10 @@ from pathlib import Path
 
 import numpy as np
 
-from ..physics.film import FilmReport, reduced_report
+from ..physics.film import FilmReport, grooved_report, reduced_report
 from ..physics.params import BearingParams
 from ..physics.shortbearing import short_bearing_constant
+from ..surrogates.film import GROOVED
 from ..surrogates.surrogate import NO_FLOWS_WHY, Surrogate, check_params, load_surrogate
 from ..surrogates.taylor_kernels import (NOT_FINITE, WRONG_OMEGA, domain_distance_nb, force_jac_shape_si_nb,
                                          force_jac_si_nb, force_nb, force_shape_nb)
@@ -121,8 +122,10 @@ class Taylor:
         """Friction and flows of the film (``Reynolds.film_report``'s quantities) as the force map has
         them (``film.reduced_report``): the friction in closed form from this surrogate's force, the
         flows from the file's flow functions J_s, J_i at the state's (eps, beta)
-        (``surrogates.film``). Refuses what ``force`` refuses; ValueError without a film fit. The
-        fitted domain is the force's: the guard (``DomainGuard.film_report``) acts on it."""
+        (``surrogates.film``). A grooved or partial-arc bore's fit: the side flow and the supply edges'
+        functions at (eps, phi, beta), assembled as the grooved map's (``film.grooved_report``).
+        Refuses what ``force`` refuses; ValueError without a film fit. The fitted domain is the
+        force's: the guard (``DomainGuard.film_report``) acts on it."""
         film = self.surrogate.film
         if film is None:
             raise ValueError(f"film_report: {self.film_flow_why}")
@@ -130,7 +133,11 @@ class Taylor:
         from .forcemap import reduced
 
         y, z, vy, vz, omega = float(y), float(z), float(vy), float(vz), float(omega)
-        eps, _phi, a, c = reduced(y, z, vy, vz, omega, self.params.CR)
+        eps, phi, a, c = reduced(y, z, vy, vz, omega, self.params.CR)
+        if film.kind == GROOVED:
+            f = film.values(eps, phi, math.atan2(c, a))[0]
+            return grooved_report(self.params, y, z, vy, vz, omega, F, math.hypot(a, c), float(f[0]), f[1:],
+                                  film.edges)
         j_s, j_i = film.values(eps, math.atan2(c, a))[0]
         return reduced_report(self.params, y, z, vy, vz, omega, F, eps, math.hypot(a, c), float(j_s), float(j_i))
 

@@ -51,7 +51,7 @@ from .params import BearingParams
 
 __all__ = ["FilmReport", "assemble_report", "at_viscosity", "edge_flows", "face_fluxes", "field_report",
            "film_couette_integral", "flow_scale", "full_bore_friction", "grooved_report", "reduced_flows",
-           "reduced_report", "side_flow", "supply_edges"]
+           "reduced_report", "side_flow", "supply_edges", "supply_functions"]
 
 
 @dataclass(frozen=True)
@@ -249,6 +249,15 @@ def edge_flows(params: BearingParams, y: float, z: float, p_half: np.ndarray, dx
     faces, sign = supply_edges(fixed)
     return {"side_flow": side_flow(params, y, z, p_half, dx, grid), "theta": grid.right[faces], "sign": sign,
             "pressure": -sign * pressure[faces]}
+
+
+def supply_functions(params: BearingParams, flows: dict, r: float) -> tuple[float, np.ndarray]:
+    """(J_s, P_e per supply edge) of a grooved or partial-arc bore at a state of source r [1/s] from its
+    ``edge_flows`` there (no supply pressure: the field scales with r): J_s = Q_s / (r Q0), P_e = -(the
+    pressure part of edge e's flux into the film) / (r Q0), so that edge's flux is sign_e omega Q0 h_e /
+    (2 CR) - r Q0 P_e (``grooved_report``; what the grooved map tabulates at r = 1)."""
+    rq0 = r * flow_scale(params)
+    return flows["side_flow"] / rq0, -np.asarray(flows["pressure"], float) / rq0
 
 
 def film_couette_integral(geometry, eps: float, phi: float) -> float:

@@ -21,8 +21,10 @@ fitted to, in u, and a radius; the domain guard (:mod:`bearing_fmu.internals.gua
 distance of a state to its nearest stored point, so a state inside the bounds but far from
 every training orbit is out of domain too (docs/taylor.md).
 
-Film fit (``film``, optional, full bore only): the film's flows by the force map's reduction, two
-fitted functions of eccentricity and one angle (:mod:`bearing_fmu.surrogates.film`); a file with it
+Film fit (``film``, optional): the film's flows by the force map's reduction, two fitted functions
+of eccentricity and one angle for the full bore, or (key 'kind' = 'grooved') the side flow and one
+function per supply edge of (eps, phi, beta) for a grooved or partial-arc bore
+(:mod:`bearing_fmu.surrogates.film`); a file with it
 is format version 2 (FILM_VERSION), one without it version 1, which still loads: such a surrogate
 has no film flows (``NO_FLOWS_WHY``).
 
@@ -52,7 +54,7 @@ from ..physics.params import BearingParams
 from .basis import N_VARS, design_matrix, exponents, n_terms, shape_force
 from .domain import (Domain, Neighbours, SurrogateKeyError, close_to, get_key, json_clean, read_int, read_number,
                      read_object, read_vector)
-from .film import FilmFit
+from .film import FilmFit, GroovedFilmFit, film_from_dict
 
 FILE_FORMAT = "bearing-fmu-taylor-surrogate"
 FILE_VERSION = 1  # the force alone (read still: such a surrogate has no film flows)
@@ -95,7 +97,7 @@ class Surrogate:
     shape_order: int | None = None
     shape_coef: np.ndarray | None = None
     neighbours: Neighbours | None = None
-    film: FilmFit | None = None
+    film: FilmFit | GroovedFilmFit | None = None
 
     def __post_init__(self) -> None:
         self.order = int(self.order)
@@ -137,8 +139,9 @@ class Surrogate:
             if not np.all(np.isfinite(sc)):
                 raise ValueError("Surrogate.shape_coef has non-finite entries")
             self.shape_coef = sc
-        if self.film is not None and not self.params.geometry.is_full_bore:
-            raise ValueError("Surrogate.film: the flows' reduction holds for the full 360 deg bore only")
+        if self.film is not None and (self.film.kind == "full") != self.params.geometry.is_full_bore:
+            raise ValueError(f"Surrogate.film: a film fit of kind {self.film.kind!r} does not fit the bore "
+                             f"'{self.params.geometry.describe()}' (the full bore's reduction holds for it alone)")
         if self.neighbours is not None and not isinstance(self.neighbours, Neighbours):
             raise ValueError(f"Surrogate.neighbours must be a Neighbours or None, got {type(self.neighbours).__name__}")
 
@@ -328,7 +331,7 @@ class Surrogate:
                 raise ValueError(f"{where}: shape: key 'exponents' is not the full basis of order {shape_order}")
         domain = Domain.from_dict(get_key(d, "domain", where), f"{where}: domain")
         neighbours = Neighbours.from_dict(d["neighbours"], f"{where}: neighbours") if "neighbours" in d else None
-        film = FilmFit.from_dict(d["film"], f"{where}: film") if "film" in d else None
+        film = film_from_dict(d["film"], f"{where}: film", params.geometry) if "film" in d else None
         meta = {k: read_object(d, k, where) for k in ("errors", "pruning", "provenance")}
         bad = find_non_finite(d)  # the metadata too (the writer stores None, never NaN): shown by reports
         if bad is not None:
@@ -370,8 +373,8 @@ FILE_KEYS = (
     Key("pruning", "the pruning's record", None, "a table"),
     Key("provenance", "truth, training data, recipe, date, version", None, "a table"),
     Key("neighbours", "training states for the nearest-neighbour guard: radius, points in u", None, "a table"),
-    Key("film", "the film fit: the flow functions J_s, J_i of (eps, beta) (version 2)", None,
-        "degree, harmonics, coef, lambda, errors"),
+    Key("film", "the film fit: J_s, J_i of (eps, beta); kind 'grooved': J_s, P_e of (eps, phi, beta) (version 2)",
+        None, "degree, harmonics, coef, lambda, errors; grooved: kind, phi_degree, phi_center, edges_deg"),
 )
 
 

@@ -452,14 +452,15 @@ def c_matrix(name: str, rows: np.ndarray) -> str:
 def _taylor(params: BearingParams, surrogate, map_path, options: dict) -> NativeModel:
     from ...surrogates.surrogate import load_surrogate
     from ...internals.taylor import Taylor
-    from .taylor_data import film_data_lines
+    from .taylor_data import film_data_lines, native_film_why
 
     if not surrogate:
         raise ValueError("a native taylor FMU needs a surrogate file (--surrogate FILE)")
     path = Path(surrogate)
     sur = load_surrogate(path, params) if params is not None else load_surrogate(path)
     tay = Taylor(sur, source=str(path))  # its film_flow_why names the file
-    flows_why = registry.film_flow_of(registry.get("taylor"), tay)  # the file's: '' with its film fit
+    # the file's: '' with its film fit (a grooved bore's is not ported: native_film_why)
+    flows_why = registry.film_flow_of(registry.get("taylor"), tay) or native_film_why(sur.film)
     # the surrogate's bearing, with the bearing file's oil law when given (the thermal model's)
     params = sur.params if params is None or params.oil is None else dataclasses.replace(sur.params, oil=params.oil)
     exps, coef = tay._exps, tay._coef  # the kept terms, exactly what the numba kernels evaluate
