@@ -128,9 +128,13 @@ def test_the_edges_flows_are_splined_over_the_whole_turn(tiny):
     a whole turn: past the period the journal meets the other groove's edges (``unrolled_flows``). A
     spline periodic over the period would join P_e to itself across the period's end: there, half a
     cell before 180 deg, the inflow was 5.4e-2 off the solver at worst (relative to max(Q, 0.1 omega
-    Q0)); over the whole turn 4.5e-3, as between any two points (3.2e-3 half a cell after 0 deg)."""
+    Q0)); over the whole turn 4.5e-3, as between any two points (3.2e-3 half a cell after 0 deg). The
+    spline kept holds one period, its last coefficients the next period's first renumbered exactly."""
     fmap = open_map(tiny, GROOVED)
     t, rey, q0 = fmap.table, Reynolds(GROOVED, **COARSE), flow_scale(GROOVED)
+    ts, tp, tb, C = t.flow_spline()
+    assert C.shape == (8, 15, 11, 5)  # one period: 12 + 3 coefficients in phi
+    np.testing.assert_array_equal(C[:, 12:], C[:, :3][..., [0, 3, 4, 1, 2]])
     u = t.unrolled_flows()
     assert u.shape == (8, 24, 8, 5)
     np.testing.assert_array_equal(u[:, 12:], t.Q[..., [0, 3, 4, 1, 2]])  # edges (100, 260) <-> (280, 80) deg
@@ -143,6 +147,30 @@ def test_the_edges_flows_are_splined_over_the_whole_turn(tiny):
                 a, c = fmap.film_report(*x, OMEGA), rey.film_report(*x, OMEGA)
                 err.append(abs(a.inflow_m3_s - c.inflow_m3_s) / max(c.inflow_m3_s, 0.1 * OMEGA * q0))
         assert max(err) < 1e-2, (phi, max(err))
+
+
+def test_the_one_period_flow_spline_is_the_whole_turns(tiny):
+    """The flow spline kept over one period and renumbered (``flow_components``) against the spline
+    fitted over the whole turn (``unrolled_flows``, as before it was halved; independent of the
+    renumbering at evaluation): at random states and at attitudes within two cells of 0, +-90 and
+    +-180 deg, the ends of the period included (-0.0, 1e-300, pi, -pi, one ulp before them), every
+    component and derivative equal to 1e-13 of the largest (the two fits' round-off)."""
+    from bearing_fmu.internals.groovemap import flow_components
+    from bearing_fmu.internals.map_kernels import spline3
+
+    t = open_map(tiny, GROOVED).table
+    whole, images = t.fit_spline(t.unrolled_flows(), 2), t.flow_images()
+    rng = np.random.default_rng(7)
+    h = t.period / t.n_phi
+    phis = np.r_[rng.uniform(-math.pi, math.pi, 100), rng.choice([-math.pi, -0.5 * math.pi, 0.0, 0.5 * math.pi,
+                                                                    math.pi], 100) + rng.uniform(-2 * h, 2 * h, 100),
+                 -0.0, 1e-300, -1e-300, math.pi, -math.pi, math.nextafter(math.pi, 0.0), math.nextafter(0.0, -1.0)]
+    a, b = np.zeros((5, 4)), np.zeros((5, 4))
+    for phi in phis:
+        s, beta = rng.uniform(0.0, t.s[-1]), rng.uniform(-math.pi, math.pi)
+        spline3(*whole, s, phi, beta, b)
+        np.testing.assert_allclose(flow_components(t.flow_spline(), images, s, phi, beta, a), b, rtol=0,
+                                   atol=1e-13 * np.abs(b).max(), err_msg=f"phi = {phi!r}")
 
 
 @pytest.mark.slow

@@ -1,7 +1,7 @@
 """The native map FMU's thermal ports on a grooved bore's map (docs/thermal.md, docs/fmu.md): its film
 report in C from the version 4 flow tables (c/map_flows.c, a port of GroovedForceMap.film_report:
 the Couette torque over the film's segments in closed form, the pressure torque from the force, the
-side flow and each supply edge's inflow from the flow spline over the whole turn), against the Python
+side flow and each supply edge's inflow from the flow spline over one period, renumbered in the other), against the Python
 FMU with the same map over a run whose T_supply ramps, against the Python map internal's film_report,
 in Model Exchange, under the FMU Compliance Checker; a version 2 grooved map (no flow tables) refuses
 thermal by name; a host scene on the native FMU equals the Python FMU route.
@@ -156,8 +156,9 @@ def test_a_grooved_map_without_flow_tables_refuses_thermal(files, tmp_path):
     """A version 2 grooved map (the coarse map with its flow keys dropped): a native map FMU starting
     with thermal = true is refused before anything is compiled, naming the file and why (the Python
     map's film_flow_why: rebuild it); without thermal, the parameter thermal says why it stays false
-    and no flow table is compiled in. The version 4 map's header has the flow spline over the whole
-    turn (2 x 8 attitudes + 3), its 4 supply edges and 2 film segments (the two 160 deg pads); for a
+    and no flow table is compiled in. The version 4 map's header has the flow spline over one period
+    (8 attitudes + 3), the edges' renumbering over the turn's 2 periods, its 4 supply edges and 2 film
+    segments (the two 160 deg pads); for a
     bearing without an oil law it leaves them out (codegen.GROOVED_NO_OIL_WHY: 4.8 times the force's
     coefficients, of no use without the law)."""
     from bearing_fmu.fmu.native.build import build_native_fmu
@@ -180,7 +181,8 @@ def test_a_grooved_map_without_flow_tables_refuses_thermal(files, tmp_path):
     assert "der(T_eff)" not in {v.name for v in model.variables}
     model = native_model("map", params, map=path)
     assert "#define BN_FILM_FLOW 1" in model.config_h and "der(T_eff)" in {v.name for v in model.variables}
-    for line in ("#define MAP_NQ 5", "#define MAP_NQP 19", "#define MAP_N_EDGES 4", "#define MAP_N_FILM 2"):
+    for line in ("#define MAP_NQ 5", "#define MAP_NQP 11", "#define MAP_N_EDGES 4", "#define MAP_N_FILM 2",
+                 "#define MAP_QTURNS 2", "MAP_QIMG[10] = {0, 1, 2, 3, 4, 0, 3, 4, 1, 2};"):
         assert line in model.data_h
     # a bearing without an oil law, with which thermal = true is refused anyway: the tables are left out
     from bearing_fmu.fmu.native.codegen import GROOVED_NO_OIL_WHY

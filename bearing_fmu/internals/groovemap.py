@@ -213,32 +213,43 @@ class GroovedMapTable(TableAxes):
     def spline(self):
         """(ts, tp, tb, C): knots in s, phi, beta and coefficients C (n_eps, n_phi + 3, n_beta + 3, 2)."""
         if self.coefficients is None:
-            self.coefficients = self._fit(self.H)
+            self.coefficients = self.fit_spline(self.H)
         return self.coefficients
 
     def flow_spline(self):
-        """(ts, tp, tb, C) of the flow table Q over the whole turn in phi (``unrolled_flows``), as
-        ``spline`` of H otherwise (None without flow tables)."""
+        """(ts, tp, tb, C) of the flow table Q over one period in phi, as ``spline`` of H, but its last
+        three coefficients in phi are the next period's: the first three with the edges renumbered
+        (``flow_images``). Fitted over the whole turn (``unrolled_flows``), whose periods' coefficients
+        are each other's renumbered to round-off, and kept for the first period only: ``flow_components``
+        reads the others by renumbering (None without flow tables)."""
         if self.flow_coefficients is None and self.Q is not None:
-            self.flow_coefficients = self._fit(self.unrolled_flows(), round(2.0 * math.pi / self.period))
+            images = self.flow_images()
+            ts, _, tb, C = self.fit_spline(self.unrolled_flows(), len(images))
+            C = np.concatenate([C[:, :self.n_phi], C[:, :3][..., images[1 % len(images)]]], axis=1)
+            self.flow_coefficients = (ts, self.knots()[1], tb, np.ascontiguousarray(C))
         return self.flow_coefficients
 
-    def unrolled_flows(self) -> np.ndarray:
-        """Q over phi in [0, 2 pi) (n_eps, k n_phi, n_beta, 1 + E), k = 2 pi / period. The side flow
-        repeats with the bore's period, an edge's P_e does not: turned by j periods, the journal sees
-        the edge that lies j periods behind, P_e(phi + j P) = P_e'(phi), theta_e' = theta_e - j P.
-        A spline periodic over one period would join P_e to itself across the period's end."""
+    def flow_images(self) -> np.ndarray:
+        """(k, 1 + E) indices, k = 2 pi / period: row j the component of Q that each of (J_s, P_1 .. P_E)
+        takes j periods on. The side flow repeats with the bore's period, an edge's P_e does not: turned
+        by j periods, the journal sees the edge that lies j periods behind, P_e(phi + j P) = P_e'(phi),
+        theta_e' = theta_e - j P. A spline periodic over one period would join P_e to itself across the
+        period's end (docs/studies/2026-11-26-groove-flows.md: 0.29 of the inflow at one of 300 states)."""
         theta = np.array([t for t, _ in self.edges])
         sign = np.array([sg for _, sg in self.edges])
-        blocks = []
+        rows = []
         for j in range(round(2.0 * math.pi / self.period)):
             d = np.abs(np.remainder(theta[None, :] - (theta[:, None] - j * self.period) + math.pi, 2.0 * math.pi)
                        - math.pi)  # d[e, e']: edge e' against the place of e turned back by j periods
             d[sign[:, None] != sign[None, :]] = math.inf
-            blocks.append(self.Q[..., np.r_[0, 1 + np.argmin(d, axis=1)]])
-        return np.concatenate(blocks, axis=1)
+            rows.append(np.r_[0, 1 + np.argmin(d, axis=1)])
+        return np.array(rows)
 
-    def _fit(self, values, turns: int = 1):
+    def unrolled_flows(self) -> np.ndarray:
+        """Q over phi in [0, 2 pi) (n_eps, k n_phi, n_beta, 1 + E): block j renumbered by ``flow_images``."""
+        return np.concatenate([self.Q[..., img] for img in self.flow_images()], axis=1)
+
+    def fit_spline(self, values, turns: int = 1):
         """The spline of a table on the map's axes (``turns`` periods in phi: ``unrolled_flows``)."""
         ts, tp, tb = self.knots()
         n_phi = self.n_phi * turns
@@ -268,6 +279,20 @@ class GroovedMapTable(TableAxes):
                             "on loading"),
                 "H": [float(f"{v:.{DIGITS}g}") for v in self.H.ravel()],
                 "provenance": self.provenance, **flows}
+
+
+def flow_components(spline, images, s: float, phi: float, beta: float, work: np.ndarray) -> np.ndarray:
+    """(J_s, P_1 .. P_E) and their derivatives (as ``map_kernels.spline3``'s out) at (s, phi, beta), any
+    phi: ``spline`` (``flow_spline``) at phi folded into its period, then renumbered by the row of
+    ``images`` (``flow_images``) for the periods folded away; ``work``: (1 + E, 4). The fold twice, so
+    that the kernel's own fold leaves it (a first fold may round to the period's end: that is 0)."""
+    from .map_kernels import spline3
+
+    ts, tp, tb, C = spline
+    t3, period = float(tp[3]), float(tp[C.shape[1]] - tp[3])
+    p = t3 + ((t3 + ((phi - t3) % period)) - t3) % period
+    spline3(ts, tp, tb, C, s, p, beta, work)
+    return work[images[math.floor((phi - p) / period + 0.5) % len(images)]]
 
 
 # ------------------------------------------------------------------------------ building
@@ -465,6 +490,7 @@ class GroovedForceMap(ForceMap):
         self.film_flow_why = "" if table.Q is not None else NO_FLOWS_WHY.format(source=source or "(in memory)")
         self._edges = table.edges  # the flow spline is fitted at the first film report (0.2 s for a shipped map)
         self._Jq = None if table.Q is None else np.zeros((table.Q.shape[3], 4))
+        self._images = None if table.Q is None else table.flow_images()
 
     def compiled_force(self):
         """None: no compiled kernel of the 3-D map yet (a host calls ``force_and_jacobian``); not
@@ -477,13 +503,12 @@ class GroovedForceMap(ForceMap):
         docs/forcemap.md, "Grooved bores: the flows"); ValueError without the table."""
         if self.table.Q is None:
             raise ValueError(f"film_report: {self.film_flow_why}")
-        from .map_kernels import spline3
-
         F = self.force(y, z, vy, vz, omega)
         eps, phi, a, c = reduced(float(y), float(z), float(vy), float(vz), float(omega), self.params.CR)
-        spline3(*self.table.flow_spline(), -math.log1p(-max(eps, EPS_MIN)), phi, math.atan2(c, a), self._Jq)  # any phi
+        q = flow_components(self.table.flow_spline(), self._images, -math.log1p(-max(eps, EPS_MIN)), phi,
+                            math.atan2(c, a), self._Jq)
         return grooved_report(self.params, float(y), float(z), float(vy), float(vz), float(omega), F,
-                              float(np.hypot(a, c)), float(self._Jq[0, 0]), self._Jq[1:, 0], self._edges)
+                              float(np.hypot(a, c)), float(q[0, 0]), q[1:, 0], self._edges)
 
     @classmethod
     def from_file(cls, path, params: BearingParams) -> "GroovedForceMap":

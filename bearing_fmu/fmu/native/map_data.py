@@ -5,7 +5,8 @@ The force: the knots and coefficients of the tensor spline the Python map evalua
 (c/map_flows.c, a port of the map's ``film_report``): a full-bore map with flow tables (format
 version 3) gives the spline of its flow table Q, (J_s, J_i) over the same (s, beta) axes
 (``MapTable.flow_spline``); a grooved or partial-arc bore's with flow tables (version 4) the spline
-of (J_s, P_1 .. P_E) over the whole turn in phi (``GroovedMapTable.flow_spline``), its supply
+of (J_s, P_1 .. P_E) over one period in phi (``GroovedMapTable.flow_spline``) and the edges'
+renumbering for the other periods of the turn (``flow_images``), its supply
 edges (theta, sign) in the order of the P_e and the film's segments (``Geometry.segments``, those
 without a prescribed pressure: the Couette integral's, ``film.film_couette_integral``) of the
 bearing's bore, as the Python map's ``params.geometry``. Those arrays sit inside ``#if
@@ -58,14 +59,18 @@ def flow_arrays(table, flows, geometry, c_array) -> list[str]:
     out = ["#if BN_FLOWS_MAP /* the flow table's spline: its components per point, as MAP_C */"]
     if geometry is None:  # the full bore: (J_s, J_i) on (s, beta)
         out += [c_array("MAP_QTS", flows[0]), c_array("MAP_QTB", flows[1]), c_array("MAP_QC", flows[2])]
-    else:  # (J_s, P_1 .. P_E) on (s, phi over the whole turn, beta)
+    else:  # (J_s, P_1 .. P_E) on (s, phi over one period, beta), renumbered in the others
         segs, fixed, _supply = geometry.segments()
         film = [x for (a, b), f in zip(segs, fixed) if not f for x in (a, b)]
         edges = [x for t, sg in table.edges for x in (t, sg)]
+        images = table.flow_images()
         out += [f"#define MAP_NQ {flows[3].shape[3]}", f"#define MAP_NQP {flows[3].shape[1]}",
                 f"#define MAP_N_EDGES {len(table.edges)}", f"#define MAP_N_FILM {len(film) // 2}",
                 c_array("MAP_QTS", flows[0]), c_array("MAP_QTP", flows[1]), c_array("MAP_QTB", flows[2]),
                 c_array("MAP_QC", flows[3]),
+                "/* the periods of a turn and, per period j on, the component each of (J_s, P_1 .. P_E) reads */",
+                f"#define MAP_QTURNS {len(images)}",
+                f"static const int MAP_QIMG[{images.size}] = {{{', '.join(str(int(i)) for i in images.ravel())}}};",
                 ("/* the supply edges (theta [rad], sign) in the order of P_1 .. P_E; the film's segments "
                  "(start, end) [rad] */"), c_array("MAP_EDGES", edges), c_array("MAP_FILM_SEGS", film)]
     return out + ["#endif /* BN_FLOWS_MAP (a comment: several.py drops the file's bare closing #endif) */"]

@@ -100,7 +100,7 @@ static void spline2(const double *ts, const double *tb, const double *C, double 
 #if MAP_DIMS == 3
 /* out[k] = (value, d/ds, d/dphi, d/dbeta) of the nk components of the tensor spline (ts, tp, tb, C)
  * in (s, phi, beta), phi and beta periodic, C (MAP_NS, np, MAP_NB, nk): the force's (MAP_TP, MAP_C,
- * np MAP_NP, nk 2) or the flow table's over the whole turn (MAP_QTP, MAP_QC, map_flows.c) */
+ * np MAP_NP, nk 2) or the flow table's over one period (MAP_QTP, MAP_QC, map_flows.c) */
 static void spline3(const double *ts, const double *tp, const double *tb, const double *C, int np, int nk, double s,
                     double phi, double beta, double out[][4]) {
     int ns = MAP_NS, nb = MAP_NB;

@@ -7,7 +7,8 @@
  *    the Couette torque over the film's segments in closed form (film.film_couette_integral), the
  *    pressure torque from the force, the side flow r Q0 J_s and the inflow summed over the supply
  *    edges, each max(sign omega Q0 h_e / (2 CR) - r Q0 P_e, 0), (J_s, P_1 .. P_E) the flow spline
- *    over the whole turn in phi (GroovedMapTable.unrolled_flows) at (eps, phi, beta);
+ *    over one period in phi at (eps, phi, beta), renumbered for the periods folded away
+ *    (groovemap.flow_components: GroovedMapTable.flow_spline, flow_images);
  *    docs/forcemap.md, "Grooved bores: the flows".
  * Q0 = R L CR (film.flow_scale). out as bn_film's. */
 #if !MAP_FLOWS
@@ -38,20 +39,24 @@ int bn_film(Instance *m, const double x[5], double out[5]) {
     const double y = x[0], z = x[1], omega = x[4];
     const double CR = m->r[VR_CR], R = 0.5 * m->r[VR_D], L = m->r[VR_L], mu = m->r[VR_MU];
     double eps = ff_reduce(x, CR, 0.0, &cp, &sp, &a, &c);
-    spline3(MAP_QTS, MAP_QTP, MAP_QTB, MAP_QC, MAP_NQP, MAP_NQ, -log1p(-fmax(eps, MAP_EPS_MIN)), atan2(sp, cp),
-            atan2(c, a), q);
+    /* phi folded twice into the spline's period (its own fold then leaves it), j the periods folded away */
+    double phi = atan2(sp, cp), t3 = MAP_QTP[3], T = MAP_QTP[MAP_NQP] - MAP_QTP[3];
+    double p = t3 + py_mod(t3 + py_mod(phi - t3, T) - t3, T);
+    int j = (int)floor((phi - p) / T + 0.5) % MAP_QTURNS;
+    const int *img = MAP_QIMG + MAP_NQ * (j < 0 ? j + MAP_QTURNS : j);
+    spline3(MAP_QTS, MAP_QTP, MAP_QTB, MAP_QC, MAP_NQP, MAP_NQ, -log1p(-fmax(eps, MAP_EPS_MIN)), p, atan2(c, a), q);
     double r = hypot(a, c), q0 = R * L * CR, q_in = 0.0;
     for (int e = 0; e < MAP_N_EDGES; e++) {
         double theta = MAP_EDGES[2 * e], sign = MAP_EDGES[2 * e + 1];
         double h = CR + y * sin(theta) - z * cos(theta);
-        double v = sign * omega * q0 * h / (2.0 * CR) - r * q0 * q[1 + e][0];
+        double v = sign * omega * q0 * h / (2.0 * CR) - r * q0 * q[img[1 + e]][0];
         q_in += 0.0 > v ? 0.0 : v; /* Python's max(v, 0.0) */
     }
     out[0] = mu * omega * pow(R, 3.0) * L / CR * mf_couette_integral(hypot(y, z) / CR, atan2(z, y));
     out[1] = ff_pressure(y, z, F);
     out[2] = ff_power(out[0], out[1], omega, F, x[2], x[3]);
     out[3] = q_in;
-    out[4] = r * q0 * q[0][0];
+    out[4] = r * q0 * q[img[0]][0];
     return 0;
 }
 #else
