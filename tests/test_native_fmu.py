@@ -609,7 +609,7 @@ def test_thermal_ports_are_there_and_off(native):
     """The Python FMU's thermal ports (docs/fmu.md): the shipped maps' bearings have no oil law, so
     thermal = true is refused at initialisation naming why: for the full bore's map, whose film
     flows are in C (tests/test_native_map_thermal.py), the missing law; for a grooved map, whose
-    flow tables are compiled in only with an oil law (they are 4.8 times the force's;
+    flow tables are compiled in only with an oil law (they are 2.5 times the force's;
     tests/test_native_groove_thermal.py), the flows left out. With thermal = false the outputs are the isoviscous film's: T_eff = T_supply,
     mu_eff = mu, P_loss and Q_side 0 (not computed); their directional derivatives say so
     (dT_eff/dT_supply = 1); T_supply is an input an FMU state restores; the force does not move with it."""

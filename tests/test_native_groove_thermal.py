@@ -1,10 +1,11 @@
 """The native map FMU's thermal ports on a grooved bore's map (docs/thermal.md, docs/fmu.md): its film
 report in C from the version 4 flow tables (c/map_flows.c, a port of GroovedForceMap.film_report:
 the Couette torque over the film's segments in closed form, the pressure torque from the force, the
-side flow and each supply edge's inflow from the flow spline over one period, renumbered in the other), against the Python
-FMU with the same map over a run whose T_supply ramps, against the Python map internal's film_report,
-in Model Exchange, under the FMU Compliance Checker; a version 2 grooved map (no flow tables) refuses
-thermal by name; a host scene on the native FMU equals the Python FMU route.
+side flow and each supply edge's inflow from the flow spline over one period, renumbered in the
+other), against the Python FMU with the same map over a run whose T_supply ramps, against the Python
+map internal's film_report, in Model Exchange, under the FMU Compliance Checker; a version 2 grooved
+map (no flow tables) refuses thermal by name; a host scene on the native FMU equals the Python FMU
+route.
 
 The map: the shipped paper_2groove.json (64 x 32 x 64) subsampled to 8 x 8 x 8 (every 9th s, 4th phi,
 8th beta: the same axes' end points, the shipped values), so that its C tables compile in a second;
@@ -159,7 +160,7 @@ def test_a_grooved_map_without_flow_tables_refuses_thermal(files, tmp_path):
     and no flow table is compiled in. The version 4 map's header has the flow spline over one period
     (8 attitudes + 3), the edges' renumbering over the turn's 2 periods, its 4 supply edges and 2 film
     segments (the two 160 deg pads); for a
-    bearing without an oil law it leaves them out (codegen.GROOVED_NO_OIL_WHY: 4.8 times the force's
+    bearing without an oil law it leaves them out (codegen.GROOVED_NO_OIL_WHY: 2.5 times the force's
     coefficients, of no use without the law)."""
     from bearing_fmu.fmu.native.build import build_native_fmu
     from bearing_fmu.fmu.native.codegen import native_model

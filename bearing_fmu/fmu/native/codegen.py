@@ -514,7 +514,7 @@ def _taylor(params: BearingParams, surrogate, map_path, options: dict) -> Native
 
 # ----------------------------------------------------------------------------- map
 
-# a grooved map's flow spline is 4.8 times its force's coefficients (docs/forcemap.md, "Cost"): left out when
+# a grooved map's flow spline is 2.5 times its force's coefficients (docs/forcemap.md, "Cost"): left out when
 # the bearing has no oil law, with which thermal = true is refused anyway
 GROOVED_NO_OIL_WHY = ("the bearing has no [oil] viscosity law, so a grooved map's flow tables are not compiled in "
                       "(build with --bearing FILE whose [oil] gives the law)")
