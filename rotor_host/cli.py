@@ -130,7 +130,7 @@ def _fit(args) -> int:
 
 
 def _stability(args) -> int:
-    from .analyses import stability
+    from .analyses.linear import stability
 
     return _call(stability.command, args, rotor_file=args.rotor, data_files=_files(args))
 
@@ -270,8 +270,8 @@ def _add_limit_cycle(sub) -> None:
 def _add_stability(sub) -> None:
     from bearing_fmu.internals.registry import having
 
-    from .analyses.modal import RANK_UP_TO
-    from .analyses.stability import DEFAULT_FILES, DEFAULT_MODES
+    from .analyses.linear.modal import RANK_UP_TO
+    from .analyses.linear.stability import DEFAULT_FILES, DEFAULT_MODES
 
     p = sub.add_parser("stability", help="Campbell diagram and stability threshold: equilibrium, linearised "
                                          "bearings and damped modes at each speed of a range")

@@ -161,7 +161,7 @@ def test_peak_is_a_critical_speed_only_where_one_is_crossed(paper_map_scene, tmp
     at 15 Hz/s) is a "1x peak", not a critical speed. A 5 -> 15 Hz run crosses none: its 1x
     peak, the response growing as speed squared below the critical, is the end of the run, and
     the summary says no critical speed was crossed (the issue's "resonance at 155.6 Hz")."""
-    from rotor_host.analyses.crossings import run_criticals, scene_criticals
+    from rotor_host.analyses.linear.crossings import run_criticals, scene_criticals
     from rotor_host.analyses.waterfall import peak_line
     from rotor_host.scenes.scene import load_scene
 

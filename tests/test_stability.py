@@ -26,8 +26,8 @@ from bearing_fmu.internals import registry
 from bearing_fmu.physics.shortbearing import (short_bearing_coefficients, short_bearing_force,
                                               short_bearing_force_and_jacobian, short_bearing_load)
 from bearing_fmu.physics.statics import journal_at_eccentricity
-from rotor_host.analyses.modal import AF_CRITICALLY_DAMPED
-from rotor_host.analyses.stability import SpeedPoint, Stability, critical_speeds, markdown, stability, to_json
+from rotor_host.analyses.linear.modal import AF_CRITICALLY_DAMPED
+from rotor_host.analyses.linear.stability import SpeedPoint, Stability, critical_speeds, markdown, stability, to_json
 from rotor_host.cli import main
 from rotor_host.model import fe
 from rotor_host.model.rotor import Rotor
@@ -287,7 +287,7 @@ def test_heavily_damped_crossing_is_not_a_critical_speed():
     """A 1x crossing of a mode with log dec 10 (the oil-film mode near standstill: 10.2 at 0.5 Hz
     on the Friswell rotor) has AF = pi / 10 = 0.31 < 2.5: critically damped by API 617/684's
     rule, no resonance, listed apart; the same crossing at log dec 0.2 (AF 15.7) is a critical speed."""
-    from rotor_host.analyses.modal import split_crossings
+    from rotor_host.analyses.linear.modal import split_crossings
 
     a = _point(0.4, [0.45, 17.6], [10.0, 0.1], [0.3, -0.1])
     b = _point(0.6, [0.55, 17.6], [10.0, 0.1], [0.3, -0.1])
@@ -343,7 +343,7 @@ def test_figures_mode_shape_from_zero_and_heavily_damped_modes_explained(monkeyp
     """The mode-shape amplitude axis starts at 0 (a rigid-body mode is a flat line, not a bend
     starting at 0.86); the Campbell legend explains the hollow markers (log dec > pi / 2.5: the
     oil-film mode, log dec 4.2 at 10 Hz, docs/campbell.md) and sits outside the axes."""
-    from rotor_host.analyses import campbell
+    from rotor_host.analyses.linear import campbell
 
     figs = []
     monkeypatch.setattr(campbell, "save_figure", lambda fig, path: figs.append(fig) or path)
@@ -513,7 +513,7 @@ def test_interrupt_keeps_the_speeds_done(tmp_path, capsys, monkeypatch):
 def test_an_internal_made_about_one_point_is_refused_naming_those_valid_everywhere():
     # the registry's capabilities decide (any_state), not the internal's name: linear and taylor
     # answer about one operating point, which moves with the speed in a stability sweep
-    from rotor_host.analyses.stability import Stability
+    from rotor_host.analyses.linear.stability import Stability
     from rotor_host.model.rotor import Rotor
 
     rotor = Rotor.from_toml(ROTOR)

@@ -15,7 +15,7 @@ from bearing_fmu.physics.params import PAPER_BEARING, BearingParams
 from bearing_fmu.physics.reynolds import Reynolds
 from bearing_fmu.physics.statics import linearize
 from bearing_fmu.physics.thermal import effective_temperature
-from rotor_host.analyses.stability import Stability, stability
+from rotor_host.analyses.linear.stability import Stability, stability
 from rotor_host.model.rotor import Rotor
 from rotor_host.scenes.run import run_scene
 from rotor_host.scenes.scene import SceneError, load_scene

@@ -141,7 +141,7 @@ def summary(sp: Spectra, criticals: list[dict] | None = None) -> dict:
     within 10 % of it plus the speed change over one window), None when none is: then the peak
     is no resonance, just the largest 1x response (e.g. the top of a run that stays below its
     first critical, where an unbalance response grows with speed squared)."""
-    from .modal import critical_near
+    from .linear.modal import critical_near
 
     one = sp.along(1.0)
     sub, fsub = sp.subsynchronous()
@@ -278,7 +278,7 @@ def command(*, run, nodes=None, window_s: float = DEFAULT_WINDOW_S, orbits_at_hz
     """``rotor-host waterfall``: the response spectra of a run-up run's .npz against speed, drawn
     into ``output`` (default: beside the run); the 1x peak named a critical speed only where the
     run crosses one (``crossings.run_criticals``)."""
-    from .crossings import run_criticals
+    from .linear.crossings import run_criticals
 
     path = Path(run)
     try:

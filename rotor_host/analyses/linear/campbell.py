@@ -1,8 +1,8 @@
-"""Figures of a stability analysis (``rotor_host.analyses.stability``): the Campbell diagram with the
+"""Figures of a stability analysis (``rotor_host.analyses.linear.stability``): the Campbell diagram with the
 1x and 0.5x lines, the critical speeds and the threshold; the log decrement against speed; the
 least stable mode's shape. How an engineer reads them: docs/campbell.md.
 
-Each figure takes the ``StabilityResult`` of ``rotor_host.analyses.stability`` (``res``); this
+Each figure takes the ``StabilityResult`` of ``rotor_host.analyses.linear.stability`` (``res``); this
 module does not import that one, which calls it.
 """
 
@@ -13,9 +13,9 @@ from pathlib import Path
 
 import numpy as np
 
-from ..model.rotor import Rotor
+from ...model.rotor import Rotor
 from .modal import AF_CRITICALLY_DAMPED, LOG_DEC_HEAVY
-from .plotting import pyplot, save_figure
+from ..plotting import pyplot, save_figure
 
 _FWD = dict(marker="^", color="tab:red", label="forward whirl")
 _BWD = dict(marker="v", color="tab:blue", label="backward whirl")

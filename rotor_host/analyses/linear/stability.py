@@ -42,14 +42,14 @@ from bearing_fmu.internals.registry import Context
 from bearing_fmu.io.exits import note_kept
 from bearing_fmu.io.outputs import ensure_writable, write_json, write_text
 
-from ..model.rotor import Rotor
+from ...model.rotor import Rotor
 from .stability_report import FORWARD, direction, markdown, to_json
 from .modal import (RANK_UP_TO, band_hz, band_rule, beyond_band_line, critical_speeds, least_beyond, least_in_band,
                     no_critical_line, split_crossings)
 
 DEFAULT_MODES = 8  # modes shown in the Campbell diagram and the table
 THRESHOLD_XTOL_HZ = 1e-4  # Brent's tolerance on the threshold speed [Hz]
-PAPER_MAP = Path(__file__).resolve().parents[2] / "models" / "maps" / "paper_bearing.json"
+PAPER_MAP = Path(__file__).resolve().parents[3] / "models" / "maps" / "paper_bearing.json"
 
 
 # ----------------------------------------------------------------------------- results
@@ -197,8 +197,8 @@ class Stability:
 
     def __init__(self, rotor: Rotor, internal: str = "reynolds", options: dict | None = None,
                  static_loads=(), g: float | None = None, where: str = "", T_supply_K: float | None = None):
-        from ..scenes.run import bearing_loads
-        from ..scenes.scene import G
+        from ...scenes.run import bearing_loads
+        from ...scenes.scene import G
 
         if not rotor.bearing_nodes:
             raise ValueError(f"{where or 'rotor'}: the rotor has no bearings; a stability analysis needs at "
@@ -252,9 +252,9 @@ class Stability:
         short-bearing estimate, the rotor deflected onto it). Raises EquilibriumError."""
         from bearing_fmu.physics.statics import EquilibriumError
 
-        from ..coupling.bearings import DirectBearings
-        from ..integrate.equilibrium import static_equilibrium
-        from ..scenes.run import static_start
+        from ...coupling.bearings import DirectBearings
+        from ...integrate.equilibrium import static_equilibrium
+        from ...scenes.run import static_start
 
         t0 = time.perf_counter()
         try:

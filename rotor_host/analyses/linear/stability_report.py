@@ -31,7 +31,7 @@ def table_rows(res: StabilityResult) -> list[dict]:
 
 
 def markdown(res: StabilityResult, title: str = "") -> str:
-    from .tables import markdown_table
+    from ..tables import markdown_table
 
     tm = res.timings
     n_ok = len(res.ok_points)
@@ -71,7 +71,7 @@ def markdown(res: StabilityResult, title: str = "") -> str:
 def to_json(res: StabilityResult, rotor_path=None) -> dict:
     """Everything a later reader needs, without NaN: per speed the equilibrium, K and C and
     the lowest ``n_modes`` modes; the threshold with the least stable mode's shape."""
-    from ..scenes.run import package_versions
+    from ...scenes.run import package_versions
 
     def point(p: SpeedPoint) -> dict:
         d = {"speed_hz": p.speed_hz, "status": p.status, "message": p.message}

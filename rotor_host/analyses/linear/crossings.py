@@ -52,7 +52,7 @@ def scene_criticals(scene, lo_hz: float, hi_hz: float) -> RunCriticals:
     """The critical speeds of the scene's rotor on its bearings in ``lo_hz``-``hi_hz``."""
     from bearing_fmu.internals import registry
 
-    from ..model.rotor import Rotor
+    from ...model.rotor import Rotor
     from .stability import Stability
 
     internal, options, note = scene.internal, scene.internal_options(), ""
@@ -76,7 +76,7 @@ def run_criticals(npz_path, arrays: dict) -> RunCriticals:
     """The critical speeds crossed by the saved run ``npz_path`` (its arrays ``arrays``): its scene
     from the json beside it (``source``), its speed range from ``speed_hz``. A scene that cannot be
     read any more gives criticals None and the reason."""
-    from ..scenes.scene import load_scene
+    from ...scenes.scene import load_scene
 
     speed = np.asarray(arrays["speed_hz"], float)
     lo, hi = float(np.min(speed)), float(np.max(speed))
