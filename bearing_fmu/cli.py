@@ -257,7 +257,8 @@ def _map(args: argparse.Namespace) -> int:
     """``bearing-fmu map``: tabulate the force map of a bearing's L/D and write its file."""
     import os
 
-    from .internals.forcemap import DEFAULT_N_BETA, DEFAULT_N_EPS, DEFAULT_N_PHASE, save_map, tabulate
+    from .internals.map.tablefile import save_map
+    from .internals.map.tables import DEFAULT_N_BETA, DEFAULT_N_EPS, DEFAULT_N_PHASE, tabulate
     from .io.exits import note_kept, note_lost
     from .io.outputs import ensure_output_file
     from .physics.params import PAPER_BEARING, BearingParams
@@ -308,7 +309,7 @@ def _grooved_map(args: argparse.Namespace, params) -> int:
     import math
     import os
 
-    from .internals import groovemap as gm
+    from .internals.map import groovemap as gm
     from .io.exits import note_lost
 
     why = gm.map_geometry_problem(params.geometry)
@@ -450,8 +451,8 @@ def main(argv: list[str] | None = None) -> int:
                         "speed; map: 22 Hz); taylor: the surrogate's speed, always")
     p.set_defaults(func=_build)
 
-    from .internals import groovemap as gm
-    from .internals.forcemap import DEFAULT_EPS_MAX, DEFAULT_N_BETA, DEFAULT_N_EPS, DEFAULT_N_PHASE
+    from .internals.map import groovemap as gm
+    from .internals.map.tables import DEFAULT_EPS_MAX, DEFAULT_N_BETA, DEFAULT_N_EPS, DEFAULT_N_PHASE
     from .io.cliargs import grid, int_at_least, number, typed
 
     p = sub.add_parser("map", help="tabulate the force map of a bearing's L/D from the Reynolds solver "

@@ -1,3 +1,3 @@
-"""Moved to ``bearing_fmu.internals.guard`` (DomainGuard); this module keeps the old import path working."""
+"""Moved to ``bearing_fmu.internals.taylor.guard`` (DomainGuard); this module keeps the old import path working."""
 
-from .internals.guard import *  # noqa: F401,F403
+from .internals.taylor.guard import *  # noqa: F401,F403

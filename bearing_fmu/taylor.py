@@ -1,3 +1,3 @@
-"""Moved to ``bearing_fmu.internals.taylor`` (the Taylor internal); this module keeps the old import path working."""
+"""Moved to ``bearing_fmu.internals.taylor.taylor`` (the Taylor internal); this module keeps the old import path working."""
 
-from .internals.taylor import *  # noqa: F401,F403
+from .internals.taylor.taylor import *  # noqa: F401,F403

@@ -69,7 +69,7 @@ def main() -> None:
 
     from bearing_fmu.fmu.build import build_fmu
     from bearing_fmu.fmu.slave import BearingFMU
-    from bearing_fmu.internals.guard import DomainGuard
+    from bearing_fmu.internals.taylor.guard import DomainGuard
     from bearing_fmu.internals.taylor import Taylor
     from bearing_fmu.physics.params import PAPER_BEARING
     from bearing_fmu.physics.reynolds import Reynolds

@@ -52,7 +52,7 @@ def orbit(scene_stem: str, cache_dir: Path) -> np.ndarray:
 def main() -> None:
     import dataclasses
 
-    from bearing_fmu.internals.guard import DomainGuard, NearestTraining
+    from bearing_fmu.internals.taylor.guard import DomainGuard, NearestTraining
     from bearing_fmu.internals.taylor import Taylor
     from bearing_fmu.surrogates.surrogate import load_surrogate
 

@@ -38,9 +38,9 @@ from numba import njit
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # this checkout's packages, not the installed ones
 
-from bearing_fmu.internals.forcemap import (DEFAULT_EPS_MAX, DEFAULT_N_BETA, DEFAULT_N_EPS, DEFAULT_N_PHASE,
-                                            DEFAULT_WALL_EXPONENT, ForceMap, _row, reduced, save_map, scale,
-                                            state_for, tabulate)
+from bearing_fmu.internals.map.forcemap import ForceMap
+from bearing_fmu.internals.map.tablefile import save_map
+from bearing_fmu.internals.map.tables import DEFAULT_EPS_MAX, DEFAULT_N_BETA, DEFAULT_N_EPS, DEFAULT_N_PHASE, DEFAULT_WALL_EXPONENT, _row, reduced, scale, state_for, tabulate
 from bearing_fmu.physics.params import PAPER_BEARING as P
 from bearing_fmu.physics.reynolds import Reynolds
 

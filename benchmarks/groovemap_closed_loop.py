@@ -17,7 +17,7 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from bearing_fmu.internals.mapfile import load_any_map
+from bearing_fmu.internals.map.mapfile import load_any_map
 from rotor_host.analyses.report import errors_against
 from rotor_host.scenes.run import run_scene
 from rotor_host.scenes.scene import load_scene

@@ -1,4 +1,4 @@
-"""Force map of a grooved or partial-arc bore (3-D, ``internals/groovemap.py``): the reduction
+"""Force map of a grooved or partial-arc bore (3-D, ``internals/map/groovemap.py``): the reduction
 checked on the solver, the supply-pressure test, and the resolution study, in one run.
 
 * Reduction: states with equal (eps, phi, beta) but r from 0.01 to 2500 1/s and speeds of both
@@ -29,8 +29,8 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from bearing_fmu.internals.forcemap import reduced, scale, state_for
-from bearing_fmu.internals.groovemap import (GroovedForceMap, grooved_row, save_grooved_map, symmetry_period,
+from bearing_fmu.internals.map.tables import reduced, scale, state_for
+from bearing_fmu.internals.map.groovemap import (GroovedForceMap, grooved_row, save_grooved_map, symmetry_period,
                                              tabulate_grooved)
 from bearing_fmu.physics.params import BearingParams
 from bearing_fmu.physics.reynolds import Reynolds
@@ -147,7 +147,7 @@ def main():
     P = BearingParams.from_toml(args.bearing)
     rey = Reynolds(P)
     if args.cost:
-        from bearing_fmu.internals.mapfile import open_map
+        from bearing_fmu.internals.map.mapfile import open_map
 
         fmap = open_map(args.cost, P)
         xs = states(P, 200, 2)

@@ -158,7 +158,7 @@ def truth_at(rey, omega, states, cache: Path | None) -> np.ndarray:
 
 def verdict(tay, states, forces, load) -> dict:
     """Counts of the guard's verdict against the surrogate's error at each state."""
-    from bearing_fmu.internals.guard import DomainGuard
+    from bearing_fmu.internals.taylor.guard import DomainGuard
     from bearing_fmu.internals import BearingStateError
 
     ft = np.array([tay.force(*s, tay.omega) for s in states])
@@ -210,7 +210,7 @@ def rate(k: int, n: int) -> str:
 
 
 def main(argv=None) -> int:
-    from bearing_fmu.internals.nearest import linear_radius
+    from bearing_fmu.internals.taylor.nearest import linear_radius
     from bearing_fmu.surrogates.surrogate import load_surrogate
     from bearing_fmu.internals.taylor import Taylor
     from rotor_host.scenes.scene import load_scene

@@ -29,7 +29,7 @@ from scipy.optimize import brentq
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from bearing_fmu.internals.mapfile import load_any_map, map_internal  # noqa: E402
+from bearing_fmu.internals.map.mapfile import load_any_map, map_internal  # noqa: E402
 from bearing_fmu.physics.film import flow_scale  # noqa: E402
 from bearing_fmu.physics.params import BearingParams  # noqa: E402
 from bearing_fmu.physics.reynolds import Reynolds  # noqa: E402

@@ -18,7 +18,9 @@ from bearing_fmu import fitting as F
 from bearing_fmu.cli import main as bearing_fmu
 from bearing_fmu.cli import add_fit_arguments, run_fit
 from bearing_fmu.fitting import FitRecipe
-from bearing_fmu.internals.forcemap import ForceMap, load_map, save_map, scale, tabulate
+from bearing_fmu.internals.map.forcemap import ForceMap
+from bearing_fmu.internals.map.tablefile import load_map, save_map
+from bearing_fmu.internals.map.tables import scale, tabulate
 from bearing_fmu.physics.params import PAPER_BEARING as P
 from bearing_fmu.physics.params import BearingParams
 from bearing_fmu.surrogates.surrogate import load_surrogate

@@ -37,7 +37,7 @@ STATE = (2e-5, -3e-5, 1e-3, -2e-3, OMEGA)
 
 
 def linear_force(y, z, vy, vz):
-    """F = F0 - K (q - q0) - C v with LIN's coefficients (bearing_fmu/internals/linear.py's definition)."""
+    """F = F0 - K (q - q0) - C v with LIN's coefficients (bearing_fmu/internals/linear/linear.py's definition)."""
     dy, dz = y - LIN["y0"], z - LIN["z0"]
     fy = LIN["Fy0"] - LIN["Kyy"] * dy - LIN["Kyz"] * dz - LIN["Cyy"] * vy - LIN["Cyz"] * vz
     fz = LIN["Fz0"] - LIN["Kzy"] * dy - LIN["Kzz"] * dz - LIN["Czy"] * vy - LIN["Czz"] * vz

@@ -16,7 +16,9 @@ import re
 import numpy as np
 import pytest
 
-from bearing_fmu.internals.forcemap import ForceMap, load_map, reduced, save_map, scale, state_for, tabulate
+from bearing_fmu.internals.map.forcemap import ForceMap
+from bearing_fmu.internals.map.tablefile import load_map, save_map
+from bearing_fmu.internals.map.tables import reduced, scale, state_for, tabulate
 from bearing_fmu.internals.registry import BearingStateError
 from bearing_fmu.physics.params import PAPER_BEARING, BearingParams
 from bearing_fmu.physics.reynolds import Reynolds
@@ -179,7 +181,7 @@ def test_compiled_spline_equals_scipy(table):
     # the numba tensor spline against scipy's BSpline evaluated axis by axis
     from scipy.interpolate import BSpline
 
-    from bearing_fmu.internals.map_kernels import spline2
+    from bearing_fmu.internals.map.kernels import spline2
 
     ts, tb, C = table.spline()
     rng = np.random.default_rng(3)
@@ -291,7 +293,7 @@ def test_nan_l_over_d_never_passes_the_bearing_check(table):
 def test_the_shipped_maps_pass_the_checks():
     from pathlib import Path
 
-    from bearing_fmu.internals.mapfile import load_any_map
+    from bearing_fmu.internals.map.mapfile import load_any_map
 
     for path in sorted((Path(__file__).resolve().parents[1] / "models" / "maps").glob("*.json")):
         table = load_any_map(path)

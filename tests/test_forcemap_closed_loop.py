@@ -12,7 +12,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from bearing_fmu.internals.forcemap import save_map, tabulate
+from bearing_fmu.internals.map.tablefile import save_map
+from bearing_fmu.internals.map.tables import tabulate
 from bearing_fmu.physics.params import PAPER_BEARING
 from rotor_host.analyses.report import errors_against
 from rotor_host.scenes.run import run_scene

@@ -16,7 +16,9 @@ import numpy as np
 import pytest
 
 from bearing_fmu.internals import registry
-from bearing_fmu.internals.forcemap import ForceMap, load_map, save_map, state_for, tabulate
+from bearing_fmu.internals.map.forcemap import ForceMap
+from bearing_fmu.internals.map.tablefile import load_map, save_map
+from bearing_fmu.internals.map.tables import state_for, tabulate
 from bearing_fmu.physics.film import flow_scale, reduced_flows
 from bearing_fmu.physics.params import PAPER_BEARING
 from bearing_fmu.physics.reynolds import Reynolds
@@ -87,7 +89,7 @@ def test_flows_scale_with_speed_and_velocity_together(tiny, bore):
     if bore == "two grooves":
         from pathlib import Path
 
-        from bearing_fmu.internals.groovemap import GroovedForceMap, tabulate_grooved
+        from bearing_fmu.internals.map.groovemap import GroovedForceMap, tabulate_grooved
 
         grooved = P.from_toml(Path(__file__).resolve().parents[1] / "models" / "bearing_paper_2groove.toml")
         m = GroovedForceMap(grooved, tabulate_grooved(grooved, n_eps=4, n_phi=4, n_beta=4, n_phase=1, n_theta=16,

@@ -24,7 +24,7 @@ FRISWELL_MAP = MODELS / "maps" / "friswell_2groove.json"
 
 @pytest.mark.slow
 def test_the_shipped_grooved_maps_are_for_their_bearings():
-    from bearing_fmu.internals.mapfile import load_any_map, open_map
+    from bearing_fmu.internals.map.mapfile import load_any_map, open_map
 
     for path, bearing in ((PAPER_MAP, GROOVED), (FRISWELL_MAP, MODELS / "bearing_friswell_2groove.toml")):
         t = load_any_map(path)

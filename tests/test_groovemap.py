@@ -1,4 +1,4 @@
-"""The force map of a grooved or partial-arc bore (internals/groovemap.py, docs/forcemap.md,
+"""The force map of a grooved or partial-arc bore (internals/map/groovemap.py, docs/forcemap.md,
 "Grooved bores"): the reduction F = S r G(eps, phi, beta) checked on the Reynolds solver itself,
 the supply pressure that breaks it, the 3-D table, its file and its refusals.
 
@@ -17,10 +17,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from bearing_fmu.internals.forcemap import scale, state_for
-from bearing_fmu.internals.groovemap import (GroovedForceMap, grooved_row, map_geometry_problem, save_grooved_map,
+from bearing_fmu.internals.map.tables import scale, state_for
+from bearing_fmu.internals.map.groovemap import (GroovedForceMap, grooved_row, map_geometry_problem, save_grooved_map,
                                              symmetry_period, tabulate_grooved)
-from bearing_fmu.internals.mapfile import load_any_map, open_map
+from bearing_fmu.internals.map.mapfile import load_any_map, open_map
 from bearing_fmu.physics.geometry import Geometry
 from bearing_fmu.physics.params import PAPER_BEARING, BearingParams
 from bearing_fmu.physics.reynolds import Reynolds

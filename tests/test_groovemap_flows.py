@@ -1,4 +1,4 @@
-"""The grooved map's flow tables (internals/groovemap.py, docs/forcemap.md, "Grooved bores: the
+"""The grooved map's flow tables (internals/map/groovemap.py, docs/forcemap.md, "Grooved bores: the
 flows"): the reduction of the side flow and of each supply edge's inflow checked on the Reynolds
 solver itself, the map's film report against the solver's, the closed-form Couette integral, and
 the files with and without the tables.
@@ -21,9 +21,9 @@ import numpy as np
 import pytest
 
 from bearing_fmu.internals import registry
-from bearing_fmu.internals.forcemap import state_for
-from bearing_fmu.internals.groovemap import GroovedForceMap, save_grooved_map, tabulate_grooved
-from bearing_fmu.internals.mapfile import load_any_map, open_map
+from bearing_fmu.internals.map.tables import state_for
+from bearing_fmu.internals.map.groovemap import GroovedForceMap, save_grooved_map, tabulate_grooved
+from bearing_fmu.internals.map.mapfile import load_any_map, open_map
 from bearing_fmu.physics.film import film_couette_integral, flow_scale
 from bearing_fmu.physics.geometry import Geometry
 from bearing_fmu.physics.params import PAPER_BEARING, BearingParams
@@ -155,8 +155,8 @@ def test_the_one_period_flow_spline_is_the_whole_turns(tiny):
     renumbering at evaluation): at random states and at attitudes within two cells of 0, +-90 and
     +-180 deg, the ends of the period included (-0.0, 1e-300, pi, -pi, one ulp before them), every
     component and derivative equal to 1e-13 of the largest (the two fits' round-off)."""
-    from bearing_fmu.internals.groovemap import flow_components
-    from bearing_fmu.internals.map_kernels import spline3
+    from bearing_fmu.internals.map.groovemap import flow_components
+    from bearing_fmu.internals.map.kernels import spline3
 
     t = open_map(tiny, GROOVED).table
     whole, images = t.fit_spline(t.unrolled_flows(), 2), t.flow_images()

@@ -23,7 +23,7 @@ from bearing_fmu import fitting as F
 from bearing_fmu.fitting import FitRecipe
 from bearing_fmu.fitting.ridge import fold_indices
 from bearing_fmu.fmu.build import check_surrogate_file
-from bearing_fmu.internals.guard import DomainGuard, NearestTraining
+from bearing_fmu.internals.taylor.guard import DomainGuard, NearestTraining
 from bearing_fmu.internals.registry import STATE_NAMES, BearingStateError, Context, create, wall_error
 from bearing_fmu.internals.taylor import Taylor
 from bearing_fmu.physics.params import PAPER_BEARING
@@ -253,7 +253,7 @@ def test_linear_radius_of_a_known_polynomial():
     by a delta^2 n1^2 along the ray of direction n, so its relative departure reaches TOLERANCE
     at delta = sqrt(TOLERANCE c / (a n1^2 sqrt(1 - TOLERANCE^2))) (|F| grows with it), per
     direction; r_lin is the median over the rays (every start point sees the same directions)."""
-    from bearing_fmu.internals.nearest import DIRECTIONS, TOLERANCE, linear_radius
+    from bearing_fmu.internals.taylor.nearest import DIRECTIONS, TOLERANCE, linear_radius
     from bearing_fmu.surrogates.surrogate import Neighbours
 
     exps = exponents(2)
@@ -276,7 +276,7 @@ def test_shipped_files_keep_their_spacing_radius(name):
     """On the shipped files the fit departs from its linear extrapolation within the training
     states' spacing (r_lin 0.01-0.06 against r_cv 0.07-0.98): their radius and bounds, and so
     every verdict of their guard, are the ones they had."""
-    from bearing_fmu.internals.nearest import linear_radius
+    from bearing_fmu.internals.taylor.nearest import linear_radius
 
     t = Taylor.from_file(SURROGATES / name)
     stored = t.surrogate.neighbours

@@ -96,11 +96,11 @@ MAP = ["map", "--resolution", "4x8", "--grid", "16x4", "--phases", "1", "--quiet
 
 @pytest.mark.slow  # a command in a subprocess held at a moment; the compare case stays in the quick loop
 def test_map_interrupted_while_saving_keeps_the_whole_map(tmp_path):
-    from bearing_fmu.internals.forcemap import load_map
+    from bearing_fmu.internals.map.tablefile import load_map
 
     marker = tmp_path / "paused"
     proc = start_command("bearing-fmu", *MAP, "-o", tmp_path / "m.json",
-                         pause="bearing_fmu.internals.forcemap:save_map", env={"PAUSE_MARKER": str(marker)})
+                         pause="bearing_fmu.internals.map.tablefile:save_map", env={"PAUSE_MARKER": str(marker)})
     took, _, err = _interrupt(proc, marker, signal.SIGINT)
     assert proc.returncode == 130 and took < 2.0, err
     assert err.strip().splitlines()[-1] == (

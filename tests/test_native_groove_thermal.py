@@ -45,7 +45,7 @@ def grooved_oil_bearing(folder: Path) -> Path:
 
 def coarse_map(folder: Path) -> Path:
     """The shipped two-groove map subsampled to 8 x 8 x 8 (module docstring), with its flow tables."""
-    from bearing_fmu.internals.groovemap import grooved_from_data, save_grooved_map
+    from bearing_fmu.internals.map.groovemap import grooved_from_data, save_grooved_map
 
     t = grooved_from_data(SHIPPED, json.loads(SHIPPED.read_text()))
     idx = np.ix_(np.arange(0, 64, 9), np.arange(0, 32, 4), np.arange(0, 64, 8))
@@ -91,7 +91,7 @@ def python_groove(files, tmp_path_factory):
 
 def internal_of(files):
     """The Python map internal on the coarse map for the FMU's (D, L, CR, mu) with the grooved bore."""
-    from bearing_fmu.internals.mapfile import open_map
+    from bearing_fmu.internals.map.mapfile import open_map
 
     _bearing, bore, path = files
     return lambda params: open_map(path, dataclasses.replace(params, geometry=bore.geometry))
@@ -228,7 +228,7 @@ def test_a_partial_arc_map_equals_the_python_fmu(tmp_path, native_build_cache):
 
     from bearing_fmu.fmu.build import build_fmu
     from bearing_fmu.fmu.native.build import build_native_fmu
-    from bearing_fmu.internals.groovemap import save_grooved_map, tabulate_grooved
+    from bearing_fmu.internals.map.groovemap import save_grooved_map, tabulate_grooved
     from bearing_fmu.physics.geometry import Geometry
 
     vg46 = BearingParams.from_toml(MODELS / "bearing_paper_vg46.toml")
@@ -240,7 +240,7 @@ def test_a_partial_arc_map_equals_the_python_fmu(tmp_path, native_build_cache):
                              [path], ("grooved thermal", "map", "arc", repr(arc)))
     python_fmu = build_fmu(tmp_path / "python_arc.fmu", surrogate=[path], bearing=arc)
     md = fmpy.read_model_description(str(fmu))
-    from bearing_fmu.internals.mapfile import open_map
+    from bearing_fmu.internals.map.mapfile import open_map
 
     check_against_python(fmu, md, python_fmu, path.name,
                          lambda params: open_map(path, dataclasses.replace(params, geometry=arc.geometry)),

@@ -54,7 +54,7 @@ def test_map_equals_the_python_fmu(map3, fmu, map_file, version):
     Reynolds comparison checks, tests/test_native_fmu_thermal.py; measured: every output the same bits). And the Python map
     internal's film_report at each state (its own force at the file's mu): P_loss its friction power
     times mu_eff / mu, Q_side its side flow, within 1e-13 relative (measured: 2.2e-16 and 0)."""
-    from bearing_fmu.internals.forcemap import ForceMap
+    from bearing_fmu.internals.map.forcemap import ForceMap
 
     check_against_python(*map3[version], fmu, map_file.name, lambda params: ForceMap.from_file(map_file, params))
 
@@ -79,7 +79,7 @@ def test_map_model_exchange_state_and_derivative(map3, map_file, version):
     """Model Exchange of the native map FMU: as test_native_fmu_thermal.py's
     test_model_exchange_state_and_derivative, the rate and the force against the Python map
     internal's film report and force (within 1e-12)."""
-    from bearing_fmu.internals.forcemap import ForceMap
+    from bearing_fmu.internals.map.forcemap import ForceMap
 
     model_exchange_check(*map3[version], version, lambda params: ForceMap.from_file(map_file, params))
 

@@ -190,7 +190,7 @@ def test_fmpy_compile_with_warnings_as_errors(every_platform, tmp_path):
 def test_decimal_literals_parse_to_the_same_bits(every_platform, tmp_path):
     """The generated data is decimal (MSVC refuses C99 hex floats); the C compiler reads each
     literal back to exactly the double Python wrote (printed with %a and compared bit for bit)."""
-    from bearing_fmu.internals.forcemap import load_map
+    from bearing_fmu.internals.map.tablefile import load_map
 
     _fmu, unzip = every_platform["map"]
     text = (unzip / "sources" / "model_data.h").read_text()

@@ -19,7 +19,8 @@ import pytest
 from numba import carray, cfunc
 
 from bearing_fmu.internals.compiled import KERNEL_SIG, CompiledForce, evaluate
-from bearing_fmu.internals.forcemap import ForceMap, load_map
+from bearing_fmu.internals.map.forcemap import ForceMap
+from bearing_fmu.internals.map.tablefile import load_map
 from bearing_fmu.internals.linear import Linear
 from rotor_host.coupling.bearings import DirectBearings
 from rotor_host.integrate.banded import BandLU, band_matvec, bandwidth, from_band, to_band

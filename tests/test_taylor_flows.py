@@ -19,7 +19,7 @@ import pytest
 
 from bearing_fmu.internals import registry
 from bearing_fmu.internals.cases import OMEGA_22HZ, surrogate_file
-from bearing_fmu.internals.guard import DomainGuard
+from bearing_fmu.internals.taylor.guard import DomainGuard
 from bearing_fmu.internals.registry import BearingStateError
 from bearing_fmu.internals.taylor import Taylor
 from bearing_fmu.physics.film import flow_scale, full_bore_friction

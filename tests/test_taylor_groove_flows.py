@@ -185,7 +185,7 @@ def test_the_grooved_film_report_follows_reynolds_at_held_out_states(fitted, hz)
 
     (basis: eps^0..2 x 7 terms in beta x 9 in phi, 189 features from 500 training states.)
     Bounds: about twice the worse speed's figures."""
-    from bearing_fmu.internals.guard import DomainGuard
+    from bearing_fmu.internals.taylor.guard import DomainGuard
 
     params, get = fitted
     e = held_out_errors_vs_reynolds(params, DomainGuard(Taylor.from_file(get(hz)), "discard"), 200)

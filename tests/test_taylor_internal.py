@@ -1,4 +1,4 @@
-"""The Taylor internal (bearing_fmu/internals/taylor.py and its numba kernels,
+"""The Taylor internal (bearing_fmu/internals/taylor/taylor.py and its numba kernels,
 bearing_fmu/surrogates/taylor_kernels.py): evaluation and Jacobian, refused input, the domain
 guard, the wall factor and shape columns as evaluated, and what the kernels compile.
 
@@ -92,7 +92,7 @@ def test_outside_domain_evaluates_and_guard_reports():
 
 
 def test_domain_guard_actions():
-    from bearing_fmu.internals.guard import DomainGuard
+    from bearing_fmu.internals.taylor.guard import DomainGuard
 
     s = poly_surrogate(3, scale=0.1)
     t = Taylor(s)
@@ -118,7 +118,7 @@ def test_domain_guard_actions():
     assert np.allclose(F_, truth.force(*near, OMEGA))
     # within 10 % beyond the edge the two are blended, so the force has no jump at the edge:
     # 5 % beyond (half the band) the smoothstep weight is 1/2
-    from bearing_fmu.internals.guard import FALLBACK_BAND
+    from bearing_fmu.internals.taylor.guard import FALLBACK_BAND
 
     def at(excess):  # a state `excess` beyond the 0.3 CR position disc
         return (Y0 + 0.3 * (1 + excess) * P.CR, Z0, 0.0, 0.0)

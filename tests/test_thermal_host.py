@@ -267,7 +267,7 @@ def test_t_eff_settles_on_the_quasi_static_heat_balance(tmp_path):
     moves the flows), having risen by 0.28 K from the quasi-static start at 20 Hz (the first record)."""
     import dataclasses
 
-    from bearing_fmu.internals.forcemap import ForceMap
+    from bearing_fmu.internals.map.forcemap import ForceMap
     from rotor_host.model.speed import SpeedProfile
 
     shipped = MODELS / "maps" / "paper_bearing.json"

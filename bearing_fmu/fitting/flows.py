@@ -48,7 +48,7 @@ def film_truth(truth, grooved: bool = False):
 
 def reduced_state(params, y, z, vy, vz, omega: float):
     """(eps, beta, r, phi) of a state: the map's coordinates (``forcemap.reduced``)."""
-    from ..internals.forcemap import reduced
+    from ..internals.map.tables import reduced
 
     eps, phi, a, c = reduced(y, z, vy, vz, omega, params.CR)
     return eps, math.atan2(c, a), math.hypot(a, c), phi
@@ -57,7 +57,7 @@ def reduced_state(params, y, z, vy, vz, omega: float):
 def flow_functions(internal, states, omega: float) -> np.ndarray:
     """(M, 5): eps, beta, r [1/s], J_s, J_i at each state (M, 4) [m, m/s] from the film reports of
     ``internal`` at omega and 2 omega with the same eps, beta, r and attitude (``reduced_flows``)."""
-    from ..internals.forcemap import EPS_MIN, state_for
+    from ..internals.map.tables import EPS_MIN, state_for
 
     params = internal.params
     out = np.empty((len(states), 5))
@@ -138,7 +138,7 @@ def held_out_errors(fit, internal, test_states, omega: float) -> dict:
 def grooved_problem(params) -> str:
     """Why a grooved or partial-arc bore gets no film fit ('' when it does): the grooved map's
     (``groovemap.map_geometry_problem``: a supply pressure, lobes)."""
-    from ..internals.groovemap import map_geometry_problem
+    from ..internals.map.groovemap import map_geometry_problem
 
     return map_geometry_problem(params.geometry) or ""
 

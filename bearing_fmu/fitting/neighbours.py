@@ -1,6 +1,6 @@
 """The training states a surrogate file stores for the nearest-neighbour guard (``Neighbours``).
 
-The domain guard (bearing_fmu.internals.guard) flags a state whose distance to the nearest stored
+The domain guard (bearing_fmu.internals.taylor.guard) flags a state whose distance to the nearest stored
 training state, in the scaled state space u = ((y - y0)/CR, (z - z0)/CR, vy/(omega CR),
 vz/(omega CR)), exceeds a radius. Both are chosen here, from the training states alone, at fit
 time:

@@ -19,7 +19,7 @@ settings of the other kind must keep their defaults. Paths (scenes, the npz, the
 are stored relative to the surrogate file, so a file and the files beside it can move together.
 
 The truth (group "truth", both kinds): the Reynolds solver, or with ``truth_map`` a force map
-(bearing_fmu/internals/forcemap.py) for the designed and tube samples and the designed held-out samples
+(bearing_fmu/internals/map/) for the designed and tube samples and the designed held-out samples
 (``fitting.truth``); a scene's series, the equilibrium and the anchor stay Reynolds.
 """
 

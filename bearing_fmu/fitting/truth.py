@@ -7,7 +7,7 @@ A fit asks its truth two things:
   so an anchored surrogate keeps Reynolds' static force and Lund coefficients exactly;
 * the samples: the designed samples, the tube samples about a scene's series and the designed
   held-out samples. Reynolds' too, unless the recipe names a ``truth_map``: then the force map
-  (bearing_fmu/internals/forcemap.py, docs/forcemap.md) answers them, 50-100x cheaper per sample (3-10 us
+  (bearing_fmu/internals/map/, docs/forcemap.md) answers them, 50-100x cheaper per sample (3-10 us
   against 250-700 us on the default 128 x 16 grid, docs/taylor.md) and within the map's accuracy
   of Reynolds.
 
@@ -134,7 +134,7 @@ def fit_truth(recipe, params: BearingParams, statics=None, *, grid_hint: str = "
 def _load(path, params: BearingParams):
     """(table, ForceMap) of the map file ``path`` for ``params``; one line naming the setting
     and the file on a fault (missing, damaged, another L/D)."""
-    from ..internals.mapfile import load_any_map, map_internal
+    from ..internals.map.mapfile import load_any_map, map_internal
 
     try:
         table = load_any_map(path)

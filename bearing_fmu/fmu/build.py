@@ -384,7 +384,7 @@ def check_surrogate_file(path) -> None:
     (``load_surrogate``: every key, type, shape, range and consistency; a JSON error with its
     line and column), build the Taylor internal behind its guard as the FMU does (with the
     stored training states' KD-tree). Raises ValueError / KeyError naming the file and key."""
-    from ..internals.guard import DomainGuard
+    from ..internals.taylor.guard import DomainGuard
     from ..internals.taylor import Taylor
     from ..surrogates.surrogate import load_surrogate
 
@@ -403,7 +403,7 @@ def check_data_file(path) -> None:
     if option.name == "surrogate":
         check_surrogate_file(path)
     elif option.name == "map":
-        from ..internals.mapfile import load_any_map
+        from ..internals.map.mapfile import load_any_map
 
         load_any_map(path).spline()
     else:  # pragma: no cover - a new file option adds its check here

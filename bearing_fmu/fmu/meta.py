@@ -277,7 +277,7 @@ def data_file_record(path) -> dict:
                    speed_hz=float(f"{s.omega / (2 * math.pi):.12g}"), expansion_point=[s.y0, s.z0], wall_power=s.wall_power,
                    shape_order=s.shape_order, bearing=s.params.as_dict(), provenance=s.provenance)
     elif option.name == "map":
-        from ..internals.mapfile import load_any_map
+        from ..internals.map.mapfile import load_any_map
 
         m = load_any_map(path)
         rec.update(holds="force map", table=" x ".join(str(n) for n in m.H.shape[:-1]), eps_max=m.eps_max, L_over_D=m.L_over_D,

@@ -4,7 +4,7 @@ stored in the surrogate file (key ``film``, format version 2).
 
 The reduction (``physics.film``, docs/forcemap.md "The flows"; exact for the full bore at any
 speed): with eps the eccentricity ratio, a = eps (omega - 2 phidot), c = 2 epsdot, r = |(a, c)|,
-beta = atan2(c, a) (``internals.forcemap.reduced``) and Q0 = R L CR,
+beta = atan2(c, a) (``internals.map.tables.reduced``) and Q0 = R L CR,
 
     side flow  Q_s = r Q0 J_s(eps, beta)
     inflow     Q   = | omega Q0 (1 + eps) / 2 - r Q0 J_i(eps, beta) |

@@ -17,7 +17,7 @@ S the closed-form short-bearing force (:mod:`bearing_fmu.physics.shortbearing`),
 order <= r (docs/taylor.md).
 
 Training states (``neighbours``, optional): a compact subset of the states the surrogate was
-fitted to, in u, and a radius; the domain guard (:mod:`bearing_fmu.internals.guard`) measures the
+fitted to, in u, and a radius; the domain guard (:mod:`bearing_fmu.internals.taylor.guard`) measures the
 distance of a state to its nearest stored point, so a state inside the bounds but far from
 every training orbit is out of domain too (docs/taylor.md).
 

@@ -287,7 +287,7 @@ def scene_maps(scene: Scene) -> list[Path]:
 
 def map_variants(paths) -> list[Variant]:
     """One compare variant per force map file, labelled with its resolution and truth grid."""
-    from bearing_fmu.internals.mapfile import load_any_map
+    from bearing_fmu.internals.map.mapfile import load_any_map
 
     out = []
     for path in paths:

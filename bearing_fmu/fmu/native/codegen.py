@@ -521,7 +521,7 @@ GROOVED_NO_OIL_WHY = ("the bearing has no [oil] viscosity law, so a grooved map'
 
 
 def _map(params: BearingParams, surrogate, map_path, options: dict) -> NativeModel:
-    from ...internals.mapfile import load_any_map, map_internal
+    from ...internals.map.mapfile import load_any_map, map_internal
     from .map_data import map_data_h
 
     if not map_path:

@@ -26,7 +26,7 @@ def map_data_h(path: Path, table, c_double, c_string, c_array, geometry=None, wi
     ``c_double``, ``c_string``, ``c_array``: codegen's exact literals; ``geometry``: the bearing's
     bore, for a grooved map's film segments, the table's own when None; ``with_flows``: False leaves
     the flow tables out, as if the file had none)."""
-    from ...internals.forcemap import EPS_MIN, LD_RTOL
+    from ...internals.map.tables import EPS_MIN, LD_RTOL
 
     shape = " x ".join(str(n) for n in table.H.shape[:-1])
     *knots, C = table.spline()  # (ts, tb) or, for a grooved bore's 3-D map, (ts, tp, tb)

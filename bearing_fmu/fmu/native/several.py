@@ -6,7 +6,7 @@ One binary holds each internal's C file (``internal_<name>.c``, its functions na
 enumerations' items those held), ``model_data.h`` one section per internal (``BN_PART_<NAME>``,
 which each internal's file sets). Taylor's ``domain_action = fallback`` is allowed when the FMU
 holds the Reynolds internal too: outside the fitted domain the Reynolds force, blended with the
-surrogate's over the band beyond the edge (``internals.guard.DomainGuard``), on the surrogate's
+surrogate's over the band beyond the edge (``internals.taylor.guard.DomainGuard``), on the surrogate's
 bearing with the FMU's grid and cavitation parameters, its film report too (the thermal model's).
 The thermal model runs with the internal set to one that has the film's flows (reynolds, a map
 with flow tables, a surrogate with its film fit: portgen.part_flows); initialisation refuses

@@ -17,7 +17,7 @@ import math
 import numpy as np
 from numba import carray, cfunc, njit
 
-from .compiled import KERNEL_SIG, advance
+from ..compiled import KERNEL_SIG, advance
 
 TWO_PI = 2.0 * math.pi
 

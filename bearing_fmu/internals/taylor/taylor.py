@@ -15,15 +15,15 @@ from pathlib import Path
 
 import numpy as np
 
-from ..physics.film import FilmReport, grooved_report, reduced_report
-from ..physics.params import BearingParams
-from ..physics.shortbearing import short_bearing_constant
-from ..surrogates.film import GROOVED
-from ..surrogates.surrogate import NO_FLOWS_WHY, Surrogate, check_params, load_surrogate
-from ..surrogates.taylor_kernels import (NOT_FINITE, WRONG_OMEGA, domain_distance_nb, force_jac_shape_si_nb,
+from ...physics.film import FilmReport, grooved_report, reduced_report
+from ...physics.params import BearingParams
+from ...physics.shortbearing import short_bearing_constant
+from ...surrogates.film import GROOVED
+from ...surrogates.surrogate import NO_FLOWS_WHY, Surrogate, check_params, load_surrogate
+from ...surrogates.taylor_kernels import (NOT_FINITE, WRONG_OMEGA, domain_distance_nb, force_jac_shape_si_nb,
                                          force_jac_si_nb, force_nb, force_shape_nb)
 from .nearest import NearestTraining
-from .registry import BearingStateError, check_finite, overflow_error, wall_error
+from ..base import BearingStateError, check_finite, overflow_error, wall_error
 
 OMEGA_RTOL = 1e-9  # the same tolerance the linear internal uses for "omega equals the fitted speed"
 
@@ -34,7 +34,7 @@ class Taylor:
     Evaluates everywhere inside the bearing (also outside the fitted domain, returning the
     polynomial value); ``in_domain`` / ``domain_distance`` tell the caller where the fit holds:
     inside its bounds (``bounds_distance``) and near its stored training states
-    (``neighbours``); the guard (:mod:`bearing_fmu.internals.guard`) acts on them.
+    (``neighbours``); the guard (:mod:`bearing_fmu.internals.taylor.guard`) acts on them.
     Refuses, like Reynolds, with ``BearingStateError``: non-finite inputs (named), the journal
     at or beyond the wall (eccentricity ratio >= 1, where a polynomial's value is no film
     force), and ``omega`` other than the fitted speed (relative tolerance 1e-9).
@@ -130,7 +130,7 @@ class Taylor:
         if film is None:
             raise ValueError(f"film_report: {self.film_flow_why}")
         F = self.force(y, z, vy, vz, omega)
-        from .forcemap import reduced
+        from ..map.forcemap import reduced
 
         y, z, vy, vz, omega = float(y), float(z), float(vy), float(vz), float(omega)
         eps, phi, a, c = reduced(y, z, vy, vz, omega, self.params.CR)

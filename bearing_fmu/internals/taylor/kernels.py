@@ -21,8 +21,8 @@ import math
 import numpy as np
 from numba import carray, cfunc, njit
 
-from ..surrogates.taylor_kernels import domain_distance_nb, force_jac_shape_si_nb, force_jac_si_nb
-from .compiled import KERNEL_SIG, advance, as_int64
+from ...surrogates.taylor_kernels import domain_distance_nb, force_jac_shape_si_nb, force_jac_si_nb
+from ..compiled import KERNEL_SIG, advance, as_int64
 
 HEAD = 8
 N_META, N_DOM = 11, 17

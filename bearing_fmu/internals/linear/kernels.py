@@ -10,7 +10,7 @@ import math
 import numpy as np
 from numba import carray, cfunc
 
-from .compiled import KERNEL_SIG
+from ..compiled import KERNEL_SIG
 
 
 def pack(y0, z0, omega0, F0, K, C) -> np.ndarray:

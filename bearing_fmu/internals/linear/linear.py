@@ -7,8 +7,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..physics.params import BearingParams
-from .registry import BearingStateError, Internal, check_finite, overflow_error
+from ...physics.params import BearingParams
+from ..base import BearingStateError, Internal, check_finite, overflow_error
 
 
 @dataclass
@@ -43,7 +43,7 @@ class Linear:
     @classmethod
     def at_load(cls, internal: Internal, load, omega: float) -> "Linear":
         """Linearise ``internal`` at its static equilibrium under ``load`` (Wy, Wz) [N] at omega [rad/s]."""
-        from ..physics.statics import equilibrium, linearize
+        from ...physics.statics import equilibrium, linearize
 
         y0, z0 = equilibrium(internal, load, omega)
         K, C = linearize(internal, y0, z0, omega)
@@ -65,7 +65,7 @@ class Linear:
             from .mapfile import from_options as open_map
 
             return cls.at_load(open_map(params, o, context), (o["load_y"], o["load_z"]), o["omega_lin"])
-        from ..physics.reynolds import Reynolds
+        from ...physics.reynolds import Reynolds
 
         return cls.at_load(Reynolds.from_options(params, o), (o["load_y"], o["load_z"]), o["omega_lin"])
 
@@ -101,8 +101,8 @@ class Linear:
 
     def compiled_force(self):
         """Its force and Jacobian as a compiled kernel (``internals.compiled``)."""
-        from .compiled import CompiledForce
-        from .linear_kernels import linear_kernel, pack
+        from ..compiled import CompiledForce
+        from .kernels import linear_kernel, pack
 
         return CompiledForce(linear_kernel, pack(self.y0, self.z0, self.omega0, self.F0, self.K, self.C))
 

@@ -1,0 +1,14 @@
+"""The map internal: the Reynolds force reduced exactly to a table (docs/forcemap.md).
+
+==========  ====================================================================
+module      what it holds
+==========  ====================================================================
+tables      the full bore's reduction (eccentricity and one angle), ``MapTable``
+            (axes, spline, the file's content) and its tabulation from Reynolds
+tablefile   the full bore's map file: ``save_map``, ``load_map`` (every key checked)
+forcemap    ``ForceMap``: the internal evaluating a full-bore table
+groovemap   the grooved or partial-arc bore's 3-D map: table, file and internal
+mapfile     either map file (``load_any_map``) and the map internal's factory
+kernels     the compiled splines: force, Jacobian, flows (numba, cache=True)
+==========  ====================================================================
+"""
