@@ -514,19 +514,14 @@ def reynolds_kernel(
             act[k] = mode == 1
         info[2] = 0.0
         return
-    # adjoints mu_a = A_mod^-1 w_a (w masked to the free / positive-pressure nodes)
-    for i in range(N):
-        for j in range(m):
-            k = i * m + j
-            free = pf[k] > 0.0 if mode == 0 else not act[k]
-            rhs[k] = wr * qw[j] * sin_c[i] if free else 0.0
-    solve_banded(N, m, s0, Lb, Y, S, hb, rhs, mu_y, zb, z2)
-    for i in range(N):
-        for j in range(m):
-            k = i * m + j
-            free = pf[k] > 0.0 if mode == 0 else not act[k]
-            rhs[k] = -wr * qw[j] * cos_c[i] if free else 0.0
-    solve_banded(N, m, s0, Lb, Y, S, hb, rhs, mu_z, zb, z2)
+    # adjoints mu_a = A_mod^-1 w_a (w masked to the free / positive-pressure nodes), a = y, z
+    for a in range(2):
+        for i in range(N):
+            for j in range(m):
+                k = i * m + j
+                free = pf[k] > 0.0 if mode == 0 else not act[k]
+                rhs[k] = (wr * qw[j] * sin_c[i] if a == 0 else -wr * qw[j] * cos_c[i]) if free else 0.0
+        solve_banded(N, m, s0, Lb, Y, S, hb, rhs, mu_y if a == 0 else mu_z, zb, z2)
     if mode == 1:
         for k in range(n):
             if act[k]:
