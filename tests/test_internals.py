@@ -357,3 +357,15 @@ def test_the_linear_model_past_the_wall_evaluates_and_is_flagged(fmu_instance):
         assert inst.get("out_of_domain")
     finally:
         inst.close()
+
+
+def test_the_registry_docstring_table_lists_every_registered_internal():
+    # the table of internals in bearing_fmu/internals/registry.py's docstring, read as written:
+    # one row (name, factory) per internal registered by a module path, in registration order
+    # (continuation lines start with blanks), so a new internal without its row fails here
+    doc = registry.__doc__
+    rules = [i for i, line in enumerate(doc.splitlines()) if line.startswith("====")]
+    assert len(rules) >= 3, "registry docstring: no table of internals (three rules of '=')"
+    rows = doc.splitlines()[rules[1] + 1:rules[2]]
+    table = [tuple(line.split()[:2]) for line in rows if line.strip() and not line[0].isspace()]
+    assert table == [(s.name, s.factory) for s in registry.REGISTRY.values() if isinstance(s.factory, str)]

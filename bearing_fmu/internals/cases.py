@@ -59,7 +59,8 @@ def linear_case(data_dir: Path) -> ContractCase:
 def map_file(data_dir: Path) -> Path:
     """A coarse force map of the paper bearing (Reynolds 32 x 4, table 12 x 16), made once per folder."""
     from ..physics.params import PAPER_BEARING
-    from .forcemap import save_map, tabulate
+    from .map.tablefile import save_map
+    from .map.tables import tabulate
 
     path = Path(data_dir) / MAP_NAME
     if not path.is_file():

@@ -62,7 +62,7 @@ class Linear:
                        ((o["lin_Kyy"], o["lin_Kyz"]), (o["lin_Kzy"], o["lin_Kzz"])),
                        ((o["lin_Cyy"], o["lin_Cyz"]), (o["lin_Czy"], o["lin_Czz"])))
         if o["linear_from"] == "map":  # the force map: no Reynolds import or compile (milliseconds)
-            from .mapfile import from_options as open_map
+            from ..map.mapfile import from_options as open_map
 
             return cls.at_load(open_map(params, o, context), (o["load_y"], o["load_z"]), o["omega_lin"])
         from ...physics.reynolds import Reynolds
