@@ -6,7 +6,8 @@ folder        what it holds
 physics/      BearingParams, the finite-volume Reynolds solver (the truth) and its
               kernels, the closed-form short bearing, statics (equilibrium, Lund K, C)
 internals/    the Internal protocol and the one registry of internals (options,
-              capabilities, contract cases); linear, taylor + guard, forcemap
+              capabilities, contract cases); one folder per family: linear/,
+              taylor/ (+ guard), map/ (the force map, grooved maps, map files)
 surrogates/   the Taylor surrogate file, its domain, basis and compiled kernels
 fitting/      fitting a surrogate (never bundled into the FMU)
 fmu/          the pythonfmu slave, the FMU build and its metadata, the native C FMU
