@@ -291,7 +291,7 @@ class Capabilities:
 
 @dataclass(frozen=True)
 class InternalSpec:
-    """One registered internal (see the module docstring, "How to add an internal").
+    """One registered internal (see ``registry``'s docstring, "How to add an internal").
 
     name    : what scene files, the FMU parameter ``internal`` and the command lines call it
     factory : "module:Class.from_options" inside bearing_fmu (imported when built), or a

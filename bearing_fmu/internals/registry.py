@@ -69,10 +69,10 @@ is a callable.
 
 from __future__ import annotations
 
-from . import catalogue  # noqa: F401  (registers the built-in internals)
 from .base import (REGISTRY, STATE_NAMES, BearingStateError, Capabilities, Context, DifferentiableInternal, Internal,
                    InternalSpec, Option, all_options, check_finite, check_state, create, file_format, film_flow_of,
                    get, having, names, option_for_file, overflow_error, register, unregister, wall_error)
+# importing the catalogue registers the built-in internals
 from .catalogue import DEFAULT_DOMAIN_LIMIT, DEFAULT_LOAD_Z, DEFAULT_OMEGA_LIN, DOMAIN_ACTIONS
 
 __all__ = ["DEFAULT_DOMAIN_LIMIT", "DEFAULT_LOAD_Z", "DEFAULT_OMEGA_LIN", "DOMAIN_ACTIONS", "REGISTRY", "STATE_NAMES",

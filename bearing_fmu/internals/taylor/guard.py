@@ -54,10 +54,10 @@ import warnings
 
 import numpy as np
 
-from .nearest import TOLERANCE, NearestTraining, linear_radius
-from ..catalogue import DEFAULT_DOMAIN_LIMIT as DEFAULT_LIMIT
 from ..base import BearingStateError, check_finite
+from ..catalogue import DEFAULT_DOMAIN_LIMIT as DEFAULT_LIMIT
 from ..catalogue import DOMAIN_ACTIONS
+from .nearest import TOLERANCE, NearestTraining, linear_radius
 
 REARM = 50  # evaluations inside that end an excursion (about 25 time steps of a run)
 FALLBACK_BAND = 0.1  # fallback: Taylor and truth blended from the domain's edge to 10 % beyond it

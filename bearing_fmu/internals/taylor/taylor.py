@@ -22,8 +22,8 @@ from ...surrogates.film import GROOVED
 from ...surrogates.surrogate import NO_FLOWS_WHY, Surrogate, check_params, load_surrogate
 from ...surrogates.taylor_kernels import (NOT_FINITE, WRONG_OMEGA, domain_distance_nb, force_jac_shape_si_nb,
                                          force_jac_si_nb, force_nb, force_shape_nb)
-from .nearest import NearestTraining
 from ..base import BearingStateError, check_finite, overflow_error, wall_error
+from .nearest import NearestTraining
 
 OMEGA_RTOL = 1e-9  # the same tolerance the linear internal uses for "omega equals the fitted speed"
 
