@@ -28,6 +28,21 @@ ROTOR = MODELS / "rotor_paper.toml"
 OMEGA_22HZ = 2 * math.pi * 22.0
 
 
+@pytest.fixture(scope="session", autouse=True)
+def fmu_build_cache(tmp_path_factory):
+    """The FMUs that scenes build (bearing_fmu.io.cache: the user's cache otherwise) go to one
+    folder of this session, shared by its tests and their subprocesses (inherited environment), so
+    the tests neither read nor fill the user's cache."""
+    path = tmp_path_factory.mktemp("fmu-builds")
+    old = os.environ.get("BEARING_FMU_BUILD_CACHE")
+    os.environ["BEARING_FMU_BUILD_CACHE"] = str(path)
+    yield path
+    if old is None:
+        os.environ.pop("BEARING_FMU_BUILD_CACHE", None)
+    else:
+        os.environ["BEARING_FMU_BUILD_CACHE"] = old
+
+
 @pytest.fixture(scope="session")
 def code_cache(request, tmp_path_factory):
     """The FMU's code cache (BEARING_FMU_CACHE_DIR, where numba's cache lives too), kept between

@@ -31,7 +31,7 @@ def _env(tmp_path, code_cache):
     tmp = tmp_path / "tmp"
     tmp.mkdir(exist_ok=True)
     return {**os.environ, "PYTHONPATH": str(ROOT), "BEARING_FMU_CACHE_DIR": str(code_cache), "TMPDIR": str(tmp),
-            "MPLBACKEND": "Agg"}
+            "MPLBACKEND": "Agg", "BEARING_FMU_BUILD_CACHE": str(tmp_path / "fmus")}
 
 
 def _start(scene, out, env, *extra):
@@ -114,5 +114,6 @@ def test_parallel_runs_into_one_folder_all_land(tmp_path, paper_scene, code_cach
     # each run printed the names it wrote, and no two printed the same
     written = [next(line for line in stdout.splitlines() if line.startswith("wrote")) for stdout, _ in results]
     assert len(set(written)) == 3
-    assert len(list((out / "fmu").glob("*.fmu"))) == 1  # content-addressed: one FMU for one content
-    assert not list(out.glob("*.lock")) and not list((out / "fmu").glob("*.tmp"))
+    builds = Path(env["BEARING_FMU_BUILD_CACHE"])
+    assert len(list(builds.glob("*.fmu"))) == 1  # content-addressed: one FMU for one content
+    assert not list(out.glob("*.lock")) and not list(builds.glob("*.tmp"))

@@ -397,15 +397,16 @@ def test_native_guard_uses_the_python_guards_radius_and_size(fmus):
 
 
 @pytest.mark.slow
-def test_rotor_host_builds_the_native_fmu_for_the_scenes_bearing(tmp_path):
+def test_rotor_host_builds_the_native_fmu_for_the_scenes_bearing(tmp_path, monkeypatch):
     """rotor-host run --native on the Friswell machine with its own map (L/D 0.3): the FMU is built
     for the scene's bearing (the paper bearing's would refuse that map) and omega starts at 25 Hz."""
     from rotor_host.cli import main
 
+    monkeypatch.setenv("BEARING_FMU_BUILD_CACHE", str(tmp_path / "fmus"))
     scene = ROOT / "models" / "scenes" / "friswell_25hz.toml"
     assert main(["run", str(scene), "--internal", "map", "--native", "--t-end", "0.002", "--out", str(tmp_path),
                  "--no-plots", "--quiet"]) == 0
-    fmu = next((tmp_path / "fmu").glob("*.fmu"))
+    fmu = next((tmp_path / "fmus").glob("*.fmu"))
     starts = {v.name: v.start for v in fmpy.read_model_description(str(fmu)).modelVariables}
     assert float(starts["D"]) == 0.1 and float(starts["L"]) == 0.03
     assert float(starts["omega"]) == pytest.approx(2 * math.pi * 25.0, rel=1e-15)

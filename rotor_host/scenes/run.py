@@ -26,6 +26,7 @@ import numpy as np
 
 from bearing_fmu.internals import registry
 from bearing_fmu.internals.registry import Context
+from bearing_fmu.io.cache import cache_dir, source_digest
 from bearing_fmu.io.exits import as_interrupted, handled, note_kept
 from bearing_fmu.io.outputs import claim, ensure_writable, savez, write_json
 
@@ -132,14 +133,17 @@ def _direct_internal(scene: Scene, params, load, warn=None):
                            where=str(scene.source))
 
 
-def scene_fmu(scene: Scene, work_dir: Path, bearing=None) -> Path:
-    """The bearing FMU for the scene: its ``fmu`` key, or one built into work_dir (with the
-    files of the scene's internal bundled, e.g. the surrogate of a Taylor scene). A native FMU
-    is built for ``bearing`` (the rotor's first; the host sets each bearing's D, L, CR, mu)."""
+def scene_fmu(scene: Scene, work_dir: Path | None, bearing=None) -> Path:
+    """The bearing FMU for the scene: its ``fmu`` key, or one built into work_dir (None: the
+    user's FMU cache, ``bearing_fmu.io.cache``, shared by every command and output folder) with
+    the files of the scene's internal bundled (e.g. the surrogate of a Taylor scene), under a name
+    that hashes what determines it, so a build is made once. A native FMU is built for ``bearing``
+    (the rotor's first; the host sets each bearing's D, L, CR, mu)."""
     if scene.fmu is not None:
         if not scene.fmu.is_file():
             raise SceneError(f"{scene.source}: fmu = {scene.fmu}: file not found")
         return scene.fmu
+    work_dir = Path(work_dir) if work_dir is not None else cache_dir()
     if scene.fmu_kind == "native":
         return _native_fmu(scene, work_dir, bearing)
     from bearing_fmu.fmu.build import build_fmu, package_name
@@ -162,11 +166,11 @@ def scene_fmu(scene: Scene, work_dir: Path, bearing=None) -> Path:
 def _native_fmu(scene: Scene, work_dir: Path, bearing=None) -> Path:
     """The scene's native FMU for ``bearing`` (a map serves its own L/D: the scene's bearing, not
     the paper's), its omega starting at the scene's speed, built into work_dir under a name that
-    hashes the C sources, the generator, the internal's data file, the bearing and the speed, so
-    runs of the same scene share one build. The linear FMU holds no data: the host sets each
+    hashes bearing_fmu's sources (the C model, its generators and what they import), the
+    internal's data file, the bearing and the speed, so runs of the same scene share one build. The linear FMU holds no data: the host sets each
     bearing's coefficients."""
     from bearing_fmu.fmu.native.host import fmu_internals, host_build_options
-    from bearing_fmu.fmu.native.build import C_DIR, build_native_fmu
+    from bearing_fmu.fmu.native.build import build_native_fmu
     from bearing_fmu.fmu.native.compile import host_platform
 
     spec = registry.get(scene.internal)
@@ -182,11 +186,9 @@ def _native_fmu(scene: Scene, work_dir: Path, bearing=None) -> Path:
     # taylor: the surrogate's bearing, with the bearing file's oil law when it has one (its thermal model's)
     bearing = None if taylor and (bearing is None or bearing.oil is None) else bearing
     internals = fmu_internals(scene.internal, scene.internal_options())  # taylor's fallback: with reynolds
-    h = hashlib.sha256(f"{internals} {bearing!r} {speed_hz!r}".encode())
-    fmu_pkg = C_DIR.parent.parent  # bearing_fmu/fmu: the model description and docs generators too
-    for f in (sorted(C_DIR.glob("*")) + sorted(C_DIR.parent.glob("*.py")) + [fmu_pkg / "meta.py", fmu_pkg / "docs.py"]
-              + ([path] if path else [])):
-        h.update(f.name.encode() + b"\0" + f.read_bytes())
+    h = hashlib.sha256(f"{internals} {bearing!r} {speed_hz!r} {source_digest()}".encode())
+    if path:
+        h.update(path.name.encode() + b"\0" + path.read_bytes())
     out = work_dir / f"bearing_native_{scene.internal}{'_' + path.stem if path else ''}_{h.hexdigest()[:12]}.fmu"
     if out.is_file():
         return out
@@ -352,7 +354,7 @@ def run_scene(scene: Scene, out_dir=None, *, progress: bool = False, stem: str |
     # made, not probed: the command probed it before any work (``ensure_writable``); a folder that
     # refuses writes now (full, made read-only) has this run's result rescued, not lost
     out_dir = ensure_writable(out_dir, probe=False) if out_dir is not None else None
-    work = Path(work_dir) if work_dir is not None else (out_dir or Path("out")) / "fmu"
+    work = Path(work_dir) if work_dir is not None else None  # None: the user's FMU cache (scene_fmu)
     with handled():
         holder = claim(out_dir, stem) if out_dir is not None else None
         try:

@@ -1,0 +1,58 @@
+"""Where built artefacts live between commands: one cache per user, keyed by content.
+
+A bearing FMU that a scene needs (the Python FMU with its bundled files, a native FMU for one
+bearing and speed) is built once and found again by every later command and output folder: its
+file name hashes everything that determines it (``source_digest`` and the data it holds), so a
+changed source or file gives a new name and an old build is never reused wrongly. Writers build
+under a temporary name and rename, so parallel commands can share the folder.
+
+The folder: ``$BEARING_FMU_BUILD_CACHE`` when set, else ``fmus`` in the platform's user cache
+under ``bearing_fmu`` (``$XDG_CACHE_HOME`` or ``~/.cache`` on Linux, ``~/Library/Caches`` on
+macOS, ``%LOCALAPPDATA%`` on Windows), beside the Python FMU's code cache (``fmu-code``, the same
+rule: bearing_fmu/fmu/build.py). Deleting it is always safe.
+"""
+
+from __future__ import annotations
+
+import functools
+import hashlib
+import os
+import sys
+from pathlib import Path
+
+ENV = "BEARING_FMU_BUILD_CACHE"
+PACKAGE = Path(__file__).resolve().parents[1]  # bearing_fmu/
+
+
+def build_cache() -> Path:
+    """The folder of built FMUs (not created)."""
+    if os.environ.get(ENV):
+        return Path(os.environ[ENV]).expanduser()
+    if sys.platform == "win32":
+        base = Path(os.environ.get("LOCALAPPDATA") or Path.home() / "AppData" / "Local")
+    elif sys.platform == "darwin":
+        base = Path.home() / "Library" / "Caches"
+    else:
+        base = Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache")
+    return base.expanduser() / "bearing_fmu" / "fmus"
+
+
+def cache_dir() -> Path:
+    """``build_cache()``, created; an OSError says which folder and how to choose another."""
+    folder = build_cache()
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise OSError(f"cannot create the cache folder {folder} ({exc.strerror or exc}); set {ENV} to a "
+                      "writable folder") from exc
+    return folder
+
+
+@functools.lru_cache(maxsize=1)
+def source_digest() -> str:
+    """A hash of every source file of bearing_fmu (Python and C): what any FMU build may read.
+    Computed once per process (the sources do not change under a running command)."""
+    h = hashlib.sha256()
+    for f in sorted(p for p in PACKAGE.rglob("*") if p.suffix in (".py", ".c", ".h") and "__pycache__" not in p.parts):
+        h.update(f.relative_to(PACKAGE).as_posix().encode() + b"\0" + f.read_bytes() + b"\0")
+    return h.hexdigest()
