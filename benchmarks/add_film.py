@@ -8,7 +8,7 @@ compact subset of the states the force was fitted to), 80 % of them (seeded) for
 20 % held out for the recorded errors. A file without stored training states is refused (fit it
 again with `bearing-fmu fit` or `rotor-host fit`, which fit the film from all their training states).
 
-    python benchmarks/add_film.py models/surrogates/paper_44hz_16.7N.json -o out/paper_44hz_film.json
+    python benchmarks/add_film.py rotor_host/bundled/surrogates/paper_44hz_16.7N.json -o out/paper_44hz_film.json
 
 Without -o the file is rewritten in place.
 """

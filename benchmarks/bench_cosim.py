@@ -1,6 +1,6 @@
 """Host with bearing FMUs vs the same internal called directly, measured side by side.
 
-Runs the paper's 22 Hz scene (models/scenes/paper_22hz.toml) for a short span with each
+Runs the paper's 22 Hz scene (rotor_host/bundled/scenes/paper_22hz.toml) for a short span with each
 internal, once through the FMUs (fmpy, conformant state-restore iterations) and once
 in-process, and prints the run-time ratio FMU / direct and the FMI overhead per bearing
 evaluation. Integration time only (setup: FMU build, load, numba cache, equilibrium apart).
@@ -96,7 +96,7 @@ def main() -> None:
     ap.add_argument("--t-end", type=float, default=0.2)
     ap.add_argument("--repeat", type=int, default=2, help="runs per case, the fastest counts")
     args = ap.parse_args()
-    base = load_scene(ROOT / "models" / "scenes" / "paper_22hz.toml")
+    base = load_scene(ROOT / "rotor_host" / "bundled" / "scenes" / "paper_22hz.toml")
     base.t_end_s = args.t_end
     internals = ["reynolds", "linear"]
     if base.surrogate and base.surrogate.is_file():

@@ -36,7 +36,7 @@ from pathlib import Path
 from bench_cosim import cpu  # the machine's CPU name, as the other benchmarks print it
 
 ROOT = Path(__file__).resolve().parents[1]
-SCENE = ROOT / "models" / "scenes" / "paper_22hz.toml"
+SCENE = ROOT / "rotor_host" / "bundled" / "scenes" / "paper_22hz.toml"
 SPEEDS = "12.5:60:2.5"  # 20 speeds, both ends included
 
 HELPS = [("rotor_host.cli", []), ("bearing_fmu.cli", [])] + [

@@ -32,7 +32,7 @@ sys.path.insert(0, str(ROOT / "benchmarks"))
 
 from bench_cosim import cpu  # noqa: E402
 
-SURROGATE = ROOT / "models" / "surrogates" / "paper_22hz_16.7N.json"
+SURROGATE = ROOT / "rotor_host" / "bundled" / "surrogates" / "paper_22hz_16.7N.json"
 
 
 def per_call_us(fn, n: int) -> float:

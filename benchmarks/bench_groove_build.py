@@ -1,7 +1,7 @@
 """What a grooved map's flow tables cost a native map FMU: build time and size, with and without.
 
-The native map FMU of a shipped grooved map (default models/maps/paper_2groove.json) for its
-bearing with the ISO VG 46 oil law (models/bearing_paper_vg46.toml's [oil]; without an oil law the
+The native map FMU of a shipped grooved map (default rotor_host/bundled/maps/paper_2groove.json) for its
+bearing with the ISO VG 46 oil law (rotor_host/bundled/bearing_paper_vg46.toml's [oil]; without an oil law the
 build leaves the flow tables out, codegen.GROOVED_NO_OIL_WHY), built from the version 4 file (its
 flow spline over one period in phi and the edges' renumbering compiled in, c/map_flows.c) and from
 a version 2 copy (the force alone): the build's wall time, model_data.h, each platform's binary and
@@ -23,11 +23,11 @@ ROOT = Path(__file__).resolve().parents[1]
 
 
 def bearing_with_oil(map_path: Path, folder: Path):
-    """The map's bearing file (models/bearing_<stem>.toml) with the VG 46 [oil] instead of mu_Pa_s."""
+    """The map's bearing file (rotor_host/bundled/bearing_<stem>.toml) with the VG 46 [oil] instead of mu_Pa_s."""
     from bearing_fmu.physics.params import BearingParams
 
-    oil = (ROOT / "models" / "bearing_paper_vg46.toml").read_text().split("[oil]")[1]
-    text = (ROOT / "models" / f"bearing_{map_path.stem}.toml").read_text()
+    oil = (ROOT / "rotor_host" / "bundled" / "bearing_paper_vg46.toml").read_text().split("[oil]")[1]
+    text = (ROOT / "rotor_host" / "bundled" / f"bearing_{map_path.stem}.toml").read_text()
     path = folder / "bearing.toml"
     path.write_text("\n".join(line for line in text.splitlines() if not line.startswith("mu_Pa_s")) + "\n[oil]" + oil)
     return BearingParams.from_toml(path)
@@ -50,7 +50,7 @@ def measure(map_path: Path, params, out: Path, platforms, cc: bool) -> dict:
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--map", type=Path, default=ROOT / "models" / "maps" / "paper_2groove.json")
+    ap.add_argument("--map", type=Path, default=ROOT / "rotor_host" / "bundled" / "maps" / "paper_2groove.json")
     ap.add_argument("--platforms", nargs="*", default=None, help="zig targets (default: every platform)")
     ap.add_argument("--cc", action="store_true", help="this machine's C compiler, this platform only")
     args = ap.parse_args()

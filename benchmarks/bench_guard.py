@@ -45,7 +45,7 @@ def orbit(scene_stem: str, cache_dir: Path) -> np.ndarray:
     from rotor_host.analyses.training import scene_series
     from rotor_host.scenes.scene import load_scene
 
-    sc = load_scene(ROOT / "models" / "scenes" / f"{scene_stem}.toml")
+    sc = load_scene(ROOT / "rotor_host" / "bundled" / "scenes" / f"{scene_stem}.toml")
     return scene_series(sc, 1, cache_dir / f"{scene_stem}_b1_series.npz")[1]
 
 
@@ -67,7 +67,7 @@ def main() -> None:
           "force_and_jacobian | guard.f_and_j, bounds only | guard.f_and_j, with states |")
     print("|---|---|---|---|---|---|---|---|---|---|---|")
     for name, scene in CASES:
-        sur = load_surrogate(ROOT / "models" / "surrogates" / name)
+        sur = load_surrogate(ROOT / "rotor_host" / "bundled" / "surrogates" / name)
         st = orbit(scene, args.cache_dir)
         st = st[np.array([Taylor(sur).domain_distance(*x) <= 0.0 for x in st])][:n]  # inside: no warning path
         om = sur.omega

@@ -34,8 +34,8 @@ from rotor_host.analyses.report import markdown_table  # noqa: E402
 from rotor_host.scenes.run import run_scene  # noqa: E402
 from rotor_host.scenes.scene import load_scene
 
-SURROGATES = ROOT / "models" / "surrogates"
-MAP = ROOT / "models" / "maps" / "paper_bearing.json"
+SURROGATES = ROOT / "rotor_host" / "bundled" / "surrogates"
+MAP = ROOT / "rotor_host" / "bundled" / "maps" / "paper_bearing.json"
 
 
 def c_host_costs(tmp: Path, repeat: int, n: int = 200_000) -> list[dict]:
@@ -121,7 +121,7 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--t-end", type=float, default=0.1, help="simulated time of each rotor run [s]")
     ap.add_argument("--repeat", type=int, default=2, help="runs per case, the fastest counts")
-    ap.add_argument("--scene", type=Path, default=ROOT / "models" / "scenes" / "paper_22hz.toml")
+    ap.add_argument("--scene", type=Path, default=ROOT / "rotor_host" / "bundled" / "scenes" / "paper_22hz.toml")
     ap.add_argument("--skip-host", action="store_true", help="only the C host")
     args = ap.parse_args()
     print(f"bench_native: {cpu()}, {platform.machine()}, Python {platform.python_version()}")

@@ -2,7 +2,7 @@
 
     .venv/bin/python benchmarks/bench_newmark.py [--t-end 0.2] [--dt 1e-4] [--no-profile]
 
-Rotor: the paper rotor (models/rotor_paper.toml through rotor_host.model.rotor.Rotor) when it can be
+Rotor: the paper rotor (rotor_host/bundled/rotor_paper.toml through rotor_host.model.rotor.Rotor) when it can be
 built, otherwise a 44-DOF Euler-Bernoulli beam chain of similar size (11 nodes, disk at node 6).
 Bearings at nodes 3 and 9 (1-based), DOFs y, z. Cases, dt = 1e-4 s over 0.2 s at 22 Hz with
 the paper's unbalance (8.5 g at 37 mm on the disk) and weight:
@@ -81,11 +81,11 @@ def beam_chain():
 def load_rotor():
     try:
         from rotor_host.model.rotor import Rotor
-        r = Rotor.from_toml(ROOT / "models" / "rotor_paper.toml")
+        r = Rotor.from_toml(ROOT / "rotor_host" / "bundled" / "rotor_paper.toml")
         M, K, C, G = (np.asarray(a, dtype=float) for a in (r.M, r.K, r.C, r.G))
         if M.shape != (44, 44):
             raise ValueError(f"paper rotor has {M.shape[0]} DOFs")
-        return M, K, C, G, "paper rotor (models/rotor_paper.toml)"
+        return M, K, C, G, "paper rotor (rotor_host/bundled/rotor_paper.toml)"
     except Exception as e:  # noqa: BLE001 - any failure: fall back, say why
         print(f"(paper rotor unavailable: {type(e).__name__}: {e}; using the stand-in chain)")
         return beam_chain()

@@ -20,7 +20,7 @@ Problems: the paper's 22 Hz scene (weight, 8.5 g at 37 mm on the disk) from its 
 equilibrium, dt = 1e-4 s, with the map, Taylor (22 Hz surrogate) and linear internals called
 directly; the map case again on the rotor cut into 4, 16, 64 elements per element (44, 164, 644,
 2564 DOF), and with 2, 4, 8 map bearings on the 40-element rotor. Then the 44 Hz, 6 s map scene
-(models/scenes/paper_44hz.toml, --internal map --via direct): its integration time as
+(rotor_host/bundled/scenes/paper_44hz.toml, --internal map --via direct): its integration time as
 ``rotor-host run`` reports it (wall) and the CPU time of ``Newmark.run``, the first run of a
 process and a second one.
 
@@ -77,7 +77,7 @@ def build_rotor(k: int, n_bearings: int):
     rotor's parts (works on checkouts without Rotor.refined)."""
     from rotor_host.model.rotor import Disk, Rotor, ShaftElement
 
-    r = Rotor.from_toml(ROOT / "models" / "rotor_paper.toml")
+    r = Rotor.from_toml(ROOT / "rotor_host" / "bundled" / "rotor_paper.toml")
     els = [ShaftElement(e.length / k, e.od, e.id) for e in r.elements for _ in range(k)]
     nodes = [nd * k for nd in r.bearing_nodes]
     if n_bearings > 2:
@@ -95,9 +95,9 @@ def internals(name: str, rotor, loads):
     from bearing_fmu.internals import registry
     from bearing_fmu.internals.registry import Context
 
-    opts = {"reynolds": {}, "map": {"map": str(ROOT / "models" / "maps" / "paper_bearing.json")},
-            "taylor": {"surrogate": str(ROOT / "models" / "surrogates" / "paper_22hz_16.7N.json")},
-            "linear": {"linear_from": "map", "map": str(ROOT / "models" / "maps" / "paper_bearing.json")}}[name]
+    opts = {"reynolds": {}, "map": {"map": str(ROOT / "rotor_host" / "bundled" / "maps" / "paper_bearing.json")},
+            "taylor": {"surrogate": str(ROOT / "rotor_host" / "bundled" / "surrogates" / "paper_22hz_16.7N.json")},
+            "linear": {"linear_from": "map", "map": str(ROOT / "rotor_host" / "bundled" / "maps" / "paper_bearing.json")}}[name]
     return [registry.create(name, p, opts, Context(load=tuple(w), omega=OMEGA, warn=lambda m: None))
             for p, w in zip(rotor.bearings, loads)]
 
@@ -201,9 +201,9 @@ def native_fmu_rows(n_steps: int) -> dict:
     from rotor_host.scenes.scene import load_scene
 
     rotor, f_ext, direct, q0 = problem("map", 1, 2)
-    sc = dataclasses.replace(load_scene(ROOT / "models" / "scenes" / "paper_22hz.toml"), internal="map", via="fmu",
+    sc = dataclasses.replace(load_scene(ROOT / "rotor_host" / "bundled" / "scenes" / "paper_22hz.toml"), internal="map", via="fmu",
                              fmu_kind="native")
-    sc = sc.with_internal("map", options={"map": {"map": str(ROOT / "models" / "maps" / "paper_bearing.json")}})
+    sc = sc.with_internal("map", options={"map": {"map": str(ROOT / "rotor_host" / "bundled" / "maps" / "paper_bearing.json")}})
     loads = scene_run.bearing_loads(rotor, rotor.weight_vector(G))
     work = Path(tempfile.mkdtemp(prefix="bench_step_"))
     opened = []
@@ -282,7 +282,7 @@ def scene_44hz(root: Path) -> list[float]:
             "def timed(self, *a, **k):\n"
             "    t = time.process_time(); r = run(self, *a, **k); cpu.append(time.process_time() - t); return r\n"
             "Newmark.run = timed\n"
-            "sc = dataclasses.replace(load_scene(sys.argv[1] + '/models/scenes/paper_44hz.toml'), internal='map',"
+            "sc = dataclasses.replace(load_scene(sys.argv[1] + '/rotor_host/bundled/scenes/paper_44hz.toml'), internal='map',"
             " via='direct'); out = [run_scene(sc, None).meta for _ in range(2)];"
             "print(json.dumps([[m['integration_time_s'], c, m['newton_mean_evaluations_per_step']]"
             " for m, c in zip(out, cpu)]))")

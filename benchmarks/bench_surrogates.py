@@ -1,6 +1,6 @@
 """Time per call of every shipped surrogate file next to Reynolds, side by side in one run.
 
-For each file in models/surrogates (and any extra files given) it times ``force`` and
+For each file in rotor_host/bundled/surrogates (and any extra files given) it times ``force`` and
 ``force_and_jacobian`` of the Taylor internal in a plain Python loop (as the FMU slave calls
 it) at states of that file's own fitted domain, and Reynolds at its default grid at the same
 states, then prints one markdown table with the ratios.
@@ -59,7 +59,7 @@ def main() -> None:
     ap.add_argument("files", nargs="*", help="extra surrogate files")
     ap.add_argument("--calls", type=int, default=20000)
     args = ap.parse_args()
-    files = sorted((ROOT / "models" / "surrogates").glob("*.json")) + [Path(f) for f in args.files]
+    files = sorted((ROOT / "rotor_host" / "bundled" / "surrogates").glob("*.json")) + [Path(f) for f in args.files]
     print(f"# Surrogate call cost ({platform.processor() or platform.machine()}, Python {platform.python_version()}; "
           f"{args.calls} calls each, plain Python loop)\n")
     print("| file | model | Taylor force [us] | Taylor force + Jacobian [us] | Reynolds force + Jacobian [us] "

@@ -42,7 +42,7 @@ def main() -> None:
     with tempfile.TemporaryDirectory() as tmp, warnings.catch_warnings():
         warnings.simplefilter("ignore")  # out-of-domain warnings of wandering iterates
         for name in SCENES:
-            base = load_scene(ROOT / "models" / "scenes" / name)
+            base = load_scene(ROOT / "rotor_host" / "bundled" / "scenes" / name)
             base.t_end_s = args.t_end
             for internal in args.internals:
                 ref = None

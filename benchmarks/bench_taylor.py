@@ -28,7 +28,7 @@ from bearing_fmu.physics.params import PAPER_BEARING  # noqa: E402
 from bearing_fmu.physics.statics import equilibrium  # noqa: E402
 
 # name: (load (Wy, Wz) [N], speed [Hz], domain keywords of designed_samples)
-# 22, 44: the domains of the shipped surrogates (models/surrogates/paper_*hz_16.7N.json);
+# 22, 44: the domains of the shipped surrogates (rotor_host/bundled/surrogates/paper_*hz_16.7N.json);
 # 22s, 44s: small discs (0.1 CR, 0.1 omega CR) about the equilibrium, where order 5 is ~1 %;
 # 10h, 20h: the paper's eccentricity-0.9 cases, 0.05 CR / 0.05 omega CR about the equilibrium.
 CONDITIONS = {

@@ -20,7 +20,7 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT / "examples"))
 
-BEARING = ROOT / "models" / "bearing_paper_vg46.toml"
+BEARING = ROOT / "rotor_host" / "bundled" / "bearing_paper_vg46.toml"
 OMEGA = 2 * math.pi * 44.0
 STATE = (12e-6, -45e-6, 1e-4, -2e-4)
 

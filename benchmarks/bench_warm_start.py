@@ -1,6 +1,6 @@
 """Reynolds in transients: the active set's cold start against the warm start, side by side.
 
-Runs the paper scenes (models/scenes/paper_22hz.toml, paper_44hz.toml) with the Reynolds
+Runs the paper scenes (rotor_host/bundled/scenes/paper_22hz.toml, paper_44hz.toml) with the Reynolds
 internal called directly (``scene.with_internal("reynolds", via="direct", t_end_s=...)``),
 once with every Reynolds instance on the cold start (``warm_start=False``: the start computed
 from the inputs, as before the warm start) and once on the warm start (the default), and
@@ -147,7 +147,7 @@ def main() -> None:
         raise SystemExit(f"--window must be in [0, --t-end = {args.t_end}), got {args.window}")
     rows = []
     for name in args.scenes:
-        scene = load_scene(ROOT / "models" / "scenes" / f"{name}.toml").with_internal(
+        scene = load_scene(ROOT / "rotor_host" / "bundled" / "scenes" / f"{name}.toml").with_internal(
             "reynolds", via="direct", t_end_s=args.t_end)
         best = {}
         for _ in range(args.repeat):

@@ -19,7 +19,7 @@ Then Lund's coefficients from the shipped map against ``linearize`` on Reynolds 
 scenes' equilibria, and the cost per call: force + Jacobian in a numba loop and from Python,
 against Reynolds.
 
-    .venv/bin/python benchmarks/forcemap_study.py [--quick] [--map models/maps/paper_bearing.json]
+    .venv/bin/python benchmarks/forcemap_study.py [--quick] [--map rotor_host/bundled/maps/paper_bearing.json]
 """
 
 from __future__ import annotations
@@ -244,7 +244,7 @@ def speed(fmap, rey):
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--quick", action="store_true", help="fewer states and tables")
-    ap.add_argument("--map", default="models/maps/paper_bearing.json",
+    ap.add_argument("--map", default="rotor_host/bundled/maps/paper_bearing.json",
                     help="the map for the Lund coefficients and the speed (default: the shipped one)")
     ap.add_argument("--speed-only", nargs="*", metavar="MAP",
                     help="only the cost per call, of these map files (default: --map)")

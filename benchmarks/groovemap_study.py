@@ -137,7 +137,7 @@ def q(e):
 
 def main():
     ap = argparse.ArgumentParser()
-    ap.add_argument("--bearing", default="models/bearing_paper_2groove.toml")
+    ap.add_argument("--bearing", default="rotor_host/bundled/bearing_paper_2groove.toml")
     ap.add_argument("--quick", action="store_true")
     ap.add_argument("--states", type=int, default=300)
     ap.add_argument("--out", default=None, help="keep the maps in this folder")

@@ -20,8 +20,8 @@ out of domain when ``Taylor.domain_distance`` > 0 (the guard's own test, at ever
 * false-alarm rate = flagged accurate states / accurate states,
 * miss rate        = inaccurate states inside / inaccurate states.
 
-Machines: the four shipped surrogates (models/surrogates/) with their scenes, and the Friswell
-rotor (models/rotor_friswell.toml) at 25 Hz, for which this script writes scenes of other
+Machines: the four shipped surrogates (rotor_host/bundled/surrogates/) with their scenes, and the Friswell
+rotor (rotor_host/bundled/rotor_friswell.toml) at 25 Hz, for which this script writes scenes of other
 unbalances into --work-dir and fits a surrogate (``rotor_host.analyses.training.fit_scene``) on one of
 them, the scene's default recipe without designed samples or pruning (~1 s beside the series;
 the series take ~15 s each, the 44 Hz held-out one ~1 min).
@@ -57,7 +57,7 @@ FRISWELL_HELD = (("fr25_heldout_15g", 3, 0.015, 120.0), ("fr25_heldout_20g", 3, 
 def friswell_scene(folder: Path, name, node, mass, phase) -> Path:
     """A 1 s scene of the Friswell rotor at 25 Hz with one unbalance (100 mm radius)."""
     path = folder / f"{name}.toml"
-    path.write_text(f'name = "{name}"\nrotor = "{ROOT / "models" / "rotor_friswell.toml"}"\ninternal = "reynolds"\n'
+    path.write_text(f'name = "{name}"\nrotor = "{ROOT / "rotor_host" / "bundled" / "rotor_friswell.toml"}"\ninternal = "reynolds"\n'
                     f'via = "direct"\nspeed_hz = 25.0\n[time]\nt_end_s = 1.0\ndt_s = 1e-4\n[[unbalance]]\n'
                     f'node = {node}\nmass_kg = {mass}\nradius_mm = 100.0\nphase_deg = {phase}\n[record]\n'
                     f'nodes = [3, 5]\n[taylor]\nsurrogate = "friswell_25hz.json"\n')
@@ -72,9 +72,9 @@ def fit(recipe, out: Path, cache: Path) -> Path:
 
 
 def serving_scenes(surrogate: Path) -> list[Path]:
-    """The scenes of models/scenes/ whose [taylor] surrogate is this file."""
+    """The scenes of rotor_host/bundled/scenes/ whose [taylor] surrogate is this file."""
     out = []
-    for p in sorted((ROOT / "models" / "scenes").glob("*.toml")):
+    for p in sorted((ROOT / "rotor_host" / "bundled" / "scenes").glob("*.toml")):
         name = (tomllib.loads(p.read_text()).get("taylor") or {}).get("surrogate")
         if name and (p.parent / name).resolve() == surrogate.resolve():
             out.append(p)
@@ -88,7 +88,7 @@ def cases(args) -> list[tuple[str, Path, list[tuple[Path, int]]]]:
 
     out = []
     for name in SHIPPED:
-        f = ROOT / "models" / "surrogates" / name
+        f = ROOT / "rotor_host" / "bundled" / "surrogates" / name
         recipe = recipe_of(load_surrogate(f), f)
         train = {Path(p).resolve() for p in recipe.scenes}
         held = [(p, 1) for p in serving_scenes(f) if p.resolve() not in train]

@@ -1,6 +1,6 @@
 """How many states of Reynolds trajectories the domain guard of each shipped surrogate flags.
 
-For every surrogate in models/surrogates/ and every scene in models/scenes/ that names it
+For every surrogate in rotor_host/bundled/surrogates/ and every scene in rotor_host/bundled/scenes/ that names it
 (``[taylor] surrogate``), the scene's Reynolds series of bearing 1 (rotor_host.analyses.training.
 scene_series, cached in --cache-dir) is passed state by state through the surrogate's domain
 distance (``Taylor.domain_distance``: bounds and nearest training state) and counted:
@@ -26,9 +26,9 @@ LIMIT = 0.5  # the default domain_limit
 
 
 def serving_scenes(surrogate: Path) -> list[Path]:
-    """The scenes of models/scenes/ whose [taylor] surrogate is this file."""
+    """The scenes of rotor_host/bundled/scenes/ whose [taylor] surrogate is this file."""
     out = []
-    for p in sorted((ROOT / "models" / "scenes").glob("*.toml")):
+    for p in sorted((ROOT / "rotor_host" / "bundled" / "scenes").glob("*.toml")):
         data = tomllib.loads(p.read_text())
         name = (data.get("taylor") or {}).get("surrogate") or data.get("surrogate")
         if name and (p.parent / name).resolve() == surrogate.resolve():
@@ -60,7 +60,7 @@ def main(argv=None) -> int:
     ap.add_argument("--markdown", action="store_true", help="print a markdown table")
     args = ap.parse_args(argv)
     rows = []
-    for f in sorted((ROOT / "models" / "surrogates").glob("*.json")):
+    for f in sorted((ROOT / "rotor_host" / "bundled" / "surrogates").glob("*.json")):
         sur = load_surrogate(f)
         tay = Taylor(sur)
         recipe = recipe_of(sur, f)

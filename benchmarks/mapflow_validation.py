@@ -51,7 +51,7 @@ def with_oil(name: str, prm: BearingParams) -> BearingParams:
     if prm.oil is not None:
         return prm
     if name.startswith("paper"):
-        return dataclasses.replace(prm, oil=BearingParams.from_toml(ROOT / "models" / MAPS["paper"][0]).oil)
+        return dataclasses.replace(prm, oil=BearingParams.from_toml(ROOT / "rotor_host" / "bundled" / MAPS["paper"][0]).oil)
     from bearing_fmu.physics.oil import Oil
 
     return dataclasses.replace(prm, oil=Oil.grade("SAE 30", name="SAE 30"))
@@ -101,8 +101,8 @@ def main() -> None:
     tables = {}
     for name in names:
         bfile, mfile = MAPS[name]
-        prm = BearingParams.from_toml(ROOT / "models" / bfile)
-        table = tables[name] = load_any_map(ROOT / "models" / "maps" / mfile)
+        prm = BearingParams.from_toml(ROOT / "rotor_host" / "bundled" / bfile)
+        table = tables[name] = load_any_map(ROOT / "rotor_host" / "bundled" / "maps" / mfile)
         t0 = time.perf_counter()
         for k, (med, p95, mx) in against_reynolds(prm, table, n, rng).items():
             print(f"{name:>16} | {k:>14} | {med:.2e} | {p95:.2e} | {mx:.2e}")
@@ -110,7 +110,7 @@ def main() -> None:
     print("\nT_eff at the static equilibrium, supply 40 C: Reynolds 128 x 16 | map | difference")
     for name in names:
         speeds, load = T_EFF[name.split("_")[0]]
-        prm = with_oil(name, BearingParams.from_toml(ROOT / "models" / MAPS[name][0]))
+        prm = with_oil(name, BearingParams.from_toml(ROOT / "rotor_host" / "bundled" / MAPS[name][0]))
         for f in speeds:
             om = 2 * math.pi * f
             T_s = 40.0 + KELVIN

@@ -1,6 +1,6 @@
 """Order study of the scene-trained Taylor surrogate: held-out force NRMSE for orders 1..7.
 
-For each shipped surrogate (models/surrogates/paper_*hz_16.7N.json), the fit it records in its
+For each shipped surrogate (rotor_host/bundled/surrogates/paper_*hz_16.7N.json), the fit it records in its
 provenance (its recipe: `rotor-host fit --scene ...` with its options) is repeated at every order, and
 the NRMSE is printed on the held-out blocks of the training series and on the series of the
 held-out scene at the same speed (another unbalance: another trajectory), with the
@@ -8,7 +8,7 @@ evaluation time per call. Checks the paper's claim that order 5 is
 the lowest order that fits the instability case.
 
     .venv/bin/python benchmarks/order_study.py [--orders 1 2 3 4 5 6 7] [--cache out/series]
-        [--surrogates models/surrogates/paper_22hz_16.7N.json ...] [--closed-loop]
+        [--surrogates rotor_host/bundled/surrogates/paper_22hz_16.7N.json ...] [--closed-loop]
 
 With --closed-loop each order's surrogate also runs the paper scene in closed loop (called
 directly) against one Reynolds run: what a user swapping the surrogate in would see.
@@ -30,7 +30,7 @@ from rotor_host.scenes.run import run_scene
 from rotor_host.scenes.scene import load_scene
 
 ROOT = Path(__file__).resolve().parents[1]
-SURROGATES = [ROOT / "models" / "surrogates" / f"paper_{f}hz_16.7N.json" for f in (22, 44)]
+SURROGATES = [ROOT / "rotor_host" / "bundled" / "surrogates" / f"paper_{f}hz_16.7N.json" for f in (22, 44)]
 
 
 def time_per_call(surrogate, n: int = 20000) -> float:

@@ -1,5 +1,5 @@
 """Bit-identity check of the Taylor internal across code versions: Taylor.force and
-force_and_jacobian of every shipped surrogate (models/surrogates/*.json) at 400 states inside
+force_and_jacobian of every shipped surrogate (rotor_host/bundled/surrogates/*.json) at 400 states inside
 its fitted domain (the expansion point, then seeded random states over its position and
 velocity discs), saved from one checkout and compared exactly (==, bytes) with another's.
 
@@ -45,7 +45,7 @@ def save(out):
     import bearing_fmu
     print("code:", bearing_fmu.__file__)
     res = {}
-    for f in sorted(Path("models/surrogates").glob("*.json")):
+    for f in sorted(Path("rotor_host/bundled/surrogates").glob("*.json")):
         sur = load_surrogate(f)
         tay = Taylor(sur)
         st = states(sur, tay, 400, 0)

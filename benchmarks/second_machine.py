@@ -1,6 +1,6 @@
-"""The checks behind docs/studies/2026-11-24-second-machine.md: the second machine in models/
+"""The checks behind docs/studies/2026-11-24-second-machine.md: the second machine in rotor_host/bundled/
 (Friswell, Penny, Garvey & Lees, Dynamics of Rotating Machines, CUP 2010, Example 5.9.6:
-models/rotor_friswell.toml on models/bearing_friswell.toml) against its sources.
+rotor_host/bundled/rotor_friswell.toml on rotor_host/bundled/bearing_friswell.toml) against its sources.
 
     python benchmarks/second_machine.py                      # statics, modes, bearing, stability (seconds)
     python benchmarks/second_machine.py --run25 out/friswell_25hz_map.npz --run40 out/friswell_40hz_map.npz
@@ -32,7 +32,7 @@ from bearing_fmu.physics.shortbearing import short_bearing_coefficients, short_b
 from bearing_fmu.physics.statics import equilibrium, linearize  # noqa: E402
 from rotor_host.model.rotor import Rotor  # noqa: E402
 
-ROTOR = ROOT / "models" / "rotor_friswell.toml"
+ROTOR = ROOT / "rotor_host" / "bundled" / "rotor_friswell.toml"
 G = 9.81
 RPM = math.pi / 30.0  # rad/s per rev/min
 # Friswell et al. (2010) Example 5.5.1 (p. 200): K [N/m], C [N s/m], (u, v) = (y, z)

@@ -12,13 +12,19 @@ import inspect
 import sys
 from pathlib import Path
 
-from bearing_fmu.io.cliargs import (existing_dir, existing_file, finite_float, float_range, grid, grid_or_default,
+from bearing_fmu.io.cliargs import (existing_dir, existing_file, existing_file_or, finite_float, float_range, grid, grid_or_default,
                                     node_load, nonneg_float, number, output_dir, output_file, positive_float,
                                     positive_int)
 from bearing_fmu.cli import add_debug_flag
 from bearing_fmu.io.exits import EXIT_CODES, run_command
 
-MODELS = Path(__file__).resolve().parents[1] / "models"
+
+
+def bundled_or_file(kind: str):
+    """An argparse type: a file, or a bundled file of ``kind`` by its name (rotor_host.bundled)."""
+    from . import bundled
+
+    return existing_file_or(lambda text: bundled.find(text, kind), f"a bundled {kind} ({', '.join(bundled.names(kind))})")
 
 
 # ----------------------------------------------------------------------------- shared options
@@ -32,10 +38,11 @@ def internal_choices() -> tuple[str, ...]:
 
 def _file_flags(p, what: str = "over the scene's") -> None:
     """One ``--<option> FILE`` flag per file option of the registry (--surrogate, --map, ...)."""
+    from .bundled import KINDS
     from .scenes.overrides import file_options
 
     for internal, option in file_options():
-        p.add_argument(f"--{option}", type=existing_file, metavar="FILE",
+        p.add_argument(f"--{option}", type=bundled_or_file(option) if option in KINDS else existing_file, metavar="FILE",
                        help=f"the {internal} internal's {option} file ({what} [{internal}] {option})")
 
 
@@ -125,7 +132,7 @@ def _fit(args) -> int:
     from .analyses import training
 
     if not args.scenes:
-        raise ValueError("--scene: give at least one training scene (models/scenes/*.toml)")
+        raise ValueError("--scene: give at least one training scene (rotor_host/bundled/scenes/*.toml)")
     return _call(training.command, args, recipe=recipe_from_args(args, "scene"))
 
 
@@ -155,7 +162,7 @@ def _module_command(module: str):
 
 def _add_run(sub) -> None:
     p = sub.add_parser("run", help="run one scene and write results and plots")
-    p.add_argument("scene", type=existing_file, help="scene TOML file (models/scenes/*.toml)")
+    p.add_argument("scene", type=bundled_or_file("scene"), help="scene TOML file, or a bundled scene by name (e.g. paper_22hz)")
     _scene_flags(p, tangent=True, checkpoint=True)
     p.add_argument("--out", type=output_dir, default="out", help="output folder (default: out)")
     p.add_argument("--no-plots", action="store_true")
@@ -165,7 +172,7 @@ def _add_run(sub) -> None:
 
 def _add_compare(sub) -> None:
     p = sub.add_parser("compare", help="error against run time of Reynolds grids, Taylor orders and the linear model")
-    p.add_argument("scene", type=existing_file, help="scene TOML file")
+    p.add_argument("scene", type=bundled_or_file("scene"), help="scene TOML file, or a bundled scene by name (e.g. paper_22hz)")
     p.add_argument("--via", choices=("fmu", "direct"), help="bearing FMUs through fmpy (scene default) or in-process")
     p.add_argument("--ref-grid", type=grid_or_default, default="256x32", metavar="NxM",
                    help="reference Reynolds grid n_theta x n_x (default 256x32; '' = the default grid is the "
@@ -174,7 +181,7 @@ def _add_compare(sub) -> None:
                    help="coarser Reynolds grids to compare (default 64x8)")
     p.add_argument("--orders", nargs="*", type=positive_int(), default=[1, 3, 5, 7],
                    help="Taylor orders (default 1 3 5 7)")
-    p.add_argument("--maps", nargs="*", type=existing_file, default=None, metavar="FILE",
+    p.add_argument("--maps", nargs="*", type=bundled_or_file("map"), default=None, metavar="FILE",
                    help="force map files to compare, e.g. several resolutions (default: the scene's [map] map; "
                         "'--maps' with none: no map variant)")
     p.add_argument("--internals", nargs="+", choices=internal_choices(), default=None, metavar="NAME",
@@ -190,8 +197,10 @@ def _add_compare(sub) -> None:
 def _add_paper(sub) -> None:
     p = sub.add_parser("paper", help="main job: the paper's 22 Hz and 44 Hz scenes, Reynolds vs map vs Taylor vs "
                                      "linear through the bearing FMUs, error/run-time table and plots")
-    p.add_argument("--scenes", type=existing_dir, default=str(MODELS / "scenes"),
-                   help="folder with paper_22hz.toml and paper_44hz.toml")
+    from .bundled import folder
+
+    p.add_argument("--scenes", type=existing_dir, default=str(folder() / "scenes"),
+                   help="folder with paper_22hz.toml and paper_44hz.toml (default: the bundled scenes)")
     p.add_argument("--t-end", type=positive_float("s"), help="override the simulated time of both scenes [s]")
     p.add_argument("--out", type=output_dir, default="out/paper", help="output folder (default: out/paper)")
     p.add_argument("--quiet", action="store_true", help="no progress bars")
@@ -212,7 +221,7 @@ def _add_fit(sub) -> None:
 
 def _add_dt_study(sub) -> None:
     p = sub.add_parser("dt-study", help="halve dt until the bearing orbit changes by less than 1 %% CR")
-    p.add_argument("scene", type=existing_file, help="scene TOML file")
+    p.add_argument("scene", type=bundled_or_file("scene"), help="scene TOML file, or a bundled scene by name (e.g. paper_22hz)")
     p.add_argument("--internal", choices=internal_choices(), default="reynolds")
     p.add_argument("--dt", type=positive_float("s"), help="first time step [s] (default: the scene's)")
     p.add_argument("--t-end", type=positive_float("s"), help="simulated time [s] (default: the scene's)")
@@ -246,7 +255,7 @@ def _add_waterfall(sub) -> None:
 
 def _add_limit_cycle(sub) -> None:
     p = sub.add_parser("limit-cycle", help="envelope of the bearing eccentricity: does the whirl settle and hold?")
-    p.add_argument("source", type=existing_file, help="scene TOML file (run it, called directly) or a saved run "
+    p.add_argument("source", type=bundled_or_file("scene"), help="scene TOML file or bundled scene (run it, called directly) or a saved run "
                    ".npz (then give --speed-hz)")
     p.add_argument("--internal", choices=internal_choices(), default="reynolds")
     p.add_argument("--dt", type=positive_float("s"), help="time step [s] (default: the scene's)")
@@ -275,13 +284,13 @@ def _add_stability(sub) -> None:
 
     p = sub.add_parser("stability", help="Campbell diagram and stability threshold: equilibrium, linearised "
                                          "bearings and damped modes at each speed of a range")
-    p.add_argument("rotor", type=existing_file, help="rotor TOML file (models/rotor_paper.toml)")
+    p.add_argument("rotor", type=bundled_or_file("rotor"), help="rotor TOML file, or a bundled rotor by name (e.g. rotor_paper)")
     p.add_argument("--speeds-hz", type=float_range("Hz"), required=True, metavar="START:STOP:STEP",
                    help="shaft speeds [Hz], both ends included (e.g. 10:70:1)")
     p.add_argument("--internal", choices=having(any_state=True), default="reynolds",
                    help="bearing internal, one valid at every speed and load: the Reynolds solver (default) or the "
                         "force map (microseconds per linearisation)")
-    defaults = ", ".join(f"--{k} {v.relative_to(MODELS.parent)}" for k, v in DEFAULT_FILES.items())
+    defaults = ", ".join(f"--{k} {Path(v).stem} (bundled)" for k, v in DEFAULT_FILES.items())
     _file_flags(p, what=f"default: {defaults}, the paper bearing's; build a map with `bearing-fmu map`;")
     p.add_argument("--grid", type=grid, metavar="NxM", help="Reynolds grid n_theta x n_x (default: the solver's, "
                                                            "128x16)")
@@ -308,7 +317,7 @@ def _add_sweep(sub) -> None:
 
     p = sub.add_parser("sweep", help="run a scene at many speeds or unbalances in parallel on Dask: summary table "
                                      "and bifurcation diagram")
-    p.add_argument("scene", type=existing_file, help="scene TOML file (models/scenes/*.toml)")
+    p.add_argument("scene", type=bundled_or_file("scene"), help="scene TOML file, or a bundled scene by name (e.g. paper_22hz)")
     what = p.add_mutually_exclusive_group(required=True)
     what.add_argument("--speeds-hz", nargs="+", type=float_range("Hz", 0.0), metavar="F|START:STOP:STEP",
                       help="shaft speeds [Hz]: numbers and ranges, e.g. 10:60:2.5 (both ends included)")

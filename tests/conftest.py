@@ -23,7 +23,7 @@ import pytest
 
 
 ROOT = Path(__file__).resolve().parents[1]
-MODELS = ROOT / "models"
+MODELS = ROOT / "rotor_host" / "bundled"
 ROTOR = MODELS / "rotor_paper.toml"
 OMEGA_22HZ = 2 * math.pi * 22.0
 
@@ -146,7 +146,7 @@ def surrogate_file(contract_data):
 @pytest.fixture(scope="session")
 def taylor_film_file(request, tmp_path_factory):
     """A Taylor surrogate with its film fit (format version 2) of the ISO VG 46 paper bearing
-    (models/bearing_paper_vg46.toml) at 44 Hz under 16.7 N: order 3 over a disc of 0.3 CR about the
+    (rotor_host/bundled/bearing_paper_vg46.toml) at 44 Hz under 16.7 N: order 3 over a disc of 0.3 CR about the
     equilibrium, |v| <= 0.3 omega CR, 200 training states (the recipe of tests/test_taylor_flows.py,
     smaller: ~20 s). Kept in .pytest_cache/d/taylor-film under a hash of bearing_fmu's sources (a
     second session, or pytest-xdist worker, reads it; changed code fits afresh)."""
@@ -308,7 +308,7 @@ def read_only(folder, timeout=10.0):
 
 # ----------------------------------------------------------------------------- the paper scene
 
-PAPER_UNBALANCE_G = 8.5  # models/scenes/paper_22hz.toml: 8.5 g at 37 mm on the disk (node 6), phase 0
+PAPER_UNBALANCE_G = 8.5  # rotor_host/bundled/scenes/paper_22hz.toml: 8.5 g at 37 mm on the disk (node 6), phase 0
 
 
 def _toml(value) -> str:
@@ -328,7 +328,7 @@ def _toml(value) -> str:
 def paper_scene_text(*, name: str | None = None, internal: str = "reynolds", via: str | None = "direct",
                      t_end: float = 0.01, dt: float = 1e-4, grid: tuple[int, int] | None = None,
                      unbalance_g: float | None = PAPER_UNBALANCE_G, unbalance_node: int = 6, **more) -> str:
-    """The TOML text of the paper's 22 Hz scene (models/scenes/paper_22hz.toml: the paper rotor at
+    """The TOML text of the paper's 22 Hz scene (rotor_host/bundled/scenes/paper_22hz.toml: the paper rotor at
     22 Hz, 8.5 g at 37 mm on the disk) in the form the tests run it: called directly, 10 ms at
     dt = 1e-4 s, the Reynolds solver's default grid. Each keyword changes one thing: ``internal``,
     ``via`` (None: the key left out, i.e. fmu), ``t_end``, ``dt`` [s], ``grid`` = (n_theta, n_x)

@@ -55,7 +55,8 @@ def run_page(folder: Path, slow: bool) -> int:
             n += 1
     finally:
         os.chdir(old)
-    assert globs["REPO"] == ROOT, f"the page read the models of {globs['REPO']}, not of this checkout {ROOT}"
+    assert globs["MODELS"] == ROOT / "rotor_host" / "bundled", \
+        f"the page read the models of {globs['MODELS']}, not of this checkout {ROOT}"
     return n
 
 

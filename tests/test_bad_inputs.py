@@ -24,7 +24,7 @@ from rotor_host.scenes.scene import SceneError, load_scene
 from conftest import run_cli
 
 ROOT = Path(__file__).resolve().parents[1]
-MODELS = ROOT / "models"
+MODELS = ROOT / "rotor_host" / "bundled"
 SCENE = MODELS / "scenes" / "paper_22hz.toml"
 ROTOR = MODELS / "rotor_paper.toml"  # 10 elements: nodes 1..11, bearings at nodes 3 and 9
 
@@ -152,7 +152,7 @@ def test_overrides_are_checked_and_zero_is_a_value():
 
     with pytest.raises(SceneError, match=r"dt_s = 0\.0 must be a finite number > 0"):
         load_with_overrides(SCENE, SceneOverrides(dt_s=0.0))
-    base = load_scene(SCENE)  # 0.5 s at dt = 1e-4 s (models/scenes/paper_22hz.toml)
+    base = load_scene(SCENE)  # 0.5 s at dt = 1e-4 s (rotor_host/bundled/scenes/paper_22hz.toml)
     with pytest.raises(SceneError, match=r"t_end_s = 0\.00015 is not a whole number of steps dt_s = 0\.0001"):
         base.with_internal("reynolds", t_end_s=1.5e-4)
     assert base.with_internal("reynolds", t_end_s=2e-4).t_end_s == 2e-4

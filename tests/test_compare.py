@@ -11,7 +11,7 @@ from rotor_host.analyses.compare import Variant, compare, envelope_error, late_m
 from rotor_host.analyses.report import errors_against
 from rotor_host.scenes.scene import load_scene
 
-SCENES = Path(__file__).resolve().parents[1] / "models" / "scenes"
+SCENES = Path(__file__).resolve().parents[1] / "rotor_host" / "bundled" / "scenes"
 CR = 90e-6
 
 
@@ -72,7 +72,7 @@ def test_compare_takes_any_registered_internal_that_can_be_a_variant(tmp_path):
     from rotor_host.analyses.compare import reference_and_variants
     from rotor_host.scenes.scene import load_scene
 
-    scene = load_scene(Path(__file__).resolve().parents[1] / "models" / "scenes" / "paper_22hz.toml")
+    scene = load_scene(Path(__file__).resolve().parents[1] / "rotor_host" / "bundled" / "scenes" / "paper_22hz.toml")
     ref, variants = reference_and_variants(scene, tmp_path, ref_grid=None, internals=["map", "linear"])
     assert ref.internal == "reynolds" and [v.internal for v in variants] == ["map", "linear"]
     spec = registry.InternalSpec("no_compare", lambda p, o, c: None, "test only",

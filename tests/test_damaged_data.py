@@ -90,7 +90,7 @@ def test_damaged_surrogate_file_is_refused_naming_file_and_key(tmp_path, damage,
 
 
 def test_the_shipped_surrogates_pass_the_new_checks():
-    for path in sorted((ROOT / "models" / "surrogates").glob("*.json")):
+    for path in sorted((ROOT / "rotor_host" / "bundled" / "surrogates").glob("*.json")):
         load_surrogate(path)
 
 
@@ -120,5 +120,5 @@ def test_damaged_fmu_bearing_resource_is_refused_not_replaced(tmp_path, text, ex
     with pytest.raises(ValueError, match=expected) as err:
         BearingParams.from_json(f)
     assert "\n" not in str(err.value)
-    f.write_text(json.dumps({**P.as_dict(), "source": "models/bearing_paper.toml"}))
+    f.write_text(json.dumps({**P.as_dict(), "source": "rotor_host/bundled/bearing_paper.toml"}))
     assert BearingParams.from_json(f) == P

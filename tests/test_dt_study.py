@@ -7,7 +7,7 @@ import pytest
 
 from rotor_host.analyses.dt_study import dt_study, orbit_change
 
-SCENES = Path(__file__).resolve().parents[1] / "models" / "scenes"
+SCENES = Path(__file__).resolve().parents[1] / "rotor_host" / "bundled" / "scenes"
 
 
 def _arrays(t, y, z, cr=1e-4):

@@ -120,7 +120,7 @@ def test_pinned_loads_are_the_scenes_bearing_loads():
     from rotor_host.model.rotor import Rotor
     from rotor_host.scenes.run import bearing_loads
 
-    rotor = Rotor.from_toml(ROOT / "models" / "rotor_paper.toml")
+    rotor = Rotor.from_toml(ROOT / "rotor_host" / "bundled" / "rotor_paper.toml")
     f = rotor.weight_vector(9.81) + rotor.point_load_vector([(8, 30.0, -800.0)])
     dofs = [rotor.dof(n, d) for n in rotor.bearing_nodes for d in ("y", "z")]
     np.testing.assert_allclose(pinned_loads(rotor.K, f, dofs), bearing_loads(rotor, f), rtol=1e-9, atol=1e-9)
@@ -162,7 +162,7 @@ def test_rotor_at_zero_speed_carries_no_load():
     from rotor_host.coupling.bearings import DirectBearings
     from rotor_host.model.rotor import Rotor
 
-    rotor = Rotor.from_toml(ROOT / "models" / "rotor_paper.toml")
+    rotor = Rotor.from_toml(ROOT / "rotor_host" / "bundled" / "rotor_paper.toml")
     f = rotor.weight_vector(9.81)
     pairs = [(rotor.dof(n, "y"), rotor.dof(n, "z")) for n in rotor.bearing_nodes]
     names = [f"bearing {k + 1} (node {n + 1})" for k, n in enumerate(rotor.bearing_nodes)]

@@ -26,7 +26,7 @@ from bearing_fmu.physics.params import BearingParams
 from bearing_fmu.surrogates.surrogate import load_surrogate
 
 ROOT = Path(__file__).resolve().parents[1]
-PAPER_MAP = ROOT / "models" / "maps" / "paper_bearing.json"
+PAPER_MAP = ROOT / "rotor_host" / "bundled" / "maps" / "paper_bearing.json"
 OMEGA = 2 * math.pi * 22.0
 # a small designed fit at the paper's 22 Hz under half the rotor weight (the README's domain)
 SMALL = dict(speed_hz=22.0, load_z=-16.7, ecc_max=0.6, v_max=0.4, order=2, n_train=150, n_test=60, prune=False)

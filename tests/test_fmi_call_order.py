@@ -31,7 +31,7 @@ from bearing_fmu.physics.params import PAPER_BEARING as P  # noqa: E402
 from bearing_fmu.surrogates.surrogate import load_surrogate  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
-SURROGATE = ROOT / "models" / "surrogates" / "paper_22hz_16.7N.json"
+SURROGATE = ROOT / "rotor_host" / "bundled" / "surrogates" / "paper_22hz_16.7N.json"
 OK, WARNING, DISCARD, ERROR = 0, 1, 2, 3
 OMEGA = 2 * math.pi * 22.0
 IN = ("y", "z", "vy", "vz", "omega")

@@ -170,7 +170,7 @@ def test_build_with_a_bearing_makes_its_bore_and_oil_the_defaults(tmp_path, code
     from bearing_fmu.cli import main
     from bearing_fmu.physics.reynolds import Reynolds
 
-    models = Path(__file__).resolve().parents[1] / "models"
+    models = Path(__file__).resolve().parents[1] / "rotor_host" / "bundled"
     grooved = tmp_path / "grooved.fmu"
     assert main(["build", "--bearing", str(models / "bearing_paper_2groove.toml"), "-o", str(grooved)]) == 0
     assert validate_fmu(str(grooved)) == []

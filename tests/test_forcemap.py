@@ -295,7 +295,7 @@ def test_the_shipped_maps_pass_the_checks():
 
     from bearing_fmu.internals.map.mapfile import load_any_map
 
-    for path in sorted((Path(__file__).resolve().parents[1] / "models" / "maps").glob("*.json")):
+    for path in sorted((Path(__file__).resolve().parents[1] / "rotor_host" / "bundled" / "maps").glob("*.json")):
         table = load_any_map(path)
         if table.H.ndim == 3:  # version 1: the stored spline, checked against its table
             assert load_map(path).coefficients is not None

@@ -20,7 +20,7 @@ from rotor_host.scenes.run import run_scene
 from rotor_host.scenes.scene import load_scene
 
 ROOT = Path(__file__).resolve().parents[1]
-SCENE = ROOT / "models" / "scenes" / "paper_22hz.toml"
+SCENE = ROOT / "rotor_host" / "bundled" / "scenes" / "paper_22hz.toml"
 TRUTH = {"n_theta": 64, "n_x": 8}  # the map's Reynolds grid and the reference's
 T_END = 0.1  # s: the unbalance response's first 2.2 shaft revolutions from the static equilibrium
 # Measured 2026-11-24 (AMD EPYC) with the default table (96 x 96, k = 0, 4 attitudes) from

@@ -91,7 +91,7 @@ def test_flows_scale_with_speed_and_velocity_together(tiny, bore):
 
         from bearing_fmu.internals.map.groovemap import GroovedForceMap, tabulate_grooved
 
-        grooved = P.from_toml(Path(__file__).resolve().parents[1] / "models" / "bearing_paper_2groove.toml")
+        grooved = P.from_toml(Path(__file__).resolve().parents[1] / "rotor_host" / "bundled" / "bearing_paper_2groove.toml")
         m = GroovedForceMap(grooved, tabulate_grooved(grooved, n_eps=4, n_phi=4, n_beta=4, n_phase=1, n_theta=16,
                                                       n_x=4))
     s = (0.2 * P.CR, -0.5 * P.CR, 0.1 * OMEGA * P.CR, 0.05 * OMEGA * P.CR)
@@ -149,7 +149,7 @@ def test_a_scene_with_a_supply_temperature_runs_on_the_map(tmp_path):
     from rotor_host.model.speed import SpeedProfile
     from rotor_host.scenes.scene import load_scene
 
-    models = Path(__file__).resolve().parents[1] / "models"
+    models = Path(__file__).resolve().parents[1] / "rotor_host" / "bundled"
     scene = dataclasses.replace(load_scene(models / "scenes" / "paper_vg46_44hz.toml"),
                                 speed_profile=SpeedProfile((0.0, 0.004), (44.0, 60.0)))
     from thermal_runs import check_three_runs, three_runs

@@ -17,7 +17,7 @@ from bearing_fmu.internals import registry
 from bearing_fmu.physics.params import PAPER_BEARING, BearingParams
 from conftest import run_cli
 
-MODELS = Path(__file__).resolve().parents[1] / "models"
+MODELS = Path(__file__).resolve().parents[1] / "rotor_host" / "bundled"
 GROOVED = MODELS / "bearing_paper_2groove.toml"
 LEMON = MODELS / "bearing_paper_lemon.toml"
 

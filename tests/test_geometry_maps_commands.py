@@ -16,7 +16,7 @@ from bearing_fmu.physics.params import BearingParams
 from conftest import run_cli
 
 ROOT = Path(__file__).resolve().parents[1]
-MODELS = ROOT / "models"
+MODELS = ROOT / "rotor_host" / "bundled"
 GROOVED = MODELS / "bearing_paper_2groove.toml"
 PAPER_MAP = MODELS / "maps" / "paper_2groove.json"
 FRISWELL_MAP = MODELS / "maps" / "friswell_2groove.json"

@@ -30,7 +30,7 @@ from bearing_fmu.physics.params import PAPER_BEARING, BearingParams
 from bearing_fmu.physics.reynolds import Reynolds
 from conftest import damaged_map_refused
 
-MODELS = Path(__file__).resolve().parents[1] / "models"
+MODELS = Path(__file__).resolve().parents[1] / "rotor_host" / "bundled"
 GROOVED = BearingParams.from_toml(MODELS / "bearing_paper_2groove.toml")
 ARC = dataclasses.replace(PAPER_BEARING, geometry=Geometry(arc=(math.radians(90.0), math.radians(270.0))))
 COARSE = dict(n_theta=32, n_x=4)

@@ -31,7 +31,7 @@ from bearing_fmu.surrogates.basis import exponents, natural_force_scale
 from bearing_fmu.surrogates.surrogate import Domain, Surrogate, SurrogateKeyError, load_surrogate, save_surrogate
 
 ROOT = Path(__file__).resolve().parents[1]
-SURROGATES = ROOT / "models" / "surrogates"
+SURROGATES = ROOT / "rotor_host" / "bundled" / "surrogates"
 SHIPPED = sorted(p.name for p in SURROGATES.glob("*.json"))
 S22, S44 = SURROGATES / "paper_22hz_16.7N.json", SURROGATES / "paper_44hz_16.7N.json"
 P = PAPER_BEARING
@@ -112,7 +112,7 @@ def test_held_out_22hz_orbit_is_not_flagged(tmp_path):
     from rotor_host.analyses.training import scene_series
     from rotor_host.scenes.scene import load_scene
 
-    _, states, _, _ = scene_series(load_scene(ROOT / "models" / "scenes" / "heldout_22hz_6g.toml"), 1, None,
+    _, states, _, _ = scene_series(load_scene(ROOT / "rotor_host" / "bundled" / "scenes" / "heldout_22hz_6g.toml"), 1, None,
                                    log=lambda m: None)
     t = Taylor.from_file(S22)
     d = np.array([t.neighbours.distance(*x) for x in states])
@@ -302,7 +302,7 @@ phase_deg = {phase}
 
 @pytest.mark.slow
 def test_friswell_fit_serves_its_held_out_run(tmp_path):
-    """The issue's case: the Friswell rotor at 25 Hz (models/rotor_friswell.toml), a surrogate
+    """The issue's case: the Friswell rotor at 25 Hz (rotor_host/bundled/rotor_friswell.toml), a surrogate
     fitted to one Reynolds run (10 g on the left disk) and a run it never saw (15 g at 120 deg).
     The spacing rule flagged a fifth of that run (benchmarks/guard_false_alarms.py); Reynolds'
     forces along it agree with the fit, and now every state is inside. A state 0.3 off in u,
@@ -314,7 +314,7 @@ def test_friswell_fit_serves_its_held_out_run(tmp_path):
     paths = {}
     for name, mass, phase in (("train", 0.01, 0.0), ("held", 0.015, 120.0)):
         paths[name] = tmp_path / f"{name}.toml"
-        paths[name].write_text(FRISWELL_SCENE.format(name=name, rotor=ROOT / "models" / "rotor_friswell.toml",
+        paths[name].write_text(FRISWELL_SCENE.format(name=name, rotor=ROOT / "rotor_host" / "bundled" / "rotor_friswell.toml",
                                                      mass=mass, phase=phase))
     res = fit_scene(FitRecipe(scenes=(str(paths["train"]),), designed=0, prune=False), cache_dir=tmp_path,
                     log=lambda m: None)
@@ -483,7 +483,7 @@ def test_shipped_coefficients_are_unchanged(name):
     """The training states were added to the shipped files without touching the model: the
     coefficients equal git HEAD's (no uncommitted change) and, in the commit that added the
     key 'neighbours', its parent's."""
-    rel = f"models/surrogates/{name}"
+    rel = f"rotor_host/bundled/surrogates/{name}"
     head = _git("show", f"HEAD:{rel}")
     if head is None:
         pytest.skip("not a git checkout")

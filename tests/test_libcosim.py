@@ -70,7 +70,7 @@ def fmus(tmp_path_factory, code_cache):
     return build_fmu(out / "bearing.fmu"), _load_example().build(out / "JournalMass.fmu")
 
 
-MAP = ROOT / "models" / "maps" / "paper_bearing.json"  # the shipped force map of the paper bearing's L/D
+MAP = ROOT / "rotor_host" / "bundled" / "maps" / "paper_bearing.json"  # the shipped force map of the paper bearing's L/D
 
 
 @pytest.fixture(scope="module")

@@ -10,7 +10,7 @@ import pytest
 from rotor_host.analyses.limit_cycle import (Envelope, command, envelope, envelope_change, limit_cycle,
                                              settled_since)
 
-SCENES = Path(__file__).resolve().parents[1] / "models" / "scenes"
+SCENES = Path(__file__).resolve().parents[1] / "rotor_host" / "bundled" / "scenes"
 
 
 def test_envelope_by_hand():

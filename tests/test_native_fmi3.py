@@ -37,8 +37,8 @@ from bearing_fmu.physics.params import PAPER_BEARING  # noqa: E402
 from bearing_fmu.surrogates.surrogate import load_surrogate  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
-PAPER_MAP = ROOT / "models" / "maps" / "paper_bearing.json"
-SURROGATE = ROOT / "models" / "surrogates" / "paper_22hz_16.7N.json"
+PAPER_MAP = ROOT / "rotor_host" / "bundled" / "maps" / "paper_bearing.json"
+SURROGATE = ROOT / "rotor_host" / "bundled" / "surrogates" / "paper_22hz_16.7N.json"
 OK, WARNING, DISCARD, ERROR = 0, 1, 2, 3
 IN = ("y", "z", "vy", "vz", "omega")
 OUT = ("Fy", "Fz", "eccentricity", "h_min", "Kyy", "Kyz", "Kzy", "Kzz", "Cyy", "Cyz", "Czy", "Czz")

@@ -37,9 +37,9 @@ from bearing_fmu.physics.params import PAPER_BEARING, BearingParams  # noqa: E40
 from bearing_fmu.surrogates.surrogate import load_surrogate  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
-SURROGATES = sorted((ROOT / "models" / "surrogates").glob("*.json"))
-MAPS = sorted((ROOT / "models" / "maps").glob("*.json"))
-PAPER_MAP = ROOT / "models" / "maps" / "paper_bearing.json"  # the paper bearing's L/D
+SURROGATES = sorted((ROOT / "rotor_host" / "bundled" / "surrogates").glob("*.json"))
+MAPS = sorted((ROOT / "rotor_host" / "bundled" / "maps").glob("*.json"))
+PAPER_MAP = ROOT / "rotor_host" / "bundled" / "maps" / "paper_bearing.json"  # the paper bearing's L/D
 OK, WARNING, DISCARD, ERROR = 0, 1, 2, 3
 FMI2_TERMINATED = 3
 IN = ("y", "z", "vy", "vz", "omega")
@@ -95,7 +95,7 @@ def native(tmp_path_factory, native_build_cache):
     fmu = native_build_cache(folder / "reynolds.fmu", lambda target: build_native_fmu(
         target, "reynolds", options=rey_opts, platforms=["linux64"]), [], ("reynolds", "32 x 8", "linux64"))
     out["reynolds"] = (fmu, registry.create("reynolds", PAPER_BEARING, rey_opts), PAPER_BEARING)
-    lemon = ROOT / "models" / "bearing_paper_lemon.toml"
+    lemon = ROOT / "rotor_host" / "bundled" / "bearing_paper_lemon.toml"
     argv = ["build", "--native", "--internal", "reynolds", "--bearing", str(lemon), "--platforms", "linux64"]
 
     def cli_lemon(target):
@@ -377,7 +377,7 @@ def test_archive_holds_sources_documentation_and_both_interfaces(native):
     # display units for a system-simulation engineer: um for displacements, rpm for the speed
     assert '<DisplayUnit name="rpm" factor="9.549296585513721"/>' in xml and 'displayUnit="um"' in xml
     omega = next(v for v in md.modelVariables if v.name == "omega")
-    s44 = load_surrogate(ROOT / "models" / "surrogates" / "paper_44hz_16.7N.json")
+    s44 = load_surrogate(ROOT / "rotor_host" / "bundled" / "surrogates" / "paper_44hz_16.7N.json")
     assert float(omega.start) == s44.omega  # the fitted speed: initialisation evaluates without a warning
 
 
@@ -897,7 +897,7 @@ def test_rotor_host_runs_native_fmus_like_the_direct_internal(tmp_path, internal
     from rotor_host.scenes.run import run_scene
     from rotor_host.scenes.scene import load_scene
 
-    scene_file = ROOT / "models" / "scenes" / f"{scene}.toml"
+    scene_file = ROOT / "rotor_host" / "bundled" / "scenes" / f"{scene}.toml"
     assert main(["run", str(scene_file), "--internal", internal, "--via", "fmu", "--native", "--t-end", "0.01", "--out",
                  str(tmp_path), "--no-plots", "--quiet"]) == 0
     native = np.load(tmp_path / f"{scene}_{internal}_native.npz")
@@ -916,8 +916,8 @@ def test_a_native_reynolds_fmu_serves_one_bore(paper_scene, tmp_path):
     from rotor_host.scenes.run import run_scene
     from rotor_host.scenes.scene import SceneError, load_scene
 
-    text = (ROOT / "models" / "rotor_paper_lemon.toml").read_text()
-    lemon, plain = ROOT / "models" / "bearing_paper_lemon.toml", ROOT / "models" / "bearing_paper.toml"
+    text = (ROOT / "rotor_host" / "bundled" / "rotor_paper_lemon.toml").read_text()
+    lemon, plain = ROOT / "rotor_host" / "bundled" / "bearing_paper_lemon.toml", ROOT / "rotor_host" / "bundled" / "bearing_paper.toml"
     head, _, tail = text.partition('bearing = "bearing_paper_lemon.toml"')
     rotor = tmp_path / "rotor_mixed.toml"
     rotor.write_text(head + f"bearing = {str(lemon)!r}" + tail.replace('"bearing_paper_lemon.toml"', repr(str(plain))))
@@ -937,7 +937,7 @@ def test_rotor_host_runs_taylor_with_its_fallback_natively(paper_scene, tmp_path
     from rotor_host.scenes.run import run_scene
     from rotor_host.scenes.scene import load_scene
 
-    opts = {"surrogate": str(ROOT / "models" / "surrogates" / "paper_22hz_16.7N.json"), "domain_action": "fallback"}
+    opts = {"surrogate": str(ROOT / "rotor_host" / "bundled" / "surrogates" / "paper_22hz_16.7N.json"), "domain_action": "fallback"}
     sc = load_scene(paper_scene(internal="taylor", via="fmu", fmu_kind="native", taylor=opts, grid=(32, 8),
                                 unbalance_g=300.0))
     native = run_scene(sc, tmp_path, stem="native")

@@ -2,7 +2,7 @@
 
 Expected values: the Python FMU (bearing_fmu/fmu/slave.py, its thermal model in Python:
 physics/thermal.py film_temperature through fmu/ports.py thermal_state) at the same parameters
-(the native FMU's starts: the ISO VG 46 paper bearing of models/bearing_paper_vg46.toml, a
+(the native FMU's starts: the ISO VG 46 paper bearing of rotor_host/bundled/bearing_paper_vg46.toml, a
 32 x 4 grid) over the same short Co-Simulation run: T_eff, mu_eff, P_loss, Q_side and the force
 with its tangent within 1e-12 relative (round-off: the C film report and oil law equal Python's to
 about 1e-16, tests/test_native_film.py, tests/test_native_thermal.py). The native FMU's own
@@ -30,7 +30,7 @@ from fmpy.fmi3 import FMU3Model, FMU3Slave
 from bearing_fmu.physics.params import BearingParams
 
 ROOT = Path(__file__).resolve().parents[1]
-VG46 = ROOT / "models" / "bearing_paper_vg46.toml"
+VG46 = ROOT / "rotor_host" / "bundled" / "bearing_paper_vg46.toml"
 GRID = {"n_theta": 32, "n_x": 4}
 IN = ("y", "z", "vy", "vz", "omega")
 OUT = ("Fy", "Fz", "T_eff", "mu_eff", "P_loss", "Q_side", "Kyy", "Kzy", "Cyy", "Czz")

@@ -29,7 +29,7 @@ from test_native_fmu_thermal import GRID, compliance_check, model_exchange_check
 from test_native_map_thermal import RAMP, check_against_python  # noqa: E402
 from thermal_runs import native_equals_python  # noqa: E402
 
-MODELS = Path(__file__).resolve().parents[1] / "models"
+MODELS = Path(__file__).resolve().parents[1] / "rotor_host" / "bundled"
 SHIPPED = MODELS / "maps" / "paper_2groove.json"
 
 

@@ -24,7 +24,7 @@ from rotor_host.scenes import run as scene_run
 from rotor_host.scenes.scene import load_scene
 
 ROOT = Path(__file__).resolve().parents[1]
-PAPER_MAP = ROOT / "models" / "maps" / "paper_bearing.json"
+PAPER_MAP = ROOT / "rotor_host" / "bundled" / "maps" / "paper_bearing.json"
 
 
 @pytest.fixture(scope="module")

@@ -25,8 +25,8 @@ from bearing_fmu.fmu.native.objfile import exports_and_imports, fat_slices, glib
 pytestmark = pytest.mark.slow
 
 ROOT = Path(__file__).resolve().parents[1]
-PAPER_MAP = ROOT / "models" / "maps" / "paper_bearing.json"
-SURROGATE = ROOT / "models" / "surrogates" / "paper_22hz_16.7N.json"
+PAPER_MAP = ROOT / "rotor_host" / "bundled" / "maps" / "paper_bearing.json"
+SURROGATE = ROOT / "rotor_host" / "bundled" / "surrogates" / "paper_22hz_16.7N.json"
 FH = fmi_headers()
 # the FMI 2.0 functions: what fmi2Functions.h declares
 FMI2 = set(re.findall(r"#define (fmi2\w+)\s+fmi2FullName\(\1\)", (FH / "fmi2Functions.h").read_text()))
@@ -46,7 +46,7 @@ def every_platform(tmp_path_factory):
                                       options={"linear_from": "map", "map": str(PAPER_MAP)}),
            # the Reynolds solver on the lemon bore (grooves, lobes: every path of its grid), a 64 x 8 grid
            "reynolds": build_native_fmu(folder / "reynolds.fmu", "reynolds", options={"n_theta": 64, "n_x": 8},
-                                        bearing=BearingParams.from_toml(ROOT / "models" / "bearing_paper_lemon.toml")),
+                                        bearing=BearingParams.from_toml(ROOT / "rotor_host" / "bundled" / "bearing_paper_lemon.toml")),
            # several internals in one binary (bn_parts.c), Taylor falling back to Reynolds; its surrogate
            # with a (made-up) film fit: the Taylor film report and its fallback compiled too (taylor_film.c)
            "several": build_native_fmu(folder / "several.fmu", "taylor,reynolds", surrogate=_with_film(folder),

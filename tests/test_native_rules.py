@@ -28,8 +28,8 @@ from bearing_fmu.physics.params import PAPER_BEARING, BearingParams  # noqa: E40
 pytestmark = pytest.mark.slow
 
 ROOT = Path(__file__).resolve().parents[1]
-PAPER_MAP = ROOT / "models" / "maps" / "paper_bearing.json"
-SURROGATE = ROOT / "models" / "surrogates" / "paper_22hz_16.7N.json"
+PAPER_MAP = ROOT / "rotor_host" / "bundled" / "maps" / "paper_bearing.json"
+SURROGATE = ROOT / "rotor_host" / "bundled" / "surrogates" / "paper_22hz_16.7N.json"
 OK, WARNING, DISCARD, ERROR = 0, 1, 2, 3
 IN = ("y", "z", "vy", "vz", "omega")
 OUT = ("Fy", "Fz", "eccentricity", "h_min", "Kyy", "Kyz", "Kzy", "Kzz", "Cyy", "Cyz", "Czy", "Czz")
@@ -403,7 +403,7 @@ def test_rotor_host_builds_the_native_fmu_for_the_scenes_bearing(tmp_path, monke
     from rotor_host.cli import main
 
     monkeypatch.setenv("BEARING_FMU_BUILD_CACHE", str(tmp_path / "fmus"))
-    scene = ROOT / "models" / "scenes" / "friswell_25hz.toml"
+    scene = ROOT / "rotor_host" / "bundled" / "scenes" / "friswell_25hz.toml"
     assert main(["run", str(scene), "--internal", "map", "--native", "--t-end", "0.002", "--out", str(tmp_path),
                  "--no-plots", "--quiet"]) == 0
     fmu = next((tmp_path / "fmus").glob("*.fmu"))

@@ -23,7 +23,7 @@ from bearing_fmu.surrogates.surrogate import load_surrogate  # noqa: E402
 
 from conftest import ROOT  # noqa: E402
 
-SURROGATE = ROOT / "models" / "surrogates" / "paper_22hz_16.7N.json"
+SURROGATE = ROOT / "rotor_host" / "bundled" / "surrogates" / "paper_22hz_16.7N.json"
 IN = ("y", "z", "vy", "vz", "omega")
 OUT = ("Fy", "Fz", "Kyy", "Kyz", "Kzy", "Kzz", "Cyy", "Cyz", "Czy", "Czz")
 GRID = {"n_theta": 32, "n_x": 8}
@@ -194,7 +194,7 @@ def test_fmi3_fmu_of_several_internals(tmp_path):
 
     from bearing_fmu.fmu.native.build import build_native_fmu
 
-    paper_map = ROOT / "models" / "maps" / "paper_bearing.json"
+    paper_map = ROOT / "rotor_host" / "bundled" / "maps" / "paper_bearing.json"
     fmu = build_native_fmu(tmp_path / "all.fmu", "taylor,reynolds,map,linear", surrogate=SURROGATE, map=paper_map,
                            options={"linear_from": "map", "map": str(paper_map), **GRID}, fmi_version=3,
                            compiler="cc")

@@ -37,7 +37,7 @@ G = 9.81
 
 @pytest.fixture(scope="module")
 def rotor():
-    return Rotor.from_toml(ROOT / "models" / "rotor_paper.toml")
+    return Rotor.from_toml(ROOT / "rotor_host" / "bundled" / "rotor_paper.toml")
 
 
 def _pairs(rotor):
@@ -56,7 +56,7 @@ _MAP = []
 
 def _map_bearings(rotor):
     if not _MAP:  # the shipped map, read and fitted once
-        _MAP.append(load_map(ROOT / "models" / "maps" / "paper_bearing.json"))
+        _MAP.append(load_map(ROOT / "rotor_host" / "bundled" / "maps" / "paper_bearing.json"))
     return DirectBearings([ForceMap(p, _MAP[0]) for p in rotor.bearings], _pairs(rotor), OMEGA)
 
 
@@ -211,7 +211,7 @@ def test_taylor_scene_with_excursions_equals_the_python_driver(paper_scene, monk
     from rotor_host.scenes import run as scene_run
     from rotor_host.scenes.scene import load_scene
 
-    surrogate = ROOT / "models" / "surrogates" / "paper_22hz_16.7N.json"
+    surrogate = ROOT / "rotor_host" / "bundled" / "surrogates" / "paper_22hz_16.7N.json"
     scene = load_scene(paper_scene(internal="taylor", taylor={"surrogate": str(surrogate)}, unbalance_g=40.0,
                                    t_end=0.05))
     runs = []

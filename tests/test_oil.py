@@ -103,7 +103,7 @@ def test_bearing_file_with_oil(tmp_path):
 
 
 def test_no_oil_is_todays_bearing_bit_for_bit():
-    b = BearingParams.from_toml("models/bearing_paper.toml")
+    b = BearingParams.from_toml("rotor_host/bundled/bearing_paper.toml")
     assert b == PAPER_BEARING and b.oil is None and repr(b) == repr(PAPER_BEARING)
 
 

@@ -83,12 +83,12 @@ def test_bearing_file_range_names_the_key_and_the_file():
 
 
 def test_shipped_bearings_are_inside_the_ranges():
-    # every bearing shipped in models/ goes through BearingParams: the bearing files, the rotors'
+    # every bearing shipped in rotor_host/bundled/ goes through BearingParams: the bearing files, the rotors'
     # bearings and the bearing each surrogate was fitted for
     from bearing_fmu.surrogates.surrogate import load_surrogate
     from rotor_host.model.rotor import Rotor
 
-    models = Path(__file__).resolve().parents[1] / "models"
+    models = Path(__file__).resolve().parents[1] / "rotor_host" / "bundled"
     files = sorted(models.glob("bearing*.toml"))
     assert files and all(BearingParams.from_toml(f) for f in files)
     for f in sorted(models.glob("rotor*.toml")):
@@ -105,6 +105,6 @@ def test_a_table_beside_bearing_is_refused_not_ignored(tmp_path):
     with pytest.raises(ValueError, match=r"b.toml: unknown table\(s\) \[cooling\]; allowed: \[bearing\], \[geometry\], "
                                          r"\[oil\]$"):
         BearingParams.from_toml(f)
-    models = Path(__file__).resolve().parents[1] / "models"
+    models = Path(__file__).resolve().parents[1] / "rotor_host" / "bundled"
     assert BearingParams.from_toml(models / "bearing_paper.toml") == PAPER_BEARING
     BearingParams.from_toml(models / "bearing_friswell.toml")

@@ -16,7 +16,7 @@ from bearing_fmu.fitting.recipe import GROUPS, recipe_fields
 from bearing_fmu.surrogates.surrogate import load_surrogate
 
 ROOT = Path(__file__).resolve().parents[1]
-SHIPPED = sorted((ROOT / "models" / "surrogates").glob("*.json"))
+SHIPPED = sorted((ROOT / "rotor_host" / "bundled" / "surrogates").glob("*.json"))
 
 
 def test_every_field_says_its_meaning_group_and_range():

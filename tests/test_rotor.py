@@ -10,7 +10,7 @@ import pytest
 from bearing_fmu.physics.params import PAPER_BEARING
 from rotor_host.model.rotor import Rotor, RotorFileError
 
-MODELS = Path(__file__).resolve().parents[1] / "models"
+MODELS = Path(__file__).resolve().parents[1] / "rotor_host" / "bundled"
 ROTOR_FILE = MODELS / "rotor_paper.toml"
 
 

@@ -20,8 +20,8 @@ from rotor_host.scenes.run import bearing_loads, run_scene
 from rotor_host.scenes.scene import SceneError, load_scene
 
 ROOT = Path(__file__).resolve().parents[1]
-SCENES = ROOT / "models" / "scenes"
-ROTOR = ROOT / "models" / "rotor_paper.toml"
+SCENES = ROOT / "rotor_host" / "bundled" / "scenes"
+ROTOR = ROOT / "rotor_host" / "bundled" / "rotor_paper.toml"
 
 
 def write_scene(tmp_path, body: str, name="s.toml") -> Path:
@@ -113,8 +113,8 @@ def test_failed_run_keeps_what_it_computed(tmp_path, paper_scene):
 def test_taylor_scene_does_not_import_reynolds(paper_scene):
     """Leave out what a scene does not use: a Taylor scene run in-process never imports (or
     compiles) the Reynolds solver."""
-    surrogates = sorted((ROOT / "models" / "surrogates").glob("paper_22hz*.json"))
-    assert surrogates, "the shipped 22 Hz surrogate (models/surrogates/paper_22hz*.json)"
+    surrogates = sorted((ROOT / "rotor_host" / "bundled" / "surrogates").glob("paper_22hz*.json"))
+    assert surrogates, "the shipped 22 Hz surrogate (rotor_host/bundled/surrogates/paper_22hz*.json)"
     p = paper_scene(internal="taylor", surrogate=surrogates[0], t_end=1e-3, unbalance_g=None)
     code = (f"import sys; from rotor_host.scenes.scene import load_scene; from rotor_host.scenes.run import run_scene; "
             f"r = run_scene(load_scene({str(p)!r})); assert r.ok, r.meta['message']; "

@@ -1,7 +1,7 @@
-"""The second machine in models/: Friswell, Penny, Garvey & Lees, "Dynamics of Rotating Machines"
+"""The second machine in rotor_host/bundled/: Friswell, Penny, Garvey & Lees, "Dynamics of Rotating Machines"
 (Cambridge University Press 2010), Example 5.9.6: the rotor of Example 5.9.1 on the oil-film
-bearings of Example 5.5.1 (models/rotor_friswell.toml, models/bearing_friswell.toml, scenes
-models/scenes/friswell_*.toml). Run end to end from the real CLI, and its bearing checked against
+bearings of Example 5.5.1 (rotor_host/bundled/rotor_friswell.toml, rotor_host/bundled/bearing_friswell.toml, scenes
+rotor_host/bundled/scenes/friswell_*.toml). Run end to end from the real CLI, and its bearing checked against
 the book's published coefficients. Record: docs/studies/2026-11-24-second-machine.md."""
 
 import json
@@ -55,7 +55,7 @@ def run_cli(scene, out, *extra, real=True):
 @pytest.mark.parametrize("internal, real", [("reynolds", True), ("map", False)])
 def test_second_machine_runs_end_to_end_from_the_cli(tmp_path, internal, real):
     """The scene as shipped (Reynolds, through the real command) and with its force map
-    (models/maps/friswell.json, L/D 0.3; through the command's main(argv) in this process, which
+    (rotor_host/bundled/maps/friswell.json, L/D 0.3; through the command's main(argv) in this process, which
     spares a Python start-up): exit 0, status ok, 200 steps, and each bearing carries the rotor's
     weight share computed above.
     The shares are exact statics, so the tolerance is round-off (1e-9). Their sum against the book:
@@ -83,7 +83,7 @@ def test_second_machine_runs_end_to_end_from_the_cli(tmp_path, internal, real):
     assert np.all(np.isfinite(data["y"])) and np.all(np.isfinite(data["Fz"]))
 
 
-# Friswell et al. (2010), Example 5.5.1 (p. 200): the bearing of models/bearing_friswell.toml at
+# Friswell et al. (2010), Example 5.5.1 (p. 200): the bearing of rotor_host/bundled/bearing_friswell.toml at
 # 1500 rev/min under a static load of 525 N, by short-bearing theory. K [MN/m], C [kN s/m] with the
 # book's (u, v) = our (y, z) (the mapping tests/test_shortbearing.py checks against the book's
 # formulas, sec. 5.5.2). The same values: ROSS, ross/tests/test_bearing_seal_element.py,

@@ -33,7 +33,7 @@ from rotor_host.model import fe
 from rotor_host.model.rotor import Rotor
 
 ROOT = Path(__file__).resolve().parents[1]
-MODELS = ROOT / "models"
+MODELS = ROOT / "rotor_host" / "bundled"
 ROTOR = MODELS / "rotor_paper.toml"
 PAPER_MAP = MODELS / "maps" / "paper_bearing.json"
 FRISWELL = MODELS / "rotor_friswell.toml"  # Friswell et al. 2010, Example 5.9.6: no shaft damping
@@ -221,7 +221,7 @@ def test_paper_rotor_onset_near_43_hz():
 
 
 def test_map_threshold_equals_reynolds():
-    """The shipped force map (models/maps/paper_bearing.json, 96 x 96, from Reynolds 128 x 16)
+    """The shipped force map (rotor_host/bundled/maps/paper_bearing.json, 96 x 96, from Reynolds 128 x 16)
     reproduces the Reynolds force to 4e-3 at most (docs/forcemap.md, the solver's own scatter),
     and the threshold depends on ratios of the coefficients: 0.1 Hz (0.25 %) for the threshold
     and the whirl (measured 0.004 and 0.002 Hz); the critical speeds to 0.05 Hz."""

@@ -120,7 +120,7 @@ def test_file_without_wall_power_is_the_plain_polynomial(tmp_path):
     assert dv.tolist() == [[713.4018390362481, -299.50785184428264], [-442.9496819711803, -350.1029993473691]]
     # and the shipped files load (with or without the key)
 
-    for f in sorted((Path(__file__).resolve().parents[1] / "models" / "surrogates").glob("*.json")):
+    for f in sorted((Path(__file__).resolve().parents[1] / "rotor_host" / "bundled" / "surrogates").glob("*.json")):
         sur = load_surrogate(f)
         assert sur.wall_power == json.loads(f.read_text()).get("wall_power", 0.0)
 

@@ -5,7 +5,7 @@ the film's side flow and inflow by the force map's reduction, two fitted functio
 Independent reference: the Reynolds solver's own film report (``Reynolds.film_report``, validated
 against Raimondi & Boyd in tests/test_film.py) at held-out random states and the Reynolds effective
 temperature (``physics.thermal.effective_temperature``) at the static equilibrium. The surrogates
-are fitted here to the ISO VG 46 paper bearing (models/bearing_paper_vg46.toml) on the solver's
+are fitted here to the ISO VG 46 paper bearing (rotor_host/bundled/bearing_paper_vg46.toml) on the solver's
 default 128 x 16 grid, order 5 over a disc of 0.3 CR about the equilibrium under 16.7 N and
 |v| <= 0.3 omega CR, 500 designed training states (docs/studies/2026-11-26-taylor-flows.md).
 """
@@ -27,7 +27,7 @@ from bearing_fmu.physics.params import PAPER_BEARING, BearingParams
 from bearing_fmu.surrogates.film import FilmFit, n_features
 from bearing_fmu.surrogates.surrogate import load_surrogate, save_surrogate
 
-MODELS = Path(__file__).resolve().parents[1] / "models"
+MODELS = Path(__file__).resolve().parents[1] / "rotor_host" / "bundled"
 VG46 = MODELS / "bearing_paper_vg46.toml"
 T_SUPPLY = 313.15  # 40 C
 

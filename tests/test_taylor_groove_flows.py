@@ -6,8 +6,8 @@ edge's pressure part P_e of (eps, phi, beta), assembled as the grooved force map
 Independent reference: the Reynolds solver's own film report (``Reynolds.film_report``: cell-face
 fluxes of the converged field, validated against Raimondi & Boyd in tests/test_film.py) at held-out
 random states, and the Reynolds effective temperature (``physics.thermal.effective_temperature``)
-at the static equilibrium. The bearing: the paper's two-groove bore (models/bearing_paper_2groove.toml)
-with the ISO VG 46 oil of models/bearing_paper_vg46.toml, fitted as tests/test_taylor_flows.py fits
+at the static equilibrium. The bearing: the paper's two-groove bore (rotor_host/bundled/bearing_paper_2groove.toml)
+with the ISO VG 46 oil of rotor_host/bundled/bearing_paper_vg46.toml, fitted as tests/test_taylor_flows.py fits
 the full bore (order 5, a disc of 0.3 CR about the equilibrium under 16.7 N, |v| <= 0.3 omega CR,
 500 designed training states; docs/studies/2026-11-26-taylor-groove-flows.md).
 """
@@ -29,7 +29,7 @@ from bearing_fmu.surrogates.film import GroovedFilmFit, n_features
 from bearing_fmu.surrogates.surrogate import load_surrogate, save_surrogate
 from test_taylor_flows import check_t_eff, held_out_errors_vs_reynolds
 
-MODELS = Path(__file__).resolve().parents[1] / "models"
+MODELS = Path(__file__).resolve().parents[1] / "rotor_host" / "bundled"
 GROOVED = MODELS / "bearing_paper_2groove.toml"
 T_SUPPLY = 313.15  # 40 C
 

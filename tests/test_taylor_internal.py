@@ -289,8 +289,8 @@ def test_plain_kernels_cannot_reach_the_shape_columns():
     import bearing_fmu.surrogates.taylor_kernels as K
 
     shape = {K._sb_nb, K._shape_terms, K.force_shape_nb, K.force_jac_shape_si_nb}
-    plain = Taylor.from_file(ROOT / "models" / "surrogates" / "paper_22hz_16.7N.json")
-    with_shape = Taylor.from_file(ROOT / "models" / "surrogates" / "paper_44hz_16.7N.json")
+    plain = Taylor.from_file(ROOT / "rotor_host" / "bundled" / "surrogates" / "paper_22hz_16.7N.json")
+    with_shape = Taylor.from_file(ROOT / "rotor_host" / "bundled" / "surrogates" / "paper_44hz_16.7N.json")
     assert plain.surrogate.shape_order is None and with_shape.surrogate.shape_order is not None
     assert not _jit_call_graph(plain._kforce, plain._kjac, K.domain_distance_nb) & shape
     assert _jit_call_graph(with_shape._kforce, with_shape._kjac) >= shape
@@ -314,7 +314,7 @@ def test_surrogate_without_shape_columns_never_compiles_them(tmp_path):
     code = ("import bearing_fmu.surrogates.taylor_kernels as K; from bearing_fmu.surrogates.surrogate import load_surrogate; "
             "from bearing_fmu.internals.taylor import Taylor\n"
             "for name in ('paper_22hz_16.7N', 'paper_44hz_16.7N'):\n"
-            "    s = load_surrogate(f'models/surrogates/{name}.json'); t = Taylor(s)\n"
+            "    s = load_surrogate(f'rotor_host/bundled/surrogates/{name}.json'); t = Taylor(s)\n"
             "    t.force(s.y0, s.z0, 0.0, 0.0, s.omega); t.force_and_jacobian(s.y0, s.z0, 0.0, 0.0, s.omega)\n"
             "    print(sorted(f.__name__ for f in (K._sb_nb, K._shape_terms, K.force_shape_nb, "
             "K.force_jac_shape_si_nb) if f.signatures))")

@@ -21,7 +21,7 @@ from rotor_host.scenes.run import run_scene
 from rotor_host.scenes.scene import SceneError, load_scene
 from thermal_runs import check_native, check_thermal_records, native_equals_python, run_routes
 
-MODELS = Path(__file__).resolve().parents[1] / "models"
+MODELS = Path(__file__).resolve().parents[1] / "rotor_host" / "bundled"
 VG46_ROTOR = MODELS / "rotor_paper_vg46.toml"
 VG46_SCENE = MODELS / "scenes" / "paper_vg46_44hz.toml"
 

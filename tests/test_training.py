@@ -88,7 +88,7 @@ def test_scene_fit_holds_out_and_refits_elsewhere(tmp_path, training_scene):
 
 
 def test_refit_names_a_missing_scene(tmp_path):
-    src = ROOT / "models" / "surrogates" / "paper_22hz_16.7N.json"
+    src = ROOT / "rotor_host" / "bundled" / "surrogates" / "paper_22hz_16.7N.json"
     copy = tmp_path / "s.json"
     shutil.copy(src, copy)  # its fit call points at ../scenes/paper_22hz.toml, absent here
     with pytest.raises(FileNotFoundError, match="paper_22hz.toml"):
@@ -97,7 +97,7 @@ def test_refit_names_a_missing_scene(tmp_path):
 
 @pytest.mark.parametrize("name", ["paper_22hz_16.7N", "paper_44hz_16.7N", "paper_10hz_500N", "paper_20hz_800N"])
 def test_shipped_fit_calls_point_at_bundled_scenes(name):
-    path = ROOT / "models" / "surrogates" / f"{name}.json"
+    path = ROOT / "rotor_host" / "bundled" / "surrogates" / f"{name}.json"
     call = load_surrogate(path).provenance["fit_call"]
     for p in [*call.get("scenes", [call.get("scene")]), *call["test_scenes"]]:
         assert not Path(p).is_absolute() and (path.parent / p).is_file()

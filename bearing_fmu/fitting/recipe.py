@@ -280,7 +280,7 @@ class FitRecipe:
 
     # the truth of the samples: both fit commands
     truth_map: str | None = _setting(None, "truth", _Path(), "draw the designed and tube samples (and the designed "
-                                     "held-out samples) from this force map (models/maps/*.json, built by "
+                                     "held-out samples) from this force map (rotor_host/bundled/maps/*.json, built by "
                                      "`bearing-fmu map` for the bearing's L/D) instead of the Reynolds solver: "
                                      "50-100x cheaper per sample; a scene's series, the equilibrium and the anchor "
                                      "stay Reynolds, on the map's grid", metavar="MAP",
@@ -308,7 +308,7 @@ class FitRecipe:
 
     # scene training: rotor-host fit
     scenes: tuple[str, ...] = _setting((), "scene", _Paths(), "train on the Reynolds time series of this scene "
-                                       "(models/scenes/*.toml), the paper's way; its speed and bearing load are the "
+                                       "(rotor_host/bundled/scenes/*.toml), the paper's way; its speed and bearing load are the "
                                        "surrogate's. Repeatable: several scenes (other unbalances, same speed and "
                                        "load) are fitted together", flag="--scene", metavar="SCENE")
     test_scenes: tuple[str, ...] = _setting((), "scene", _Paths(), "another scene at the same speed whose series is "

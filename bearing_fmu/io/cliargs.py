@@ -210,6 +210,23 @@ def existing_file(text: str) -> str:
     raise _refuse("an existing file", text, "a directory" if p.is_dir() else "not found")
 
 
+def existing_file_or(find: Callable[[str], Any], what: str):
+    """An argparse type: a file that is there, else the file ``find(text)`` returns (e.g. a
+    bundled file named by its stem), else refused naming both (``what``: what find looks for)."""
+
+    def parse(text: str) -> str:
+        p = Path(text)
+        if p.is_file():
+            return text
+        found = None if p.is_dir() else find(text)
+        if found is not None:
+            return str(found)
+        raise _refuse(f"an existing file or {what}", text, "a directory" if p.is_dir() else "not found")
+
+    parse.__name__ = "existing file"
+    return parse
+
+
 def existing_dir(text: str) -> str:
     """A folder that is there."""
     p = Path(text)
@@ -251,5 +268,6 @@ def output_file(text: str) -> str:
 
 
 __all__ = ["typed", "number", "positive_float", "nonneg_float", "finite_float", "int_at_least", "positive_int",
-           "grid", "grid_or_default", "parse_grid", "grid_words", "float_range", "node_load", "existing_file", "existing_dir", "output_dir",
+           "grid", "grid_or_default", "parse_grid", "grid_words", "float_range", "node_load", "existing_file", "existing_file_or",
+           "existing_dir", "output_dir",
            "output_file"]

@@ -7,7 +7,7 @@ block is held out, so the reported error is measured on states the fit never saw
 over the whole run (a held-out tail would be an extrapolation along a growing orbit). A
 second scene (``test_scenes``) adds held-out data from another trajectory: a surrogate that
 only works on its own training orbit is not worth shipping. Several training scenes (other
-unbalances at the same speed and load, models/scenes/train_*.toml) can be fitted together.
+unbalances at the same speed and load, rotor_host/bundled/scenes/train_*.toml) can be fitted together.
 
 The series is computed with the internal called directly (identical to the FMU run to
 round-off, see tests/test_cosim.py) and cached as ``<name>_b<bearing>_series.npz`` in a folder
@@ -284,7 +284,7 @@ def command(*, recipe: FitRecipe, output, cache_dir=None, plots=None, note: str 
     from bearing_fmu.fitting.output import check_outputs, write_fit
 
     if not recipe.scenes:
-        raise ValueError("--scene: give at least one training scene (models/scenes/*.toml)")
+        raise ValueError("--scene: give at least one training scene (rotor_host/bundled/scenes/*.toml)")
     check_outputs(output, plots)
     cache = Path(cache_dir) if cache_dir else Path(output).resolve().parent / "series"
     res = fit_scene(recipe, cache_dir=cache)

@@ -182,7 +182,7 @@ class Rotor:
     # ------------------------------------------------------------------ reading
     @classmethod
     def from_toml(cls, path: str | Path) -> "Rotor":
-        """Read a rotor file (see models/rotor_paper.toml); bearing paths are relative to it."""
+        """Read a rotor file (see rotor_host/bundled/rotor_paper.toml); bearing paths are relative to it."""
         path = Path(path)
         data = read_toml(path, "rotor file", RotorFileError)
         return cls.from_mapping(data, base_dir=path.parent, where=str(path))

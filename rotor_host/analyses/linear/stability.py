@@ -42,6 +42,7 @@ from bearing_fmu.internals.registry import Context
 from bearing_fmu.io.exits import note_kept
 from bearing_fmu.io.outputs import ensure_writable, write_json, write_text
 
+from ...bundled import folder
 from ...model.rotor import Rotor
 from .stability_report import FORWARD, direction, markdown, to_json
 from .modal import (RANK_UP_TO, band_hz, band_rule, beyond_band_line, critical_speeds, least_beyond, least_in_band,
@@ -49,7 +50,7 @@ from .modal import (RANK_UP_TO, band_hz, band_rule, beyond_band_line, critical_s
 
 DEFAULT_MODES = 8  # modes shown in the Campbell diagram and the table
 THRESHOLD_XTOL_HZ = 1e-4  # Brent's tolerance on the threshold speed [Hz]
-PAPER_MAP = Path(__file__).resolve().parents[3] / "models" / "maps" / "paper_bearing.json"
+PAPER_MAP = folder() / "maps" / "paper_bearing.json"  # the bundled map of the paper bearing
 
 
 # ----------------------------------------------------------------------------- results
