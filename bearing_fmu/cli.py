@@ -7,6 +7,7 @@ from __future__ import annotations
 import argparse
 import sys
 
+from .internals.warmup import announce_compiling
 from .io.exits import EXIT_CODES, run_command
 
 SCENE_FIT = "rotor-host fit --scene SCENE [--scene ...] [--test-scene SCENE] [--bearing-number N] ..."
@@ -483,6 +484,7 @@ def main(argv: list[str] | None = None) -> int:
 
     add_debug_flag(parser, sub)
     args = parser.parse_args(argv)
+    announce_compiling()  # a kernel not in numba's cache yet: one line on stderr (never on --json's stdout)
     return run_command("bearing-fmu", args)  # exit codes, interrupts, --debug: .exits
 
 

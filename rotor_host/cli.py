@@ -17,6 +17,7 @@ from bearing_fmu.io.cliargs import (existing_dir, existing_file, existing_file_o
                                     positive_int)
 from bearing_fmu.cli import add_debug_flag
 from bearing_fmu.io.exits import EXIT_CODES, run_command
+from bearing_fmu.internals.warmup import announce_compiling
 
 
 
@@ -349,6 +350,7 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv: list[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
+    announce_compiling()  # an installation's first compilation of a kernel: one line on stderr
     return run_command("rotor-host", args)  # exit codes, interrupts, --debug: bearing_fmu.io.exits
 
 

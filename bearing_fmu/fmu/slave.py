@@ -48,7 +48,7 @@ from pythonfmu.default_experiment import DefaultExperiment
 from pythonfmu.enums import Fmi2Status
 
 from bearing_fmu import __version__
-from bearing_fmu.internals import registry
+from bearing_fmu.internals import registry, warmup
 from bearing_fmu.fmu.order import INIT, INSTANTIATED, STEP, TERMINATED, FMUState, is_freed, refusal
 from bearing_fmu.fmu.resources import BEARING_DEFAULTS, BUILD_INFO, PATCH_NOTES  # noqa: F401 - build.py reads them here
 from bearing_fmu.fmu.resources import (BEARING_FIELDS, SURROGATE_DIR, LoggingFlag, bearing_defaults, default_file,
@@ -93,6 +93,7 @@ class BearingFMU(Fmi2Slave):
 
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
+        warmup.announce_compiling()  # the kernels' first compilation in this process: a line on stderr
         self._by_vr = {}  # value reference -> (name, type, causality)
         built_in = {**bearing_defaults(self.resources), **port_defaults(self.resources)}
         for name, typ, causality, _unit, default, desc in VARIABLES:

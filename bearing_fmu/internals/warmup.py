@@ -7,15 +7,22 @@ calling them, every overload of a module's kernels that its disk cache holds for
 so the calls that follow find them loaded. Which modules an internal's evaluation needs is its
 registry entry's ``kernels`` (``warm_internal``); the host loads its integrator's the same way.
 
-A kernel that has no cache entry yet (a fresh checkout, a changed source) is compiled at its
-first call as before, and cached for the next process.
+A kernel that has no cache entry yet (a fresh installation, a changed source) is compiled at its
+first call, and cached for the next process. That first compilation takes a while (the Reynolds
+kernel: ~13 s on an idle core, up to a minute on a busy machine), so ``announce_compiling`` says
+so, once per process, on stderr or the FMU's log: numba's "numba:compile" event fires only when
+a kernel is not found in its disk cache, so a warm installation never prints it.
 """
 
 from __future__ import annotations
 
 import importlib
 import sys
+import threading
+import time
 from types import ModuleType
+
+from numba.core.event import Listener
 
 _LOADED: set[str] = set()  # modules whose cache this process has loaded (a worker's later runs skip them)
 
@@ -61,4 +68,83 @@ def warm_internal(name: str) -> int:
     return sum(load_cached(importlib.import_module(f"..{ref}", __package__)) for ref in get(name).kernels)
 
 
-__all__ = ["load_cached", "load_loaded_under", "warm_internal"]
+# what a first compilation costs, measured (docs/development.md): the Reynolds kernel, the one every
+# command that solves the film compiles first, 13 s on an idle core of the issue's machine, 36-51 s
+# with 5 other jobs on 2 cores; the map, Taylor, linear and integrator kernels take 1-5 s each
+NOTICE = ("compiling the bearing kernels, once per installation: about 15 s (longer on a busy machine; "
+          "later commands load them from numba's cache)")
+KERNEL_PACKAGES = (__name__.split(".")[0], "rotor_host")  # this package (also its copy in a Python FMU) and the host
+# set on the sys module once the notice is on stderr: shared by every copy of this module in the process
+# (a Python FMU's bundled copy of the package), so a command's FMU does not say it again
+SAID = "bearing_fmu_compile_notice_said"
+
+
+class CompileNotice(Listener):
+    """A numba "numba:compile" listener: the first kernel of ``packages`` that numba compiles
+    (a cache miss) is announced once by ``write``; while a kernel compiles and ``ticking``, a
+    line on stderr counts the seconds (a terminal's progress). Nested compilations (a kernel's
+    callees) count as their caller's."""
+
+    def __init__(self, write, packages=KERNEL_PACKAGES, ticking: bool = False):
+        self.write, self.packages, self.ticking = write, tuple(packages), ticking
+        self.said = False
+        self._depth = 0
+        self._stop: threading.Event | None = None
+
+    def on_start(self, event) -> None:
+        self._depth += 1
+        if self._depth > 1:
+            return
+        func = getattr((event.data or {}).get("dispatcher"), "py_func", None)
+        if func is None or not func.__module__.startswith(self.packages):
+            return
+        if not self.said:
+            self.said = True
+            if self.write is not _to_stderr or not getattr(sys, SAID, False):
+                if self.write is _to_stderr:
+                    setattr(sys, SAID, True)
+                self.write(NOTICE)
+        if self.ticking:
+            self._stop = threading.Event()
+            threading.Thread(target=self._tick, args=(func.__name__, self._stop), daemon=True).start()
+
+    def on_end(self, event) -> None:
+        self._depth = max(self._depth - 1, 0)
+        if self._depth == 0 and self._stop is not None:
+            self._stop.set()
+            self._stop = None
+
+    @staticmethod
+    def _tick(name: str, stop: threading.Event) -> None:
+        t0 = time.monotonic()
+        while not stop.wait(1.0):
+            print(f"\r  compiling {name}: {time.monotonic() - t0:.0f} s", end="", file=sys.stderr, flush=True)
+        if time.monotonic() - t0 >= 1.0:
+            print(f"\r  compiled {name} in {time.monotonic() - t0:.0f} s", file=sys.stderr, flush=True)
+
+
+_ON_STDERR: list[CompileNotice] = []  # the process's notice on stderr (one, whoever asks)
+
+
+def _to_stderr(line: str) -> None:
+    print(line, file=sys.stderr, flush=True)
+
+
+def announce_compiling(write=None, packages=KERNEL_PACKAGES) -> CompileNotice:
+    """From now on, in this process, announce the first compilation of a kernel of ``packages``
+    by ``write(line)`` (an FMU's log); default: one line on stderr, once per process, and the
+    seconds counted while a kernel compiles when stderr is a terminal. Never on stdout."""
+    from numba.core import event
+
+    if write is None:
+        if _ON_STDERR:
+            return _ON_STDERR[0]
+        notice = CompileNotice(_to_stderr, packages, ticking=sys.stderr is not None and sys.stderr.isatty())
+        _ON_STDERR.append(notice)
+    else:
+        notice = CompileNotice(write, packages)
+    event.register("numba:compile", notice)
+    return notice
+
+
+__all__ = ["load_cached", "load_loaded_under", "warm_internal", "announce_compiling", "CompileNotice", "NOTICE"]

@@ -24,6 +24,7 @@ derivative of their right-hand side through dA/dq.
 
 from __future__ import annotations
 
+import numpy as np
 from numba import njit
 
 from .reynolds_kernels import (apply_operator, factor_banded, modified_entries, pick_start, remember_call,
@@ -208,7 +209,7 @@ def geometry_kernel(
     if warm and iters < 0:
         info[3] += warm_cap
         info[5] = 1.0
-        s0, hb, iters = _film(mode, N, m, at, ax, tdiag, rs, b, fixed, psup, rhs0, grow, max_iter, False,
+        s0, hb, iters = _film(mode, N, m, at, ax, tdiag, rs, b, fixed, psup, rhs0, grow, max_iter, np.bool_(False),
                               act, diag, cxo, cto, Lb, Y, S, zb, z2, p, pf, rhs, tmp, info)
     info[0] = iters
     if iters < 0:
@@ -252,7 +253,7 @@ def geometry_kernel(
             for sgn in (1.0, -1.0):
                 for i in range(N):
                     dat[i] = sgn * db[q, i]
-                it2 = _film(mode, N, m, at, ax, tdiag, rs, dat, fixed, psup, rhs0, grow, max_iter, False,
+                it2 = _film(mode, N, m, at, ax, tdiag, rs, dat, fixed, psup, rhs0, grow, max_iter, np.bool_(False),
                             act, diag, cxo, cto, Lb, Y, S, zb, z2, p, pf, rhs, tmp, info)[2]
                 if it2 < 0:
                     info[0] = -1.0

@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 from numba import njit
 
 
@@ -246,11 +247,11 @@ def _film(mode, N, m, at, ax, tdiag, rs, b, grow, max_iter, warm,
         for k in range(n):
             act[k] = False
         modified_entries(N, m, at, ax, tdiag, rs, act, diag, cxo, cto)
-        hb = factor_banded(N, m, 0, diag, cxo, cto, act, Lb, Y, S)
+        hb = factor_banded(N, m, np.int64(0), diag, cxo, cto, act, Lb, Y, S)  # int64, not a literal 0: one compilation
         for i in range(N):
             for j in range(m):
                 rhs[i * m + j] = rs[j] * b[i]
-        solve_banded(N, m, 0, Lb, Y, S, hb, rhs, pf, zb, z2)
+        solve_banded(N, m, np.int64(0), Lb, Y, S, hb, rhs, pf, zb, z2)
         for k in range(n):
             p[k] = pf[k] if pf[k] > 0.0 else 0.0
         info[2] = 0.0
@@ -455,7 +456,8 @@ def reynolds_kernel(
         # not settled within warm_cap passes from the previous set: today's cold start
         info[3] += warm_cap
         info[5] = 1.0
-        s0, hb, iters = _film(mode, N, m, at, ax, tdiag, rs, b, grow, max_iter, False,
+        # np.bool_ (and np.int64(0) in _film): typed as the warm call's, so _film etc. compile once, not twice
+        s0, hb, iters = _film(mode, N, m, at, ax, tdiag, rs, b, grow, max_iter, np.bool_(False),
                               act, diag, cxo, cto, Lb, Y, S, zb, z2, p, pf, rhs, tmp, info)
     info[0] = iters
     if iters < 0:
@@ -491,7 +493,7 @@ def reynolds_kernel(
             for sgn in (1.0, -1.0):
                 for i in range(N):
                     dat[i] = sgn * db[q, i]
-                it2 = _film(mode, N, m, at, ax, tdiag, rs, dat, grow, max_iter, False,
+                it2 = _film(mode, N, m, at, ax, tdiag, rs, dat, grow, max_iter, np.bool_(False),
                             act, diag, cxo, cto, Lb, Y, S, zb, z2, p, pf, rhs, tmp, info)[2]
                 if it2 < 0:
                     info[0] = -1.0
