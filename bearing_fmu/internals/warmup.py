@@ -17,12 +17,12 @@ a kernel is not found in its disk cache, so a warm installation never prints it.
 from __future__ import annotations
 
 import importlib
+import importlib.util
 import sys
 import threading
 import time
+from importlib.abc import MetaPathFinder
 from types import ModuleType
-
-from numba.core.event import Listener
 
 _LOADED: set[str] = set()  # modules whose cache this process has loaded (a worker's later runs skip them)
 
@@ -79,7 +79,7 @@ KERNEL_PACKAGES = (__name__.split(".")[0], "rotor_host")  # this package (also i
 SAID = "bearing_fmu_compile_notice_said"
 
 
-class CompileNotice(Listener):
+class CompileNotice:
     """A numba "numba:compile" listener: the first kernel of ``packages`` that numba compiles
     (a cache miss) is announced once by ``write``; while a kernel compiles and ``ticking``, a
     line on stderr counts the seconds (a terminal's progress). Nested compilations (a kernel's
@@ -90,6 +90,9 @@ class CompileNotice(Listener):
         self.said = False
         self._depth = 0
         self._stop: threading.Event | None = None
+
+    def notify(self, event) -> None:
+        (self.on_start if event.is_start else self.on_end)(event)
 
     def on_start(self, event) -> None:
         self._depth += 1
@@ -130,12 +133,49 @@ def _to_stderr(line: str) -> None:
     print(line, file=sys.stderr, flush=True)
 
 
-def announce_compiling(write=None, packages=KERNEL_PACKAGES) -> CompileNotice:
-    """From now on, in this process, announce the first compilation of a kernel of ``packages``
-    by ``write(line)`` (an FMU's log); default: one line on stderr, once per process, and the
-    seconds counted while a kernel compiles when stderr is a terminal. Never on stdout."""
+def _listen(notice: CompileNotice) -> None:
+    """Register ``notice`` for numba's compile events (numba imported)."""
     from numba.core import event
 
+    class Forward(event.Listener):
+        def on_start(self, ev):
+            notice.on_start(ev)
+
+        def on_end(self, ev):
+            notice.on_end(ev)
+
+    event.register("numba:compile", Forward())
+
+
+class _AfterImport(MetaPathFinder):
+    """Run ``then()`` once ``name`` has been imported (first import only), without importing it:
+    an FMU of an internal without kernels never loads numba."""
+
+    def __init__(self, name: str, then):
+        self.name, self.then = name, then
+
+    def find_spec(self, fullname, path=None, target=None):
+        if fullname != self.name or self not in sys.meta_path:
+            return None
+        sys.meta_path.remove(self)  # one shot; the other finders find the module
+        spec = importlib.util.find_spec(fullname)
+        if spec is None or spec.loader is None or not hasattr(spec.loader, "exec_module"):
+            return spec
+        load, then = spec.loader.exec_module, self.then
+
+        def exec_module(module):
+            load(module)
+            then()
+
+        spec.loader.exec_module = exec_module
+        return spec
+
+
+def announce_compiling(write=None, packages=KERNEL_PACKAGES) -> CompileNotice:
+    """From now on, in this process, announce the first compilation of a kernel of ``packages``
+    by ``write(line)``; default: one line on stderr, once per process, and the seconds counted
+    while a kernel compiles when stderr is a terminal. Never on stdout. Does not import numba:
+    listens from numba's import on if it is not loaded yet."""
     if write is None:
         if _ON_STDERR:
             return _ON_STDERR[0]
@@ -143,7 +183,10 @@ def announce_compiling(write=None, packages=KERNEL_PACKAGES) -> CompileNotice:
         _ON_STDERR.append(notice)
     else:
         notice = CompileNotice(write, packages)
-    event.register("numba:compile", notice)
+    if hasattr(sys.modules.get("numba"), "njit"):
+        _listen(notice)
+    else:
+        sys.meta_path.insert(0, _AfterImport("numba", lambda: _listen(notice)))
     return notice
 
 
