@@ -9,7 +9,7 @@ registry entry's ``kernels`` (``warm_internal``); the host loads its integrator'
 
 A kernel that has no cache entry yet (a fresh installation, a changed source) is compiled at its
 first call, and cached for the next process. That first compilation takes a while (the Reynolds
-kernel: ~13 s on an idle core, up to a minute on a busy machine), so ``announce_compiling`` says
+kernel: ~8 s on an idle core, up to a minute on a busy machine), so ``announce_compiling`` says
 so, once per process, on stderr or the FMU's log: numba's "numba:compile" event fires only when
 a kernel is not found in its disk cache, so a warm installation never prints it.
 """
@@ -68,10 +68,9 @@ def warm_internal(name: str) -> int:
     return sum(load_cached(importlib.import_module(f"..{ref}", __package__)) for ref in get(name).kernels)
 
 
-# what a first compilation costs, measured (docs/development.md): the Reynolds kernel, the one every
-# command that solves the film compiles first, 13 s on an idle core of the issue's machine, 36-51 s
-# with 5 other jobs on 2 cores; the map, Taylor, linear and integrator kernels take 1-5 s each
-NOTICE = ("compiling the bearing kernels, once per installation: about 15 s (longer on a busy machine; "
+# what a first compilation costs (docs/studies/2026-12-06-first-command.md): the Reynolds kernel, the one
+# the demo, stability and a Reynolds run compile, 7.5 s on an idle core, 15-50 s on 2 busy cores
+NOTICE = ("compiling the bearing kernels, once per installation: about 8 s (up to a minute on a busy machine; "
           "later commands load them from numba's cache)")
 KERNEL_PACKAGES = (__name__.split(".")[0], "rotor_host")  # this package (also its copy in a Python FMU) and the host
 # set on the sys module once the notice is on stderr: shared by every copy of this module in the process
