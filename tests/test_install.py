@@ -78,6 +78,9 @@ def test_the_wheel_runs_from_an_empty_folder(installed, tmp_path):
     point = json.loads(demo.stdout)  # stdout is the JSON alone: the compile notice goes to stderr
     assert 0.0 < point["eccentricity"] < 1.0
     assert "compiling the bearing kernels" in demo.stderr, demo.stderr  # an empty numba cache: announced
+    again = _command(site, "bearing-fmu", "demo", "--json", cwd=empty, cache=cache)
+    assert again.returncode == 0 and json.loads(again.stdout) == point
+    assert "compiling" not in again.stderr, again.stderr  # the kernels are in numba's cache now: silent
 
     run = _command(site, "rotor-host", "run", "paper_22hz", "--via", "direct", "--internal", "map", "--t-end",
                    "0.002", "--no-plots", "--quiet", "--out", "out", cwd=empty, cache=cache)
