@@ -24,7 +24,9 @@ through the journal), by Newton on delta_k with dM/d delta from the adjoint, sta
 solution (warm) and kept inside the tilts that leave the pad's film open (the solver's own wall,
 ``Geometry.closure_weights``: a tilt is a journal motion along y' in the frame), bisecting where a
 Newton step would leave them. The moment decreases with delta (a tilt toward the journal moves the
-pressure toward the trailing edge), which the bisection uses.
+pressure toward the trailing edge), which the bisection uses. A tilt at which the pad's film
+diverges all along (no pressure, M = 0 with dM/d delta = 0: a plateau, not the pad's equilibrium)
+lies upstream of the loaded root (omega > 0: at smaller delta), so it moves the bracket's lower end.
 """
 
 from __future__ import annotations
@@ -94,14 +96,19 @@ class PadAssembly:
         self._warm = np.zeros(self.n)
 
     # ------------------------------------------------------------------ one pad
+    def frame_state(self, k, e, v, delta, ddelta) -> tuple[float, float, float, float]:
+        """Pad k's equivalent journal state (y', z', vy', vz') in its frame for the bearing's journal
+        position e, velocity v and the pad's tilt and rate."""
+        r, a = self.rot[k], self.arm
+        ep, vp = r @ np.asarray(e, float), r @ np.asarray(v, float)
+        with np.errstate(over="ignore", invalid="ignore"):
+            return float(ep[0] + a * delta), float(ep[1]), float(vp[0] + a * ddelta), float(vp[1])
+
     def _pad(self, k, e, v, delta, ddelta, omega):
         """Pad k in its frame: (F', Jq', Jv') at the equivalent state; a film beyond the float range
         is refused naming the bearing's own inputs (not the frame's)."""
-        r, a = self.rot[k], self.arm
-        ep, vp = r @ e, r @ v
         try:
-            with np.errstate(over="ignore", invalid="ignore"):
-                state = (ep[0] + a * delta, ep[1], vp[0] + a * ddelta, vp[1])
+            state = self.frame_state(k, e, v, delta, ddelta)
             if not all(map(math.isfinite, state)):
                 raise BearingStateError("too large")
             return self.solvers[k].force_and_jacobian(*state, omega)
@@ -148,9 +155,12 @@ class PadAssembly:
         for it in range(1, NEWTON_MAX + 1):
             F, Jq, Jv = self._pad(k, e, v, d, 0.0, omega)
             M, dM = a * F[0], a * a * Jq[0, 0]
-            if M == 0.0 and dM == 0.0:  # the pad carries nothing at this tilt: any tilt nearby is as good
-                return d, F, Jq, Jv, it
-            if M > 0.0:
+            if M == 0.0 and dM == 0.0:  # the pad carries nothing at this tilt: its film diverges all along
+                if omega == 0.0:  # nor at any other tilt (no wedge): every tilt is an equilibrium
+                    return d, F, Jq, Jv, it
+                # the tilt that opens the converging (upstream) edge too far: the loaded root is downstream
+                lo, hi = (d, hi) if omega > 0.0 else (lo, d)
+            elif M > 0.0:
                 lo = d
             else:
                 hi = d
