@@ -193,7 +193,7 @@ def test_every_registered_internal_declares_what_it_can_do():
         assert isinstance(spec.can, registry.Capabilities), name
         assert spec.can.validity or spec.summary, name
     assert registry.having(truth=True) == ("reynolds",)
-    assert set(registry.having(any_state=True)) == {"reynolds", "map"}
+    assert set(registry.having(any_state=True)) == {"reynolds", "map", "tilting_pad"}
     with pytest.raises(TypeError, match="no capability 'fast'"):
         registry.having(fast=True)
 

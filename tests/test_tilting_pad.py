@@ -304,3 +304,48 @@ def test_demo_json_of_a_tilting_pad_bearing(tmp_path):
     bad = subprocess.run([sys.executable, "-m", "bearing_fmu.cli", "demo", "--bearing", str(path), "--supply-c", "40"],
                          capture_output=True, text=True, timeout=600)
     assert bad.returncode == 2 and "effective temperature is not modelled yet" in bad.stderr
+
+
+# ------------------------------------------------------------------ the rotor on tilting pads
+
+def test_the_bearing_fmu_refuses_tilting_pads_by_name():
+    from bearing_fmu.fmu.ports import port_defaults
+
+    with pytest.raises(ValueError, match="the bearing FMU does not carry tilting pads yet"):
+        port_defaults(bearing())
+
+
+def test_the_paper_rotor_on_five_tilting_pads_has_no_threshold_where_the_plain_bore_whirls():
+    # the paper rotor on its plain bearings crosses its oil-whirl threshold near 43 Hz (docs/campbell.md);
+    # on five tilting pads (massless: no circulatory stiffness) every mode stays damped at 60 Hz, and the
+    # coefficients the analysis took are the synchronously reduced ones (symmetric: K_yz = K_zy)
+    from pathlib import Path
+
+    from rotor_host.analyses.linear.stability import Stability, read_rotor
+
+    root = Path(__file__).resolve().parents[1] / "models"
+    rotor, loads = read_rotor(root / "rotor_paper_5pad_lbp.toml")
+    pads = Stability(rotor, "tilting_pad", {"n_theta": 24, "n_x": 4})
+    point, q = pads.at(60.0)
+    assert point.ok and point.least_log_dec > 0.0
+    K, C = pads.linearise(q, 2 * math.pi * 60.0)
+    for k in range(2):
+        assert abs(K[k, 0, 1] - K[k, 1, 0]) <= 1e-8 * abs(K[k]).max()
+        assert abs(C[k, 0, 1] - C[k, 1, 0]) <= 1e-8 * abs(C[k]).max()
+    rotor, _ = read_rotor(root / "rotor_paper.toml")
+    plain, _ = Stability(rotor, "reynolds", {"n_theta": 32, "n_x": 4}).at(60.0)
+    assert plain.least_log_dec < 0.0  # the same rotor whirls on its plain bearings: the check can fail
+
+
+def test_a_scene_on_tilting_pads_runs_in_process(tmp_path):
+    from pathlib import Path
+
+    from rotor_host.scenes.run import run_scene
+    from rotor_host.scenes.scene import load_scene
+
+    scene = load_scene(Path(__file__).resolve().parents[1] / "models" / "scenes" / "paper_5pad_lbp_44hz.toml")
+    scene = scene.with_internal("tilting_pad", options={"reynolds": {"n_theta": 24, "n_x": 4}}, t_end_s=0.003)
+    res = run_scene(scene, out_dir=tmp_path)
+    assert res.ok, res.meta
+    ecc = np.asarray(res.arrays["eccentricity"])
+    assert np.all(np.isfinite(res.arrays["Fy"])) and 0.05 < ecc.max() < 0.5

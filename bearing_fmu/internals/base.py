@@ -276,6 +276,9 @@ class Capabilities:
     pads          : takes a tilting-pad bore (``physics.pads``); False: ``create`` refuses a bearing
                     with pads by name, naming the internals that take one.
     fmu           : the Python FMU can carry it; False: the FMU refuses it, ``fmu_why`` says why.
+    whirl_reduced : its K, C depend on the whirl frequency (states of its own condensed, a tilting
+                    pad's tilt): it has ``reduced_coefficients(y, z, omega, whirl) -> (K, C)`` (Lund's
+                    signs), which a linear analysis takes instead of the Jacobian of its force.
     """
 
     any_state: bool = False
@@ -293,6 +296,7 @@ class Capabilities:
     pads: bool = False
     fmu: bool = True
     fmu_why: str = ""
+    whirl_reduced: bool = False
 
 
 @dataclass(frozen=True)

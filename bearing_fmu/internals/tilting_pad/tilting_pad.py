@@ -66,6 +66,12 @@ class TiltingPad:
         Kr, Cr = self.pads.reduce(K, C, omega if whirl is None else whirl)
         return {"K_full": K, "C_full": C, "K": Kr, "C": Cr, "solution": sol}
 
+    def reduced_coefficients(self, y: float, z: float, omega: float, whirl: float) -> tuple:
+        """The journal's (K [N/m], C [N s/m]) at (y, z) reduced at ``whirl`` [rad/s]
+        (``Capabilities.whirl_reduced``: what a linear analysis takes)."""
+        co = self.coefficients(y, z, omega, whirl)
+        return co["K"], co["C"]
+
 
 __all__ = ["TiltingPad"]
 
