@@ -66,8 +66,10 @@ Rotating the bearing's frame by alpha = pi - theta_p about x takes the pivot to 
 y sin a + z cos a): u(theta + a) = Rot(a) u(theta)), the pad's film in the frame is the same
 function of theta' = theta + alpha, and its force comes back as F = Rot(-alpha) F'. In the frame
 t_p' = (1, 0), the equivalent journal is (y' + (R + C_pad) delta, z'), and M = (R + C_pad) F'y.
-Every pad of one arc, offset and preload is thus one partial-arc bore (``pad_frame_geometry``)
-solved at N states: one solver (and later one per-pad force map) serves all pads.
+Every pad of one arc, offset and preload is thus one partial-arc bore (built by
+``internals.tilting_pad.assembly.pad_frame_geometry``: this module does not import the fixed
+bores' ``physics.geometry``, which reads these keys) solved at N states: one solver (and later one
+per-pad force map) serves all pads.
 """
 
 from __future__ import annotations
@@ -197,18 +199,6 @@ class PadGeometry:
         if self.pivot_stiffness is not None:
             out["pivot_stiffness_N_m"] = self.pivot_stiffness
         return out
-
-    def pad_frame_geometry(self):
-        """The bore every pad is in its own frame (``physics.geometry.Geometry``): the partial arc
-        [pi - o beta, pi + (1 - o) beta], preload m about the pivot at pi. The preloaded film is the
-        lobed bore's: two lobes (each 180 deg, wider than any pad) with lobe_offset = o and the first
-        lobe placed so its preload point is the pivot, lobe_angle = 3 pi / 2 - o pi; the lobes'
-        boundaries, pi - o pi and 2 pi - o pi, lie outside the pad, where the film is not solved."""
-        from .geometry import Geometry
-
-        o, b = self.offset, self.arc
-        return Geometry(arc=(PAD_FRAME_PIVOT - o * b, PAD_FRAME_PIVOT + (1.0 - o) * b), lobes=2,
-                        preload=self.preload, lobe_offset=o, lobe_angle=1.5 * math.pi - o * math.pi)
 
 
 def pads_from_mapping(d: dict, given: set, error) -> PadGeometry | None:

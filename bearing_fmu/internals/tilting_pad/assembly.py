@@ -6,7 +6,7 @@ The film of pad k with tilt delta_k is the fixed pad's film with the journal at 
 state e + a delta_k t_k, v + a ddelta_k/dt t_k (a = R + C_pad the pivot's radius, t_k the tangent at
 the pivot; ``physics.pads``' derivation), and the pad's moment about its pivot is
 M_k = a F_k . t_k. In pad k's own frame (pivot at the bottom, t = (1, 0)) that is the partial-arc
-Reynolds solver of ``PadGeometry.pad_frame_geometry`` at (y' + a delta, z', vy' + a ddelta/dt, vz'),
+Reynolds solver of ``pad_frame_geometry`` (below) at (y' + a delta, z', vy' + a ddelta/dt, vz'),
 with M_k = a F'_y: no new film term in any kernel. The solver's adjoint Jacobian gives every
 derivative: with Jq' = dF'/de', Jv' = dF'/dv' in the frame,
 
@@ -36,7 +36,8 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from ...physics.pads import rotation
+from ...physics.geometry import Geometry
+from ...physics.pads import PAD_FRAME_PIVOT, PadGeometry, rotation
 from ...physics.params import BearingParams
 from ..base import BearingStateError, check_finite, overflow_error
 
@@ -66,6 +67,17 @@ class PadSolution:
     newton: int = 0
 
 
+def pad_frame_geometry(pads: PadGeometry) -> Geometry:
+    """The bore every pad is in its own frame (``physics.pads``, *The pad frame*): the partial arc
+    [pi - o beta, pi + (1 - o) beta], preload m about the pivot at pi. The preloaded film is the
+    lobed bore's: two lobes (each 180 deg, wider than any pad) with lobe_offset = o and the first
+    lobe placed so its preload point is the pivot, lobe_angle = 3 pi / 2 - o pi; the lobes'
+    boundaries, pi - o pi and 2 pi - o pi, lie outside the pad, where the film is not solved."""
+    o, b = pads.offset, pads.arc
+    return Geometry(arc=(PAD_FRAME_PIVOT - o * b, PAD_FRAME_PIVOT + (1.0 - o) * b), lobes=2,
+                    preload=pads.preload, lobe_offset=o, lobe_angle=1.5 * math.pi - o * math.pi)
+
+
 class PadAssembly:
     """The pads of ``params.geometry.pads`` on the partial-arc Reynolds solver (one per pad, so each
     keeps its own warm start). Not re-entrant (the solvers hold work arrays)."""
@@ -84,7 +96,7 @@ class PadAssembly:
         self.params, self.pads = params, pg
         self.n = pg.n
         self.arm = params.R + pg.pad_clearance(params.CR)  # a = R + C_pad [m]
-        frame = pg.pad_frame_geometry()
+        frame = pad_frame_geometry(pg)
         self.pad_params = replace(params, geometry=frame)
         if n_theta is not None:  # cells over the pad's arc, plus the cells of the bore outside it
             n_theta = n_theta + len(frame.segments()[0]) - 1
@@ -303,4 +315,4 @@ class PadAssembly:
         return sol.F, rate, sol
 
 
-__all__ = ["PadAssembly", "PadSolution"]
+__all__ = ["PadAssembly", "PadSolution", "pad_frame_geometry"]
