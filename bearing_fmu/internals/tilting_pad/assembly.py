@@ -127,7 +127,7 @@ class PadAssembly:
         except BearingStateError as exc:
             if "too large" not in str(exc):
                 raise
-            raise overflow_error(self.params, e[0], e[1], v[0], v[1], omega) from None
+            raise overflow_error(self.params, *(float(x) for x in (e[0], e[1], v[0], v[1], omega))) from None
 
     def tilt_range(self, k: int, y: float, z: float) -> tuple[float, float]:
         """The tilts [rad] that leave pad k's film open with the journal at (y, z) (open interval;
