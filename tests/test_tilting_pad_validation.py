@@ -40,20 +40,19 @@ BEARINGS = {
     "5-pad LOP": ((36.0, 108.0, 180.0, 252.0, 324.0), 60.0, 0.5, 0.3),
     "5-pad LBP offset 0.6": ((0.0, 72.0, 144.0, 216.0, 288.0), 60.0, 0.6, 0.3),
 }
-# ROSS 3.1.0, 40 x 20 film elements per pad: (case, W [N], eps, (Kyy, Kzz), (Cyy, Czz), tilts [mrad])
+# ROSS 3.1.0, 80 x 40 film elements per pad: (case, W [N], eps, (Kyy, Kzz), (Cyy, Czz), tilts [mrad])
+# (14-140 s each; at 40 x 20 ROSS's K is 0.4-0.7 % lower, docs/geometry.md's table shows both)
 ROSS_ROWS = [
-    ("4-pad LBP", 2000, 0.31476, (2.8049, 2.8049), (2.8011, 2.8011), (0.3689, 0.43976, 0.91619, 0.84533)),
-    ("4-pad LBP", 8000, 0.73789, (2.8175, 2.8175), (1.7694, 1.7694), (-0.048872, 0.11088, 1.2278, 1.068)),
-    ("4-pad LOP", 2000, 0.29131, (1.9413, 3.5882), (2.3149, 3.2119), (0.58916, 0.3395, 0.68277, 0.96307)),
-    ("4-pad LOP", 8000, 0.59372, (0.48532, 4.4778), (0.57873, 2.5159), (0.47685, 0.015835, 0.65162, 1.2867)),
-    ("5-pad LBP", 2000, 0.37870, (1.7187, 2.5768), (2.7921, 3.5197), (0.13999, -0.06419, 0.17516, 0.65164, 0.70677)),
-    ("5-pad LBP", 8000, 0.72287, (2.0553, 3.7996), (1.6478, 2.682), (8.5831e-07, -0.46539, -0.040232, 0.86927, 1.0062)),
-    ("5-pad LOP", 2000, 0.36885, (1.325, 2.9492), (2.5224, 3.7391), (-0.011397, 0.012365, 0.41709, 0.76328, 0.45269)),
-    ("5-pad LOP", 8000, 0.65005, (0.49637, 5.0725), (0.71475, 3.1126), (-0.40895, -0.2595, 0.40938, 1.0639, 0.40894)),
-    ("5-pad LBP offset 0.6", 4000, 0.44469, (2.5423, 3.5567), (2.314, 3.0741), (1.2871, 0.64688, 0.48213, 1.0416, 1.5522)),
+    ("4-pad LBP", 2000, 0.31418, (2.8227, 2.8227), (2.8064, 2.8064), (0.36951, 0.44026, 0.91581, 0.84505)),
+    ("4-pad LBP", 8000, 0.73717, (2.8277, 2.8277), (1.7634, 1.7634), (-0.048093, 0.11135, 1.2271, 1.0677)),
+    ("4-pad LOP", 2000, 0.29086, (1.9543, 3.6079), (2.319, 3.2195), (0.58934, 0.3401, 0.68277, 0.9627)),
+    ("4-pad LOP", 8000, 0.59320, (0.48859, 4.4959), (0.57975, 2.5081), (0.47712, 0.016515, 0.65167, 1.2863)),
+    ("5-pad LBP", 2000, 0.37824, (1.7298, 2.5909), (2.7957, 3.5226), (0.14062, -0.063646, 0.17549, 0.65138, 0.70637)),
+    ("5-pad LBP", 8000, 0.72241, (2.0634, 3.8138), (1.6471, 2.6799), (6.7399e-07, -0.46484, -0.039801, 0.86913, 1.0058)),
+    ("5-pad LOP", 2000, 0.36842, (1.3351, 2.9641), (2.5266, 3.7415), (-0.010847, 0.01282, 0.41715, 0.76285, 0.45269)),
+    ("5-pad LOP", 8000, 0.64968, (0.49989, 5.0911), (0.71589, 3.1163), (-0.40871, -0.25909, 0.40953, 1.0635, 0.40871)),
+    ("5-pad LBP offset 0.6", 4000, 0.44436, (2.5563, 3.5763), (2.3173, 3.077), (1.2836, 0.64478, 0.48154, 1.0406, 1.5494)),
 ]
-# ROSS at 80 x 40 elements, 4-pad LBP at 2000 N: eps 0.31418, K 2.8227, C 2.8064 (its own refinement
-# moves K by 0.6 % toward this solver's, which is converged to 0.03 % at 96 x 16: see below)
 GRID = dict(n_theta=48, n_x=8)
 
 
@@ -65,15 +64,17 @@ def bearing(name: str) -> BearingParams:
 
 
 def disagreements(rec, row, params) -> list[str]:
-    """eps beyond 0.002, a direct K beyond 2 %, a direct C beyond 1 %, a loaded pad's tilt (load
-    above 2 % of W) beyond 1 % of the largest tilt: ROSS's 40 x 20 grid is itself ~1 % from its
-    80 x 40 in K (above), this solver's 48 x 8 within 0.1 % of its 96 x 16."""
+    """eps beyond 0.002, a direct K or C beyond 1.5 %, a loaded pad's tilt (load above 2 % of W)
+    beyond 1 % of the largest tilt. The bars hold both grids' errors: ROSS's K moves by up to 0.7 %
+    from 40 x 20 to 80 x 40 (toward this solver's); this solver at 48 x 8 is within 0.1 % of its
+    96 x 16 in K and eps, 0.7 % in C at eps 0.74 (96 x 16 agrees with these rows to 0.8 % in K and
+    0.35 % in C)."""
     name, W, eps, K, C, tilts = row
     out = []
     if abs(rec["eccentricity"] - eps) > 0.002:
         out.append(f"eps {rec['eccentricity']:.4f} vs {eps}")
-    for label, got, want, tol in (("K", np.diag(rec["K_dimensionless"]), K, 0.02),
-                                  ("C", np.diag(rec["C_dimensionless"]), C, 0.01)):
+    for label, got, want, tol in (("K", np.diag(rec["K_dimensionless"]), K, 0.015),
+                                  ("C", np.diag(rec["C_dimensionless"]), C, 0.015)):
         for g, w in zip(got, want):
             if abs(g - w) > tol * abs(w):
                 out.append(f"{label} {g:.4f} vs {w}")
