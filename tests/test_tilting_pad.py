@@ -349,3 +349,17 @@ def test_a_scene_on_tilting_pads_runs_in_process(tmp_path):
     assert res.ok, res.meta
     ecc = np.asarray(res.arrays["eccentricity"])
     assert np.all(np.isfinite(res.arrays["Fy"])) and 0.05 < ecc.max() < 0.5
+
+
+def test_the_mirror_image_turning_the_other_way_is_the_mirror_force():
+    # a bearing symmetric about the vertical (pivots at +-45, +-135 deg, centred): the journal at
+    # (-y, z) turning at -omega is the mirror image of (y, z) at omega, so Fy changes sign, Fz not
+    # (the pads' equilibria are found from opposite sides of their plateaus: omega's sign matters)
+    tp = TiltingPad(bearing(preload=0.3), **GRID)
+    y, z, vy, vz = 9e-6, -27e-6, 2e-4, -1e-4
+    Fy, Fz = tp.force(y, z, vy, vz, OMEGA)
+    delta = tp.last.delta.copy()
+    Gy, Gz = tp.force(-y, z, -vy, vz, -OMEGA)
+    assert Gy == pytest.approx(-Fy, rel=1e-9) and Gz == pytest.approx(Fz, rel=1e-9)
+    # pad k at theta_k mirrors to the pad at -theta_k, its tilt reversed: 45 <-> 315, 135 <-> 225 deg
+    np.testing.assert_allclose(tp.last.delta[::-1], -delta, rtol=1e-8, atol=1e-14)

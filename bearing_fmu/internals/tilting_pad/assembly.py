@@ -42,6 +42,7 @@ from ...physics.params import BearingParams
 from ..base import BearingStateError, check_finite, overflow_error
 
 NEWTON_MAX = 60
+MIN_PAD_CELLS = 16  # default cells along a pad's arc, at least (0.3 % in K at 24, docs/geometry.md)
 WALL_MARGIN = 1e-9  # the bracket stops this far (in closure) inside each pad's wall
 
 
@@ -80,11 +81,13 @@ def pad_frame_geometry(pads: PadGeometry) -> Geometry:
 
 class PadAssembly:
     """The pads of ``params.geometry.pads`` on the partial-arc Reynolds solver (one per pad, so each
-    keeps its own warm start). Not re-entrant (the solvers hold work arrays)."""
+    keeps its own warm start), ``n_theta`` cells along each pad's arc (None: the full bore's default
+    resolution, 128 a turn, at least MIN_PAD_CELLS) and ``n_x`` along the length (None: the solver's
+    default). Not re-entrant (the solvers hold work arrays)."""
 
     def __init__(self, params: BearingParams, n_theta: int | None = None, n_x: int | None = None,
                  cavitation: str = "reynolds"):
-        from ...physics.reynolds import Reynolds
+        from ...physics.reynolds import DEFAULT_N_THETA, Reynolds
 
         pg = params.geometry.pads
         if pg is None:
@@ -98,8 +101,9 @@ class PadAssembly:
         self.arm = params.R + pg.pad_clearance(params.CR)  # a = R + C_pad [m]
         frame = pad_frame_geometry(pg)
         self.pad_params = replace(params, geometry=frame)
-        if n_theta is not None:  # cells over the pad's arc, plus the cells of the bore outside it
-            n_theta = n_theta + len(frame.segments()[0]) - 1
+        if n_theta is None:  # the full bore's default resolution (128 cells a turn), at least MIN_PAD_CELLS a pad
+            n_theta = max(MIN_PAD_CELLS, round(DEFAULT_N_THETA * pg.arc / (2.0 * math.pi)))
+        n_theta = n_theta + len(frame.segments()[0]) - 1  # cells over the pad's arc, plus those outside it
         self.solvers = [Reynolds(self.pad_params, n_theta, n_x, cavitation) for _ in range(self.n)]
         self.rot = [rotation(pg.frame_angle(k)) for k in range(self.n)]
         self.t = np.array([r.T @ np.array([1.0, 0.0]) for r in self.rot])  # tangents at the pivots
@@ -177,6 +181,8 @@ class PadAssembly:
             else:
                 hi = d
             step = -M / dM if dM < 0.0 else math.nan
+            if abs(step) <= tol:  # converged at d: the step left is below the tolerance (no solve more)
+                return d, F, Jq, Jv, it
             nxt = d + step
             if not (lo < nxt < hi):
                 nxt = 0.5 * (lo + hi)
