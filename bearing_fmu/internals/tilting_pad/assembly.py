@@ -151,12 +151,14 @@ class PadAssembly:
             lo, hi = 0.0, 0.0
         return lo, hi
 
-    def wall_error(self, k: int, y: float, z: float) -> BearingStateError:
+    def wall_error(self, k: int, y: float, z: float, tilt: float | None = None) -> BearingStateError:
+        """The journal at or beyond pad k's wall: whatever its tilt (None), or at the given one [rad]."""
         p = self.params
         pivot = math.degrees(self.pads.pivots[k])
+        how = "whatever its tilt" if tilt is None else f"at its tilt {tilt:.4g} rad"
         return BearingStateError(
             f"eccentricity ratio {math.hypot(y, z) / p.CR:.4g}: the journal (y = {y:.4g} m, z = {z:.4g} m) closes "
-            f"the film of the pad pivoted at {pivot:.4g} deg whatever its tilt (it is at or beyond that pad's wall; "
+            f"the film of the pad pivoted at {pivot:.4g} deg {how} (it is at or beyond that pad's wall; "
             f"CR = {p.CR:.4g} m, {self.pads.describe()})")
 
     def _moment_root(self, k, e, v, omega, start):
@@ -231,7 +233,7 @@ class PadAssembly:
         for k in range(self.n):
             lo, hi = self.tilt_range(k, y, z)
             if not lo < delta[k] < hi:
-                raise self.wall_error(k, y, z)
+                raise self.wall_error(k, y, z, None if not lo < hi else float(delta[k]))
             frames.append(self._pad(k, e, v, float(delta[k]), float(ddelta[k]), omega))
         return self._assemble(frames, delta, ddelta, 0)
 
