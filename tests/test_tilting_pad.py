@@ -363,3 +363,51 @@ def test_the_mirror_image_turning_the_other_way_is_the_mirror_force():
     assert Gy == pytest.approx(-Fy, rel=1e-9) and Gz == pytest.approx(Fz, rel=1e-9)
     # pad k at theta_k mirrors to the pad at -theta_k, its tilt reversed: 45 <-> 315, 135 <-> 225 deg
     np.testing.assert_allclose(tp.last.delta[::-1], -delta, rtol=1e-8, atol=1e-14)
+
+
+def _forced_response(inertia: float, n_per: int, periods: int):
+    """The journal driven along y at half speed, y = y0 + a cos(W t), the pads' states integrated in time
+    (``PadAssembly.derivatives``, RK4): the fundamental of the journal force, and what the reduced
+    impedance says it is, -(K_red + i W C_red) (a, 0) (Lund's pad assembly in the frequency domain)."""
+    p = bearing(offset=0.6, preload=0.3)
+    if inertia:
+        p = replace(p, geometry=Geometry(pads=replace(p.geometry.pads, inertia=inertia)))
+    A = PadAssembly(p, **GRID)
+    y0, z0, amp, W = 4e-6, -30e-6, 1e-3 * p.CR, 0.5 * OMEGA
+    sol = A.equilibrate(y0, z0, 0.0, 0.0, OMEGA)
+    Kr, Cr = A.reduce(*A.coefficients(sol), W)
+    dt = 2 * math.pi / W / n_per
+
+    def f(t, s):
+        F, d, _ = A.derivatives(s, y0 + amp * math.cos(W * t), z0, -amp * W * math.sin(W * t), 0.0, OMEGA)
+        return F, d
+
+    s = sol.delta.copy() if not inertia else np.concatenate([sol.delta, np.zeros(A.n)])
+    got = np.zeros(2, complex)
+    for i in range(n_per * periods):
+        t = i * dt
+        F, k1 = f(t, s)
+        if i >= n_per * (periods - 1):  # the last period, the pads' own transient gone
+            got += 2.0 / n_per * F * np.exp(-1j * W * t)
+        _, k2 = f(t + dt / 2, s + dt / 2 * k1)
+        _, k3 = f(t + dt / 2, s + dt / 2 * k2)
+        _, k4 = f(t + dt, s + dt * k3)
+        s = s + dt / 6 * (k1 + 2 * k2 + 2 * k3 + k4)
+    return got, -(Kr + 1j * W * Cr) @ np.array([amp, 0.0])
+
+
+def test_the_massless_pads_in_time_give_the_reduced_impedance_at_half_speed_whirl():
+    # time domain (the pads' first-order states, their squeeze balancing the moment) against the
+    # frequency domain (the (2 + N) coefficients condensed at W): two independent routes
+    got, want = _forced_response(0.0, 120, 4)
+    np.testing.assert_allclose(got, want, rtol=0, atol=1e-4 * np.abs(want).max())
+
+
+@pytest.mark.slow
+def test_pads_with_inertia_in_time_give_the_reduced_impedance_with_their_inertia():
+    # I = 0.1 kg m^2 (heavy, so that explicit RK4 resolves the pads' own mode): the -W^2 I term of
+    # the reduction, against the pads' (delta, rate) states integrated in time; not the massless answer
+    got, want = _forced_response(0.1, 240, 5)
+    np.testing.assert_allclose(got, want, rtol=0, atol=1e-4 * np.abs(want).max())
+    massless, _ = _forced_response(0.0, 120, 4)
+    assert np.abs(got - massless).max() > 0.05 * np.abs(want).max()  # Fz: 1.0 N of 12 N apart
