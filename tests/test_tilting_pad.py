@@ -411,3 +411,31 @@ def test_pads_with_inertia_in_time_give_the_reduced_impedance_with_their_inertia
     np.testing.assert_allclose(got, want, rtol=0, atol=1e-4 * np.abs(want).max())
     massless, _ = _forced_response(0.0, 120, 4)
     assert np.abs(got - massless).max() > 0.05 * np.abs(want).max()  # Fz: 1.0 N of 12 N apart
+
+
+def test_three_and_twelve_pads_off_centre_loads_find_their_equilibrium():
+    # 3 pads of 110 deg pivoted at 0.7 of their arc, 12 unpreloaded pads of 25 deg (no film force with
+    # the journal centred: Newton starts along the load): the film forces balance the load
+    from bearing_fmu.internals.tilting_pad.operating import operating_point
+
+    for pivots, arc, offset, preload in (((0.0, 120.0, 240.0), 110.0, 0.7, 0.2),
+                                         (tuple(range(15, 360, 30)), 25.0, 0.5, 0.0)):
+        p = bearing(pivots=pivots, arc=arc, offset=offset, preload=preload)
+        rec = operating_point(p, (300.0, -2000.0), 50.0, **GRID)
+        np.testing.assert_allclose(np.sum(rec["pads"]["force_N"], axis=0), [-300.0, 2000.0], rtol=1e-8)
+        assert np.all(np.abs(rec["pads"]["moment_N_m"]) <= 1e-9 * 0.05 * max(rec["pads"]["load_N"]))
+
+
+def test_pads_pivoted_near_an_edge_find_no_balance_and_say_so():
+    # the pressure of a pad's converging film lies downstream of its leading edge whatever the tilt, so
+    # a pad pivoted there balances its moment only by carrying nothing: no equilibrium under a load
+    from bearing_fmu.internals.tilting_pad.operating import operating_point
+    from bearing_fmu.physics.statics import EquilibriumError
+
+    p = bearing(pivots=(0.0, 120.0, 240.0), arc=119.9, offset=0.02, preload=0.6)
+    with pytest.raises(EquilibriumError, match="found no static equilibrium"):
+        operating_point(p, (0.0, -2000.0), 50.0, **GRID)
+    # pivoted at 0.95 of the arc: the pad would close its trailing edge on the journal to balance
+    tp = TiltingPad(bearing(pivots=(0.0, 120.0, 240.0), arc=110.0, offset=0.95, preload=0.2), **GRID)
+    with pytest.raises(registry.BearingStateError, match="finds no tilt that balances its moment with its film open"):
+        tp.force(0.0, -20e-6, 0.0, 0.0, OMEGA)

@@ -41,7 +41,7 @@ from ...physics.pads import PAD_FRAME_PIVOT, PadGeometry, rotation
 from ...physics.params import BearingParams
 from ..base import BearingStateError, check_finite, overflow_error
 
-NEWTON_MAX = 60
+NEWTON_MAX = 120  # bisection from a wide bracket to 1e-13 CR / a takes ~50; Newton's steps far fewer
 MIN_PAD_CELLS = 16  # default cells along a pad's arc, at least (0.3 % in K at 24, docs/geometry.md)
 WALL_MARGIN = 1e-9  # the bracket stops this far (in closure) inside each pad's wall
 
@@ -168,11 +168,16 @@ class PadAssembly:
             raise self.wall_error(k, e[0], e[1])
         span = hi - lo if math.isfinite(hi - lo) else 1.0
         d = min(max(start, lo + 1e-3 * span), hi - 1e-3 * span) if math.isfinite(span) else start
-        a = self.arm
-        tol = 1e-13 * self.params.CR / a
+        a, p = self.arm, self.params
+        tol = 1e-13 * p.CR / a
+        # the film's moment scale, a mu (|omega| + 2 |v| / CR) L R (R / CR)^2: below 1e-13 of it a moment is 0
+        m_scale = a * p.mu * (abs(omega) + 2.0 * math.hypot(*v) / p.CR) * p.L * p.R * (p.R / p.CR) ** 2
+        m_tol = 1e-13 * m_scale
         for it in range(1, NEWTON_MAX + 1):
             F, Jq, Jv = self._pad(k, e, v, d, 0.0, omega)
             M, dM = a * F[0], a * a * Jq[0, 0]
+            if M != 0.0 and abs(M) <= m_tol:  # (M = 0 exactly may be a no-pressure plateau: below)
+                return d, F, Jq, Jv, it
             if M == 0.0 and dM == 0.0:  # the pad carries nothing at this tilt: its film diverges all along
                 if omega == 0.0:  # nor at any other tilt (no wedge): every tilt is an equilibrium
                     return d, F, Jq, Jv, it
@@ -190,6 +195,11 @@ class PadAssembly:
                 nxt = 0.5 * (lo + hi)
             if abs(nxt - d) <= tol or hi - lo <= tol:
                 F, Jq, Jv = self._pad(k, e, v, nxt, 0.0, omega)
+                if abs(a * F[0]) > 1e-8 * m_scale:  # squeezed to a wall with a moment left: no balance
+                    raise BearingStateError(
+                        f"tilting pads: the pad pivoted at {math.degrees(self.pads.pivots[k]):.4g} deg finds no tilt "
+                        f"that balances its moment with its film open (moment {a * F[0]:.4g} N m left at the wall; "
+                        f"y = {e[0]:.4g} m, z = {e[1]:.4g} m; pivot_offset = {self.pads.offset:g})")
                 return nxt, F, Jq, Jv, it
             d = nxt
         raise BearingStateError(f"tilting pads: the moment of the pad pivoted at {math.degrees(self.pads.pivots[k]):.4g} "

@@ -25,13 +25,15 @@ NEWTON_MAX = 80
 
 def journal_equilibrium(bearing: TiltingPad, load, omega: float, rtol: float = 1e-9) -> tuple[float, float]:
     """(y0, z0) [m] where the film force of the pads (in moment equilibrium) balances ``load`` =
-    (Wy, Wz) [N]: Newton with the quasi-static Jacobian from the centre, each step halved until
-    every pad's film stays open and the residual falls."""
+    (Wy, Wz) [N]: Newton with the quasi-static Jacobian from 0.2 C_bearing along the load, each step
+    halved until every pad's film stays open and the residual falls."""
     load = np.asarray(load, float)
     w = float(np.hypot(*load))
     if w == 0.0:
         return 0.0, 0.0
-    q = np.zeros(2)
+    # from 0.2 C_bearing along the load: a centred journal on unpreloaded pads has no film force and
+    # no stiffness to start Newton from
+    q = 0.2 * bearing.params.CR * load / w
 
     def residual(x):
         return np.asarray(bearing.force(x[0], x[1], 0.0, 0.0, omega)) + load
@@ -42,7 +44,10 @@ def journal_equilibrium(bearing: TiltingPad, load, omega: float, rtol: float = 1
         if rn <= rtol * w:
             return float(q[0]), float(q[1])
         _, dq, _ = bearing.force_and_jacobian(q[0], q[1], 0.0, 0.0, omega)
-        step = -np.linalg.solve(dq, r)
+        try:
+            step = -np.linalg.solve(dq, r)
+        except np.linalg.LinAlgError:
+            break
         alpha = 1.0
         while alpha > 1e-8:
             trial = q + alpha * step
