@@ -101,6 +101,8 @@ def _demo(args: argparse.Namespace) -> int:
 
     params = BearingParams.from_toml(args.bearing) if args.bearing else PAPER_BEARING
     load = (args.load_y, -args.load if args.load is not None else args.load_z)
+    if params.geometry.pads is not None:
+        return _demo_pads(args, params, load)
     supply = None if args.supply_c is None else args.supply_c + KELVIN
     internal = _demo_internal(args, params, load)
     rec = operating_point(params, load, args.speed_hz, supply, internal=internal)
@@ -156,6 +158,51 @@ def _demo(args: argparse.Namespace) -> int:
     else:
         print(f"thermal: no [oil] table, isoviscous at mu; with rho c_p of a mineral oil the film would rise by "
               f"dT = {rec['temperature_rise_K']:.3g} K (docs/thermal.md)")
+    return 0
+
+
+def _demo_pads(args: argparse.Namespace, params, load) -> int:
+    """demo of a tilting-pad bearing (``internals.tilting_pad.operating``): the record of the fixed
+    bores (synchronously reduced K, C) with the pads' tilts, loads and full coefficients."""
+    import json
+
+    import numpy as np
+
+    from .internals.tilting_pad.operating import operating_point
+
+    for flag, value in (("--internal", args.internal != "reynolds"), ("--surrogate", args.surrogate),
+                        ("--map", args.map)):
+        if value:
+            raise ValueError(f"{flag}: a tilting-pad bearing is computed by the tilting_pad internal (every pad by the "
+                             "Reynolds solver); leave {flag} out".replace("{flag}", flag))
+    if args.supply_c is not None or params.oil is not None:
+        raise ValueError("--supply-c / [oil]: the tilting-pad bearing's effective temperature is not modelled yet; "
+                         "give the bearing an isoviscous mu_Pa_s")
+    rec = operating_point(params, load, args.speed_hz)
+    if args.json:
+        print(json.dumps({"bearing": str(args.bearing), "internal": "tilting_pad", **rec}, indent=2))
+        return 0
+    np.set_printoptions(precision=4)
+    pads = rec["pads"]
+    print(f"{args.bearing}: D {params.D * 1e3:g} mm, L {params.L * 1e3:g} mm, CR {params.CR * 1e6:g} um "
+          f"(pad clearance {pads['pad_clearance_m'] * 1e6:.4g} um), mu {params.mu:.4g} Pa s")
+    print(f"bore: {params.geometry.describe()}")
+    print(f"speed {args.speed_hz:g} Hz, static load (Wy, Wz) = ({load[0]:g}, {load[1]:g}) N")
+    att = rec["attitude_deg"] if rec["attitude_deg"] is not None else 0.0
+    print(f"equilibrium: y0 = {rec['y0_m'] * 1e6:.3f} um, z0 = {rec['z0_m'] * 1e6:.3f} um, eccentricity ratio "
+          f"{rec['eccentricity']:.4f}, attitude angle {att:.2f} deg, minimum film {rec['h_min_m'] * 1e6:.3f} um")
+    for k, piv in enumerate(pads["pivots_deg"]):
+        print(f"  pad at {piv:7.2f} deg: rotation {pads['rotation_rad'][k] * 1e3:+.5f} mrad, load "
+              f"{pads['load_N'][k]:.4g} N")
+    print("stiffness K [N/m] and damping C [N s/m], reduced at the running speed (synchronous):")
+    print(np.array(rec["K_N_m"]))
+    print(np.array(rec["C_N_s_m"]))
+    if rec["K_dimensionless"] is not None:
+        print("dimensionless K CR / W and C omega CR / W:")
+        print(np.array(rec["K_dimensionless"]))
+        print(np.array(rec["C_dimensionless"]))
+    print(f"friction: power {rec['friction_power_W']:.4g} W; oil flow: inflow {rec['inflow_m3_s'] * 6e4:.4g} L/min, "
+          f"side flow {rec['side_flow_m3_s'] * 6e4:.4g} L/min (isoviscous; the full (2 + N) coefficients: --json)")
     return 0
 
 

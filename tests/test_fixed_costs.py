@@ -78,7 +78,7 @@ def test_every_internal_names_modules_that_hold_compiled_kernels():
 def test_a_warmed_internal_evaluates_without_loading_a_kernel(name, contract_data):
     spec = registry.get(name)
     case = spec.contract_case(contract_data)
-    internal = registry.create(name, PAPER_BEARING, case.options)
+    internal = registry.create(name, case.params or PAPER_BEARING, case.options)  # its bore (tilting pads)
     internal.force_and_jacobian(*case.state, case.omega)  # compiled here if it was not: in the disk cache now
     code = SNAPSHOT + """
 import json, sys
@@ -88,7 +88,7 @@ from bearing_fmu.internals.warmup import warm_internal
 from bearing_fmu.physics.params import PAPER_BEARING
 name = sys.argv[1]
 case = registry.get(name).contract_case(Path(sys.argv[2]))
-internal = registry.create(name, PAPER_BEARING, case.options)
+internal = registry.create(name, case.params or PAPER_BEARING, case.options)
 s0 = snapshot()
 warm_internal(name)
 s1 = snapshot()

@@ -273,6 +273,12 @@ class Capabilities:
                     data (``internals.compiled``), which a host's compiled loop calls with no
                     Python per evaluation (the rotor host's Newmark chunks); an instance may
                     still answer None, and the caller then uses ``force_and_jacobian``.
+    pads          : takes a tilting-pad bore (``physics.pads``); False: ``create`` refuses a bearing
+                    with pads by name, naming the internals that take one.
+    fmu           : the Python FMU can carry it; False: the FMU refuses it, ``fmu_why`` says why.
+    whirl_reduced : its K, C depend on the whirl frequency (states of its own condensed, a tilting
+                    pad's tilt): it has ``reduced_coefficients(y, z, omega, whirl) -> (K, C)`` (Lund's
+                    signs), which a linear analysis takes instead of the Jacobian of its force.
     """
 
     any_state: bool = False
@@ -287,6 +293,10 @@ class Capabilities:
     film_flow: bool = False
     film_flow_why: str = ""
     compiled: bool = False
+    pads: bool = False
+    fmu: bool = True
+    fmu_why: str = ""
+    whirl_reduced: bool = False
 
 
 @dataclass(frozen=True)
@@ -359,6 +369,10 @@ class InternalSpec:
                 params.require_full_bore(f"the {self.name} internal", self.can.geometry_why)
             except ValueError as exc:
                 raise ValueError(f"{where + ': ' if where else ''}{exc}") from None
+        if params.geometry.pads is not None and not self.can.pads:
+            raise ValueError(f"{where + ': ' if where else ''}the {self.name} internal does not take a tilting-pad "
+                             f"bore ({params.geometry.describe()}); the internals that do: "
+                             f"{', '.join(having(pads=True)) or 'none'}")
         return _resolve(self.factory)(params, opts, context)
 
     def contract_case(self, data_dir: Path):

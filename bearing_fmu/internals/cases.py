@@ -32,6 +32,8 @@ class ContractCase:
     beyond_wall : "refuses" (BearingStateError past the clearance circle) or "evaluates"
                   (finite values there: a model that means nothing physical past it, e.g. linear)
     files       : the data files the case wrote, option name -> path
+    params      : the bearing to build it for (None: the paper bearing); an internal of a bore the
+                  paper bearing lacks (tilting pads) brings the paper bearing with that bore
     """
 
     options: dict = field(default_factory=dict)
@@ -39,6 +41,7 @@ class ContractCase:
     omega: float = OMEGA_22HZ
     beyond_wall: str = "refuses"
     files: dict = field(default_factory=dict)
+    params: object = None
 
 
 def default_case(data_dir: Path) -> ContractCase:
@@ -103,5 +106,19 @@ def taylor_case(data_dir: Path) -> ContractCase:
                         files={"surrogate": path})
 
 
-__all__ = ["ContractCase", "default_case", "reynolds_case", "linear_case", "map_case", "taylor_case", "map_file",
+def tilting_pad_case(data_dir: Path) -> ContractCase:
+    # the paper bearing's D, L, CR, mu on 4 pads, load between pads, offset pivots (0.6) and
+    # preload 0.3: asymmetric enough that no derivative vanishes by symmetry; 24 cells a pad
+    from dataclasses import replace
+
+    from ..physics.geometry import Geometry
+    from ..physics.pads import PadGeometry
+    from ..physics.params import PAPER_BEARING
+
+    pads = PadGeometry(pivots=tuple(math.radians(a) for a in (45.0, 135.0, 225.0, 315.0)), arc=math.radians(80.0),
+                       offset=0.6, preload=0.3)
+    return ContractCase({"n_theta": 24, "n_x": 4}, params=replace(PAPER_BEARING, geometry=Geometry(pads=pads)))
+
+
+__all__ = ["ContractCase", "tilting_pad_case", "default_case", "reynolds_case", "linear_case", "map_case", "taylor_case", "map_file",
            "surrogate_file", "COARSE_GRID", "COARSE_MAP", "OMEGA_22HZ"]

@@ -116,3 +116,20 @@ register(InternalSpec(
     case="internals.cases:map_case",
     kernels=("internals.map.kernels",),
 ))
+
+register(InternalSpec(
+    "tilting_pad", "internals.tilting_pad.tilting_pad:TiltingPad.from_options", "tilting-pad journal bearing: every "
+    "pad the partial-arc Reynolds solver at its tilt, massless pads in moment equilibrium (docs/geometry.md)",
+    uses=("reynolds",),
+    can=Capabilities(
+        pads=True, compare=False, any_state=True, whirl_reduced=True,
+        film_flow_why="the pads' friction and flows are not summed into a film report yet",
+        fmu=False, fmu_why="the FMUs do not carry the pads' states yet (a later step of the tilting-pad work)",
+        validity="The tilting-pad internal evaluates any journal state that leaves every pad's film open at any "
+                 "speed, the pads massless and quasi-static (each in moment equilibrium, its own rate 0); the "
+                 "journal may pass C_bearing between pads. Pad inertia and the pads' squeeze enter the reduced "
+                 "coefficients at a whirl frequency (bearing-fmu demo, rotor-host stability: synchronous), not "
+                 "this force yet."),
+    case="internals.cases:tilting_pad_case",
+    kernels=("physics.reynolds_kernels", "physics.geometry_kernels"),
+))

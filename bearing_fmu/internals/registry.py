@@ -9,15 +9,20 @@ lines take their choices from it. Where things are: the protocol, the state chec
 spec types in ``internals/base.py``, the built-in specs in ``internals/catalogue.py`` (imported
 here, so any import of the registry has them), each internal's code in its family folder.
 
-========  ===============================================  =========================================
-name      factory                                          what it is
-========  ===============================================  =========================================
-reynolds  physics.reynolds:Reynolds.from_options           finite-volume Reynolds solver (the truth)
-linear    internals.linear.linear:Linear.from_options      8 Lund coefficients about an equilibrium
-taylor    internals.taylor.guard:DomainGuard.from_options  fitted Taylor surrogate behind its guard
-map       internals.map.mapfile:from_options               the Reynolds force as a 2-D (3-D grooved)
-                                                           table per L/D
-========  ===============================================  =========================================
+===========  =========================================================  ====================================
+name         factory                                                    what it is
+===========  =========================================================  ====================================
+reynolds     physics.reynolds:Reynolds.from_options                     finite-volume Reynolds solver (the
+                                                                        truth)
+linear       internals.linear.linear:Linear.from_options                8 Lund coefficients about an
+                                                                        equilibrium
+taylor       internals.taylor.guard:DomainGuard.from_options            fitted Taylor surrogate behind its
+                                                                        guard
+map          internals.map.mapfile:from_options                         the Reynolds force as a 2-D (3-D
+                                                                        grooved) table per L/D
+tilting_pad  internals.tilting_pad.tilting_pad:TiltingPad.from_options  tilting pads, each a partial arc of
+                                                                        the Reynolds solver; massless pads
+===========  =========================================================  ====================================
 
 (``tests/test_internals.py`` checks this table against ``REGISTRY``: a name and factory per
 registered internal, in registration order.) The Reynolds solver stays in ``physics/``: the

@@ -57,6 +57,7 @@ from functools import cached_property
 import numpy as np
 
 from ..io.schema import Key, List, Number
+from .pads import PAD_KEYS, PadGeometry, pads_from_mapping
 
 TWO_PI = 2.0 * math.pi
 MAX_LOBES = 8
@@ -83,11 +84,12 @@ GEOMETRY_KEYS = (
     Key("lobes", "number of lobes of the bore (1: circular)", 1, f"1 .. {MAX_LOBES}",
         kind=Number(1, MAX_LOBES, integer=True)),
     Key("preload", "m = 1 - C_bearing / C_pad (CR_um is C_bearing, the assembled clearance)", 0.0,
-        "0 <= m < 1; > 0 needs lobes >= 2", kind=Number(0.0, 1.0, exclusive_maximum=True)),
+        "0 <= m < 1; > 0 needs lobes >= 2 or pads", kind=Number(0.0, 1.0, exclusive_maximum=True)),
     Key("lobe_offset", "where the lobe's clearance is smallest, as a fraction of the lobe from its leading "
         "edge (0.5 symmetric, 1.0 offset halves)", 0.5, "0 .. 1", kind=Number(0.0, 1.0)),
     Key("lobe_angle_deg", "theta of the middle of the first lobe [deg] (0: lobes centred at the top, and "
         "for 2 lobes at the bottom)", 0.0, "an angle", kind=Number()),
+    *PAD_KEYS,  # a tilting-pad bore (physics.pads)
 )
 
 
@@ -114,6 +116,7 @@ class Geometry:
     preload         : m = 1 - C_bearing / C_pad, in [0, 1)
     lobe_offset     : preload point as a fraction of the lobe from its leading edge, in [0, 1]
     lobe_angle      : theta of the middle of the first lobe [rad]
+    pads            : a tilting-pad bore (``physics.pads.PadGeometry``; its preload its own), or None
     """
 
     grooves: tuple[float, ...] = ()
@@ -124,6 +127,7 @@ class Geometry:
     preload: float = 0.0
     lobe_offset: float = 0.5
     lobe_angle: float = 0.0
+    pads: PadGeometry | None = None
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "grooves", tuple(sorted(_wrap(float(g)) for g in self.grooves)))
@@ -138,12 +142,14 @@ class Geometry:
     @property
     def is_full_bore(self) -> bool:
         """The plain 360 deg circular bore: the solver's original path, bit for bit."""
-        return not self.grooves and self.arc is None and self.lobes == 1
+        return not self.grooves and self.arc is None and self.lobes == 1 and self.pads is None
 
     def describe(self) -> str:
         """The bore in a few words (for messages and the demo)."""
         if self.is_full_bore:
             return "full 360 deg circular bore"
+        if self.pads is not None:
+            return self.pads.describe()
         parts = []
         if self.grooves:
             parts.append(f"{len(self.grooves)} axial groove{'s' if len(self.grooves) > 1 else ''} at "
@@ -363,7 +369,7 @@ class Geometry:
     def as_table(self) -> dict:
         """The bore as a bearing file's [geometry] table writes it (degrees, kPa; only what
         differs from the defaults): what a surrogate file records; ``read_geometry`` reads it."""
-        out: dict = {}
+        out: dict = {} if self.pads is None else self.pads.as_table()
         if self.grooves:
             out.update(grooves_deg=[math.degrees(g) for g in self.grooves],
                        groove_width_deg=math.degrees(self.groove_width),
@@ -390,6 +396,9 @@ class Geometry:
     def from_mapping(cls, d: dict, given: set, error) -> "Geometry":
         """From the schema-checked [geometry] values ``d`` (degrees, kPa); ``given`` the keys the
         file wrote; ``error(text)`` makes the exception (naming the file)."""
+        pads = pads_from_mapping(d, given, error)  # a tilting-pad bore: its own keys (physics.pads)
+        if pads is not None:
+            return cls(pads=pads)
         if d["groove_width_deg"] is not None and "groove_width_deg" in given and not d["grooves_deg"]:
             raise error("groove_width_deg needs grooves_deg (no groove is given)")
         for key in ("lobe_offset", "lobe_angle_deg"):

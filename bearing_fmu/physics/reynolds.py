@@ -161,6 +161,9 @@ class Reynolds:
                 f"Reynolds: cavitation must be one of {', '.join(repr(c) for c in CAVITATION_MODELS)}, "
                 f"got {cavitation!r}"
             )
+        if params.geometry.pads is not None:  # each pad is a partial arc of this solver (internals.tilting_pad)
+            raise ValueError(f"Reynolds: the bore is tilting pads ({params.geometry.describe()}): the film moves with "
+                             "the pads; solve each pad as a partial arc (the tilting_pad internal)")
         self.params = params
         self.n_theta = _check_grid("n_theta", DEFAULT_N_THETA if n_theta is None else n_theta, 8, False)
         self.n_x = _check_grid("n_x", DEFAULT_N_X if n_x is None else n_x, 2, True)

@@ -7,7 +7,11 @@ At each speed of a range (``rotor-host stability ROTOR.toml --speeds-hz 10:70:1`
    ``equilibrium.static_equilibrium``); from the second speed on, Newton starts from the
    previous speed's equilibrium (continuation; a fresh start if that fails);
 2. each bearing linearised there with the internal's own analytic Jacobian
-   (``bearing_fmu.physics.statics.linearize``: Lund's K = -dF/dq, C = -dF/dv);
+   (``bearing_fmu.physics.statics.linearize``: Lund's K = -dF/dq, C = -dF/dv); an internal whose
+   coefficients depend on the whirl frequency (``Capabilities.whirl_reduced``: tilting pads, their
+   tilts condensed) gives them reduced at the synchronous whirl, omega (API 684's practice; the
+   pads' degrees of freedom in the eigenproblem, exact for every mode's own frequency, are not
+   there yet);
 3. the damped eigenvalues of the rotor with those bearings, its shaft damping and the
    gyroscopic term (``Rotor.modes``): damped frequency, logarithmic decrement
    delta = -2 pi Re(lam) / Im(lam) (negative: the mode grows) and complex shape, and the whirl
@@ -221,6 +225,9 @@ class Stability:
                                           where=f"{where or 'rotor'}: {name}")
                           for p, w, name in zip(rotor.bearings, self.loads, self.names)]
         self.T_supply_K = None if T_supply_K is None else float(T_supply_K)
+        if self.T_supply_K is not None and spec.can.whirl_reduced:
+            raise ValueError(f"internal {spec.name!r}: a supply temperature (the bearings' effective temperature) is "
+                             "not modelled for it yet; leave the supply temperature out")
         if self.T_supply_K is not None:
             from bearing_fmu.internals.scaled import ViscosityScaled
 
@@ -275,8 +282,12 @@ class Stability:
 
         K = np.empty((len(self.internals), 2, 2))
         C = np.empty_like(K)
+        reduced = registry.get(self.internal).can.whirl_reduced  # a tilting pad's: synchronous reduction
         for k, (internal, (iy, iz)) in enumerate(zip(self.internals, self.pairs)):
-            K[k], C[k] = linearize(internal, float(q[iy]), float(q[iz]), omega)
+            if reduced:
+                K[k], C[k] = internal.reduced_coefficients(float(q[iy]), float(q[iz]), omega, omega)
+            else:
+                K[k], C[k] = linearize(internal, float(q[iy]), float(q[iz]), omega)
         for name, a in (("stiffness", K), ("damping", C)):
             if not np.all(np.isfinite(a)):
                 k = int(np.argwhere(~np.isfinite(a))[0, 0])

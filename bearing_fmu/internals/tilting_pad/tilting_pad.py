@@ -1,0 +1,77 @@
+"""The ``tilting_pad`` internal: the film force of a tilting-pad bearing on the journal, its pads
+massless and in moment equilibrium at every call (``assembly.PadAssembly.equilibrate``).
+
+Why an internal of its own and not the Reynolds internal taking the bore: a tilting-pad bearing
+is N partial-arc solves plus a Newton iteration on the pads per call, its pads have states of
+their own (with inertia: tilt and rate; the FMU and the host will carry them), and it reports
+what no fixed bore has (pad tilts and loads, the (2 + N) x (2 + N) coefficients and their
+reduction at a whirl frequency). The Reynolds solver stays what it is, the truth of one film,
+and is what each pad is solved with; the force map's per-pad tables will be another pad solver
+behind the same assembly.
+
+As a memoryless internal (``force(y, z, vy, vz, omega)``) the pads are quasi-static: each tilt
+solves M_k = 0 with the pad's own rate taken as 0 (the journal's velocity is in the film). Its
+Jacobian is that model's exact one (``PadAssembly.quasi_static_jacobian``: the zero-frequency
+reduction of the stiffness). The pads' dynamics (their squeeze, their inertia) are in
+``PadAssembly.derivatives`` and in the reduction at a whirl frequency (``coefficients``), which
+the transient host and the FMUs do not carry yet.
+"""
+
+from __future__ import annotations
+
+from ...physics.params import BearingParams
+from .assembly import PadAssembly, PadSolution
+
+
+class TiltingPad:
+    """The journal force of ``params``' tilting pads (``params.geometry.pads``), every pad the
+    partial-arc Reynolds solver (grid ``n_theta`` cells on each pad's arc, ``n_x`` along the
+    length; None: the solver's defaults), cavitation model ``cavitation``.
+
+    ``last``: the pads' ``PadSolution`` of the last call (tilts, pad forces and moments)."""
+
+    def __init__(self, params: BearingParams, n_theta: int | None = None, n_x: int | None = None,
+                 cavitation: str = "reynolds"):
+        self.params = params
+        self.pads = PadAssembly(params, n_theta, n_x, cavitation)
+        self.last: PadSolution | None = None
+
+    @classmethod
+    def from_options(cls, params: BearingParams, options, context=None) -> "TiltingPad":
+        """From the registry's checked options (the Reynolds internal's grid and cavitation: 0 = default)."""
+        return cls(params, n_theta=options["n_theta"] or None, n_x=options["n_x"] or None,
+                   cavitation=options["cavitation"])
+
+    def __repr__(self) -> str:
+        return f"TiltingPad({self.params!r})"
+
+    def force(self, y: float, z: float, vy: float, vz: float, omega: float) -> tuple[float, float]:
+        """Film force (Fy, Fz) [N] on the journal, the pads in moment equilibrium."""
+        self.last = self.pads.equilibrate(y, z, vy, vz, omega)
+        return float(self.last.F[0]), float(self.last.F[1])
+
+    def force_and_jacobian(self, y: float, z: float, vy: float, vz: float, omega: float):
+        """(F (2,), dF/dq (2, 2), dF/dv (2, 2)): raw derivatives of the quasi-static pads' force."""
+        self.last = self.pads.equilibrate(y, z, vy, vz, omega)
+        dq, dv = self.pads.quasi_static_jacobian(self.last)
+        return self.last.F.copy(), dq, dv
+
+    def coefficients(self, y: float, z: float, omega: float, whirl: float | None = None) -> dict:
+        """At the journal position (y, z), still, the pads in equilibrium: the full (2 + N) x (2 + N)
+        K, C (coordinates y, z, delta_1..N; Lund's signs) and the journal's K, C reduced at the whirl
+        frequency ``whirl`` [rad/s] (None: synchronous, omega)."""
+        sol = self.pads.equilibrate(y, z, 0.0, 0.0, omega)
+        self.last = sol
+        K, C = self.pads.coefficients(sol)
+        Kr, Cr = self.pads.reduce(K, C, omega if whirl is None else whirl)
+        return {"K_full": K, "C_full": C, "K": Kr, "C": Cr, "solution": sol}
+
+    def reduced_coefficients(self, y: float, z: float, omega: float, whirl: float) -> tuple:
+        """The journal's (K [N/m], C [N s/m]) at (y, z) reduced at ``whirl`` [rad/s]
+        (``Capabilities.whirl_reduced``: what a linear analysis takes)."""
+        co = self.coefficients(y, z, omega, whirl)
+        return co["K"], co["C"]
+
+
+__all__ = ["TiltingPad"]
+
