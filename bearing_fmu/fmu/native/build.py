@@ -46,8 +46,8 @@ C_DIR = Path(__file__).resolve().parent / "c"
 # reynolds: its solver warm-starts from the previous call's film; not taylor: see model_description)
 MEMORYLESS_INTERNALS = ("map", "linear")
 # the FMI 2.0 layer over the model layer (codegen.MODEL_SOURCES)
-HEADERS2 = (*MODEL_HEADERS, "fmi2_layer.h")
-SOURCES2 = ("fmi2_bearing.c", "fmi2_modes.c", "fmi2_order.c", *MODEL_SOURCES)
+HEADERS2 = MODEL_HEADERS
+SOURCES2 = ("fmi2_bearing.c", *MODEL_SOURCES)
 
 
 def build_native_fmu(output, internal: str, *, surrogate=None, map=None, bearing: BearingParams | None = None,

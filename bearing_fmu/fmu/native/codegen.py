@@ -41,8 +41,8 @@ INCLUDED_SOURCES = {"reynolds": ("py_mod.h", "reynolds_solver.h", "reynolds_kern
                                  "reynolds_film.c", "reynolds_solver.c"),
                     "map": ("py_mod.h", "film_friction.c", "map_flows.c"), "taylor": ("film_friction.c", "taylor_film.c")}
 # the model layer (c/bearing_values.h), the same C files under the FMI 2.0 and the FMI 3.0 layer
-MODEL_HEADERS = ("bearing_native.h", "bearing_values.h", "oil_thermal.h", "oil_thermal.c")  # the last included
-MODEL_SOURCES = ("bearing_values.c", "bearing_model.c", "bearing_derivatives.c")
+MODEL_HEADERS = ("bearing_native.h", "bearing_values.h", "bearing_calls.h", "oil_thermal.h", "oil_thermal.c")  # the last included
+MODEL_SOURCES = ("bearing_calls.c", "bearing_log.c", "bearing_values.c", "bearing_model.c", "bearing_derivatives.c")
 REAL_BASE, BOOL_BASE, STRING_BASE, ENUM_BASE = 0, 1000, 2000, 3000  # value references by type (bearing_native.h)
 CORE_REALS = ("y", "z", "vy", "vz", "omega", "Fy", "Fz", "eccentricity", "h_min", "Kyy", "Kyz", "Kzy", "Kzz",
               "Cyy", "Cyz", "Czy", "Czz", "D", "L", "CR", "mu")

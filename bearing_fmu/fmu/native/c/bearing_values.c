@@ -203,7 +203,6 @@ void bn_set_starts(Instance *m) {
     memset(m->refused, 0, sizeof m->refused);
     m->init_error[0] = 0;
     m->t = 0.0;
-    m->initialized = 0;
     m->terminated = 0;
     m->dirty = 1;
     m->refused_state = 0;

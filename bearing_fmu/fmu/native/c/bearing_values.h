@@ -86,11 +86,7 @@ BN_HIDDEN int bn_heat_balance(Instance *m, const double rep[5], int quasi, doubl
 /* Model Exchange: the continuous states (BN_N_STATES: T_eff, thermal = true), into x (get) or from
  * x (set: the outputs follow at the next get) */
 #define BN_ME_THERMAL(m) (BN_N_STATES > 0 && (m)->b[B_THERMAL])
-#if BN_FMI3
 #define BN_IS_ME(m) ((m)->model_exchange)
-#else
-#define BN_IS_ME(m) ((m)->type == fmi2ModelExchange)
-#endif
 
 /* an FMU state: the time, the inputs and Real outputs, out_of_domain; tagged with the layer's
  * tag and the build's GUID (FMI 3.0: instantiation token), so a state of another build is refused */
