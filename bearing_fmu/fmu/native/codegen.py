@@ -37,12 +37,13 @@ from ...physics.params import BearingParams
 ID_TOKEN, GUID_TOKEN = "BN_MODEL_IDENTIFIER", "{BN-GUID}"  # in model_config.h until assign_identity
 INTERNALS = ("linear", "map", "taylor", "reynolds")  # what a native FMU can compute
 # C files an internal's file includes (so that all of it stays static): staged beside it, not compiled alone
-INCLUDED_SOURCES = {"reynolds": ("py_mod.h", "reynolds_solver.h", "reynolds_kernels.c", "film_friction.c",
+INCLUDED_SOURCES = {"reynolds": ("py_mod.h", "reynolds_solver.h", "reynolds_kernels.c", "film_friction.h",
                                  "reynolds_film.c", "reynolds_solver.c"),
-                    "map": ("py_mod.h", "film_friction.c", "map_flows.c"), "taylor": ("film_friction.c", "taylor_film.c")}
+                    "map": ("py_mod.h", "film_friction.h", "map_flows.c"), "taylor": ("film_friction.h", "taylor_film.c")}
 # the model layer (c/bearing_values.h), the same C files under the FMI 2.0 and the FMI 3.0 layer
-MODEL_HEADERS = ("bearing_native.h", "bearing_values.h", "bearing_calls.h", "oil_thermal.h", "oil_thermal.c")  # the last included
-MODEL_SOURCES = ("bearing_calls.c", "bearing_log.c", "bearing_values.c", "bearing_model.c", "bearing_derivatives.c")
+MODEL_HEADERS = ("bearing_native.h", "bearing_values.h", "bearing_calls.h", "oil_thermal.h")
+MODEL_SOURCES = ("bearing_calls.c", "bearing_log.c", "bearing_values.c", "bearing_model.c", "bearing_derivatives.c",
+                 "bearing_thermal.c", "oil_thermal.c")
 REAL_BASE, BOOL_BASE, STRING_BASE, ENUM_BASE = 0, 1000, 2000, 3000  # value references by type (bearing_native.h)
 CORE_REALS = ("y", "z", "vy", "vz", "omega", "Fy", "Fz", "eccentricity", "h_min", "Kyy", "Kyz", "Kzy", "Kzz",
               "Cyy", "Cyz", "Czy", "Czz", "D", "L", "CR", "mu")

@@ -25,7 +25,7 @@ from .compile import C_FLAGS, run_compiler, zig_cc
 
 C_DIR = Path(__file__).resolve().parent / "c"
 HOST_TARGET = "native"  # zig cc -target native: this machine
-SOURCES = ("py_mod.h", "reynolds_solver.h", "reynolds_kernels.c", "film_friction.c", "reynolds_film.c",
+SOURCES = ("py_mod.h", "reynolds_solver.h", "reynolds_kernels.c", "film_friction.h", "reynolds_film.c",
            "reynolds_solver.c", "oil_thermal.h", "oil_thermal.c")
 
 __all__ = ["NativeOil", "NativeReynolds", "bore_arrays", "solver_library"]

@@ -10,6 +10,7 @@
  * (bearing_fmu/fmu/order.py ALLOWED, the Python FMU's too; fmi3.py ALLOWED3), generated into
  * model_config.h (BN_ALLOW_<call>) and fmi3_config.h (BN3_ALLOW_<call>) as one bit mask per call,
  * bit k: Mode k; the refusal's words are order.refusal's. */
+#include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <string.h>
@@ -53,6 +54,17 @@ bn_status bn_fail(Instance *m, const char *fmt, ...) {
     log_text(m, BN_ERROR, fmt, ap);
     va_end(ap);
     return BN_ERROR;
+}
+
+/* a double the way Python's %.{digits}g writes it (the messages' numbers) */
+const char *bn_num(char *buf, size_t n, double x, int digits) {
+    if (isnan(x))
+        snprintf(buf, n, "nan");
+    else if (isinf(x))
+        snprintf(buf, n, x > 0 ? "inf" : "-inf");
+    else
+        snprintf(buf, n, "%.*g", digits, x);
+    return buf;
 }
 
 /* ------------------------------------------------------------------------------ calling sequence */

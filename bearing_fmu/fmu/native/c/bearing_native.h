@@ -252,6 +252,7 @@ typedef struct Instance {
 #define bn_derivative BN_NAME(BN_ID, bn_derivative)
 #define bn_heat_balance BN_NAME(BN_ID, bn_heat_balance)
 #define bn_thermal_setup BN_NAME(BN_ID, bn_thermal_setup)
+#define bn_thermal_state BN_NAME(BN_ID, bn_thermal_state)
 #define bn_state_save BN_NAME(BN_ID, bn_state_save)
 #define bn_state_restore BN_NAME(BN_ID, bn_state_restore)
 #define bn_state_valid BN_NAME(BN_ID, bn_state_valid)

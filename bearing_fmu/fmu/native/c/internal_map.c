@@ -17,7 +17,7 @@
 #include "bearing_native.h"
 #include "model_data.h"
 #include "py_mod.h"
-#include "film_friction.c" /* ff_reduce; with the film report the friction */
+#include "film_friction.h" /* ff_reduce; with the film report the friction */
 
 #ifndef MAP_DIMS
 #define MAP_DIMS 2

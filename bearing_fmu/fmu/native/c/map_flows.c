@@ -1,8 +1,8 @@
 /* The force map's film report (bn_film, bearing_native.h): included by internal_map.c when the map
  * file has flow tables (BN_FLOWS_MAP, MAP_FLOWS; model_data.h, fmu/native/map_data.py), its spline
- * evaluation and ff_reduce (film_friction.c) shared with the force. Ports, in their order of operations, of
+ * evaluation and ff_reduce (film_friction.h) shared with the force. Ports, in their order of operations, of
  *  - a full-bore map (MAP_DIMS 2): ForceMap.film_report, film.reduced_report: the friction in closed
- *    form from the force (film_friction.c), the flows from the table's (J_s, J_i) at (eps, beta);
+ *    form from the force (film_friction.h), the flows from the table's (J_s, J_i) at (eps, beta);
  *  - a grooved or partial-arc map (MAP_DIMS 3): GroovedForceMap.film_report, film.grooved_report:
  *    the Couette torque over the film's segments in closed form (film.film_couette_integral), the
  *    pressure torque from the force, the side flow r Q0 J_s and the inflow summed over the supply
@@ -14,7 +14,7 @@
 #if !MAP_FLOWS
 #error "the film report needs a map with its flow table (portgen.film_flow)"
 #endif
-#include "film_friction.c" /* (included first by internal_map.c: ff_reduce) */
+#include "film_friction.h" /* (included first by internal_map.c: ff_reduce) */
 
 #if MAP_DIMS == 3
 /* int dtheta / (1 + eps sin(theta - phi)) over the film's segments (MAP_FILM_SEGS), in closed form:

@@ -5,7 +5,7 @@
  * (tests/test_native_reynolds.py: 1e-12 the tolerance; the sums' order differs). */
 
 #if defined(RS_EXPORT) || BN_FLOWS_REYNOLDS /* alone, or in an FMU with the thermal model */
-#include "film_friction.c" /* the full bore's friction in closed form, the friction power */
+#include "film_friction.h" /* the full bore's friction in closed form, the friction power */
 /* numpy's argmax/argmin: the first of equal values */
 static int rf_first_max(const double *x, int n) {
     int i, k = 0;

@@ -1,7 +1,7 @@
 /* The Taylor surrogate's film report (bn_film; BN_FLOWS_TAYLOR: a surrogate file with its film
  * fit, format version 2), a port of Taylor.film_report behind DomainGuard.film_report:
  *
- *   the friction in closed form of the full bore from the surrogate's own force (film_friction.c),
+ *   the friction in closed form of the full bore from the surrogate's own force (film_friction.h),
  *   side flow  r Q0 J_s(eps, beta),  inflow  | omega Q0 (1 + eps) / 2 - r Q0 J_i(eps, beta) |,
  *
  * Q0 = R L CR, (eps, beta, r) the state's reduced coordinates (ff_reduce: forcemap.reduced), J_s,
@@ -12,7 +12,7 @@
  * surrogate's report (the force's evaluation warned); with fallback the Reynolds internal's report
  * (bn_fallback_film), blended with the surrogate's over the same band as the force.
  * Included by internal_taylor.c (its guard and force stay static). */
-#include "film_friction.c"
+#include "film_friction.h"
 
 #if TAY_FILM_NF != (TAY_FILM_DEGREE + 1) * (2 * TAY_FILM_HARMONICS + 1)
 #error "TAY_FILM_NF: (degree + 1) (2 harmonics + 1) coefficients per function (surrogates.film.n_features)"
