@@ -37,9 +37,11 @@ from ...physics.params import BearingParams
 ID_TOKEN, GUID_TOKEN = "BN_MODEL_IDENTIFIER", "{BN-GUID}"  # in model_config.h until assign_identity
 INTERNALS = ("linear", "map", "taylor", "reynolds")  # what a native FMU can compute
 # C files an internal's file includes (so that all of it stays static): staged beside it, not compiled alone
-INCLUDED_SOURCES = {"reynolds": ("py_mod.h", "reynolds_solver.h", "reynolds_kernels.c", "film_friction.h",
-                                 "reynolds_film.c", "reynolds_solver.c"),
-                    "map": ("py_mod.h", "film_friction.h", "map_flows.c"), "taylor": ("film_friction.h", "taylor_film.c")}
+INCLUDED_SOURCES = {"reynolds": ("py_mod.h", "reynolds_solver.h", "film_friction.h"),
+                    "map": ("py_mod.h", "film_friction.h", "map_spline.h"), "taylor": ("film_friction.h", "taylor_internal.h")}
+# C files compiled beside an internal's, and those when its film report is (its data hold the film's flows)
+PART_SOURCES = {"reynolds": ("reynolds_solver.c", "reynolds_kernels.c")}
+FLOW_SOURCES = {"map": ("map_flows.c",), "taylor": ("taylor_film.c",), "reynolds": ("reynolds_film.c",)}
 # the model layer (c/bearing_values.h), the same C files under the FMI 2.0 and the FMI 3.0 layer
 MODEL_HEADERS = ("bearing_native.h", "bearing_values.h", "bearing_calls.h", "oil_thermal.h")
 MODEL_SOURCES = ("bearing_calls.c", "bearing_log.c", "bearing_values.c", "bearing_model.c", "bearing_derivatives.c",
@@ -254,7 +256,10 @@ def internal_sources(model: "NativeModel") -> tuple[list[str], list[str]]:
     """(the internals' C files the compiler builds, the files they include) of ``model``: each
     internal's file, and for several bn_parts.c, which dispatches among them."""
     parts = model.all_parts
-    compiled = [f"internal_{p}.c" for p in parts] + (["bn_parts.c"] if len(parts) > 1 else [])
+    why = model.flows_why if isinstance(model.flows_why, dict) else {model.internal: model.flows_why}
+    compiled = [f for p in parts for f in (f"internal_{p}.c", *PART_SOURCES.get(p, ()),
+                                           *(FLOW_SOURCES.get(p, ()) if not why.get(p) else ()))]
+    compiled += ["bn_parts.c", "bn_fallback.c"] if len(parts) > 1 else []
     return compiled, list(dict.fromkeys(f for p in parts for f in INCLUDED_SOURCES.get(p, ())))
 
 
@@ -485,13 +490,16 @@ def _taylor(params: BearingParams, surrogate, map_path, options: dict) -> Native
         f"#define TAY_NN_SIZE {c_double(size)}",
         f"#define TAY_CR2 {c_double(tay._cr2)}",
         f"#define TAY_WALL_WHY {c_string(wall_why)}",
+        c_array("TAY_PARAMS", (params.D, params.L, params.CR, params.mu)),
+        # the force's data, internal_taylor.c's alone (taylor_film.c, the film report, holds the film fit's)
+        "#if !defined(BN_TAYLOR_FILM_UNIT)",
         c_array("TAY_META", tay._meta),
         c_array("TAY_DOM", tay._dom),
-        c_array("TAY_PARAMS", (params.D, params.L, params.CR, params.mu)),
         # sorted by u_0: the C search sweeps outward from the query in that order (internal_taylor.c: nearest)
         c_array("TAY_NN_POINTS", nb.points[np.argsort(nb.points[:, 0], kind="stable")] if nb is not None
                 else [0.0, 0.0, 0.0, 0.0]),
         taylor_polynomials(exps, coef, *((sur.shape_exponents, sur.shape_coef) if shape else ())),
+        "#endif /* the force's data (a comment: several.py drops the file's bare closing #endif) */",
         *film_data_lines(sur.film, c_array),  # the film fit (format version 2): c/taylor_film.c
     ]
     parts.append("#endif\n")

@@ -10,8 +10,9 @@ renumbering for the other periods of the turn (``flow_images``), its supply
 edges (theta, sign) in the order of the P_e and the film's segments (``Geometry.segments``, those
 without a prescribed pressure: the Couette integral's, ``film.film_couette_integral``) of the
 bearing's bore, as the Python map's ``params.geometry``. Those arrays sit inside ``#if
-BN_FLOWS_MAP`` (model_config.h: the map's film report is compiled), as their use does (an unused
-static array is a warning).
+BN_FLOWS_MAP`` (model_config.h: the map's film report is compiled) and are map_flows.c's alone
+(``BN_MAP_FLOW_UNIT``), the force's internal_map.c's alone: each unit holds the arrays it uses
+(an unused static array is a warning).
 """
 
 from __future__ import annotations
@@ -38,7 +39,7 @@ def map_data_h(path: Path, table, c_double, c_string, c_array, geometry=None, wi
         f"#define MAP_SOURCE {c_string(path.name)}",
         f"#define MAP_DIMS {len(knots)}",
         f"#define MAP_NS {C.shape[0]}",
-        *([f"#define MAP_NP {C.shape[1]}", c_array("MAP_TP", knots[1])] if len(knots) == 3 else []),
+        *([f"#define MAP_NP {C.shape[1]}"] if len(knots) == 3 else []),
         f"#define MAP_NB {C.shape[-2]}",
         f"#define MAP_WALL_EXPONENT {c_double(table.wall_exponent)}",
         f"#define MAP_EPS_MIN {c_double(EPS_MIN)}",
@@ -46,7 +47,10 @@ def map_data_h(path: Path, table, c_double, c_string, c_array, geometry=None, wi
         f"#define MAP_L_OVER_D {c_double(table.L_over_D)}",
         f"#define MAP_LD_RTOL {c_double(LD_RTOL)}",
         f"#define MAP_FLOWS {int(flows is not None)}",
+        "#if !defined(BN_MAP_FLOW_UNIT) /* the force's spline (internal_map.c) */",
+        *([c_array("MAP_TP", knots[1])] if len(knots) == 3 else []),
         c_array("MAP_TS", knots[0]), c_array("MAP_TB", knots[-1]), c_array("MAP_C", C),
+        "#endif /* the force's spline */",
         *(flow_arrays(table, flows, geometry or table.geometry if len(knots) == 3 else None, c_array)
           if flows is not None else []),
         "#endif\n",
@@ -56,7 +60,8 @@ def map_data_h(path: Path, table, c_double, c_string, c_array, geometry=None, wi
 def flow_arrays(table, flows, geometry, c_array) -> list[str]:
     """The lines of the flow table's spline (``flows``: ``table.flow_spline()``) and, for a grooved
     bore's map (``geometry`` not None), its supply edges and film segments."""
-    out = ["#if BN_FLOWS_MAP /* the flow table's spline: its components per point, as MAP_C */"]
+    out = ["#if BN_FLOWS_MAP && defined(BN_MAP_FLOW_UNIT) /* the flow table's spline (map_flows.c): its components "
+           "per point, as MAP_C */"]
     if geometry is None:  # the full bore: (J_s, J_i) on (s, beta)
         out += [c_array("MAP_QTS", flows[0]), c_array("MAP_QTB", flows[1]), c_array("MAP_QC", flows[2])]
     else:  # (J_s, P_1 .. P_E) on (s, phi over one period, beta), renumbered in the others

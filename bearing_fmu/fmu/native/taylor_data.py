@@ -6,7 +6,8 @@ outer, t = 1, cos beta, sin beta, cos 2 beta, ... inner). The header gives the d
 harmonics and the two rows (``TAY_FILM_COEF``: J_s's then J_i's, each n_features long), from which
 the C file evaluates the basis as ``surrogates.film.features`` does and the film report as
 ``Taylor.film_report`` does. They sit inside ``#if BN_FLOWS_TAYLOR`` (model_config.h: the
-Taylor film report is compiled), as their use does (an unused static array is a warning).
+Taylor film report is compiled) and are taylor_film.c's alone (``BN_TAYLOR_FILM_UNIT``), as their
+use is (an unused static array is a warning).
 
 A grooved or partial-arc bore's film fit (kind 'grooved': the side flow and the supply edges'
 functions of (eps, phi, beta)) is not ported: c/taylor_film.c holds the full bore's report only, so
@@ -33,7 +34,8 @@ def film_data_lines(film, c_array) -> list[str]:
     lines); ``c_array``: codegen's exact literals."""
     if film is None or native_film_why(film):
         return []
-    return ["#if BN_FLOWS_TAYLOR /* the film fit: J_s, J_i over the basis of surrogates.film.features */",
+    return ["#if BN_FLOWS_TAYLOR && defined(BN_TAYLOR_FILM_UNIT) /* the film fit (taylor_film.c): J_s, J_i over the "
+            "basis of surrogates.film.features */",
             f"#define TAY_FILM_DEGREE {film.degree}",
             f"#define TAY_FILM_HARMONICS {film.harmonics}",
             f"#define TAY_FILM_NF {film.coef.shape[1]}",

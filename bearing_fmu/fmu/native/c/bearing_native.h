@@ -224,6 +224,7 @@ typedef struct Instance {
 #define bn_film BN_FN(bn_film)
 #define bn_fallback_eval BN_NAME(BN_ID, bn_fallback_eval)
 #define bn_fallback_film BN_NAME(BN_ID, bn_fallback_film)
+#define bn_fallback_set BN_NAME(BN_ID, bn_fallback_set)
 #define bn_log BN_NAME(BN_ID, bn_log)
 #define bn_num BN_NAME(BN_ID, bn_num)
 #define bn_order_refused BN_NAME(BN_ID, bn_order_refused)
@@ -304,11 +305,13 @@ BN_HIDDEN void bn_force_depends(const Instance *m, int *bearing, int *speed);
 #else
 #define bn_force_depends(m, bearing, speed) (*(bearing) = BN_BEARING_IN_FORCE, *(speed) = BN_SPEED_IN_FORCE)
 #endif
-/* Taylor's domain_action = fallback in an FMU that holds the Reynolds internal too (bn_parts.c):
+/* Taylor's domain_action = fallback in an FMU that holds the Reynolds internal too (bn_fallback.c):
  * the Reynolds force at x, as bn_eval */
 BN_HIDDEN int bn_fallback_eval(Instance *m, const double x[5], int want_jac, double F[2], double J[8], double dw[2]);
 /* and its film report at x, right after bn_fallback_eval there (Taylor's film report, fallback) */
 BN_HIDDEN int bn_fallback_film(Instance *m, const double x[5], double out[5]);
+/* Taylor as set with domain_action = fallback in an FMU that holds Reynolds too (bn_fallback.c) */
+BN_HIDDEN int bn_fallback_set(const Instance *m);
 
 /* log one line (printf-style) with a status (bearing_log.c, through the FMI layer's emit) */
 BN_HIDDEN void bn_log(Instance *m, bn_status status, const char *fmt, ...)

@@ -16,7 +16,7 @@
 #define BN_PART_REYNOLDS 1 /* its part of model_data.h */
 #include "bearing_native.h"
 #include "model_data.h"
-#include "reynolds_solver.c"
+#include "reynolds_solver.h"
 
 static const double RS_EDGE_DATA[] = RS_EDGES;
 static const int RS_FIXED_DATA[] = RS_SEG_FIXED;
