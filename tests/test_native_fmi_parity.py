@@ -8,11 +8,13 @@ own table says), and each refusal of docs/fmu.md's "FMI status" table (a paramet
 or together, a fixed parameter, an output set, an unknown value reference, a bad step, a refused
 state at initialisation, in a step and in Model Exchange, a retried discarded step, a non-finite
 time or direction, a foreign FMU state, a wrong number of continuous states), whose expected
-status the table gives.
+status the table gives. And the C beneath: every file a unit of its own, no two calling each other.
 """
 
 import ctypes
 import math
+import shutil
+import subprocess
 from pathlib import Path
 
 import pytest
@@ -315,3 +317,41 @@ def test_each_refusal_answers_alike(builds, case):
         finally:
             d.close()
     assert got[2] == got[3] == expected, got
+
+
+# ----------------------------------------------------------------------------- the C units
+
+SURROGATE = ROOT / "models" / "surrogates" / "paper_22hz_16.7N.json"
+
+
+@pytest.mark.skipif(not (shutil.which("gcc") or shutil.which("cc")) or not shutil.which("nm"),
+                    reason="needs the system C compiler and nm")
+def test_every_c_file_is_a_unit_and_no_two_call_each_other(tmp_path):
+    """Every staged .c file is compiled as a unit of its own (none included by another), compiles
+    alone with its headers, and the units' calls (read from the objects' symbols) have no pair
+    calling each other: the FMI layer calls the model layer, the model layer the internals."""
+    from bearing_fmu.fmu.native.build import build_native_fmu
+    from bearing_fmu.fmu.native.compile import fmi_headers
+
+    fmu = build_native_fmu(tmp_path / "all.fmu", "taylor,reynolds,map,linear", surrogate=SURROGATE, map=PAPER_MAP,
+                           compiler="cc")
+    unzip = Path(fmpy.extract(str(fmu)))
+    md = fmpy.read_model_description(str(fmu))
+    listed = list(md.buildConfigurations[0].sourceFileSets[0].sourceFiles)
+    assert sorted(p.name for p in (unzip / "sources").glob("*.c")) == sorted(listed)
+    cc = shutil.which("gcc") or shutil.which("cc")
+    defined, used = {}, {}
+    for name in listed:
+        obj = tmp_path / f"{name}.o"
+        done = subprocess.run([cc, "-std=c99", "-O2", "-Wall", "-Wextra", "-Wpedantic", "-Werror", "-c", "-I",
+                               str(unzip / "sources"), "-I", str(fmi_headers()), str(unzip / "sources" / name), "-o",
+                               str(obj)], capture_output=True, text=True)
+        assert done.returncode == 0, done.stderr[-2000:]
+        rows = [line.split() for line in subprocess.run(["nm", str(obj)], capture_output=True,
+                                                        text=True).stdout.splitlines()]
+        defined[name] = {r[2] for r in rows if len(r) == 3 and r[1] in "TDRB"}
+        used[name] = {r[1] for r in rows if len(r) == 2 and r[0] == "U"}
+    calls = {a: {b for b in listed if b != a and used[a] & defined[b]} for a in listed}
+    assert calls["fmi2_bearing.c"] and "fmi2_bearing.c" not in set().union(*calls.values())  # the top layer
+    both = sorted({tuple(sorted((a, b))) for a in listed for b in calls[a] if a in calls[b]})
+    assert not both, f"C files calling each other: {both}"
