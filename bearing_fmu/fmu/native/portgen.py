@@ -55,8 +55,9 @@ def parts_of(internal) -> tuple[str, ...]:
 def part_flows(internal, data_why="") -> dict[str, str]:
     """{internal: why its native model lacks the film's flows, '' when it has them} for ``internal``
     (a name, or a tuple of the names an FMU of several holds): the registry's capability
-    ``film_flow``, a film report in C (its catalogue entry's ``film_report``: bn_film, e.g. reynolds_film.c;
-    map_flows.c from a map file's flow table; taylor_film.c from a surrogate file's film fit) and, for the data file compiled in,
+    ``film_flow``, a film report in C (its catalogue entry's ``film_report``: bn_film, e.g.
+    reynolds_film.c; map_flows.c from a map file's flow table; taylor_film.c from a surrogate file's
+    film fit) and, for the data file compiled in,
     ``data_why`` (the Python internal's ``registry.film_flow_of``: '' when the file has the flows; a
     version 1 or a grooved map, a version 1 surrogate: why not), for several internals {internal:
     its data's why}."""
