@@ -2,7 +2,7 @@
 
 The native map FMU of a shipped grooved map (default rotor_host/bundled/maps/paper_2groove.json) for its
 bearing with the ISO VG 46 oil law (rotor_host/bundled/bearing_paper_vg46.toml's [oil]; without an oil law the
-build leaves the flow tables out, codegen.GROOVED_NO_OIL_WHY), built from the version 4 file (its
+build leaves the flow tables out, fmu/native/generators/map.py GROOVED_NO_OIL_WHY), built from the version 4 file (its
 flow spline over one period in phi and the edges' renumbering compiled in, c/map_flows.c) and from
 a version 2 copy (the force alone): the build's wall time, model_data.h, each platform's binary and
 the FMU, side by side with their ratio. Figures in docs/forcemap.md, "Cost".

@@ -160,7 +160,7 @@ def test_a_grooved_map_without_flow_tables_refuses_thermal(files, tmp_path):
     and no flow table is compiled in. The version 4 map's header has the flow spline over one period
     (8 attitudes + 3), the edges' renumbering over the turn's 2 periods, its 4 supply edges and 2 film
     segments (the two 160 deg pads); for a
-    bearing without an oil law it leaves them out (codegen.GROOVED_NO_OIL_WHY: 2.5 times the force's
+    bearing without an oil law it leaves them out (models.map.GROOVED_NO_OIL_WHY: 2.5 times the force's
     coefficients, of no use without the law)."""
     from bearing_fmu.fmu.native.build import build_native_fmu
     from bearing_fmu.fmu.native.codegen import native_model
@@ -186,7 +186,7 @@ def test_a_grooved_map_without_flow_tables_refuses_thermal(files, tmp_path):
                  "#define MAP_QTURNS 2", "MAP_QIMG[10] = {0, 1, 2, 3, 4, 0, 3, 4, 1, 2};"):
         assert line in model.data_h
     # a bearing without an oil law, with which thermal = true is refused anyway: the tables are left out
-    from bearing_fmu.fmu.native.codegen import GROOVED_NO_OIL_WHY
+    from bearing_fmu.fmu.native.generators.map import GROOVED_NO_OIL_WHY
 
     model = native_model("map", dataclasses.replace(params, oil=None), map=path)
     thermal = next(v for v in model.variables if v.name == "thermal")

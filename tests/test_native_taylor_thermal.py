@@ -193,10 +193,10 @@ def test_every_native_internal_with_the_film_flows_has_its_report_in_c():
     """The scene checks only the registry capability (rotor_host/scenes/scene.py _check_supply): every
     native internal with the film's flows has its film report in C (a data file without them is
     refused by the FMU at initialisation, by name)."""
-    from bearing_fmu.fmu.native.portgen import C_FILM_REPORT
+    from bearing_fmu.fmu.native.catalogue import NATIVE
     from bearing_fmu.internals import registry
 
-    assert set(registry.having(film_flow=True, native=True)) <= set(C_FILM_REPORT)
+    assert all(NATIVE[name].film_report for name in registry.having(film_flow=True, native=True))
 
 
 @pytest.mark.slow

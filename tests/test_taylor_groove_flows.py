@@ -128,7 +128,7 @@ def test_a_grooved_bore_with_a_supply_pressure_gets_no_film_fit():
 
 def test_the_native_taylor_fmu_refuses_thermal_for_a_grooved_film_fit(tmp_path):
     """c/taylor_film.c computes the full bore's report only: a grooved fit is not compiled in, thermal
-    = true is refused before anything is compiled, naming why (taylor_data.native_film_why)."""
+    = true is refused before anything is compiled, naming why (fmu/native/generators/taylor.py native_film_why)."""
     from bearing_fmu.fmu.native.build import build_native_fmu
     from bearing_fmu.fmu.native.codegen import native_model
 

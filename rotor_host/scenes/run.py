@@ -213,13 +213,13 @@ def build_bearings(scene: Scene, rotor: Rotor, loads: np.ndarray, work_dir: Path
         return DirectBearings(internals, pairs, scene.omega, names, tangent=scene.newton_tangent)
     from ..coupling.cosim import FMUBearings
 
-    from bearing_fmu.fmu.native.codegen import BORE_COMPILED_IN, BORE_FROM_DATA
+    from bearing_fmu.fmu.native.catalogue import NATIVE
 
     # the Python FMU takes any bore as parameters; a native FMU has one, the first bearing's, for
-    # every bearing of that bore: compiled in (BORE_COMPILED_IN), or its data file's (BORE_FROM_DATA;
-    # the build checks the file's bore against the bearing's)
-    compiled = (scene.fmu_kind == "native" and scene.fmu is None
-                and scene.internal in BORE_COMPILED_IN + BORE_FROM_DATA)
+    # every bearing of that bore: compiled in, or its data file's (its catalogue entry's bore; the
+    # build checks the file's bore against the bearing's)
+    compiled = (scene.fmu_kind == "native" and scene.fmu is None and scene.internal in NATIVE
+                and NATIVE[scene.internal].bore != "full")
     for name, p in zip(names, rotor.bearings):
         if scene.fmu_kind != "native":
             break

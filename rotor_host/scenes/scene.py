@@ -273,10 +273,11 @@ def load_scene(path) -> Scene:
 def _check_supply(supply_c: float, data: dict, rotor: Rotor, profile, where: str) -> None:
     """A scene's supply temperature: every bearing has an [oil] whose law covers it. In-process with
     any internal at one speed (the static equilibrium's mu_eff); through an FMU (its thermal ports:
-    the native FMU has every such internal's film report in C, portgen.C_FILM_REPORT) or under a
-    [speed_profile] only with an internal that has the film's flows, whose temperature then lags the
-    heat balance (docs/thermal.md). A data file without them (a map without flow tables, a version 1
-    surrogate) is refused by the FMU at initialisation, naming the file."""
+    the native FMU has every such internal's film report in C, its fmu/native/catalogue.py entry's
+    film_report) or under a [speed_profile] only with an internal that has the film's flows, whose
+    temperature then lags the heat balance (docs/thermal.md). A data file without them (a map
+    without flow tables, a version 1 surrogate) is refused by the FMU at initialisation, naming the
+    file."""
     key = f"{where}: supply_temperature_C = {supply_c:g}"
     spec = registry.get(data["internal"])
     if (data["via"] != "direct" or profile is not None) and not spec.can.film_flow:

@@ -6,21 +6,24 @@ its C sources in ``sources/`` and binaries for linux64, win64 and darwin64:
 | module | what |
 |---|---|
 | build | stage the sources, the model description, the documentation; zip |
-| codegen | the internal's data and options as C headers; the model identifier and GUID (content hashes) |
+| catalogue | one ``NativeSpec`` per internal: what it compiles, its options, its generator, its refusals |
+| generators/ | each internal's generator: its data and start values, its model_data.h |
+| codegen | the variables, model_config.h; the model identifier and GUID (content hashes) |
 | compile | the compilers (zig for every platform, cc, fmpy's CMake) and the platforms; each binary checked |
 | objfile | ELF, PE and Mach-O exports and imports; the universal Mach-O writer |
 | fmi3 | the FMI 3.0 FMU of the same internals: its model and build descriptions (``fmi_version=3``) |
 | host | what a host sets on a native FMU (per bearing) |
-| reynolds_data | the bore of a native Reynolds FMU (its segments, the wall's sample angles) as a C header |
 | solver_lib | the C Reynolds solver alone, compiled and called through ctypes (tests, benchmarks) |
 
-The hand-written C is in ``c/`` (the FMI 2 and FMI 3 layers, calling sequences, one file per
-internal, a C host).
+The hand-written C is in ``c/`` (the FMI 2 and FMI 3 layers, each function a check and one call
+into the model layer ``bearing_calls.c``; one file per internal, a C host).
 """
 
-from .codegen import INTERNALS, NATIVE_OPTIONS
+from .catalogue import NATIVE, names
 
-__all__ = ["INTERNALS", "NATIVE_OPTIONS", "build_native_fmu", "native_parameters"]
+INTERNALS = names()  # what a native FMU can compute (the catalogue's)
+
+__all__ = ["INTERNALS", "NATIVE", "build_native_fmu", "native_parameters"]
 
 
 def build_native_fmu(*args, **kwargs):

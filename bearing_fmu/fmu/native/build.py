@@ -37,17 +37,15 @@ from xml.etree import ElementTree as ET
 
 from ... import __version__
 from ...physics.params import PAPER_BEARING, BearingParams
-from .codegen import BORE_COMPILED_IN, BORE_FROM_DATA, MODEL_HEADERS, MODEL_SOURCES, NativeModel, assign_identity, internal_sources
+from .catalogue import NATIVE
+from .codegen import MODEL_HEADERS, MODEL_SOURCES, NativeModel, assign_identity, internal_sources
 from .compile import (C_FLAGS, NativeBuildError, compile_binaries, find_compiler, fmi_headers,  # noqa: F401
                       parse_platforms)
 
 C_DIR = Path(__file__).resolve().parent / "c"
-# native internals with no state: their FMU's outputs follow its inputs and parameters alone (not
-# reynolds: its solver warm-starts from the previous call's film; not taylor: see model_description)
-MEMORYLESS_INTERNALS = ("map", "linear")
 # the FMI 2.0 layer over the model layer (codegen.MODEL_SOURCES)
-HEADERS2 = (*MODEL_HEADERS, "fmi2_layer.h")
-SOURCES2 = ("fmi2_bearing.c", "fmi2_modes.c", "fmi2_order.c", *MODEL_SOURCES)
+HEADERS2 = MODEL_HEADERS
+SOURCES2 = ("fmi2_bearing.c", *MODEL_SOURCES)
 
 
 def build_native_fmu(output, internal: str, *, surrogate=None, map=None, bearing: BearingParams | None = None,
@@ -87,14 +85,16 @@ def build_native_fmu(output, internal: str, *, surrogate=None, map=None, bearing
     from .several import parse_internals, several_model
 
     parts = parse_internals(internal)
-    # a map FMU's bore is its map's (a grooved bore's 3-D map; the codegen checks it against the bearing's)
-    if bearing is not None and any(p not in BORE_COMPILED_IN and not (p in BORE_FROM_DATA and map is not None)
+    # any bore compiled in (reynolds), or its data file's (a map FMU: a grooved bore's 3-D map, checked
+    # against the bearing's by its generator); the others the full bore only
+    if bearing is not None and any(NATIVE[p].bore == "full" or (NATIVE[p].bore == "data" and map is None)
                                    for p in parts):
         bearing.require_full_bore(f"the native bearing FMU ({bearing_source or 'build_native_fmu'})",
                                   "its parameters are D, L, CR and mu; the geometry parameters are a later step")
     compiler = compiler or ("cmake" if cmake else "zig")
     platforms = parse_platforms(",".join(platforms) if platforms else None, compiler)  # refused before any work
-    params = bearing if bearing is not None else (None if "taylor" in parts else PAPER_BEARING)
+    own = any(NATIVE[p].own_bearing for p in parts)  # its data file's bearing (a Taylor surrogate's)
+    params = bearing if bearing is not None else (None if own else PAPER_BEARING)
     model = several_model(parts, params, surrogate=surrogate, map=map, options=options,  # one, or several
                           omega=None if speed_hz is None else 2.0 * math.pi * float(speed_hz))
     if thermal:
@@ -133,7 +133,7 @@ def build_record(model: NativeModel, bearing_source="") -> dict:
     from ..meta import build_record as record
 
     source, is_file = bearing_source, True
-    if not bearing_source and "taylor" in model.all_parts:
+    if not bearing_source and any(NATIVE[p].own_bearing for p in model.all_parts):
         source, is_file = f"the bearing the surrogate {model.source.name} was fitted for", False
     compiled = {k: v for k, v in model.info.items() if k not in ("provenance", "source")}
     return record("native", list(model.all_parts), model.internal, model.params, source,
@@ -207,9 +207,10 @@ def model_description(model: NativeModel, record: dict) -> bytes:
         ET.SubElement(cats, "Category", name=name, description=what)
     ET.SubElement(root, "DefaultExperiment", startTime="0.0", stopTime="0.1", stepSize="0.0001")
     # the internals whose outputs follow the inputs alone (fmu_meta.memoryless_annotation): a master
-    # iterates them without saving and restoring FMU states; the Taylor surrogate is not among them
-    # (its warnings count excursions from the previous call's state, out_of_domain in the FMU state)
-    memoryless = [p for p in model.all_parts if p in MEMORYLESS_INTERNALS]
+    # iterates them without saving and restoring FMU states; not the Reynolds solver (it warm-starts
+    # from the previous call's film) nor the Taylor surrogate (its warnings count excursions from the
+    # previous call's state, out_of_domain in the FMU state)
+    memoryless = [p for p in model.all_parts if NATIVE[p].memoryless]
     if memoryless:
         root.append(fmu_meta.memoryless_annotation(memoryless))
     mvars = ET.SubElement(root, "ModelVariables")

@@ -40,7 +40,7 @@ from .portgen import has_state
 C_DIR = Path(__file__).resolve().parent / "c"
 VR_TIME = 4000  # the independent variable (FMI 3.0 only; the others keep the FMI 2.0 FMU's references)
 # the C files compiled, with internal_<name>.c
-SOURCES3 = ("fmi3_bearing.c", "fmi3_state.c", "fmi3_derivatives.c", "fmi3_modes.c", *MODEL_SOURCES)
+SOURCES3 = ("fmi3_bearing.c", "fmi3_modes.c", *MODEL_SOURCES)
 HEADERS3 = (*MODEL_HEADERS, "fmi3_layer.h")
 DEFINES3 = {"BN_FMI_VERSION": "3"}  # bearing_native.h: the FMI 3.0 headers and instance fields
 LOG_CATEGORIES = (("logStatusWarning", ("a state outside the fitted domain (once per excursion, counted at "

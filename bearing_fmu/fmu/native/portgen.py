@@ -26,6 +26,7 @@ from __future__ import annotations
 
 from ...physics.params import BearingParams
 from ..variables import VARIABLES
+from .catalogue import NATIVE
 
 THERMAL_REALS = ("T_supply", "P_loss", "Q_side", "T_eff", "mu_eff")
 GEOMETRY_REALS = tuple([f"groove_{k}" for k in range(1, 9)] + ["groove_width", "supply_pressure", "arc_start",
@@ -51,16 +52,12 @@ def parts_of(internal) -> tuple[str, ...]:
     return (internal,) if isinstance(internal, str) else tuple(internal)
 
 
-# the native internals whose C file computes the film's flows (defines bn_film: internal_reynolds.c
-# through reynolds_film.c; internal_map.c through map_flows.c from a map file's flow table, full-bore or
-# grooved; internal_taylor.c through taylor_film.c from a surrogate file's film fit)
-C_FILM_REPORT = ("reynolds", "map", "taylor")
-
-
 def part_flows(internal, data_why="") -> dict[str, str]:
     """{internal: why its native model lacks the film's flows, '' when it has them} for ``internal``
     (a name, or a tuple of the names an FMU of several holds): the registry's capability
-    ``film_flow``, a film report in C (``C_FILM_REPORT``) and, for the data file compiled in,
+    ``film_flow``, a film report in C (its catalogue entry's ``film_report``: bn_film, e.g.
+    reynolds_film.c; map_flows.c from a map file's flow table; taylor_film.c from a surrogate file's
+    film fit) and, for the data file compiled in,
     ``data_why`` (the Python internal's ``registry.film_flow_of``: '' when the file has the flows; a
     version 1 or a grooved map, a version 1 surrogate: why not), for several internals {internal:
     its data's why}."""
@@ -73,7 +70,7 @@ def part_flows(internal, data_why="") -> dict[str, str]:
         can = registry.get(p).can
         if not can.film_flow:
             out[p] = can.film_flow_why or f"the {p} internal has no film report"
-        elif p not in C_FILM_REPORT:
+        elif not NATIVE[p].film_report:
             out[p] = (f"the native {p} FMU computes the force only: the film's flows of the Python {p} internal are "
                       "not compiled into it (use the Python FMU, or internal = 'reynolds')")
         else:
@@ -172,7 +169,7 @@ def port_config(internal, params: BearingParams, c_double, c_string, data_why=""
         f"#define BN_FILM_FLOW_WHY {c_string(why)}",
         # per internal (an FMU of several: bn_parts.c): has it the flows in C, why not
         *(f"#define BN_FLOWS_{p.upper()} {int(w == '')}" for p, w in part_flows(internal, data_why).items()
-          if p in C_FILM_REPORT),
+          if NATIVE[p].film_report),
         *(f"#define BN_FLOW_WHY_{p} {c_string(w)}" for p, w in part_flows(internal, data_why).items()),
         f"#define BN_OIL_LAW {OIL_LAWS.index(law)}",
         f"#define BN_OIL_START {{{', '.join(c_double(float(bore[n])) for n in OIL_REALS)}}}",

@@ -25,14 +25,15 @@ from .compile import C_FLAGS, run_compiler, zig_cc
 
 C_DIR = Path(__file__).resolve().parent / "c"
 HOST_TARGET = "native"  # zig cc -target native: this machine
-SOURCES = ("py_mod.h", "reynolds_solver.h", "reynolds_kernels.c", "film_friction.c", "reynolds_film.c",
+SOURCES = ("py_mod.h", "reynolds_solver.h", "reynolds_kernels.c", "film_friction.h", "reynolds_film.c",
            "reynolds_solver.c", "oil_thermal.h", "oil_thermal.c")
 
 __all__ = ["NativeOil", "NativeReynolds", "bore_arrays", "solver_library"]
 
 
 def solver_library(folder: Path) -> ctypes.CDLL:
-    """Compile c/reynolds_solver.c with its API exported (RS_EXPORT) into ``folder`` and load it;
+    """Compile c/reynolds_solver.c (with its kernels and film report) and c/oil_thermal.c with their
+    API exported (RS_EXPORT) into ``folder`` and load it;
     the library is named by a hash of the sources and flags, so a folder kept between runs
     compiles again only when they change."""
     folder = Path(folder)
@@ -44,8 +45,9 @@ def solver_library(folder: Path) -> ctypes.CDLL:
     out = folder / f"reynolds_solver_{h.hexdigest()[:12]}.so"
     if not out.is_file():
         part = folder / f"{out.stem}.{os.getpid()}.part"
-        run_compiler([*zig_cc(), "-target", HOST_TARGET, *cmd, "-I", str(C_DIR), str(C_DIR / "reynolds_solver.c"),
-              str(C_DIR / "oil_thermal.c"), "-o", str(part), "-lm"], "zig cc (the Reynolds solver alone)")
+        run_compiler([*zig_cc(), "-target", HOST_TARGET, *cmd, "-I", str(C_DIR),
+                      *(str(C_DIR / name) for name in SOURCES if name.endswith(".c")), "-o", str(part), "-lm"],
+                     "zig cc (the Reynolds solver alone)")
         os.replace(part, out)
     lib = ctypes.CDLL(str(out))
     d, i, p = ctypes.c_double, ctypes.c_int, ctypes.c_void_p

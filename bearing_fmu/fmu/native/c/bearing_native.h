@@ -26,6 +26,12 @@ typedef fmi3Status bn_status; /* FMI 2's and FMI 3's statuses have the same valu
 #define BN_ERROR fmi3Error
 #define BN_FMI_TEXT "FMI 3.0"
 #define BN_REAL_TYPE "Float64"
+#define BN_INT_TYPE "Int64 or Enumeration"
+#define BN_TRUE_TEXT "true"
+#define BN_FALSE_TEXT "false"
+/* the FMI functions' names as the messages write them, and what the standard calls them */
+#define BN_CALL(fmi2_name, fmi3_name) "fmi3" #fmi3_name
+#define BN_CALL_WORD "function"
 #else
 #include "fmi2Functions.h"
 typedef fmi2Status bn_status;
@@ -35,6 +41,11 @@ typedef fmi2Status bn_status;
 #define BN_ERROR fmi2Error
 #define BN_FMI_TEXT "FMI 2.0"
 #define BN_REAL_TYPE "Real"
+#define BN_INT_TYPE "Integer"
+#define BN_TRUE_TEXT "True"
+#define BN_FALSE_TEXT "False"
+#define BN_CALL(fmi2_name, fmi3_name) #fmi2_name
+#define BN_CALL_WORD "call"
 #endif
 #include "model_config.h"
 #include "oil_thermal.h"
@@ -155,7 +166,6 @@ typedef struct Instance {
     char eff[N_STRING][STRING_MAX]; /* the String choices as they count (a String, or its enumeration): setup() */
     double t;
     Mode mode;
-    int initialized;            /* exitInitializationMode was called: parameters are fixed */
     int terminated;             /* fmi2Terminated: never set (every refused state can be retried with another) */
     int dirty;                  /* ME: inputs changed since the outputs were computed */
     int refused_state;          /* ME: the inputs as set were refused (logged once, until they change) */
@@ -172,14 +182,18 @@ typedef struct Instance {
     int logging_on;
     int echoed;                 /* bit mask of statuses already echoed to stderr (logging off) */
     char name[STRING_MAX];
-#if BN_FMI3
     int model_exchange;         /* the interface it was instantiated for (else Co-Simulation) */
+    double stop_time;           /* FMI 3.0: fmi3EnterInitializationMode's; INFINITY when not defined (FMI 2.0: always) */
+    /* the FMI layer's: give one log line to the importer's logger (1), or 0 when it did not reach
+     * one (bn_log then echoes the first of each status to stderr); may rewrite text in place */
+    int (*emit)(struct Instance *m, bn_status status, char *text);
+    void *(*allocate)(size_t n, size_t size); /* the importer's memory functions (FMI 2.0), else calloc, free */
+    void (*release)(void *p);
+#if BN_FMI3
     fmi3InstanceEnvironment env;
     fmi3LogMessageCallback log_message;
     unsigned log_off;           /* bit k: log category of status k switched off (fmi3SetDebugLogging) */
-    double stop_time;           /* fmi3EnterInitializationMode's; INFINITY when not defined */
 #else
-    fmi2Type type;
     fmi2CallbackFunctions cb;
 #endif
     Work work;
@@ -210,6 +224,7 @@ typedef struct Instance {
 #define bn_film BN_FN(bn_film)
 #define bn_fallback_eval BN_NAME(BN_ID, bn_fallback_eval)
 #define bn_fallback_film BN_NAME(BN_ID, bn_fallback_film)
+#define bn_fallback_set BN_NAME(BN_ID, bn_fallback_set)
 #define bn_log BN_NAME(BN_ID, bn_log)
 #define bn_num BN_NAME(BN_ID, bn_num)
 #define bn_order_refused BN_NAME(BN_ID, bn_order_refused)
@@ -238,6 +253,7 @@ typedef struct Instance {
 #define bn_derivative BN_NAME(BN_ID, bn_derivative)
 #define bn_heat_balance BN_NAME(BN_ID, bn_heat_balance)
 #define bn_thermal_setup BN_NAME(BN_ID, bn_thermal_setup)
+#define bn_thermal_state BN_NAME(BN_ID, bn_thermal_state)
 #define bn_state_save BN_NAME(BN_ID, bn_state_save)
 #define bn_state_restore BN_NAME(BN_ID, bn_state_restore)
 #define bn_state_valid BN_NAME(BN_ID, bn_state_valid)
@@ -289,13 +305,15 @@ BN_HIDDEN void bn_force_depends(const Instance *m, int *bearing, int *speed);
 #else
 #define bn_force_depends(m, bearing, speed) (*(bearing) = BN_BEARING_IN_FORCE, *(speed) = BN_SPEED_IN_FORCE)
 #endif
-/* Taylor's domain_action = fallback in an FMU that holds the Reynolds internal too (bn_parts.c):
+/* Taylor's domain_action = fallback in an FMU that holds the Reynolds internal too (bn_fallback.c):
  * the Reynolds force at x, as bn_eval */
 BN_HIDDEN int bn_fallback_eval(Instance *m, const double x[5], int want_jac, double F[2], double J[8], double dw[2]);
 /* and its film report at x, right after bn_fallback_eval there (Taylor's film report, fallback) */
 BN_HIDDEN int bn_fallback_film(Instance *m, const double x[5], double out[5]);
+/* Taylor as set with domain_action = fallback in an FMU that holds Reynolds too (bn_fallback.c) */
+BN_HIDDEN int bn_fallback_set(const Instance *m);
 
-/* the FMI layer: log one line (printf-style) with a status */
+/* log one line (printf-style) with a status (bearing_log.c, through the FMI layer's emit) */
 BN_HIDDEN void bn_log(Instance *m, bn_status status, const char *fmt, ...)
 #if defined(__GNUC__)
     __attribute__((format(printf, 3, 4)))
@@ -304,9 +322,10 @@ BN_HIDDEN void bn_log(Instance *m, bn_status status, const char *fmt, ...)
 /* a double the way Python's %.{digits}g writes it, into buf */
 BN_HIDDEN const char *bn_num(char *buf, size_t n, double x, int digits);
 
-/* the FMI 2.0 calling sequence (fmi2_order.c): 0 if `call` (an FMI 2.0 function without "fmi2") is
- * allowed in the instance's mode (`allowed`: its BN_ALLOW_ mask), else 1 with an fmi2Error logged
- * naming it, the mode and what to do, in the words of bearing_fmu/fmi_order.py's refusal */
+/* the calling sequence (bearing_log.c): 0 if `call` (the FMI function's name as the messages write
+ * it) is allowed in the instance's mode (`allowed`: its BN_ALLOW_ / BN3_ALLOW_ mask) for an
+ * instance of `kind`, else 1 with an error logged naming it, the mode and what to do, in the words
+ * of bearing_fmu/fmu/order.py's refusal */
 enum { BN_ANY_TYPE, BN_CS_ONLY, BN_ME_ONLY };
 BN_HIDDEN int bn_order_refused(Instance *m, const char *call, unsigned allowed, int kind);
 /* the live instances (bearing_model.c): add one; remove one (1, or 0 if it was not live) */

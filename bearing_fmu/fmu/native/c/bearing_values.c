@@ -98,16 +98,6 @@ static const int INT_LOW[N_INT] = {0, 1}, INT_HIGH[N_INT] = {8, 8};
 
 /* ------------------------------------------------------------------------------ names */
 
-const char *bn_num(char *buf, size_t n, double x, int digits) {
-    if (isnan(x))
-        snprintf(buf, n, "nan");
-    else if (isinf(x))
-        snprintf(buf, n, x > 0 ? "inf" : "-inf");
-    else
-        snprintf(buf, n, "%.*g", digits, x);
-    return buf;
-}
-
 const char *bn_real_name(int vr) {
     if (vr >= VR_OIL0) return OIL_NAMES[vr - VR_OIL0];
     if (vr >= VR_GEOMETRY0) return GEOMETRY_NAMES[vr - VR_GEOMETRY0];
@@ -203,7 +193,6 @@ void bn_set_starts(Instance *m) {
     memset(m->refused, 0, sizeof m->refused);
     m->init_error[0] = 0;
     m->t = 0.0;
-    m->initialized = 0;
     m->terminated = 0;
     m->dirty = 1;
     m->refused_state = 0;

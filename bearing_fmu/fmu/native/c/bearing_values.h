@@ -5,7 +5,9 @@
  *   bearing_model.c    the evaluation into the outputs (out_of_domain a discrete output, the
  *                      warning at omega = 0), the outputs for a get (a refused state logged once),
  *                      FMU states, the live instances;
- *   bearing_derivatives.c   the outputs' derivatives along the inputs and the Real parameters.
+ *   bearing_derivatives.c   the outputs' derivatives along the inputs and the Real parameters;
+ *   bearing_thermal.c  the thermal model (the oil of the parameters, the film's temperature);
+ *   bearing_calls.c, bearing_log.c  the side of every FMI call (bearing_calls.h), logging.
  * Each check answers 0, or 1 with the reason in words; statuses are bn_status (FMI 2.0's and
  * 3.0's have the same values), logged through the FMI layer's bn_log. */
 #ifndef BEARING_VALUES_H
@@ -71,8 +73,11 @@ BN_HIDDEN int bn_check_known(const Instance *m, unsigned vr, char *why, size_t n
  * (else 0). 0, or 1 with the reason in m->msg (the state refused; for K, C: no state next to it).
  * Quiet: no log line, no excursion counted. */
 BN_HIDDEN int bn_derivative(Instance *m, const double d[N_REAL], int with_kc, double out[N_DERIVATIVES]);
-/* thermal = true: the oil of the parameters into m->oil (bearing_model.c): 0, or 1 with the reason in why */
+/* thermal = true: the oil of the parameters into m->oil (bearing_thermal.c): 0, or 1 with the reason in why */
 BN_HIDDEN int bn_thermal_setup(Instance *m, char *why, size_t n);
+/* thermal = true: the film's temperature at x (bearing_thermal.c): out = factor mu_eff / mu, T_eff,
+ * mu_eff, P_loss, Q_side, der(T_eff); 0, or 1 with the reason in m->msg */
+BN_HIDDEN int bn_thermal_state(Instance *m, const double x[5], double out[6]);
 #if BN_FILM_FLOW
 /* thermal = true, for the derivatives: the heat balance at the film report rep (bn_film's, at the
  * parameter mu) and the film temperature T: quasi-static (quasi 1: Initialization Mode) or the one
@@ -86,11 +91,7 @@ BN_HIDDEN int bn_heat_balance(Instance *m, const double rep[5], int quasi, doubl
 /* Model Exchange: the continuous states (BN_N_STATES: T_eff, thermal = true), into x (get) or from
  * x (set: the outputs follow at the next get) */
 #define BN_ME_THERMAL(m) (BN_N_STATES > 0 && (m)->b[B_THERMAL])
-#if BN_FMI3
 #define BN_IS_ME(m) ((m)->model_exchange)
-#else
-#define BN_IS_ME(m) ((m)->type == fmi2ModelExchange)
-#endif
 
 /* an FMU state: the time, the inputs and Real outputs, out_of_domain; tagged with the layer's
  * tag and the build's GUID (FMI 3.0: instantiation token), so a state of another build is refused */

@@ -2,8 +2,7 @@
  * defines its functions under its own name (<id>_<internal>_bn_setup ...: bearing_native.h
  * BN_FN), and this file the ones the model layer calls, dispatching on the parameter internal as
  * it counts (m->eff, the String or its enumeration). Taylor's domain_action = fallback evaluates
- * the Reynolds internal of the same FMU (bn_fallback_eval, its film report bn_fallback_film),
- * prepared with Taylor's when set. */
+ * the Reynolds internal of the same FMU (bn_fallback.c), prepared here with Taylor's when set. */
 #include <stdio.h>
 #include <string.h>
 
@@ -82,20 +81,10 @@ void bn_force_depends(const Instance *m, int *bearing, int *speed) {
     *speed = p->speed;
 }
 
-/* Taylor's fallback: the surrogate's bearing and the grid and cavitation as set, prepared with it */
-static int fallback_set(const Instance *m) {
-#if BN_HOLDS_TAYLOR && BN_HOLDS_REYNOLDS
-    return strcmp(m->eff[S_INTERNAL], "taylor") == 0 && strcmp(m->eff[S_OPT_DOMAIN_ACTION], "fallback") == 0;
-#else
-    (void)m;
-    return 0;
-#endif
-}
-
 int BN_NAME(BN_ID, bn_setup)(Instance *m) {
     if (active(m)->setup(m)) return 1;
 #if BN_HOLDS_REYNOLDS
-    if (fallback_set(m) && PART_FN(reynolds, bn_setup)(m)) {
+    if (bn_fallback_set(m) && PART_FN(reynolds, bn_setup)(m)) {
         char why[sizeof m->msg];
         memcpy(why, m->msg, sizeof why);
         snprintf(m->msg, sizeof m->msg, "domain_action = 'fallback': %.1900s", why);
@@ -130,44 +119,6 @@ int BN_NAME(BN_ID, bn_film)(Instance *m, const double x[5], double out[5]) {
 void BN_NAME(BN_ID, bn_release)(Instance *m) {
     for (int i = 0; i < BN_PARTS; i++) PARTS[i].release(m);
 }
-
-int bn_fallback_eval(Instance *m, const double x[5], int want_jac, double F[2], double J[8], double dw[2]) {
-#if BN_HOLDS_REYNOLDS
-    int ood = 0;
-    if (!fallback_set(m) || !m->work.solver) {
-        snprintf(m->msg, sizeof m->msg, "domain_action = 'fallback': the Reynolds internal was not prepared");
-        return 1;
-    }
-    return PART_FN(reynolds, bn_eval)(m, x, want_jac, F, J, dw, &ood);
-#else
-    (void)x;
-    (void)want_jac;
-    (void)F;
-    (void)J;
-    (void)dw;
-    snprintf(m->msg, sizeof m->msg, "domain_action = 'fallback' needs the Reynolds internal in this FMU");
-    return 1;
-#endif
-}
-
-#if BN_FLOWS_TAYLOR && BN_HOLDS_REYNOLDS
-/* Taylor's film report outside its domain with fallback: the Reynolds field bn_fallback_eval just solved */
-int bn_fallback_film(Instance *m, const double x[5], double out[5]) {
-#if BN_FLOWS_REYNOLDS
-    if (!fallback_set(m) || !m->work.solver) {
-        snprintf(m->msg, sizeof m->msg, "domain_action = 'fallback': the Reynolds internal was not prepared");
-        return 1;
-    }
-    return PART_FN(reynolds, bn_film)(m, x, out);
-#else
-    (void)x;
-    (void)out;
-    snprintf(m->msg, sizeof m->msg, "domain_action = 'fallback': the film report of the Reynolds internal: %.1900s",
-             BN_FLOW_WHY_reynolds);
-    return 1;
-#endif
-}
-#endif
 
 #if BN_BEARING_IN_FORCE == 2
 int BN_NAME(BN_ID, bn_shape_derivative)(Instance *m, const double x[5], int want_jac, double dF[2], double dJ[8]) {

@@ -1,85 +1,42 @@
 /* The FMI 2.0 layer of the native bearing FMU (Co-Simulation and Model Exchange in one binary).
  *
  * The journal state (y, z, vy, vz, omega) goes in, the film force and its tangent come out,
- * computed by the internal compiled beside this file (internal_<name>.c). It has no state of
- * its own apart from its inputs and outputs, so fmi2GetFMUstate is a copy of those.
+ * computed by the internal compiled beside this file (internal_<name>.c). As in the FMI Reference
+ * FMUs, each function here checks its instance and its place in the calling sequence (ORDER: the
+ * table of bearing_fmu/fmu/order.py, the Python FMU's too) and makes one call into the model layer
+ * (bearing_calls.h), the same code under the FMI 3.0 layer: the statuses (docs/fmu.md, "FMI
+ * status") are the model layer's. What is FMI 2.0's own: the logger callback (no '%' may reach its
+ * printf format), the importer's memory functions, the fmi2 types and the status kinds.
  *
- * Statuses (docs/fmu.md, "FMI status"), as the Python FMU gives them:
- *   a parameter that can never be valid        -> that fmi2SetX: fmi2Error, value not stored, and
- *                                                 exitInitializationMode fails until a valid one is set
- *   parameters valid alone but not together     -> fmi2ExitInitializationMode: fmi2Error
- *   an unknown value reference, setting an output, a parameter after initialisation,
- *   a bad step size or time, doStep before initialisation, a foreign FMU state -> fmi2Error
- *   a state the internal refuses (non-finite input, the wall, far outside a surrogate's domain)
- *                                               -> doStep (CS) / getReal of an output (ME): fmi2Discard,
- *                                                 outputs keep their last values, logged with the reason
- *   a call out of the FMI 2.0 calling sequence, a non-finite time (setTime) or direction
- *   (getDirectionalDerivative)                  -> fmi2Error naming the call; nothing changes
- * The calling sequence is bearing_fmu/fmi_order.py's table, the Python FMU's too (fmi2_order.c).
  * After an error the instance stays usable. A second fmi2FreeInstance of the same instance is
- * recognised and does nothing (the model layer lists the live instances). With logging off, the
- * first warning, discard and error of each instance are printed to stderr, so a user of a master
- * without a logger still learns the first thing that went wrong.
- *
- * This file: logging, instances, modes, values; fmi2_modes.c: FMU states, derivatives,
- * Co-Simulation and Model Exchange; fmi2_order.c: the calling sequence. The variables, the
- * parameters' checks, the evaluation and its derivatives are the model layer's (bearing_values.h),
- * the same code under the FMI 3.0 layer. */
-#include <math.h>
-#include <stdarg.h>
+ * recognised and does nothing (the model layer lists the live instances). */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include "fmi2_layer.h"
+#include "bearing_calls.h"
+
+#if BN_FMI3
+#error "the FMI 2.0 layer is compiled without BN_FMI_VERSION=3"
+#endif
 
 static const char *const STATUS_NAMES[] = {"ok", "warning", "discard", "error", "fatal", "pending"};
 
-/* ------------------------------------------------------------------------------ logging */
+/* refuse `call` unless the instance's mode allows it, for an instance of `kind` (BN_ANY_TYPE,
+ * BN_CS_ONLY, BN_ME_ONLY); `call` the FMI 2.0 name without "fmi2" as the messages write it */
+#define INSTANCE Instance *m = c; if (!m) return fmi2Error
+#define ORDER(call, kind) if (bn_order_refused(m, #call, BN_ALLOW_##call, kind)) return fmi2Error
 
-static void echo(Instance *m, fmi2Status status, const char *text) {
-    /* logging off: print the first warning, discard and error of this instance to stderr */
-    int bit = 1 << (int)status;
-    if (m->logging_on || status == fmi2OK || (m->echoed & bit)) return;
-    int first = m->echoed == 0;
-    m->echoed |= bit;
-    fprintf(stderr, "bearing FMU '%s' [%s]: %s\n", m->name, STATUS_NAMES[status], text);
-    if (first)
-        fprintf(stderr, "  (logging is off, so this FMU instance prints its first warning, discard and error "
-                        "here; instantiate it with loggingOn (fmpy: simulate_fmu(..., debug_logging=True)) to "
-                        "receive every message)\n");
-    fflush(stderr);
-}
-
-void bn_log(Instance *m, fmi2Status status, const char *fmt, ...) {
-    char text[2048];
-    va_list ap;
-    if (m->mute) return; /* the states a derivative's differences evaluate */
-    va_start(ap, fmt);
-    vsnprintf(text, sizeof text, fmt, ap);
-    va_end(ap);
-    /* the logger takes a printf format: no '%' may reach it (messages never write one; names might) */
-    for (char *p = text; *p; p++)
+/* the model layer's log line to the logger callback (logging on); 0 when none received it */
+static int emit(Instance *m, bn_status status, char *text) {
+    for (char *p = text; *p; p++) /* the logger takes a printf format: no '%' may reach it */
         if (*p == '%') *p = '?';
-    if (m->logging_on && m->cb.logger)
-        m->cb.logger(m->cb.componentEnvironment, m->name, status, STATUS_NAMES[status], text);
-    echo(m, status, text);
+    if (!m->logging_on || !m->cb.logger) return 0;
+    m->cb.logger(m->cb.componentEnvironment, m->name, status, STATUS_NAMES[status], text);
+    return 1;
 }
 
-fmi2Status bn2_fail(Instance *m, const char *fmt, ...) {
-    char text[2048];
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(text, sizeof text, fmt, ap);
-    va_end(ap);
-    bn_log(m, fmi2Error, "%s", text);
-    return fmi2Error;
-}
-
-/* refuse `call` (an FMI 2.0 function without "fmi2") unless the instance's mode allows it (fmi2_order.c) */
-#define ORDER(call, kind) \
-    if (bn_order_refused(m, #call, BN_ALLOW_##call, kind)) return fmi2Error
-/* ------------------------------------------------------------------------------ FMI: common */
+/* ------------------------------------------------------------------------------ instances and modes */
 
 const char *fmi2GetTypesPlatform(void) { return fmi2TypesPlatform; }
 const char *fmi2GetVersion(void) { return fmi2Version; }
@@ -88,15 +45,16 @@ fmi2Status fmi2SetDebugLogging(fmi2Component c, fmi2Boolean loggingOn, size_t nC
                                const fmi2String categories[]) {
     (void)nCategories;
     (void)categories;
-    if (!c) return fmi2Error;
-    ((Instance *)c)->logging_on = loggingOn != 0;
+    INSTANCE;
+    ORDER(setDebugLogging, BN_ANY_TYPE);
+    m->logging_on = loggingOn != 0;
     return fmi2OK;
 }
 
 fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType, fmi2String fmuGUID,
                               fmi2String fmuResourceLocation, const fmi2CallbackFunctions *functions,
                               fmi2Boolean visible, fmi2Boolean loggingOn) {
-    (void)fmuResourceLocation;
+    (void)fmuResourceLocation; /* the data are compiled in */
     (void)visible;
     const char *name = instanceName ? instanceName : "";
     if (!fmuGUID || strcmp(fmuGUID, BN_GUID) != 0) {
@@ -107,299 +65,311 @@ fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType, fmi2Str
             fprintf(stderr, "bearing FMU '%s' [error]: fmi2Instantiate: the GUID given is not this FMU's\n", name);
         return NULL;
     }
-    Instance *m = (functions && functions->allocateMemory) ? functions->allocateMemory(1, sizeof(Instance))
-                                                           : calloc(1, sizeof(Instance));
-    if (!m) return NULL;
-    memset(m, 0, sizeof *m);
-    if (functions) m->cb = *functions;
-    m->type = fmuType;
-    m->logging_on = loggingOn != 0;
-    snprintf(m->name, sizeof m->name, "%s", name);
-    bn_set_starts(m);
-    m->mode = MODE_INSTANTIATED;
-    bn_live_add(m);
+    int own = functions && functions->allocateMemory && functions->freeMemory;
+    Instance *m = bn_instance_new(name, fmuType == fmi2ModelExchange, loggingOn, emit,
+                                  own ? functions->allocateMemory : NULL, own ? functions->freeMemory : NULL);
+    if (m && functions) m->cb = *functions;
     return m;
 }
 
 void fmi2FreeInstance(fmi2Component c) {
-    Instance *m = c;
-    if (!m) return;
-    if (!bn_live_remove(m)) { /* freed already (or never ours): its memory is not touched */
-        fprintf(stderr, "bearing FMU: fmi2FreeInstance(%p): not a live instance of this FMU (freed already?); "
-                        "nothing done\n", c);
-        fflush(stderr);
-        return;
-    }
-    bn_release(m); /* what the internal allocated (reynolds: the solver's memory) */
-    if (m->cb.freeMemory) {
-        fmi2CallbackFreeMemory release = m->cb.freeMemory;
-        release(m);
-    } else {
-        free(m);
-    }
+    if (c) bn_instance_free(c, "fmi2FreeInstance");
 }
 
 fmi2Status fmi2SetupExperiment(fmi2Component c, fmi2Boolean toleranceDefined, fmi2Real tolerance,
                                fmi2Real startTime, fmi2Boolean stopTimeDefined, fmi2Real stopTime) {
-    Instance *m = c;
-    char a[32], b[32];
-    (void)toleranceDefined;
+    (void)toleranceDefined; /* no integrator inside */
     (void)tolerance;
-    if (!m) return fmi2Error;
+    INSTANCE;
     ORDER(setupExperiment, BN_ANY_TYPE);
-    if (!isfinite(startTime))
-        return bn2_fail(m, "setupExperiment: startTime = %s s must be finite", bn_num(a, 32, startTime, 17));
-    if (stopTimeDefined && !(startTime <= stopTime && stopTime < INFINITY))
-        return bn2_fail(m, "setupExperiment: stopTime = %s s must be finite and >= startTime = %s s",
-                        bn_num(a, 32, stopTime, 17), bn_num(b, 32, startTime, 17));
-    m->t = startTime;
-    return fmi2OK;
+    return bn_start_time(m, "setupExperiment", startTime, stopTimeDefined, stopTime);
 }
 
 fmi2Status fmi2EnterInitializationMode(fmi2Component c) {
-    Instance *m = c;
-    if (!m) return fmi2Error;
+    INSTANCE;
     ORDER(enterInitializationMode, BN_ANY_TYPE);
-    m->mode = MODE_INIT;
-    return fmi2OK;
+    return bn_enter_init(m);
 }
 
 fmi2Status fmi2ExitInitializationMode(fmi2Component c) {
-    Instance *m = c;
-    if (!m) return fmi2Error;
+    INSTANCE;
     ORDER(exitInitializationMode, BN_ANY_TYPE);
-    m->initialized = 1;
-    if (bn_prepare(m)) return bn2_fail(m, "%s", m->init_error);
-    bn_show_choices(m); /* both the String and its enumeration show the choice that counts */
-    /* outputs at the start time from the initial inputs, when they can be evaluated (still in
-     * Initialization Mode: T_eff quasi-static, Model Exchange's state starts there): a master
-     * may set the inputs only before the first step, so a refused state is no initialisation error */
-    int refused = bn_evaluate(m);
-    m->mode = m->type == fmi2ModelExchange ? MODE_EVENT : MODE_STEP;
-    if (refused) {
-        bn_log(m, fmi2Warning, "outputs at the start time left at their start values: %s", m->msg);
-        m->warn_pending = 1;
-        m->dirty = 1;
-    }
-    return bn_warned(m);
+    return bn_exit_init(m, "exitInitializationMode");
 }
 
 fmi2Status fmi2Terminate(fmi2Component c) {
-    Instance *m = c;
-    if (!m) return fmi2Error;
+    INSTANCE;
     ORDER(terminate, BN_ANY_TYPE);
-    m->mode = MODE_TERMINATED;
-    bn_log_excursions(m);
-    return fmi2OK;
+    return bn_terminate(m);
 }
 
 fmi2Status fmi2Reset(fmi2Component c) {
-    Instance *m = c;
-    if (!m) return fmi2Error;
-    bn_set_starts(m);
-    m->mode = MODE_INSTANTIATED;
-    return fmi2OK;
+    INSTANCE;
+    ORDER(reset, BN_ANY_TYPE);
+    return bn_reset(m);
 }
 
-/* ------------------------------------------------------------------------------ getters and setters */
+/* ------------------------------------------------------------------------------ getting and setting values */
 
 fmi2Status fmi2GetReal(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, fmi2Real value[]) {
-    Instance *m = c;
-    if (!m) return fmi2Error;
+    INSTANCE;
     ORDER(getReal, BN_ANY_TYPE);
-    fmi2Status status = fmi2OK;
-    int computed = 0;
-    for (size_t i = 0; i < nvr; i++) {
-        if (vr[i] >= (fmi2ValueReference)N_REAL)
-            return bn2_fail(m, "getReal: value reference %u is not a Real variable of this FMU", vr[i]);
-        if (bn_is_output_real((int)vr[i]) && !computed) {
-            computed = 1;
-            fmi2Status s = bn_outputs(m, "getReal", bn_real_name((int)vr[i]));
-            if (s == fmi2Error) return s;
-            if (s > status) status = s;
-        }
-        value[i] = m->r[vr[i]];
-    }
-    return status;
+    return bn_get_reals(m, "getReal", vr, nvr, value);
 }
 
 fmi2Status fmi2GetInteger(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, fmi2Integer value[]) {
-    Instance *m = c;
-    if (!m) return fmi2Error;
+    INSTANCE;
     ORDER(getInteger, BN_ANY_TYPE);
     for (size_t i = 0; i < nvr; i++) {
-        if (vr[i] < VR_INT0 || vr[i] >= VR_INT_PARAM0 + N_INT)
-            return bn2_fail(m, "getInteger: value reference %u is not an Integer variable of this FMU", vr[i]);
-        value[i] = vr[i] >= VR_INT_PARAM0 ? m->n[vr[i] - VR_INT_PARAM0] : m->e[vr[i] - VR_INT0];
+        long long v = 0;
+        if (bn_get_int(m, "getInteger", vr[i], &v) != fmi2OK) return fmi2Error;
+        value[i] = (fmi2Integer)v;
     }
     return fmi2OK;
 }
 
 fmi2Status fmi2GetBoolean(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, fmi2Boolean value[]) {
-    Instance *m = c;
-    if (!m) return fmi2Error;
+    INSTANCE;
     ORDER(getBoolean, BN_ANY_TYPE);
     fmi2Status status = fmi2OK;
     for (size_t i = 0; i < nvr; i++) {
-        if (vr[i] < VR_BOOL0 || vr[i] >= VR_BOOL0 + N_BOOL)
-            return bn2_fail(m, "getBoolean: value reference %u is not a Boolean variable of this FMU", vr[i]);
-        if (vr[i] == VR_BOOL0 + B_OUT_OF_DOMAIN) {
-            fmi2Status s = bn_outputs(m, "getBoolean", "out_of_domain");
-            if (s == fmi2Error) return s;
-            if (s > status) status = s;
-        }
-        value[i] = m->b[vr[i] - VR_BOOL0] ? fmi2True : fmi2False;
+        int v = 0;
+        fmi2Status s = bn_get_bool(m, "getBoolean", vr[i], &v);
+        if (s == fmi2Error) return s;
+        if (s > status) status = s;
+        value[i] = v ? fmi2True : fmi2False;
     }
     return status;
 }
 
 fmi2Status fmi2GetString(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, fmi2String value[]) {
-    Instance *m = c;
-    if (!m) return fmi2Error;
+    INSTANCE;
     ORDER(getString, BN_ANY_TYPE);
-    for (size_t i = 0; i < nvr; i++) {
-        if (vr[i] < VR_STRING0 || vr[i] >= VR_STRING0 + N_STRING)
-            return bn2_fail(m, "getString: value reference %u is not a String variable of this FMU", vr[i]);
-        value[i] = m->s[vr[i] - VR_STRING0];
-    }
-    return fmi2OK;
-}
-
-/* a parameter set after initialisation: refused (1, logged), else 0 */
-static int parameter_fixed(Instance *m, const char *call, const char *name, const char *keeps) {
-    if (!m->initialized) return 0;
-    bn2_fail(m, "%s: parameter %s is fixed after initialisation (variability fixed); it keeps %s", call, name, keeps);
-    return 1;
+    return bn_get_strings(m, "getString", vr, nvr, value);
 }
 
 fmi2Status fmi2SetReal(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, const fmi2Real value[]) {
-    Instance *m = c;
-    if (!m) return fmi2Error;
+    INSTANCE;
     ORDER(setReal, BN_ANY_TYPE);
-    fmi2Status status = fmi2OK;
-    char a[32], why[512];
-    for (size_t i = 0; i < nvr; i++) {
-        fmi2ValueReference k = vr[i];
-        if (BN_IS_INPUT(k)) { /* inputs: any value; a non-finite one is refused when evaluated */
-            m->r[k] = value[i];
-            m->dirty = 1;
-            m->step_refused = 0;
-            continue;
-        }
-        if (k >= (fmi2ValueReference)N_REAL) {
-            status = bn2_fail(m, "setReal: value reference %u is not a Real variable of this FMU", k);
-            continue;
-        }
-        if (bn_is_output_real((int)k)) {
-            status = bn2_fail(m, "setReal: %s is an output and cannot be set", bn_real_name((int)k));
-            continue;
-        }
-        if (parameter_fixed(m, "setReal", bn_real_name((int)k), bn_num(a, sizeof a, m->r[k], 17))) {
-            status = fmi2Error;
-            continue;
-        }
-        if (bn_check_real((int)k, value[i], why, sizeof why)) {
-            m->refused[k] = 1;
-            snprintf(m->refused_msg[k], sizeof m->refused_msg[k], "%s", why);
-            status = bn2_fail(m, "setReal: %s; %s keeps %s", why, bn_real_name((int)k),
-                              bn_num(a, sizeof a, m->r[k], 17));
-            continue;
-        }
-        m->refused[k] = 0;
-        m->r[k] = value[i];
-    }
-    return status;
+    return bn_set_reals(m, "setReal", vr, nvr, value);
 }
 
 fmi2Status fmi2SetInteger(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, const fmi2Integer value[]) {
-    Instance *m = c;
-    if (!m) return fmi2Error;
+    INSTANCE;
     ORDER(setInteger, BN_ANY_TYPE);
     fmi2Status status = fmi2OK;
-    char why[512], keeps[32];
-    for (size_t i = 0; i < nvr; i++) {
-        if (vr[i] < VR_INT0 || vr[i] >= VR_INT_PARAM0 + N_INT) {
-            status = bn2_fail(m, "setInteger: value reference %u is not an Integer variable of this FMU", vr[i]);
-            continue;
-        }
-        if (vr[i] >= VR_INT_PARAM0) { /* groove_count, lobes: the bore, checked against the data's at initialisation */
-            int k = (int)(vr[i] - VR_INT_PARAM0);
-            snprintf(keeps, sizeof keeps, "%d", m->n[k]);
-            if (parameter_fixed(m, "setInteger", bn_int_name(k), keeps))
-                status = fmi2Error;
-            else if (bn_set_int(m, k, value[i], why, sizeof why))
-                status = bn2_fail(m, "setInteger: %s; %s keeps %s", why, bn_int_name(k), keeps);
-            continue;
-        }
-        int j = (int)(vr[i] - VR_INT0);
-        int slot = N_REAL + N_BOOL + N_STRING + j;
-        snprintf(keeps, sizeof keeps, "%d", m->e[j]);
-        if (parameter_fixed(m, "setInteger", bn_enum_name(j), keeps)) {
-            status = fmi2Error;
-            continue;
-        }
-        if (bn_check_enum(j, value[i], why, sizeof why)) {
-            m->refused[slot] = 1;
-            snprintf(m->refused_msg[slot], sizeof m->refused_msg[slot], "%s", why);
-            status = bn2_fail(m, "setInteger: %s; %s keeps %s", why, bn_enum_name(j), keeps);
-            continue;
-        }
-        m->refused[slot] = 0;
-        m->e[j] = value[i];
-    }
+    for (size_t i = 0; i < nvr; i++)
+        if (bn_set_integer(m, "setInteger", vr[i], value[i]) != fmi2OK) status = fmi2Error;
     return status;
 }
 
 fmi2Status fmi2SetBoolean(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, const fmi2Boolean value[]) {
-    Instance *m = c;
-    if (!m) return fmi2Error;
+    INSTANCE;
     ORDER(setBoolean, BN_ANY_TYPE);
     fmi2Status status = fmi2OK;
-    for (size_t i = 0; i < nvr; i++) {
-        if (vr[i] < VR_BOOL0 || vr[i] >= VR_BOOL0 + N_BOOL) {
-            status = bn2_fail(m, "setBoolean: value reference %u is not a Boolean variable of this FMU", vr[i]);
-            continue;
-        }
-        int k = (int)(vr[i] - VR_BOOL0);
-        if (k == B_OUT_OF_DOMAIN) {
-            status = bn2_fail(m, "setBoolean: out_of_domain is an output and cannot be set");
-            continue;
-        }
-        if (parameter_fixed(m, "setBoolean", BN_BOOL_NAMES[k], m->b[k] ? "True" : "False")) {
-            status = fmi2Error;
-            continue;
-        }
-        m->b[k] = value[i] != fmi2False;
-    }
+    for (size_t i = 0; i < nvr; i++)
+        if (bn_set_bool(m, "setBoolean", vr[i], value[i] != fmi2False) != fmi2OK) status = fmi2Error;
     return status;
 }
 
 fmi2Status fmi2SetString(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, const fmi2String value[]) {
-    Instance *m = c;
-    if (!m) return fmi2Error;
+    INSTANCE;
     ORDER(setString, BN_ANY_TYPE);
-    fmi2Status status = fmi2OK;
-    char why[512], out[STRING_MAX], keeps[STRING_MAX + 2];
-    for (size_t i = 0; i < nvr; i++) {
-        if (vr[i] < VR_STRING0 || vr[i] >= VR_STRING0 + N_STRING) {
-            status = bn2_fail(m, "setString: value reference %u is not a String variable of this FMU", vr[i]);
-            continue;
-        }
-        int k = (int)(vr[i] - VR_STRING0);
-        int slot = N_REAL + N_BOOL + k;
-        snprintf(keeps, sizeof keeps, "'%s'", m->s[k]);
-        if (parameter_fixed(m, "setString", bn_string_name(k), keeps)) {
-            status = fmi2Error;
-            continue;
-        }
-        if (bn_check_string(k, value[i] ? value[i] : "", out, why, sizeof why)) {
-            m->refused[slot] = 1;
-            snprintf(m->refused_msg[slot], sizeof m->refused_msg[slot], "%s", why);
-            status = bn2_fail(m, "setString: %s; %s keeps %s", why, bn_string_name(k), keeps);
-            continue;
-        }
-        m->refused[slot] = 0;
-        snprintf(m->s[k], STRING_MAX, "%s", out);
-    }
-    return status;
+    return bn_set_strings(m, "setString", vr, nvr, value);
+}
+
+/* ------------------------------------------------------------------------------ FMU states */
+
+fmi2Status fmi2GetFMUstate(fmi2Component c, fmi2FMUstate *FMUstate) {
+    INSTANCE;
+    ORDER(getFMUstate, BN_ANY_TYPE);
+    return bn_fmu_state_get(m, "getFMUstate", FMUstate);
+}
+
+fmi2Status fmi2SetFMUstate(fmi2Component c, fmi2FMUstate FMUstate) {
+    INSTANCE;
+    ORDER(setFMUstate, BN_ANY_TYPE);
+    return bn_fmu_state_set(m, "setFMUstate", FMUstate);
+}
+
+fmi2Status fmi2FreeFMUstate(fmi2Component c, fmi2FMUstate *FMUstate) {
+    INSTANCE;
+    ORDER(freeFMUstate, BN_ANY_TYPE);
+    return bn_fmu_state_free(m, "freeFMUstate", FMUstate);
+}
+
+fmi2Status fmi2SerializedFMUstateSize(fmi2Component c, fmi2FMUstate FMUstate, size_t *size) {
+    INSTANCE;
+    ORDER(serializedFMUstateSize, BN_ANY_TYPE);
+    return bn_fmu_state_size(m, "serializedFMUstateSize", FMUstate, size);
+}
+
+fmi2Status fmi2SerializeFMUstate(fmi2Component c, fmi2FMUstate FMUstate, fmi2Byte serializedState[], size_t size) {
+    INSTANCE;
+    ORDER(serializeFMUstate, BN_ANY_TYPE);
+    return bn_fmu_state_serialize(m, "serializeFMUstate", FMUstate, (unsigned char *)serializedState, size);
+}
+
+fmi2Status fmi2DeSerializeFMUstate(fmi2Component c, const fmi2Byte serializedState[], size_t size,
+                                   fmi2FMUstate *FMUstate) {
+    INSTANCE;
+    ORDER(deSerializeFMUstate, BN_ANY_TYPE);
+    return bn_fmu_state_deserialize(m, "deSerializeFMUstate", (const unsigned char *)serializedState, size, FMUstate);
+}
+
+/* ------------------------------------------------------------------------------ derivatives */
+
+fmi2Status fmi2GetDirectionalDerivative(fmi2Component c, const fmi2ValueReference vUnknown_ref[], size_t nUnknown,
+                                        const fmi2ValueReference vKnown_ref[], size_t nKnown,
+                                        const fmi2Real dvKnown[], fmi2Real dvUnknown[]) {
+    INSTANCE;
+    ORDER(getDirectionalDerivative, BN_ANY_TYPE);
+    return bn_derivatives(m, "getDirectionalDerivative", 0, vUnknown_ref, nUnknown, vKnown_ref, nKnown, dvKnown,
+                          nKnown, dvUnknown, nUnknown);
+}
+
+/* ------------------------------------------------------------------------------ Co-Simulation */
+
+fmi2Status fmi2SetRealInputDerivatives(fmi2Component c, const fmi2ValueReference vr[], size_t nvr,
+                                       const fmi2Integer order[], const fmi2Real value[]) {
+    (void)vr; (void)nvr; (void)order; (void)value;
+    INSTANCE;
+    ORDER(setRealInputDerivatives, BN_CS_ONLY);
+    return bn_fail(m, "setRealInputDerivatives: not supported (canInterpolateInputs is false)");
+}
+
+fmi2Status fmi2GetRealOutputDerivatives(fmi2Component c, const fmi2ValueReference vr[], size_t nvr,
+                                        const fmi2Integer order[], fmi2Real value[]) {
+    (void)vr; (void)nvr; (void)order; (void)value;
+    INSTANCE;
+    ORDER(getRealOutputDerivatives, BN_CS_ONLY);
+    return bn_fail(m, "getRealOutputDerivatives: not supported (maxOutputDerivativeOrder is 0)");
+}
+
+fmi2Status fmi2DoStep(fmi2Component c, fmi2Real currentCommunicationPoint, fmi2Real communicationStepSize,
+                      fmi2Boolean noSetFMUStatePriorToCurrentPoint) {
+    (void)noSetFMUStatePriorToCurrentPoint;
+    double t_done;
+    INSTANCE;
+    return bn_do_step(m, "doStep", BN_ALLOW_doStep, currentCommunicationPoint, communicationStepSize, &t_done);
+}
+
+fmi2Status fmi2CancelStep(fmi2Component c) {
+    INSTANCE;
+    return bn_fail(m, "cancelStep: doStep never runs asynchronously here");
+}
+
+fmi2Status fmi2GetStatus(fmi2Component c, const fmi2StatusKind s, fmi2Status *value) {
+    (void)value;
+    INSTANCE;
+    ORDER(getStatus, BN_CS_ONLY);
+    return bn_fail(m, "getStatus: status kind %d is not provided (doStep never returns fmi2Pending)", (int)s);
+}
+
+fmi2Status fmi2GetRealStatus(fmi2Component c, const fmi2StatusKind s, fmi2Real *value) {
+    INSTANCE;
+    ORDER(getRealStatus, BN_CS_ONLY);
+    if (s != fmi2LastSuccessfulTime) return bn_fail(m, "getRealStatus: status kind %d is not provided", (int)s);
+    *value = m->t;
+    return fmi2OK;
+}
+
+fmi2Status fmi2GetIntegerStatus(fmi2Component c, const fmi2StatusKind s, fmi2Integer *value) {
+    (void)value;
+    INSTANCE;
+    ORDER(getIntegerStatus, BN_CS_ONLY);
+    return bn_fail(m, "getIntegerStatus: status kind %d is not provided", (int)s);
+}
+
+fmi2Status fmi2GetBooleanStatus(fmi2Component c, const fmi2StatusKind s, fmi2Boolean *value) {
+    INSTANCE;
+    ORDER(getBooleanStatus, BN_CS_ONLY);
+    if (s != fmi2Terminated) return bn_fail(m, "getBooleanStatus: status kind %d is not provided", (int)s);
+    *value = m->terminated ? fmi2True : fmi2False;
+    return fmi2OK;
+}
+
+fmi2Status fmi2GetStringStatus(fmi2Component c, const fmi2StatusKind s, fmi2String *value) {
+    (void)value;
+    INSTANCE;
+    ORDER(getStringStatus, BN_CS_ONLY);
+    return bn_fail(m, "getStringStatus: status kind %d is not provided", (int)s);
+}
+
+/* ------------------------------------------------------------------------------ Model Exchange */
+
+fmi2Status fmi2EnterEventMode(fmi2Component c) {
+    INSTANCE;
+    ORDER(enterEventMode, BN_ME_ONLY);
+    return bn_enter_event_mode(m);
+}
+
+fmi2Status fmi2NewDiscreteStates(fmi2Component c, fmi2EventInfo *info) {
+    INSTANCE;
+    ORDER(newDiscreteStates, BN_ME_ONLY);
+    if (!info) return bn_fail(m, "newDiscreteStates: fmi2EventInfo* is NULL");
+    info->newDiscreteStatesNeeded = fmi2False;
+    info->terminateSimulation = fmi2False;
+    info->nominalsOfContinuousStatesChanged = fmi2False;
+    info->valuesOfContinuousStatesChanged = fmi2False;
+    info->nextEventTimeDefined = fmi2False;
+    info->nextEventTime = 0.0;
+    return bn_discrete_states(m, "newDiscreteStates");
+}
+
+fmi2Status fmi2EnterContinuousTimeMode(fmi2Component c) {
+    INSTANCE;
+    ORDER(enterContinuousTimeMode, BN_ME_ONLY);
+    return bn_enter_continuous_mode(m, "enterContinuousTimeMode");
+}
+
+fmi2Status fmi2CompletedIntegratorStep(fmi2Component c, fmi2Boolean noSetFMUStatePriorToCurrentPoint,
+                                       fmi2Boolean *enterEventMode, fmi2Boolean *terminateSimulation) {
+    (void)noSetFMUStatePriorToCurrentPoint;
+    INSTANCE;
+    ORDER(completedIntegratorStep, BN_ME_ONLY);
+    if (!enterEventMode || !terminateSimulation)
+        return bn_fail(m, "completedIntegratorStep: an output argument is NULL");
+    int event = 0;
+    fmi2Status s = bn_completed_step(m, "completedIntegratorStep", &event);
+    *enterEventMode = event ? fmi2True : fmi2False;
+    *terminateSimulation = fmi2False;
+    return s;
+}
+
+fmi2Status fmi2SetTime(fmi2Component c, fmi2Real time) {
+    INSTANCE;
+    ORDER(setTime, BN_ME_ONLY);
+    return bn_set_time(m, "setTime", time);
+}
+
+fmi2Status fmi2SetContinuousStates(fmi2Component c, const fmi2Real x[], size_t nx) {
+    INSTANCE;
+    ORDER(setContinuousStates, BN_ME_ONLY);
+    return bn_set_states(m, "setContinuousStates", x, nx);
+}
+
+fmi2Status fmi2GetDerivatives(fmi2Component c, fmi2Real derivatives[], size_t nx) {
+    INSTANCE;
+    ORDER(getDerivatives, BN_ME_ONLY);
+    return bn_get_state_derivatives(m, "getDerivatives", derivatives, nx);
+}
+
+fmi2Status fmi2GetEventIndicators(fmi2Component c, fmi2Real eventIndicators[], size_t ni) {
+    (void)eventIndicators;
+    INSTANCE;
+    ORDER(getEventIndicators, BN_ME_ONLY);
+    return bn_no_states(m, "getEventIndicators", ni, "event indicators");
+}
+
+fmi2Status fmi2GetContinuousStates(fmi2Component c, fmi2Real x[], size_t nx) {
+    INSTANCE;
+    ORDER(getContinuousStates, BN_ME_ONLY);
+    return bn_get_states(m, "getContinuousStates", x, nx);
+}
+
+fmi2Status fmi2GetNominalsOfContinuousStates(fmi2Component c, fmi2Real x_nominal[], size_t nx) {
+    INSTANCE;
+    ORDER(getNominalsOfContinuousStates, BN_ME_ONLY);
+    return bn_get_nominals(m, "getNominalsOfContinuousStates", x_nominal, nx);
 }

@@ -16,7 +16,7 @@
 #define BN_PART_REYNOLDS 1 /* its part of model_data.h */
 #include "bearing_native.h"
 #include "model_data.h"
-#include "reynolds_solver.c"
+#include "reynolds_solver.h"
 
 static const double RS_EDGE_DATA[] = RS_EDGES;
 static const int RS_FIXED_DATA[] = RS_SEG_FIXED;
@@ -24,26 +24,10 @@ static const double RS_SUPPLY_DATA[] = RS_SEG_SUPPLY;
 static const double RS_WALL_A_DATA[] = RS_WALL_A; /* (-sin, cos) / H0 at the film's sample angles */
 static const double RS_WALL_B_DATA[] = RS_WALL_B;
 
-static void *rs_allocate(Instance *m, size_t bytes) {
-#if BN_FMI3
-    (void)m;
-    return calloc(1, bytes);
-#else
-    return m->cb.allocateMemory ? m->cb.allocateMemory(1, bytes) : calloc(1, bytes);
-#endif
-}
+static void *rs_allocate(Instance *m, size_t bytes) { return m->allocate(1, bytes); }
 
 static void rs_release_block(Instance *m, void *p) {
-    if (!p) return;
-#if BN_FMI3
-    (void)m;
-    free(p);
-#else
-    if (m->cb.freeMemory)
-        m->cb.freeMemory(p);
-    else
-        free(p);
-#endif
+    if (p) m->release(p);
 }
 
 static int rs_build(Instance *m, int n_theta, int n_x);

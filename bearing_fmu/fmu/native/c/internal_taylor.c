@@ -16,7 +16,8 @@
  * else warned once per excursion (excursion()) and counted (the count at fmi2Terminate).
  * "fallback": the Reynolds internal of the same FMU (one of several internals, bn_parts.c), blended
  * with the surrogate over the band beyond the domain's edge as guard.DomainGuard does (fallback());
- * an FMU without it refuses "fallback" when set. The film report (BN_FLOWS_TAYLOR): taylor_film.c. */
+ * an FMU without it refuses "fallback" when set. The film report (BN_FLOWS_TAYLOR): taylor_film.c,
+ * over the guard and the force this file gives it (taylor_internal.h). */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -25,6 +26,7 @@
 #define BN_PART_TAYLOR 1 /* its part of model_data.h */
 #include "bearing_native.h"
 #include "model_data.h"
+#include "taylor_internal.h"
 
 /* meta = (y0, z0, omega0, pos_scale, vel_scale, force_scale, omega_rtol, order, wall_power, c0, shape_order) */
 #define Y0 TAY_META[0]
@@ -284,7 +286,7 @@ static double nearest(const double u[4], int *index) {
 #endif
 
 /* DomainGuard.distance: exact when > 0, an upper bound <= 0 inside */
-static double domain_distance(Instance *m, double y, double z, double vy, double vz) {
+double tay_domain_distance(Instance *m, double y, double z, double vy, double vz) {
     double d = bounds_distance(y, z, vy, vz);
 #if TAY_NN > 0
     if (d != d) return d;
@@ -359,9 +361,9 @@ static int refuse_taylor(Instance *m, int wrong_omega, const double x[5]) {
 }
 
 /* the guard: 0 (evaluate), or 1 with m->msg (refused) */
-static int guard(Instance *m, const double x[5], int *ood) {
+int tay_guard(Instance *m, const double x[5], int *ood) {
     double y = x[0], z = x[1], vy = x[2], vz = x[3];
-    double d = domain_distance(m, y, z, vy, vz);
+    double d = tay_domain_distance(m, y, z, vy, vz);
     *ood = !(d <= 1e-12);
     if (!*ood) return 0;
     char a[32], b[32], c[32], e[32], f[32], why[600];
@@ -411,7 +413,7 @@ static void excursion(Instance *m, const double x[5], const char *what) {
 }
 
 /* the surrogate at x (the guard passed) */
-static int taylor_eval(Instance *m, const double x[5], int want_jac, double F[2], double J[8], double dw[2]) {
+int tay_eval(Instance *m, const double x[5], int want_jac, double F[2], double J[8], double dw[2]) {
     const double y = x[0], z = x[1], vy = x[2], vz = x[3], omega = x[4];
     /* _check_nb: the inputs are finite (the FMI layer checked them); the speed */
     if (fabs(omega - OMEGA0) > RTOL * fmax(fabs(OMEGA0), 1.0)) return refuse_taylor(m, 1, x);
@@ -485,7 +487,7 @@ static int taylor_eval(Instance *m, const double x[5], int want_jac, double F[2]
 #define FALLBACK_BAND 0.1 /* guard.FALLBACK_BAND: Taylor and Reynolds blended from the edge to 10 % beyond it */
 
 /* the weight of Reynolds at domain distance d: 0 at the edge, a smoothstep to 1 at FALLBACK_BAND */
-static double blend_weight(double d) {
+double tay_blend_weight(double d) {
     double s = fmin(fmax(d / FALLBACK_BAND, 0.0), 1.0);
     return s * s * (3.0 - 2.0 * s);
 }
@@ -497,7 +499,7 @@ static double blend_weight(double d) {
 static int fallback(Instance *m, const double x[5], double d, int want_jac, double F[2], double J[8], double dw[2]) {
     double Fr[2], Jr[8], dwr[2], Ft[2], Jt[8], dwt[2], g[4];
     if (bn_fallback_eval(m, x, want_jac, Fr, Jr, dwr)) return 1;
-    double w = blend_weight(d);
+    double w = tay_blend_weight(d);
     if (w >= 1.0) {
         memcpy(F, Fr, sizeof Fr);
         if (want_jac) {
@@ -506,7 +508,7 @@ static int fallback(Instance *m, const double x[5], double d, int want_jac, doub
         }
         return 0;
     }
-    if (taylor_eval(m, x, want_jac, Ft, Jt, dwt)) return 1;
+    if (tay_eval(m, x, want_jac, Ft, Jt, dwt)) return 1;
     for (int i = 0; i < 2; i++) F[i] = (1.0 - w) * Ft[i] + w * Fr[i];
     if (!want_jac) return 0;
     const double h[4] = {1e-7 * POS, 1e-7 * POS, 1e-7 * VEL, 1e-7 * VEL};
@@ -514,8 +516,8 @@ static int fallback(Instance *m, const double x[5], double d, int want_jac, doub
         double hi[4] = {x[0], x[1], x[2], x[3]}, lo[4] = {x[0], x[1], x[2], x[3]};
         hi[v] += h[v];
         lo[v] -= h[v];
-        g[v] = (blend_weight(domain_distance(m, hi[0], hi[1], hi[2], hi[3])) -
-                blend_weight(domain_distance(m, lo[0], lo[1], lo[2], lo[3]))) / (2 * h[v]);
+        g[v] = (tay_blend_weight(tay_domain_distance(m, hi[0], hi[1], hi[2], hi[3])) -
+                tay_blend_weight(tay_domain_distance(m, lo[0], lo[1], lo[2], lo[3]))) / (2 * h[v]);
     }
     for (int r = 0; r < 2; r++) {
         for (int c = 0; c < 4; c++)
@@ -527,22 +529,18 @@ static int fallback(Instance *m, const double x[5], double d, int want_jac, doub
 #endif
 
 int bn_eval(Instance *m, const double x[5], int want_jac, double F[2], double J[8], double dw[2], int *ood) {
-    if (guard(m, x, ood)) return 1;
+    if (tay_guard(m, x, ood)) return 1;
 #if BN_HOLDS_REYNOLDS
     if (*ood && strcmp(m->eff[S_OPT_DOMAIN_ACTION], "fallback") == 0) {
-        if (fallback(m, x, domain_distance(m, x[0], x[1], x[2], x[3]), want_jac, F, J, dw)) return 1;
+        if (fallback(m, x, tay_domain_distance(m, x[0], x[1], x[2], x[3]), want_jac, F, J, dw)) return 1;
         excursion(m, x, "the Reynolds internal evaluates such states");
         return 0;
     }
 #endif
-    if (taylor_eval(m, x, want_jac, F, J, dw)) return 1;
+    if (tay_eval(m, x, want_jac, F, J, dw)) return 1;
     if (*ood) excursion(m, x, "its value is an extrapolation");
     return 0;
 }
-
-#if BN_FLOWS_TAYLOR /* a surrogate file with its film fit: the film report (taylor_film.c) */
-#include "taylor_film.c"
-#endif
 
 void bn_option_derivative(Instance *m, const double x[5], int k, double dF[2], double dJ[8]) {
     (void)m; (void)x; (void)k; /* domain_limit decides refusals only: the force does not depend on it */

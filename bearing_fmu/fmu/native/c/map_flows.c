@@ -1,8 +1,8 @@
 /* The force map's film report (bn_film, bearing_native.h): included by internal_map.c when the map
  * file has flow tables (BN_FLOWS_MAP, MAP_FLOWS; model_data.h, fmu/native/map_data.py), its spline
- * evaluation and ff_reduce (film_friction.c) shared with the force. Ports, in their order of operations, of
+ * evaluation and ff_reduce (film_friction.h) shared with the force. Ports, in their order of operations, of
  *  - a full-bore map (MAP_DIMS 2): ForceMap.film_report, film.reduced_report: the friction in closed
- *    form from the force (film_friction.c), the flows from the table's (J_s, J_i) at (eps, beta);
+ *    form from the force (film_friction.h), the flows from the table's (J_s, J_i) at (eps, beta);
  *  - a grooved or partial-arc map (MAP_DIMS 3): GroovedForceMap.film_report, film.grooved_report:
  *    the Couette torque over the film's segments in closed form (film.film_couette_integral), the
  *    pressure torque from the force, the side flow r Q0 J_s and the inflow summed over the supply
@@ -10,11 +10,22 @@
  *    over one period in phi at (eps, phi, beta), renumbered for the periods folded away
  *    (groovemap.flow_components: GroovedMapTable.flow_spline, flow_images);
  *    docs/forcemap.md, "Grooved bores: the flows".
- * Q0 = R L CR (film.flow_scale). out as bn_film's. */
-#if !MAP_FLOWS
-#error "the film report needs a map with its flow table (portgen.film_flow)"
+ * Q0 = R L CR (film.flow_scale). out as bn_film's. Compiled beside internal_map.c when the map's
+ * film report is (BN_FLOWS_MAP); the flow table's arrays of model_data.h are this file's
+ * (BN_MAP_FLOW_UNIT), the force's internal_map.c's. */
+#include <math.h>
+
+#define BN_PART map /* its functions' names in an FMU of several internals */
+#define BN_PART_MAP 1 /* its part of model_data.h */
+#define BN_MAP_FLOW_UNIT 1 /* and in it the flow table's arrays */
+#include "bearing_native.h"
+#include "model_data.h"
+#include "film_friction.h" /* ff_reduce, the friction */
+#include "map_spline.h"
+
+#if !MAP_FLOWS || !BN_FLOWS_MAP
+#error "the film report needs a map with its flow table (portgen.film_flow), compiled in (BN_FLOWS_MAP)"
 #endif
-#include "film_friction.c" /* (included first by internal_map.c: ff_reduce) */
 
 #if MAP_DIMS == 3
 /* int dtheta / (1 + eps sin(theta - phi)) over the film's segments (MAP_FILM_SEGS), in closed form:

@@ -2,7 +2,7 @@
  * bearing_fmu/physics/oil.py: Walther through two points, Vogel; and physics/thermal.py
  * film_temperature: the heat balance at a fixed journal state, quasi-static or lagged by the
  * residence time, solved by Brent's method as scipy's brentq). The model layer's, for the native
- * FMU's thermal ports (oil_thermal.c, included by bearing_model.c); compiled alone with RS_EXPORT for the ctypes comparison with Python
+ * FMU's thermal ports (bearing_thermal.c); compiled alone with RS_EXPORT for the ctypes comparison with Python
  * (bearing_fmu/fmu/native/solver_lib.py, tests/test_native_thermal.py). */
 #ifndef OIL_THERMAL_H
 #define OIL_THERMAL_H
@@ -15,8 +15,21 @@
 #else
 #define OT_API __attribute__((visibility("default")))
 #endif
-#else /* in an FMU: included by bearing_model.c, every function static (their names stay the FMU's own) */
-#define OT_API static
+#else /* in an FMU: a unit of its own, its names the FMU's (model_config.h BN_ID, as bearing_native.h's) and hidden */
+#include "model_config.h"
+#define OT_PASTE(a, b) a##_##b
+#define OT_NAME(a, b) OT_PASTE(a, b)
+#define ot_mu OT_NAME(BN_ID, ot_mu)
+#define ot_oil_of OT_NAME(BN_ID, ot_oil_of)
+#define ot_dmu_dT OT_NAME(BN_ID, ot_dmu_dT)
+#define ot_gain OT_NAME(BN_ID, ot_gain)
+#define ot_film_rate OT_NAME(BN_ID, ot_film_rate)
+#define ot_film_temperature OT_NAME(BN_ID, ot_film_temperature)
+#if (defined(__GNUC__) || defined(__clang__)) && !defined(_WIN32)
+#define OT_API __attribute__((visibility("hidden")))
+#else
+#define OT_API
+#endif
 #endif
 
 enum { OT_NONE = 0, OT_WALTHER = 1, OT_VOGEL = 2 }; /* ports.OIL_LAWS' order */
@@ -29,5 +42,23 @@ typedef struct {
     double heat_capacity;   /* [J/(kg K)] */
     double rise_factor;     /* k of T_eff = T_supply + k dT */
 } ot_oil;
+
+/* mu [Pa s] at T [K] (no range check) */
+OT_API double ot_mu(const ot_oil *oil, double T);
+/* the oil of the FMU parameters: 0, or 1 with the reason in why */
+OT_API int ot_oil_of(ot_oil *oil, int law, double nu1, double T1, double nu2, double T2, double va, double vb,
+                     double vc, double T_min, double T_max, double density, double heat_capacity, double rise_factor,
+                     char *why, size_t n);
+/* dmu/dT [Pa s/K] at T [K] */
+OT_API double ot_dmu_dT(const ot_oil *oil, double T);
+/* the gain g [K/(Pa s)] of T* = T_supply + g mu(T) */
+OT_API double ot_gain(const ot_oil *oil, double per_mu, double carried);
+/* the heat balance's rate at the film temperature T (oil_thermal.c says what out holds): 0, or 1 with why */
+OT_API int ot_film_rate(const ot_oil *oil, double mu_ref, double R, double CR, double L, double power, double inflow,
+                        double side_flow, double T_supply, double T, double out[3], char *why, size_t n);
+/* the film temperature, quasi-static or lagged over dt from T_old: 0, or 1 with why */
+OT_API int ot_film_temperature(const ot_oil *oil, double mu_ref, double R, double CR, double L, double power,
+                               double inflow, double side_flow, double T_supply, int lagged, double T_old, double dt,
+                               double out[3], char *why, size_t n);
 
 #endif

@@ -1,11 +1,17 @@
 /* The film report in C: friction and flows of the converged field (a port of
  * bearing_fmu/physics/film.py field_report, whose docstring gives the definitions: Couette and
- * pressure torque, friction power, inflow, side flow). Included by reynolds_solver.c (its
- * functions stay static in an FMU); equal to Python's to about 1e-14 relative
+ * pressure torque, friction power, inflow, side flow), over reynolds_solver.c's field (compiled
+ * beside it when the FMU has the thermal model, BN_FLOWS_REYNOLDS); equal to Python's to about 1e-14 relative
  * (tests/test_native_reynolds.py: 1e-12 the tolerance; the sums' order differs). */
+#include <math.h>
 
-#if defined(RS_EXPORT) || BN_FLOWS_REYNOLDS /* alone, or in an FMU with the thermal model */
-#include "film_friction.c" /* the full bore's friction in closed form, the friction power */
+#include "film_friction.h" /* the full bore's friction in closed form, the friction power */
+#include "py_mod.h"
+#include "reynolds_solver.h"
+
+#if !defined(RS_EXPORT) && !BN_FLOWS_REYNOLDS
+#error "the Reynolds film report is compiled alone (RS_EXPORT) or in an FMU with the thermal model (BN_FLOWS_REYNOLDS)"
+#endif
 /* numpy's argmax/argmin: the first of equal values */
 static int rf_first_max(const double *x, int n) {
     int i, k = 0;
@@ -89,4 +95,3 @@ RS_API void rs_film_report(rs_solver *s, double y, double z, double vy, double v
     out[3] = q_in;
     out[4] = q_side;
 }
-#endif

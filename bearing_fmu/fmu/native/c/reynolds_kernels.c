@@ -1,4 +1,4 @@
-/* The Reynolds solver's kernels (included by reynolds_solver.c; every function static): a
+/* The Reynolds solver's kernels (reynolds_solver.h: RS_INTERNAL the ones reynolds_solver.c calls): a
  * line-by-line port of bearing_fmu/physics/reynolds_kernels.py and geometry_kernels.py (their
  * docstrings explain each step), the full bore and the other bores in one path (fixed cells,
  * the centred film H0 and non-uniform cells; the full bore has none, unit film, uniform cells).
@@ -8,7 +8,7 @@
 #include "reynolds_solver.h"
 
 /* Face coefficients (scaled by 1/CR^3: H = h / CR) and the per-column source */
-static void rs_assemble(rs_solver *s, double y, double z, double vy, double vz, double omega) {
+void rs_assemble(rs_solver *s, double y, double z, double vy, double vz, double omega) {
     int N = s->N, i;
     double CR = s->CR, mu = s->mu;
     for (i = 0; i < N; i++) {
@@ -26,7 +26,7 @@ static void rs_assemble(rs_solver *s, double y, double z, double vy, double vz, 
 }
 
 /* out = A p (unmodified operator, half axial domain) */
-static void rs_apply(const rs_solver *s, const double *at, const double *ax, const double *p, double *out) {
+void rs_apply(const rs_solver *s, const double *at, const double *ax, const double *p, double *out) {
     int N = s->N, m = s->m, i, j;
     const double *rs = s->rs, *tdiag = s->tdiag;
     for (i = 0; i < N; i++) {
@@ -156,7 +156,7 @@ static int rs_factor(rs_solver *s, int s0) {
 }
 
 /* x = A_mod^-1 rhs with the factors of rs_factor (rhs, x in the physical order) */
-static void rs_solve(rs_solver *s, int s0, int hb, const double *rhs, double *x) {
+void rs_solve(rs_solver *s, int s0, int hb, const double *rhs, double *x) {
     int N = s->N, m = s->m, m1 = m + 1, n1 = (N - 1) * m, k, d, a, t, c;
     const double *Lb = s->Lb, *Y = s->Y, *S = s->S;
     double *zb = s->zb, *z2 = s->z2;
@@ -235,7 +235,7 @@ static void rs_rhs0(rs_solver *s, const double *b) {
  * Leaves the factorization of the final matrix; *s0, *hb its block start and border; returns
  * the passes, -1 if the active-set loop did not settle within max_iter. warm (reynolds): start
  * from the set already in act. gumbel: pf = the full solution, p = max(pf, 0). */
-static int rs_film(rs_solver *s, const double *b, int max_iter, int warm, int *s0_out, int *hb_out) {
+int rs_film(rs_solver *s, const double *b, int max_iter, int warm, int *s0_out, int *hb_out) {
     int N = s->N, m = s->m, n = N * m, i, j, k, d;
     const unsigned char *fixed = s->fixed;
     unsigned char *act = s->act;
@@ -352,7 +352,7 @@ static int rs_film(rs_solver *s, const double *b, int max_iter, int warm, int *s
 
 /* The warm start's set (1), or 0 for the cold start (the history dropped): the newest
  * remembered set moved by extrapolating w through an earlier call (reynolds_kernels.warm_start_set) */
-static int rs_warm_set(rs_solver *s, double y, double z, double vy, double vz, double omega) {
+int rs_warm_set(rs_solver *s, double y, double z, double vy, double vz, double omega) {
     int n = s->N * s->m, k, r;
     if (s->nvalid == 0) return 0;
     int a = s->order[0], bs = a;
@@ -386,7 +386,7 @@ static int rs_warm_set(rs_solver *s, double y, double z, double vy, double vz, d
 }
 
 /* Store the converged call (tmp = A p of the final pass) as the newest history entry */
-static void rs_remember(rs_solver *s, double y, double z, double vy, double vz, double omega) {
+void rs_remember(rs_solver *s, double y, double z, double vy, double vz, double omega) {
     int N = s->N, m = s->m, i, j, r, slot = s->order[RS_HISTORY - 1];
     for (r = RS_HISTORY - 1; r > 0; r--) s->order[r] = s->order[r - 1];
     s->order[0] = slot;
@@ -404,7 +404,7 @@ static void rs_remember(rs_solver *s, double y, double z, double vy, double vz, 
 }
 
 /* F = F0 + the film's pressure integral (full bore: 2 R dth sum (sin, -cos), as the numba kernel) */
-static void rs_integrate(const rs_solver *s, double F[2]) {
+void rs_integrate(const rs_solver *s, double F[2]) {
     int N = s->N, m = s->m, i, j;
     double fy = 0.0, fz = 0.0;
     for (i = 0; i < N; i++) {

@@ -1,7 +1,8 @@
 /* The Reynolds solver in C: its grid (bearing_fmu/physics/reynolds.py Reynolds.__init__ and
  * _bore, geometry.py theta_grid and ThetaGrid), one call (reynolds_kernels.py reynolds_kernel,
  * geometry_kernels.py geometry_kernel) and the memory layout. The kernels are
- * reynolds_kernels.c; reynolds_solver.h says how the memory is handed over.
+ * reynolds_kernels.c, the film report reynolds_film.c; reynolds_solver.h says how the memory is
+ * handed over.
  *
  * The bore comes as its segments (geometry.Geometry.segments, computed once when the FMU is
  * built): the stretches between edges (groove and arc edges, lobe boundaries), whether each has
@@ -11,13 +12,7 @@
 #include <string.h>
 
 #include "py_mod.h"
-#include "reynolds_kernels.c"
-
-#ifndef M_PI
-#define M_PI 3.14159265358979323846
-#endif
-#define RS_TWO_PI (2.0 * M_PI)
-
+#include "reynolds_solver.h"
 
 /* Python's round() of a positive double: half to even */
 static double rs_round_even(double x) {
@@ -58,7 +53,7 @@ static double rs_base_film(int lobes, double preload, double offset, double lobe
 }
 
 /* numpy's sum of a short float array (pairwise: 8 partial sums from 8 values on) */
-static double rs_np_sum(const double *x, int n) {
+double rs_np_sum(const double *x, int n) {
     int i;
     if (n < 8) {
         double s = 0.0;
@@ -461,8 +456,6 @@ RS_API int rs_call(rs_solver *s, double y, double z, double vy, double vz, doubl
     finite = finite && (!want_jac || (isfinite(s->dFw[0]) && isfinite(s->dFw[1])));
     return finite ? RS_OK : RS_OVERFLOW;
 }
-
-#include "reynolds_film.c"
 
 #if defined(RS_EXPORT) /* what the ctypes comparison calls besides (bearing_fmu/fmu/native/solver_lib.py) */
 /* F (2), dFq (4), dFv (4) into out */

@@ -5,23 +5,49 @@
  * centred film and uniform cells (its results equal the full-bore numba kernel's to rounding).
  *
  * Memory: rs_bytes(n_theta, n_x) bytes, handed to rs_create once; nothing is allocated after.
- * Every function is static (RS_API: the few the FMU's internal_reynolds.c calls) unless the
- * file is compiled alone with RS_EXPORT for the ctypes comparison with the Python solver
- * (tests/test_native_reynolds.py). */
+ * Three units: reynolds_solver.c (the grid, one call), reynolds_kernels.c (the kernels it calls:
+ * RS_INTERNAL), reynolds_film.c (the film report). In an FMU their shared names carry the FMU's
+ * model identifier (model_config.h BN_ID, as bearing_native.h's) and are hidden; compiled alone
+ * with RS_EXPORT, RS_API (what internal_reynolds.c calls) is exported for the ctypes comparison
+ * with the Python solver (tests/test_native_reynolds.py, fmu/native/solver_lib.py). */
 #ifndef REYNOLDS_SOLVER_H
 #define REYNOLDS_SOLVER_H
 
 #include <stddef.h>
 
+#if (defined(__GNUC__) || defined(__clang__)) && !defined(_WIN32)
+#define RS_INTERNAL __attribute__((visibility("hidden")))
+#else
+#define RS_INTERNAL
+#endif
 #if defined(RS_EXPORT)
 #if defined(_WIN32)
 #define RS_API __declspec(dllexport)
 #else
 #define RS_API __attribute__((visibility("default")))
 #endif
-#else
-#define RS_API static
+#else /* in an FMU: the FMU's names (model_config.h BN_ID), hidden */
+#include "model_config.h"
+#define RS_PASTE(a, b) a##_##b
+#define RS_NAME(a, b) RS_PASTE(a, b)
+#define rs_bytes RS_NAME(BN_ID, rs_bytes)
+#define rs_create RS_NAME(BN_ID, rs_create)
+#define rs_call RS_NAME(BN_ID, rs_call)
+#define rs_film_report RS_NAME(BN_ID, rs_film_report)
+#define rs_np_sum RS_NAME(BN_ID, rs_np_sum)
+#define rs_assemble RS_NAME(BN_ID, rs_assemble)
+#define rs_apply RS_NAME(BN_ID, rs_apply)
+#define rs_solve RS_NAME(BN_ID, rs_solve)
+#define rs_film RS_NAME(BN_ID, rs_film)
+#define rs_warm_set RS_NAME(BN_ID, rs_warm_set)
+#define rs_remember RS_NAME(BN_ID, rs_remember)
+#define rs_integrate RS_NAME(BN_ID, rs_integrate)
+#define RS_API RS_INTERNAL
 #endif
+#ifndef M_PI
+#define M_PI 3.14159265358979323846
+#endif
+#define RS_TWO_PI (2.0 * M_PI)
 
 #define RS_HISTORY 4           /* converged calls remembered for the warm start (WARM_HISTORY) */
 #define RS_MAX_TURN_CELLS 2.0  /* WARM_MAX_TURN_CELLS */
@@ -63,5 +89,30 @@ typedef struct rs_solver {
                        warm, cold fallback */
     double counts[4]; /* calls, factorizations, warm starts, cold fallbacks */
 } rs_solver;
+
+/* ------------------------------------------------------------------------------ reynolds_solver.c */
+/* the memory a solver of this grid needs [bytes] */
+RS_API size_t rs_bytes(int n_theta, int n_x);
+/* the solver built in mem (rs_bytes long) for the bore's segments: NULL with the reason in why */
+RS_API rs_solver *rs_create(void *mem, int n_theta, int n_x, int mode, int warm, double D, double L, double CR,
+                            double mu, int nseg, const double *edge, const int *seg_fixed, const double *seg_supply,
+                            int lobes, double preload, double offset, double lobe_angle, char *why, size_t n);
+/* one call at the state: RS_OK, RS_NOT_CONVERGED or RS_OVERFLOW; the results in s */
+RS_API int rs_call(rs_solver *s, double y, double z, double vy, double vz, double omega, int want_jac);
+/* numpy's sum of x (pairwise, as np.sum) */
+RS_INTERNAL double rs_np_sum(const double *x, int n);
+
+/* ------------------------------------------------------------------------------ reynolds_film.c */
+/* the film report of the field rs_call just solved at the state: out as bn_film's */
+RS_API void rs_film_report(rs_solver *s, double y, double z, double vy, double vz, double omega, double out[5]);
+
+/* ------------------------------------------------------------------------------ reynolds_kernels.c */
+RS_INTERNAL void rs_assemble(rs_solver *s, double y, double z, double vy, double vz, double omega);
+RS_INTERNAL void rs_apply(const rs_solver *s, const double *at, const double *ax, const double *p, double *out);
+RS_INTERNAL void rs_solve(rs_solver *s, int s0, int hb, const double *rhs, double *x);
+RS_INTERNAL int rs_film(rs_solver *s, const double *b, int max_iter, int warm, int *s0_out, int *hb_out);
+RS_INTERNAL int rs_warm_set(rs_solver *s, double y, double z, double vy, double vz, double omega);
+RS_INTERNAL void rs_remember(rs_solver *s, double y, double z, double vy, double vz, double omega);
+RS_INTERNAL void rs_integrate(const rs_solver *s, double F[2]);
 
 #endif

@@ -1,7 +1,7 @@
 /* The Taylor surrogate's film report (bn_film; BN_FLOWS_TAYLOR: a surrogate file with its film
  * fit, format version 2), a port of Taylor.film_report behind DomainGuard.film_report:
  *
- *   the friction in closed form of the full bore from the surrogate's own force (film_friction.c),
+ *   the friction in closed form of the full bore from the surrogate's own force (film_friction.h),
  *   side flow  r Q0 J_s(eps, beta),  inflow  | omega Q0 (1 + eps) / 2 - r Q0 J_i(eps, beta) |,
  *
  * Q0 = R L CR, (eps, beta, r) the state's reduced coordinates (ff_reduce: forcemap.reduced), J_s,
@@ -11,8 +11,23 @@
  * beyond domain_limit, with domain_action = discard or at the wall (guard()); with warn the
  * surrogate's report (the force's evaluation warned); with fallback the Reynolds internal's report
  * (bn_fallback_film), blended with the surrogate's over the same band as the force.
- * Included by internal_taylor.c (its guard and force stay static). */
-#include "film_friction.c"
+ * Compiled beside internal_taylor.c when the film report is (BN_FLOWS_TAYLOR): the guard and the
+ * force are that file's (taylor_internal.h), the film fit's arrays of model_data.h this one's
+ * (BN_TAYLOR_FILM_UNIT). */
+#include <math.h>
+#include <string.h>
+
+#define BN_PART taylor /* its functions' names in an FMU of several internals */
+#define BN_PART_TAYLOR 1 /* its part of model_data.h */
+#define BN_TAYLOR_FILM_UNIT 1 /* and in it the film fit's arrays */
+#include "bearing_native.h"
+#include "model_data.h"
+#include "film_friction.h"
+#include "taylor_internal.h"
+
+#if !BN_FLOWS_TAYLOR
+#error "the Taylor film report needs a surrogate file with its film fit (taylor_data.py), compiled in (BN_FLOWS_TAYLOR)"
+#endif
 
 #if TAY_FILM_NF != (TAY_FILM_DEGREE + 1) * (2 * TAY_FILM_HARMONICS + 1)
 #error "TAY_FILM_NF: (degree + 1) (2 harmonics + 1) coefficients per function (surrogates.film.n_features)"
@@ -42,7 +57,7 @@ static void film_functions(double eps, double beta, double J[2]) {
 /* Taylor.film_report at x (the guard passed): out as bn_film's (bearing_native.h) */
 static int taylor_film(Instance *m, const double x[5], double out[5]) {
     double F[2], J[8], dw[2], cp, sp, a, c, jf[2];
-    if (taylor_eval(m, x, 0, F, J, dw)) return 1;
+    if (tay_eval(m, x, 0, F, J, dw)) return 1;
     const double R = 0.5 * TAY_PARAMS[0], L = TAY_PARAMS[1], CR = TAY_PARAMS[2], omega = x[4];
     double eps = ff_reduce(x, CR, 0.0, &cp, &sp, &a, &c);
     film_functions(eps, atan2(c, a), jf);
@@ -57,10 +72,10 @@ static int taylor_film(Instance *m, const double x[5], double out[5]) {
 
 int bn_film(Instance *m, const double x[5], double out[5]) {
     int ood;
-    if (guard(m, x, &ood)) return 1; /* what the force refuses */
+    if (tay_guard(m, x, &ood)) return 1; /* what the force refuses */
 #if BN_HOLDS_REYNOLDS
     if (ood && strcmp(m->eff[S_OPT_DOMAIN_ACTION], "fallback") == 0) {
-        double rey[5], tay[5], w = blend_weight(domain_distance(m, x[0], x[1], x[2], x[3]));
+        double rey[5], tay[5], w = tay_blend_weight(tay_domain_distance(m, x[0], x[1], x[2], x[3]));
         if (bn_fallback_film(m, x, rey)) return 1;
         if (w >= 1.0) {
             memcpy(out, rey, sizeof rey);

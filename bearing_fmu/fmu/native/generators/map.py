@@ -1,4 +1,9 @@
-"""model_data.h of a native map FMU: the force map's spline compiled in (c/internal_map.c).
+"""The native force map model (c/internal_map.c, c/map_flows.c): a force map file compiled in.
+
+``map_model`` (the catalogue's generator) checks the map against the bearing (its L/D, a grooved
+map's bore) and writes model_data.h (``map_data_h``).
+
+model_data.h of a native map FMU: the force map's spline compiled in (c/internal_map.c).
 
 The force: the knots and coefficients of the tensor spline the Python map evaluates
 (``MapTable.spline``; a grooved bore's 3-D map adds the attitude's knots). The film's flows
@@ -10,15 +15,52 @@ renumbering for the other periods of the turn (``flow_images``), its supply
 edges (theta, sign) in the order of the P_e and the film's segments (``Geometry.segments``, those
 without a prescribed pressure: the Couette integral's, ``film.film_couette_integral``) of the
 bearing's bore, as the Python map's ``params.geometry``. Those arrays sit inside ``#if
-BN_FLOWS_MAP`` (model_config.h: the map's film report is compiled), as their use does (an unused
-static array is a warning).
+BN_FLOWS_MAP`` (model_config.h: the map's film report is compiled) and are map_flows.c's alone
+(``BN_MAP_FLOW_UNIT``), the force's internal_map.c's alone: each unit holds the arrays it uses
+(an unused static array is a warning).
 """
 
 from __future__ import annotations
 
 from pathlib import Path
 
-__all__ = ["map_data_h"]
+from ....internals import registry
+from ....physics.params import BearingParams
+from ..codegen import NativeModel, c_array, c_double, c_string, model_config, native_variables
+
+__all__ = ["map_model", "map_data_h", "GROOVED_NO_OIL_WHY"]
+
+
+# a grooved map's flow spline is 2.5 times its force's coefficients (docs/forcemap.md, "Cost"): left out when
+# the bearing has no oil law, with which thermal = true is refused anyway
+GROOVED_NO_OIL_WHY = ("the bearing has no [oil] viscosity law, so a grooved map's flow tables are not compiled in "
+                      "(build with --bearing FILE whose [oil] gives the law)")
+
+
+def map_model(params: BearingParams, surrogate, map_path, options: dict) -> NativeModel:
+    """The native model of the force map file ``map_path`` (the catalogue's generator)."""
+    from ....internals.mapfile import load_any_map, map_internal
+
+    if not map_path:
+        raise ValueError("a native map FMU needs a force map file (--map FILE)")
+    path = Path(map_path)
+    table = load_any_map(path)
+    # refuses another L/D or bore, as the FMU will (a grooved map's bore comes from --bearing)
+    internal = map_internal(params, table, str(path), hint="for the native map FMU give the bearing file with --bearing")
+    flows_why = registry.film_flow_of(registry.get("map"), internal)  # the file's: '' with its flow tables
+    if not flows_why and table.H.ndim == 4 and params.oil is None:  # no run could use them: not compiled in
+        flows_why = GROOVED_NO_OIL_WHY
+    starts = {"map": path.name}
+    # a nonzero speed: an omega a master forgets to connect still gives the film's force
+    inputs = (0.0, 0.0, 0.0, 0.0, float(options.get("_omega", registry.DEFAULT_OMEGA_LIN)))
+    shape = " x ".join(str(n) for n in table.H.shape[:-1])
+    info = {"source": path.name, "table": shape, "eps_max": table.eps_max, "L_over_D": table.L_over_D,
+            "reynolds": f"{table.n_theta} x {table.n_x} {table.cavitation}", "provenance": table.provenance}
+    return NativeModel("map", params, native_variables("map", params, starts, inputs, flows_why),
+                       model_config("map", params, starts, inputs, flows_why),
+                       map_data_h(path, table, c_double, c_string, c_array, params.geometry, not flows_why), path,
+                       f"hydrodynamic journal bearing, force map {path.name} (L/D {table.L_over_D:.4g}, any speed, "
+                       "load and velocity), compiled (no Python)", info, flows_why=flows_why)
 
 
 def map_data_h(path: Path, table, c_double, c_string, c_array, geometry=None, with_flows=True) -> str:
@@ -26,7 +68,7 @@ def map_data_h(path: Path, table, c_double, c_string, c_array, geometry=None, wi
     ``c_double``, ``c_string``, ``c_array``: codegen's exact literals; ``geometry``: the bearing's
     bore, for a grooved map's film segments, the table's own when None; ``with_flows``: False leaves
     the flow tables out, as if the file had none)."""
-    from ...internals.map.tables import EPS_MIN, LD_RTOL
+    from ....internals.map.tables import EPS_MIN, LD_RTOL
 
     shape = " x ".join(str(n) for n in table.H.shape[:-1])
     *knots, C = table.spline()  # (ts, tb) or, for a grooved bore's 3-D map, (ts, tp, tb)
@@ -38,7 +80,7 @@ def map_data_h(path: Path, table, c_double, c_string, c_array, geometry=None, wi
         f"#define MAP_SOURCE {c_string(path.name)}",
         f"#define MAP_DIMS {len(knots)}",
         f"#define MAP_NS {C.shape[0]}",
-        *([f"#define MAP_NP {C.shape[1]}", c_array("MAP_TP", knots[1])] if len(knots) == 3 else []),
+        *([f"#define MAP_NP {C.shape[1]}"] if len(knots) == 3 else []),
         f"#define MAP_NB {C.shape[-2]}",
         f"#define MAP_WALL_EXPONENT {c_double(table.wall_exponent)}",
         f"#define MAP_EPS_MIN {c_double(EPS_MIN)}",
@@ -46,7 +88,10 @@ def map_data_h(path: Path, table, c_double, c_string, c_array, geometry=None, wi
         f"#define MAP_L_OVER_D {c_double(table.L_over_D)}",
         f"#define MAP_LD_RTOL {c_double(LD_RTOL)}",
         f"#define MAP_FLOWS {int(flows is not None)}",
+        "#if !defined(BN_MAP_FLOW_UNIT) /* the force's spline (internal_map.c) */",
+        *([c_array("MAP_TP", knots[1])] if len(knots) == 3 else []),
         c_array("MAP_TS", knots[0]), c_array("MAP_TB", knots[-1]), c_array("MAP_C", C),
+        "#endif /* the force's spline */",
         *(flow_arrays(table, flows, geometry or table.geometry if len(knots) == 3 else None, c_array)
           if flows is not None else []),
         "#endif\n",
@@ -56,7 +101,8 @@ def map_data_h(path: Path, table, c_double, c_string, c_array, geometry=None, wi
 def flow_arrays(table, flows, geometry, c_array) -> list[str]:
     """The lines of the flow table's spline (``flows``: ``table.flow_spline()``) and, for a grooved
     bore's map (``geometry`` not None), its supply edges and film segments."""
-    out = ["#if BN_FLOWS_MAP /* the flow table's spline: its components per point, as MAP_C */"]
+    out = ["#if BN_FLOWS_MAP && defined(BN_MAP_FLOW_UNIT) /* the flow table's spline (map_flows.c): its components "
+           "per point, as MAP_C */"]
     if geometry is None:  # the full bore: (J_s, J_i) on (s, beta)
         out += [c_array("MAP_QTS", flows[0]), c_array("MAP_QTB", flows[1]), c_array("MAP_QC", flows[2])]
     else:  # (J_s, P_1 .. P_E) on (s, phi over one period, beta), renumbered in the others

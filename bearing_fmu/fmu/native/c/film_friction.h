@@ -4,11 +4,14 @@
  * map's reduced coordinates (forcemap.reduced). Included by reynolds_film.c (the Reynolds film
  * report of the full bore), by internal_map.c (the map's force; map_flows.c its film report,
  * film.reduced_report and grooved_report) and by
- * taylor_film.c (the Taylor surrogate's, the same reduction): one definition for all, every
- * function static in each (inline: a file that does not use one is not warned). */
-#ifndef FILM_FRICTION_C
-#define FILM_FRICTION_C
+ * taylor_film.c (the Taylor surrogate's, the same reduction): one definition for all, a header
+ * of static inline functions (a file that does not use one is not warned). */
+#ifndef FILM_FRICTION_H
+#define FILM_FRICTION_H
 #include <math.h>
+#ifndef M_PI
+#define M_PI 3.14159265358979323846
+#endif
 
 /* Couette torque [N m] of the full bore at the eccentricity ratio eps: 2 pi mu omega R^3 L /
  * (CR sqrt(1 - eps^2)) (the integral of 1/h over the circle, exactly) */
