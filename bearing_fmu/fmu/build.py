@@ -46,7 +46,7 @@ PACKAGE = HERE.parent  # bearing_fmu
 # internals, the surrogate file) and the slave's own helpers (call order, resources, variables);
 # not the fitting, the FMU build tooling or the command lines.
 IN_FMU = ("__init__.py", "physics", "internals", "surrogates", "io/__init__.py", "io/schema.py", "fmu/__init__.py",
-          "fmu/order.py", "fmu/ports.py", "fmu/resources.py", "fmu/variables.py")
+          "fmu/order.py", "fmu/ports.py", "fmu/pyslave", "fmu/resources.py", "fmu/variables.py")
 MODEL_IDENTIFIER = "BearingFMU"
 REQUIREMENTS = "numpy>=1.26\nscipy>=1.11\nnumba>=0.59\n"
 
