@@ -131,13 +131,13 @@ def _uses(name: str, path: Path, modules: dict[str, Path]) -> set[str]:
     return out
 
 
-def source_files(*roots: str) -> list[Path]:
+def source_files(*roots: str, root: Path = ROOT) -> list[Path]:
     """The source files that code under ``roots`` (dotted names: "bearing_fmu.fmu.native") can
     read, found from the sources as they are now (so a module moved or a C file split is followed,
     nothing listed by hand): the modules under the roots and every module they use (``_uses``,
     followed to the end), and the data beside them: a used package's files other than Python
     modules and its folders that are no package (bearing_fmu/fmu/native/c/), at any depth."""
-    pkg = ROOT / roots[0].split(".")[0]
+    pkg = root / roots[0].split(".")[0]
     modules = _module_names(pkg)
     todo = [m for m in modules if any(m == r or m.startswith(r + ".") for r in roots)]
     seen: set[str] = set()
