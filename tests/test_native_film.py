@@ -15,8 +15,6 @@ import pytest
 
 from tests.test_native_reynolds import BORES, PAPER, both, lib, random_states  # noqa: F401  (lib: the fixture)
 
-pytestmark = pytest.mark.native  # the C solver compiled alone (solver_lib) and loaded
-
 RTOL = 1e-12
 
 

@@ -45,7 +45,7 @@ OUT = ("Fy", "Fz", "eccentricity", "h_min", "Kyy", "Kyz", "Kzy", "Kzz", "Cyy", "
 KINDS = ("map", "taylor", "linear", "reynolds")
 REYNOLDS_GRID = {"n_theta": 32, "n_x": 8}  # the native Reynolds FMU's start values: a small grid
 
-pytestmark = [pytest.mark.slow, pytest.mark.native,  # six FMI 3.0 and FMI 2.0 builds compiled and driven: end to end, in CI (the whole suite)
+pytestmark = [pytest.mark.slow,  # six FMI 3.0 and FMI 2.0 builds compiled and driven: end to end, in CI (the whole suite)
               pytest.mark.filterwarnings("ignore:state outside the surrogate's fitted domain")]
 
 

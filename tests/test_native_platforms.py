@@ -22,7 +22,7 @@ from bearing_fmu.fmu.native.compile import PLATFORMS, fmi_headers  # noqa: E402
 from bearing_fmu.fmu.native.objfile import exports_and_imports, fat_slices, glibc_versions  # noqa: E402
 
 # cross-compiles for every platform and runs wine: end to end, in CI (the whole suite)
-pytestmark = [pytest.mark.slow, pytest.mark.native]
+pytestmark = pytest.mark.slow
 
 ROOT = Path(__file__).resolve().parents[1]
 PAPER_MAP = ROOT / "models" / "maps" / "paper_bearing.json"

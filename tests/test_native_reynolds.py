@@ -18,8 +18,6 @@ from bearing_fmu.physics.geometry import Geometry
 from bearing_fmu.physics.params import BearingParams
 from bearing_fmu.physics.reynolds import Reynolds
 
-pytestmark = pytest.mark.native  # the C solver compiled alone (solver_lib) and loaded
-
 RTOL = 1e-10  # issue 24: force and Jacobian within 1e-10 relative
 PAPER = dict(D=0.031, L=0.02, CR=90e-6, mu=0.05)  # paper Table 2
 BORES = {

@@ -25,7 +25,7 @@ from bearing_fmu.internals import registry  # noqa: E402
 from bearing_fmu.physics.params import PAPER_BEARING, BearingParams  # noqa: E402
 
 # FMUs compiled, linked into C hosts and checked: end to end, in CI (the whole suite)
-pytestmark = [pytest.mark.slow, pytest.mark.native]
+pytestmark = pytest.mark.slow
 
 ROOT = Path(__file__).resolve().parents[1]
 PAPER_MAP = ROOT / "models" / "maps" / "paper_bearing.json"

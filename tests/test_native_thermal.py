@@ -24,8 +24,6 @@ from bearing_fmu.physics.reynolds import Reynolds
 from bearing_fmu.physics.thermal import film_temperature
 from tests.test_native_reynolds import PAPER, lib  # noqa: F401  (lib: the fixture)
 
-pytestmark = pytest.mark.native  # the C solver compiled alone (solver_lib) and loaded
-
 OILS = {"ISO VG 32": Oil.grade("ISO VG 32"), "ISO VG 46": Oil.grade("ISO VG 46"), "SAE 30": Oil.grade("SAE 30"),
         "data sheet": Oil.walther(68.0, 40.0 + KELVIN, 8.6, 100.0 + KELVIN, T_min=260.0, T_max=420.0)}
 
