@@ -1,6 +1,8 @@
 """Fixtures shared by the test modules: one bearing FMU per session (with a made-up surrogate
 bundled), its extraction and instances, a scene writer, the central-difference Jacobian, and
-file systems that refuse writes (a small tmpfs: full, or remounted read-only; as root)."""
+file systems that refuse writes (a small tmpfs: full, or remounted read-only; as root). Also the
+``native`` marker (set by hook on every test that builds or loads a native FMU; README, *The edit
+loop*) and the build caches, each keyed by the sources its build uses (``source_files``)."""
 
 import fcntl
 import hashlib
@@ -206,7 +208,8 @@ def native_build_cache(request):
     except (NativeBuildError, OSError):
         cache = None  # no compiler: the build says so itself
     if cache is not None:
-        env = hashlib.sha256(f"{sources_digest(*NATIVE_BUILD)}|{cc}|{version}|fmpy {fmpy.__version__}".encode()).hexdigest()
+        env = hashlib.sha256(f"{sources_digest(*NATIVE_BUILD)}|{cc}|{version}|fmpy {fmpy.__version__}"
+                             .encode()).hexdigest()
         top = cache.mkdir("native-fmu")
         for old in top.iterdir():  # builds of other sources: never used again
             if old.name != env[:16]:
