@@ -301,11 +301,42 @@ def map_file(contract_data):
 
 
 @pytest.fixture(scope="session")
-def fmu(tmp_path_factory, code_cache, surrogate_file, map_file):
-    """The bearing FMU, built once, with ``surrogate_file`` and ``map_file`` bundled."""
+def fmu(tmp_path_factory, code_cache, contract_data, surrogate_file, map_file):
+    """The bearing FMU, built once, with ``surrogate_file`` and ``map_file`` bundled; its bundled
+    kernels compiled once for all workers (``_compile_bundle_once``)."""
     from bearing_fmu.fmu.build import build_fmu
 
-    return build_fmu(tmp_path_factory.mktemp("fmu") / "bearing.fmu", surrogate=[surrogate_file, map_file])
+    path = build_fmu(tmp_path_factory.mktemp("fmu") / "bearing.fmu", surrogate=[surrogate_file, map_file])
+    _compile_bundle_once(path, code_cache, contract_data)
+    return path
+
+
+def _compile_bundle_once(fmu: Path, code_cache: Path, data_dir: Path) -> None:
+    """numba's cache of the FMU's bundled code filled by one process: the first session or
+    pytest-xdist worker to use this code steps the FMU once with each registered internal that has
+    compiled kernels (from its contract case), under a lock, and the others then load the cache.
+    After an edit of a module the FMU bundles, two workers would otherwise compile the same
+    kernels side by side (twice the CPU; on a shared machine, twice the time)."""
+    from bearing_fmu.fmu.build import package_name
+    from bearing_fmu.internals import registry
+
+    done = Path(code_cache) / f"{package_name()}.compiled"
+    with open(done.with_suffix(".lock"), "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        if done.exists():
+            return
+        drive = _example("drive_fmu_with_fmpy")
+        for spec in registry.REGISTRY.values():
+            if not spec.kernels or callable(spec.factory):
+                continue
+            case = spec.contract_case(data_dir)
+            options = {**case.options, **{key: Path(p).name for key, p in case.files.items()}}
+            inst = drive.BearingInstance(fmu, {"internal": spec.name, **options})
+            try:
+                inst.step(1e-4, *case.state, case.omega)
+            finally:
+                inst.close()
+        done.touch()
 
 
 @pytest.fixture(scope="session")
