@@ -411,6 +411,18 @@ def _native_internal(text: str) -> str:
     return ",".join(names)
 
 
+def _internals_help(names, default: str | None = None) -> str:
+    """The internals ``names`` as a help text lists them: each with "(default)" and the file flags
+    of its file options ("taylor (--surrogate)"), from the registry (a new internal is listed)."""
+    from .internals import registry
+
+    out = []
+    for name in names:
+        flags = [f"--{o.name}" for o in registry.get(name).options if o.file]
+        out.append(name + (" (default)" if name == default else "") + (f" ({', '.join(flags)})" if flags else ""))
+    return ", ".join(out)
+
+
 def _film_internal(text: str) -> str:
     """--internal of demo: a registered internal with the film's flows (``Capabilities.film_flow``)."""
     from .internals import registry
@@ -429,6 +441,7 @@ def _resolution(text: str) -> tuple[int, int]:
 
 
 def main(argv: list[str] | None = None) -> int:
+    from .internals.registry import having
     from .io.cliargs import existing_file, finite_float, output_file, platform_list, positive_float
 
     parser = argparse.ArgumentParser(prog="bearing-fmu", description=__doc__, epilog=EXIT_CODES,
@@ -448,7 +461,8 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--supply-c", type=finite_float("C"), default=None,
                    help="oil supply temperature [C] (default: the bearing file's [oil] supply_C; needs an [oil] table)")
     p.add_argument("--internal", type=_film_internal, default="reynolds",
-                   help="the bearing internal with a film report: reynolds (default), map (--map), taylor (--surrogate)")
+                   help="the bearing internal with a film report: "
+                        + _internals_help(having(film_flow=True), "reynolds"))
     p.add_argument("--surrogate", type=existing_file, default=None, metavar="FILE",
                    help="--internal taylor: the surrogate file (its film fit gives the flows)")
     p.add_argument("--map", type=existing_file, default=None, metavar="FILE",
@@ -478,7 +492,7 @@ def main(argv: list[str] | None = None) -> int:
                         "one, the FMU parameter 'map' defaults to it)")
     p.add_argument("--native", action="store_true",
                    help="a native FMU: the internal compiled to C (Model Exchange and Co-Simulation, no Python at run "
-                        "time; needs a C compiler now); reynolds, taylor, map or linear, or several in one FMU")
+                        "time; needs a C compiler now): " + ", ".join(_native_choices()) + ", or several in one FMU")
     p.add_argument("--internal", type=_native_internal, default=None,
                    help="--native: the internal, " + " | ".join(_native_choices()) + ", or several comma-separated "
                         "(one FMU, the parameter internal chooses; taylor,reynolds: domain_action = fallback) "

@@ -289,9 +289,8 @@ def _add_stability(sub) -> None:
     p.add_argument("--speeds-hz", type=float_range("Hz"), required=True, metavar="START:STOP:STEP",
                    help="shaft speeds [Hz], both ends included (e.g. 10:70:1)")
     p.add_argument("--internal", choices=having(any_state=True), default="reynolds",
-                   help="bearing internal, one valid at every speed and load: the Reynolds solver (default), the "
-                        "force map (microseconds per linearisation) or tilting_pad (bearing files with pads: their "
-                        "coefficients reduced at the synchronous whirl)")
+                   help="bearing internal, one valid at every speed and load: " + ", ".join(having(any_state=True))
+                        + " (default reynolds)")
     defaults = ", ".join(f"--{k} {Path(v).stem} (bundled)" for k, v in DEFAULT_FILES.items())
     _file_flags(p, what=f"default: {defaults}, the paper bearing's; build a map with `bearing-fmu map`;")
     p.add_argument("--grid", type=grid, metavar="NxM", help="Reynolds grid n_theta x n_x (default: the solver's, "

@@ -1,6 +1,8 @@
 """Fixtures shared by the test modules: one bearing FMU per session (with a made-up surrogate
 bundled), its extraction and instances, a scene writer, the central-difference Jacobian, and
-file systems that refuse writes (a small tmpfs: full, or remounted read-only; as root)."""
+file systems that refuse writes (a small tmpfs: full, or remounted read-only; as root). Also the
+``native`` marker (set by hook on every test that builds or loads a native FMU; README, *The edit
+loop*) and the build caches, each keyed by the sources its build uses (``source_files``)."""
 
 import fcntl
 import hashlib
@@ -43,6 +45,61 @@ def fmu_build_cache(tmp_path_factory):
         os.environ["BEARING_FMU_BUILD_CACHE"] = old
 
 
+# ------------------------------------------------------------ the native marker
+
+def _native_used(event: str, args) -> None:
+    """An audit hook: a C compiler started from this process (cc, gcc, clang, zig, cmake), or a
+    native library loaded (a native FMU's binary: its archive holds ``sources/``; or one kept in
+    the tests' cache folder, the Reynolds solver's), is noted, so that a test doing either without
+    the ``native`` marker is failed below, whether the build cache was cold or warm."""
+    if event == "subprocess.Popen":
+        argv = [str(a) for a in ([args[1]] if isinstance(args[1], (str, bytes, os.PathLike)) else args[1] or ())]
+        if {Path(a).name for a in argv[:4]} & {"cc", "gcc", "clang", "zig", "cmake", "ziglang"}:
+            _COMPILED.append(" ".join(argv[:6]))
+    elif event == "ctypes.dlopen" and isinstance(args[0], str):
+        lib = Path(args[0])
+        if ".pytest_cache" in lib.parts or (len(lib.parents) > 2 and (lib.parents[2] / "sources").is_dir()):
+            _COMPILED.append(f"loads {lib}")
+
+
+_COMPILED: list[str] = []
+
+
+def pytest_configure(config):
+    import sys
+
+    sys.addaudithook(_native_used)
+
+
+@pytest.hookimpl(tryfirst=True)
+def pytest_collection_modifyitems(config, items):
+    """Every test of a tests/test_native_*.py file and every test that uses the native build cache
+    (itself or through a fixture) is ``native``: a new test of a native FMU is in the native loop
+    without anyone marking it."""
+    for item in items:
+        if item.path.name.startswith("test_native_") or "native_build_cache" in getattr(item, "fixturenames", ()):
+            item.add_marker(pytest.mark.native)
+
+
+@pytest.hookimpl(hookwrapper=True)
+def pytest_runtest_makereport(item, call):
+    """A test (or its fixtures) that compiled or loaded native code but is not marked ``native``
+    fails, naming what: the edit loop (``-m "not slow and not native"``) stays free of C builds. A
+    ``slow`` one (outside the edit loop either way) is warned about instead: ``-m native`` misses it."""
+    outcome = yield
+    report = outcome.get_result()
+    compiled = list(_COMPILED)
+    _COMPILED.clear()
+    if compiled and report.passed and item.get_closest_marker("native") is None:
+        why = (f"{item.nodeid} ({report.when}) built or loaded native code without the native marker "
+               f"({compiled[0]}): mark it @pytest.mark.native, or build through native_build_cache")
+        if item.get_closest_marker("slow") is not None:
+            item.warn(pytest.PytestWarning(why))
+        else:
+            report.outcome = "failed"
+            report.longrepr = why
+
+
 @pytest.fixture(scope="session")
 def code_cache(request, tmp_path_factory):
     """The FMU's code cache (BEARING_FMU_CACHE_DIR, where numba's cache lives too), kept between
@@ -62,26 +119,95 @@ def code_cache(request, tmp_path_factory):
         os.environ["BEARING_FMU_CACHE_DIR"] = old
 
 
-def _package_digest() -> str:
-    """A hash of every source file of bearing_fmu (Python and C): what an FMU build reads."""
+def _module_names(pkg: Path) -> dict[str, Path]:
+    """Every module of the package folder ``pkg`` by dotted name (a package by its own name)."""
+    out = {}
+    for f in sorted(pkg.rglob("*.py")):
+        if "__pycache__" not in f.parts:
+            out[".".join(f.relative_to(pkg.parent).with_suffix("").parts).removesuffix(".__init__")] = f
+    return out
+
+
+def _uses(name: str, path: Path, modules: dict[str, Path]) -> set[str]:
+    """The modules of ``modules`` that module ``name`` can run: its imports at any depth (inside
+    functions too), the packages above each, and the modules named by a string constant (the
+    registry's "internals.linear:create" references, imported when called)."""
+    import ast
+
+    top = name.split(".")[0]
+    package = name if path.name == "__init__.py" else name.rpartition(".")[0]
+    found = set()
+    for node in ast.walk(ast.parse(path.read_bytes())):
+        if isinstance(node, ast.ImportFrom):
+            base = (".".join(package.split(".")[: len(package.split(".")) - node.level + 1]) if node.level else "")
+            mod = ".".join(p for p in (base, node.module or "") if p)
+            found |= {mod, *(f"{mod}.{a.name}" for a in node.names)}
+        elif isinstance(node, ast.Import):
+            found |= {a.name for a in node.names}
+        elif isinstance(node, ast.Constant) and isinstance(node.value, str) and len(node.value) < 200:
+            ref = node.value.partition(":")[0].lstrip(".")
+            found |= {ref, f"{top}.{ref}"}
+    out = set()
+    for mod in found & modules.keys():
+        parts = mod.split(".")
+        out |= {".".join(parts[:i]) for i in range(1, len(parts) + 1)}
+    return out
+
+
+def source_files(*roots: str, root: Path = ROOT) -> list[Path]:
+    """The source files that code under ``roots`` (dotted names: "bearing_fmu.fmu.native") can
+    read, found from the sources as they are now (so a module moved or a C file split is followed,
+    nothing listed by hand): the modules under the roots and every module they use (``_uses``,
+    followed to the end), and the data beside them: a used package's files other than Python
+    modules and its folders that are no package (bearing_fmu/fmu/native/c/), at any depth."""
+    pkg = root / roots[0].split(".")[0]
+    modules = _module_names(pkg)
+    todo = [m for m in modules if any(m == r or m.startswith(r + ".") for r in roots)]
+    seen: set[str] = set()
+    while todo:
+        m = todo.pop()
+        if m not in seen:
+            seen.add(m)
+            todo += _uses(m, modules[m], modules) - seen
+    files = {modules[m] for m in seen}
+    for m in seen:
+        if modules[m].name == "__init__.py":
+            folder = modules[m].parent
+            files |= {f for f in folder.iterdir() if f.is_file() and f.suffix not in (".py", ".pyc")}
+            for sub in folder.iterdir():
+                if sub.is_dir() and sub.name != "__pycache__" and not (sub / "__init__.py").exists():
+                    files |= {f for f in sub.rglob("*") if f.is_file() and "__pycache__" not in f.parts}
+    return sorted(files)
+
+
+def sources_digest(*roots: str) -> str:
+    """A hash of ``source_files(*roots)``: names and contents."""
     h = hashlib.sha256()
-    pkg = ROOT / "bearing_fmu"
-    for p in sorted(pkg.rglob("*")):
-        if p.suffix in (".py", ".c", ".h") and "__pycache__" not in p.parts and p.is_file():
-            h.update(p.relative_to(pkg).as_posix().encode() + b"\0" + p.read_bytes() + b"\0")
+    for p in source_files(*roots):
+        h.update(p.relative_to(ROOT).as_posix().encode() + b"\0" + p.read_bytes() + b"\0")
     return h.hexdigest()
+
+
+# What a native build runs: the native package (its generators, its C), and whatever they use.
+NATIVE_BUILD = ("bearing_fmu.fmu.native",)
+# What the Taylor film fit runs: the fitting, and the surrogate file it is saved as.
+TAYLOR_FIT = ("bearing_fmu.fitting", "bearing_fmu.surrogates.surrogate", "bearing_fmu.physics.params")
 
 
 @pytest.fixture(scope="session")
 def native_build_cache(request):
     """cached(target, build, inputs, settings) -> target: a native FMU built by ``build(target)``,
     or, when an earlier session built one from the same inputs, a copy of that one (kept in
-    .pytest_cache/d/native-fmu). The key hashes everything a native build reads: bearing_fmu's
-    sources (Python and C), the data files ``inputs``, the ``settings`` (internal, options, how
+    .pytest_cache/d/native-fmu). The key hashes everything a native build reads: the sources of
+    bearing_fmu it uses (Python and C), the data files ``inputs``, the ``settings`` (internal, options, how
     it is built), the C compiler ($CC or cc, and its --version), fmpy's version (the FMI headers).
     Changed code or data builds afresh, so every test still checks what today's code builds; an
     unchanged build is not compiled again (7 compiles, 6-9 s of every run on 2 cores). Only the
-    current sources' folder is kept. Without the cache plugin (-p no:cacheprovider) it builds."""
+    current sources' folder is kept. Without the cache plugin (-p no:cacheprovider) it builds.
+    The sources hashed are the ones a native build uses (``source_files(*NATIVE_BUILD)``): an
+    edit elsewhere (the rotor host, the fitting, the command lines, the pythonfmu slave) keeps
+    every native FMU; every test using this fixture is marked ``native`` (``-m "not native"``
+    skips them all)."""
     import shutil
     import subprocess
 
@@ -97,7 +223,8 @@ def native_build_cache(request):
     except (NativeBuildError, OSError):
         cache = None  # no compiler: the build says so itself
     if cache is not None:
-        env = hashlib.sha256(f"{_package_digest()}|{cc}|{version}|fmpy {fmpy.__version__}".encode()).hexdigest()
+        env = hashlib.sha256(f"{sources_digest(*NATIVE_BUILD)}|{cc}|{version}|fmpy {fmpy.__version__}"
+                             .encode()).hexdigest()
         top = cache.mkdir("native-fmu")
         for old in top.iterdir():  # builds of other sources: never used again
             if old.name != env[:16]:
@@ -105,10 +232,16 @@ def native_build_cache(request):
         root = top / env[:16]
         root.mkdir(exist_ok=True)
 
-    def cached(target: Path, build, inputs=(), settings=()) -> Path:
+    def cached(target: Path, build, inputs=(), settings=(), code=()) -> Path:
+        """``code``: modules beyond the native build that ``build`` runs, hashed by their own
+        files (a build through the command line: ("bearing_fmu.cli",), its parsing)."""
         if root is None:
             return build(target)
         h = hashlib.sha256(repr((target.name, settings)).encode())
+        for name in code:
+            path = ROOT.joinpath(*name.split("."))
+            for p in sorted(path.rglob("*.py")) if path.is_dir() else [path.with_suffix(".py")]:
+                h.update(b"\0" + p.relative_to(ROOT).as_posix().encode() + b"\0" + p.read_bytes())
         for f in inputs:
             h.update(b"\0" + Path(f).name.encode() + b"\0" + Path(f).read_bytes())
         kept = root / f"{h.hexdigest()[:24]}.fmu"
@@ -148,8 +281,9 @@ def taylor_film_file(request, tmp_path_factory):
     """A Taylor surrogate with its film fit (format version 2) of the ISO VG 46 paper bearing
     (rotor_host/bundled/bearing_paper_vg46.toml) at 44 Hz under 16.7 N: order 3 over a disc of 0.3 CR about the
     equilibrium, |v| <= 0.3 omega CR, 200 training states (the recipe of tests/test_taylor_flows.py,
-    smaller: ~20 s). Kept in .pytest_cache/d/taylor-film under a hash of bearing_fmu's sources (a
-    second session, or pytest-xdist worker, reads it; changed code fits afresh)."""
+    smaller: ~20 s). Kept in .pytest_cache/d/taylor-film under a hash of the sources the fit uses
+    (``source_files(*TAYLOR_FIT)``; a second session, or pytest-xdist worker, reads it; changed
+    code fits afresh)."""
     from bearing_fmu.fitting import FitRecipe, fit_condition
     from bearing_fmu.physics.params import BearingParams
     from bearing_fmu.surrogates.surrogate import save_surrogate
@@ -157,7 +291,7 @@ def taylor_film_file(request, tmp_path_factory):
     bearing = MODELS / "bearing_paper_vg46.toml"
     cache = getattr(request.config, "cache", None)
     folder = cache.mkdir("taylor-film") if cache is not None else tmp_path_factory.mktemp("taylor_film")
-    key = hashlib.sha256((_package_digest() + bearing.read_text()).encode()).hexdigest()[:16]
+    key = hashlib.sha256((sources_digest(*TAYLOR_FIT) + bearing.read_text()).encode()).hexdigest()[:16]
     kept = folder / f"vg46_44hz_{key}.json"
     with open(kept.with_suffix(".lock"), "w") as lock:
         fcntl.flock(lock, fcntl.LOCK_EX)
@@ -182,11 +316,42 @@ def map_file(contract_data):
 
 
 @pytest.fixture(scope="session")
-def fmu(tmp_path_factory, code_cache, surrogate_file, map_file):
-    """The bearing FMU, built once, with ``surrogate_file`` and ``map_file`` bundled."""
+def fmu(tmp_path_factory, code_cache, contract_data, surrogate_file, map_file):
+    """The bearing FMU, built once, with ``surrogate_file`` and ``map_file`` bundled; its bundled
+    kernels compiled once for all workers (``_compile_bundle_once``)."""
     from bearing_fmu.fmu.build import build_fmu
 
-    return build_fmu(tmp_path_factory.mktemp("fmu") / "bearing.fmu", surrogate=[surrogate_file, map_file])
+    path = build_fmu(tmp_path_factory.mktemp("fmu") / "bearing.fmu", surrogate=[surrogate_file, map_file])
+    _compile_bundle_once(path, code_cache, contract_data)
+    return path
+
+
+def _compile_bundle_once(fmu: Path, code_cache: Path, data_dir: Path) -> None:
+    """numba's cache of the FMU's bundled code filled by one process: the first session or
+    pytest-xdist worker to use this code steps the FMU once with each registered internal that has
+    compiled kernels (from its contract case), under a lock, and the others then load the cache.
+    After an edit of a module the FMU bundles, two workers would otherwise compile the same
+    kernels side by side (twice the CPU; on a shared machine, twice the time)."""
+    from bearing_fmu.fmu.build import package_name
+    from bearing_fmu.internals import registry
+
+    done = Path(code_cache) / f"{package_name()}.compiled"
+    with open(done.with_suffix(".lock"), "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        if done.exists():
+            return
+        drive = _example("drive_fmu_with_fmpy")
+        for spec in registry.REGISTRY.values():
+            if not spec.kernels or callable(spec.factory):
+                continue
+            case = spec.contract_case(data_dir)
+            options = {**case.options, **{key: Path(p).name for key, p in case.files.items()}}
+            inst = drive.BearingInstance(fmu, {"internal": spec.name, **options})
+            try:
+                inst.step(1e-4, *case.state, case.omega)
+            finally:
+                inst.close()
+        done.touch()
 
 
 @pytest.fixture(scope="session")

@@ -71,6 +71,7 @@ def test_api_doc(tmp_path):
 
 
 @pytest.mark.slow
+@pytest.mark.native  # the page's native FMU build
 def test_api_doc_with_fmus(tmp_path, code_cache):
     """The whole page, the FMU builds and fmpy simulations included (about 4 s: a C compile, a
     pythonfmu build, numba in a fresh FMU code cache)."""

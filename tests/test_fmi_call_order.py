@@ -39,16 +39,18 @@ HAS_CC = bool(os.environ.get("CC") or shutil.which("cc") or shutil.which("gcc"))
 
 
 @pytest.fixture(scope="module")
-def native(tmp_path_factory):
+def native(tmp_path_factory, native_build_cache):
     """A native Taylor FMU (the shipped 22 Hz surrogate): (fmu, extracted folder)."""
     from bearing_fmu.fmu.native.build import build_native_fmu
 
-    fmu = build_native_fmu(tmp_path_factory.mktemp("order") / "taylor.fmu", "taylor", surrogate=SURROGATE,
-                           platforms=["linux64"])
+    fmu = native_build_cache(tmp_path_factory.mktemp("order") / "taylor.fmu",
+                             lambda target: build_native_fmu(target, "taylor", surrogate=SURROGATE,
+                                                             platforms=["linux64"]),
+                             [SURROGATE], ("taylor", "linux64"))
     return fmu, fmpy.extract(str(fmu))
 
 
-@pytest.fixture(params=["python", "native"])
+@pytest.fixture(params=["python", pytest.param("native", marks=pytest.mark.native)])
 def either(request, fmu, unzip):
     """(fmu, folder, kind) of each FMU in turn."""
     if request.param == "python":

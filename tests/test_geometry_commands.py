@@ -78,6 +78,7 @@ def test_scene_through_the_native_fmu_is_refused_before_any_build(tmp_path, caps
 
 
 @pytest.mark.slow
+@pytest.mark.native
 def test_grooved_scene_through_the_native_map_fmu(tmp_path, capsys):
     """The grooved scene's 3-D map compiled into a native FMU (its bore checked against the
     bearing's at build) gives the in-process map run's orbit: the same table, spline and

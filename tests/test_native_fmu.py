@@ -75,7 +75,7 @@ def native(tmp_path_factory, native_build_cache):
             return target
 
         fmu = native_build_cache(folder / f"map_{path.stem}.fmu", cli, [path] + ([bearing] if bearing else []),
-                                 ("cli", *argv[1:]))
+                                 ("cli", *argv[1:]), code=("bearing_fmu.cli",))
         out[f"map:{path.stem}"] = (fmu, registry.create("map", params, {"map": str(path)}), params)
     for path in SURROGATES:
         fmu = native_build_cache(folder / f"taylor_{path.stem}.fmu",
@@ -102,7 +102,8 @@ def native(tmp_path_factory, native_build_cache):
         assert main([*argv, "-o", str(target)]) == 0
         return target
 
-    fmu = native_build_cache(folder / "reynolds_lemon.fmu", cli_lemon, [lemon], ("cli", *argv[1:]))
+    fmu = native_build_cache(folder / "reynolds_lemon.fmu", cli_lemon, [lemon], ("cli", *argv[1:]),
+                             code=("bearing_fmu.cli",))
     lemon_params = BearingParams.from_toml(lemon)
     out["reynolds:lemon"] = (fmu, registry.create("reynolds", lemon_params, {}), lemon_params)
     return {k: (fmu, fmpy.extract(str(fmu)), py, params) for k, (fmu, py, params) in out.items()}

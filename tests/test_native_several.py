@@ -44,7 +44,7 @@ def several(tmp_path_factory, native_build_cache):
         return target
 
     fmu = native_build_cache(tmp_path_factory.mktemp("several") / "taylor_reynolds.fmu", cli, [SURROGATE],
-                             ("cli", *argv[1:]))
+                             ("cli", *argv[1:]), code=("bearing_fmu.cli",))
     return fmu, fmpy.extract(str(fmu))
 
 

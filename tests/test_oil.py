@@ -128,3 +128,28 @@ def test_bad_oil_table_is_refused_naming_file_and_key(tmp_path, text, match):
     p = _write(tmp_path, text)
     with pytest.raises(BearingFileError, match=rf"{p}: .*{match}" if not match.startswith("unknown") else match):
         BearingParams.from_toml(p)
+
+
+def test_presets_are_records_whose_fields_are_the_oil_tables_keys(tmp_path):
+    """Each preset (PRESETS) is a named record whose data fields are keys of the [oil] table: the
+    table that writes them out gives the same oil, bit for bit, as the table naming the grade; and
+    each says where its numbers come from."""
+    import dataclasses
+
+    from bearing_fmu.physics.oil import OIL_KEYS, PRESETS, OilPreset
+
+    keys = {k.name for k in OIL_KEYS}
+    assert [p.name for p in PRESETS] == list(GRADES) and all(GRADES[p.name] is p for p in PRESETS)
+    for i, p in enumerate(PRESETS):
+        assert isinstance(p, OilPreset) and len(p.source) > 40
+        with pytest.raises(dataclasses.FrozenInstanceError):
+            p.name = "x"
+        data = {f.name: getattr(p, f.name) for f in dataclasses.fields(p) if f.name not in ("name", "source")}
+        data = {k: v for k, v in data.items() if v is not None}
+        assert set(data) <= keys, f"{p.name}: {set(data) - keys} are no [oil] keys"
+        lines = [f"{k} = {list(v) if isinstance(v, tuple) else repr(v)}" for k, v in data.items()]
+        by_keys = BearingParams.from_toml(_write(tmp_path, BEARING + "[oil]\n" + "\n".join(lines) + "\n",
+                                                 f"k{i}.toml"))
+        by_name = BearingParams.from_toml(_write(tmp_path, BEARING + f'[oil]\ngrade = "{p.name}"\n',
+                                                 f"g{i}.toml"))
+        assert by_keys.oil.coefficients == by_name.oil.coefficients and by_keys.mu == by_name.mu

@@ -200,6 +200,7 @@ def test_fmu_run_with_a_supply_temperature_equals_the_direct_run(tmp_path):
 
 
 @pytest.mark.slow
+@pytest.mark.native
 def test_native_fmu_run_with_a_supply_temperature_equals_the_python_fmu_run(tmp_path):
     """The shipped 44 Hz scene through the native Reynolds FMU's thermal ports (its film report, oil
     law and lagged film temperature in C) equals the run through the Python FMU to round-off."""
@@ -207,6 +208,7 @@ def test_native_fmu_run_with_a_supply_temperature_equals_the_python_fmu_run(tmp_
 
 
 @pytest.mark.slow
+@pytest.mark.native
 def test_native_map_fmu_run_with_a_supply_temperature(tmp_path):
     """The shipped 44 Hz scene on the shipped paper map (version 3: its flow table) through the native
     map FMU's thermal ports (refused before: its film report was not in C) equals the run through the

@@ -4,8 +4,9 @@ description says, the binary patches, and the native C FMU (ME + CS).
 ==========  ===================================================================
 module      what it holds
 ==========  ===================================================================
-slave       the pythonfmu slave: FMU variables, the chosen internal, honest FMI
-            status
+slave       the pythonfmu slave: the class and its life cycle (pythonfmu's script)
+pyslave/    its parts: calling sequence and honest FMI status, variables, the
+            internal and the steps (thermal ports), the FMU state
 build       writes the ``.fmu`` (the package bundled under a unique name, model
             description, data files checked, the bearing's defaults)
 binary      the checked patches of pythonfmu's binary for honest FMI statuses

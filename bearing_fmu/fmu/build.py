@@ -43,10 +43,10 @@ from .meta import UNITS  # noqa: F401 - the unit definitions (shared with the na
 HERE = Path(__file__).resolve().parent
 PACKAGE = HERE.parent  # bearing_fmu
 # What the slave needs at run time: the package file, these folders (bearing physics,
-# internals, the surrogate file) and the slave's own helpers (call order, resources, variables);
-# not the fitting, the FMU build tooling or the command lines.
+# internals, the surrogate file) and the slave's own parts and helpers (pyslave/, call order,
+# ports, resources, variables); not the fitting, the FMU build tooling or the command lines.
 IN_FMU = ("__init__.py", "physics", "internals", "surrogates", "io/__init__.py", "io/schema.py", "fmu/__init__.py",
-          "fmu/order.py", "fmu/ports.py", "fmu/resources.py", "fmu/variables.py")
+          "fmu/order.py", "fmu/ports.py", "fmu/pyslave", "fmu/resources.py", "fmu/variables.py")
 MODEL_IDENTIFIER = "BearingFMU"
 REQUIREMENTS = "numpy>=1.26\nscipy>=1.11\nnumba>=0.59\n"
 

@@ -10,15 +10,10 @@ Laws (T in kelvin everywhere inside):
   (D341 adds small terms below); a law whose range reaches below 2 cSt is refused.
 * ``vogel`` -- mu = a exp(b / (T - c)) (Vogel 1921; the Vogel-Fulcher-Tammann form), a [Pa s],
   b, c [K]; T must stay above c.
-* a ``grade`` preset: Walther through two typical points of a turbine oil of viscosity index
-  about 100: ISO VG 32 (32 cSt at 40 C, 5.4 cSt at 100 C) and ISO VG 46 (46 cSt, 6.8 cSt). The
-  40 C values are the grades' mid-points (ISO 3448, Industrial liquid lubricants -- ISO viscosity
-  classification); the 100 C values are those the ROSS project quotes for these grades
-  (github.com/petrobras/ross issue 37). And SAE 30 as Shigley's Table 12-1 fits it (Seireg &
-  Dandage): mu = 0.0141 exp(1360 / (T_F + 95)) micro-reyn, T_F in F, a Vogel law with
-  a = 0.0141e-6 * 6894.757 Pa s, b = 1360 / 1.8 K, c = 273.15 - (95 + 32) / 1.8 K; its solutions
-  manual (problem 12-20) gives 15.2 mPa s at 79 C from it. For any other oil, give its data
-  sheet's two points.
+* a ``grade`` preset (``PRESETS``: named records, each law's data with its units and where
+  they come from): ISO VG 32 and ISO VG 46 by Walther through two typical points of a turbine
+  oil of viscosity index about 100, SAE 30 by Shigley's Vogel fit. For any other oil, give its
+  data sheet's two points.
 
 mu [Pa s] = rho nu with a constant density. Defaults rho = 861 kg/m^3 and c_p = 1760 J/(kg K):
 the oil of Shigley's Mechanical Engineering Design (chapter 12, the SI temperature-rise equation
@@ -34,7 +29,7 @@ from dataclasses import dataclass
 
 from ..io.schema import Choice, Key, List, Number
 
-__all__ = ["Oil", "OIL_KEYS", "GRADES", "KELVIN", "oil_from_table"]
+__all__ = ["Oil", "OilPreset", "OIL_KEYS", "PRESETS", "GRADES", "KELVIN", "oil_from_table"]
 
 KELVIN = 273.15
 WALTHER_MIN_CST = 2.0  # below, D341's simple form (nu + 0.7) is no longer the standard's equation
@@ -42,16 +37,63 @@ DEFAULT_DENSITY = 861.0  # kg/m^3, Shigley ch. 12 (see the module docstring)
 DEFAULT_HEAT_CAPACITY = 1760.0  # J/(kg K), the same
 DEFAULT_RANGE_C = (0.0, 150.0)  # a mineral oil's working range: below 0 C it thickens fast, above
                                 # 150 C it oxidises; widen it in the file for another oil
-# kinematic viscosities [cSt] at 40 and 100 C (Walther), or the Vogel law's (a [Pa s], b [K], c [K])
-# (module docstring for the sources)
-GRADES = {"ISO VG 32": ("walther", (32.0, 5.4)), "ISO VG 46": ("walther", (46.0, 6.8)),
-          "SAE 30": ("vogel", (0.0141e-6 * 6894.757, 1360.0 / 1.8, KELVIN - 127.0 / 1.8))}
+
+
+@dataclass(frozen=True)
+class OilPreset:
+    """A named oil of the ``grade`` key: its viscosity law's data in the units of the [oil]
+    table's keys, and where the numbers come from. Exactly one law: Walther (``nu_cSt`` at
+    ``temperatures_C``) or Vogel (``vogel_a_Pa_s``, ``vogel_b_K``, ``vogel_c_K``).
+
+    name           : the grade, as the bearing file writes it
+    nu_cSt         : Walther: kinematic viscosities [cSt = mm^2/s] at ``temperatures_C`` [C]
+    vogel_a_Pa_s   : Vogel law mu = a exp(b / (T - c)): a [Pa s]; ``vogel_b_K`` b [K]; ``vogel_c_K`` c [K]
+    source         : the sources of the numbers
+    """
+
+    name: str
+    source: str
+    nu_cSt: tuple[float, float] | None = None
+    temperatures_C: tuple[float, float] | None = None
+    vogel_a_Pa_s: float | None = None
+    vogel_b_K: float | None = None
+    vogel_c_K: float | None = None
+
+    @property
+    def law(self) -> str:
+        return "walther" if self.nu_cSt is not None else "vogel"
+
+    def oil(self, **kw) -> "Oil":
+        """The preset as an ``Oil`` (``kw``: the other fields of ``Oil``: range, density, ...)."""
+        kw.setdefault("name", self.name)
+        if self.law == "vogel":
+            return Oil.vogel(self.vogel_a_Pa_s, self.vogel_b_K, self.vogel_c_K, **kw)
+        (nu1, nu2), (t1, t2) = self.nu_cSt, self.temperatures_C
+        return Oil.walther(nu1, t1 + KELVIN, nu2, t2 + KELVIN, **kw)
+
+
+_ISO_VG_SOURCE = ("40 C: the grade's mid-point (ISO 3448, Industrial liquid lubricants -- ISO viscosity "
+                  "classification); 100 C: a turbine oil of viscosity index about 100 as the ROSS project quotes "
+                  "it for this grade (github.com/petrobras/ross issue 37)")
+# the grade presets, in the order the documentation lists them (docs/thermal.md: generated from these)
+PRESETS = (
+    OilPreset("ISO VG 32", _ISO_VG_SOURCE, nu_cSt=(32.0, 5.4), temperatures_C=(40.0, 100.0)),
+    OilPreset("ISO VG 46", _ISO_VG_SOURCE, nu_cSt=(46.0, 6.8), temperatures_C=(40.0, 100.0)),
+    # Shigley's mu = 0.0141 exp(1360 / (T_F + 95)) micro-reyn, T_F in F, in SI: a micro-reyn is
+    # 6894.757e-6 Pa s, T_F + 95 = 1.8 (T - c) with c = 273.15 - (95 + 32) / 1.8 K
+    OilPreset("SAE 30", "Shigley's Mechanical Engineering Design, Table 12-1 (Seireg & Dandage's fit): mu = "
+              "0.0141 exp(1360 / (T_F + 95)) micro-reyn, T_F in F; its solutions manual (problem 12-20) gives "
+              "15.2 mPa s at 79 C from it",
+              vogel_a_Pa_s=0.0141e-6 * 6894.757, vogel_b_K=1360.0 / 1.8, vogel_c_K=KELVIN - 127.0 / 1.8),
+)
+GRADES = {p.name: p for p in PRESETS}
 
 # the keys of the [oil] table; exactly one law: grade, or nu_cSt with temperatures_C, or the
 # three vogel_ keys
 OIL_KEYS = (
     Key("grade", "a preset: ISO VG grades by Walther (ASTM D341) through typical viscosities at 40 and 100 C, "
-        "SAE 30 by Shigley's Vogel fit (physics/oil.py gives the sources)", None, kind=Choice(tuple(GRADES))),
+        "SAE 30 by Shigley's Vogel fit (physics/oil.py gives the sources)", None,
+        kind=Choice(tuple(p.name for p in PRESETS))),
     Key("nu_cSt", "kinematic viscosities at temperatures_C [cSt = mm^2/s] (Walther, ASTM D341)", None,
         "2 numbers > 0, falling with temperature", kind=List(Number(0.0, exclusive_minimum=True), length=2)),
     Key("temperatures_C", "the temperatures of nu_cSt [C]", None, "2 different numbers",
@@ -161,15 +203,10 @@ class Oil:
 
     @classmethod
     def grade(cls, grade: str, **kw) -> "Oil":
-        """A preset of ``GRADES`` (module docstring)."""
+        """A preset of ``PRESETS`` by name (``GRADES[grade].oil(**kw)``)."""
         if grade not in GRADES:
             raise ValueError(f"Oil: unknown grade {grade!r}; choose one of {', '.join(GRADES)}")
-        law, values = GRADES[grade]
-        kw.setdefault("name", grade)
-        if law == "vogel":
-            return cls.vogel(*values, **kw)
-        nu40, nu100 = values
-        return cls.walther(nu40, 40.0 + KELVIN, nu100, 100.0 + KELVIN, **kw)
+        return GRADES[grade].oil(**kw)
 
     # ------------------------------------------------------------------ properties
     def check_temperature(self, T_K: float, what: str = "T") -> float:
