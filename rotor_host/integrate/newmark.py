@@ -77,6 +77,7 @@ from .loads import RotatingLoads
 from .newmark_data import IntegrationError, NewmarkConfig, NewmarkResult
 from .newmark_kernels import Q0, Q1, StepOps, k_accept, k_begin, k_iter
 from .newmark_loop import ChunkDriver
+from .newmark_record import RunState
 
 OMEGA_RTOL = 1e-3  # a varying speed rebuilds D = C + Omega G when Omega has moved by this fraction
 
@@ -181,7 +182,7 @@ class Newmark:
             progress_every = max(1, n_steps // 200)
 
         self._wall0 = time.perf_counter()
-        st = self._state = _RunState(n, m, n_steps, n_out, rec, cfg.trace, cfg.tangent)
+        st = self._state = RunState(n, m, n_steps, n_out, rec, cfg.trace, cfg.tangent)
         st.t0, st.dt, st.record_every, st.extra_fn = float(t0), dt, record_every, record_extra
 
         q0 = np.asarray(q0, dtype=float).reshape(n)
@@ -213,10 +214,10 @@ class Newmark:
         X[2 * n:] = a0
         st.Ma_norm = float(np.linalg.norm(self.M @ a0))
         st.in_first_bracket = True
-        self._record(0)
+        st.record(0)
 
         attempt = self._attempt
-        record = self._record
+        record = st.record
         iters = st.iters
         plan = self._compiled_plan() if record_extra is None else None
         if plan is not None:
@@ -295,21 +296,6 @@ class Newmark:
         st.Jq_prev[:] = 0.0 if dfq is None else self._jcheck(dfq, "df/dq")
         st.Jv_prev[:] = 0.0 if dfv is None else self._jcheck(dfv, "df/dv")
 
-    def _record(self, i):
-        st = self._state
-        n = self.n
-        st.out_t[i] = st.t0 + i * st.record_every * st.dt
-        if st.rec_all:
-            st.out_q[i] = st.X[:n]
-            st.out_v[i] = st.X[n:2 * n]
-        else:
-            st.out_q[i] = st.X[:n][st.rec]
-            st.out_v[i] = st.X[n:2 * n][st.rec]
-        st.out_f[i] = st.f0
-        if st.extra_fn is not None:  # what the force had at its recorded evaluation (the last one)
-            st.out_x[i:] = [np.array(st.extra_fn(), dtype=float)]
-        st.n_rec = i + 1
-
     @property
     def started(self) -> bool:
         """True once ``run`` has recorded its initial state (a partial result exists)."""
@@ -322,14 +308,7 @@ class Newmark:
         return self._partial(status, message)
 
     def _partial(self, status="ok", message="") -> NewmarkResult:
-        st = self._state
-        k = st.n_rec
-        return NewmarkResult(
-            t=st.out_t[:k].copy(), q=st.out_q[:k].copy(), v=st.out_v[:k].copy(), f_nl=st.out_f[:k].copy(),
-            dofs=st.rec.copy(), nl_dofs=self.dofs.copy(), iterations=st.iters[:st.steps_done].copy(),
-            n_cuts=st.n_cuts, n_evaluations=st.n_eval, wall_time=time.perf_counter() - self._wall0,
-            status=status, message=message, residual_history=st.trace,
-            extra=None if st.extra_fn is None else np.array(st.out_x[:k]))
+        return self._state.result(self.dofs, time.perf_counter() - self._wall0, status, message)
 
     def _advance(self, t_a, t_b, level):
         ok, info = self._attempt(t_a, t_b, level)
@@ -541,44 +520,6 @@ class Newmark:
         st.fd_J = J
         st.fd_h = h
         st.fd_stale = False
-
-
-class _RunState:
-    def __init__(self, n, m, n_steps, n_out, rec, trace, tangent):
-        self.X = np.zeros(3 * n)
-        self.V = np.zeros((10, n))
-        self.Pm = np.zeros((4, m))
-        self.AJ = np.zeros((4, m, m))
-        self.qP, self.vP = self.Pm[0], self.Pm[1]
-        self.fe0 = np.zeros(n)
-        self.f0 = np.zeros(m)
-        self.fe_shape = (n,)
-        self.f_shape = (m,)
-        self.Jq_prev, self.Jv_prev = self.AJ[2], self.AJ[3]  # views: k_iter writes them
-        self.Z = np.zeros((m, m))
-        self.mm = (m, m)
-        self.have_J = False
-        self.use_fd = tangent == "fd"  # finite differences where the force returns no tangent
-        self.tangent_linear = tangent == "linear"  # never the force's tangent
-        self.fd_J = None
-        self.fd_h = None
-        self.fd_stale = True
-        self.rec = rec
-        self.rec_all = rec.size == n and bool(np.all(rec == np.arange(n)))
-        self.out_t = np.zeros(n_out)
-        self.out_q = np.zeros((n_out, rec.size))
-        self.out_v = np.zeros((n_out, rec.size))
-        self.out_f = np.zeros((n_out, m))
-        self.iters = np.zeros(n_steps, dtype=np.int32)
-        self.step_its = 0
-        self.n_rec = 0
-        self.steps_done = 0
-        self.n_cuts = 0
-        self.n_eval = 0
-        self.Ma_norm = 0.0
-        self.trace = [] if trace else None
-        self.in_first_bracket = False
-        self.extra_fn, self.out_x = None, []  # record_extra and its records
 
 
 class _StepFailure(Exception):
