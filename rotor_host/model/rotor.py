@@ -271,6 +271,23 @@ class Rotor:
             raise ValueError(f"direction must be one of {', '.join(DIRECTIONS)}, got {direction!r}")
         return fe.DOFS_PER_NODE * node + DIRECTIONS[direction]
 
+    def rigid_modes(self) -> np.ndarray:
+        """The shaft's rigid-body motions, (n_dof, 4): unit translations along y and z, and unit
+        slopes about x = 0 (node 0) in the x-y and x-z planes (y = x, theta_z = 1; z = x,
+        theta_y = -1: the elements' dy/dx = theta_z, dz/dx = -theta_y). K has them as its null
+        space (a free shaft), so ``rigid_modes().T @ f`` is a load's resultant: forces [N] along
+        y, z and moments [N m] about x = 0 (the static equilibrium's balance check)."""
+        x = self.node_x
+        phi = np.zeros((self.n_dof, 4))
+        d = fe.DOFS_PER_NODE
+        phi[fe.Y::d, 0] = 1.0
+        phi[fe.Z::d, 1] = 1.0
+        phi[fe.Y::d, 2] = x
+        phi[fe.TZ::d, 2] = 1.0
+        phi[fe.Z::d, 3] = x
+        phi[fe.TY::d, 3] = -1.0
+        return phi
+
     # ------------------------------------------------------------------ loads
     def weight_vector(self, g: float = 9.81) -> np.ndarray:
         """Gravity load [N, N m] along -z: ``-g M u_z`` with u_z a unit z translation of every node.

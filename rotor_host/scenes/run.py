@@ -33,6 +33,7 @@ from ..integrate.equilibrium import static_equilibrium
 from ..integrate.loads import RotatingLoads
 from ..integrate.newmark import IntegrationError, Newmark, NewmarkConfig
 from ..model.rotor import Rotor
+from .sanity import check_scene_physics
 from .scene import G, Scene, SceneError, required_file, scene_files
 from .thermal import scene_thermal, thermal_arrays, thermal_internal, thermal_meta, with_history
 
@@ -284,7 +285,7 @@ def static_start(rotor: Rotor, f_static, loads, bearings, omega: float) -> np.nd
         if e > 0.9:
             journal[k] *= 0.9 / e
     q0 = _start_guess(rotor, f_static, journal)
-    return static_equilibrium(rotor.K, f_static, bearings, q0, t=0.0)
+    return static_equilibrium(rotor.K, f_static, bearings, q0, t=0.0, rigid_modes=rotor.rigid_modes())
 
 
 # ---------------------------------------------------------------------------------- running
@@ -471,6 +472,7 @@ def _run(scene: Scene, holder, work: Path, progress: bool) -> SceneRun:
 
     t_wall0 = time.perf_counter()
     rotor = Rotor.from_toml(scene.rotor_path)
+    check_scene_physics(scene, rotor)  # values no rotor has, by key, before any solve
     f_static = rotor.weight_vector(G) + rotor.point_load_vector(scene.static_loads)
     loads = bearing_loads(rotor, f_static)
     out = _Writer(scene, rotor, loads, holder, t_wall0)
@@ -490,6 +492,8 @@ def _run(scene: Scene, holder, work: Path, progress: bool) -> SceneRun:
             try:
                 out.q0 = initial_state(scene, rotor, f_static, loads, bearings)
             except EquilibriumError as exc:
+                if isinstance(exc, ValueError):  # RotorNotSupported: the rotor file or its loads, exit 2
+                    raise
                 return out.run(None, "failed", str(exc),
                                equilibrium={k: v for k, v in exc.diagnosis().items() if v is not None})
             out.times["equilibrium_time_s"] = time.perf_counter() - t_setup
