@@ -24,16 +24,15 @@ import math
 from typing import Sequence
 
 import numpy as np
-import scipy.linalg as sla
 
 from bearing_fmu.physics.statics import (CAPACITY_ECCENTRICITY, EquilibriumError, capacity_message,
                                          format_newtons, journal_at_eccentricity)
 
-from .banded import bandwidth, lapack_band
+from .banded import BandLU, bandwidth, is_sparse, to_band
 from .forces import NodalForce, StepRejected, as_dofs, as_nodal_force
 
-__all__ = ["static_equilibrium", "pinned_loads", "bearing_overload", "RotorNotSupported", "support_check",
-           "BALANCE_RTOL"]
+__all__ = ["static_equilibrium", "pinned_loads", "solve_part", "bearing_overload", "RotorNotSupported",
+           "support_check", "BALANCE_RTOL"]
 
 # the bearing forces of an accepted state balance the loads' resultant (forces, and moments about
 # x = 0) to this fraction of the sum of the magnitudes that enter it (a true equilibrium: ~1e-12)
@@ -122,14 +121,35 @@ def pinned_loads(K, f_static, dofs) -> np.ndarray:
     shape (len(dofs) // 2, 2). On two bearings a shaft is statically determinate, so these are
     the film forces at any equilibrium. Raises numpy's LinAlgError if the pinned structure is
     not held (a free part)."""
-    K = np.asarray(K, dtype=float)
+    if not is_sparse(K):
+        K = np.asarray(K, dtype=float)
     fs = np.asarray(f_static, dtype=float).reshape(K.shape[0])
     dofs = np.asarray(dofs, dtype=int)
     free = np.setdiff1d(np.arange(K.shape[0]), dofs)
     q = np.zeros(K.shape[0])
     if free.size:
-        q[free] = np.linalg.solve(K[np.ix_(free, free)], fs[free])
+        q[free] = solve_part(K, free, fs[free])
     return -(K @ q - fs)[dofs].reshape(-1, 2)
+
+
+def solve_part(K, idx, rhs) -> np.ndarray:
+    """x = K[idx, idx]^{-1} rhs, dense or (a sparse K) by a sparse LU; numpy's LinAlgError when
+    that part of K is singular."""
+    if not is_sparse(K):
+        return np.linalg.solve(K[np.ix_(idx, idx)], rhs)
+    import warnings
+
+    from scipy.sparse.linalg import MatrixRankWarning, spsolve
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", MatrixRankWarning)
+        try:
+            x = spsolve(K.tocsr()[idx][:, idx].tocsc(), rhs)
+        except MatrixRankWarning:
+            raise np.linalg.LinAlgError("singular matrix") from None
+    if not np.all(np.isfinite(x)):
+        raise np.linalg.LinAlgError("singular matrix")
+    return x
 
 
 def bearing_overload(K, f_static, bearings) -> dict | None:
@@ -193,8 +213,9 @@ def static_equilibrium(K, f_static, nodal_force: NodalForce | Sequence[NodalForc
     ||R||; a state the force rejects with StepRejected shortens the step).
 
     The tangent is K - P^T df/dq P (finite differences if evaluate returns no df/dq); K alone
-    may be singular (a free shaft held only by its bearings). It is banded like K (a beam's
-    DOFs node by node), and solved as such (O(n) per iteration). Converged when
+    may be singular (a free shaft held only by its bearings). It is solved as the banded
+    K + s P^T P, factorised once, with the bearings' coupling as a rank-m correction
+    (``_Tangent``: O(n) per iteration at any size; K dense or scipy.sparse). Converged when
     ||R|| <= rtol (||f_static|| + ||f_nl|| + ||K q||) and the Newton step
     ||dq|| <= xtol ||q|| + atol_x, or when ||R|| is at its round-off,
     ||R|| <= ROUNDOFF (||f_static|| + ||f_nl|| + || |K| |q| ||). R sums terms of the sizes
@@ -212,7 +233,8 @@ def static_equilibrium(K, f_static, nodal_force: NodalForce | Sequence[NodalForc
     with ``clearances`` also has its journals checked inside them, with or without rigid_modes).
     Returns q; raises EquilibriumError, RotorNotSupported where no state within the bearings'
     reach is found."""
-    K = np.asarray(K, dtype=float)
+    if not is_sparse(K):
+        K = np.asarray(K, dtype=float)
     n = K.shape[0]
     fs = np.asarray(f_static, dtype=float).reshape(n)
     nf = as_nodal_force(nodal_force)
@@ -226,10 +248,8 @@ def static_equilibrium(K, f_static, nodal_force: NodalForce | Sequence[NodalForc
             raise RotorNotSupported(why)
     q = np.array(q0, dtype=float).reshape(n)
     zero_v = np.zeros(m)
-    absK = np.abs(K)
-    # the tangent's band: K's, widened to reach every pair of force DOFs (the force may couple them)
-    w = max(bandwidth(K), int(np.ptp(dofs)) if m else 0)
-    KB = lapack_band(K, w)
+    absK = abs(K)
+    tangent = _Tangent(K, dofs)
 
     def ev(qq):
         f, dfq, _ = nf.evaluate(qq[dofs].copy(), zero_v.copy())
@@ -260,7 +280,7 @@ def static_equilibrium(K, f_static, nodal_force: NodalForce | Sequence[NodalForc
     for it in range(max_iter + 1):
         if not math.isfinite(rn):
             fail(f"static equilibrium: non-finite residual after {it} iterations", q, rn, it)
-        T = KB.copy()
+        J = None
         if m:
             if dfq is None:
                 J = np.empty((m, m))
@@ -280,11 +300,9 @@ def static_equilibrium(K, f_static, nodal_force: NodalForce | Sequence[NodalForc
                     J[:, j] = (fj - f) / hj
             else:
                 J = np.asarray(dfq, dtype=float).reshape(m, m)
-            for a, da in enumerate(dofs):
-                T[w + da - dofs, dofs] -= J[a]  # T[da, db] -= J[a, b] in LAPACK band storage
         try:
-            with np.errstate(divide="ignore", invalid="ignore"):  # a singular tangent: refused just below
-                dq = sla.solve_banded((w, w), T, -R, check_finite=False)
+            with np.errstate(divide="ignore", invalid="ignore", over="ignore"):  # singular: refused below
+                dq = tangent.solve(J, -R)
             if not np.all(np.isfinite(dq)):
                 raise np.linalg.LinAlgError
         except (np.linalg.LinAlgError, ValueError):
@@ -324,3 +342,66 @@ def static_equilibrium(K, f_static, nodal_force: NodalForce | Sequence[NodalForc
         q, R, f, dfq, rn = q_try, R_try, f_try, dfq_try, rn_try
     fail(f"static equilibrium: no convergence in {max_iter} iterations (residual {rn:.3e}, "
          f"tolerance {rtol * scale:.3e})", q, rn, max_iter)
+
+
+class _Tangent:
+    """Solves (K - P^T J P) x = b for the Newton tangent without widening K's band to the bearing
+    DOFs (a dense solve on a long shaft with bearings at both ends): with springs s at the
+    bearing DOFs, A = K + s P^T P is banded like K and holds every rigid-body motion, so it is
+    factorised once (``banded.BandLU``, pivoting LAPACK if that finds a tiny pivot); then
+    K - P^T J P = A - P^T (J + s I) P, and with W = A^{-1} P^T and x0 = A^{-1} b
+    (Woodbury; the transient step's tangent is solved the same way, ``newmark``):
+
+        x = x0 + W (J + s I) y,   (I - P W (J + s I)) y = P x0   (an m x m solve).
+
+    s is the scale of the first tangent J (the bearings' own stiffness, so the m x m system is
+    as well conditioned as the tangent), else K's largest diagonal entry."""
+
+    def __init__(self, K, dofs):
+        self.K, self.dofs, self.m = K, dofs, dofs.size
+        self.w = bandwidth(K)
+        self.solve_A = None
+
+    def _factor(self, J):
+        m, dofs, w = self.m, self.dofs, self.w
+        AB = to_band(self.K, w)
+        s = float(np.max(np.abs(J))) if J is not None and m else 0.0
+        if not (s > 0.0 and math.isfinite(s)):
+            s = float(np.max(np.abs(AB[:, w])))
+        self.s = s
+        AB[dofs, w] += s
+        try:
+            self.solve_A = BandLU(AB, w, "K + s P^T P", band=True).solve
+        except ValueError:  # a tiny pivot without pivoting: LAPACK's banded LU with pivoting
+            import scipy.linalg as sla
+
+            ab = _lapack_from_rows(AB)
+            self.solve_A = lambda b: sla.solve_banded((w, w), ab, b, check_finite=False)
+        if m:
+            E = np.zeros((self.K.shape[0], m))
+            E[dofs, np.arange(m)] = 1.0
+            self.W = self.solve_A(E)
+            self.PW = self.W[dofs]
+
+    def solve(self, J, b):
+        if self.solve_A is None:
+            self._factor(J)
+        x0 = self.solve_A(b)
+        if not self.m:
+            return x0
+        Cm = (np.zeros((self.m, self.m)) if J is None else J) + self.s * np.eye(self.m)
+        y = np.linalg.solve(np.eye(self.m) - self.PW @ Cm, x0[self.dofs])
+        return x0 + self.W @ (Cm @ y)
+
+
+def _lapack_from_rows(B):
+    """LAPACK's band storage ab[w + i - j, j] of the row-wise band storage B[i, j - i + w]."""
+    n, width = B.shape
+    w = (width - 1) // 2
+    ab = np.zeros((width, n))
+    for d in range(-w, w + 1):
+        if d >= 0:
+            ab[w - d, d:] = B[:n - d, w + d]
+        else:
+            ab[w - d, :n + d] = B[-d:, w + d]
+    return ab

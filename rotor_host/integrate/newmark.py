@@ -71,7 +71,7 @@ from typing import Callable, Sequence
 
 import numpy as np
 
-from .banded import BandLU, bandwidth, to_band
+from .banded import BandLU, bandwidth, is_sparse, to_band
 from .forces import NodalForce, StepRejected, as_dofs, as_nodal_force
 from .loads import RotatingLoads
 from .newmark_data import IntegrationError, NewmarkConfig, NewmarkResult
@@ -95,7 +95,8 @@ __all__ = [
 class Newmark:
     """Implicit Newmark / HHT-alpha integrator for M a + (C + omega G) v + K q = f_ext(t) + f_nl.
 
-    M, K, C, G: (n, n) arrays (C, G default zero);
+    M, K, C, G: (n, n) arrays, or scipy.sparse matrices (a big rotor: nothing n x n is made);
+    C, G default zero;
     omega: constant speed [rad/s], or a callable t -> Omega(t) [rad/s] (a run-up);
     f_ext: callable t -> (n,) array, a constant (n,) array, or None (zero);
     nodal_force: a NodalForce, a sequence of them (combined with CompositeForce), or None.
@@ -104,10 +105,11 @@ class Newmark:
     def __init__(self, M, K, C=None, G=None, omega: float = 0.0, f_ext=None,
                  nodal_force: NodalForce | Sequence[NodalForce] | None = None,
                  config: NewmarkConfig | None = None):
-        self.M = np.ascontiguousarray(np.asarray(M, dtype=float))
+        self.M = M.tocsr().astype(float) if is_sparse(M) else np.ascontiguousarray(np.asarray(M, dtype=float))
         n = self.M.shape[0]
         if self.M.shape != (n, n):
             raise ValueError(f"M must be square, got shape {self.M.shape}")
+        self._sparse = is_sparse(M)
         self.K = self._mat(K, n, "K")
         self.C = self._mat(C, n, "C")
         self.G = self._mat(G, n, "G")
@@ -142,11 +144,14 @@ class Newmark:
         self.cfg = config or NewmarkConfig()
         self._ops_cache: dict[float, StepOps] = {}
 
-    @staticmethod
-    def _mat(A, n, name):
+    def _mat(self, A, n, name):
         if A is None:
+            if self._sparse:
+                import scipy.sparse as sp
+
+                return sp.csr_matrix((n, n))
             return np.zeros((n, n))
-        A = np.ascontiguousarray(np.asarray(A, dtype=float))
+        A = A.tocsr().astype(float) if is_sparse(A) else np.ascontiguousarray(np.asarray(A, dtype=float))
         if A.shape != (n, n):
             raise ValueError(f"{name} must have shape ({n}, {n}), got {A.shape}")
         return A
@@ -210,7 +215,12 @@ class Newmark:
         try:
             a0 = BandLU(self.M, w=self.w, what="M").solve(rhs)
         except ValueError:
-            a0 = np.linalg.solve(self.M, rhs)
+            if self._sparse:
+                from scipy.sparse.linalg import spsolve
+
+                a0 = spsolve(self.M.tocsc(), rhs)
+            else:
+                a0 = np.linalg.solve(self.M, rhs)
         X[2 * n:] = a0
         st.Ma_norm = float(np.linalg.norm(self.M @ a0))
         st.in_first_bracket = True
