@@ -12,7 +12,7 @@ from bearing_fmu.io.outputs import claim, ensure_writable
 
 from ..dask_cluster import dask_client
 from .execute import drop_stale_locks, finished_on_disk, sweep
-from .plan import Point, check_fixed_speed, points, run_base, settle_time, swept_values
+from .plan import Point, check_fixed_speed, point_scene, points, run_base, settle_time, swept_values
 from .summary import run_label, summary_diagram, write_summary
 
 def command(*, scene, speeds_hz=None, unbalance_g=None, settle_s: float | None = None, scheduler: str | None = None,
@@ -21,6 +21,7 @@ def command(*, scene, speeds_hz=None, unbalance_g=None, settle_s: float | None =
     or each unbalance mass of ``unbalance_g`` (lists of numbers or ranges' values), on Dask."""
     from ...model.rotor import Rotor
     from ...scenes.run import scene_fmu
+    from ...scenes.sanity import check_scene_physics
 
     if scheduler and workers:
         raise ValueError("--workers: sets the size of the local cluster; with --scheduler the cluster's own "
@@ -32,6 +33,9 @@ def command(*, scene, speeds_hz=None, unbalance_g=None, settle_s: float | None =
            else points(scene, swept_values(speeds_hz, "--speeds-hz")))
     check_fixed_speed(scene, [p.speed_hz for p in pts])
     rotor = Rotor.from_toml(scene.rotor_path)
+    # the step against the fastest run's period, the speed and unbalance against the rotor: before any run
+    for p in {max(pts, key=lambda p: p.speed_hz), max(pts, key=lambda p: p.unbalance_g or 0.0)}:
+        check_scene_physics(point_scene(scene, p, []), rotor)
     bearing_nodes = [n + 1 for n in rotor.bearing_nodes]
     disk_nodes = sorted({d.node + 1 for d in rotor.disks})
     build = None
