@@ -99,8 +99,11 @@ def test_initial_state_puts_each_journal_at_its_own_equilibrium(paper_scene):
 def test_failed_run_keeps_what_it_computed(tmp_path, paper_scene):
     # a huge unbalance drives the Reynolds journal into the wall: the run stops with a
     # diagnosis naming the bearing and the eccentricity, and the partial result is on disk.
-    # 50 kg at 50 mm reaches the wall at t = 0.025 s, after 125 steps (20 kg: 930 steps, to 0.186 s)
-    p = paper_scene(t_end=0.2, dt=2e-4, grid=(32, 4), unbalance=[{"node": 3, "mass_kg": 50.0, "radius_mm": 50}])
+    # 3 kg (of the rotor's 3.4 kg: a heavier unbalance is refused as absurd) at 100 mm on the
+    # bearing's node, at 66 Hz: m r Omega^2 = 52 kN, more than the 50 kg at 50 mm and 22 Hz this
+    # test took before that rule (which reached the wall after 125 steps)
+    p = paper_scene(t_end=0.2, dt=2e-4, grid=(32, 4), speed_hz=66.0,
+                    unbalance=[{"node": 3, "mass_kg": 3.0, "radius_mm": 100}])
     run = run_scene(load_scene(p), tmp_path / "out")
     assert run.meta["status"] == "failed"
     assert "bearing 1" in run.meta["message"] and "eccentricity ratio" in run.meta["message"]

@@ -43,7 +43,7 @@ def _args(*argv):
 
 
 def test_ranges_include_both_ends():
-    from rotor_host.analyses.sweep import _flat
+    from rotor_host.analyses.sweep import swept_values as _flat
 
     # 12.5, 15, ..., 60: (60 - 12.5) / 2.5 + 1 = 20 values, 60 reached despite rounding
     v = _flat(_args(SCENE, "--speeds-hz", "12.5:60:2.5").speeds_hz, "--speeds-hz")
@@ -373,7 +373,7 @@ def test_titles_name_the_swept_quantity_and_range(tmp_path, monkeypatch):
     not by the scene's description: paper_22hz.toml says "22 Hz (first critical speed), 8.5 g at
     37 mm on the disk" (its file), but swept over 12.5-60 Hz the title says shaft speed 12.5-60 Hz
     with that 8.5 g on node 6 held, and swept over 0-20 g it says unbalance 0-20 g at 22 Hz."""
-    from rotor_host.analyses import sweep as sweep_module
+    from rotor_host.analyses.sweep import summary as sweep_module
     from rotor_host.scenes.scene import load_scene
 
     titles = []

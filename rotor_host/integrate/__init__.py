@@ -11,6 +11,8 @@ newmark_kernels   compiled kernels
 newmark_loop      the compiled driver: chunks of whole steps in one numba call
 newmark_data      its settings, result and error (NewmarkConfig, NewmarkResult,
                   IntegrationError)
+newmark_record    the state of one run, its records and the partial result a
+                  checkpoint, an interrupt or a failure keeps
 equilibrium       the static equilibrium of the rotor on nonlinear bearings
 ================  =============================================================
 """

@@ -12,6 +12,9 @@ positive definite (M positive definite, C and K positive semi-definite; the gyro
 is skew and adds nothing to it), so every leading minor is non-zero and elimination in the
 natural order neither breaks down nor grows much (Golub & Van Loan, Matrix Computations, 4th
 ed., sec. 4.4.1); a pivot that still comes out zero or tiny is reported as singular.
+
+Every function that takes a matrix takes a dense array or a ``scipy.sparse`` one (a big
+rotor's M, K, G: ``Rotor.sparse``), so nothing of size n x n need exist.
 """
 
 from __future__ import annotations
@@ -19,9 +22,19 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-__all__ = ["bandwidth", "to_band", "from_band", "lapack_band", "band_lu", "band_solve", "band_matvec", "BandLU"]
+__all__ = ["bandwidth", "to_band", "from_band", "lapack_band", "band_to_sparse", "is_sparse", "band_lu", "band_solve",
+           "band_matvec", "BandLU"]
 
 PIVOT_RTOL = 1e-13  # a pivot below this fraction of its row's largest entry: singular for our purpose
+
+
+def is_sparse(A) -> bool:
+    """Whether A is a ``scipy.sparse`` matrix or array (without importing scipy for a dense one)."""
+    return hasattr(A, "tocoo") and not isinstance(A, np.ndarray)
+
+
+def _diagonal(A, d: int) -> np.ndarray:
+    return A.diagonal(d) if is_sparse(A) else np.diagonal(A, d)
 
 
 def bandwidth(*mats) -> int:
@@ -30,20 +43,26 @@ def bandwidth(*mats) -> int:
     for A in mats:
         if A is None:
             continue
-        i, j = np.nonzero(np.asarray(A))
+        if is_sparse(A):
+            c = A.tocoo()
+            keep = c.data != 0.0
+            i, j = c.row[keep], c.col[keep]
+        else:
+            i, j = np.nonzero(np.asarray(A))
         if i.size:
-            w = max(w, int(np.max(np.abs(i - j))))
+            w = max(w, int(np.max(np.abs(i.astype(np.int64) - j))))
     return w
 
 
 def to_band(A, w: int) -> np.ndarray:
     """Row-wise band storage of the (n, n) matrix A: B[i, j - i + w] = A[i, j]; entries of A
     outside the band are dropped (call ``bandwidth`` first)."""
-    A = np.asarray(A, dtype=float)
+    if not is_sparse(A):
+        A = np.asarray(A, dtype=float)
     n = A.shape[0]
     B = np.zeros((n, 2 * w + 1))
     for d in range(-w, w + 1):
-        diag = np.diagonal(A, d)
+        diag = _diagonal(A, d)
         if d >= 0:
             B[:n - d, w + d] = diag
         else:
@@ -54,15 +73,29 @@ def to_band(A, w: int) -> np.ndarray:
 def lapack_band(A, w: int) -> np.ndarray:
     """LAPACK's (``scipy.linalg.solve_banded``'s) storage of A with w sub- and super-diagonals:
     ab[w + i - j, j] = A[i, j], shape (2 w + 1, n)."""
-    A = np.asarray(A, dtype=float)
+    if not is_sparse(A):
+        A = np.asarray(A, dtype=float)
     n = A.shape[0]
     ab = np.zeros((2 * w + 1, n))
     for d in range(-w, w + 1):
         if d >= 0:
-            ab[w - d, d:] = np.diagonal(A, d)
+            ab[w - d, d:] = _diagonal(A, d)
         else:
-            ab[w - d, :n + d] = np.diagonal(A, d)
+            ab[w - d, :n + d] = _diagonal(A, d)
     return ab
+
+
+def band_to_sparse(B):
+    """The ``scipy.sparse`` CSR matrix of the row-wise band storage B (its non-zero entries)."""
+    import scipy.sparse as sp
+
+    n, width = B.shape
+    w = (width - 1) // 2
+    i = np.repeat(np.arange(n), width)
+    j = i + np.tile(np.arange(-w, w + 1), n)
+    v = B.reshape(-1)
+    keep = (j >= 0) & (j < n) & (v != 0.0)
+    return sp.csr_matrix((v[keep], (i[keep], j[keep])), shape=(n, n))
 
 
 def from_band(B) -> np.ndarray:
@@ -137,9 +170,10 @@ class BandLU:
     """The LU factors of the (n, n) matrix A with half-bandwidth w (``band_lu``); ``solve(b)``.
     ValueError naming ``what`` when a pivot vanishes."""
 
-    def __init__(self, A, w: int, what: str = "the matrix"):
+    def __init__(self, A, w: int, what: str = "the matrix", *, band: bool = False):
+        """A dense or sparse (n, n) matrix, or (``band=True``) its row-wise band storage (copied)."""
         self.w = int(w)
-        self.LU = to_band(A, self.w)
+        self.LU = np.array(A, dtype=float) if band else to_band(A, self.w)
         k = band_lu(self.LU)
         if k >= 0:
             raise ValueError(f"{what} is singular (pivot {k} of {self.LU.shape[0]} vanishes)")

@@ -71,12 +71,13 @@ from typing import Callable, Sequence
 
 import numpy as np
 
-from .banded import BandLU, bandwidth, to_band
+from .banded import BandLU, bandwidth, is_sparse, to_band
 from .forces import NodalForce, StepRejected, as_dofs, as_nodal_force
 from .loads import RotatingLoads
 from .newmark_data import IntegrationError, NewmarkConfig, NewmarkResult
 from .newmark_kernels import Q0, Q1, StepOps, k_accept, k_begin, k_iter
 from .newmark_loop import ChunkDriver
+from .newmark_record import RunState
 
 OMEGA_RTOL = 1e-3  # a varying speed rebuilds D = C + Omega G when Omega has moved by this fraction
 
@@ -94,7 +95,8 @@ __all__ = [
 class Newmark:
     """Implicit Newmark / HHT-alpha integrator for M a + (C + omega G) v + K q = f_ext(t) + f_nl.
 
-    M, K, C, G: (n, n) arrays (C, G default zero);
+    M, K, C, G: (n, n) arrays, or scipy.sparse matrices (a big rotor: nothing n x n is made);
+    C, G default zero;
     omega: constant speed [rad/s], or a callable t -> Omega(t) [rad/s] (a run-up);
     f_ext: callable t -> (n,) array, a constant (n,) array, or None (zero);
     nodal_force: a NodalForce, a sequence of them (combined with CompositeForce), or None.
@@ -103,10 +105,11 @@ class Newmark:
     def __init__(self, M, K, C=None, G=None, omega: float = 0.0, f_ext=None,
                  nodal_force: NodalForce | Sequence[NodalForce] | None = None,
                  config: NewmarkConfig | None = None):
-        self.M = np.ascontiguousarray(np.asarray(M, dtype=float))
+        self.M = M.tocsr().astype(float) if is_sparse(M) else np.ascontiguousarray(np.asarray(M, dtype=float))
         n = self.M.shape[0]
         if self.M.shape != (n, n):
             raise ValueError(f"M must be square, got shape {self.M.shape}")
+        self._sparse = is_sparse(M)
         self.K = self._mat(K, n, "K")
         self.C = self._mat(C, n, "C")
         self.G = self._mat(G, n, "G")
@@ -141,11 +144,14 @@ class Newmark:
         self.cfg = config or NewmarkConfig()
         self._ops_cache: dict[float, StepOps] = {}
 
-    @staticmethod
-    def _mat(A, n, name):
+    def _mat(self, A, n, name):
         if A is None:
+            if self._sparse:
+                import scipy.sparse as sp
+
+                return sp.csr_matrix((n, n))
             return np.zeros((n, n))
-        A = np.ascontiguousarray(np.asarray(A, dtype=float))
+        A = A.tocsr().astype(float) if is_sparse(A) else np.ascontiguousarray(np.asarray(A, dtype=float))
         if A.shape != (n, n):
             raise ValueError(f"{name} must have shape ({n}, {n}), got {A.shape}")
         return A
@@ -181,7 +187,7 @@ class Newmark:
             progress_every = max(1, n_steps // 200)
 
         self._wall0 = time.perf_counter()
-        st = self._state = _RunState(n, m, n_steps, n_out, rec, cfg.trace, cfg.tangent)
+        st = self._state = RunState(n, m, n_steps, n_out, rec, cfg.trace, cfg.tangent)
         st.t0, st.dt, st.record_every, st.extra_fn = float(t0), dt, record_every, record_extra
 
         q0 = np.asarray(q0, dtype=float).reshape(n)
@@ -209,14 +215,19 @@ class Newmark:
         try:
             a0 = BandLU(self.M, w=self.w, what="M").solve(rhs)
         except ValueError:
-            a0 = np.linalg.solve(self.M, rhs)
+            if self._sparse:
+                from scipy.sparse.linalg import spsolve
+
+                a0 = spsolve(self.M.tocsc(), rhs)
+            else:
+                a0 = np.linalg.solve(self.M, rhs)
         X[2 * n:] = a0
         st.Ma_norm = float(np.linalg.norm(self.M @ a0))
         st.in_first_bracket = True
-        self._record(0)
+        st.record(0)
 
         attempt = self._attempt
-        record = self._record
+        record = st.record
         iters = st.iters
         plan = self._compiled_plan() if record_extra is None else None
         if plan is not None:
@@ -295,21 +306,6 @@ class Newmark:
         st.Jq_prev[:] = 0.0 if dfq is None else self._jcheck(dfq, "df/dq")
         st.Jv_prev[:] = 0.0 if dfv is None else self._jcheck(dfv, "df/dv")
 
-    def _record(self, i):
-        st = self._state
-        n = self.n
-        st.out_t[i] = st.t0 + i * st.record_every * st.dt
-        if st.rec_all:
-            st.out_q[i] = st.X[:n]
-            st.out_v[i] = st.X[n:2 * n]
-        else:
-            st.out_q[i] = st.X[:n][st.rec]
-            st.out_v[i] = st.X[n:2 * n][st.rec]
-        st.out_f[i] = st.f0
-        if st.extra_fn is not None:  # what the force had at its recorded evaluation (the last one)
-            st.out_x[i:] = [np.array(st.extra_fn(), dtype=float)]
-        st.n_rec = i + 1
-
     @property
     def started(self) -> bool:
         """True once ``run`` has recorded its initial state (a partial result exists)."""
@@ -322,14 +318,7 @@ class Newmark:
         return self._partial(status, message)
 
     def _partial(self, status="ok", message="") -> NewmarkResult:
-        st = self._state
-        k = st.n_rec
-        return NewmarkResult(
-            t=st.out_t[:k].copy(), q=st.out_q[:k].copy(), v=st.out_v[:k].copy(), f_nl=st.out_f[:k].copy(),
-            dofs=st.rec.copy(), nl_dofs=self.dofs.copy(), iterations=st.iters[:st.steps_done].copy(),
-            n_cuts=st.n_cuts, n_evaluations=st.n_eval, wall_time=time.perf_counter() - self._wall0,
-            status=status, message=message, residual_history=st.trace,
-            extra=None if st.extra_fn is None else np.array(st.out_x[:k]))
+        return self._state.result(self.dofs, time.perf_counter() - self._wall0, status, message)
 
     def _advance(self, t_a, t_b, level):
         ok, info = self._attempt(t_a, t_b, level)
@@ -541,44 +530,6 @@ class Newmark:
         st.fd_J = J
         st.fd_h = h
         st.fd_stale = False
-
-
-class _RunState:
-    def __init__(self, n, m, n_steps, n_out, rec, trace, tangent):
-        self.X = np.zeros(3 * n)
-        self.V = np.zeros((10, n))
-        self.Pm = np.zeros((4, m))
-        self.AJ = np.zeros((4, m, m))
-        self.qP, self.vP = self.Pm[0], self.Pm[1]
-        self.fe0 = np.zeros(n)
-        self.f0 = np.zeros(m)
-        self.fe_shape = (n,)
-        self.f_shape = (m,)
-        self.Jq_prev, self.Jv_prev = self.AJ[2], self.AJ[3]  # views: k_iter writes them
-        self.Z = np.zeros((m, m))
-        self.mm = (m, m)
-        self.have_J = False
-        self.use_fd = tangent == "fd"  # finite differences where the force returns no tangent
-        self.tangent_linear = tangent == "linear"  # never the force's tangent
-        self.fd_J = None
-        self.fd_h = None
-        self.fd_stale = True
-        self.rec = rec
-        self.rec_all = rec.size == n and bool(np.all(rec == np.arange(n)))
-        self.out_t = np.zeros(n_out)
-        self.out_q = np.zeros((n_out, rec.size))
-        self.out_v = np.zeros((n_out, rec.size))
-        self.out_f = np.zeros((n_out, m))
-        self.iters = np.zeros(n_steps, dtype=np.int32)
-        self.step_its = 0
-        self.n_rec = 0
-        self.steps_done = 0
-        self.n_cuts = 0
-        self.n_eval = 0
-        self.Ma_norm = 0.0
-        self.trace = [] if trace else None
-        self.in_first_bracket = False
-        self.extra_fn, self.out_x = None, []  # record_extra and its records
 
 
 class _StepFailure(Exception):

@@ -24,6 +24,7 @@ import numpy as np
 from bearing_fmu.io.schema import FileName, Key, List, Number, Table, Tables, Text, check_table, read_toml
 from bearing_fmu.physics.params import BearingParams
 
+from ..integrate.banded import band_to_sparse, from_band
 from . import fe
 
 # the keys of a rotor file, per table, with the kind of value each takes (docs/file-formats.md
@@ -125,34 +126,51 @@ def _diameters(table: dict, what: str) -> tuple[float, float]:
 
 
 # ----------------------------------------------------------------------------- assembly
-def assemble(elements: Sequence[ShaftElement], disks: Sequence[Disk], material: Material):
-    """Global dense (M, K, G, C) for a chain of elements (element i joins nodes i, i+1)."""
+BAND = 7  # half-bandwidth of every assembled matrix: an element couples two nodes' 4 DOFs each
+DENSE_MAX_DOF = 1000  # Rotor.matrices(): dense up to this size (8 MB a matrix), sparse above
+
+
+def assemble_bands(elements: Sequence[ShaftElement], disks: Sequence[Disk], material: Material) -> dict:
+    """M, K, G, C of a chain of elements (element i joins nodes i, i+1) in row-wise band storage
+    (``rotor_host.integrate.banded``: B[i, j - i + BAND] = A[i, j]), O(n) memory at any size. Each
+    entry sums its element and disk terms in the order a dense assembly adds them, so the dense
+    matrices made from these are the same to the last bit."""
     n_nodes = len(elements) + 1
     n = fe.DOFS_PER_NODE * n_nodes
-    M = np.zeros((n, n))
-    K = np.zeros((n, n))
-    G = np.zeros((n, n))
+    w = BAND
+    B = {k: np.zeros((n, 2 * w + 1)) for k in ("M", "K", "G")}
+    # the band column of an element's entry (a, b) at rows 4i + a: b - a + w
+    cols8 = np.arange(8)[None, :] - np.arange(8)[:, None] + w
+    rows8 = np.arange(8)[:, None] + np.zeros((1, 8), dtype=int)
     for i, e in enumerate(elements):
         m = fe.beam_matrices(e.length, e.od, e.id, material.E, material.density, material.poisson)
-        s = slice(4 * i, 4 * i + 8)
-        M[s, s] += m["M"]
-        K[s, s] += m["K"]
-        G[s, s] += m["G"]
+        for k in ("M", "K", "G"):
+            B[k][4 * i + rows8, cols8] += m[k]
+    cols4 = cols8[:4, :4]
+    rows4 = rows8[:4, :4]
     for d in disks:
         mass, Id, Ip = fe.disk_properties(d.od, d.id, d.width, material.density)
         m = fe.disk_matrices(mass, Id, Ip)
-        s = slice(4 * d.node, 4 * d.node + 4)
-        M[s, s] += m["M"]
-        G[s, s] += m["G"]
-    C = material.beta * K
-    return M, K, G, C
+        for k in ("M", "G"):
+            B[k][4 * d.node + rows4, cols4] += m[k]
+    B["C"] = material.beta * B["K"]
+    return B
+
+
+def assemble(elements: Sequence[ShaftElement], disks: Sequence[Disk], material: Material):
+    """Global dense (M, K, G, C) for a chain of elements (element i joins nodes i, i+1)."""
+    B = assemble_bands(elements, disks, material)
+    return tuple(from_band(B[k]) for k in ("M", "K", "G", "C"))
 
 
 @dataclass
 class Rotor:
     """Assembled FE rotor. Build with :meth:`from_toml`, or directly from elements (SI units).
 
-    ``M, K, G, C`` are dense ``(n_dof, n_dof)`` arrays, ``n_dof = 4 * n_nodes``;
+    ``M, K, G, C`` are dense ``(n_dof, n_dof)`` arrays, ``n_dof = 4 * n_nodes``, made on first use
+    from the band storage ``bands`` (``assemble_bands``); ``sparse()`` gives them as scipy.sparse
+    matrices and ``matrices()`` in the form a solve of this size wants (a big rotor never needs
+    an n x n array);
     ``node_x`` [m] are the node positions along the axis (node 0 at x = 0);
     ``bearing_nodes`` are 0-based, ``bearings[i]`` is the BearingParams of bearing i.
     """
@@ -163,11 +181,8 @@ class Rotor:
     bearing_nodes: list[int] = field(default_factory=list)
     bearings: list[BearingParams] = field(default_factory=list)
     name: str = ""
-    M: np.ndarray = field(init=False, repr=False)
-    K: np.ndarray = field(init=False, repr=False)
-    G: np.ndarray = field(init=False, repr=False)
-    C: np.ndarray = field(init=False, repr=False)
-    node_x: np.ndarray = field(init=False, repr=False)
+    bands: dict = field(init=False, repr=False, compare=False)
+    node_x: np.ndarray = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         if not self.elements:
@@ -176,8 +191,45 @@ class Rotor:
             raise ValueError(f"{len(self.bearing_nodes)} bearing nodes but {len(self.bearings)} bearing parameter sets")
         for node in [d.node for d in self.disks] + list(self.bearing_nodes):
             self._check_node(node)
-        self.M, self.K, self.G, self.C = assemble(self.elements, self.disks, self.material)
+        self.bands = assemble_bands(self.elements, self.disks, self.material)
+        self._dense: dict[str, np.ndarray] = {}
         self.node_x = np.concatenate([[0.0], np.cumsum([e.length for e in self.elements])])
+
+    # ------------------------------------------------------------------ matrices
+    def _full(self, name: str) -> np.ndarray:
+        A = self._dense.get(name)
+        if A is None:
+            A = self._dense[name] = from_band(self.bands[name])
+        return A
+
+    @property
+    def M(self) -> np.ndarray:
+        """Mass matrix [kg, kg m^2], dense."""
+        return self._full("M")
+
+    @property
+    def K(self) -> np.ndarray:
+        """Stiffness matrix [N/m, N, N m], dense."""
+        return self._full("K")
+
+    @property
+    def G(self) -> np.ndarray:
+        """Gyroscopic matrix (times Omega in the equation of motion) [kg m^2], dense."""
+        return self._full("G")
+
+    @property
+    def C(self) -> np.ndarray:
+        """The shaft's proportional damping beta K, dense."""
+        return self._full("C")
+
+    def sparse(self) -> tuple:
+        """(M, K, G, C) as scipy.sparse CSR matrices, the same entries, without an n x n array."""
+        return tuple(band_to_sparse(self.bands[k]) for k in ("M", "K", "G", "C"))
+
+    def matrices(self) -> tuple:
+        """(M, K, G, C) for the solvers (the equilibrium, the integrator, the loads): dense up to
+        DENSE_MAX_DOF DOFs, where dense products cost nothing, scipy.sparse above."""
+        return (self.M, self.K, self.G, self.C) if self.n_dof <= DENSE_MAX_DOF else self.sparse()
 
     # ------------------------------------------------------------------ reading
     @classmethod
@@ -271,6 +323,23 @@ class Rotor:
             raise ValueError(f"direction must be one of {', '.join(DIRECTIONS)}, got {direction!r}")
         return fe.DOFS_PER_NODE * node + DIRECTIONS[direction]
 
+    def rigid_modes(self) -> np.ndarray:
+        """The shaft's rigid-body motions, (n_dof, 4): unit translations along y and z, and unit
+        slopes about x = 0 (node 0) in the x-y and x-z planes (y = x, theta_z = 1; z = x,
+        theta_y = -1: the elements' dy/dx = theta_z, dz/dx = -theta_y). K has them as its null
+        space (a free shaft), so ``rigid_modes().T @ f`` is a load's resultant: forces [N] along
+        y, z and moments [N m] about x = 0 (the static equilibrium's balance check)."""
+        x = self.node_x
+        phi = np.zeros((self.n_dof, 4))
+        d = fe.DOFS_PER_NODE
+        phi[fe.Y::d, 0] = 1.0
+        phi[fe.Z::d, 1] = 1.0
+        phi[fe.Y::d, 2] = x
+        phi[fe.TZ::d, 2] = 1.0
+        phi[fe.Z::d, 3] = x
+        phi[fe.TY::d, 3] = -1.0
+        return phi
+
     # ------------------------------------------------------------------ loads
     def weight_vector(self, g: float = 9.81) -> np.ndarray:
         """Gravity load [N, N m] along -z: ``-g M u_z`` with u_z a unit z translation of every node.
@@ -280,7 +349,7 @@ class Rotor:
         """
         u = np.zeros(self.n_dof)
         u[fe.Z::fe.DOFS_PER_NODE] = 1.0
-        return -g * (self.M @ u)
+        return -g * (self.matrices()[0] @ u)
 
     def unbalance_force(self, t: float, speed: float, mass: float, radius: float, node: int,
                         phase: float = 0.0) -> np.ndarray:

@@ -30,10 +30,12 @@ from bearing_fmu.io.cache import cache_dir, source_digest
 from bearing_fmu.io.exits import as_interrupted, handled, note_kept
 from bearing_fmu.io.outputs import claim, ensure_writable, savez, write_json
 
-from ..integrate.equilibrium import static_equilibrium
+from ..integrate.banded import is_sparse
+from ..integrate.equilibrium import solve_part, static_equilibrium
 from ..integrate.loads import RotatingLoads
 from ..integrate.newmark import IntegrationError, Newmark, NewmarkConfig
 from ..model.rotor import Rotor
+from .sanity import check_scene_physics
 from .scene import G, Scene, SceneError, required_file, scene_files
 from .thermal import scene_thermal, thermal_arrays, thermal_internal, thermal_meta, with_history
 
@@ -48,7 +50,7 @@ def bearing_loads(rotor: Rotor, f_static: np.ndarray) -> np.ndarray:
     the load on the journal (``bearing_fmu.physics.statics.equilibrium``'s convention) is -r.
     """
     q = _start_guess(rotor, f_static, np.zeros((len(rotor.bearing_nodes), 2)))
-    r = rotor.K @ q - f_static
+    r = rotor.matrices()[1] @ q - f_static
     fixed = [rotor.dof(nd, d) for nd in rotor.bearing_nodes for d in ("y", "z")]
     return -r[fixed].reshape(-1, 2)
 
@@ -60,8 +62,10 @@ def _start_guess(rotor: Rotor, f_static: np.ndarray, journal: np.ndarray) -> np.
     free = np.setdiff1d(np.arange(n), fixed)
     q = np.zeros(n)
     q[fixed] = journal.reshape(-1)
-    K = rotor.K
-    q[free] = np.linalg.solve(K[np.ix_(free, free)], f_static[free] - K[np.ix_(free, fixed)] @ q[fixed])
+    K = rotor.matrices()[1]
+    # the held DOFs' push on the free ones (q is 0 on the free DOFs, so a sparse K @ q is just that)
+    push = (K @ q)[free] if is_sparse(K) else K[np.ix_(free, fixed)] @ q[fixed]
+    q[free] = solve_part(K, free, f_static[free] - push)
     return q
 
 
@@ -286,7 +290,7 @@ def static_start(rotor: Rotor, f_static, loads, bearings, omega: float) -> np.nd
         if e > 0.9:
             journal[k] *= 0.9 / e
     q0 = _start_guess(rotor, f_static, journal)
-    return static_equilibrium(rotor.K, f_static, bearings, q0, t=0.0)
+    return static_equilibrium(rotor.matrices()[1], f_static, bearings, q0, t=0.0, rigid_modes=rotor.rigid_modes())
 
 
 # ---------------------------------------------------------------------------------- running
@@ -473,6 +477,7 @@ def _run(scene: Scene, holder, work: Path, progress: bool) -> SceneRun:
 
     t_wall0 = time.perf_counter()
     rotor = Rotor.from_toml(scene.rotor_path)
+    check_scene_physics(scene, rotor)  # values no rotor has, by key, before any solve
     f_static = rotor.weight_vector(G) + rotor.point_load_vector(scene.static_loads)
     loads = bearing_loads(rotor, f_static)
     out = _Writer(scene, rotor, loads, holder, t_wall0)
@@ -492,12 +497,15 @@ def _run(scene: Scene, holder, work: Path, progress: bool) -> SceneRun:
             try:
                 out.q0 = initial_state(scene, rotor, f_static, loads, bearings)
             except EquilibriumError as exc:
+                if isinstance(exc, ValueError):  # RotorNotSupported: the rotor file or its loads, exit 2
+                    raise
                 return out.run(None, "failed", str(exc),
                                equilibrium={k: v for k, v in exc.diagnosis().items() if v is not None})
             out.times["equilibrium_time_s"] = time.perf_counter() - t_setup
             if scene.speed_profile is not None:  # a run-up: the bearings and D follow the speed
                 bearings.speed = scene.speed_profile.omega
-            integ = Newmark(rotor.M, rotor.K, rotor.C, rotor.G,
+            mM, mK, mG, mC = rotor.matrices()
+            integ = Newmark(mM, mK, mC, mG,
                             scene.omega if scene.speed_profile is None else scene.speed_profile.omega,
                             external_force(scene, rotor, f_static), bearings,
                             NewmarkConfig(alpha=scene.alpha, tangent=scene.newton_tangent))

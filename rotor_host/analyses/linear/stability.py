@@ -269,7 +269,8 @@ class Stability:
             bearings = DirectBearings(self.internals, self.pairs, omega, self.names)
             if q0 is not None:
                 try:
-                    return static_equilibrium(self.rotor.K, self.f_static, bearings, q0)
+                    return static_equilibrium(self.rotor.K, self.f_static, bearings, q0,
+                                              rigid_modes=self.rotor.rigid_modes())
                 except EquilibriumError:
                     pass  # the previous speed's equilibrium was too far: start afresh, as a scene does
             return static_start(self.rotor, self.f_static, self.loads, bearings, omega)

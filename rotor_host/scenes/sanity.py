@@ -1,0 +1,71 @@
+"""Physical sanity of a scene, checked before anything is solved: a value no rotor can have is
+refused by its key (``SceneError``, exit code 2) instead of being found out by its consequence
+(a journal at eccentricity 1e291, a line search that fails at its first step).
+
+* the time step against the shaft period: above a tenth of a revolution per step a warning (the
+  orbit is coarsely drawn and the step's accuracy goes with (Omega dt)^2), above half a
+  revolution a refusal (``MAX_REV_PER_STEP``: fewer than two steps per revolution cannot
+  resolve a synchronous orbit, the sampling theorem's limit);
+* the speed against the material: a surface speed of the rotor (shaft or disk rim) above the
+  speed of sound in its material, sqrt(E / rho), would stress it by rho v^2 > E, beyond any
+  material (steel bursts near a tenth of that);
+* an unbalance mass above the rotor's own mass (an unbalance is a small eccentric mass on it).
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+
+from .scene import SceneError
+
+WARN_REV_PER_STEP = 0.1  # revolutions per time step above which a run warns
+MAX_REV_PER_STEP = 0.5  # ... and above which it is refused (fewer than two steps per revolution)
+
+__all__ = ["WARN_REV_PER_STEP", "MAX_REV_PER_STEP", "CoarseStepWarning", "check_scene_physics"]
+
+
+class CoarseStepWarning(UserWarning):
+    """The time step is more than a tenth of a shaft revolution."""
+
+
+def _max_speed(scene) -> tuple[float, str]:
+    """The scene's highest shaft speed [Hz] and the key that sets it."""
+    if scene.speed_profile is not None:
+        return max(scene.speed_profile.speeds_hz), "[speed_profile] speeds_hz"
+    return scene.speed_hz, "speed_hz"
+
+
+def check_scene_physics(scene, rotor) -> None:
+    """Refuse (SceneError naming the key, the value and the allowed range) or warn
+    (``CoarseStepWarning``) as the module says; ``rotor`` is the scene's ``Rotor``."""
+    where = str(scene.source or scene.name)
+    f_hz, speed_key = _max_speed(scene)
+    # the surface speed: the largest radius of the shaft and its disks, at the highest speed
+    radii = [e.od / 2 for e in rotor.elements] + [d.od / 2 for d in rotor.disks]
+    r = max(radii)
+    v = 2.0 * math.pi * f_hz * r
+    c = math.sqrt(rotor.material.E / rotor.material.density)
+    if not v <= c:
+        f_max = c / (2.0 * math.pi * r)
+        raise SceneError(f"{where}: {speed_key} = {f_hz:g}: the rotor's surface at radius {r * 1e3:g} mm would move "
+                         f"at {v:.3g} m/s, beyond the speed of sound in its material (sqrt(E / density) = {c:.4g} "
+                         f"m/s, where the centrifugal stress density v^2 reaches E); no rotor turns so fast: the "
+                         f"speed must be below {f_max:.4g} Hz (in Hz, not rpm or rad/s?)")
+    mass = rotor.mass
+    for i, u in enumerate(scene.unbalances):
+        if u.mass_kg > mass:
+            raise SceneError(f"{where}: [[unbalance]] {i + 1} mass_kg = {u.mass_kg:g}: more than the whole rotor's "
+                             f"mass ({mass:.4g} kg); an unbalance is a small mass on it (at most {mass:.4g} kg; in kg, "
+                             "not g?)")
+    rev = scene.dt_s * f_hz  # revolutions per step at the highest speed
+    per_rev = 1.0 / f_hz
+    if rev > MAX_REV_PER_STEP:
+        raise SceneError(f"{where}: [time] dt_s = {scene.dt_s:g}: {rev:.3g} shaft revolutions per step at "
+                         f"{f_hz:g} Hz ({speed_key}); the orbit cannot be resolved with fewer than two steps per "
+                         f"revolution: dt_s must be at most {MAX_REV_PER_STEP * per_rev:.3g} s (half a revolution), "
+                         f"and {WARN_REV_PER_STEP * per_rev:.3g} s (a tenth) or less to draw it")
+    if rev > WARN_REV_PER_STEP:
+        warnings.warn(f"{where}: [time] dt_s = {scene.dt_s:g} is {rev:.3g} of a shaft revolution at {f_hz:g} Hz "
+                      f"({speed_key}): the orbit is coarsely resolved; {WARN_REV_PER_STEP * per_rev:.3g} s (a tenth "
+                      "of a revolution) or less draws it", CoarseStepWarning, stacklevel=3)
