@@ -17,7 +17,7 @@ from rotor_host.model.rotor import DENSE_MAX_DOF, Rotor
 from rotor_host.scenes.run import run_scene
 from rotor_host.scenes.scene import load_scene
 
-MODELS = Path(__file__).resolve().parents[1] / "models"
+MODELS = Path(__file__).resolve().parents[1] / "rotor_host" / "bundled"
 
 
 def _uniform_shaft(tmp_path, n_el: int, *, length_mm=1000.0, od_mm=20.0) -> Path:

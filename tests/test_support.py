@@ -22,7 +22,7 @@ from rotor_host.model.rotor import Rotor
 from rotor_host.scenes.sanity import CoarseStepWarning, check_scene_physics
 from rotor_host.scenes.scene import SceneError, load_scene
 
-MODELS = Path(__file__).resolve().parents[1] / "models"
+MODELS = Path(__file__).resolve().parents[1] / "rotor_host" / "bundled"
 G = 9.81
 
 

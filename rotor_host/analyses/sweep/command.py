@@ -43,7 +43,7 @@ def command(*, scene, speeds_hz=None, unbalance_g=None, settle_s: float | None =
         from concurrent.futures import ThreadPoolExecutor
 
         pool = ThreadPoolExecutor(1, thread_name_prefix="build-fmu")
-        build = pool.submit(scene_fmu, scene, out / "fmu")
+        build = pool.submit(scene_fmu, scene, None)  # the user's FMU cache: built once for every command
         pool.shutdown(wait=False)
     base = f"sweep_{run_base(scene)}" + ("_unbalance" if unbalance else "")
     t0 = time.perf_counter()

@@ -65,10 +65,10 @@ def _status(meta: dict) -> str:
     return status
 
 
-def warm_worker(scene, work_dir: str) -> float:
+def warm_worker(scene) -> float:
     """In a worker, before its first run: import the run's code and load the compiled kernels the
     scene's runs call (``scenes.run.load_kernels``); through FMUs, instantiate the scene's bearing
-    FMUs once (their code and kernels load then), in ``work_dir``. Once per worker process, so no
+    FMUs once (their code and kernels load then; built in the user's FMU cache). Once per worker process, so no
     run's times count it. Seconds taken; never raises (a run that cannot load its code says so)."""
     t0 = time.perf_counter()
     try:
@@ -80,7 +80,7 @@ def warm_worker(scene, work_dir: str) -> float:
         if scene.via == "fmu":
             rotor = Rotor.from_toml(scene.rotor_path)
             f_static = rotor.weight_vector(G) + rotor.point_load_vector(scene.static_loads)
-            with build_bearings(scene, rotor, bearing_loads(rotor, f_static), Path(work_dir)):
+            with build_bearings(scene, rotor, bearing_loads(rotor, f_static), None):
                 pass
     except Exception:  # noqa: BLE001 - only a head start: the first run loads what is missing, or fails by name
         pass
@@ -96,7 +96,7 @@ def run_point(scene, point: Point, out_dir: str, settle_s: float, disk_nodes: li
     try:
         from ...scenes.run import run_scene
 
-        run = run_scene(scene, out_dir, stem=point.stem, work_dir=Path(out_dir) / "fmu")
+        run = run_scene(scene, out_dir, stem=point.stem)
     except Exception as exc:  # noqa: BLE001 - reported in the summary, the sweep goes on
         return {**row, **error_fields(exc), "wall_s": time.perf_counter() - t0, "bearings": [], "disks": [],
                 "rescued": [asdict(r) for r in take_rescued()]}
@@ -159,7 +159,7 @@ def sweep(client, scene, pts: list[Point], out_dir: Path, settle_s: float, disk_
     # the diagram's matplotlib imported while the workers run (0.6 s the command would wait for after them)
     threading.Thread(target=pyplot, daemon=True, name="import-matplotlib").start()
     # all workers at once, before any run; a worker lost meanwhile is the business of the runs' rows
-    warm = [s for s in client.run(warm_worker, scene, str(Path(out_dir) / "fmu"), on_error="return").values()
+    warm = [s for s in client.run(warm_worker, scene, on_error="return").values()
             if isinstance(s, float)]
     if info is not None and warm:
         info["warm_s"] = max(warm)
