@@ -224,6 +224,7 @@ RS_API rs_solver *rs_create(void *mem, int n_theta, int n_x, int mode, int warm,
     s->bore = nseg > 0;
     s->lobes = lobes;
     s->preload = preload;
+    s->lobe_angle = lobe_angle;
     for (i = 0; i < N; i++) {
         s->fixed[i] = 0;
         s->psup[i] = 0.0;
