@@ -379,10 +379,23 @@ def _resolution(text: str) -> tuple[int, int]:
     return n_eps, n_beta
 
 
+class Parser(argparse.ArgumentParser):
+    """An ArgumentParser (and, through ``add_subparsers``, every sub-command's) that takes any
+    negative number after an option as its value (``--load-z -1e3``; ``--load-z -inf`` is then
+    refused by the option's type, by name). No option of these commands looks like a negative
+    number, the one case where argparse must tell the two apart."""
+
+    def __init__(self, *args, **kwargs):
+        from .io.cliargs import NEGATIVE_NUMBER
+
+        super().__init__(*args, **kwargs)
+        self._negative_number_matcher = NEGATIVE_NUMBER  # argparse's test for it (Python 3.8 .. 3.13)
+
+
 def main(argv: list[str] | None = None) -> int:
     from .io.cliargs import existing_file, finite_float, output_file, platform_list, positive_float
 
-    parser = argparse.ArgumentParser(prog="bearing-fmu", description=__doc__, epilog=EXIT_CODES,
+    parser = Parser(prog="bearing-fmu", description=__doc__, epilog=EXIT_CODES,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
     sub = parser.add_subparsers(dest="command", required=True)
 
