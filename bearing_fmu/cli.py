@@ -181,10 +181,28 @@ def _demo_internal(args: argparse.Namespace, params, load):
     return internal
 
 
+def _check_file_flags(given: dict) -> None:
+    """Each file given to --surrogate or --map is a file of that option (its JSON "format"), else a
+    ValueError naming the flag, the file and the flag that takes it (the FMU would bundle it under the
+    option its content says and report the other option missing at run time)."""
+    from .internals.registry import option_for_file
+
+    for flag, files in given.items():
+        for f in files:
+            try:
+                option = option_for_file(f)
+            except ValueError as exc:
+                raise ValueError(f"--{flag} {f}: {str(exc).removeprefix(f'{f}: ')}") from None
+            if option.name != flag:
+                raise ValueError(f"--{flag} {f}: the file is a {option.file_format} file, read by the option "
+                                 f"{option.name}, not {flag}: give it with --{option.name}")
+
+
 def _build(args: argparse.Namespace) -> int:
     from .fmu.build import build_fmu
     from .io.outputs import ensure_output_file
 
+    _check_file_flags({"surrogate": args.surrogate or [], "map": args.map or []})
     if args.native:
         return _build_native(args)
     for flag, value in (("--internal", args.internal), ("--cmake", args.cmake or None),
