@@ -322,8 +322,7 @@ class BearingFMU(Fmi2Slave):
         if os.path.isabs(name) or ".." in Path(name).parts:
             raise ValueError(f"{name!r} must be a file name inside the FMU resources, not a path")
         path = folder / name
-        # the parameter that named it (surrogate, map), for the message
-        option = next((o for o in sorted(_FILE_OPTIONS) if getattr(self, o, None) == name), "data")
+        option = next((o for o in sorted(_FILE_OPTIONS) if getattr(self, o, None) == name), "data")  # its parameter
         if not path.is_file():
             raise FileNotFoundError(
                 f"{option} file {name!r} not found in the FMU resources folder {SURROGATE_DIR}/ "
