@@ -56,7 +56,7 @@ import numpy as np
 from .params import BearingParams
 
 __all__ = ["FilmReport", "FlowError", "assemble_report", "check_flows", "at_viscosity", "edge_flows", "face_fluxes", "field_report",
-           "film_couette_integral", "flow_scale", "full_bore_friction", "grooved_report", "lobe_feed_faces", "reduced_flows",
+           "film_couette_integral", "flow_field", "flow_scale", "full_bore_friction", "grooved_report", "lobe_feed_faces", "reduced_flows",
            "reduced_report", "side_flow", "supply_edges", "supply_functions"]
 
 
@@ -159,6 +159,23 @@ def side_flow(params: BearingParams, y: float, z: float, p_half: np.ndarray, dx:
     else:
         grad_end = (9.0 * p_half[:, 0] - p_half[:, 1]) / (3.0 * dx)
     return float(np.sum(np.where(fixed, 0.0, hc ** 3 / (12.0 * params.mu) * grad_end * params.R * w))) * 2.0
+
+
+def flow_field(params: BearingParams, y: float, z: float, omega: float, p_half: np.ndarray, dx: float,
+               grid=None) -> tuple[np.ndarray, np.ndarray]:
+    """The flows of a converged field cell by cell (the arguments as ``field_report``'s): the
+    circumferential flux across every right face over the whole length [m^3/s] (toward increasing
+    theta) and the axial flow out of both ends of every cell [m^3/s] (0 for a prescribed one); what
+    ``field_report`` sums into the inflow and the side flow, so a stretch of film whose every node is
+    pressurised balances: the flux into it less the flux out of it is its side flow (squeeze aside)."""
+    cells = _cells(p_half.shape[0], grid)
+    w, centre, fixed = cells[0], cells[1], cells[3]
+    _p, hf, dp = _faces(params, y, z, p_half, cells)
+    couette, pressure = face_fluxes(params, omega, hf, dp, dx)
+    hc = params.CR * cells[7] + y * np.sin(centre) - z * np.cos(centre)
+    m = p_half.shape[1]
+    grad_end = 8.0 * p_half[:, 0] / (3.0 * dx) if m == 1 else (9.0 * p_half[:, 0] - p_half[:, 1]) / (3.0 * dx)
+    return couette - pressure, np.where(fixed, 0.0, hc ** 3 / (12.0 * params.mu) * grad_end * params.R * w) * 2.0
 
 
 def field_report(params: BearingParams, y: float, z: float, vy: float, vz: float, omega: float, F,
