@@ -41,7 +41,7 @@ class SceneError(ValueError):
 # shows these lists; load_scene checks a file against them once); besides them, one sub-table
 # per registered internal holds its options ([reynolds], [taylor], ...)
 TIME_KEYS = (
-    Key("t_end_s", "simulated time [s]", allowed="> 0, a whole number of steps",
+    Key("t_end_s", "simulated time [s]", allowed="> 0, a whole number of steps, at most 1e8 of them",
         kind=Number(0.0, exclusive_minimum=True)),
     Key("dt_s", "time step [s]", kind=Number(0.0, exclusive_minimum=True)),
     Key("hht_alpha", "HHT-alpha numerical damping (0: trapezoidal Newmark)", 0.0, "-1/3 .. 0",
