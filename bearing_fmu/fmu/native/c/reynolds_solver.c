@@ -184,6 +184,10 @@ RS_API rs_solver *rs_create(void *mem, int n_theta, int n_x, int mode, int warm,
                  "both at most %d", n_theta, n_x, RS_MAX_CELLS);
         return NULL;
     }
+    if (lobes > RS_MAX_LOBES) {
+        snprintf(msg, msglen, "lobes = %d: at most %d", lobes, RS_MAX_LOBES);
+        return NULL;
+    }
     rs_solver *s = (rs_solver *)mem;
     memset(s, 0, sizeof *s);
     double *d = (double *)((char *)mem + rs_align(sizeof(rs_solver)));
