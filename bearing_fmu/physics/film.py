@@ -149,16 +149,22 @@ def _faces(params: BearingParams, y: float, z: float, p_half: np.ndarray, cells)
     return p, hf, (p[nxt] - p) / safe[:, None]
 
 
-def side_flow(params: BearingParams, y: float, z: float, p_half: np.ndarray, dx: float, grid=None) -> float:
-    """The axial flow [m^3/s] out of both ends of every film cell (the arguments as ``field_report``'s):
-    the end gradient the solver's own second-order one."""
-    w, centre, _right, fixed, _psup, _dist, _fh0, centre_h0 = _cells(p_half.shape[0], grid)
+def _end_flows(params: BearingParams, y: float, z: float, p_half: np.ndarray, dx: float, cells) -> np.ndarray:
+    """The axial flow [m^3/s] out of one end of every cell (0 for a prescribed one), with the solver's
+    own second-order end gradient."""
+    w, centre, fixed, centre_h0 = cells[0], cells[1], cells[3], cells[7]
     hc = params.CR * centre_h0 + y * np.sin(centre) - z * np.cos(centre)
     if p_half.shape[1] == 1:
         grad_end = 8.0 * p_half[:, 0] / (3.0 * dx)
     else:
         grad_end = (9.0 * p_half[:, 0] - p_half[:, 1]) / (3.0 * dx)
-    return float(np.sum(np.where(fixed, 0.0, hc ** 3 / (12.0 * params.mu) * grad_end * params.R * w))) * 2.0
+    return np.where(fixed, 0.0, hc ** 3 / (12.0 * params.mu) * grad_end * params.R * w)
+
+
+def side_flow(params: BearingParams, y: float, z: float, p_half: np.ndarray, dx: float, grid=None) -> float:
+    """The axial flow [m^3/s] out of both ends of every film cell (the arguments as ``field_report``'s):
+    the end gradient the solver's own second-order one."""
+    return float(np.sum(_end_flows(params, y, z, p_half, dx, _cells(p_half.shape[0], grid)))) * 2.0
 
 
 def flow_field(params: BearingParams, y: float, z: float, omega: float, p_half: np.ndarray, dx: float,
@@ -169,13 +175,9 @@ def flow_field(params: BearingParams, y: float, z: float, omega: float, p_half: 
     ``field_report`` sums into the inflow and the side flow, so a stretch of film whose every node is
     pressurised balances: the flux into it less the flux out of it is its side flow (squeeze aside)."""
     cells = _cells(p_half.shape[0], grid)
-    w, centre, fixed = cells[0], cells[1], cells[3]
     _p, hf, dp = _faces(params, y, z, p_half, cells)
     couette, pressure = face_fluxes(params, omega, hf, dp, dx)
-    hc = params.CR * cells[7] + y * np.sin(centre) - z * np.cos(centre)
-    m = p_half.shape[1]
-    grad_end = 8.0 * p_half[:, 0] / (3.0 * dx) if m == 1 else (9.0 * p_half[:, 0] - p_half[:, 1]) / (3.0 * dx)
-    return couette - pressure, np.where(fixed, 0.0, hc ** 3 / (12.0 * params.mu) * grad_end * params.R * w) * 2.0
+    return couette - pressure, 2.0 * _end_flows(params, y, z, p_half, dx, cells)
 
 
 def field_report(params: BearingParams, y: float, z: float, vy: float, vz: float, omega: float, F,
