@@ -21,6 +21,7 @@ from bearing_fmu.physics.geometry import Geometry
 from bearing_fmu.physics.params import BearingParams
 from rotor_host.scenes.scene import SceneError, load_scene
 from conftest import run_cli
+from tests.test_fmi_status import ERROR, raw  # noqa: F401  (raw: the fixture, a Python FMU's instance)
 
 ROOT = Path(__file__).resolve().parents[1]
 MODELS = ROOT / "models"
@@ -188,3 +189,13 @@ def test_a_step_too_small_names_dt_and_the_step_limit(tmp_path, capsys):
     code, _, err = run_cli("rotor-host", ["run", str(MODELS / "scenes" / "paper_22hz.toml"), "--dt", "1e-9",
                                           "--out", str(tmp_path / "o"), "--quiet"], capsys)
     assert code == 2 and "dt_s = 1e-09 s makes t_end_s" in err and "at least" in err
+
+
+def test_the_fmu_names_the_parameter_whose_file_is_missing(raw):  # noqa: F811
+    """The Python FMU (tests/test_fmi_status.py's, a surrogate and a map bundled) asked for a map
+    it does not hold: "map file ... --map FILE" (it said "surrogate file" for every option)."""
+    r = raw()
+    st = r.initialise(internal="map", map="missing.json")
+    assert st["exit"] == ERROR
+    assert any("map file 'missing.json' not found in the FMU resources folder surrogates/ (bundled: paper_22hz.json, "
+               "paper_map.json); build the FMU with `bearing-fmu build --map FILE`" in m for m in r.errors()), r.messages
