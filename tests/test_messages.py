@@ -75,8 +75,8 @@ def test_a_vogel_law_out_of_range_is_refused_by_key(tmp_path, capsys):
         vogel_c_K = 100
         """)
     b_max = math.log(1e6 / 1e-4) * (273.15 - 100.0)
-    with pytest.raises(ValueError, match=rf"vogel_b_K = 1e\+06.*within 1e-05 \.\. 1e\+06 Pa s.*vogel_b_K at most "
-                                         rf"{b_max:.6g} K"):
+    with pytest.raises(ValueError, match=rf"vogel_b_K = 1e\+06.*at 0 C, the bottom of its range \(range_C\), above "
+                                         rf"1e\+06 Pa s: vogel_b_K at most {b_max:.6g} K"):
         BearingParams.from_toml(f)
     code, _, err = run_cli("bearing-fmu", ["demo", "--bearing", str(f)], capsys)
     assert code == 2 and "[oil] the Vogel law" in err and "OverflowError" not in err

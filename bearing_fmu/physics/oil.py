@@ -143,13 +143,17 @@ class Oil:
         if self.law == "vogel":
             a, b, c = self.coefficients
             log_mu = math.log(a) + b / (self.T_min - c)  # the largest, at the range's bottom
-            if not (math.log(lo) <= math.log(a) + b / (self.T_max - c) and log_mu <= math.log(hi)):
+            law = f"Oil {self.name}: the Vogel law (vogel_a_Pa_s = {a:g}, vogel_b_K = {b:g}, vogel_c_K = {c:g}) gives"
+            if log_mu > math.log(hi):
                 b_max = math.log(hi / a) * (self.T_min - c)
-                raise ValueError(f"Oil {self.name}: the Vogel law (vogel_a_Pa_s = {a:g}, vogel_b_K = {b:g}, "
-                                 f"vogel_c_K = {c:g}) gives mu = exp({log_mu:.4g}) Pa s at {_c(self.T_min)}, the "
-                                 f"bottom of its range (range_C), and must stay within {lo:g} .. {hi:g} Pa s over "
-                                 + (f"it: vogel_b_K at most {b_max:.6g} K with these a, c and range" if b_max > 0.0
-                                    else "it: lower vogel_a_Pa_s"))
+                raise ValueError(f"{law} mu = exp({log_mu:.4g}) Pa s at {_c(self.T_min)}, the bottom of its range "
+                                 f"(range_C), above {hi:g} Pa s: "
+                                 + (f"vogel_b_K at most {b_max:.6g} K with these a, c and range" if b_max > 0.0
+                                    else "lower vogel_a_Pa_s"))
+            mu_top = a * math.exp(b / (self.T_max - c))  # the smallest: b > 0, so no overflow below log_mu
+            if mu_top < lo:
+                raise ValueError(f"{law} mu = {mu_top:.4g} Pa s at {_c(self.T_max)}, the top of its range (range_C), "
+                                 f"below {lo:g} Pa s: raise vogel_a_Pa_s or vogel_b_K, or lower the range's top")
             return
         try:
             mu_lo, mu_hi = self._mu(self.T_max), self._mu(self.T_min)
