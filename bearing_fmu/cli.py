@@ -229,10 +229,28 @@ def _demo_internal(args: argparse.Namespace, params, load):
     return internal
 
 
+def _check_file_flags(given: dict) -> None:
+    """Each file given to --surrogate or --map is a file of that option (its JSON "format"), else a
+    ValueError naming the flag, the file and the flag that takes it (the FMU would bundle it under the
+    option its content says and report the other option missing at run time)."""
+    from .internals.registry import option_for_file
+
+    for flag, files in given.items():
+        for f in files:
+            try:
+                option = option_for_file(f)
+            except ValueError as exc:
+                raise ValueError(f"--{flag} {f}: {str(exc).removeprefix(f'{f}: ')}") from None
+            if option.name != flag:
+                raise ValueError(f"--{flag} {f}: the file is a {option.file_format} file, read by the option "
+                                 f"{option.name}, not {flag}: give it with --{option.name}")
+
+
 def _build(args: argparse.Namespace) -> int:
     from .fmu.build import build_fmu
     from .io.outputs import ensure_output_file
 
+    _check_file_flags({"surrogate": args.surrogate or [], "map": args.map or []})
     if args.native:
         return _build_native(args)
     for flag, value in (("--internal", args.internal), ("--cmake", args.cmake or None),
@@ -440,11 +458,24 @@ def _resolution(text: str) -> tuple[int, int]:
     return n_eps, n_beta
 
 
+class Parser(argparse.ArgumentParser):
+    """An ArgumentParser (and, through ``add_subparsers``, every sub-command's) that takes any
+    negative number after an option as its value (``--load-z -1e3``; ``--load-z -inf`` is then
+    refused by the option's type, by name). No option of these commands looks like a negative
+    number, the one case where argparse must tell the two apart."""
+
+    def __init__(self, *args, **kwargs):
+        from .io.cliargs import NEGATIVE_NUMBER
+
+        super().__init__(*args, **kwargs)
+        self._negative_number_matcher = NEGATIVE_NUMBER  # argparse's test for it (Python 3.8 .. 3.13)
+
+
 def main(argv: list[str] | None = None) -> int:
     from .internals.registry import having
     from .io.cliargs import existing_file, finite_float, output_file, platform_list, positive_float
 
-    parser = argparse.ArgumentParser(prog="bearing-fmu", description=__doc__, epilog=EXIT_CODES,
+    parser = Parser(prog="bearing-fmu", description=__doc__, epilog=EXIT_CODES,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
     sub = parser.add_subparsers(dest="command", required=True)
 

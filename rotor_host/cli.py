@@ -15,7 +15,7 @@ from pathlib import Path
 from bearing_fmu.io.cliargs import (existing_dir, existing_file, existing_file_or, finite_float, float_range, grid, grid_or_default,
                                     node_load, nonneg_float, number, output_dir, output_file, positive_float,
                                     positive_int)
-from bearing_fmu.cli import add_debug_flag
+from bearing_fmu.cli import Parser, add_debug_flag
 from bearing_fmu.io.exits import EXIT_CODES, run_command
 from bearing_fmu.internals.warmup import announce_compiling
 
@@ -338,7 +338,7 @@ def _add_sweep(sub) -> None:
 
 
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(prog="rotor-host", description=__doc__, epilog=EXIT_CODES,
+    parser = Parser(prog="rotor-host", description=__doc__, epilog=EXIT_CODES,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
     sub = parser.add_subparsers(dest="command", required=True)
     for add in (_add_run, _add_compare, _add_paper, _add_fit, _add_dt_study, _add_waterfall, _add_limit_cycle,

@@ -121,16 +121,15 @@ def sample_forces(internal, states, omega: float) -> np.ndarray:
 def load_npz(path: str | Path):
     """Training time series from a co-simulation: an .npz with arrays y, z, vy, vz, Fy, Fz
     (one bearing, equal lengths). Returns (states (M, 4), forces (M, 2))."""
+    from ..io.npz import read_npz
+
     path = Path(path)
-    try:
-        data = np.load(path)
-    except FileNotFoundError:
-        raise FileNotFoundError(f"training file {str(path)!r} not found") from None
     keys = ("y", "z", "vy", "vz", "Fy", "Fz")
-    missing = [k for k in keys if k not in data.files]
+    data = read_npz(path, f"a training time series (.npz with arrays {', '.join(keys)})")
+    missing = [k for k in keys if k not in data]
     if missing:
         raise KeyError(f"training file {str(path)!r}: missing array(s) {', '.join(missing)}; "
-                       f"expected {', '.join(keys)}, found {', '.join(data.files) or 'none'}")
+                       f"expected {', '.join(keys)}, found {', '.join(data) or 'none'}")
     arrs = [np.asarray(data[k], float).ravel() for k in keys]
     n = {len(a) for a in arrs}
     if len(n) != 1:

@@ -33,6 +33,11 @@ from typing import Any, Callable
 from .schema import Invalid, Number
 
 
+# what reads as a negative number after an option (``cli.Parser``): argparse's own test (-5, -.5)
+# misses exponents (-1e3) and -inf / -nan, so `--load-z -1e3` failed as "expected one argument"
+NEGATIVE_NUMBER = re.compile(r"^-(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?$|^-(inf|infinity|nan)$", re.IGNORECASE)
+
+
 def _refuse(expected: str, text: str, why: str = "") -> argparse.ArgumentTypeError:
     return argparse.ArgumentTypeError(f"expected {expected}, got {text!r}" + (f" ({why})" if why else ""))
 
@@ -267,7 +272,7 @@ def output_file(text: str) -> str:
     return text
 
 
-__all__ = ["typed", "number", "positive_float", "nonneg_float", "finite_float", "int_at_least", "positive_int",
+__all__ = ["NEGATIVE_NUMBER", "typed", "number", "positive_float", "nonneg_float", "finite_float", "int_at_least", "positive_int",
            "grid", "grid_or_default", "parse_grid", "grid_words", "float_range", "node_load", "existing_file", "existing_file_or",
            "existing_dir", "output_dir",
            "output_file"]

@@ -215,12 +215,36 @@ class Geometry:
                     return (f"grooves_deg: the groove at {_deg(c)} ({_deg(a)} .. {_deg(_wrap(b))}) is not inside "
                             f"arc_deg [{math.degrees(start):.6g}, {math.degrees(end):.6g}]: a groove lies within "
                             "the arc, its edges at most on the arc's edges")
+        thin = self._thin_film(min_pad)
+        if thin is not None:
+            a, b = thin
+            return (f"the film from {_deg(_wrap(a))} to {_deg(_wrap(b))} is {_deg(b - a)} wide: grooves_deg "
+                    f"(groove_width_deg = {math.degrees(w):.6g}) and arc_deg must leave at least {MIN_PAD_DEG:g} deg "
+                    "of film between a groove's edge and the next edge (another groove's, the arc's)")
         if self.lobes >= 2 and self.preload > 0.0 and abs(self.lobe_offset - 0.5) > 1e-12:
             for t in self.lobe_boundaries():
                 if not self.is_prescribed(t):
                     return (f"lobe_offset = {self.lobe_offset:g} makes the film step at the lobe boundary at {_deg(t)}: "
                             "the boundary must lie inside a groove (grooves_deg) or outside arc_deg, as in an "
                             "offset-halves bearing with grooves at the split")
+        return None
+
+    def _thin_film(self, min_pad: float) -> tuple[float, float] | None:
+        """(start, end) [rad] of the first stretch of film (consecutive segments without a prescribed
+        pressure; a lobe boundary does not end one) narrower than ``min_pad`` [rad], or None."""
+        if not self.grooves and self.arc is None:
+            return None
+        segs, fixed, _supply = self.segments()
+        n, k0 = len(segs), fixed.index(True)
+        start, width = None, 0.0
+        for j in range(1, n + 1):
+            a, b = segs[(k0 + j) % n]
+            if not fixed[(k0 + j) % n]:
+                start, width = (a if start is None else start), width + (b - a)
+                continue
+            if start is not None and width < min_pad - _SNAP:
+                return start, start + width
+            start, width = None, 0.0
         return None
 
     def is_prescribed(self, t: float) -> bool:

@@ -38,6 +38,9 @@ DEFAULT_HEAT_CAPACITY = 1760.0  # J/(kg K), the same
 DEFAULT_RANGE_C = (0.0, 150.0)  # a mineral oil's working range: below 0 C it thickens fast, above
                                 # 150 C it oxidises; widen it in the file for another oil
 
+# the viscosity any law may give over its range [Pa s]: water's tenth to a bitumen's (a lubricant
+# is 1e-3 .. 10; beyond this a law's coefficients are a typo, and exp() overflows near 1e308)
+MU_RANGE_PA_S = (1e-5, 1e6)
 
 @dataclass(frozen=True)
 class OilPreset:
@@ -169,9 +172,38 @@ class Oil:
                 raise ValueError(f"Oil {self.name}: at {_c(self.T_max)}, the top of its range (range_C), the "
                                  f"Walther law gives {nu_top:.3g} cSt, below the {WALTHER_MIN_CST:g} cSt where "
                                  "ASTM D341's simple form holds: lower the range's top")
+        self._check_viscosity_range()
         if not self.T_min <= self.T_supply <= self.T_max:
             raise ValueError(f"Oil {self.name}: supply_C = {_c(self.T_supply)} is outside its range "
                              f"{_c(self.T_min)} .. {_c(self.T_max)} (range_C)")
+
+    def _check_viscosity_range(self) -> None:
+        """ValueError naming the law's keys unless mu stays within MU_RANGE_PA_S over the range (the
+        law is monotonic: its ends bound it; evaluated in logs, so a steep law cannot overflow)."""
+        lo, hi = MU_RANGE_PA_S
+        if self.law == "vogel":
+            a, b, c = self.coefficients
+            log_mu = math.log(a) + b / (self.T_min - c)  # the largest, at the range's bottom
+            law = f"Oil {self.name}: the Vogel law (vogel_a_Pa_s = {a:g}, vogel_b_K = {b:g}, vogel_c_K = {c:g}) gives"
+            if log_mu > math.log(hi):
+                b_max = math.log(hi / a) * (self.T_min - c)
+                raise ValueError(f"{law} mu = exp({log_mu:.4g}) Pa s at {_c(self.T_min)}, the bottom of its range "
+                                 f"(range_C), above {hi:g} Pa s: "
+                                 + (f"vogel_b_K at most {b_max:.6g} K with these a, c and range" if b_max > 0.0
+                                    else "lower vogel_a_Pa_s"))
+            mu_top = a * math.exp(b / (self.T_max - c))  # the smallest: b > 0, so no overflow below log_mu
+            if mu_top < lo:
+                raise ValueError(f"{law} mu = {mu_top:.4g} Pa s at {_c(self.T_max)}, the top of its range (range_C), "
+                                 f"below {lo:g} Pa s: raise vogel_a_Pa_s or vogel_b_K, or lower the range's top")
+            return
+        try:
+            mu_lo, mu_hi = self._mu(self.T_max), self._mu(self.T_min)
+        except OverflowError:
+            mu_lo, mu_hi = 0.0, math.inf
+        if not (lo <= mu_lo and mu_hi <= hi):
+            raise ValueError(f"Oil {self.name}: the Walther law (nu_cSt, temperatures_C) gives mu = {mu_hi:.4g} Pa s "
+                             f"at {_c(self.T_min)}, the bottom of its range (range_C), and {mu_lo:.4g} Pa s at its top: "
+                             f"outside {lo:g} .. {hi:g} Pa s; narrow range_C")
 
     # ------------------------------------------------------------------ building
     @classmethod

@@ -18,7 +18,7 @@ from .film import at_viscosity
 from .params import BearingParams
 from .reynolds import Reynolds
 from .statics import dimensionless_coefficients, equilibrium, linearize, sommerfeld_number
-from .thermal import effective_temperature
+from .thermal import effective_temperature, heat_balance_rise
 
 __all__ = ["operating_point"]
 
@@ -61,8 +61,7 @@ def operating_point(params: BearingParams, load, speed_hz: float, T_supply_K: fl
     geo = params.geometry
     h_min = params.CR * (1.0 - eps) if geo.is_full_bore else geo.min_film(y0, z0, params.CR)
     rho_c = (oil.density * oil.heat_capacity) if oil is not None else DEFAULT_DENSITY * DEFAULT_HEAT_CAPACITY
-    carried = rep.inflow_m3_s - 0.5 * rep.side_flow_m3_s
-    rise = rep.friction_power_W / (rho_c * carried) if carried > 0.0 else math.nan
+    rise = heat_balance_rise(rep, rho_c)
     rec = {
         "speed_hz": speed_hz, "load_N": list(load), "y0_m": y0, "z0_m": z0,
         "eccentricity": eps, "attitude_deg": _attitude_deg(load, y0, z0) if W > 0.0 else None,

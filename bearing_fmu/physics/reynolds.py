@@ -98,7 +98,7 @@ import math
 import numpy as np
 
 from ..internals.registry import check_state, overflow_error
-from .film import FilmReport, edge_flows, field_report
+from .film import FilmReport, edge_flows, field_report, flow_field
 from .params import BearingParams
 from .geometry_kernels import geometry_kernel
 from .reynolds_kernels import reynolds_kernel
@@ -367,6 +367,20 @@ class Reynolds:
         half = self._p.reshape(self.n_theta, self._m).copy()
         return field_report(self.params, float(y), float(z), float(vy), float(vz), float(omega),
                             (float(self._F[0]), float(self._F[1])), half, self._dx, self._grid)
+
+    def flow_field(self, y: float, z: float, vy: float, vz: float, omega: float) -> dict:
+        """The film's flows cell by cell at a state (``film.flow_field``): ``face`` [rad] the right
+        face of every cell, ``flux`` [m^3/s] across it, ``side`` [m^3/s] out of the cell's ends, and
+        ``pressurised`` whether every node of the cell's column holds a pressure > 0 (the cells where
+        the discrete Reynolds equation holds as an equality: no cavitation, no prescribed value)."""
+        state = (float(y), float(z), float(vy), float(vz), float(omega))
+        if self._solved != state:
+            self._run(*state, False)
+        half = self._p.reshape(self.n_theta, self._m).copy()
+        flux, side = flow_field(self.params, state[0], state[1], state[4], half, self._dx, self._grid)
+        fixed = np.zeros(self.n_theta, bool) if self._grid is None else self._grid.fixed.astype(bool)
+        face = (np.arange(self.n_theta) + 0.5) * (2.0 * np.pi / self.n_theta) if self._grid is None else self._grid.right
+        return {"face": face.copy(), "flux": flux, "side": side, "pressurised": ~fixed & np.all(half > 0.0, axis=1)}
 
     def supply_flows(self, y: float, z: float, vy: float, vz: float, omega: float) -> dict:
         """A grooved or partial-arc bore's side flow and the pressure parts of its supply edges' inflow

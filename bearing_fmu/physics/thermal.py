@@ -52,7 +52,7 @@ from .params import BearingParams
 from .reynolds import Reynolds
 from .statics import EquilibriumError, equilibrium
 
-__all__ = ["ThermalError", "ThermalState", "temperature_rise", "effective_temperature", "residence_time_s",
+__all__ = ["ThermalError", "ThermalState", "heat_balance_rise", "temperature_rise", "effective_temperature", "residence_time_s",
            "film_temperature"]
 
 
@@ -83,7 +83,13 @@ class ThermalState:
 
 
 def temperature_rise(report: FilmReport, oil: Oil) -> float:
-    """dT [K] = P / (rho c_p (Q - Qs / 2)) (module docstring); 0 without friction power."""
+    """dT [K] = P / (rho c_p (Q - Qs / 2)) (module docstring) with the oil's rho c_p; 0 without friction power."""
+    return heat_balance_rise(report, oil.density * oil.heat_capacity)
+
+
+def heat_balance_rise(report: FilmReport, rho_c: float) -> float:
+    """dT [K] = P / (rho_c (Q - Qs / 2)), rho_c = rho c_p [J/(m^3 K)]; 0 without friction power.
+    ThermalError when the film dissipates and carries no oil away (no heat balance: never a NaN)."""
     power = report.friction_power_W
     if not power > 0.0:
         return 0.0
@@ -91,7 +97,7 @@ def temperature_rise(report: FilmReport, oil: Oil) -> float:
     if not carried > 0.0:
         raise ThermalError(f"temperature rise: the film carries no oil away (inflow {report.inflow_m3_s:.4g} m^3/s, "
                            f"side flow {report.side_flow_m3_s:.4g} m^3/s) while it dissipates {power:.4g} W")
-    return power / (oil.density * oil.heat_capacity * carried)
+    return power / (rho_c * carried)
 
 
 def residence_time_s(params: BearingParams, report: FilmReport) -> float:

@@ -184,12 +184,9 @@ def plot_envelopes(envs: dict, path, *, title: str = "", tol_band: tuple[float, 
 def _saved_run(path: Path) -> dict:
     """The arrays of a saved run (``rotor-host run``'s .npz), or ValueError naming the file and
     what it lacks."""
-    import zipfile
+    from bearing_fmu.io.npz import read_npz
 
-    try:
-        arrays = dict(np.load(path))
-    except (ValueError, OSError, zipfile.BadZipFile, EOFError) as exc:
-        raise ValueError(f"{path}: not a saved run (.npz of rotor-host run): {exc}") from None
+    arrays = read_npz(path, "a saved run (.npz of rotor-host run)")
     missing = [k for k in ("t", "eccentricity") if k not in arrays]
     if missing:
         raise ValueError(f"{path}: a saved run needs the arrays t and eccentricity; missing: {', '.join(missing)}")

@@ -267,6 +267,12 @@ def check_run_up(arrays: dict, path="the run") -> None:
     """ValueError unless the run's speed changes (a run-up or coast-down)."""
     if "speed_hz" not in arrays:
         raise ValueError(f"{path}: the run has no speed_hz array (made before run-ups were recorded); run it again")
+    speed, t = np.asarray(arrays["speed_hz"], float), np.asarray(arrays.get("t", []), float)
+    for name, a in (("speed_hz", speed), ("t", t)):
+        bad = np.flatnonzero(~np.isfinite(a))
+        if bad.size:
+            raise ValueError(f"{path}: array {name} holds {bad.size} value(s) that are not finite numbers (first at "
+                             f"index {bad[0]}: {float(a[bad[0]])!r}); a spectrum against speed needs every one")
     f = constant_speed(arrays)
     if f is not None:
         raise ValueError(f"{path}: the run is at one constant speed, {f:g} Hz; a waterfall shows the spectra against "
@@ -280,11 +286,10 @@ def command(*, run, nodes=None, window_s: float = DEFAULT_WINDOW_S, orbits_at_hz
     run crosses one (``crossings.run_criticals``)."""
     from .linear.crossings import run_criticals
 
+    from bearing_fmu.io.npz import read_npz
+
     path = Path(run)
-    try:
-        arrays = dict(np.load(path))
-    except (OSError, ValueError) as exc:
-        raise ValueError(f"{path}: not a run's .npz ({exc})") from None
+    arrays = read_npz(path, "a saved run (.npz of rotor-host run)")
     check_run_up(arrays, path)
     lo, hi = speed_range(arrays)
     problem = window_problem(arrays, window_s)

@@ -41,6 +41,11 @@ class SceneOverrides:
         changes = {k: getattr(self, k) for k in ("via", "t_end_s", "dt_s", "newton_tangent", "checkpoint_s")
                    if getattr(self, k) is not None}  # 0 is a value (refused by its check), not "unset"
         if self.native:
+            via = self.via or scene.via
+            if via != "fmu":
+                raise ValueError(f"--native builds native bearing FMUs, which only via = \"fmu\" runs; "
+                                 f"{scene.source or scene.name} runs via = \"{via}\" (the internals in-process, no "
+                                 "FMU): add --via fmu, or leave --native out")
             changes["fmu_kind"] = "native"
         owners = dict((option, internal) for internal, option in file_options())
         options: dict = {}

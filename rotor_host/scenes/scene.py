@@ -41,7 +41,7 @@ class SceneError(ValueError):
 # shows these lists; load_scene checks a file against them once); besides them, one sub-table
 # per registered internal holds its options ([reynolds], [taylor], ...)
 TIME_KEYS = (
-    Key("t_end_s", "simulated time [s]", allowed="> 0, a whole number of steps",
+    Key("t_end_s", "simulated time [s]", allowed="> 0, a whole number of steps, at most 1e8 of them",
         kind=Number(0.0, exclusive_minimum=True)),
     Key("dt_s", "time step [s]", kind=Number(0.0, exclusive_minimum=True)),
     Key("hht_alpha", "HHT-alpha numerical damping (0: trapezoidal Newmark)", 0.0, "-1/3 .. 0",
@@ -200,9 +200,18 @@ class Scene:
 
 # ---------------------------------------------------------------------------------- reading
 
+# the most time steps a run takes: 1e8 (a 10 s run-up at 0.1 us; a step is 50 us .. 1 ms in the
+# shipped scenes): beyond it the step count itself is the mistake (dt_s = 1e-300 asked for 5e299)
+MAX_STEPS = 10 ** 8
+
+
 def check_time(t_end: float, dt: float, where: str) -> None:
-    """Refuse a span that is not a whole number of steps (what the integrator would silently
-    round); both values are already > 0."""
+    """Refuse a span of more than MAX_STEPS steps, or not a whole number of steps (what the
+    integrator would silently round); both values are already > 0."""
+    if t_end / dt > MAX_STEPS:
+        raise SceneError(f"{where}: dt_s = {dt:g} s makes t_end_s = {t_end:g} s {t_end / dt:.3g} steps, more than the "
+                         f"{MAX_STEPS:.0e} a run may take: dt_s must be at least {t_end / MAX_STEPS:.3g} s (or shorten "
+                         "t_end_s)")
     if abs(round(t_end / dt) * dt - t_end) > 1e-9 * t_end:
         raise SceneError(f"{where}: t_end_s = {t_end:g} is not a whole number of steps dt_s = {dt:g}")
 

@@ -16,6 +16,7 @@ from ...physics.params import BearingParams
 from .. import ports
 from ..order import INIT, STEP, refusal
 from ..resources import SURROGATE_DIR
+from .access import FILE_OPTIONS
 from ..variables import ENUMERATIONS, INPUTS, PARAMETERS, enum_value
 
 _INF = math.inf
@@ -82,10 +83,11 @@ class Stepping:
         if os.path.isabs(name) or ".." in Path(name).parts:
             raise ValueError(f"{name!r} must be a file name inside the FMU resources, not a path")
         path = folder / name
+        option = next((o for o in sorted(FILE_OPTIONS) if getattr(self, o, None) == name), "data")  # its parameter
         if not path.is_file():
             raise FileNotFoundError(
-                f"surrogate file {name!r} not found in the FMU resources folder {SURROGATE_DIR}/ "
-                f"(bundled: {listing}); build the FMU with `bearing-fmu build --surrogate FILE`")
+                f"{option} file {name!r} not found in the FMU resources folder {SURROGATE_DIR}/ "
+                f"(bundled: {listing}); build the FMU with `bearing-fmu build --{option} FILE`")
         return path
 
     def _outputs_in_init(self, call: str) -> None:

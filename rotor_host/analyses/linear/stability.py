@@ -231,11 +231,7 @@ class Stability:
         if self.T_supply_K is not None:
             from bearing_fmu.internals.scaled import ViscosityScaled
 
-            for p, name in zip(rotor.bearings, self.names):
-                if p.oil is None:
-                    raise ValueError(f"{where or 'rotor'}: {name}: a supply temperature needs the bearing file's [oil] "
-                                     f"table (its viscosity law); this bearing is isoviscous at {p.mu:g} Pa s")
-                p.oil.check_temperature(self.T_supply_K, "the supply temperature")
+            check_supply(rotor, self.T_supply_K, where or "rotor", "the supply temperature")
             self.internals = [ViscosityScaled(i) for i in self.internals]
         self._warm_up()
         self.setup_s = time.perf_counter() - t0
@@ -497,6 +493,18 @@ def internal_options(internal: str, files: dict | None = None, grid=None) -> dic
     return out
 
 
+def check_supply(rotor, T_supply_K: float, where: str, what: str) -> None:
+    """ValueError naming ``what`` (the supply temperature's source) unless every bearing of the rotor
+    has an [oil] table whose range holds ``T_supply_K`` [K]."""
+    for k, (p, n) in enumerate(zip(rotor.bearings, rotor.bearing_nodes)):
+        name = f"bearing {k + 1} (node {n + 1})"
+        if p.oil is None:
+            given = f" (given by {what})" if what.startswith("--") else ""
+            raise ValueError(f"{where}: {name}: a supply temperature{given} needs the bearing file's [oil] table "
+                             f"(its viscosity law); this bearing is isoviscous at {p.mu:g} Pa s")
+        p.oil.check_temperature(T_supply_K, what)
+
+
 def command(*, rotor_file, speeds_hz, internal: str = "reynolds", data_files=None, grid=None, static_load=(), modes:
             int = DEFAULT_MODES, out="out", no_plots: bool = False, rank_up_to: float = RANK_UP_TO,
             supply_c: float | None = None) -> int:
@@ -507,6 +515,8 @@ def command(*, rotor_file, speeds_hz, internal: str = "reynolds", data_files=Non
     options = internal_options(internal, data_files, grid)
     stem = f"stability_{Path(rotor_file).stem}_{internal}"
     rotor, loads = read_rotor(rotor_file, static_load)
+    if supply_c is not None:  # the command line's value, named before any data file is read
+        check_supply(rotor, supply_c + 273.15, str(rotor_file), "--supply-c")
     try:
         analysis = Stability(rotor, internal, options, loads, where=str(rotor_file),
                              T_supply_K=None if supply_c is None else supply_c + 273.15)

@@ -63,7 +63,8 @@ RS_API void rs_film_report(rs_solver *s, double y, double z, double vy, double v
                                                   : (9.0 * s->p[i * m] - s->p[i * m + 1]) / (3.0 * dx);
         a1[i] = s->fixed[i] ? 0.0 : hc * hc * hc / (12.0 * mu) * grad * R * s->wd[i];
     }
-    double q_side = rs_np_sum(a1, N) * 2.0, q_in;
+    double q_side = rs_np_sum(a1, N) * 2.0, q_in = 0.0;
+    int feeds = 0;
     if (any_fixed) { /* into the film from each prescribed cell, where positive */
         for (i = 0; i < N; i++) {
             int nx = i + 1 < N ? i + 1 : 0;
@@ -73,10 +74,26 @@ RS_API void rs_film_report(rs_solver *s, double y, double z, double vy, double v
             a2[i] = in_prev > 0.0 ? in_prev : 0.0;
         }
         q_in = rs_np_sum(a1, N) + rs_np_sum(a2, N);
-    } else { /* across the line of thickest film, between the two faces around it */
+    }
+    if (s->bore && s->lobes > 1 && s->preload > 0.0) { /* film.lobe_feed_faces: each lobe's own feed line */
+        unsigned char fed[RS_MAX_LOBES] = {0};
+        for (i = 0; i < N; i++) { /* a lobe beside a supply edge is fed there */
+            int nx = i + 1 < N ? i + 1 : 0;
+            if (s->fixed[i] && !s->fixed[nx]) fed[rs_lobe_of(s->lobes, s->lobe_angle, s->cen[nx])] = 1;
+            if (!s->fixed[i] && s->fixed[nx]) fed[rs_lobe_of(s->lobes, s->lobe_angle, s->cen[i])] = 1;
+        }
+        for (i = 0; i < N; i++) {
+            int nx = i + 1 < N ? i + 1 : 0, pv = i > 0 ? i - 1 : N - 1;
+            if (!s->fixed[i] && !s->fixed[nx] && hf[i] > hf[nx] && hf[i] >= hf[pv] &&
+                !fed[rs_lobe_of(s->lobes, s->lobe_angle, s->cen[i])]) {
+                q_in += fabs(flux[i]);
+                feeds++;
+            }
+        }
+    }
+    if (!any_fixed && !feeds) { /* across the line of thickest film, between the two faces around it */
         int k = rf_first_max(hf, N), a = -1;
         double t_max = (y != 0.0 || z != 0.0) ? atan2(y, -z) : s->rt[k];
-        if (s->bore && s->lobes > 1 && s->preload > 0.0) t_max = s->rt[k];
         for (i = 0; i < N; i++) {
             double d = py_mod(t_max - s->rt[i] + M_PI, RS_TWO_PI) - M_PI;
             a1[i] = d;

@@ -179,6 +179,10 @@ RS_API rs_solver *rs_create(void *mem, int n_theta, int n_x, int mode, int warm,
                  "both at most %d", n_theta, n_x, RS_MAX_CELLS);
         return NULL;
     }
+    if (lobes > RS_MAX_LOBES) {
+        snprintf(msg, msglen, "lobes = %d: at most %d", lobes, RS_MAX_LOBES);
+        return NULL;
+    }
     rs_solver *s = (rs_solver *)mem;
     memset(s, 0, sizeof *s);
     double *d = (double *)((char *)mem + rs_align(sizeof(rs_solver)));
@@ -219,6 +223,7 @@ RS_API rs_solver *rs_create(void *mem, int n_theta, int n_x, int mode, int warm,
     s->bore = nseg > 0;
     s->lobes = lobes;
     s->preload = preload;
+    s->lobe_angle = lobe_angle;
     for (i = 0; i < N; i++) {
         s->fixed[i] = 0;
         s->psup[i] = 0.0;

@@ -52,6 +52,7 @@
 #define RS_HISTORY 4           /* converged calls remembered for the warm start (WARM_HISTORY) */
 #define RS_MAX_TURN_CELLS 2.0  /* WARM_MAX_TURN_CELLS */
 #define RS_MAX_DLOG 1.0        /* WARM_MAX_DLOG */
+#define RS_MAX_LOBES 8         /* geometry.MAX_LOBES */
 #define RS_MAX_CELLS 100000    /* n_theta and n_x at most (reynolds._check_grid) */
 
 /* rs_call's outcome */
@@ -69,7 +70,7 @@ typedef struct rs_solver {
      * centred journal at the left face on the cell's own lobe */
     double *wd, *cen, *rt, *lf, *dst, *hl0;
     int lobes;
-    double preload;
+    double preload, lobe_angle; /* lobe_angle [rad]: the film report's lobe of a cell */
     int p_stale; /* the last call's Jacobian without a source overwrote p (its field: 0) */
     unsigned char *fixed;
     double F0[2];
