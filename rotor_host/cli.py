@@ -13,8 +13,8 @@ import sys
 from pathlib import Path
 
 from bearing_fmu.io.cliargs import (existing_dir, existing_file, finite_float, float_range, grid, grid_or_default,
-                                    node_load, nonneg_float, number, output_dir, output_file, positive_float,
-                                    positive_int)
+                                    interval, node_load, nonneg_float, number, output_dir, output_file,
+                                    positive_float, positive_int, unbalance)
 from bearing_fmu.cli import add_debug_flag
 from bearing_fmu.io.exits import EXIT_CODES, run_command
 
@@ -133,6 +133,12 @@ def _stability(args) -> int:
     from .analyses.linear import stability
 
     return _call(stability.command, args, rotor_file=args.rotor, data_files=_files(args))
+
+
+def _response(args) -> int:
+    from .analyses.response import unbalance
+
+    return _call(unbalance.command, args, rotor_file=args.rotor, data_files=_files(args))
 
 
 def _sweep(args) -> int:
@@ -303,6 +309,44 @@ def _add_stability(sub) -> None:
     p.set_defaults(func=_stability)
 
 
+def _linear_rotor_flags(p) -> None:
+    """The options of a command on the linearised rotor: internal, its files and grid, static loads, oil."""
+    from bearing_fmu.internals.registry import having
+
+    from .analyses.linear.stability import DEFAULT_FILES
+
+    p.add_argument("--internal", choices=having(any_state=True), default="reynolds",
+                   help="bearing internal, one valid at every speed and load: the Reynolds solver (default) or the "
+                        "force map")
+    defaults = ", ".join(f"--{k} {v.relative_to(MODELS.parent)}" for k, v in DEFAULT_FILES.items())
+    _file_flags(p, what=f"default: {defaults}, the paper bearing's;")
+    p.add_argument("--grid", type=grid, metavar="NxM", help="Reynolds grid n_theta x n_x (default: the solver's)")
+    p.add_argument("--static-load", type=node_load, nargs="+", action="extend", default=[], metavar="NODE:FY:FZ",
+                   help="static point loads [N] on 1-based nodes, besides the weight")
+    p.add_argument("--supply-c", type=finite_float("C"), default=None, metavar="C",
+                   help="oil supply temperature [C]: each bearing at its film's effective temperature per speed")
+
+
+def _add_response(sub) -> None:
+    p = sub.add_parser("response", help="unbalance response of the linearised rotor: Bode and polar plots, peaks "
+                                        "with their amplification factor and API separation margins")
+    p.add_argument("rotor", type=existing_file, help="rotor TOML file (models/rotor_paper.toml)")
+    p.add_argument("--speeds-hz", type=float_range("Hz"), required=True, metavar="START:STOP:STEP",
+                   help="shaft speeds [Hz], both ends included; every one is computed and kept")
+    p.add_argument("--unbalance", type=unbalance, action="append", required=True,
+                   metavar="NODE:MASS_G:RADIUS_MM[:PHASE_DEG]",
+                   help="an unbalance on a 1-based node (phase from +y toward +z, default 0); repeat for several")
+    p.add_argument("--operating-hz", type=interval("Hz"), metavar="MIN:MAX",
+                   help="operating speed range [Hz]: separation margins and API 617's required margins")
+    p.add_argument("--probe", type=positive_int(), nargs="+", metavar="NODE",
+                   help="probe nodes (1-based) for the peaks and plots (default: the bearings' and disks' nodes)")
+    _linear_rotor_flags(p)
+    p.add_argument("--out", type=output_dir, required=True,
+                   help="output folder: response.json, response.md, bode_node<N>.png, polar_node<N>.png")
+    p.add_argument("--no-plots", action="store_true")
+    p.set_defaults(func=_response)
+
+
 def _add_sweep(sub) -> None:
     from .analyses.dask_cluster import scheduler_address
 
@@ -332,7 +376,7 @@ def build_parser() -> argparse.ArgumentParser:
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
     sub = parser.add_subparsers(dest="command", required=True)
     for add in (_add_run, _add_compare, _add_paper, _add_fit, _add_dt_study, _add_waterfall, _add_limit_cycle,
-                _add_stability, _add_sweep):
+                _add_stability, _add_sweep, _add_response):
         add(sub)
     add_debug_flag(parser, sub)
     return parser

@@ -1,0 +1,13 @@
+"""The rotor's forced response and the checks of a design review (API 617 / API RP 684), on the
+rotor linearised about its equilibrium (``analyses.linear``). docs/response.md.
+
+====================  =========================================================
+module                what it holds
+====================  =========================================================
+synchronous           the steady 1x response to unbalances: the solve, amplitude and phase
+peaks                 peaks, half-power amplification factor, API separation margins
+unbalance             ``rotor-host response``: the sweep over speed, the json, the command
+report, figures       its markdown report; its Bode and polar plots
+inputs                what a figure or report names as its inputs (rotor, bore, oil, internal)
+====================  =========================================================
+"""
