@@ -147,6 +147,22 @@ def from_sweep(rotor: Rotor, unbalances, sweep_result, coefficients, probes=None
     return res, ev
 
 
+def on_grid(rotor: Rotor, unbalances, speeds_hz, coefficients, probes=None,
+            operating_hz=None) -> tuple[ResponseResult, Evaluator]:
+    """The response at ``speeds_hz`` with ``coefficients(speed_hz) -> (K_b, C_b)`` (given bearing
+    coefficients, no stability sweep: every speed "ok"), its peaks refined."""
+    ev = Evaluator(rotor, unbalances, coefficients)
+    n, nb = len(speeds_hz), len(rotor.bearing_nodes)
+    K, C = np.empty((n, nb, 2, 2)), np.empty((n, nb, 2, 2))
+    for i, s in enumerate(speeds_hz):
+        K[i], C[i] = (np.broadcast_to(np.asarray(a, float), (nb, 2, 2)) for a in coefficients(s))
+    X = np.array([ev.X(s) for s in speeds_hz])
+    res = ResponseResult(rotor, list(unbalances), [float(s) for s in speeds_hz], X, ["ok"] * n, [None] * n, K, C,
+                         list(probes or default_probes(rotor)), operating_hz)
+    res.peaks = find_peaks(res, ev)
+    return res, ev
+
+
 def _num(v):
     """A json number, or None for NaN / inf (the json holds no NaN)."""
     if v is None:
@@ -280,5 +296,5 @@ def command(*, rotor_file, speeds_hz, unbalance, internal: str = "reynolds", dat
     return 0
 
 
-__all__ = ["ResponseResult", "Evaluator", "default_probes", "find_peaks", "from_sweep", "to_json", "response",
+__all__ = ["ResponseResult", "Evaluator", "default_probes", "find_peaks", "from_sweep", "on_grid", "to_json", "response",
            "stability_coefficients", "check_operating", "command"]

@@ -1,0 +1,187 @@
+"""The unbalance response (rotor_host.analyses.response): against closed forms and symmetry.
+
+* Jeffcott rotor: a rigid shaft with a central disk on two equal isotropic spring-dampers is a
+  single-DOF system in translation (the tilt decouples by symmetry, so the gyroscopic term
+  drops out): mass M (the whole rotor), stiffness 2k, damping 2c. Its steady amplitude to an
+  unbalance m e at the disk is m e Omega^2 / |2k - M Omega^2 + 2 i c Omega| (any vibration text,
+  e.g. Friswell et al. 2010, section 3.6; Den Hartog, Mechanical Vibrations, 2.7), its peak at
+  r = 1 / sqrt(1 - 2 zeta^2) of height (m e / M) / (2 zeta sqrt(1 - zeta^2)), and its
+  half-power points where (1 / r^2) = 1 - 2 zeta^2 -/+ 2 zeta sqrt(1 - zeta^2) (derived in
+  ``_half_power_r`` below from that amplitude).
+* API 617's margins worked by hand for given peaks.
+* Symmetry: on an isotropic rotor a forward unbalance drives a forward circle only.
+"""
+
+import json
+import math
+import re
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from bearing_fmu.physics.params import BearingParams
+from rotor_host.analyses.response import peaks as pk
+from rotor_host.analyses.response.synchronous import Unbalance, node_response, solve
+from rotor_host.analyses.response.unbalance import on_grid
+from rotor_host.cli import main
+from rotor_host.model.rotor import Disk, Material, Rotor, ShaftElement
+
+ROOT = Path(__file__).resolve().parents[1]
+PAPER = ROOT / "models" / "rotor_paper.toml"
+K_B, ZETA = 2.0e6, 0.05  # each bearing's stiffness [N/m]; the damping ratio of the translation
+
+
+def _jeffcott():
+    """A rigid (E = 1e9 GPa) 400 mm shaft, a 12 kg-class disk at its middle node, bearings at the ends."""
+    bearing = BearingParams(D=0.05, L=0.03, CR=50e-6, mu=0.02)  # only its node matters here
+    rotor = Rotor(elements=[ShaftElement(0.2, 0.05), ShaftElement(0.2, 0.05)],
+                  material=Material(E=1e18, density=7850.0, poisson=0.3, beta=0.0),
+                  disks=[Disk(1, 0.25, 0.05, 0.04)], bearing_nodes=[0, 2], bearings=[bearing, bearing])
+    M = rotor.mass
+    c = ZETA * 2.0 * math.sqrt(2.0 * K_B * M) / 2.0  # each bearing's damping: 2c = 2 zeta sqrt(2k M)
+    return rotor, M, c
+
+
+def _half_power_r(z):
+    """Frequency ratios where r^2 / sqrt((1 - r^2)^2 + (2 z r)^2) equals its peak / sqrt 2: with
+    u = 1/r^2 the squared amplitude is 1 / ((u - 1)^2 + 4 z^2 u), the peak's square
+    1 / (4 z^2 (1 - z^2)); so (u - 1)^2 + 4 z^2 u = 8 z^2 (1 - z^2), u = 1 - 2 z^2 +/- 2 z sqrt(1 - z^2)."""
+    u = np.array([1 - 2 * z * z + 2 * z * math.sqrt(1 - z * z), 1 - 2 * z * z - 2 * z * math.sqrt(1 - z * z)])
+    return 1.0 / np.sqrt(u)
+
+
+def test_jeffcott_amplitude_and_phase_closed_form():
+    rotor, M, c = _jeffcott()
+    unb = [Unbalance(2, 10.0, 100.0)]  # 10 g at 100 mm on the disk's node (1-based 2)
+    me = 1e-3
+    for f in (5.0, 20.0, 45.0):
+        w = 2 * math.pi * f
+        X = solve(rotor, w, np.eye(2) * K_B, np.eye(2) * c, unb)
+        r = node_response(rotor, X, 1)
+        expect = me * w * w / (2 * K_B - M * w * w + 2j * c * w)
+        assert r["y_amplitude_m"] == pytest.approx(abs(expect), rel=1e-6)
+        assert r["z_amplitude_m"] == pytest.approx(abs(expect), rel=1e-6)
+        assert r["y_phase_deg"] == pytest.approx(math.degrees(np.angle(expect)), abs=1e-5)
+        assert r["backward_m"] < 1e-9 * r["forward_m"]
+
+
+def test_jeffcott_peak_and_half_power_af_refined_between_coarse_grid_points():
+    rotor, M, c = _jeffcott()
+    fn = math.sqrt(2 * K_B / M) / (2 * math.pi)
+    speeds = list(np.arange(0.3, 2.0, 0.1) * fn)  # 0.1 fn steps: the peak (bandwidth 0.1 fn) falls between
+    res, _ = on_grid(rotor, [Unbalance(2, 10.0, 100.0)], speeds, lambda s: (np.eye(2) * K_B, np.eye(2) * c),
+                     probes=[2])
+    assert sorted(p["direction"] for p in res.peaks) == ["y", "z"]
+    p = next(p for p in res.peaks if p["direction"] == "y")
+    r_peak = 1 / math.sqrt(1 - 2 * ZETA**2)
+    assert p["speed_hz"] == pytest.approx(r_peak * fn, rel=1e-5)
+    assert p["amplitude_m"] == pytest.approx(1e-3 / M / (2 * ZETA * math.sqrt(1 - ZETA**2)), rel=1e-7)
+    r1, r2 = _half_power_r(ZETA)
+    assert p["half_power_hz"] == pytest.approx([r1 * fn, r2 * fn], rel=1e-6)
+    assert p["amplification_factor"] == pytest.approx(r_peak / (r2 - r1), rel=1e-5)
+    assert p["amplification_factor"] == pytest.approx(1 / (2 * ZETA), rel=0.02)  # the light-damping rule, to O(zeta)
+    assert p["critical"] is True and p["separation_margin_pct"] is None
+
+
+def test_heavily_damped_jeffcott_is_not_a_critical():
+    """zeta = 0.3: AF = 1.7 < 2.5, reported as critically damped with no margin required."""
+    rotor, M, _ = _jeffcott()
+    c = 0.3 * math.sqrt(2 * K_B * M)
+    fn = math.sqrt(2 * K_B / M) / (2 * math.pi)
+    res, _ = on_grid(rotor, [Unbalance(2, 10.0, 100.0)], list(np.arange(0.2, 4.0, 0.2) * fn),
+                     lambda s: (np.eye(2) * K_B, np.eye(2) * c), probes=[2], operating_hz=(3 * fn, 3.5 * fn))
+    p = res.peaks[0]
+    assert p["amplification_factor"] < pk.AF_CRITICAL and p["critical"] is False
+    assert p["required_margin_pct"] == 0.0 and p["meets_margin"] is True
+    assert "not a critical speed" in pk.peak_words(p)
+
+
+def test_api_617_margins_by_hand():
+    # a peak at 22.34 Hz, AF 10, operating 40-50 Hz: SM = 100 (40 - 22.34) / 40 = 44.15 %;
+    # required below the minimum speed: 16 - 6 / (10 - 3) = 15.142857 %
+    rec = pk.peak_record(6, "y", 22.34, 1e-4, 21.0, 21.0 + 22.34 / 10.0, (40.0, 50.0), False, True)
+    assert rec["amplification_factor"] == pytest.approx(10.0)
+    assert rec["separation_margin_pct"] == pytest.approx(44.15)
+    assert rec["required_margin_pct"] == pytest.approx(15.142857, abs=1e-6)
+    assert rec["side"] == "below" and rec["meets_margin"] is True
+    # above the maximum continuous speed: a peak at 60 Hz, AF 8: SM = 20 %, required 26 - 6/5 = 24.8 %: not met
+    assert pk.separation_margin(60.0, (40.0, 50.0)) == (pytest.approx(20.0), "above")
+    assert pk.required_margin_pct(8.0, "above") == pytest.approx(24.8)
+    # 2.5 <= AF <= 3.55: 5 % below, 15 % above; the formula meets them at 3.55 (16 - 6/0.55 = 5.09)
+    assert pk.required_margin_pct(3.0, "below") == 5.0 and pk.required_margin_pct(3.0, "above") == 15.0
+    assert pk.required_margin_pct(3.56, "below") == pytest.approx(5.2857, abs=1e-4)
+    # inside the range: negative margin, the nearer end's requirement
+    sm, side = pk.separation_margin(42.0, (40.0, 50.0))
+    assert sm == pytest.approx(-5.0) and side == "below"
+
+
+def test_isotropic_rotor_y_and_z_equal_and_90_degrees_apart():
+    """The paper rotor with gyroscopics on isotropic bearings, two unbalances at different angles:
+    every node whirls on a forward circle (A_y = A_z, phi_z = phi_y - 90 deg)."""
+    rotor = Rotor.from_toml(PAPER)
+    unb = [Unbalance(6, 1.0, 40.0, 0.0), Unbalance(3, 0.5, 20.0, 70.0)]
+    for f in (15.0, 22.0, 60.0):
+        X = solve(rotor, 2 * math.pi * f, np.eye(2) * 3e6, np.eye(2) * 2e3, unb)
+        for node in range(rotor.n_nodes):
+            r = node_response(rotor, X, node)
+            assert r["z_amplitude_m"] == pytest.approx(r["y_amplitude_m"], rel=1e-9)
+            assert (r["y_phase_deg"] - r["z_phase_deg"]) % 360.0 == pytest.approx(90.0, abs=1e-6)
+            assert r["backward_m"] <= 1e-9 * r["forward_m"]
+
+
+def test_cross_coupled_bearing_breaks_the_circle():
+    """The check above can fail: with a cross-coupled (or anisotropic) bearing the orbit is an ellipse."""
+    rotor = Rotor.from_toml(PAPER)
+    K = np.array([[3e6, 1e6], [-1e6, 6e6]])
+    X = solve(rotor, 2 * math.pi * 22.0, K, np.eye(2) * 2e3, [Unbalance(6, 1.0, 40.0)])
+    r = node_response(rotor, X, 5)
+    assert r["backward_m"] > 1e-3 * r["forward_m"]
+    assert r["z_amplitude_m"] != pytest.approx(r["y_amplitude_m"], rel=1e-3)
+
+
+# ----------------------------------------------------------------------------- command line
+
+def _cli(capsys, *argv):
+    try:
+        code = main(["response", *map(str, argv)])
+    except SystemExit as exc:
+        code = exc.code
+    out = capsys.readouterr()
+    return code, out.out, out.err
+
+
+@pytest.mark.parametrize("argv, words", [
+    (["--unbalance", "6:1"], ["--unbalance", "NODE:MASS_G:RADIUS_MM"]),
+    (["--unbalance", "6:-1:40"], ["--unbalance", "a mass > 0 g"]),
+    (["--unbalance", "6:1:40", "--operating-hz", "50:40"], ["--operating-hz", "MIN:MAX"]),
+    (["--unbalance", "12:1:40"], ["--unbalance 12:1:40", "1..11"]),
+])
+def test_cli_bad_input_named_exit_2(tmp_path, capsys, argv, words):
+    code, _, err = _cli(capsys, PAPER, "--speeds-hz", "10:20:5", "--internal", "map", *argv, "--out", tmp_path)
+    assert code == 2 and "Traceback" not in err
+    line = err.strip().splitlines()[-1]
+    for w in words:
+        assert w in line
+
+
+@pytest.mark.slow
+def test_cli_paper_rotor_writes_the_issue_keys(tmp_path, capsys):
+    code, out, _ = _cli(capsys, PAPER, "--speeds-hz", "14:50:4", "--unbalance", "6:1:40", "--unbalance", "3:0.5:20:90",
+                        "--internal", "map", "--operating-hz", "40:50", "--out", tmp_path)
+    assert code == 0
+    data = json.loads((tmp_path / "response.json").read_text())
+    assert data["speeds_hz"] == [14.0, 18.0, 22.0, 26.0, 30.0, 34.0, 38.0, 42.0, 46.0, 50.0]
+    assert set(data["nodes"]) == {str(n) for n in range(1, 12)}
+    for key in ("y_amplitude_m", "z_amplitude_m", "y_phase_deg", "z_phase_deg"):
+        assert len(data["nodes"]["6"][key]) == 10
+    assert data["unstable"][-1] is True and data["unstable"][0] is False  # the threshold lies near 43 Hz
+    crit = [p for p in data["peaks"] if p["node"] == 6]
+    assert crit and all(20.0 < p["speed_hz"] < 24.0 and p["speed_hz"] not in data["speeds_hz"] for p in crit)
+    for p in data["peaks"]:
+        assert {"node", "direction", "speed_hz", "amplitude_m", "amplification_factor", "separation_margin_pct",
+                "required_margin_pct"} <= set(p)
+    assert re.search(r"node 6 [yz]: 2\d\.\d+ Hz", out)
+    for n in (3, 6, 9):
+        assert (tmp_path / f"bode_node{n}.png").stat().st_size > 0 and (tmp_path / f"polar_node{n}.png").exists()
+    assert "## Peaks" in (tmp_path / "response.md").read_text()
