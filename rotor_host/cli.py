@@ -13,7 +13,7 @@ import sys
 from pathlib import Path
 
 from bearing_fmu.io.cliargs import (existing_dir, existing_file, finite_float, float_range, grid, grid_or_default,
-                                    interval, node_load, nonneg_float, number, output_dir, output_file,
+                                    int_at_least, interval, node_load, nonneg_float, number, output_dir, output_file,
                                     positive_float, positive_int, unbalance)
 from bearing_fmu.cli import add_debug_flag
 from bearing_fmu.io.exits import EXIT_CODES, run_command
@@ -139,6 +139,12 @@ def _response(args) -> int:
     from .analyses.response import unbalance
 
     return _call(unbalance.command, args, rotor_file=args.rotor, data_files=_files(args))
+
+
+def _ucs(args) -> int:
+    from .analyses.response import ucs
+
+    return _call(ucs.command, args, rotor_file=args.rotor, data_files=_files(args))
 
 
 def _sweep(args) -> int:
@@ -347,6 +353,28 @@ def _add_response(sub) -> None:
     p.set_defaults(func=_response)
 
 
+def _add_ucs(sub) -> None:
+    from .analyses.response.ucs import DEFAULT_CRITICALS, DEFAULT_POINTS, DEFAULT_SPEEDS_HZ, DEFAULT_STIFFNESS
+
+    p = sub.add_parser("ucs", help="undamped critical speed map against support stiffness, the bearings' stiffness "
+                                   "at speed overlaid, the mode shapes of the first criticals")
+    p.add_argument("rotor", type=existing_file, help="rotor TOML file (models/rotor_paper.toml)")
+    p.add_argument("--stiffness-n-m", type=interval("N/m"), default=DEFAULT_STIFFNESS, metavar="MIN:MAX",
+                   help=f"support stiffness range [N/m] (default {DEFAULT_STIFFNESS[0]:g}:{DEFAULT_STIFFNESS[1]:g})")
+    p.add_argument("--points", type=int_at_least(2), default=DEFAULT_POINTS,
+                   help=f"stiffness values, log-spaced (default {DEFAULT_POINTS})")
+    p.add_argument("--criticals", type=positive_int(), default=DEFAULT_CRITICALS,
+                   help=f"lowest forward criticals drawn (default {DEFAULT_CRITICALS})")
+    a, b, step = DEFAULT_SPEEDS_HZ
+    p.add_argument("--speeds-hz", type=float_range("Hz"), metavar="START:STOP:STEP",
+                   help=f"speeds of the bearings' stiffness overlay (default {a:g}:{b:g}:{step:g})")
+    _linear_rotor_flags(p)
+    p.add_argument("--out", type=output_dir, default="out", help="output folder: ucs.json, ucs.md, ucs_map.png, "
+                                                                 "ucs_modes.png")
+    p.add_argument("--no-plots", action="store_true")
+    p.set_defaults(func=_ucs)
+
+
 def _add_sweep(sub) -> None:
     from .analyses.dask_cluster import scheduler_address
 
@@ -376,7 +404,7 @@ def build_parser() -> argparse.ArgumentParser:
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
     sub = parser.add_subparsers(dest="command", required=True)
     for add in (_add_run, _add_compare, _add_paper, _add_fit, _add_dt_study, _add_waterfall, _add_limit_cycle,
-                _add_stability, _add_sweep, _add_response):
+                _add_stability, _add_sweep, _add_response, _add_ucs):
         add(sub)
     add_debug_flag(parser, sub)
     return parser

@@ -185,3 +185,75 @@ def test_cli_paper_rotor_writes_the_issue_keys(tmp_path, capsys):
     for n in (3, 6, 9):
         assert (tmp_path / f"bode_node{n}.png").stat().st_size > 0 and (tmp_path / f"polar_node{n}.png").exists()
     assert "## Peaks" in (tmp_path / "response.md").read_text()
+
+
+# ----------------------------------------------------------------------------- undamped critical speed map
+
+def _uniform_beam(n_el=20, length=1.0, d=0.02):
+    bearing = BearingParams(D=0.05, L=0.03, CR=50e-6, mu=0.02)  # only its node matters here
+    return Rotor(elements=[ShaftElement(length / n_el, d)] * n_el,
+                 material=Material(E=200e9, density=7850.0, poisson=0.3), bearing_nodes=[0, n_el],
+                 bearings=[bearing, bearing])
+
+
+def test_ucs_stiff_supports_tend_to_pinned_pinned_beam():
+    """Euler-Bernoulli pinned-pinned beam: omega_n = (n pi / L)^2 sqrt(E I / (rho A)) (e.g. Blevins,
+    Formulas for Natural Frequency and Mode Shape, table 8-1); slender (L/d = 50), so shear,
+    rotary and gyroscopic inertia change it by O((n d / L)^2) < 0.5 % for n <= 2."""
+    from rotor_host.analyses.response.ucs import forward_criticals
+
+    L, d = 1.0, 0.02
+    f, _ = forward_criticals(_uniform_beam(length=L, d=d), 1e13, 2)
+    EI, rhoA = 200e9 * math.pi * d**4 / 64, 7850.0 * math.pi * d**2 / 4
+    for n in (1, 2):
+        assert f[n - 1] == pytest.approx((n * math.pi / L) ** 2 * math.sqrt(EI / rhoA) / (2 * math.pi), rel=5e-3)
+
+
+def test_ucs_soft_supports_tend_to_rigid_body_modes():
+    """On springs k far softer than the beam: bounce sqrt(2 k / m) and, forward synchronous, rocking
+    sqrt(2 k (L/2)^2 / (I_t - I_p)) with I_t = m L^2 / 12 + m d^2 / 16 and I_p = m d^2 / 8
+    (rigid cylinder about its centre)."""
+    from rotor_host.analyses.response.ucs import forward_criticals
+
+    L, d, k = 1.0, 0.02, 10.0
+    rotor = _uniform_beam(length=L, d=d)
+    m = rotor.mass
+    f, _ = forward_criticals(rotor, k, 2)
+    assert f[0] == pytest.approx(math.sqrt(2 * k / m) / (2 * math.pi), rel=1e-3)
+    rock = math.sqrt(2 * k * (L / 2) ** 2 / (m * L**2 / 12 + m * d**2 / 16 - m * d**2 / 8))
+    assert f[1] == pytest.approx(rock / (2 * math.pi), rel=1e-3)
+
+
+@pytest.mark.slow
+def test_cli_ucs_paper_rotor(tmp_path, capsys):
+    try:
+        code = main(["ucs", str(PAPER), "--internal", "map", "--points", "9", "--speeds-hz", "10:40:5",
+                     "--out", str(tmp_path)])
+    except SystemExit as exc:
+        code = exc.code
+    out = capsys.readouterr().out
+    assert code == 0
+    data = json.loads((tmp_path / "ucs.json").read_text())
+    assert len(data["criticals_hz"]) == 9 and len(data["bearing_Kyy_N_m"]) == 7
+    first = [c for c in data["crossings"] if c["mode"] == 1]
+    assert first and 18.0 < first[0]["speed_hz"] < 26.0  # the Campbell's first critical is 22.3 Hz
+    assert "critical 1 on the bearings" in out
+    assert (tmp_path / "ucs_map.png").stat().st_size > 0 and (tmp_path / "ucs_modes.png").stat().st_size > 0
+
+
+def test_ucs_agrees_with_the_campbell_eigenvalues_at_each_critical():
+    """At a forward critical Omega_c the state-space modes at spin Omega_c (``Rotor.modes``, the
+    Campbell diagram's solver) hold a forward mode of frequency Omega_c: the Friswell rotor (no
+    shaft damping, disks of 280 and 350 mm whose gyroscopics move the criticals by percents)."""
+    from rotor_host.analyses.response.ucs import forward_criticals
+
+    rotor = Rotor.from_toml(ROOT / "models" / "rotor_friswell.toml")
+    f, _ = forward_criticals(rotor, 1e7, 3)
+    for fc in f:
+        freq, _, shapes = rotor.modes(2 * math.pi * fc, np.eye(2) * 1e7, np.zeros((2, 2)))
+        j = int(np.argmin(np.abs(freq - fc)))
+        assert freq[j] == pytest.approx(fc, rel=1e-7)
+        node = int(np.argmax(np.abs(shapes[0::4, j])))
+        assert rotor.whirl(shapes[:, j], node) > 0.99
+    still = rotor.natural_frequencies(1e7, 0.0, 8)  # without spin: the gyroscopic term must matter here
+    assert abs(f[2] / still[np.argmin(np.abs(still - f[2]))] - 1) > 0.01
