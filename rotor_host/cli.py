@@ -147,6 +147,12 @@ def _ucs(args) -> int:
     return _call(ucs.command, args, rotor_file=args.rotor, data_files=_files(args))
 
 
+def _level1(args) -> int:
+    from .analyses.response import level1
+
+    return _call(level1.command, args, rotor_file=args.rotor, data_files=_files(args))
+
+
 def _sweep(args) -> int:
     from .analyses import sweep
 
@@ -375,6 +381,22 @@ def _add_ucs(sub) -> None:
     p.set_defaults(func=_ucs)
 
 
+def _add_level1(sub) -> None:
+    from .analyses.response.level1 import DEFAULT_POINTS
+
+    p = sub.add_parser("level1", help="API 617 Level I stability: log decrement of the first forward mode against "
+                                      "the stages' cross-coupling, Q_A, Q_0 and the verdict")
+    p.add_argument("rotor", type=existing_file, help="rotor TOML file with a [[stages]] table")
+    p.add_argument("--operating-hz", type=interval("Hz"), required=True, metavar="MIN:MAX",
+                   help="operating speed range [Hz]; the check runs at the maximum continuous speed MAX")
+    p.add_argument("--points", type=int_at_least(2), default=DEFAULT_POINTS,
+                   help=f"cross-coupling values drawn (default {DEFAULT_POINTS})")
+    _linear_rotor_flags(p)
+    p.add_argument("--out", type=output_dir, default="out", help="output folder: level1.json, level1.md, level1.png")
+    p.add_argument("--no-plots", action="store_true")
+    p.set_defaults(func=_level1)
+
+
 def _add_sweep(sub) -> None:
     from .analyses.dask_cluster import scheduler_address
 
@@ -404,7 +426,8 @@ def build_parser() -> argparse.ArgumentParser:
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
     sub = parser.add_subparsers(dest="command", required=True)
     for add in (_add_run, _add_compare, _add_paper, _add_fit, _add_dt_study, _add_waterfall, _add_limit_cycle,
-                _add_stability, _add_sweep, _add_response, _add_ucs):
+                _add_stability, _add_sweep, _add_response, _add_ucs,
+                _add_level1):
         add(sub)
     add_debug_flag(parser, sub)
     return parser

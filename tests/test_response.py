@@ -257,3 +257,87 @@ def test_ucs_agrees_with_the_campbell_eigenvalues_at_each_critical():
         assert rotor.whirl(shapes[:, j], node) > 0.99
     still = rotor.natural_frequencies(1e7, 0.0, 8)  # without spin: the gyroscopic term must matter here
     assert abs(f[2] / still[np.argmin(np.abs(still - f[2]))] - 1) > 0.01
+
+
+# ----------------------------------------------------------------------------- API 617 Level I
+
+def test_anticipated_cross_coupling_equals_api_617_us_form_by_hand():
+    """API 617 prints q_A = HP B_c C / (D_c H_c N) (rho_d / rho_s), C = 63, in klbf/in with hp, in and rpm:
+    2000 hp, 10000 rpm, D_c 15 in, H_c 0.5 in, density ratio 1.6: 2000 * 3 * 63 / (15 * 0.5 * 10000) * 1.6
+    = 8.064 klbf/in = 8.064 * 175126.8 N/m (C = 63 rounds 63025 / 1000: 4e-4)."""
+    from rotor_host.analyses.response.level1 import anticipated_cross_coupling
+
+    stage = {"node": 0, "power_kw": 2000 * 0.745699872, "density_ratio": 1.6, "diameter_mm": 15 * 25.4,
+             "restrictive_mm": 0.5 * 25.4, "kind": "centrifugal"}
+    QA, q = anticipated_cross_coupling([stage, {**stage, "kind": "axial"}], 10000 / 60)
+    assert q[0] == pytest.approx(8.064 * 175126.8, rel=1e-3)
+    assert q[1] == pytest.approx(q[0] / 2) and QA == pytest.approx(1.5 * q[0])
+
+
+def test_level1_jeffcott_q0_closed_form():
+    """Jeffcott rotor with the cross-coupling Q at the disk: in r = y + i z, M r'' + c_t r' + (k_t - i Q) r = 0
+    (the force (-Q z, Q y) is i Q r), so the forward root crosses the imaginary axis at
+    Q_0 = c_t sqrt(k_t / M), and at any Q the log dec is -2 pi Re(s) / Im(s) of the root of
+    M s^2 + c_t s + k_t - i Q with Im(s) > 0."""
+    from rotor_host.analyses.response.level1 import level1
+
+    rotor, M, c = _jeffcott()
+    rotor.stages = [{"node": 1, "power_kw": 50.0, "density_ratio": 1.2, "diameter_mm": 250.0, "restrictive_mm": 10.0,
+                     "kind": "centrifugal"}]
+    r = level1(rotor, 50.0, np.eye(2) * K_B, np.eye(2) * c, points=11)
+    kt, ct = 2 * K_B, 2 * c
+    assert r.Q_0 == pytest.approx(ct * math.sqrt(kt / M), rel=1e-5)
+
+    def log_dec(Q):
+        s = np.roots([M, ct, kt - 1j * Q])
+        s = s[np.argmax(s.imag)]
+        return -2 * math.pi * s.real / s.imag
+
+    assert r.delta_0 == pytest.approx(log_dec(0.0), rel=1e-4)  # the FE shaft is rigid to ~1e-5
+    assert r.delta_A == pytest.approx(log_dec(r.Q_A), rel=1e-4, abs=1e-6)
+
+
+@pytest.mark.parametrize("Q0, delta_A, verdict", [
+    (1.5e5, 0.5, "LEVEL II REQUIRED"),      # Q_0 / Q_A = 1.5 < 2
+    (5e5, 0.05, "LEVEL II REQUIRED"),       # delta_A < 0.1
+    (5e5, 0.5, "SCREENING CHART NEEDED"),   # 2 <= 5 <= 10: region B of the chart decides
+    (2e6, 0.5, "LEVEL I PASSED"),           # 20 > 10 and delta_A >= 0.1
+    (None, 0.5, "LEVEL I PASSED"),          # never unstable
+])
+def test_level1_verdict_api_617_rules(Q0, delta_A, verdict):
+    from rotor_host.analyses.response.level1 import Level1
+
+    r = Level1(100.0, np.zeros(2), np.zeros(2), np.zeros(2), 1e5, [1e5], Q0, delta_A, 0.6, 50.0)
+    assert r.verdict()[0] == verdict and r.csr == 2.0
+
+
+def test_level1_refuses_a_rotor_without_stages(tmp_path, capsys):
+    try:
+        code = main(["level1", str(PAPER), "--operating-hz", "25:30", "--internal", "map", "--out", str(tmp_path)])
+    except SystemExit as exc:
+        code = exc.code
+    err = capsys.readouterr().err
+    assert code == 2 and "[[stages]]" in err and "power_kw" in err and str(PAPER) in err
+
+
+@pytest.mark.slow
+def test_cli_level1_log_dec_at_zero_is_the_stability_analysis(tmp_path, capsys):
+    """At Q = 0 the first forward mode's log dec equals the least stable forward mode of
+    ``rotor-host stability``'s point at the same speed (its SpeedPoint)."""
+    from rotor_host.analyses.linear.modal import band_hz
+    from rotor_host.analyses.linear.stability import Stability, internal_options, read_rotor
+
+    text = PAPER.read_text().replace('bearing = "bearing_paper.toml"', f'bearing = "{ROOT / "models" / "bearing_paper.toml"}"')
+    rotor_file = tmp_path / "rotor.toml"
+    rotor_file.write_text(text + "\n[[stages]]\nnode = 6\npower_kw = 5.0\ndensity_ratio = 1.3\ndiameter_mm = 95.0\n"
+                                 "restrictive_mm = 5.0\n")
+    code = main(["level1", str(rotor_file), "--operating-hz", "25:30", "--internal", "map", "--out", str(tmp_path)])
+    assert code == 0
+    data = json.loads((tmp_path / "level1.json").read_text())
+    rotor, loads = read_rotor(rotor_file)
+    p, _ = Stability(rotor, "map", internal_options("map"), loads).at(30.0)
+    fwd = [i for i in range(p.freq_hz.size) if p.whirl[i] > 0 and p.freq_hz[i] <= band_hz(30.0)]
+    assert data["log_dec_at_0"] == pytest.approx(min(p.log_dec[i] for i in fwd), rel=1e-9)
+    # Q_A by hand: 3 * (5000 W / (2 pi 30 rad/s)) / (0.095 m * 0.005 m) * 1.3
+    assert data["Q_A_N_m"] == pytest.approx(3 * 5000 / (2 * math.pi * 30) / (0.095 * 0.005) * 1.3)
+    assert data["verdict"] == "LEVEL II REQUIRED" and (tmp_path / "level1.png").stat().st_size > 0
