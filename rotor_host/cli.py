@@ -153,6 +153,12 @@ def _level1(args) -> int:
     return _call(level1.command, args, rotor_file=args.rotor, data_files=_files(args))
 
 
+def _api_report(args) -> int:
+    from .analyses.response import api_report
+
+    return _call(api_report.command, args, rotor_file=args.rotor, data_files=_files(args))
+
+
 def _sweep(args) -> int:
     from .analyses import sweep
 
@@ -397,6 +403,24 @@ def _add_level1(sub) -> None:
     p.set_defaults(func=_level1)
 
 
+def _add_api_report(sub) -> None:
+    p = sub.add_parser("api-report", help="one markdown report: Campbell diagram and threshold, unbalance response "
+                                          "with AF and API margins, critical speed map, API 617 Level I")
+    p.add_argument("rotor", type=existing_file, help="rotor TOML file (models/rotor_paper.toml)")
+    p.add_argument("--speeds-hz", type=float_range("Hz"), required=True, metavar="START:STOP:STEP",
+                   help="shaft speeds [Hz] of the Campbell diagram and the response, both ends included")
+    p.add_argument("--unbalance", type=unbalance, action="append", required=True,
+                   metavar="NODE:MASS_G:RADIUS_MM[:PHASE_DEG]", help="an unbalance on a 1-based node; repeat for several")
+    p.add_argument("--operating-hz", type=interval("Hz"), required=True, metavar="MIN:MAX",
+                   help="operating speed range [Hz] (margins; Level I at MAX)")
+    p.add_argument("--probe", type=positive_int(), nargs="+", metavar="NODE",
+                   help="probe nodes (default: the bearings' and disks' nodes)")
+    _linear_rotor_flags(p)
+    p.add_argument("--out", type=output_dir, required=True, help="output folder: api_report.md, its json and figures")
+    p.add_argument("--no-plots", action="store_true")
+    p.set_defaults(func=_api_report)
+
+
 def _add_sweep(sub) -> None:
     from .analyses.dask_cluster import scheduler_address
 
@@ -427,7 +451,7 @@ def build_parser() -> argparse.ArgumentParser:
     sub = parser.add_subparsers(dest="command", required=True)
     for add in (_add_run, _add_compare, _add_paper, _add_fit, _add_dt_study, _add_waterfall, _add_limit_cycle,
                 _add_stability, _add_sweep, _add_response, _add_ucs,
-                _add_level1):
+                _add_level1, _add_api_report):
         add(sub)
     add_debug_flag(parser, sub)
     return parser

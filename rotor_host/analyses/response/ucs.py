@@ -198,6 +198,18 @@ def plot_shapes(m: UCSMap, rotor: Rotor, path, inputs: str = "") -> Path:
 DEFAULT_SPEEDS_HZ = (5.0, 100.0, 5.0)  # the bearings' overlay: START, STOP, STEP [Hz]
 
 
+def build(rotor: Rotor, stiffness_n_m, points: int, n: int, speeds_hz, bearing_k) -> UCSMap:
+    """The map over ``points`` log-spaced stiffnesses in ``stiffness_n_m`` (min, max) [N/m], the
+    bearings' direct stiffness ``bearing_k`` (n_speeds x n_bearings x 2) at ``speeds_hz`` and the crossings."""
+    lo, hi = (float(v) for v in stiffness_n_m)
+    if not (0.0 < lo < hi and math.isfinite(hi)):
+        raise ValueError(f"--stiffness-n-m {lo:g}:{hi:g}: expected MIN:MAX with 0 < MIN < MAX [N/m]")
+    k = np.geomspace(lo, hi, int(points))
+    m = UCSMap(k, critical_map(rotor, k, n), list(speeds_hz), np.asarray(bearing_k, float))
+    m.crossings = crossings(rotor, m)
+    return m
+
+
 def ucs(rotor_file, *, stiffness_n_m=DEFAULT_STIFFNESS, points: int = DEFAULT_POINTS, n: int = DEFAULT_CRITICALS,
         speeds_hz=None, internal: str = "reynolds", options=None, static_loads=(), T_supply_K=None, log=None) -> UCSMap:
     """The map of the rotor file with its bearings' stiffness overlaid (module docstring)."""
@@ -205,17 +217,12 @@ def ucs(rotor_file, *, stiffness_n_m=DEFAULT_STIFFNESS, points: int = DEFAULT_PO
     from .inputs import title_line
 
     rotor, loads = read_rotor(rotor_file, static_loads)
-    lo, hi = (float(v) for v in stiffness_n_m)
-    if not (0.0 < lo < hi and math.isfinite(hi)):
-        raise ValueError(f"--stiffness-n-m {lo:g}:{hi:g}: expected MIN:MAX with 0 < MIN < MAX [N/m]")
-    k = np.geomspace(lo, hi, int(points))
     if speeds_hz is None:
         a, b, step = DEFAULT_SPEEDS_HZ
         speeds_hz = list(np.arange(a, b + step / 2, step))
     speeds = check_speeds(speeds_hz)
     analysis = Stability(rotor, internal, options, loads, where=str(rotor_file), T_supply_K=T_supply_K)
-    m = UCSMap(k, critical_map(rotor, k, n), speeds, bearing_stiffness(analysis, speeds, log))
-    m.crossings = crossings(rotor, m)
+    m = build(rotor, stiffness_n_m, points, n, speeds, bearing_stiffness(analysis, speeds, log))
     m.meta = {"rotor": rotor.name or Path(rotor_file).stem, "rotor_file": str(rotor_file),
               "internal": analysis.internal, "options": analysis.options,
               "inputs": title_line(rotor, rotor_file, analysis.internal, analysis.options, T_supply_K)}
@@ -283,5 +290,5 @@ def command(*, rotor_file, stiffness_n_m=DEFAULT_STIFFNESS, points: int = DEFAUL
     return 0
 
 
-__all__ = ["ucs", "to_json", "markdown", "command", "DEFAULT_SPEEDS_HZ", "forward_basis", "forward_criticals", "critical_map", "crossings", "bearing_stiffness", "UCSMap", "plot_map", "plot_shapes",
+__all__ = ["ucs", "build", "to_json", "markdown", "command", "DEFAULT_SPEEDS_HZ", "forward_basis", "forward_criticals", "critical_map", "crossings", "bearing_stiffness", "UCSMap", "plot_map", "plot_shapes",
            "DEFAULT_STIFFNESS", "DEFAULT_POINTS", "DEFAULT_CRITICALS"]

@@ -220,25 +220,40 @@ def response(rotor_file, speeds_hz, unbalances, *, internal: str = "reynolds", o
              operating_hz=None, T_supply_K=None, probes=None, log=None) -> ResponseResult:
     """Read the rotor file, sweep its speeds (``Stability.sweep``), solve the response at each and
     find its peaks; ``unbalances`` (node, mass_g, radius_mm[, phase_deg]) with 1-based nodes."""
-    from bearing_fmu.physics.statics import EquilibriumError
-
     from ..linear.stability import Stability, check_speeds, read_rotor
-    from .inputs import title_line
-    from .synchronous import check_unbalances
 
     rotor, loads = read_rotor(rotor_file, static_loads)
-    unb = check_unbalances(rotor, unbalances, str(rotor_file))
-    operating = check_operating(operating_hz)
+    check_inputs(rotor, rotor_file, unbalances, operating_hz, probes)
+    analysis = Stability(rotor, internal, options, loads, where=str(rotor_file), T_supply_K=T_supply_K)
+    sweep = analysis.sweep(check_speeds(speeds_hz), rotor_name=rotor.name or Path(rotor_file).stem, log=log)
+    return response_from(analysis, sweep, rotor_file, unbalances, operating_hz, probes)
+
+
+def check_inputs(rotor: Rotor, rotor_file, unbalances, operating_hz, probes) -> None:
+    """ValueError naming the unbalance, operating range or probe that does not fit the rotor."""
+    from .synchronous import check_unbalances
+
+    check_unbalances(rotor, unbalances, str(rotor_file))
+    check_operating(operating_hz)
     for n in probes or ():
         if not 1 <= int(n) <= rotor.n_nodes:
             raise ValueError(f"--probe {n}: outside the rotor's nodes 1..{rotor.n_nodes} ({rotor_file})")
-    analysis = Stability(rotor, internal, options, loads, where=str(rotor_file), T_supply_K=T_supply_K)
-    sweep = analysis.sweep(check_speeds(speeds_hz), rotor_name=rotor.name or Path(rotor_file).stem, log=log)
+
+
+def response_from(analysis, sweep, rotor_file, unbalances, operating_hz=None, probes=None) -> ResponseResult:
+    """The response on a stability sweep already made (``Stability.sweep``) of ``analysis``."""
+    from bearing_fmu.physics.statics import EquilibriumError
+
+    from .inputs import title_line
+    from .synchronous import check_unbalances
+
+    rotor = analysis.rotor
+    unb = check_unbalances(rotor, unbalances, str(rotor_file))
     res, _ = from_sweep(rotor, unb, sweep, _refusing(stability_coefficients(analysis), EquilibriumError),
-                        [int(n) for n in probes] if probes else None, operating)
+                        [int(n) for n in probes] if probes else None, check_operating(operating_hz))
     res.meta = {"rotor": sweep.rotor, "rotor_file": str(rotor_file), "internal": analysis.internal,
-                "options": analysis.options, "T_supply_K": T_supply_K,
-                "inputs": title_line(rotor, rotor_file, analysis.internal, analysis.options, T_supply_K)}
+                "options": analysis.options, "T_supply_K": analysis.T_supply_K,
+                "inputs": title_line(rotor, rotor_file, analysis.internal, analysis.options, analysis.T_supply_K)}
     return res
 
 
@@ -297,4 +312,5 @@ def command(*, rotor_file, speeds_hz, unbalance, internal: str = "reynolds", dat
 
 
 __all__ = ["ResponseResult", "Evaluator", "default_probes", "find_peaks", "from_sweep", "on_grid", "to_json", "response",
+           "response_from", "check_inputs",
            "stability_coefficients", "check_operating", "command"]
