@@ -341,3 +341,20 @@ def test_cli_level1_log_dec_at_zero_is_the_stability_analysis(tmp_path, capsys):
     # Q_A by hand: 3 * (5000 W / (2 pi 30 rad/s)) / (0.095 m * 0.005 m) * 1.3
     assert data["Q_A_N_m"] == pytest.approx(3 * 5000 / (2 * math.pi * 30) / (0.095 * 0.005) * 1.3)
     assert data["verdict"] == "LEVEL II REQUIRED" and (tmp_path / "level1.png").stat().st_size > 0
+
+
+def test_half_power_not_found_on_a_shoulder_of_a_higher_peak():
+    """Two resonances of a sum of Lorentzians, the first 1/5 of the second's height: the first's
+    right side climbs into the second before falling to half power, so its AF is unknown (not
+    a made-up bandwidth), while the second's half-power points are the Lorentzian's f0 -/+ g (to
+    the first's small tail)."""
+    def amp(f):
+        return 0.2 / (1 + ((f - 10.0) / 0.5) ** 2) ** 0.5 + 1.0 / (1 + ((f - 12.0) / 0.2) ** 2) ** 0.5
+
+    s = np.arange(8.0, 16.0, 0.25)
+    a = np.array([amp(x) for x in s])
+    assert len(pk.grid_peaks(a)) == 2
+    n1, n2 = pk.half_power_speeds(amp, s, a, 10.0, amp(10.0))
+    assert n1 is not None and n2 is None
+    m1, m2 = pk.half_power_speeds(amp, s, a, 12.0, amp(12.0))
+    assert m1 == pytest.approx(11.8, abs=0.02) and m2 == pytest.approx(12.2, abs=0.02)

@@ -14,8 +14,9 @@ then refined between those neighbours by Brent's bounded search on the response 
 N_c1 the peak speed, N_1 < N_c1 < N_2 the speeds where the amplitude falls to the peak's
 1 / sqrt(2) (each found by Brent's root search on the response between the grid points that
 bracket it). For a lightly damped single mode AF = 1 / (2 zeta) = pi / delta. When the curve does
-not fall to the half-power level inside the range on either side the AF is unknown (None, the
-report says which side).
+not fall to the half-power level on either side, before the range ends or before it climbs above
+the peak (a shoulder of a higher resonance), the AF is unknown (None) and the peak is not
+classed as a critical speed or not.
 
 **Required separation margin** (API 617, 7th ed., 2.6.2.10; API RP 684 repeats it), in percent
 of the minimum operating speed for a peak below it, of the maximum continuous speed for one
@@ -66,8 +67,9 @@ def refine_peak(amp, lo: float, hi: float) -> tuple[float, float]:
 def half_power_speeds(amp, speeds, amplitude, peak_hz: float, peak: float) -> tuple[float | None, float | None]:
     """(N_1, N_2): where ``amp`` falls to ``peak`` / sqrt 2 below and above the peak at ``peak_hz``,
     each by a root search between the peak (or the last grid point above the level) and the first
-    grid point below the level; None on a side where the grid curve does not fall to it (or is
-    broken by a NaN) before the range ends."""
+    grid point below the level; None on a side where the grid curve does not fall to it before
+    the range ends, a NaN breaks it or it rises above the peak (a shoulder of a higher peak, not a
+    resonance of its own)."""
     from scipy.optimize import brentq
 
     s, a = np.asarray(speeds, float), np.asarray(amplitude, float)
@@ -76,7 +78,7 @@ def half_power_speeds(amp, speeds, amplitude, peak_hz: float, peak: float) -> tu
     def cross(order) -> float | None:
         inner = peak_hz  # amp(inner) >= level
         for k in order:
-            if not np.isfinite(a[k]):
+            if not np.isfinite(a[k]) or a[k] > peak:  # a break, or a higher peak before half power
                 return None
             if a[k] < level:
                 lo, hi = sorted((s[k], inner))
@@ -136,8 +138,9 @@ def peak_record(node: int, direction: str, speed_hz: float, amplitude_m: float, 
 def peak_words(p: dict) -> str:
     """One line on a peak for the report and the console."""
     af = p["amplification_factor"]
+    unknown = "unknown (no half-power point on one side: the range ends or a higher peak comes first)"
     head = (f"node {p['node']} {p['direction']}: {p['speed_hz']:.3f} Hz, {p['amplitude_m'] * 1e6:.4g} um 0-pk, "
-            f"AF {'unknown (half-power point outside the range)' if af is None else f'{af:.3g}'}")
+            f"AF {unknown if af is None else f'{af:.3g}'}")
     if p["unstable"]:
         head += ", ABOVE THE STABILITY THRESHOLD (the steady response is not what the machine does)"
     if af is not None and af < AF_CRITICAL:
