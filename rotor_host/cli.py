@@ -159,6 +159,12 @@ def _api_report(args) -> int:
     return _call(api_report.command, args, rotor_file=args.rotor, data_files=_files(args))
 
 
+def _linear_vs_runup(args) -> int:
+    from .analyses.response import runup
+
+    return _call(runup.command, args, scene=scene_from_args(args))
+
+
 def _sweep(args) -> int:
     from .analyses import sweep
 
@@ -421,6 +427,24 @@ def _add_api_report(sub) -> None:
     p.set_defaults(func=_api_report)
 
 
+def _add_linear_vs_runup(sub) -> None:
+    from .analyses.response.runup import DEFAULT_SCALES
+
+    p = sub.add_parser("linear-vs-runup", help="the linear unbalance response against the same unbalance in a run-up "
+                                               "through the nonlinear bearing force, at a small and a large unbalance")
+    p.add_argument("scene", type=existing_file, help="a run-up scene (models/scenes/paper_runup_10_60hz.toml)")
+    p.add_argument("--scale", type=positive_float(), nargs="+", default=list(DEFAULT_SCALES), metavar="F",
+                   help="factors on the scene's unbalance masses, one run each (default "
+                        f"{' '.join(f'{f:g}' for f in DEFAULT_SCALES)})")
+    p.add_argument("--window-s", type=positive_float("s"), help="the waterfall's window [s] (default 0.25)")
+    _scene_flags(p)
+    p.add_argument("--out", type=output_dir, default="out", help="output folder: linear_vs_runup.json/.md, "
+                                                                 "linear_vs_runup_node<N>.png and the runs")
+    p.add_argument("--quiet", action="store_true", help="no progress bar")
+    p.add_argument("--no-plots", action="store_true")
+    p.set_defaults(func=_linear_vs_runup)
+
+
 def _add_sweep(sub) -> None:
     from .analyses.dask_cluster import scheduler_address
 
@@ -451,7 +475,7 @@ def build_parser() -> argparse.ArgumentParser:
     sub = parser.add_subparsers(dest="command", required=True)
     for add in (_add_run, _add_compare, _add_paper, _add_fit, _add_dt_study, _add_waterfall, _add_limit_cycle,
                 _add_stability, _add_sweep, _add_response, _add_ucs,
-                _add_level1, _add_api_report):
+                _add_level1, _add_api_report, _add_linear_vs_runup):
         add(sub)
     add_debug_flag(parser, sub)
     return parser

@@ -358,3 +358,31 @@ def test_half_power_not_found_on_a_shoulder_of_a_higher_peak():
     assert n1 is not None and n2 is None
     m1, m2 = pk.half_power_speeds(amp, s, a, 12.0, amp(12.0))
     assert m1 == pytest.approx(11.8, abs=0.02) and m2 == pytest.approx(12.2, abs=0.02)
+
+
+# ----------------------------------------------------------------------------- linear against the run-up
+
+@pytest.mark.slow
+def test_linear_response_is_the_runup_1x_where_the_orbit_is_small(tmp_path):
+    """Far below the first critical, a small unbalance and a slow ramp: the journal barely moves in the
+    film, so the nonlinear run-up's 1x forward radius (order-tracked) is the linear steady response
+    to 0.5 %; the linear curve comes from solving the linearised rotor, the run-up from
+    integrating the map's force in time, two different computations."""
+    from rotor_host.analyses.response.runup import compare
+    from rotor_host.scenes.scene import load_scene
+
+    text = (ROOT / "models" / "scenes" / "paper_runup_10_60hz.toml").read_text()
+    text = text.replace('rotor = "../rotor_paper.toml"', f'rotor = "{(ROOT / "models" / "rotor_paper.toml").as_posix()}"')
+    text = text.replace('map = "../maps/paper_bearing.json"',
+                        f'map = "{(ROOT / "models" / "maps" / "paper_bearing.json").as_posix()}"')
+    text = text.replace("times_s = [0.0, 10.0]", "times_s = [0.0, 2.0]").replace("speeds_hz = [10.0, 60.0]",
+                                                                                "speeds_hz = [12.0, 15.0]")
+    text = text.replace("t_end_s = 10.0", "t_end_s = 2.0").replace('via = "fmu"', 'via = "direct"')
+    path = tmp_path / "slow_ramp.toml"
+    path.write_text(text)
+    res = compare(load_scene(path), [0.1], None, window_s=0.5)
+    row = res["scales"][0]["nodes"]["6"]
+    s_lin = np.asarray(res["scales"][0]["linear_speeds_hz"])
+    lin = np.interp(row["runup_speeds_hz"], s_lin, [v for v in row["linear_forward_m"]])
+    ratio = np.asarray(row["runup_1x_m"])[1:] / lin[1:]  # the first window holds the start's transient
+    assert np.all(np.abs(ratio - 1) < 0.005), ratio
