@@ -27,6 +27,12 @@ def _segments(speeds, values, unstable):
     return out
 
 
+def _wrap(text: str, width: int = 120) -> str:
+    import textwrap
+
+    return "\n".join(textwrap.wrap(text, width))
+
+
 def _shade(ax, res):
     s = np.asarray(res.speeds_hz)
     u = np.asarray(res.unstable)
@@ -41,9 +47,8 @@ def _shade(ax, res):
 def plot_bode(res, node: int, path, inputs: str = "") -> Path:
     """Amplitude [um 0-pk] and phase [deg] of y and z at 1-based ``node`` against speed."""
     plt = pyplot()
-    c = res.node(node)
-    s = np.asarray(res.speeds_hz)
-    u = np.asarray(res.unstable)
+    s, X, u = res.curve()
+    c = res.node(node, X)
     fig, (ax, axp) = plt.subplots(2, 1, figsize=(10, 7), sharex=True, gridspec_kw={"height_ratios": [3, 2]})
     for d in ("y", "z"):
         for k, (xs, a, unst) in enumerate(_segments(s, c[f"{d}_amplitude_m"] * 1e6, u)):
@@ -63,7 +68,7 @@ def plot_bode(res, node: int, path, inputs: str = "") -> Path:
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=8, loc="best")
     unb = "; ".join(u.label() for u in res.unbalances)
-    ax.set_title(f"Unbalance response at node {node} ({unb})\n{inputs}", fontsize=9)
+    ax.set_title(f"Unbalance response at node {node} ({unb})\n{_wrap(inputs)}", fontsize=9)
     axp.set_ylabel("phase [deg] (y = A cos(Omega t + phase))")
     axp.set_xlabel("shaft speed [Hz]")
     axp.set_ylim(-185, 185)
@@ -77,16 +82,16 @@ def plot_polar(res, node: int, path, inputs: str = "") -> Path:
     """X_y and X_z [um] in the complex plane over speed (Re along the abscissa), speeds labelled."""
     plt = pyplot()
     i_y, i_z = res.rotor.dof(node - 1, "y"), res.rotor.dof(node - 1, "z")
-    s = np.asarray(res.speeds_hz)
-    u = np.asarray(res.unstable)
+    s, X, u = res.curve()
+    grid = set(res.speeds_hz)
     fig, ax = plt.subplots(figsize=(7, 7))
     for d, dof in (("y", i_y), ("z", i_z)):
-        x = res.X[:, dof] * 1e6
+        x = X[:, dof] * 1e6
         for k, (idx, _, unst) in enumerate(_segments(np.arange(s.size), s, u)):
             ax.plot(x[idx].real, x[idx].imag, "--" if unst else "-", color=_COLOR[d],
                     label=None if k else f"X_{d}")
-        step = max(1, s.size // 8)
-        for j in range(0, s.size, step):
+        on_grid = [j for j in range(s.size) if s[j] in grid]
+        for j in on_grid[::max(1, len(on_grid) // 8)]:
             if np.isfinite(x[j]):
                 ax.annotate(f"{s[j]:g}", (x[j].real, x[j].imag), fontsize=7, color=_COLOR[d])
     ax.plot([0], [0], "k+")
@@ -95,7 +100,7 @@ def plot_polar(res, node: int, path, inputs: str = "") -> Path:
     ax.set_ylabel("Im X [um]")
     ax.grid(True, alpha=0.3)
     ax.legend(fontsize=8, title="dashed: above the threshold" if u.any() else None, title_fontsize=8)
-    ax.set_title(f"Polar plot at node {node}, speeds [Hz] marked\n{inputs}", fontsize=8)
+    ax.set_title(f"Polar plot at node {node}, speeds [Hz] marked\n{_wrap(inputs, 90)}", fontsize=8)
     return save_figure(fig, path)
 
 

@@ -49,15 +49,28 @@ class ResponseResult:
     unstable_from_start: bool = False
     criticals: list[dict] = field(default_factory=list)  # the Campbell diagram's (linear.modal)
     meta: dict = field(default_factory=dict)  # rotor name and file, internal, options, inputs line
+    extra: dict = field(default_factory=dict)  # speed [Hz] -> X: solved between grid points near the peaks
 
     @property
     def unstable(self) -> list[bool]:
         return [s == "unstable" for s in self.status]
 
-    def node(self, node1: int) -> dict[str, np.ndarray]:
-        """Per field of ``synchronous.FIELDS``: the values over speed at 1-based ``node1`` (NaN where none)."""
-        out = {k: np.full(len(self.speeds_hz), np.nan) for k in FIELDS}
-        for i, x in enumerate(self.X):
+    def curve(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(speeds, X, unstable) of the grid and the ``extra`` speeds near the peaks, by speed: the
+        figures' curves (a resonance narrower than the grid step drawn whole)."""
+        s = np.array(list(self.speeds_hz) + list(self.extra))
+        X = np.concatenate([self.X, np.array(list(self.extra.values())).reshape(-1, self.rotor.n_dof)])
+        grid = np.asarray(self.speeds_hz)
+        u = np.asarray(self.unstable)[np.abs(grid[None, :] - s[:, None]).argmin(axis=1)]
+        order = np.argsort(s, kind="stable")
+        return s[order], X[order], u[order]
+
+    def node(self, node1: int, X=None) -> dict[str, np.ndarray]:
+        """Per field of ``synchronous.FIELDS``: the values over speed at 1-based ``node1`` (NaN where
+        none), of the grid's X (or of ``X``, e.g. ``curve()``'s)."""
+        X = self.X if X is None else X
+        out = {k: np.full(len(X), np.nan) for k in FIELDS}
+        for i, x in enumerate(X):
             if np.all(np.isfinite(x)):
                 for k, v in node_response(self.rotor, x, node1 - 1).items():
                     out[k][i] = v
@@ -120,6 +133,33 @@ def find_peaks(res: ResponseResult, ev: Evaluator, refine_errors: tuple = (Value
     return sorted(out, key=lambda p: (p["speed_hz"], p["node"], p["direction"]))
 
 
+EXTRA_POINTS = 41  # solved across each resonance for the figures
+
+
+def extra_points(res: ResponseResult, ev: Evaluator, errors: tuple = (ValueError, RuntimeError)) -> dict:
+    """speed -> X across each peak's half-power band (three times its width; +/- 2 % of the speed
+    without one), at speeds not on the grid: the figures draw a resonance narrower than the grid
+    step whole."""
+    out: dict[float, np.ndarray] = {}
+    lo_all, hi_all = res.speeds_hz[0], res.speeds_hz[-1]
+    done = []
+    for p in res.peaks:
+        n1, n2 = p["half_power_hz"]
+        c = p["speed_hz"]
+        half = 1.5 * (n2 - n1) if n1 is not None and n2 is not None else 0.02 * c
+        if any(abs(c - d) < 0.25 * half for d in done):
+            continue  # the same resonance seen at another probe or direction
+        done.append(c)
+        for s in np.linspace(max(lo_all, c - half), min(hi_all, c + half), EXTRA_POINTS):
+            if float(s) in out or np.min(np.abs(np.asarray(res.speeds_hz) - s)) < 1e-9:
+                continue
+            try:
+                out[float(s)] = ev.X(float(s))
+            except errors:
+                continue
+    return out
+
+
 def from_sweep(rotor: Rotor, unbalances, sweep_result, coefficients, probes=None,
                operating_hz=None) -> tuple[ResponseResult, Evaluator]:
     """The response on the speeds of a ``StabilityResult`` (its bearing coefficients and log
@@ -144,6 +184,7 @@ def from_sweep(rotor: Rotor, unbalances, sweep_result, coefficients, probes=None
                          threshold_hz=None if th is None else th.speed_hz,
                          unstable_from_start=sweep_result.unstable_from_start, criticals=list(sweep_result.criticals))
     res.peaks = find_peaks(res, ev)
+    res.extra = extra_points(res, ev)
     return res, ev
 
 
@@ -311,6 +352,6 @@ def command(*, rotor_file, speeds_hz, unbalance, internal: str = "reynolds", dat
     return 0
 
 
-__all__ = ["ResponseResult", "Evaluator", "default_probes", "find_peaks", "from_sweep", "on_grid", "to_json", "response",
+__all__ = ["ResponseResult", "Evaluator", "default_probes", "find_peaks", "extra_points", "from_sweep", "on_grid", "to_json", "response",
            "response_from", "check_inputs",
            "stability_coefficients", "check_operating", "command"]
