@@ -386,3 +386,25 @@ def test_linear_response_is_the_runup_1x_where_the_orbit_is_small(tmp_path):
     lin = np.interp(row["runup_speeds_hz"], s_lin, [v for v in row["linear_forward_m"]])
     ratio = np.asarray(row["runup_1x_m"])[1:] / lin[1:]  # the first window holds the start's transient
     assert np.all(np.abs(ratio - 1) < 0.005), ratio
+
+
+@pytest.mark.slow
+def test_cli_api_report_one_file_with_every_part(tmp_path, capsys):
+    text = PAPER.read_text().replace('bearing = "bearing_paper.toml"', f'bearing = "{ROOT / "models" / "bearing_paper.toml"}"')
+    rotor_file = tmp_path / "rotor.toml"
+    rotor_file.write_text(text + "\n[[stages]]\nnode = 6\npower_kw = 0.05\ndensity_ratio = 1.1\ndiameter_mm = 95.0\n"
+                                 "restrictive_mm = 10.0\n")
+    out = tmp_path / "report"
+    code = main(["api-report", str(rotor_file), "--speeds-hz", "12:36:4", "--unbalance", "6:1:40", "--operating-hz",
+                 "28:32", "--internal", "map", "--out", str(out)])
+    assert code == 0
+    text = (out / "api_report.md").read_text()
+    for heading in ("## Campbell diagram and stability threshold", "## Unbalance response", "## Undamped critical speed map",
+                    "## API 617 Level I stability"):
+        assert heading in text
+    for name in ("stability.json", "response.json", "ucs.json", "level1.json", "campbell.png", "bode_node6.png",
+                 "ucs_map.png", "level1.png"):
+        assert (out / name).stat().st_size > 0
+    # each figure named in the report exists
+    for link in re.findall(r"!\[[^]]*\]\(([^)]+)\)", text):
+        assert (out / link).exists(), link
