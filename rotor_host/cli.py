@@ -403,6 +403,9 @@ def _add_level1(sub) -> None:
                    help="operating speed range [Hz]; the check runs at the maximum continuous speed MAX")
     p.add_argument("--points", type=int_at_least(2), default=DEFAULT_POINTS,
                    help=f"cross-coupling values drawn (default {DEFAULT_POINTS})")
+    p.add_argument("--gas-density-kg-m3", type=positive_float("kg/m^3"), metavar="RHO",
+                   help="average gas density (suction and discharge) [kg/m^3] for API 617's screening chart when "
+                        "2 <= Q_0 / Q_A <= 10")
     _linear_rotor_flags(p)
     p.add_argument("--out", type=output_dir, default="out", help="output folder: level1.json, level1.md, level1.png")
     p.add_argument("--no-plots", action="store_true")
@@ -421,6 +424,9 @@ def _add_api_report(sub) -> None:
                    help="operating speed range [Hz] (margins; Level I at MAX)")
     p.add_argument("--probe", type=positive_int(), nargs="+", metavar="NODE",
                    help="probe nodes (default: the bearings' and disks' nodes)")
+    p.add_argument("--gas-density-kg-m3", type=positive_float("kg/m^3"), metavar="RHO",
+                   help="average gas density (suction and discharge) [kg/m^3] for API 617's screening chart when "
+                        "2 <= Q_0 / Q_A <= 10")
     _linear_rotor_flags(p)
     p.add_argument("--out", type=output_dir, required=True, help="output folder: api_report.md, its json and figures")
     p.add_argument("--no-plots", action="store_true")

@@ -297,6 +297,32 @@ def test_level1_jeffcott_q0_closed_form():
     assert r.delta_A == pytest.approx(log_dec(r.Q_A), rel=1e-4, abs=1e-6)
 
 
+def test_anticipated_cross_coupling_reproduces_ross_report_example():
+    """ROSS's former report module (Report.stability_level_1, its docstring example) gives
+    Q_A = 23022.32 N/m for two stages of 10 kW, D 0.35 m, H 0.08 m, density ratios 1.11 and 1.14 at
+    1000 rpm, with C = 9.55 (60 / 2 pi = 9.5493 here: 6e-5)."""
+    from rotor_host.analyses.response.level1 import anticipated_cross_coupling
+
+    stages = [{"node": 0, "power_kw": 10.0, "density_ratio": r, "diameter_mm": 350.0, "restrictive_mm": 80.0}
+              for r in (1.11, 1.14)]
+    assert anticipated_cross_coupling(stages, 1000 / 60)[0] == pytest.approx(23022.32142857143, rel=1e-4)
+
+
+@pytest.mark.parametrize("rho, Q0, verdict", [
+    (None, 5e5, "SCREENING CHART NEEDED"),
+    (10.0, 5e5, "LEVEL I PASSED"),       # Q_0 / Q_A = 5, CSR 2.5 not above the boundary 2.5: region A
+    (50.0, 5e5, "LEVEL II REQUIRED"),    # boundary 2.69 - 0.0115 * 50 = 2.115 < CSR 2.5: region B
+    (70.0, 5e5, "LEVEL II REQUIRED"),    # beyond 60 kg/m^3 every CSR is region B
+])
+def test_level1_screening_chart(rho, Q0, verdict):
+    from rotor_host.analyses.response.level1 import Level1, csr_boundary
+
+    r = Level1(100.0, np.zeros(2), np.zeros(2), np.zeros(2), 1e5, [1e5], Q0, 0.5, 0.6, 40.0, gas_density_kg_m3=rho)
+    assert r.csr == 2.5  # 100 / 40
+    assert r.verdict()[0] == verdict
+    assert csr_boundary(16.53) == 2.5 and csr_boundary(50.0) == pytest.approx(2.115) and csr_boundary(60.0) == 0.0
+
+
 @pytest.mark.parametrize("Q0, delta_A, verdict", [
     (1.5e5, 0.5, "LEVEL II REQUIRED"),      # Q_0 / Q_A = 1.5 < 2
     (5e5, 0.05, "LEVEL II REQUIRED"),       # delta_A < 0.1

@@ -17,7 +17,8 @@ def _demote(text: str) -> str:
 
 
 def command(*, rotor_file, speeds_hz, unbalance, operating_hz, internal: str = "reynolds", data_files=None,
-            grid=None, static_load=(), supply_c=None, probe=None, out="out", no_plots: bool = False) -> int:
+            grid=None, static_load=(), supply_c=None, probe=None, gas_density_kg_m3=None, out="out",
+            no_plots: bool = False) -> int:
     """Writes ``api_report.md``, the json of each part and the figures into ``out``."""
     import numpy as np
 
@@ -49,6 +50,7 @@ def command(*, rotor_file, speeds_hz, unbalance, operating_hz, internal: str = "
     if rotor.stages:
         point, _ = analysis.at(res.operating_hz[1])
         level = lv.level1(rotor, res.operating_hz[1], point.K, point.C)
+        level.gas_density_kg_m3 = gas_density_kg_m3
         level.meta = dict(m.meta)
 
     figs: dict[str, list[Path]] = {"campbell": [], "response": [], "ucs": [], "level1": []}

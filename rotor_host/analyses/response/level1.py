@@ -37,9 +37,10 @@ rotor from 22 to 68 Hz at Q = 1 MN/m), hence the tracking by shape, not by frequ
   first undamped critical on rigid supports) and the average gas density fall in region B of
   API 617's screening chart.
 
-The third needs the gas density and the chart, which this command does not hold: when
-2 <= Q_0 / Q_A <= 10 it reports the CSR and says so. Otherwise the Level I screening is passed
-(no Level II analysis required).
+The third needs the average gas density (``--gas-density-kg-m3``) and the chart's region
+boundary (``csr_boundary``, as digitised by ROSS's former report module); without the density,
+when 2 <= Q_0 / Q_A <= 10, the command reports the CSR and says the chart is needed. Otherwise
+the Level I screening is passed (no Level II analysis required).
 """
 
 from __future__ import annotations
@@ -103,6 +104,7 @@ class Level1:
     delta_0: float
     first_rigid_critical_hz: float
     meta: dict = field(default_factory=dict)
+    gas_density_kg_m3: float | None = None  # the average gas density (suction and discharge)
 
     @property
     def csr(self) -> float:
@@ -119,11 +121,29 @@ class Level1:
         if why:
             return "LEVEL II REQUIRED", why
         if ratio <= RATIO_SCREEN:
-            return "SCREENING CHART NEEDED", [
-                f"2 <= Q_0 / Q_A = {ratio:.3g} <= 10: API 617 requires a Level II analysis if CSR = {self.csr:.3g} and "
-                "the average gas density fall in region B of its screening chart (not held here)"]
+            if self.gas_density_kg_m3 is None:
+                return "SCREENING CHART NEEDED", [
+                    f"2 <= Q_0 / Q_A = {ratio:.3g} <= 10: API 617 requires a Level II analysis if CSR = {self.csr:.3g} "
+                    "and the average gas density fall in region B of its screening chart (give --gas-density-kg-m3)"]
+            edge = csr_boundary(self.gas_density_kg_m3)
+            where = (f"2 <= Q_0 / Q_A = {ratio:.3g} <= 10, CSR = {self.csr:.3g} at {self.gas_density_kg_m3:g} kg/m^3 "
+                     f"against the region boundary {edge:.3g}")
+            if self.csr > edge:
+                return "LEVEL II REQUIRED", [where + ": region B"]
+            return "LEVEL I PASSED", [where + f": region A, delta_A = {self.delta_A:.3g} >= {LOG_DEC_MIN:g}"]
         return "LEVEL I PASSED", [f"Q_0 / Q_A = {'inf' if self.Q_0 is None else f'{ratio:.3g}'} > {RATIO_SCREEN:g} and "
                                   f"delta_A = {self.delta_A:.3g} >= {LOG_DEC_MIN:g}: no Level II analysis required"]
+
+
+def csr_boundary(gas_density_kg_m3: float) -> float:
+    """The critical speed ratio above which API 617's screening chart puts a machine in region B
+    (Level II required), at the average gas density [kg/m^3]: 2.5 up to 16.53 kg/m^3, then falling
+    along 2.69 - 0.0115 rho, and 0 from 60 kg/m^3 on (region B at any CSR). The chart as digitised
+    by ROSS's report module (``Report.stability_level_1``, ROSS <= 1.x), not read off the standard."""
+    rho = float(gas_density_kg_m3)
+    if rho <= 16.53:
+        return 2.5
+    return 2.69 - 0.0115 * rho if rho < 60.0 else 0.0
 
 
 class CrossCoupled:
@@ -224,7 +244,7 @@ def plot_level1(r: Level1, path, inputs: str = "") -> Path:
 
 
 def run(rotor_file, operating_hz, *, internal="reynolds", options=None, static_loads=(), T_supply_K=None,
-        points: int = DEFAULT_POINTS) -> Level1:
+        points: int = DEFAULT_POINTS, gas_density_kg_m3=None) -> Level1:
     """Read the rotor file (its [[stages]] required), the bearings at the maximum continuous speed
     (the top of ``operating_hz``), and the check."""
     from ..linear.stability import Stability, read_rotor
@@ -239,6 +259,7 @@ def run(rotor_file, operating_hz, *, internal="reynolds", options=None, static_l
     analysis = Stability(rotor, internal, options, loads, where=str(rotor_file), T_supply_K=T_supply_K)
     point, _ = analysis.at(mcs)
     r = level1(rotor, mcs, point.K, point.C, points)
+    r.gas_density_kg_m3 = gas_density_kg_m3
     r.meta = {"rotor": rotor.name or Path(rotor_file).stem, "rotor_file": str(rotor_file), "internal": analysis.internal,
               "options": analysis.options, "operating_hz": [lo, mcs],
               "inputs": title_line(rotor, rotor_file, analysis.internal, analysis.options, T_supply_K)}
@@ -250,6 +271,8 @@ def to_json(r: Level1) -> dict:
     return {"speed_hz": r.speed_hz, "Q_A_N_m": r.Q_A, "q_stages_N_m": r.q_stages, "Q_0_N_m": r.Q_0,
             "ratio_Q0_QA": None if r.Q_0 is None else r.Q_0 / r.Q_A, "log_dec_at_Q_A": r.delta_A,
             "log_dec_at_0": r.delta_0, "first_rigid_critical_hz": r.first_rigid_critical_hz, "csr": r.csr,
+            "gas_density_kg_m3": r.gas_density_kg_m3,
+            "csr_boundary": None if r.gas_density_kg_m3 is None else csr_boundary(r.gas_density_kg_m3),
             "verdict": verdict, "reasons": why, "Q_N_m": r.q_grid.tolist(), "log_dec": r.log_dec.tolist(),
             "freq_hz": r.freq_hz.tolist(), **r.meta}
 
@@ -270,7 +293,7 @@ def markdown(r: Level1, inputs: list[str], figures=()) -> str:
 
 
 def command(*, rotor_file, operating_hz, internal: str = "reynolds", data_files=None, grid=None, static_load=(),
-            supply_c=None, points: int = DEFAULT_POINTS, out="out", no_plots: bool = False) -> int:
+            supply_c=None, points: int = DEFAULT_POINTS, gas_density_kg_m3=None, out="out", no_plots: bool = False) -> int:
     """``rotor-host level1``: writes level1.json, level1.md and level1.png into ``out``."""
     from bearing_fmu.io.outputs import ensure_writable, write_json, write_text
 
@@ -280,7 +303,7 @@ def command(*, rotor_file, operating_hz, internal: str = "reynolds", data_files=
     out = ensure_writable(out)
     T = None if supply_c is None else supply_c + 273.15
     r = run(rotor_file, operating_hz, internal=internal, options=internal_options(internal, data_files, grid),
-            static_loads=static_load, T_supply_K=T, points=points)
+            static_loads=static_load, T_supply_K=T, points=points, gas_density_kg_m3=gas_density_kg_m3)
     rotor = Rotor.from_toml(rotor_file)
     files = [] if no_plots else [plot_level1(r, out / "level1.png", r.meta["inputs"])]
     inputs = [f"rotor: {rotor_file} ({r.meta['rotor']})", *bearing_lines(rotor, rotor_file),
@@ -296,5 +319,5 @@ def command(*, rotor_file, operating_hz, internal: str = "reynolds", data_files=
     return 0
 
 
-__all__ = ["B_FACTOR", "stage_cross_coupling", "anticipated_cross_coupling", "with_supports", "first_forward",
+__all__ = ["B_FACTOR", "csr_boundary", "stage_cross_coupling", "anticipated_cross_coupling", "with_supports", "first_forward",
            "Level1", "CrossCoupled", "level1", "plot_level1", "run", "to_json", "markdown", "command"]
