@@ -59,7 +59,7 @@ BEARING_ENTRY_KEYS = (
 STAGE_KEYS = (  # API 617's anticipated aerodynamic cross-coupling (rotor_host.analyses.response.level1)
     Key("node", "node the stage (impeller or blade row) sits on, 1-based", allowed="1..number of nodes", kind=NODE),
     Key("power_kw", "the stage's rated power [kW]", kind=POSITIVE),
-    Key("density_ratio", "discharge over suction gas density of the stage", kind=POSITIVE),
+    Key("density_ratio", "discharge over suction gas density of the stage (centrifugal)", kind=POSITIVE),
     Key("diameter_mm", "impeller diameter (axial: blade pitch diameter) [mm]", kind=POSITIVE),
     Key("restrictive_mm", "the smaller of diffuser and impeller discharge width (axial: effective blade height) [mm]",
         kind=POSITIVE),

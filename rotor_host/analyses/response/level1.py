@@ -8,7 +8,8 @@ rotor file's ``[[stages]]`` contributes::
 T_i the stage's torque [N m] at its rated power P_i [W] and the speed Omega [rad/s], D_i the
 impeller diameter (blade pitch diameter) [m], H_i the restrictive dimension (the smaller of
 diffuser and impeller discharge width; the effective blade height) [m], B = 3 for a
-centrifugal stage, 1.5 for an axial one; Q_A = sum q_i [N/m] at the maximum continuous speed.
+centrifugal stage, 1.5 for an axial one (whose formula has no density ratio); Q_A = sum q_i
+[N/m] at the maximum continuous speed.
 API 617 prints it in US units as q_A = sum HP B C / (D_c H_c N) (rho_d / rho_s) with C = 63
 (HP in hp, D_c and H_c in inches, N in rpm, q_A in klbf/in): 63 = 63025 / 1000, the torque
 T [lbf in] = 63025 HP / N in thousands; the two are the same formula (tests/test_response.py
@@ -61,10 +62,12 @@ STAGE_KEYS_WORDS = "node, power_kw, density_ratio, diameter_mm, restrictive_mm"
 
 
 def stage_cross_coupling(stage: dict, speed_hz: float) -> float:
-    """q_i [N/m] of one [[stages]] entry at ``speed_hz`` (module docstring)."""
+    """q_i [N/m] of one [[stages]] entry at ``speed_hz`` (module docstring); the density ratio
+    enters a centrifugal stage's only, as in API 617's two formulas."""
+    kind = stage.get("kind") or "centrifugal"
     torque = stage["power_kw"] * 1e3 / (2.0 * math.pi * speed_hz)
-    return (B_FACTOR[stage.get("kind") or "centrifugal"] * torque / (stage["diameter_mm"] * 1e-3 * stage["restrictive_mm"]
-                                                                      * 1e-3) * stage["density_ratio"])
+    ratio = stage["density_ratio"] if kind == "centrifugal" else 1.0
+    return B_FACTOR[kind] * torque / (stage["diameter_mm"] * 1e-3 * stage["restrictive_mm"] * 1e-3) * ratio
 
 
 def anticipated_cross_coupling(stages, speed_hz: float) -> tuple[float, list[float]]:
