@@ -12,9 +12,9 @@ import inspect
 import sys
 from pathlib import Path
 
-from bearing_fmu.io.cliargs import (existing_dir, existing_file, existing_file_or, finite_float, float_range, grid, grid_or_default,
-                                    node_load, nonneg_float, number, output_dir, output_file, positive_float,
-                                    positive_int)
+from bearing_fmu.io.cliargs import (existing_dir, existing_file, existing_file_or, finite_float, float_range, grid,
+                                    grid_or_default, int_at_least, interval, node_load, nonneg_float, number,
+                                    output_dir, output_file, positive_float, positive_int, unbalance)
 from bearing_fmu.cli import Parser, add_debug_flag
 from bearing_fmu.io.exits import EXIT_CODES, run_command
 from bearing_fmu.internals.warmup import announce_compiling
@@ -141,6 +141,36 @@ def _stability(args) -> int:
     from .analyses.linear import stability
 
     return _call(stability.command, args, rotor_file=args.rotor, data_files=_files(args))
+
+
+def _response(args) -> int:
+    from .analyses.response import unbalance
+
+    return _call(unbalance.command, args, rotor_file=args.rotor, data_files=_files(args))
+
+
+def _ucs(args) -> int:
+    from .analyses.response import ucs
+
+    return _call(ucs.command, args, rotor_file=args.rotor, data_files=_files(args))
+
+
+def _level1(args) -> int:
+    from .analyses.response import level1
+
+    return _call(level1.command, args, rotor_file=args.rotor, data_files=_files(args))
+
+
+def _api_report(args) -> int:
+    from .analyses.response import api_report
+
+    return _call(api_report.command, args, rotor_file=args.rotor, data_files=_files(args))
+
+
+def _linear_vs_runup(args) -> int:
+    from .analyses.response import runup
+
+    return _call(runup.command, args, scene=scene_from_args(args))
 
 
 def _sweep(args) -> int:
@@ -313,6 +343,124 @@ def _add_stability(sub) -> None:
     p.set_defaults(func=_stability)
 
 
+def _linear_rotor_flags(p) -> None:
+    """The options of a command on the linearised rotor: internal, its files and grid, static loads, oil."""
+    from bearing_fmu.internals.registry import having
+
+    from .analyses.linear.stability import DEFAULT_FILES
+
+    p.add_argument("--internal", choices=having(any_state=True), default="reynolds",
+                   help="bearing internal, one valid at every speed and load: " + ", ".join(having(any_state=True))
+                        + " (default reynolds)")
+    defaults = ", ".join(f"--{k} {Path(v).stem} (bundled)" for k, v in DEFAULT_FILES.items())
+    _file_flags(p, what=f"default: {defaults}, the paper bearing's;")
+    p.add_argument("--grid", type=grid, metavar="NxM", help="Reynolds grid n_theta x n_x (default: the solver's)")
+    p.add_argument("--static-load", type=node_load, nargs="+", action="extend", default=[], metavar="NODE:FY:FZ",
+                   help="static point loads [N] on 1-based nodes, besides the weight")
+    p.add_argument("--supply-c", type=finite_float("C"), default=None, metavar="C",
+                   help="oil supply temperature [C]: each bearing at its film's effective temperature per speed")
+
+
+def _add_response(sub) -> None:
+    p = sub.add_parser("response", help="unbalance response of the linearised rotor: Bode and polar plots, peaks "
+                                        "with their amplification factor and API separation margins")
+    p.add_argument("rotor", type=bundled_or_file("rotor"), help="rotor TOML file, or a bundled rotor by name (e.g. rotor_paper)")
+    p.add_argument("--speeds-hz", type=float_range("Hz"), required=True, metavar="START:STOP:STEP",
+                   help="shaft speeds [Hz], both ends included; every one is computed and kept")
+    p.add_argument("--unbalance", type=unbalance, action="append", required=True,
+                   metavar="NODE:MASS_G:RADIUS_MM[:PHASE_DEG]",
+                   help="an unbalance on a 1-based node (phase from +y toward +z, default 0); repeat for several")
+    p.add_argument("--operating-hz", type=interval("Hz"), metavar="MIN:MAX",
+                   help="operating speed range [Hz]: separation margins and API 617's required margins")
+    p.add_argument("--probe", type=positive_int(), nargs="+", metavar="NODE",
+                   help="probe nodes (1-based) for the peaks and plots (default: the bearings' and disks' nodes)")
+    _linear_rotor_flags(p)
+    p.add_argument("--out", type=output_dir, required=True,
+                   help="output folder: response.json, response.md, bode_node<N>.png, polar_node<N>.png")
+    p.add_argument("--no-plots", action="store_true")
+    p.set_defaults(func=_response)
+
+
+def _add_ucs(sub) -> None:
+    from .analyses.response.ucs import DEFAULT_CRITICALS, DEFAULT_POINTS, DEFAULT_SPEEDS_HZ, DEFAULT_STIFFNESS
+
+    p = sub.add_parser("ucs", help="undamped critical speed map against support stiffness, the bearings' stiffness "
+                                   "at speed overlaid, the mode shapes of the first criticals")
+    p.add_argument("rotor", type=bundled_or_file("rotor"), help="rotor TOML file, or a bundled rotor by name (e.g. rotor_paper)")
+    p.add_argument("--stiffness-n-m", type=interval("N/m"), default=DEFAULT_STIFFNESS, metavar="MIN:MAX",
+                   help=f"support stiffness range [N/m] (default {DEFAULT_STIFFNESS[0]:g}:{DEFAULT_STIFFNESS[1]:g})")
+    p.add_argument("--points", type=int_at_least(2), default=DEFAULT_POINTS,
+                   help=f"stiffness values, log-spaced (default {DEFAULT_POINTS})")
+    p.add_argument("--criticals", type=positive_int(), default=DEFAULT_CRITICALS,
+                   help=f"lowest forward criticals drawn (default {DEFAULT_CRITICALS})")
+    a, b, step = DEFAULT_SPEEDS_HZ
+    p.add_argument("--speeds-hz", type=float_range("Hz"), metavar="START:STOP:STEP",
+                   help=f"speeds of the bearings' stiffness overlay (default {a:g}:{b:g}:{step:g})")
+    _linear_rotor_flags(p)
+    p.add_argument("--out", type=output_dir, default="out", help="output folder: ucs.json, ucs.md, ucs_map.png, "
+                                                                 "ucs_modes.png")
+    p.add_argument("--no-plots", action="store_true")
+    p.set_defaults(func=_ucs)
+
+
+def _add_level1(sub) -> None:
+    from .analyses.response.level1 import DEFAULT_POINTS
+
+    p = sub.add_parser("level1", help="API 617 Level I stability: log decrement of the first forward mode against "
+                                      "the stages' cross-coupling, Q_A, Q_0 and the verdict")
+    p.add_argument("rotor", type=bundled_or_file("rotor"), help="rotor TOML file with a [[stages]] table (or a bundled rotor by name)")
+    p.add_argument("--operating-hz", type=interval("Hz"), required=True, metavar="MIN:MAX",
+                   help="operating speed range [Hz]; the check runs at the maximum continuous speed MAX")
+    p.add_argument("--points", type=int_at_least(2), default=DEFAULT_POINTS,
+                   help=f"cross-coupling values drawn (default {DEFAULT_POINTS})")
+    p.add_argument("--gas-density-kg-m3", type=positive_float("kg/m^3"), metavar="RHO",
+                   help="average gas density (suction and discharge) [kg/m^3] for API 617's screening chart when "
+                        "2 <= Q_0 / Q_A <= 10")
+    _linear_rotor_flags(p)
+    p.add_argument("--out", type=output_dir, default="out", help="output folder: level1.json, level1.md, level1.png")
+    p.add_argument("--no-plots", action="store_true")
+    p.set_defaults(func=_level1)
+
+
+def _add_api_report(sub) -> None:
+    p = sub.add_parser("api-report", help="one markdown report: Campbell diagram and threshold, unbalance response "
+                                          "with AF and API margins, critical speed map, API 617 Level I")
+    p.add_argument("rotor", type=bundled_or_file("rotor"), help="rotor TOML file, or a bundled rotor by name (e.g. rotor_paper)")
+    p.add_argument("--speeds-hz", type=float_range("Hz"), required=True, metavar="START:STOP:STEP",
+                   help="shaft speeds [Hz] of the Campbell diagram and the response, both ends included")
+    p.add_argument("--unbalance", type=unbalance, action="append", required=True,
+                   metavar="NODE:MASS_G:RADIUS_MM[:PHASE_DEG]", help="an unbalance on a 1-based node; repeat for several")
+    p.add_argument("--operating-hz", type=interval("Hz"), required=True, metavar="MIN:MAX",
+                   help="operating speed range [Hz] (margins; Level I at MAX)")
+    p.add_argument("--probe", type=positive_int(), nargs="+", metavar="NODE",
+                   help="probe nodes (default: the bearings' and disks' nodes)")
+    p.add_argument("--gas-density-kg-m3", type=positive_float("kg/m^3"), metavar="RHO",
+                   help="average gas density (suction and discharge) [kg/m^3] for API 617's screening chart when "
+                        "2 <= Q_0 / Q_A <= 10")
+    _linear_rotor_flags(p)
+    p.add_argument("--out", type=output_dir, required=True, help="output folder: api_report.md, its json and figures")
+    p.add_argument("--no-plots", action="store_true")
+    p.set_defaults(func=_api_report)
+
+
+def _add_linear_vs_runup(sub) -> None:
+    from .analyses.response.runup import DEFAULT_SCALES
+
+    p = sub.add_parser("linear-vs-runup", help="the linear unbalance response against the same unbalance in a run-up "
+                                               "through the nonlinear bearing force, at a small and a large unbalance")
+    p.add_argument("scene", type=bundled_or_file("scene"), help="a run-up scene file, or a bundled one by name (e.g. paper_runup_10_60hz)")
+    p.add_argument("--scale", type=positive_float(), nargs="+", default=list(DEFAULT_SCALES), metavar="F",
+                   help="factors on the scene's unbalance masses, one run each (default "
+                        f"{' '.join(f'{f:g}' for f in DEFAULT_SCALES)})")
+    p.add_argument("--window-s", type=positive_float("s"), help="the waterfall's window [s] (default 0.25)")
+    _scene_flags(p)
+    p.add_argument("--out", type=output_dir, default="out", help="output folder: linear_vs_runup.json/.md, "
+                                                                 "linear_vs_runup_node<N>.png and the runs")
+    p.add_argument("--quiet", action="store_true", help="no progress bar")
+    p.add_argument("--no-plots", action="store_true")
+    p.set_defaults(func=_linear_vs_runup)
+
+
 def _add_sweep(sub) -> None:
     from .analyses.dask_cluster import scheduler_address
 
@@ -342,7 +490,8 @@ def build_parser() -> argparse.ArgumentParser:
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
     sub = parser.add_subparsers(dest="command", required=True)
     for add in (_add_run, _add_compare, _add_paper, _add_fit, _add_dt_study, _add_waterfall, _add_limit_cycle,
-                _add_stability, _add_sweep):
+                _add_stability, _add_sweep, _add_response, _add_ucs,
+                _add_level1, _add_api_report, _add_linear_vs_runup):
         add(sub)
     add_debug_flag(parser, sub)
     return parser

@@ -346,7 +346,8 @@ FREE_TEXT = {"--note"}  # options whose value is any text
 
 def test_every_option_that_takes_a_value_has_a_type_or_choices():
     parsers = _parsers()
-    assert len(parsers) == 13  # run, compare, paper, fit, dt-study, waterfall, limit-cycle, stability, sweep; demo, fit, build, map
+    assert len(parsers) == 18  # run, compare, paper, fit, dt-study, waterfall, limit-cycle, stability, sweep, response,
+    # ucs, level1, api-report, linear-vs-runup; demo, fit, build, map
     untyped = []
     for name, p in parsers.items():
         for a in p._actions:

@@ -24,7 +24,7 @@ from conftest import run_cli
 from tests.test_fmi_status import ERROR, raw  # noqa: F401  (raw: the fixture, a Python FMU's instance)
 
 ROOT = Path(__file__).resolve().parents[1]
-MODELS = ROOT / "models"
+MODELS = ROOT / "rotor_host" / "bundled"
 
 
 def _file(tmp_path: Path, name: str, text: str) -> Path:

@@ -10,8 +10,9 @@ says what was expected (with the unit) and what was given:
   raises ValueError (the fit recipe's own settings use it, so the command line and the
   recipe refuse the same values with the same words);
 * Reynolds grids written ``NxM`` (``grid``), checked against the Reynolds options' ranges;
-* ranges written ``START:STOP:STEP`` (``float_range``: the values, both ends included) and
-  point loads written ``NODE:FY:FZ`` (``node_load``);
+* ranges written ``START:STOP:STEP`` (``float_range``: the values, both ends included),
+  intervals ``MIN:MAX`` (``interval``), point loads written ``NODE:FY:FZ`` (``node_load``) and
+  unbalances ``NODE:MASS_G:RADIUS_MM[:PHASE_DEG]`` (``unbalance``);
 * paths: ``existing_file``, ``existing_dir``, ``output_dir``, ``output_file``: an output path
   that names the wrong kind of thing (a file for a folder, a folder for a file, a file in the
   middle of the path) is refused while parsing; whether the folder accepts files is checked
@@ -194,6 +195,45 @@ def node_load(text: str) -> tuple[int, float, float]:
     except (ValueError, Invalid):
         raise _refuse(expected, text) from None
     return node, fy, fz
+
+
+def unbalance(text: str) -> tuple[int, float, float, float]:
+    """An argparse type: ``NODE:MASS_G:RADIUS_MM[:PHASE_DEG]`` -> (node, mass [g], radius [mm],
+    phase [deg], 0 when left out): an unbalance on a 1-based node (its range is checked against
+    the rotor by the command that reads the rotor)."""
+    expected = ("NODE:MASS_G:RADIUS_MM[:PHASE_DEG] (a node number >= 1, a mass > 0 g, a radius > 0 mm and a "
+                "finite angle [deg], e.g. 6:1.5:40:0)")
+    parts = text.split(":")
+    try:
+        if len(parts) not in (3, 4):
+            raise ValueError(text)
+        node = Number(1, integer=True).parse(int(parts[0]))
+        mass, radius = (Number(0.0, exclusive_minimum=True).parse(float(p)) for p in parts[1:3])
+        phase = Number().parse(float(parts[3])) if len(parts) == 4 else 0.0
+    except (ValueError, Invalid):
+        raise _refuse(expected, text) from None
+    return node, mass, radius, phase
+
+
+def interval(unit: str = ""):
+    """An argparse type: ``MIN:MAX`` -> (min, max) with 0 < MIN <= MAX (e.g. an operating speed range)."""
+    u = f" {unit}" if unit else ""
+    expected = f"MIN:MAX{u} with 0 < MIN <= MAX (e.g. 40:50)"
+
+    def parse(text: str) -> tuple[float, float]:
+        parts = text.split(":")
+        try:
+            if len(parts) != 2:
+                raise ValueError(text)
+            lo = Number(0.0, exclusive_minimum=True).parse(float(parts[0]))
+            hi = Number(lo).parse(float(parts[1]))
+        except (ValueError, Invalid):
+            raise _refuse(expected, text) from None
+        return lo, hi
+
+    parse.__name__ = "MIN:MAX"
+    parse.expected = expected
+    return parse
 
 
 # ----------------------------------------------------------------------------- paths

@@ -21,7 +21,7 @@ from typing import Iterable, Mapping, Sequence
 
 import numpy as np
 
-from bearing_fmu.io.schema import FileName, Key, List, Number, Table, Tables, Text, check_table, read_toml
+from bearing_fmu.io.schema import Choice, FileName, Key, List, Number, Table, Tables, Text, check_table, read_toml
 from bearing_fmu.physics.params import BearingParams
 
 from ..integrate.banded import band_to_sparse, from_band
@@ -57,6 +57,16 @@ BEARING_ENTRY_KEYS = (
     Key("bearing", "bearing file, relative to the rotor file (keys: [bearing] below)", kind=FileName()),
     Key("name", "label", None, kind=Text()),
 )
+STAGE_KEYS = (  # API 617's anticipated aerodynamic cross-coupling (rotor_host.analyses.response.level1)
+    Key("node", "node the stage (impeller or blade row) sits on, 1-based", allowed="1..number of nodes", kind=NODE),
+    Key("power_kw", "the stage's rated power [kW]", kind=POSITIVE),
+    Key("density_ratio", "discharge over suction gas density of the stage (centrifugal)", kind=POSITIVE),
+    Key("diameter_mm", "impeller diameter (axial: blade pitch diameter) [mm]", kind=POSITIVE),
+    Key("restrictive_mm", "the smaller of diffuser and impeller discharge width (axial: effective blade height) [mm]",
+        kind=POSITIVE),
+    Key("kind", "centrifugal (B_c = 3) or axial (B_t = 1.5)", "centrifugal", kind=Choice(("centrifugal", "axial"))),
+    Key("name", "label", None, kind=Text()),
+)
 ROTOR_KEYS = (
     Key("elements", "the shaft's beam elements, in order ([[elements]] or an array of inline tables)",
         kind=Tables(ELEMENT_KEYS, nonempty=True)),
@@ -66,6 +76,8 @@ ROTOR_KEYS = (
     Key("disks", "rigid disks ([[disks]])", None, kind=Tables(DISK_KEYS)),
     Key("bearings", "bearings ([[bearings]]): where they sit and which bearing file", None,
         kind=Tables(BEARING_ENTRY_KEYS)),
+    Key("stages", "compressor or turbine stages ([[stages]]) for API 617's Level I stability check", None,
+        kind=Tables(STAGE_KEYS)),
 )
 
 DIRECTIONS = {"y": fe.Y, "z": fe.Z, "ty": fe.TY, "tz": fe.TZ}
@@ -181,6 +193,7 @@ class Rotor:
     bearing_nodes: list[int] = field(default_factory=list)
     bearings: list[BearingParams] = field(default_factory=list)
     name: str = ""
+    stages: list[dict] = field(default_factory=list)  # [[stages]] as read (STAGE_KEYS), node 0-based
     bands: dict = field(init=False, repr=False, compare=False)
     node_x: np.ndarray = field(init=False, repr=False, compare=False)
 
@@ -278,8 +291,12 @@ class Rotor:
             bearing_nodes.append(node)
             bearings.append(params)
 
+        stages = []
+        for i, t in enumerate(d["stages"]):
+            stages.append({**t, "node": _node(t["node"], n_nodes, f"{where}: [[stages]] {i + 1} node")})
+
         return cls(elements=elements, material=material, disks=disks,
-                   bearing_nodes=bearing_nodes, bearings=bearings, name=d["name"] or "")
+                   bearing_nodes=bearing_nodes, bearings=bearings, name=d["name"] or "", stages=stages)
 
     def refined(self, k: int) -> "Rotor":
         """The same rotor with each shaft element cut into ``k`` equal elements (disks and
@@ -292,7 +309,8 @@ class Rotor:
         disks = [Disk(d.node * k, d.od, d.id, d.width) for d in self.disks]
         return Rotor(elements=elements, material=self.material, disks=disks,
                      bearing_nodes=[nd * k for nd in self.bearing_nodes], bearings=list(self.bearings),
-                     name=f"{self.name} x{k}" if self.name else "")
+                     name=f"{self.name} x{k}" if self.name else "",
+                     stages=[{**st, "node": st["node"] * k} for st in self.stages])
 
     # ------------------------------------------------------------------ sizes and indexing
     @property

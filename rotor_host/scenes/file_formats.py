@@ -28,7 +28,7 @@ from bearing_fmu.physics.geometry import GEOMETRY_KEYS
 from bearing_fmu.physics.oil import KELVIN, OIL_KEYS, PRESETS, Oil
 from bearing_fmu.physics.params import BEARING_KEYS
 
-from ..model.rotor import BEARING_ENTRY_KEYS, DISK_KEYS, ELEMENT_KEYS, MATERIAL_KEYS, ROTOR_KEYS
+from ..model.rotor import BEARING_ENTRY_KEYS, DISK_KEYS, ELEMENT_KEYS, MATERIAL_KEYS, ROTOR_KEYS, STAGE_KEYS
 from .scene import (INITIAL_KEYS, RECORD_KEYS, SCENE_KEYS, SPEED_PROFILE_KEYS, STATIC_LOAD_KEYS, TIME_KEYS,
                     UNBALANCE_KEYS)
 from .thermal import thermal_arrays_table
@@ -51,6 +51,7 @@ def reference_tables() -> dict[str, str]:
         "Rotor file: [[elements]]": ELEMENT_KEYS,
         "Rotor file: [[disks]]": DISK_KEYS,
         "Rotor file: [[bearings]]": BEARING_ENTRY_KEYS,
+        "Rotor file: [[stages]]": STAGE_KEYS,
         "Scene file: top level": SCENE_KEYS,
         "Scene file: [speed_profile]": SPEED_PROFILE_KEYS,
         "Scene file: [time]": TIME_KEYS,
