@@ -52,7 +52,8 @@ def test_every_marked_list_is_its_generators_and_every_list_is_shown():
 def test_the_lists_follow_the_registry(made_up):
     # what a newcomer's internal gets without writing a word: its name in each list of its
     # capabilities (the registry's order: registration order)
-    assert GENERATED["internals"]().endswith("| map | made_up")
+    assert GENERATED["internals"]() == " | ".join(registry.names())  # in the registry's order
+    assert GENERATED["internals"]().endswith(" | made_up")
     assert GENERATED["native-internals"]().endswith("|made_up")
     assert "`reynolds` (default)" in GENERATED["fmu-internal"]()
 
@@ -71,13 +72,14 @@ def test_write_makes_whole_sections_and_lists(made_up, tmp_path):
     new = doc.read_text()
     table = reference_tables()["Scene file: [made_up]"]
     assert "| `made_up_k` | a made-up option [N/m] | `1.0` |" in table
-    # after the map's section (its table and prose), before the next part of the reference
-    assert new.index("### Scene file: [map]") < new.index(f"### Scene file: [made_up]\n\n{table}\n\n## Run result")
+    # after the section of the internal registered before it (its table and prose), before the next part
+    before = [n for n in registry.names() if n != "made_up"][-1]
+    assert new.index(f"### Scene file: [{before}]") < new.index(f"### Scene file: [made_up]\n\n{table}\n\n## Run result")
     assert new.replace(f"### Scene file: [made_up]\n\n{table}\n\n", "") == DOC.read_text()
     readme = tmp_path / "README.md"
     shutil.copyfile(DOC.parents[1] / "README.md", readme)
     assert ff.write_lists([readme]) == [str(readme)]
-    assert "<!-- generated: internals -->reynolds | linear | taylor | map | made_up<!-- end -->" in readme.read_text()
+    assert f"<!-- generated: internals -->{' | '.join(registry.names())}<!-- end -->" in readme.read_text()
     bad = tmp_path / "bad.md"
     bad.write_text("<!-- generated: nothing -->x<!-- end -->")
     with pytest.raises(ValueError, match=rf"{bad}: no generated list named nothing \(known: internals,"):
