@@ -342,7 +342,7 @@ def _compile_bundle_once(fmu: Path, code_cache: Path, data_dir: Path) -> None:
             return
         drive = _example("drive_fmu_with_fmpy")
         for spec in registry.REGISTRY.values():
-            if not spec.kernels or callable(spec.factory):
+            if not spec.kernels or callable(spec.factory) or not spec.can.fmu:  # only what the FMU computes
                 continue
             case = spec.contract_case(data_dir)
             options = {**case.options, **{key: Path(p).name for key, p in case.files.items()}}

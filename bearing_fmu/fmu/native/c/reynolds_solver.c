@@ -36,14 +36,6 @@ RS_API size_t rs_bytes(int n_theta, int n_x) {
     return rs_align(sizeof(rs_solver)) + rs_align(rs_doubles(N, m) * sizeof(double)) + rs_align(2 * N + N * m);
 }
 
-/* The geometry's lobe index of angle t (geometry.lobe_of) */
-static int rs_lobe_of(int lobes, double lobe_angle, double t) {
-    if (lobes < 2) return 0;
-    double step = RS_TWO_PI / lobes;
-    int k = (int)floor(py_mod(t - lobe_angle + 0.5 * step, RS_TWO_PI) / step);
-    return ((k % lobes) + lobes) % lobes;
-}
-
 /* h / CR of the centred journal at t on lobe k (geometry.base_film) */
 static double rs_base_film(int lobes, double preload, double offset, double lobe_angle, double t, int k) {
     if (lobes < 2 || preload == 0.0) return 1.0;

@@ -49,6 +49,17 @@
 #endif
 #define RS_TWO_PI (2.0 * M_PI)
 
+#include "py_mod.h"
+
+/* The geometry's lobe index of angle t (geometry.lobe_of): the grid (reynolds_solver.c) and the
+ * film report's inflow lines (reynolds_film.c) both ask it */
+static inline int rs_lobe_of(int lobes, double lobe_angle, double t) {
+    if (lobes < 2) return 0;
+    double step = RS_TWO_PI / lobes;
+    int k = (int)floor(py_mod(t - lobe_angle + 0.5 * step, RS_TWO_PI) / step);
+    return ((k % lobes) + lobes) % lobes;
+}
+
 #define RS_HISTORY 4           /* converged calls remembered for the warm start (WARM_HISTORY) */
 #define RS_MAX_TURN_CELLS 2.0  /* WARM_MAX_TURN_CELLS */
 #define RS_MAX_DLOG 1.0        /* WARM_MAX_DLOG */
