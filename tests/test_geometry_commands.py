@@ -65,7 +65,8 @@ def test_scene_through_the_python_fmu_takes_the_bore(tmp_path, capsys):
         assert np.max(np.abs(runs["fmu"][key] - runs["direct"][key])) <= 1e-9 * np.max(np.abs(runs["direct"][key]))
 
 
-def test_scene_through_the_native_fmu_is_refused_before_any_build(tmp_path, capsys):
+def test_scene_through_the_native_fmu_is_refused_before_any_build(tmp_path, capsys, monkeypatch):
+    monkeypatch.setenv("BEARING_FMU_BUILD_CACHE", str(tmp_path / "fmus"))  # where a build would go
     # the native Reynolds FMU has the bore compiled in and the native map FMU its map's bore (both
     # run: test_grooved_scene_through_the_native_map_fmu); the native linear FMU has neither
     code, _, err = run_cli("rotor-host", ["run", str(MODELS / "scenes" / "paper_2groove_22hz.toml"), "--via", "fmu",

@@ -61,7 +61,7 @@ def test_sweep_interrupted_while_drawing_its_diagram_keeps_the_table(tmp_path):
     marker = tmp_path / "paused"
     proc = start_command("rotor-host", "sweep", SCENE, "--speeds-hz", "22", "--internal", "map", "--via", "direct",
                          "--t-end", "0.02", "--workers", "1", "--out", out, "--quiet",
-                         pause="rotor_host.analyses.sweep:plot_bifurcation", env={"PAUSE_MARKER": str(marker)})
+                         pause="rotor_host.analyses.sweep.summary:plot_bifurcation", env={"PAUSE_MARKER": str(marker)})
     took, _, err = _interrupt(proc, marker, signal.SIGTERM)
     assert proc.returncode == 143 and took < 5.0, err
     stem = out / "sweep_paper_22hz_map"

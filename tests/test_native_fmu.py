@@ -910,13 +910,14 @@ def test_rotor_host_runs_native_fmus_like_the_direct_internal(tmp_path, internal
         assert np.max(np.abs(native[key] - direct.arrays[key])) < 1e-9 * CR
 
 
-def test_a_native_reynolds_fmu_serves_one_bore(paper_scene, tmp_path):
+def test_a_native_reynolds_fmu_serves_one_bore(paper_scene, tmp_path, monkeypatch):
     """The native Reynolds FMU has the first bearing's bore compiled in: a rotor whose bearings have
     different bores is refused by name before anything is built (the lemon rotor's second bearing
     on the plain bore here)."""
     from rotor_host.scenes.run import run_scene
     from rotor_host.scenes.scene import SceneError, load_scene
 
+    monkeypatch.setenv("BEARING_FMU_BUILD_CACHE", str(tmp_path / "fmus"))  # where a build would go
     text = (ROOT / "rotor_host" / "bundled" / "rotor_paper_lemon.toml").read_text()
     lemon, plain = ROOT / "rotor_host" / "bundled" / "bearing_paper_lemon.toml", ROOT / "rotor_host" / "bundled" / "bearing_paper.toml"
     head, _, tail = text.partition('bearing = "bearing_paper_lemon.toml"')
@@ -945,6 +946,8 @@ def test_rotor_host_runs_taylor_with_its_fallback_natively(paper_scene, tmp_path
     direct = run_scene(sc.with_internal("taylor", via="direct"), tmp_path, stem="direct")
     assert native.ok and direct.ok and len(native.arrays["t"]) == 101
     assert direct.meta["out_of_domain_fraction"][0] > 0.3  # the fallback was used
-    assert any(p.name.startswith("bearing_native_taylor") for p in tmp_path.rglob("*.fmu"))
+    from bearing_fmu.io.cache import build_cache
+
+    assert any(p.name.startswith("bearing_native_taylor") for p in build_cache().glob("*.fmu"))  # the FMU cache
     for key in ("y", "z"):
         assert np.max(np.abs(native.arrays[key] - direct.arrays[key])) < 1e-9 * PAPER_BEARING.CR

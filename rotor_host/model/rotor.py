@@ -24,7 +24,6 @@ import numpy as np
 from bearing_fmu.io.schema import Choice, FileName, Key, List, Number, Table, Tables, Text, check_table, read_toml
 from bearing_fmu.physics.params import BearingParams
 
-from ..integrate.banded import band_to_sparse, from_band
 from . import fe
 
 # the keys of a rotor file, per table, with the kind of value each takes (docs/file-formats.md
@@ -172,6 +171,8 @@ def assemble_bands(elements: Sequence[ShaftElement], disks: Sequence[Disk], mate
 def assemble(elements: Sequence[ShaftElement], disks: Sequence[Disk], material: Material):
     """Global dense (M, K, G, C) for a chain of elements (element i joins nodes i, i+1)."""
     B = assemble_bands(elements, disks, material)
+    from ..integrate.banded import from_band  # numba's import only when a matrix is asked for (not for --help)
+
     return tuple(from_band(B[k]) for k in ("M", "K", "G", "C"))
 
 
@@ -212,6 +213,8 @@ class Rotor:
     def _full(self, name: str) -> np.ndarray:
         A = self._dense.get(name)
         if A is None:
+            from ..integrate.banded import from_band  # numba's import only when a matrix is asked for
+
             A = self._dense[name] = from_band(self.bands[name])
         return A
 
@@ -237,6 +240,8 @@ class Rotor:
 
     def sparse(self) -> tuple:
         """(M, K, G, C) as scipy.sparse CSR matrices, the same entries, without an n x n array."""
+        from ..integrate.banded import band_to_sparse  # numba's import only when a matrix is asked for
+
         return tuple(band_to_sparse(self.bands[k]) for k in ("M", "K", "G", "C"))
 
     def matrices(self) -> tuple:
