@@ -1,7 +1,7 @@
 """Fixtures shared by the test modules: one bearing FMU per session (with a made-up surrogate
 bundled), its extraction and instances, a scene writer, the central-difference Jacobian, and
 file systems that refuse writes (a small tmpfs: full, or remounted read-only; as root). Also the
-``native`` marker (set by hook on every test that builds or loads a native FMU; README, *The edit
+``native`` marker (set by hook on every test that builds or loads a native FMU; docs/development.md, *The edit
 loop*) and the build caches, each keyed by the sources its build uses (``source_files``)."""
 
 import fcntl

@@ -13,7 +13,8 @@ force maps and Taylor surrogates (package data, read with ``importlib.resources`
 The folder stays together, so the relative references hold wherever it is installed. A command
 takes a file either as a path or, when no such file is there, by its bundled name: the name
 within this folder (``scenes/paper_22hz.toml``) or, for one kind of file, its stem
-(``rotor-host run paper_22hz``, ``rotor-host stability rotor_paper``, ``--map paper_bearing``).
+(``rotor-host run paper_22hz``, ``rotor-host stability rotor_paper``, ``rotor-host stability --map paper_bearing``; the ``bearing-fmu`` command takes paths only, as
+the bearing side never imports the host).
 """
 
 from __future__ import annotations
