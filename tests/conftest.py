@@ -36,13 +36,9 @@ def fmu_build_cache(tmp_path_factory):
     folder of this session, shared by its tests and their subprocesses (inherited environment), so
     the tests neither read nor fill the user's cache."""
     path = tmp_path_factory.mktemp("fmu-builds")
-    old = os.environ.get("BEARING_FMU_BUILD_CACHE")
-    os.environ["BEARING_FMU_BUILD_CACHE"] = str(path)
-    yield path
-    if old is None:
-        os.environ.pop("BEARING_FMU_BUILD_CACHE", None)
-    else:
-        os.environ["BEARING_FMU_BUILD_CACHE"] = old
+    with pytest.MonkeyPatch.context() as mp:  # the session's: restored at its end
+        mp.setenv("BEARING_FMU_BUILD_CACHE", str(path))
+        yield path
 
 
 # ------------------------------------------------------------ the native marker
@@ -110,13 +106,9 @@ def code_cache(request, tmp_path_factory):
     gets a new folder. A session temp dir when the cache plugin is off (-p no:cacheprovider)."""
     cache = getattr(request.config, "cache", None)
     path = cache.mkdir("fmu-code") if cache is not None else tmp_path_factory.mktemp("fmu_code_cache")
-    old = os.environ.get("BEARING_FMU_CACHE_DIR")
-    os.environ["BEARING_FMU_CACHE_DIR"] = str(path)
-    yield path
-    if old is None:
-        os.environ.pop("BEARING_FMU_CACHE_DIR", None)
-    else:
-        os.environ["BEARING_FMU_CACHE_DIR"] = old
+    with pytest.MonkeyPatch.context() as mp:  # the session's: restored at its end
+        mp.setenv("BEARING_FMU_CACHE_DIR", str(path))
+        yield path
 
 
 def _module_names(pkg: Path) -> dict[str, Path]:
