@@ -125,6 +125,10 @@ def _demo(args: argparse.Namespace) -> int:
     att = rec["attitude_deg"] if rec["attitude_deg"] is not None else 0.0
     print(f"equilibrium: y0 = {rec['y0_m'] * 1e6:.3f} um, z0 = {rec['z0_m'] * 1e6:.3f} um, eccentricity ratio "
           f"{rec['eccentricity']:.4f}, attitude angle {att:.2f} deg, minimum film {rec['h_min_m'] * 1e6:.3f} um")
+    print(f"film pressure: peak {rec['peak_pressure_Pa'] / 1e6:.4g} MPa at theta = {rec['peak_pressure_deg']:.2f} deg "
+          f"(minimum film at {rec['min_film_deg']:.2f} deg; theta 0 at the top, turning with the shaft)"
+          + (f"; unit load W / (L D) = {rec['unit_load_Pa'] / 1e6:.4g} MPa, ratio {rec['unit_load_Pa'] / rec['peak_pressure_Pa']:.4g}"
+             if rec["peak_pressure_Pa"] > 0.0 else ""))
     W = float(np.hypot(*load))
     if W > 0.0:
         print(f"Sommerfeld number S = (mu N L D / W) (R / C)^2 = {rec['sommerfeld']:.4g} (Raimondi and Boyd's; "
@@ -499,7 +503,7 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--map", type=existing_file, default=None, metavar="FILE",
                    help="--internal map: the force map file (with its flow tables)")
     p.add_argument("--json", action="store_true",
-                   help="print the record as JSON (eccentricity, attitude, h_min, Sommerfeld, friction, flows, T_eff, "
+                   help="print the record as JSON (eccentricity, attitude, h_min, peak pressure, Sommerfeld, friction, flows, T_eff, "
                         "mu_eff, K and C dimensional and dimensionless; SI, keys carry their unit)")
     p.set_defaults(func=_demo)
 

@@ -290,10 +290,18 @@ class Geometry:
     def min_film(self, y: float, z: float, CR: float, n: int = 3600) -> float:
         """Smallest film thickness [m] over the film region (edges included), journal at (y, z) [m],
         sampled every 360/n deg and at every edge."""
+        return self.min_film_at(y, z, CR, n)[0]
+
+    def min_film_at(self, y: float, z: float, CR: float, n: int = 3600) -> tuple[float, float]:
+        """(h_min [m], theta [rad]) of the smallest film over the film region, as ``min_film``; the full
+        bore's exactly, at the angle opposite the journal's displacement."""
+        if self.is_full_bore and (y or z):
+            return CR - math.hypot(y, z), math.atan2(-y, z) % TWO_PI  # h = CR - e cos(theta - theta_min)
         th = np.concatenate([np.arange(n) * (TWO_PI / n), np.array(self.edges())])
         th = th[[not self.is_prescribed(t) for t in th]]
         h = CR * self.base_film(th) + y * np.sin(th) - z * np.cos(th)
-        return float(h.min())
+        k = int(np.argmin(h))
+        return float(h[k]), float(th[k] % TWO_PI)
 
     def closure(self, y: float, z: float, CR: float) -> float:
         """How far the journal at (y, z) [m] closes the film: max over the film of

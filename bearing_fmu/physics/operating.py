@@ -33,7 +33,10 @@ def operating_point(params: BearingParams, load, speed_hz: float, T_supply_K: fl
                     internal=None) -> dict:
     """The record of the bearing under the static ``load`` = (Wy, Wz) [N] at ``speed_hz`` [Hz]
     (> 0), oil supplied at ``T_supply_K`` [K] (default: the bearing file's supply_C; refused without
-    an [oil] table). Keys carry their unit; K, C are 2 x 2 lists (K_ij = -dF_i/dq_j, axes y, z).
+    an [oil] table). Keys carry their unit; K, C are 2 x 2 lists (K_ij = -dF_i/dq_j, axes y, z); angles
+    (``min_film_deg``, ``peak_pressure_deg``) are the bore's theta (docs/conventions.md: 0 at the top,
+    increasing with the rotation); the peak pressure is the Reynolds field's at the point, whichever
+    internal found the point.
     ``internal``: another internal with a film report (a map, a Taylor surrogate with its film fit)
     at the viscosity ``params.mu`` in place of the Reynolds solver, scaled to mu_eff exactly (F ~ mu)."""
     if not (math.isfinite(speed_hz) and speed_hz > 0.0):
@@ -59,13 +62,19 @@ def operating_point(params: BearingParams, load, speed_hz: float, T_supply_K: fl
     rep = at_viscosity(rey.film_report(y0, z0, 0.0, 0.0, omega), f)
     eps = math.hypot(y0, z0) / params.CR
     geo = params.geometry
-    h_min = params.CR * (1.0 - eps) if geo.is_full_bore else geo.min_film(y0, z0, params.CR)
+    h_min, th_min = geo.min_film_at(y0, z0, params.CR)
+    if geo.is_full_bore:
+        h_min = params.CR * (1.0 - eps)
+    # the peak from the Reynolds field at the point (an internal without a field: one solve here)
+    p_peak, th_peak = (rey if internal is None else Reynolds(params)).peak_pressure(y0, z0, 0.0, 0.0, omega)
     rho_c = (oil.density * oil.heat_capacity) if oil is not None else DEFAULT_DENSITY * DEFAULT_HEAT_CAPACITY
     rise = heat_balance_rise(rep, rho_c)
     rec = {
         "speed_hz": speed_hz, "load_N": list(load), "y0_m": y0, "z0_m": z0,
         "eccentricity": eps, "attitude_deg": _attitude_deg(load, y0, z0) if W > 0.0 else None,
-        "h_min_m": h_min, "mu_Pa_s": params.mu,
+        "h_min_m": h_min, "min_film_deg": math.degrees(th_min), "peak_pressure_Pa": p_peak,
+        "peak_pressure_deg": math.degrees(th_peak),
+        "unit_load_Pa": W / (params.L * params.D), "mu_Pa_s": params.mu,
         "sommerfeld": sommerfeld_number(params, W, speed_hz) if W > 0.0 else None,
         "friction_coefficient": rep.friction_coefficient if W > 0.0 else None,
         "friction_torque_Nm": rep.friction_torque_Nm, "friction_power_W": rep.friction_power_W,

@@ -98,7 +98,7 @@ import math
 import numpy as np
 
 from ..internals.registry import check_state, overflow_error
-from .film import FilmReport, edge_flows, field_report, flow_field
+from .film import FilmReport, edge_flows, field_report, flow_field, peak_pressure
 from .params import BearingParams
 from .geometry_kernels import geometry_kernel
 from .reynolds_kernels import reynolds_kernel
@@ -355,6 +355,16 @@ class Reynolds:
         half = self._p.reshape(self.n_theta, self._m)
         p = np.concatenate([half, half[:, ::-1]], axis=1)
         return self._theta.copy(), self._x.copy(), p
+
+    def peak_pressure(self, y: float, z: float, vy: float, vz: float, omega: float) -> tuple[float, float]:
+        """(p_peak [Pa], theta_peak [rad]) of the film at a state: its largest pressure, refined between
+        cell centres (``film.peak_pressure``); as ``film_report``, it reads the field of a force call at
+        the same state."""
+        state = (float(y), float(z), float(vy), float(vz), float(omega))
+        if self._solved != state:
+            self._run(*state, False)
+        half = self._p.reshape(self.n_theta, self._m)
+        return peak_pressure(self._theta, self._x, np.concatenate([half, half[:, ::-1]], axis=1))
 
     def film_report(self, y: float, z: float, vy: float, vz: float, omega: float) -> FilmReport:
         """Friction (torque, force, power, coefficient) and flow (inflow, side flow) of the film at a

@@ -232,6 +232,10 @@ def run_and_report(scene, out, *, progress: bool = True, plots: bool = True) -> 
           f"evaluations per step, {m['step_cuts']} step cuts")
     print(f"max eccentricity ratio per bearing: {', '.join(f'{e:.3f}' for e in m['max_eccentricity'])}"
           + ("  (the orbit crossed the clearance circle)" if m["crossed_clearance"] else ""))
+    if any(p is not None for p in m.get("peak_pressure_Pa", [])):  # at each journal's closest approach
+        print("peak film pressure per bearing (Reynolds, at its largest eccentricity): " + ", ".join(
+            "-" if p is None else f"{p / 1e6:.4g} MPa at {d:.1f} deg (t = {t:.4g} s)"
+            for p, d, t in zip(m["peak_pressure_Pa"], m["peak_pressure_deg"], m["peak_pressure_t_s"])))
     for line in thermal_lines(run.arrays):  # a supply temperature: how hot, how much power
         print(line)
     if m["status"] != "ok":

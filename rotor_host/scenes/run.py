@@ -35,6 +35,7 @@ from ..integrate.equilibrium import solve_part, static_equilibrium
 from ..integrate.loads import RotatingLoads
 from ..integrate.newmark import IntegrationError, Newmark, NewmarkConfig
 from ..model.rotor import Rotor
+from .film_peaks import peak_pressures
 from .sanity import check_scene_physics
 from .scene import G, Scene, SceneError, required_file, scene_files
 from .thermal import scene_thermal, thermal_arrays, thermal_internal, thermal_meta, with_history
@@ -457,6 +458,8 @@ class _Writer:
                                                    self.q0[[rotor.dof(n, "z") for n in rotor.bearing_nodes]])
                                           / CR).tolist()),
         })
+        if status != "running":  # the film's peak pressure where each journal came closest to its bore
+            meta.update(peak_pressures(rotor.bearings, arrays))
         if registry.get(scene.internal).can.fitted_domain and ecc.size and status != "running":
             meta.update(_domain_report(scene, rotor, yz[:, bcols], vyz[:, bcols]))
             worst = max(meta["max_domain_excess"])
