@@ -118,9 +118,9 @@ def _demo(args: argparse.Namespace) -> int:
     print(f"{name}: D {params.D * 1e3:g} mm, L {params.L * 1e3:g} mm (L/D {params.L / params.D:.3g}), "
           f"CR {params.CR * 1e6:g} um, mu {rec['mu_Pa_s']:.4g} Pa s; {model}")
     geo = params.geometry
-    if not geo.is_full_bore:
-        print(f"bore: {geo.describe()}" + (f"; pad clearance {geo.pad_clearance(params.CR) * 1e6:.4g} um"
-                                           if geo.preload > 0 else ""))
+    if not geo.is_full_bore:  # the record's: a feed line placed at this equilibrium
+        print(f"bore: {rec['bore']}" + (f"; pad clearance {geo.pad_clearance(params.CR) * 1e6:.4g} um"
+                                        if geo.preload > 0 else ""))
     print(f"speed {args.speed_hz:g} Hz, static load (Wy, Wz) = ({load[0]:g}, {load[1]:g}) N")
     att = rec["attitude_deg"] if rec["attitude_deg"] is not None else 0.0
     print(f"equilibrium: y0 = {rec['y0_m'] * 1e6:.3f} um, z0 = {rec['z0_m'] * 1e6:.3f} um, eccentricity ratio "

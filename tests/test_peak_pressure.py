@@ -106,9 +106,9 @@ def test_demo_record_keys():
 
 
 def test_run_record_peak_at_the_closest_approach():
-    """``film_peaks.peak_pressures`` reads the recorded state of largest eccentricity and gives the
+    """``run_record.peak_pressures`` reads the recorded state of largest eccentricity and gives the
     Reynolds field's peak there (checked against a direct solve at that state)."""
-    from rotor_host.scenes.film_peaks import peak_pressures
+    from rotor_host.scenes.run_record import peak_pressures
 
     prm = PAPER_BEARING
     t = np.array([0.0, 0.1, 0.2])

@@ -56,13 +56,16 @@ from functools import cached_property
 
 import numpy as np
 
-from ..io.schema import Key, List, Number
+from ..io.schema import Choice, Key, List, Number
 from .pads import PAD_KEYS, PadGeometry, pads_from_mapping
 
 TWO_PI = 2.0 * math.pi
 MAX_LOBES = 8
 MAX_SUPPLY_KPA = 10_000.0  # 10 MPa: feed pressures are 0.05-0.5 MPa, hydrostatic pockets a few MPa
 MIN_PAD_DEG = 5.0  # the film between two edges (a pad, an arc) is at least this wide
+# feed = "thickest": the feed line's width, one cell of the default grid (the line of Raimondi & Boyd)
+FEED_WIDTH_DEG = 360.0 / 128
+FEEDS = ("film", "thickest")
 _SNAP = 1e-9  # [rad] edges closer than this are one edge
 
 
@@ -89,6 +92,10 @@ GEOMETRY_KEYS = (
         "edge (0.5 symmetric, 1.0 offset halves)", 0.5, "0 .. 1", kind=Number(0.0, 1.0)),
     Key("lobe_angle_deg", "theta of the middle of the first lobe [deg] (0: lobes centred at the top, and "
         "for 2 lobes at the bottom)", 0.0, "an angle", kind=Number()),
+    Key("feed", "where a plain full bore takes its oil in: 'film' (wherever the film reforms, Swift-Stieber) "
+        "or 'thickest' (along the line of thickest film at the static equilibrium, as Raimondi & Boyd's full "
+        f"bearing: an ambient feed line {FEED_WIDTH_DEG:.4g} deg wide, placed by iteration with the load)", "film",
+        "film or thickest; thickest on the plain full bore only", kind=Choice(FEEDS)),
     *PAD_KEYS,  # a tilting-pad bore (physics.pads)
 )
 
@@ -117,6 +124,9 @@ class Geometry:
     lobe_offset     : preload point as a fraction of the lobe from its leading edge, in [0, 1]
     lobe_angle      : theta of the middle of the first lobe [rad]
     pads            : a tilting-pad bore (``physics.pads.PadGeometry``; its preload its own), or None
+    feed            : "film", or "thickest": the plain bore fed along its line of thickest film at the
+                      static equilibrium; placed (``physics.feed.place_feed``) it is one groove of
+                      FEED_WIDTH_DEG there, unplaced (no groove yet) no solver takes it
     """
 
     grooves: tuple[float, ...] = ()
@@ -128,6 +138,7 @@ class Geometry:
     lobe_offset: float = 0.5
     lobe_angle: float = 0.0
     pads: PadGeometry | None = None
+    feed: str = "film"
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "grooves", tuple(sorted(_wrap(float(g)) for g in self.grooves)))
@@ -142,12 +153,30 @@ class Geometry:
     @property
     def is_full_bore(self) -> bool:
         """The plain 360 deg circular bore: the solver's original path, bit for bit."""
-        return not self.grooves and self.arc is None and self.lobes == 1 and self.pads is None
+        return not self.grooves and self.arc is None and self.lobes == 1 and self.pads is None and self.feed == "film"
+
+    @property
+    def feed_unplaced(self) -> bool:
+        """feed = "thickest" not yet placed at a static equilibrium (``physics.feed.place_feed``)."""
+        return self.feed == "thickest" and not self.grooves
+
+    def require_placed(self, what: str) -> None:
+        """ValueError for an unplaced feed line, naming ``what`` needed it placed."""
+        if self.feed_unplaced:
+            raise ValueError(f"{what}: feed = 'thickest' puts the feed line where the film is thickest at the static "
+                             "equilibrium, which needs the static load and the speed (demo, run, stability and the "
+                             "FMUs of a scene place it); to fix the line yourself, write feed = 'film' with "
+                             "grooves_deg = [the angle demo prints]")
 
     def describe(self) -> str:
         """The bore in a few words (for messages and the demo)."""
         if self.is_full_bore:
             return "full 360 deg circular bore"
+        if self.feed == "thickest":
+            return ("full 360 deg circular bore fed along the line of thickest film "
+                    + (f"at {math.degrees(self.grooves[0]):.4g} deg (the static equilibrium's; an ambient line "
+                       f"{math.degrees(self.groove_width):.3g} deg wide)" if self.grooves
+                       else "(placed at the static equilibrium)"))
         if self.pads is not None:
             return self.pads.describe()
         parts = []
@@ -193,6 +222,12 @@ class Geometry:
             return f"preload = {self.preload:g} needs lobes >= 2 (a preloaded bore has lobes; lobes = 1 is circular)"
         if not (math.isfinite(self.lobe_offset) and 0.0 <= self.lobe_offset <= 1.0):
             return f"lobe_offset = {self.lobe_offset!r} must be in 0 .. 1"
+        if self.feed not in FEEDS:
+            return f"feed = {self.feed!r} must be one of {', '.join(FEEDS)}"
+        if self.feed == "thickest" and (len(self.grooves) > 1 or self.arc is not None or self.lobes > 1
+                                        or self.pads is not None or self.supply_pressure > 0.0):
+            return ("feed = 'thickest' is the plain full bore's feed line (Raimondi & Boyd's full bearing): leave out "
+                    "grooves_deg, supply_pressure_kPa, arc_deg, lobes and pads, or use feed = 'film'")
         g = self.grooves
         min_pad = math.radians(MIN_PAD_DEG)
         if len(g) > 1:
@@ -411,13 +446,15 @@ class Geometry:
         if self.lobes > 1:
             out.update(lobes=self.lobes, preload=self.preload, lobe_offset=self.lobe_offset,
                        lobe_angle_deg=math.degrees(self.lobe_angle))
+        if self.feed != "film":
+            out["feed"] = self.feed
         return out
 
     def close_to(self, other: "Geometry", tol: float = 1e-9) -> bool:
         """The same bore to ``tol`` (radians, relative for the pressure): what a file recorded in
         degrees and read back compares equal to."""
         a, b = self.as_table(), other.as_table()
-        if set(a) != set(b):
+        if set(a) != set(b) or a.pop("feed", None) != b.pop("feed", None):
             return False
         flat = lambda t: np.concatenate([np.atleast_1d(np.asarray(t[k], float)) for k in sorted(t)]) if t else np.zeros(0)
         x, y = flat(a), flat(b)
@@ -431,6 +468,9 @@ class Geometry:
         pads = pads_from_mapping(d, given, error)  # a tilting-pad bore: its own keys (physics.pads)
         if pads is not None:
             return cls(pads=pads)
+        if d["feed"] == "thickest" and len(d["grooves_deg"]) > 1:
+            raise error("feed = 'thickest' places one feed line itself: leave grooves_deg out (a file that records "
+                        "a placed line has one angle there)")
         if d["groove_width_deg"] is not None and "groove_width_deg" in given and not d["grooves_deg"]:
             raise error("groove_width_deg needs grooves_deg (no groove is given)")
         for key in ("lobe_offset", "lobe_angle_deg"):
@@ -439,11 +479,12 @@ class Geometry:
         arc = d["arc_deg"]
         try:
             return cls(grooves=tuple(math.radians(g) for g in d["grooves_deg"]),
-                       groove_width=math.radians(d["groove_width_deg"]),
+                       groove_width=math.radians(FEED_WIDTH_DEG if d["feed"] == "thickest"
+                                                 and "groove_width_deg" not in given else d["groove_width_deg"]),
                        supply_pressure=d["supply_pressure_kPa"] * 1e3,
                        arc=None if arc is None else (math.radians(arc[0]), math.radians(arc[1])),
                        lobes=d["lobes"], preload=d["preload"], lobe_offset=d["lobe_offset"],
-                       lobe_angle=math.radians(d["lobe_angle_deg"]))
+                       lobe_angle=math.radians(d["lobe_angle_deg"]), feed=d["feed"])
         except ValueError as exc:
             raise error(str(exc).removeprefix("Geometry: ")) from None
 

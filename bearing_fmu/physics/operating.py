@@ -14,6 +14,7 @@ import math
 import numpy as np
 
 from .oil import DEFAULT_DENSITY, DEFAULT_HEAT_CAPACITY, KELVIN
+from .feed import place_feed
 from .film import at_viscosity
 from .params import BearingParams
 from .reynolds import Reynolds
@@ -45,6 +46,8 @@ def operating_point(params: BearingParams, load, speed_hz: float, T_supply_K: fl
     omega = 2.0 * math.pi * speed_hz
     W = math.hypot(*load)
     oil = params.oil
+    # a feed along the line of thickest film: placed at the isothermal equilibrium (as a run places it)
+    params = place_feed(params, load, omega, name="operating point")
     thermal = None
     if oil is not None:
         thermal = effective_temperature(params, load, omega, T_supply_K, internal=internal)
@@ -83,8 +86,10 @@ def operating_point(params: BearingParams, load, speed_hz: float, T_supply_K: fl
         "temperature_rise_K": rise,
         "T_supply_K": thermal.T_supply_K if thermal else None, "T_eff_K": thermal.T_eff_K if thermal else None,
         "mu_eff_Pa_s": params.mu, "oil": oil.describe() if oil is not None else None,
-        "K_N_m": np.asarray(K).tolist(), "C_N_s_m": np.asarray(C).tolist(),
+        "K_N_m": np.asarray(K).tolist(), "C_N_s_m": np.asarray(C).tolist(), "bore": geo.describe(),
     }
+    if geo.feed == "thickest":
+        rec["feed_deg"] = math.degrees(geo.grooves[0])
     if W > 0.0:
         Kd, Cd = dimensionless_coefficients(params, W, omega, K, C)
         rec["K_dimensionless"], rec["C_dimensionless"] = np.asarray(Kd).tolist(), np.asarray(Cd).tolist()

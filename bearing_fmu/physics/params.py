@@ -175,6 +175,10 @@ class BearingParams:
         tail += "" if self.oil is None else f", oil={self.oil!r}"
         return f"BearingParams(D={self.D!r}, L={self.L!r}, CR={self.CR!r}, mu={self.mu!r}{tail})"
 
+    def with_geometry(self, geometry: Geometry) -> "BearingParams":
+        """The same bearing with another bore (a placed feed line: ``physics.feed``)."""
+        return replace(self, geometry=geometry)
+
     def with_viscosity(self, mu: float) -> "BearingParams":
         """The same bearing at viscosity mu [Pa s] (an effective one): the film force scales with it."""
         return replace(self, mu=float(mu))

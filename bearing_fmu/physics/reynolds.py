@@ -164,6 +164,7 @@ class Reynolds:
         if params.geometry.pads is not None:  # each pad is a partial arc of this solver (internals.tilting_pad)
             raise ValueError(f"Reynolds: the bore is tilting pads ({params.geometry.describe()}): the film moves with "
                              "the pads; solve each pad as a partial arc (the tilting_pad internal)")
+        params.geometry.require_placed("Reynolds")
         self.params = params
         self.n_theta = _check_grid("n_theta", DEFAULT_N_THETA if n_theta is None else n_theta, 8, False)
         self.n_x = _check_grid("n_x", DEFAULT_N_X if n_x is None else n_x, 2, True)

@@ -11,7 +11,6 @@ The scene itself -- its file, keys and checks -- is ``rotor_host.scenes.scene``.
 
 from __future__ import annotations
 
-import functools
 import hashlib
 import math
 import os
@@ -29,13 +28,14 @@ from bearing_fmu.internals.registry import Context
 from bearing_fmu.io.cache import cache_dir, source_digest
 from bearing_fmu.io.exits import as_interrupted, handled, note_kept
 from bearing_fmu.io.outputs import claim, ensure_writable, savez, write_json
+from bearing_fmu.physics.feed import place_feeds
 
 from ..integrate.banded import is_sparse
 from ..integrate.equilibrium import solve_part, static_equilibrium
 from ..integrate.loads import RotatingLoads
 from ..integrate.newmark import IntegrationError, Newmark, NewmarkConfig
 from ..model.rotor import Rotor
-from .film_peaks import peak_pressures
+from .run_record import domain_report, package_versions, peak_pressures
 from .sanity import check_scene_physics
 from .scene import G, Scene, SceneError, required_file, scene_files
 from .thermal import scene_thermal, thermal_arrays, thermal_internal, thermal_meta, with_history
@@ -202,6 +202,11 @@ def _native_fmu(scene: Scene, work_dir: Path, bearing=None) -> Path:
                                  platforms=[host_platform()], bearing=bearing, speed_hz=speed_hz, **files))
 
 
+def _place_feeds(scene: Scene, rotor: Rotor, loads) -> None:
+    """Feed lines at the thickest film placed at the scene's speed, where they stay for the run."""
+    rotor.bearings = place_feeds(rotor.bearings, loads, scene.omega, f"{scene.source}: ")
+
+
 def build_bearings(scene: Scene, rotor: Rotor, loads: np.ndarray, work_dir: Path, warn=None, thermal=None):
     """The BearingSet of the scene: FMU instances (via = fmu) or internals in-process (their
     warnings to ``warn``, default: warnings.warn); ``thermal`` (``scene_thermal``): each internal
@@ -209,6 +214,7 @@ def build_bearings(scene: Scene, rotor: Rotor, loads: np.ndarray, work_dir: Path
     pairs = [(rotor.dof(n, "y"), rotor.dof(n, "z")) for n in rotor.bearing_nodes]
     names = [f"bearing {k + 1} (node {n + 1})" for k, n in enumerate(rotor.bearing_nodes)]
     scene_files(scene)  # a missing file is named before anything is built
+    _place_feeds(scene, rotor, loads)
     if scene.via == "direct":
         from ..coupling.bearings import DirectBearings
 
@@ -308,38 +314,6 @@ class SceneRun:
     @property
     def ok(self) -> bool:
         return self.meta["status"] == "ok"
-
-
-def _domain_report(scene: Scene, rotor: Rotor, q: np.ndarray, v: np.ndarray) -> dict:
-    """Per bearing: the fraction of recorded states outside the internal's fitted domain and
-    the largest distance outside it (``domain_distance`` of an internal with a fitted domain,
-    e.g. the Taylor surrogate's: relative excess over its bounds or, with stored training
-    states, the distance beyond their radius over the domain's size; <= 0: always inside)."""
-    frac, dist = [], []
-    for k, params in enumerate(rotor.bearings):
-        internal = registry.create(scene.internal, params, scene.internal_options(), Context(omega=scene.omega),
-                                   where=str(scene.source))
-        d = np.array([internal.domain_distance(*q[i, k], *v[i, k]) for i in range(len(q))])
-        frac.append(float(np.mean(d > 1e-12)))
-        dist.append(float(d.max()))
-    return {"out_of_domain_fraction": frac, "max_domain_excess": dist}
-
-
-def package_versions() -> dict:
-    return dict(_versions())
-
-
-@functools.cache  # once per process: a sweep's worker runs many scenes (~17 ms each time)
-def _versions() -> dict:
-    import importlib.metadata as md
-
-    out = {"python": platform.python_version()}
-    for pkg in ("bearing-fmu", "numpy", "scipy", "numba", "fmpy", "pythonfmu"):
-        try:
-            out[pkg] = md.version(pkg)
-        except md.PackageNotFoundError:
-            out[pkg] = None
-    return out
 
 
 def run_scene(scene: Scene, out_dir=None, *, progress: bool = False, stem: str | None = None,
@@ -461,7 +435,7 @@ class _Writer:
         if status != "running":  # the film's peak pressure where each journal came closest to its bore
             meta.update(peak_pressures(rotor.bearings, arrays))
         if registry.get(scene.internal).can.fitted_domain and ecc.size and status != "running":
-            meta.update(_domain_report(scene, rotor, yz[:, bcols], vyz[:, bcols]))
+            meta.update(domain_report(scene, rotor, yz[:, bcols], vyz[:, bcols]))
             worst = max(meta["max_domain_excess"])
             if meta["status"] != "ok" and worst > 1e-12:
                 # the failure itself may read like a solver problem: say where the surrogate was
@@ -487,6 +461,7 @@ def _run(scene: Scene, holder, work: Path, progress: bool) -> SceneRun:
     integ = None
     try:
         try:
+            _place_feeds(scene, rotor, loads)
             thermal = scene_thermal(scene, rotor, loads)
         except EquilibriumError as exc:
             return out.run(None, "failed", str(exc))

@@ -43,18 +43,19 @@ import numpy as np
 
 from bearing_fmu.internals import registry
 from bearing_fmu.internals.registry import Context
+from bearing_fmu.physics.feed import place_feed
+from bearing_fmu.physics.geometry import Geometry
 from bearing_fmu.io.exits import note_kept
 from bearing_fmu.io.outputs import ensure_writable, write_json, write_text
 
-from ...bundled import folder
 from ...model.rotor import Rotor
+from .stability_inputs import DEFAULT_FILES, PAPER_MAP, check_supply, internal_options  # noqa: F401
 from .stability_report import FORWARD, direction, markdown, to_json
 from .modal import (RANK_UP_TO, band_hz, band_rule, beyond_band_line, critical_speeds, least_beyond, least_in_band,
                     no_critical_line, split_crossings)
 
 DEFAULT_MODES = 8  # modes shown in the Campbell diagram and the table
 THRESHOLD_XTOL_HZ = 1e-4  # Brent's tolerance on the threshold speed [Hz]
-PAPER_MAP = folder() / "maps" / "paper_bearing.json"  # the bundled map of the paper bearing
 
 
 # ----------------------------------------------------------------------------- results
@@ -221,22 +222,33 @@ class Stability:
         self.pairs = [(rotor.dof(n, "y"), rotor.dof(n, "z")) for n in rotor.bearing_nodes]
         self.names = [f"bearing {k + 1} (node {n + 1})" for k, n in enumerate(rotor.bearing_nodes)]
         t0 = time.perf_counter()
-        self.internals = [registry.create(self.internal, p, self.options, Context(load=(float(w[0]), float(w[1]))),
-                                          where=f"{where or 'rotor'}: {name}")
-                          for p, w, name in zip(rotor.bearings, self.loads, self.names)]
+        self.where = where or "rotor"
+        # a feed along the line of thickest film moves with each speed's equilibrium: placed per speed
+        # (``at``), the plain bore until then (the same kernels, for the warm-up)
+        self.unplaced = [k for k, p in enumerate(rotor.bearings) if p.geometry.feed_unplaced]
         self.T_supply_K = None if T_supply_K is None else float(T_supply_K)
         if self.T_supply_K is not None and spec.can.whirl_reduced:
             raise ValueError(f"internal {spec.name!r}: a supply temperature (the bearings' effective temperature) is "
                              "not modelled for it yet; leave the supply temperature out")
         if self.T_supply_K is not None:
-            from bearing_fmu.internals.scaled import ViscosityScaled
-
             check_supply(rotor, self.T_supply_K, where or "rotor", "the supply temperature")
-            self.internals = [ViscosityScaled(i) for i in self.internals]
+        self.internals = [self._create(k, p.with_geometry(Geometry()) if k in self.unplaced else p)
+                          for k, p in enumerate(rotor.bearings)]
         self._warm_up()
         self.setup_s = time.perf_counter() - t0
         self.timings = {"equilibrium": 0.0, "eigen": 0.0}
         self.band_hz = math.inf  # the ranking band of ``at``'s points; ``sweep`` sets it from its top speed
+
+    def _create(self, k: int, params):
+        """Bearing k's internal (at mu_eff with a supply temperature: ``ViscosityScaled``)."""
+        w = self.loads[k]
+        internal = registry.create(self.internal, params, self.options, Context(load=(float(w[0]), float(w[1]))),
+                                   where=f"{self.where}: {self.names[k]}")
+        if self.T_supply_K is None:
+            return internal
+        from bearing_fmu.internals.scaled import ViscosityScaled
+
+        return ViscosityScaled(internal)
 
     def _warm_up(self) -> None:
         """One force and Jacobian per internal, so that compiling (or loading) its kernels counts as
@@ -292,6 +304,12 @@ class Stability:
                                    f"{omega / (2 * math.pi):.6g} Hz ({a[k].tolist()}) from the {self.internal} internal")
         return K, C
 
+    def _place_feeds(self, omega: float) -> None:
+        """The bores fed along their line of thickest film: the line at this speed's equilibrium."""
+        for k in self.unplaced:
+            params = place_feed(self.rotor.bearings[k], self.loads[k], omega, name=f"{self.where}: {self.names[k]}")
+            self.internals[k] = self._create(k, params)
+
     def thermal(self, omega: float) -> tuple[np.ndarray, np.ndarray]:
         """(T_eff [K], mu_eff [Pa s]) per bearing at ``omega`` [rad/s] under its static load, and the
         internals set to mu_eff; empty arrays without a supply temperature. A bearing without a
@@ -316,6 +334,7 @@ class Stability:
     def at(self, speed_hz: float, q0: np.ndarray | None = None) -> tuple[SpeedPoint, np.ndarray]:
         """(SpeedPoint, equilibrium q) at ``speed_hz``; EquilibriumError if there is none."""
         omega = 2.0 * math.pi * speed_hz
+        self._place_feeds(omega)
         T_eff, mu_eff = self.thermal(omega)
         q = self.equilibrium(omega, q0)
         t0 = time.perf_counter()
@@ -460,49 +479,6 @@ def stability(rotor_path, speeds_hz, internal: str = "reynolds", options: dict |
 
 
 # ----------------------------------------------------------------------------- the command
-
-
-DEFAULT_FILES = {"map": PAPER_MAP}  # a file option left out: the paper bearing's (its L/D)
-
-
-def internal_options(internal: str, files: dict | None = None, grid=None) -> dict:
-    """The internal's options from the command line's ``--<file option> FILE`` flags (``files``:
-    option -> path; a required one left out: ``DEFAULT_FILES``) and ``--grid`` (n_theta, n_x),
-    refused by option name when the internal does not read them."""
-    spec = registry.get(internal)
-    own = {o.name: o for o in spec.all_options()}
-    out = {}
-    for option, path in (files or {}).items():
-        if path is None:
-            continue
-        if option not in own:
-            owners = [n for n, other in registry.REGISTRY.items() if option in {o.name for o in other.file_options()}]
-            raise ValueError(f"--{option} {path} is for --internal {' or '.join(owners) or '(none)'} (the internal "
-                             f"is {spec.name})")
-        out[option] = str(Path(path).resolve())
-    for o in spec.file_options():
-        if o.required and o.name not in out:
-            if o.name not in DEFAULT_FILES:
-                raise ValueError(f"--{o.name}: the {spec.name} internal needs its {o.name} file")
-            out[o.name] = str(DEFAULT_FILES[o.name])
-    if grid is not None:
-        if "n_theta" not in own:
-            raise ValueError(f"--grid sets the Reynolds grid; with --internal {spec.name} there is none to set (a "
-                             "map's grid is its own: build a map on another grid with `bearing-fmu map`)")
-        out.update(n_theta=grid[0], n_x=grid[1])
-    return out
-
-
-def check_supply(rotor, T_supply_K: float, where: str, what: str) -> None:
-    """ValueError naming ``what`` (the supply temperature's source) unless every bearing of the rotor
-    has an [oil] table whose range holds ``T_supply_K`` [K]."""
-    for k, (p, n) in enumerate(zip(rotor.bearings, rotor.bearing_nodes)):
-        name = f"bearing {k + 1} (node {n + 1})"
-        if p.oil is None:
-            given = f" (given by {what})" if what.startswith("--") else ""
-            raise ValueError(f"{where}: {name}: a supply temperature{given} needs the bearing file's [oil] table "
-                             f"(its viscosity law); this bearing is isoviscous at {p.mu:g} Pa s")
-        p.oil.check_temperature(T_supply_K, what)
 
 
 def command(*, rotor_file, speeds_hz, internal: str = "reynolds", data_files=None, grid=None, static_load=(), modes:

@@ -71,7 +71,7 @@ def markdown(res: StabilityResult, title: str = "") -> str:
 def to_json(res: StabilityResult, rotor_path=None) -> dict:
     """Everything a later reader needs, without NaN: per speed the equilibrium, K and C and
     the lowest ``n_modes`` modes; the threshold with the least stable mode's shape."""
-    from ...scenes.run import package_versions
+    from ...scenes.run_record import package_versions
 
     def point(p: SpeedPoint) -> dict:
         d = {"speed_hz": p.speed_hz, "status": p.status, "message": p.message}

@@ -1,4 +1,7 @@
-"""The film's peak pressure in a run's record: per bearing, at the recorded state where its journal
+"""What a run's record adds to its arrays: the package versions, a fitted internal's domain report,
+and the film's peak pressure.
+
+The peak pressure: per bearing, at the recorded state where its journal
 came closest to the bore (the largest eccentricity: where the film is thinnest and its pressure, for
 a designer's check against the bearing metal's limit, about the highest of the run).
 
@@ -10,11 +13,16 @@ tilting-pad bearing, which has no single film) gives None, said in ``peak_pressu
 
 from __future__ import annotations
 
+import functools
 import math
+import platform
 
 import numpy as np
 
-__all__ = ["peak_pressures"]
+from bearing_fmu.internals import registry
+from bearing_fmu.internals.registry import Context
+
+__all__ = ["domain_report", "package_versions", "peak_pressures"]
 
 
 def peak_pressures(bearings, arrays: dict) -> dict:
@@ -48,4 +56,36 @@ def peak_pressures(bearings, arrays: dict) -> dict:
         out["peak_pressure_t_s"].append(float(t[i]))
     if notes:
         out["peak_pressure_note"] = "; ".join(notes)
+    return out
+
+
+def domain_report(scene, rotor, q: np.ndarray, v: np.ndarray) -> dict:
+    """Per bearing: the fraction of recorded states outside the internal's fitted domain and
+    the largest distance outside it (``domain_distance`` of an internal with a fitted domain,
+    e.g. the Taylor surrogate's: relative excess over its bounds or, with stored training
+    states, the distance beyond their radius over the domain's size; <= 0: always inside)."""
+    frac, dist = [], []
+    for k, params in enumerate(rotor.bearings):
+        internal = registry.create(scene.internal, params, scene.internal_options(), Context(omega=scene.omega),
+                                   where=str(scene.source))
+        d = np.array([internal.domain_distance(*q[i, k], *v[i, k]) for i in range(len(q))])
+        frac.append(float(np.mean(d > 1e-12)))
+        dist.append(float(d.max()))
+    return {"out_of_domain_fraction": frac, "max_domain_excess": dist}
+
+
+def package_versions() -> dict:
+    return dict(_versions())
+
+
+@functools.cache  # once per process: a sweep's worker runs many scenes (~17 ms each time)
+def _versions() -> dict:
+    import importlib.metadata as md
+
+    out = {"python": platform.python_version()}
+    for pkg in ("bearing-fmu", "numpy", "scipy", "numba", "fmpy", "pythonfmu"):
+        try:
+            out[pkg] = md.version(pkg)
+        except md.PackageNotFoundError:
+            out[pkg] = None
     return out
