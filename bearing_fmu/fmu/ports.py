@@ -179,6 +179,10 @@ def port_defaults(params) -> dict:
     if g.arc is not None:
         out["arc_start"], out["arc_end"] = g.arc
     oil = params.oil
+    if oil is not None and not oil.default_balance:
+        raise ValueError(f"[oil] outflow_rise = {oil.outflow_rise!r}, ambient_W_K = {oil.ambient_W_K:g}: the bearing "
+                         "FMUs compute the adiabatic balance with the side flow at half the rise only (outflow_rise = "
+                         "'half', ambient_W_K = 0); demo, stability and run with via = 'direct' take the others")
     if oil is not None:
         out.update(oil_law=oil.law, oil_T_min=oil.T_min, oil_T_max=oil.T_max, oil_density=oil.density,
                    oil_heat_capacity=oil.heat_capacity, oil_rise_factor=oil.rise_factor)

@@ -91,6 +91,8 @@ PRESETS = (
 )
 GRADES = {p.name: p for p in PRESETS}
 
+OUTFLOW_RISES = ("half", "full")  # the side flow's share of the rise: 1/2 or 1 (``Oil.outflow_share``)
+
 # the keys of the [oil] table; exactly one law: grade, or nu_cSt with temperatures_C, or the
 # three vogel_ keys
 OIL_KEYS = (
@@ -115,6 +117,13 @@ OIL_KEYS = (
         "is the oil's at it", 40.0, "inside range_C", kind=Number(-100.0, 400.0)),
     Key("rise_factor", "k in T_eff = T_supply + k dT (Raimondi & Boyd, Shigley: 1/2, the mean of inlet and "
         "outlet)", 0.5, "0 .. 1", kind=Number(0.0, 1.0)),
+    Key("outflow_rise", "the side flow leaves at 'half' the rise (Raimondi & Boyd, Shigley: P = rho c_p (Q - Qs / 2) "
+        "dT) or at the 'full' rise (all the inflow heated by dT: P = rho c_p Q dT)", "half", "half or full",
+        kind=Choice(OUTFLOW_RISES)),
+    Key("ambient_W_K", "heat the bearing loses to the ambient per kelvin of T_eff above ambient_C [W/K] (a "
+        "housing's h A; 0: adiabatic, all the friction power into the oil)", 0.0, ">= 0", kind=Number(0.0)),
+    Key("ambient_C", "the ambient's temperature for ambient_W_K [C]; absent: the supply temperature", None,
+        "a temperature", kind=Number(-100.0, 400.0)),
 )
 
 
@@ -129,6 +138,9 @@ class Oil:
     density     : [kg/m^3]; heat_capacity : [J/(kg K)]
     T_supply    : the supply temperature a bearing file gives (its isothermal viscosity's) [K]
     rise_factor : k in T_eff = T_supply + k dT
+    outflow_rise: "half" (the side flow leaves at half the rise) or "full" (all the inflow at the full rise)
+    ambient_W_K : heat lost to the ambient per kelvin of T_eff above T_ambient [W/K] (0: adiabatic)
+    T_ambient   : the ambient's temperature [K]; None: the supply temperature
     name        : how messages call it ("ISO VG 32", "oil of bearing.toml")
     """
 
@@ -140,6 +152,9 @@ class Oil:
     heat_capacity: float = DEFAULT_HEAT_CAPACITY
     T_supply: float = 40.0 + KELVIN
     rise_factor: float = 0.5
+    outflow_rise: str = "half"
+    ambient_W_K: float = 0.0
+    T_ambient: float | None = None
     name: str = "oil"
 
     def __post_init__(self) -> None:
@@ -158,6 +173,14 @@ class Oil:
             raise ValueError(f"Oil {self.name}: density and heat capacity must be > 0")
         if not 0.0 <= self.rise_factor <= 1.0:
             raise ValueError(f"Oil {self.name}: rise_factor = {self.rise_factor:g} must be in 0 .. 1")
+        if self.outflow_rise not in OUTFLOW_RISES:
+            raise ValueError(f"Oil {self.name}: outflow_rise = {self.outflow_rise!r} must be one of "
+                             f"{', '.join(OUTFLOW_RISES)}")
+        if not (math.isfinite(self.ambient_W_K) and self.ambient_W_K >= 0.0):
+            raise ValueError(f"Oil {self.name}: ambient_W_K = {self.ambient_W_K!r} must be finite and >= 0")
+        if self.T_ambient is not None and not (math.isfinite(self.T_ambient) and self.T_ambient > 0.0):
+            raise ValueError(f"Oil {self.name}: ambient_C = {self.T_ambient - KELVIN!r} must be finite and above "
+                             "absolute zero")
         if self.law == "vogel":
             a, b, c = self.coefficients
             if not (a > 0.0 and b > 0.0 and c >= 0.0):
@@ -265,6 +288,17 @@ class Oil:
         """Dynamic viscosity [Pa s] at T_K [K]; ValueError outside [T_min, T_max]."""
         return self._mu(self.check_temperature(T_K))
 
+    @property
+    def outflow_share(self) -> float:
+        """s in the heat the oil carries away, rho c_p (Q - s Qs) dT: 1/2 when the side flow leaves at half
+        the rise, 0 when all the inflow leaves at the full rise."""
+        return 0.5 if self.outflow_rise == "half" else 0.0
+
+    @property
+    def default_balance(self) -> bool:
+        """The adiabatic balance with the side flow at half the rise (what the FMUs compute)."""
+        return self.outflow_rise == "half" and self.ambient_W_K == 0.0
+
     def describe(self) -> str:
         """The law in a few words (for the demo and messages)."""
         law = ("Walther (ASTM D341)" if self.law == "walther" else "Vogel")
@@ -295,7 +329,8 @@ def oil_from_table(d: dict, given: set, name: str, error) -> Oil:
     lo, hi = d["range_C"]
     kw = dict(T_min=lo + KELVIN, T_max=hi + KELVIN, density=d["density_kg_m3"],
               heat_capacity=d["heat_capacity_J_kgK"], T_supply=d["supply_C"] + KELVIN,
-              rise_factor=d["rise_factor"], name=name)
+              rise_factor=d["rise_factor"], outflow_rise=d["outflow_rise"], ambient_W_K=d["ambient_W_K"],
+              T_ambient=None if d["ambient_C"] is None else d["ambient_C"] + KELVIN, name=name)
     if not lo < hi:
         raise error(f"range_C = [{lo:g}, {hi:g}] must have low < high")
     try:

@@ -71,7 +71,7 @@ def operating_point(params: BearingParams, load, speed_hz: float, T_supply_K: fl
     # the peak from the Reynolds field at the point (an internal without a field: one solve here)
     p_peak, th_peak = (rey if internal is None else Reynolds(params)).peak_pressure(y0, z0, 0.0, 0.0, omega)
     rho_c = (oil.density * oil.heat_capacity) if oil is not None else DEFAULT_DENSITY * DEFAULT_HEAT_CAPACITY
-    rise = heat_balance_rise(rep, rho_c)
+    rise = thermal.dT_K if thermal is not None else heat_balance_rise(rep, rho_c)
     rec = {
         "speed_hz": speed_hz, "load_N": list(load), "y0_m": y0, "z0_m": z0,
         "eccentricity": eps, "attitude_deg": _attitude_deg(load, y0, z0) if W > 0.0 else None,

@@ -82,22 +82,30 @@ class ThermalState:
     evaluations: int
 
 
-def temperature_rise(report: FilmReport, oil: Oil) -> float:
-    """dT [K] = P / (rho c_p (Q - Qs / 2)) (module docstring) with the oil's rho c_p; 0 without friction power."""
-    return heat_balance_rise(report, oil.density * oil.heat_capacity)
+def temperature_rise(report: FilmReport, oil: Oil, T_supply_K: float | None = None) -> float:
+    """dT [K] of the oil's heat balance (module docstring: P = rho c_p (Q - s Qs) dT + h A (T_eff - T_amb),
+    s = ``oil.outflow_share``, h A = ``oil.ambient_W_K``, T_eff = T_supply + k dT); 0 without friction power."""
+    T_s = oil.T_supply if T_supply_K is None else T_supply_K
+    T_amb = T_s if oil.T_ambient is None else oil.T_ambient
+    return heat_balance_rise(report, oil.density * oil.heat_capacity, share=oil.outflow_share,
+                             loss_W_K=oil.ambient_W_K, excess_K=T_s - T_amb, k=oil.rise_factor)
 
 
-def heat_balance_rise(report: FilmReport, rho_c: float) -> float:
-    """dT [K] = P / (rho_c (Q - Qs / 2)), rho_c = rho c_p [J/(m^3 K)]; 0 without friction power.
-    ThermalError when the film dissipates and carries no oil away (no heat balance: never a NaN)."""
+def heat_balance_rise(report: FilmReport, rho_c: float, *, share: float = 0.5, loss_W_K: float = 0.0,
+                      excess_K: float = 0.0, k: float = 0.5) -> float:
+    """dT [K] = (P - hA x) / (rho_c (Q - s Qs) + k hA), rho_c = rho c_p [J/(m^3 K)], s = ``share``, hA =
+    ``loss_W_K`` [W/K] the heat lost per kelvin of T_eff = T_supply + k dT above the ambient, x =
+    ``excess_K`` the supply's excess over the ambient [K]: P = rho_c (Q - s Qs) dT + hA (T_eff - T_amb).
+    0 without friction power. ThermalError when the film dissipates and carries no oil away (no heat
+    balance: never a NaN)."""
     power = report.friction_power_W
     if not power > 0.0:
         return 0.0
-    carried = report.inflow_m3_s - 0.5 * report.side_flow_m3_s
+    carried = report.inflow_m3_s - share * report.side_flow_m3_s
     if not carried > 0.0:
         raise ThermalError(f"temperature rise: the film carries no oil away (inflow {report.inflow_m3_s:.4g} m^3/s, "
                            f"side flow {report.side_flow_m3_s:.4g} m^3/s) while it dissipates {power:.4g} W")
-    return power / (rho_c * carried)
+    return (power - loss_W_K * excess_K) / (rho_c * carried + k * loss_W_K)
 
 
 def residence_time_s(params: BearingParams, report: FilmReport) -> float:
@@ -140,15 +148,24 @@ def effective_temperature(params: BearingParams, load, omega: float, T_supply_K:
                                f"{exc}") from None
         start[0] = (y, z)
         rep = at_viscosity(rey.film_report(y, z, 0.0, 0.0, omega), f)
-        seen[T] = (mu, y, z, rep, temperature_rise(rep, oil))
+        seen[T] = (mu, y, z, rep, temperature_rise(rep, oil, T_s))
         return seen[T]
 
     def residual(T: float) -> float:
         return T_s + k * film(T)[4] - T
 
     r0 = residual(T_s)
-    if r0 <= tol_K:
+    if abs(r0) <= tol_K:
         T_eff = T_s
+    elif r0 < 0.0:  # a housing losing more than the film makes at T_supply: the film runs below it
+        lo = T_s
+        while residual(lo) < 0.0:
+            if lo <= oil.T_min:
+                raise ThermalError(f"effective temperature of {name}: below the oil's range ({oil.name}: from "
+                                   f"{oil.T_min - KELVIN:.4g} C): the heat lost to the ambient (ambient_W_K, "
+                                   "ambient_C) cools the film further; lower ambient_W_K or raise ambient_C")
+            lo = max(lo - 2.0 * (T_s - lo) - abs(r0), oil.T_min)
+        T_eff = brentq(residual, lo, T_s, xtol=tol_K, rtol=1e-12) if residual(lo) > 0.0 else lo
     else:
         lo, hi = T_s, min(T_s + r0, oil.T_max)
         while residual(hi) > 0.0:
@@ -184,17 +201,24 @@ def film_temperature(params: BearingParams, report: FilmReport, oil: Oil, T_supp
     if per_mu <= 0.0 or a == 1.0:
         T = T_old if lagged else T_s
         return T, oil.mu(T), tau
-    carried = q_in - 0.5 * report.side_flow_m3_s
+    carried = q_in - oil.outflow_share * report.side_flow_m3_s
     if not carried > 0.0:
         raise ThermalError(f"film temperature: the film carries no oil away (inflow {q_in:.4g} m^3/s, side flow "
                            f"{report.side_flow_m3_s:.4g} m^3/s) while it dissipates {report.friction_power_W:.4g} W")
-    gain = oil.rise_factor * per_mu / (oil.density * oil.heat_capacity * carried)  # k dT / mu [K / (Pa s)]
+    # T* = T_s + k dT, dT = (P - hA x) / (rho c (Q - s Qs) + k hA), P = per_mu mu(T) (``heat_balance_rise``)
+    den = oil.density * oil.heat_capacity * carried + oil.rise_factor * oil.ambient_W_K
+    gain = oil.rise_factor * per_mu / den  # k dT / mu [K / (Pa s)] of the friction power
+    excess = T_s - (T_s if oil.T_ambient is None else oil.T_ambient)
+    shift = -oil.rise_factor * oil.ambient_W_K * excess / den  # [K]: the loss at T_supply
 
     def g(T: float) -> float:  # decreasing in T: the target falls as the oil thins
-        return (1.0 - a) * (T_s + gain * oil.mu(T)) + a * T_old - T
+        return (1.0 - a) * (T_s + shift + gain * oil.mu(T)) + a * T_old - T
 
-    lo = min(T_old, T_s)
-    hi = min(max(T_old, T_s + gain * oil.mu(lo)), oil.T_max)
+    lo = max(min(T_old, T_s + min(shift, 0.0)), oil.T_min)
+    hi = min(max(T_old, T_s + max(shift, 0.0) + gain * oil.mu(lo)), oil.T_max)
+    if g(lo) < 0.0:  # only with a heat loss (shift < 0) can the target lie below the range
+        raise ThermalError(f"film temperature: below the oil's range ({oil.name}: from {oil.T_min - KELVIN:.4g} C): "
+                           "the heat lost to the ambient (ambient_W_K, ambient_C) cools the film further")
     if g(hi) > 0.0:
         raise ThermalError(f"film temperature: above the oil's range ({oil.name}: up to {oil.T_max - KELVIN:.4g} C): "
                            f"the heat balance at {oil.T_max - KELVIN:.4g} C still heats the film (dissipation "
