@@ -35,7 +35,7 @@ from ..integrate.equilibrium import solve_part, static_equilibrium
 from ..integrate.loads import RotatingLoads
 from ..integrate.newmark import IntegrationError, Newmark, NewmarkConfig
 from ..model.rotor import Rotor
-from .sanity import check_scene_physics
+from .sanity import check_native_bores, check_scene_physics
 from .scene import G, Scene, SceneError, required_file, scene_files
 from .thermal import scene_thermal, thermal_arrays, thermal_internal, thermal_meta, with_history
 
@@ -217,27 +217,7 @@ def build_bearings(scene: Scene, rotor: Rotor, loads: np.ndarray, work_dir: Path
         return DirectBearings(internals, pairs, scene.omega, names, tangent=scene.newton_tangent)
     from ..coupling.cosim import FMUBearings
 
-    from bearing_fmu.fmu.native.catalogue import NATIVE
-
-    # the Python FMU takes any bore as parameters; a native FMU has one, the first bearing's, for
-    # every bearing of that bore: compiled in, or its data file's (its catalogue entry's bore; the
-    # build checks the file's bore against the bearing's)
-    compiled = (scene.fmu_kind == "native" and scene.fmu is None and scene.internal in NATIVE
-                and NATIVE[scene.internal].bore != "full")
-    for name, p in zip(names, rotor.bearings):
-        if scene.fmu_kind != "native":
-            break
-        if compiled and p.geometry != rotor.bearings[0].geometry:
-            raise SceneError(f"{scene.source}: fmu_kind = 'native': the native FMU has the bore of {names[0]} "
-                             f"compiled in ({rotor.bearings[0].geometry.describe()}), {name} has another "
-                             f"({p.geometry.describe()}): give the bearings one bore, or use via = 'direct'")
-        if compiled:
-            continue
-        try:
-            p.require_full_bore(f"{scene.source}: via = 'fmu', fmu_kind = 'native': the bearing FMU of {name}",
-                                "its parameters are D, L, CR and mu; the geometry parameters are the Python FMU's")
-        except ValueError as exc:
-            raise SceneError(str(exc)) from None
+    check_native_bores(scene, rotor, names)  # before any build
     fmu = scene_fmu(scene, work_dir, rotor.bearings[0])
     params = [_fmu_parameters(scene, p, w, st) for p, w, st in zip(rotor.bearings, loads, thermal or [None] * len(loads))]
     return FMUBearings(fmu, pairs, scene.omega, params, names, tangent=scene.newton_tangent)

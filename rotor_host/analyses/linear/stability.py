@@ -48,6 +48,7 @@ from bearing_fmu.io.outputs import ensure_writable, write_json, write_text
 
 from ...bundled import folder
 from ...model.rotor import Rotor
+from .inputs import check_speeds, check_top_speed, read_rotor, refuse_unsupported
 from .stability_report import FORWARD, direction, markdown, to_json
 from .modal import (RANK_UP_TO, band_hz, band_rule, beyond_band_line, critical_speeds, least_beyond, least_in_band,
                     no_critical_line, split_crossings)
@@ -144,6 +145,7 @@ class StabilityResult:
     band_hz: float = math.inf
     timings: dict = field(default_factory=lambda: {"setup": 0.0, "equilibrium": 0.0, "eigen": 0.0, "refine": 0.0})
     n_modes: int = DEFAULT_MODES
+    unsupported: list = field(default_factory=list)  # speeds [Hz] where the bearings did not hold the rotor
     status: str = "ok"
     T_supply_K: float | None = None  # the oil's supply temperature (None: isoviscous bearings)
 
@@ -220,6 +222,8 @@ class Stability:
         self.loads = bearing_loads(rotor, self.f_static)
         self.pairs = [(rotor.dof(n, "y"), rotor.dof(n, "z")) for n in rotor.bearing_nodes]
         self.names = [f"bearing {k + 1} (node {n + 1})" for k, n in enumerate(rotor.bearing_nodes)]
+        self.where = where or "rotor"
+        refuse_unsupported(rotor, self.f_static, self.pairs, self.names, self.where)  # before any solve
         t0 = time.perf_counter()
         self.internals = [registry.create(self.internal, p, self.options, Context(load=(float(w[0]), float(w[1]))),
                                           where=f"{where or 'rotor'}: {name}")
@@ -342,10 +346,13 @@ class Stability:
         far as its ``result`` attribute."""
         from bearing_fmu.physics.statics import EquilibriumError
 
+        from ...integrate.equilibrium import RotorNotSupported
+
         res = StabilityResult(rotor_name or self.rotor.name, self.internal, self.options,
                               [n + 1 for n in self.rotor.bearing_nodes], self.loads.tolist(), n_modes=n_modes,
                               T_supply_K=self.T_supply_K)
         speeds_hz = [float(s) for s in speeds_hz]
+        check_top_speed(self.rotor, speeds_hz, self.where)  # before any solve: no material turns so fast
         self.band_hz = res.band_hz = band_hz(max(speeds_hz, default=0.0), rank_up_to)
         res.rank_up_to = float(rank_up_to)
         res.timings["setup"] = self.setup_s
@@ -357,6 +364,8 @@ class Stability:
                     point, q = self.at(float(s), q)
                 except EquilibriumError as exc:
                     point, q = SpeedPoint(float(s), "no equilibrium", str(exc)), None
+                    if isinstance(exc, RotorNotSupported):  # journals outside, loads not carried
+                        res.unsupported.append(float(s))
                     if log is not None:
                         log(f"{s:g} Hz: {exc}")
                 res.points.append(point)
@@ -419,31 +428,6 @@ def _busiest_node(rotor: Rotor, shape: np.ndarray) -> int:
     """The 0-based node with the largest translational amplitude |y|^2 + |z|^2 of a complex shape."""
     yz = shape.reshape(rotor.n_nodes, 4)[:, :2]
     return int(np.argmax(np.sum(np.abs(yz) ** 2, axis=1)))
-
-
-def read_rotor(rotor_path, static_loads=()) -> tuple[Rotor, list[tuple[int, float, float]]]:
-    """The rotor file and the static loads (node, Fy, Fz) with 1-based nodes, checked against
-    its nodes and turned 0-based; ValueError naming the file or the load."""
-    rotor_path = Path(rotor_path)
-    rotor = Rotor.from_toml(rotor_path)
-    loads = []
-    for node, fy, fz in static_loads:
-        if not 1 <= int(node) <= rotor.n_nodes:
-            raise ValueError(f"--static-load {node}:{fy:g}:{fz:g}: node {node} is outside the rotor's nodes "
-                             f"1..{rotor.n_nodes} ({rotor_path})")
-        loads.append((int(node) - 1, float(fy), float(fz)))
-    if not rotor.bearing_nodes:
-        raise ValueError(f"{rotor_path}: the rotor has no bearings; a stability analysis needs at least one "
-                         "[[bearings]] entry (node, bearing file)")
-    return rotor, loads
-
-
-def check_speeds(speeds_hz) -> list[float]:
-    """Finite speeds > 0 Hz in increasing order, or ValueError."""
-    speeds = [float(s) for s in speeds_hz]
-    if not speeds or any(not (math.isfinite(s) and s > 0.0) for s in speeds) or np.any(np.diff(speeds) <= 0.0):
-        raise ValueError(f"speeds {speeds!r}: expected finite speeds > 0 Hz in increasing order")
-    return speeds
 
 
 def stability(rotor_path, speeds_hz, internal: str = "reynolds", options: dict | None = None,
@@ -537,6 +521,11 @@ def command(*, rotor_file, speeds_hz, internal: str = "reynolds", data_files=Non
             note_kept(exc, f"{out / f'{stem}.md'} ({len(res.points)} speed(s))")
         raise
     files = [write_text(out / f"{stem}.md", markdown(res)), write_json(out / f"{stem}.json", to_json(res, rotor_file))]
+    if res.unsupported and len(res.unsupported) == len(res.points):  # the rotor file or its loads: exit 2
+        from ...integrate.equilibrium import RotorNotSupported
+
+        raise RotorNotSupported(f"{rotor_file}: at every speed of {speeds_hz[0]:g}-{speeds_hz[-1]:g} Hz: "
+                                f"{res.points[0].message}; wrote {files[0]}")
     if not res.ok_points:
         raise RuntimeError(f"{rotor_file}: no speed of {speeds_hz[0]:g}-{speeds_hz[-1]:g} Hz has a static "
                            f"equilibrium (first: {res.points[0].message}); wrote {files[0]}")
