@@ -47,6 +47,7 @@ from bearing_fmu.io.exits import note_kept
 from bearing_fmu.io.outputs import ensure_writable, write_json, write_text
 
 from ...bundled import folder
+from ...model.band_modes import band_modes
 from ...model.rotor import Rotor
 from .inputs import check_speeds, check_top_speed, read_rotor, refuse_unsupported
 from .stability_report import FORWARD, direction, markdown, to_json
@@ -269,7 +270,7 @@ class Stability:
             bearings = DirectBearings(self.internals, self.pairs, omega, self.names)
             if q0 is not None:
                 try:
-                    return static_equilibrium(self.rotor.K, self.f_static, bearings, q0,
+                    return static_equilibrium(self.rotor.matrices()[1], self.f_static, bearings, q0,
                                               rigid_modes=self.rotor.rigid_modes())
                 except EquilibriumError:
                     pass  # the previous speed's equilibrium was too far: start afresh, as a scene does
@@ -324,7 +325,9 @@ class Stability:
         q = self.equilibrium(omega, q0)
         t0 = time.perf_counter()
         K, C = self.linearise(q, omega)
-        freq, ld, shapes = self.rotor.modes(omega, K, C)
+        # every mode up to DENSE_MAX_DOF DOFs; a big rotor's around its ranking band (sparse)
+        band = self.band_hz if math.isfinite(self.band_hz) else band_hz(speed_hz)
+        freq, ld, shapes = band_modes(self.rotor, omega, K, C, band)
         if freq.size == 0 or not (np.all(np.isfinite(freq)) and np.all(np.isfinite(ld))):
             raise RuntimeError(f"{speed_hz:g} Hz: the eigenvalue problem gave "
                                f"{'no oscillatory mode' if freq.size == 0 else 'non-finite eigenvalues'}")
