@@ -218,3 +218,39 @@ def test_absurd_material_and_speed_of_a_linear_analysis_are_named(tmp_path, caps
     assert code == 2 and "the top speed (--speeds-hz) = 1e+12: the rotor's surface at radius 47.5 mm" in err
     assert f"below {c / (2 * math.pi * 0.0475):.4g} Hz" in err
     assert not list((tmp_path / "out").glob("stability_*"))
+
+
+def test_the_step_is_checked_against_the_highest_mode_of_interest(tmp_path, capsys):
+    # At 15 Hz the paper rotor's first bending pair (its 22 Hz first critical, paper Fig. 4)
+    # lies above the speed and inside the band of 2 x 15 Hz: a step that half-resolves the
+    # shaft's turn (dt = 0.025 s, 0.375 of a revolution: warned) cannot resolve that mode
+    # (fewer than two steps per period): refused by [time] dt_s with both limits, 0.5 / f and
+    # 0.1 / f of the mode, whose frequency comes from the dense eigensolution of the stability
+    # analysis at the same speed (tests/test_stability.py checks it against the paper)
+    from rotor_host.analyses.linear.stability import Stability
+    from rotor_host.cli import main
+
+    rotor = Rotor.from_toml(MODELS / "rotor_paper.toml")
+    st = Stability(rotor, "map", {"map": str(MODELS / "maps" / "paper_bearing.json")})
+    st.band_hz = 30.0
+    point, _ = st.at(15.0)
+    f_m = max(f for f, ld in zip(point.freq_hz, point.log_dec) if f <= 30.0 and ld < 1.257)
+    assert 21.0 < f_m < 23.0  # the first critical, near 22 Hz
+    scene = _scene(tmp_path, MODELS / "rotor_paper.toml", speed_hz=15.0, dt_s=0.025, t_end_s=0.1)
+    code = main(["run", str(scene), "--out", str(tmp_path / "out"), "--quiet", "--no-plots"])
+    err = capsys.readouterr().err
+    assert code == 2, err
+    assert (f"[time] dt_s = 0.025: {0.025 * f_m:.3g} periods per step of the highest mode of interest, "
+            f"{f_m:.4g} Hz") in err
+    assert f"dt_s must be at most {0.5 / f_m:.3g} s, and {0.1 / f_m:.3g} s (a tenth)" in err
+    assert not list((tmp_path / "out").glob("*.npz"))
+    # a step that resolves the mode coarsely is warned about; a fine one passes in silence
+    from rotor_host.scenes.run import run_scene
+
+    with pytest.warns(CoarseStepWarning, match=rf"dt_s = 0\.01 is {0.01 * f_m:.3g} of a period of the highest mode"):
+        run_scene(load_scene(_scene(tmp_path, MODELS / "rotor_paper.toml", speed_hz=15.0, dt_s=0.01, t_end_s=0.05)),
+                  tmp_path / "out")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        run_scene(load_scene(_scene(tmp_path, MODELS / "rotor_paper.toml", speed_hz=15.0, dt_s=0.002,
+                                    t_end_s=0.01)), tmp_path / "out")

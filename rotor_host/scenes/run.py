@@ -35,7 +35,7 @@ from ..integrate.equilibrium import solve_part, static_equilibrium
 from ..integrate.loads import RotatingLoads
 from ..integrate.newmark import IntegrationError, Newmark, NewmarkConfig
 from ..model.rotor import Rotor
-from .sanity import check_native_bores, check_scene_physics
+from .sanity import check_native_bores, check_scene_physics, check_step_against_modes
 from .scene import G, Scene, SceneError, required_file, scene_files
 from .thermal import scene_thermal, thermal_arrays, thermal_internal, thermal_meta, with_history
 
@@ -135,6 +135,16 @@ def _direct_internal(scene: Scene, params, load, warn=None):
     """The scene's internal for one bearing, imported only when used."""
     return registry.create(scene.internal, params, scene.internal_options(), _context(scene, load, warn),
                            where=str(scene.source))
+
+
+def _linearisable(scene: Scene, rotor: Rotor, loads, bearings):
+    """The internals in-process whose Lund coefficients stand for the bearings: the run's own
+    (via = direct), the internal an FMU of the package computes, None for a foreign FMU."""
+    if scene.via == "direct":
+        return bearings.internals
+    if scene.fmu is not None:
+        return None
+    return [_direct_internal(scene, p, w, lambda *_: None) for p, w in zip(rotor.bearings, loads)]
 
 
 def scene_fmu(scene: Scene, work_dir: Path | None, bearing=None) -> Path:
@@ -482,6 +492,7 @@ def _run(scene: Scene, holder, work: Path, progress: bool) -> SceneRun:
                 return out.run(None, "failed", str(exc),
                                equilibrium={k: v for k, v in exc.diagnosis().items() if v is not None})
             out.times["equilibrium_time_s"] = time.perf_counter() - t_setup
+            check_step_against_modes(scene, rotor, _linearisable(scene, rotor, loads, bearings), out.q0)
             if scene.speed_profile is not None:  # a run-up: the bearings and D follow the speed
                 bearings.speed = scene.speed_profile.omega
             mM, mK, mG, mC = rotor.matrices()

@@ -2,7 +2,8 @@
 refused by its key (``SceneError``, exit code 2) instead of being found out by its consequence
 (a journal at eccentricity 1e291, a line search that fails at its first step).
 
-* the time step against the shaft period: above a tenth of a revolution per step a warning (the
+* the time step against the shaft period (and, once the static equilibrium is known, against
+  the period of the highest mode of interest: ``check_step_against_modes``): above a tenth of a revolution per step a warning (the
   orbit is coarsely drawn and the step's accuracy goes with (Omega dt)^2), above half a
   revolution a refusal (``MAX_REV_PER_STEP``: fewer than two steps per revolution cannot
   resolve a synchronous orbit, the sampling theorem's limit);
@@ -18,13 +19,15 @@ from __future__ import annotations
 import math
 import warnings
 
+import numpy as np
+
 from .scene import SceneError
 
 WARN_REV_PER_STEP = 0.1  # revolutions per time step above which a run warns
 MAX_REV_PER_STEP = 0.5  # ... and above which it is refused (fewer than two steps per revolution)
 
 __all__ = ["WARN_REV_PER_STEP", "MAX_REV_PER_STEP", "CoarseStepWarning", "check_scene_physics",
-           "surface_speed_refusal", "check_native_bores"]
+           "surface_speed_refusal", "check_native_bores", "check_step_against_modes"]
 
 
 class CoarseStepWarning(UserWarning):
@@ -108,3 +111,46 @@ def check_native_bores(scene, rotor, names) -> None:
                          f"(its parameters are D, L, CR and mu), not {name}'s {p.geometry.describe()}: with --native "
                          f"use internal = {compiled_in} (the bore compiled in) or {from_data} (a map of this bore), "
                          "or leave --native out (the Python FMU takes any bore), or via = 'direct'")
+
+
+def check_step_against_modes(scene, rotor, internals, q0) -> None:
+    """The time step against the highest mode of interest, as against the shaft period: the
+    rotor linearised at its static equilibrium ``q0`` (each bearing's Lund K, C from its
+    ``internals``, at the scene's start speed), its modes that ring (log decrement below
+    ``modal.LOG_DEC_HEAVY``, amplification factor >= 2.5) up to ``modal.RANK_UP_TO`` x the top
+    speed (every whirl and every mode a 1x or 2x force drives, the band a stability analysis
+    ranks in): above a tenth of that mode's period per step a ``CoarseStepWarning``, above half
+    (fewer than two steps per period: its oscillation cannot be resolved) a SceneError naming
+    [time] dt_s, the mode and both limits. ``internals`` None (a foreign FMU): not checked."""
+    if internals is None or q0 is None or not rotor.bearing_nodes:
+        return
+    from bearing_fmu.physics.statics import linearize
+
+    from ..analyses.linear.modal import LOG_DEC_HEAVY, RANK_UP_TO, band_hz
+    from ..model.band_modes import band_modes
+
+    f_top, speed_key = _max_speed(scene)
+    band = band_hz(f_top, RANK_UP_TO)
+    K, C = [], []
+    for internal, node in zip(internals, rotor.bearing_nodes):
+        k, c = linearize(internal, float(q0[rotor.dof(node, "y")]), float(q0[rotor.dof(node, "z")]), scene.omega)
+        K.append(k)
+        C.append(c)
+    freq, log_dec, _ = band_modes(rotor, scene.omega, np.array(K), np.array(C), band)
+    ringing = freq[(freq <= band) & (log_dec < LOG_DEC_HEAVY) & np.isfinite(freq)]
+    if ringing.size == 0:
+        return
+    f_m = float(np.max(ringing))
+    per = scene.dt_s * f_m  # periods of that mode per step
+    where = str(scene.source or scene.name)
+    mode = (f"the highest mode of interest, {f_m:.4g} Hz (of the rotor on its bearings at the static equilibrium, "
+            f"lightly damped, up to {RANK_UP_TO:g} x the top speed {f_top:g} Hz, {speed_key})")
+    if per > MAX_REV_PER_STEP:
+        raise SceneError(f"{where}: [time] dt_s = {scene.dt_s:g}: {per:.3g} periods per step of {mode}; its "
+                         f"oscillation cannot be resolved with fewer than two steps per period: dt_s must be at most "
+                         f"{MAX_REV_PER_STEP / f_m:.3g} s, and {WARN_REV_PER_STEP / f_m:.3g} s (a tenth) or less to "
+                         "draw it")
+    if per > WARN_REV_PER_STEP:
+        warnings.warn(f"{where}: [time] dt_s = {scene.dt_s:g} is {per:.3g} of a period of {mode}: it is coarsely "
+                      f"resolved; {WARN_REV_PER_STEP / f_m:.3g} s (a tenth of its period) or less draws it",
+                      CoarseStepWarning, stacklevel=3)
