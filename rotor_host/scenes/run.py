@@ -139,10 +139,11 @@ def _direct_internal(scene: Scene, params, load, warn=None):
 
 def _linearisable(scene: Scene, rotor: Rotor, loads, bearings):
     """The internals in-process whose Lund coefficients stand for the bearings: the run's own
-    (via = direct), the internal an FMU of the package computes, None for a foreign FMU."""
+    (via = direct), the Python FMU's internal (its kernels already loaded in this process); None
+    for a native FMU (no compiled Python to load for a check) or a foreign one."""
     if scene.via == "direct":
         return bearings.internals
-    if scene.fmu is not None:
+    if scene.fmu is not None or scene.fmu_kind == "native":
         return None
     return [_direct_internal(scene, p, w, lambda *_: None) for p, w in zip(rotor.bearings, loads)]
 

@@ -121,7 +121,8 @@ def check_step_against_modes(scene, rotor, internals, q0) -> None:
     speed (every whirl and every mode a 1x or 2x force drives, the band a stability analysis
     ranks in): above a tenth of that mode's period per step a ``CoarseStepWarning``, above half
     (fewer than two steps per period: its oscillation cannot be resolved) a SceneError naming
-    [time] dt_s, the mode and both limits. ``internals`` None (a foreign FMU): not checked."""
+    [time] dt_s, the mode and both limits. ``internals`` None (a native or foreign FMU): not
+    checked, the shaft period only."""
     if internals is None or q0 is None or not rotor.bearing_nodes:
         return
     from bearing_fmu.physics.statics import linearize
