@@ -65,16 +65,21 @@ def test_scene_through_the_python_fmu_takes_the_bore(tmp_path, capsys):
         assert np.max(np.abs(runs["fmu"][key] - runs["direct"][key])) <= 1e-9 * np.max(np.abs(runs["direct"][key]))
 
 
-def test_scene_through_the_native_fmu_is_refused_before_any_build(tmp_path, capsys, monkeypatch):
+@pytest.mark.parametrize("internal", ["linear", "taylor"])
+def test_scene_through_the_native_fmu_is_refused_before_any_build(tmp_path, capsys, monkeypatch, internal):
     monkeypatch.setenv("BEARING_FMU_BUILD_CACHE", str(tmp_path / "fmus"))  # where a build would go
     # the native Reynolds FMU has the bore compiled in and the native map FMU its map's bore (both
-    # run: test_grooved_scene_through_the_native_map_fmu); the native linear FMU has neither
+    # run: test_grooved_scene_through_the_native_map_fmu); the native linear and Taylor FMUs have
+    # neither. The message names this internal's native FMU, not "the native FMU" (issue 38: the
+    # native Reynolds FMU takes any bore)
     code, _, err = run_cli("rotor-host", ["run", str(MODELS / "scenes" / "paper_2groove_22hz.toml"), "--via", "fmu",
-                                         "--native", "--internal", "linear", "--t-end", "0.01", "--out", str(tmp_path),
-                                         "--quiet"], capsys)
+                                         "--native", "--internal", internal, "--surrogate", "paper_22hz_16.7N",
+                                         "--t-end", "0.01", "--out", str(tmp_path), "--quiet"], capsys)
     assert code == 2
-    assert "fmu_kind = 'native': the bearing FMU of bearing 1 (node 3) models only the full 360 deg circular bore" in err
-    assert "2 axial grooves at 90, 270 deg" in err and "via = 'direct'" in err
+    assert (f"fmu_kind = 'native': the native {internal} FMU models only the full 360 deg circular bore (its "
+            "parameters are D, L, CR and mu), not bearing 1 (node 3)'s 2 axial grooves at 90, 270 deg") in err
+    assert "with --native use internal = 'reynolds' (the bore compiled in) or 'map' (a map of this bore)" in err
+    assert "leave --native out" in err and "via = 'direct'" in err
     assert not list(tmp_path.rglob("*.fmu"))
 
 

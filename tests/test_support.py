@@ -162,3 +162,95 @@ def test_absurd_mass_and_speed_are_named_before_the_solve(tmp_path):
                                          rf"{c:.4g} m/s.* below {re.escape(f'{c / (2 * math.pi * 0.0475):.4g}')} Hz"):
         check_scene_physics(load_scene(_scene(tmp_path, rotor_path, speed_hz=1e9, dt_s=1e-12, t_end_s=1e-11)), rotor)
     check_scene_physics(load_scene(_scene(tmp_path, rotor_path, speed_hz=10e3, dt_s=1e-6, t_end_s=1e-5)), rotor)
+
+
+def test_stability_of_a_rotor_on_one_bearing_is_bad_input(tmp_path, capsys):
+    # the same rotor as above to `stability`: it said "no speed has a static equilibrium", exit 1;
+    # no speed can hold it, so it is refused before any solve, by the rotor file, exit 2
+    from rotor_host.cli import main
+
+    rotor = _one_bearing_rotor(tmp_path)
+    code = main(["stability", str(rotor), "--internal", "map", "--speeds-hz", "20:24:2", "--no-plots",
+                 "--out", str(tmp_path / "out")])
+    out, err = capsys.readouterr()
+    assert code == 2, err
+    assert f"{rotor}: static equilibrium: the rotor is not supported: bearing 1 (node 3) is its only support" in err
+    assert "Traceback" not in err and "Hz:" not in out  # no speed was tried
+    assert not list((tmp_path / "out").glob("stability_*"))
+
+
+def test_stability_where_no_speed_holds_the_rotor_is_bad_input(tmp_path, capsys, monkeypatch):
+    # the equilibrium's own refusal (journals outside the clearance, loads not carried) at every
+    # speed is the rotor's or its loads' fault, not a failed run: exit 2, the reason named
+    from rotor_host.analyses.linear.stability import Stability
+    from rotor_host.cli import main
+
+    why = "static equilibrium: the rotor is not supported: bearing 1 (node 3) carries 12.9 N of 33.3 N"
+
+    def unsupported(self, omega, q0=None):
+        raise RotorNotSupported(why)
+
+    monkeypatch.setattr(Stability, "equilibrium", unsupported)
+    rotor = MODELS / "rotor_paper.toml"
+    code = main(["stability", str(rotor), "--internal", "map", "--speeds-hz", "20:24:2", "--no-plots",
+                 "--out", str(tmp_path / "out")])
+    err = capsys.readouterr().err
+    assert code == 2 and f"{rotor}: at every speed of 20-24 Hz: {why}" in err, err
+
+
+def test_absurd_material_and_speed_of_a_linear_analysis_are_named(tmp_path, capsys):
+    # density 1e30 kg/m^3 was found out as a bearing asked for 2e27 N (exit 1); 1e12 Hz gave a
+    # Campbell diagram (exit 0). The densest solid, osmium, is 22 590 kg/m^3; the speed limit is
+    # the speed of sound in steel at the disk's rim, as above
+    from rotor_host.cli import main
+
+    dense = tmp_path / "rotor_dense.toml"
+    dense.write_text((MODELS / "rotor_paper.toml").read_text().replace("density_kg_m3 = 7850.0", "density_kg_m3 = 1e30")
+                     .replace('"bearing_paper.toml"', f'"{MODELS / "bearing_paper.toml"}"'))
+    code = main(["stability", str(dense), "--internal", "map", "--speeds-hz", "20:24:2", "--no-plots",
+                 "--out", str(tmp_path / "out")])
+    err = capsys.readouterr().err
+    assert code == 2 and f"{dense}: [material] density_kg_m3 = 1e+30 must be a finite number > 0 and <= 100000" in err
+    code = main(["stability", str(MODELS / "rotor_paper.toml"), "--internal", "map", "--speeds-hz", "1e12:1e12:1",
+                 "--no-plots", "--out", str(tmp_path / "out")])
+    err = capsys.readouterr().err
+    c = math.sqrt(200e9 / 7850.0)
+    assert code == 2 and "the top speed (--speeds-hz) = 1e+12: the rotor's surface at radius 47.5 mm" in err
+    assert f"below {c / (2 * math.pi * 0.0475):.4g} Hz" in err
+    assert not list((tmp_path / "out").glob("stability_*"))
+
+
+def test_the_step_is_checked_against_the_highest_mode_of_interest(tmp_path, capsys):
+    # At 15 Hz the paper rotor's first bending pair (its 22 Hz first critical, paper Fig. 4)
+    # lies above the speed and inside the band of 2 x 15 Hz: a step that half-resolves the
+    # shaft's turn (dt = 0.025 s, 0.375 of a revolution: warned) cannot resolve that mode
+    # (fewer than two steps per period): refused by [time] dt_s with both limits, 0.5 / f and
+    # 0.1 / f of the mode, whose frequency comes from the dense eigensolution of the stability
+    # analysis at the same speed (tests/test_stability.py checks it against the paper)
+    from rotor_host.analyses.linear.stability import Stability
+    from rotor_host.cli import main
+
+    rotor = Rotor.from_toml(MODELS / "rotor_paper.toml")
+    st = Stability(rotor, "map", {"map": str(MODELS / "maps" / "paper_bearing.json")})
+    st.band_hz = 30.0
+    point, _ = st.at(15.0)
+    f_m = max(f for f, ld in zip(point.freq_hz, point.log_dec) if f <= 30.0 and ld < 1.257)
+    assert 21.0 < f_m < 23.0  # the first critical, near 22 Hz
+    scene = _scene(tmp_path, MODELS / "rotor_paper.toml", speed_hz=15.0, dt_s=0.025, t_end_s=0.1)
+    code = main(["run", str(scene), "--out", str(tmp_path / "out"), "--quiet", "--no-plots"])
+    err = capsys.readouterr().err
+    assert code == 2, err
+    assert (f"[time] dt_s = 0.025: {0.025 * f_m:.3g} periods per step of the highest mode of interest, "
+            f"{f_m:.4g} Hz") in err
+    assert f"dt_s must be at most {0.5 / f_m:.3g} s, and {0.1 / f_m:.3g} s (a tenth)" in err
+    assert not list((tmp_path / "out").glob("*.npz"))
+    # a step that resolves the mode coarsely is warned about; a fine one passes in silence
+    from rotor_host.scenes.run import run_scene
+
+    with pytest.warns(CoarseStepWarning, match=rf"dt_s = 0\.01 is {0.01 * f_m:.3g} of a period of the highest mode"):
+        run_scene(load_scene(_scene(tmp_path, MODELS / "rotor_paper.toml", speed_hz=15.0, dt_s=0.01, t_end_s=0.05)),
+                  tmp_path / "out")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        run_scene(load_scene(_scene(tmp_path, MODELS / "rotor_paper.toml", speed_hz=15.0, dt_s=0.002,
+                                    t_end_s=0.01)), tmp_path / "out")

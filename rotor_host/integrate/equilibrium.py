@@ -32,7 +32,7 @@ from .banded import BandLU, bandwidth, is_sparse, to_band
 from .forces import NodalForce, StepRejected, as_dofs, as_nodal_force
 
 __all__ = ["static_equilibrium", "pinned_loads", "solve_part", "bearing_overload", "RotorNotSupported",
-           "support_check", "BALANCE_RTOL"]
+           "support_check", "placement_refusal", "BALANCE_RTOL"]
 
 # the bearing forces of an accepted state balance the loads' resultant (forces, and moments about
 # x = 0) to this fraction of the sum of the magnitudes that enter it (a true equilibrium: ~1e-12)
@@ -59,7 +59,7 @@ def _names(nf, n: int) -> list[str]:
     return list(names) if names is not None and len(names) == n else [f"bearing {k + 1}" for k in range(n)]
 
 
-def _one_place(rigid: np.ndarray, fs: np.ndarray, dofs: np.ndarray, names: list[str]) -> str | None:
+def placement_refusal(rigid: np.ndarray, fs: np.ndarray, dofs: np.ndarray, names: list[str]) -> str | None:
     """Why the bearings cannot hold the rotor, before any iteration: none at all, or all at one
     axial place (each holds y and z only, so a tilt about that place is free). None if they can."""
     if dofs.size == 0:
@@ -243,7 +243,7 @@ def static_equilibrium(K, f_static, nodal_force: NodalForce | Sequence[NodalForc
     names = _names(nf, m // 2)
     rigid = None if rigid_modes is None else np.asarray(rigid_modes, dtype=float).reshape(n, -1)
     if rigid is not None:
-        why = _one_place(rigid, fs, dofs, names)
+        why = placement_refusal(rigid, fs, dofs, names)
         if why is not None:
             raise RotorNotSupported(why)
     q = np.array(q0, dtype=float).reshape(n)

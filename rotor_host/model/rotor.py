@@ -31,8 +31,10 @@ from . import fe
 POSITIVE = Number(0.0, exclusive_minimum=True)
 NODE = Number(integer=True, words="an integer node number")  # its range: the loader, against the rotor
 MATERIAL_KEYS = (
-    Key("E_GPa", "elastic modulus [GPa]", kind=POSITIVE),
-    Key("density_kg_m3", "density [kg/m^3]", kind=POSITIVE),
+    # upper bounds past every solid (diamond 1220 GPa, osmium 22 590 kg/m^3), with room for a
+    # smeared-on mass: a value beyond is a unit slip, named here, not an eccentricity of 1e291
+    Key("E_GPa", "elastic modulus [GPa]", kind=Number(0.0, 1e4, exclusive_minimum=True)),
+    Key("density_kg_m3", "density [kg/m^3]", kind=Number(0.0, 1e5, exclusive_minimum=True)),
     Key("poisson", "Poisson's ratio (shear modulus and shear coefficient)",
         kind=Number(-1.0, 0.5, exclusive_minimum=True, exclusive_maximum=True)),
     Key("damping_beta_s", "stiffness-proportional damping C = beta K [s]", 0.0, kind=Number(0.0)),

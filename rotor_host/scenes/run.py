@@ -36,7 +36,7 @@ from ..integrate.loads import RotatingLoads
 from ..integrate.newmark import IntegrationError, Newmark, NewmarkConfig
 from ..model.rotor import Rotor
 from .run_record import domain_report, package_versions, peak_pressures
-from .sanity import check_scene_physics
+from .sanity import check_native_bores, check_scene_physics, check_step_against_modes
 from .scene import G, Scene, SceneError, required_file, scene_files
 from .thermal import scene_thermal, thermal_arrays, thermal_internal, thermal_meta, with_history
 
@@ -138,6 +138,17 @@ def _direct_internal(scene: Scene, params, load, warn=None):
                            where=str(scene.source))
 
 
+def _linearisable(scene: Scene, rotor: Rotor, loads, bearings):
+    """The internals in-process whose Lund coefficients stand for the bearings: the run's own
+    (via = direct), the Python FMU's internal (its kernels already loaded in this process); None
+    for a native FMU (no compiled Python to load for a check) or a foreign one."""
+    if scene.via == "direct":
+        return bearings.internals
+    if scene.fmu is not None or scene.fmu_kind == "native":
+        return None
+    return [_direct_internal(scene, p, w, lambda *_: None) for p, w in zip(rotor.bearings, loads)]
+
+
 def scene_fmu(scene: Scene, work_dir: Path | None, bearing=None) -> Path:
     """The bearing FMU for the scene: its ``fmu`` key, or one built into work_dir (None: the
     user's FMU cache, ``bearing_fmu.io.cache``, shared by every command and output folder) with
@@ -224,27 +235,7 @@ def build_bearings(scene: Scene, rotor: Rotor, loads: np.ndarray, work_dir: Path
         return DirectBearings(internals, pairs, scene.omega, names, tangent=scene.newton_tangent)
     from ..coupling.cosim import FMUBearings
 
-    from bearing_fmu.fmu.native.catalogue import NATIVE
-
-    # the Python FMU takes any bore as parameters; a native FMU has one, the first bearing's, for
-    # every bearing of that bore: compiled in, or its data file's (its catalogue entry's bore; the
-    # build checks the file's bore against the bearing's)
-    compiled = (scene.fmu_kind == "native" and scene.fmu is None and scene.internal in NATIVE
-                and NATIVE[scene.internal].bore != "full")
-    for name, p in zip(names, rotor.bearings):
-        if scene.fmu_kind != "native":
-            break
-        if compiled and p.geometry != rotor.bearings[0].geometry:
-            raise SceneError(f"{scene.source}: fmu_kind = 'native': the native FMU has the bore of {names[0]} "
-                             f"compiled in ({rotor.bearings[0].geometry.describe()}), {name} has another "
-                             f"({p.geometry.describe()}): give the bearings one bore, or use via = 'direct'")
-        if compiled:
-            continue
-        try:
-            p.require_full_bore(f"{scene.source}: via = 'fmu', fmu_kind = 'native': the bearing FMU of {name}",
-                                "its parameters are D, L, CR and mu; the geometry parameters are the Python FMU's")
-        except ValueError as exc:
-            raise SceneError(str(exc)) from None
+    check_native_bores(scene, rotor, names)  # before any build
     fmu = scene_fmu(scene, work_dir, rotor.bearings[0])
     params = [_fmu_parameters(scene, p, w, st) for p, w, st in zip(rotor.bearings, loads, thermal or [None] * len(loads))]
     return FMUBearings(fmu, pairs, scene.omega, params, names, tangent=scene.newton_tangent)
@@ -480,6 +471,7 @@ def _run(scene: Scene, holder, work: Path, progress: bool) -> SceneRun:
                 return out.run(None, "failed", str(exc),
                                equilibrium={k: v for k, v in exc.diagnosis().items() if v is not None})
             out.times["equilibrium_time_s"] = time.perf_counter() - t_setup
+            check_step_against_modes(scene, rotor, _linearisable(scene, rotor, loads, bearings), out.q0)
             if scene.speed_profile is not None:  # a run-up: the bearings and D follow the speed
                 bearings.speed = scene.speed_profile.omega
             mM, mK, mG, mC = rotor.matrices()

@@ -43,7 +43,9 @@ class SceneError(ValueError):
 TIME_KEYS = (
     Key("t_end_s", "simulated time [s]", allowed="> 0, a whole number of steps, at most 1e8 of them",
         kind=Number(0.0, exclusive_minimum=True)),
-    Key("dt_s", "time step [s]", kind=Number(0.0, exclusive_minimum=True)),
+    Key("dt_s", "time step [s]", allowed="a finite number > 0, at most half a shaft revolution and half a period of "
+        "the highest mode of interest (a warning above a tenth: rotor_host.scenes.sanity)",
+        kind=Number(0.0, exclusive_minimum=True)),
     Key("hht_alpha", "HHT-alpha numerical damping (0: trapezoidal Newmark)", 0.0, "-1/3 .. 0",
         kind=Number(-1 / 3, 0.0, words="a finite number in [-1/3, 0]")),
     Key("newton_tangent", "Newton tangent of the bearing forces: the bearings' own K, C (bearing), those at the "

@@ -19,6 +19,7 @@ from __future__ import annotations
 import importlib.util
 import os
 import shutil
+import signal
 import subprocess
 import sys
 import tempfile
@@ -113,25 +114,58 @@ def zig_cc() -> list[str]:
     return [sys.executable, "-m", "ziglang", "cc"]
 
 
+_running: set = set()  # the compilers running now (run_compilers kills them on an interrupt)
+
+
 def run_compiler(cmd: list[str], what: str) -> None:
-    try:
-        done = subprocess.run(cmd, capture_output=True, text=True, timeout=900)
+    try:  # its own process group: zig's wrapper starts the compiler, which starts more
+        proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                                start_new_session=os.name == "posix")
     except OSError as exc:
         raise NativeBuildError(f"cannot run the C compiler {cmd[0]!r}: {exc}") from None
-    if done.returncode != 0:
-        tail = (done.stderr or done.stdout).strip().splitlines()[-12:]
-        raise NativeBuildError(f"{what} failed (exit {done.returncode}): {' '.join(cmd)}\n" + "\n".join(tail))
+    _running.add(proc)
+    try:
+        stdout, stderr = proc.communicate(timeout=900)
+    except BaseException:  # a timeout, or an interrupt in this (main) thread
+        _kill(proc)
+        raise
+    finally:
+        _running.discard(proc)
+    if proc.returncode != 0:
+        tail = (stderr or stdout).strip().splitlines()[-12:]
+        raise NativeBuildError(f"{what} failed (exit {proc.returncode}): {' '.join(cmd)}\n" + "\n".join(tail))
+
+
+def _kill(proc) -> None:
+    """End a compiler and whatever it started (its process group on POSIX)."""
+    try:
+        if os.name == "posix":
+            os.killpg(proc.pid, signal.SIGKILL)
+        else:
+            proc.kill()
+    except (ProcessLookupError, PermissionError):
+        pass
+    proc.wait()
 
 
 def run_compilers(jobs: list[tuple[list[str], str]]) -> None:
     """``run_compiler`` over (command, what) jobs, as many at once as this machine has cores (each
     zig target is its own process; a build of every platform is 4-5 of them); the first failure
-    is raised once all have ended."""
+    is raised once all have ended. An interrupt (which reaches the main thread only) kills the
+    compilers at once, so the pool's threads end with them instead of after the whole build."""
     from concurrent.futures import ThreadPoolExecutor
 
     with ThreadPoolExecutor(max_workers=max(1, min(len(jobs), os.cpu_count() or 1))) as pool:
-        for f in [pool.submit(run_compiler, cmd, what) for cmd, what in jobs]:
-            f.result()
+        futures = [pool.submit(run_compiler, cmd, what) for cmd, what in jobs]
+        try:
+            for f in futures:
+                f.result()
+        except KeyboardInterrupt:
+            for f in futures:
+                f.cancel()
+            for proc in list(_running):
+                _kill(proc)
+            raise
 
 
 def zig_command(target: str, src: Path, sources: list[str], out: Path, defines: tuple[str, ...] = ()) -> list[str]:

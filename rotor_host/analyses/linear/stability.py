@@ -48,8 +48,10 @@ from bearing_fmu.physics.geometry import Geometry
 from bearing_fmu.io.exits import note_kept
 from bearing_fmu.io.outputs import ensure_writable, write_json, write_text
 
+from ...model.band_modes import band_modes
 from ...model.rotor import Rotor
-from .stability_inputs import DEFAULT_FILES, PAPER_MAP, check_supply, internal_options  # noqa: F401
+from .inputs import (DEFAULT_FILES, PAPER_MAP, check_speeds, check_supply, check_top_speed,  # noqa: F401
+                     internal_options, read_rotor, refuse_unsupported)
 from .stability_report import FORWARD, direction, markdown, to_json
 from .modal import (RANK_UP_TO, band_hz, band_rule, beyond_band_line, critical_speeds, least_beyond, least_in_band,
                     no_critical_line, split_crossings)
@@ -145,6 +147,7 @@ class StabilityResult:
     band_hz: float = math.inf
     timings: dict = field(default_factory=lambda: {"setup": 0.0, "equilibrium": 0.0, "eigen": 0.0, "refine": 0.0})
     n_modes: int = DEFAULT_MODES
+    unsupported: list = field(default_factory=list)  # speeds [Hz] where the bearings did not hold the rotor
     status: str = "ok"
     T_supply_K: float | None = None  # the oil's supply temperature (None: isoviscous bearings)
 
@@ -221,6 +224,8 @@ class Stability:
         self.loads = bearing_loads(rotor, self.f_static)
         self.pairs = [(rotor.dof(n, "y"), rotor.dof(n, "z")) for n in rotor.bearing_nodes]
         self.names = [f"bearing {k + 1} (node {n + 1})" for k, n in enumerate(rotor.bearing_nodes)]
+        self.where = where or "rotor"
+        refuse_unsupported(rotor, self.f_static, self.pairs, self.names, self.where)  # before any solve
         t0 = time.perf_counter()
         self.where = where or "rotor"
         # a feed along the line of thickest film moves with each speed's equilibrium: placed per speed
@@ -277,7 +282,7 @@ class Stability:
             bearings = DirectBearings(self.internals, self.pairs, omega, self.names)
             if q0 is not None:
                 try:
-                    return static_equilibrium(self.rotor.K, self.f_static, bearings, q0,
+                    return static_equilibrium(self.rotor.matrices()[1], self.f_static, bearings, q0,
                                               rigid_modes=self.rotor.rigid_modes())
                 except EquilibriumError:
                     pass  # the previous speed's equilibrium was too far: start afresh, as a scene does
@@ -339,7 +344,9 @@ class Stability:
         q = self.equilibrium(omega, q0)
         t0 = time.perf_counter()
         K, C = self.linearise(q, omega)
-        freq, ld, shapes = self.rotor.modes(omega, K, C)
+        # every mode up to DENSE_MAX_DOF DOFs; a big rotor's around its ranking band (sparse)
+        band = self.band_hz if math.isfinite(self.band_hz) else band_hz(speed_hz)
+        freq, ld, shapes = band_modes(self.rotor, omega, K, C, band)
         if freq.size == 0 or not (np.all(np.isfinite(freq)) and np.all(np.isfinite(ld))):
             raise RuntimeError(f"{speed_hz:g} Hz: the eigenvalue problem gave "
                                f"{'no oscillatory mode' if freq.size == 0 else 'non-finite eigenvalues'}")
@@ -361,10 +368,13 @@ class Stability:
         far as its ``result`` attribute."""
         from bearing_fmu.physics.statics import EquilibriumError
 
+        from ...integrate.equilibrium import RotorNotSupported
+
         res = StabilityResult(rotor_name or self.rotor.name, self.internal, self.options,
                               [n + 1 for n in self.rotor.bearing_nodes], self.loads.tolist(), n_modes=n_modes,
                               T_supply_K=self.T_supply_K)
         speeds_hz = [float(s) for s in speeds_hz]
+        check_top_speed(self.rotor, speeds_hz, self.where)  # before any solve: no material turns so fast
         self.band_hz = res.band_hz = band_hz(max(speeds_hz, default=0.0), rank_up_to)
         res.rank_up_to = float(rank_up_to)
         res.timings["setup"] = self.setup_s
@@ -376,6 +386,8 @@ class Stability:
                     point, q = self.at(float(s), q)
                 except EquilibriumError as exc:
                     point, q = SpeedPoint(float(s), "no equilibrium", str(exc)), None
+                    if isinstance(exc, RotorNotSupported):  # journals outside, loads not carried
+                        res.unsupported.append(float(s))
                     if log is not None:
                         log(f"{s:g} Hz: {exc}")
                 res.points.append(point)
@@ -440,31 +452,6 @@ def _busiest_node(rotor: Rotor, shape: np.ndarray) -> int:
     return int(np.argmax(np.sum(np.abs(yz) ** 2, axis=1)))
 
 
-def read_rotor(rotor_path, static_loads=()) -> tuple[Rotor, list[tuple[int, float, float]]]:
-    """The rotor file and the static loads (node, Fy, Fz) with 1-based nodes, checked against
-    its nodes and turned 0-based; ValueError naming the file or the load."""
-    rotor_path = Path(rotor_path)
-    rotor = Rotor.from_toml(rotor_path)
-    loads = []
-    for node, fy, fz in static_loads:
-        if not 1 <= int(node) <= rotor.n_nodes:
-            raise ValueError(f"--static-load {node}:{fy:g}:{fz:g}: node {node} is outside the rotor's nodes "
-                             f"1..{rotor.n_nodes} ({rotor_path})")
-        loads.append((int(node) - 1, float(fy), float(fz)))
-    if not rotor.bearing_nodes:
-        raise ValueError(f"{rotor_path}: the rotor has no bearings; a stability analysis needs at least one "
-                         "[[bearings]] entry (node, bearing file)")
-    return rotor, loads
-
-
-def check_speeds(speeds_hz) -> list[float]:
-    """Finite speeds > 0 Hz in increasing order, or ValueError."""
-    speeds = [float(s) for s in speeds_hz]
-    if not speeds or any(not (math.isfinite(s) and s > 0.0) for s in speeds) or np.any(np.diff(speeds) <= 0.0):
-        raise ValueError(f"speeds {speeds!r}: expected finite speeds > 0 Hz in increasing order")
-    return speeds
-
-
 def stability(rotor_path, speeds_hz, internal: str = "reynolds", options: dict | None = None,
               static_loads=(), n_modes: int = DEFAULT_MODES, log=None,
               rank_up_to: float = RANK_UP_TO, T_supply_K: float | None = None) -> StabilityResult:
@@ -513,6 +500,11 @@ def command(*, rotor_file, speeds_hz, internal: str = "reynolds", data_files=Non
             note_kept(exc, f"{out / f'{stem}.md'} ({len(res.points)} speed(s))")
         raise
     files = [write_text(out / f"{stem}.md", markdown(res)), write_json(out / f"{stem}.json", to_json(res, rotor_file))]
+    if res.unsupported and len(res.unsupported) == len(res.points):  # the rotor file or its loads: exit 2
+        from ...integrate.equilibrium import RotorNotSupported
+
+        raise RotorNotSupported(f"{rotor_file}: at every speed of {speeds_hz[0]:g}-{speeds_hz[-1]:g} Hz: "
+                                f"{res.points[0].message}; wrote {files[0]}")
     if not res.ok_points:
         raise RuntimeError(f"{rotor_file}: no speed of {speeds_hz[0]:g}-{speeds_hz[-1]:g} Hz has a static "
                            f"equilibrium (first: {res.points[0].message}); wrote {files[0]}")

@@ -1,0 +1,105 @@
+"""The modes of a big rotor without a dense n x n matrix (rotor_host.model.band_modes: ARPACK in
+shift-invert mode on the sparse M, K, G about the band of interest) against the dense
+state-space eigensolution of ``Rotor.modes``, on the bundled rotors: the same modes in the band,
+and the same stability sweep (least stable log decrement, threshold, critical speeds).
+
+Round-off: both paths are backward stable; the sparse one's eigenpairs are checked directly by
+their residual ||(lam^2 M + lam C + K) x|| against the terms' sizes (measured 2e-18 near the
+shift, up to 4e-12 in the band and 1e-11 for the disk's modes farthest from the shift, where
+shift-invert amplifies least; so 1e-11 in the band, 1e-9 beyond), and the two eigenvalues agree to what the dense path's own backward error of ~3e-16
+moves a mode of this conditioning (measured: 5e-8 relative for the paper rotor's oil-film
+modes, 1e-12 for Friswell's), so 1e-7 relative.
+"""
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from rotor_host.model import band_modes as bm
+from rotor_host.model.rotor import Rotor
+
+MODELS = Path(__file__).resolve().parents[1] / "rotor_host" / "bundled"
+PAPER_MAP = MODELS / "maps" / "paper_bearing.json"
+
+
+def _backward_error(rotor, speed, K, C, freq, log_dec, shapes) -> float:
+    Kt = rotor.K + rotor.bearing_matrix(K)
+    Ct = rotor.C + rotor.bearing_matrix(C) + speed * rotor.G
+    M = rotor.M
+    scale = [np.linalg.norm(A, 2) for A in (M, Ct, Kt)]
+    worst = 0.0
+    for f, ld, x in zip(freq, log_dec, shapes.T):
+        wd = 2 * math.pi * f
+        lam = complex(-ld * wd / (2 * math.pi), wd)
+        r = np.linalg.norm((lam ** 2 * M + lam * Ct + Kt) @ x)
+        worst = max(worst, r / ((abs(lam) ** 2 * scale[0] + abs(lam) * scale[1] + scale[2]) * np.linalg.norm(x)))
+    return worst
+
+
+@pytest.mark.parametrize("name", ["rotor_paper", "rotor_friswell"])
+def test_the_band_s_modes_are_the_dense_solution_s(name):
+    from rotor_host.analyses.linear.stability import Stability, internal_options
+
+    rotor = Rotor.from_toml(MODELS / f"{name}.toml")
+    st = Stability(rotor, "reynolds", internal_options("reynolds", grid=(64, 8)))
+    for speed_hz in (10.0, 25.0, 45.0):
+        omega = 2 * math.pi * speed_hz
+        K, C = st.linearise(st.equilibrium(omega), omega)
+        band = 2.0 * speed_hz  # modal.RANK_UP_TO x the speed, as a stability sweep ranks
+        fd, ld, sd = rotor.modes(omega, K, C)
+        fs, ls, ss = bm.band_modes(rotor, omega, K, C, band, sparse=True)
+        near = fs <= band
+        assert _backward_error(rotor, omega, K, C, fs[near], ls[near], ss[:, near]) < 1e-11
+        assert _backward_error(rotor, omega, K, C, fs, ls, ss) < 1e-9  # the disk's far side too
+        lam_d = (-ld * fd + 2j * math.pi * fd) / (2 * math.pi) * 2 * math.pi
+        lam_s = (-ls * fs + 2j * math.pi * fs) / (2 * math.pi) * 2 * math.pi
+        sigma, radius = 0.5j * 2 * math.pi * band, bm.DISK_RADIUS * 2 * math.pi * band
+        inside = np.abs(lam_d - sigma) <= radius
+        assert np.any(fd[inside] <= band) or speed_hz == 10.0  # the comparison is not empty where modes are
+        # every dense mode of the disk is found, and nothing else
+        assert lam_s.size == inside.sum(), (fd, fs)
+        np.testing.assert_allclose(lam_s, lam_d[inside], rtol=1e-7)
+        # the shapes as well (largest entry 1; where two entries are equally large, as on a
+        # symmetric rotor, each path may pick the other: compared up to that unit factor)
+        for i, j in enumerate(np.flatnonzero(inside)):
+            c = np.vdot(sd[:, j], ss[:, i]) / np.vdot(sd[:, j], sd[:, j])
+            assert abs(abs(c) - 1.0) < 1e-6 and np.max(np.abs(ss[:, i] - c * sd[:, j])) < 1e-6
+
+
+def test_a_stability_sweep_on_the_sparse_path_is_the_dense_sweep(monkeypatch):
+    # the paper rotor through its threshold (~43 Hz, tests/test_stability.py) and its first
+    # critical (22 Hz): with every rotor sent down the sparse path, the same answers
+    from rotor_host.analyses.linear.stability import stability
+
+    speeds = np.arange(18.0, 46.1, 4.0)
+    dense = stability(MODELS / "rotor_paper.toml", speeds, "map", {"map": str(PAPER_MAP)})
+    monkeypatch.setattr(bm, "DENSE_MAX_DOF", 0)
+    sparse = stability(MODELS / "rotor_paper.toml", speeds, "map", {"map": str(PAPER_MAP)})
+    for a, b in zip(dense.points, sparse.points):
+        assert b.least_log_dec == pytest.approx(a.least_log_dec, rel=1e-6, abs=1e-9)
+        assert b.freq_hz[b.least] == pytest.approx(a.freq_hz[a.least], rel=1e-7)
+    assert sparse.threshold.speed_hz == pytest.approx(dense.threshold.speed_hz, abs=1e-3)  # Brent's xtol 1e-4 Hz
+    assert sparse.threshold.whirl_hz == pytest.approx(dense.threshold.whirl_hz, rel=1e-6)
+    assert [c["mode"] for c in sparse.criticals] == [c["mode"] for c in dense.criticals]
+    np.testing.assert_allclose([c["speed_hz"] for c in sparse.criticals], [c["speed_hz"] for c in dense.criticals],
+                               rtol=1e-7)
+
+
+def test_a_big_rotor_is_not_solved_densely(monkeypatch):
+    # the band is required above DENSE_MAX_DOF; a rotor of 2 x DENSE_MAX_DOF DOFs never builds a
+    # dense matrix (the paper rotor cut into 25 pieces per element: 1004 DOFs)
+    rotor = Rotor.from_toml(MODELS / "rotor_paper.toml").refined(25)
+    assert rotor.n_dof > bm.DENSE_MAX_DOF
+    with pytest.raises(ValueError, match=r"a rotor of 1004 DOFs is solved in a band; up_to_hz = inf"):
+        bm.band_modes(rotor, 0.0, np.eye(2) * 1e7, np.eye(2) * 1e3)
+
+    def no_dense(*_):
+        raise AssertionError("a dense n x n matrix was built")
+
+    import rotor_host.integrate.banded as banded
+
+    monkeypatch.setattr(banded, "from_band", no_dense)
+    f, ld, shapes = bm.band_modes(rotor, 2 * math.pi * 22.0, np.eye(2) * 1e7, np.eye(2) * 1e3, 44.0)
+    assert f.size and shapes.shape == (rotor.n_dof, f.size) and np.all(np.isfinite(ld))
