@@ -115,6 +115,8 @@ def main() -> None:
     ap.add_argument("--t-end", type=float, default=0.5, help="simulated time of both scenes [s]; 0: the scenes' own")
     ap.add_argument("--repeats", type=int, default=3)
     ap.add_argument("--skip-python", action="store_true", help="no Python FMU column (the slowest)")
+    ap.add_argument("--scenes", nargs="+", default=["paper_22hz", "paper_44hz"], help="of the bundled scenes")
+    ap.add_argument("--rows", nargs="+", default=None, help="only the rows of these internals (reynolds map ...)")
     args = ap.parse_args()
     load = os.getloadavg()
     print(f"# main job floor, {date.today()}, {platform.machine()} {os.cpu_count()} CPUs, load at start "
@@ -122,13 +124,13 @@ def main() -> None:
     print("| scene | row | steps | python FMU | native FMU | direct | kernels alone | native / kernels "
           "| native / direct | python / native |")
     print("|---|---|---:|---:|---:|---:|---:|---:|---:|---:|")
-    for name in ("paper_22hz.toml", "paper_44hz.toml"):
-        scene = load_scene(SCENES / name)
+    for name in args.scenes:
+        scene = load_scene(SCENES / f"{name}.toml")
         if args.t_end:
             scene = scene.with_internal(scene.internal, t_end_s=args.t_end)
         ref, variants = paper_variants(scene, load_surrogate(required_file(scene, "taylor", "surrogate")))
         for v in [ref, *variants]:
-            if v.label.endswith(PYTHON_FMU):
+            if v.label.endswith(PYTHON_FMU) or (args.rows and v.internal not in args.rows):
                 continue
             native = v.scene(scene)
             routes = {"native": native, "direct": native.with_internal(v.internal, via="direct")}
