@@ -57,6 +57,7 @@ def test_main_job_rows_cost_per_step_about_the_direct_call(tmp_path):
         per_step = _marginal({"native": native, "direct": native.with_internal(v.internal, via="direct")},
                              lengths, repeats, tmp_path)
         ratios[v.internal] = per_step["native"] / per_step["direct"]
+    print(f"native / direct per step: {ratios}")  # shown with -s
     assert set(ratios) == {"reynolds", "map", "taylor", "linear"}
     for internal, ratio in ratios.items():
         assert ratio <= LIMIT[internal], f"{internal}: the main job's row {ratio:.2f}x the direct call per step {ratios}"
