@@ -83,3 +83,21 @@ def test_compare_takes_any_registered_internal_that_can_be_a_variant(tmp_path):
             reference_and_variants(scene, tmp_path, internals=["no_compare"])
     finally:
         registry.unregister("no_compare")
+
+
+def test_main_job_runs_every_variant_through_its_native_fmu_and_the_map_also_through_the_python_fmu():
+    # issue 37: the main job's rows through the fastest FMU route (native, compiled loop), the
+    # Python FMU kept as a row of its own so the table shows both routes
+    from bearing_fmu.surrogates.surrogate import load_surrogate
+    from rotor_host.analyses.compare import PAPER_REFERENCE, PYTHON_FMU, paper_variants, route
+    from rotor_host.scenes.scene import required_file
+
+    for name in ("paper_22hz.toml", "paper_44hz.toml"):
+        scene = load_scene(SCENES / name)
+        ref, variants = paper_variants(scene, load_surrogate(required_file(scene, "taylor", "surrogate")))
+        assert ref.label == PAPER_REFERENCE and route(ref.scene(scene)) == "the native FMU"
+        assert [v.internal for v in variants] == ["map", "map", "taylor", "linear"]
+        python = [v for v in variants if route(v.scene(scene)) == "the Python FMU"]
+        assert len(python) == 1 and python[0].label.endswith(PYTHON_FMU)
+        assert python[0].options == variants[0].options  # the same map, the other route
+        assert all(v.scene(scene).fmu_kind == "native" for v in variants if v is not python[0])

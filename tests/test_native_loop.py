@@ -5,7 +5,10 @@ state saved once per step and restored before every iterate, as for any FMU): th
 makes the same FMI calls (setReal, doStep, getReal) on the same instances, and the memoryless
 FMU has no state for the restore to change, so the orbits, forces and Newton statistics must be
 identical to the bit, also when a discard inside the compiled loop hands the step back to
-Python, which cuts it.
+Python, which cuts it. An FMU that is not memoryless (native Taylor, Reynolds) is iterated by
+the compiled loop with the same save and restore the Python driver makes (the kernel's
+fmi2GetFMUstate at a step's first evaluation, fmi2SetFMUstate before every later one): again
+the same numbers to the bit and the same log lines.
 """
 
 import dataclasses
@@ -25,19 +28,22 @@ from rotor_host.scenes.scene import load_scene
 
 ROOT = Path(__file__).resolve().parents[1]
 PAPER_MAP = ROOT / "rotor_host" / "bundled" / "maps" / "paper_bearing.json"
+PAPER_SURROGATE = ROOT / "rotor_host" / "bundled" / "surrogates" / "paper_22hz_16.7N.json"
+DATA = {"map": ("map", "map", PAPER_MAP), "taylor": ("taylor", "surrogate", PAPER_SURROGATE)}
 
 
 @pytest.fixture(scope="module")
 def native_scene(tmp_path_factory, native_build_cache):
     """scene(internal, **overrides): the paper's 22 Hz scene through the scene's own native FMU
-    of ``internal`` (map or linear), built once per internal (and kept between sessions:
-    ``native_build_cache``)."""
+    of ``internal`` (map, linear, taylor or reynolds), built once per internal (and kept between
+    sessions: ``native_build_cache``)."""
     folder = tmp_path_factory.mktemp("native_loop")
     built = {}
 
     def scene(internal="map", **overrides):
         path = folder / f"{internal}_{len(list(folder.glob('*.toml')))}.toml"
-        tables = {"map": {"map": str(PAPER_MAP)}} if internal == "map" else {}
+        table, key, data = DATA.get(internal, (None, None, None))
+        tables = {table: {key: str(data)}} if table else {}
         path.write_text(paper_scene_text(internal=internal, via="fmu", fmu_kind="native", **tables, **overrides))
         s = load_scene(path)
         if internal not in built:
@@ -48,7 +54,7 @@ def native_scene(tmp_path_factory, native_build_cache):
                 return target
 
             built[internal] = native_build_cache(folder / f"{internal}.fmu", build,
-                                                 [PAPER_MAP] if internal == "map" else [], ("native_loop", internal))
+                                                 [data] if data else [], ("native_loop", internal))
         return dataclasses.replace(s, fmu=built[internal])
 
     return scene
@@ -63,7 +69,7 @@ def _run(s, compiled, memoryless=True, t_end=None):
     fs = rotor.weight_vector(9.81) + rotor.point_load_vector(s.static_loads)
     loads = scene_run.bearing_loads(rotor, fs)
     with scene_run.build_bearings(s, rotor, loads, Path(s.fmu).parent) as b:
-        assert b.memoryless
+        assert b.memoryless or not memoryless
         b.memoryless = memoryless
         q0 = scene_run.initial_state(s, rotor, fs, loads, b)
         integ = Newmark(rotor.M, rotor.K, rotor.C, rotor.G, s.omega, scene_run.external_force(s, rotor, fs), b,
@@ -75,6 +81,7 @@ def _run(s, compiled, memoryless=True, t_end=None):
                             record_dofs=rec, progress=lambda t: None, progress_every=7)
         except IntegrationError as exc:
             res = exc
+        _run.messages = [list(m) for m in b.messages]  # the FMUs' log lines
         return res, plan, b.max_eccentricity.copy()
 
 
@@ -137,6 +144,39 @@ def test_compiled_native_scene_equals_the_python_driver(native_scene, internal):
     _assert_same(new, ref)
     np.testing.assert_array_equal(ecc, ecc_ref)
     np.testing.assert_array_equal(ecc_lean, ecc_ref)
+
+
+@pytest.mark.parametrize("internal", ["taylor", "reynolds"])
+def test_compiled_loop_saves_and_restores_an_fmu_that_is_not_memoryless(native_scene, internal):
+    # the native Taylor FMU (excursion warnings count from the committed state) and Reynolds FMU
+    # (its solver's warm start kept in the FMU, on the C side) are not memoryless; the compiled
+    # loop makes the conformant iteration's FMI calls itself: the same numbers and log lines as
+    # the Python driver's (Reynolds on a 32 x 4 grid, which the FMU takes as parameters)
+    s = native_scene(internal, t_end=0.004, grid=(32, 4) if internal == "reynolds" else None)
+    ref, plan_ref, ecc_ref = _run(s, compiled=False, memoryless=False)
+    log_ref = _run.messages
+    new, plan, ecc = _run(s, compiled=True, memoryless=False)
+    assert plan and not plan_ref
+    _assert_same(new, ref)
+    np.testing.assert_array_equal(ecc, ecc_ref)
+    assert _run.messages == log_ref
+    assert ref.n_evaluations > 40 and ecc.min() > 0.1
+
+
+def test_a_discard_in_a_stateful_compiled_loop_goes_back_to_python_at_the_step_start(native_scene, monkeypatch):
+    # the map FMU iterated as if it had a state (saved and restored by the compiled kernels): a
+    # discard hands the step to Python with each instance back in the state saved at the step's
+    # start (its FMU time too), and the run is cut and fails as the Python driver's does
+    s = native_scene("map", t_end=0.01, unbalance_node=2, unbalance_g=50e3)
+    ref, _, ecc_ref = _run(s, compiled=False, memoryless=False)
+    why = []
+    run = newmark_loop.ChunkDriver.run
+    monkeypatch.setattr(newmark_loop.ChunkDriver, "run",
+                        lambda self, k0, k1: (run(self, k0, k1), why.append(int(self.b.cnt[newmark_loop.CNT_WHY])))[0])
+    new, plan, ecc = _run(s, compiled=True, memoryless=False)
+    assert plan and isinstance(ref, IntegrationError) and newmark_loop.WHY_REFUSED in why
+    _assert_same(new, ref)
+    np.testing.assert_array_equal(ecc, ecc_ref)
 
 
 class _FailingDll:

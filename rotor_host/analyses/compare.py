@@ -29,15 +29,19 @@ from .report import errors_against, markdown_table, plot_runs
 @dataclass
 class Variant:
     """The scene run with ``internal`` and ``options`` ({internal name: {option: value}}, over
-    the scene's own, e.g. {"reynolds": {"n_theta": 64, "n_x": 8}}; a grid of 0 is the default)."""
+    the scene's own, e.g. {"reynolds": {"n_theta": 64, "n_x": 8}}; a grid of 0 is the default),
+    through the bearing FMU of ``fmu_kind`` (python | native; None: the scene's) when the scene
+    runs via fmu."""
 
     label: str
     internal: str
     options: dict = field(default_factory=dict)
     order: int | None = None  # taylor, for the table
+    fmu_kind: str | None = None
 
     def scene(self, base: Scene) -> Scene:
-        return base.with_internal(self.internal, options=self.options)
+        kind = {"fmu_kind": self.fmu_kind} if self.fmu_kind else {}
+        return base.with_internal(self.internal, options=self.options, **kind)
 
 
 COLUMNS = [
@@ -96,14 +100,15 @@ def compare(base: Scene, reference: Variant, variants: list[Variant], out_dir, *
 
 def _run_variant(base, reference, v, out_dir, stem, runs, rows, progress, log) -> None:
     """Run one variant; append its row (errors against the reference's run) to ``rows``."""
-    log(f"running {stem}: {v.label} via {base.via} ...")
-    run = run_scene(v.scene(base), out_dir, progress=progress, stem=f"{stem}_{_slug(v.label)}")
+    scene = v.scene(base)
+    log(f"running {stem}: {v.label} via {route(scene)} ...")
+    run = run_scene(scene, out_dir, progress=progress, stem=f"{stem}_{_slug(v.label)}")
     runs[v.label] = run
     m = run.meta
     status = m["status"]
     if m["crossed_clearance"]:
         status = "crossed clearance" if status == "ok" else f"{status}, crossed clearance"
-    row = {"label": v.label, "internal": v.internal, "options": run.meta["internal_options"],
+    row = {"label": v.label, "internal": v.internal, "route": route(scene), "options": run.meta["internal_options"],
            "order": v.order, "status": status, "message": m["message"],
            "integration_s": m["integration_time_s"], "setup_s": m["setup_time_s"] + m["equilibrium_time_s"],
            "wall_s": m["wall_time_s"], "evals_per_step": m["newton_mean_evaluations_per_step"],
@@ -133,7 +138,8 @@ def _write(base, reference, variants, rows, runs, out_dir, stem, default_label, 
         r["speedup_vs_default"] = (t_def / r["integration_s"] if full and t_def and r["integration_s"] > 0 else None)
 
     table = print_table(rows)
-    header = (f"# {base.description or base.name}\n\nscene {base.source}, via {base.via}, "
+    routes = ", ".join(dict.fromkeys(r["route"] for r in rows))
+    header = (f"# {base.description or base.name}\n\nscene {base.source}, via {routes}, "
               f"dt = {base.dt_s:g} s, {base.t_end_s:g} s simulated; reference: {reference.label}. "
               "Force NRMSE = RMS error / RMS of the reference's dynamic force; orbit errors on the "
               "bearing journals in % of the radial clearance; run time = integration only "
@@ -182,6 +188,15 @@ def envelope_error(ref, run, speed_hz: float, revs: float = 2.0) -> float | None
     if n == 0:
         return None
     return 100.0 * float(np.sqrt(np.mean((b.e_max[:n] - a.e_max[:n]) ** 2)))
+
+
+def route(scene: Scene) -> str:
+    """How a scene's bearings are called: "direct", "the native FMU" or "the Python FMU"."""
+    if scene.via != "fmu":
+        return scene.via
+    if scene.fmu is not None:
+        return f"the FMU {scene.fmu.name}"
+    return {"python": "the Python FMU", "native": "the native FMU"}.get(scene.fmu_kind, f"the {scene.fmu_kind} FMU")
 
 
 def _slug(label: str) -> str:
@@ -330,8 +345,10 @@ PAPER_SCENES = ("paper_22hz.toml", "paper_44hz.toml")
 def paper_job(scenes_dir, out, *, t_end: float | None = None, progress: bool = True) -> str:
     """The main job: the paper's 22 Hz and 44 Hz scenes, Reynolds (default grid) against the
     force map, the bundled Taylor surrogate of each scene and the linear model, all through the
-    bearing FMUs. Writes paper_summary.md (also the scenes that finished when interrupted) and
-    returns its text."""
+    bearing FMUs: each through its native FMU (the internal compiled to C, loaded through fmpy,
+    iterated by the integrator's compiled loop), and the force map once more through the Python
+    FMU (pythonfmu), so the table shows both routes and what each costs. Writes
+    paper_summary.md (also the scenes that finished when interrupted) and returns its text."""
     scenes_dir, out = Path(scenes_dir), ensure_writable(out)
     summary: list[str] = []
     try:
@@ -346,6 +363,24 @@ def paper_job(scenes_dir, out, *, t_end: float | None = None, progress: bool = T
     return text
 
 
+PAPER_REFERENCE = "Reynolds default grid"
+PYTHON_FMU = "Python FMU"  # the label's tail of a variant through the Python FMU
+
+
+def paper_variants(scene: Scene, surrogate) -> tuple[Variant, list[Variant]]:
+    """The main job's reference and variants of ``scene`` (its Taylor ``surrogate`` loaded): each
+    through its native FMU, the force map also through the Python FMU."""
+    native = [*map_variants(scene_maps(scene)), Variant(f"Taylor {surrogate.recipe}", "taylor", order=surrogate.order),
+              Variant("linear", "linear")]
+    variants = []
+    for v in native:
+        v.fmu_kind = "native"
+        variants.append(v)
+        if v.internal == "map":
+            variants.append(Variant(f"{v.label}, {PYTHON_FMU}", v.internal, v.options, fmu_kind="python"))
+    return Variant(PAPER_REFERENCE, "reynolds", fmu_kind="native"), variants
+
+
 def _paper_scenes(scenes_dir: Path, out: Path, summary: list, t_end, progress: bool) -> None:
     from bearing_fmu.surrogates.surrogate import load_surrogate
 
@@ -357,8 +392,5 @@ def _paper_scenes(scenes_dir: Path, out: Path, summary: list, t_end, progress: b
             scene = scene.with_internal(scene.internal, t_end_s=t_end)
         # 22 Hz: order 5; 44 Hz: order 7 with wall factor and shape columns
         sur = load_surrogate(required_file(scene, "taylor", "surrogate"))
-        ref = Variant("Reynolds default grid", "reynolds")
-        variants = [*map_variants(scene_maps(scene)), Variant(f"Taylor {sur.recipe}", "taylor", order=sur.order),
-                    Variant("linear", "linear")]
-        rows = compare(scene, ref, variants, out, progress=progress, default_label=ref.label)
+        rows = compare(scene, *paper_variants(scene, sur), out, progress=progress, default_label=PAPER_REFERENCE)
         summary.append(f"## {scene.description}\n\n{print_table(rows)}\n")

@@ -17,8 +17,11 @@ An FMU that declares itself memoryless (a vendor annotation in its model descrip
 linear internals; not with the thermal model on) has no state worth restoring: for it the
 iteration is setReal, doStep, getReal with no FMU state saved or restored, which gives the same
 outputs, and the integrator's compiled loop makes these calls itself (``compiled``,
-``rotor_host.coupling.fmu_kernel``). Any other FMU (a foreign one, the Python FMU, a native
-Taylor or Reynolds FMU) keeps the save and restore, in Python.
+``rotor_host.coupling.fmu_kernel``). Any other FMU keeps the save and restore; when it can get and
+set its state and needs no execution tool (a native Taylor or Reynolds FMU, a foreign compiled
+one) the compiled loop makes those calls too, in the same order (the kernels hand each step's
+saved state to the Python driver and back between chunks: ``compiled``); the Python FMU (it
+needs an execution tool: Python) is iterated from Python.
 
 A pythonfmu FMU runs its slave in this interpreter: a Ctrl-C raised inside it would come back
 as an FMI error, so signals are held while an FMU call runs (``bearing_fmu.io.exits.deferred``)
@@ -38,7 +41,7 @@ import numpy as np
 from bearing_fmu.io.exits import deferred, enter_deferred, leave_deferred
 
 from .bearings import THERMAL_FIELDS, BearingSet
-from .fmu_kernel import fmu_force
+from .fmu_kernel import free_saved, fmu_force, restore_saved
 
 # what the host reads from every bearing FMU, in this order
 _OUT = ("Fy", "Fz", "Kyy", "Kyz", "Kzy", "Kzz", "Cyy", "Cyz", "Czy", "Czz", "eccentricity")
@@ -123,6 +126,8 @@ class FMUBearings(BearingSet):
         self.memoryless = False  # set below: the FMU declares no state worth restoring
         self._clock = np.zeros(2)  # (t, h) of the step, read by the compiled kernels
         self._kernels = None
+        self._saved = None  # (n, 2): each stateful kernel's FMU state and the step it saved it for
+        self.stateful_compiled = False  # set below: the compiled loop may save and restore its states
         self._initialised = set()  # instances past exitInitializationMode: only those are terminated (FMI 2.0)
         try:
             md = read_model_description(str(self.fmu_path))
@@ -188,6 +193,8 @@ class FMUBearings(BearingSet):
             self._dq_view = self._out[2:6].reshape(2, 2)
             self._dv_view = self._out[6:10].reshape(2, 2)
             self.memoryless = self._declared_memoryless(parameters)
+            cs = md.coSimulation
+            self.stateful_compiled = bool(cs.canGetAndSetFMUstate and not cs.needsExecutionTool)
             if self.n and all(str(p.get("thermal", "")).strip().lower() in ("true", "1", "1.0") for p in parameters):
                 # its thermal ports on: T_eff, mu_eff, P_loss, Q_side are outputs (no inflow)
                 self.thermal_fields = THERMAL_FIELDS[:4]
@@ -319,19 +326,57 @@ class FMUBearings(BearingSet):
         return self._f_view, self._dq_view, self._dv_view
 
     def compiled(self):
-        """(forces, omega, clock) for the integrator's compiled loop: each instance's setReal,
-        doStep, getReal as a compiled kernel (``fmu_kernel.fmu_force``), when the FMU is
-        memoryless (no state to save and restore) and each bearing's own tangent is used at a
-        constant speed; else None (the Python driver)."""
-        if not self.memoryless or self.speed is not None or self.tangent != "bearing" or not self.with_jacobian:
+        """(forces, omega, clock, handover) for the integrator's compiled loop: each instance's
+        setReal, doStep, getReal (and, for an FMU that is not memoryless, its state saved and
+        restored as in ``begin_step`` and ``_bearing``) as a compiled kernel
+        (``fmu_kernel.fmu_force``), when the FMU is memoryless or ``stateful_compiled`` and each
+        bearing's own tangent is used at a constant speed; else None (the Python driver).
+        ``handover`` = (enter, leave): called by the compiled driver around every chunk."""
+        if (not (self.memoryless or self.stateful_compiled) or self.speed is not None or self.tangent != "bearing"
+                or not self.with_jacobian):
             return None
         if self._kernels is None:
             vr_in = [self._vars[n].valueReference for n in _IN]
             vr_out = [self._vars[n].valueReference for n in _OUT]
-            self._kernels = tuple(fmu_force(fmu.dll, fmu.component.value if hasattr(fmu.component, "value")
-                                            else fmu.component, vr_in, vr_out, self._clock, self.max_eccentricity, k)
+            if not self.memoryless:
+                self._saved = np.zeros((self.n, 2))
+                self._saved[:, 1] = np.nan
+            self._kernels = tuple(fmu_force(fmu.dll, self._address(fmu), vr_in, vr_out, self._clock,
+                                            self.max_eccentricity, k, None if self._saved is None else self._saved[k])
                                   for k, fmu in enumerate(self.instances))
-        return self._kernels, self.omega, self._clock
+        return self._kernels, self.omega, self._clock, (self._enter_compiled, self._leave_compiled)
+
+    @staticmethod
+    def _address(fmu) -> int:
+        return fmu.component.value if hasattr(fmu.component, "value") else fmu.component
+
+    def _enter_compiled(self) -> None:
+        """Before a compiled chunk: a step the Python driver opened (the run's first, whose bracket
+        evaluated the initial state) is redone by the chunk from its start: its saved state
+        restored and freed, so the kernels save the step's start themselves."""
+        if self._saved is None:
+            return
+        with deferred():
+            for k, fmu in enumerate(self.instances):
+                if self._states[k] is not None and not self._fresh[k]:
+                    self._check(k, "fmi2SetFMUstate", fmu.dll.fmi2SetFMUstate(fmu.component, self._states[k]))
+            self._free_states()
+            self._fresh = [False] * self.n
+
+    def _leave_compiled(self, gave_back: bool) -> None:
+        """After a compiled chunk: when it gave a step back (a discard, a Newton failure), each
+        instance back at that step's start (the state its kernel saved), where the Python driver
+        redoes the step from, with that state saved as ``begin_step`` saves it (the run's first
+        step is redone without a ``begin_step``: its bracket was opened before the chunk); the
+        kernels save afresh at their next step."""
+        if self._saved is None:
+            return
+        with deferred():
+            for k, fmu in enumerate(self.instances):
+                status = restore_saved(fmu.dll, fmu.component, self._saved[k], self._clock[0] if gave_back else None)
+                self._check(k, "fmi2SetFMUstate", status)
+        if gave_back:
+            self.begin_step(self._clock[0], self._clock[1])
 
     def thermal_record(self) -> np.ndarray:
         """The thermal outputs of each instance's last doStep (an fmi2GetReal per instance)."""
@@ -386,6 +431,8 @@ class FMUBearings(BearingSet):
     def _close(self) -> None:
         for k, fmu in enumerate(self.instances):
             try:
+                if self._saved is not None:  # a compiled kernel's FMU state
+                    free_saved(fmu.dll, fmu.component, self._saved[k])
                 if self._states[k] is not None:
                     fmu.freeFMUstate(self._states[k])
                     self._states[k] = None

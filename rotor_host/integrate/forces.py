@@ -89,9 +89,11 @@ class NodalForce(Protocol):
     ``static_equilibrium`` brackets its evaluations in ``begin_step(t, 0.0)`` ...
     ``accept_step()`` (``reject_step()`` on failure); dt = 0.0 marks a static evaluation.
 
-    Optional: ``compiled()`` -> (forces, omega), (forces, omega, clock) or None. A force whose
-    hooks do nothing (or, with a ``clock``, whose kernels need only the step's (t, h), which the
-    loop writes into that float64 (2,) array at each step: a memoryless FMU's doStep) and
+    Optional: ``compiled()`` -> (forces, omega), (forces, omega, clock), (forces, omega, clock,
+    (enter, leave)) or None. A force whose hooks do nothing (or, with a ``clock``, whose kernels
+    need only the step's (t, h), which the loop writes into that float64 (2,) array at each step:
+    a memoryless FMU's doStep; or, with ``enter`` and ``leave``, whose kernels keep what the hooks
+    do themselves and hand it over around each chunk: ``newmark_loop.ChunkDriver``) and
     whose evaluation is, per pair of DOFs (y, z), one compiled kernel of
     ``bearing_fmu.internals.compiled`` at the speed omega [rad/s] (with its own derivatives)
     may hand the integrator those kernels, one ``CompiledForce`` per pair; the

@@ -159,16 +159,20 @@ def run_chunk(kaddr, data, doff, omega, clock, k0, k1, X, MDK, SB, W, MB, dofs, 
 class ChunkDriver:
     """The compiled driver's side of a run of ``integ`` (a ``newmark.Newmark``): its buffers,
     and the state handed to and from ``run_chunk`` (the integrator's run state stays the one
-    record). ``plan`` = (forces, omega) or (forces, omega, clock) from ``NodalForce.compiled``
-    (clock: the float64 (2,) array the forces read the step's (t, h) from; such forces call
-    foreign code, FMUs, so signals are held while a chunk runs, as the Python driver holds them
-    around each FMU call: ``bearing_fmu.io.exits.deferred``); ``rec`` the recorded DOFs."""
+    record). ``plan`` = (forces, omega), (forces, omega, clock) or (forces, omega, clock,
+    (enter, leave)) from ``NodalForce.compiled`` (clock: the float64 (2,) array the forces read
+    the step's (t, h) from; such forces call foreign code, FMUs, so signals are held while a
+    chunk runs, as the Python driver holds them around each FMU call:
+    ``bearing_fmu.io.exits.deferred``; enter() before every chunk and leave(gave_back) after it,
+    gave_back True when the chunk stopped at a step Python redoes: forces with a state over the
+    step hand it between the two drivers there); ``rec`` the recorded DOFs."""
 
     def __init__(self, integ, plan, n: int, rec):
         self.integ = integ
         forces, self.omega = plan[0], float(plan[1])
         self.foreign = len(plan) > 2
         self.clock = plan[2] if self.foreign else np.zeros(2)
+        self.enter, self.leave = plan[3] if len(plan) > 3 else (None, None)
         self.forces = forces  # keeps the kernels and their data alive while their addresses are used
         self.kaddr = np.array([cf.address for cf in forces], dtype=np.int64)
         self.data = np.ascontiguousarray(np.concatenate([cf.data for cf in forces]), dtype=np.float64)
@@ -190,6 +194,8 @@ class ChunkDriver:
         cnt[:] = (st.steps_done, st.n_eval, st.n_rec, int(st.have_J), 0)
         loads = integ._loads
         n_eval = st.n_eval
+        if self.enter is not None:
+            self.enter()
         if self.foreign:
             enter_deferred()
         try:
@@ -198,6 +204,8 @@ class ChunkDriver:
                           loads.par, st.fe0, b.fe1, b.f0, b.f, b.Jq, b.Jv, b.Z, b.Jsave, b.out, b.cfg, cnt, st.iters,
                           self.rec, st.record_every, st.out_t, st.out_q, st.out_v, st.out_f)
             self._kept(k0, k, n_eval)
+            if self.leave is not None:
+                self.leave(k < k1)
         finally:
             if self.foreign:
                 leave_deferred()  # a signal held meanwhile is raised here, the steps done kept

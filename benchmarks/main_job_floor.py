@@ -1,0 +1,158 @@
+"""The main job at its floor: each row's integration against the sum of its kernels' own time.
+
+For each row of `rotor-host paper` (the 22 Hz and 44 Hz scenes: Reynolds at its default grid,
+the force map, the Taylor surrogate, the linear model) this runs, side by side in one process:
+
+  python FMU   the row through the Python FMU (pythonfmu) and the Python driver: the main job
+               before issue 37
+  native FMU   the row as the main job runs it now: its native FMU, iterated by the compiled loop
+  direct       `rotor-host run <scene> --via direct`: the internal called in-process
+  kernels      the same FMU calls alone: every evaluation of the native run (its inputs and step
+               times, recorded through the Python driver, which makes the same calls) replayed
+               through the same compiled kernels (setReal, doStep, getReal and the FMU state's
+               save and restore where the FMU has one) in one compiled loop, nothing else
+
+and prints the integration time of each (the min of ``--repeats``), per step, and the ratios
+native / kernels (what the integrator adds to its kernels) and native / direct.
+
+    PYTHONPATH=$PWD python benchmarks/main_job_floor.py [--t-end 0.5] [--repeats 3] [--skip-python]
+
+--t-end shortens both scenes (default 0.5 s; the main job's own lengths: --t-end 0).
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import platform
+import time
+from datetime import date
+from pathlib import Path
+
+import numpy as np
+from numba import njit
+
+from bearing_fmu.internals.compiled import OUT_SIZE, address, advance, kernel_at
+from bearing_fmu.surrogates.surrogate import load_surrogate
+from rotor_host.analyses.compare import PYTHON_FMU, paper_variants
+from rotor_host.coupling.cosim import FMUBearings
+from rotor_host.integrate.newmark import Newmark, NewmarkConfig
+from rotor_host.model.rotor import Rotor
+from rotor_host.scenes import run as scene_run
+from rotor_host.scenes.scene import G, load_scene, required_file
+
+SCENES = Path(__file__).resolve().parents[1] / "rotor_host" / "bundled" / "scenes"
+
+
+@njit(cache=True)
+def _replay(kaddr, data, doff, states, clock, out):
+    """Every recorded evaluation (k, t, h, y, z, vy, vz, omega) through bearing k's kernel."""
+    base = address(data.ctypes.data)
+    op = address(out.ctypes.data)
+    bad = 0
+    for i in range(states.shape[0]):
+        b = int(states[i, 0])
+        clock[0] = states[i, 1]
+        clock[1] = states[i, 2]
+        kernel = kernel_at(kaddr[b])
+        bad += kernel(advance(base, doff[b]), states[i, 3], states[i, 4], states[i, 5], states[i, 6], states[i, 7], op)
+    return bad
+
+
+def _run_time(scene) -> tuple[float, int]:
+    run = scene_run.run_scene(scene, None)
+    return run.meta["integration_time_s"], run.meta["steps"]
+
+
+def _integrate(scene, record: bool):
+    """The scene's integration through its native FMU bearings, the Python driver when
+    ``record`` (every evaluation's inputs and step kept); returns (bearings' plan, states)."""
+    rotor = Rotor.from_toml(scene.rotor_path)
+    fs = rotor.weight_vector(G) + rotor.point_load_vector(scene.static_loads)
+    loads = scene_run.bearing_loads(rotor, fs)
+    states = []
+    with scene_run.build_bearings(scene, rotor, loads, None) as b:
+        q0 = scene_run.initial_state(scene, rotor, fs, loads, b)
+        if record:
+            inner = b._bearing
+
+            def bearing(k, y, z, vy, vz):
+                states.append((k, b.t, b._h, y, z, vy, vz, b.omega))
+                return inner(k, y, z, vy, vz)
+
+            b._bearing = bearing
+        integ = Newmark(rotor.M, rotor.K, rotor.C, rotor.G, scene.omega, scene_run.external_force(scene, rotor, fs), b,
+                        NewmarkConfig(alpha=scene.alpha, tangent=scene.newton_tangent, compiled=not record))
+        integ.run(q0, np.zeros(rotor.n_dof), 0.0, scene.t_end_s, scene.dt_s)
+    return np.array(states)
+
+
+def kernels_time(scene, states: np.ndarray, repeats: int) -> float:
+    """The recorded evaluations replayed through fresh instances' compiled kernels: min of repeats [s]."""
+    rotor = Rotor.from_toml(scene.rotor_path)
+    fs = rotor.weight_vector(G) + rotor.point_load_vector(scene.static_loads)
+    loads = scene_run.bearing_loads(rotor, fs)
+    best = np.inf
+    for _ in range(repeats):
+        with scene_run.build_bearings(scene, rotor, loads, None) as b:
+            scene_run.initial_state(scene, rotor, fs, loads, b)  # the instances as the run has them
+            forces, _omega, clock, (enter, _leave) = b.compiled()
+            enter()
+            kaddr = np.array([cf.address for cf in forces], dtype=np.int64)
+            data = np.ascontiguousarray(np.concatenate([cf.data for cf in forces]))
+            doff = np.cumsum([0] + [cf.data.size for cf in forces])[:-1].astype(np.int64)
+            out = np.zeros(OUT_SIZE)
+            t0 = time.perf_counter()
+            bad = _replay(kaddr, data, doff, states, clock, out)
+            best = min(best, time.perf_counter() - t0)
+            if bad:
+                raise RuntimeError(f"{scene.name}: {bad} replayed evaluations refused")
+    return best
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--t-end", type=float, default=0.5, help="simulated time of both scenes [s]; 0: the scenes' own")
+    ap.add_argument("--repeats", type=int, default=3)
+    ap.add_argument("--skip-python", action="store_true", help="no Python FMU column (the slowest)")
+    ap.add_argument("--scenes", nargs="+", default=["paper_22hz", "paper_44hz"], help="of the bundled scenes")
+    ap.add_argument("--rows", nargs="+", default=None, help="only the rows of these internals (reynolds map ...)")
+    args = ap.parse_args()
+    load = os.getloadavg()
+    print(f"# main job floor, {date.today()}, {platform.machine()} {os.cpu_count()} CPUs, load at start "
+          f"{load[0]:.2f} {load[1]:.2f} {load[2]:.2f}; min of {args.repeats}; times = integration only [s]")
+    print("| scene | row | steps | python FMU | native FMU | direct | kernels alone | native / kernels "
+          "| native / direct | python / native |")
+    print("|---|---|---:|---:|---:|---:|---:|---:|---:|---:|")
+    for name in args.scenes:
+        scene = load_scene(SCENES / f"{name}.toml")
+        if args.t_end:
+            scene = scene.with_internal(scene.internal, t_end_s=args.t_end)
+        ref, variants = paper_variants(scene, load_surrogate(required_file(scene, "taylor", "surrogate")))
+        for v in [ref, *variants]:
+            if v.label.endswith(PYTHON_FMU) or (args.rows and v.internal not in args.rows):
+                continue
+            native = v.scene(scene)
+            routes = {"native": native, "direct": native.with_internal(v.internal, via="direct")}
+            if not args.skip_python:
+                routes["python"] = native.with_internal(v.internal, fmu_kind="python")
+            for s in routes.values():  # load and compile once, outside the clocks
+                _run_time(s.with_internal(v.internal, t_end_s=10 * s.dt_s))
+            times = {k: np.inf for k in routes}
+            steps = 0
+            for _ in range(args.repeats):  # side by side: every route once per round
+                for k, s in routes.items():
+                    t, steps = _run_time(s)
+                    times[k] = min(times[k], t)
+            states = _integrate(native, record=True)
+            tk = kernels_time(native, states, args.repeats)
+            py = times.get("python", np.nan)
+            print(f"| {scene.name} | {v.label} | {steps} | {py:.3f} | {times['native']:.3f} | {times['direct']:.3f} "
+                  f"| {tk:.3f} | {times['native'] / tk:.2f} | {times['native'] / times['direct']:.2f} "
+                  f"| {py / times['native']:.1f} |", flush=True)
+    load = os.getloadavg()
+    print(f"\nload at end {load[0]:.2f} {load[1]:.2f} {load[2]:.2f}")
+
+
+if __name__ == "__main__":
+    main()
