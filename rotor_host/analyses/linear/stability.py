@@ -35,6 +35,7 @@ paper rotor the eigenvalues cost more than the equilibria (docs/studies/2026-11-
 from __future__ import annotations
 
 import math
+import sys
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -465,10 +466,11 @@ def stability(rotor_path, speeds_hz, internal: str = "reynolds", options: dict |
 DEFAULT_FILES = {"map": PAPER_MAP}  # a file option left out: the paper bearing's (its L/D)
 
 
-def internal_options(internal: str, files: dict | None = None, grid=None) -> dict:
+def internal_options(internal: str, files: dict | None = None, grid=None, bearings=()) -> dict:
     """The internal's options from the command line's ``--<file option> FILE`` flags (``files``:
-    option -> path; a required one left out: ``DEFAULT_FILES``) and ``--grid`` (n_theta, n_x),
-    refused by option name when the internal does not read them."""
+    option -> path; a required one left out: the map store's for ``bearings`` when it has one,
+    named on stderr, else ``DEFAULT_FILES``) and ``--grid`` (n_theta, n_x), refused by option name
+    when the internal does not read them."""
     spec = registry.get(internal)
     own = {o.name: o for o in spec.all_options()}
     out = {}
@@ -481,6 +483,13 @@ def internal_options(internal: str, files: dict | None = None, grid=None) -> dic
                              f"is {spec.name})")
         out[option] = str(Path(path).resolve())
     for o in spec.file_options():
+        if o.required and o.name not in out and bearings:
+            from bearing_fmu.internals.map.store import stored_file
+
+            path, line = stored_file(o.file_format, bearings)
+            if path is not None:
+                print(f"--{o.name} not given: {line}", file=sys.stderr)
+                out[o.name] = str(path)
         if o.required and o.name not in out:
             if o.name not in DEFAULT_FILES:
                 raise ValueError(f"--{o.name}: the {spec.name} internal needs its {o.name} file")
@@ -512,9 +521,9 @@ def command(*, rotor_file, speeds_hz, internal: str = "reynolds", data_files=Non
     ``rotor_file`` at each speed of ``speeds_hz`` [Hz]; writes the table, json and figures into ``out``.
     ``supply_c``: the oil's supply temperature [C] (bearings with [oil]: at mu_eff per speed)."""
     out = ensure_writable(out)
-    options = internal_options(internal, data_files, grid)
-    stem = f"stability_{Path(rotor_file).stem}_{internal}"
     rotor, loads = read_rotor(rotor_file, static_load)
+    options = internal_options(internal, data_files, grid, bearings=rotor.bearings)
+    stem = f"stability_{Path(rotor_file).stem}_{internal}"
     if supply_c is not None:  # the command line's value, named before any data file is read
         check_supply(rotor, supply_c + 273.15, str(rotor_file), "--supply-c")
     try:
