@@ -45,28 +45,31 @@ def build_map(params: BearingParams, settings: MapSettings, partial: Path, *, wo
     the callable called with the rows done after each row. The partial file is removed once the
     table is whole."""
     import hashlib
+    from contextlib import ExitStack
 
     from ...parallel.rows import Partial
 
-    key = hashlib.sha256(f"{map_key(params, settings)} {params!r}".encode()).hexdigest()  # the rows' own inputs
-    part = Partial(partial, key, settings.n_eps)
-    done = part.load()
-    if done and log is not None:
-        log(f"resuming: {len(done)} of {settings.n_eps} rows already solved in {partial}")
-    part.start(resumed=bool(done))
-    progress = progress(len(done)) if progress is not None else None
-    kw = dict(n_eps=settings.n_eps, n_beta=settings.n_beta, eps_max=settings.eps_max, n_theta=settings.n_theta,
-              n_x=settings.n_x, cavitation=settings.cavitation, n_phase=settings.n_phase, flows=settings.flows,
-              workers=workers, progress=progress, partial=part, done=done)
-    run = (tabulate if settings.n_phi is None else
-           lambda p, **k: gm.tabulate_grooved(p, n_phi=settings.n_phi, **k))
-    if scheduler is None:
-        table = run(params, **kw)
-    else:
-        from ...parallel.cluster import dask_client
+    with ExitStack() as stack:
+        client = None
+        if scheduler is not None:  # connected (or refused) before any file is written
+            from ...parallel.cluster import dask_client
 
-        with dask_client(None if scheduler == LOCAL else scheduler, workers, CONNECT_TIMEOUT_S) as client:
-            table = run(params, client=client, **kw)
+            client = stack.enter_context(dask_client(None if scheduler == LOCAL else scheduler, workers,
+                                                     CONNECT_TIMEOUT_S))
+        key = hashlib.sha256(f"{map_key(params, settings)} {params!r}".encode()).hexdigest()  # the rows' own inputs
+        part = Partial(partial, key, settings.n_eps)
+        done = part.load()
+        if done and log is not None:
+            log(f"resuming: {len(done)} of {settings.n_eps} rows already solved in {partial}")
+        part.start(resumed=bool(done))
+        kw = dict(n_eps=settings.n_eps, n_beta=settings.n_beta, eps_max=settings.eps_max, n_theta=settings.n_theta,
+                  n_x=settings.n_x, cavitation=settings.cavitation, n_phase=settings.n_phase, flows=settings.flows,
+                  workers=workers, progress=progress(len(done)) if progress is not None else None, partial=part,
+                  done=done, client=client)
+        if settings.n_phi is None:
+            table = tabulate(params, **kw)
+        else:
+            table = gm.tabulate_grooved(params, n_phi=settings.n_phi, **kw)
     table.provenance.update(bearing_file=bearing_file or "paper bearing (Table 2)", resumed_rows=len(done),
                             store_key=map_key(params, settings))
     part.remove()
