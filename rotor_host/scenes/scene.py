@@ -413,9 +413,9 @@ def _stored_file(scene: Scene, internal: str, option: str, file_format: str) -> 
     stderr; or (None, why the store has none; '' for a kind of file it does not keep)."""
     import sys
 
-    from bearing_fmu.internals.map.store import stored_file
+    from bearing_fmu.internals.map.store import STORED_FORMATS, stored_file
 
-    if not file_format:
+    if file_format not in STORED_FORMATS:  # the rotor file is read only for a kind of file the store keeps
         return None, ""
     path, line = stored_file(file_format, Rotor.from_toml(scene.rotor_path).bearings)
     if path is None:

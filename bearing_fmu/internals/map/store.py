@@ -25,6 +25,7 @@ from . import groovemap as gm
 from . import tables as tb
 
 SOLVER_PARTS = ("physics", "internals/map/tables.py", "internals/map/groovemap.py")
+STORED_FORMATS = (tb.FORMAT,)  # the kinds of data file the store keeps (a file option's ``file_format``)
 
 
 @dataclass(frozen=True)
@@ -90,7 +91,7 @@ def stored_file(file_format: str, bearings) -> tuple[Path | None, str]:
     """(the store's file of ``file_format`` for every bearing of ``bearings``, a line saying which)
     or (None, why): one map serves one L/D and bore, and it must have been built (``bearing-fmu map
     --bearing FILE``); (None, '') for a kind of file the store does not keep (it keeps force maps)."""
-    if file_format != tb.FORMAT:
+    if file_format not in STORED_FORMATS:
         return None, ""
     bearings = list(bearings)
     if not bearings:
