@@ -324,97 +324,23 @@ def _build_native(args: argparse.Namespace) -> int:
 
 
 def _map(args: argparse.Namespace) -> int:
-    """``bearing-fmu map``: tabulate the force map of a bearing's L/D and write its file."""
-    import os
+    """``bearing-fmu map``: tabulate the force map of a bearing's L/D (and bore) into the map store
+    and, with -o, a file (``internals.map.build``)."""
+    from .internals.map.build import command
 
-    from .internals.map.tablefile import save_map
-    from .internals.map.tables import DEFAULT_N_BETA, DEFAULT_N_EPS, DEFAULT_N_PHASE, tabulate
-    from .io.exits import note_kept, note_lost
-    from .io.outputs import ensure_output_file
-    from .physics.params import PAPER_BEARING, BearingParams
+    return command(bearing=args.bearing, output=args.output, resolution=args.resolution, n_phi=args.phi_points,
+                   grid=args.grid, cavitation=args.cavitation, eps_max=args.eps_max, phases=args.phases,
+                   workers=args.workers, scheduler=args.scheduler, quiet=args.quiet, rebuild=args.rebuild)
 
-    ensure_output_file(args.output, "-o/--output")
-    params = BearingParams.from_toml(args.bearing) if args.bearing else PAPER_BEARING
-    if not params.geometry.is_full_bore:
-        return _grooved_map(args, params)
-    if args.phi_points is not None:
-        raise ValueError(f"map: --phi-points is for a grooved or partial-arc bore; {args.bearing or 'the paper bearing'} "
-                         "has the full bore (its map is 2-D)")
-    n_eps, n_beta = args.resolution or (DEFAULT_N_EPS, DEFAULT_N_BETA)
-    n_theta, n_x = args.grid if args.grid else (None, None)
-    workers = args.workers if args.workers is not None else min(os.cpu_count() or 1, max(1, n_eps // 8))
-    bar = None
-    if not args.quiet:
-        from tqdm import tqdm
 
-        bar = tqdm(total=n_eps, unit="row", desc=f"force map L/D {params.L / params.D:.4g}")
-    table = None
+def _map_scheduler(text: str) -> str:
+    """--scheduler of ``map``: ``local`` or a Dask scheduler's address."""
+    from .parallel.cluster import scheduler_address
+
     try:
-        try:
-            table = tabulate(params, n_eps=n_eps, n_beta=n_beta, eps_max=args.eps_max, n_theta=n_theta, n_x=n_x,
-                             cavitation=args.cavitation, n_phase=args.phases or DEFAULT_N_PHASE, workers=workers,
-                             progress=(lambda k: bar.update(k - bar.n)) if bar is not None else None)
-        finally:
-            if bar is not None:
-                bar.close()
-        table.provenance["bearing_file"] = str(args.bearing) if args.bearing else "paper bearing (Table 2)"
-        path = save_map(table, args.output)
-    except KeyboardInterrupt as exc:  # wherever it lands: the map if it is whole, else say how far it got
-        if table is None:
-            note_lost(exc, f"{getattr(exc, 'map_rows_done', 0)} of {n_eps} rows of the map had been computed "
-                           "(a map is written only whole: run again)")
-        else:
-            note_kept(exc, f"{save_map(table, args.output)} (the map was complete)")
-        raise
-    print(f"force map for L/D = {table.L_over_D:.6g}: {n_eps} x {n_beta} points, eps <= {table.eps_max:g}, Reynolds "
-          f"{table.n_theta} x {table.n_x} ({table.cavitation}), {table.provenance['solves']} solves in "
-          f"{table.provenance['built_s']:.1f} s on {workers} process(es); wrote {path} "
-          f"({path.stat().st_size / 1e3:.0f} kB)")
-    return 0
-
-
-def _grooved_map(args: argparse.Namespace, params) -> int:
-    """``bearing-fmu map`` for a grooved or partial-arc bore: the 3-D map (docs/forcemap.md);
-    a lobed bore or a supply pressure is refused by name (exit 2), saying why."""
-    import math
-    import os
-
-    from .internals.map import groovemap as gm
-    from .io.exits import note_lost
-
-    why = gm.map_geometry_problem(params.geometry)
-    if why:
-        raise ValueError(f"map: {args.bearing}: [geometry] {why}")
-    n_eps, n_beta = args.resolution or (gm.DEFAULT_N_EPS, gm.DEFAULT_N_BETA)
-    n_phi = args.phi_points or gm.default_n_phi(params.geometry)
-    n_theta, n_x = args.grid if args.grid else (None, None)
-    workers = args.workers if args.workers is not None else min(os.cpu_count() or 1, max(1, n_eps // 8))
-    bar = None
-    if not args.quiet:
-        from tqdm import tqdm
-
-        bar = tqdm(total=n_eps, unit="row", desc=f"force map L/D {params.L / params.D:.4g}, grooved")
-    try:
-        try:
-            table = gm.tabulate_grooved(params, n_eps=n_eps, n_phi=n_phi, n_beta=n_beta, eps_max=args.eps_max,
-                                        n_theta=n_theta, n_x=n_x, cavitation=args.cavitation,
-                                        n_phase=args.phases or gm.DEFAULT_N_PHASE, workers=workers,
-                                        progress=(lambda k: bar.update(k - bar.n)) if bar is not None else None)
-        finally:
-            if bar is not None:
-                bar.close()
-    except KeyboardInterrupt as exc:
-        note_lost(exc, f"{getattr(exc, 'map_rows_done', 0)} of {n_eps} rows of the map had been computed "
-                       "(a map is written only whole: run again)")
-        raise
-    table.provenance["bearing_file"] = str(args.bearing)
-    path = gm.save_grooved_map(table, args.output)
-    print(f"force map for L/D = {table.L_over_D:.6g}, {params.geometry.describe()}: {n_eps} x {n_phi} x {n_beta} "
-          f"points (eps x phi over {math.degrees(table.period):g} deg x beta), eps <= {table.eps_max:g}, Reynolds "
-          f"{table.n_theta} x {table.n_x} ({table.cavitation}), {table.provenance['solves']} solves in "
-          f"{table.provenance['built_s']:.1f} s on {workers} process(es); wrote {path} "
-          f"({path.stat().st_size / 1e3:.0f} kB)")
-    return 0
+        return "local" if text.strip() == "local" else scheduler_address(text)
+    except argparse.ArgumentTypeError:
+        raise ValueError(text) from None
 
 
 def _native_choices() -> tuple[str, ...]:
@@ -553,10 +479,12 @@ def main(argv: list[str] | None = None) -> int:
     from .io.cliargs import grid, int_at_least, number, typed
 
     p = sub.add_parser("map", help="tabulate the force map of a bearing's L/D from the Reynolds solver "
-                                   "(docs/forcemap.md) and write its JSON file")
+                                   "(docs/forcemap.md) into the map store and write its JSON file")
     p.add_argument("--bearing", type=existing_file, help="bearing TOML file (default: the paper bearing); the map "
                    "serves every bearing of the same L/D")
-    p.add_argument("-o", "--output", type=output_file, required=True, help="map JSON file to write")
+    p.add_argument("-o", "--output", type=output_file, default=None,
+                   help="map JSON file to write (the map goes into the map store too, where commands that need a "
+                        "map of this bearing find it)")
     p.add_argument("--resolution", type=typed("N_EPSxN_BETA, n_eps 4..2000 and n_beta 8..4000 (e.g. 96x96)",
                                                _resolution), default=None, metavar="N_EPSxN_BETA",
                    help=f"table points in -ln(1 - eps) x beta (default {DEFAULT_N_EPS}x{DEFAULT_N_BETA}; grooved or "
@@ -574,7 +502,13 @@ def main(argv: list[str] | None = None) -> int:
                    help=f"attitudes per point averaged over one Reynolds cell (default {DEFAULT_N_PHASE}; grooved "
                         f"{gm.DEFAULT_N_PHASE})")
     p.add_argument("--workers", type=int_at_least(1), default=None,
-                   help="processes (default: the cores, for tables of 16 rows and more)")
+                   help="local processes (default: the cores, for tables of 16 rows and more)")
+    p.add_argument("--scheduler", type=typed("local or a Dask scheduler address such as tcp://10.0.0.5:8786", str,
+                                             _map_scheduler), default=None, metavar="ADDRESS",
+                   help="a running Dask scheduler (e.g. tcp://10.0.0.5:8786) whose workers solve the table's rows, or "
+                        "'local' for a local Dask cluster of --workers processes; default: a local process pool. "
+                        "An interrupted build resumes from the rows kept in MAP.partial")
+    p.add_argument("--rebuild", action="store_true", help="build the map even if the map store has it")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.set_defaults(func=_map)
 

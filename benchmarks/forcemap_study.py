@@ -40,7 +40,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # this checkout's 
 
 from bearing_fmu.internals.map.forcemap import ForceMap
 from bearing_fmu.internals.map.tablefile import save_map
-from bearing_fmu.internals.map.tables import DEFAULT_EPS_MAX, DEFAULT_N_BETA, DEFAULT_N_EPS, DEFAULT_N_PHASE, DEFAULT_WALL_EXPONENT, _row, reduced, scale, state_for, tabulate
+from bearing_fmu.internals.map.tables import DEFAULT_EPS_MAX, DEFAULT_N_BETA, DEFAULT_N_EPS, DEFAULT_N_PHASE, DEFAULT_WALL_EXPONENT, reduced, table_row, scale, state_for, tabulate
 from bearing_fmu.physics.params import PAPER_BEARING as P
 from bearing_fmu.physics.reynolds import Reynolds
 
@@ -94,9 +94,9 @@ def errors(fmap, rey, xs):
 
 def sampled_force(rey, x, n_phase):
     """The force at state x from the function the table samples: G at the state's (eps, beta)
-    averaged over the table's attitudes (``forcemap._row`` with k = 0), turned to the state."""
+    averaged over the table's attitudes (``tables.table_row`` with k = 0), turned to the state."""
     eps, phi, a, c = reduced(*x[:4], x[4], P.CR)
-    G = _row(P, rey.n_theta, rey.n_x, rey.cavitation, eps, [math.atan2(c, a)], 0.0, n_phase, rey)[0]
+    G = table_row(P, rey.n_theta, rey.n_x, rey.cavitation, eps, [math.atan2(c, a)], 0.0, n_phase, rey)[0]
     u = np.array([math.cos(phi), math.sin(phi)])
     return scale(P) * math.hypot(a, c) * (G[0] * u + G[1] * np.array([-u[1], u[0]]))
 

@@ -32,12 +32,13 @@ OMEGA_22HZ = 2 * math.pi * 22.0
 
 @pytest.fixture(scope="session", autouse=True)
 def fmu_build_cache(tmp_path_factory):
-    """The FMUs that scenes build (bearing_fmu.io.cache: the user's cache otherwise) go to one
-    folder of this session, shared by its tests and their subprocesses (inherited environment), so
-    the tests neither read nor fill the user's cache."""
+    """The FMUs that scenes build and the maps of the map store (bearing_fmu.io.cache: the user's
+    cache otherwise) go to folders of this session, shared by its tests and their subprocesses
+    (inherited environment), so the tests neither read nor fill the user's cache."""
     path = tmp_path_factory.mktemp("fmu-builds")
     with pytest.MonkeyPatch.context() as mp:  # the session's: restored at its end
         mp.setenv("BEARING_FMU_BUILD_CACHE", str(path))
+        mp.setenv("BEARING_FMU_MAP_STORE", str(tmp_path_factory.mktemp("map-store")))
         yield path
 
 

@@ -111,9 +111,10 @@ def test_map_interrupted_while_saving_keeps_the_whole_map(tmp_path):
 @pytest.mark.slow  # a command in a subprocess held at a moment; the compare case stays in the quick loop
 @pytest.mark.parametrize("workers", [1, 2])
 def test_map_interrupted_mid_table_says_how_far_it_got(tmp_path, workers):
-    """Held in the Reynolds solve of the third row (8 solves a row): alone, two rows are done;
-    with two worker processes (each holding in its own third call) the parent does not wait for
-    them: it ends them at once."""
+    """Held in the Reynolds solve of the third row (8 solves a row): alone, two rows are done and
+    kept in the partial file, from which the same command resumes (tests/test_map_build.py); with
+    two worker processes (each holding in its own first call) the parent does not wait for them:
+    it ends them at once, and no row had come."""
     marker = tmp_path / "paused"
     proc = start_command("bearing-fmu", *MAP, "--workers", workers, "-o", tmp_path / "m.json",
                          pause="bearing_fmu.physics.reynolds:Reynolds.force",
@@ -121,10 +122,12 @@ def test_map_interrupted_mid_table_says_how_far_it_got(tmp_path, workers):
     took, _, err = _interrupt(proc, marker, signal.SIGTERM)
     assert proc.returncode == 143 and took < 2.0, err
     assert "Traceback" not in err
+    partial = tmp_path / "m.json.partial"
     assert err.strip().splitlines()[-1] == (
-        f"bearing-fmu map: interrupted by SIGTERM; nothing kept: {2 if workers == 1 else 0} of 4 rows of the map "
-        "had been computed (a map is written only whole: run again)")
-    assert not (tmp_path / "m.json").exists()
+        f"bearing-fmu map: interrupted by SIGTERM; kept: 2 of 4 rows of the map in {partial} (run the same command "
+        "again to resume)" if workers == 1 else
+        "bearing-fmu map: interrupted by SIGTERM; nothing kept: 0 of 4 rows of the map had been computed")
+    assert not (tmp_path / "m.json").exists() and partial.exists() == (workers == 1)
 
 
 def test_an_interrupt_after_the_results_were_written_names_them(tmp_path, capsys):

@@ -10,6 +10,9 @@ The folder: ``$BEARING_FMU_BUILD_CACHE`` when set, else ``fmus`` in the platform
 under ``bearing_fmu`` (``$XDG_CACHE_HOME`` or ``~/.cache`` on Linux, ``~/Library/Caches`` on
 macOS, ``%LOCALAPPDATA%`` on Windows), beside the Python FMU's code cache (``fmu-code``, the same
 rule: bearing_fmu/fmu/build.py). Deleting it is always safe.
+
+The map store (``map_store``, bearing_fmu/internals/map/store.py) follows the same rule:
+``$BEARING_FMU_MAP_STORE``, else ``maps`` beside ``fmus``; its maps are keyed by content too.
 """
 
 from __future__ import annotations
@@ -21,38 +24,53 @@ import sys
 from pathlib import Path
 
 ENV = "BEARING_FMU_BUILD_CACHE"
+MAP_ENV = "BEARING_FMU_MAP_STORE"
 PACKAGE = Path(__file__).resolve().parents[1]  # bearing_fmu/
 
 
 def build_cache() -> Path:
     """The folder of built FMUs (not created)."""
-    if os.environ.get(ENV):
-        return Path(os.environ[ENV]).expanduser()
+    return _user_folder(ENV, "fmus")
+
+
+def map_store() -> Path:
+    """The folder of the map store (not created)."""
+    return _user_folder(MAP_ENV, "maps")
+
+
+def _user_folder(env: str, name: str) -> Path:
+    """``$env`` when set, else ``name`` under the user cache's ``bearing_fmu``."""
+    if os.environ.get(env):
+        return Path(os.environ[env]).expanduser()
     if sys.platform == "win32":
         base = Path(os.environ.get("LOCALAPPDATA") or Path.home() / "AppData" / "Local")
     elif sys.platform == "darwin":
         base = Path.home() / "Library" / "Caches"
     else:
         base = Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache")
-    return base.expanduser() / "bearing_fmu" / "fmus"
+    return base.expanduser() / "bearing_fmu" / name
 
 
-def cache_dir() -> Path:
-    """``build_cache()``, created; an OSError says which folder and how to choose another."""
-    folder = build_cache()
+def cache_dir(store: bool = False) -> Path:
+    """``build_cache()`` (``store``: ``map_store()``), created; an OSError says which folder and how
+    to choose another."""
+    folder, env = (map_store(), MAP_ENV) if store else (build_cache(), ENV)
     try:
         folder.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
-        raise OSError(f"cannot create the cache folder {folder} ({exc.strerror or exc}); set {ENV} to a "
+        raise OSError(f"cannot create the cache folder {folder} ({exc.strerror or exc}); set {env} to a "
                       "writable folder") from exc
     return folder
 
 
-@functools.lru_cache(maxsize=1)
-def source_digest() -> str:
-    """A hash of every source file of bearing_fmu (Python and C): what any FMU build may read.
-    Computed once per process (the sources do not change under a running command)."""
+@functools.lru_cache(maxsize=None)
+def source_digest(*parts: str) -> str:
+    """A hash of every source file of bearing_fmu (Python and C): what any FMU build may read;
+    ``parts`` (folders or files relative to bearing_fmu/, e.g. "physics"): of those alone (a map's
+    solver). Computed once per process (the sources do not change under a running command)."""
     h = hashlib.sha256()
-    for f in sorted(p for p in PACKAGE.rglob("*") if p.suffix in (".py", ".c", ".h") and "__pycache__" not in p.parts):
+    roots = [PACKAGE / p for p in parts] or [PACKAGE]
+    files = {p for r in roots for p in ([r] if r.is_file() else r.rglob("*"))}
+    for f in sorted(p for p in files if p.suffix in (".py", ".c", ".h") and "__pycache__" not in p.parts):
         h.update(f.relative_to(PACKAGE).as_posix().encode() + b"\0" + f.read_bytes() + b"\0")
     return h.hexdigest()

@@ -394,11 +394,34 @@ def required_file(scene: Scene, internal: str, option: str) -> Path:
     """The file the scene names for ``option`` of ``internal`` (e.g. taylor's surrogate), or a
     SceneError that says what is missing and what it is."""
     value = scene.options.get(internal, {}).get(option)
-    what = next(o.help for o in registry.get(internal).all_options() if o.name == option)
+    spec = next(o for o in registry.get(internal).all_options() if o.name == option)
+    what = spec.help
+    why = ""
+    if not value:
+        value, why = _stored_file(scene, internal, option, spec.file_format)
     if not value:
         raise SceneError(f"{scene.source}: the {internal} internal needs a {option} file, and the scene names "
-                         f"none: set `{option} = \"...\"` in its [{internal}] table or pass --{option} ({what})")
+                         f"none: set `{option} = \"...\"` in its [{internal}] table or pass --{option} ({what})"
+                         + (f"; {why}" if why else ""))
     path = Path(value)
     if not path.is_file():
         raise SceneError(f"{scene.source}: {option} file {path} not found ({what})")
     return path
+
+
+def _stored_file(scene: Scene, internal: str, option: str, file_format: str) -> tuple[str | None, str]:
+    """(the map store's file for a file option the scene leaves out, '') -- a force map of its
+    bearings' L/D and bore, built by ``bearing-fmu map`` -- set into the scene's options and named on
+    stderr; or (None, why the store has none; '' for a kind of file it does not keep)."""
+    import sys
+
+    from bearing_fmu.internals.map.store import STORED_FORMATS, stored_file
+
+    if file_format not in STORED_FORMATS:  # the rotor file is read only for a kind of file the store keeps
+        return None, ""
+    path, line = stored_file(file_format, Rotor.from_toml(scene.rotor_path).bearings)
+    if path is None:
+        return None, line
+    scene.options.setdefault(internal, {})[option] = str(path)
+    print(f"{scene.source or scene.name}: [{internal}] {option} not given: {line}", file=sys.stderr)
+    return str(path), ""

@@ -10,5 +10,8 @@ forcemap    ``ForceMap``: the internal evaluating a full-bore table
 groovemap   the grooved or partial-arc bore's 3-D map: table, file and internal
 mapfile     either map file (``load_any_map``) and the map internal's factory
 kernels     the compiled splines: force, Jacobian, flows (numba, cache=True)
+store       the map store: maps keyed by a hash of what determines them
+build       ``bearing-fmu map``: rows as tasks (process pool or Dask), resumed
+            from the partial file, the map written into the store
 ==========  ====================================================================
 """

@@ -47,8 +47,7 @@ from ...physics.geometry import Geometry
 from ...physics.params import BearingParams
 from .forcemap import ForceMap
 from .tablefile import array_key, bspline_matrix, number_key
-from .tables import (EPS_MIN, FORMAT, LD_RTOL, TableAxes, finite_problem, header_problem, reduced, scale, state_for,
-                     worker_signals)
+from .tables import EPS_MIN, FORMAT, LD_RTOL, TableAxes, finite_problem, header_problem, reduced, scale, state_for
 
 VERSION = 2  # the force table alone (read still: such a map has no film flows)
 FLOW_VERSION = 4  # with the flow table Q and the supply edges
@@ -308,10 +307,15 @@ def default_n_phi(geometry: Geometry) -> int:
 def tabulate_grooved(params: BearingParams, *, n_eps: int = DEFAULT_N_EPS, n_phi: int | None = None,
                      n_beta: int = DEFAULT_N_BETA, eps_max: float = DEFAULT_EPS_MAX, n_theta: int | None = None,
                      n_x: int | None = None, cavitation: str = "reynolds", n_phase: int = DEFAULT_N_PHASE,
-                     workers: int = 1, progress=None, flows: bool = True) -> GroovedMapTable:
+                     workers: int = 1, progress=None, flows: bool = True, client=None, partial=None,
+                     done: dict | None = None) -> GroovedMapTable:
     """The 3-D map of ``params``' grooved or partial-arc bore from the Reynolds internal: one
-    solve per table point and phase at r = 1, omega = 1 rad/s; rows of eps over ``workers``.
+    solve per table point and phase at r = 1, omega = 1 rad/s; the eps rows are tasks, run as
+    ``tables.tabulate`` runs them (``client``, ``workers``, ``partial``, ``done``, ``progress``).
     ``flows``: the flow table Q too, from the same solves' fields (else the force alone, version 2)."""
+    from functools import partial as bind
+
+    from ...parallel.rows import solve_rows
     from ...physics.reynolds import Reynolds
 
     why = map_geometry_problem(params.geometry)
@@ -324,37 +328,13 @@ def tabulate_grooved(params: BearingParams, *, n_eps: int = DEFAULT_N_EPS, n_phi
     Q = np.zeros((n_eps, n_phi, n_beta, n_q)) if flows else None
     table = GroovedMapTable(params.L / params.D, rey.n_theta, rey.n_x, rey.cavitation, eps_max, params.geometry,
                             np.zeros((n_eps, n_phi, n_beta, 2)), Q=Q)
-    args = (params, rey.n_theta, rey.n_x, rey.cavitation)
-    done = 0
-    try:
-        if workers > 1:
-            import multiprocessing
-            from functools import partial
-
-            pool = multiprocessing.Pool(workers, initializer=worker_signals)
-            try:
-                task = partial(grooved_row, *args, phis=table.phi, betas=table.beta, n_phase=n_phase, flows=flows)
-                for done, (h, q) in enumerate(pool.imap(task, table.eps), 1):
-                    table.H[done - 1] = h
-                    if flows:
-                        table.Q[done - 1] = q
-                    if progress is not None:
-                        progress(done)
-                pool.close()
-            finally:
-                pool.terminate()
-                pool.join()
-        else:
-            for i, e in enumerate(table.eps):
-                table.H[i], q = grooved_row(*args, e, table.phi, table.beta, n_phase, rey, flows)
-                if flows:
-                    table.Q[i] = q
-                done = i + 1
-                if progress is not None:
-                    progress(done)
-    except KeyboardInterrupt as exc:
-        exc.map_rows_done = done
-        raise
+    task = bind(grooved_row, params, rey.n_theta, rey.n_x, rey.cavitation, phis=table.phi, betas=table.beta,
+                n_phase=n_phase, flows=flows)
+    for i, (h, q) in enumerate(solve_rows(task, table.eps, done=done, partial=partial, workers=workers,
+                                          client=client, progress=progress)):
+        table.H[i] = h
+        if flows:
+            table.Q[i] = q
     table.provenance = {"built_s": round(time.perf_counter() - t0, 3),
                         "solves": n_eps * n_phi * n_beta * n_phase, "n_phase": n_phase,
                         "truth": repr(rey), "bore": params.geometry.describe(),
@@ -363,7 +343,7 @@ def tabulate_grooved(params: BearingParams, *, n_eps: int = DEFAULT_N_EPS, n_phi
 
 
 def grooved_row(params, n_theta, n_x, cavitation, eps, phis, betas, n_phase, rey=None, flows=True):
-    """(G, Q) at one eps for every (phi, beta) (a process-pool task when ``rey`` is None; Q None
+    """(G, Q) at one eps for every (phi, beta) (a row's task when ``rey`` is None; Q None
     without ``flows``). Each point averages n_phase attitudes spread symmetrically over one nominal
     cell about phi: the solver's cell-scale scatter partly cancels, the grooves' own effect is kept
     to O(cell^2). Q from the same solve's field (``Reynolds.supply_flows``, r = 1): J_s = Q_s / Q0,

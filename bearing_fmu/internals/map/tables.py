@@ -23,7 +23,6 @@ map internal evaluating the table: ``forcemap``; the grooved bore's 3-D map: ``g
 from __future__ import annotations
 
 import math
-import signal
 import time
 from dataclasses import dataclass, field
 
@@ -215,11 +214,17 @@ def finite_problem(H: np.ndarray, key: str = "H") -> str | None:
 def tabulate(params: BearingParams, *, n_eps: int = DEFAULT_N_EPS, n_beta: int = DEFAULT_N_BETA,
              eps_max: float = DEFAULT_EPS_MAX, wall_exponent: float = DEFAULT_WALL_EXPONENT,
              n_theta: int | None = None, n_x: int | None = None, cavitation: str = "reynolds",
-             n_phase: int = DEFAULT_N_PHASE, workers: int = 1, progress=None, flows: bool = True) -> MapTable:
+             n_phase: int = DEFAULT_N_PHASE, workers: int = 1, progress=None, flows: bool = True,
+             client=None, partial=None, done: dict | None = None) -> MapTable:
     """The map of ``params``' L/D from the Reynolds internal on the given grid: one solve per
     table point at r = 1, omega = 1 rad/s, the journal straight below the centre (phi = -90 deg).
-    ``workers`` > 1 splits the eps rows over processes; ``progress(n_done)`` per row. ``flows``: the
-    flow table Q too (one more solve per point), else the force alone (a version 1 map)."""
+    The eps rows are tasks (``parallel.rows.solve_rows``): on the Dask ``client`` when given, else
+    on ``workers`` processes; each streamed into ``partial`` as it comes, ``done`` (row -> values)
+    not solved again; ``progress(n_done)`` per row. ``flows``: the flow table Q too (one more solve
+    per point), else the force alone (a version 1 map)."""
+    from functools import partial as bind
+
+    from ...parallel.rows import solve_rows
     from ...physics.reynolds import Reynolds
 
     params.require_full_bore("a force map", REDUCTION_WHY)
@@ -227,39 +232,13 @@ def tabulate(params: BearingParams, *, n_eps: int = DEFAULT_N_EPS, n_beta: int =
     t0 = time.perf_counter()
     table = MapTable(params.L / params.D, rey.n_theta, rey.n_x, rey.cavitation, eps_max, wall_exponent,
                      np.zeros((n_eps, n_beta, 2)), Q=np.zeros((n_eps, n_beta, 2)) if flows else None)
-    done = 0
-    try:
-        if workers > 1:
-            import multiprocessing
-            from functools import partial
-
-            task = partial(_row, params, rey.n_theta, rey.n_x, rey.cavitation, betas=table.beta,
-                           wall_exponent=wall_exponent, n_phase=n_phase, flows=flows)
-            pool = multiprocessing.Pool(workers, initializer=worker_signals)
-            try:
-                for done, (h, q) in enumerate(pool.imap(task, table.eps), 1):
-                    table.H[done - 1] = h
-                    if flows:
-                        table.Q[done - 1] = q
-                    if progress is not None:
-                        progress(done)
-                pool.close()
-            finally:
-                pool.terminate()  # an interrupt must not wait for the rows being computed
-                pool.join()
-        else:
-            for i, e in enumerate(table.eps):
-                h, q = _row(params, rey.n_theta, rey.n_x, rey.cavitation, e, table.beta, wall_exponent, n_phase, rey,
-                            flows)
-                table.H[i] = h
-                if flows:
-                    table.Q[i] = q
-                done = i + 1
-                if progress is not None:
-                    progress(done)
-    except KeyboardInterrupt as exc:
-        exc.map_rows_done = done  # the command says how far it got (a map is written only whole)
-        raise
+    task = bind(table_row, params, rey.n_theta, rey.n_x, rey.cavitation, betas=table.beta,
+                wall_exponent=wall_exponent, n_phase=n_phase, flows=flows)
+    for i, (h, q) in enumerate(solve_rows(task, table.eps, done=done, partial=partial, workers=workers,
+                                          client=client, progress=progress)):
+        table.H[i] = h
+        if flows:
+            table.Q[i] = q
     _centre_row(table)
     if flows:  # the centre's side flow: the uniform film turns with the source
         table.Q[0, :, 0] = np.mean(table.Q[0, :, 0])
@@ -267,13 +246,6 @@ def tabulate(params: BearingParams, *, n_eps: int = DEFAULT_N_EPS, n_beta: int =
                         "n_phase": n_phase,
                         "truth": repr(rey), "date": time.strftime("%Y-%m-%dT%H:%M:%S%z")}
     return table
-
-
-def worker_signals() -> None:
-    """A pool worker: Ctrl-C (sent to the whole group) is the parent's to act on; the parent's
-    terminate() (SIGTERM) ends the worker at once, without a traceback."""
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
-    signal.signal(signal.SIGTERM, signal.SIG_DFL)
 
 
 def _centre_row(table: MapTable) -> None:
@@ -290,8 +262,9 @@ def _centre_row(table: MapTable) -> None:
     table.H[0, :, 1] = s * g[0] + c * g[1]
 
 
-def _row(params, n_theta, n_x, cavitation, eps, betas, wall_exponent, n_phase, rey=None, flows=True):
-    """(H, Q) at one eps for every beta (a process-pool task when ``rey`` is None). Q from the
+def table_row(params, n_theta, n_x, cavitation, eps, betas, wall_exponent, n_phase, rey=None, flows=True):
+    """(H, Q) at one eps for every beta (a row's task when ``rey`` is None: a solver of its own, so a
+    row's values do not depend on which rows its process solved before). Q from the
     solver's film reports at omega = 1 and 2 rad/s (``film.reduced_flows``; at the centre at
     EPS_MIN, where the line of thickest film has the journal's direction)."""
     if rey is None:

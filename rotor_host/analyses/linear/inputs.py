@@ -7,6 +7,7 @@ option or key."""
 from __future__ import annotations
 
 import math
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -21,10 +22,11 @@ PAPER_MAP = folder() / "maps" / "paper_bearing.json"  # the bundled map of the p
 DEFAULT_FILES = {"map": PAPER_MAP}  # a file option left out: the paper bearing's (its L/D)
 
 
-def internal_options(internal: str, files: dict | None = None, grid=None) -> dict:
+def internal_options(internal: str, files: dict | None = None, grid=None, bearings=()) -> dict:
     """The internal's options from the command line's ``--<file option> FILE`` flags (``files``:
-    option -> path; a required one left out: ``DEFAULT_FILES``) and ``--grid`` (n_theta, n_x),
-    refused by option name when the internal does not read them."""
+    option -> path; a required one left out: the map store's for ``bearings`` when it has one,
+    named on stderr, else ``DEFAULT_FILES``) and ``--grid`` (n_theta, n_x), refused by option name
+    when the internal does not read them."""
     spec = registry.get(internal)
     own = {o.name: o for o in spec.all_options()}
     out = {}
@@ -37,6 +39,13 @@ def internal_options(internal: str, files: dict | None = None, grid=None) -> dic
                              f"is {spec.name})")
         out[option] = str(Path(path).resolve())
     for o in spec.file_options():
+        if o.required and o.name not in out and bearings:
+            from bearing_fmu.internals.map.store import stored_file
+
+            path, line = stored_file(o.file_format, bearings)
+            if path is not None:
+                print(f"--{o.name} not given: {line}", file=sys.stderr)
+                out[o.name] = str(path)
         if o.required and o.name not in out:
             if o.name not in DEFAULT_FILES:
                 raise ValueError(f"--{o.name}: the {spec.name} internal needs its {o.name} file")

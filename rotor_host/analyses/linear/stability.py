@@ -475,9 +475,9 @@ def command(*, rotor_file, speeds_hz, internal: str = "reynolds", data_files=Non
     ``rotor_file`` at each speed of ``speeds_hz`` [Hz]; writes the table, json and figures into ``out``.
     ``supply_c``: the oil's supply temperature [C] (bearings with [oil]: at mu_eff per speed)."""
     out = ensure_writable(out)
-    options = internal_options(internal, data_files, grid)
-    stem = f"stability_{Path(rotor_file).stem}_{internal}"
     rotor, loads = read_rotor(rotor_file, static_load)
+    options = internal_options(internal, data_files, grid, bearings=rotor.bearings)
+    stem = f"stability_{Path(rotor_file).stem}_{internal}"
     if supply_c is not None:  # the command line's value, named before any data file is read
         check_supply(rotor, supply_c + 273.15, str(rotor_file), "--supply-c")
     try:

@@ -1,0 +1,112 @@
+"""The map store: force maps kept under a hash of what determines them, found again by every command.
+
+A map is determined by the bore (its grooves, their width, the arc), L/D, the table's axes (the
+resolution, the attitudes per period, eps_max, the phases averaged), the Reynolds grid and
+cavitation model of its truth, whether it has the flow tables, and the solver's code (a digest of
+``physics/`` and the tabulating modules, ``cache.source_digest``). D, CR and mu are not: the map
+serves every bearing of its L/D and bore (docs/forcemap.md). ``map_key`` hashes these; the store
+(``cache.map_store``: ``$BEARING_FMU_MAP_STORE`` or the user cache's ``bearing_fmu/maps``) holds
+the map under a name ending in the key, so a changed input or solver gives another name and an old
+map is never served wrongly. ``bearing-fmu map`` writes every map it builds into it; a command that
+needs a map and names none (a scene's ``[map] map`` left out) takes the one of its bearing at the
+default settings (``stored_map``) and says which.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+from dataclasses import asdict, dataclass
+from pathlib import Path
+
+from ...io.cache import map_store, source_digest
+from ...physics.params import BearingParams
+from . import groovemap as gm
+from . import tables as tb
+
+SOLVER_PARTS = ("physics", "internals/map/tables.py", "internals/map/groovemap.py")
+STORED_FORMATS = (tb.FORMAT,)  # the kinds of data file the store keeps (a file option's ``file_format``)
+
+
+@dataclass(frozen=True)
+class MapSettings:
+    """What determines a map besides the bearing's L/D and bore (None: not an axis of this map)."""
+
+    n_eps: int
+    n_beta: int
+    n_phi: int | None  # grooved or partial-arc bore only
+    eps_max: float
+    n_theta: int
+    n_x: int
+    cavitation: str
+    n_phase: int
+    flows: bool = True
+
+
+def settings_for(params: BearingParams, *, resolution=None, n_phi=None, grid=None, cavitation: str = "reynolds",
+                 eps_max: float | None = None, phases: int | None = None) -> MapSettings:
+    """The settings of a map of ``params``' bore: the given ones, the rest the bore's defaults
+    (the full bore's 2-D map or the grooved bore's 3-D map; the Reynolds solver's grid)."""
+    from ...physics.reynolds import Reynolds
+
+    full = params.geometry.is_full_bore
+    rey = Reynolds(params, *(grid or (None, None)), cavitation)  # the solver's own defaults and checks
+    n_eps, n_beta = resolution or ((tb.DEFAULT_N_EPS, tb.DEFAULT_N_BETA) if full else (gm.DEFAULT_N_EPS,
+                                                                                       gm.DEFAULT_N_BETA))
+    return MapSettings(n_eps, n_beta, None if full else (n_phi or gm.default_n_phi(params.geometry)),
+                       tb.DEFAULT_EPS_MAX if eps_max is None else float(eps_max), rey.n_theta, rey.n_x, rey.cavitation,
+                       phases or (tb.DEFAULT_N_PHASE if full else gm.DEFAULT_N_PHASE))
+
+
+def map_key(params: BearingParams, settings: MapSettings) -> str:
+    """The content hash of the map of ``params``' L/D and bore with ``settings`` (hex sha256)."""
+    full = params.geometry.is_full_bore
+    rec = {"L_over_D": f"{params.L / params.D:.10g}", "bore": None if full else gm.geometry_record(params.geometry),
+           **asdict(settings), "solver": source_digest(*SOLVER_PARTS)}
+    return hashlib.sha256(json.dumps(rec, sort_keys=True).encode()).hexdigest()
+
+
+def store_path(params: BearingParams, settings: MapSettings) -> Path:
+    """Where the store keeps this map (whether it is there or not)."""
+    bore = "full" if params.geometry.is_full_bore else ("arc" if params.geometry.arc is not None else "grooved")
+    return map_store() / f"map_LD{params.L / params.D:.4g}_{bore}_{map_key(params, settings)[:20]}.json"
+
+
+def stored_map(params: BearingParams, settings: MapSettings | None = None) -> Path | None:
+    """The store's map of ``params``' L/D and bore (default settings unless given), or None."""
+    path = store_path(params, settings or settings_for(params))
+    return path if path.is_file() else None
+
+
+def describe(path: Path) -> str:
+    """'built DATE from BEARING' of a stored map, from its provenance (best effort)."""
+    try:
+        prov = json.loads(Path(path).read_text()).get("provenance", {})
+        return f"built {prov.get('date', '?')} from {prov.get('bearing_file', '?')}"
+    except (OSError, ValueError, AttributeError):
+        return "unreadable provenance"
+
+
+def stored_file(file_format: str, bearings) -> tuple[Path | None, str]:
+    """(the store's file of ``file_format`` for every bearing of ``bearings``, a line saying which)
+    or (None, why): one map serves one L/D and bore, and it must have been built (``bearing-fmu map
+    --bearing FILE``); (None, '') for a kind of file the store does not keep (it keeps force maps)."""
+    if file_format not in STORED_FORMATS:
+        return None, ""
+    bearings = list(bearings)
+    if not bearings:
+        return None, "no bearing to find a map for"
+    first = bearings[0]
+    for k, p in enumerate(bearings[1:], 2):
+        if abs(p.L / p.D - first.L / first.D) > tb.LD_RTOL * first.L / first.D or p.geometry != first.geometry:
+            return None, (f"bearing {k} has another L/D or bore than bearing 1 and one map file serves one of them: "
+                          "name the map")
+    if gm.map_geometry_problem(first.geometry):
+        return None, f"no map serves this bore: {gm.map_geometry_problem(first.geometry)}"
+    path = stored_map(first)
+    if path is None:
+        return None, (f"the map store {map_store()} has no map for L/D {first.L / first.D:.4g}, "
+                      f"{first.geometry.describe()} at the default settings: build it once with "
+                      "`bearing-fmu map --bearing FILE` (it goes into the store)")
+    return path, f"the map store's map for L/D {first.L / first.D:.4g}, {first.geometry.describe()}: {path} " \
+                 f"({describe(path)})"

@@ -1,0 +1,175 @@
+"""The Dask cluster a long build runs on (``bearing-fmu map --scheduler``): an existing
+scheduler, checked before use, or a local cluster of worker processes, closed at once on an
+interrupt. The same functions as the host's sweep cluster (rotor_host/analyses/dask_cluster.py,
+kept there while its sweep work is under way: the host is to import these, the bearing side may
+not import the host).
+
+``scheduler_address`` is the command line's type of a scheduler's address (``--scheduler``).
+``check_scheduler`` refuses in one line an address where nothing answers, or where something
+answers that is not a Dask scheduler (dask.distributed bounds the connection but not its
+handshake, so a silent socket or an HTTP server would hold the command forever).
+``dask_client`` gives the Client; an interrupt in the runs or in closing the client or the
+cluster stops the local workers and closes the cluster in a moment (left to itself, its atexit
+close waits 10 s).
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import signal
+import threading
+import time
+from contextlib import contextmanager
+
+from ..io.cliargs import typed
+
+HANDSHAKE_TIMEOUT_S = 5.0  # a scheduler answers the Dask handshake in milliseconds
+
+_ADDRESS = re.compile(r"^(?:[a-z]+://)?[^\s/:]+:\d{1,5}$|^[a-z]+://\S+$")
+
+
+def _address(text: str) -> str:
+    if not _ADDRESS.match(text.strip()):
+        raise ValueError(text)
+    return text.strip()
+
+
+# An argparse type: a Dask scheduler address, ``tcp://HOST:PORT`` (or ``HOST:PORT``); that a
+# scheduler answers there is checked when the command connects.
+scheduler_address = typed("a Dask scheduler address such as tcp://10.0.0.5:8786", str, _address)
+
+
+def check_scheduler(address: str, connect_timeout_s: float = 15.0, handshake_timeout_s: float = HANDSHAKE_TIMEOUT_S):
+    """Refuse in one line an address where nothing accepts a connection within
+    ``connect_timeout_s`` [s], or where something does but does not answer Dask's handshake
+    within ``handshake_timeout_s`` (an HTTP server, a silent socket): dask.distributed bounds
+    only the connection and would wait for that answer forever."""
+    import asyncio
+    import socket
+
+    from distributed.comm import connect, parse_address, parse_host_port
+    from distributed.security import Security
+
+    scheme, loc = parse_address(address)
+    if scheme in ("tcp", "tls"):  # first the connection alone, retried as Dask does (a scheduler starting up)
+        host, port = parse_host_port(loc)
+        deadline = time.monotonic() + connect_timeout_s
+        while True:
+            try:
+                socket.create_connection((host, port), timeout=max(0.1, deadline - time.monotonic())).close()
+                break
+            except OSError as exc:
+                if time.monotonic() >= deadline:
+                    raise ValueError(f"--scheduler {address}: no Dask scheduler answered there ({exc.strerror or exc}; "
+                                     f"waited {connect_timeout_s:g} s)") from None
+                time.sleep(0.2)
+        limit = handshake_timeout_s
+    else:
+        limit = connect_timeout_s + handshake_timeout_s
+
+    async def hello():  # the scheduler's handshake, with the security a Client would use
+        comm = await asyncio.wait_for(connect(address, timeout=limit, **Security().get_connection_args("client")),
+                                      limit)
+        await comm.close()
+
+    try:
+        asyncio.run(hello())
+    except (OSError, ValueError, TypeError) as exc:  # TimeoutError is an OSError; garbage may raise anything
+        why = ("no answer" if isinstance(exc, TimeoutError)
+               else f"{type(exc).__name__}: {' '.join(str(exc).split())[:120]}")
+        raise ValueError(f"--scheduler {address}: something accepts connections there but did not answer as a Dask "
+                         f"scheduler within {limit:g} s ({why}); give the scheduler's own port (8786 by default), "
+                         "not its dashboard's") from None
+
+
+@contextmanager
+def dask_client(scheduler: str | None, workers: int | None, connect_timeout_s: float = 15.0,
+                handshake_timeout_s: float | None = None):
+    """A dask.distributed Client: on the scheduler at ``scheduler`` (refused in one line if
+    none answers within ``connect_timeout_s`` [s], something else answers there
+    (``check_scheduler``) or it has no worker within 30 s), or on a LocalCluster of ``workers``
+    processes (default: the cores) with one thread each, closed on leaving."""
+    import logging
+
+    import dask
+    from dask.distributed import Client, LocalCluster
+
+    if scheduler:
+        check_scheduler(scheduler, connect_timeout_s,
+                        HANDSHAKE_TIMEOUT_S if handshake_timeout_s is None else handshake_timeout_s)
+        try:
+            client = Client(scheduler, timeout=connect_timeout_s)
+        except (OSError, TimeoutError) as exc:
+            raise ValueError(f"--scheduler {scheduler}: no Dask scheduler answered there "
+                             f"({type(exc).__name__}: {' '.join(str(exc).split())[:200]})") from None
+        try:
+            client.wait_for_workers(1, timeout=30)
+        except TimeoutError:
+            client.close()
+            raise ValueError(f"--scheduler {scheduler}: the cluster has no worker (waited 30 s)") from None
+        with client:
+            yield client
+        return
+    n = workers or os.cpu_count() or 1
+    # The workers ignore SIGINT (an ignored signal stays ignored in a spawned process): Ctrl-C
+    # reaches every process of the terminal's group, and only this one must act on it (cancel,
+    # write the summary, close the workers), not print a traceback from each worker.
+    # (Python sets signal handlers in the main thread only; from another thread they keep SIGINT.)
+    main = threading.current_thread() is threading.main_thread()
+    old = signal.signal(signal.SIGINT, signal.SIG_IGN) if main else None
+    try:
+        # no statistical profiler in the workers: it samples the run's thread every 10 ms for a
+        # dashboard this cluster does not have (3-4 % of a worker's CPU, measured per run)
+        with dask.config.set({"distributed.worker.profile.enabled": False}):
+            cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None,
+                                   silence_logs=logging.CRITICAL)
+    finally:
+        if main:
+            signal.signal(signal.SIGINT, old)
+    try:
+        with Client(cluster) as client:
+            yield client
+    except KeyboardInterrupt:  # in the runs, or in closing the client
+        _close(cluster, interrupted=True)
+        raise
+    except BaseException:
+        _close(cluster)
+        raise
+    _close(cluster, idle=True)
+
+
+def _close(cluster, interrupted: bool = False, idle: bool = False) -> None:
+    """Close the local cluster. On an interrupt, then or while closing, stop its workers first
+    and give the close 2 s: left to itself, its atexit close waits 10 s for what is gone.
+    ``idle``: every task has ended (the caller has its results), so the workers are stopped at
+    once too: the close otherwise waits ~1 s for each worker to wind down, after the work."""
+    if not interrupted:
+        try:
+            if idle:
+                _stop_workers(cluster)
+            cluster.close()
+            return
+        except KeyboardInterrupt:
+            _close(cluster, interrupted=True)
+            raise
+    _stop_workers(cluster)  # the runs in progress would otherwise hold the close for seconds
+    try:
+        cluster.close(timeout=2)
+    except Exception:  # noqa: BLE001 - a close that times out must not replace the interrupt
+        pass
+
+
+def _stop_workers(cluster) -> None:
+    """Terminate the local cluster's worker processes now (their nannies told not to restart
+    them): a run in progress holds its worker until it ends, and Ctrl-C must not wait for that.
+    What a stopped task had finished is its caller's to keep (a map's partial file)."""
+    for nanny in list(cluster.workers.values()):
+        pid = getattr(nanny, "pid", None)
+        if not pid:
+            continue
+        nanny.close_gracefully()
+        try:
+            os.kill(pid, signal.SIGTERM)
+        except ProcessLookupError:
+            pass
