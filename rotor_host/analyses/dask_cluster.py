@@ -139,7 +139,7 @@ def check_scheduler(address: str, connect_timeout_s: float = 15.0, handshake_tim
     except Exception as exc:  # noqa: BLE001 - TimeoutError; garbage read as a frame length: MemoryError, ...
         http = _http_answer(address) if scheme == "tcp" else None
         if http:  # a web server (the dashboard's port, any other): its first line says what it is
-            raise ValueError(f"--scheduler {address}: an HTTP server answers there ({http!r}), not a Dask scheduler; "
+            raise ValueError(f"--scheduler {address}: an HTTP server answers there ({http}), not a Dask scheduler; "
                              "give the scheduler's own port (tcp://HOST:8786 by default), not its dashboard's "
                              "(8787) or another web server's") from None
         why = ("no answer" if isinstance(exc, TimeoutError)
