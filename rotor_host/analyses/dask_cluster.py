@@ -149,7 +149,7 @@ def check_scheduler(address: str, connect_timeout_s: float = 15.0, handshake_tim
                          "not its dashboard's") from None
 
 
-def _http_answer(address: str, timeout_s: float = 2.0) -> str | None:
+def _http_answer(address: str, timeout_s: float = 0.3) -> str | None:
     """The status line of an HTTP server at ``address`` (asked ``HEAD /`` on a fresh connection,
     once the Dask handshake has failed there), else None."""
     import socket
