@@ -66,6 +66,7 @@ def test_a_scheduler_file_that_is_not_one_is_named(tmp_path, capsys):
         "tcp://HOST:PORT in it (found None)")
 
 
+@pytest.mark.slow  # two sweeps of three runs with their diagrams: 4-8 s
 def test_inline_and_pool_give_the_same_rows(no_running_cluster, tmp_path, capsys):
     rows = {}
     for how in ("inline", "pool"):
