@@ -477,9 +477,14 @@ def _add_sweep(sub) -> None:
     p.add_argument("--settle-s", type=nonneg_float("s"),
                    help="the transient ends here: the summary and diagram use t >= this [s] (default: half the run)")
     p.add_argument("--scheduler", type=scheduler_address, metavar="ADDRESS",
-                   help="a running Dask scheduler (e.g. tcp://10.0.0.5:8786) whose workers run the sweep; default: "
-                        "a local cluster on this machine")
-    p.add_argument("--workers", type=positive_int(), help="worker processes of the local cluster (default: the cores)")
+                   help="a running Dask scheduler (e.g. tcp://10.0.0.5:8786, or its scheduler file) whose workers run "
+                        "the sweep; default: one left running for later commands (DASK_SCHEDULER_ADDRESS or the "
+                        "scheduler file in the user's cache: docs/sweep.md), else this machine")
+    p.add_argument("--workers", type=positive_int(), help="worker processes on this machine (default: the cores)")
+    p.add_argument("--execution", choices=("auto", "inline", "pool", "cluster"), default="auto",
+                   help="where the runs run: auto (default: a running cluster, else this process for one worker, "
+                        "else a pool of warm processes), inline (this process), pool, cluster (a Dask LocalCluster "
+                        "started for the sweep, or --scheduler's)")
     p.add_argument("--out", type=output_dir, default="out/sweep", help="output folder (default: out/sweep)")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.set_defaults(func=_sweep)

@@ -38,7 +38,7 @@ def test_sweep_interrupted_while_closing_its_cluster_keeps_every_run(tmp_path, p
     out = tmp_path / "out"
     marker = tmp_path / "paused"
     proc = start_command("rotor-host", "sweep", SCENE, "--speeds-hz", "20", "22", "--internal", "map", "--via",
-                         "direct", "--t-end", "0.02", "--workers", "1", "--out", out, "--quiet", pause=pause,
+                         "direct", "--t-end", "0.02", "--workers", "1", "--execution", "cluster", "--out", out, "--quiet", pause=pause,
                          env={"PAUSE_MARKER": str(marker)}, new_session=True)
     took, _, err = _interrupt(proc, marker, sig, group=sig == signal.SIGINT)
     assert proc.returncode == 128 + sig, err

@@ -101,29 +101,51 @@ def test_no_scheduler_there_is_one_line():
             pass
 
 
-@pytest.fixture(params=["silent socket", "http server"])
-def not_a_scheduler(request):
-    """An address on 127.0.0.1 that accepts TCP connections but does not speak Dask."""
-    import http.server
+@pytest.fixture
+def not_a_scheduler():
+    """An address on 127.0.0.1 that accepts TCP connections but says nothing (an HTTP server:
+    test_an_http_server_at_scheduler_is_named)."""
     import socket
-    import threading
 
-    if request.param == "silent socket":
-        with socket.socket() as s:
-            s.bind(("127.0.0.1", 0))
-            s.listen(5)
-            yield f"tcp://127.0.0.1:{s.getsockname()[1]}"
-        return
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        s.listen(5)
+        yield f"tcp://127.0.0.1:{s.getsockname()[1]}"
+
+
+@pytest.fixture(params=["waits for a line", "answers at once"])
+def http_server(request):
+    """A tiny http.server on a free port of 127.0.0.1: one that waits for a request line (the
+    Dask handshake has a newline byte in it on Python x.10 and x.y.10, and then it answers),
+    and one that answers at once (Dask then read "HTTP/1.1" as a frame length: 3.07 EiB)."""
+    import http.server
+    import threading
 
     class Quiet(http.server.BaseHTTPRequestHandler):
         def log_message(self, *args):
             pass
 
-    srv = http.server.ThreadingHTTPServer(("127.0.0.1", 0), Quiet)
+    class Eager(Quiet):
+        def handle(self):
+            self.wfile.write(b"HTTP/1.1 400 Bad Request\r\nContent-Length: 0\r\n\r\n")
+
+    srv = http.server.ThreadingHTTPServer(("127.0.0.1", 0), Eager if request.param == "answers at once" else Quiet)
     threading.Thread(target=srv.serve_forever, daemon=True).start()
     yield f"tcp://127.0.0.1:{srv.server_address[1]}"
     srv.shutdown()
     srv.server_close()
+
+
+def test_an_http_server_at_scheduler_is_named(tmp_path, http_server, monkeypatch, capsys):
+    from rotor_host.analyses import dask_cluster
+
+    monkeypatch.setattr(dask_cluster, "HANDSHAKE_TIMEOUT_S", 0.5)
+    assert _cli("sweep", SCENE, "--speeds-hz", "22", *CHEAP, "--scheduler", http_server, "--out", tmp_path) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.startswith(f"rotor-host sweep: error: --scheduler {http_server}: an HTTP server answers there (HTTP/1."), err
+    assert err.endswith("not a Dask scheduler; give the scheduler's own port (tcp://HOST:8786 by default), not its "
+                        "dashboard's (8787) or another web server's")
+    assert "MemoryError" not in err and not list(tmp_path.glob("sweep_*"))
 
 
 @pytest.mark.slow  # a 5 s handshake timeout per peer; the connect refusal stays quick
@@ -233,7 +255,8 @@ def _row(summary, speed):
 @pytest.mark.slow
 def test_speed_sweep_on_a_local_cluster(tmp_path, capsys):
     out = tmp_path / "out"
-    assert _cli("sweep", SCENE, "--speeds-hz", "0.01", "22", "44", *CHEAP, "--workers", "2", "--out", out) == 0
+    assert _cli("sweep", SCENE, "--speeds-hz", "0.01", "22", "44", *CHEAP, "--workers", "2", "--execution", "cluster",
+                "--out", out) == 0
     text = capsys.readouterr().out
     assert "2 of 3 runs ok" in text and "on 2 worker(s)" in text
     summary = json.loads((out / "sweep_paper_22hz_map.json").read_text())

@@ -6,6 +6,7 @@ from their files, ``finished_on_disk``)."""
 from __future__ import annotations
 
 import os
+import sys
 import time
 from dataclasses import asdict
 from pathlib import Path
@@ -144,7 +145,8 @@ def error_fields(exc: BaseException) -> dict:
 # ------------------------------------------------------------------ running on Dask
 
 def sweep(client, scene, pts: list[Point], out_dir: Path, settle_s: float, disk_nodes: list[int], *,
-          progress: bool = True, log=print, rows: dict | None = None, info: dict | None = None) -> list[dict]:
+          progress: bool = True, log=print, rows: dict | None = None, info: dict | None = None,
+          announce: bool = False) -> list[dict]:
     """Run every point as a task on ``client``; return the rows in the order the points are
     given. Each worker first loads the code and kernels the runs call (``warm_worker``; the
     slowest worker's seconds go to ``info["warm_s"]``). ``rows`` (point -> row) fills as the runs
@@ -154,33 +156,53 @@ def sweep(client, scene, pts: list[Point], out_dir: Path, settle_s: float, disk_
     import threading
 
     from dask.distributed import as_completed
-    from tqdm import tqdm
 
     # the diagram's matplotlib imported while the workers run (0.6 s the command would wait for after them)
     threading.Thread(target=pyplot, daemon=True, name="import-matplotlib").start()
     # all workers at once, before any run; a worker lost meanwhile is the business of the runs' rows
+    t0 = time.perf_counter()
+    if announce:  # once, whatever the number of workers (a cold numba cache: each compiles the kernels once)
+        print(f"loading the code and compiled kernels in the {len(client.nthreads())} workers side by side, "
+              "once per worker", file=sys.stderr, flush=True)
     warm = [s for s in client.run(warm_worker, scene, on_error="return").values()
             if isinstance(s, float)]
     if info is not None and warm:
         info["warm_s"] = max(warm)
+        info["warm_wall_s"] = time.perf_counter() - t0
     futures = {client.submit(run_point, point_scene(scene, p, disk_nodes), p, str(out_dir), settle_s, disk_nodes,
                              key=f"sweep-{p.stem}-{os.getpid()}-{time.time_ns()}", pure=False, priority=-i): p
                for i, p in enumerate(pts)}
+
+    def interrupted(rows: dict) -> None:
+        for fut, p in futures.items():  # finished but not yet collected: they count
+            if p not in rows and fut.status == "finished":
+                rows[p] = _collect_row(row_of(fut, p))
+        client.cancel(list(futures))  # queued runs never start; running ones end with their workers
+
+    finished = ((futures[fut], row_of(fut, futures[fut])) for fut in as_completed(futures))
+    return gather(finished, scene, pts, progress=progress, log=log, rows=rows, on_interrupt=interrupted)
+
+
+def gather(finished, scene, pts: list[Point], *, progress: bool = True, log=print, rows: dict | None = None,
+           on_interrupt=None) -> list[dict]:
+    """Collect the rows as the runs finish, whatever runs them: ``finished`` yields (point, row)
+    pairs; a progress bar, a line per run that did not end ``ok``. On an interrupt,
+    ``on_interrupt(rows)`` adds what finished meanwhile and stops the rest; the rows that are
+    there are attached to the exception (``exc.sweep_rows``) and it is raised again."""
+    from tqdm import tqdm
+
     rows = {} if rows is None else rows
     bar = tqdm(total=len(pts), unit="run", desc=f"sweep {scene.name} [{scene.internal}]", disable=not progress)
     try:
-        for fut in as_completed(futures):
-            p = futures[fut]
-            rows[p] = _collect(fut, p)
+        for p, row in finished:
+            rows[p] = _collect_row(row)
             bar.update(1)
             bar.set_postfix_str(f"{p.label}: {rows[p]['status']}")
             if rows[p]["status"] != "ok":
                 (bar.write if progress else log)(f"  {p.label}: {rows[p]['status']}: {rows[p]['message'][:300]}")
     except KeyboardInterrupt as exc:
-        for fut, p in futures.items():  # finished but not yet collected: they count
-            if p not in rows and fut.status == "finished":
-                rows[p] = _collect(fut, p)
-        client.cancel(list(futures))  # queued runs never start; running ones end with their workers
+        if on_interrupt is not None:
+            on_interrupt(rows)
         exc.sweep_rows = [rows[p] for p in pts if p in rows]
         raise
     finally:
@@ -188,16 +210,16 @@ def sweep(client, scene, pts: list[Point], out_dir: Path, settle_s: float, disk_
     return [rows[p] for p in pts]
 
 
-def _collect(fut, point: Point) -> dict:
-    """The row of a finished task; the files its worker had to rescue count as this command's."""
-    row = _result(fut, point)
+def _collect_row(row: dict) -> dict:
+    """A finished run's row; the files its worker had to rescue count as this command's."""
     for r in row.get("rescued", []):
         note_rescued(**r)
     return row
 
 
-def _result(fut, point: Point) -> dict:
-    """The row of a finished task; a task whose worker raised or died is an ``error`` row."""
+def row_of(fut, point: Point) -> dict:
+    """The row of a finished task (a Dask or a ``concurrent.futures`` future); a task whose
+    worker raised or died is an ``error`` row."""
     try:
         return fut.result()
     except Exception as exc:  # noqa: BLE001 - a worker that died (KilledWorker), a pickling error...
@@ -219,5 +241,5 @@ def drop_stale_locks(out: Path, pts: list[Point]) -> None:
             pass
 
 
-__all__ = ["settled_metrics", "warm_worker", "run_point", "finished_on_disk", "error_fields", "sweep",
-           "drop_stale_locks"]
+__all__ = ["settled_metrics", "warm_worker", "run_point", "finished_on_disk", "error_fields", "sweep", "gather",
+           "row_of", "drop_stale_locks"]
