@@ -462,7 +462,7 @@ def _add_linear_vs_runup(sub) -> None:
 
 
 def _add_sweep(sub) -> None:
-    from .analyses.dask_cluster import scheduler_address
+    from bearing_fmu.parallel.cluster import scheduler_address
 
     p = sub.add_parser("sweep", help="run a scene at many speeds or unbalances in parallel on Dask: summary table "
                                      "and bifurcation diagram")

@@ -137,7 +137,7 @@ def http_server(request):
 
 
 def test_an_http_server_at_scheduler_is_named(tmp_path, http_server, monkeypatch, capsys):
-    from rotor_host.analyses import dask_cluster
+    from bearing_fmu.parallel import cluster as dask_cluster
 
     monkeypatch.setattr(dask_cluster, "HANDSHAKE_TIMEOUT_S", 0.5)
     assert _cli("sweep", SCENE, "--speeds-hz", "22", *CHEAP, "--scheduler", http_server, "--out", tmp_path) == 2
@@ -150,7 +150,7 @@ def test_an_http_server_at_scheduler_is_named(tmp_path, http_server, monkeypatch
 
 @pytest.mark.slow  # a 5 s handshake timeout per peer; the connect refusal stays quick
 def test_a_peer_that_is_not_a_scheduler_is_refused(tmp_path, not_a_scheduler, monkeypatch, capsys):
-    from rotor_host.analyses import dask_cluster
+    from bearing_fmu.parallel import cluster as dask_cluster
 
     monkeypatch.setattr(dask_cluster, "HANDSHAKE_TIMEOUT_S", 1.0)
     t0 = time.monotonic()

@@ -1,16 +1,17 @@
-"""The Dask cluster a long build runs on (``bearing-fmu map --scheduler``): an existing
-scheduler, checked before use, or a local cluster of worker processes, closed at once on an
-interrupt. The same functions as the host's sweep cluster (rotor_host/analyses/dask_cluster.py,
-kept there while its sweep work is under way: the host is to import these, the bearing side may
-not import the host).
+"""The Dask cluster a long job runs on (``rotor-host sweep``, ``bearing-fmu map --scheduler``): an
+existing scheduler, checked before use, or a local cluster of worker processes, closed at once on
+an interrupt.
 
 ``scheduler_address`` is the command line's type of a scheduler's address (``--scheduler``).
 ``check_scheduler`` refuses in one line an address where nothing answers, or where something
 answers that is not a Dask scheduler (dask.distributed bounds the connection but not its
-handshake, so a silent socket or an HTTP server would hold the command forever).
+handshake, so a silent socket or an HTTP server would hold the sweep forever).
 ``dask_client`` gives the Client; an interrupt in the runs or in closing the client or the
 cluster stops the local workers and closes the cluster in a moment (left to itself, its atexit
 close waits 10 s).
+``running_scheduler`` finds a cluster left running for later commands: Dask's own
+``DASK_SCHEDULER_ADDRESS``, or the scheduler file in a known place (``scheduler_file()``: what
+``dask scheduler --scheduler-file`` writes), if a scheduler answers there.
 """
 
 from __future__ import annotations
@@ -21,6 +22,7 @@ import signal
 import threading
 import time
 from contextlib import contextmanager
+from pathlib import Path
 
 from ..io.cliargs import typed
 
@@ -29,15 +31,75 @@ HANDSHAKE_TIMEOUT_S = 5.0  # a scheduler answers the Dask handshake in milliseco
 _ADDRESS = re.compile(r"^(?:[a-z]+://)?[^\s/:]+:\d{1,5}$|^[a-z]+://\S+$")
 
 
+SCHEDULER_FILE_ENV = "ROTOR_HOST_SCHEDULER_FILE"
+
+
 def _address(text: str) -> str:
+    if Path(text).expanduser().is_file():
+        return str(Path(text).expanduser())
     if not _ADDRESS.match(text.strip()):
         raise ValueError(text)
     return text.strip()
 
 
-# An argparse type: a Dask scheduler address, ``tcp://HOST:PORT`` (or ``HOST:PORT``); that a
-# scheduler answers there is checked when the command connects.
-scheduler_address = typed("a Dask scheduler address such as tcp://10.0.0.5:8786", str, _address)
+# An argparse type: a Dask scheduler address, ``tcp://HOST:PORT`` (or ``HOST:PORT``), or the
+# scheduler file ``dask scheduler --scheduler-file`` wrote; that a scheduler answers there is
+# checked when the sweep connects.
+scheduler_address = typed("a Dask scheduler address such as tcp://10.0.0.5:8786, or a scheduler file", str, _address)
+
+
+def scheduler_file() -> Path:
+    """The known place of a cluster kept running for later commands: ``$ROTOR_HOST_SCHEDULER_FILE``,
+    else ``dask-scheduler.json`` in the user's cache folder beside the FMU cache (start one with
+    ``dask scheduler --scheduler-file <it>`` and ``dask worker --scheduler-file <it> --nthreads 1``)."""
+    from ..io.cache import build_cache
+
+    env = os.environ.get(SCHEDULER_FILE_ENV)
+    return Path(env).expanduser() if env else build_cache().parent / "dask-scheduler.json"
+
+
+def scheduler_in_file(path, option: str = "--scheduler") -> str:
+    """The address a Dask scheduler file holds (its key ``address``); a file that is not one is
+    refused in one line naming it."""
+    import json
+
+    try:
+        address = json.loads(Path(path).read_text()).get("address")
+    except (OSError, ValueError, AttributeError) as exc:
+        raise ValueError(f"{option} {path}: not a Dask scheduler file (JSON with its \"address\", as "
+                         f"`dask scheduler --scheduler-file` writes it): {exc}") from None
+    if not isinstance(address, str) or not _ADDRESS.match(address):
+        raise ValueError(f"{option} {path}: not a Dask scheduler file: no \"address\" such as tcp://HOST:PORT "
+                         f"in it (found {address!r})")
+    return address
+
+
+def scheduler_named(text: str) -> str:
+    """``--scheduler``'s address: itself, or the address in the scheduler file it names."""
+    return scheduler_in_file(text) if Path(text).is_file() else text
+
+
+def running_scheduler(log=print) -> str | None:
+    """The address of a cluster left running for later commands, if a Dask scheduler answers
+    there (in about a second): Dask's ``DASK_SCHEDULER_ADDRESS``, else the scheduler file at
+    ``scheduler_file()``. A stale one (nothing answers) is said in one line and passed over."""
+    where, address = "DASK_SCHEDULER_ADDRESS", os.environ.get("DASK_SCHEDULER_ADDRESS")
+    if not address:
+        path = scheduler_file()
+        if not path.is_file():
+            return None
+        where = f"the scheduler file {path}"
+        try:
+            address = scheduler_in_file(path, "scheduler file")
+        except ValueError as exc:
+            log(f"({exc}; running here)")
+            return None
+    try:
+        check_scheduler(address, connect_timeout_s=0.5, handshake_timeout_s=2.0)
+    except ValueError:
+        log(f"({where} names {address}, where no Dask scheduler answers now: running on this machine)")
+        return None
+    return address
 
 
 def check_scheduler(address: str, connect_timeout_s: float = 15.0, handshake_timeout_s: float = HANDSHAKE_TIMEOUT_S):
@@ -75,12 +137,34 @@ def check_scheduler(address: str, connect_timeout_s: float = 15.0, handshake_tim
 
     try:
         asyncio.run(hello())
-    except (OSError, ValueError, TypeError) as exc:  # TimeoutError is an OSError; garbage may raise anything
+    except Exception as exc:  # noqa: BLE001 - TimeoutError; garbage read as a frame length: MemoryError, ...
+        http = _http_answer(address) if scheme == "tcp" else None
+        if http:  # a web server (the dashboard's port, any other): its first line says what it is
+            raise ValueError(f"--scheduler {address}: an HTTP server answers there ({http}), not a Dask scheduler; "
+                             "give the scheduler's own port (tcp://HOST:8786 by default), not its dashboard's "
+                             "(8787) or another web server's") from None
         why = ("no answer" if isinstance(exc, TimeoutError)
                else f"{type(exc).__name__}: {' '.join(str(exc).split())[:120]}")
         raise ValueError(f"--scheduler {address}: something accepts connections there but did not answer as a Dask "
                          f"scheduler within {limit:g} s ({why}); give the scheduler's own port (8786 by default), "
                          "not its dashboard's") from None
+
+
+def _http_answer(address: str, timeout_s: float = 0.3) -> str | None:
+    """The status line of an HTTP server at ``address`` (asked ``HEAD /`` on a fresh connection,
+    once the Dask handshake has failed there), else None."""
+    import socket
+
+    from distributed.comm import parse_address, parse_host_port
+
+    try:
+        with socket.create_connection(parse_host_port(parse_address(address)[1]), timeout=timeout_s) as s:
+            s.sendall(b"HEAD / HTTP/1.0\r\n\r\n")
+            first = s.recv(200)
+    except OSError:
+        return None
+    line = first.split(b"\r\n", 1)[0].decode("latin-1")
+    return line if line.startswith("HTTP/") else None
 
 
 @contextmanager
@@ -163,7 +247,7 @@ def _close(cluster, interrupted: bool = False, idle: bool = False) -> None:
 def _stop_workers(cluster) -> None:
     """Terminate the local cluster's worker processes now (their nannies told not to restart
     them): a run in progress holds its worker until it ends, and Ctrl-C must not wait for that.
-    What a stopped task had finished is its caller's to keep (a map's partial file)."""
+    A stopped run leaves its last checkpoint (status running), if it had written one."""
     for nanny in list(cluster.workers.values()):
         pid = getattr(nanny, "pid", None)
         if not pid:

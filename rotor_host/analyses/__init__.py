@@ -10,7 +10,6 @@ linear/               the rotor linearised about its equilibrium: stability (dam
                       (critical speeds, which modes a report ranks), crossings
 waterfall             response spectra of a run-up against speed
 sweep/                a scene at many speeds or unbalances on Dask: plan, execute, summary
-dask_cluster          the sweep's Dask client: a checked scheduler or a local cluster
 limit_cycle           the whirl's envelope
 dt_study              the time-step convergence study
 training              scene-trained Taylor surrogates (``rotor-host fit``)

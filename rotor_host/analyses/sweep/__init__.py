@@ -39,7 +39,7 @@ command           ``rotor-host sweep``: plan, execute, summarise (and on an inte
 ================  =============================================================
 """
 
-from ..dask_cluster import check_scheduler, dask_client
+from bearing_fmu.parallel.cluster import check_scheduler, dask_client
 from .command import command
 from .execute import error_fields, finished_on_disk, run_point, settled_metrics, sweep, warm_worker
 from .local import Execution, choose, run_inline, run_pool

@@ -12,7 +12,7 @@ from bearing_fmu.io.exits import as_interrupted, note_kept
 from bearing_fmu.io.fixed_costs import FixedCosts
 from bearing_fmu.io.outputs import claim, ensure_writable
 
-from ..dask_cluster import dask_client, scheduler_named
+from bearing_fmu.parallel.cluster import dask_client, scheduler_named
 from .execute import drop_stale_locks, finished_on_disk, sweep, warm_worker
 from .local import choose, pool_start_method, run_inline, run_pool
 from .plan import Point, check_fixed_speed, point_scene, points, run_base, settle_time, swept_values

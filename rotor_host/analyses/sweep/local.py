@@ -9,7 +9,7 @@ arguments, so on one machine the cluster costs more than it saves (benchmarks/sw
 ``choose`` therefore picks (``--execution auto``, the default):
 
 * a cluster that is already running: ``--scheduler``, or one left running for later commands
-  (``dask_cluster.running_scheduler``: nothing to start, its workers stay warm between commands);
+  (``bearing_fmu.parallel.cluster.running_scheduler``: nothing to start, its workers stay warm between commands);
 * this process (``inline``) when one worker would run everything (``--workers 1``, one run):
   a second process would only add its start;
 * else a pool of ``--workers`` processes (default: the cores), forked once this process is warm
@@ -60,7 +60,7 @@ class Execution:
 def choose(execution: str, n_runs: int, *, workers: int | None, scheduler: str | None, log=print) -> Execution:
     """The execution of ``n_runs`` runs (module docstring): ``execution`` is the command line's
     ``--execution``; ``workers`` its ``--workers``, ``scheduler`` its ``--scheduler`` (an address)."""
-    from ..dask_cluster import running_scheduler
+    from bearing_fmu.parallel.cluster import running_scheduler
 
     if execution not in EXECUTIONS:
         raise ValueError(f"--execution {execution}: one of {', '.join(EXECUTIONS)}")
@@ -114,7 +114,7 @@ def run_pool(scene, pts: list[Point], out_dir, settle_s: float, disk_nodes: list
             yield p, run_point(point_scene(scene, p, disk_nodes), p, str(out_dir), settle_s, disk_nodes)
         t0 = time.perf_counter()
         # the workers ignore SIGINT (inherited): Ctrl-C reaches the terminal's whole process group and
-        # only this process acts on it (as for the Dask workers: dask_cluster.dask_client)
+        # only this process acts on it (as for the Dask workers: bearing_fmu.parallel.cluster.dask_client)
         main = threading.current_thread() is threading.main_thread()
         old = signal.signal(signal.SIGINT, signal.SIG_IGN) if main else None
         try:
