@@ -4,6 +4,7 @@ tables, ``groovemap``), and the map internal for either."""
 
 from __future__ import annotations
 
+import copy
 import json
 from pathlib import Path
 
@@ -18,9 +19,25 @@ from .tables import FLOW_VERSION, FORMAT, MapTable
 VERSIONS = (1, GROOVED_VERSION, FLOW_VERSION, GROOVED_FLOW_VERSION)
 
 
+_READ: dict = {}  # (path, mtime, size) -> the table read: a file is parsed once per process
+
+
 def load_any_map(path) -> MapTable | GroovedMapTable:
-    """The table of a map file of either version, checked as its loader checks it."""
+    """The table of a map file of either version, checked as its loader checks it. A file read
+    before in this process and unchanged since (path, modification time, size) is not parsed again:
+    each bearing of a run and each run of a sweep's worker gets a copy of the table read first."""
     path = Path(path)
+    try:
+        st = path.stat()
+        key = (str(path.resolve()), st.st_mtime_ns, st.st_size)
+    except OSError:
+        return _load_any_map(path)  # not there: the loader names it
+    if key not in _READ:
+        _READ[key] = _load_any_map(path)
+    return copy.deepcopy(_READ[key])  # a caller may change its table; the kept one stays as read
+
+
+def _load_any_map(path: Path) -> MapTable | GroovedMapTable:
     try:
         data = json.loads(path.read_text())
     except (FileNotFoundError, json.JSONDecodeError):
