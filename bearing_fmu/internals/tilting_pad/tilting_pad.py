@@ -19,6 +19,8 @@ the transient host and the FMUs do not carry yet.
 
 from __future__ import annotations
 
+import numpy as np
+
 from ...physics.params import BearingParams
 from .assembly import PadAssembly, PadSolution
 
@@ -71,6 +73,13 @@ class TiltingPad:
         (``Capabilities.whirl_reduced``: what a linear analysis takes)."""
         co = self.coefficients(y, z, omega, whirl)
         return co["K"], co["C"]
+
+    def full_coefficients(self, y: float, z: float, omega: float) -> tuple:
+        """(K, C, inertia): the full (2 + N) x (2 + N) K, C at (y, z), still, the pads in equilibrium
+        (coordinates y, z, delta_1..N; Lund's signs) and each pad's moment of inertia [kg m^2] (N,),
+        0 for massless pads (``Capabilities.whirl_reduced``: the pads' coordinates in an eigenproblem)."""
+        co = self.coefficients(y, z, omega)
+        return co["K_full"], co["C_full"], np.full(self.pads.n, self.pads.pads.inertia)
 
 
 __all__ = ["TiltingPad"]

@@ -9,9 +9,9 @@ At each speed of a range (``rotor-host stability ROTOR.toml --speeds-hz 10:70:1`
 2. each bearing linearised there with the internal's own analytic Jacobian
    (``bearing_fmu.physics.statics.linearize``: Lund's K = -dF/dq, C = -dF/dv); an internal whose
    coefficients depend on the whirl frequency (``Capabilities.whirl_reduced``: tilting pads, their
-   tilts condensed) gives them reduced at the synchronous whirl, omega (API 684's practice; the
-   pads' degrees of freedom in the eigenproblem, exact for every mode's own frequency, are not
-   there yet);
+   tilts condensed) reports them reduced at the synchronous whirl, omega (API 684's practice);
+   its modes take the pads' own coordinates into the eigenproblem instead (``pad_modes``: every
+   mode with the pads at its own frequency);
 3. the damped eigenvalues of the rotor with those bearings, its shaft damping and the
    gyroscopic term (``Rotor.modes``): damped frequency, logarithmic decrement
    delta = -2 pi Re(lam) / Im(lam) (negative: the mode grows) and complex shape, and the whirl
@@ -48,6 +48,7 @@ from bearing_fmu.io.outputs import ensure_writable, write_json, write_text
 
 from ...bundled import folder
 from ...model.rotor import Rotor
+from .pad_modes import PadModes
 from .stability_report import FORWARD, direction, markdown, to_json
 from .modal import (RANK_UP_TO, band_hz, band_rule, beyond_band_line, critical_speeds, least_beyond, least_in_band,
                     no_critical_line, split_crossings)
@@ -233,6 +234,8 @@ class Stability:
 
             check_supply(rotor, self.T_supply_K, where or "rotor", "the supply temperature")
             self.internals = [ViscosityScaled(i) for i in self.internals]
+        # bearings with coordinates of their own (tilting pads): those in the eigenproblem (pad_modes)
+        self.own_dofs = PadModes(rotor, self.internals, self.pairs) if spec.can.whirl_reduced else None
         self._warm_up()
         self.setup_s = time.perf_counter() - t0
         self.timings = {"equilibrium": 0.0, "eigen": 0.0}
@@ -320,7 +323,7 @@ class Stability:
         q = self.equilibrium(omega, q0)
         t0 = time.perf_counter()
         K, C = self.linearise(q, omega)
-        freq, ld, shapes = self.rotor.modes(omega, K, C)
+        freq, ld, shapes = (self.rotor.modes(omega, K, C) if self.own_dofs is None else self.own_dofs.at(q, omega))
         if freq.size == 0 or not (np.all(np.isfinite(freq)) and np.all(np.isfinite(ld))):
             raise RuntimeError(f"{speed_hz:g} Hz: the eigenvalue problem gave "
                                f"{'no oscillatory mode' if freq.size == 0 else 'non-finite eigenvalues'}")
