@@ -133,6 +133,14 @@ class PadAssembly:
                 raise
             raise overflow_error(self.params, *(float(x) for x in (e[0], e[1], v[0], v[1], omega))) from None
 
+    def pad(self, k, e, v, delta, ddelta, omega):
+        """Pad k at its tilt and rate with the journal at e, v: (F', Jq', Jv') in the pad's frame."""
+        return self._pad(k, e, v, delta, ddelta, omega)
+
+    def assemble(self, frames, delta, ddelta) -> PadSolution:
+        """The PadSolution of every pad's (F', Jq', Jv') at the given tilts and rates."""
+        return self._assemble(frames, delta, ddelta, 0)
+
     def tilt_range(self, k: int, y: float, z: float) -> tuple[float, float]:
         """The tilts [rad] that leave pad k's film open with the journal at (y, z) (open interval;
         empty, lo >= hi, when the journal closes the film at the pivot, which no tilt moves)."""

@@ -9,12 +9,13 @@ reduction at a whirl frequency). The Reynolds solver stays what it is, the truth
 and is what each pad is solved with; the force map's per-pad tables will be another pad solver
 behind the same assembly.
 
-As a memoryless internal (``force(y, z, vy, vz, omega)``) the pads are quasi-static: each tilt
-solves M_k = 0 with the pad's own rate taken as 0 (the journal's velocity is in the film). Its
-Jacobian is that model's exact one (``PadAssembly.quasi_static_jacobian``: the zero-frequency
-reduction of the stiffness). The pads' dynamics (their squeeze, their inertia) are in
-``PadAssembly.derivatives`` and in the reduction at a whirl frequency (``coefficients``), which
-the transient host and the FMUs do not carry yet.
+As a memoryless internal (``force(y, z, vy, vz, omega)`` with no step begun) the pads are
+quasi-static: each tilt solves M_k = 0 with the pad's own rate taken as 0 (the journal's velocity
+is in the film); its Jacobian is that model's exact one (``PadAssembly.quasi_static_jacobian``: the
+zero-frequency reduction of the stiffness). In a transient the host's step hooks (``begin_step(dt)``,
+``accept_step``: ``rotor_host.coupling.bearings.DirectBearings`` calls them) make the pads' tilts (and
+with inertia their rates) states carried from step to step (``stepping``: BDF2, Newton per pad,
+warm-started), the force's derivatives total. The FMUs do not carry them yet.
 """
 
 from __future__ import annotations
@@ -23,6 +24,7 @@ import numpy as np
 
 from ...physics.params import BearingParams
 from .assembly import PadAssembly, PadSolution
+from .stepping import PadStepper
 
 
 class TiltingPad:
@@ -37,6 +39,7 @@ class TiltingPad:
         self.params = params
         self.pads = PadAssembly(params, n_theta, n_x, cavitation)
         self.last: PadSolution | None = None
+        self.stepper = PadStepper(self.pads)
 
     @classmethod
     def from_options(cls, params: BearingParams, options, context=None) -> "TiltingPad":
@@ -47,14 +50,30 @@ class TiltingPad:
     def __repr__(self) -> str:
         return f"TiltingPad({self.params!r})"
 
+    # the host's step hooks (rotor_host.coupling.bearings.DirectBearings): the pads' states in a transient
+    def begin_step(self, dt: float) -> None:
+        """Evaluations until ``accept_step`` are at the end of a step of dt [s] from the committed pads
+        (``stepping``); dt = 0: static, the pads in moment equilibrium (memoryless)."""
+        self.stepper.begin_step(dt)
+
+    def accept_step(self) -> None:
+        """The last evaluation's pads become the state."""
+        self.stepper.accept()
+
     def force(self, y: float, z: float, vy: float, vz: float, omega: float) -> tuple[float, float]:
-        """Film force (Fy, Fz) [N] on the journal, the pads in moment equilibrium."""
-        self.last = self.pads.equilibrate(y, z, vy, vz, omega)
-        return float(self.last.F[0]), float(self.last.F[1])
+        """Film force (Fy, Fz) [N] on the journal: the pads in moment equilibrium, or at the end of
+        the step begun (``begin_step`` with dt > 0)."""
+        F, _, _ = self.force_and_jacobian(y, z, vy, vz, omega)
+        return float(F[0]), float(F[1])
 
     def force_and_jacobian(self, y: float, z: float, vy: float, vz: float, omega: float):
-        """(F (2,), dF/dq (2, 2), dF/dv (2, 2)): raw derivatives of the quasi-static pads' force."""
+        """(F (2,), dF/dq (2, 2), dF/dv (2, 2)): raw derivatives, the pads following the journal
+        (quasi-static, or over the step begun)."""
+        if self.stepper.dt > 0.0:
+            self.last, dq, dv = self.stepper.solve(y, z, vy, vz, omega)
+            return self.last.F.copy(), dq, dv
         self.last = self.pads.equilibrate(y, z, vy, vz, omega)
+        self.stepper.static(self.last)
         dq, dv = self.pads.quasi_static_jacobian(self.last)
         return self.last.F.copy(), dq, dv
 
