@@ -120,6 +120,11 @@ register(InternalSpec(
 register(InternalSpec(
     "tilting_pad", "internals.tilting_pad.tilting_pad:TiltingPad.from_options", "tilting-pad journal bearing: every "
     "pad the partial-arc Reynolds solver at its tilt, massless pads in moment equilibrium (docs/geometry.md)",
+    options=(
+        Option("pad_map", str, "", "tilting pads: every pad from this partial-arc force map of the pads' arc "
+               "(internals.tilting_pad.padmap.build_pad_map) instead of the Reynolds solver; empty: Reynolds",
+               file=True, file_format="bearing-fmu-force-map"),
+    ),
     uses=("reynolds",),
     can=Capabilities(
         pads=True, compare=False, any_state=True, whirl_reduced=True,

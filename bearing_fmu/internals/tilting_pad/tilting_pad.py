@@ -35,17 +35,25 @@ class TiltingPad:
     ``last``: the pads' ``PadSolution`` of the last call (tilts, pad forces and moments)."""
 
     def __init__(self, params: BearingParams, n_theta: int | None = None, n_x: int | None = None,
-                 cavitation: str = "reynolds"):
+                 cavitation: str = "reynolds", pad_map=None):
         self.params = params
         self.pads = PadAssembly(params, n_theta, n_x, cavitation)
+        if pad_map:  # every pad from the pads' partial-arc force map (padmap), not the Reynolds solver
+            from .padmap import PadMapSolver
+
+            self.pads.use_solver(PadMapSolver(params, pad_map))
         self.last: PadSolution | None = None
         self.stepper = PadStepper(self.pads)
 
     @classmethod
     def from_options(cls, params: BearingParams, options, context=None) -> "TiltingPad":
-        """From the registry's checked options (the Reynolds internal's grid and cavitation: 0 = default)."""
+        """From the registry's checked options (the Reynolds internal's grid and cavitation: 0 = default;
+        ``pad_map``: the pads' force map file, ``bearing-fmu``'s ``padmap.build_pad_map``)."""
+        pad_map = options.get("pad_map") or None
+        if pad_map and context is not None:
+            pad_map = context.path(pad_map)
         return cls(params, n_theta=options["n_theta"] or None, n_x=options["n_x"] or None,
-                   cavitation=options["cavitation"])
+                   cavitation=options["cavitation"], pad_map=pad_map)
 
     def __repr__(self) -> str:
         return f"TiltingPad({self.params!r})"
