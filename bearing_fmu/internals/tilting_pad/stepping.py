@@ -68,7 +68,7 @@ class PadStepper:
         self.delta, self.rate = sol.delta.copy(), np.zeros(self.A.n)
         self.prev, self.dt_committed = None, 0.0
 
-    def _coefficients(self):
+    def coefficients(self):
         """(b, h_delta, h_rate) of the step (module docstring)."""
         h = self.dt
         if self.prev is None:
@@ -85,7 +85,7 @@ class PadStepper:
         check_finite(y, z, vy, vz, omega)
         A, I = self.A, self.inertia
         a, n = A.arm, A.n
-        b, hd, hw = self._coefficients()
+        b, hd, hw = self.coefficients()
         e, v = np.array([y, z], float), np.array([vy, vz], float)
         frames, delta, rate = [], np.empty(n), np.empty(n)
         dq, dv = np.zeros((2, 2)), np.zeros((2, 2))
