@@ -207,20 +207,11 @@ def _rotor_state(rotor: Rotor, speed: float, K, C, dofs) -> np.ndarray:
     return A
 
 
-class PadModes:
-    """``modes`` for ``rotor_host.analyses.linear.stability.Stability``: the rotor, its bearings'
-    internals (each with ``full_coefficients``) and their (y, z) DOF pairs; ``at(q, omega)`` gives
-    the modes at the equilibrium q and speed omega [rad/s]."""
-
-    def __init__(self, rotor: Rotor, internals, pairs):
-        self.rotor, self.internals, self.pairs = rotor, list(internals), [tuple(p) for p in pairs]
-
-    def blocks(self, q, omega: float) -> list[PadBlock]:
-        return pad_blocks(self.internals, self.pairs, q, omega)
-
-    def at(self, q, omega: float):
-        return modes(self.rotor, omega, self.blocks(q, omega))
+def modes_at(rotor: Rotor, internals, pairs, q, omega: float):
+    """``modes`` at the rotor's equilibrium q and speed omega [rad/s], each bearing's internal (with
+    ``full_coefficients``) at its (y, z) DOF pair: what ``Stability.at`` takes for such internals."""
+    return modes(rotor, omega, pad_blocks(internals, pairs, q, omega))
 
 
-__all__ = ["PadBlock", "PadModes", "pad_blocks", "state_matrix", "eigenvalues", "modes", "reduced_coefficients",
+__all__ = ["PadBlock", "modes_at", "pad_blocks", "state_matrix", "eigenvalues", "modes", "reduced_coefficients",
            "iterate_mode"]

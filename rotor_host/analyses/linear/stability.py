@@ -48,7 +48,7 @@ from bearing_fmu.io.outputs import ensure_writable, write_json, write_text
 
 from ...bundled import folder
 from ...model.rotor import Rotor
-from .pad_modes import PadModes
+from .pad_modes import modes_at
 from .stability_report import FORWARD, direction, markdown, to_json
 from .modal import (RANK_UP_TO, band_hz, band_rule, beyond_band_line, critical_speeds, least_beyond, least_in_band,
                     no_critical_line, split_crossings)
@@ -234,8 +234,7 @@ class Stability:
 
             check_supply(rotor, self.T_supply_K, where or "rotor", "the supply temperature")
             self.internals = [ViscosityScaled(i) for i in self.internals]
-        # bearings with coordinates of their own (tilting pads): those in the eigenproblem (pad_modes)
-        self.own_dofs = PadModes(rotor, self.internals, self.pairs) if spec.can.whirl_reduced else None
+        self.own_dofs = spec.can.whirl_reduced  # bearings' own coordinates (tilting pads) in the eigenproblem
         self._warm_up()
         self.setup_s = time.perf_counter() - t0
         self.timings = {"equilibrium": 0.0, "eigen": 0.0}
@@ -323,7 +322,8 @@ class Stability:
         q = self.equilibrium(omega, q0)
         t0 = time.perf_counter()
         K, C = self.linearise(q, omega)
-        freq, ld, shapes = (self.rotor.modes(omega, K, C) if self.own_dofs is None else self.own_dofs.at(q, omega))
+        freq, ld, shapes = (modes_at(self.rotor, self.internals, self.pairs, q, omega) if self.own_dofs
+                            else self.rotor.modes(omega, K, C))
         if freq.size == 0 or not (np.all(np.isfinite(freq)) and np.all(np.isfinite(ld))):
             raise RuntimeError(f"{speed_hz:g} Hz: the eigenvalue problem gave "
                                f"{'no oscillatory mode' if freq.size == 0 else 'non-finite eigenvalues'}")
