@@ -278,7 +278,10 @@ class Capabilities:
     fmu           : the Python FMU can carry it; False: the FMU refuses it, ``fmu_why`` says why.
     whirl_reduced : its K, C depend on the whirl frequency (states of its own condensed, a tilting
                     pad's tilt): it has ``reduced_coefficients(y, z, omega, whirl) -> (K, C)`` (Lund's
-                    signs), which a linear analysis takes instead of the Jacobian of its force.
+                    signs), which a linear analysis takes instead of the Jacobian of its force, and
+                    ``full_coefficients(y, z, omega) -> (K, C, inertia)``: the (2 + N) x (2 + N) coefficients
+                    of the journal and its N own coordinates and their inertias (0: massless), which an
+                    eigenproblem takes whole (``rotor_host.analyses.linear.pad_modes``).
     """
 
     any_state: bool = False

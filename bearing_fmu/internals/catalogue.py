@@ -120,6 +120,11 @@ register(InternalSpec(
 register(InternalSpec(
     "tilting_pad", "internals.tilting_pad.tilting_pad:TiltingPad.from_options", "tilting-pad journal bearing: every "
     "pad the partial-arc Reynolds solver at its tilt, massless pads in moment equilibrium (docs/geometry.md)",
+    options=(
+        Option("pad_map", str, "", "tilting pads: every pad from this partial-arc force map of the pads' arc "
+               "(internals.tilting_pad.padmap.build_pad_map) instead of the Reynolds solver; empty: Reynolds",
+               file=True, file_format="bearing-fmu-force-map"),
+    ),
     uses=("reynolds",),
     can=Capabilities(
         pads=True, compare=False, any_state=True, whirl_reduced=True,
@@ -127,9 +132,9 @@ register(InternalSpec(
         fmu=False, fmu_why="the FMUs do not carry the pads' states yet (a later step of the tilting-pad work)",
         validity="The tilting-pad internal evaluates any journal state that leaves every pad's film open at any "
                  "speed, the pads massless and quasi-static (each in moment equilibrium, its own rate 0); the "
-                 "journal may pass C_bearing between pads. Pad inertia and the pads' squeeze enter the reduced "
-                 "coefficients at a whirl frequency (bearing-fmu demo, rotor-host stability: synchronous), not "
-                 "this force yet."),
+                 "journal may pass C_bearing between pads. In a transient with the host's step hooks the pads' tilts "
+                 "(and rates, with pad inertia) are states carried from step to step; rotor-host stability puts "
+                 "the pads' coordinates into its eigenproblem."),
     case="internals.cases:tilting_pad_case",
     kernels=("physics.reynolds_kernels", "physics.geometry_kernels"),
 ))

@@ -378,14 +378,14 @@ def _internal_options(name: str, table: dict, where: str, base: Path) -> dict:
 
 
 def scene_files(scene: Scene) -> list[Path]:
-    """The files the scene's internal reads, each checked to exist: its own file options (the
-    surrogate, the map) and those of the internals it uses that the scene sets (linear's map)."""
+    """The files the scene's internal reads, each checked to exist: its own required file options (the
+    surrogate, the map) and any other file option the scene sets (linear's map, tilting pads' pad_map)."""
     spec = registry.get(scene.internal)
     opts = scene.internal_options()
     out = []
     for name in (spec.name, *spec.uses):
         for o in registry.get(name).options:
-            if o.file and (name == spec.name or opts.get(o.name)):
+            if o.file and ((name == spec.name and o.required) or opts.get(o.name)):
                 out.append(required_file(scene, name, o.name))
     return out
 

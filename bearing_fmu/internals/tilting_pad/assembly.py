@@ -87,7 +87,7 @@ class PadAssembly:
 
     def __init__(self, params: BearingParams, n_theta: int | None = None, n_x: int | None = None,
                  cavitation: str = "reynolds"):
-        from ...physics.reynolds import DEFAULT_N_THETA, Reynolds
+        from ...physics.reynolds import Reynolds
 
         pg = params.geometry.pads
         if pg is None:
@@ -101,8 +101,8 @@ class PadAssembly:
         self.arm = params.R + pg.pad_clearance(params.CR)  # a = R + C_pad [m]
         frame = pad_frame_geometry(pg)
         self.pad_params = replace(params, geometry=frame)
-        if n_theta is None:  # the full bore's default resolution (128 cells a turn), at least MIN_PAD_CELLS a pad
-            n_theta = max(MIN_PAD_CELLS, round(DEFAULT_N_THETA * pg.arc / (2.0 * math.pi)))
+        if n_theta is None:
+            n_theta = self.default_cells(pg)
         n_theta = n_theta + len(frame.segments()[0]) - 1  # cells over the pad's arc, plus those outside it
         self.solvers = [Reynolds(self.pad_params, n_theta, n_x, cavitation) for _ in range(self.n)]
         self.rot = [rotation(pg.frame_angle(k)) for k in range(self.n)]
@@ -110,6 +110,18 @@ class PadAssembly:
         a, b = frame.closure_weights()
         self._wa, self._wb = a, b
         self._warm = np.zeros(self.n)
+
+    @staticmethod
+    def default_cells(pads: PadGeometry) -> int:
+        """Cells along a pad's arc by default: the full bore's resolution (128 a turn), at least MIN_PAD_CELLS."""
+        from ...physics.reynolds import DEFAULT_N_THETA
+
+        return max(MIN_PAD_CELLS, round(DEFAULT_N_THETA * pads.arc / (2.0 * math.pi)))
+
+    def use_solver(self, solver) -> None:
+        """Every pad from ``solver`` instead (its ``force_and_jacobian`` in the pad's frame, as the
+        partial-arc Reynolds solver's: the pads' force map, ``padmap``)."""
+        self.solvers = [solver] * self.n
 
     # ------------------------------------------------------------------ one pad
     def frame_state(self, k, e, v, delta, ddelta) -> tuple[float, float, float, float]:
@@ -133,6 +145,14 @@ class PadAssembly:
                 raise
             raise overflow_error(self.params, *(float(x) for x in (e[0], e[1], v[0], v[1], omega))) from None
 
+    def pad(self, k, e, v, delta, ddelta, omega):
+        """Pad k at its tilt and rate with the journal at e, v: (F', Jq', Jv') in the pad's frame."""
+        return self._pad(k, e, v, delta, ddelta, omega)
+
+    def assemble(self, frames, delta, ddelta) -> PadSolution:
+        """The PadSolution of every pad's (F', Jq', Jv') at the given tilts and rates."""
+        return self._assemble(frames, delta, ddelta, 0)
+
     def tilt_range(self, k: int, y: float, z: float) -> tuple[float, float]:
         """The tilts [rad] that leave pad k's film open with the journal at (y, z) (open interval;
         empty, lo >= hi, when the journal closes the film at the pivot, which no tilt moves)."""
@@ -147,6 +167,10 @@ class PadAssembly:
             return 0.0, 0.0
         lo = float(down.max()) if down.size else -math.inf
         hi = float(up.min()) if up.size else math.inf
+        domain = getattr(self.solvers[k], "y_range", None)  # a pad solver with a domain of its own (padmap)
+        if domain is not None:
+            ylo, yhi = domain(float(ep[1]))
+            lo, hi = max(lo, (ylo - ep[0]) / a), min(hi, (yhi - ep[0]) / a)
         if np.any((wa == 0) & (room <= 0)):
             lo, hi = 0.0, 0.0
         return lo, hi

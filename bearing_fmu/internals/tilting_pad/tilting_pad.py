@@ -9,18 +9,22 @@ reduction at a whirl frequency). The Reynolds solver stays what it is, the truth
 and is what each pad is solved with; the force map's per-pad tables will be another pad solver
 behind the same assembly.
 
-As a memoryless internal (``force(y, z, vy, vz, omega)``) the pads are quasi-static: each tilt
-solves M_k = 0 with the pad's own rate taken as 0 (the journal's velocity is in the film). Its
-Jacobian is that model's exact one (``PadAssembly.quasi_static_jacobian``: the zero-frequency
-reduction of the stiffness). The pads' dynamics (their squeeze, their inertia) are in
-``PadAssembly.derivatives`` and in the reduction at a whirl frequency (``coefficients``), which
-the transient host and the FMUs do not carry yet.
+As a memoryless internal (``force(y, z, vy, vz, omega)`` with no step begun) the pads are
+quasi-static: each tilt solves M_k = 0 with the pad's own rate taken as 0 (the journal's velocity
+is in the film); its Jacobian is that model's exact one (``PadAssembly.quasi_static_jacobian``: the
+zero-frequency reduction of the stiffness). In a transient the host's step hooks (``begin_step(dt)``,
+``accept_step``: ``rotor_host.coupling.bearings.DirectBearings`` calls them) make the pads' tilts (and
+with inertia their rates) states carried from step to step (``stepping``: BDF2, Newton per pad,
+warm-started), the force's derivatives total. The FMUs do not carry them yet.
 """
 
 from __future__ import annotations
 
+import numpy as np
+
 from ...physics.params import BearingParams
 from .assembly import PadAssembly, PadSolution
+from .stepping import PadStepper
 
 
 class TiltingPad:
@@ -31,28 +35,53 @@ class TiltingPad:
     ``last``: the pads' ``PadSolution`` of the last call (tilts, pad forces and moments)."""
 
     def __init__(self, params: BearingParams, n_theta: int | None = None, n_x: int | None = None,
-                 cavitation: str = "reynolds"):
+                 cavitation: str = "reynolds", pad_map=None):
         self.params = params
         self.pads = PadAssembly(params, n_theta, n_x, cavitation)
+        if pad_map:  # every pad from the pads' partial-arc force map (padmap), not the Reynolds solver
+            from .padmap import PadMapSolver
+
+            self.pads.use_solver(PadMapSolver(params, pad_map))
         self.last: PadSolution | None = None
+        self.stepper = PadStepper(self.pads)
 
     @classmethod
     def from_options(cls, params: BearingParams, options, context=None) -> "TiltingPad":
-        """From the registry's checked options (the Reynolds internal's grid and cavitation: 0 = default)."""
+        """From the registry's checked options (the Reynolds internal's grid and cavitation: 0 = default;
+        ``pad_map``: the pads' force map file, ``bearing-fmu``'s ``padmap.build_pad_map``)."""
+        pad_map = options.get("pad_map") or None
+        if pad_map and context is not None:
+            pad_map = context.path(pad_map)
         return cls(params, n_theta=options["n_theta"] or None, n_x=options["n_x"] or None,
-                   cavitation=options["cavitation"])
+                   cavitation=options["cavitation"], pad_map=pad_map)
 
     def __repr__(self) -> str:
         return f"TiltingPad({self.params!r})"
 
+    # the host's step hooks (rotor_host.coupling.bearings.DirectBearings): the pads' states in a transient
+    def begin_step(self, dt: float) -> None:
+        """Evaluations until ``accept_step`` are at the end of a step of dt [s] from the committed pads
+        (``stepping``); dt = 0: static, the pads in moment equilibrium (memoryless)."""
+        self.stepper.begin_step(dt)
+
+    def accept_step(self) -> None:
+        """The last evaluation's pads become the state."""
+        self.stepper.accept()
+
     def force(self, y: float, z: float, vy: float, vz: float, omega: float) -> tuple[float, float]:
-        """Film force (Fy, Fz) [N] on the journal, the pads in moment equilibrium."""
-        self.last = self.pads.equilibrate(y, z, vy, vz, omega)
-        return float(self.last.F[0]), float(self.last.F[1])
+        """Film force (Fy, Fz) [N] on the journal: the pads in moment equilibrium, or at the end of
+        the step begun (``begin_step`` with dt > 0)."""
+        F, _, _ = self.force_and_jacobian(y, z, vy, vz, omega)
+        return float(F[0]), float(F[1])
 
     def force_and_jacobian(self, y: float, z: float, vy: float, vz: float, omega: float):
-        """(F (2,), dF/dq (2, 2), dF/dv (2, 2)): raw derivatives of the quasi-static pads' force."""
+        """(F (2,), dF/dq (2, 2), dF/dv (2, 2)): raw derivatives, the pads following the journal
+        (quasi-static, or over the step begun)."""
+        if self.stepper.dt > 0.0:
+            self.last, dq, dv = self.stepper.solve(y, z, vy, vz, omega)
+            return self.last.F.copy(), dq, dv
         self.last = self.pads.equilibrate(y, z, vy, vz, omega)
+        self.stepper.static(self.last)
         dq, dv = self.pads.quasi_static_jacobian(self.last)
         return self.last.F.copy(), dq, dv
 
@@ -71,6 +100,13 @@ class TiltingPad:
         (``Capabilities.whirl_reduced``: what a linear analysis takes)."""
         co = self.coefficients(y, z, omega, whirl)
         return co["K"], co["C"]
+
+    def full_coefficients(self, y: float, z: float, omega: float) -> tuple:
+        """(K, C, inertia): the full (2 + N) x (2 + N) K, C at (y, z), still, the pads in equilibrium
+        (coordinates y, z, delta_1..N; Lund's signs) and each pad's moment of inertia [kg m^2] (N,),
+        0 for massless pads (``Capabilities.whirl_reduced``: the pads' coordinates in an eigenproblem)."""
+        co = self.coefficients(y, z, omega)
+        return co["K_full"], co["C_full"], np.full(self.pads.n, self.pads.pads.inertia)
 
 
 __all__ = ["TiltingPad"]

@@ -9,9 +9,9 @@ At each speed of a range (``rotor-host stability ROTOR.toml --speeds-hz 10:70:1`
 2. each bearing linearised there with the internal's own analytic Jacobian
    (``bearing_fmu.physics.statics.linearize``: Lund's K = -dF/dq, C = -dF/dv); an internal whose
    coefficients depend on the whirl frequency (``Capabilities.whirl_reduced``: tilting pads, their
-   tilts condensed) gives them reduced at the synchronous whirl, omega (API 684's practice; the
-   pads' degrees of freedom in the eigenproblem, exact for every mode's own frequency, are not
-   there yet);
+   tilts condensed) reports them reduced at the synchronous whirl, omega (API 684's practice);
+   its modes take the pads' own coordinates into the eigenproblem instead (``pad_modes``: every
+   mode with the pads at its own frequency);
 3. the damped eigenvalues of the rotor with those bearings, its shaft damping and the
    gyroscopic term (``Rotor.modes``): damped frequency, logarithmic decrement
    delta = -2 pi Re(lam) / Im(lam) (negative: the mode grows) and complex shape, and the whirl
@@ -52,6 +52,7 @@ from ...model.band_modes import band_modes
 from ...model.rotor import Rotor
 from .inputs import (DEFAULT_FILES, PAPER_MAP, check_speeds, check_supply, check_top_speed,  # noqa: F401
                      internal_options, read_rotor, refuse_unsupported)
+from .pad_modes import modes_at
 from .stability_report import FORWARD, direction, markdown, to_json
 from .modal import (RANK_UP_TO, band_hz, band_rule, beyond_band_line, critical_speeds, least_beyond, least_in_band,
                     no_critical_line, split_crossings)
@@ -227,7 +228,6 @@ class Stability:
         self.where = where or "rotor"
         refuse_unsupported(rotor, self.f_static, self.pairs, self.names, self.where)  # before any solve
         t0 = time.perf_counter()
-        self.where = where or "rotor"
         # a feed along the line of thickest film moves with each speed's equilibrium: placed per speed
         # (``at``), the plain bore until then (the same kernels, for the warm-up)
         self.unplaced = [k for k, p in enumerate(rotor.bearings) if p.geometry.feed_unplaced]
@@ -239,6 +239,7 @@ class Stability:
             check_supply(rotor, self.T_supply_K, where or "rotor", "the supply temperature")
         self.internals = [self._create(k, p.with_geometry(Geometry()) if k in self.unplaced else p)
                           for k, p in enumerate(rotor.bearings)]
+        self.own_dofs = spec.can.whirl_reduced  # bearings' own coordinates (tilting pads) in the eigenproblem
         self._warm_up()
         self.setup_s = time.perf_counter() - t0
         self.timings = {"equilibrium": 0.0, "eigen": 0.0}
@@ -346,7 +347,8 @@ class Stability:
         K, C = self.linearise(q, omega)
         # every mode up to DENSE_MAX_DOF DOFs; a big rotor's around its ranking band (sparse)
         band = self.band_hz if math.isfinite(self.band_hz) else band_hz(speed_hz)
-        freq, ld, shapes = band_modes(self.rotor, omega, K, C, band)
+        freq, ld, shapes = (modes_at(self.rotor, self.internals, self.pairs, q, omega) if self.own_dofs
+                            else band_modes(self.rotor, omega, K, C, band))
         if freq.size == 0 or not (np.all(np.isfinite(freq)) and np.all(np.isfinite(ld))):
             raise RuntimeError(f"{speed_hz:g} Hz: the eigenvalue problem gave "
                                f"{'no oscillatory mode' if freq.size == 0 else 'non-finite eigenvalues'}")

@@ -1,0 +1,140 @@
+"""The pads' states carried through a transient: each pad's tilt (and, with inertia, its rate)
+integrated over the host's time step together with the journal, so the force has the pads'
+history (their squeeze, their inertia) and not only their quasi-static equilibrium.
+
+The host's step protocol (``rotor_host.integrate.forces.NodalForce``): ``begin_step(dt)``, then
+evaluations at the journal's state at the END of the step (y, z, vy, vz), then ``accept_step``
+(the last evaluation's pads become the state) or another ``begin_step`` (a rejected step is
+redone from the committed state). dt = 0 is a static evaluation: the pads massless and in moment
+equilibrium (``PadAssembly.equilibrate``), which also becomes the state a run starts from.
+
+The scheme, per pad, the pads coupled only through the journal (the state x = delta, w = its rate):
+
+    delta_1 = h_delta + b w_1,        I (w_1 - h_w) = b M(y, z, vy, vz, delta_1, w_1),
+
+BDF2 with variable steps (h = dt, rho = h / h_prev: b = h (1 + rho) / (1 + 2 rho), h_x = ((1 + rho)^2
+x_0 - rho^2 x_-1) / (1 + 2 rho)); the first step after a static evaluation is backward Euler (b = h,
+h_x = x_0). Why BDF2 and not the host's trapezoidal rule: it is L-stable, so a pad's own fast
+motion (massless: the pad's relaxation; light: its rate, decaying at C_pp / I) is damped out and not
+rung at the Nyquist frequency, and with I -> 0 the inertia equation becomes exactly the massless
+one, M(delta_1, w_1) = 0: light pads tend to massless pads step by step. Second order, as the host.
+
+Each pad is one scalar Newton on delta_1, w_1 = (delta_1 - h_delta) / b: r(delta_1) = I (w_1 - h_w) -
+b M, r' = I / b - b M_delta - M_w > 0 (the moment falls with the tilt and with its rate: a pad's
+squeeze), warm-started from delta_0 + h w_0 and kept inside the tilts that leave its film open
+(bisection where a step would leave them). The journal force's derivatives for the host's Newton are
+total, the pads following: d delta_1 / dq = b M_q / r', dF/dq = F_q + (F_delta + F_w / b) d delta_1 / dq
+(the same with v).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..base import BearingStateError, check_finite
+from .assembly import PadAssembly, PadSolution
+
+NEWTON_MAX = 60
+
+
+class PadStepper:
+    """The pads' committed state (tilts ``delta`` [rad], rates ``rate`` [rad/s]) of ``assembly``, and
+    the step being tried (``begin_step``, ``solve``, ``accept``)."""
+
+    def __init__(self, assembly: PadAssembly):
+        self.A = assembly
+        n = assembly.n
+        self.delta, self.rate = np.zeros(n), np.zeros(n)
+        self.prev = None  # (delta, rate, dt) the step before the committed one: BDF2's history
+        self.dt_committed = 0.0  # the step that led to the committed state (0: a static one)
+        self.dt = 0.0
+        self.trial = None
+        self.inertia = assembly.pads.inertia
+
+    def begin_step(self, dt: float) -> None:
+        self.dt, self.trial = float(dt), None
+
+    def accept(self) -> None:
+        if self.trial is None or self.dt <= 0.0:
+            return
+        self.prev = (self.delta, self.rate, self.dt_committed) if self.dt_committed > 0.0 else None
+        self.delta, self.rate = self.trial
+        self.dt_committed, self.trial = self.dt, None
+
+    def static(self, sol: PadSolution) -> None:
+        """A static evaluation: its equilibrium is the state (rates 0), history dropped."""
+        self.delta, self.rate = sol.delta.copy(), np.zeros(self.A.n)
+        self.prev, self.dt_committed = None, 0.0
+
+    def coefficients(self):
+        """(b, h_delta, h_rate) of the step (module docstring)."""
+        h = self.dt
+        if self.prev is None:
+            return h, self.delta, self.rate
+        d_1, w_1, h_prev = self.prev
+        rho = h / h_prev
+        c = 1.0 + 2.0 * rho
+        return (h * (1.0 + rho) / c, ((1.0 + rho) ** 2 * self.delta - rho * rho * d_1) / c,
+                ((1.0 + rho) ** 2 * self.rate - rho * rho * w_1) / c)
+
+    def solve(self, y, z, vy, vz, omega) -> tuple[PadSolution, np.ndarray, np.ndarray]:
+        """The pads at the end of the step with the journal there: (solution, dF/dq, dF/dv), the
+        derivatives total (the pads following the journal)."""
+        check_finite(y, z, vy, vz, omega)
+        A, I = self.A, self.inertia
+        a, n = A.arm, A.n
+        b, hd, hw = self.coefficients()
+        e, v = np.array([y, z], float), np.array([vy, vz], float)
+        frames, delta, rate = [], np.empty(n), np.empty(n)
+        dq, dv = np.zeros((2, 2)), np.zeros((2, 2))
+        for k in range(n):
+            t = A.t[k]
+            lo, hi = A.tilt_range(k, y, z)
+            if not lo < hi:
+                raise A.wall_error(k, y, z)
+            d = self.delta[k] + self.dt * self.rate[k]
+            span = hi - lo if math.isfinite(hi - lo) else 1.0
+            d = min(max(d, lo + 1e-3 * span), hi - 1e-3 * span)
+            tol = 1e-13 * A.params.CR / a
+            for _ in range(NEWTON_MAX):
+                w = (d - hd[k]) / b
+                F, Jq, Jv = A.pad(k, e, v, d, w, omega)
+                r0 = A.rot[k]
+                Jqb, Jvb = r0.T @ Jq @ r0, r0.T @ Jv @ r0
+                M, M_d, M_w = a * F[0], a * a * Jq[0, 0], a * a * Jv[0, 0]
+                r = I * (w - hw[k]) - b * M
+                dr = I / b - b * M_d - M_w
+                if r == 0.0 and dr == 0.0:  # the film carries nothing here: the loaded root is downstream
+                    lo = d
+                elif r > 0.0:
+                    hi = d
+                else:
+                    lo = d
+                step = -r / dr if dr > 0.0 else math.nan
+                if abs(step) <= tol:
+                    break
+                nxt = d + step
+                if not lo < nxt < hi:
+                    nxt = 0.5 * (lo + hi)
+                if abs(nxt - d) <= tol:
+                    break
+                d = nxt
+            else:
+                raise BearingStateError(f"tilting pads: the pad pivoted at {math.degrees(A.pads.pivots[k]):.4g} deg "
+                                        f"found no tilt for the step in {NEWTON_MAX} Newton steps (y = {y:.4g} m, "
+                                        f"z = {z:.4g} m)")
+            delta[k], rate[k] = d, (d - hd[k]) / b
+            frames.append((F, Jq, Jv))
+            if dr > 0.0:  # the pad follows the journal: d delta / dq = b M_q / r'
+                Mq, Mv = a * t @ Jqb, a * t @ Jvb
+                Fd = a * Jqb @ t + a * Jvb @ t / b
+                dq += np.outer(Fd, b * Mq / dr)
+                dv += np.outer(Fd, b * Mv / dr)
+        sol = A.assemble(frames, delta, rate)
+        self.trial = (delta.copy(), rate.copy())
+        return sol, sol.Jq.sum(axis=0) + dq, sol.Jv.sum(axis=0) + dv
+
+
+__all__ = ["PadStepper"]
