@@ -383,7 +383,7 @@ bn_status bn_do_step(Instance *m, const char *call, unsigned allowed, double t0,
     if (!memoryless(m) && fabs(t0 - m->t) > 1e-9 * fmax(1.0, fabs(m->t)) + 1e-6 * h)
         return bn_fail(m, "%s: currentCommunicationPoint = %s s is not where the last step ended (t = %s s; the "
                        "start time before the first step): restore an FMU state to step from another time", call,
-                       bn_num(a, 32, t0, 17), bn_num(b, 32, m->t, 17));
+                       bn_num(a, 32, t0, 12), bn_num(b, 32, m->t, 12));
     double now[N_INPUTS + 1];
     step_inputs(m, now);
     /* no fmi2Terminated after a discard (other inputs or a restore can go on), so a master that
