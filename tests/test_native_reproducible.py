@@ -59,6 +59,6 @@ def test_two_builds_are_the_same_bytes_and_macos_11(tmp_path, fmi_version):
         if objdump:  # LLVM's reader agrees with ours
             path = tmp_path / Path(name).name
             path.write_bytes(a[name])
-            text = subprocess.run([objdump, "--macho", "--private-headers", "--arch", "all", str(path)], capture_output=True,
-                                  text=True, timeout=60).stdout
+            text = subprocess.run([objdump, "--macho", "--private-headers", "--arch", "all", str(path)],
+                                  capture_output=True, text=True, timeout=60).stdout
             assert text.count("minos 11.0") == len(slices) and f"name @rpath/{identifier}.dylib" in text, text[:2000]

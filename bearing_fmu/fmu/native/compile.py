@@ -222,9 +222,9 @@ def _compile_fmi3(root: Path, identifier: str, sources: list[str], platforms, co
             if compiler == "cmake":
                 _compile_cmake(root)
             elif compiler == "cc":
-                run_compiler([find_compiler(), *C_FLAGS, *mac_flags(identifier), *defines, "-fPIC", "-shared", "-I", str(src), "-I",
-                      str(fmi_headers()), *(str(src / f) for f in sources), "-o", str(target), "-lm"],
-                     "the C compiler")
+                run_compiler([find_compiler(), *C_FLAGS, *mac_flags(identifier), *defines, "-fPIC", "-shared",
+                              "-I", str(src), "-I", str(fmi_headers()), *(str(src / f) for f in sources),
+                              "-o", str(target), "-lm"], "the C compiler")
             else:
                 zig_jobs.append((name, target, target_triple))
                 continue
