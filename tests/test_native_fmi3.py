@@ -124,7 +124,13 @@ class Raw3:
         assert self.enter() == OK
         return self.call("fmi3ExitInitializationMode")
 
-    def step(self, t=0.0, h=1e-4):
+    def now(self) -> float:
+        """The instance's time (the independent variable): where its last step ended."""
+        status, (t,) = self.get(["time"])
+        return t if status == OK else 0.0
+
+    def step(self, t=None, h=1e-4):
+        t = self.now() if t is None else t
         flags = [ctypes.c_bool() for _ in range(3)]
         last = ctypes.c_double()
         status = self.call("fmi3DoStep", t, h, True, *(ctypes.byref(b) for b in flags), ctypes.byref(last))

@@ -62,6 +62,7 @@ class Driver:
         md = fmpy.read_model_description(str(path))
         self.version, self.kind = version, kind
         self.vr = {v.name: v.valueReference for v in md.modelVariables}
+        self.time_vr = self.vr.get("time", 0)  # FMI 3.0's independent variable
         self.messages = []
         ident = (md.coSimulation or md.modelExchange).modelIdentifier
         if version == 2:
@@ -121,7 +122,18 @@ class Driver:
     def inputs(self, state):
         return self.set_reals(IN, state)
 
-    def step(self, t=0.0, h=1e-4):
+    def now(self) -> float:
+        """The instance's time: where its last step ended (a step must start there)."""
+        t = ctypes.c_double()
+        if self.version == 2:
+            status = self.call("getRealStatus", "", 2, ctypes.byref(t))  # fmi2LastSuccessfulTime
+            return t.value if status == 0 else 0.0  # (refused before initialisation)
+        out = (ctypes.c_double * 1)()
+        status = self.call("", "GetFloat64", (ctypes.c_uint * 1)(self.time_vr), 1, out, 1)
+        return out[0] if status == 0 else 0.0
+
+    def step(self, t=None, h=1e-4):
+        t = self.now() if t is None else t
         if self.version == 2:
             return self.call("doStep", "", ctypes.c_double(t), ctypes.c_double(h), 0)
         flags, last = [ctypes.c_bool() for _ in range(3)], ctypes.c_double()

@@ -100,7 +100,11 @@ class Inst:
         self.enter()
         return self.call("fmi2ExitInitializationMode")
 
-    def step(self, t=0.0):
+    def step(self, t=None):
+        if t is None:  # where the last step ended (fmi2LastSuccessfulTime): a step must start there
+            now = ctypes.c_double()
+            self.call("fmi2GetRealStatus", 2, ctypes.byref(now))
+            t = now.value
         return self.call("fmi2DoStep", ctypes.c_double(t), ctypes.c_double(1e-4), 1)
 
     def close(self):

@@ -280,7 +280,17 @@ class FMUBearings(BearingSet):
         # positive step, so probe with a tiny one and never commit it (accept restores t)
         self._static = dt == 0.0
         self._h = _STATIC_PROBE_S if self._static else self.dt
-        if self.memoryless:  # nothing to save: every iterate is setReal, doStep, getReal
+        if self.memoryless:  # nothing to save: every iterate is setReal, doStep, getReal; but a state taken
+            # once and restored at a step's start tells the FMU that the master chose to retry: a step the
+            # compiled loop handed back after a discard is asked again at the same inputs, which the FMU
+            # otherwise refuses as a retry unchanged (fmi2Error, so that fmpy's retry loop ends)
+            with deferred():
+                for k, fmu in enumerate(self.instances):
+                    if self._states[k] is None:
+                        state = ctypes.c_void_p()
+                        self._check(k, "fmi2GetFMUstate", fmu.dll.fmi2GetFMUstate(fmu.component, ctypes.byref(state)))
+                        self._states[k] = state
+                    self._check(k, "fmi2SetFMUstate", fmu.dll.fmi2SetFMUstate(fmu.component, self._states[k]))
             return
         with deferred():
             for k, fmu in enumerate(self.instances):
@@ -415,6 +425,8 @@ class FMUBearings(BearingSet):
             self._free_states()
 
     def _free_states(self) -> None:
+        if self.memoryless:  # its one state serves the whole run (begin_step); freed at close
+            return
         with deferred():
             for k, fmu in enumerate(self.instances):
                 if self._states[k] is not None:  # raw call, status checked here (once per step)

@@ -214,6 +214,9 @@ class ChunkDriver:
     def _kept(self, k0: int, k: int, n_eval: int) -> None:
         """The run state after a chunk that did steps k0 .. k - 1."""
         st, b, cnt = self.integ._state, self.b, self.b.cnt
+        # the forces were evaluated in this chunk: a step handed back opens its own bracket
+        # (begin_step; a memoryless FMU is told there that the step is tried again)
+        st.in_first_bracket = False
         if k > k0:
             st.steps_done, st.n_eval, st.n_rec = int(cnt[CNT_STEPS]), int(cnt[CNT_EVAL]), int(cnt[CNT_REC])
             st.have_J = bool(cnt[CNT_HAVE_J])

@@ -282,6 +282,9 @@ def model_config(internal, params: BearingParams, starts: dict, inputs, flows_wh
         f"#define BN_SPEED_IN_FORCE {max(NATIVE[p].force_depends[1] for p in parts)}",
         f"#define BN_PARTS {len(parts)}",
         f"#define BN_INTERNALS {c_string('|'.join(parts))}",
+        # the memoryless ones (catalogue: outputs from the inputs alone), " map linear ": with one of them
+        # set and thermal = false a doStep may start at any currentCommunicationPoint (bn_do_step)
+        f"#define BN_MEMORYLESS {c_string(' ' + ' '.join(p for p in parts if NATIVE[p].memoryless) + ' ')}",
         "#define BN_PART_LIST(X) " + " ".join(f"X({p}, {NATIVE[p].force_depends[0]}, {NATIVE[p].force_depends[1]})"
                                               for p in parts),
         *(f"#define BN_HOLDS_{p.upper()} {int(p in parts)}" for p in NATIVE),

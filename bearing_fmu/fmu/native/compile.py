@@ -6,12 +6,14 @@ CMake project.
 |---|---|---|---|
 | linux64 | linux64 | x86_64-linux-gnu.2.17 (glibc 2.17, the manylinux2014 baseline) | .so |
 | win64 | win64 | x86_64-windows-gnu (the Universal C Runtime) | .dll |
-| darwin64 | darwin64 | x86_64-macos and aarch64-macos, joined into one universal binary | .dylib |
+| darwin64 | darwin64 | x86_64-macos.11.0 and aarch64-macos.11.0 (macOS 11), joined into one universal binary | .dylib |
 
 Every compiler gets ``-ffp-contract=off`` (no fused multiply-add: the sums round alike on every
 platform, so the forces are bit for bit the same) and hides every symbol but the FMI functions.
 After compiling, each binary is read back (``objfile``): it must export the FMI 2.0 functions
-only and need nothing but the C runtime (and libm).
+only and need nothing but the C runtime (and libm). A macOS dylib is named
+``@rpath/<modelIdentifier>.dylib`` (its install name), so two builds of the same sources are the
+same bytes on every platform (``tests/test_native_platforms.py``).
 """
 
 from __future__ import annotations
@@ -40,10 +42,11 @@ class Platform:
     ext: str
 
 
+MACOS_MIN = "11.0"  # the oldest macOS the binaries load on (the deployment target, both slices)
 PLATFORMS = {p.name: p for p in (
     Platform("linux64", ("x86_64-linux-gnu.2.17",), ".so"),
     Platform("win64", ("x86_64-windows-gnu",), ".dll"),
-    Platform("darwin64", ("x86_64-macos", "aarch64-macos"), ".dylib"),
+    Platform("darwin64", (f"x86_64-macos.{MACOS_MIN}", f"aarch64-macos.{MACOS_MIN}"), ".dylib"),
 )}
 COMPILERS = ("zig", "cc", "cmake")
 C_FLAGS = ("-O2", "-ffp-contract=off", "-fvisibility=hidden", "-std=c99")
@@ -168,18 +171,30 @@ def run_compilers(jobs: list[tuple[list[str], str]]) -> None:
             raise
 
 
-def zig_command(target: str, src: Path, sources: list[str], out: Path, defines: tuple[str, ...] = ()) -> list[str]:
-    """zig cc compiling ``sources`` (in ``src``) into the shared library ``out`` for ``target``."""
+def zig_command(target: str, src: Path, sources: list[str], out: Path, defines: tuple[str, ...] = (),
+                identifier: str = "") -> list[str]:
+    """zig cc compiling ``sources`` (in ``src``) into the shared library ``out`` for ``target``;
+    macOS: named ``@rpath/<identifier>.dylib`` (else the linker writes ``out``'s temporary path
+    into the binary, and two builds differ)."""
     pic = () if "windows" in target else ("-fPIC",)
     libm = ("-lm",) if "linux" in target else ()
+    name = (f"-Wl,-install_name,@rpath/{identifier or out.stem}.dylib",) if "macos" in target else ()
     return [*zig_cc(), "-target", target, *C_FLAGS, *pic, "-s", "-shared", *defines, "-I", str(src),
-            "-I", str(fmi_headers()), *(str(src / f) for f in sources), "-o", str(out), *libm]
+            "-I", str(fmi_headers()), *(str(src / f) for f in sources), "-o", str(out), *name, *libm]
+
+
+def mac_flags(identifier: str) -> tuple[str, ...]:
+    """The system compiler's flags on macOS: the deployment target and the install name zig gets."""
+    if sys.platform != "darwin":
+        return ()
+    return (f"-mmacosx-version-min={MACOS_MIN}", f"-Wl,-install_name,@rpath/{identifier}.dylib")
 
 
 # FMI 3.0 names a binaries/ folder per platform tuple, one architecture each (no universal file)
 FMI3_FOLDERS = {"linux64": (("x86_64-linux", "x86_64-linux-gnu.2.17"), ("aarch64-linux", "aarch64-linux-gnu.2.17")),
                 "win64": (("x86_64-windows", "x86_64-windows-gnu"),),
-                "darwin64": (("x86_64-darwin", "x86_64-macos"), ("aarch64-darwin", "aarch64-macos"))}
+                "darwin64": (("x86_64-darwin", f"x86_64-macos.{MACOS_MIN}"),
+                             ("aarch64-darwin", f"aarch64-macos.{MACOS_MIN}"))}
 HOST_FMI3 = {"linux64": "x86_64-linux", "win64": "x86_64-windows", "darwin64": "x86_64-darwin"}
 
 
@@ -202,8 +217,9 @@ def compile_binaries(root: Path, identifier: str, sources: list[str], platforms=
             if sys.platform == "win32":
                 raise NativeBuildError("--compiler cc is for Linux and macOS; on Windows use --compiler cmake "
                                        "(fmpy's CMake project with Visual Studio) or zig")
-            run_compiler([find_compiler(), *C_FLAGS, "-fPIC", "-shared", "-I", str(src), "-I", str(fmi_headers()),
-                  *(str(src / f) for f in sources), "-o", str(target), "-lm"], "the C compiler")
+            run_compiler([find_compiler(), *C_FLAGS, *mac_flags(identifier), "-fPIC", "-shared", "-I", str(src), "-I",
+                          str(fmi_headers()), *(str(src / f) for f in sources), "-o", str(target), "-lm"],
+                         "the C compiler")
         else:
             zig_jobs.append((name, target))
             continue
@@ -215,7 +231,7 @@ def compile_binaries(root: Path, identifier: str, sources: list[str], platforms=
         with tempfile.TemporaryDirectory(prefix="bearing_zig_") as tmp:  # zig writes .pdb, .lib beside a dll
             slices = {(name, t): Path(tmp) / f"{name}-{k}{PLATFORMS[name].ext}"
                       for name, _ in zig_jobs for k, t in enumerate(PLATFORMS[name].targets)}
-            run_compilers([(zig_command(t, src, sources, one), f"zig cc -target {t}")
+            run_compilers([(zig_command(t, src, sources, one, identifier=identifier), f"zig cc -target {t}")
                            for (_, t), one in slices.items()])
             for name, target in zig_jobs:
                 parts = [slices[name, t].read_bytes() for t in PLATFORMS[name].targets]
@@ -240,9 +256,9 @@ def _compile_fmi3(root: Path, identifier: str, sources: list[str], platforms, co
             if compiler == "cmake":
                 _compile_cmake(root)
             elif compiler == "cc":
-                run_compiler([find_compiler(), *C_FLAGS, *defines, "-fPIC", "-shared", "-I", str(src), "-I",
-                      str(fmi_headers()), *(str(src / f) for f in sources), "-o", str(target), "-lm"],
-                     "the C compiler")
+                run_compiler([find_compiler(), *C_FLAGS, *mac_flags(identifier), *defines, "-fPIC", "-shared",
+                              "-I", str(src), "-I", str(fmi_headers()), *(str(src / f) for f in sources),
+                              "-o", str(target), "-lm"], "the C compiler")
             else:
                 zig_jobs.append((name, target, target_triple))
                 continue
@@ -253,7 +269,7 @@ def _compile_fmi3(root: Path, identifier: str, sources: list[str], platforms, co
     if zig_jobs:
         with tempfile.TemporaryDirectory(prefix="bearing_zig_") as tmp:
             ones = [Path(tmp) / f"{k}{PLATFORMS[name].ext}" for k, (name, _, _) in enumerate(zig_jobs)]
-            run_compilers([(zig_command(t, src, sources, one, defines), f"zig cc -target {t}")
+            run_compilers([(zig_command(t, src, sources, one, defines, identifier), f"zig cc -target {t}")
                            for (_, _, t), one in zip(zig_jobs, ones)])
             for (name, target, _), one in zip(zig_jobs, ones):
                 target.write_bytes(one.read_bytes())

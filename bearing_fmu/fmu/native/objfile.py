@@ -31,6 +31,8 @@ class Linkage:
     exports: list[str] = field(default_factory=list)
     imports: list[str] = field(default_factory=list)  # ELF: name@VERSION where versioned
     libraries: list[str] = field(default_factory=list)
+    min_os: str = ""  # Mach-O: the minimum macOS version (LC_BUILD_VERSION's minos, e.g. "11.0")
+    install_name: str = ""  # Mach-O: the dylib's own name (LC_ID_DYLIB)
 
 
 def _cstr(data: bytes, start: int) -> str:
@@ -149,6 +151,14 @@ def _macho(data: bytes) -> Linkage:
         cmd, size = struct.unpack_from("<II", data, off)
         if cmd in (0xC, 0x80000018, 0x8000001F):  # LC_LOAD_DYLIB, LC_LOAD_WEAK_DYLIB, LC_REEXPORT_DYLIB
             out.libraries.append(_cstr(data, off + struct.unpack_from("<I", data, off + 8)[0]))
+        elif cmd == 0xD:  # LC_ID_DYLIB
+            out.install_name = _cstr(data, off + struct.unpack_from("<I", data, off + 8)[0])
+        elif cmd == 0x32:  # LC_BUILD_VERSION: platform, minos (xxxx.yy.zz nibbles), sdk
+            minos, = struct.unpack_from("<I", data, off + 12)
+            out.min_os = f"{minos >> 16}.{(minos >> 8) & 0xFF}" + (f".{minos & 0xFF}" if minos & 0xFF else "")
+        elif cmd == 0x24:  # LC_VERSION_MIN_MACOSX (older linkers): version, sdk
+            v, = struct.unpack_from("<I", data, off + 8)
+            out.min_os = f"{v >> 16}.{(v >> 8) & 0xFF}" + (f".{v & 0xFF}" if v & 0xFF else "")
         elif cmd == 0x2:  # LC_SYMTAB: nlist_64 entries
             symoff, nsyms, stroff, _ss = struct.unpack_from("<IIII", data, off + 8)
             for k in range(nsyms):

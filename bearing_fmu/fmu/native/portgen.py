@@ -95,6 +95,14 @@ def has_state(internal, params: BearingParams, data_why="") -> bool:
     return film_flow(internal, data_why)[0] and params.oil is not None
 
 
+def supply_start(params: BearingParams) -> float:
+    """T_supply's start [K]: the bearing file's supply temperature (its [oil]'s supply_C, the
+    temperature mu is the oil's viscosity at), else the ports' default."""
+    if params.oil is not None:
+        return float(params.oil.T_supply)
+    return float(next(v[4] for v in VARIABLES if v[0] == "T_supply"))
+
+
 def port_variables(internal, params: BearingParams, first_real: int, first_int: int, bool_base: int,
                    data_why="") -> list:
     """The variables of the thermal ports and the bore as ``codegen.Variable``'s fields (name, value
@@ -104,8 +112,8 @@ def port_variables(internal, params: BearingParams, first_real: int, first_int: 
     out = []
     for k, name in enumerate(THERMAL_REALS):
         _n, typ, causality, unit, start, desc = table[name]
-        out.append((name, first_real + k, typ, causality, float(start) if causality == "input" else 0.0,
-                            unit, desc))
+        out.append((name, first_real + k, typ, causality, supply_start(params) if causality == "input" else 0.0,
+                    unit, desc))
     flows, why = film_flow(internal, data_why)
     law = params.oil.law if params.oil is not None else "none"
     if flows and law != "none":
@@ -163,7 +171,7 @@ def port_config(internal, params: BearingParams, c_double, c_string, data_why=""
     flows, why = film_flow(internal, data_why)
     law = params.oil.law if params.oil is not None else "none"
     return [
-        f"#define BN_START_T_SUPPLY {c_double(next(v[4] for v in VARIABLES if v[0] == 'T_supply'))}",
+        f"#define BN_START_T_SUPPLY {c_double(supply_start(params))}",
         f"#define BN_FILM_FLOW {int(flows)}",
         f"#define BN_N_STATES {int(has_state(internal, params, data_why))}",
         f"#define BN_FILM_FLOW_WHY {c_string(why)}",

@@ -186,10 +186,14 @@ bn_status bn_set_reals(Instance *m, const char *call, const unsigned vr[], size_
     char a[32], why[512];
     for (size_t i = 0; i < n; i++) {
         unsigned k = vr[i];
-        if (BN_IS_INPUT(k)) { /* inputs: any value; a non-finite one is refused when evaluated */
+        if (BN_IS_INPUT(k)) { /* inputs: any finite value (a state the internal refuses: at the step) */
+            if (!isfinite(values[i])) {
+                status = bn_fail(m, "%s: input %s = %s is not finite; it keeps %s", call, bn_real_name((int)k),
+                                 bn_num(a, sizeof a, values[i], 17), bn_num(why, sizeof why, m->r[k], 17));
+                continue;
+            }
             m->r[k] = values[i];
             m->dirty = 1;
-            m->step_refused = 0;
             continue;
         }
 #if BN_FMI3
@@ -341,6 +345,20 @@ bn_status bn_derivatives(Instance *m, const char *call, int adjoint, const unsig
 
 /* ------------------------------------------------------------------------------ Co-Simulation */
 
+/* the inputs a step is taken at (the journal state, T_supply), compared bit for bit */
+static void step_inputs(const Instance *m, double v[N_INPUTS + 1]) {
+    memcpy(v, m->r, N_INPUTS * sizeof *v);
+    v[N_INPUTS] = m->r[VR_T_SUPPLY];
+}
+
+/* the internal set is memoryless (catalogue.py) and thermal = false: the outputs follow the inputs
+ * alone, so a step may start at any currentCommunicationPoint (the vendor annotation Memoryless) */
+static int memoryless(const Instance *m) {
+    char word[STRING_MAX + 3];
+    snprintf(word, sizeof word, " %s ", m->eff[S_INTERNAL]);
+    return !m->b[B_THERMAL] && strstr(BN_MEMORYLESS, word) != NULL;
+}
+
 bn_status bn_do_step(Instance *m, const char *call, unsigned allowed, double t0, double h, double *t_done) {
     double t = t0 + h;
     char a[32], b[32];
@@ -359,10 +377,21 @@ bn_status bn_do_step(Instance *m, const char *call, unsigned allowed, double t0,
     if (t > m->stop_time + 1e-9 * fmax(fabs(m->stop_time), h))
         return bn_fail(m, "%s: a step to t = %s s goes beyond the stopTime %s s given to "
                        "fmi3EnterInitializationMode", call, bn_num(a, 32, t, 17), bn_num(b, 32, m->stop_time, 17));
-    if (m->step_refused) /* a master retrying unchanged (fmpy's simulate_fmu) would loop forever */
-        return bn_fail(m, "%s: step to t = %s s refused: the inputs of the step discarded just before, unchanged "
-                       "(the state is refused again whatever the step size); set the inputs or restore an FMU state",
-                       call, bn_num(a, 32, t, 10));
+    /* where the last step ended (or the start time): a step from elsewhere would skip or repeat time
+     * the FMU's state (T_eff, out_of_domain, Taylor's excursions, Reynolds's warm start) went through;
+     * the memoryless internals with thermal = false declare any point allowed (docs/fmu.md) */
+    if (!memoryless(m) && fabs(t0 - m->t) > 1e-9 * fmax(1.0, fabs(m->t)) + 1e-6 * h)
+        return bn_fail(m, "%s: currentCommunicationPoint = %s s is not where the last step ended (t = %s s; the "
+                       "start time before the first step): restore an FMU state to step from another time", call,
+                       bn_num(a, 32, t0, 12), bn_num(b, 32, m->t, 12));
+    double now[N_INPUTS + 1];
+    step_inputs(m, now);
+    /* no fmi2Terminated after a discard (other inputs or a restore can go on), so a master that
+     * retries with the same inputs (fmpy's simulate_fmu sets them again) would loop forever */
+    if (m->step_refused && memcmp(now, m->refused_inputs, sizeof now) == 0)
+        return bn_fail(m, "%s: step to t = %s s refused: the step from t = %s s was discarded and the inputs are "
+                       "unchanged (the state is refused again whatever the step size); set other inputs or restore "
+                       "an FMU state", call, bn_num(a, 32, t, 10), bn_num(b, 32, m->refused_t, 10));
     m->thermal_lagged = 1; /* T_eff lags over the step (thermal = true) */
     m->thermal_dt = h;
     int refused = bn_evaluate(m);
@@ -372,8 +401,11 @@ bn_status bn_do_step(Instance *m, const char *call, unsigned allowed, double t0,
          * or with other inputs, can succeed */
         bn_log(m, BN_DISCARD, "%s at t = %s s", m->msg, bn_num(a, 32, t, 10));
         m->step_refused = 1;
+        memcpy(m->refused_inputs, now, sizeof now);
+        m->refused_t = t0;
         return BN_DISCARD;
     }
+    m->step_refused = 0;
     m->t = t;
     *t_done = t;
     return bn_warned(m);
@@ -494,8 +526,9 @@ bn_status bn_fmu_state_get(Instance *m, const char *call, void **state) {
 }
 
 bn_status bn_fmu_state_set(Instance *m, const char *call, const void *state) {
-    if (!bn_state_valid(state, STATE_TAG, BUILD_ID))
-        return bn_fail(m, "%s: not a %s state of this FMU; the instance keeps its state", call, STATE_TAG);
+    char why[200];
+    if (bn_state_sound(state, STATE_TAG, BUILD_ID, why, sizeof why))
+        return bn_fail(m, "%s: %s; the instance keeps its state", call, why);
     bn_state_restore(m, state);
     return BN_OK;
 }
@@ -532,7 +565,7 @@ bn_status bn_fmu_state_deserialize(Instance *m, const char *call, const unsigned
     char why[200];
     if (!state) return bn_fail(m, "%s: FMUState is NULL", call);
     if (bn_state_deserialize(bytes, size, &s, STATE_TAG, BUILD_ID, why, sizeof why))
-        return bn_fail(m, "%s: %s", call, why);
+        return bn_fail(m, "%s: %s; the FMU state given keeps its contents", call, why);
     if (!*state && !(*state = m->allocate(1, sizeof(BnState)))) return bn_fail(m, "%s: out of memory", call);
     *(BnState *)*state = s;
     return BN_OK;

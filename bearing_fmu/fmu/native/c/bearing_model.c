@@ -114,6 +114,23 @@ bn_status bn_outputs(Instance *m, const char *call, const char *name) {
 
 /* ------------------------------------------------------------------------------ FMU states */
 
+/* FNV-1a (32 bits) over the state's fields, not its padding */
+static unsigned fnv(unsigned h, const void *p, size_t n) {
+    const unsigned char *b = p;
+    for (size_t i = 0; i < n; i++) h = (h ^ b[i]) * 16777619u;
+    return h;
+}
+
+static unsigned checksum(const BnState *s) {
+    unsigned h = 2166136261u;
+    h = fnv(h, s->tag, sizeof s->tag);
+    h = fnv(h, s->id, sizeof s->id);
+    h = fnv(h, &s->t, sizeof s->t);
+    h = fnv(h, s->values, sizeof s->values);
+    h = fnv(h, s->thermal, sizeof s->thermal);
+    return fnv(h, &s->out_of_domain, sizeof s->out_of_domain);
+}
+
 void bn_state_save(const Instance *m, BnState *s, const char *tag, const char *id) {
     memset(s, 0, sizeof *s);
     snprintf(s->tag, sizeof s->tag, "%s", tag);
@@ -122,6 +139,7 @@ void bn_state_save(const Instance *m, BnState *s, const char *tag, const char *i
     memcpy(s->values, m->r, sizeof s->values);
     memcpy(s->thermal, m->r + VR_T_SUPPLY, sizeof s->thermal);
     s->out_of_domain = m->b[B_OUT_OF_DOMAIN];
+    s->check = checksum(s);
 }
 
 void bn_state_restore(Instance *m, const BnState *s) {
@@ -137,6 +155,35 @@ void bn_state_restore(Instance *m, const BnState *s) {
 
 int bn_state_valid(const BnState *s, const char *tag, const char *id) {
     return s && strncmp(s->tag, tag, sizeof s->tag) == 0 && strncmp(s->id, id, sizeof s->id) == 0;
+}
+
+int bn_state_sound(const BnState *s, const char *tag, const char *id, char *why, size_t n) {
+    char a[32];
+    if (!bn_state_valid(s, tag, id)) {
+        snprintf(why, n, "not a %s state of this FMU", tag);
+        return 1;
+    }
+    if (s->check != checksum(s)) {
+        snprintf(why, n, "a damaged %s state: its checksum does not match its contents", tag);
+        return 1;
+    }
+    /* what the instance itself can hold: finite values (inputs are refused otherwise, outputs
+     * computed finite), a distance, a temperature and a viscosity that are not negative */
+    const char *bad = NULL;
+    double v = 0.0;
+    if (!isfinite(s->t)) bad = "time", v = s->t;
+    for (int i = 0; !bad && i < VR_D; i++)
+        if (!isfinite(s->values[i])) bad = bn_real_name(i), v = s->values[i];
+    for (int i = 0; !bad && i < VR_GEOMETRY0 - VR_T_SUPPLY; i++)
+        if (!isfinite(s->thermal[i]) || (i != VR_P_LOSS - VR_T_SUPPLY && s->thermal[i] < 0.0))
+            bad = bn_real_name(VR_T_SUPPLY + i), v = s->thermal[i];
+    if (!bad && !(s->values[VR_ECC] >= 0.0)) bad = "eccentricity", v = s->values[VR_ECC];
+    if (!bad && s->out_of_domain != 0 && s->out_of_domain != 1) bad = "out_of_domain", v = s->out_of_domain;
+    if (bad) {
+        snprintf(why, n, "a %s state holding %s = %s (not finite or out of range)", tag, bad, bn_num(a, 32, v, 17));
+        return 1;
+    }
+    return 0;
 }
 
 /* serialised as it is (the same platform, the same build: the tag and id say so) */
@@ -161,6 +208,11 @@ int bn_state_deserialize(const unsigned char *bytes, size_t size, BnState *out, 
     if (size == sizeof s) memcpy(&s, bytes, sizeof s); /* a copy: the bytes need not be aligned */
     if (size != sizeof s || !bn_state_valid(&s, tag, id)) {
         snprintf(why, n, "%lu bytes are not a serialised %s state of this FMU", (unsigned long)size, tag);
+        return 1;
+    }
+    char reason[160];
+    if (bn_state_sound(&s, tag, id, reason, sizeof reason)) {
+        snprintf(why, n, "%s", reason);
         return 1;
     }
     *out = s;

@@ -169,8 +169,10 @@ typedef struct Instance {
     int terminated;             /* fmi2Terminated: never set (every refused state can be retried with another) */
     int dirty;                  /* ME: inputs changed since the outputs were computed */
     int refused_state;          /* ME: the inputs as set were refused (logged once, until they change) */
-    int step_refused;           /* CS: the last doStep was discarded and no input was set since (a retry
-                                   unchanged is an error: the same state is refused whatever the step) */
+    int step_refused;           /* CS: the last doStep was discarded (no good step or restore since) */
+    double refused_inputs[N_INPUTS + 1]; /* its inputs (and T_supply): a retry with these unchanged is an error
+                                   (the same state is refused whatever the step; fmpy's simulate_fmu re-sets them) */
+    double refused_t;           /* and its currentCommunicationPoint [s] */
     int ood_now;                /* out_of_domain of the last evaluated state (ME: out_of_domain takes it at events) */
     int still;                  /* the force was asked at omega = 0 with no squeeze (warned once, until it moves) */
     int warn_pending;           /* a warning was logged: the FMI call returns a warning status */
@@ -257,6 +259,7 @@ typedef struct Instance {
 #define bn_state_save BN_NAME(BN_ID, bn_state_save)
 #define bn_state_restore BN_NAME(BN_ID, bn_state_restore)
 #define bn_state_valid BN_NAME(BN_ID, bn_state_valid)
+#define bn_state_sound BN_NAME(BN_ID, bn_state_sound)
 #define bn_state_serialize BN_NAME(BN_ID, bn_state_serialize)
 #define bn_state_deserialize BN_NAME(BN_ID, bn_state_deserialize)
 

@@ -94,7 +94,8 @@ BN_HIDDEN int bn_heat_balance(Instance *m, const double rep[5], int quasi, doubl
 #define BN_IS_ME(m) ((m)->model_exchange)
 
 /* an FMU state: the time, the inputs and Real outputs, out_of_domain; tagged with the layer's
- * tag and the build's GUID (FMI 3.0: instantiation token), so a state of another build is refused */
+ * tag and the build's GUID (FMI 3.0: instantiation token), so a state of another build is refused,
+ * and a checksum (FNV-1a over the fields), so a damaged one is refused too */
 typedef struct {
     char tag[24];
     char id[64];
@@ -102,10 +103,14 @@ typedef struct {
     double values[VR_D];
     double thermal[VR_GEOMETRY0 - VR_T_SUPPLY]; /* T_supply and the thermal outputs */
     int out_of_domain;
+    unsigned check;
 } BnState;
 BN_HIDDEN void bn_state_save(const Instance *m, BnState *s, const char *tag, const char *id);
 BN_HIDDEN void bn_state_restore(Instance *m, const BnState *s);
 BN_HIDDEN int bn_state_valid(const BnState *s, const char *tag, const char *id);
+/* a state of this build whose checksum holds and whose values are finite and in range: 0, or 1
+ * with the reason in why */
+BN_HIDDEN int bn_state_sound(const BnState *s, const char *tag, const char *id, char *why, size_t n);
 /* a state into bytes (size: the buffer's) and back into *out: 0, or 1 with the reason in why */
 BN_HIDDEN int bn_state_serialize(const BnState *s, unsigned char *bytes, size_t size, const char *tag, const char *id,
                                  char *why, size_t n);
