@@ -37,14 +37,34 @@ def internal_choices() -> tuple[str, ...]:
     return names()
 
 
-def _file_flags(p, what: str = "over the scene's") -> None:
-    """One ``--<option> FILE`` flag per file option of the registry (--surrogate, --map, ...)."""
+def _file_flags(p, what: str = "over the scene's", defaults: dict | None = None, note: str = "",
+                only=None) -> None:
+    """One ``--<option> FILE`` flag per file option of the registry (--surrogate, --map, ...);
+    ``defaults``: option -> its default file, named in that option's help (none: ``what`` the scene's);
+    ``only``: the internals the command takes (their options only)."""
     from .bundled import KINDS
     from .scenes.overrides import file_options
 
     for internal, option in file_options():
+        if only is not None and internal not in only:
+            continue
+        if defaults is None:
+            where = f"{what} [{internal}] {option}"
+        elif option in defaults:
+            where = f"default: {Path(defaults[option]).stem}, bundled{note}"
+        else:
+            where = "no default: needed with --internal " + internal
         p.add_argument(f"--{option}", type=bundled_or_file(option) if option in KINDS else existing_file, metavar="FILE",
-                       help=f"the {internal} internal's {option} file ({what} [{internal}] {option})")
+                       help=f"the {internal} internal's {option} file ({where})")
+
+
+def bearing_swap(text: str) -> tuple[str, str]:
+    """An argparse type: ``FILE`` (every bearing) or ``NAME=FILE`` (the [[bearings]] entry of that
+    name or 1-based node); FILE a bearing file or a bundled bearing by name."""
+    from .scenes.overrides import ALL_BEARINGS
+
+    which, sep, file = text.rpartition("=")
+    return (which if sep and which else ALL_BEARINGS), bundled_or_file("bearing")(file)
 
 
 def _files(args) -> dict:
@@ -63,6 +83,13 @@ def _scene_flags(p, *, tangent: bool = False, checkpoint: bool = False) -> None:
                    help="through native bearing FMUs (the internal compiled to C, no Python in the FMU; built with "
                         "the C compiler): the scene key fmu_kind = \"native\"")
     _file_flags(p)
+    p.add_argument("--bearing", type=bearing_swap, action="append", default=[], metavar="[NAME=]FILE",
+                   help="a bearing file (or a bundled bearing by name, e.g. bearing_paper_2groove) in place of the "
+                        "rotor file's: FILE for every bearing, NAME=FILE for the [[bearings]] entry of that name or "
+                        "1-based node (repeat for several); the rotor file with it is written to the output folder")
+    p.add_argument("--supply-c", type=finite_float("C"), metavar="C",
+                   help="oil supply temperature [C] over the scene's supply_temperature_C: every bearing at its "
+                        "film's effective temperature (each needs an [oil] table covering it; docs/thermal.md)")
     p.add_argument("--t-end", type=positive_float("s"), help="override the end time [s]")
     p.add_argument("--dt", type=positive_float("s"), help="override the time step [s]")
     if tangent:
@@ -83,7 +110,9 @@ def scene_from_args(args):
     ov = SceneOverrides(internal=getattr(args, "internal", None), via=getattr(args, "via", None),
                         native=getattr(args, "native", False), t_end_s=getattr(args, "t_end", None),
                         dt_s=getattr(args, "dt", None), newton_tangent=getattr(args, "tangent", None),
-                        checkpoint_s=getattr(args, "checkpoint_s", None), files=_files(args))
+                        checkpoint_s=getattr(args, "checkpoint_s", None), files=_files(args),
+                        supply_c=getattr(args, "supply_c", None), bearings=dict(getattr(args, "bearing", None) or ()),
+                        folder=getattr(args, "out", None))
     return load_with_overrides(args.scene, ov)
 
 
@@ -321,8 +350,8 @@ def _add_stability(sub) -> None:
     p.add_argument("--internal", choices=having(any_state=True), default="reynolds",
                    help="bearing internal, one valid at every speed and load: " + ", ".join(having(any_state=True))
                         + " (default reynolds)")
-    defaults = ", ".join(f"--{k} {Path(v).stem} (bundled)" for k, v in DEFAULT_FILES.items())
-    _file_flags(p, what=f"default: {defaults}, the paper bearing's; build a map with `bearing-fmu map`;")
+    _file_flags(p, defaults=DEFAULT_FILES, note=", the paper bearing's; build one with `bearing-fmu map`",
+                only=having(any_state=True))
     p.add_argument("--grid", type=grid, metavar="NxM", help="Reynolds grid n_theta x n_x (default: the solver's, "
                                                            "128x16)")
     p.add_argument("--static-load", type=node_load, nargs="+", action="extend", default=[], metavar="NODE:FY:FZ",
@@ -352,8 +381,7 @@ def _linear_rotor_flags(p) -> None:
     p.add_argument("--internal", choices=having(any_state=True), default="reynolds",
                    help="bearing internal, one valid at every speed and load: " + ", ".join(having(any_state=True))
                         + " (default reynolds)")
-    defaults = ", ".join(f"--{k} {Path(v).stem} (bundled)" for k, v in DEFAULT_FILES.items())
-    _file_flags(p, what=f"default: {defaults}, the paper bearing's;")
+    _file_flags(p, defaults=DEFAULT_FILES, note=", the paper bearing's", only=having(any_state=True))
     p.add_argument("--grid", type=grid, metavar="NxM", help="Reynolds grid n_theta x n_x (default: the solver's)")
     p.add_argument("--static-load", type=node_load, nargs="+", action="extend", default=[], metavar="NODE:FY:FZ",
                    help="static point loads [N] on 1-based nodes, besides the weight")

@@ -251,7 +251,7 @@ def run(rotor_file, operating_hz, *, internal="reynolds", options=None, static_l
     """Read the rotor file (its [[stages]] required), the bearings at the maximum continuous speed
     (the top of ``operating_hz``), and the check."""
     from ..linear.stability import Stability, read_rotor
-    from .inputs import title_line
+    from ..inputs import title_line
     from .unbalance import check_operating
 
     rotor, loads = read_rotor(rotor_file, static_loads)
@@ -301,7 +301,7 @@ def command(*, rotor_file, operating_hz, internal: str = "reynolds", data_files=
     from bearing_fmu.io.outputs import ensure_writable, write_json, write_text
 
     from ..linear.stability import internal_options
-    from .inputs import bearing_lines, internal_words
+    from ..inputs import bearing_lines, internal_words
 
     out = ensure_writable(out)
     T = None if supply_c is None else supply_c + 273.15
