@@ -48,6 +48,7 @@ from bearing_fmu.physics.geometry import Geometry
 from bearing_fmu.io.exits import note_kept
 from bearing_fmu.io.outputs import ensure_writable, write_json, write_text
 
+from ..inputs import title_line
 from ...model.rotor import Rotor
 from .stability_inputs import DEFAULT_FILES, PAPER_MAP, check_supply, internal_options  # noqa: F401
 from .stability_report import FORWARD, direction, markdown, to_json
@@ -147,6 +148,7 @@ class StabilityResult:
     n_modes: int = DEFAULT_MODES
     status: str = "ok"
     T_supply_K: float | None = None  # the oil's supply temperature (None: isoviscous bearings)
+    inputs: str = ""  # what it was computed for, in one line (analyses.inputs.title_line)
 
     @property
     def ok_points(self) -> list[SpeedPoint]:
@@ -512,11 +514,13 @@ def command(*, rotor_file, speeds_hz, internal: str = "reynolds", data_files=Non
             write_json(out / f"{stem}.json", to_json(res, rotor_file))
             note_kept(exc, f"{out / f'{stem}.md'} ({len(res.points)} speed(s))")
         raise
+    res.inputs = title_line(rotor, rotor_file, internal, options, res.T_supply_K)
     files = [write_text(out / f"{stem}.md", markdown(res)), write_json(out / f"{stem}.json", to_json(res, rotor_file))]
     if not res.ok_points:
         raise RuntimeError(f"{rotor_file}: no speed of {speeds_hz[0]:g}-{speeds_hz[-1]:g} Hz has a static "
                            f"equilibrium (first: {res.points[0].message}); wrote {files[0]}")
     tm = res.timings
+    print(f"computed for: {res.inputs}")
     print(f"{res.rotor} [{res.internal}]: {len(res.points)} speeds in {tm['equilibrium'] + tm['eigen']:.2f} s "
           f"(equilibria {tm['equilibrium']:.2f} s, linearisation and modes {tm['eigen']:.2f} s; threshold "
           f"refinement {tm['refine']:.2f} s; setup {tm['setup']:.2f} s)")
