@@ -204,8 +204,11 @@ def _linear_vs_runup(args) -> int:
 
 def _sweep(args) -> int:
     from .analyses import sweep
+    from .analyses.inputs import scene_line
 
-    return _call(sweep.command, args, scene=scene_from_args(args))
+    scene = scene_from_args(args)
+    print(f"computed for: {scene_line(scene)}")
+    return _call(sweep.command, args, scene=scene)
 
 
 def _module_command(module: str):
