@@ -12,7 +12,7 @@ import inspect
 import sys
 from pathlib import Path
 
-from bearing_fmu.io.cliargs import (existing_dir, existing_file, existing_file_or, finite_float, float_range, grid,
+from bearing_fmu.io.cliargs import (existing_dir, existing_file, finite_float, float_range, grid,
                                     grid_or_default, int_at_least, interval, node_load, nonneg_float, number,
                                     output_dir, output_file, positive_float, positive_int, unbalance)
 from bearing_fmu.cli import Parser, add_debug_flag
@@ -21,11 +21,7 @@ from bearing_fmu.internals.warmup import announce_compiling
 
 
 
-def bundled_or_file(kind: str):
-    """An argparse type: a file, or a bundled file of ``kind`` by its name (rotor_host.bundled)."""
-    from . import bundled
-
-    return existing_file_or(lambda text: bundled.find(text, kind), f"a bundled {kind} ({', '.join(bundled.names(kind))})")
+from bearing_fmu.io.bundled import bundled_or_file  # a file, or a bundled one by name (both command lines)
 
 
 # ----------------------------------------------------------------------------- shared options
