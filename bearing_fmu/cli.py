@@ -577,7 +577,8 @@ def main(argv: list[str] | None = None) -> int:
                         f"opposite grooves, {2 * gm.DEFAULT_PHI_PER_PI} for an arc)")
     p.add_argument("--grid", type=grid, default=None, metavar="N_THETAxN_X",
                    help="Reynolds grid of the truth (default: the solver's default)")
-    p.add_argument("--cavitation", choices=("reynolds", "gumbel"), default="reynolds")
+    p.add_argument("--cavitation", choices=("reynolds", "gumbel"), default="reynolds",
+                   help="the film's cavitation condition: reynolds (Swift-Stieber, default) or gumbel (half-Sommerfeld)")
     p.add_argument("--eps-max", type=number("", 0.5, 0.999), default=DEFAULT_EPS_MAX,
                    help=f"last tabulated eccentricity ratio; the map refuses states beyond (default {DEFAULT_EPS_MAX})")
     p.add_argument("--phases", type=int_at_least(1), default=None,

@@ -74,7 +74,7 @@ def _scene_flags(p, *, tangent: bool = False, checkpoint: bool = False) -> None:
     from .integrate.forces import NEWTON_TANGENTS
 
     p.add_argument("--internal", choices=internal_choices(), help="override the scene's internal")
-    p.add_argument("--via", choices=("fmu", "direct"), help="bearing FMUs through fmpy, or internals in-process")
+    p.add_argument("--via", choices=("fmu", "direct"), help="the bearings via bearing FMUs through fmpy, or via internals in-process")
     p.add_argument("--native", action="store_true",
                    help="through native bearing FMUs (the internal compiled to C, no Python in the FMU; built with "
                         "the C compiler): the scene key fmu_kind = \"native\"")
@@ -224,7 +224,7 @@ def _add_run(sub) -> None:
     p.add_argument("scene", type=bundled_or_file("scene"), help="scene TOML file, or a bundled scene by name (e.g. paper_22hz)")
     _scene_flags(p, tangent=True, checkpoint=True)
     p.add_argument("--out", type=output_dir, default="out", help="output folder (default: out)")
-    p.add_argument("--no-plots", action="store_true")
+    p.add_argument("--no-plots", action="store_true", help="write no plots (the tables and json only)")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.set_defaults(func=_run)
 
@@ -232,7 +232,7 @@ def _add_run(sub) -> None:
 def _add_compare(sub) -> None:
     p = sub.add_parser("compare", help="error against run time of Reynolds grids, Taylor orders and the linear model")
     p.add_argument("scene", type=bundled_or_file("scene"), help="scene TOML file, or a bundled scene by name (e.g. paper_22hz)")
-    p.add_argument("--via", choices=("fmu", "direct"), help="bearing FMUs through fmpy (scene default) or in-process")
+    p.add_argument("--via", choices=("fmu", "direct"), help="the bearings via FMUs through fmpy (the scene's default) or via internals in-process")
     p.add_argument("--ref-grid", type=grid_or_default, default="256x32", metavar="NxM",
                    help="reference Reynolds grid n_theta x n_x (default 256x32; '' = the default grid is the "
                         "reference)")
@@ -281,7 +281,8 @@ def _add_fit(sub) -> None:
 def _add_dt_study(sub) -> None:
     p = sub.add_parser("dt-study", help="halve dt until the bearing orbit changes by less than 1 %% CR")
     p.add_argument("scene", type=bundled_or_file("scene"), help="scene TOML file, or a bundled scene by name (e.g. paper_22hz)")
-    p.add_argument("--internal", choices=internal_choices(), default="reynolds")
+    p.add_argument("--internal", choices=internal_choices(), default="reynolds",
+                   help="the bearing internal (default reynolds)")
     p.add_argument("--dt", type=positive_float("s"), help="first time step [s] (default: the scene's)")
     p.add_argument("--t-end", type=positive_float("s"), help="simulated time [s] (default: the scene's)")
     p.add_argument("--halvings", type=positive_int(), default=3,
@@ -290,7 +291,7 @@ def _add_dt_study(sub) -> None:
                    help="orbit change that counts as converged [%% CR] (default 1)")
     p.add_argument("--out", type=output_dir, default="out",
                    help="output folder for dtstudy_<scene>_<internal>.md/.json")
-    p.add_argument("--quiet", action="store_true")
+    p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.set_defaults(func=_module_command("dt_study"))
 
 
@@ -316,7 +317,8 @@ def _add_limit_cycle(sub) -> None:
     p = sub.add_parser("limit-cycle", help="envelope of the bearing eccentricity: does the whirl settle and hold?")
     p.add_argument("source", type=bundled_or_file("scene"), help="scene TOML file or bundled scene (run it, called directly) or a saved run "
                    ".npz (then give --speed-hz)")
-    p.add_argument("--internal", choices=internal_choices(), default="reynolds")
+    p.add_argument("--internal", choices=internal_choices(), default="reynolds",
+                   help="the bearing internal (default reynolds)")
     p.add_argument("--dt", type=positive_float("s"), help="time step [s] (default: the scene's)")
     p.add_argument("--t-end", type=positive_float("s"), help="simulated time [s] (default: the scene's)")
     p.add_argument("--speed-hz", type=positive_float("Hz"), help="shaft speed for a .npz source [Hz]")
@@ -331,7 +333,7 @@ def _add_limit_cycle(sub) -> None:
                    help="largest trend of the whirl's size over the last half of the run, in %% of that size, for "
                         "a held limit cycle (default 10): a whirl dying away slowly inside the band is not one")
     p.add_argument("--out", type=output_dir, default="out", help="output folder for limitcycle_<name>.md/.json/.png")
-    p.add_argument("--quiet", action="store_true")
+    p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.set_defaults(func=_module_command("limit_cycle"))
 
 
@@ -367,7 +369,7 @@ def _add_stability(sub) -> None:
                         "film's effective temperature at each speed (docs/thermal.md); default: isoviscous bearings")
     p.add_argument("--out", type=output_dir, default="out", help="output folder (default: out) for "
                    "stability_<rotor>_<internal>.md/.json and _campbell/_logdec/_mode.png")
-    p.add_argument("--no-plots", action="store_true")
+    p.add_argument("--no-plots", action="store_true", help="write no plots (the tables and json only)")
     p.set_defaults(func=_stability)
 
 
@@ -404,7 +406,7 @@ def _add_response(sub) -> None:
     _linear_rotor_flags(p)
     p.add_argument("--out", type=output_dir, required=True,
                    help="output folder: response.json, response.md, bode_node<N>.png, polar_node<N>.png")
-    p.add_argument("--no-plots", action="store_true")
+    p.add_argument("--no-plots", action="store_true", help="write no plots (the tables and json only)")
     p.set_defaults(func=_response)
 
 
@@ -426,7 +428,7 @@ def _add_ucs(sub) -> None:
     _linear_rotor_flags(p)
     p.add_argument("--out", type=output_dir, default="out", help="output folder: ucs.json, ucs.md, ucs_map.png, "
                                                                  "ucs_modes.png")
-    p.add_argument("--no-plots", action="store_true")
+    p.add_argument("--no-plots", action="store_true", help="write no plots (the tables and json only)")
     p.set_defaults(func=_ucs)
 
 
@@ -445,7 +447,7 @@ def _add_level1(sub) -> None:
                         "2 <= Q_0 / Q_A <= 10")
     _linear_rotor_flags(p)
     p.add_argument("--out", type=output_dir, default="out", help="output folder: level1.json, level1.md, level1.png")
-    p.add_argument("--no-plots", action="store_true")
+    p.add_argument("--no-plots", action="store_true", help="write no plots (the tables and json only)")
     p.set_defaults(func=_level1)
 
 
@@ -466,7 +468,7 @@ def _add_api_report(sub) -> None:
                         "2 <= Q_0 / Q_A <= 10")
     _linear_rotor_flags(p)
     p.add_argument("--out", type=output_dir, required=True, help="output folder: api_report.md, its json and figures")
-    p.add_argument("--no-plots", action="store_true")
+    p.add_argument("--no-plots", action="store_true", help="write no plots (the tables and json only)")
     p.set_defaults(func=_api_report)
 
 
@@ -484,7 +486,7 @@ def _add_linear_vs_runup(sub) -> None:
     p.add_argument("--out", type=output_dir, default="out", help="output folder: linear_vs_runup.json/.md, "
                                                                  "linear_vs_runup_node<N>.png and the runs")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
-    p.add_argument("--no-plots", action="store_true")
+    p.add_argument("--no-plots", action="store_true", help="write no plots (the tables and json only)")
     p.set_defaults(func=_linear_vs_runup)
 
 
