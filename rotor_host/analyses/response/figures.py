@@ -10,6 +10,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..inputs import wrapped
 from ..plotting import pyplot, save_figure
 
 _COLOR = {"y": "tab:blue", "z": "tab:red"}
@@ -25,12 +26,6 @@ def _segments(speeds, values, unstable):
             out.append((speeds[start:hi], values[start:hi], unstable[start]))
             start = i
     return out
-
-
-def _wrap(text: str, width: int = 120) -> str:
-    import textwrap
-
-    return "\n".join(textwrap.wrap(text, width))
 
 
 def _shade(ax, res):
@@ -68,7 +63,7 @@ def plot_bode(res, node: int, path, inputs: str = "") -> Path:
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=8, loc="best")
     unb = "; ".join(u.label() for u in res.unbalances)
-    ax.set_title(f"Unbalance response at node {node} ({unb})\n{_wrap(inputs)}", fontsize=9)
+    ax.set_title(f"Unbalance response at node {node} ({unb})\n{wrapped(inputs)}", fontsize=9)
     axp.set_ylabel("phase [deg] (y = A cos(Omega t + phase))")
     axp.set_xlabel("shaft speed [Hz]")
     axp.set_ylim(-185, 185)
@@ -100,7 +95,7 @@ def plot_polar(res, node: int, path, inputs: str = "") -> Path:
     ax.set_ylabel("Im X [um]")
     ax.grid(True, alpha=0.3)
     ax.legend(fontsize=8, title="dashed: above the threshold" if u.any() else None, title_fontsize=8)
-    ax.set_title(f"Polar plot at node {node}, speeds [Hz] marked\n{_wrap(inputs, 90)}", fontsize=8)
+    ax.set_title(f"Polar plot at node {node}, speeds [Hz] marked\n{wrapped(inputs, 90)}", fontsize=8)
     return save_figure(fig, path)
 
 

@@ -52,6 +52,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..inputs import wrapped
 from ...model.rotor import Rotor
 from ..linear.modal import band_hz
 
@@ -242,7 +243,7 @@ def plot_level1(r: Level1, path, inputs: str = "") -> Path:
     ax.set_ylabel("log decrement")
     ax.grid(True, alpha=0.3)
     ax.legend(fontsize=8)
-    ax.set_title(f"API 617 Level I at {r.speed_hz:g} Hz: {r.verdict()[0]}\n{inputs}", fontsize=9)
+    ax.set_title(f"API 617 Level I at {r.speed_hz:g} Hz: {r.verdict()[0]}\n{wrapped(inputs, 110)}", fontsize=9)
     return save_figure(fig, path)
 
 
@@ -314,6 +315,7 @@ def command(*, rotor_file, operating_hz, internal: str = "reynolds", data_files=
     files = [write_json(out / "level1.json", to_json(r)), write_text(out / "level1.md", markdown(r, inputs, files)),
              *files]
     verdict, why = r.verdict()
+    print(f"computed for: {r.meta['inputs']}")
     print(f"{r.meta['rotor']} at {r.speed_hz:g} Hz: Q_A {r.Q_A:.4g} N/m, Q_0 "
           + ("not reached" if r.Q_0 is None else f"{r.Q_0:.4g} N/m") + f", log dec {r.delta_0:.3g} at Q = 0, "
           f"{r.delta_A:.3g} at Q_A, CSR {r.csr:.3g}")

@@ -340,6 +340,7 @@ def command(*, rotor_file, speeds_hz, unbalance, internal: str = "reynolds", dat
     if all(s not in ("ok", "unstable") for s in res.status):
         raise RuntimeError(f"{rotor_file}: no speed of the range has a static equilibrium ({res.status[0]}); wrote "
                            f"{files[0]}")
+    print(f"computed for: {res.meta['inputs']}")
     print(f"{res.meta['rotor']} [{res.meta['internal']}]: {len(res.speeds_hz)} speeds, unbalance "
           + "; ".join(u.label() for u in res.unbalances))
     if res.threshold_hz is not None:
