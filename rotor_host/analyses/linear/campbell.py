@@ -21,11 +21,12 @@ _FWD = dict(marker="^", color="tab:red", label="forward whirl")
 _BWD = dict(marker="v", color="tab:blue", label="backward whirl")
 
 
-def _mode_scatter(ax, res, value):
+def _mode_scatter(ax, res, value, top: float = math.inf):
     """Scatter value(point, i) against speed for the lowest n_modes modes, forward and
     backward marked; heavily damped modes (AF = pi / log dec < 2.5: no resonance) hollow;
     unstable modes (log dec < 0) ringed in black; the modes above the ranked band (``band_hz``:
-    not ranked for the least stable mode nor the threshold) small and grey."""
+    not ranked for the least stable mode nor the threshold) small and grey, named in the legend
+    when one lies below ``top`` (the axis' end)."""
     heavy_seen = False
     beyond = [(p.speed_hz, value(p, i), p.forward(i)) for p in res.ok_points
               for i in range(min(res.n_modes, p.freq_hz.size)) if p.freq_hz[i] > p.band_hz]
@@ -52,7 +53,7 @@ def _mode_scatter(ax, res, value):
         pts = [(x, y) for x, y, f in beyond if f == fwd]
         if pts:
             ax.scatter(*zip(*pts), s=8, marker=marker, color="0.65", zorder=2)
-    if beyond:
+    if any(y <= top for _, y, _ in beyond):
         ax.scatter([], [], s=8, marker="^", color="0.65",
                    label=f"grey: above the ranked band ({res.band_hz:.4g} Hz =\n{res.rank_up_to:g} x the top speed): "
                          "not ranked")
@@ -72,7 +73,7 @@ def plot_campbell(res, path, title: str = "") -> Path:
     pts = res.ok_points
     s = np.array([p.speed_hz for p in res.points])
     top = 1.25 * s.max()
-    _mode_scatter(ax, res, lambda p, i: p.freq_hz[i])
+    _mode_scatter(ax, res, lambda p, i: p.freq_hz[i], top)
     ax.plot([0, s.max()], [0, s.max()], "k-", lw=0.8, label="1x", zorder=5)
     ax.plot([0, s.max()], [0, 0.5 * s.max()], "k--", lw=0.8, label="0.5x", zorder=5)
     if res.criticals:
