@@ -64,6 +64,17 @@ def scene_line(scene, rotor=None) -> str:
     return title_line(rotor, scene.rotor_path, scene.internal, scene.internal_options(), scene.supply_temperature_K)
 
 
+def run_inputs(npz) -> str:
+    """The inputs line a run's json record beside its .npz keeps (``analyses.inputs``); '' for a
+    run without one (recorded before it was kept, or the json gone)."""
+    import json
+
+    try:
+        return str(json.loads(Path(npz).with_suffix(".json").read_text()).get("inputs", ""))
+    except (OSError, ValueError, AttributeError):
+        return ""
+
+
 def wrapped(line: str, width: int = 120) -> str:
     """A long inputs line broken into lines of at most ``width`` characters (a figure's title)."""
     import textwrap
@@ -71,4 +82,4 @@ def wrapped(line: str, width: int = 120) -> str:
     return "\n".join(textwrap.wrap(line, width))
 
 
-__all__ = ["bearing_files", "bearing_lines", "internal_words", "oil_words", "title_line", "scene_line", "wrapped"]
+__all__ = ["bearing_files", "bearing_lines", "internal_words", "oil_words", "title_line", "scene_line", "run_inputs", "wrapped"]

@@ -281,23 +281,12 @@ def check_run_up(arrays: dict, path="the run") -> None:
                          "`rotor-host limit-cycle`")
 
 
-def run_inputs(npz) -> str:
-    """The inputs line a run's json record beside its .npz keeps (``analyses.inputs``); '' for a
-    run without one (recorded before it was kept, or the json gone)."""
-    import json
-
-    try:
-        return str(json.loads(Path(npz).with_suffix(".json").read_text()).get("inputs", ""))
-    except (OSError, ValueError, AttributeError):
-        return ""
-
-
 def command(*, run, nodes=None, window_s: float = DEFAULT_WINDOW_S, orbits_at_hz=None, output=None) -> int:
     """``rotor-host waterfall``: the response spectra of a run-up run's .npz against speed, drawn
     into ``output`` (default: beside the run); the 1x peak named a critical speed only where the
     run crosses one (``crossings.run_criticals``)."""
     from .linear.crossings import run_criticals
-    from .inputs import wrapped
+    from .inputs import run_inputs, wrapped
 
     from bearing_fmu.io.npz import read_npz
 
@@ -329,4 +318,4 @@ def command(*, run, nodes=None, window_s: float = DEFAULT_WINDOW_S, orbits_at_hz
 
 
 __all__ = ["Spectra", "spectra", "summary", "peak_line", "whirl_line", "plot_waterfall", "default_nodes",
-           "speed_range", "constant_speed", "window_problem", "outside_run", "check_run_up", "run_inputs", "command"]
+           "speed_range", "constant_speed", "window_problem", "outside_run", "check_run_up", "command"]
