@@ -175,7 +175,8 @@ def plot_mode_shape(res, rotor: Rotor, path, title: str = "") -> Path | None:
     a2.set_xlabel("y")
     a2.set_ylabel("z")
     a2.grid(alpha=0.3)
-    a2.legend(fontsize=7, title="whirl (+1 fwd, -1 bwd)", title_fontsize=7)
+    a2.legend(fontsize=7, title="whirl (+1 fwd, -1 bwd)", title_fontsize=7, loc="upper left",
+              bbox_to_anchor=(1.02, 1.0), borderaxespad=0)  # beside the orbits: it covered the disk's
     fig.suptitle(title or f"{res.rotor} [{res.internal}]: least stable mode {where}: {p.freq_hz[i]:.2f} Hz, "
                  f"log dec {p.log_dec[i]:.3g}" + _inputs(res), fontsize=10)
     return _save(fig, plt, path)
