@@ -200,7 +200,7 @@ def _linear_vs_runup(args) -> int:
 
 def _sweep(args) -> int:
     from .analyses import sweep
-    from .analyses.inputs import scene_line
+    from .analyses.computed_for import scene_line
 
     scene = scene_from_args(args)
     print(f"computed for: {scene_line(scene)}")

@@ -1,5 +1,5 @@
 """What a report names as its inputs, and the command-line changes it names: the inputs line
-(analyses/inputs.py) tells a plain bore from a grooved one and names the oil, supply and data
+(analyses/computed_for.py) tells a plain bore from a grooved one and names the oil, supply and data
 file; `run --bearing` swaps a rotor's bearing files (all, or one by node) in a copy of the rotor
 file; `run --supply-c` is checked as the scene key is (exit 2, the option named); the bundled
 names resolve on the bearing side without importing the host; a thermal run's figure has its
@@ -13,7 +13,7 @@ import sys
 import numpy as np
 import pytest
 
-from rotor_host.analyses.inputs import scene_line, title_line
+from rotor_host.analyses.computed_for import scene_line, title_line
 from rotor_host.bundled import find
 from rotor_host.model.rotor import Rotor
 from rotor_host.scenes.overrides import ALL_BEARINGS, SceneOverrides, swapped_rotor

@@ -127,7 +127,7 @@ def command(*, scene, internal: str = "reynolds", dt: float | None = None, t_end
 
 def _inputs(scene, internal: str) -> str:
     """The inputs line of the scene file ``scene`` run with ``internal``."""
-    from .inputs import scene_line
+    from .computed_for import scene_line
 
     return scene_line(load_scene(scene).with_internal(internal))
 

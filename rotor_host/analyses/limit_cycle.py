@@ -202,7 +202,7 @@ def command(*, source, internal: str = "reynolds", dt: float | None = None, t_en
     (``speed_hz`` then), measure the eccentricity envelope and whether it holds; 0 when held."""
     src = Path(source)
     out = ensure_writable(out)
-    from .inputs import run_inputs, scene_line, wrapped
+    from .computed_for import run_inputs, scene_line, wrapped
 
     stem = f"limitcycle_{src.stem}"
     meta = None

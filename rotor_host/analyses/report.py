@@ -211,7 +211,7 @@ def errors_against(ref: dict, run: dict, *, bearing_cols: bool = True) -> dict:
 def _runup_summary(scene, run, out: Path, inputs: str) -> None:
     """A run-up's waterfall and its summary lines: the 1x peak, a critical speed only where the run
     crosses one (``crossings.scene_criticals``), and the whirl onset."""
-    from .inputs import wrapped
+    from .computed_for import wrapped
     from .linear.crossings import scene_criticals
     from .waterfall import (check_run_up, default_nodes, peak_line, plot_waterfall, spectra, speed_range, summary,
                             whirl_line)
@@ -244,7 +244,7 @@ def run_and_report(scene, out, *, progress: bool = True, plots: bool = True) -> 
 
     from ..scenes.run import run_scene
     from ..scenes.thermal import thermal_lines
-    from .inputs import scene_line, wrapped
+    from .computed_for import scene_line, wrapped
 
     out = ensure_writable(out)  # refused before any work
     inputs = scene_line(scene)

@@ -286,7 +286,7 @@ def command(*, run, nodes=None, window_s: float = DEFAULT_WINDOW_S, orbits_at_hz
     into ``output`` (default: beside the run); the 1x peak named a critical speed only where the
     run crosses one (``crossings.run_criticals``)."""
     from .linear.crossings import run_criticals
-    from .inputs import run_inputs, wrapped
+    from .computed_for import run_inputs, wrapped
 
     from bearing_fmu.io.npz import read_npz
 

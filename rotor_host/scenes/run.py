@@ -34,7 +34,7 @@ from ..integrate.banded import is_sparse
 from ..integrate.equilibrium import solve_part, static_equilibrium
 from ..integrate.loads import RotatingLoads
 from ..integrate.newmark import IntegrationError, Newmark, NewmarkConfig
-from ..analyses.inputs import scene_line
+from ..analyses.computed_for import scene_line
 from ..model.rotor import Rotor
 from .run_record import domain_report, package_versions, peak_pressures
 from .sanity import check_scene_physics

@@ -183,8 +183,8 @@ def plot_mode_shape(res, rotor: Rotor, path, title: str = "") -> Path | None:
 
 
 def _inputs(res) -> str:
-    """The result's inputs line (``analyses.inputs``) as further title lines; '' without it."""
-    from ..inputs import wrapped
+    """The result's inputs line (``analyses.computed_for``) as further title lines; '' without it."""
+    from ..computed_for import wrapped
 
     line = getattr(res, "inputs", "")
     return "\n" + wrapped(line, 110) if line else ""

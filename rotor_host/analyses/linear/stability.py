@@ -48,7 +48,7 @@ from bearing_fmu.physics.geometry import Geometry
 from bearing_fmu.io.exits import note_kept
 from bearing_fmu.io.outputs import ensure_writable, write_json, write_text
 
-from ..inputs import title_line
+from ..computed_for import title_line
 from ...model.rotor import Rotor
 from .stability_inputs import DEFAULT_FILES, PAPER_MAP, check_supply, internal_options  # noqa: F401
 from .stability_report import FORWARD, direction, markdown, to_json
@@ -148,7 +148,7 @@ class StabilityResult:
     n_modes: int = DEFAULT_MODES
     status: str = "ok"
     T_supply_K: float | None = None  # the oil's supply temperature (None: isoviscous bearings)
-    inputs: str = ""  # what it was computed for, in one line (analyses.inputs.title_line)
+    inputs: str = ""  # what it was computed for, in one line (analyses.computed_for.title_line)
 
     @property
     def ok_points(self) -> list[SpeedPoint]:

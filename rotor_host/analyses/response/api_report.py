@@ -27,7 +27,7 @@ def command(*, rotor_file, speeds_hz, unbalance, operating_hz, internal: str = "
     from ..linear.stability import Stability, check_speeds, internal_options, read_rotor
     from ..linear.stability_report import to_json as stability_json
     from . import level1 as lv, ucs
-    from ..inputs import bearing_lines, internal_words
+    from ..computed_for import bearing_lines, internal_words
     from .report import markdown as response_markdown
     from .unbalance import check_inputs, response_from, to_json as response_json
 

@@ -10,7 +10,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..inputs import wrapped
+from ..computed_for import wrapped
 from ..plotting import pyplot, save_figure
 
 _COLOR = {"y": "tab:blue", "z": "tab:red"}

@@ -52,7 +52,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..inputs import wrapped
+from ..computed_for import wrapped
 from ...model.rotor import Rotor
 from ..linear.modal import band_hz
 
@@ -252,7 +252,7 @@ def run(rotor_file, operating_hz, *, internal="reynolds", options=None, static_l
     """Read the rotor file (its [[stages]] required), the bearings at the maximum continuous speed
     (the top of ``operating_hz``), and the check."""
     from ..linear.stability import Stability, read_rotor
-    from ..inputs import title_line
+    from ..computed_for import title_line
     from .unbalance import check_operating
 
     rotor, loads = read_rotor(rotor_file, static_loads)
@@ -302,7 +302,7 @@ def command(*, rotor_file, operating_hz, internal: str = "reynolds", data_files=
     from bearing_fmu.io.outputs import ensure_writable, write_json, write_text
 
     from ..linear.stability import internal_options
-    from ..inputs import bearing_lines, internal_words
+    from ..computed_for import bearing_lines, internal_words
 
     out = ensure_writable(out)
     T = None if supply_c is None else supply_c + 273.15

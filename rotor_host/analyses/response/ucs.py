@@ -30,7 +30,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..inputs import wrapped
+from ..computed_for import wrapped
 from ...model.rotor import Rotor
 
 DEFAULT_STIFFNESS = (1e5, 1e10)  # N/m: the support stiffness range of the map
@@ -215,7 +215,7 @@ def ucs(rotor_file, *, stiffness_n_m=DEFAULT_STIFFNESS, points: int = DEFAULT_PO
         speeds_hz=None, internal: str = "reynolds", options=None, static_loads=(), T_supply_K=None, log=None) -> UCSMap:
     """The map of the rotor file with its bearings' stiffness overlaid (module docstring)."""
     from ..linear.stability import Stability, check_speeds, read_rotor
-    from ..inputs import title_line
+    from ..computed_for import title_line
 
     rotor, loads = read_rotor(rotor_file, static_loads)
     if speeds_hz is None:
@@ -270,7 +270,7 @@ def command(*, rotor_file, stiffness_n_m=DEFAULT_STIFFNESS, points: int = DEFAUL
     from bearing_fmu.io.outputs import ensure_writable, write_json, write_text
 
     from ..linear.stability import internal_options
-    from ..inputs import bearing_lines, internal_words
+    from ..computed_for import bearing_lines, internal_words
 
     out = ensure_writable(out)
     T = None if supply_c is None else supply_c + 273.15

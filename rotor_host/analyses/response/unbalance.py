@@ -285,7 +285,7 @@ def response_from(analysis, sweep, rotor_file, unbalances, operating_hz=None, pr
     """The response on a stability sweep already made (``Stability.sweep``) of ``analysis``."""
     from bearing_fmu.physics.statics import EquilibriumError
 
-    from ..inputs import title_line
+    from ..computed_for import title_line
     from .synchronous import check_unbalances
 
     rotor = analysis.rotor
@@ -315,7 +315,7 @@ def command(*, rotor_file, speeds_hz, unbalance, internal: str = "reynolds", dat
     from bearing_fmu.io.outputs import ensure_writable, write_json, write_text
 
     from ..linear.stability import internal_options, read_rotor
-    from ..inputs import bearing_lines, internal_words
+    from ..computed_for import bearing_lines, internal_words
     from .peaks import peak_words
     from .report import markdown
 

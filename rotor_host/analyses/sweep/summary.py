@@ -58,7 +58,7 @@ def write_summary(path_stem: Path, scene, rows: list[dict], *, settle_s: float, 
 
     what = (f"unbalance on node {scene.unbalances[0].node + 1} at {scene.unbalances[0].radius_m * 1e3:g} mm, "
             f"{scene.speed_hz:g} Hz" if unbalance else "shaft speed")
-    from ..inputs import scene_line
+    from ..computed_for import scene_line
 
     title = sweep_title(scene, rows, unbalance)
     inputs = scene_line(scene)
@@ -90,7 +90,7 @@ def write_summary(path_stem: Path, scene, rows: list[dict], *, settle_s: float, 
 def summary_diagram(path_stem: Path, scene, rows: list[dict], *, settle_s: float, unbalance: bool) -> Path | None:
     """The bifurcation diagram ``<stem>.png`` of the summary, when a run has something to draw,
     titled from the sweep (the swept quantity and range, not the scene's own speed)."""
-    from ..inputs import scene_line, wrapped
+    from ..computed_for import scene_line, wrapped
 
     if not any(r["status"] == "ok" and r.get("bearings") for r in rows):
         return None

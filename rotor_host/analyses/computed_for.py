@@ -65,7 +65,7 @@ def scene_line(scene, rotor=None) -> str:
 
 
 def run_inputs(npz) -> str:
-    """The inputs line a run's json record beside its .npz keeps (``analyses.inputs``); '' for a
+    """The inputs line a run's json record beside its .npz keeps (``analyses.computed_for``); '' for a
     run without one (recorded before it was kept, or the json gone)."""
     import json
 
