@@ -96,3 +96,10 @@ def test_a_thermal_runs_figure_has_temperature_and_power_panels(tmp_path):
     titles = seen["titles"]
     assert len(titles) == 8 and "(g) effective film temperature" in titles and "(h) friction power of the film" in titles
     assert "(c) orbit of bearing 2 (node 9) of 2" in titles[2]
+
+
+def test_the_inputs_line_names_each_bearing_when_they_differ(tmp_path):
+    rotor = swapped_rotor(find("rotor_paper", "rotor"), {"9": find("bearing_paper_2groove", "bearing")}, tmp_path)
+    line = title_line(Rotor.from_toml(rotor), rotor, "reynolds", None)
+    assert "at node 3 bearing_paper.toml (full 360 deg circular bore)" in line
+    assert "at node 9 bearing_paper_2groove.toml (2 axial grooves" in line

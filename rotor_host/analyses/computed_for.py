@@ -48,10 +48,14 @@ def oil_words(rotor, T_supply_K: float | None = None) -> str:
 def title_line(rotor, rotor_file, internal: str, options: dict | None, T_supply_K: float | None = None) -> str:
     """One line for a figure and stdout: rotor file, bearing files and bores, oil and supply
     temperature, internal with its options and files."""
-    files = sorted({Path(f).name for f in bearing_files(rotor_file)})
-    bores = sorted({p.geometry.describe() for p in rotor.bearings})
+    files = bearing_files(rotor_file)
+    each = [(Path(files[k]).name if k < len(files) else "?", p.geometry.describe()) for k, p in enumerate(rotor.bearings)]
+    if len(set(each)) == 1:  # every bearing alike: said once
+        bearings = f"bearing {each[0][0]} ({each[0][1]})"
+    else:  # which bearing is which, by node
+        bearings = "bearings " + ", ".join(f"at node {n + 1} {f} ({b})" for n, (f, b) in zip(rotor.bearing_nodes, each))
     rotor_words = f"rotor {rotor.name} ({Path(rotor_file).name})" if rotor.name else f"rotor {Path(rotor_file).name}"
-    return (f"{rotor_words}; bearing {', '.join(files)} ({'; '.join(bores)}); "
+    return (f"{rotor_words}; {bearings}; "
             f"{oil_words(rotor, T_supply_K)}; internal {internal_words(internal, options)}")
 
 
