@@ -80,6 +80,10 @@ def plot_polar(res, node: int, path, inputs: str = "") -> Path:
     s, X, u = res.curve()
     grid = set(res.speeds_hz)
     fig, ax = plt.subplots(figsize=(7, 7))
+    both = np.concatenate([X[:, i_y], X[:, i_z]]) * 1e6
+    both = both[np.isfinite(both)]
+    gap = 0.04 * (float(np.ptp(np.concatenate([both.real, both.imag]))) if both.size else 1.0)
+    placed: list[complex] = []  # labels closer than ``gap`` to one placed would overlap it: left out
     for d, dof in (("y", i_y), ("z", i_z)):
         x = X[:, dof] * 1e6
         for k, (idx, _, unst) in enumerate(_segments(np.arange(s.size), s, u)):
@@ -87,8 +91,11 @@ def plot_polar(res, node: int, path, inputs: str = "") -> Path:
                     label=None if k else f"X_{d}")
         on_grid = [j for j in range(s.size) if s[j] in grid]
         for j in on_grid[::max(1, len(on_grid) // 8)]:
-            if np.isfinite(x[j]):
-                ax.annotate(f"{s[j]:g}", (x[j].real, x[j].imag), fontsize=7, color=_COLOR[d])
+            if np.isfinite(x[j]) and all(abs(x[j] - q) > gap for q in placed):
+                placed.append(complex(x[j]))
+                ax.plot(x[j].real, x[j].imag, ".", color=_COLOR[d], ms=4)
+                ax.annotate(f"{s[j]:g}", (x[j].real, x[j].imag), fontsize=7, color=_COLOR[d],
+                            xytext=(3, 3), textcoords="offset points")
     ax.plot([0], [0], "k+")
     ax.set_aspect("equal", adjustable="datalim")
     ax.set_xlabel("Re X [um] (y = Re(X e^{i Omega t}))")
