@@ -62,14 +62,14 @@ class _Moved(argparse.Action):
 def add_fit_arguments(parser: argparse.ArgumentParser) -> argparse.ArgumentParser:
     """Arguments of ``bearing-fmu fit``."""
     from .fitting.recipe import option_name, recipe_fields
-    from .io.cliargs import existing_file
+    from .io.bundled import bundled_or_file
 
     add_recipe_arguments(parser, "designed")
     moved = [option_name(f) for f in recipe_fields("scene") if f.metadata["group"] == "scene"] + ["--cache-dir"]
     for flag in moved:
         parser.add_argument(flag, nargs="*", action=_Moved, default=argparse.SUPPRESS, help=argparse.SUPPRESS)
-    parser.add_argument("--bearing", type=existing_file, default=None, metavar="FILE",
-                        help="bearing TOML file to fit (default: the paper bearing, Table 2); its name and geometry "
+    parser.add_argument("--bearing", type=bundled_or_file("bearing"), default=None, metavar="FILE",
+                        help="bearing TOML file, or a bundled bearing by name, to fit (default: the paper bearing, Table 2); its name and geometry "
                              "go into the report and the surrogate file")
     return add_output_arguments(parser)
 
@@ -99,6 +99,10 @@ def _demo(args: argparse.Namespace) -> int:
     from .physics.params import PAPER_BEARING, BearingParams
     from .physics.reynolds import DEFAULT_N_THETA, DEFAULT_N_X
 
+    if args.bearing_file:  # the positional form: `bearing-fmu demo bearing_paper`
+        if args.bearing:
+            raise ValueError(f"give the bearing once: {args.bearing_file} or --bearing {args.bearing}")
+        args.bearing = args.bearing_file
     params = BearingParams.from_toml(args.bearing) if args.bearing else PAPER_BEARING
     load = (args.load_y, -args.load if args.load is not None else args.load_z)
     if params.geometry.pads is not None:
@@ -403,7 +407,8 @@ class Parser(argparse.ArgumentParser):
 
 def main(argv: list[str] | None = None) -> int:
     from .internals.registry import having
-    from .io.cliargs import existing_file, finite_float, output_file, platform_list, positive_float
+    from .io.bundled import bundled_or_file
+    from .io.cliargs import finite_float, output_file, platform_list, positive_float
 
     parser = Parser(prog="bearing-fmu", description=__doc__, epilog=EXIT_CODES,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -411,7 +416,11 @@ def main(argv: list[str] | None = None) -> int:
 
     p = sub.add_parser("demo", help="equilibrium, attitude, minimum film and Lund coefficients of a bearing "
                                     "(the paper's by default) under a static load")
-    p.add_argument("--bearing", type=existing_file, help="bearing TOML file (default: the paper bearing)")
+    p.add_argument("bearing_file", nargs="?", type=bundled_or_file("bearing"), metavar="BEARING",
+                   help="bearing TOML file, or a bundled bearing by name (e.g. bearing_paper_2groove; default: the "
+                        "paper bearing)")
+    p.add_argument("--bearing", type=bundled_or_file("bearing"), metavar="FILE",
+                   help="the same as the BEARING argument (the older form)")
     p.add_argument("--speed-hz", type=positive_float("Hz"), default=22.0, help="shaft speed [Hz] (default 22)")
     p.add_argument("--load-z", type=finite_float("N"), default=-16.7,
                    help="static load on the journal, vertical [N] (weight is negative; default -16.7: half the "
@@ -424,10 +433,10 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--internal", type=_film_internal, default="reynolds",
                    help="the bearing internal with a film report: "
                         + _internals_help(having(film_flow=True), "reynolds"))
-    p.add_argument("--surrogate", type=existing_file, default=None, metavar="FILE",
-                   help="--internal taylor: the surrogate file (its film fit gives the flows)")
-    p.add_argument("--map", type=existing_file, default=None, metavar="FILE",
-                   help="--internal map: the force map file (with its flow tables)")
+    p.add_argument("--surrogate", type=bundled_or_file("surrogate"), default=None, metavar="FILE",
+                   help="--internal taylor: the surrogate file or a bundled one by name (its film fit gives the flows)")
+    p.add_argument("--map", type=bundled_or_file("map"), default=None, metavar="FILE",
+                   help="--internal map: the force map file or a bundled one by name (with its flow tables)")
     p.add_argument("--json", action="store_true",
                    help="print the record as JSON (eccentricity, attitude, h_min, peak pressure, Sommerfeld, friction, flows, T_eff, "
                         "mu_eff, K and C dimensional and dimensionless; SI, keys carry their unit)")
@@ -441,15 +450,15 @@ def main(argv: list[str] | None = None) -> int:
 
     p = sub.add_parser("build", help="write the bearing FMU")
     p.add_argument("-o", "--output", type=output_file, required=True, help="path of the .fmu to write")
-    p.add_argument("--surrogate", type=existing_file, action="append", default=None, metavar="FILE",
-                   help="surrogate JSON file to bundle in resources/surrogates/ (repeat for several; "
+    p.add_argument("--surrogate", type=bundled_or_file("surrogate"), action="append", default=None, metavar="FILE",
+                   help="surrogate JSON file (or a bundled one by name) to bundle in resources/surrogates/ (repeat for several; "
                         "with exactly one, the FMU parameter 'surrogate' defaults to it)")
-    p.add_argument("--bearing", type=existing_file, default=None, metavar="FILE",
-                   help="bearing TOML file whose D, L, CR, mu become the FMU's defaults (default: the paper "
+    p.add_argument("--bearing", type=bundled_or_file("bearing"), default=None, metavar="FILE",
+                   help="bearing TOML file (or a bundled bearing by name) whose D, L, CR, mu become the FMU's defaults (default: the paper "
                         "bearing's; --native taylor: the surrogate's); a master that sets no parameters gets this "
                         "bearing's force")
-    p.add_argument("--map", type=existing_file, action="append", default=None, metavar="FILE",
-                   help="force map JSON file to bundle beside the surrogates (repeat for several; with exactly "
+    p.add_argument("--map", type=bundled_or_file("map"), action="append", default=None, metavar="FILE",
+                   help="force map JSON file (or a bundled one by name) to bundle beside the surrogates (repeat for several; with exactly "
                         "one, the FMU parameter 'map' defaults to it)")
     p.add_argument("--native", action="store_true",
                    help="a native FMU: the internal compiled to C (Model Exchange and Co-Simulation, no Python at run "
@@ -480,7 +489,8 @@ def main(argv: list[str] | None = None) -> int:
 
     p = sub.add_parser("map", help="tabulate the force map of a bearing's L/D from the Reynolds solver "
                                    "(docs/forcemap.md) into the map store and write its JSON file")
-    p.add_argument("--bearing", type=existing_file, help="bearing TOML file (default: the paper bearing); the map "
+    p.add_argument("--bearing", type=bundled_or_file("bearing"), metavar="FILE",
+                   help="bearing TOML file or a bundled bearing by name (default: the paper bearing); the map "
                    "serves every bearing of the same L/D")
     p.add_argument("-o", "--output", type=output_file, default=None,
                    help="map JSON file to write (the map goes into the map store too, where commands that need a "
@@ -495,7 +505,8 @@ def main(argv: list[str] | None = None) -> int:
                         f"opposite grooves, {2 * gm.DEFAULT_PHI_PER_PI} for an arc)")
     p.add_argument("--grid", type=grid, default=None, metavar="N_THETAxN_X",
                    help="Reynolds grid of the truth (default: the solver's default)")
-    p.add_argument("--cavitation", choices=("reynolds", "gumbel"), default="reynolds")
+    p.add_argument("--cavitation", choices=("reynolds", "gumbel"), default="reynolds",
+                   help="the film's cavitation condition: reynolds (Swift-Stieber, default) or gumbel (half-Sommerfeld)")
     p.add_argument("--eps-max", type=number("", 0.5, 0.999), default=DEFAULT_EPS_MAX,
                    help=f"last tabulated eccentricity ratio; the map refuses states beyond (default {DEFAULT_EPS_MAX})")
     p.add_argument("--phases", type=int_at_least(1), default=None,

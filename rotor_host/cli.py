@@ -12,7 +12,7 @@ import inspect
 import sys
 from pathlib import Path
 
-from bearing_fmu.io.cliargs import (existing_dir, existing_file, existing_file_or, finite_float, float_range, grid,
+from bearing_fmu.io.cliargs import (existing_dir, existing_file, finite_float, float_range, grid,
                                     grid_or_default, int_at_least, interval, node_load, nonneg_float, number,
                                     output_dir, output_file, positive_float, positive_int, unbalance)
 from bearing_fmu.cli import Parser, add_debug_flag
@@ -21,11 +21,7 @@ from bearing_fmu.internals.warmup import announce_compiling
 
 
 
-def bundled_or_file(kind: str):
-    """An argparse type: a file, or a bundled file of ``kind`` by its name (rotor_host.bundled)."""
-    from . import bundled
-
-    return existing_file_or(lambda text: bundled.find(text, kind), f"a bundled {kind} ({', '.join(bundled.names(kind))})")
+from bearing_fmu.io.bundled import bundled_or_file  # a file, or a bundled one by name (both command lines)
 
 
 # ----------------------------------------------------------------------------- shared options
@@ -37,14 +33,34 @@ def internal_choices() -> tuple[str, ...]:
     return names()
 
 
-def _file_flags(p, what: str = "over the scene's") -> None:
-    """One ``--<option> FILE`` flag per file option of the registry (--surrogate, --map, ...)."""
+def _file_flags(p, what: str = "over the scene's", defaults: dict | None = None, note: str = "",
+                only=None) -> None:
+    """One ``--<option> FILE`` flag per file option of the registry (--surrogate, --map, ...);
+    ``defaults``: option -> its default file, named in that option's help (none: ``what`` the scene's);
+    ``only``: the internals the command takes (their options only)."""
     from .bundled import KINDS
     from .scenes.overrides import file_options
 
     for internal, option in file_options():
+        if only is not None and internal not in only:
+            continue
+        if defaults is None:
+            where = f"{what} [{internal}] {option}"
+        elif option in defaults:
+            where = f"default: {Path(defaults[option]).stem}, bundled{note}"
+        else:
+            where = "no default: needed with --internal " + internal
         p.add_argument(f"--{option}", type=bundled_or_file(option) if option in KINDS else existing_file, metavar="FILE",
-                       help=f"the {internal} internal's {option} file ({what} [{internal}] {option})")
+                       help=f"the {internal} internal's {option} file ({where})")
+
+
+def bearing_swap(text: str) -> tuple[str, str]:
+    """An argparse type: ``FILE`` (every bearing) or ``NAME=FILE`` (the [[bearings]] entry of that
+    name or 1-based node); FILE a bearing file or a bundled bearing by name."""
+    from .scenes.overrides import ALL_BEARINGS
+
+    which, sep, file = text.rpartition("=")
+    return (which if sep and which else ALL_BEARINGS), bundled_or_file("bearing")(file)
 
 
 def _files(args) -> dict:
@@ -58,11 +74,18 @@ def _scene_flags(p, *, tangent: bool = False, checkpoint: bool = False) -> None:
     from .integrate.forces import NEWTON_TANGENTS
 
     p.add_argument("--internal", choices=internal_choices(), help="override the scene's internal")
-    p.add_argument("--via", choices=("fmu", "direct"), help="bearing FMUs through fmpy, or internals in-process")
+    p.add_argument("--via", choices=("fmu", "direct"), help="the bearings via bearing FMUs through fmpy, or via internals in-process")
     p.add_argument("--native", action="store_true",
                    help="through native bearing FMUs (the internal compiled to C, no Python in the FMU; built with "
                         "the C compiler): the scene key fmu_kind = \"native\"")
     _file_flags(p)
+    p.add_argument("--bearing", type=bearing_swap, action="append", default=[], metavar="[NAME=]FILE",
+                   help="a bearing file (or a bundled bearing by name, e.g. bearing_paper_2groove) in place of the "
+                        "rotor file's: FILE for every bearing, NAME=FILE for the [[bearings]] entry of that name or "
+                        "1-based node (repeat for several); the rotor file with it is written to the output folder")
+    p.add_argument("--supply-c", type=finite_float("C"), metavar="C",
+                   help="oil supply temperature [C] over the scene's supply_temperature_C: every bearing at its "
+                        "film's effective temperature (each needs an [oil] table covering it; docs/thermal.md)")
     p.add_argument("--t-end", type=positive_float("s"), help="override the end time [s]")
     p.add_argument("--dt", type=positive_float("s"), help="override the time step [s]")
     if tangent:
@@ -83,7 +106,9 @@ def scene_from_args(args):
     ov = SceneOverrides(internal=getattr(args, "internal", None), via=getattr(args, "via", None),
                         native=getattr(args, "native", False), t_end_s=getattr(args, "t_end", None),
                         dt_s=getattr(args, "dt", None), newton_tangent=getattr(args, "tangent", None),
-                        checkpoint_s=getattr(args, "checkpoint_s", None), files=_files(args))
+                        checkpoint_s=getattr(args, "checkpoint_s", None), files=_files(args),
+                        supply_c=getattr(args, "supply_c", None), bearings=dict(getattr(args, "bearing", None) or ()),
+                        folder=getattr(args, "out", None))
     return load_with_overrides(args.scene, ov)
 
 
@@ -175,8 +200,11 @@ def _linear_vs_runup(args) -> int:
 
 def _sweep(args) -> int:
     from .analyses import sweep
+    from .analyses.computed_for import scene_line
 
-    return _call(sweep.command, args, scene=scene_from_args(args))
+    scene = scene_from_args(args)
+    print(f"computed for: {scene_line(scene)}")
+    return _call(sweep.command, args, scene=scene)
 
 
 def _module_command(module: str):
@@ -196,7 +224,7 @@ def _add_run(sub) -> None:
     p.add_argument("scene", type=bundled_or_file("scene"), help="scene TOML file, or a bundled scene by name (e.g. paper_22hz)")
     _scene_flags(p, tangent=True, checkpoint=True)
     p.add_argument("--out", type=output_dir, default="out", help="output folder (default: out)")
-    p.add_argument("--no-plots", action="store_true")
+    p.add_argument("--no-plots", action="store_true", help="write no plots (the tables and json only)")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.set_defaults(func=_run)
 
@@ -204,7 +232,7 @@ def _add_run(sub) -> None:
 def _add_compare(sub) -> None:
     p = sub.add_parser("compare", help="error against run time of Reynolds grids, Taylor orders and the linear model")
     p.add_argument("scene", type=bundled_or_file("scene"), help="scene TOML file, or a bundled scene by name (e.g. paper_22hz)")
-    p.add_argument("--via", choices=("fmu", "direct"), help="bearing FMUs through fmpy (scene default) or in-process")
+    p.add_argument("--via", choices=("fmu", "direct"), help="the bearings via FMUs through fmpy (the scene's default) or via internals in-process")
     p.add_argument("--ref-grid", type=grid_or_default, default="256x32", metavar="NxM",
                    help="reference Reynolds grid n_theta x n_x (default 256x32; '' = the default grid is the "
                         "reference)")
@@ -253,7 +281,8 @@ def _add_fit(sub) -> None:
 def _add_dt_study(sub) -> None:
     p = sub.add_parser("dt-study", help="halve dt until the bearing orbit changes by less than 1 %% CR")
     p.add_argument("scene", type=bundled_or_file("scene"), help="scene TOML file, or a bundled scene by name (e.g. paper_22hz)")
-    p.add_argument("--internal", choices=internal_choices(), default="reynolds")
+    p.add_argument("--internal", choices=internal_choices(), default="reynolds",
+                   help="the bearing internal (default reynolds)")
     p.add_argument("--dt", type=positive_float("s"), help="first time step [s] (default: the scene's)")
     p.add_argument("--t-end", type=positive_float("s"), help="simulated time [s] (default: the scene's)")
     p.add_argument("--halvings", type=positive_int(), default=3,
@@ -262,7 +291,7 @@ def _add_dt_study(sub) -> None:
                    help="orbit change that counts as converged [%% CR] (default 1)")
     p.add_argument("--out", type=output_dir, default="out",
                    help="output folder for dtstudy_<scene>_<internal>.md/.json")
-    p.add_argument("--quiet", action="store_true")
+    p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.set_defaults(func=_module_command("dt_study"))
 
 
@@ -288,7 +317,8 @@ def _add_limit_cycle(sub) -> None:
     p = sub.add_parser("limit-cycle", help="envelope of the bearing eccentricity: does the whirl settle and hold?")
     p.add_argument("source", type=bundled_or_file("scene"), help="scene TOML file or bundled scene (run it, called directly) or a saved run "
                    ".npz (then give --speed-hz)")
-    p.add_argument("--internal", choices=internal_choices(), default="reynolds")
+    p.add_argument("--internal", choices=internal_choices(), default="reynolds",
+                   help="the bearing internal (default reynolds)")
     p.add_argument("--dt", type=positive_float("s"), help="time step [s] (default: the scene's)")
     p.add_argument("--t-end", type=positive_float("s"), help="simulated time [s] (default: the scene's)")
     p.add_argument("--speed-hz", type=positive_float("Hz"), help="shaft speed for a .npz source [Hz]")
@@ -303,7 +333,7 @@ def _add_limit_cycle(sub) -> None:
                    help="largest trend of the whirl's size over the last half of the run, in %% of that size, for "
                         "a held limit cycle (default 10): a whirl dying away slowly inside the band is not one")
     p.add_argument("--out", type=output_dir, default="out", help="output folder for limitcycle_<name>.md/.json/.png")
-    p.add_argument("--quiet", action="store_true")
+    p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.set_defaults(func=_module_command("limit_cycle"))
 
 
@@ -321,8 +351,8 @@ def _add_stability(sub) -> None:
     p.add_argument("--internal", choices=having(any_state=True), default="reynolds",
                    help="bearing internal, one valid at every speed and load: " + ", ".join(having(any_state=True))
                         + " (default reynolds)")
-    defaults = ", ".join(f"--{k} {Path(v).stem} (bundled)" for k, v in DEFAULT_FILES.items())
-    _file_flags(p, what=f"default: {defaults}, the paper bearing's; build a map with `bearing-fmu map`;")
+    _file_flags(p, defaults=DEFAULT_FILES, note=", the paper bearing's; build one with `bearing-fmu map`",
+                only=having(any_state=True))
     p.add_argument("--grid", type=grid, metavar="NxM", help="Reynolds grid n_theta x n_x (default: the solver's, "
                                                            "128x16)")
     p.add_argument("--static-load", type=node_load, nargs="+", action="extend", default=[], metavar="NODE:FY:FZ",
@@ -339,7 +369,7 @@ def _add_stability(sub) -> None:
                         "film's effective temperature at each speed (docs/thermal.md); default: isoviscous bearings")
     p.add_argument("--out", type=output_dir, default="out", help="output folder (default: out) for "
                    "stability_<rotor>_<internal>.md/.json and _campbell/_logdec/_mode.png")
-    p.add_argument("--no-plots", action="store_true")
+    p.add_argument("--no-plots", action="store_true", help="write no plots (the tables and json only)")
     p.set_defaults(func=_stability)
 
 
@@ -352,8 +382,7 @@ def _linear_rotor_flags(p) -> None:
     p.add_argument("--internal", choices=having(any_state=True), default="reynolds",
                    help="bearing internal, one valid at every speed and load: " + ", ".join(having(any_state=True))
                         + " (default reynolds)")
-    defaults = ", ".join(f"--{k} {Path(v).stem} (bundled)" for k, v in DEFAULT_FILES.items())
-    _file_flags(p, what=f"default: {defaults}, the paper bearing's;")
+    _file_flags(p, defaults=DEFAULT_FILES, note=", the paper bearing's", only=having(any_state=True))
     p.add_argument("--grid", type=grid, metavar="NxM", help="Reynolds grid n_theta x n_x (default: the solver's)")
     p.add_argument("--static-load", type=node_load, nargs="+", action="extend", default=[], metavar="NODE:FY:FZ",
                    help="static point loads [N] on 1-based nodes, besides the weight")
@@ -377,7 +406,7 @@ def _add_response(sub) -> None:
     _linear_rotor_flags(p)
     p.add_argument("--out", type=output_dir, required=True,
                    help="output folder: response.json, response.md, bode_node<N>.png, polar_node<N>.png")
-    p.add_argument("--no-plots", action="store_true")
+    p.add_argument("--no-plots", action="store_true", help="write no plots (the tables and json only)")
     p.set_defaults(func=_response)
 
 
@@ -399,7 +428,7 @@ def _add_ucs(sub) -> None:
     _linear_rotor_flags(p)
     p.add_argument("--out", type=output_dir, default="out", help="output folder: ucs.json, ucs.md, ucs_map.png, "
                                                                  "ucs_modes.png")
-    p.add_argument("--no-plots", action="store_true")
+    p.add_argument("--no-plots", action="store_true", help="write no plots (the tables and json only)")
     p.set_defaults(func=_ucs)
 
 
@@ -418,7 +447,7 @@ def _add_level1(sub) -> None:
                         "2 <= Q_0 / Q_A <= 10")
     _linear_rotor_flags(p)
     p.add_argument("--out", type=output_dir, default="out", help="output folder: level1.json, level1.md, level1.png")
-    p.add_argument("--no-plots", action="store_true")
+    p.add_argument("--no-plots", action="store_true", help="write no plots (the tables and json only)")
     p.set_defaults(func=_level1)
 
 
@@ -439,7 +468,7 @@ def _add_api_report(sub) -> None:
                         "2 <= Q_0 / Q_A <= 10")
     _linear_rotor_flags(p)
     p.add_argument("--out", type=output_dir, required=True, help="output folder: api_report.md, its json and figures")
-    p.add_argument("--no-plots", action="store_true")
+    p.add_argument("--no-plots", action="store_true", help="write no plots (the tables and json only)")
     p.set_defaults(func=_api_report)
 
 
@@ -457,7 +486,7 @@ def _add_linear_vs_runup(sub) -> None:
     p.add_argument("--out", type=output_dir, default="out", help="output folder: linear_vs_runup.json/.md, "
                                                                  "linear_vs_runup_node<N>.png and the runs")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
-    p.add_argument("--no-plots", action="store_true")
+    p.add_argument("--no-plots", action="store_true", help="write no plots (the tables and json only)")
     p.set_defaults(func=_linear_vs_runup)
 
 

@@ -190,7 +190,7 @@ def test_the_film_fit_is_compiled_in_exactly(tmp_path):
 
 
 def test_every_native_internal_with_the_film_flows_has_its_report_in_c():
-    """The scene checks only the registry capability (rotor_host/scenes/scene.py _check_supply): every
+    """The scene checks only the registry capability (rotor_host/scenes/scene.py check_supply): every
     native internal with the film's flows has its film report in C (a data file without them is
     refused by the FMU at initialisation, by name)."""
     from bearing_fmu.fmu.native.catalogue import NATIVE

@@ -5,6 +5,7 @@ module                what it holds
 ====================  =========================================================
 compare, report       error against run time; error measures, plots
 tables                markdown tables of the reports
+computed_for          what a report, figure or summary names as its inputs (rotor, bore, oil, internal)
 linear/               the rotor linearised about its equilibrium: stability (damped modes over
                       speed, the threshold), campbell (its figures), stability_report, modal
                       (critical speeds, which modes a report ranks), crossings

@@ -204,34 +204,48 @@ def _slug(label: str) -> str:
 
 
 def plot_error_vs_time(rows, path, title=""):
+    """Each variant's orbit and force error against its run time (log-log), the reference's run time
+    dotted. Both axes label their ticks in plain numbers (1, 2 and 5 of each decade on a span of a
+    few decades: never a single label); the variants are named in a legend beside the panels
+    (labels beside the points ran into each other and off the figure)."""
+    from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
 
     plt = pyplot()
-    fig, ax = plt.subplots(1, 2, figsize=(11, 4))
+    fig, ax = plt.subplots(1, 2, figsize=(13, 4.4))
     shapes = "osD^vP*X"  # one marker per internal, in the order the rows bring them
     markers = {name: shapes[i % len(shapes)] for i, name in enumerate(dict.fromkeys(r["internal"] for r in rows))}
-    for r in rows[1:]:
-        t = r["integration_s"]
-        for a, key in zip(ax, ("orbit_rms_pct_cr", "force_nrmse_pct")):
-            val = r.get(key)
-            if val is None or not math.isfinite(val):
-                continue
-            a.loglog(t, max(val, 1e-4), markers.get(r["internal"], "x"), ms=7)
-            a.annotate(r["label"], (t, max(val, 1e-4)), fontsize=7, xytext=(4, 2), textcoords="offset points")
-    from matplotlib.ticker import LogLocator, NullFormatter
-
-    for a, yl in zip(ax, ("orbit RMS error [% CR]", "force NRMSE [%]")):
-        a.axvline(rows[0]["integration_s"], color="k", ls=":", lw=1)
-        a.annotate(rows[0]["label"], (rows[0]["integration_s"], 0.5), xycoords=("data", "axes fraction"),
-                   rotation=90, fontsize=7, ha="right", va="center")
+    plain = FuncFormatter(lambda v, _pos: f"{v:g}")
+    for a, key, yl in zip(ax, ("orbit_rms_pct_cr", "force_nrmse_pct"), ("orbit RMS error [% CR]", "force NRMSE [%]")):
+        pts = [(r["integration_s"], max(r[key], 1e-4), r) for r in rows[1:]
+               if r.get(key) is not None and math.isfinite(r[key]) and r.get("integration_s")]
+        t_ref = rows[0].get("integration_s") if rows else None
         a.set_xscale("log")
         a.set_yscale("log")
-        a.xaxis.set_major_locator(LogLocator(base=10))
-        a.xaxis.set_minor_formatter(NullFormatter())  # labelled minor ticks overlap on a short span
+        ts = [t for t, _, _ in pts] + ([t_ref] if t_ref else [])
+        lo_t, hi_t = (min(ts) / 1.5, max(max(ts) * 1.5, min(ts) * 10.0)) if ts else (0.1, 10.0)
+        a.set_xlim(lo_t, hi_t)  # at least a decade, so the axis has ticks to label
+        for i, r in enumerate(rows[1:]):  # the same colour for a variant in both panels
+            hit = [(t, val) for t, val, rr in pts if rr is r]
+            if hit:
+                a.plot(*hit[0], markers.get(r["internal"], "x"), ms=7, color=f"C{i % 10}", label=r["label"])
+        vals = [v for _, v, _ in pts]
+        if vals:
+            a.set_ylim(min(vals) / 2.0, max(max(vals) * 2.0, min(vals) * 10.0))
+        if t_ref:
+            a.axvline(t_ref, color="k", ls=":", lw=1)
+            a.annotate(rows[0]["label"], (t_ref, 0.5), xycoords=("data", "axes fraction"),
+                       rotation=90, fontsize=7, ha="right", va="center")
+        for axis, (lo, hi) in ((a.xaxis, a.get_xlim()), (a.yaxis, a.get_ylim())):
+            decades = math.log10(hi / lo)  # 1, 2, 5 of each decade on a short span; on a long one 1 alone
+            axis.set_major_locator(LogLocator(base=10, subs=(1.0, 2.0, 5.0) if decades <= 3.5 else (1.0,)))
+            axis.set_major_formatter(plain)
+            axis.set_minor_formatter(NullFormatter())
         a.set_xlabel("run time [s] (dotted: reference)")
         a.set_ylabel(yl)
         a.grid(alpha=0.3, which="both")
+    ax[1].legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.02, 1.0), borderaxespad=0)
     if title:
-        fig.suptitle(title)
+        fig.suptitle(title, fontsize=10)
     return save_figure(fig, path)
 
 

@@ -121,12 +121,20 @@ def command(*, scene, internal: str = "reynolds", dt: float | None = None, t_end
                "not converged: the orbit crosses the clearance circle (a model failure no dt fixes)"
                if study.rows and all("crossed clearance" in r["status"] for r in study.rows) else
                f"not converged to {study.tol_pct_cr:g} % CR within the halvings")
-    print(_write(study, out, stem, verdict))
+    print(_write(study, out, stem, verdict, _inputs(scene, internal)))
     return 0 if study.converged_dt else 1
 
 
-def _write(study: DtStudy, out: Path, stem: str, verdict: str) -> str:
-    text = f"# dt study: {study.scene} [{study.internal}], {study.t_end_s:g} s\n\n{study.table()}\n\n{verdict}\n"
+def _inputs(scene, internal: str) -> str:
+    """The inputs line of the scene file ``scene`` run with ``internal``."""
+    from .computed_for import scene_line
+
+    return scene_line(load_scene(scene).with_internal(internal))
+
+
+def _write(study: DtStudy, out: Path, stem: str, verdict: str, inputs: str = "") -> str:
+    text = (f"# dt study: {study.scene} [{study.internal}], {study.t_end_s:g} s\n\n"
+            + (f"Computed for: {inputs}\n\n" if inputs else "") + f"{study.table()}\n\n{verdict}\n")
     write_text(out / f"{stem}.md", text)
     write_json(out / f"{stem}.json", {**asdict(study), "verdict": verdict})
     return text

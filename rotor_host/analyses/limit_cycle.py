@@ -202,12 +202,15 @@ def command(*, source, internal: str = "reynolds", dt: float | None = None, t_en
     (``speed_hz`` then), measure the eccentricity envelope and whether it holds; 0 when held."""
     src = Path(source)
     out = ensure_writable(out)
+    from .computed_for import run_inputs, scene_line, wrapped
+
     stem = f"limitcycle_{src.stem}"
     meta = None
     if src.suffix == ".npz":
         if speed_hz is None:
             raise ValueError(f"--speed-hz: a .npz source ({src}) needs the shaft speed it was run at [Hz]")
         arrays, speed = _saved_run(src), speed_hz
+        inputs = run_inputs(src)
     else:
         from ..scenes.run import run_scene
         from ..scenes.scene import load_scene
@@ -219,6 +222,7 @@ def command(*, source, internal: str = "reynolds", dt: float | None = None, t_en
         if t_end is not None:
             kw["t_end_s"] = t_end
         scene = scene.with_internal(internal, **kw)
+        inputs = scene_line(scene)
         # the run is kept (<stem>_run.npz/.json, checkpoints while running): an interrupted or
         # failed run can be analysed later with `limit-cycle <stem>_run.npz --speed-hz ...`
         r = run_scene(scene, out, progress=not quiet, stem=f"{stem}_run")
@@ -231,12 +235,14 @@ def command(*, source, internal: str = "reynolds", dt: float | None = None, t_en
     rows = "\n".join(f"| {t:.3f} | {a:.4f} | {b:.4f} |" for t, a, b in
                      zip(env.t[::step], env.e_max[::step], env.e_min[::step]))
     text = (f"# Limit cycle: {src.name}, {speed:g} Hz, windows of {revs} revolutions\n\n"
-            f"| window end [s] | max ecc. | min ecc. |\n|---|---|---|\n{rows}\n\n{lc.verdict()}\n")
+            + (f"Computed for: {inputs}\n\n" if inputs else "")
+            + f"| window end [s] | max ecc. | min ecc. |\n|---|---|---|\n{rows}\n\n{lc.verdict()}\n")
     write_text(out / f"{stem}.md", text)
     write_json(out / f"{stem}.json",
                {**asdict(lc), "t": env.t.tolist(), "e_max": env.e_max.tolist(), "e_min": env.e_min.tolist()}, indent=1)
     if env.t.size:
-        plot_envelopes({src.stem: env}, out / f"{stem}.png", title=lc.verdict()[:110])
+        plot_envelopes({src.stem: env}, out / f"{stem}.png",
+                       title=wrapped(lc.verdict(), 110) + (f"\n{wrapped(inputs, 110)}" if inputs else ""))
     print(text)
     held = lc.holds and lc.held_s >= hold
     if lc.holds and not held:

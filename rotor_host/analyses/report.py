@@ -41,7 +41,9 @@ def plot_runs(runs: dict, path, *, bearing: int = 0, disk_node: int | None = Non
     """One figure like the paper's: (a) Fy vs t, (b) Fz vs t of the bearing, (c) bearing orbit
     (with the clearance circle when it comes near it), (d) disk orbit (``disk_node``, default
     the rotor's first disk: ``disk_node_of``); with ``history`` also (e) y and (f) z of the
-    bearing vs t (Fig. 5e-f). ``runs`` maps a label (e.g. "Reynolds") to run arrays.
+    bearing vs t (Fig. 5e-f) and, when the first run has a film temperature (a supply
+    temperature: ``scenes.thermal``), (g) T_eff and (h) P_loss of every bearing vs t. ``runs``
+    maps a label (e.g. "Reynolds") to run arrays; the panels say which bearing they show.
 
     The axes are scaled to the first run (the reference), so a variant whose orbit runs away
     (the linear model through the wall) cannot shrink the others to a line; such a variant is
@@ -50,11 +52,12 @@ def plot_runs(runs: dict, path, *, bearing: int = 0, disk_node: int | None = Non
     plt = pyplot()
     if disk_node is None and runs:
         disk_node = disk_node_of(next(iter(runs.values())))
-    nrow = 3 if history else 2
+    first = next(iter(runs.values())) if runs else None
+    thermal = history and first is not None and bool(np.size(first.get("T_eff", ())))
+    nrow = 4 if thermal else 3 if history else 2
     fig, axes = plt.subplots(nrow, 2, figsize=(11, 3.6 * nrow))
     ax = axes.ravel()
     styles = ["-", "--", ":", "-."]
-    first = next(iter(runs.values())) if runs else None
     lims = _reference_limits(first, bearing, disk_node, history) if first is not None else {}
     for i, (label, a) in enumerate(runs.items()):
         if i > 0 and _off_scale(a, bearing, lims):
@@ -73,6 +76,12 @@ def plot_runs(runs: dict, path, *, bearing: int = 0, disk_node: int | None = Non
         if history:
             ax[4].plot(t, np.asarray(a["y"])[:, cb] * 1e6, ls, lw=0.8, label=label)
             ax[5].plot(t, np.asarray(a["z"])[:, cb] * 1e6, ls, lw=0.8, label=label)
+        if thermal and np.size(a.get("T_eff", ())):
+            for k, node in enumerate(np.asarray(a["bearing_nodes"]).ravel()):
+                who = f"{label}, bearing {k + 1} (node {int(node)})"
+                lk = styles[(i + k) % len(styles)]  # bearings of equal load lie on each other: told apart by style
+                ax[6].plot(t, np.asarray(a["T_eff"])[:, k] - 273.15, lk, lw=0.9, label=who)
+                ax[7].plot(t, np.asarray(a["P_loss"])[:, k], lk, lw=0.9, label=who)
     if lims.get("clearance", True):
         th = np.linspace(0, 2 * np.pi, 361)
         ax[2].plot(np.cos(th), np.sin(th), "k-", lw=1.2, label="clearance")
@@ -86,21 +95,33 @@ def plot_runs(runs: dict, path, *, bearing: int = 0, disk_node: int | None = Non
             ax[k].set_ylim(*lim)
     ax[2].set_aspect("equal")
     ax[3].set_aspect("equal", adjustable="box" if 3 in lims else "datalim")
-    labels = [("t [s]", "Fy [N]", "(a) horizontal film force"), ("t [s]", "Fz [N]", "(b) vertical film force"),
-              ("y / CR", "z / CR", "(c) bearing orbit" + ("" if lims.get("clearance", True) else
-                                                      " (zoomed: the clearance circle is |y, z| / CR = 1)")),
+    which = _bearing_words(first, bearing) if first is not None else ""
+    labels = [("t [s]", "Fy [N]", f"(a) horizontal film force, {which}"),
+              ("t [s]", "Fz [N]", f"(b) vertical film force, {which}"),
+              ("y / CR", "z / CR", f"(c) orbit of {which}" + ("" if lims.get("clearance", True) else
+                                                           "\n(zoomed: the clearance circle is |y, z| / CR = 1)")),
               ("y [um]", "z [um]", f"(d) disk orbit (node {disk_node})" if disk_node else "(d) no disk recorded"),
-              ("t [s]", "y [um]", "(e) horizontal bearing displacement"),
-              ("t [s]", "z [um]", "(f) vertical bearing displacement")]
+              ("t [s]", "y [um]", f"(e) horizontal displacement, {which}"),
+              ("t [s]", "z [um]", f"(f) vertical displacement, {which}"),
+              ("t [s]", "T_eff [C]", "(g) effective film temperature"),
+              ("t [s]", "P_loss [W]", "(h) friction power of the film")]
     for a_, (xl, yl, tl) in zip(ax, labels):
         a_.set_xlabel(xl)
         a_.set_ylabel(yl)
         a_.set_title(tl, fontsize=10)
         a_.grid(alpha=0.3)
     ax[0].legend(fontsize=8)
+    if thermal:
+        ax[6].legend(fontsize=7)
     if title:
-        fig.suptitle(title)
+        fig.suptitle(title, fontsize=9)
     return save_figure(fig, path)
+
+
+def _bearing_words(a, bearing: int) -> str:
+    """Which bearing a panel shows: 'bearing 1 (node 3) of 2'."""
+    nodes = np.asarray(a["bearing_nodes"]).ravel()
+    return f"bearing {bearing + 1} (node {int(nodes[bearing])})" + (f" of {nodes.size}" if nodes.size > 1 else "")
 
 
 def _span(v, margin: float = 0.15):
@@ -187,9 +208,10 @@ def errors_against(ref: dict, run: dict, *, bearing_cols: bool = True) -> dict:
             "orbit_max_pct_cr": 100 * float(d.max())}
 
 
-def _runup_summary(scene, run, out: Path) -> None:
+def _runup_summary(scene, run, out: Path, inputs: str) -> None:
     """A run-up's waterfall and its summary lines: the 1x peak, a critical speed only where the run
     crosses one (``crossings.scene_criticals``), and the whirl onset."""
+    from .computed_for import wrapped
     from .linear.crossings import scene_criticals
     from .waterfall import (check_run_up, default_nodes, peak_line, plot_waterfall, spectra, speed_range, summary,
                             whirl_line)
@@ -202,7 +224,8 @@ def _runup_summary(scene, run, out: Path) -> None:
         crit = scene_criticals(scene, lo, hi)
         png = plot_waterfall(run.arrays, out / f"{run.npz.stem}_waterfall.png", nodes=nodes,
                              criticals_hz=crit.speeds_hz,
-                             title=f"{scene.description or scene.name}: {scene.speed_profile.describe()}")
+                             title=f"{scene.description or scene.name}: {scene.speed_profile.describe()}\n"
+                                   + wrapped(inputs))
     except ValueError as exc:  # say why, keep the run
         print(f"no waterfall: {exc}")
         return
@@ -221,11 +244,14 @@ def run_and_report(scene, out, *, progress: bool = True, plots: bool = True) -> 
 
     from ..scenes.run import run_scene
     from ..scenes.thermal import thermal_lines
+    from .computed_for import scene_line, wrapped
 
     out = ensure_writable(out)  # refused before any work
+    inputs = scene_line(scene)
     run = run_scene(scene, out, progress=progress)
     m = run.meta
     via = f"{scene.via}, native" if scene.via == "fmu" and scene.fmu_kind == "native" else scene.via
+    print(f"computed for: {inputs}")
     print(f"{scene.name} [{scene.internal} via {via}]: {m['status']}, {m['steps']} steps to "
           f"t = {m['t_reached_s']:.4g} s in {m['wall_time_s']:.1f} s "
           f"(setup {m['setup_time_s']:.1f} s), {m['newton_mean_evaluations_per_step']:.2f} force "
@@ -241,10 +267,10 @@ def run_and_report(scene, out, *, progress: bool = True, plots: bool = True) -> 
     if m["status"] != "ok":
         print(f"stopped: {m['message']}")
     if scene.speed_profile is not None and plots and run.arrays["t"].size > 1:
-        _runup_summary(scene, run, out)
+        _runup_summary(scene, run, out, inputs)
     if plots and run.arrays["t"].size > 1:
-        png = plot_runs({scene.internal: run.arrays}, out / f"{run.npz.stem}.png", title=scene.description,
-                        history=True)
+        title = "\n".join(x for x in (scene.description or scene.name, wrapped(inputs)) if x)
+        png = plot_runs({scene.internal: run.arrays}, out / f"{run.npz.stem}.png", title=title, history=True)
         print(f"wrote {run.npz}, {run.json}, {png}")
     else:
         print(f"wrote {run.npz}, {run.json}")

@@ -198,11 +198,12 @@ def plot_waterfall(arrays: dict, path, *, nodes, window_s: float = DEFAULT_WINDO
         lo, hi = speed_range(arrays)
         raise ValueError(f"orbit speed {bad[0]:g} Hz is outside the run's speeds {lo:g}-{hi:g} Hz")
     thermal = bool(np.size(arrays.get("T_eff", ())))
-    cols = max(len(specs), len(orbit_speeds_hz) + thermal)
-    fig = plt.figure(figsize=(max(5.2 * len(specs), 3.8 * cols), 8.2))
-    grid = fig.add_gridspec(2, cols, height_ratios=(2.2, 1))
+    below = len(orbit_speeds_hz) + thermal
+    fig = plt.figure(figsize=(max(5.2 * len(specs), 3.8 * below), 8.6))
+    grid = fig.add_gridspec(2, 1, height_ratios=(2.2, 1))
+    top, bottom = grid[0].subgridspec(1, len(specs)), grid[1].subgridspec(1, below)  # each row full: no empty slot
     for i, sp in enumerate(specs):
-        ax = fig.add_subplot(grid[0, i])
+        ax = fig.add_subplot(top[0, i])
         fmax = 1.3 * float(np.nanmax(sp.speed_hz))
         sel = np.abs(sp.freq_hz) <= fmax
         amp = np.maximum(sp.amp[:, sel], 1e-12) * 1e6
@@ -221,7 +222,7 @@ def plot_waterfall(arrays: dict, path, *, nodes, window_s: float = DEFAULT_WINDO
         ax.legend(loc="lower right", fontsize=7)
     col = {n: i for i, n in enumerate(np.asarray(arrays["nodes"]).ravel())}
     for j, f in enumerate(orbit_speeds_hz):
-        ax = fig.add_subplot(grid[1, j])
+        ax = fig.add_subplot(bottom[0, j])
         k = int(np.argmin(np.abs(speed - f)))
         dtr = float(np.median(np.diff(t)))
         span = max(1, int(round(3.0 / (0.4 * max(speed[k], 1e-9)) / dtr)))  # three periods of a 0.4x whirl
@@ -235,7 +236,7 @@ def plot_waterfall(arrays: dict, path, *, nodes, window_s: float = DEFAULT_WINDO
         ax.set_ylabel("z [um]")
         ax.legend(fontsize=7)
     if thermal:
-        ax = fig.add_subplot(grid[1, len(orbit_speeds_hz)])
+        ax = fig.add_subplot(bottom[0, len(orbit_speeds_hz)])
         for k, n in enumerate(np.asarray(arrays["bearing_nodes"]).ravel()):
             ax.plot(speed, np.asarray(arrays["T_eff"])[:, k] - 273.15, lw=1.0, label=f"bearing at node {n}")
         ax.set_xlabel("shaft speed [Hz]")
@@ -243,7 +244,7 @@ def plot_waterfall(arrays: dict, path, *, nodes, window_s: float = DEFAULT_WINDO
         ax.set_title("effective film temperature", fontsize=9)
         ax.legend(fontsize=7)
     if title:
-        fig.suptitle(title)
+        fig.suptitle(title, fontsize=9)
     return save_figure(fig, path)
 
 
@@ -285,6 +286,7 @@ def command(*, run, nodes=None, window_s: float = DEFAULT_WINDOW_S, orbits_at_hz
     into ``output`` (default: beside the run); the 1x peak named a critical speed only where the
     run crosses one (``crossings.run_criticals``)."""
     from .linear.crossings import run_criticals
+    from .computed_for import run_inputs, wrapped
 
     from bearing_fmu.io.npz import read_npz
 
@@ -301,8 +303,11 @@ def command(*, run, nodes=None, window_s: float = DEFAULT_WINDOW_S, orbits_at_hz
     nodes = nodes or default_nodes(arrays)
     crit = run_criticals(path, arrays)
     out = Path(output) if output else path.with_name(f"{path.stem}_waterfall.png")
+    inputs = run_inputs(path)
+    if inputs:
+        print(f"computed for: {inputs}")
     plot_waterfall(arrays, out, nodes=nodes, window_s=window_s, orbit_speeds_hz=orbits_at_hz,
-                   title=path.stem, criticals_hz=crit.speeds_hz)
+                   title=path.stem + (f"\n{wrapped(inputs)}" if inputs else ""), criticals_hz=crit.speeds_hz)
     if crit.note:
         print(crit.note)
     for n in nodes:

@@ -13,8 +13,9 @@ force maps and Taylor surrogates (package data, read with ``importlib.resources`
 The folder stays together, so the relative references hold wherever it is installed. A command
 takes a file either as a path or, when no such file is there, by its bundled name: the name
 within this folder (``scenes/paper_22hz.toml``) or, for one kind of file, its stem
-(``rotor-host run paper_22hz``, ``rotor-host stability rotor_paper``, ``rotor-host stability --map paper_bearing``; the ``bearing-fmu`` command takes paths only, as
-the bearing side never imports the host).
+(``rotor-host run paper_22hz``, ``rotor-host stability rotor_paper``, ``rotor-host stability --map paper_bearing``,
+``bearing-fmu demo --bearing bearing_paper``). The lookup is ``bearing_fmu.io.bundled``'s, which both
+command lines use: the bearing side never imports the host, so it finds this folder as files.
 """
 
 from __future__ import annotations
@@ -22,9 +23,8 @@ from __future__ import annotations
 from importlib.resources import files
 from pathlib import Path
 
-# the kinds of bundled file a command takes by stem: where they are and how their names end
-KINDS = {"scene": ("scenes", "*.toml"), "rotor": ("", "rotor_*.toml"), "bearing": ("", "bearing_*.toml"),
-         "map": ("maps", "*.json"), "surrogate": ("surrogates", "*.json")}
+from bearing_fmu.io import bundled as lookup
+from bearing_fmu.io.bundled import KINDS
 
 
 def folder() -> Path:
@@ -39,27 +39,14 @@ def folder() -> Path:
 
 def names(kind: str) -> list[str]:
     """The stems of the bundled files of one kind (``KINDS``), sorted."""
-    sub, pattern = KINDS[kind]
-    return sorted(p.name.removesuffix(pattern.rsplit("*", 1)[1]) for p in (folder() / sub).glob(pattern))
+    return lookup.names(kind, folder())
 
 
 def find(name: str, kind: str | None = None) -> Path | None:
     """The bundled file ``name`` names, or None: a path within the bundled folder
     (``scenes/paper_22hz.toml``, ``rotor_paper.toml``) or, with ``kind``, a stem of that kind
     (``paper_22hz``) with or without its suffix."""
-    root = folder()
-    rel = Path(name)
-    if rel.is_absolute() or ".." in rel.parts or not rel.parts:
-        return None
-    if (root / rel).is_file():
-        return root / rel
-    if kind is not None and len(rel.parts) == 1:
-        sub, pattern = KINDS[kind]
-        suffix = pattern.rsplit("*", 1)[1]
-        for candidate in (root / sub / name, root / sub / (name + suffix)):
-            if candidate.is_file() and candidate.match(pattern):
-                return candidate
-    return None
+    return lookup.find(name, kind, folder())
 
 
 def path(name: str, kind: str | None = None) -> Path:

@@ -34,6 +34,7 @@ from ..integrate.banded import is_sparse
 from ..integrate.equilibrium import solve_part, static_equilibrium
 from ..integrate.loads import RotatingLoads
 from ..integrate.newmark import IntegrationError, Newmark, NewmarkConfig
+from ..analyses.computed_for import scene_line
 from ..model.rotor import Rotor
 from .run_record import domain_report, package_versions, peak_pressures
 from .sanity import check_native_bores, check_scene_physics, check_step_against_modes
@@ -350,6 +351,7 @@ class _Writer:
         self.times = {"setup_time_s": 0.0, "kernels_time_s": 0.0, "equilibrium_time_s": 0.0}
         self.meta = {
             "scene": scene.name, "description": scene.description, "source": str(scene.source),
+            "rotor_file": str(scene.rotor_path), "inputs": scene_line(scene, rotor),
             "internal": scene.internal, "via": scene.via, "fmu_kind": scene.fmu_kind, "speed_hz": scene.speed_hz,
             "speed_profile": None if scene.speed_profile is None else scene.speed_profile.describe(), "dt_s": scene.dt_s,
             "t_end_s": scene.t_end_s, "hht_alpha": scene.alpha, "newton_tangent": scene.newton_tangent,

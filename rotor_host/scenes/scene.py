@@ -269,7 +269,8 @@ def load_scene(path) -> Scene:
     fmu = _fmu_file(data["fmu"], base, where) if data["fmu"] is not None else None
     supply = data["supply_temperature_C"]
     if supply is not None:
-        _check_supply(supply, data, rotor, profile, where)
+        check_supply(supply, data["internal"], data["via"], rotor, profile,
+                     f"{where}: supply_temperature_C = {supply:g}")
 
     return Scene(name=data["name"] if data["name"] is not None else path.stem,
                  description=data["description"] or "",
@@ -281,18 +282,19 @@ def load_scene(path) -> Scene:
                  supply_temperature_K=None if supply is None else supply + 273.15)
 
 
-def _check_supply(supply_c: float, data: dict, rotor: Rotor, profile, where: str) -> None:
-    """A scene's supply temperature: every bearing has an [oil] whose law covers it. In-process with
+def check_supply(supply_c: float, internal: str, via: str, rotor: Rotor, profile, key: str,
+                 name: str = "supply_temperature_C") -> None:
+    """A scene's supply temperature [C]: every bearing has an [oil] whose law covers it; ``key``
+    begins each error (the file and key, or the command-line option ``name`` that gave it). In-process with
     any internal at one speed (the static equilibrium's mu_eff); through an FMU (its thermal ports:
     the native FMU has every such internal's film report in C, its fmu/native/catalogue.py entry's
     film_report) or under a [speed_profile] only with an internal that has the film's flows, whose
     temperature then lags the heat balance (docs/thermal.md). A data file without them (a map
     without flow tables, a version 1 surrogate) is refused by the FMU at initialisation, naming the
     file."""
-    key = f"{where}: supply_temperature_C = {supply_c:g}"
-    spec = registry.get(data["internal"])
-    if (data["via"] != "direct" or profile is not None) and not spec.can.film_flow:
-        why = "through an FMU's thermal ports" if data["via"] != "direct" else "with a [speed_profile]"
+    spec = registry.get(internal)
+    if (via != "direct" or profile is not None) and not spec.can.film_flow:
+        why = "through an FMU's thermal ports" if via != "direct" else "with a [speed_profile]"
         raise SceneError(f"{key} {why} needs an internal with the film's friction and flows ("
                          f"{', '.join(registry.having(film_flow=True))}); internal = {spec.name!r}: "
                          f"{spec.can.film_flow_why}")
@@ -301,9 +303,9 @@ def _check_supply(supply_c: float, data: dict, rotor: Rotor, profile, where: str
             raise SceneError(f"{key}: bearing {k + 1} (node {rotor.bearing_nodes[k] + 1}) has no [oil] table in its "
                              f"bearing file (a viscosity law); it is isoviscous at {p.mu:g} Pa s")
         try:
-            p.oil.check_temperature(supply_c + 273.15, "supply_temperature_C")
+            p.oil.check_temperature(supply_c + 273.15, name)
         except ValueError as exc:
-            raise SceneError(f"{where}: bearing {k + 1}: {exc}") from None
+            raise SceneError(f"{key}: bearing {k + 1}: {exc}") from None
 
 
 def _speed(data: dict, where: str) -> tuple[float, SpeedProfile | None]:

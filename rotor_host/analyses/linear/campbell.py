@@ -21,16 +21,20 @@ _FWD = dict(marker="^", color="tab:red", label="forward whirl")
 _BWD = dict(marker="v", color="tab:blue", label="backward whirl")
 
 
-def _mode_scatter(ax, res, value):
+def _mode_scatter(ax, res, value, top: float = math.inf):
     """Scatter value(point, i) against speed for the lowest n_modes modes, forward and
     backward marked; heavily damped modes (AF = pi / log dec < 2.5: no resonance) hollow;
-    unstable modes (log dec < 0) ringed in black."""
+    unstable modes (log dec < 0) ringed in black; the modes above the ranked band (``band_hz``:
+    not ranked for the least stable mode nor the threshold) small and grey, named in the legend
+    when one lies below ``top`` (the axis' end)."""
     heavy_seen = False
+    beyond = [(p.speed_hz, value(p, i), p.forward(i)) for p in res.ok_points
+              for i in range(min(res.n_modes, p.freq_hz.size)) if p.freq_hz[i] > p.band_hz]
     for style, fwd in ((_FWD, True), (_BWD, False)):
         xs, ys, unstable, heavy = [], [], [], []
         for p in res.ok_points:
             for i in range(min(res.n_modes, p.freq_hz.size)):
-                if p.forward(i) == fwd:
+                if p.forward(i) == fwd and not p.freq_hz[i] > p.band_hz:
                     xs.append(p.speed_hz)
                     ys.append(value(p, i))
                     unstable.append(p.log_dec[i] < 0.0)
@@ -45,6 +49,14 @@ def _mode_scatter(ax, res, value):
             if u.any():
                 ax.scatter(xs[u], ys[u], s=60, marker="o", facecolors="none", edgecolors="black", linewidths=1.0,
                            zorder=4)
+    for fwd, marker in ((True, "^"), (False, "v")):
+        pts = [(x, y) for x, y, f in beyond if f == fwd]
+        if pts:
+            ax.scatter(*zip(*pts), s=8, marker=marker, color="0.65", zorder=2)
+    if any(y <= top for _, y, _ in beyond):
+        ax.scatter([], [], s=8, marker="^", color="0.65",
+                   label=f"grey: above the ranked band ({res.band_hz:.4g} Hz =\n{res.rank_up_to:g} x the top speed): "
+                         "not ranked")
     ax.scatter([], [], s=60, marker="o", facecolors="none", edgecolors="black", label="unstable (log dec < 0)")
     if heavy_seen:
         ax.scatter([], [], s=14, marker="^", facecolors="none", edgecolors="grey",
@@ -61,7 +73,7 @@ def plot_campbell(res, path, title: str = "") -> Path:
     pts = res.ok_points
     s = np.array([p.speed_hz for p in res.points])
     top = 1.25 * s.max()
-    _mode_scatter(ax, res, lambda p, i: p.freq_hz[i])
+    _mode_scatter(ax, res, lambda p, i: p.freq_hz[i], top)
     ax.plot([0, s.max()], [0, s.max()], "k-", lw=0.8, label="1x", zorder=5)
     ax.plot([0, s.max()], [0, 0.5 * s.max()], "k--", lw=0.8, label="0.5x", zorder=5)
     if res.criticals:
@@ -80,7 +92,7 @@ def plot_campbell(res, path, title: str = "") -> Path:
     ax.set_ylabel("damped natural frequency [Hz]")
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0)  # outside: hides no mode
-    ax.set_title((title or f"Campbell diagram: {res.rotor} [{res.internal}]")
+    ax.set_title((title or f"Campbell diagram: {res.rotor} [{res.internal}]") + _inputs(res)
                  + (f"\n(modes {above[0]}-{above[-1]} of the {res.n_modes} lowest lie above {top:.0f} Hz: frequencies in "
                     "the json)" if above else ""),
                  fontsize=10)
@@ -112,7 +124,7 @@ def plot_log_dec(res, path, title: str = "") -> Path:
     ax.set_ylabel("logarithmic decrement")
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0)
-    ax.set_title(title or f"Log decrement: {res.rotor} [{res.internal}]", fontsize=10)
+    ax.set_title((title or f"Log decrement: {res.rotor} [{res.internal}]") + _inputs(res), fontsize=10)
     return _save(fig, plt, path)
 
 
@@ -163,10 +175,19 @@ def plot_mode_shape(res, rotor: Rotor, path, title: str = "") -> Path | None:
     a2.set_xlabel("y")
     a2.set_ylabel("z")
     a2.grid(alpha=0.3)
-    a2.legend(fontsize=7, title="whirl (+1 fwd, -1 bwd)", title_fontsize=7)
+    a2.legend(fontsize=7, title="whirl (+1 fwd, -1 bwd)", title_fontsize=7, loc="upper left",
+              bbox_to_anchor=(1.02, 1.0), borderaxespad=0)  # beside the orbits: it covered the disk's
     fig.suptitle(title or f"{res.rotor} [{res.internal}]: least stable mode {where}: {p.freq_hz[i]:.2f} Hz, "
-                 f"log dec {p.log_dec[i]:.3g}", fontsize=10)
+                 f"log dec {p.log_dec[i]:.3g}" + _inputs(res), fontsize=10)
     return _save(fig, plt, path)
+
+
+def _inputs(res) -> str:
+    """The result's inputs line (``analyses.computed_for``) as further title lines; '' without it."""
+    from ..computed_for import wrapped
+
+    line = getattr(res, "inputs", "")
+    return "\n" + wrapped(line, 110) if line else ""
 
 
 def _save(fig, plt, path) -> Path:

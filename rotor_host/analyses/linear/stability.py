@@ -48,6 +48,7 @@ from bearing_fmu.physics.geometry import Geometry
 from bearing_fmu.io.exits import note_kept
 from bearing_fmu.io.outputs import ensure_writable, write_json, write_text
 
+from ..computed_for import title_line
 from ...model.band_modes import band_modes
 from ...model.rotor import Rotor
 from .inputs import (DEFAULT_FILES, PAPER_MAP, check_speeds, check_supply, check_top_speed,  # noqa: F401
@@ -151,6 +152,7 @@ class StabilityResult:
     unsupported: list = field(default_factory=list)  # speeds [Hz] where the bearings did not hold the rotor
     status: str = "ok"
     T_supply_K: float | None = None  # the oil's supply temperature (None: isoviscous bearings)
+    inputs: str = ""  # what it was computed for, in one line (analyses.computed_for.title_line)
 
     @property
     def ok_points(self) -> list[SpeedPoint]:
@@ -501,6 +503,7 @@ def command(*, rotor_file, speeds_hz, internal: str = "reynolds", data_files=Non
             write_json(out / f"{stem}.json", to_json(res, rotor_file))
             note_kept(exc, f"{out / f'{stem}.md'} ({len(res.points)} speed(s))")
         raise
+    res.inputs = title_line(rotor, rotor_file, internal, options, res.T_supply_K)
     files = [write_text(out / f"{stem}.md", markdown(res)), write_json(out / f"{stem}.json", to_json(res, rotor_file))]
     if res.unsupported and len(res.unsupported) == len(res.points):  # the rotor file or its loads: exit 2
         from ...integrate.equilibrium import RotorNotSupported
@@ -511,6 +514,7 @@ def command(*, rotor_file, speeds_hz, internal: str = "reynolds", data_files=Non
         raise RuntimeError(f"{rotor_file}: no speed of {speeds_hz[0]:g}-{speeds_hz[-1]:g} Hz has a static "
                            f"equilibrium (first: {res.points[0].message}); wrote {files[0]}")
     tm = res.timings
+    print(f"computed for: {res.inputs}")
     print(f"{res.rotor} [{res.internal}]: {len(res.points)} speeds in {tm['equilibrium'] + tm['eigen']:.2f} s "
           f"(equilibria {tm['equilibrium']:.2f} s, linearisation and modes {tm['eigen']:.2f} s; threshold "
           f"refinement {tm['refine']:.2f} s; setup {tm['setup']:.2f} s)")

@@ -36,6 +36,7 @@ def markdown(res: StabilityResult, title: str = "") -> str:
     tm = res.timings
     n_ok = len(res.ok_points)
     head = [f"# Stability: {title or res.rotor} [{res.internal}]", "",
+            *([f"Computed for: {res.inputs}", ""] if getattr(res, "inputs", "") else []),
             f"**{res.verdict()}**", "", *(f"- {line}" for line in res.notes()), "",
             f"{len(res.points)} speeds ({n_ok} with an equilibrium), bearings at nodes "
             f"{', '.join(map(str, res.bearing_nodes))}, static loads "
@@ -103,6 +104,7 @@ def to_json(res: StabilityResult, rotor_path=None) -> dict:
             "critical_speeds": res.criticals, "damped_crossings": res.damped_crossings,
             "ranking": {"rank_up_to": res.rank_up_to, "band_hz": res.band_hz, "notes": res.notes()},
             "timings_s": res.timings, "n_modes": res.n_modes, "T_supply_K": res.T_supply_K,
+            "inputs": getattr(res, "inputs", ""),
             "points": [point(p) for p in res.points], "versions": package_versions()}
 
 

@@ -12,6 +12,5 @@ ucs                   ``rotor-host ucs``: undamped critical speed map, bearings 
 level1                ``rotor-host level1``: API 617 Level I stability (Q_A, Q_0, verdict)
 api_report            ``rotor-host api-report``: all of them and the Campbell diagram in one file
 runup                 ``rotor-host linear-vs-runup``: the linear response against a run-up
-inputs                what a figure or report names as its inputs (rotor, bore, oil, internal)
 ====================  =========================================================
 """

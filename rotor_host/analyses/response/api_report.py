@@ -27,7 +27,7 @@ def command(*, rotor_file, speeds_hz, unbalance, operating_hz, internal: str = "
     from ..linear.stability import Stability, check_speeds, internal_options, read_rotor
     from ..linear.stability_report import to_json as stability_json
     from . import level1 as lv, ucs
-    from .inputs import bearing_lines, internal_words
+    from ..computed_for import bearing_lines, internal_words
     from .report import markdown as response_markdown
     from .unbalance import check_inputs, response_from, to_json as response_json
 
@@ -91,6 +91,7 @@ def command(*, rotor_file, speeds_hz, unbalance, operating_hz, internal: str = "
              write_json(out / "response.json", response_json(res)), write_json(out / "ucs.json", ucs.to_json(m))]
     if level is not None:
         files.append(write_json(out / "level1.json", lv.to_json(level)))
+    print(f"computed for: {line}")
     print(sweep.verdict())
     n_crit = sum(1 for p in res.peaks if p["critical"])
     print(f"unbalance response: {len(res.peaks)} peak(s) at the probes, {n_crit} with AF >= 2.5"

@@ -10,6 +10,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..computed_for import wrapped
 from ..plotting import pyplot, save_figure
 
 _COLOR = {"y": "tab:blue", "z": "tab:red"}
@@ -25,12 +26,6 @@ def _segments(speeds, values, unstable):
             out.append((speeds[start:hi], values[start:hi], unstable[start]))
             start = i
     return out
-
-
-def _wrap(text: str, width: int = 120) -> str:
-    import textwrap
-
-    return "\n".join(textwrap.wrap(text, width))
 
 
 def _shade(ax, res):
@@ -68,7 +63,7 @@ def plot_bode(res, node: int, path, inputs: str = "") -> Path:
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=8, loc="best")
     unb = "; ".join(u.label() for u in res.unbalances)
-    ax.set_title(f"Unbalance response at node {node} ({unb})\n{_wrap(inputs)}", fontsize=9)
+    ax.set_title(f"Unbalance response at node {node} ({unb})\n{wrapped(inputs)}", fontsize=9)
     axp.set_ylabel("phase [deg] (y = A cos(Omega t + phase))")
     axp.set_xlabel("shaft speed [Hz]")
     axp.set_ylim(-185, 185)
@@ -85,6 +80,10 @@ def plot_polar(res, node: int, path, inputs: str = "") -> Path:
     s, X, u = res.curve()
     grid = set(res.speeds_hz)
     fig, ax = plt.subplots(figsize=(7, 7))
+    both = np.concatenate([X[:, i_y], X[:, i_z]]) * 1e6
+    both = both[np.isfinite(both)]
+    gap = 0.04 * (float(np.ptp(np.concatenate([both.real, both.imag]))) if both.size else 1.0)
+    placed: list[complex] = []  # labels closer than ``gap`` to one placed would overlap it: left out
     for d, dof in (("y", i_y), ("z", i_z)):
         x = X[:, dof] * 1e6
         for k, (idx, _, unst) in enumerate(_segments(np.arange(s.size), s, u)):
@@ -92,15 +91,18 @@ def plot_polar(res, node: int, path, inputs: str = "") -> Path:
                     label=None if k else f"X_{d}")
         on_grid = [j for j in range(s.size) if s[j] in grid]
         for j in on_grid[::max(1, len(on_grid) // 8)]:
-            if np.isfinite(x[j]):
-                ax.annotate(f"{s[j]:g}", (x[j].real, x[j].imag), fontsize=7, color=_COLOR[d])
+            if np.isfinite(x[j]) and all(abs(x[j] - q) > gap for q in placed):
+                placed.append(complex(x[j]))
+                ax.plot(x[j].real, x[j].imag, ".", color=_COLOR[d], ms=4)
+                ax.annotate(f"{s[j]:g}", (x[j].real, x[j].imag), fontsize=7, color=_COLOR[d],
+                            xytext=(3, 3), textcoords="offset points")
     ax.plot([0], [0], "k+")
     ax.set_aspect("equal", adjustable="datalim")
     ax.set_xlabel("Re X [um] (y = Re(X e^{i Omega t}))")
     ax.set_ylabel("Im X [um]")
     ax.grid(True, alpha=0.3)
     ax.legend(fontsize=8, title="dashed: above the threshold" if u.any() else None, title_fontsize=8)
-    ax.set_title(f"Polar plot at node {node}, speeds [Hz] marked\n{_wrap(inputs, 90)}", fontsize=8)
+    ax.set_title(f"Polar plot at node {node}, speeds [Hz] marked\n{wrapped(inputs, 90)}", fontsize=8)
     return save_figure(fig, path)
 
 

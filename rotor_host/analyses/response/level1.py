@@ -52,6 +52,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..computed_for import wrapped
 from ...model.rotor import Rotor
 from ..linear.modal import band_hz
 
@@ -242,7 +243,7 @@ def plot_level1(r: Level1, path, inputs: str = "") -> Path:
     ax.set_ylabel("log decrement")
     ax.grid(True, alpha=0.3)
     ax.legend(fontsize=8)
-    ax.set_title(f"API 617 Level I at {r.speed_hz:g} Hz: {r.verdict()[0]}\n{inputs}", fontsize=9)
+    ax.set_title(f"API 617 Level I at {r.speed_hz:g} Hz: {r.verdict()[0]}\n{wrapped(inputs, 110)}", fontsize=9)
     return save_figure(fig, path)
 
 
@@ -251,7 +252,7 @@ def run(rotor_file, operating_hz, *, internal="reynolds", options=None, static_l
     """Read the rotor file (its [[stages]] required), the bearings at the maximum continuous speed
     (the top of ``operating_hz``), and the check."""
     from ..linear.stability import Stability, read_rotor
-    from .inputs import title_line
+    from ..computed_for import title_line
     from .unbalance import check_operating
 
     rotor, loads = read_rotor(rotor_file, static_loads)
@@ -301,7 +302,7 @@ def command(*, rotor_file, operating_hz, internal: str = "reynolds", data_files=
     from bearing_fmu.io.outputs import ensure_writable, write_json, write_text
 
     from ..linear.stability import internal_options
-    from .inputs import bearing_lines, internal_words
+    from ..computed_for import bearing_lines, internal_words
 
     out = ensure_writable(out)
     T = None if supply_c is None else supply_c + 273.15
@@ -314,6 +315,7 @@ def command(*, rotor_file, operating_hz, internal: str = "reynolds", data_files=
     files = [write_json(out / "level1.json", to_json(r)), write_text(out / "level1.md", markdown(r, inputs, files)),
              *files]
     verdict, why = r.verdict()
+    print(f"computed for: {r.meta['inputs']}")
     print(f"{r.meta['rotor']} at {r.speed_hz:g} Hz: Q_A {r.Q_A:.4g} N/m, Q_0 "
           + ("not reached" if r.Q_0 is None else f"{r.Q_0:.4g} N/m") + f", log dec {r.delta_0:.3g} at Q = 0, "
           f"{r.delta_A:.3g} at Q_A, CSR {r.csr:.3g}")

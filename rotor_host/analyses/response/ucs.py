@@ -30,6 +30,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..computed_for import wrapped
 from ...model.rotor import Rotor
 
 DEFAULT_STIFFNESS = (1e5, 1e10)  # N/m: the support stiffness range of the map
@@ -168,7 +169,7 @@ def plot_map(m: UCSMap, rotor: Rotor, path, inputs: str = "") -> Path:
     ax.set_ylabel("undamped critical speed [Hz]")
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=8)
-    ax.set_title(f"Undamped critical speed map (forward synchronous)\n{inputs}", fontsize=9)
+    ax.set_title(f"Undamped critical speed map (forward synchronous)\n{wrapped(inputs, 110)}", fontsize=9)
     return save_figure(fig, path)
 
 
@@ -191,7 +192,7 @@ def plot_shapes(m: UCSMap, rotor: Rotor, path, inputs: str = "") -> Path:
     ax.grid(True, alpha=0.3)
     if m.crossings:
         ax.legend(fontsize=8)
-    ax.set_title(f"Mode shapes of the undamped criticals on the bearings\n{inputs}", fontsize=9)
+    ax.set_title(f"Mode shapes of the undamped criticals on the bearings\n{wrapped(inputs, 110)}", fontsize=9)
     return save_figure(fig, path)
 
 
@@ -214,7 +215,7 @@ def ucs(rotor_file, *, stiffness_n_m=DEFAULT_STIFFNESS, points: int = DEFAULT_PO
         speeds_hz=None, internal: str = "reynolds", options=None, static_loads=(), T_supply_K=None, log=None) -> UCSMap:
     """The map of the rotor file with its bearings' stiffness overlaid (module docstring)."""
     from ..linear.stability import Stability, check_speeds, read_rotor
-    from .inputs import title_line
+    from ..computed_for import title_line
 
     rotor, loads = read_rotor(rotor_file, static_loads)
     if speeds_hz is None:
@@ -269,7 +270,7 @@ def command(*, rotor_file, stiffness_n_m=DEFAULT_STIFFNESS, points: int = DEFAUL
     from bearing_fmu.io.outputs import ensure_writable, write_json, write_text
 
     from ..linear.stability import internal_options
-    from .inputs import bearing_lines, internal_words
+    from ..computed_for import bearing_lines, internal_words
 
     out = ensure_writable(out)
     T = None if supply_c is None else supply_c + 273.15
@@ -282,6 +283,7 @@ def command(*, rotor_file, stiffness_n_m=DEFAULT_STIFFNESS, points: int = DEFAUL
     inputs = [f"rotor: {rotor_file} ({m.meta['rotor']})", *bearing_lines(rotor, rotor_file),
               f"internal (bearing stiffness overlay): {internal_words(m.meta['internal'], m.meta['options'])}"]
     files = [write_json(out / "ucs.json", to_json(m)), write_text(out / "ucs.md", markdown(m, inputs, files)), *files]
+    print(f"computed for: {m.meta['inputs']}")
     print(f"{m.meta['rotor']}: criticals on rigid supports ({m.stiffness_N_m[-1]:.3g} N/m): "
           + ", ".join(f"{v:.2f}" for v in m.criticals_hz[-1] if np.isfinite(v)) + " Hz")
     for c in m.crossings:

@@ -285,7 +285,7 @@ def response_from(analysis, sweep, rotor_file, unbalances, operating_hz=None, pr
     """The response on a stability sweep already made (``Stability.sweep``) of ``analysis``."""
     from bearing_fmu.physics.statics import EquilibriumError
 
-    from .inputs import title_line
+    from ..computed_for import title_line
     from .synchronous import check_unbalances
 
     rotor = analysis.rotor
@@ -315,7 +315,7 @@ def command(*, rotor_file, speeds_hz, unbalance, internal: str = "reynolds", dat
     from bearing_fmu.io.outputs import ensure_writable, write_json, write_text
 
     from ..linear.stability import internal_options, read_rotor
-    from .inputs import bearing_lines, internal_words
+    from ..computed_for import bearing_lines, internal_words
     from .peaks import peak_words
     from .report import markdown
 
@@ -340,6 +340,7 @@ def command(*, rotor_file, speeds_hz, unbalance, internal: str = "reynolds", dat
     if all(s not in ("ok", "unstable") for s in res.status):
         raise RuntimeError(f"{rotor_file}: no speed of the range has a static equilibrium ({res.status[0]}); wrote "
                            f"{files[0]}")
+    print(f"computed for: {res.meta['inputs']}")
     print(f"{res.meta['rotor']} [{res.meta['internal']}]: {len(res.speeds_hz)} speeds, unbalance "
           + "; ".join(u.label() for u in res.unbalances))
     if res.threshold_hz is not None:

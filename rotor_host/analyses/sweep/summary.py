@@ -58,8 +58,11 @@ def write_summary(path_stem: Path, scene, rows: list[dict], *, settle_s: float, 
 
     what = (f"unbalance on node {scene.unbalances[0].node + 1} at {scene.unbalances[0].radius_m * 1e3:g} mm, "
             f"{scene.speed_hz:g} Hz" if unbalance else "shaft speed")
+    from ..computed_for import scene_line
+
     title = sweep_title(scene, rows, unbalance)
-    lines = [f"# {title}", "",
+    inputs = scene_line(scene)
+    lines = [f"# {title}", "", f"Computed for: {inputs}", "",
              f"scene {scene.source}, {scene.internal} via {scene.via}, dt = {scene.dt_s:g} s, "
              f"{scene.t_end_s:g} s per run, swept: {what}. After the transient = t >= {settle_s:g} s. "
              f"Eccentricity = journal displacement / radial clearance; disk amplitude = distance of the disk "
@@ -77,7 +80,7 @@ def write_summary(path_stem: Path, scene, rows: list[dict], *, settle_s: float, 
         lines += [f"- {run_label(r, unbalance)}: {r['status']}: {r['message']}" for r in bad]
     out = [write_text(f"{path_stem}.md", "\n".join(lines) + "\n")]
     out.append(write_json(f"{path_stem}.json", {
-        "scene": str(scene.source), "internal": scene.internal, "via": scene.via, "dt_s": scene.dt_s,
+        "scene": str(scene.source), "inputs": inputs, "internal": scene.internal, "via": scene.via, "dt_s": scene.dt_s,
         "t_end_s": scene.t_end_s, "settle_s": settle_s, "swept": "unbalance_g" if unbalance else "speed_hz",
         "status": "interrupted" if note else "ok", "note": note, **info, "rows": rows}, indent=1))
     png = summary_diagram(path_stem, scene, rows, settle_s=settle_s, unbalance=unbalance) if plot else None
@@ -87,11 +90,14 @@ def write_summary(path_stem: Path, scene, rows: list[dict], *, settle_s: float, 
 def summary_diagram(path_stem: Path, scene, rows: list[dict], *, settle_s: float, unbalance: bool) -> Path | None:
     """The bifurcation diagram ``<stem>.png`` of the summary, when a run has something to draw,
     titled from the sweep (the swept quantity and range, not the scene's own speed)."""
+    from ..computed_for import scene_line, wrapped
+
     if not any(r["status"] == "ok" and r.get("bearings") for r in rows):
         return None
     return plot_bifurcation(rows, f"{path_stem}.png", unbalance=unbalance,
                             title=f"{sweep_title(scene, rows, unbalance)}\n{scene.internal} via {scene.via}, after "
-                                  f"the transient: t >= {settle_s:g} s of {scene.t_end_s:g} s per run")
+                                  f"the transient: t >= {settle_s:g} s of {scene.t_end_s:g} s per run\n"
+                                  + wrapped(scene_line(scene), 130))
 
 
 def run_label(r: dict, unbalance: bool) -> str:
@@ -113,16 +119,18 @@ def plot_bifurcation(rows: list[dict], path, *, unbalance: bool = False, title: 
                              squeeze=False)
     ax_b = axes[0, 0]
     colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
-    n_b = max((len(r["bearings"]) for r in good), default=0)
-    for k in range(n_b):
+    n_b = min((len(r["bearings"]) for r in good), default=0)
+    for j, group in enumerate(_same_bearings(good, n_b)):
+        k = group[0]
         xs = [r[key] for r in good]
+        nodes = ", ".join(str(good[0]["bearings"][g]["node"]) for g in group)
+        label = (f"bearing {k + 1} (node {nodes})" if len(group) == 1 else
+                 f"bearings {', '.join(str(g + 1) for g in group)} (nodes {nodes}): the same")
         _ranges(ax_b, xs, [r["bearings"][k]["ecc_max"] for r in good], [r["bearings"][k]["ecc_min"] for r in good],
-                [r["bearings"][k]["once_per_rev"] for r in good], colors[k % len(colors)],
-                f"bearing {k + 1} (node {good[0]['bearings'][k]['node']})", filled=k == 0)
+                [r["bearings"][k]["once_per_rev"] for r in good], colors[j % len(colors)], label)
         stat = [(r[key], r["static_eccentricity"][k]) for r in good if r.get("static_eccentricity")]
         if stat:
-            ax_b.plot(*zip(*stat), "--", color=colors[k % len(colors)], lw=0.8, alpha=0.7,
-                      label="static equilibrium" if k == 0 else None)
+            ax_b.plot(*zip(*stat), "--", color=colors[j % len(colors)], lw=0.8, alpha=0.7)
     ax_b.set_ylabel("bearing eccentricity ratio")
     ax_b.set_ylim(0, 1.0)
     if has_disk:
@@ -132,7 +140,7 @@ def plot_bifurcation(rows: list[dict], path, *, unbalance: bool = False, title: 
             g = [r for r in good if len(r["disks"]) > k]
             _ranges(ax_d, [r[key] for r in g], [r["disks"][k]["amp_max_um"] for r in g],
                     [r["disks"][k]["amp_min_um"] for r in g], [r["disks"][k]["once_per_rev_um"] for r in g],
-                    colors[(n_b + k) % len(colors)], f"disk (node {g[0]['disks'][k]['node']})", filled=True)
+                    colors[(n_b + k) % len(colors)], f"disk (node {g[0]['disks'][k]['node']})")
         ax_d.set_ylabel("disk amplitude from static position [um]")
         _amplitude_scale(ax_d, [v for r in good for d in r["disks"] for v in (d["amp_max_um"], d["amp_min_um"])])
     failed = [r for r in rows if r not in good]
@@ -141,6 +149,12 @@ def plot_bifurcation(rows: list[dict], path, *, unbalance: bool = False, title: 
             ax.plot(r[key], 0, "x", color="red", ms=9, mew=2, clip_on=False, transform=ax.get_xaxis_transform(),
                     label="failed or stopped (see the summary)" if i == 0 else None)
         ax.grid(alpha=0.3, which="both")
+        # what the marks mean, once (the colours name the bearings and disks)
+        ax.plot([], [], "^", color="0.3", mfc="none", ls="none", label="max after the transient")
+        ax.plot([], [], "v", color="0.3", mfc="none", ls="none", label="min")
+        ax.plot([], [], ".", color="0.35", ls="none", label="once per revolution")
+        if ax is ax_b and any(r.get("static_eccentricity") for r in good):
+            ax.plot([], [], "--", color="0.3", lw=0.8, label="static equilibrium")
         ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0)
     axes[-1, 0].set_xlabel("unbalance mass [g]" if unbalance else "shaft speed [Hz]")
     if title:
@@ -158,17 +172,32 @@ def _amplitude_scale(ax, values) -> None:
         ax.set_ylim(bottom=0)
 
 
-def _ranges(ax, xs, hi, lo, samples, color, label, filled) -> None:
-    """Per x: a vertical bar lo..hi with end markers, and the once-per-revolution samples."""
-    face = color if filled else "none"
-    ax.vlines(xs, lo, hi, color=color, lw=1.0, alpha=0.6)
-    ax.plot(xs, hi, "^", color=color, mfc=face, ms=6, ls="none", label=f"{label}: max")
-    ax.plot(xs, lo, "v", color=color, mfc=face, ms=6, ls="none", label=f"{label}: min")
+def _same_bearings(good: list[dict], n_b: int, tol: float = 1e-3) -> list[list[int]]:
+    """The bearings grouped where their eccentricities agree within ``tol`` in every run (a symmetric
+    rotor's: their marks would lie on each other), each group drawn and named once."""
+    def values(k):
+        return [v for r in good for v in (r["bearings"][k]["ecc_max"], r["bearings"][k]["ecc_min"])]
+
+    groups: list[list[int]] = []
+    for k in range(n_b):
+        home = next((g for g in groups if all(abs(a - b) <= tol for a, b in zip(values(g[0]), values(k)))), None)
+        if home is None:
+            groups.append([k])
+        else:
+            home.append(k)
+    return groups
+
+
+def _ranges(ax, xs, hi, lo, samples, color, label) -> None:
+    """Per x: a vertical bar lo..hi with end markers (``label`` on the bar), and the
+    once-per-revolution samples."""
+    ax.vlines(xs, lo, hi, color=color, lw=1.0, alpha=0.6, label=label)
+    ax.plot(xs, hi, "^", color=color, ms=6, ls="none")
+    ax.plot(xs, lo, "v", color=color, ms=6, ls="none")
     px = [x for x, s in zip(xs, samples) for _ in s]
     py = [v for s in samples for v in s]
     if px:
-        ax.plot(px, py, ".", color="0.35", ms=2, ls="none", alpha=0.6,
-                label="once per revolution" if filled else None)
+        ax.plot(px, py, ".", color="0.35", ms=2, ls="none", alpha=0.6)
 
 
 __all__ = ["summary_columns", "sweep_title", "write_summary", "summary_diagram", "run_label", "plot_bifurcation"]
