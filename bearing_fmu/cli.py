@@ -519,7 +519,7 @@ def main(argv: list[str] | None = None) -> int:
                    help="a running Dask scheduler (e.g. tcp://10.0.0.5:8786) whose workers solve the table's rows, or "
                         "'local' for a local Dask cluster of --workers processes; default: a local process pool. "
                         "An interrupted build resumes from the rows kept in MAP.partial")
-    p.add_argument("--rebuild", action="store_true", help="build the map even if the map store has it")
+    p.add_argument("--rebuild", action="store_true", help="rebuild the map even if the map store has it")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.set_defaults(func=_map)
 

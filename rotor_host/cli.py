@@ -511,7 +511,7 @@ def _add_sweep(sub) -> None:
                         "scheduler file in the user's cache: docs/sweep.md), else this machine")
     p.add_argument("--workers", type=positive_int(), help="worker processes on this machine (default: the cores)")
     p.add_argument("--execution", choices=("auto", "inline", "pool", "cluster"), default="auto",
-                   help="where the runs run: auto (default: a running cluster, else this process for one worker, "
+                   help="execution: where the runs run: auto (default: a running cluster, else this process for one worker, "
                         "else a pool of warm processes), inline (this process), pool, cluster (a Dask LocalCluster "
                         "started for the sweep, or --scheduler's)")
     p.add_argument("--out", type=output_dir, default="out/sweep", help="output folder (default: out/sweep)")
