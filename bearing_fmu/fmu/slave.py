@@ -81,6 +81,7 @@ class BearingFMU(VariableAccess, Stepping, StateSaving, CallRules, Fmi2Slave):
         self._internal_name = ""
         self._choices_built = {}  # the String choices the internal was built with (_choices)
         self._jacobian = None
+        self._kernel = None  # the internal's compiled kernel, when a step may call it (stepping._kernel_of)
         self._params = None
         self._oil = None  # the oil law of the thermal model, when thermal is true (ports.py)
         self._enter(INSTANTIATED)
@@ -88,6 +89,8 @@ class BearingFMU(VariableAccess, Stepping, StateSaving, CallRules, Fmi2Slave):
         self._init_error = None
         self._refused = {}  # parameter name -> why its last set was refused (fails the initialisation)
         self._discarded = None  # the inputs of the last discarded step (None after a good one)
+        self._refused_t = 0.0  # where that step started [s]
+        self._memoryless = False  # the internal built is memoryless (variables.MEMORYLESS) with thermal off
         self._t = 0.0
         self._raises = status_patched(self.resources)  # an exception gives fmi2Error, not fmi2Fatal
         # the logger's layout is known for the binary the patches verified, and only for that one

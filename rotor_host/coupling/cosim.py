@@ -114,6 +114,7 @@ class FMUBearings(BearingSet):
             raise FileNotFoundError(f"bearing FMU {self.fmu_path} not found; build it with `bearing-fmu build -o PATH.fmu`")
         self.log = log  # optional callable(str) for every FMU log line
         self.messages: list[list[str]] = [[] for _ in range(self.n)]
+        self._seen = [0] * self.n  # messages looked at for discards (``_forget_discards``)
         self._unzip = None
         self.instances = []
         self._states = [None] * self.n
@@ -285,6 +286,23 @@ class FMUBearings(BearingSet):
                 self._states[k] = state
                 self._fresh[k] = True
 
+    def _forget_discard(self, k: int) -> None:
+        """A memoryless instance that discarded since the last look is restored to its own state
+        (got and set back: nothing else changes for it). A step the compiled loop hands back after
+        a discard is asked again by the Python driver from its start, at the same inputs, and an
+        FMU refuses a retry with unchanged inputs after a discard (a master looping on it would
+        never end: FMI wants other inputs or a restored state); restored, it discards the state
+        again and the step is cut, as without the compiled loop."""
+        seen, msgs = self._seen[k], self.messages[k]
+        self._seen[k] = len(msgs)
+        if any(m.startswith("[discard]") for m in msgs[seen:]):
+            fmu = self.instances[k]
+            c, dll = fmu.component, fmu.dll
+            state = ctypes.c_void_p()
+            self._check(k, "fmi2GetFMUstate", dll.fmi2GetFMUstate(c, ctypes.byref(state)))
+            self._check(k, "fmi2SetFMUstate", dll.fmi2SetFMUstate(c, state))
+            self._check(k, "fmi2FreeFMUstate", dll.fmi2FreeFMUstate(c, ctypes.byref(state)))
+
     def _bearing(self, k, y, z, vy, vz):
         # The raw ctypes functions (fmpy sets their argtypes) with buffers built once: fmpy's
         # checking wrappers and per-call numpy temporaries cost about as much as the four FMI
@@ -295,6 +313,8 @@ class FMUBearings(BearingSet):
         try:
             if self._fresh[k] or self.memoryless:  # the instance is in the state saved, or has none
                 self._fresh[k] = False
+                if self.memoryless and len(self.messages[k]) != self._seen[k]:  # new log lines: a discard?
+                    self._forget_discard(k)
             else:
                 self._check(k, "fmi2SetFMUstate", dll.fmi2SetFMUstate(c, self._states[k]))
             b = self._buf_in
