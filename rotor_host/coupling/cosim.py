@@ -13,12 +13,15 @@ error quotes the FMU's own log lines: fmpy says only "Failed to instantiate mode
 instance is freed on success and on error (use ``FMUBearings`` as a context manager or call ``close``).
 
 An FMU that declares itself memoryless (a vendor annotation in its model description,
-``bearing_fmu.fmu.meta.memoryless_annotation``, written by the native build for the map and
-linear internals; not with the thermal model on) has no state worth restoring: for it the
-iteration is setReal, doStep, getReal with no FMU state saved or restored, which gives the same
-outputs, and the integrator's compiled loop makes these calls itself (``compiled``,
-``rotor_host.coupling.fmu_kernel``). Any other FMU (a foreign one, the Python FMU, a native
-Taylor or Reynolds FMU) keeps the save and restore, in Python.
+``bearing_fmu.fmu.meta.memoryless_annotation``, written by the native and the Python builds for
+the map and linear internals; not with the thermal model on) has no state worth restoring: for
+it the iteration is setReal, doStep, getReal with no FMU state saved or restored, which gives the
+same outputs, and the integrator's compiled loop makes these calls itself (``compiled``,
+``rotor_host.coupling.fmu_kernel``; for the Python FMU its C entry points run the slave's Python).
+A step the compiled loop hands back after a discard is asked again from Python at the same
+inputs: the instance is restored to its own state first (``_forget_discard``), since an FMU
+refuses an unchanged retry after a discard. Any other FMU (a foreign one, a native Taylor or
+Reynolds FMU, the Python FMU of another internal) keeps the save and restore, in Python.
 
 A pythonfmu FMU runs its slave in this interpreter: a Ctrl-C raised inside it would come back
 as an FMI error, so signals are held while an FMU call runs (``bearing_fmu.io.exits.deferred``)
