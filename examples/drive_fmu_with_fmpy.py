@@ -115,13 +115,15 @@ class BearingInstance:
         return bool(value) if v.type == "Boolean" else value
 
     def step(self, h: float, y, z, vy, vz, omega) -> dict:
-        """Set the state for the end of the step, doStep(t, h), read the outputs.
+        """Set the state for the end of the step, doStep(t, h), read the outputs; t advances to
+        t + h (a step starts where the last one ended: the FMU refuses another time).
         A discarded step raises fmpy's FMICallException (status 2); see ``messages``."""
         b = self._in
         b[0], b[1], b[2], b[3], b[4] = y, z, vy, vz, omega
         f = self.fmu
         f.fmi2SetReal(f.component, self._vr_in, 5, b)
         f.fmi2DoStep(f.component, self.t, h, 0)  # fmpy raises on status >= discard
+        self.t += h
         f.fmi2GetReal(f.component, self._vr_out, len(OUTPUTS), self._out)
         return dict(zip(OUTPUTS, self._out))
 
@@ -130,14 +132,15 @@ class BearingInstance:
         """Outputs for each trial end-of-step state of a Newton iteration, then leave the FMU
         at t + h with the last state (the accepted iterate)."""
         saved = self.fmu.getFMUstate()  # once per step
+        t = self.t
         try:
             out = []
             for s in states:
                 self.fmu.setFMUstate(saved)  # back to t
+                self.t = t
                 out.append(self.step(h, *s))
         finally:
             self.fmu.freeFMUstate(saved)
-        self.t += h
         return out
 
     def close(self):
@@ -157,16 +160,16 @@ def timing(fmu, parameters: dict, state=(10e-6, -40e-6, 1e-3, 0.0, OMEGA), n=200
         t0 = time.perf_counter()
         inst.step(h, *state)
         times["first_step"] = time.perf_counter() - t0
-        inst.t += h
         t0 = time.perf_counter()
         for _ in range(n):
             inst.step(h, *state)
-            inst.t += h
         times["step"] = (time.perf_counter() - t0) / n
         saved = inst.fmu.getFMUstate()
+        t_saved = inst.t
         t0 = time.perf_counter()
         for _ in range(n):
             inst.fmu.setFMUstate(saved)
+            inst.t = t_saved
             inst.step(h, *state)
         times["iterate"] = (time.perf_counter() - t0) / n
         # the FMI overhead alone: restore + setReal + doStep + getReal minus the internal

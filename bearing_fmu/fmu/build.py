@@ -231,6 +231,7 @@ def _postprocess(xml_bytes: bytes, pkg: str, bearing: dict | None = None, record
     from ..physics.params import BearingParams
     from . import meta as fmu_meta
     from .slave import ENUMERATIONS, VARIABLES, BearingFMU
+    from .variables import MEMORYLESS
 
     table = {v[0]: v for v in VARIABLES}
     for k, v in (bearing or {}).items():
@@ -283,6 +284,9 @@ def _postprocess(xml_bytes: bytes, pkg: str, bearing: dict | None = None, record
         fmu_meta.place(root, fmu_meta.unit_definitions(used_units))
     fmu_meta.place(root, fmu_meta.type_definitions(
         [(string, list(enumerate(items, start=1))) for string, items in ENUMERATIONS.values()]))
+
+    # map and linear (thermal off) are memoryless: a master may iterate them without FMU states
+    fmu_meta.place(root, fmu_meta.memoryless_annotation(MEMORYLESS))
 
     structure = root.find("ModelStructure")
     for child in list(structure):
@@ -431,7 +435,7 @@ def build_fmu(output, surrogate=None, bearing=None, bearing_source: str = "") ->
     if output.suffix != ".fmu":
         raise ValueError(f"build_fmu: output {str(output)!r} must end in .fmu")
     if bearing is not None:
-        from .ports import port_defaults
+        from .ports import port_defaults, supply_starts
 
         bore_and_oil = port_defaults(bearing)  # refuses what the parameters cannot hold, before building
     if surrogate is None:
@@ -463,7 +467,8 @@ def build_fmu(output, surrogate=None, bearing=None, bearing_source: str = "") ->
                                  canGetAndSetFMUstate=True, canSerializeFMUstate=True)
             defaults = None
             if bearing is not None:
-                defaults = {**bearing.as_dict(), "source": str(bearing_source) or "given to build_fmu", **bore_and_oil}
+                defaults = {**bearing.as_dict(), "source": str(bearing_source) or "given to build_fmu", **bore_and_oil,
+                            **supply_starts(bearing)}
             record = fmu_meta.build_record("python", registry.names(), "reynolds", bearing or PAPER_BEARING,
                                            bearing_source, surrogates)
             _rewrite_zip(tmp_fmu, pkg, defaults, record)

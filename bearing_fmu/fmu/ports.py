@@ -196,6 +196,19 @@ def port_defaults(params) -> dict:
     return out
 
 
+START_NAMES = ("T_supply", "T_eff", "mu_eff")  # the thermal ports' starts a bearing file gives
+
+
+def supply_starts(params) -> dict:
+    """The thermal ports' start values of a bearing with an oil law (``BearingParams.oil``): T_supply
+    and T_eff at the file's supply temperature [K], mu_eff the oil's viscosity there [Pa s] (the
+    bearing's mu, which a file with [oil] takes from the law); {} without one (the rows' defaults)."""
+    oil = params.oil
+    if oil is None:
+        return {}
+    return {"T_supply": float(oil.T_supply), "T_eff": float(oil.T_supply), "mu_eff": float(oil.mu(oil.T_supply))}
+
+
 def check_thermal(thermal: bool, oil: Oil | None, spec, internal=None) -> None:
     """ValueError naming ``thermal`` when the thermal model cannot run: no oil law, or an internal
     without the film's flows (``Capabilities.film_flow``; with the built ``internal``, its own

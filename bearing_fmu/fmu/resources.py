@@ -11,6 +11,7 @@ Bundled into the FMU with the rest of the package; nothing here imports pythonfm
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
 from ..internals import registry
@@ -128,6 +129,10 @@ def port_defaults(resources) -> dict:
         if not isinstance(data, dict):
             raise ValueError("not a JSON object")
         for name, value in data.items():
+            if name in ports.START_NAMES:  # a thermal port's start (ports.supply_starts)
+                if isinstance(value, (str, bool)) or value is None or not 0.0 < value < math.inf:
+                    raise ValueError(f"{name} = {value!r} must be a finite number > 0")
+                continue
             if name not in ports.PARAMETER_NAMES:
                 raise ValueError(f"{name!r} is not a bore or oil parameter of the FMU")
             if name == "oil_law" and value not in ports.OIL_LAWS:

@@ -17,11 +17,15 @@ fmi2Fatal with the instance released. The build patches pythonfmu's binary
   value reference, a parameter set after initialisation, a non-positive or non-finite step
   size or time, doStep before a successful initialisation, any call out of the FMI 2.0 calling
   sequence (``fmi_order``), a freed FMU state;
-* a state the internal cannot evaluate (journal at the wall, a non-finite input) discards
-  the step: ``do_step`` logs why (status Discard) and returns False; the outputs keep their
-  last valid values and the instance stays usable (restore a state, set valid inputs, step
-  on). fmi2Terminated stays false (patched binary: pythonfmu set it at every discard); a
-  doStep again at the same refused inputs raises (a master retrying unchanged would loop);
+* a non-finite input is refused by setReal (the input keeps its value); a doStep whose
+  currentCommunicationPoint is not where the last step ended raises, unless the internal is
+  memoryless (``variables.MEMORYLESS``, thermal off: any point, as the model description declares);
+* a state the internal cannot evaluate (journal at the wall, another speed than a linear
+  model's) discards the step: ``do_step`` logs why (status Discard) and returns False; the
+  outputs keep their last valid values and the instance stays usable (restore a state, set
+  valid inputs, step on). fmi2Terminated stays false (patched binary: pythonfmu set it at every
+  discard); a doStep again at the same refused inputs, bit for bit, raises (a master retrying
+  unchanged would loop);
 * outputs read in Initialization Mode are computed from the inputs and parameters set so far.
 
 Without the patches (``resources/pythonfmu_patches.json`` says which are in; the Windows
@@ -31,7 +35,10 @@ first discard and the first error of an instance are also printed to stderr (``L
 
 The FMU state (fmi2GetFMUstate) is a small list (tag, time, inputs and outputs;
 ``fmi_order.FMUState``: recognised once freed); the internal is not part of it (it is fixed
-after initialisation), so saving and restoring costs a few microseconds. A Taylor internal's
+after initialisation), so saving and restoring costs a few microseconds; serialised, it carries a
+checksum, and a state read back is checked (``pyslave/state.py``). A memoryless internal with a
+compiled kernel (``internals.compiled``) is evaluated through it in a step: the same numbers as
+``force_and_jacobian`` at a third of its cost (``benchmarks/python_fmu_step.py``). A Taylor internal's
 domain warning comes once per excursion and the count at terminate (``_excursion``).
 
 This module is the class and its life cycle (instantiate, initialise, terminate); its parts are in
@@ -81,6 +88,7 @@ class BearingFMU(VariableAccess, Stepping, StateSaving, CallRules, Fmi2Slave):
         self._internal_name = ""
         self._choices_built = {}  # the String choices the internal was built with (_choices)
         self._jacobian = None
+        self._kernel = None  # the internal's compiled kernel, when a step may call it (stepping._kernel_of)
         self._params = None
         self._oil = None  # the oil law of the thermal model, when thermal is true (ports.py)
         self._enter(INSTANTIATED)
@@ -88,6 +96,8 @@ class BearingFMU(VariableAccess, Stepping, StateSaving, CallRules, Fmi2Slave):
         self._init_error = None
         self._refused = {}  # parameter name -> why its last set was refused (fails the initialisation)
         self._discarded = None  # the inputs of the last discarded step (None after a good one)
+        self._refused_t = 0.0  # where that step started [s]
+        self._memoryless = False  # the internal built is memoryless (variables.MEMORYLESS) with thermal off
         self._t = 0.0
         self._raises = status_patched(self.resources)  # an exception gives fmi2Error, not fmi2Fatal
         # the logger's layout is known for the binary the patches verified, and only for that one

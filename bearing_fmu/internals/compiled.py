@@ -40,7 +40,8 @@ from numba.extending import intrinsic
 warnings.filterwarnings("ignore", message="First-class function type feature is experimental",
                         category=NumbaExperimentalFeatureWarning)
 
-__all__ = ["KERNEL_SIG", "OUT_SIZE", "CompiledForce", "address", "advance", "as_int64", "function_at", "kernel_at", "evaluate"]
+__all__ = ["KERNEL_SIG", "OUT_SIZE", "CompiledForce", "address", "advance", "as_int64", "call_kernel", "function_at",
+           "kernel_at", "evaluate"]
 
 KERNEL_SIG = types.int64(types.CPointer(types.float64), types.float64, types.float64, types.float64,
                          types.float64, types.float64, types.CPointer(types.float64))
@@ -131,7 +132,10 @@ class CompiledForce:
 
 
 @njit(cache=True)
-def _call(kernel_address, data, y, z, vy, vz, omega, out):
+def call_kernel(kernel_address, data, y, z, vy, vz, omega, out):
+    """One call of the kernel at ``kernel_address`` (``CompiledForce.address``) from Python: its
+    status, ``out`` (float64 (OUT_SIZE,)) filled. About 1 us, a third of a ``force_and_jacobian``
+    of the force map (the Python FMU's step of a memoryless internal)."""
     kernel = kernel_at(kernel_address)
     return kernel(address(data.ctypes.data), y, z, vy, vz, omega, address(out.ctypes.data))
 
@@ -140,6 +144,6 @@ def evaluate(cf: CompiledForce, y: float, z: float, vy: float, vz: float, omega:
     """One call of the kernel from Python (tests, contract checks): (status, F (2,), dF/dq
     (2, 2), dF/dv (2, 2))."""
     out = np.zeros(OUT_SIZE)
-    status = _call(cf.address, cf.data, float(y), float(z), float(vy), float(vz), float(omega), out)
+    status = call_kernel(cf.address, cf.data, float(y), float(z), float(vy), float(vz), float(omega), out)
     J = out[2:].reshape(2, 4)
     return int(status), out[:2].copy(), J[:, :2].copy(), J[:, 2:].copy()

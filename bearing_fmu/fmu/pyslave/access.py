@@ -3,6 +3,7 @@ and set by value reference (fast paths for the host's per-iteration getReal / se
 parameter checked alone when it is set."""
 
 import math
+import operator
 
 from pythonfmu import Boolean, Fmi2Causality, Fmi2Variability, Integer, Real, String
 
@@ -18,6 +19,14 @@ FILE_OPTIONS = {o.name for o in registry.all_options() if o.file}
 OPTIONS = {o.name: o for o in registry.all_options()}
 UNITS = {v[0]: v[3] for v in VARIABLES}
 _INF = math.inf
+
+
+def real_getter(names):
+    """A function of the slave giving its attributes ``names`` as a list of floats (one C call)."""
+    get = operator.attrgetter(*names)
+    if len(names) == 1:
+        return lambda obj: [float(get(obj))]
+    return lambda obj: list(map(float, get(obj)))
 
 
 class VariableAccess:
@@ -90,6 +99,9 @@ class VariableAccess:
             if causality == OUTPUT:
                 errors.append(f"{name} is an output and cannot be set")
                 continue
+            if causality == INPUT and typ == "Real" and not math.isfinite(cast(value)):
+                errors.append(f"input {name} = {value!r} is not finite; it keeps {getattr(self, name)!r}")
+                continue
             if causality == PARAMETER:
                 if self._initialized:
                     errors.append(f"parameter {name} is fixed after initialisation (variability fixed); "
@@ -134,9 +146,12 @@ class VariableAccess:
         return value
 
     def get_real(self, vrs):
-        try:  # fast path: every reference a Real variable (the host's per-iteration call)
-            names = self._real_get
-            return [float(getattr(self, names[vr])) for vr in vrs]
+        try:  # fast path: every reference a Real variable (the host's per-iteration call): one C call
+            key = tuple(vrs)
+            getter = self._real_getters.get(key)
+            if getter is None:  # first time for this list (a KeyError takes the checked path)
+                getter = self._real_getters[key] = real_getter([self._real_get[vr] for vr in vrs])
+            return getter(self)
         except Exception:  # noqa: BLE001 - the checked path computes outputs in Initialization Mode, or refuses
             return self._get(vrs, "Real", float, math.nan)
 
@@ -150,10 +165,13 @@ class VariableAccess:
         return self._get(vrs, "String", str, "")
 
     def set_real(self, vrs, values):
-        try:  # fast path: Real inputs only (the host's per-iteration call); idempotent on fallback
+        try:  # fast path: finite Real inputs only (the host's per-iteration call); idempotent on fallback
             names = self._real_inputs
             for vr, value in zip(vrs, values):
-                setattr(self, names[vr], float(value))
+                value = float(value)
+                if value - value != 0.0:  # inf or nan: the checked path refuses it by name
+                    raise ValueError
+                setattr(self, names[vr], value)
         except Exception:  # noqa: BLE001 - the checked path applies the rules and refuses
             self._set(vrs, values, "Real", float)
 

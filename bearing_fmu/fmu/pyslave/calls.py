@@ -79,6 +79,7 @@ class CallRules:
         self._real_get = ({} if mode is INSTANTIATED else self._real_no_outputs if mode is INIT
                           else self._real_names)
         self._real_inputs = {} if mode is TERMINATED else self._all_inputs
+        self._real_getters = {}  # get_real's per value-reference list (access.py), for this mode
 
     @staticmethod
     def _describe(exc: BaseException) -> str:

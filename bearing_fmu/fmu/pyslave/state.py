@@ -1,17 +1,56 @@
 """The slave's FMU state (fmi2GetFMUstate and the rest): the time and every input and output as
 one tuple (``order.FMUState``: recognised once freed); the internal is not part of it (it is
-fixed after initialisation), so saving and restoring costs a few microseconds."""
+fixed after initialisation), so saving and restoring costs a few microseconds.
 
+A serialised state carries a checksum (SHA-256 of its JSON) and is checked when it is read back
+(``sound``): its tag and length, the time and every value finite, each in its range
+(out_of_domain a Boolean, eccentricity >= 0, mu_eff > 0); fmi2SetFMUstate checks the tag, the
+length and that it was not freed (a state object is the FMU's own, made by fmi2GetFMUstate or
+read back checked). A state that fails is refused with fmi2Error and the instance (or the state
+given to fmi2DeSerializeFMUstate) keeps what it had."""
+
+import hashlib
 import json
+import math
 import operator
 
 from ..order import FMUState, is_freed
 from ..variables import INPUTS, OUTPUTS
 from .calls import FMIError
 
-STATE_TAG = "bearing_fmu.fmu.slave/2"  # /2: values as one tuple
+STATE_TAG = "bearing_fmu.fmu.slave/3"  # /3: checked values, a checksum when serialised
 STATE_NAMES = INPUTS + OUTPUTS
 STATE_VALUES = operator.attrgetter(*STATE_NAMES)
+_POSITIVE = ("mu_eff",)  # > 0 (T_supply and T_eff, its copy with thermal off, may be any number then)
+_NOT_NEGATIVE = ("eccentricity",)  # >= 0
+
+
+def sound(state) -> str:
+    """Why ``state`` is not a usable state of this FMU ("" when it is)."""
+    if is_freed(state):
+        return "this FMU state was freed (fmi2FreeFMUstate)"
+    try:
+        tag, t, values = state
+        if tag != STATE_TAG or len(values) != len(STATE_NAMES):
+            return f"not a {STATE_TAG} state of this FMU"
+    except (TypeError, ValueError):
+        return f"not a {STATE_TAG} state of this FMU"
+    if not isinstance(t, float) or not math.isfinite(t):
+        return f"its time {t!r} s is not a finite number"
+    for name, value in zip(STATE_NAMES, values):
+        if name == "out_of_domain":
+            if not isinstance(value, bool):
+                return f"out_of_domain = {value!r} is not a Boolean"
+            continue
+        if not isinstance(value, float) or not math.isfinite(value):
+            return f"{name} = {value!r} is not a finite number"
+        if (name in _POSITIVE and not value > 0.0) or (name in _NOT_NEGATIVE and value < 0.0):
+            return f"{name} = {value!r} is out of its range ({'> 0' if name in _POSITIVE else '>= 0'})"
+    return ""
+
+
+def _checksum(payload: list) -> str:
+    return hashlib.sha256(json.dumps(payload).encode("utf-8")).hexdigest()
 
 
 class StateSaving:
@@ -31,10 +70,9 @@ class StateSaving:
                 raise ValueError("this FMU state was freed (fmi2FreeFMUstate)")
             if len(state) != 3 or state[0] != STATE_TAG or len(state[2]) != len(STATE_NAMES):
                 raise ValueError(f"not a {STATE_TAG} state of this FMU")
-            t = float(state[1])
         except Exception as exc:  # noqa: BLE001
             return self._fail(f"setFMUstate: {exc}; the instance keeps its state")
-        self._t = t
+        self._t = state[1]
         self.__dict__.update(zip(STATE_NAMES, state[2]))
         self._discarded = None  # a restored state may be stepped with any inputs
 
@@ -44,8 +82,21 @@ class StateSaving:
     def _fmu_state_to_bytes(state) -> bytes:
         if is_freed(state):
             raise FMIError("serializing an FMU state: this FMU state was freed (fmi2FreeFMUstate)")
-        return json.dumps(list(state)).encode("utf-8")
+        payload = [state[0], state[1], list(state[2])]
+        return json.dumps(payload + [_checksum(payload)]).encode("utf-8")
 
     @staticmethod
     def _fmu_state_from_bytes(data: bytes):
-        return FMUState(json.loads(data.decode("utf-8")))
+        try:
+            *payload, checksum = json.loads(bytes(data).decode("utf-8"))
+        except (ValueError, TypeError, UnicodeDecodeError):
+            raise FMIError(f"deserializing an FMU state: not a serialised {STATE_TAG} state (unreadable); the FMU "
+                           "state given keeps its contents") from None
+        if len(payload) != 3 or not isinstance(payload[2], list) or checksum != _checksum(payload):
+            raise FMIError(f"deserializing an FMU state: its checksum does not match its contents (damaged or not a "
+                           f"{STATE_TAG} state); the FMU state given keeps its contents")
+        state = FMUState((payload[0], payload[1], tuple(payload[2])))
+        why = sound(state)
+        if why:
+            raise FMIError(f"deserializing an FMU state: {why}; the FMU state given keeps its contents")
+        return state

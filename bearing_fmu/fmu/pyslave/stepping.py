@@ -8,16 +8,17 @@ import math
 import os
 from pathlib import Path
 
+import numpy as np
 from pythonfmu.enums import Fmi2Status
 
 from ...internals import registry
-from ...internals.registry import BearingStateError, Context, check_finite
+from ...internals.registry import BearingStateError, Context
 from ...physics.params import BearingParams
 from .. import ports
 from ..order import INIT, STEP, refusal
 from ..resources import SURROGATE_DIR
 from .access import FILE_OPTIONS
-from ..variables import ENUMERATIONS, INPUTS, PARAMETERS, enum_value
+from ..variables import ENUMERATIONS, INPUTS, MEMORYLESS, PARAMETERS, enum_value
 
 _INF = math.inf
 
@@ -70,8 +71,24 @@ class Stepping:
         ports.check_thermal(self.thermal, oil, spec, internal)  # a map file may lack the flow tables
         self._internal = internal
         self._internal_name = spec.name
+        self._memoryless = spec.name in MEMORYLESS and not self.thermal  # any currentCommunicationPoint
         self._jacobian = getattr(internal, "force_and_jacobian", None)
         self._guard = internal if hasattr(internal, "outside") else None  # a domain guard: its excursion flag
+        self._kernel = self._kernel_of(internal, spec)
+
+    def _kernel_of(self, internal, spec):
+        """(call, address, data, out, compiled force) of the internal's compiled kernel
+        (``internals.compiled``: the same numbers as force_and_jacobian, a third of its cost from
+        Python) when a step may use it: a memoryless internal (thermal off) keeping no flag of its
+        own per call (``last_out_of_domain``) and counting nothing (``sync``); else None."""
+        if not (self._memoryless and spec.can.compiled) or hasattr(internal, "last_out_of_domain"):
+            return None
+        cf = internal.compiled_force()
+        if cf is None or cf.sync is not None:
+            return None
+        from ...internals.compiled import OUT_SIZE, call_kernel
+
+        return call_kernel, cf.address, cf.data, np.zeros(OUT_SIZE), cf
 
     def _resource_file(self, name: str) -> Path:
         folder = Path(self.resources or ".") / SURROGATE_DIR
@@ -115,16 +132,24 @@ class Stepping:
             return self._fail(refusal("doStep", self._mode)) or False
         if not (0.0 < step_size < _INF and -_INF < current_time < _INF and t < _INF):
             return self._bad_step(current_time, step_size)
-        state = tuple(float(getattr(self, name)).hex() for name in INPUTS)  # T_supply too
-        if state == self._discarded:  # no fmi2Terminated: a master retrying unchanged would loop forever
-            return self._fail(f"doStep: step to t = {t:.10g} s refused: the inputs of the step discarded just before, "
-                              "unchanged (the state is refused again whatever the step size); set other inputs or "
-                              "restore an FMU state") or False
+        # where the last step ended (or the start time): a step from elsewhere would skip or repeat
+        # time the FMU's state went through (T_eff, Taylor's excursions); a memoryless internal
+        # (variables.MEMORYLESS, thermal off) declares any point allowed (docs/fmu.md)
+        if not self._memoryless and abs(current_time - self._t) > 1e-9 * max(1.0, abs(self._t)) + 1e-6 * step_size:
+            return self._fail(f"doStep: currentCommunicationPoint = {current_time!r} s is not where the last step "
+                              f"ended (t = {self._t!r} s; the start time before the first step): restore an FMU "
+                              "state to step from another time") or False
+        if self._discarded is not None:  # no fmi2Terminated: a master retrying unchanged would loop forever
+            if self._step_inputs() == self._discarded:
+                return self._fail(f"doStep: step to t = {t:.10g} s refused: the step from t = {self._refused_t:.10g} "
+                                  "s was discarded and the inputs are unchanged (the state is refused again whatever "
+                                  "the step size); set other inputs or restore an FMU state") or False
         try:
             self._step_outputs(step_size)
         except BearingStateError as exc:
             self._log(f"{exc} at t = {t:.10g} s", Fmi2Status.discard)
-            self._discarded = state
+            self._discarded = self._step_inputs()
+            self._refused_t = current_time
             return False
         except Exception as exc:  # noqa: BLE001 - a failure of the internal itself, not of the state
             return self._fail(f"doStep: step to t = {t:.10g} s failed in the {self._internal_name} internal: "
@@ -132,6 +157,10 @@ class Stepping:
         self._discarded = None
         self._t = t
         return True
+
+    def _step_inputs(self) -> tuple:
+        """The inputs a step is taken at (T_supply too), bit for bit: what a retry is compared by."""
+        return tuple(float(getattr(self, name)).hex() for name in INPUTS)
 
     def _bad_step(self, current_time, step_size) -> bool:
         if not 0.0 < step_size < _INF:
@@ -149,23 +178,33 @@ class Stepping:
         BearingStateError (outputs untouched). With thermal on, T_eff lags over a step of ``dt``
         [s] from its committed value; ``dt`` None: quasi-static (Initialization Mode)."""
         y, z, vy, vz, omega = self.y, self.z, self.vy, self.vz, self.omega
-        params = self._params
-        check_finite(y, z, vy, vz, omega)  # the internals refuse the wall themselves where they must
+        params = self._params  # the inputs are finite: setReal refuses others, a state read back is checked
         eps = math.hypot(y, z) / params.CR
         internal = self._internal
         if self._guard is not None:  # an excursion begins where the committed state (an FMU state's) was inside
             self._guard.outside = self.out_of_domain
         self._pending = []
         try:
-            if self.compute_tangent:
+            kernel = self._kernel
+            if self.compute_tangent and kernel is not None and kernel[0](kernel[1], kernel[2], y, z, vy, vz, omega,
+                                                                          kernel[3]) == 0:
+                # out: F (2) and J (2, 4) = dF/d(y, z, vy, vz) row-major; a refused state (status
+                # not 0) is asked again below, where force_and_jacobian raises with its message
+                f0, f1, q00, q01, v00, v01, q10, q11, v10, v11 = kernel[3].tolist()
+                f = (f0, f1)
+                tangent = (-q00, -q01, -q10, -q11, -v00, -v01, -v10, -v11)
+            elif self.compute_tangent:
                 if self._jacobian is not None:
                     f, dq, dv = self._jacobian(y, z, vy, vz, omega)
                 else:
                     from ...physics.statics import film_jacobian
 
                     f, dq, dv = film_jacobian(internal, y, z, vy, vz, omega)
-                tangent = (-float(dq[0, 0]), -float(dq[0, 1]), -float(dq[1, 0]), -float(dq[1, 1]),
-                           -float(dv[0, 0]), -float(dv[0, 1]), -float(dv[1, 0]), -float(dv[1, 1]))
+                if type(dq) is not np.ndarray or type(dv) is not np.ndarray:
+                    dq, dv = np.asarray(dq, dtype=float), np.asarray(dv, dtype=float)
+                (q00, q01), (q10, q11) = dq.tolist()  # Python floats: the same values as float() of each
+                (v00, v01), (v10, v11) = dv.tolist()
+                tangent = (-q00, -q01, -q10, -q11, -v00, -v01, -v10, -v11)
             else:
                 f = internal.force(y, z, vy, vz, omega)
                 tangent = None
@@ -182,7 +221,9 @@ class Stepping:
             tangent = None if tangent is None else tuple(factor * t for t in tangent)
         else:
             heat = (self.T_supply, params.mu, 0.0, 0.0)
-        if not (math.isfinite(fy) and math.isfinite(fz)) or (tangent and not all(map(math.isfinite, tangent))):
+        total = fy + fz + (sum(tangent) if tangent else 0.0)  # finite when every term is (else checked one by one)
+        if total - total != 0.0 and (not (math.isfinite(fy) and math.isfinite(fz))
+                                     or (tangent and not all(map(math.isfinite, tangent)))):
             raise BearingStateError(
                 f"the {self._internal_name} internal returned a non-finite force or tangent at "
                 f"y = {y:.6g} m, z = {z:.6g} m, vy = {vy:.6g} m/s, vz = {vz:.6g} m/s, omega = {omega:.6g} rad/s")
@@ -191,7 +232,7 @@ class Stepping:
         self.Fy, self.Fz = fy, fz
         self.eccentricity = eps
         self.h_min = params.CR * (1.0 - eps)
-        self.out_of_domain = ood
+        self.out_of_domain = bool(ood)
         self.T_eff, self.mu_eff, self.P_loss, self.Q_side = heat
         if tangent is not None:
             (self.Kyy, self.Kyz, self.Kzy, self.Kzz, self.Cyy, self.Cyz, self.Czy, self.Czz) = tangent
