@@ -17,6 +17,7 @@ by a kill is ignored.
 from __future__ import annotations
 
 import json
+import sys
 import os
 import signal
 import time
@@ -61,19 +62,40 @@ class Partial:
 
     def start(self, resumed: bool) -> None:
         """Open for appending; a fresh build (``resumed`` False) writes a new header first."""
-        self.path.parent.mkdir(parents=True, exist_ok=True)
-        if resumed:
-            self._file = open(self.path, "a", encoding="utf-8")
-            return
-        self._file = open(self.path, "w", encoding="utf-8")
-        self._file.write(json.dumps({"format": FORMAT, "key": self.key, "rows": self.n_rows}) + "\n")
-        self._file.flush()
+        try:
+            self.path.parent.mkdir(parents=True, exist_ok=True)
+            if resumed:
+                self._file = open(self.path, "a", encoding="utf-8")
+                return
+            self._file = open(self.path, "w", encoding="utf-8")
+            self._file.write(json.dumps({"format": FORMAT, "key": self.key, "rows": self.n_rows}) + "\n")
+            self._file.flush()
+        except OSError as exc:
+            self._refused(exc)
 
     def add(self, i: int, values) -> None:
         """Append row ``i`` (its arrays, or None), flushed: a kill after this keeps it."""
+        if self._file is None:  # refused (a full disk): the build goes on without it
+            return
         vals = [None if v is None else np.asarray(v, float).tolist() for v in values]
-        self._file.write(json.dumps({"row": i, "values": vals}, allow_nan=False) + "\n")
-        self._file.flush()
+        try:
+            self._file.write(json.dumps({"row": i, "values": vals}, allow_nan=False) + "\n")
+            self._file.flush()
+        except OSError as exc:
+            self._refused(exc)
+
+    def _refused(self, exc: OSError) -> None:
+        """A partial file the folder refuses (full, read-only): one warning, and the build goes on
+        (its result is written, or rescued, at the end); only an interruption would lose its rows."""
+        print(f"warning: the partial file {self.path} cannot be written ({exc.strerror or exc}): the build goes on, "
+              "but an interruption now loses its rows", file=sys.stderr, flush=True)
+        if self._file is not None:
+            try:
+                self._file.close()
+            except OSError:
+                pass
+        self._file = None
+        self.path.unlink(missing_ok=True)
 
     def close(self) -> None:
         if self._file is not None:

@@ -28,7 +28,6 @@ from bearing_fmu.internals.registry import Context
 from bearing_fmu.io.cache import cache_dir, source_digest
 from bearing_fmu.io.exits import as_interrupted, handled, note_kept
 from bearing_fmu.io.outputs import claim, ensure_writable, savez, write_json
-from bearing_fmu.physics.feed import place_feeds
 
 from ..integrate.banded import is_sparse
 from ..integrate.equilibrium import solve_part, static_equilibrium
@@ -216,6 +215,10 @@ def _native_fmu(scene: Scene, work_dir: Path, bearing=None) -> Path:
 
 def _place_feeds(scene: Scene, rotor: Rotor, loads) -> None:
     """Feed lines at the thickest film placed at the scene's speed, where they stay for the run."""
+    if not any(p.geometry.feed_unplaced for p in rotor.bearings):
+        return  # (its module loads the Reynolds solver: a Taylor scene never does)
+    from bearing_fmu.physics.feed import place_feeds
+
     rotor.bearings = place_feeds(rotor.bearings, loads, scene.omega, f"{scene.source}: ")
 
 
@@ -426,7 +429,7 @@ class _Writer:
                                           / CR).tolist()),
         })
         if status != "running":  # the film's peak pressure where each journal came closest to its bore
-            meta.update(peak_pressures(rotor.bearings, arrays))
+            meta.update(peak_pressures(rotor.bearings, arrays, registry.get(scene.internal).can.any_state))
         if registry.get(scene.internal).can.fitted_domain and ecc.size and status != "running":
             meta.update(domain_report(scene, rotor, yz[:, bcols], vyz[:, bcols]))
             worst = max(meta["max_domain_excess"])

@@ -5,8 +5,8 @@ The peak pressure: per bearing, at the recorded state where its journal
 came closest to the bore (the largest eccentricity: where the film is thinnest and its pressure, for
 a designer's check against the bearing metal's limit, about the highest of the run).
 
-The pressure is the Reynolds field's at that state (``Reynolds.peak_pressure``), whichever internal
-ran the scene: one solve per bearing after the run, at the viscosity the film had then (``mu_eff``
+The pressure is the Reynolds field's at that state (``Reynolds.peak_pressure``), for a run whose
+internal answers for any state (the Reynolds solver, the force map): one solve per bearing after the run, at the viscosity the film had then (``mu_eff``
 of a thermal run, else the bearing's). A state the solver refuses (the journal beyond the bore, a
 tilting-pad bearing, which has no single film) gives None, said in ``peak_pressure_note``.
 """
@@ -25,17 +25,23 @@ from bearing_fmu.internals.registry import Context
 __all__ = ["domain_report", "package_versions", "peak_pressures"]
 
 
-def peak_pressures(bearings, arrays: dict) -> dict:
+def peak_pressures(bearings, arrays: dict, any_state: bool = True) -> dict:
     """{"peak_pressure_Pa", "peak_pressure_deg", "peak_pressure_t_s"}: lists over ``bearings`` (their
     BearingParams, in the order of the run's bearing columns) from the run's ``arrays`` (``y``, ``z``,
     ``vy``, ``vz`` of the recorded nodes, ``eccentricity`` and ``mu_eff`` per bearing, ``speed_hz``,
-    ``t``); empty lists before the first record."""
-    from bearing_fmu.physics.reynolds import Reynolds
-
+    ``t``); empty lists before the first record. ``any_state`` False (the run's internal is made about
+    one operating point: a Taylor surrogate, the linear model): nothing computed, which the note says
+    (the Reynolds solver is not loaded for such a run)."""
     t, ecc = arrays["t"], arrays["eccentricity"]
     out = {"peak_pressure_Pa": [], "peak_pressure_deg": [], "peak_pressure_t_s": []}
     if not t.size:
         return out
+    if not any_state:
+        out["peak_pressure_note"] = ("not computed: this run's internal answers about one operating point and "
+                                     "loads no Reynolds solver; `bearing-fmu demo` gives the peak at a state")
+        return out
+    from bearing_fmu.physics.reynolds import Reynolds
+
     cols = {int(n): i for i, n in enumerate(arrays["nodes"])}
     notes = []
     for k, (params, node) in enumerate(zip(bearings, arrays["bearing_nodes"])):
