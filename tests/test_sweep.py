@@ -331,9 +331,11 @@ def test_a_full_disk_rescues_the_runs_and_the_summary(tmp_path, scheduler, tmpfs
         assert r["files"] == [str(rescue / f"{stem}.npz"), str(rescue / f"{stem}.json")]
         assert r["rescued"][0]["path"] == str(out / f"{stem}.npz")
         assert json.loads((rescue / f"{stem}.json").read_text())["status"] == "ok"
-    last = capsys.readouterr().err.strip().splitlines()[-1]
+    cap = capsys.readouterr()
+    last = cap.err.strip().splitlines()[-1]
     assert last.startswith("rotor-host sweep: error: 7 result file(s) could not be written where asked (") and \
         last.endswith(f"No space left on device); they are in {rescue}")
+    assert f"each run's .npz/.json in {rescue}\n" in cap.out  # where they are, not the full folder
     assert sorted(p.name for p in out.iterdir()) == ["filler"]
 
 

@@ -99,7 +99,9 @@ def command(*, scene, speeds_hz=None, unbalance_g=None, settle_s: float | None =
     for r in rows:
         if r["status"] != "ok":
             print(f"  {run_label(r, unbalance)}: {r['status']}: {r['message'][:300]}")
-    print(f"wrote {', '.join(str(f) for f in files)} and each run's .npz/.json in {out}")
+    # where the runs' files are: the folder asked for, or its rescue folder (a full disk)
+    where = sorted({str(Path(f).parent) for r in rows for f in r.get("files") or []}) or [str(out)]
+    print(f"wrote {', '.join(str(f) for f in files)} and each run's .npz/.json in {' and '.join(where)}")
     return 0 if n_ok else 1
 
 
