@@ -103,3 +103,14 @@ def test_the_inputs_line_names_each_bearing_when_they_differ(tmp_path):
     line = title_line(Rotor.from_toml(rotor), rotor, "reynolds", None)
     assert "at node 3 bearing_paper.toml (full 360 deg circular bore)" in line
     assert "at node 9 bearing_paper_2groove.toml (2 axial grooves" in line
+
+
+def test_a_comparison_names_its_rotor_bearings_and_oil():
+    """`rotor-host compare` and the main job: the scene's rotor, bearing and oil, each row its internal."""
+    from rotor_host.analyses.compare import compare_inputs
+    from rotor_host.bundled import find
+    from rotor_host.scenes.scene import load_scene
+
+    line = compare_inputs(load_scene(find("scenes/paper_22hz.toml")))
+    assert line.startswith("rotor paper rotor (Table 1) (rotor_paper.toml); bearing bearing_paper.toml (full 360 deg")
+    assert line.endswith("; internal: each row's")

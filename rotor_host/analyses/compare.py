@@ -139,7 +139,7 @@ def _write(base, reference, variants, rows, runs, out_dir, stem, default_label, 
 
     table = print_table(rows)
     routes = ", ".join(dict.fromkeys(r["route"] for r in rows))
-    header = (f"# {base.description or base.name}\n\nscene {base.source}, via {routes}, "
+    header = (f"# {base.description or base.name}\n\ncomputed for: {compare_inputs(base)}\n\nscene {base.source}, via {routes}, "
               f"dt = {base.dt_s:g} s, {base.t_end_s:g} s simulated; reference: {reference.label}. "
               "Force NRMSE = RMS error / RMS of the reference's dynamic force; orbit errors on the "
               "bearing journals in % of the radial clearance; run time = integration only "
@@ -149,9 +149,18 @@ def _write(base, reference, variants, rows, runs, out_dir, stem, default_label, 
     if note:
         header += f"**{note}**\n\n"
     return [write_text(out_dir / f"compare_{stem}.md", header + table + "\n"),
-            write_json(out_dir / f"compare_{stem}.json", {"scene": str(base.source), "via": base.via,
+            write_json(out_dir / f"compare_{stem}.json", {"scene": str(base.source), "inputs": compare_inputs(base),
+                                                          "via": base.via,
                                                           "status": "interrupted" if note else "ok", "note": note,
                                                           "rows": rows})]
+
+
+def compare_inputs(base: Scene) -> str:
+    """What the comparison was computed for: the scene's rotor, bearings, oil; each row its internal."""
+    from .computed_for import scene_line
+
+    line = scene_line(base)
+    return line[:line.rindex("; internal ")] + "; internal: each row's"
 
 
 def _write_plots(base, reference, variants, rows, runs, out_dir, stem, *_) -> list[Path]:
@@ -407,4 +416,4 @@ def _paper_scenes(scenes_dir: Path, out: Path, summary: list, t_end, progress: b
         # 22 Hz: order 5; 44 Hz: order 7 with wall factor and shape columns
         sur = load_surrogate(required_file(scene, "taylor", "surrogate"))
         rows = compare(scene, *paper_variants(scene, sur), out, progress=progress, default_label=PAPER_REFERENCE)
-        summary.append(f"## {scene.description}\n\n{print_table(rows)}\n")
+        summary.append(f"## {scene.description}\n\ncomputed for: {compare_inputs(scene)}\n\n{print_table(rows)}\n")
