@@ -211,3 +211,17 @@ def test_a_full_disk_is_refused_before_any_work(tmp_path, tmpfs, capsys):
     fill(out)
     with pytest.raises(ValueError, match=r"--out .*out: cannot write there \(No space left on device\)"):
         outputs.ensure_writable(out, "--out")
+
+
+def test_an_fmu_built_into_a_full_disk_is_where_the_build_says(tmp_path, tmpfs):
+    """The FMU the folder refuses is rescued beside it and the build returns that path (a run then
+    loads it from there, instead of reporting an FMU 'not found' before the real cause)."""
+    import zipfile
+
+    from bearing_fmu.fmu.build import build_fmu
+
+    out = tmpfs(tmp_path / "fmus")
+    fill(out, leave_bytes=4096)
+    path = build_fmu(out / "b.fmu")
+    assert path == tmp_path / "fmus.rescued" / "b.fmu" and zipfile.is_zipfile(path)
+    assert [r.path for r in outputs.take_rescued()] == [str(out / "b.fmu")]

@@ -472,7 +472,9 @@ def build_fmu(output, surrogate=None, bearing=None, bearing_source: str = "") ->
             record = fmu_meta.build_record("python", registry.names(), "reynolds", bearing or PAPER_BEARING,
                                            bearing_source, surrogates)
             _rewrite_zip(tmp_fmu, pkg, defaults, record)
-            write_bytes(output, tmp_fmu.read_bytes())  # atomic: a parallel reader sees one whole FMU
+            # atomic: a parallel reader sees one whole FMU; a folder that refuses it (a full disk) has it
+            # rescued beside it, and the path returned is where it is
+            output = write_bytes(output, tmp_fmu.read_bytes())
     finally:
         # pythonfmu's builder imported the staged modules and left the stage on sys.path:
         # drop both, or a later FMU load in this process would reuse the deleted staging copy

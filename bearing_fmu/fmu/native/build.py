@@ -118,7 +118,7 @@ def build_native_fmu(output, internal: str, *, surrogate=None, map=None, bearing
         archive = Path(tmp) / "out.fmu"
         _zip(root, archive)
         output.parent.mkdir(parents=True, exist_ok=True)
-        write_bytes(output, archive.read_bytes())
+        output = write_bytes(output, archive.read_bytes())  # where it is: rescued beside a full folder
     return output
 
 
