@@ -506,8 +506,10 @@ def test_interrupt_keeps_the_speeds_done(tmp_path, capsys, monkeypatch):
     assert "interrupted by SIGINT" in err and "stability_rotor_paper_map.md (2 speed(s))" in err
     text = (tmp_path / "stability_rotor_paper_map.md").read_text()
     assert "**interrupted: the speeds above finished**" in text and text.count("\n| 2") == 2
+    assert "Computed for: rotor paper rotor (Table 1) (rotor_paper.toml); bearing bearing_paper.toml" in text
     data = json.loads((tmp_path / "stability_rotor_paper_map.json").read_text())
     assert data["status"] == "interrupted" and [p["speed_hz"] for p in data["points"]] == [20.0, 21.0]
+    assert data["inputs"].startswith("rotor paper rotor (Table 1)")
 
 
 def test_an_internal_made_about_one_point_is_refused_naming_those_valid_everywhere():

@@ -500,6 +500,7 @@ def command(*, rotor_file, speeds_hz, internal: str = "reynolds", data_files=Non
     except KeyboardInterrupt as exc:
         res = getattr(exc, "result", None)
         if res is not None and res.points:
+            res.inputs = title_line(rotor, rotor_file, internal, options, res.T_supply_K)
             write_text(out / f"{stem}.md", markdown(res) + "\n**interrupted: the speeds above finished**\n")
             write_json(out / f"{stem}.json", to_json(res, rotor_file))
             note_kept(exc, f"{out / f'{stem}.md'} ({len(res.points)} speed(s))")
