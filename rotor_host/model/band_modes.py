@@ -34,7 +34,7 @@ import math
 
 import numpy as np
 
-from .rotor import DENSE_MAX_DOF, OSCILLATORY, Rotor
+from .rotor import DENSE_MAX_DOF, OSCILLATORY, Rotor, modal_table
 
 FIRST_K = 16  # eigenvalues asked of ARPACK at first; doubled until the disk is covered
 DISK_RADIUS = 8.0  # R / w_b
@@ -63,11 +63,7 @@ def band_modes(rotor: Rotor, speed: float, bearing_K=None, bearing_C=None, up_to
     zero = ZERO_REL * _highest_frequency(M, K)
     keep = (np.abs(lam - sigma) <= radius) & (lam.imag > OSCILLATORY * np.abs(lam)) & (np.abs(lam) >= zero)
     lam, vec = lam[keep], z[:n, keep]
-    order = np.argsort(lam.imag)
-    lam, vec = lam[order], vec[:, order]
-    big = vec[np.argmax(np.abs(vec), axis=0), np.arange(vec.shape[1])]
-    vec = vec / big
-    return lam.imag / (2.0 * math.pi), -2.0 * math.pi * lam.real / lam.imag, vec
+    return modal_table(lam, vec)
 
 
 def _system(rotor: Rotor, speed: float, bearing_K, bearing_C):

@@ -469,13 +469,7 @@ class Rotor:
         lam, vec = _state_eig(self.M, Kt, Ct)
         keep = (lam.imag > OSCILLATORY * np.abs(lam)) & (np.abs(lam) >= _zero_tol(self.M, Kt))
         lam, vec = lam[keep], vec[: self.n_dof, keep]
-        order = np.argsort(lam.imag)
-        if n is not None:
-            order = order[:n]
-        lam, vec = lam[order], vec[:, order]
-        big = vec[np.argmax(np.abs(vec), axis=0), np.arange(vec.shape[1])]
-        vec = vec / big
-        return lam.imag / (2.0 * math.pi), -2.0 * math.pi * lam.real / lam.imag, vec
+        return modal_table(lam, vec, n)
 
     def whirl(self, shape: np.ndarray, node: int, *, tilt: bool = False) -> float:
         """Whirl direction of a complex mode shape at 0-based ``node``, in [-1, 1].
@@ -514,3 +508,16 @@ def _state_eigvals(M, K, C) -> np.ndarray:
 
 def _state_eig(M, K, C):
     return np.linalg.eig(_state_matrix(M, K, C))
+
+
+def modal_table(lam: np.ndarray, vec: np.ndarray, n: int | None = None):
+    """(frequencies [Hz], log decrements, shapes) of the oscillatory eigenpairs ``lam``, ``vec`` (a
+    column each, the rotor's DOFs), by increasing frequency (the first ``n``), each shape scaled by
+    its largest entry (the one all eigensolvers of the rotor share)."""
+    order = np.argsort(lam.imag)
+    if n is not None:
+        order = order[:n]
+    lam, vec = lam[order], vec[:, order]
+    big = vec[np.argmax(np.abs(vec), axis=0), np.arange(vec.shape[1])]
+    vec = vec / big
+    return lam.imag / (2.0 * math.pi), -2.0 * math.pi * lam.real / lam.imag, vec

@@ -42,7 +42,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ...model.rotor import OSCILLATORY, Rotor
+from ...model.rotor import OSCILLATORY, Rotor, modal_table
 
 
 @dataclass
@@ -158,11 +158,7 @@ def modes(rotor: Rotor, speed: float, blocks: list[PadBlock]):
     Kt = rotor.K + rotor.bearing_matrix([blk.K[:2, :2] for blk in blocks])
     keep = _kept(rotor, lam, Kt)
     lam, vec = lam[keep], vec[:n, keep]
-    order = np.argsort(lam.imag)
-    lam, vec = lam[order], vec[:, order]
-    big = vec[np.argmax(np.abs(vec), axis=0), np.arange(vec.shape[1])]
-    vec = vec / big
-    return lam.imag / (2.0 * math.pi), -2.0 * math.pi * lam.real / lam.imag, vec
+    return modal_table(lam, vec)
 
 
 def reduced_coefficients(blocks: list[PadBlock], s: complex) -> tuple[np.ndarray, np.ndarray]:
