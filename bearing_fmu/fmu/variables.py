@@ -79,10 +79,8 @@ VARIABLES = (
 )
 
 INPUTS = tuple(v[0] for v in VARIABLES if v[2] == INPUT)
-# the internals whose outputs follow the inputs and parameters alone when thermal is false (no
-# state: no time, no earlier step); the FMUs declare them (meta.memoryless_annotation), a doStep
-# may then start at any currentCommunicationPoint and a master may iterate without FMU states.
-# The native catalogue's ``memoryless`` flags say the same (a test keeps them equal)
-MEMORYLESS = ("linear", "map")
+# the internals whose outputs follow the inputs and parameters alone when thermal is false
+# (``Capabilities.memoryless``); the FMUs declare them (meta.memoryless_annotation)
+MEMORYLESS = registry.having(memoryless=True)
 OUTPUTS = tuple(v[0] for v in VARIABLES if v[2] == OUTPUT)
 PARAMETERS = tuple(v[0] for v in VARIABLES if v[2] == PARAMETER)

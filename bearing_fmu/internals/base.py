@@ -282,6 +282,9 @@ class Capabilities:
                     ``full_coefficients(y, z, omega) -> (K, C, inertia)``: the (2 + N) x (2 + N) coefficients
                     of the journal and its N own coordinates and their inertias (0: massless), which an
                     eigenproblem takes whole (``rotor_host.analyses.linear.pad_modes``).
+    memoryless    : its answer follows the journal state and its parameters alone (no time, no earlier
+                    call): its FMUs (thermal off) declare it (``fmu.meta.memoryless_annotation``), may
+                    step from any currentCommunicationPoint and be iterated without FMU states.
     """
 
     any_state: bool = False
@@ -300,6 +303,7 @@ class Capabilities:
     fmu: bool = True
     fmu_why: str = ""
     whirl_reduced: bool = False
+    memoryless: bool = False
 
 
 @dataclass(frozen=True)

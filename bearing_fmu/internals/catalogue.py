@@ -66,7 +66,7 @@ register(InternalSpec(
     ),
     uses=("reynolds", "map"),
     can=Capabilities(
-        native=True, compiled=True,
+        native=True, compiled=True, memoryless=True,
         film_flow_why="a linear model holds the force about one point, not the film's flows",
         validity="The linear model holds near its expansion point at the speed omega_lin (any other omega is "
                  "refused); it evaluates beyond the clearance circle, where it means nothing physically (h_min < 0).{made}"),
@@ -107,7 +107,7 @@ register(InternalSpec(
                file_format="bearing-fmu-force-map"),
     ),
     can=Capabilities(
-        any_state=True, native=True, compiled=True,  # the map file records its bore; the internal refuses another one
+        any_state=True, native=True, compiled=True, memoryless=True,  # the map file records its bore; the internal refuses another one
         film_flow=True,  # per file (film_flow_of): a map with its flow tables (version 3 full bore, 4 grooved)
         film_flow_why="a map file without flow tables (version 1 or 2, built before them) tabulates the force only: "
                       "rebuild it with `bearing-fmu map`",

@@ -46,8 +46,6 @@ class NativeSpec:
                     the speed: 0, 1) as set? (model_config.h BN_BEARING_IN_FORCE, BN_SPEED_IN_FORCE)
     bore          : "full" (the full bore only), "compiled" (any bore, compiled in) or "data" (its
                     data file's, checked against the bearing's at build)
-    memoryless    : its outputs follow the inputs and parameters alone (a master may iterate it
-                    without saving FMU states)
     own_bearing   : its data file holds the bearing and the speed (the build's bearing defaults
                     to it; in an FMU of several it is every internal's)
     speed_start   : the option the start speed sets (``native_model(omega=...)``), "" when refused:
@@ -68,11 +66,15 @@ class NativeSpec:
     flow_sources: tuple[str, ...] = ()
     force_depends: tuple[int, int] = (1, 1)
     bore: str = "full"
-    memoryless: bool = False
     own_bearing: bool = False
     speed_start: str = "_omega"
     speed_why: str = ""
     companions: tuple[tuple[str, str, str, str], ...] = ()
+
+    @property
+    def memoryless(self) -> bool:
+        """Its outputs follow the inputs and parameters alone (``Capabilities.memoryless``)."""
+        return registry.get(self.name).can.memoryless
     host_build: dict | None = None
     host_values: str = ""
 
@@ -106,11 +108,10 @@ NATIVE: dict[str, NativeSpec] = {s.name: s for s in (
     NativeSpec("linear", f"{_MODELS}.linear:linear_model",
                ("omega_lin", "lin_y0", "lin_z0", "lin_Fy0", "lin_Fz0", "lin_Kyy", "lin_Kyz", "lin_Kzy", "lin_Kzz",
                 "lin_Cyy", "lin_Cyz", "lin_Czy", "lin_Czz"),
-               ("internal_linear.c",), force_depends=(0, 0), memoryless=True, speed_start="omega_lin",
+               ("internal_linear.c",), force_depends=(0, 0), speed_start="omega_lin",
                host_build={"linear_from": "coefficients"}, host_values=f"{_MODELS}.linear:linear_starts"),
     NativeSpec("map", f"{_MODELS}.map:map_model", ("map",), ("internal_map.c",),
-               ("py_mod.h", "film_friction.h", "map_spline.h"), ("map_flows.c",), force_depends=(1, 1), bore="data",
-               memoryless=True),
+               ("py_mod.h", "film_friction.h", "map_spline.h"), ("map_flows.c",), force_depends=(1, 1), bore="data"),
     NativeSpec("taylor", f"{_MODELS}.taylor:taylor_model", ("surrogate", "domain_action", "domain_limit"),
                ("internal_taylor.c",), ("film_friction.h", "taylor_internal.h"), ("taylor_film.c",),
                force_depends=(0, 0), own_bearing=True, speed_start="",

@@ -18,7 +18,7 @@ from .. import ports
 from ..order import INIT, STEP, refusal
 from ..resources import SURROGATE_DIR
 from .access import FILE_OPTIONS
-from ..variables import ENUMERATIONS, INPUTS, MEMORYLESS, PARAMETERS, enum_value
+from ..variables import ENUMERATIONS, INPUTS, PARAMETERS, enum_value
 
 _INF = math.inf
 
@@ -71,7 +71,7 @@ class Stepping:
         ports.check_thermal(self.thermal, oil, spec, internal)  # a map file may lack the flow tables
         self._internal = internal
         self._internal_name = spec.name
-        self._memoryless = spec.name in MEMORYLESS and not self.thermal  # any currentCommunicationPoint
+        self._memoryless = spec.can.memoryless and not self.thermal  # any currentCommunicationPoint
         self._jacobian = getattr(internal, "force_and_jacobian", None)
         self._guard = internal if hasattr(internal, "outside") else None  # a domain guard: its excursion flag
         self._kernel = self._kernel_of(internal, spec)
