@@ -393,14 +393,12 @@ PYTHON_FMU = "Python FMU"  # the label's tail of a variant through the Python FM
 def paper_variants(scene: Scene, surrogate) -> tuple[Variant, list[Variant]]:
     """The main job's reference and variants of ``scene`` (its Taylor ``surrogate`` loaded): each
     through its native FMU, the force map also through the Python FMU."""
-    native = [*map_variants(scene_maps(scene)), Variant(f"Taylor {surrogate.recipe}", "taylor", order=surrogate.order),
-              Variant("linear", "linear")]
     variants = []
-    for v in native:
-        v.fmu_kind = "native"
-        variants.append(v)
-        if v.internal == "map":
-            variants.append(Variant(f"{v.label}, {PYTHON_FMU}", v.internal, v.options, fmu_kind="python"))
+    for m in map_variants(scene_maps(scene)):  # each map through both FMUs
+        m.fmu_kind = "native"
+        variants += [m, Variant(f"{m.label}, {PYTHON_FMU}", m.internal, m.options, fmu_kind="python")]
+    variants += [Variant(f"Taylor {surrogate.recipe}", "taylor", order=surrogate.order, fmu_kind="native"),
+                 Variant("linear", "linear", fmu_kind="native")]
     return Variant(PAPER_REFERENCE, "reynolds", fmu_kind="native"), variants
 
 
