@@ -10,7 +10,7 @@ domain are compared with the file's and printed: they agree to round-off when th
 states are the ones the file was fitted to (the Reynolds series differ from the stored fit's
 at round-off level between machines).
 
-    python benchmarks/add_neighbours.py rotor_host/bundled/surrogates/*.json --cache-dir /work/cache-guard
+    python benchmarks/add_neighbours.py rotor_host/bundled/surrogates/*.json --cache-dir ../cache-guard
 
 Files that already have the key are left alone unless ``--force``.
 """

@@ -11,7 +11,7 @@ cached in --cache-dir), in a plain Python loop as the FMU slave calls them:
 * ``Taylor.force`` / ``force_and_jacobian`` alone, behind the guard with the stored states,
   and behind the guard with the file's bounds only (the file without its ``neighbours``).
 
-    .venv/bin/python benchmarks/bench_guard.py --cache-dir /work/cache-guard [--calls 20000]
+    .venv/bin/python benchmarks/bench_guard.py --cache-dir ../cache-guard [--calls 20000]
 """
 
 from __future__ import annotations

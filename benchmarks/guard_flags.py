@@ -8,7 +8,7 @@ flagged (d > 0, out_of_domain), by which part (bounds, nearest-neighbour), and r
 the default domain_limit 0.5 (d > 0.5). For a training scene the rows are split into the
 blocks the fit held out and the rest. The 22 Hz state (0, -0.5 CR, 0, 0) is evaluated too.
 
-    python benchmarks/guard_flags.py --cache-dir /work/cache-guard [--markdown]
+    python benchmarks/guard_flags.py --cache-dir ../cache-guard [--markdown]
 """
 from __future__ import annotations
 

@@ -554,3 +554,15 @@ def damaged_map_refused(data: dict, damage, expected: str, folder: Path, load) -
     bad.write_text(json.dumps(data))
     with pytest.raises(ValueError, match=rf"force map file {bad}: .*{expected}"):
         load(bad)
+
+
+def compliance_checker() -> Path:
+    """The FMU Compliance Checker's Linux binary beside the repository (shared/tools/, see its
+    README); in CI its absence fails the test, elsewhere it is one skip line (-rs) naming it."""
+    for base in (ROOT.parent, ROOT.parent.parent):
+        path = base / "shared" / "tools" / "fmu-compliance-checker" / "fmuCheck.linux64"
+        if path.is_file():
+            return path
+    if os.environ.get("CI"):
+        raise AssertionError("the FMU Compliance Checker is not in ../shared/tools/fmu-compliance-checker/")
+    pytest.skip("the FMU Compliance Checker (../shared/tools/fmu-compliance-checker/) is not here")

@@ -21,6 +21,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from conftest import compliance_checker
 
 fmpy = pytest.importorskip("fmpy")
 from fmpy.fmi1 import FMICallException
@@ -349,15 +350,9 @@ def test_compliance_checker_with_thermal_on(thermal_on, interface, tmp_path):
 def compliance_check(thermal_on, interface, tmp_path, orbit=(0.0, -0.3, 0.3)):
     """test_compliance_checker_with_thermal_on's run and checks of the FMU ``thermal_on``: the journal
     circles about (orbit[0], orbit[1]) CR with the radius orbit[2] CR at the start omega."""
-    import os
     import subprocess
 
-    checker = next((p for p in (ROOT.parent / "shared", ROOT.parent.parent / "shared", Path("/work/shared"))
-                    if (p / "tools" / "fmu-compliance-checker" / "fmuCheck.linux64").is_file()), None)
-    if checker is None:
-        if os.environ.get("CI"):
-            raise AssertionError("the FMU Compliance Checker is not in ../shared/tools/fmu-compliance-checker/")
-        pytest.skip("the FMU Compliance Checker (../shared/tools/fmu-compliance-checker/) is not here")
+    checker = compliance_checker()
     md = fmpy.read_model_description(str(thermal_on))
     start = {v.name: float(v.start) for v in md.modelVariables if v.name in ("omega", "CR")}
     rows = ["time,y,z,vy,vz,omega,T_supply"]
@@ -368,7 +363,7 @@ def compliance_check(thermal_on, interface, tmp_path, orbit=(0.0, -0.3, 0.3)):
                     f"{-r * w * math.sin(w * t)!r},{-r * w * math.cos(w * t)!r},{w!r},{313.15 + 2.0 * k!r}")
     (tmp_path / "in.csv").write_text("\n".join(rows) + "\n")
     log = tmp_path / "check.log"
-    done = subprocess.run(["env", "-i", str(checker / "tools" / "fmu-compliance-checker" / "fmuCheck.linux64"),
+    done = subprocess.run(["env", "-i", str(checker),
                            "-h", "1e-4", "-s", "0.01", "-k", interface, "-i", str(tmp_path / "in.csv"), "-o",
                            str(tmp_path / "out.csv"), "-e", str(log), str(thermal_on)],
                           capture_output=True, text=True, timeout=300, check=False)

@@ -6,7 +6,6 @@ once per session with all three platforms.
 """
 
 import math
-import os
 import re
 import shutil
 import subprocess
@@ -15,6 +14,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from conftest import compliance_checker
 
 fmpy = pytest.importorskip("fmpy")
 
@@ -212,17 +212,6 @@ def test_decimal_literals_parse_to_the_same_bits(every_platform, tmp_path):
 
 # ----------------------------------------------------------------------------- what a tool sees
 
-def _checker() -> Path:
-    """The FMU Compliance Checker beside the repository (shared/tools/, see its README)."""
-    for base in (ROOT.parent, ROOT.parent.parent):
-        path = base / "shared" / "tools" / "fmu-compliance-checker" / "fmuCheck.linux64"
-        if path.is_file():
-            return path
-    if os.environ.get("CI"):
-        raise AssertionError("the FMU Compliance Checker is not in ../shared/tools/fmu-compliance-checker/")
-    pytest.skip("the FMU Compliance Checker (../shared/tools/fmu-compliance-checker/) is not here")
-
-
 def _input_file(fmu: Path, path: Path) -> Path:
     """A 10 ms input signal: the journal on a small circle (0.002 CR) about the start state at the
     start speed (the state each FMU evaluates without a warning)."""
@@ -247,7 +236,7 @@ def test_compliance_checker_reports_nothing(every_platform, kind, interface, tmp
     FMU and from the checker (its summary counts, not only its exit code)."""
     fmu, _unzip = every_platform[kind]
     log = tmp_path / "check.log"
-    done = subprocess.run(["env", "-i", str(_checker()), "-h", "1e-4", "-s", "0.01", "-k", interface, "-i",
+    done = subprocess.run(["env", "-i", str(compliance_checker()), "-h", "1e-4", "-s", "0.01", "-k", interface, "-i",
                            str(_input_file(fmu, tmp_path / "in.csv")), "-o", str(tmp_path / "out.csv"), "-e", str(log),
                            str(fmu)], capture_output=True, text=True, timeout=300)
     text = log.read_text()
