@@ -19,8 +19,8 @@ it the iteration is setReal, doStep, getReal with no FMU state saved or restored
 same outputs, and the integrator's compiled loop makes these calls itself (``compiled``,
 ``rotor_host.coupling.fmu_kernel``; for the Python FMU its C entry points run the slave's Python).
 A step the compiled loop hands back after a discard is asked again from Python at the same
-inputs: the instance is restored to its own state first, since an FMU refuses an unchanged retry
-after a discard. Any other FMU keeps the save and restore; when it can get and set its state and
+inputs: each instance is restored to its own state first (``_leave_compiled``), since an FMU
+refuses an unchanged retry after a discard. Any other FMU keeps the save and restore; when it can get and set its state and
 needs no execution tool (a native Taylor or Reynolds FMU, a foreign compiled one) the compiled
 loop makes those calls too, in the same order (the kernels hand each step's saved state to the
 Python driver and back between chunks: ``compiled``); the Python FMU of another internal (it
@@ -120,7 +120,6 @@ class FMUBearings(BearingSet):
             raise FileNotFoundError(f"bearing FMU {self.fmu_path} not found; build it with `bearing-fmu build -o PATH.fmu`")
         self.log = log  # optional callable(str) for every FMU log line
         self.messages: list[list[str]] = [[] for _ in range(self.n)]
-        self._seen = [0] * self.n  # messages looked at for discards (``_forget_discards``)
         self._unzip = None
         self.instances = []
         self._states = [None] * self.n
@@ -284,8 +283,8 @@ class FMUBearings(BearingSet):
         # positive step, so probe with a tiny one and never commit it (accept restores t)
         self._static = dt == 0.0
         self._h = _STATIC_PROBE_S if self._static else self.dt
-        if self.memoryless:  # nothing to save: every iterate is setReal, doStep, getReal (a discard's
-            return  # unchanged retry: ``_forget_discard``)
+        if self.memoryless:  # nothing to save: every iterate is setReal, doStep, getReal
+            return
         with deferred():
             for k, fmu in enumerate(self.instances):
                 c, dll = fmu.component, fmu.dll
@@ -295,23 +294,6 @@ class FMUBearings(BearingSet):
                 self._check(k, "fmi2GetFMUstate", dll.fmi2GetFMUstate(c, ctypes.byref(state)))
                 self._states[k] = state
                 self._fresh[k] = True
-
-    def _forget_discard(self, k: int) -> None:
-        """A memoryless instance that discarded since the last look is restored to its own state
-        (got and set back: nothing else changes for it). A step the compiled loop hands back after
-        a discard is asked again by the Python driver from its start, at the same inputs, and an
-        FMU refuses a retry with unchanged inputs after a discard (a master looping on it would
-        never end: FMI wants other inputs or a restored state); restored, it discards the state
-        again and the step is cut, as without the compiled loop."""
-        seen, msgs = self._seen[k], self.messages[k]
-        self._seen[k] = len(msgs)
-        if any(m.startswith("[discard]") for m in msgs[seen:]):
-            fmu = self.instances[k]
-            c, dll = fmu.component, fmu.dll
-            state = ctypes.c_void_p()
-            self._check(k, "fmi2GetFMUstate", dll.fmi2GetFMUstate(c, ctypes.byref(state)))
-            self._check(k, "fmi2SetFMUstate", dll.fmi2SetFMUstate(c, state))
-            self._check(k, "fmi2FreeFMUstate", dll.fmi2FreeFMUstate(c, ctypes.byref(state)))
 
     def _bearing(self, k, y, z, vy, vz):
         # The raw ctypes functions (fmpy sets their argtypes) with buffers built once: fmpy's
@@ -323,8 +305,6 @@ class FMUBearings(BearingSet):
         try:
             if self._fresh[k] or self.memoryless:  # the instance is in the state saved, or has none
                 self._fresh[k] = False
-                if self.memoryless and len(self.messages[k]) != self._seen[k]:  # new log lines: a discard?
-                    self._forget_discard(k)
             else:
                 self._check(k, "fmi2SetFMUstate", dll.fmi2SetFMUstate(c, self._states[k]))
             b = self._buf_in
@@ -391,7 +371,20 @@ class FMUBearings(BearingSet):
         instance back at that step's start (the state its kernel saved), where the Python driver
         redoes the step from, with that state saved as ``begin_step`` saves it (the run's first
         step is redone without a ``begin_step``: its bracket was opened before the chunk); the
-        kernels save afresh at their next step."""
+        kernels save afresh at their next step. A memoryless instance is restored to its own state
+        (got and set back: nothing else changes for it): the Python driver asks the step again from
+        its start at the same inputs, and an FMU refuses an unchanged retry after a discard unless
+        a restored state says the master retries on purpose."""
+        if self.memoryless:
+            if gave_back:
+                with deferred():
+                    for k, fmu in enumerate(self.instances):
+                        c, dll = fmu.component, fmu.dll
+                        state = ctypes.c_void_p()
+                        self._check(k, "fmi2GetFMUstate", dll.fmi2GetFMUstate(c, ctypes.byref(state)))
+                        self._check(k, "fmi2SetFMUstate", dll.fmi2SetFMUstate(c, state))
+                        self._check(k, "fmi2FreeFMUstate", dll.fmi2FreeFMUstate(c, ctypes.byref(state)))
+            return
         if self._saved is None:
             return
         with deferred():
