@@ -197,7 +197,7 @@ def native_fmu_rows(n_steps: int) -> dict:
     import dataclasses
     import tempfile
 
-    from rotor_host.scenes import run as scene_run
+    from rotor_host.scenes import bearings as scene_bearings, run as scene_run
     from rotor_host.scenes.scene import load_scene
 
     rotor, f_ext, direct, q0 = problem("map", 1, 2)
@@ -210,7 +210,7 @@ def native_fmu_rows(n_steps: int) -> dict:
 
     def fmus(memoryless):
         def make():
-            b = scene_run.build_bearings(sc, rotor, loads, work)
+            b = scene_bearings.build_bearings(sc, rotor, loads, work)
             b.memoryless = memoryless and b.memoryless
             opened.append(b)
             return b

@@ -38,7 +38,7 @@ from rotor_host.analyses.compare import PYTHON_FMU, paper_variants
 from rotor_host.coupling.cosim import FMUBearings
 from rotor_host.integrate.newmark import Newmark, NewmarkConfig
 from rotor_host.model.rotor import Rotor
-from rotor_host.scenes import run as scene_run
+from rotor_host.scenes import bearings as scene_bearings, run as scene_run
 from rotor_host.scenes.scene import G, load_scene, required_file
 
 SCENES = Path(__file__).resolve().parents[1] / "rotor_host" / "bundled" / "scenes"
@@ -71,7 +71,7 @@ def _integrate(scene, record: bool):
     fs = rotor.weight_vector(G) + rotor.point_load_vector(scene.static_loads)
     loads = scene_run.bearing_loads(rotor, fs)
     states = []
-    with scene_run.build_bearings(scene, rotor, loads, None) as b:
+    with scene_bearings.build_bearings(scene, rotor, loads, None) as b:
         q0 = scene_run.initial_state(scene, rotor, fs, loads, b)
         if record:
             inner = b._bearing
@@ -94,7 +94,7 @@ def kernels_time(scene, states: np.ndarray, repeats: int) -> float:
     loads = scene_run.bearing_loads(rotor, fs)
     best = np.inf
     for _ in range(repeats):
-        with scene_run.build_bearings(scene, rotor, loads, None) as b:
+        with scene_bearings.build_bearings(scene, rotor, loads, None) as b:
             scene_run.initial_state(scene, rotor, fs, loads, b)  # the instances as the run has them
             forces, _omega, clock, (enter, _leave) = b.compiled()
             enter()

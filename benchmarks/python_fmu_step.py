@@ -104,7 +104,7 @@ def per_step(t_end: float, repeat: int, work: Path) -> list[dict]:
 def per_call(work: Path, n: int) -> tuple[list[tuple], dict]:
     """(rows of (call, Python FMU us, native FMU us), the slave's Python share per call)."""
     from rotor_host.coupling.cosim import FMUBearings
-    from rotor_host.scenes.run import scene_fmu
+    from rotor_host.scenes.bearings import scene_fmu
     from rotor_host.scenes.scene import load_scene
 
     base = load_scene(SCENE)

@@ -40,7 +40,8 @@ def _backward_error(rotor, speed, K, C, freq, log_dec, shapes) -> float:
 
 @pytest.mark.parametrize("name", ["rotor_paper", "rotor_friswell"])
 def test_the_band_s_modes_are_the_dense_solution_s(name):
-    from rotor_host.analyses.linear.stability import Stability, internal_options
+    from rotor_host.analyses.linear.stability import Stability
+    from rotor_host.analyses.linear.inputs import internal_options
 
     rotor = Rotor.from_toml(MODELS / f"{name}.toml")
     st = Stability(rotor, "reynolds", internal_options("reynolds", grid=(64, 8)))

@@ -69,7 +69,8 @@ def test_sparse_matrices_give_the_dense_answer_on_a_medium_rotor(tmp_path):
     # against the same rotor's dense matrices: equilibrium and a short run equal to round-off
     from rotor_host.integrate.equilibrium import static_equilibrium
     from rotor_host.integrate.newmark import Newmark
-    from rotor_host.scenes.run import bearing_loads, build_bearings, static_start
+    from rotor_host.scenes.bearings import build_bearings
+    from rotor_host.scenes.run import bearing_loads, static_start
 
     rotor = Rotor.from_toml(MODELS / "rotor_paper.toml").refined(30)
     assert rotor.n_dof > DENSE_MAX_DOF and is_sparse(rotor.matrices()[1])

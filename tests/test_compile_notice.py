@@ -89,7 +89,7 @@ def test_only_the_packages_kernels_and_the_outer_compilation_count():
 
 def test_the_commands_and_the_fmu_install_it():
     """Read from the sources (a cold run of each would take minutes): each entry point asks for it."""
-    for path, call in (("bearing_fmu/cli.py", "announce_compiling()"), ("rotor_host/cli.py", "announce_compiling()"),
+    for path, call in (("bearing_fmu/cli.py", "announce_compiling()"), ("rotor_host/cli/__init__.py", "announce_compiling()"),
                        ("bearing_fmu/fmu/slave.py", "warmup.announce_compiling()")):
         text = textwrap.dedent((ROOT / path).read_text())
         assert call in text, f"{path} does not announce the kernels' first compilation"

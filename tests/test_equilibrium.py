@@ -132,7 +132,8 @@ def test_overloaded_rotor_bearing_is_named_before_newton(tmp_path, paper_scene):
     # weight, 16.7 N) is not blamed.
     from bearing_fmu.physics.params import PAPER_BEARING
     from rotor_host.model.rotor import Rotor
-    from rotor_host.scenes.run import bearing_loads, build_bearings, initial_state
+    from rotor_host.scenes.bearings import build_bearings
+    from rotor_host.scenes.run import bearing_loads, initial_state
     from rotor_host.scenes.scene import G, load_scene
 
     scene = load_scene(paper_scene(t_end=2e-4, grid=(48, 8), unbalance_g=None,

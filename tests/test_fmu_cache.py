@@ -7,7 +7,7 @@ import shutil
 import pytest
 
 from bearing_fmu.io import cache
-from rotor_host.scenes import run as run_module
+from rotor_host.scenes import bearings as scene_bearings
 from rotor_host.scenes.scene import load_scene
 
 
@@ -56,7 +56,7 @@ def test_two_output_folders_share_one_build(tmp_path, monkeypatch, paper_scene, 
 
     monkeypatch.setattr(fmu_build, "build_fmu", counting)
     scene = load_scene(paper_scene(via="fmu"))
-    first = run_module.scene_fmu(scene, None)
-    second = run_module.scene_fmu(scene, None)
+    first = scene_bearings.scene_fmu(scene, None)
+    second = scene_bearings.scene_fmu(scene, None)
     assert first == second and first.parent == tmp_path / "fmus" and first.is_file()
     assert len(builds) == 1

@@ -210,12 +210,12 @@ def _scene_run(scene, compiled: bool, memoryless: bool = True):
 
     from rotor_host.integrate.newmark import IntegrationError, Newmark, NewmarkConfig
     from rotor_host.model.rotor import Rotor
-    from rotor_host.scenes import run as scene_run
+    from rotor_host.scenes import bearings as scene_bearings, run as scene_run
 
     rotor = Rotor.from_toml(scene.rotor_path)
     fs = rotor.weight_vector(9.81) + rotor.point_load_vector(scene.static_loads)
     loads = scene_run.bearing_loads(rotor, fs)
-    with scene_run.build_bearings(scene, rotor, loads, Path(scene.fmu).parent) as b:
+    with scene_bearings.build_bearings(scene, rotor, loads, Path(scene.fmu).parent) as b:
         assert b.memoryless  # the Python FMU declares the map memoryless
         b.memoryless = memoryless
         q0 = scene_run.initial_state(scene, rotor, fs, loads, b)

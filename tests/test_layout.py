@@ -25,7 +25,8 @@ WARN_MODULES = 12  # a folder this full is warned of: split it by responsibility
 MAX_LINES = 600
 NEAR_CAP = 570  # modules of NEAR_CAP..MAX_LINES lines: at most one (besides LONG_ALLOWED)
 LONG_ALLOWED = {"bearing_fmu/physics/reynolds_kernels.py"}  # one numba kernel set, split it and it slows
-CLI_MODULES = {"bearing_fmu/cli.py", "rotor_host/cli.py"}
+CLI_MODULES = {"bearing_fmu/cli.py"}
+CLI_PACKAGES = ("rotor_host/cli/",)  # a command line grown into a package: every module of it parses
 
 
 @functools.lru_cache(maxsize=4)
@@ -201,7 +202,7 @@ def test_argument_parsing_only_in_the_cli_modules():
         tree = ast.parse(path.read_text(encoding="utf-8"))
         uses = [n.lineno for n in ast.walk(tree) if isinstance(n, ast.Attribute) and n.attr in
                 ("ArgumentParser", "add_argument", "parse_args", "Namespace")]
-        assert rel in CLI_MODULES or not uses, f"{rel}: argparse at lines {uses}; parse in the cli modules"
+        assert rel in CLI_MODULES or rel.startswith(CLI_PACKAGES) or not uses, f"{rel}: argparse at lines {uses}; parse in the cli modules"
 
 
 def test_the_checks_fail_on_what_they_look_for(tmp_path):

@@ -887,20 +887,20 @@ def test_a_map_for_another_length_to_diameter_is_refused(tmp_path):
 def test_native_parameters_of_a_scene(paper_scene):
     """The host's parameters for a native FMU: the options it keeps; the linear model made per
     bearing by the Python Linear internal (its coefficients), fallback refused in one line."""
-    from rotor_host.scenes.run import _fmu_parameters
+    from rotor_host.scenes.bearings import fmu_parameters
     from rotor_host.scenes.scene import load_scene
 
     sc = load_scene(paper_scene(internal="linear", via="fmu", fmu_kind="native", unbalance_g=None,
                                 linear={"linear_from": "map"}, map={"map": PAPER_MAP},
                                 taylor={"surrogate": SURROGATES[1], "domain_action": "fallback"}))
     assert sc.fmu_kind == "native"
-    p = _fmu_parameters(sc, PAPER_BEARING, (0.0, -16.7))
+    p = fmu_parameters(sc, PAPER_BEARING, (0.0, -16.7))
     lin = registry.create("linear", PAPER_BEARING, {"linear_from": "map", "map": str(PAPER_MAP)},
                           registry.Context(load=(0.0, -16.7), omega=sc.omega))
     assert p["lin_Kyz"] == lin.K[0, 1] and p["lin_Czz"] == lin.C[1, 1] and p["omega_lin"] == sc.omega
     assert "n_theta" not in p and "linear_from" not in p  # options a native FMU does not have
     # Taylor's fallback: its FMU holds the Reynolds internal too, with the scene's grid
-    p = _fmu_parameters(sc.with_internal("taylor"), PAPER_BEARING, (0.0, -16.7))
+    p = fmu_parameters(sc.with_internal("taylor"), PAPER_BEARING, (0.0, -16.7))
     assert p["domain_action"] == "fallback" and (p["n_theta"], p["n_x"], p["cavitation"]) == (0, 0, "reynolds")
     from bearing_fmu.fmu.native.host import fmu_internals
 

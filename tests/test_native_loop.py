@@ -23,7 +23,7 @@ from bearing_fmu.fmu.meta import memoryless_annotation, memoryless_declaration
 from rotor_host.integrate import newmark_loop
 from rotor_host.integrate.newmark import IntegrationError, Newmark, NewmarkConfig
 from rotor_host.model.rotor import Rotor
-from rotor_host.scenes import run as scene_run
+from rotor_host.scenes import bearings as scene_bearings, run as scene_run
 from rotor_host.scenes.scene import load_scene
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -50,7 +50,7 @@ def native_scene(tmp_path_factory, native_build_cache):
             rotor = Rotor.from_toml(s.rotor_path)
 
             def build(target):
-                shutil.copyfile(scene_run.scene_fmu(s, folder / "work", rotor.bearings[0]), target)
+                shutil.copyfile(scene_bearings.scene_fmu(s, folder / "work", rotor.bearings[0]), target)
                 return target
 
             built[internal] = native_build_cache(folder / f"{internal}.fmu", build,
@@ -68,7 +68,7 @@ def _run(s, compiled, memoryless=True, t_end=None):
     rotor = Rotor.from_toml(s.rotor_path)
     fs = rotor.weight_vector(9.81) + rotor.point_load_vector(s.static_loads)
     loads = scene_run.bearing_loads(rotor, fs)
-    with scene_run.build_bearings(s, rotor, loads, Path(s.fmu).parent) as b:
+    with scene_bearings.build_bearings(s, rotor, loads, Path(s.fmu).parent) as b:
         assert b.memoryless or not memoryless
         b.memoryless = memoryless
         q0 = scene_run.initial_state(s, rotor, fs, loads, b)
@@ -212,7 +212,7 @@ def test_an_error_in_the_compiled_loop_stops_the_run_as_in_python(native_scene, 
     loads = scene_run.bearing_loads(rotor, fs)
     messages = []
     for compiled in (False, True):
-        with scene_run.build_bearings(s, rotor, loads, Path(s.fmu).parent) as b:
+        with scene_bearings.build_bearings(s, rotor, loads, Path(s.fmu).parent) as b:
             q0 = scene_run.initial_state(s, rotor, fs, loads, b)
             real = b.instances[0].dll
             b.instances[0].dll = _FailingDll(real, status, after=40)

@@ -13,7 +13,8 @@ import numpy as np
 import pytest
 
 from rotor_host.analyses.linear import pad_modes as pm
-from rotor_host.analyses.linear.stability import Stability, read_rotor
+from rotor_host.analyses.linear.stability import Stability
+from rotor_host.analyses.linear.inputs import read_rotor
 
 ROTOR = Path(__file__).resolve().parents[1] / "rotor_host" / "bundled" / "rotor_paper_5pad_lbp.toml"
 GRID = {"n_theta": 24, "n_x": 4}

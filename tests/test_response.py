@@ -351,7 +351,8 @@ def test_cli_level1_log_dec_at_zero_is_the_stability_analysis(tmp_path, capsys):
     """At Q = 0 the first forward mode's log dec equals the least stable forward mode of
     ``rotor-host stability``'s point at the same speed (its SpeedPoint)."""
     from rotor_host.analyses.linear.modal import band_hz
-    from rotor_host.analyses.linear.stability import Stability, internal_options, read_rotor
+    from rotor_host.analyses.linear.stability import Stability
+    from rotor_host.analyses.linear.inputs import internal_options, read_rotor
 
     text = PAPER.read_text().replace('bearing = "bearing_paper.toml"', f'bearing = "{ROOT / "rotor_host" / "bundled" / "bearing_paper.toml"}"')
     rotor_file = tmp_path / "rotor.toml"

@@ -27,7 +27,8 @@ from bearing_fmu.physics.shortbearing import (short_bearing_coefficients, short_
                                               short_bearing_force_and_jacobian, short_bearing_load)
 from bearing_fmu.physics.statics import journal_at_eccentricity
 from rotor_host.analyses.linear.modal import AF_CRITICALLY_DAMPED
-from rotor_host.analyses.linear.stability import SpeedPoint, Stability, critical_speeds, markdown, stability, to_json
+from rotor_host.analyses.linear.stability import Stability, critical_speeds, markdown, stability, to_json
+from rotor_host.analyses.linear.stability_result import SpeedPoint
 from rotor_host.cli import main
 from rotor_host.model import fe
 from rotor_host.model.rotor import Rotor

@@ -321,7 +321,8 @@ def test_the_paper_rotor_on_five_tilting_pads_has_no_threshold_where_the_plain_b
     # coefficients the analysis took are the synchronously reduced ones (symmetric: K_yz = K_zy)
     from pathlib import Path
 
-    from rotor_host.analyses.linear.stability import Stability, read_rotor
+    from rotor_host.analyses.linear.stability import Stability
+    from rotor_host.analyses.linear.inputs import read_rotor
 
     root = Path(__file__).resolve().parents[1] / "rotor_host" / "bundled"
     rotor, loads = read_rotor(root / "rotor_paper_5pad_lbp.toml")

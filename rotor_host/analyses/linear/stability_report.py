@@ -1,15 +1,9 @@
-"""The tables and the json of a stability sweep (``stability.StabilityResult``): one row per speed,
-the markdown report, everything a later reader needs without NaN. Duck-typed on the result, so
-that the analysis (``stability``) imports this and not the reverse."""
+"""The tables and the json of a stability sweep (``stability_result.StabilityResult``): one row per speed,
+the markdown report, everything a later reader needs without NaN."""
 
 from __future__ import annotations
 
-FORWARD = 0.0  # whirl() above this: forward, below: backward
-
-
-def direction(w: float) -> str:
-    """'forward' or 'backward' for a whirl measure (``Rotor.whirl``: +1 forward, -1 backward)."""
-    return "forward" if w > FORWARD else "backward"
+from .stability_result import SpeedPoint, StabilityResult, direction
 
 
 def table_rows(res: StabilityResult) -> list[dict]:
@@ -108,4 +102,4 @@ def to_json(res: StabilityResult, rotor_path=None) -> dict:
             "points": [point(p) for p in res.points], "versions": package_versions()}
 
 
-__all__ = ["direction", "table_rows", "markdown", "to_json"]
+__all__ = ["table_rows", "markdown", "to_json"]

@@ -24,7 +24,8 @@ def command(*, rotor_file, speeds_hz, unbalance, operating_hz, internal: str = "
 
     from bearing_fmu.io.outputs import ensure_writable, write_json, write_text
 
-    from ..linear.stability import Stability, check_speeds, internal_options, read_rotor
+    from ..linear.stability import Stability
+    from ..linear.inputs import check_speeds, internal_options, read_rotor
     from ..linear.stability_report import to_json as stability_json
     from . import level1 as lv, ucs
     from ..computed_for import bearing_lines, internal_words

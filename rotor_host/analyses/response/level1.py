@@ -251,7 +251,8 @@ def run(rotor_file, operating_hz, *, internal="reynolds", options=None, static_l
         points: int = DEFAULT_POINTS, gas_density_kg_m3=None) -> Level1:
     """Read the rotor file (its [[stages]] required), the bearings at the maximum continuous speed
     (the top of ``operating_hz``), and the check."""
-    from ..linear.stability import Stability, read_rotor
+    from ..linear.stability import Stability
+    from ..linear.inputs import read_rotor
     from ..computed_for import title_line
     from .unbalance import check_operating
 
@@ -301,7 +302,7 @@ def command(*, rotor_file, operating_hz, internal: str = "reynolds", data_files=
     """``rotor-host level1``: writes level1.json, level1.md and level1.png into ``out``."""
     from bearing_fmu.io.outputs import ensure_writable, write_json, write_text
 
-    from ..linear.stability import internal_options
+    from ..linear.inputs import internal_options
     from ..computed_for import bearing_lines, internal_words
 
     out = ensure_writable(out)

@@ -81,7 +81,8 @@ def compare(scene, scales=DEFAULT_SCALES, out=None, *, window_s=None, progress: 
     """The linear response and the run-ups of ``scene`` at each scale (module docstring): a dict
     with per scale the run's status, and per node the curves and the two peaks."""
     from ...scenes.run import run_scene
-    from ..linear.stability import Stability, check_speeds
+    from ..linear.stability import Stability
+    from ..linear.inputs import check_speeds
     from ..waterfall import DEFAULT_WINDOW_S
     from ...model.rotor import Rotor
     from .unbalance import response_from

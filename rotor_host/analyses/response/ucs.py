@@ -214,7 +214,8 @@ def build(rotor: Rotor, stiffness_n_m, points: int, n: int, speeds_hz, bearing_k
 def ucs(rotor_file, *, stiffness_n_m=DEFAULT_STIFFNESS, points: int = DEFAULT_POINTS, n: int = DEFAULT_CRITICALS,
         speeds_hz=None, internal: str = "reynolds", options=None, static_loads=(), T_supply_K=None, log=None) -> UCSMap:
     """The map of the rotor file with its bearings' stiffness overlaid (module docstring)."""
-    from ..linear.stability import Stability, check_speeds, read_rotor
+    from ..linear.stability import Stability
+    from ..linear.inputs import check_speeds, read_rotor
     from ..computed_for import title_line
 
     rotor, loads = read_rotor(rotor_file, static_loads)
@@ -269,7 +270,7 @@ def command(*, rotor_file, stiffness_n_m=DEFAULT_STIFFNESS, points: int = DEFAUL
     """``rotor-host ucs``: writes ucs.json, ucs.md, ucs_map.png and ucs_modes.png into ``out``."""
     from bearing_fmu.io.outputs import ensure_writable, write_json, write_text
 
-    from ..linear.stability import internal_options
+    from ..linear.inputs import internal_options
     from ..computed_for import bearing_lines, internal_words
 
     out = ensure_writable(out)

@@ -261,7 +261,8 @@ def response(rotor_file, speeds_hz, unbalances, *, internal: str = "reynolds", o
              operating_hz=None, T_supply_K=None, probes=None, log=None) -> ResponseResult:
     """Read the rotor file, sweep its speeds (``Stability.sweep``), solve the response at each and
     find its peaks; ``unbalances`` (node, mass_g, radius_mm[, phase_deg]) with 1-based nodes."""
-    from ..linear.stability import Stability, check_speeds, read_rotor
+    from ..linear.stability import Stability
+    from ..linear.inputs import check_speeds, read_rotor
 
     rotor, loads = read_rotor(rotor_file, static_loads)
     check_inputs(rotor, rotor_file, unbalances, operating_hz, probes)
@@ -314,7 +315,7 @@ def command(*, rotor_file, speeds_hz, unbalance, internal: str = "reynolds", dat
     """``rotor-host response``: see the module docstring; writes into ``out``."""
     from bearing_fmu.io.outputs import ensure_writable, write_json, write_text
 
-    from ..linear.stability import internal_options, read_rotor
+    from ..linear.inputs import internal_options, read_rotor
     from ..computed_for import bearing_lines, internal_words
     from .peaks import peak_words
     from .report import markdown

@@ -26,7 +26,7 @@ def command(*, scene, speeds_hz=None, unbalance_g=None, settle_s: float | None =
     costs = FixedCosts()
     with costs.timed("imports"):
         from ...model.rotor import Rotor
-        from ...scenes.run import scene_fmu
+        from ...scenes.bearings import scene_fmu
         from ...scenes.sanity import check_scene_physics
 
     if scheduler and workers:

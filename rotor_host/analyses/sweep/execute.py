@@ -74,7 +74,8 @@ def warm_worker(scene) -> float:
     t0 = time.perf_counter()
     try:
         from ...model.rotor import Rotor
-        from ...scenes.run import bearing_loads, build_bearings, load_kernels
+        from ...scenes.bearings import build_bearings
+        from ...scenes.run import bearing_loads, load_kernels
         from ...scenes.scene import G
 
         load_kernels(scene)
