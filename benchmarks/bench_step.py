@@ -75,7 +75,8 @@ def build_rotor(k: int, n_bearings: int):
     """The paper rotor with each element cut into k; bearings at its two nodes, or n_bearings
     spread over the shaft (the two ends' bearing nodes and evenly between). Built from the
     rotor's parts (works on checkouts without Rotor.refined)."""
-    from rotor_host.model.rotor import Disk, Rotor, ShaftElement
+    from rotor_host.model.parts import Disk, ShaftElement
+    from rotor_host.model.rotor import Rotor
 
     r = Rotor.from_toml(ROOT / "rotor_host" / "bundled" / "rotor_paper.toml")
     els = [ShaftElement(e.length / k, e.od, e.id) for e in r.elements for _ in range(k)]

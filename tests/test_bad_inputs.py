@@ -19,7 +19,8 @@ from pathlib import Path
 import pytest
 
 from bearing_fmu.physics.params import BearingParams
-from rotor_host.model.rotor import Rotor, RotorFileError
+from rotor_host.model.rotor import Rotor
+from rotor_host.model.parts import RotorFileError
 from rotor_host.scenes.scene import SceneError, load_scene
 from conftest import run_cli
 

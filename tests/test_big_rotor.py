@@ -13,7 +13,8 @@ import numpy as np
 import pytest
 
 from rotor_host.integrate.banded import is_sparse
-from rotor_host.model.rotor import DENSE_MAX_DOF, Rotor
+from rotor_host.model.assembly import DENSE_MAX_DOF
+from rotor_host.model.rotor import Rotor
 from rotor_host.scenes.run import run_scene
 from rotor_host.scenes.scene import load_scene
 

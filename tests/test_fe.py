@@ -11,7 +11,9 @@ import pytest
 import scipy.linalg
 
 from rotor_host.model import fe
-from rotor_host.model.rotor import Material, Rotor, ShaftElement, assemble
+from rotor_host.model.parts import Material, ShaftElement
+from rotor_host.model.rotor import Rotor
+from rotor_host.model.assembly import assemble
 
 E, RHO, NU = 200e9, 7850.0, 0.3
 STEEL = Material(E=E, density=RHO, poisson=NU)

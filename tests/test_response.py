@@ -25,7 +25,8 @@ from rotor_host.analyses.response import peaks as pk
 from rotor_host.analyses.response.synchronous import Unbalance, node_response, solve
 from rotor_host.analyses.response.unbalance import on_grid
 from rotor_host.cli import main
-from rotor_host.model.rotor import Disk, Material, Rotor, ShaftElement
+from rotor_host.model.parts import Disk, Material, ShaftElement
+from rotor_host.model.rotor import Rotor
 
 ROOT = Path(__file__).resolve().parents[1]
 PAPER = ROOT / "rotor_host" / "bundled" / "rotor_paper.toml"

@@ -8,7 +8,8 @@ import numpy as np
 import pytest
 
 from bearing_fmu.physics.params import PAPER_BEARING
-from rotor_host.model.rotor import Rotor, RotorFileError
+from rotor_host.model.rotor import Rotor
+from rotor_host.model.parts import RotorFileError
 
 MODELS = Path(__file__).resolve().parents[1] / "rotor_host" / "bundled"
 ROTOR_FILE = MODELS / "rotor_paper.toml"

@@ -34,7 +34,9 @@ import math
 
 import numpy as np
 
-from .rotor import DENSE_MAX_DOF, OSCILLATORY, Rotor, modal_table
+from .assembly import DENSE_MAX_DOF
+from .eigen import OSCILLATORY, modal_table
+from .rotor import Rotor
 
 FIRST_K = 16  # eigenvalues asked of ARPACK at first; doubled until the disk is covered
 DISK_RADIUS = 8.0  # R / w_b

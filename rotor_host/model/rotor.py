@@ -17,165 +17,20 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Iterable, Mapping, Sequence
+from typing import Iterable, Mapping
 
 import numpy as np
 
-from bearing_fmu.io.schema import Choice, FileName, Key, List, Number, Table, Tables, Text, check_table, read_toml
+from bearing_fmu.io.schema import check_table, read_toml
 from bearing_fmu.physics.params import BearingParams
 
 from . import fe
-
-# the keys of a rotor file, per table, with the kind of value each takes (docs/file-formats.md
-# shows these lists; Rotor.from_mapping checks a file against them once)
-POSITIVE = Number(0.0, exclusive_minimum=True)
-NODE = Number(integer=True, words="an integer node number")  # its range: the loader, against the rotor
-MATERIAL_KEYS = (
-    # upper bounds past every solid (diamond 1220 GPa, osmium 22 590 kg/m^3), with room for a
-    # smeared-on mass: a value beyond is a unit slip, named here, not an eccentricity of 1e291
-    Key("E_GPa", "elastic modulus [GPa]", kind=Number(0.0, 1e4, exclusive_minimum=True)),
-    Key("density_kg_m3", "density [kg/m^3]", kind=Number(0.0, 1e5, exclusive_minimum=True)),
-    Key("poisson", "Poisson's ratio (shear modulus and shear coefficient)",
-        kind=Number(-1.0, 0.5, exclusive_minimum=True, exclusive_maximum=True)),
-    Key("damping_beta_s", "stiffness-proportional damping C = beta K [s]", 0.0, kind=Number(0.0)),
-)
-ELEMENT_KEYS = (
-    Key("od_mm", "outer diameter [mm]", kind=POSITIVE),
-    Key("length_mm", "length [mm]", kind=POSITIVE),
-    Key("id_mm", "inner diameter [mm]", 0.0, "a finite number >= 0 and < od_mm", kind=Number(0.0)),
-    Key("nodes", "the nodes it joins, 1-based", None, "[i, i + 1] for element i", kind=List(NODE, 2)),
-    Key("name", "label", None, kind=Text()),
-)
-DISK_KEYS = (
-    Key("node", "node it sits on, 1-based", allowed="1..number of nodes", kind=NODE),
-    Key("od_mm", "outer diameter [mm]", kind=POSITIVE),
-    Key("width_mm", "axial width [mm]", kind=POSITIVE),
-    Key("id_mm", "bore diameter [mm]", 0.0, "a finite number >= 0 and < od_mm", kind=Number(0.0)),
-    Key("name", "label", None, kind=Text()),
-)
-BEARING_ENTRY_KEYS = (
-    Key("node", "node the journal is at, 1-based; one bearing per node", allowed="1..number of nodes", kind=NODE),
-    Key("bearing", "bearing file, relative to the rotor file (keys: [bearing] below)", kind=FileName()),
-    Key("name", "label", None, kind=Text()),
-)
-STAGE_KEYS = (  # API 617's anticipated aerodynamic cross-coupling (rotor_host.analyses.response.level1)
-    Key("node", "node the stage (impeller or blade row) sits on, 1-based", allowed="1..number of nodes", kind=NODE),
-    Key("power_kw", "the stage's rated power [kW]", kind=POSITIVE),
-    Key("density_ratio", "discharge over suction gas density of the stage (centrifugal)", kind=POSITIVE),
-    Key("diameter_mm", "impeller diameter (axial: blade pitch diameter) [mm]", kind=POSITIVE),
-    Key("restrictive_mm", "the smaller of diffuser and impeller discharge width (axial: effective blade height) [mm]",
-        kind=POSITIVE),
-    Key("kind", "centrifugal (B_c = 3) or axial (B_t = 1.5)", "centrifugal", kind=Choice(("centrifugal", "axial"))),
-    Key("name", "label", None, kind=Text()),
-)
-ROTOR_KEYS = (
-    Key("elements", "the shaft's beam elements, in order ([[elements]] or an array of inline tables)",
-        kind=Tables(ELEMENT_KEYS, nonempty=True)),
-    Key("material", "shaft and disk material ([material])", kind=Table(MATERIAL_KEYS)),
-    Key("name", "label", None, kind=Text()),
-    Key("description", "free text", None, kind=Text()),
-    Key("disks", "rigid disks ([[disks]])", None, kind=Tables(DISK_KEYS)),
-    Key("bearings", "bearings ([[bearings]]): where they sit and which bearing file", None,
-        kind=Tables(BEARING_ENTRY_KEYS)),
-    Key("stages", "compressor or turbine stages ([[stages]]) for API 617's Level I stability check", None,
-        kind=Tables(STAGE_KEYS)),
-)
+from .assembly import DENSE_MAX_DOF, assemble_bands
+from .eigen import OSCILLATORY, modal_table, state_eig, state_eigvals, zero_tol
+from .parts import (ROTOR_KEYS, Disk, Material, RotorFileError, ShaftElement, diameters_m, element_mass,
+                    node_index)
 
 DIRECTIONS = {"y": fe.Y, "z": fe.Z, "ty": fe.TY, "tz": fe.TZ}
-OSCILLATORY = 1e-3  # modes(): keep eigenvalues with Im(lam) > OSCILLATORY * |lam|
-
-
-class RotorFileError(ValueError):
-    """A rotor file (or mapping) is malformed; the message names the file, entry and key."""
-
-
-@dataclass(frozen=True)
-class Material:
-    """Isotropic shaft/disk material. E [Pa], density [kg/m^3], Poisson ratio, beta [s] (C = beta K)."""
-
-    E: float
-    density: float
-    poisson: float
-    beta: float = 0.0
-
-
-@dataclass(frozen=True)
-class ShaftElement:
-    """Hollow circular Timoshenko element between nodes ``node`` and ``node + 1`` (0-based). SI units."""
-
-    length: float
-    od: float
-    id: float = 0.0
-
-
-@dataclass(frozen=True)
-class Disk:
-    """Rigid hollow disk at a node (0-based): bore ``id``, outer diameter ``od``, width [m]."""
-
-    node: int
-    od: float
-    id: float
-    width: float
-
-
-def _element_mass(e: ShaftElement, density: float) -> float:
-    return density * fe.area(e.od, e.id) * e.length
-
-
-# ----------------------------------------------------------------------------- file reading
-def _node(value: int, n_nodes: int, what: str) -> int:
-    """A 1-based node number (its type checked by the schema) against the rotor's nodes, 0-based."""
-    if not 1 <= value <= n_nodes:
-        raise RotorFileError(f"{what} = {value} is outside the rotor's nodes 1..{n_nodes}")
-    return value - 1
-
-
-def _diameters(table: dict, what: str) -> tuple[float, float]:
-    """(od, id) [m] of a checked element or disk table; the bore must be smaller than the outside."""
-    od, idm = table["od_mm"], table["id_mm"]
-    if idm >= od:
-        raise RotorFileError(f"{what} id_mm = {idm:g} must be < od_mm = {od:g}")
-    return od / 1e3, idm / 1e3
-
-
-# ----------------------------------------------------------------------------- assembly
-BAND = 7  # half-bandwidth of every assembled matrix: an element couples two nodes' 4 DOFs each
-DENSE_MAX_DOF = 1000  # Rotor.matrices(): dense up to this size (8 MB a matrix), sparse above
-
-
-def assemble_bands(elements: Sequence[ShaftElement], disks: Sequence[Disk], material: Material) -> dict:
-    """M, K, G, C of a chain of elements (element i joins nodes i, i+1) in row-wise band storage
-    (``rotor_host.integrate.banded``: B[i, j - i + BAND] = A[i, j]), O(n) memory at any size. Each
-    entry sums its element and disk terms in the order a dense assembly adds them, so the dense
-    matrices made from these are the same to the last bit."""
-    n_nodes = len(elements) + 1
-    n = fe.DOFS_PER_NODE * n_nodes
-    w = BAND
-    B = {k: np.zeros((n, 2 * w + 1)) for k in ("M", "K", "G")}
-    # the band column of an element's entry (a, b) at rows 4i + a: b - a + w
-    cols8 = np.arange(8)[None, :] - np.arange(8)[:, None] + w
-    rows8 = np.arange(8)[:, None] + np.zeros((1, 8), dtype=int)
-    for i, e in enumerate(elements):
-        m = fe.beam_matrices(e.length, e.od, e.id, material.E, material.density, material.poisson)
-        for k in ("M", "K", "G"):
-            B[k][4 * i + rows8, cols8] += m[k]
-    cols4 = cols8[:4, :4]
-    rows4 = rows8[:4, :4]
-    for d in disks:
-        mass, Id, Ip = fe.disk_properties(d.od, d.id, d.width, material.density)
-        m = fe.disk_matrices(mass, Id, Ip)
-        for k in ("M", "G"):
-            B[k][4 * d.node + rows4, cols4] += m[k]
-    B["C"] = material.beta * B["K"]
-    return B
-
-
-def assemble(elements: Sequence[ShaftElement], disks: Sequence[Disk], material: Material):
-    """Global dense (M, K, G, C) for a chain of elements (element i joins nodes i, i+1)."""
-    B = assemble_bands(elements, disks, material)
-    from ..integrate.banded import from_band  # numba's import only when a matrix is asked for (not for --help)
-
-    return tuple(from_band(B[k]) for k in ("M", "K", "G", "C"))
 
 
 @dataclass
@@ -274,20 +129,20 @@ class Rotor:
             if t["nodes"] is not None and t["nodes"] != [i + 1, i + 2]:
                 raise RotorFileError(f"{ew} nodes = {t['nodes']!r} must be [{i + 1}, {i + 2}] (element i joins "
                                      "nodes i and i+1)")
-            od, idm = _diameters(t, ew)
+            od, idm = diameters_m(t, ew)
             elements.append(ShaftElement(length=t["length_mm"] / 1e3, od=od, id=idm))
         n_nodes = len(elements) + 1
 
         disks = []
         for i, t in enumerate(d["disks"]):
             dw = f"{where}: [[disks]] {i + 1}"
-            od, idm = _diameters(t, dw)
-            disks.append(Disk(node=_node(t["node"], n_nodes, f"{dw} node"), od=od, id=idm, width=t["width_mm"] / 1e3))
+            od, idm = diameters_m(t, dw)
+            disks.append(Disk(node=node_index(t["node"], n_nodes, f"{dw} node"), od=od, id=idm, width=t["width_mm"] / 1e3))
 
         bearing_nodes, bearings = [], []
         for i, t in enumerate(d["bearings"]):
             bw = f"{where}: [[bearings]] {i + 1}"
-            node = _node(t["node"], n_nodes, f"{bw} node")
+            node = node_index(t["node"], n_nodes, f"{bw} node")
             if node in bearing_nodes:
                 raise RotorFileError(f"{bw} node = {node + 1}: that node already has a bearing")
             bpath = Path(base_dir) / t["bearing"]
@@ -300,7 +155,7 @@ class Rotor:
 
         stages = []
         for i, t in enumerate(d["stages"]):
-            stages.append({**t, "node": _node(t["node"], n_nodes, f"{where}: [[stages]] {i + 1} node")})
+            stages.append({**t, "node": node_index(t["node"], n_nodes, f"{where}: [[stages]] {i + 1} node")})
 
         return cls(elements=elements, material=material, disks=disks,
                    bearing_nodes=bearing_nodes, bearings=bearings, name=d["name"] or "", stages=stages)
@@ -332,7 +187,7 @@ class Rotor:
     def mass(self) -> float:
         """Total mass [kg] of shaft and disks (from the geometry, equal to u^T M u for a unit translation u)."""
         rho = self.material.density
-        return sum(_element_mass(e, rho) for e in self.elements) + sum(
+        return sum(element_mass(e, rho) for e in self.elements) + sum(
             fe.disk_properties(d.od, d.id, d.width, rho)[0] for d in self.disks
         )
 
@@ -436,14 +291,14 @@ class Rotor:
         """
         kb = np.broadcast_to(np.asarray(k_bearing, dtype=float), (len(self.bearing_nodes),))
         K = self.K + self.bearing_matrix([np.eye(2) * k for k in kb]) if len(kb) else self.K
-        tol = _zero_tol(self.M, K)
+        tol = zero_tol(self.M, K)
         if speed == 0.0:
             import scipy.linalg  # here: a scene or a --help that never asks for modes skips scipy
 
             w = np.sqrt(np.clip(scipy.linalg.eigh(K, self.M, eigvals_only=True), 0.0, None))
             w[w < tol] = 0.0
             return w[:n] / (2.0 * math.pi)
-        lam = _state_eigvals(self.M, K, speed * self.G)
+        lam = state_eigvals(self.M, K, speed * self.G)
         n_zero = int(np.sum(np.abs(lam) < tol)) // 2
         w = np.sort(lam.imag[(lam.imag > 0.0) & (np.abs(lam) >= tol)])
         return np.concatenate([np.zeros(n_zero), w])[:n] / (2.0 * math.pi)
@@ -466,8 +321,8 @@ class Rotor:
         """
         Kt = self.K + self.bearing_matrix(bearing_K)
         Ct = self.C + self.bearing_matrix(bearing_C) + speed * self.G
-        lam, vec = _state_eig(self.M, Kt, Ct)
-        keep = (lam.imag > OSCILLATORY * np.abs(lam)) & (np.abs(lam) >= _zero_tol(self.M, Kt))
+        lam, vec = state_eig(self.M, Kt, Ct)
+        keep = (lam.imag > OSCILLATORY * np.abs(lam)) & (np.abs(lam) >= zero_tol(self.M, Kt))
         lam, vec = lam[keep], vec[: self.n_dof, keep]
         return modal_table(lam, vec, n)
 
@@ -486,38 +341,3 @@ class Rotor:
         f, b = abs(Y + 1j * Z), abs(Y - 1j * Z)
         return float((f - b) / (f + b)) if f + b > 0 else 0.0
 
-
-def _zero_tol(M, K) -> float:
-    """|lam| [rad/s] below which an eigenvalue is numerically zero: 1e-6 * highest natural frequency.
-
-    A double zero eigenvalue (rigid-body mode) is perturbed by about sqrt(eps) * w_max.
-    """
-    return 1e-6 * math.sqrt(np.linalg.norm(np.linalg.solve(M, K), 2))
-
-
-def _state_matrix(M, K, C) -> np.ndarray:
-    n = M.shape[0]
-    Minv_K = np.linalg.solve(M, K)
-    Minv_C = np.linalg.solve(M, C)
-    return np.block([[np.zeros((n, n)), np.eye(n)], [-Minv_K, -Minv_C]])
-
-
-def _state_eigvals(M, K, C) -> np.ndarray:
-    return np.linalg.eigvals(_state_matrix(M, K, C))
-
-
-def _state_eig(M, K, C):
-    return np.linalg.eig(_state_matrix(M, K, C))
-
-
-def modal_table(lam: np.ndarray, vec: np.ndarray, n: int | None = None):
-    """(frequencies [Hz], log decrements, shapes) of the oscillatory eigenpairs ``lam``, ``vec`` (a
-    column each, the rotor's DOFs), by increasing frequency (the first ``n``), each shape scaled by
-    its largest entry (the one all eigensolvers of the rotor share)."""
-    order = np.argsort(lam.imag)
-    if n is not None:
-        order = order[:n]
-    lam, vec = lam[order], vec[:, order]
-    big = vec[np.argmax(np.abs(vec), axis=0), np.arange(vec.shape[1])]
-    vec = vec / big
-    return lam.imag / (2.0 * math.pi), -2.0 * math.pi * lam.real / lam.imag, vec

@@ -28,7 +28,7 @@ from bearing_fmu.physics.geometry import GEOMETRY_KEYS
 from bearing_fmu.physics.oil import KELVIN, OIL_KEYS, PRESETS, Oil
 from bearing_fmu.physics.params import BEARING_KEYS
 
-from ..model.rotor import BEARING_ENTRY_KEYS, DISK_KEYS, ELEMENT_KEYS, MATERIAL_KEYS, ROTOR_KEYS, STAGE_KEYS
+from ..model.parts import BEARING_ENTRY_KEYS, DISK_KEYS, ELEMENT_KEYS, MATERIAL_KEYS, ROTOR_KEYS, STAGE_KEYS
 from .scene import (INITIAL_KEYS, RECORD_KEYS, SCENE_KEYS, SPEED_PROFILE_KEYS, STATIC_LOAD_KEYS, TIME_KEYS,
                     UNBALANCE_KEYS)
 from .thermal import thermal_arrays_table

@@ -23,7 +23,8 @@ from bearing_fmu.io.schema import (Choice, FileName, Invalid, Key, List, Number,
                                    check_table, read_toml)
 
 from ..integrate.forces import NEWTON_TANGENTS
-from ..model.rotor import NODE, Rotor
+from ..model.parts import NODE
+from ..model.rotor import Rotor
 from ..model.speed import SpeedProfile
 
 VIA = ("fmu", "direct")

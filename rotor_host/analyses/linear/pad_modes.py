@@ -42,7 +42,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ...model.rotor import OSCILLATORY, Rotor, modal_table
+from ...model.eigen import OSCILLATORY, modal_table
+from ...model.rotor import Rotor
 
 
 @dataclass
