@@ -6,7 +6,7 @@ from __future__ import annotations
 import inspect
 from pathlib import Path
 
-from bearing_fmu.io.cliargs import existing_file, finite_float, grid, node_load, positive_float
+from bearing_fmu.io.cliargs import existing_file, finite_float, grid, node_load, output_dir, positive_float, unbalance
 from bearing_fmu.io.bundled import bundled_or_file  # a file, or a bundled one by name (both command lines)
 
 
@@ -139,4 +139,28 @@ def linear_rotor_flags(p) -> None:
                    help="static point loads [N] on 1-based nodes, besides the weight")
     p.add_argument("--supply-c", type=finite_float("C"), default=None, metavar="C",
                    help="oil supply temperature [C]: each bearing at its film's effective temperature per speed")
+
+
+def rotor_argument(p, what: str = "rotor TOML file, or a bundled rotor by name (e.g. rotor_paper)") -> None:
+    """The rotor file a command on the linearised rotor reads (or a bundled rotor by name)."""
+    p.add_argument("rotor", type=bundled_or_file("rotor"), help=what)
+
+
+def unbalance_option(p, what: str = "an unbalance on a 1-based node; repeat for several") -> None:
+    """The unbalances (required, repeatable) of a response."""
+    p.add_argument("--unbalance", type=unbalance, action="append", required=True,
+                   metavar="NODE:MASS_G:RADIUS_MM[:PHASE_DEG]", help=what)
+
+
+def gas_density_option(p) -> None:
+    """API 617's average gas density for its Level I screening chart."""
+    p.add_argument("--gas-density-kg-m3", type=positive_float("kg/m^3"), metavar="RHO",
+                   help="average gas density (suction and discharge) [kg/m^3] for API 617's screening chart when "
+                        "2 <= Q_0 / Q_A <= 10")
+
+
+def output_options(p, what: str, *, default: str | None = "out") -> None:
+    """``--out`` (``what`` it holds; required when ``default`` is None) and ``--no-plots``."""
+    p.add_argument("--out", type=output_dir, required=default is None, default=default, help=what)
+    p.add_argument("--no-plots", action="store_true", help="write no plots (the tables and json only)")
 

@@ -3,10 +3,11 @@ undamped critical speed map, API 617 Level I and the API report: their options a
 
 from __future__ import annotations
 
-from bearing_fmu.io.bundled import bundled_or_file
-from bearing_fmu.io.cliargs import (finite_float, float_range, grid, int_at_least, interval, node_load, number, output_dir, positive_float, positive_int, unbalance)
+from bearing_fmu.io.cliargs import (finite_float, float_range, grid, int_at_least, interval, node_load, number,
+                                    positive_int)
 
-from .common import file_flags, file_args, call, linear_rotor_flags
+from .common import (call, file_args, file_flags, gas_density_option, linear_rotor_flags, output_options,
+                     rotor_argument, unbalance_option)
 
 
 def _stability(args) -> int:
@@ -49,7 +50,7 @@ def add_stability(sub) -> None:
 
     p = sub.add_parser("stability", help="Campbell diagram and stability threshold: equilibrium, linearised "
                                          "bearings and damped modes at each speed of a range")
-    p.add_argument("rotor", type=bundled_or_file("rotor"), help="rotor TOML file, or a bundled rotor by name (e.g. rotor_paper)")
+    rotor_argument(p)
     p.add_argument("--speeds-hz", type=float_range("Hz"), required=True, metavar="START:STOP:STEP",
                    help="shaft speeds [Hz], both ends included (e.g. 10:70:1)")
     p.add_argument("--internal", choices=having(any_state=True), default="reynolds",
@@ -71,30 +72,24 @@ def add_stability(sub) -> None:
     p.add_argument("--supply-c", type=finite_float("C"), default=None, metavar="C",
                    help="oil supply temperature [C]: every bearing (each needs an [oil] table) at the viscosity of its "
                         "film's effective temperature at each speed (docs/thermal.md); default: isoviscous bearings")
-    p.add_argument("--out", type=output_dir, default="out", help="output folder (default: out) for "
+    output_options(p, "output folder (default: out) for "
                    "stability_<rotor>_<internal>.md/.json and _campbell/_logdec/_mode.png")
-    p.add_argument("--no-plots", action="store_true", help="write no plots (the tables and json only)")
     p.set_defaults(func=_stability)
-
 
 
 def add_response(sub) -> None:
     p = sub.add_parser("response", help="unbalance response of the linearised rotor: Bode and polar plots, peaks "
                                         "with their amplification factor and API separation margins")
-    p.add_argument("rotor", type=bundled_or_file("rotor"), help="rotor TOML file, or a bundled rotor by name (e.g. rotor_paper)")
+    rotor_argument(p)
     p.add_argument("--speeds-hz", type=float_range("Hz"), required=True, metavar="START:STOP:STEP",
                    help="shaft speeds [Hz], both ends included; every one is computed and kept")
-    p.add_argument("--unbalance", type=unbalance, action="append", required=True,
-                   metavar="NODE:MASS_G:RADIUS_MM[:PHASE_DEG]",
-                   help="an unbalance on a 1-based node (phase from +y toward +z, default 0); repeat for several")
+    unbalance_option(p, "an unbalance on a 1-based node (phase from +y toward +z, default 0); repeat for several")
     p.add_argument("--operating-hz", type=interval("Hz"), metavar="MIN:MAX",
                    help="operating speed range [Hz]: separation margins and API 617's required margins")
     p.add_argument("--probe", type=positive_int(), nargs="+", metavar="NODE",
                    help="probe nodes (1-based) for the peaks and plots (default: the bearings' and disks' nodes)")
     linear_rotor_flags(p)
-    p.add_argument("--out", type=output_dir, required=True,
-                   help="output folder: response.json, response.md, bode_node<N>.png, polar_node<N>.png")
-    p.add_argument("--no-plots", action="store_true", help="write no plots (the tables and json only)")
+    output_options(p, "output folder: response.json, response.md, bode_node<N>.png, polar_node<N>.png", default=None)
     p.set_defaults(func=_response)
 
 
@@ -103,7 +98,7 @@ def add_ucs(sub) -> None:
 
     p = sub.add_parser("ucs", help="undamped critical speed map against support stiffness, the bearings' stiffness "
                                    "at speed overlaid, the mode shapes of the first criticals")
-    p.add_argument("rotor", type=bundled_or_file("rotor"), help="rotor TOML file, or a bundled rotor by name (e.g. rotor_paper)")
+    rotor_argument(p)
     p.add_argument("--stiffness-n-m", type=interval("N/m"), default=DEFAULT_STIFFNESS, metavar="MIN:MAX",
                    help=f"support stiffness range [N/m] (default {DEFAULT_STIFFNESS[0]:g}:{DEFAULT_STIFFNESS[1]:g})")
     p.add_argument("--points", type=int_at_least(2), default=DEFAULT_POINTS,
@@ -114,9 +109,8 @@ def add_ucs(sub) -> None:
     p.add_argument("--speeds-hz", type=float_range("Hz"), metavar="START:STOP:STEP",
                    help=f"speeds of the bearings' stiffness overlay (default {a:g}:{b:g}:{step:g})")
     linear_rotor_flags(p)
-    p.add_argument("--out", type=output_dir, default="out", help="output folder: ucs.json, ucs.md, ucs_map.png, "
+    output_options(p, "output folder: ucs.json, ucs.md, ucs_map.png, "
                                                                  "ucs_modes.png")
-    p.add_argument("--no-plots", action="store_true", help="write no plots (the tables and json only)")
     p.set_defaults(func=_ucs)
 
 
@@ -125,36 +119,29 @@ def add_level1(sub) -> None:
 
     p = sub.add_parser("level1", help="API 617 Level I stability: log decrement of the first forward mode against "
                                       "the stages' cross-coupling, Q_A, Q_0 and the verdict")
-    p.add_argument("rotor", type=bundled_or_file("rotor"), help="rotor TOML file with a [[stages]] table (or a bundled rotor by name)")
+    rotor_argument(p, "rotor TOML file with a [[stages]] table (or a bundled rotor by name)")
     p.add_argument("--operating-hz", type=interval("Hz"), required=True, metavar="MIN:MAX",
                    help="operating speed range [Hz]; the check runs at the maximum continuous speed MAX")
     p.add_argument("--points", type=int_at_least(2), default=DEFAULT_POINTS,
                    help=f"cross-coupling values drawn (default {DEFAULT_POINTS})")
-    p.add_argument("--gas-density-kg-m3", type=positive_float("kg/m^3"), metavar="RHO",
-                   help="average gas density (suction and discharge) [kg/m^3] for API 617's screening chart when "
-                        "2 <= Q_0 / Q_A <= 10")
+    gas_density_option(p)
     linear_rotor_flags(p)
-    p.add_argument("--out", type=output_dir, default="out", help="output folder: level1.json, level1.md, level1.png")
-    p.add_argument("--no-plots", action="store_true", help="write no plots (the tables and json only)")
+    output_options(p, "output folder: level1.json, level1.md, level1.png")
     p.set_defaults(func=_level1)
 
 
 def add_api_report(sub) -> None:
     p = sub.add_parser("api-report", help="one markdown report: Campbell diagram and threshold, unbalance response "
                                           "with AF and API margins, critical speed map, API 617 Level I")
-    p.add_argument("rotor", type=bundled_or_file("rotor"), help="rotor TOML file, or a bundled rotor by name (e.g. rotor_paper)")
+    rotor_argument(p)
     p.add_argument("--speeds-hz", type=float_range("Hz"), required=True, metavar="START:STOP:STEP",
                    help="shaft speeds [Hz] of the Campbell diagram and the response, both ends included")
-    p.add_argument("--unbalance", type=unbalance, action="append", required=True,
-                   metavar="NODE:MASS_G:RADIUS_MM[:PHASE_DEG]", help="an unbalance on a 1-based node; repeat for several")
+    unbalance_option(p)
     p.add_argument("--operating-hz", type=interval("Hz"), required=True, metavar="MIN:MAX",
                    help="operating speed range [Hz] (margins; Level I at MAX)")
     p.add_argument("--probe", type=positive_int(), nargs="+", metavar="NODE",
                    help="probe nodes (default: the bearings' and disks' nodes)")
-    p.add_argument("--gas-density-kg-m3", type=positive_float("kg/m^3"), metavar="RHO",
-                   help="average gas density (suction and discharge) [kg/m^3] for API 617's screening chart when "
-                        "2 <= Q_0 / Q_A <= 10")
+    gas_density_option(p)
     linear_rotor_flags(p)
-    p.add_argument("--out", type=output_dir, required=True, help="output folder: api_report.md, its json and figures")
-    p.add_argument("--no-plots", action="store_true", help="write no plots (the tables and json only)")
+    output_options(p, "output folder: api_report.md, its json and figures", default=None)
     p.set_defaults(func=_api_report)

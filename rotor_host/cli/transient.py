@@ -6,9 +6,10 @@ from __future__ import annotations
 from pathlib import Path
 
 from bearing_fmu.io.bundled import bundled_or_file
-from bearing_fmu.io.cliargs import (existing_dir, existing_file, float_range, grid, grid_or_default, nonneg_float, output_dir, output_file, positive_float, positive_int)
+from bearing_fmu.io.cliargs import (existing_dir, existing_file, float_range, grid, grid_or_default, nonneg_float,
+                                    output_dir, output_file, positive_float, positive_int)
 
-from .common import internal_choices, scene_flags, scene_from_args, call, module_command
+from .common import call, internal_choices, module_command, scene_flags, scene_from_args
 
 
 def _run(args) -> int:
