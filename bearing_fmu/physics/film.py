@@ -129,7 +129,7 @@ def full_bore_friction(params: BearingParams, y: float, z: float, vy: float, vz:
 
 def _cells(n: int, grid):
     """(width, centre, right, fixed, supply, dist, face_h0, centre_h0) of the n cells (``grid`` a
-    ``geometry.ThetaGrid``, None: the full bore's uniform cells)."""
+    ``thetagrid.ThetaGrid``, None: the full bore's uniform cells)."""
     if grid is None:
         w = np.full(n, 2.0 * math.pi / n)
         centre = np.arange(n) * w[0]
@@ -186,7 +186,7 @@ def field_report(params: BearingParams, y: float, z: float, vy: float, vz: float
 
     p_half : (n_theta, m) [Pa], the half length x < 0, column 0 at the end (the solver's order)
     dx     : axial cell length [m]
-    grid   : the bore's ``geometry.ThetaGrid`` (None: the full bore's uniform cells)
+    grid   : the bore's ``thetagrid.ThetaGrid`` (None: the full bore's uniform cells)
     """
     mu, R, CR = params.mu, params.R, params.CR
     n, m = p_half.shape
