@@ -53,6 +53,7 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 
+from .lands import axial_stencil, film_length, groove_inflow, has_lands
 from .params import BearingParams
 
 __all__ = ["FilmReport", "FlowError", "assemble_report", "check_flows", "at_viscosity", "edge_flows", "face_fluxes", "field_report",
@@ -199,17 +200,13 @@ def field_report(params: BearingParams, y: float, z: float, vy: float, vz: float
     p, hf, dp = _faces(params, y, z, p_half, cells)
     # axial weights of the half length (both halves: x 2): the solver's quadrature for p, plain
     # cell lengths for the fluxes through the faces
-    qw = np.full(m, dx)
-    if m == 1:
-        qw[0] = 8.0 / 9.0 * dx
-    else:
-        qw[0] -= dx / 8.0
-        qw[1] += dx / 72.0
+    lands = has_lands(params)  # a circumferential groove: p_half is one land (physics.lands)
+    qw = axial_stencil(m, dx, lands)[2]
     film_face = ~(fixed & fixed[nxt])                    # faces with film on at least one side
     # --- friction: Couette over the film (as a full film), pressure part summed over the faces
-    if grid is None:
+    if grid is None or grid.geometry.is_circle:  # the lands' film is the circular one (the groove shears none)
         eps = math.hypot(y, z) / CR
-        tc = 2.0 * math.pi * mu * omega * R ** 3 * params.L / (CR * math.sqrt(1.0 - eps * eps))
+        tc = 2.0 * math.pi * mu * omega * R ** 3 * film_length(params) / (CR * math.sqrt(1.0 - eps * eps))
         tp = 0.5 * (y * F[1] - z * F[0])
     else:
         g = grid.geometry
@@ -230,10 +227,16 @@ def field_report(params: BearingParams, y: float, z: float, vy: float, vz: float
     if fixed.any():
         faces, sign = supply_edges(fixed)
         q_in = float(np.sum(np.maximum(flux[faces[sign > 0]], 0.0)) + np.sum(np.maximum(-flux[faces[sign < 0]], 0.0)))
-    feeds = lobe_feed_faces(grid, hf) if grid is not None and g.lobes > 1 and g.preload > 0.0 else []
+    feeds = lobe_feed_faces(grid, hf) if grid is not None and grid.geometry.lobes > 1 and grid.geometry.preload > 0.0 else []
     for face in feeds:                                                  # each lobe's own feed line
         q_in += abs(float(flux[face]))
-    if not (fixed.any() or feeds):
+    if lands:
+        # the groove is the lands' only supply: in a steady state it delivers what leaves by the ends (where the
+        # film cavitates, Swift-Stieber's film reforms with oil that in the bearing comes from the groove through
+        # the cavitated zone; where none cavitates, the flow across the groove's edges, ``groove_inflow``, is the
+        # side flow to round-off: tests/test_circumferential_groove.py)
+        q_in = q_side
+    elif not (fixed.any() or feeds):
         k = int(np.argmax(hf))                                          # the thickest face
         t_max = math.atan2(y, -z) if (y or z) else float(right[k])      # (sin, -cos) along (y, z)
         # the two faces around the thickest line and the linear weight between them
@@ -251,7 +254,7 @@ def face_fluxes(params: BearingParams, omega: float, hf: np.ndarray, dp: np.ndar
     whole length, the flux their difference: omega R h L / 2 and h^3 / (12 mu R) int dp/dtheta dx
     (``dp`` (n_theta, m) across the faces of the half length, cells ``dx`` long)."""
     along = dp @ (2.0 * np.full(dp.shape[1], dx))
-    return (omega * params.R * hf / 2.0) * params.L, hf ** 3 / (12.0 * params.mu * params.R) * along
+    return (omega * params.R * hf / 2.0) * film_length(params), hf ** 3 / (12.0 * params.mu * params.R) * along
 
 
 def supply_edges(fixed: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
