@@ -183,6 +183,9 @@ def port_defaults(params) -> dict:
     if g.arc is not None:
         out["arc_start"], out["arc_end"] = g.arc
     oil = params.oil
+    if oil is not None and oil.cavitated_shear != "full":
+        raise ValueError(f"[oil] cavitated_shear = {oil.cavitated_shear!r}: the bearing FMUs shear the cavitated film "
+                         "as a full film only; demo, stability and run with via = 'direct' take the others")
     if oil is not None and not oil.default_balance:
         raise ValueError(f"[oil] outflow_rise = {oil.outflow_rise!r}, ambient_W_K = {oil.ambient_W_K:g}: the bearing "
                          "FMUs compute the adiabatic balance with the side flow at half the rise only (outflow_rise = "

@@ -56,7 +56,7 @@ import numpy as np
 from .lands import axial_stencil, film_length, groove_inflow, has_lands
 from .params import BearingParams
 
-__all__ = ["FilmReport", "FlowError", "assemble_report", "check_flows", "at_viscosity", "edge_flows", "face_fluxes", "field_report",
+__all__ = ["FilmReport", "FlowError", "assemble_report", "cavitated_relief", "require_full_shear", "shear_option", "check_flows", "at_viscosity", "edge_flows", "face_fluxes", "field_report",
            "film_couette_integral", "flow_field", "flow_scale", "full_bore_friction", "grooved_report", "lobe_feed_faces", "reduced_flows",
            "reduced_report", "side_flow", "supply_edges", "supply_functions"]
 
@@ -119,6 +119,7 @@ def full_bore_friction(params: BearingParams, y: float, z: float, vy: float, vz:
     closed form (module docstring), from the journal state (y, z [m], vy, vz [m/s], omega [rad/s])
     and the film force F = (Fy, Fz) [N] of any internal at that state."""
     params.require_full_bore("full_bore_friction", "its Couette integral is the circular film's")
+    require_full_shear(params, "full_bore_friction")
     eps = math.hypot(y, z) / params.CR
     if not eps < 1.0:
         raise ValueError(f"full_bore_friction: eccentricity ratio {eps:.6g} >= 1 (the journal touches the bore)")
@@ -219,6 +220,7 @@ def field_report(params: BearingParams, y: float, z: float, vy: float, vz: float
         # (R / 2) int h dp/dtheta dtheta over the film: h_f (p_next - p) per face, both halves
         jump = (p[nxt] - p) @ (2.0 * qw)
         tp = 0.5 * R * float(np.sum(np.where(film_face, hf * jump, 0.0)))
+    tc -= cavitated_relief(params, y, z, omega, p_half, dx, cells, hf)
     q_side = side_flow(params, y, z, p_half, dx, grid)
     # --- inflow: circumferential face fluxes over the whole length (both halves)
     couette, pressure = face_fluxes(params, omega, hf, dp, dx)
@@ -247,6 +249,56 @@ def field_report(params: BearingParams, y: float, z: float, vy: float, vz: float
         s = float(d[a]) / span
         q_in = abs(float((1.0 - s) * flux[a] + s * flux[b]))
     return assemble_report(params, tc, tp, F, v, omega, q_in, q_side)
+
+
+def shear_option(params: BearingParams):
+    """The bearing's [oil] cavitated_shear: "full" (also without an [oil] table), "striated" or a fraction."""
+    return "full" if params.oil is None else params.oil.cavitated_shear
+
+
+def require_full_shear(params: BearingParams, what: str) -> None:
+    """ValueError unless the cavitated film shears as a full film: ``what`` (a closed form from the force
+    alone) does not know where the film cavitates."""
+    if shear_option(params) != "full":
+        raise ValueError(f"{what}: [oil] cavitated_shear = {params.oil.cavitated_shear!r} needs the film's pressure "
+                         "field to tell the cavitated cells: the Reynolds internal computes it (or write 'full')")
+
+
+def cavitated_relief(params: BearingParams, y: float, z: float, omega: float, p_half: np.ndarray, dx: float, cells,
+                     hf: np.ndarray) -> float:
+    """The Couette torque [N m] the cavitated cells do not exert when the film there is striated
+    (``[oil] cavitated_shear``; 0 for "full"): mu omega R^3 sum (1 - f) width 2 dx / h over the cavitated
+    nodes (p = 0, not prescribed), f the sheared fraction of the gap: the given number, or for "striated"
+    h_r / h (capped at 1), h_r the film at the face where the node's run of cavitated cells begins along
+    theta (where the film ruptured, or a supply edge): the striations carry on the Couette flow omega R h_r / 2
+    of the film there (Dowson & Taylor 1979's film fraction in the Swift-Stieber rupture zone). A row
+    cavitated all round keeps its full shear (no rupture to take h_r from)."""
+    option = shear_option(params)
+    if option == "full":
+        return 0.0
+    w, centre, fixed = cells[0], cells[1], cells[3]
+    hc = params.CR * cells[7] + y * np.sin(centre) - z * np.cos(centre)
+    cav = (p_half <= 0.0) & ~fixed[:, None]
+    if option == "striated":
+        frac = np.ones(p_half.shape)
+        h_left = np.roll(hf, 1)  # the film at every cell's left face
+        n = cav.shape[0]
+        for j in range(cav.shape[1]):
+            row = cav[:, j]
+            if row.all() or not row.any():
+                continue
+            k0 = int(np.flatnonzero(~row)[0])  # start the walk at a cell that does not cavitate
+            h_r = 0.0
+            for s in range(1, n + 1):
+                i = (k0 + s) % n
+                if row[i]:
+                    if not row[i - 1]:
+                        h_r = h_left[i]
+                    frac[i, j] = min(1.0, h_r / hc[i])
+    else:
+        frac = np.full(p_half.shape, float(option))
+    lost = np.where(cav, 1.0 - frac, 0.0) @ np.full(p_half.shape[1], 2.0 * dx)
+    return params.mu * omega * params.R ** 3 * float(np.sum(lost * w / hc))
 
 
 def face_fluxes(params: BearingParams, omega: float, hf: np.ndarray, dp: np.ndarray, dx: float):
@@ -351,6 +403,7 @@ def grooved_report(params: BearingParams, y: float, z: float, vy: float, vz: flo
     supply edges ``edges`` ((theta [rad], sign), ``Geometry.supply_edges``) of
     max(sign omega Q0 h_e / (2 CR) - r Q0 P_e, 0), h_e = CR + y sin(theta) - z cos(theta)
     (docs/forcemap.md, "Grooved bores: the flows")."""
+    require_full_shear(params, "grooved_report")
     eps = float(np.hypot(y, z)) / params.CR  # libm's, as forcemap.reduced (the native C map's too)
     if not eps < 1.0:
         raise ValueError(f"grooved_report: eccentricity ratio {eps:.6g} >= 1 (the journal touches the bore)")
