@@ -85,14 +85,18 @@ def test_ambient_groove_is_two_bearings_of_the_land_length(n_theta, n_x, tol):
 
 
 def test_jacobian_against_central_differences():
+    # steps small enough not to move the cavitated set (the discrete force is piecewise smooth)
     r = Reynolds(grooved(), n_theta=64, n_x=8)
-    y, z, vy, vz = 0.3 * CR, -0.6 * CR, 0.0, 0.0
-    _f, jq, _jv = r.force_and_jacobian(y, z, vy, vz, OMEGA)
-    h = 1e-5 * CR
+    y, z, vy, vz = 0.3 * CR, -0.6 * CR, 0.001, 0.002
+    _f, jq, jv = r.force_and_jacobian(y, z, vy, vz, OMEGA)
+    h, hv = 1e-5 * CR, 1e-5
     for k in range(2):
         d = np.array([h, 0.0]) if k == 0 else np.array([0.0, h])
         fd = (np.array(r.force(y + d[0], z + d[1], vy, vz, OMEGA)) - np.array(r.force(y - d[0], z - d[1], vy, vz, OMEGA)))
         assert np.allclose(jq[:, k], fd / (2 * h), rtol=1e-5, atol=1e-5 * np.abs(jq).max())
+        d = d / h * hv
+        fd = (np.array(r.force(y, z, vy + d[0], vz + d[1], OMEGA)) - np.array(r.force(y, z, vy - d[0], vz - d[1], OMEGA)))
+        assert np.allclose(jv[:, k], fd / (2 * hv), rtol=1e-6, atol=1e-6 * np.abs(jv).max())
 
 
 def test_grid_convergence():
@@ -146,3 +150,23 @@ def test_fmu_ports_refuse_it_by_name():
 
     with pytest.raises(ValueError, match="circumferential groove"):
         port_defaults(grooved())
+
+
+def test_operating_point_heat_balance(tmp_path):
+    # the worked case of docs/geometry.md: SAE 30 at 50 C, 675 N at 2800 rpm; the groove's oil all leaves by
+    # the ends at the full rise, so the friction power is rho c_p Qs dT (Shigley's pressure-fed balance)
+    from bearing_fmu.physics.operating import operating_point
+
+    f = tmp_path / "cg.toml"
+    f.write_text("[bearing]\nD_mm = 40\nL_mm = 45\nCR_um = 42\n\n[geometry]\ncircumferential_groove_mm = 5\n"
+                 "supply_pressure_kPa = 200\n\n[oil]\ngrade = 'SAE 30'\nsupply_C = 50\noutflow_rise = 'full'\n")
+    p = BearingParams.from_toml(f)
+    rec = operating_point(p, (0.0, -675.0), 46.67)
+    assert rec["inflow_m3_s"] == rec["side_flow_m3_s"]
+    rho_c = p.oil.density * p.oil.heat_capacity
+    assert rec["friction_power_W"] == pytest.approx(rho_c * rec["side_flow_m3_s"] * rec["temperature_rise_K"], rel=1e-6)
+    assert rec["T_eff_K"] == pytest.approx(rec["T_supply_K"] + 0.5 * rec["temperature_rise_K"], abs=1e-3)  # the root's tolerance
+    # Shigley's supply-pressure flow is a part of the side flow (the loaded film drives the rest)
+    eps = rec["eccentricity"]
+    assert rec["side_flow_m3_s"] > math.pi * D * CR ** 3 * 200e3 * (1 + 1.5 * eps ** 2) / (6 * rec["mu_eff_Pa_s"] * LAND)
+    assert rec["peak_pressure_Pa"] > 200e3
