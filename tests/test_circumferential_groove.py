@@ -170,3 +170,23 @@ def test_operating_point_heat_balance(tmp_path):
     eps = rec["eccentricity"]
     assert rec["side_flow_m3_s"] > math.pi * D * CR ** 3 * 200e3 * (1 + 1.5 * eps ** 2) / (6 * rec["mu_eff_Pa_s"] * LAND)
     assert rec["peak_pressure_Pa"] > 200e3
+
+
+@pytest.mark.parametrize("eps", [0.3, 0.6])
+def test_short_lands_reach_the_ocvirk_limit(eps):
+    # groove at ambient, Gumbel's condition: each land is a short bearing of length l'; Ocvirk's load
+    # W = mu U l'^3 / (4 c^2) eps / (1 - eps^2)^2 sqrt(pi^2 (1 - eps^2) + 16 eps^2), attitude
+    # atan(pi sqrt(1 - eps^2) / (4 eps)); the finite land's deficit is O((l'/D)^2): a quarter per halving
+    d, c, omega = 0.1, 100e-6, 100.0
+    err = []
+    for ratio in (1 / 8, 1 / 16):
+        land, w = ratio * d, 0.01
+        p = BearingParams(D=d, L=2 * land + w, CR=c, mu=MU, geometry=Geometry(circumferential_groove=w))
+        fy, fz = Reynolds(p, 128, 16, cavitation="gumbel").force(0.0, -eps * c, 0.0, 0.0, omega)
+        ocvirk = (MU * omega * d / 2 * land ** 3 / (4 * c * c) * eps / (1 - eps ** 2) ** 2
+                  * math.sqrt(math.pi ** 2 * (1 - eps ** 2) + 16 * eps ** 2))
+        err.append(math.hypot(fy, fz) / (2 * ocvirk) - 1)
+        attitude = math.degrees(math.atan2(abs(fy), abs(fz)))
+        assert attitude == pytest.approx(math.degrees(math.atan(math.pi * math.sqrt(1 - eps ** 2) / (4 * eps))), abs=0.6)
+    assert -0.01 < err[1] < 0.0
+    assert 3.0 < err[0] / err[1] < 4.5
