@@ -307,6 +307,9 @@ def test_reynolds_default_and_grid_parameters_reach_the_solver(fmu, unzip, reyno
         assert (out["Fy"], out["Fz"]) == reynolds.force(*STATE)
         assert [out[n] for n in TANGENT] == pytest.approx(list(-dq.ravel()) + list(-dv.ravel()), rel=1e-14)
         assert out["h_min"] == pytest.approx(P.CR - math.hypot(*STATE[:2]), rel=1e-14)
+        # the peak of the force call's own field (Capabilities.film_field), as the solver gives it
+        assert (inst.get("peak_pressure"), inst.get("peak_pressure_angle")) == reynolds.peak_pressure(*STATE)
+        assert inst.get("peak_pressure") > 0.0
         assert inst.get("out_of_domain") is False
     finally:
         inst.close()
@@ -332,6 +335,7 @@ def test_linear_internal_equals_linear(fmu, unzip, reynolds):
         assert (out["Fy"], out["Fz"]) == pytest.approx(direct.force(*s), rel=1e-12)
         assert [out[n] for n in TANGENT] == pytest.approx(list(direct.K.ravel()) + list(direct.C.ravel()),
                                                           rel=1e-12)
+        assert (inst.get("peak_pressure"), inst.get("peak_pressure_angle")) == (0.0, 0.0)  # no pressure field
         far = (2 * P.CR, 0.0, 0.0, 0.0, OMEGA)  # linear evaluates beyond the wall, as the paper's orbits do
         assert inst.step(1e-4, *far)["eccentricity"] == 2.0
     finally:

@@ -59,7 +59,8 @@ DISPLAY = {"y": "um", "z": "um", "h_min": "um", "CR": "um", "lin_y0": "um", "lin
            "vy": "mm/s", "vz": "mm/s", "omega": "rpm", "omega_lin": "rpm", "mu": "mPa.s",
            **{n: "deg" for n in ports.ROW_UNITS if ports.ROW_UNITS[n] == "rad"}, "supply_pressure": "kPa",
            **{n: "degC" for n in ports.ROW_UNITS if ports.ROW_UNITS[n] == "K"}, "Q_side": "l/min",
-           "oil_nu_1": "cSt", "oil_nu_2": "cSt", "mu_eff": "mPa.s", "oil_vogel_a": "mPa.s"}
+           "oil_nu_1": "cSt", "oil_nu_2": "cSt", "mu_eff": "mPa.s", "oil_vogel_a": "mPa.s",
+           "peak_pressure": "kPa", "peak_pressure_angle": "deg"}
 
 PAPER_LABEL = "paper bearing (Table 2)"
 FALLBACK_AUTHOR = "bearing_fmu maintainers"  # when the project's metadata names no author
@@ -134,7 +135,7 @@ def real_attributes(name: str, unit: str | None, params: BearingParams, omega_re
         lo, hi = _option_bounds(_options()[name])
     elif name in ports.BOUNDS:
         lo, hi = ports.BOUNDS[name]
-    elif name in ("T_eff", "mu_eff", "Q_side"):
+    elif name in ("T_eff", "mu_eff", "Q_side", "peak_pressure"):
         lo = 0.0
     for key, value in (("min", lo), ("max", hi), ("nominal", nominal)):
         if value is not None:

@@ -168,6 +168,10 @@ def port_defaults(params) -> dict:
     if g.pads is not None:  # their states and parameters are a later step (docs/geometry.md, Tilting pads)
         raise ValueError(f"the bearing FMU does not carry tilting pads yet ({g.describe()}): compute this bearing "
                          "with via = 'direct' (the tilting_pad internal) or bearing-fmu demo")
+    if g.circumferential_groove:  # the bore's parameters are the axial grooves, arc and lobes only
+        raise ValueError(f"the bearing FMUs do not carry a circumferential groove yet (circumferential_groove_mm = "
+                         f"{g.circumferential_groove * 1e3:g}): compute this bearing with via = 'direct' (the "
+                         "Reynolds internal) or bearing-fmu demo")
     out = {"groove_count": len(g.grooves), "groove_width": g.groove_width, "supply_pressure": g.supply_pressure,
            "partial_arc": g.arc is not None, "lobes": g.lobes, "preload": g.preload, "lobe_offset": g.lobe_offset,
            "lobe_angle": g.lobe_angle}
@@ -179,6 +183,9 @@ def port_defaults(params) -> dict:
     if g.arc is not None:
         out["arc_start"], out["arc_end"] = g.arc
     oil = params.oil
+    if oil is not None and oil.cavitated_shear != "full":
+        raise ValueError(f"[oil] cavitated_shear = {oil.cavitated_shear!r}: the bearing FMUs shear the cavitated film "
+                         "as a full film only; demo, stability and run with via = 'direct' take the others")
     if oil is not None and not oil.default_balance:
         raise ValueError(f"[oil] outflow_rise = {oil.outflow_rise!r}, ambient_W_K = {oil.ambient_W_K:g}: the bearing "
                          "FMUs compute the adiabatic balance with the side flow at half the rise only (outflow_rise = "

@@ -89,6 +89,7 @@ class BearingFMU(VariableAccess, Stepping, StateSaving, CallRules, Fmi2Slave):
         self._choices_built = {}  # the String choices the internal was built with (_choices)
         self._jacobian = None
         self._kernel = None  # the internal's compiled kernel, when a step may call it (stepping._kernel_of)
+        self._peak = None  # the internal's peak_pressure (Capabilities.film_field), set with the internal
         self._params = None
         self._oil = None  # the oil law of the thermal model, when thermal is true (ports.py)
         self._enter(INSTANTIATED)

@@ -76,6 +76,11 @@ VARIABLES = (
       for name, (string, items) in ENUMERATIONS.items()),
     # the bore, the oil and the thermal ports (ports.py; after the rest: the value references stay)
     *ports.ROWS,
+    # the film's peak pressure (internals with a pressure field, Capabilities.film_field; after the rest)
+    ("peak_pressure", "Real", OUTPUT, "Pa", 0.0, "largest film pressure, refined between cells (for the bearing "
+     "metal's limit; internals with a pressure field: reynolds; 0 for the others)"),
+    ("peak_pressure_angle", "Real", OUTPUT, "rad", 0.0, "theta of the peak pressure (0 top, increasing with the "
+     "rotation; 0 for internals without a pressure field)"),
 )
 
 INPUTS = tuple(v[0] for v in VARIABLES if v[2] == INPUT)

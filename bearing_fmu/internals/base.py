@@ -282,6 +282,9 @@ class Capabilities:
                     ``full_coefficients(y, z, omega) -> (K, C, inertia)``: the (2 + N) x (2 + N) coefficients
                     of the journal and its N own coordinates and their inertias (0: massless), which an
                     eigenproblem takes whole (``rotor_host.analyses.linear.pad_modes``).
+    film_field    : has a film pressure field: ``peak_pressure(y, z, vy, vz, omega) -> (p [Pa], theta [rad])``,
+                    its largest pressure and where (``physics.film.peak_pressure``), which the FMU's outputs
+                    peak_pressure and peak_pressure_angle report (0 for an internal without it).
     memoryless    : its answer follows the journal state and its parameters alone (no time, no earlier
                     call): its FMUs (thermal off) declare it (``fmu.meta.memoryless_annotation``), may
                     step from any currentCommunicationPoint and be iterated without FMU states.
@@ -304,6 +307,7 @@ class Capabilities:
     fmu_why: str = ""
     whirl_reduced: bool = False
     memoryless: bool = False
+    film_field: bool = False
 
 
 @dataclass(frozen=True)

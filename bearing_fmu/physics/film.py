@@ -53,9 +53,10 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 
+from .lands import axial_stencil, film_length, groove_inflow, has_lands
 from .params import BearingParams
 
-__all__ = ["FilmReport", "FlowError", "assemble_report", "check_flows", "at_viscosity", "edge_flows", "face_fluxes", "field_report",
+__all__ = ["FilmReport", "FlowError", "assemble_report", "cavitated_relief", "require_full_shear", "shear_option", "check_flows", "at_viscosity", "edge_flows", "face_fluxes", "field_report",
            "film_couette_integral", "flow_field", "flow_scale", "full_bore_friction", "grooved_report", "lobe_feed_faces", "reduced_flows",
            "reduced_report", "side_flow", "supply_edges", "supply_functions"]
 
@@ -118,6 +119,7 @@ def full_bore_friction(params: BearingParams, y: float, z: float, vy: float, vz:
     closed form (module docstring), from the journal state (y, z [m], vy, vz [m/s], omega [rad/s])
     and the film force F = (Fy, Fz) [N] of any internal at that state."""
     params.require_full_bore("full_bore_friction", "its Couette integral is the circular film's")
+    require_full_shear(params, "full_bore_friction")
     eps = math.hypot(y, z) / params.CR
     if not eps < 1.0:
         raise ValueError(f"full_bore_friction: eccentricity ratio {eps:.6g} >= 1 (the journal touches the bore)")
@@ -129,7 +131,7 @@ def full_bore_friction(params: BearingParams, y: float, z: float, vy: float, vz:
 
 def _cells(n: int, grid):
     """(width, centre, right, fixed, supply, dist, face_h0, centre_h0) of the n cells (``grid`` a
-    ``geometry.ThetaGrid``, None: the full bore's uniform cells)."""
+    ``thetagrid.ThetaGrid``, None: the full bore's uniform cells)."""
     if grid is None:
         w = np.full(n, 2.0 * math.pi / n)
         centre = np.arange(n) * w[0]
@@ -186,7 +188,7 @@ def field_report(params: BearingParams, y: float, z: float, vy: float, vz: float
 
     p_half : (n_theta, m) [Pa], the half length x < 0, column 0 at the end (the solver's order)
     dx     : axial cell length [m]
-    grid   : the bore's ``geometry.ThetaGrid`` (None: the full bore's uniform cells)
+    grid   : the bore's ``thetagrid.ThetaGrid`` (None: the full bore's uniform cells)
     """
     mu, R, CR = params.mu, params.R, params.CR
     n, m = p_half.shape
@@ -199,17 +201,13 @@ def field_report(params: BearingParams, y: float, z: float, vy: float, vz: float
     p, hf, dp = _faces(params, y, z, p_half, cells)
     # axial weights of the half length (both halves: x 2): the solver's quadrature for p, plain
     # cell lengths for the fluxes through the faces
-    qw = np.full(m, dx)
-    if m == 1:
-        qw[0] = 8.0 / 9.0 * dx
-    else:
-        qw[0] -= dx / 8.0
-        qw[1] += dx / 72.0
+    lands = has_lands(params)  # a circumferential groove: p_half is one land (physics.lands)
+    qw = axial_stencil(m, dx, lands)[2]
     film_face = ~(fixed & fixed[nxt])                    # faces with film on at least one side
     # --- friction: Couette over the film (as a full film), pressure part summed over the faces
-    if grid is None:
+    if grid is None or grid.geometry.is_circle:  # the lands' film is the circular one (the groove shears none)
         eps = math.hypot(y, z) / CR
-        tc = 2.0 * math.pi * mu * omega * R ** 3 * params.L / (CR * math.sqrt(1.0 - eps * eps))
+        tc = 2.0 * math.pi * mu * omega * R ** 3 * film_length(params) / (CR * math.sqrt(1.0 - eps * eps))
         tp = 0.5 * (y * F[1] - z * F[0])
     else:
         g = grid.geometry
@@ -222,6 +220,7 @@ def field_report(params: BearingParams, y: float, z: float, vy: float, vz: float
         # (R / 2) int h dp/dtheta dtheta over the film: h_f (p_next - p) per face, both halves
         jump = (p[nxt] - p) @ (2.0 * qw)
         tp = 0.5 * R * float(np.sum(np.where(film_face, hf * jump, 0.0)))
+    tc -= cavitated_relief(params, y, z, omega, p_half, dx, cells, hf)
     q_side = side_flow(params, y, z, p_half, dx, grid)
     # --- inflow: circumferential face fluxes over the whole length (both halves)
     couette, pressure = face_fluxes(params, omega, hf, dp, dx)
@@ -230,10 +229,16 @@ def field_report(params: BearingParams, y: float, z: float, vy: float, vz: float
     if fixed.any():
         faces, sign = supply_edges(fixed)
         q_in = float(np.sum(np.maximum(flux[faces[sign > 0]], 0.0)) + np.sum(np.maximum(-flux[faces[sign < 0]], 0.0)))
-    feeds = lobe_feed_faces(grid, hf) if grid is not None and g.lobes > 1 and g.preload > 0.0 else []
+    feeds = lobe_feed_faces(grid, hf) if grid is not None and grid.geometry.lobes > 1 and grid.geometry.preload > 0.0 else []
     for face in feeds:                                                  # each lobe's own feed line
         q_in += abs(float(flux[face]))
-    if not (fixed.any() or feeds):
+    if lands:
+        # the groove is the lands' only supply: in a steady state it delivers what leaves by the ends (where the
+        # film cavitates, Swift-Stieber's film reforms with oil that in the bearing comes from the groove through
+        # the cavitated zone; where none cavitates, the flow across the groove's edges, ``groove_inflow``, is the
+        # side flow to round-off: tests/test_circumferential_groove.py)
+        q_in = q_side
+    elif not (fixed.any() or feeds):
         k = int(np.argmax(hf))                                          # the thickest face
         t_max = math.atan2(y, -z) if (y or z) else float(right[k])      # (sin, -cos) along (y, z)
         # the two faces around the thickest line and the linear weight between them
@@ -246,12 +251,62 @@ def field_report(params: BearingParams, y: float, z: float, vy: float, vz: float
     return assemble_report(params, tc, tp, F, v, omega, q_in, q_side)
 
 
+def shear_option(params: BearingParams):
+    """The bearing's [oil] cavitated_shear: "full" (also without an [oil] table), "striated" or a fraction."""
+    return "full" if params.oil is None else params.oil.cavitated_shear
+
+
+def require_full_shear(params: BearingParams, what: str) -> None:
+    """ValueError unless the cavitated film shears as a full film: ``what`` (a closed form from the force
+    alone) does not know where the film cavitates."""
+    if shear_option(params) != "full":
+        raise ValueError(f"{what}: [oil] cavitated_shear = {params.oil.cavitated_shear!r} needs the film's pressure "
+                         "field to tell the cavitated cells: the Reynolds internal computes it (or write 'full')")
+
+
+def cavitated_relief(params: BearingParams, y: float, z: float, omega: float, p_half: np.ndarray, dx: float, cells,
+                     hf: np.ndarray) -> float:
+    """The Couette torque [N m] the cavitated cells do not exert when the film there is striated
+    (``[oil] cavitated_shear``; 0 for "full"): mu omega R^3 sum (1 - f) width 2 dx / h over the cavitated
+    nodes (p = 0, not prescribed), f the sheared fraction of the gap: the given number, or for "striated"
+    h_r / h (capped at 1), h_r the film at the face where the node's run of cavitated cells begins along
+    theta (where the film ruptured, or a supply edge): the striations carry on the Couette flow omega R h_r / 2
+    of the film there (Dowson & Taylor 1979's film fraction in the Swift-Stieber rupture zone). A row
+    cavitated all round keeps its full shear (no rupture to take h_r from)."""
+    option = shear_option(params)
+    if option == "full":
+        return 0.0
+    w, centre, fixed = cells[0], cells[1], cells[3]
+    hc = params.CR * cells[7] + y * np.sin(centre) - z * np.cos(centre)
+    cav = (p_half <= 0.0) & ~fixed[:, None]
+    if option == "striated":
+        frac = np.ones(p_half.shape)
+        h_left = np.roll(hf, 1)  # the film at every cell's left face
+        n = cav.shape[0]
+        for j in range(cav.shape[1]):
+            row = cav[:, j]
+            if row.all() or not row.any():
+                continue
+            k0 = int(np.flatnonzero(~row)[0])  # start the walk at a cell that does not cavitate
+            h_r = 0.0
+            for s in range(1, n + 1):
+                i = (k0 + s) % n
+                if row[i]:
+                    if not row[i - 1]:
+                        h_r = h_left[i]
+                    frac[i, j] = min(1.0, h_r / hc[i])
+    else:
+        frac = np.full(p_half.shape, float(option))
+    lost = np.where(cav, 1.0 - frac, 0.0) @ np.full(p_half.shape[1], 2.0 * dx)
+    return params.mu * omega * params.R ** 3 * float(np.sum(lost * w / hc))
+
+
 def face_fluxes(params: BearingParams, omega: float, hf: np.ndarray, dp: np.ndarray, dx: float):
     """(Couette, pressure) parts [m^3/s] of the circumferential flux across every right face over the
     whole length, the flux their difference: omega R h L / 2 and h^3 / (12 mu R) int dp/dtheta dx
     (``dp`` (n_theta, m) across the faces of the half length, cells ``dx`` long)."""
     along = dp @ (2.0 * np.full(dp.shape[1], dx))
-    return (omega * params.R * hf / 2.0) * params.L, hf ** 3 / (12.0 * params.mu * params.R) * along
+    return (omega * params.R * hf / 2.0) * film_length(params), hf ** 3 / (12.0 * params.mu * params.R) * along
 
 
 def supply_edges(fixed: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -348,6 +403,7 @@ def grooved_report(params: BearingParams, y: float, z: float, vy: float, vz: flo
     supply edges ``edges`` ((theta [rad], sign), ``Geometry.supply_edges``) of
     max(sign omega Q0 h_e / (2 CR) - r Q0 P_e, 0), h_e = CR + y sin(theta) - z cos(theta)
     (docs/forcemap.md, "Grooved bores: the flows")."""
+    require_full_shear(params, "grooved_report")
     eps = float(np.hypot(y, z)) / params.CR  # libm's, as forcemap.reduced (the native C map's too)
     if not eps < 1.0:
         raise ValueError(f"grooved_report: eccentricity ratio {eps:.6g} >= 1 (the journal touches the bore)")

@@ -58,6 +58,7 @@ import numpy as np
 
 from ..io.schema import Choice, Key, List, Number
 from .pads import PAD_KEYS, PadGeometry, pads_from_mapping
+from .thetagrid import ThetaGrid
 
 TWO_PI = 2.0 * math.pi
 MAX_LOBES = 8
@@ -80,7 +81,11 @@ GEOMETRY_KEYS = (
         "increasing with the rotation) [deg]", [], "angles, taken modulo 360", kind=List(Number())),
     Key("groove_width_deg", "width of every groove [deg] (with grooves_deg)", 20.0, "> 0 and < 180",
         kind=Number(0.0, 180.0, exclusive_minimum=True, exclusive_maximum=True)),
-    Key("supply_pressure_kPa", "oil pressure in the grooves above ambient [kPa] (with grooves_deg)", 0.0,
+    Key("circumferential_groove_mm", "width of a 360 deg feed groove at mid-length [mm]: the film in two lands of "
+        "(L - width) / 2, fed along the groove at supply_pressure_kPa (the plain circular bore only)", 0.0,
+        "0 (none) or > 0 and < L", kind=Number(0.0)),
+    Key("supply_pressure_kPa", "oil pressure in the grooves above ambient [kPa] (with grooves_deg or "
+        "circumferential_groove_mm)", 0.0,
         f"0 .. {MAX_SUPPLY_KPA:g}", kind=Number(0.0, MAX_SUPPLY_KPA)),
     Key("arc_deg", "a partial arc [start, end]: film only from start to end in increasing theta, ambient "
         "outside [deg]", None, "end - start in (0, 360)", kind=List(Number(), length=2)),
@@ -118,6 +123,9 @@ class Geometry:
     grooves         : axial groove centres [rad], sorted in [0, 2 pi)
     groove_width    : every groove's width [rad]
     supply_pressure : oil pressure in the grooves above ambient [Pa]
+    circumferential_groove : width [m] of a 360 deg feed groove at mid-length (0: none); the film is
+                      then two lands of (L - width) / 2 fed along it at supply_pressure (Dirichlet on
+                      the lands' inner edges, ambient at the outer ends; plain circular bore only)
     arc             : (start, end) of a partial arc [rad], end - start in (0, 2 pi), or None
     lobes           : number of lobes (1: circular)
     preload         : m = 1 - C_bearing / C_pad, in [0, 1)
@@ -139,6 +147,7 @@ class Geometry:
     lobe_angle: float = 0.0
     pads: PadGeometry | None = None
     feed: str = "film"
+    circumferential_groove: float = 0.0
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "grooves", tuple(sorted(_wrap(float(g)) for g in self.grooves)))
@@ -153,7 +162,13 @@ class Geometry:
     @property
     def is_full_bore(self) -> bool:
         """The plain 360 deg circular bore: the solver's original path, bit for bit."""
-        return not self.grooves and self.arc is None and self.lobes == 1 and self.pads is None and self.feed == "film"
+        return self.is_circle and self.feed == "film" and not self.circumferential_groove
+
+    @property
+    def is_circle(self) -> bool:
+        """The film is the circular one all round (no axial groove, arc, lobes or pads): the full bore,
+        or the lands of a circumferential groove (their film, closure and minimum in closed form)."""
+        return not self.grooves and self.arc is None and self.lobes == 1 and self.pads is None
 
     @property
     def feed_unplaced(self) -> bool:
@@ -172,6 +187,10 @@ class Geometry:
         """The bore in a few words (for messages and the demo)."""
         if self.is_full_bore:
             return "full 360 deg circular bore"
+        if self.circumferential_groove:
+            return (f"full 360 deg circular bore with a circumferential feed groove "
+                    f"{self.circumferential_groove * 1e3:.4g} mm wide at mid-length (supply "
+                    f"{self.supply_pressure / 1e3:.4g} kPa)")
         if self.feed == "thickest":
             return ("full 360 deg circular bore fed along the line of thickest film "
                     + (f"at {math.degrees(self.grooves[0]):.4g} deg (the static equilibrium's; an ambient line "
@@ -212,8 +231,15 @@ class Geometry:
             return f"groove_width_deg = {math.degrees(w):.6g} must be > 0 and < 180"
         if not (math.isfinite(self.supply_pressure) and 0.0 <= self.supply_pressure <= MAX_SUPPLY_KPA * 1e3):
             return f"supply_pressure_kPa = {self.supply_pressure / 1e3:.6g} must be in 0 .. {MAX_SUPPLY_KPA:g}"
-        if self.supply_pressure > 0.0 and not self.grooves:
-            return "supply_pressure_kPa > 0 needs grooves_deg (the oil is supplied through the grooves)"
+        c = self.circumferential_groove
+        if not (math.isfinite(c) and c >= 0.0):
+            return f"circumferential_groove_mm = {c * 1e3!r} must be >= 0"
+        if c and not (self.is_circle and self.feed == "film"):
+            return ("circumferential_groove_mm is the plain circular bore's feed (two lands fed along a 360 deg "
+                    "groove): leave out grooves_deg, arc_deg, lobes, pads and feed = 'thickest'")
+        if self.supply_pressure > 0.0 and not (self.grooves or c):
+            return ("supply_pressure_kPa > 0 needs grooves_deg or circumferential_groove_mm (the oil is supplied "
+                    "through the grooves)")
         if not 1 <= self.lobes <= MAX_LOBES:
             return f"lobes = {self.lobes} must be in 1 .. {MAX_LOBES}"
         if not (math.isfinite(self.preload) and 0.0 <= self.preload < 1.0):
@@ -330,7 +356,7 @@ class Geometry:
     def min_film_at(self, y: float, z: float, CR: float, n: int = 3600) -> tuple[float, float]:
         """(h_min [m], theta [rad]) of the smallest film over the film region, as ``min_film``; the full
         bore's exactly, at the angle opposite the journal's displacement."""
-        if self.is_full_bore and (y or z):
+        if self.is_circle and (y or z):
             return CR - math.hypot(y, z), math.atan2(-y, z) % TWO_PI  # h = CR - e cos(theta - theta_min)
         th = np.concatenate([np.arange(n) * (TWO_PI / n), np.array(self.edges())])
         th = th[[not self.is_prescribed(t) for t in th]]
@@ -345,7 +371,7 @@ class Geometry:
         lobed bore or a partial arc lets the journal beyond CR where its bore is farther away.
         Sampled every 0.1 deg and at every edge (the maximum between samples exceeds the sampled
         one by < 1e-6)."""
-        if self.is_full_bore:
+        if self.is_circle:
             return math.hypot(y, z) / CR
         a, b = self._closure_weights
         return float(np.max(y * a + z * b)) / CR
@@ -404,11 +430,14 @@ class Geometry:
         return [(segs[k][1] % TWO_PI, 1.0 if fixed[k] else -1.0) for k in range(n)
                 if fixed[k] != fixed[(k + 1) % n]]
 
-    def theta_grid(self, n_theta: int) -> "ThetaGrid":
+    def theta_grid(self, n_theta: int) -> ThetaGrid:
         """The circumferential cells of the Reynolds solver for this bore: a face on every edge
         (``edges``), one cell per groove and per stretch outside the arc (their pressure is
         prescribed), the other n_theta - (those) cells spread over the film segments in
         proportion to their length (uniform inside each, at least 2 per segment)."""
+        if not self.edges():  # the circle all round (a circumferential groove's lands): the full bore's cells
+            z, dth = np.zeros(n_theta), TWO_PI / n_theta
+            return ThetaGrid(self, (np.arange(n_theta) - 0.5) * dth, np.full(n_theta, dth), z.astype(bool), z)
         segs, fixed, supply_of = self.segments()
         film = [k for k, f in enumerate(fixed) if not f]
         n_film = n_theta - (len(segs) - len(film))
@@ -448,6 +477,9 @@ class Geometry:
                        lobe_angle_deg=math.degrees(self.lobe_angle))
         if self.feed != "film":
             out["feed"] = self.feed
+        if self.circumferential_groove:
+            out.update(circumferential_groove_mm=self.circumferential_groove * 1e3,
+                       supply_pressure_kPa=self.supply_pressure / 1e3)
         return out
 
     def close_to(self, other: "Geometry", tol: float = 1e-9) -> bool:
@@ -484,62 +516,10 @@ class Geometry:
                        supply_pressure=d["supply_pressure_kPa"] * 1e3,
                        arc=None if arc is None else (math.radians(arc[0]), math.radians(arc[1])),
                        lobes=d["lobes"], preload=d["preload"], lobe_offset=d["lobe_offset"],
-                       lobe_angle=math.radians(d["lobe_angle_deg"]), feed=d["feed"])
+                       lobe_angle=math.radians(d["lobe_angle_deg"]), feed=d["feed"],
+                       circumferential_groove=d["circumferential_groove_mm"] * 1e-3)
         except ValueError as exc:
             raise error(str(exc).removeprefix("Geometry: ")) from None
-
-
-@dataclass(frozen=True, eq=False)
-class ThetaGrid:
-    """Circumferential cells of the Reynolds solver for a bore (``Geometry.theta_grid``): cell i
-    spans [left[i], left[i] + width[i]] [rad]; ``fixed`` cells have the prescribed pressure
-    ``supply`` [Pa] (a groove's, 0 outside an arc). Derived arrays, per cell i and its right
-    face i + 1/2 (the left face of cell i + 1, cyclically):
-
-    centre      : cell centres [rad]
-    right       : right faces [rad]
-    face_film   : h / CR of the centred journal at the right face, on the side of a film cell
-    centre_film : h / CR of the centred journal at the centre
-    dist        : the distance [rad] across the right face over which the pressure difference acts:
-                  centre to centre between film cells, centre to the face when the other side is
-                  fixed (its pressure holds on the face itself), 0 between two fixed cells
-    dfilm       : face_film(right) - face_film(left) of a film cell, both on its own lobe (the
-                  Couette source of the lobes); 0 for fixed cells
-    """
-
-    geometry: Geometry
-    left: np.ndarray
-    width: np.ndarray
-    fixed: np.ndarray
-    supply: np.ndarray
-
-    def __post_init__(self) -> None:
-        g = self.geometry
-        n = self.left.shape[0]
-        nxt = np.roll(np.arange(n), -1)
-        centre = self.left + 0.5 * self.width
-        right = self.left + self.width
-        lobe = g.lobe_of(centre)
-        film = ~self.fixed
-        # the face's film on the side of a film cell (the film may step at a fixed cell's face)
-        side = np.where(film, lobe, lobe[nxt])
-        face_film = g.base_film(right, side)
-        own_left = g.base_film(self.left, lobe)
-        dfilm = np.where(film, g.base_film(right, lobe) - own_left, 0.0)
-        gap = np.mod(centre[nxt] - centre, TWO_PI)
-        dist = np.where(film & film[nxt], gap,
-                        np.where(film, 0.5 * self.width, np.where(film[nxt], 0.5 * self.width[nxt], 0.0)))
-        for name, value in (("centre", centre), ("right", right), ("face_film", face_film),
-                            ("centre_film", g.base_film(centre, lobe)), ("dist", dist), ("dfilm", dfilm)):
-            object.__setattr__(self, name, value)
-
-    def supply_force(self, R: float, L: float) -> np.ndarray:
-        """(Fy, Fz) [N] of the prescribed pressures on the journal: p (sin, -cos) integrated over
-        their cells, the whole length L [m], radius R [m]."""
-        a, b = self.left, self.left + self.width
-        fy = np.sum(self.supply * (np.cos(a) - np.cos(b)))
-        fz = -np.sum(self.supply * (np.sin(b) - np.sin(a)))
-        return np.array([fy, fz]) * R * L
 
 
 FULL_BORE = Geometry()

@@ -12,7 +12,12 @@ original one (that one stays bit for bit and as fast):
 * cells with a prescribed pressure (grooves at the supply pressure, ambient outside an arc) are
   not unknowns: their rows are the identity, their value moves to the right-hand side of the
   neighbouring film cells (Dirichlet on the shared face, whose distance is half the film cell);
-* the force adds the prescribed pressures' own force (a constant).
+* the force adds the prescribed pressures' own force (a constant);
+* a circumferential groove (``p_in`` > 0 or its axial stencil, set by the driver): the axial cells
+  span one land, ambient at its outer end (j = 0) and the supply pressure p_in on its inner edge
+  (j = m - 1), both Dirichlet faces with the same second-order one-sided gradient; the inner row
+  scaled by 3/4 too reads 3 p_{m-1} - p_{m-2} - 2 p_in, so 2 ax p_in moves to the right-hand side
+  (state-dependent through ax: its derivative 2 dax p_in enters the adjoint's dF/dq).
 
 The banded Cholesky with its periodic border, the operator, the warm start and the call history
 are the full bore's (``reynolds_kernels``): the matrix has the same structure. Fixed cells are
@@ -48,8 +53,9 @@ def _assemble(y, z, vy, vz, omega, CR, mu, dx, sin_c, cos_c, sin_f, cos_f, ds, d
 
 
 @njit(cache=True)
-def _rhs(N, m, at, rs, b, fixed, psup, rhs0):
-    """rhs0 = rs (b + the fixed neighbours' pressure over the shared face) on film cells, 0 on fixed ones."""
+def _rhs(N, m, at, ax, rs, b, fixed, psup, p_in, rhs0):
+    """rhs0 = rs (b + the fixed neighbours' pressure over the shared face) on film cells, 0 on fixed ones;
+    plus 2 ax p_in on the inner row of a land fed by a circumferential groove at p_in."""
     for i in range(N):
         im = i - 1 if i > 0 else N - 1
         ip = i + 1 if i < N - 1 else 0
@@ -61,15 +67,17 @@ def _rhs(N, m, at, rs, b, fixed, psup, rhs0):
                 extra += at[im] * psup[im]
         for j in range(m):
             rhs0[i * m + j] = 0.0 if fixed[i] else rs[j] * (b[i] + extra)
+        if p_in != 0.0 and not fixed[i]:
+            rhs0[i * m + m - 1] += 2.0 * ax[i] * p_in
 
 
 @njit(cache=True)
-def _film(mode, N, m, at, ax, tdiag, rs, b, fixed, psup, rhs0, grow, max_iter, warm,
+def _film(mode, N, m, at, ax, tdiag, rs, b, fixed, psup, p_in, rhs0, grow, max_iter, warm,
           act, diag, cxo, cto, Lb, Y, S, zb, z2, p, pf, rhs, tmp, info):
     """Pressure p (fixed cells at their value) for the source b; as reynolds_kernels' _film, with
     the fixed cells kept out of the complementarity problem. Returns (s0, has_border, iterations)."""
     n = N * m
-    _rhs(N, m, at, rs, b, fixed, psup, rhs0)
+    _rhs(N, m, at, ax, rs, b, fixed, psup, p_in, rhs0)
     bmax = 0.0
     for k in range(n):
         if abs(rhs0[k]) > bmax:
@@ -97,7 +105,7 @@ def _film(mode, N, m, at, ax, tdiag, rs, b, fixed, psup, rhs0, grow, max_iter, w
             free = False
             for d in range(-grow, grow + 1):
                 ii = (i + d) % N
-                if b[ii] > 0.0 or psup[ii] > 0.0:
+                if b[ii] > 0.0 or psup[ii] > 0.0 or p_in > 0.0:
                     free = True
                     break
             for j in range(m):
@@ -144,7 +152,7 @@ def _film(mode, N, m, at, ax, tdiag, rs, b, fixed, psup, rhs0, grow, max_iter, w
             for j in range(m):
                 k = i * m + j
                 if act[k]:
-                    if tmp[k] - rs[j] * b[i] < -tol:
+                    if tmp[k] - rs[j] * b[i] - (2.0 * ax[i] * p_in if j == m - 1 else 0.0) < -tol:
                         act[k] = False
                         changed = True
                 elif p[k] < 0.0:
@@ -158,7 +166,7 @@ def _film(mode, N, m, at, ax, tdiag, rs, b, fixed, psup, rhs0, grow, max_iter, w
             continue
         for j in range(m):
             k = i * m + j
-            lam = tmp[k] - rs[j] * b[i]
+            lam = tmp[k] - rs[j] * b[i] - (2.0 * ax[i] * p_in if j == m - 1 else 0.0)
             v = p[k] if p[k] < lam else lam
             if abs(v) > res:
                 res = abs(v)
@@ -187,7 +195,7 @@ def _integrate(N, m, p, gy, gz, qw, fixed, F0, F):
 @njit(cache=True)
 def geometry_kernel(
     mode, want_jac, y, z, vy, vz, omega, CR, mu, R, dx, m,
-    sin_c, cos_c, sin_f, cos_f, ds, dc, H0f, H0c, dH0, ct, cx, gy, gz, fixed, psup, F0, tdiag, rs, qw,
+    sin_c, cos_c, sin_f, cos_f, ds, dc, H0f, H0c, dH0, ct, cx, gy, gz, fixed, psup, p_in, F0, tdiag, rs, qw,
     at, ax, b, db, dat, dax, diag, cxo, cto, act, Lb, Y, S, zb, z2,
     p, pf, rhs0, rhs, tmp, mu_y, mu_z, F, dFq, dFv, Ft, info, max_iter, grow,
     use_warm, warm_cap, max_turn, max_dlog, hs, order, nvalid, wring,
@@ -203,13 +211,13 @@ def geometry_kernel(
     warm = use_warm and warm_start_set(N, m, y, z, vy, vz, omega, CR, act, hs, order, nvalid, wring,
                                        max_turn, max_dlog)
     info[4] = 1.0 if warm else 0.0
-    s0, hb, iters = _film(mode, N, m, at, ax, tdiag, rs, b, fixed, psup, rhs0, grow,
+    s0, hb, iters = _film(mode, N, m, at, ax, tdiag, rs, b, fixed, psup, p_in, rhs0, grow,
                           warm_cap if warm else max_iter, warm,
                           act, diag, cxo, cto, Lb, Y, S, zb, z2, p, pf, rhs, tmp, info)
     if warm and iters < 0:
         info[3] += warm_cap
         info[5] = 1.0
-        s0, hb, iters = _film(mode, N, m, at, ax, tdiag, rs, b, fixed, psup, rhs0, grow, max_iter, np.bool_(False),
+        s0, hb, iters = _film(mode, N, m, at, ax, tdiag, rs, b, fixed, psup, p_in, rhs0, grow, max_iter, np.bool_(False),
                               act, diag, cxo, cto, Lb, Y, S, zb, z2, p, pf, rhs, tmp, info)
     info[0] = iters
     if iters < 0:
@@ -253,7 +261,7 @@ def geometry_kernel(
             for sgn in (1.0, -1.0):
                 for i in range(N):
                     dat[i] = sgn * db[q, i]
-                it2 = _film(mode, N, m, at, ax, tdiag, rs, dat, fixed, psup, rhs0, grow, max_iter, np.bool_(False),
+                it2 = _film(mode, N, m, at, ax, tdiag, rs, dat, fixed, psup, p_in, rhs0, grow, max_iter, np.bool_(False),
                             act, diag, cxo, cto, Lb, Y, S, zb, z2, p, pf, rhs, tmp, info)[2]
                 if it2 < 0:
                     info[0] = -1.0
@@ -312,6 +320,8 @@ def geometry_kernel(
             for j in range(m):
                 k = i * m + j
                 g = rs[j] * db[q, i] - tmp[k]
+                if j == m - 1 and p_in != 0.0 and not fixed[i]:
+                    g += 2.0 * dax[i] * p_in  # the groove's Dirichlet term on the inner row
                 sy += mu_y[k] * g
                 sz += mu_z[k] * g
         dFq[0, q] = sy

@@ -27,7 +27,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from ..io.schema import Choice, Key, List, Number
+from ..io.schema import Choice, Invalid, Key, Kind, List, Number
 
 __all__ = ["Oil", "OilPreset", "OIL_KEYS", "PRESETS", "GRADES", "KELVIN", "oil_from_table"]
 
@@ -92,6 +92,22 @@ PRESETS = (
 GRADES = {p.name: p for p in PRESETS}
 
 OUTFLOW_RISES = ("half", "full")  # the side flow's share of the rise: 1/2 or 1 (``Oil.outflow_share``)
+CAVITATED_SHEARS = ("full", "striated")  # or a fraction in [0, 1] (``physics.film.cavitated_relief``)
+
+
+@dataclass(frozen=True)
+class ShearKind(Kind):
+    """The [oil] key cavitated_shear: 'full', 'striated' or a number 0 .. 1."""
+
+    def expected(self) -> str:
+        return "'full', 'striated' or a number 0 .. 1"
+
+    def check(self, value, where, label, error):
+        if isinstance(value, str) and value in CAVITATED_SHEARS:
+            return value
+        if isinstance(value, (int, float)) and not isinstance(value, bool) and 0.0 <= value <= 1.0:
+            return float(value)
+        raise Invalid(f" must be {self.expected()}")
 
 # the keys of the [oil] table; exactly one law: grade, or nu_cSt with temperatures_C, or the
 # three vogel_ keys
@@ -124,6 +140,10 @@ OIL_KEYS = (
         "housing's h A; 0: adiabatic, all the friction power into the oil)", 0.0, ">= 0", kind=Number(0.0)),
     Key("ambient_C", "the ambient's temperature for ambient_W_K [C]; absent: the supply temperature", None,
         "a temperature", kind=Number(-100.0, 400.0)),
+    Key("cavitated_shear", "how the cavitated film shears the journal in the friction: 'full' (a full film, as "
+        "Raimondi & Boyd), 'striated' (oil striations carrying the film's Couette flow at rupture: the fraction "
+        "h_rupture / h of the gap) or a fixed fraction 0 .. 1 of the full film's shear (the Reynolds internal's "
+        "pressure field tells the cavitated cells)", "full", "full, striated or 0 .. 1", kind=ShearKind()),
 )
 
 
@@ -139,6 +159,7 @@ class Oil:
     T_supply    : the supply temperature a bearing file gives (its isothermal viscosity's) [K]
     rise_factor : k in T_eff = T_supply + k dT
     outflow_rise: "half" (the side flow leaves at half the rise) or "full" (all the inflow at the full rise)
+    cavitated_shear: "full", "striated" or a fraction in [0, 1]: the cavitated film's shear in the friction
     ambient_W_K : heat lost to the ambient per kelvin of T_eff above T_ambient [W/K] (0: adiabatic)
     T_ambient   : the ambient's temperature [K]; None: the supply temperature
     name        : how messages call it ("ISO VG 32", "oil of bearing.toml")
@@ -156,6 +177,7 @@ class Oil:
     ambient_W_K: float = 0.0
     T_ambient: float | None = None
     name: str = "oil"
+    cavitated_shear: str | float = "full"
 
     def __post_init__(self) -> None:
         if self.law not in ("walther", "vogel"):
@@ -178,6 +200,12 @@ class Oil:
                              f"{', '.join(OUTFLOW_RISES)}")
         if not (math.isfinite(self.ambient_W_K) and self.ambient_W_K >= 0.0):
             raise ValueError(f"Oil {self.name}: ambient_W_K = {self.ambient_W_K!r} must be finite and >= 0")
+        c = self.cavitated_shear
+        if isinstance(c, (int, float)) and not isinstance(c, bool):
+            c = float(c)
+            object.__setattr__(self, "cavitated_shear", c)
+        if not (c in CAVITATED_SHEARS if isinstance(c, str) else (isinstance(c, float) and 0.0 <= c <= 1.0)):
+            raise ValueError(f"Oil {self.name}: cavitated_shear = {c!r} must be 'full', 'striated' or a number 0 .. 1")
         if self.T_ambient is not None and not (math.isfinite(self.T_ambient) and self.T_ambient > 0.0):
             raise ValueError(f"Oil {self.name}: ambient_C = {self.T_ambient - KELVIN!r} must be finite and above "
                              "absolute zero")
@@ -330,7 +358,8 @@ def oil_from_table(d: dict, given: set, name: str, error) -> Oil:
     kw = dict(T_min=lo + KELVIN, T_max=hi + KELVIN, density=d["density_kg_m3"],
               heat_capacity=d["heat_capacity_J_kgK"], T_supply=d["supply_C"] + KELVIN,
               rise_factor=d["rise_factor"], outflow_rise=d["outflow_rise"], ambient_W_K=d["ambient_W_K"],
-              T_ambient=None if d["ambient_C"] is None else d["ambient_C"] + KELVIN, name=name)
+              T_ambient=None if d["ambient_C"] is None else d["ambient_C"] + KELVIN, name=name,
+              cavitated_shear=d["cavitated_shear"])
     if not lo < hi:
         raise error(f"range_C = [{lo:g}, {hi:g}] must have low < high")
     try:

@@ -167,6 +167,9 @@ class BearingParams:
             object.__setattr__(self, name, value)
         if not isinstance(self.geometry, Geometry):
             raise TypeError(f"BearingParams.geometry must be a Geometry, got {type(self.geometry).__name__}")
+        problem = groove_problem(self.L, self.geometry, self.oil)
+        if problem is not None:
+            raise ValueError(f"BearingParams: {problem}")
         if self.oil is not None and not isinstance(self.oil, Oil):
             raise TypeError(f"BearingParams.oil must be an Oil or None, got {type(self.oil).__name__}")
 
@@ -269,7 +272,25 @@ class BearingParams:
             error = range_error(name, vals[name], vals.get("D"))
             if error is not None:  # the constructor's words, with the file's key in front
                 raise BearingFileError(f"{prefix}{key} = {show(data[key])}: {error}")
-        return cls(**vals, geometry=read_geometry(geometry, where), oil=the_oil)
+        geo = read_geometry(geometry, where)
+        problem = groove_problem(vals["L"], geo, the_oil)
+        if problem is not None:
+            raise BearingFileError(f"{where}: [geometry] {problem}")
+        return cls(**vals, geometry=geo, oil=the_oil)
+
+
+def groove_problem(L: float, geometry: Geometry, oil: Oil | None = None) -> str | None:
+    """Why a circumferential groove does not fit a bearing of length L [m] and its oil (naming the keys),
+    or None: it leaves two lands of (L - width) / 2, whose oil all leaves by the ends at the full rise."""
+    c = geometry.circumferential_groove
+    if c and not c < L:
+        return (f"circumferential_groove_mm = {c * 1e3:.6g} must be < L_mm = {L * 1e3:.6g} (the groove leaves two lands "
+                "of (L - width) / 2)")
+    if c and oil is not None and oil.outflow_rise != "full":
+        return (f"circumferential_groove_mm = {c * 1e3:.6g} with [oil] outflow_rise = {oil.outflow_rise!r}: the groove's "
+                "oil flows through the lands and all of it leaves by their ends at the full rise (Shigley's pressure-fed "
+                "bearing, P = rho c_p Qs dT): write [oil] outflow_rise = 'full'")
+    return None
 
 
 def read_geometry(table, where: str) -> Geometry:

@@ -101,6 +101,7 @@ from ..internals.registry import check_state, overflow_error
 from .film import FilmReport, edge_flows, field_report, flow_field, peak_pressure
 from .params import BearingParams
 from .geometry_kernels import geometry_kernel
+from .lands import axial_stencil, has_lands, land_cells
 from .reynolds_kernels import reynolds_kernel
 
 __all__ = ["Reynolds", "DEFAULT_N_THETA", "DEFAULT_N_X", "CAVITATION_MODELS"]
@@ -173,11 +174,12 @@ class Reynolds:
         N, m = self.n_theta, self.n_x // 2
         self._m = m
         self._dth = 2.0 * math.pi / N
-        self._dx = params.L / self.n_x
+        # the axial cells: the half length, or one land of a circumferential groove (physics.lands)
+        self._dx, self._x = land_cells(params, self.n_x)
+        self._p_in = params.geometry.supply_pressure if has_lands(params) else 0.0
         th = np.arange(N) * self._dth
         thf = th + 0.5 * self._dth
         self._theta = th
-        self._x = -0.5 * params.L + (np.arange(self.n_x) + 0.5) * self._dx
         self._sin_c, self._cos_c = np.sin(th), np.cos(th)
         self._sin_f, self._cos_f = np.sin(thf), np.cos(thf)
         self._grid = None  # the bore's ThetaGrid (set by _bore); None: uniform cells of the full bore
@@ -186,25 +188,11 @@ class Reynolds:
         self._ds = self._sin_f - np.roll(self._sin_f, 1)
         self._dc = self._cos_f - np.roll(self._cos_f, 1)
         # axial stencil (in units of h^3 dth / dx), half domain from the end (j = 0) to the
-        # symmetry plane (j = m - 1, zero flux). End face: second-order one-sided flux from
-        # the quadratic through p = 0 at the end and the first two cell centres,
-        # (9 p0 - p1) / (3 dx); row 0 is scaled by rs0 = 3/4 to keep A symmetric, which
+        # symmetry plane (j = m - 1, zero flux), or a land to the groove's edge (p = p_s). End face:
+        # second-order one-sided flux from the quadratic through p = 0 at the end and the first two
+        # cell centres, (9 p0 - p1) / (3 dx); row 0 is scaled by rs0 = 3/4 to keep A symmetric, which
         # leaves the axial row as 3 p0 - p1 (the LCP is unchanged by a positive row scaling).
-        td = np.full(m, 2.0)
-        rs = np.ones(m)
-        qw = np.full(m, self._dx)
-        if m == 1:
-            # one cell per half: symmetric quadratic p0 (L^2/4 - x^2) / (3 L^2 / 16)
-            td[0] = 8.0 / 3.0
-            qw[0] = 8.0 / 9.0 * self._dx
-        else:
-            td[0] = 3.0
-            td[-1] = 1.0
-            rs[0] = 0.75
-            # axial quadrature: midpoint sum with the Euler-Maclaurin end correction
-            # -(dx^2 / 24) p'(end), p'(end) = (9 p0 - p1) / (3 dx); p' = 0 at the symmetry plane
-            qw[0] -= self._dx / 8.0
-            qw[1] += self._dx / 72.0
+        td, rs, qw = axial_stencil(m, self._dx, has_lands(params))
         self._tdiag, self._rs, self._qw = td, rs, qw
         n = N * m
         f = np.zeros
@@ -330,7 +318,7 @@ class Reynolds:
         geometry_kernel(
             self._mode, want_jac, y, z, vy, vz, omega, pr.CR, pr.mu, pr.R, self._dx, self._m,
             self._sin_c, self._cos_c, self._sin_f, self._cos_f, self._ds, self._dc, g["H0f"], g["H0c"], g["dH0"],
-            g["ct"], g["cx"], g["gy"], g["gz"], g["fixed"], g["psup"], g["F0"], self._tdiag, self._rs, self._qw,
+            g["ct"], g["cx"], g["gy"], g["gz"], g["fixed"], g["psup"], self._p_in, g["F0"], self._tdiag, self._rs, self._qw,
             self._at, self._ax, self._b, self._db, self._dat, self._dax, self._diag, self._cxo, self._cto,
             self._act, self._Lb, self._Y, self._S, self._zb, self._z2,
             self._p, self._pf, g["rhs0"], self._rhs, self._tmp, self._mu_y, self._mu_z,
@@ -365,6 +353,12 @@ class Reynolds:
         if self._solved != state:
             self._run(*state, False)
         half = self._p.reshape(self.n_theta, self._m)
+        if self._p_in or has_lands(self.params):
+            # lands: the largest cell's column refined around the circumference (its axial profile is no
+            # even parabola about the mid-plane); the groove's own pressure counts where it is the largest
+            j = int(np.argmax(half.max(axis=0)))
+            pk, th = peak_pressure(self._theta, self._x[j:j + 1], half[:, j:j + 1])
+            return (pk, th) if pk >= self._p_in else (self._p_in, th)
         return peak_pressure(self._theta, self._x, np.concatenate([half, half[:, ::-1]], axis=1))
 
     def film_report(self, y: float, z: float, vy: float, vz: float, omega: float) -> FilmReport:

@@ -78,6 +78,9 @@ def bore_arrays(params: BearingParams) -> tuple:
     """(nseg, edges [rad], fixed (int32), supply [Pa], lobes, preload, lobe_offset, lobe_angle [rad]) of
     the bore, as the C solver takes them (nseg = 0: the full bore); from ``Geometry.segments``."""
     g = params.geometry
+    if g.circumferential_groove:
+        raise ValueError(f"the native C solver does not take a circumferential groove (circumferential_groove_mm = "
+                         f"{g.circumferential_groove * 1e3:g}) yet: the Python Reynolds internal does")
     if g.is_full_bore:
         return 0, np.zeros(1), np.zeros(1, np.int32), np.zeros(1), 1, 0.0, 0.5, 0.0
     segs, fixed, supply = g.segments()

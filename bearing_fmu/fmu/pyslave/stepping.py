@@ -75,6 +75,7 @@ class Stepping:
         self._jacobian = getattr(internal, "force_and_jacobian", None)
         self._guard = internal if hasattr(internal, "outside") else None  # a domain guard: its excursion flag
         self._kernel = self._kernel_of(internal, spec)
+        self._peak = internal.peak_pressure if spec.can.film_field else None  # Capabilities.film_field
 
     def _kernel_of(self, internal, spec):
         """(call, address, data, out, compiled force) of the internal's compiled kernel
@@ -228,12 +229,17 @@ class Stepping:
                 f"the {self._internal_name} internal returned a non-finite force or tangent at "
                 f"y = {y:.6g} m, z = {z:.6g} m, vy = {vy:.6g} m/s, vz = {vz:.6g} m/s, omega = {omega:.6g} rad/s")
         ood = getattr(internal, "last_out_of_domain", False)  # the domain guard's verdict on this state
+        # the film's peak pressure: read from the field of the force call just made (no second solve); at
+        # the effective viscosity the field scales as the force does
+        peak = self._peak(y, z, vy, vz, omega) if self._peak is not None else (0.0, 0.0)
+        peak = (peak[0] * factor, peak[1]) if self._oil is not None else peak
         # all evaluated: commit the outputs
         self.Fy, self.Fz = fy, fz
         self.eccentricity = eps
         self.h_min = params.CR * (1.0 - eps)
         self.out_of_domain = bool(ood)
         self.T_eff, self.mu_eff, self.P_loss, self.Q_side = heat
+        self.peak_pressure, self.peak_pressure_angle = float(peak[0]), float(peak[1])
         if tangent is not None:
             (self.Kyy, self.Kyz, self.Kzy, self.Kzz, self.Cyy, self.Cyz, self.Czy, self.Czz) = tangent
         if pending:

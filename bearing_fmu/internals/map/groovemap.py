@@ -75,6 +75,9 @@ SUPPLY_WHY = ("a supply pressure adds a film source independent of the journal's
 
 def map_geometry_problem(geometry: Geometry) -> str | None:
     """Why no force map serves this bore (a phrase), or None."""
+    if geometry.circumferential_groove:
+        return (f"circumferential_groove_mm = {geometry.circumferential_groove * 1e3:g}: the lands' field is not the "
+                "grooved map's (its edges are axial, its film fed along theta); use the Reynolds internal")
     if geometry.lobes > 1:
         return f"lobes = {geometry.lobes}: {LOBES_WHY}"
     if geometry.supply_pressure > 0.0:
