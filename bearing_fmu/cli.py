@@ -177,16 +177,15 @@ def _demo_pads(args: argparse.Namespace, params, load) -> int:
     import numpy as np
 
     from .internals.tilting_pad.operating import operating_point
+    from .physics.oil import KELVIN
 
     for flag, value in (("--internal", args.internal != "reynolds"), ("--surrogate", args.surrogate),
                         ("--map", args.map)):
         if value:
             raise ValueError(f"{flag}: a tilting-pad bearing is computed by the tilting_pad internal (every pad by the "
                              "Reynolds solver); leave {flag} out".replace("{flag}", flag))
-    if args.supply_c is not None or params.oil is not None:
-        raise ValueError("--supply-c / [oil]: the tilting-pad bearing's effective temperature is not modelled yet; "
-                         "give the bearing an isoviscous mu_Pa_s")
-    rec = operating_point(params, load, args.speed_hz)
+    rec = operating_point(params, load, args.speed_hz,
+                          T_supply_K=None if args.supply_c is None else args.supply_c + KELVIN)
     if args.json:
         print(json.dumps({"bearing": str(args.bearing), "internal": "tilting_pad", **rec}, indent=2))
         return 0
@@ -209,8 +208,12 @@ def _demo_pads(args: argparse.Namespace, params, load) -> int:
         print("dimensionless K CR / W and C omega CR / W:")
         print(np.array(rec["K_dimensionless"]))
         print(np.array(rec["C_dimensionless"]))
+    film = ("isoviscous" if rec["T_eff_K"] is None else
+            f"oil {rec['oil']}: supply {rec['T_supply_K'] - KELVIN:.4g} C, effective temperature {rec['T_eff_C']:.4g} C, "
+            f"mu_eff {rec['mu_eff_Pa_s']:.4g} Pa s")
     print(f"friction: power {rec['friction_power_W']:.4g} W; oil flow: inflow {rec['inflow_m3_s'] * 6e4:.4g} L/min, "
-          f"side flow {rec['side_flow_m3_s'] * 6e4:.4g} L/min (isoviscous; the full (2 + N) coefficients: --json)")
+          f"side flow {rec['side_flow_m3_s'] * 6e4:.4g} L/min, temperature rise {rec['temperature_rise_K']:.4g} K "
+          f"({film}; the full (2 + N) coefficients: --json)")
     return 0
 
 

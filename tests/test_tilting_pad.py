@@ -303,7 +303,8 @@ def test_demo_json_of_a_tilting_pad_bearing(tmp_path):
     assert 0.2 < rec["eccentricity"] < 0.5
     bad = subprocess.run([sys.executable, "-m", "bearing_fmu.cli", "demo", "--bearing", str(path), "--supply-c", "40"],
                          capture_output=True, text=True, timeout=600)
-    assert bad.returncode == 2 and "effective temperature is not modelled yet" in bad.stderr
+    # isoviscous: a supply temperature needs the [oil] table (with one: tests/test_pad_thermal.py)
+    assert bad.returncode == 2 and "needs the bearing's [oil] table" in bad.stderr
 
 
 # ------------------------------------------------------------------ the rotor on tilting pads

@@ -28,6 +28,10 @@ class ViscosityScaled:
         self.set_viscosity(self.mu_ref if mu_eff is None else mu_eff)
         if getattr(inner, "force_and_jacobian", None) is not None:
             self.force_and_jacobian = self._force_and_jacobian
+        # what answers in N (or N/m, N s/m) at the inner's viscosity is scaled too, never handed on raw
+        for name in ("journal_equilibrium", "reduced_coefficients", "full_coefficients"):
+            if getattr(inner, name, None) is not None:
+                setattr(self, name, getattr(self, "_" + name))
 
     def set_viscosity(self, mu_eff: float) -> None:
         """Use viscosity mu_eff [Pa s] from the next call on."""
@@ -47,9 +51,25 @@ class ViscosityScaled:
         f = self.factor
         return f * np.asarray(F, float), f * np.asarray(dq, float), f * np.asarray(dv, float)
 
+    def _journal_equilibrium(self, load, omega: float, **kw) -> tuple[float, float]:
+        # the force is factor times the inner's: the inner's equilibrium under the load / factor
+        return self.inner.journal_equilibrium((load[0] / self.factor, load[1] / self.factor), omega, **kw)
+
+    def _reduced_coefficients(self, y: float, z: float, omega: float, whirl: float) -> tuple:
+        if getattr(self.inner, "reduce", None) is not None:  # pads with inertia: -whirl^2 I does not scale
+            K, C, _ = self._full_coefficients(y, z, omega)
+            return self.inner.reduce(K, C, whirl)
+        K, C = self.inner.reduced_coefficients(y, z, omega, whirl)
+        return self.factor * np.asarray(K), self.factor * np.asarray(C)
+
+    def _full_coefficients(self, y: float, z: float, omega: float) -> tuple:
+        K, C, inertia = self.inner.full_coefficients(y, z, omega)  # the pads' inertia does not scale
+        return self.factor * np.asarray(K), self.factor * np.asarray(C), inertia
+
     def __getattr__(self, name):  # domain_distance, counts, ... of the inner internal
-        # not the inner's compiled force: it would run at the inner's viscosity, unscaled
-        if name in ("inner", "force_and_jacobian", "compiled_force"):
+        # not the inner's compiled force, coefficients or equilibrium: at the inner's viscosity, unscaled
+        if name in ("inner", "force_and_jacobian", "compiled_force", "journal_equilibrium", "reduced_coefficients",
+                    "full_coefficients"):
             raise AttributeError(name)
         return getattr(self.inner, name)
 
@@ -99,6 +119,8 @@ class LaggedThermal(ViscosityScaled):
 
     def begin_step(self, dt: float) -> None:
         self.dt = float(dt)
+        if getattr(self.inner, "begin_step", None) is not None:  # an internal with states of its own (pads)
+            self.inner.begin_step(dt)
 
     def thermal_record(self) -> tuple[float, float, float, float, float]:
         """(T_eff [K], mu_eff [Pa s], friction power P_loss [W], side flow Q_side [m^3/s], inflow Q_in
@@ -108,6 +130,8 @@ class LaggedThermal(ViscosityScaled):
 
     def accept_step(self) -> None:
         self.T = self.T_trial
+        if getattr(self.inner, "accept_step", None) is not None:
+            self.inner.accept_step()
 
     def force(self, y: float, z: float, vy: float, vz: float, omega: float) -> tuple[float, float]:
         f = self.inner.force(y, z, vy, vz, omega)  # refuses the wall before the film report is made

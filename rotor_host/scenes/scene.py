@@ -297,7 +297,8 @@ def check_supply(supply_c: float, internal: str, via: str, rotor: Rotor, profile
     if (via != "direct" or profile is not None) and not spec.can.film_flow:
         why = "through an FMU's thermal ports" if via != "direct" else "with a [speed_profile]"
         raise SceneError(f"{key} {why} needs an internal with the film's friction and flows ("
-                         f"{', '.join(registry.having(film_flow=True))}); internal = {spec.name!r}: "
+                         f"{', '.join(registry.having(film_flow=True, **({'fmu': True} if via != 'direct' else {})))}); "
+                         f"internal = {spec.name!r}: "
                          f"{spec.can.film_flow_why}")
     for k, p in enumerate(rotor.bearings):
         if p.oil is None:

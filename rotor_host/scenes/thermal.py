@@ -49,12 +49,19 @@ def scene_thermal(scene: Scene, rotor, loads: np.ndarray) -> list | None:
     from bearing_fmu.physics.statics import EquilibriumError
     from bearing_fmu.physics.thermal import ThermalError, effective_temperature
 
+    from bearing_fmu.internals import registry
+
+    spec = registry.get(scene.internal)
     out = []
     for k, (p, w) in enumerate(zip(rotor.bearings, loads)):
         name = f"bearing {k + 1} (node {rotor.bearing_nodes[k] + 1})"
+        load = (float(w[0]), float(w[1]))
+        # the scene's own internal where the Reynolds solver cannot take the bore (tilting pads)
+        own = (spec.create(p, scene.internal_options(), registry.Context(load=load, omega=scene.omega),
+                           where=f"{scene.source}: {name}") if spec.can.pads else None)
         try:
-            out.append(effective_temperature(p, (float(w[0]), float(w[1])), scene.omega, scene.supply_temperature_K,
-                                             name=name))
+            out.append(effective_temperature(p, load, scene.omega, scene.supply_temperature_K, name=name,
+                                             internal=own))
         except ThermalError as exc:
             raise EquilibriumError(str(exc), bearing=name) from None
     return out
@@ -79,6 +86,11 @@ def thermal_internal(scene: Scene, internal, params, state):
 
     from .scene import SceneError
 
+    inertia = getattr(getattr(params.geometry, "pads", None), "inertia", 0.0)
+    if inertia:  # its force at another viscosity is not the force times the ratio: the pads' dynamics change
+        raise SceneError(f"{scene.source}: supply_temperature_C with tilting pads of inertia "
+                         f"(pad_inertia_kg_m2 = {inertia:g}): the pads' motion at the film's temperature is not "
+                         "modelled yet; massless pads (pad_inertia_kg_m2 = 0) or an isoviscous bearing")
     why = registry.film_flow_of(registry.get(scene.internal), internal)
     if why:
         if scene.speed_profile is not None:

@@ -4,8 +4,14 @@ K and C reduced at the running speed (synchronous), the pads' tilts and loads, f
 summed over the pads (what ``bearing-fmu demo`` prints and writes with --json; the keys the fixed
 bores' record has keep their meaning: ``physics.operating``).
 
-Not there yet: the effective temperature of an [oil] table (the record is isoviscous at mu and,
-as for an isoviscous fixed bore, gives the film's temperature rise with a mineral oil's rho c_p).
+With an [oil] table the point is at the film's effective temperature, as for the fixed bores
+(``physics.thermal.effective_temperature`` with this bearing's film report: the pads' friction and
+flows summed, every pad fed at its leading edge; one temperature for the whole film, the pads'
+hot-oil carry-over between pads not modelled). Massless pads in moment equilibrium take a tilt that
+does not depend on mu (every moment scales with it), so the force at a fixed journal state is
+exactly mu times a function of the state, as for a fixed bore, and the point at mu_eff is exact.
+Without an [oil] table the record is isoviscous at mu and gives the film's temperature rise with
+a mineral oil's rho c_p.
 """
 
 from __future__ import annotations
@@ -14,81 +20,38 @@ import math
 
 import numpy as np
 
-from ...physics.oil import DEFAULT_DENSITY, DEFAULT_HEAT_CAPACITY
+from ...physics.oil import DEFAULT_DENSITY, DEFAULT_HEAT_CAPACITY, KELVIN
 from ...physics.params import BearingParams
-from ...physics.statics import EquilibriumError, dimensionless_coefficients, sommerfeld_number
-from ..base import BearingStateError
+from ...physics.statics import dimensionless_coefficients, sommerfeld_number
+from ...physics.thermal import effective_temperature, heat_balance_rise
 from .tilting_pad import TiltingPad
 
-NEWTON_MAX = 80
-
-
-def journal_equilibrium(bearing: TiltingPad, load, omega: float, rtol: float = 1e-9) -> tuple[float, float]:
-    """(y0, z0) [m] where the film force of the pads (in moment equilibrium) balances ``load`` =
-    (Wy, Wz) [N]: Newton with the quasi-static Jacobian from 0.2 C_bearing along the load, each step
-    halved until every pad's film stays open and the residual falls."""
-    load = np.asarray(load, float)
-    w = float(np.hypot(*load))
-    if w == 0.0:
-        return 0.0, 0.0
-    # from 0.2 C_bearing along the load: a centred journal on unpreloaded pads has no film force and
-    # no stiffness to start Newton from
-    q = 0.2 * bearing.params.CR * load / w
-
-    def residual(x):
-        return np.asarray(bearing.force(x[0], x[1], 0.0, 0.0, omega)) + load
-
-    r = residual(q)
-    for _ in range(NEWTON_MAX):
-        rn = float(np.hypot(*r))
-        if rn <= rtol * w:
-            return float(q[0]), float(q[1])
-        _, dq, _ = bearing.force_and_jacobian(q[0], q[1], 0.0, 0.0, omega)
-        try:
-            step = -np.linalg.solve(dq, r)
-        except np.linalg.LinAlgError:
-            break
-        alpha = 1.0
-        while alpha > 1e-8:
-            trial = q + alpha * step
-            try:
-                r_trial = residual(trial)
-            except BearingStateError:
-                alpha *= 0.5
-                continue
-            if float(np.hypot(*r_trial)) < (1.0 - 1e-4 * alpha) * rn:
-                break
-            alpha *= 0.5
-        else:
-            break
-        q, r = trial, r_trial
-    raise EquilibriumError(f"equilibrium: the tilting pads ({bearing.pads.pads.describe()}) found no static "
-                           f"equilibrium under the load {load.tolist()} N at omega = {omega:.4g} rad/s (residual "
-                           f"{np.hypot(*r):.3g} N at y = {q[0]:.4g} m, z = {q[1]:.4g} m)",
-                           bearing="tilting pads", load_N=w, capacity_N=math.nan, speed_hz=omega / (2 * math.pi))
-
-
 def operating_point(params: BearingParams, load, speed_hz: float, n_theta: int | None = None,
-                    n_x: int | None = None) -> dict:
+                    n_x: int | None = None, T_supply_K: float | None = None) -> dict:
     """The record of the tilting-pad bearing ``params`` under the static ``load`` = (Wy, Wz) [N] at
-    ``speed_hz`` [Hz] (> 0); pad grid n_theta cells per pad x n_x (None: the solver's defaults)."""
+    ``speed_hz`` [Hz] (> 0); pad grid n_theta cells per pad x n_x (None: the solver's defaults); with
+    an [oil] table at the film's effective temperature, oil supplied at ``T_supply_K`` [K] (default:
+    the file's supply_C)."""
     if not (math.isfinite(speed_hz) and speed_hz > 0.0):
         raise ValueError(f"operating point: speed_hz = {speed_hz!r} must be a finite number > 0")
     load = (float(load[0]), float(load[1]))
     omega = 2.0 * math.pi * speed_hz
     W = math.hypot(*load)
+    oil, thermal = params.oil, None
+    if oil is not None:
+        thermal = effective_temperature(params, load, omega, T_supply_K, internal=TiltingPad(params, n_theta, n_x),
+                                        name="the tilting pads")
+        params = params.with_viscosity(thermal.mu_eff_Pa_s)
+    elif T_supply_K is not None:
+        raise ValueError("operating point: a supply temperature needs the bearing's [oil] table (its viscosity law); "
+                         f"this bearing is isoviscous at {params.mu:g} Pa s")
     bearing = TiltingPad(params, n_theta, n_x)
-    y0, z0 = journal_equilibrium(bearing, load, omega)
+    y0, z0 = bearing.journal_equilibrium(load, omega, start=None if thermal is None else (thermal.y_m, thermal.z_m))
     co = bearing.coefficients(y0, z0, omega)
     sol, pads = co["solution"], bearing.pads
-    reps = [pads.solvers[k].film_report(*pads.frame_state(k, (y0, z0), (0.0, 0.0), sol.delta[k], 0.0), omega)
-            for k in range(pads.n)]
-    power = sum(r.friction_power_W for r in reps)
-    torque = sum(r.friction_torque_Nm for r in reps)
-    inflow = sum(r.inflow_m3_s for r in reps)
-    side = sum(r.side_flow_m3_s for r in reps)
-    carried = inflow - 0.5 * side
-    rise = power / (DEFAULT_DENSITY * DEFAULT_HEAT_CAPACITY * carried) if carried > 0.0 else math.nan
+    rep = bearing.film_report(y0, z0, 0.0, 0.0, omega)
+    power, torque, inflow, side = rep.friction_power_W, rep.friction_torque_Nm, rep.inflow_m3_s, rep.side_flow_m3_s
+    rise = thermal.dT_K if thermal is not None else heat_balance_rise(rep, DEFAULT_DENSITY * DEFAULT_HEAT_CAPACITY)
     h_min = min(pads.solvers[k].params.geometry.min_film(*pads.frame_state(k, (y0, z0), (0.0, 0.0), sol.delta[k],
                                                                           0.0)[:2], params.CR) for k in range(pads.n))
     rec = {
@@ -101,7 +64,8 @@ def operating_point(params: BearingParams, load, speed_hz: float, n_theta: int |
         "friction_coefficient": torque / params.R / W if W > 0.0 else None,
         "friction_torque_Nm": torque, "friction_power_W": power, "inflow_m3_s": inflow, "side_flow_m3_s": side,
         "flow_variable": inflow / (params.R * params.CR * speed_hz * params.L), "temperature_rise_K": rise,
-        "T_supply_K": None, "T_eff_K": None, "mu_eff_Pa_s": params.mu, "oil": None,
+        "T_supply_K": thermal.T_supply_K if thermal else None, "T_eff_K": thermal.T_eff_K if thermal else None,
+        "mu_eff_Pa_s": params.mu, "oil": oil.describe() if oil is not None else None,
         "K_N_m": co["K"].tolist(), "C_N_s_m": co["C"].tolist(),
         "whirl_rad_s": omega,
         "pads": {
@@ -120,7 +84,9 @@ def operating_point(params: BearingParams, load, speed_hz: float, n_theta: int |
         rec["K_dimensionless"], rec["C_dimensionless"] = np.asarray(Kd).tolist(), np.asarray(Cd).tolist()
     else:
         rec["K_dimensionless"] = rec["C_dimensionless"] = None
+    if thermal is not None:
+        rec["T_eff_C"] = thermal.T_eff_K - KELVIN
     return rec
 
 
-__all__ = ["journal_equilibrium", "operating_point"]
+__all__ = ["operating_point"]

@@ -22,8 +22,10 @@ from __future__ import annotations
 
 import numpy as np
 
+from ...physics.film import FilmReport, assemble_report
 from ...physics.params import BearingParams
 from .assembly import PadAssembly, PadSolution
+from .journal import journal_equilibrium
 from .stepping import PadStepper
 
 
@@ -44,6 +46,9 @@ class TiltingPad:
             self.pads.use_solver(PadMapSolver(params, pad_map))
         self.last: PadSolution | None = None
         self.stepper = PadStepper(self.pads)
+        # the film's flows (a temperature) need each pad's film report: the Reynolds pads have it, a force map not
+        self.film_flow_why = (f"the pads' force map ({pad_map}) tabulates forces only, no friction or flows: the "
+                              "film temperature needs the Reynolds pads (no pad_map)") if pad_map else ""
 
     @classmethod
     def from_options(cls, params: BearingParams, options, context=None) -> "TiltingPad":
@@ -85,6 +90,29 @@ class TiltingPad:
         dq, dv = self.pads.quasi_static_jacobian(self.last)
         return self.last.F.copy(), dq, dv
 
+    def film_report(self, y: float, z: float, vy: float, vz: float, omega: float) -> FilmReport:
+        """Friction and flows of the film at a journal state, the pads in moment equilibrium (quasi-static,
+        as ``force`` answers without a step begun): each pad's partial-arc report summed, every pad fed at
+        its leading edge (its inflow) and losing its side flow; the torques about the journal's centre, so
+        the power is the journal's T omega - F . v (massless pads in equilibrium take no work). In a step
+        (the film temperature of a transient, ``LaggedThermal``) the report is the quasi-static pads' at
+        the journal's state: the temperature follows the film over its residence time, slower than the
+        pads' own motion."""
+        if self.film_flow_why:
+            raise ValueError(f"tilting pads: {self.film_flow_why}")
+        sol = self.pads.equilibrate(y, z, vy, vz, omega)  # not ``last``: a step's pads stay what they are
+        reps = [self.pads.solvers[k].film_report(*self.pads.frame_state(k, (y, z), (vy, vz), sol.delta[k], 0.0),
+                                                  omega) for k in range(self.pads.n)]
+        return assemble_report(self.params, sum(r.couette_torque_Nm for r in reps),
+                               sum(r.pressure_torque_Nm for r in reps), sol.F, (vy, vz), omega,
+                               sum(r.inflow_m3_s for r in reps), sum(r.side_flow_m3_s for r in reps))
+
+    def journal_equilibrium(self, load, omega: float, *, start=None, rtol: float = 1e-9) -> tuple[float, float]:
+        """(y0, z0) [m] under the static ``load`` (Wy, Wz) [N] at ``omega`` [rad/s], the pads massless in
+        equilibrium (``journal``: the wall is each pad's film, not the clearance circle;
+        ``physics.statics.equilibrium`` hands an internal with this method its own search)."""
+        return journal_equilibrium(self, load, omega, rtol=rtol, start=start)
+
     def coefficients(self, y: float, z: float, omega: float, whirl: float | None = None) -> dict:
         """At the journal position (y, z), still, the pads in equilibrium: the full (2 + N) x (2 + N)
         K, C (coordinates y, z, delta_1..N; Lund's signs) and the journal's K, C reduced at the whirl
@@ -100,6 +128,11 @@ class TiltingPad:
         (``Capabilities.whirl_reduced``: what a linear analysis takes)."""
         co = self.coefficients(y, z, omega, whirl)
         return co["K"], co["C"]
+
+    def reduce(self, K_full, C_full, whirl: float) -> tuple:
+        """The journal's (K [N/m], C [N s/m]) of the full (2 + N) x (2 + N) ``K_full``, ``C_full`` at
+        ``whirl`` [rad/s], the pads' coordinates condensed with their inertia (Lund's reduction)."""
+        return self.pads.reduce(np.array(K_full, float), np.array(C_full, float), whirl)
 
     def full_coefficients(self, y: float, z: float, omega: float) -> tuple:
         """(K, C, inertia): the full (2 + N) x (2 + N) K, C at (y, z), still, the pads in equilibrium

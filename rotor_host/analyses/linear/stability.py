@@ -103,9 +103,8 @@ class Stability:
         # (``at``), the plain bore until then (the same kernels, for the warm-up)
         self.unplaced = [k for k, p in enumerate(rotor.bearings) if p.geometry.feed_unplaced]
         self.T_supply_K = None if T_supply_K is None else float(T_supply_K)
-        if self.T_supply_K is not None and spec.can.whirl_reduced:
-            raise ValueError(f"internal {spec.name!r}: a supply temperature (the bearings' effective temperature) is "
-                             "not modelled for it yet; leave the supply temperature out")
+        # the effective temperature from the run's own internal where the Reynolds solver cannot take the bore
+        self.own_film = spec.can.pads
         if self.T_supply_K is not None:
             check_supply(rotor, self.T_supply_K, where or "rotor", "the supply temperature")
         self.internals = [self._create(k, p.with_geometry(Geometry()) if k in self.unplaced else p)
@@ -202,7 +201,7 @@ class Stability:
         for internal, w, name in zip(self.internals, self.loads, self.names):
             try:
                 st = effective_temperature(internal.inner.params, (float(w[0]), float(w[1])), omega, self.T_supply_K,
-                                           name=name)
+                                           name=name, internal=internal.inner if self.own_film else None)
             except ThermalError as exc:
                 raise EquilibriumError(str(exc), bearing=name) from None
             internal.set_viscosity(st.mu_eff_Pa_s)
