@@ -96,6 +96,14 @@ def lobed_problem(geometry: Geometry) -> str | None:
     return None
 
 
+def map_problem(geometry: Geometry) -> str | None:
+    """Why no force map serves this bore (a phrase), or None: a lobed bore's ``lobed_problem``, any
+    other bore's ``groovemap.map_geometry_problem``."""
+    from .groovemap import map_geometry_problem
+
+    return lobed_problem(geometry) if geometry.lobes > 1 else map_geometry_problem(geometry)
+
+
 def lobe_arc(params: BearingParams) -> BearingParams:
     """The circular partial arc lobe 0 of ``params``' lobed bore is: clearance C_pad [m], arc [a, b]
     (module docstring), in the bearing's own frame."""
@@ -240,4 +248,4 @@ class LobedForceMap:
         return f"LobedForceMap({self.params.geometry.lobes} lobes, each {self.map!r}, C_pad {self.arc.CR:g} m)"
 
 
-__all__ = ["LobedForceMap", "lobed_problem", "lobe_arc", "lobe_cells", "map_params", "NOT_EXACT_WHY", "NATIVE_WHY"]
+__all__ = ["LobedForceMap", "lobed_problem", "map_problem", "lobe_arc", "lobe_cells", "map_params", "NOT_EXACT_WHY", "NATIVE_WHY"]
