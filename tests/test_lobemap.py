@@ -139,6 +139,20 @@ def test_jacobian_and_flows(lemon_map):
         assert rm.inflow_m3_s >= rm.side_flow_m3_s * (1 - 1e-3) > 0
 
 
+def test_compiled_kernel_is_the_internal(lemon_map):
+    """The compiled kernel (what the host's compiled loop calls) gives force_and_jacobian's numbers to the
+    bit, and status 1 where the internal refuses."""
+    from bearing_fmu.internals.compiled import evaluate
+
+    cf = lemon_map.compiled_force()
+    for x in _states(LEMON, 8, 13):
+        status, F, Jq, Jv = evaluate(cf, *x)
+        F0, Jq0, Jv0 = lemon_map.force_and_jacobian(*x)
+        assert status == 0 and np.array_equal(F, F0) and np.array_equal(Jq, Jq0) and np.array_equal(Jv, Jv0)
+    assert evaluate(cf, 0.0, -1.0 * LEMON.CR, 0.0, 0.0, OMEGA)[0] == 1
+    assert evaluate(cf, 0.0, 0.0, math.inf, 0.0, OMEGA)[0] == 1
+
+
 def test_beyond_a_lobe_is_refused(lemon_map):
     """The map covers the journal within eps_max C_pad of every lobe's centre; farther it refuses by
     name (the lemon's Reynolds solver takes it to its wall, sideways up to 2 CR)."""

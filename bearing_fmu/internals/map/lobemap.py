@@ -180,10 +180,23 @@ class LobedForceMap:
         self._R = [_rot(math.cos(a), math.sin(a)) for a in alphas]  # Rot(alpha_k); its transpose turns back
         self._eps_max = float(table.eps_max)
         self.film_flow_why = self.map.film_flow_why
+        from .kernels import lobes_force
+        from .tables import EPS_MIN, scale
+
+        ts, tp, tb, C = table.spline()
+        rot = np.array([[math.cos(a), math.sin(a)] for a in alphas])
+        self._kernel = lobes_force
+        self._args = (ts, tp, tb, C, EPS_MIN, scale(self.arc), float(self.arc.CR), self._eps_max,
+                      np.ascontiguousarray(self._centre0), rot)
+        self._F, self._J = np.zeros(2), np.zeros((2, 4))
 
     def compiled_force(self):
-        """None: no compiled kernel of the lobe sum (a host calls ``force_and_jacobian``)."""
-        return None
+        """Its force and Jacobian as a compiled kernel (``internals.compiled``): ``kernels.lobes_force``,
+        the same function ``force_and_jacobian`` calls, so the same numbers."""
+        from ..compiled import CompiledForce
+        from .kernels import lobes_kernel, pack_lobes
+
+        return CompiledForce(lobes_kernel(), pack_lobes(*self._args))
 
     def lobe_states(self, y, z, vy, vz):
         """Per lobe k: (y', z', vy', vz') [m, m/s] of the journal in the arc map's frame, relative to
@@ -208,24 +221,25 @@ class LobedForceMap:
         check_finite(y, z, vy, vz, omega)
         return self.lobe_states(y, z, vy, vz), omega
 
+    def _run(self, y, z, vy, vz, omega, want_jac):
+        y, z, vy, vz, omega = float(y), float(z), float(vy), float(vz), float(omega)
+        eps = self._kernel(*self._args, y, z, vy, vz, omega, want_jac, self._F, self._J)
+        if not eps < self._eps_max or not math.isfinite(y + z + vy + vz + omega):
+            self._states(y, z, vy, vz, omega)  # names a non-finite input or the lobe beyond the map
+            for (yk, zk, vyk, vzk) in self.lobe_states(y, z, vy, vz):  # else the arc map's own refusal (overflow)
+                self.map.force(yk, zk, vyk, vzk, omega)
+            raise BearingStateError(f"lobe map: no finite force at y = {y!r}, z = {z!r}, vy = {vy!r}, vz = {vz!r}, "
+                                    f"omega = {omega!r}")
+
     def force(self, y: float, z: float, vy: float, vz: float, omega: float) -> tuple[float, float]:
-        """Film force (Fy, Fz) [N]: the lobes' forces turned back and summed."""
-        states, omega = self._states(y, z, vy, vz, omega)
-        F = np.zeros(2)
-        for R, s in zip(self._R, states):
-            F += R @ np.asarray(self.map.force(*s, omega))
-        return float(F[0]), float(F[1])
+        """Film force (Fy, Fz) [N]: the lobes' forces turned back and summed (``kernels.lobes_force``)."""
+        self._run(y, z, vy, vz, omega, False)
+        return float(self._F[0]), float(self._F[1])
 
     def force_and_jacobian(self, y: float, z: float, vy: float, vz: float, omega: float):
         """(F (2,), dF/dq (2, 2), dF/dv (2, 2)) [N, N/m, N s/m], each lobe's map Jacobian turned back."""
-        states, omega = self._states(y, z, vy, vz, omega)
-        F, Jq, Jv = np.zeros(2), np.zeros((2, 2)), np.zeros((2, 2))
-        for R, s in zip(self._R, states):
-            f, jq, jv = self.map.force_and_jacobian(*s, omega)
-            F += R @ f
-            Jq += R @ jq @ R.T
-            Jv += R @ jv @ R.T
-        return F, Jq, Jv
+        self._run(y, z, vy, vz, omega, True)
+        return self._F.copy(), self._J[:, :2].copy(), self._J[:, 2:].copy()
 
     def film_report(self, y: float, z: float, vy: float, vz: float, omega: float) -> FilmReport:
         """Friction and flows of the film: each lobe's report from the arc map (``GroovedForceMap.
@@ -234,14 +248,13 @@ class LobedForceMap:
         ValueError without the flow tables."""
         states, omega = self._states(y, z, vy, vz, omega)
         tc = tp = q_in = q_s = 0.0
-        F = np.zeros(2)
-        for R, s in zip(self._R, states):
+        for s in states:
             rep = self.map.film_report(*s, omega)
             tc += rep.couette_torque_Nm
             tp += rep.pressure_torque_Nm
             q_in += rep.inflow_m3_s
             q_s += rep.side_flow_m3_s
-            F += R @ np.asarray(self.map.force(*s, omega))
+        F = self.force(y, z, vy, vz, omega)
         return assemble_report(self.params, tc, tp, F, (float(vy), float(vz)), omega, q_in, q_s)
 
     def __repr__(self) -> str:
