@@ -252,3 +252,13 @@ def test_closed_loop_against_reynolds(speed_hz, mass_kg, tmp_path):
                                                           (128, 16), speed_hz, mass_kg)
     assert s_rey == s_map == "ok"
     assert err["orbit_rms_pct_cr"] <= 0.05, err
+
+
+def test_the_native_map_fmu_refuses_a_lobed_bearing_by_name(tmp_path):
+    """The native map FMU does not sum lobes yet: refused before anything is compiled, naming the routes
+    that run the lemon (the Python FMU, the native Reynolds FMU)."""
+    from bearing_fmu.fmu.native.build import build_native_fmu
+
+    with pytest.raises(ValueError, match="native map FMU does not yet sum a lobed bore's lobe maps"):
+        build_native_fmu(tmp_path / "b.fmu", "map", map=SHIPPED, bearing=LEMON, fmi_version=2, compiler="cc")
+    assert not (tmp_path / "b.fmu").exists()

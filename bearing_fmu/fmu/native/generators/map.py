@@ -43,6 +43,10 @@ def map_model(params: BearingParams, surrogate, map_path, options: dict) -> Nati
 
     if not map_path:
         raise ValueError("a native map FMU needs a force map file (--map FILE)")
+    if params.geometry.lobes > 1:  # the lobe sum is Python only (internals.map.lobemap)
+        from ....internals.map.lobemap import NATIVE_WHY
+
+        raise ValueError(f"native map FMU for {params.geometry.describe()}: {NATIVE_WHY}")
     path = Path(map_path)
     table = load_any_map(path)
     # refuses another L/D or bore, as the FMU will (a grooved map's bore comes from --bearing)
