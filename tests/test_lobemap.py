@@ -254,11 +254,21 @@ def test_closed_loop_against_reynolds(speed_hz, mass_kg, tmp_path):
     assert err["orbit_rms_pct_cr"] <= 0.05, err
 
 
-def test_the_native_map_fmu_refuses_a_lobed_bearing_by_name(tmp_path):
-    """The native map FMU does not sum lobes yet: refused before anything is compiled, naming the routes
-    that run the lemon (the Python FMU, the native Reynolds FMU)."""
-    from bearing_fmu.fmu.native.build import build_native_fmu
+@pytest.mark.slow
+@pytest.mark.native
+def test_the_native_map_fmu_sums_the_lobes_like_the_python_internal(tmp_path):
+    """rotor-host run --native on the lemon scene (the native map FMU of the shipped lobe map, c/internal_map.c
+    summing the lobes) follows the run with the Python internal called in-process: forces equal to ~1e-14
+    (tests/test_native_fmu.py compares them at random states to 1e-12), so the orbits to 1e-9 CR."""
+    from rotor_host.cli import main
+    from rotor_host.scenes.run import run_scene
+    from rotor_host.scenes.scene import load_scene
 
-    with pytest.raises(ValueError, match="native map FMU does not yet sum a lobed bore's lobe maps"):
-        build_native_fmu(tmp_path / "b.fmu", "map", map=SHIPPED, bearing=LEMON, fmi_version=2, compiler="cc")
-    assert not (tmp_path / "b.fmu").exists()
+    scene_file = BUNDLED / "scenes" / "paper_lemon_22hz.toml"
+    assert main(["run", str(scene_file), "--internal", "map", "--via", "fmu", "--native", "--t-end", "0.01", "--out",
+                 str(tmp_path), "--no-plots", "--quiet"]) == 0
+    native = np.load(tmp_path / "paper_lemon_22hz_map_native.npz")
+    direct = run_scene(load_scene(scene_file).with_internal("map", via="direct", t_end_s=0.01), tmp_path, stem="direct")
+    assert direct.ok and len(native["t"]) == len(direct.arrays["t"]) == 101
+    for key in ("y", "z"):
+        assert np.max(np.abs(native[key] - direct.arrays[key])) < 1e-9 * LEMON.CR

@@ -185,6 +185,7 @@ class LobedForceMap:
 
         ts, tp, tb, C = table.spline()
         rot = np.array([[math.cos(a), math.sin(a)] for a in alphas])
+        self.turns = rot  # (cos, sin) alpha_k per lobe (the native map reads them as they are)
         self._kernel = lobes_force
         self._args = (ts, tp, tb, C, EPS_MIN, scale(self.arc), float(self.arc.CR), self._eps_max,
                       np.ascontiguousarray(self._centre0), rot)
