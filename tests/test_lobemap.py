@@ -272,3 +272,46 @@ def test_the_native_map_fmu_sums_the_lobes_like_the_python_internal(tmp_path):
     assert direct.ok and len(native["t"]) == len(direct.arrays["t"]) == 101
     for key in ("y", "z"):
         assert np.max(np.abs(native[key] - direct.arrays[key])) < 1e-9 * LEMON.CR
+
+
+@pytest.fixture(scope="module")
+def native_lemon(tmp_path_factory, native_build_cache):
+    """(the native map FMU of the lemon on the shipped lobe map subsampled to 4 x 8 x 8, so that its C
+    tables compile in a second; the Python map internal on the same table)."""
+    from bearing_fmu.fmu.native.build import build_native_fmu
+    from bearing_fmu.internals.map.groovemap import save_grooved_map
+
+    folder = tmp_path_factory.mktemp("native_lemon")
+    t = load_any_map(SHIPPED)
+    idx = np.ix_(np.arange(0, 40, 13), np.arange(0, 32, 4), np.arange(0, 40, 5))
+    path = save_grooved_map(dataclasses.replace(t, H=t.H[idx], Q=t.Q[idx], coefficients=None, flow_coefficients=None),
+                            folder / "lemon_coarse.json")
+    bearing = BUNDLED / "bearing_paper_lemon.toml"
+    fmu = native_build_cache(folder / "map_lemon.fmu", lambda target: build_native_fmu(
+        target, "map", map=path, bearing=LEMON, fmi_version=2, compiler="cc"), [bearing, path], ("lemon coarse", "map"))
+    return fmu, open_map(path, LEMON)
+
+
+@pytest.mark.native
+def test_native_lobe_sum_equals_the_python_internal_and_compiles_clean(native_lemon, tmp_path):
+    """Forces and Jacobians of the native map FMU (c/internal_map.c summing the lobes in kernels.lobes_force's
+    order of operations) equal the Python internal's to the bit at random states; beyond a lobe's map it
+    discards the step naming the lobe; its sources compile under -Wall -Wextra -Wpedantic -Werror."""
+    fmpy = pytest.importorskip("fmpy")
+    from test_native_fmu import DISCARD, OK, Raw, python_outputs
+    from test_native_platforms import sources_compile_without_a_warning
+
+    fmu, py = native_lemon
+    unzip = fmpy.extract(str(fmu))
+    raw = Raw(fmu, unzip)
+    try:
+        assert raw.init() == OK
+        for k, st in enumerate(_states(LEMON, 20, 17)):
+            assert raw.set_inputs(st) == OK and raw.step(1e-4 * k) == OK, raw.last()
+            status, got = raw.outputs()
+            assert status == OK and np.array_equal(got, python_outputs(py, st)), (st, got - python_outputs(py, st))
+        assert raw.set_inputs((0.0, -1.0 * LEMON.CR, 0.0, 0.0, OMEGA)) == OK
+        assert raw.step(1.0) == DISCARD and "from the centre of lobe 1" in raw.last()
+    finally:
+        raw.close()
+    sources_compile_without_a_warning(Path(unzip), tmp_path)

@@ -177,9 +177,9 @@ int bn_eval(Instance *m, const double x[5], int want_jac, double F[2], double J[
         double c = MAP_LOBE_ROT[2 * k], s = MAP_LOBE_ROT[2 * k + 1];
         F[0] += c * Fk[0] - s * Fk[1];
         F[1] += s * Fk[0] + c * Fk[1];
+        if (!want_jac) continue; /* dF/domega (dw) and J with the Jacobian only, as map_force */
         dw[0] += c * dwk[0] - s * dwk[1];
         dw[1] += s * dwk[0] + c * dwk[1];
-        if (!want_jac) continue;
         for (int b = 0; b < 4; b += 2) { /* R Jb R^T of the position (b = 0) and velocity (b = 2) blocks */
             double m00 = c * Jk[b] - s * Jk[4 + b];
             double m01 = c * Jk[b + 1] - s * Jk[4 + b + 1];
