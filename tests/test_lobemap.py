@@ -274,10 +274,20 @@ def test_the_native_map_fmu_sums_the_lobes_like_the_python_internal(tmp_path):
         assert np.max(np.abs(native[key] - direct.arrays[key])) < 1e-9 * LEMON.CR
 
 
+def lemon_oil_bearing(folder: Path) -> Path:
+    """bearing_paper_lemon.toml with bearing_paper_vg46.toml's [oil] law instead of its 50 mPa s."""
+    oil = (BUNDLED / "bearing_paper_vg46.toml").read_text().split("[oil]")[1]
+    text = "\n".join(line for line in (BUNDLED / "bearing_paper_lemon.toml").read_text().splitlines()
+                     if not line.startswith("mu_Pa_s"))
+    path = folder / "bearing_lemon_vg46.toml"
+    path.write_text(text + "\n[oil]" + oil)
+    return path
+
+
 @pytest.fixture(scope="module")
 def native_lemon(tmp_path_factory, native_build_cache):
-    """(the native map FMU of the lemon on the shipped lobe map subsampled to 4 x 8 x 8, so that its C
-    tables compile in a second; the Python map internal on the same table)."""
+    """(the native map FMU of the lemon with the VG 46 oil law and thermal = true, on the shipped lobe map
+    subsampled to 4 x 8 x 8 so that its C tables compile in a second; the lobe map file; the bearing)."""
     from bearing_fmu.fmu.native.build import build_native_fmu
     from bearing_fmu.internals.map.groovemap import save_grooved_map
 
@@ -286,10 +296,12 @@ def native_lemon(tmp_path_factory, native_build_cache):
     idx = np.ix_(np.arange(0, 40, 13), np.arange(0, 32, 4), np.arange(0, 40, 5))
     path = save_grooved_map(dataclasses.replace(t, H=t.H[idx], Q=t.Q[idx], coefficients=None, flow_coefficients=None),
                             folder / "lemon_coarse.json")
-    bearing = BUNDLED / "bearing_paper_lemon.toml"
+    bearing = lemon_oil_bearing(folder)
+    params = BearingParams.from_toml(bearing)
     fmu = native_build_cache(folder / "map_lemon.fmu", lambda target: build_native_fmu(
-        target, "map", map=path, bearing=LEMON, fmi_version=2, compiler="cc"), [bearing, path], ("lemon coarse", "map"))
-    return fmu, open_map(path, LEMON)
+        target, "map", map=path, bearing=params, fmi_version=2, compiler="cc", thermal=True), [bearing, path],
+        ("lemon coarse thermal", "map"))
+    return fmu, path, params
 
 
 @pytest.mark.native
@@ -301,11 +313,16 @@ def test_native_lobe_sum_equals_the_python_internal_and_compiles_clean(native_le
     from test_native_fmu import DISCARD, OK, Raw, python_outputs
     from test_native_platforms import sources_compile_without_a_warning
 
-    fmu, py = native_lemon
+    from test_native_fmu_thermal import parameters
+
+    fmu, path, params = native_lemon
+    md = fmpy.read_model_description(str(fmu))
+    p = parameters(md)  # the FMU's D, L, CR and mu (the oil's at its start temperature)
+    py = open_map(path, dataclasses.replace(params, D=p["D"], L=p["L"], CR=p["CR"], mu=p["mu"], oil=None))
     unzip = fmpy.extract(str(fmu))
     raw = Raw(fmu, unzip)
     try:
-        assert raw.init() == OK
+        assert raw.set("thermal", False) == OK and raw.init() == OK
         for k, st in enumerate(_states(LEMON, 20, 17)):
             assert raw.set_inputs(st) == OK and raw.step(1e-4 * k) == OK, raw.last()
             status, got = raw.outputs()
@@ -315,3 +332,20 @@ def test_native_lobe_sum_equals_the_python_internal_and_compiles_clean(native_le
     finally:
         raw.close()
     sources_compile_without_a_warning(Path(unzip), tmp_path)
+
+
+@pytest.mark.native
+def test_native_lobe_film_report_equals_the_python_internal(native_lemon):
+    """The thermal model on the native lemon map FMU (c/map_flows.c: each lobe's film report in its frame,
+    summed): its friction power and side flow over a spiral orbit equal the Python LobedForceMap's film
+    report at each state (to 1e-13, as the grooved map's in tests/test_native_groove_thermal.py)."""
+    pytest.importorskip("fmpy")
+    import fmpy
+    from test_native_fmu_thermal import check_reports, parameters, run, trajectory
+
+    fmu, path, params = native_lemon
+    md = fmpy.read_model_description(str(fmu))
+    got = run(fmu, md, ramp=1.0)
+    p = parameters(md)
+    internal = open_map(path, dataclasses.replace(params, D=p["D"], L=p["L"], CR=p["CR"], mu=p["mu"], oil=None))
+    check_reports(got, trajectory(), internal, p["mu"], 1e-13, 0.5)

@@ -62,7 +62,7 @@ int bn_setup(Instance *m) {
     }
     double R = 0.5 * D;
 #if MAP_LOBES > 1
-    CR = CR / (1.0 - MAP_LOBE_PRELOAD); /* the lobe arc's clearance C_pad: its map's scale */
+    CR = map_lobe_clearance(CR); /* the lobe arc's clearance C_pad: its map's scale */
 #endif
     m->work.scale = mu * R * L * pow(R / CR, 2.0); /* forcemap.scale, in its order of operations */
     return 0;
@@ -70,8 +70,13 @@ int bn_setup(Instance *m) {
 
 /* The map's force at x with clearance CR and scale S (the lobe arc's for a lobed bore): returns eps, and
  * evaluates only when eps < MAP_EPS_MAX */
-static double map_force(const double x[5], double CR, double scale, int want_jac, double F[2], double J[8],
-                        double dw[2]) {
+#if MAP_LOBES > 1
+double map_arc_force(const double x[5], double CR, double scale, int want_jac, double F[2], double J[8],
+                     double dw[2]) { /* map_spline.h: the film report's per lobe too */
+#else
+static double map_arc_force(const double x[5], double CR, double scale, int want_jac, double F[2], double J[8],
+                            double dw[2]) {
+#endif
     const double omega = x[4];
     double cp, sp, a, c;
     double eps = ff_reduce(x, CR, MAP_EPS_MIN, &cp, &sp, &a, &c);
@@ -136,35 +141,21 @@ static double map_force(const double x[5], double CR, double scale, int want_jac
     return eps;
 }
 
-#if MAP_LOBES > 1
 /* A lobed bore's force (internals/map/lobemap.py, kernels.lobes_force, in its order of operations): lobe k is
- * the lobe arc turned by alpha_k (MAP_LOBE_ROT: cos, sin), its centre O_0 = -d u(theta_p,0) (MAP_LOBE_U),
- * d = C_pad - CR; the journal in lobe k's frame is Rot(-alpha_k) e - O_0, its force and Jacobian blocks
- * turned back by Rot(alpha_k) and summed. */
-static void lobe_state(const Instance *m, int k, const double x[5], double xk[5]) {
-    double CR = m->r[VR_CR], cpad = CR / (1.0 - MAP_LOBE_PRELOAD), d = cpad - CR;
-    double o0 = -d * MAP_LOBE_U[0], o1 = -d * MAP_LOBE_U[1];
-    double c = MAP_LOBE_ROT[2 * k], s = MAP_LOBE_ROT[2 * k + 1];
-    xk[0] = c * x[0] + s * x[1] - o0;
-    xk[1] = -s * x[0] + c * x[1] - o1;
-    xk[2] = c * x[2] + s * x[3];
-    xk[3] = -s * x[2] + c * x[3];
-    xk[4] = x[4];
-}
-#endif
-
+ * the lobe arc turned by alpha_k, the journal in its frame (map_lobe_state, map_spline.h), its force and
+ * Jacobian blocks turned back by Rot(alpha_k) and summed. */
 int bn_eval(Instance *m, const double x[5], int want_jac, double F[2], double J[8], double dw[2], int *ood) {
     const double y = x[0], z = x[1];
     const double CR = m->r[VR_CR], scale = m->work.scale;
     *ood = 0;
 #if MAP_LOBES > 1
-    const double cpad = CR / (1.0 - MAP_LOBE_PRELOAD);
+    const double cpad = map_lobe_clearance(CR);
     F[0] = F[1] = dw[0] = dw[1] = 0.0;
     for (int i = 0; i < 8; i++) J[i] = 0.0;
     for (int k = 0; k < MAP_LOBES; k++) {
         double xk[5], Fk[2], Jk[8], dwk[2];
-        lobe_state(m, k, x, xk);
-        double eps = map_force(xk, cpad, scale, want_jac, Fk, Jk, dwk);
+        map_lobe_state(CR, k, x, xk);
+        double eps = map_arc_force(xk, cpad, scale, want_jac, Fk, Jk, dwk);
         if (!(eps < MAP_EPS_MAX)) {
             char a[32], b[32], c[32], d[32], f[32];
             snprintf(m->msg, sizeof m->msg, "the journal (y = %s m, z = %s m) is %s C_pad from the centre of lobe %d "
@@ -193,7 +184,7 @@ int bn_eval(Instance *m, const double x[5], int want_jac, double F[2], double J[
     }
     return 0;
 #else
-    double eps = map_force(x, CR, scale, want_jac, F, J, dw);
+    double eps = map_arc_force(x, CR, scale, want_jac, F, J, dw);
     if (!(eps < MAP_EPS_MAX)) {
         char a[32], b[32], c[32], d[32], f[32];
         int wall = eps >= 1.0;

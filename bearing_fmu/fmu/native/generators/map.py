@@ -21,8 +21,8 @@ BN_FLOWS_MAP`` (model_config.h: the map's film report is compiled) and are map_f
 
 A lobed bore with ambient grooves over its lobe boundaries (``internals.map.lobemap``): the map file is
 its lobe arc's, and model_data.h adds MAP_LOBES, the preload (C_pad = CR / (1 - m) from the FMU's CR),
-u(theta_p,0) and every lobe's turn (cos, sin) alpha_k, which internal_map.c sums the arc's map over;
-its film report is not ported yet (the thermal ports refused by name).
+u(theta_p,0) and every lobe's turn (cos, sin) alpha_k, which internal_map.c sums the arc's map over and
+map_flows.c the lobes' film reports (the arc's supply edges and film segments, the table's own bore).
 """
 
 from __future__ import annotations
@@ -45,10 +45,6 @@ GROOVED_NO_OIL_WHY = ("the bearing has no [oil] viscosity law, so a grooved map'
                       "(build with --bearing FILE whose [oil] gives the law)")
 
 
-LOBED_NO_FLOWS_WHY = ("a lobed bore's film report (the lobes' flows summed) is not ported to the native map FMU yet: "
-                      "use the Python FMU for thermal = true")
-
-
 def map_model(params: BearingParams, surrogate, map_path, options: dict) -> NativeModel:
     """The native model of the force map file ``map_path`` (the catalogue's generator)."""
     from ....internals.mapfile import load_any_map, map_internal
@@ -63,8 +59,6 @@ def map_model(params: BearingParams, surrogate, map_path, options: dict) -> Nati
     if not flows_why and table.H.ndim == 4 and params.oil is None:  # no run could use them: not compiled in
         flows_why = GROOVED_NO_OIL_WHY
     lobes = lobe_data(internal)
-    if lobes and not flows_why:
-        flows_why = LOBED_NO_FLOWS_WHY
     starts = {"map": path.name}
     # a nonzero speed: an omega a master forgets to connect still gives the film's force
     inputs = (0.0, 0.0, 0.0, 0.0, float(options.get("_omega", registry.DEFAULT_OMEGA_LIN)))
@@ -116,9 +110,8 @@ def map_data_h(path: Path, table, c_double, c_string, c_array, geometry=None, wi
         f"#define MAP_LD_RTOL {c_double(LD_RTOL)}",
         f"#define MAP_FLOWS {int(flows is not None)}",
         f"#define MAP_LOBES {len(lobes['rot']) // 2 if lobes else 1}",
-        *([f"#define MAP_LOBE_PRELOAD {c_double(lobes['preload'])}", "#if !defined(BN_MAP_FLOW_UNIT)",
-           c_array("MAP_LOBE_U", np.array(lobes["u"])), c_array("MAP_LOBE_ROT", lobes["rot"]), "#endif"]
-          if lobes else []),
+        *([f"#define MAP_LOBE_PRELOAD {c_double(lobes['preload'])}", c_array("MAP_LOBE_U", np.array(lobes["u"])),
+           c_array("MAP_LOBE_ROT", lobes["rot"])] if lobes else []),
         "#if !defined(BN_MAP_FLOW_UNIT) /* the force's spline (internal_map.c) */",
         *([c_array("MAP_TP", knots[1])] if len(knots) == 3 else []),
         c_array("MAP_TS", knots[0]), c_array("MAP_TB", knots[-1]), c_array("MAP_C", C),
