@@ -61,8 +61,7 @@ NOT_EXACT_WHY = ("the lobe reduction (the sum of one partial-arc map per lobe, d
                  "when an ambient groove lies over every lobe boundary, the same for every lobe; without them the "
                  "lobes' films connect and the map would be a 4-D table (not built); use the Reynolds or Taylor "
                  "internal")
-NATIVE_WHY = ("the native map FMU does not yet sum a lobed bore's lobe maps (docs/forcemap.md, 'Lobed bores'): build "
-              "the Python FMU (without --native), or the native Reynolds FMU")
+
 
 
 def lobed_problem(geometry: Geometry) -> str | None:
@@ -262,4 +261,4 @@ class LobedForceMap:
         return f"LobedForceMap({self.params.geometry.lobes} lobes, each {self.map!r}, C_pad {self.arc.CR:g} m)"
 
 
-__all__ = ["LobedForceMap", "lobed_problem", "map_problem", "lobe_arc", "lobe_cells", "map_params", "NOT_EXACT_WHY", "NATIVE_WHY"]
+__all__ = ["LobedForceMap", "lobed_problem", "map_problem", "lobe_arc", "lobe_cells", "map_params", "NOT_EXACT_WHY"]
