@@ -63,7 +63,6 @@ NOT_EXACT_WHY = ("the lobe reduction (the sum of one partial-arc map per lobe, d
                  "internal")
 
 
-
 def lobed_problem(geometry: Geometry) -> str | None:
     """Why no lobe map serves this lobed bore (a phrase naming the keys), or None (also None for a bore
     without lobes: the other maps' checks apply)."""
