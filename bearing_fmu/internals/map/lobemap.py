@@ -145,10 +145,6 @@ def map_params(params: BearingParams, grid=None) -> tuple[BearingParams, tuple]:
     return arc, (cells + len(arc.geometry.segments()[0]) - 1, n_x or DEFAULT_N_X)
 
 
-def _rot(c: float, s: float) -> np.ndarray:
-    return np.array([[c, -s], [s, c]])
-
-
 class LobedForceMap:
     """The map internal for a lobed bore with ambient grooves over its lobe boundaries: the force, its
     analytic Jacobian and the film report, summed over the lobes from one partial-arc map ``table``
@@ -157,36 +153,32 @@ class LobedForceMap:
 
     def __init__(self, params: BearingParams, table, source: str = ""):
         from .groovemap import GroovedForceMap
+        from .kernels import lobes_force
+        from .tables import EPS_MIN, scale
 
         g = params.geometry
         why = lobed_problem(g) if g.lobes > 1 else f"lobes = {g.lobes}: not a lobed bore"
         if why:
             raise ValueError(f"force map{' ' + source if source else ''}: no lobe map serves this bore "
                              f"({g.describe()}): {why}")
-        self.params, self.source = params, source
+        self.params, self.source, self.table = params, source, table
         self.arc = lobe_arc(params)
         try:
             self.map = GroovedForceMap(self.arc, table, source)
         except ValueError as exc:
             raise ValueError(f"{exc} (the lobed bearing's lobe is the partial arc "
                              f"'{self.arc.geometry.describe()}', C_pad = {self.arc.CR:g} m)") from None
-        self.table = table
         tp0 = float(g.preload_points()[0])
         d = self.arc.CR - params.CR  # [m] from the bearing's centre to lobe 0's, against its preload point
-        self._centre0 = -d * np.array([-math.sin(tp0), math.cos(tp0)])  # O_0 [m]
-        alphas = TWO_PI * np.arange(g.lobes) / g.lobes
-        self._R = [_rot(math.cos(a), math.sin(a)) for a in alphas]  # Rot(alpha_k); its transpose turns back
+        self._centre0 = np.ascontiguousarray(-d * np.array([-math.sin(tp0), math.cos(tp0)]))  # O_0 [m]
+        # (cos, sin) alpha_k per lobe: Rot(alpha_k) turns lobe 0 onto lobe k (the native map reads them as they are)
+        self.turns = np.array([[math.cos(a), math.sin(a)] for a in TWO_PI * np.arange(g.lobes) / g.lobes])
         self._eps_max = float(table.eps_max)
         self.film_flow_why = self.map.film_flow_why
-        from .kernels import lobes_force
-        from .tables import EPS_MIN, scale
-
         ts, tp, tb, C = table.spline()
-        rot = np.array([[math.cos(a), math.sin(a)] for a in alphas])
-        self.turns = rot  # (cos, sin) alpha_k per lobe (the native map reads them as they are)
         self._kernel = lobes_force
-        self._args = (ts, tp, tb, C, EPS_MIN, scale(self.arc), float(self.arc.CR), self._eps_max,
-                      np.ascontiguousarray(self._centre0), rot)
+        self._args = (ts, tp, tb, C, EPS_MIN, scale(self.arc), float(self.arc.CR), self._eps_max, self._centre0,
+                      self.turns)
         self._F, self._J = np.zeros(2), np.zeros((2, 4))
 
     def compiled_force(self):
@@ -198,21 +190,21 @@ class LobedForceMap:
         return CompiledForce(lobes_kernel(), pack_lobes(*self._args))
 
     def lobe_states(self, y, z, vy, vz):
-        """Per lobe k: (y', z', vy', vz') [m, m/s] of the journal in the arc map's frame, relative to
-        lobe 0's centre after turning by -alpha_k; refused (``BearingStateError``) beyond eps_max of
-        C_pad from a lobe's centre."""
-        e, v = np.array([y, z], float), np.array([vy, vz], float)
+        """Per lobe k: (y', z', vy', vz') [m, m/s] of the journal in the arc map's frame, Rot(-alpha_k) e - O_0
+        and Rot(-alpha_k) v (in ``kernels.lobes_force``'s operations); refused (``BearingStateError``) beyond
+        eps_max of C_pad from a lobe's centre."""
+        o0, o1 = self._centre0
         out = []
-        for k, R in enumerate(self._R):
-            ek, vk = R.T @ e - self._centre0, R.T @ v
-            eps = float(np.hypot(*ek)) / self.arc.CR
+        for k, (c, s) in enumerate(self.turns):
+            yk, zk = c * y + s * z - o0, -s * y + c * z - o1
+            eps = math.hypot(yk, zk) / self.arc.CR
             if not eps < self._eps_max:
                 why = "at or beyond the lobe's circle" if eps >= 1.0 else "beyond the force map's last point"
                 raise BearingStateError(
                     f"the journal (y = {y:.4g} m, z = {z:.4g} m) is {eps:.4g} C_pad from the centre of lobe {k} "
                     f"({why}; C_pad = {self.arc.CR:.4g} m; the lobe map covers < {self._eps_max:g} C_pad from "
                     "every lobe's centre)")
-            out.append((float(ek[0]), float(ek[1]), float(vk[0]), float(vk[1])))
+            out.append((float(yk), float(zk), float(c * vy + s * vz), float(-s * vy + c * vz)))
         return out
 
     def _states(self, y, z, vy, vz, omega):
