@@ -22,7 +22,6 @@ from pathlib import Path
 from ...io.exits import note_kept, note_lost
 from ...physics.params import PAPER_BEARING, BearingParams
 from . import groovemap as gm
-from .lobemap import map_params, map_problem
 from .store import MapSettings, describe, map_key, settings_for, store_path
 from .tablefile import save_map
 from .tables import tabulate
@@ -90,6 +89,7 @@ def command(*, bearing=None, output=None, resolution=None, n_phi=None, grid=None
 
     from ...io.cache import cache_dir
     from ...io.outputs import ensure_output_file
+    from .lobemap import map_params, map_problem
 
     if output is not None:
         ensure_output_file(output, "-o/--output")
