@@ -8,8 +8,10 @@ tables      the full bore's reduction (eccentricity and one angle), ``MapTable``
 tablefile   the full bore's map file: ``save_map``, ``load_map`` (every key checked)
 forcemap    ``ForceMap``: the internal evaluating a full-bore table
 groovemap   the grooved or partial-arc bore's 3-D map: table, file and internal
+lobemap     a lobed bore with ambient grooves over its lobe boundaries: the sum of
+            its lobes' partial-arc maps (one 3-D map of the lobe's arc), exact
 mapfile     either map file (``load_any_map``) and the map internal's factory
-kernels     the compiled splines: force, Jacobian, flows (numba, cache=True)
+kernels     the compiled splines: force, Jacobian, flows, the lobe sum (numba)
 store       the map store: maps keyed by a hash of what determines them
 build       ``bearing-fmu map``: rows as tasks (process pool or Dask), resumed
             from the partial file, the map written into the store

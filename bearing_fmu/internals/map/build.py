@@ -89,14 +89,23 @@ def command(*, bearing=None, output=None, resolution=None, n_phi=None, grid=None
 
     from ...io.cache import cache_dir
     from ...io.outputs import ensure_output_file
+    from .lobemap import map_params, map_problem
 
     if output is not None:
         ensure_output_file(output, "-o/--output")
     params = BearingParams.from_toml(bearing) if bearing else PAPER_BEARING
     name = str(bearing) if bearing else "the paper bearing"
-    why = gm.map_geometry_problem(params.geometry)
+    why = map_problem(params.geometry)
     if why:
         raise ValueError(f"map: {bearing}: [geometry] {why}")
+    if params.geometry.lobes > 1:  # its map is its lobe's partial arc's, on the lobe's cells of its grid (lobemap)
+        lobed = params.geometry.describe()
+        try:
+            params, grid = map_params(params, grid)
+        except ValueError as exc:
+            raise ValueError(f"map: --grid: {exc}") from None
+        print(f"{name}: {lobed}; its map is the lobes' partial arc ({params.geometry.describe()}, C_pad = "
+              f"{params.CR * 1e6:.6g} um, {grid[0] - 1} cells on the arc as on each lobe), summed over the lobes")
     if n_phi is not None and params.geometry.is_full_bore:
         raise ValueError(f"map: --phi-points is for a grooved or partial-arc bore; {name} has the full bore (its map "
                          "is 2-D)")

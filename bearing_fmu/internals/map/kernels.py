@@ -357,3 +357,86 @@ def map_kernel():
     if not _KERNEL:
         _KERNEL.append(cfunc(KERNEL_SIG, cache=True)(_map_kernel))
     return _KERNEL[0]
+
+
+# ------------------------------------------------------------------ the lobed bore (``lobemap``)
+@njit(cache=True)
+def lobes_force(ts, tp, tb, C, eps_min, scale, CR, eps_max, centre, rot, y, z, vy, vz, omega, want_jac, F, J):
+    """A lobed bore's force from its lobe arc's 3-D map (``lobemap``'s docstring): the sum over the
+    lobes k of Rot(alpha_k) map3_force(Rot(-alpha_k) e - O_0, Rot(-alpha_k) v), the Jacobian's position
+    and velocity blocks turned as Rot(alpha_k) J_k Rot(-alpha_k). ``rot`` (N, 2): (cos, sin) alpha_k;
+    ``centre``: O_0 [m]; CR the arc's clearance C_pad. Returns the largest eps' of the lobes, or the
+    first lobe's eps' that is >= eps_max or NaN (then F and J are not the answer)."""
+    Fk = np.empty(2)
+    Jk = np.empty((2, 4))
+    F[0] = 0.0
+    F[1] = 0.0
+    for i in range(2):
+        for j in range(4):
+            J[i, j] = 0.0
+    worst = 0.0
+    for k in range(rot.shape[0]):
+        c, s = rot[k, 0], rot[k, 1]
+        eps = map3_force(ts, tp, tb, C, eps_min, scale, CR, c * y + s * z - centre[0], -s * y + c * z - centre[1],
+                         c * vy + s * vz, -s * vy + c * vz, omega, want_jac, Fk, Jk)
+        if not eps < eps_max:
+            return eps
+        worst = max(worst, eps)
+        F[0] += c * Fk[0] - s * Fk[1]
+        F[1] += s * Fk[0] + c * Fk[1]
+        if want_jac:
+            for b in range(0, 4, 2):  # R Jb R^T of the position (b = 0) and velocity (b = 2) blocks
+                m00 = c * Jk[0, b] - s * Jk[1, b]
+                m01 = c * Jk[0, b + 1] - s * Jk[1, b + 1]
+                m10 = s * Jk[0, b] + c * Jk[1, b]
+                m11 = s * Jk[0, b + 1] + c * Jk[1, b + 1]
+                J[0, b] += m00 * c - m01 * s
+                J[0, b + 1] += m00 * s + m01 * c
+                J[1, b] += m10 * c - m11 * s
+                J[1, b + 1] += m10 * s + m11 * c
+    return worst
+
+
+# data layout (``pack_lobes``): n_lobes, C's 3 dims, len(ts), len(tp), len(tb), eps_min, scale, CR, eps_max,
+# O_0 (2), then rot (n_lobes, 2), ts, tp, tb, C
+_LHEAD = 13
+
+
+def pack_lobes(ts, tp, tb, C, eps_min, scale, CR, eps_max, centre, rot) -> np.ndarray:
+    """The lobe map's arrays and constants as the one float64 array ``lobes_kernel`` reads."""
+    head = np.array([rot.shape[0], *C.shape[:3], ts.size, tp.size, tb.size, eps_min, scale, CR, eps_max, *centre],
+                    dtype=np.float64)
+    return np.ascontiguousarray(np.concatenate([head, *(np.ravel(a) for a in (rot, ts, tp, tb, C))]), dtype=np.float64)
+
+
+def _lobes_kernel(dp, y, z, vy, vz, omega, op):
+    """``internals.compiled`` kernel of the lobed bore's map: ``lobes_force`` with its Jacobian and the
+    refusals of ``LobedForceMap`` (beyond eps_max of a lobe, a non-finite input or result): status 1."""
+    head = carray(dp, _LHEAD)
+    n, n0, n1, n2 = int(head[0]), int(head[1]), int(head[2]), int(head[3])
+    nts, ntp, ntb = int(head[4]), int(head[5]), int(head[6])
+    rot = carray(advance(dp, _LHEAD), (n, 2))
+    at = _LHEAD + 2 * n
+    ts = carray(advance(dp, at), nts)
+    tp = carray(advance(dp, at + nts), ntp)
+    tb = carray(advance(dp, at + nts + ntp), ntb)
+    C = carray(advance(dp, at + nts + ntp + ntb), (n0, n1, n2, 2))
+    centre = carray(advance(dp, 11), 2)
+    F = carray(op, 2)
+    J = carray(advance(op, 2), (2, 4))
+    if not (math.isfinite(y) and math.isfinite(z) and math.isfinite(vy + vz + omega)):
+        return 1
+    eps = lobes_force(ts, tp, tb, C, head[7], head[8], head[9], head[10], centre, rot, y, z, vy, vz, omega, True, F, J)
+    if not eps < head[10]:
+        return 1
+    return 0
+
+
+_LOBES_KERNEL = []
+
+
+def lobes_kernel():
+    """The cfunc of ``_lobes_kernel``, compiled (or loaded from its cache) at the first call."""
+    if not _LOBES_KERNEL:
+        _LOBES_KERNEL.append(cfunc(KERNEL_SIG, cache=True)(_lobes_kernel))
+    return _LOBES_KERNEL[0]

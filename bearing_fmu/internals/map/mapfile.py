@@ -1,6 +1,7 @@
 """Any force map file: the full bore's 2-D table (version 1; version 3 with its flow tables,
 ``forcemap``) or a grooved or partial-arc bore's 3-D table (version 2; version 4 with its flow
-tables, ``groovemap``), and the map internal for either."""
+tables, ``groovemap``), and the map internal for either (a lobed bore's: ``lobemap``, the sum of its
+lobes' partial-arc maps, from the 3-D map of its lobe's arc)."""
 
 from __future__ import annotations
 
@@ -13,6 +14,7 @@ from .forcemap import ForceMap
 from .groovemap import FLOW_VERSION as GROOVED_FLOW_VERSION
 from .groovemap import VERSION as GROOVED_VERSION
 from .groovemap import GroovedForceMap, GroovedMapTable, grooved_from_data
+from .lobemap import LobedForceMap
 from .tablefile import load_map
 from .tables import FLOW_VERSION, FORMAT, MapTable
 
@@ -58,6 +60,8 @@ def map_internal(params: BearingParams, table, source: str = "", hint: str = "")
     added to the refusal of a grooved map for a full-bore bearing)."""
     if not isinstance(table, GroovedMapTable):
         return ForceMap(params, table, source)
+    if params.geometry.lobes > 1:  # the sum of its lobes' partial-arc maps (lobemap)
+        return LobedForceMap(params, table, source)
     try:
         return GroovedForceMap(params, table, source)
     except ValueError as exc:

@@ -23,6 +23,7 @@ from ...io.cache import map_store, source_digest
 from ...physics.params import BearingParams
 from . import groovemap as gm
 from . import tables as tb
+from .lobemap import map_params, map_problem
 
 SOLVER_PARTS = ("physics", "internals/map/tables.py", "internals/map/groovemap.py")
 STORED_FORMATS = (tb.FORMAT,)  # the kinds of data file the store keeps (a file option's ``file_format``)
@@ -101,9 +102,11 @@ def stored_file(file_format: str, bearings) -> tuple[Path | None, str]:
         if abs(p.L / p.D - first.L / first.D) > tb.LD_RTOL * first.L / first.D or p.geometry != first.geometry:
             return None, (f"bearing {k} has another L/D or bore than bearing 1 and one map file serves one of them: "
                           "name the map")
-    if gm.map_geometry_problem(first.geometry):
-        return None, f"no map serves this bore: {gm.map_geometry_problem(first.geometry)}"
-    path = stored_map(first)
+    why = map_problem(first.geometry)
+    if why:
+        return None, f"no map serves this bore: {why}"
+    arc, grid = map_params(first)  # a lobed bore's map is its lobe's (lobemap); any other bore's its own
+    path = stored_map(arc, None if grid is None else settings_for(arc, grid=grid))
     if path is None:
         return None, (f"the map store {map_store()} has no map for L/D {first.L / first.D:.4g}, "
                       f"{first.geometry.describe()} at the default settings: build it once with "

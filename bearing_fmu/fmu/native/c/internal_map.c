@@ -9,7 +9,8 @@
  * map_kernels.map3_force; a full-bore map has MAP_DIMS 2 (or none: files generated before).
  * The film report (bn_film, BN_FLOWS_MAP: a map with its flow table, MAP_FLOWS) is map_flows.c,
  * a port of ForceMap.film_report and GroovedForceMap.film_report; the spline's evaluation, the
- * same for both, map_spline.h. */
+ * same for both, map_spline.h. A lobed bore with ambient grooves over its lobe boundaries (MAP_LOBES > 1,
+ * internals/map/lobemap.py) sums the lobe arc's map over its lobes, each in its own frame (bn_eval). */
 #include <math.h>
 #include <stdio.h>
 
@@ -60,26 +61,26 @@ int bn_setup(Instance *m) {
         return 1;
     }
     double R = 0.5 * D;
+#if MAP_LOBES > 1
+    CR = map_lobe_clearance(CR); /* the lobe arc's clearance C_pad: its map's scale */
+#endif
     m->work.scale = mu * R * L * pow(R / CR, 2.0); /* forcemap.scale, in its order of operations */
     return 0;
 }
 
-int bn_eval(Instance *m, const double x[5], int want_jac, double F[2], double J[8], double dw[2], int *ood) {
-    const double y = x[0], z = x[1], omega = x[4];
-    const double CR = m->r[VR_CR], scale = m->work.scale;
-    *ood = 0;
+/* The map's force at x with clearance CR and scale S (the lobe arc's for a lobed bore): returns eps, and
+ * evaluates only when eps < MAP_EPS_MAX */
+#if MAP_LOBES > 1
+double map_arc_force(const double x[5], double CR, double scale, int want_jac, double F[2], double J[8],
+                     double dw[2]) { /* map_spline.h: the film report's per lobe too */
+#else
+static double map_arc_force(const double x[5], double CR, double scale, int want_jac, double F[2], double J[8],
+                            double dw[2]) {
+#endif
+    const double omega = x[4];
     double cp, sp, a, c;
     double eps = ff_reduce(x, CR, MAP_EPS_MIN, &cp, &sp, &a, &c);
-    if (!(eps < MAP_EPS_MAX)) {
-        char a[32], b[32], c[32], d[32], f[32];
-        int wall = eps >= 1.0;
-        snprintf(m->msg, sizeof m->msg, "eccentricity ratio %s >= %s: the journal (y = %s m, z = %s m) is %s (CR = %s m; "
-                 "the map covers eps < %s)", bn_num(a, 32, eps, 4), wall ? "1" : bn_num(b, 32, MAP_EPS_MAX, 6),
-                 bn_num(c, 32, y, 4), bn_num(d, 32, z, 4),
-                 wall ? "at or beyond the bearing wall" : "beyond the force map's last point",
-                 bn_num(f, 32, CR, 4), bn_num(b, 32, MAP_EPS_MAX, 6));
-        return 1;
-    }
+    if (!(eps < MAP_EPS_MAX)) return eps;
     double eps_eval = fmax(eps, MAP_EPS_MIN);
     double r = hypot(a, c);
     double g[2][4], g2[2][4];
@@ -112,7 +113,7 @@ int bn_eval(Instance *m, const double x[5], int want_jac, double F[2], double J[
     }
     F[0] = scale * (Pr * cp - Pt * sp);
     F[1] = scale * (Pr * sp + Pt * cp);
-    if (!want_jac) return 0;
+    if (!want_jac) return eps;
     double da_dphi = c, dc_dphi = eps_eval * omega - a;
     double dPr_dphi = Pr_a * da_dphi + Pr_c * dc_dphi + Pr_p; /* + the table's own attitude dependence */
     double dPt_dphi = Pt_a * da_dphi + Pt_c * dc_dphi + Pt_p;
@@ -137,7 +138,65 @@ int bn_eval(Instance *m, const double x[5], int want_jac, double F[2], double J[
     double dPr_w = Pr_a * eps_eval, dPt_w = Pt_a * eps_eval;
     dw[0] = scale * (dPr_w * cp - dPt_w * sp);
     dw[1] = scale * (dPr_w * sp + dPt_w * cp);
+    return eps;
+}
+
+/* A lobed bore's force (internals/map/lobemap.py, kernels.lobes_force, in its order of operations): lobe k is
+ * the lobe arc turned by alpha_k, the journal in its frame (map_lobe_state, map_spline.h), its force and
+ * Jacobian blocks turned back by Rot(alpha_k) and summed. */
+int bn_eval(Instance *m, const double x[5], int want_jac, double F[2], double J[8], double dw[2], int *ood) {
+    const double y = x[0], z = x[1];
+    const double CR = m->r[VR_CR], scale = m->work.scale;
+    *ood = 0;
+#if MAP_LOBES > 1
+    const double cpad = map_lobe_clearance(CR);
+    F[0] = F[1] = dw[0] = dw[1] = 0.0;
+    for (int i = 0; i < 8; i++) J[i] = 0.0;
+    for (int k = 0; k < MAP_LOBES; k++) {
+        double xk[5], Fk[2], Jk[8], dwk[2];
+        map_lobe_state(CR, k, x, xk);
+        double eps = map_arc_force(xk, cpad, scale, want_jac, Fk, Jk, dwk);
+        if (!(eps < MAP_EPS_MAX)) {
+            char a[32], b[32], c[32], d[32], f[32];
+            snprintf(m->msg, sizeof m->msg, "the journal (y = %s m, z = %s m) is %s C_pad from the centre of lobe %d "
+                     "(%s; C_pad = %s m; the lobe map covers < %s C_pad from every lobe's centre)", bn_num(c, 32, y, 4),
+                     bn_num(d, 32, z, 4), bn_num(a, 32, eps, 4), k,
+                     eps >= 1.0 ? "at or beyond the lobe's circle" : "beyond the force map's last point",
+                     bn_num(f, 32, cpad, 4), bn_num(b, 32, MAP_EPS_MAX, 6));
+            return 1;
+        }
+        double c = MAP_LOBE_ROT[2 * k], s = MAP_LOBE_ROT[2 * k + 1];
+        F[0] += c * Fk[0] - s * Fk[1];
+        F[1] += s * Fk[0] + c * Fk[1];
+        if (!want_jac) continue; /* dF/domega (dw) and J with the Jacobian only, as map_force */
+        dw[0] += c * dwk[0] - s * dwk[1];
+        dw[1] += s * dwk[0] + c * dwk[1];
+        for (int b = 0; b < 4; b += 2) { /* R Jb R^T of the position (b = 0) and velocity (b = 2) blocks */
+            double m00 = c * Jk[b] - s * Jk[4 + b];
+            double m01 = c * Jk[b + 1] - s * Jk[4 + b + 1];
+            double m10 = s * Jk[b] + c * Jk[4 + b];
+            double m11 = s * Jk[b + 1] + c * Jk[4 + b + 1];
+            J[b] += m00 * c - m01 * s;
+            J[b + 1] += m00 * s + m01 * c;
+            J[4 + b] += m10 * c - m11 * s;
+            J[4 + b + 1] += m10 * s + m11 * c;
+        }
+    }
     return 0;
+#else
+    double eps = map_arc_force(x, CR, scale, want_jac, F, J, dw);
+    if (!(eps < MAP_EPS_MAX)) {
+        char a[32], b[32], c[32], d[32], f[32];
+        int wall = eps >= 1.0;
+        snprintf(m->msg, sizeof m->msg, "eccentricity ratio %s >= %s: the journal (y = %s m, z = %s m) is %s (CR = %s m; "
+                 "the map covers eps < %s)", bn_num(a, 32, eps, 4), wall ? "1" : bn_num(b, 32, MAP_EPS_MAX, 6),
+                 bn_num(c, 32, y, 4), bn_num(d, 32, z, 4),
+                 wall ? "at or beyond the bearing wall" : "beyond the force map's last point",
+                 bn_num(f, 32, CR, 4), bn_num(b, 32, MAP_EPS_MAX, 6));
+        return 1;
+    }
+    return 0;
+#endif
 }
 
 

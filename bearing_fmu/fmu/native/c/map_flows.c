@@ -10,6 +10,7 @@
  *    over one period in phi at (eps, phi, beta), renumbered for the periods folded away
  *    (groovemap.flow_components: GroovedMapTable.flow_spline, flow_images);
  *    docs/forcemap.md, "Grooved bores: the flows".
+ * A lobed bore's (MAP_LOBES > 1): LobedForceMap.film_report, each lobe's parts in its own frame summed.
  * Q0 = R L CR (film.flow_scale). out as bn_film's. Compiled beside internal_map.c when the map's
  * film report is (BN_FLOWS_MAP); the flow table's arrays of model_data.h are this file's
  * (BN_MAP_FLOW_UNIT), the force's internal_map.c's. */
@@ -43,12 +44,12 @@ static double mf_couette_integral(double eps, double phi) {
     return sum;
 }
 
-int bn_film(Instance *m, const double x[5], double out[5]) {
-    double F[2], J[8], dw[2], cp, sp, a, c, q[MAP_NQ][4];
-    int ood;
-    if (bn_eval(m, x, 0, F, J, dw, &ood)) return 1;
+/* GroovedForceMap.film_report's parts at the state x of a film of clearance CR whose force is F: out[0] the
+ * Couette torque, out[1] the pressure torque, out[3] the inflow, out[4] the side flow (out[2] the caller's) */
+static void grooved_film(const Instance *m, const double x[5], double CR, const double F[2], double out[5]) {
+    double cp, sp, a, c, q[MAP_NQ][4];
     const double y = x[0], z = x[1], omega = x[4];
-    const double CR = m->r[VR_CR], R = 0.5 * m->r[VR_D], L = m->r[VR_L], mu = m->r[VR_MU];
+    const double R = 0.5 * m->r[VR_D], L = m->r[VR_L], mu = m->r[VR_MU];
     double eps = ff_reduce(x, CR, 0.0, &cp, &sp, &a, &c);
     /* phi folded twice into the spline's period (its own fold then leaves it), j the periods folded away */
     double phi = atan2(sp, cp), t3 = MAP_QTP[3], T = MAP_QTP[MAP_NQP] - MAP_QTP[3];
@@ -65,11 +66,46 @@ int bn_film(Instance *m, const double x[5], double out[5]) {
     }
     out[0] = mu * omega * pow(R, 3.0) * L / CR * mf_couette_integral(hypot(y, z) / CR, atan2(z, y));
     out[1] = ff_pressure(y, z, F);
-    out[2] = ff_power(out[0], out[1], omega, F, x[2], x[3]);
     out[3] = q_in;
     out[4] = r * q0 * q[img[0]][0];
+}
+
+#if MAP_LOBES > 1
+/* A lobed bore (LobedForceMap.film_report): each lobe's parts in its frame (map_lobe_state) with the lobe
+ * arc's force there and clearance C_pad, summed in lobe order; the power from the summed force */
+int bn_film(Instance *m, const double x[5], double out[5]) {
+    double F[2], J[8], dw[2], o[5];
+    int ood;
+    if (bn_eval(m, x, 0, F, J, dw, &ood)) return 1;
+    const double CR = m->r[VR_CR], cpad = map_lobe_clearance(CR);
+    double tc = 0.0, tp = 0.0, q_in = 0.0, q_s = 0.0;
+    for (int k = 0; k < MAP_LOBES; k++) {
+        double xk[5], Fk[2];
+        map_lobe_state(CR, k, x, xk);
+        map_arc_force(xk, cpad, m->work.scale, 0, Fk, J, dw); /* within the map: bn_eval checked every lobe */
+        grooved_film(m, xk, cpad, Fk, o);
+        tc += o[0];
+        tp += o[1];
+        q_in += o[3];
+        q_s += o[4];
+    }
+    out[0] = tc;
+    out[1] = tp;
+    out[2] = ff_power(tc, tp, x[4], F, x[2], x[3]);
+    out[3] = q_in;
+    out[4] = q_s;
     return 0;
 }
+#else
+int bn_film(Instance *m, const double x[5], double out[5]) {
+    double F[2], J[8], dw[2];
+    int ood;
+    if (bn_eval(m, x, 0, F, J, dw, &ood)) return 1;
+    grooved_film(m, x, m->r[VR_CR], F, out);
+    out[2] = ff_power(out[0], out[1], x[4], F, x[2], x[3]);
+    return 0;
+}
+#endif
 #else
 int bn_film(Instance *m, const double x[5], double out[5]) {
     double F[2], J[8], dw[2], cp, sp, a, c, q[2][3];

@@ -11,6 +11,27 @@
 #define MAP_DIMS 2
 #endif
 
+#if MAP_LOBES > 1
+/* A lobed bore (internals/map/lobemap.py): lobe k's frame, the journal state x turned by -alpha_k
+ * (MAP_LOBE_ROT: cos, sin) relative to lobe 0's centre O_0 = -(C_pad - CR) u(theta_p,0) (MAP_LOBE_U),
+ * in kernels.lobes_force's order of operations; the lobe arc's clearance C_pad = CR / (1 - m) */
+static inline double map_lobe_clearance(double CR) { return CR / (1.0 - MAP_LOBE_PRELOAD); }
+static inline void map_lobe_state(double CR, int k, const double x[5], double xk[5]) {
+    double d = map_lobe_clearance(CR) - CR;
+    double o0 = -d * MAP_LOBE_U[0], o1 = -d * MAP_LOBE_U[1];
+    double c = MAP_LOBE_ROT[2 * k], s = MAP_LOBE_ROT[2 * k + 1];
+    xk[0] = c * x[0] + s * x[1] - o0;
+    xk[1] = -s * x[0] + c * x[1] - o1;
+    xk[2] = c * x[2] + s * x[3];
+    xk[3] = -s * x[2] + c * x[3];
+    xk[4] = x[4];
+}
+/* the lobe arc's map at a lobe's state (internal_map.c): returns eps', evaluated when < MAP_EPS_MAX */
+#define map_arc_force BN_FN(map_arc_force)
+double map_arc_force(const double x[5], double CR, double scale, int want_jac, double F[2], double J[8],
+                     double dw[2]);
+#endif
+
 /* knot span i (3 <= i <= n - 1) with t[i] <= x < t[i + 1], clamped to the base interval */
 static inline int span(const double *t, int n, double x) {
     if (x >= t[n]) return n - 1;

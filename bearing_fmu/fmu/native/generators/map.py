@@ -18,11 +18,19 @@ bearing's bore, as the Python map's ``params.geometry``. Those arrays sit inside
 BN_FLOWS_MAP`` (model_config.h: the map's film report is compiled) and are map_flows.c's alone
 (``BN_MAP_FLOW_UNIT``), the force's internal_map.c's alone: each unit holds the arrays it uses
 (an unused static array is a warning).
+
+A lobed bore with ambient grooves over its lobe boundaries (``internals.map.lobemap``): the map file is
+its lobe arc's, and model_data.h adds MAP_LOBES, the preload (C_pad = CR / (1 - m) from the FMU's CR),
+u(theta_p,0) and every lobe's turn (cos, sin) alpha_k, which internal_map.c sums the arc's map over and
+map_flows.c the lobes' film reports (the arc's supply edges and film segments, the table's own bore).
 """
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
+
+import numpy as np
 
 from ....internals import registry
 from ....physics.params import BearingParams
@@ -50,6 +58,7 @@ def map_model(params: BearingParams, surrogate, map_path, options: dict) -> Nati
     flows_why = registry.film_flow_of(registry.get("map"), internal)  # the file's: '' with its flow tables
     if not flows_why and table.H.ndim == 4 and params.oil is None:  # no run could use them: not compiled in
         flows_why = GROOVED_NO_OIL_WHY
+    lobes = lobe_data(internal)
     starts = {"map": path.name}
     # a nonzero speed: an omega a master forgets to connect still gives the film's force
     inputs = (0.0, 0.0, 0.0, 0.0, float(options.get("_omega", registry.DEFAULT_OMEGA_LIN)))
@@ -58,12 +67,24 @@ def map_model(params: BearingParams, surrogate, map_path, options: dict) -> Nati
             "reynolds": f"{table.n_theta} x {table.n_x} {table.cavitation}", "provenance": table.provenance}
     return NativeModel("map", params, native_variables("map", params, starts, inputs, flows_why),
                        model_config("map", params, starts, inputs, flows_why),
-                       map_data_h(path, table, c_double, c_string, c_array, params.geometry, not flows_why), path,
+                       map_data_h(path, table, c_double, c_string, c_array, params.geometry if not lobes else None,
+                                  not flows_why, lobes), path,
                        f"hydrodynamic journal bearing, force map {path.name} (L/D {table.L_over_D:.4g}, any speed, "
                        "load and velocity), compiled (no Python)", info, flows_why=flows_why)
 
 
-def map_data_h(path: Path, table, c_double, c_string, c_array, geometry=None, with_flows=True) -> str:
+def lobe_data(internal) -> dict | None:
+    """A lobed bore's lobe sum (``lobemap.LobedForceMap``) as model_data.h takes it, or None: the preload m,
+    u(theta_p,0) (lobe 0's centre is -(C_pad - CR) u) and (cos, sin) alpha_k of every lobe's turn."""
+    turns = getattr(internal, "turns", None)
+    if turns is None:
+        return None
+    g = internal.params.geometry
+    tp0 = float(g.preload_points()[0])
+    return {"preload": g.preload, "u": [-math.sin(tp0), math.cos(tp0)], "rot": np.ravel(turns)}
+
+
+def map_data_h(path: Path, table, c_double, c_string, c_array, geometry=None, with_flows=True, lobes=None) -> str:
     """The header's text for the map file ``path`` read as ``table`` (``mapfile.load_any_map``;
     ``c_double``, ``c_string``, ``c_array``: codegen's exact literals; ``geometry``: the bearing's
     bore, for a grooved map's film segments, the table's own when None; ``with_flows``: False leaves
@@ -88,6 +109,9 @@ def map_data_h(path: Path, table, c_double, c_string, c_array, geometry=None, wi
         f"#define MAP_L_OVER_D {c_double(table.L_over_D)}",
         f"#define MAP_LD_RTOL {c_double(LD_RTOL)}",
         f"#define MAP_FLOWS {int(flows is not None)}",
+        f"#define MAP_LOBES {len(lobes['rot']) // 2 if lobes else 1}",
+        *([f"#define MAP_LOBE_PRELOAD {c_double(lobes['preload'])}", c_array("MAP_LOBE_U", np.array(lobes["u"])),
+           c_array("MAP_LOBE_ROT", lobes["rot"])] if lobes else []),
         "#if !defined(BN_MAP_FLOW_UNIT) /* the force's spline (internal_map.c) */",
         *([c_array("MAP_TP", knots[1])] if len(knots) == 3 else []),
         c_array("MAP_TS", knots[0]), c_array("MAP_TB", knots[-1]), c_array("MAP_C", C),
