@@ -97,7 +97,7 @@ def _demo(args: argparse.Namespace) -> int:
     from .physics.oil import KELVIN
     from .physics.operating import operating_point
     from .physics.params import PAPER_BEARING, BearingParams
-    from .physics.reynolds import DEFAULT_N_THETA, DEFAULT_N_X
+    from .physics.solver.reynolds import DEFAULT_N_THETA, DEFAULT_N_X
 
     if args.bearing_file:  # the positional form: `bearing-fmu demo bearing_paper`
         if args.bearing:

@@ -1,3 +1,3 @@
-"""Moved to ``bearing_fmu.physics.reynolds`` (the Reynolds solver); this module keeps the old import path working."""
+"""Moved to ``bearing_fmu.physics.solver.reynolds`` (the Reynolds solver); this module keeps the old import path working."""
 
-from .physics.reynolds import *  # noqa: F401,F403
+from .physics.solver.reynolds import *  # noqa: F401,F403

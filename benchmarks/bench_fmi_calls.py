@@ -72,7 +72,7 @@ def main() -> None:
     from bearing_fmu.internals.taylor.guard import DomainGuard
     from bearing_fmu.internals.taylor import Taylor
     from bearing_fmu.physics.params import PAPER_BEARING
-    from bearing_fmu.physics.reynolds import Reynolds
+    from bearing_fmu.physics.solver.reynolds import Reynolds
     from rotor_host.coupling.cosim import FMUBearings
 
     omega = 2 * math.pi * 22.0

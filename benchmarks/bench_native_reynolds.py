@@ -1,5 +1,5 @@
 """The native FMU's Reynolds solver (bearing_fmu/fmu/native/c/reynolds_solver.c) against the
-numba kernels it ports (bearing_fmu/physics/reynolds_kernels.py, geometry_kernels.py): the
+numba kernels it ports (bearing_fmu/physics/solver/reynolds_kernels.py, geometry_kernels.py): the
 1000-state comparison of issue 24 and the time per call.
 
 1. Differences: 1000 random states per grid (32 x 4, 64 x 8, 128 x 16) and cavitation model
@@ -38,8 +38,8 @@ from test_native_reynolds import BORES, PAPER, random_states  # noqa: E402
 
 from bearing_fmu.fmu.native.solver_lib import NativeReynolds, solver_library  # noqa: E402
 from bearing_fmu.physics.params import BearingParams  # noqa: E402
-from bearing_fmu.physics.reynolds import WARM_MAX_DLOG, Reynolds  # noqa: E402
-from bearing_fmu.physics.reynolds_kernels import reynolds_kernel  # noqa: E402
+from bearing_fmu.physics.solver.reynolds import WARM_MAX_DLOG, Reynolds  # noqa: E402
+from bearing_fmu.physics.solver.reynolds_kernels import reynolds_kernel  # noqa: E402
 from rotor_host.analyses.report import markdown_table  # noqa: E402
 
 GRIDS = ((32, 4), (64, 8), (128, 16))

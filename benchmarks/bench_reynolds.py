@@ -1,4 +1,4 @@
-"""Error-vs-run-time of the finite-volume Reynolds solver (bearing_fmu.physics.reynolds).
+"""Error-vs-run-time of the finite-volume Reynolds solver (bearing_fmu.physics.solver.reynolds).
 
 Prints markdown tables:
   1. for several grids: median time per force call (Reynolds and Gumbel cavitation), per
@@ -29,7 +29,7 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from bearing_fmu.physics.params import PAPER_BEARING as P  # noqa: E402
-from bearing_fmu.physics.reynolds import DEFAULT_N_THETA, DEFAULT_N_X, Reynolds  # noqa: E402
+from bearing_fmu.physics.solver.reynolds import DEFAULT_N_THETA, DEFAULT_N_X, Reynolds  # noqa: E402
 
 OMEGA = 2 * math.pi * 50.0
 EPS = (0.3, 0.6, 0.9)

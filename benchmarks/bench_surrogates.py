@@ -23,7 +23,7 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 from bearing_fmu.internals.taylor import Taylor  # noqa: E402
-from bearing_fmu.physics.reynolds import Reynolds  # noqa: E402
+from bearing_fmu.physics.solver.reynolds import Reynolds  # noqa: E402
 from bearing_fmu.surrogates.surrogate import load_surrogate  # noqa: E402
 
 

@@ -42,7 +42,7 @@ def main(argv=None) -> int:
     from bearing_fmu.fmu.build import build_fmu
     from bearing_fmu.internals.scaled import LaggedThermal
     from bearing_fmu.physics.params import BearingParams
-    from bearing_fmu.physics.reynolds import Reynolds
+    from bearing_fmu.physics.solver.reynolds import Reynolds
 
     params = BearingParams.from_toml(BEARING)
     rows = []

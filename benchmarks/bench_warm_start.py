@@ -31,7 +31,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from bearing_fmu.physics import reynolds as rey  # noqa: E402
+from bearing_fmu.physics.solver import reynolds as rey  # noqa: E402
 from rotor_host.analyses.report import markdown_table  # noqa: E402
 from rotor_host.coupling import bearings as brg  # noqa: E402
 from rotor_host.integrate import newmark  # noqa: E402

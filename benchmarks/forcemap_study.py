@@ -42,7 +42,7 @@ from bearing_fmu.internals.map.forcemap import ForceMap
 from bearing_fmu.internals.map.tablefile import save_map
 from bearing_fmu.internals.map.tables import DEFAULT_EPS_MAX, DEFAULT_N_BETA, DEFAULT_N_EPS, DEFAULT_N_PHASE, DEFAULT_WALL_EXPONENT, reduced, table_row, scale, state_for, tabulate
 from bearing_fmu.physics.params import PAPER_BEARING as P
-from bearing_fmu.physics.reynolds import Reynolds
+from bearing_fmu.physics.solver.reynolds import Reynolds
 
 OMEGA = 2 * math.pi * 22.0
 BANDS = ((0.0, 0.95), (0.0, 0.98), (0.98, 0.99))  # eccentricity ranges of the random state sets

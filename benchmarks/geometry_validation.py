@@ -23,9 +23,9 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT / "tests"))
 
-from bearing_fmu.physics.geometry import Geometry  # noqa: E402
+from bearing_fmu.physics.bore.geometry import Geometry  # noqa: E402
 from bearing_fmu.physics.params import PAPER_BEARING, BearingParams  # noqa: E402
-from bearing_fmu.physics.reynolds import Reynolds  # noqa: E402
+from bearing_fmu.physics.solver.reynolds import Reynolds  # noqa: E402
 from test_geometry_validation import (COEFFS, D90, D270, LT_ELLIPTICAL, LT_TWO_AXIAL_GROOVE,  # noqa: E402
                                       ROSS_KEYS, ROSS_LOBED, ROSS_PARTIAL_ARC, lund_thomsen_row, published,
                                       raimondi_boyd_case)

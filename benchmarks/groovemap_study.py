@@ -33,7 +33,7 @@ from bearing_fmu.internals.map.tables import reduced, scale, state_for
 from bearing_fmu.internals.map.groovemap import (GroovedForceMap, grooved_row, save_grooved_map, symmetry_period,
                                              tabulate_grooved)
 from bearing_fmu.physics.params import BearingParams
-from bearing_fmu.physics.reynolds import Reynolds
+from bearing_fmu.physics.solver.reynolds import Reynolds
 
 OMEGA = 2 * math.pi * 22.0
 TABLES = [(48, 8, 48, 2), (48, 12, 48, 2), (48, 16, 48, 2), (48, 24, 48, 2), (48, 32, 48, 2),

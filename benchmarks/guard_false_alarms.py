@@ -106,7 +106,7 @@ def cases(args) -> list[tuple[str, Path, list[tuple[Path, int]]]]:
 def reynolds_for(scene_path: Path, bearing: int):
     """The scene's Reynolds internal (its grid and options) for bearing number ``bearing``."""
     from bearing_fmu import internals as registry
-    from bearing_fmu.physics.reynolds import Reynolds
+    from bearing_fmu.physics.solver.reynolds import Reynolds
     from rotor_host.model.rotor import Rotor
     from rotor_host.scenes.scene import load_scene
 

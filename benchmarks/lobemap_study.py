@@ -26,7 +26,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 from bearing_fmu.internals.map.mapfile import load_any_map, map_internal
 from bearing_fmu.internals.map.tables import scale
 from bearing_fmu.physics.params import BearingParams
-from bearing_fmu.physics.reynolds import Reynolds
+from bearing_fmu.physics.solver.reynolds import Reynolds
 
 OMEGA = 2.0 * math.pi * 22.0
 

@@ -30,9 +30,9 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 from bearing_fmu.internals.map.mapfile import load_any_map, map_internal  # noqa: E402
-from bearing_fmu.physics.film import flow_scale  # noqa: E402
+from bearing_fmu.physics.solver.film import flow_scale  # noqa: E402
 from bearing_fmu.physics.params import BearingParams  # noqa: E402
-from bearing_fmu.physics.reynolds import Reynolds  # noqa: E402
+from bearing_fmu.physics.solver.reynolds import Reynolds  # noqa: E402
 from bearing_fmu.physics.statics import equilibrium  # noqa: E402
 from bearing_fmu.physics.thermal import KELVIN, effective_temperature, temperature_rise  # noqa: E402
 

@@ -27,8 +27,8 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))  # this checkout's packages
 
 from bearing_fmu.physics.params import BearingParams  # noqa: E402
-from bearing_fmu.physics.reynolds import Reynolds  # noqa: E402
-from bearing_fmu.physics.shortbearing import short_bearing_coefficients, short_bearing_eccentricity  # noqa: E402
+from bearing_fmu.physics.solver.reynolds import Reynolds  # noqa: E402
+from bearing_fmu.physics.solver.shortbearing import short_bearing_coefficients, short_bearing_eccentricity  # noqa: E402
 from bearing_fmu.physics.statics import equilibrium, linearize  # noqa: E402
 from rotor_host.model.rotor import Rotor  # noqa: E402
 

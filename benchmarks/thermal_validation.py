@@ -20,7 +20,7 @@ sys.path.insert(0, str(ROOT / "tests"))
 
 from bearing_fmu.physics.oil import KELVIN, Oil  # noqa: E402
 from bearing_fmu.physics.params import PAPER_BEARING, BearingParams  # noqa: E402
-from bearing_fmu.physics.reynolds import Reynolds  # noqa: E402
+from bearing_fmu.physics.solver.reynolds import Reynolds  # noqa: E402
 from bearing_fmu.physics.thermal import effective_temperature, residence_time_s  # noqa: E402
 from test_film import H0C, RB_FLOW_LD1, RB_RCF, RB_S, dimensionless_groups, rb_bearing  # noqa: E402
 from test_thermal import OMEGA_1440, jindal_bearing  # noqa: E402

@@ -1,6 +1,6 @@
 """``[oil] cavitated_shear``: the cavitated film sheared as a full film (Raimondi & Boyd, the default), as
 striations carrying the Couette flow of the film where it ruptured (the fraction h_rupture / h of the gap),
-or as a fixed fraction (physics/film.py, ``cavitated_relief``).
+or as a fixed fraction (physics/solver/film.py, ``cavitated_relief``).
 
 The closed form it is checked against: with Gumbel's (half-Sommerfeld) condition, the full-Sommerfeld
 pressure of a circular bore of any L/D is antisymmetric about the line of centres, so the film cavitates
@@ -18,10 +18,10 @@ import math
 
 import pytest
 
-from bearing_fmu.physics.film import full_bore_friction
+from bearing_fmu.physics.solver.film import full_bore_friction
 from bearing_fmu.physics.oil import Oil
 from bearing_fmu.physics.params import BearingFileError, BearingParams
-from bearing_fmu.physics.reynolds import Reynolds
+from bearing_fmu.physics.solver.reynolds import Reynolds
 
 D, L, CR, MU, OMEGA = 0.1, 0.05, 100e-6, 0.02, 100.0
 

@@ -1,6 +1,6 @@
 """A bore fed by a circumferential (360 deg) groove at mid-length (``[geometry] circumferential_groove_mm``
 with ``supply_pressure_kPa``): the film in two lands of l' = (L - width) / 2, fed along the groove
-(physics/lands.py). Checked against what does not come from this solver:
+(physics/solver/lands.py). Checked against what does not come from this solver:
 
 * the closed-form flow of a circumferentially-grooved bearing (Shigley's Mechanical Engineering Design,
   "Pressure-fed bearings": the flow out of both lands Qs = pi p_s r c^3 (1 + 1.5 eps^2) / (3 mu l'), i.e.
@@ -21,10 +21,10 @@ import math
 import numpy as np
 import pytest
 
-from bearing_fmu.physics.geometry import Geometry
-from bearing_fmu.physics.lands import groove_inflow
+from bearing_fmu.physics.bore.geometry import Geometry
+from bearing_fmu.physics.solver.lands import groove_inflow
 from bearing_fmu.physics.params import BearingFileError, BearingParams
-from bearing_fmu.physics.reynolds import Reynolds
+from bearing_fmu.physics.solver.reynolds import Reynolds
 
 D, L, CR, MU, WIDTH = 0.040, 0.045, 42e-6, 0.02, 0.005  # l' = 20 mm, l'/D = 1/2
 LAND = 0.5 * (L - WIDTH)

@@ -78,10 +78,10 @@ def test_only_the_packages_kernels_and_the_outer_compilation_count():
         notice.notify(_Event(module, True))
         notice.notify(_Event(module, False))
     assert said == []
-    notice.notify(_Event("bearing_fmu_v0_1_0_abc.physics.reynolds_kernels", True))  # a Python FMU's copy
-    notice.notify(_Event("bearing_fmu.physics.reynolds_kernels", True))  # a callee, compiled inside it
-    notice.notify(_Event("bearing_fmu.physics.reynolds_kernels", False))
-    notice.notify(_Event("bearing_fmu_v0_1_0_abc.physics.reynolds_kernels", False))
+    notice.notify(_Event("bearing_fmu_v0_1_0_abc.physics.solver.reynolds_kernels", True))  # a Python FMU's copy
+    notice.notify(_Event("bearing_fmu.physics.solver.reynolds_kernels", True))  # a callee, compiled inside it
+    notice.notify(_Event("bearing_fmu.physics.solver.reynolds_kernels", False))
+    notice.notify(_Event("bearing_fmu_v0_1_0_abc.physics.solver.reynolds_kernels", False))
     notice.notify(_Event("rotor_host.integrate.newmark_kernels", True))
     notice.notify(_Event("rotor_host.integrate.newmark_kernels", False))
     assert said == [NOTICE]

@@ -109,7 +109,7 @@ OMEGA = 2 * math.pi * 22.0
 def capacity_estimate(p, eps, omega):
     """The short-bearing (Ocvirk) load less the circumferential flow it drops; derivation and
     the factor 1.5 in tests/test_statics.py (capacity_estimate)."""
-    from bearing_fmu.physics.shortbearing import short_bearing_load
+    from bearing_fmu.physics.solver.shortbearing import short_bearing_load
 
     return short_bearing_load(p, eps, omega) / (1.0 + (p.L / p.D) ** 2 * eps / (2.0 * (1.0 - eps)))
 
@@ -159,7 +159,7 @@ def test_overloaded_rotor_bearing_is_named_before_newton(tmp_path, paper_scene):
 def test_rotor_at_zero_speed_carries_no_load():
     # omega = 0: the films carry nothing, the tangent is singular; the error says why
     from bearing_fmu.physics.params import PAPER_BEARING
-    from bearing_fmu.physics.reynolds import Reynolds
+    from bearing_fmu.physics.solver.reynolds import Reynolds
     from rotor_host.coupling.bearings import DirectBearings
     from rotor_host.model.rotor import Rotor
 

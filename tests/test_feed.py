@@ -1,5 +1,5 @@
 """The plain bore fed along its line of thickest film (``[geometry] feed = "thickest"``,
-``physics.feed``): Raimondi & Boyd's full bearing as their table has it, the placement itself, the
+``physics.bore.feed``): Raimondi & Boyd's full bearing as their table has it, the placement itself, the
 refusals, and the commands that place it (demo's record, a scene's bearings, stability per speed)."""
 
 from __future__ import annotations
@@ -10,11 +10,11 @@ from pathlib import Path
 import pytest
 
 from bearing_fmu.internals import registry
-from bearing_fmu.physics.feed import place_feed, thickest_line
-from bearing_fmu.physics.geometry import FEED_WIDTH_DEG, Geometry
+from bearing_fmu.physics.bore.feed import place_feed, thickest_line
+from bearing_fmu.physics.bore.geometry import FEED_WIDTH_DEG, Geometry
 from bearing_fmu.physics.operating import operating_point
 from bearing_fmu.physics.params import BearingParams
-from bearing_fmu.physics.reynolds import Reynolds
+from bearing_fmu.physics.solver.reynolds import Reynolds
 from bearing_fmu.physics.statics import equilibrium
 
 from test_film import H0C, RB_FLOW_LD1, RB_RCF, RB_S  # Raimondi & Boyd's table, with its sources

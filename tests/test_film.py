@@ -1,4 +1,4 @@
-"""Friction and flow of the film (``Reynolds.film_report``, ``physics.film``): Raimondi & Boyd's
+"""Friction and flow of the film (``Reynolds.film_report``, ``physics.solver.film``): Raimondi & Boyd's
 table, the closed forms (Petroff, short bearing), the full bore's closed-form friction against the
 field's, the grid, the other bores. Each expected value says where it comes from."""
 
@@ -9,10 +9,10 @@ import math
 import numpy as np
 import pytest
 
-from bearing_fmu.physics.film import full_bore_friction
-from bearing_fmu.physics.geometry import Geometry
+from bearing_fmu.physics.solver.film import full_bore_friction
+from bearing_fmu.physics.bore.geometry import Geometry
 from bearing_fmu.physics.params import PAPER_BEARING, BearingParams
-from bearing_fmu.physics.reynolds import Reynolds
+from bearing_fmu.physics.solver.reynolds import Reynolds
 
 OMEGA = 100.0  # rad/s; the dimensionless groups do not depend on it
 N_HZ = OMEGA / (2 * math.pi)
@@ -61,7 +61,7 @@ def test_raimondi_boyd_friction_variable(l_over_d):
     """(r/c) f within 3 % of the table at every row, on the plain full bore and with Raimondi &
     Boyd's feed line (within 1.2 % there for h0/c >= 0.1; at h0/c = 0.03 up to +2.7 %, where the S
     of the same row is as far off); S within 3 %. Friction counts the cavitated region as full film, as they did
-    (physics/film.py): that is what reproduces their column."""
+    (physics/solver/film.py): that is what reproduces their column."""
     for feed in (False, True):
         prm = rb_bearing(l_over_d, feed)
         rey = Reynolds(prm)

@@ -1,4 +1,4 @@
-"""The film's flows balance on every bore (physics/film.py field_report): the oil enters through
+"""The film's flows balance on every bore (physics/solver/film.py field_report): the oil enters through
 every line where it enters (the full bore's thickest line, each lobe's own thickest line, each
 groove and arc edge) and no film lets more oil out of its ends than it takes in.
 
@@ -24,10 +24,10 @@ import math
 import numpy as np
 import pytest
 
-from bearing_fmu.physics.film import FlowError, assemble_report, reduced_report
-from bearing_fmu.physics.geometry import Geometry
+from bearing_fmu.physics.solver.film import FlowError, assemble_report, reduced_report
+from bearing_fmu.physics.bore.geometry import Geometry
 from bearing_fmu.physics.params import BearingParams
-from bearing_fmu.physics.reynolds import Reynolds
+from bearing_fmu.physics.solver.reynolds import Reynolds
 from bearing_fmu.physics.thermal import ThermalError, heat_balance_rise
 
 OMEGA = 2.0 * math.pi * 22.0

@@ -47,7 +47,7 @@ def instance(fmu, unzip, **params):
 
 @pytest.fixture(scope="session")
 def reynolds():
-    from bearing_fmu.physics.reynolds import Reynolds
+    from bearing_fmu.physics.solver.reynolds import Reynolds
 
     return Reynolds(P)
 
@@ -298,7 +298,7 @@ def test_simulate_fmu_with_input_table(fmu, reynolds):
 
 
 def test_reynolds_default_and_grid_parameters_reach_the_solver(fmu, unzip, reynolds):
-    from bearing_fmu.physics.reynolds import Reynolds
+    from bearing_fmu.physics.solver.reynolds import Reynolds
 
     inst = instance(fmu, unzip)  # no parameter set: the paper bearing, default grid
     try:
@@ -563,7 +563,7 @@ def test_build_with_a_users_bearing_makes_it_the_default(tmp_path, code_cache):
 
     from bearing_fmu.cli import main
     from bearing_fmu.physics.params import BearingParams
-    from bearing_fmu.physics.reynolds import Reynolds
+    from bearing_fmu.physics.solver.reynolds import Reynolds
 
     f = tmp_path / "b.toml"
     f.write_text("[bearing]\nD_mm = 40.0\nL_mm = 20.0\nCR_um = 60.0\nmu_Pa_s = 0.02\n")

@@ -11,7 +11,7 @@ from pathlib import Path
 import pytest
 from fmpy.fmi1 import FMICallException
 
-from bearing_fmu.physics.geometry import Geometry
+from bearing_fmu.physics.bore.geometry import Geometry
 from bearing_fmu.physics.oil import Oil
 from bearing_fmu.physics.params import PAPER_BEARING, BearingParams
 from bearing_fmu.physics.thermal import residence_time_s, temperature_rise
@@ -57,7 +57,7 @@ def _refusal(fmu, unzip, **params) -> str:
 def test_unconnected_supply_temperature_leaves_the_force_unchanged(fmu_instance):
     """thermal = false (the default): whatever T_supply holds, the force is the Reynolds solver's at mu
     exactly, mu_eff = mu, T_eff = T_supply, and the thermal outputs are not computed (0)."""
-    from bearing_fmu.physics.reynolds import Reynolds
+    from bearing_fmu.physics.solver.reynolds import Reynolds
 
     want = Reynolds(BEARING).force(*STATE)
     for T in (T_SUPPLY, 380.0):
@@ -73,7 +73,7 @@ def test_unconnected_supply_temperature_leaves_the_force_unchanged(fmu_instance)
 def test_thermal_outputs_are_the_heat_balance_of_the_film(fmu_instance):
     """In Initialization Mode T_eff is quasi-static: T_eff = T_supply + k P / (rho c_p (Q - Qs / 2)) with
     P, Q, Qs of the Reynolds solver run at mu(T_eff) itself; the force is that solver's at mu_eff."""
-    from bearing_fmu.physics.reynolds import Reynolds
+    from bearing_fmu.physics.solver.reynolds import Reynolds
 
     inst = fmu_instance(**THERMAL, **dict(zip(("y", "z", "vy", "vz", "omega"), STATE)), T_supply=T_SUPPLY)
     try:
@@ -94,7 +94,7 @@ def test_T_eff_lags_by_the_residence_time_and_is_part_of_the_fmu_state(fmu_insta
     """From the quasi-static T_eff at one speed, the speed doubles: T_eff moves toward the new balance
     as a first-order lag with the film's residence time V / Q (one step: within the implicit step's
     error of exp(-dt / tau)); a restored FMU state brings T_eff back."""
-    from bearing_fmu.physics.reynolds import Reynolds
+    from bearing_fmu.physics.solver.reynolds import Reynolds
 
     slow = (*STATE[:4], OMEGA / 2)
     inst = fmu_instance(**THERMAL, **dict(zip(("y", "z", "vy", "vz", "omega"), slow)), T_supply=T_SUPPLY)
@@ -141,7 +141,7 @@ def test_refused_by_name(fmu, unzip, params, words):
 @pytest.mark.slow
 def test_geometry_parameters_reach_the_solver(fmu_instance):
     """Two axial grooves and a lemon bore set as parameters give the Reynolds solver of that bore."""
-    from bearing_fmu.physics.reynolds import Reynolds
+    from bearing_fmu.physics.solver.reynolds import Reynolds
 
     cases = [({"groove_count": 2, "groove_1": math.pi / 2, "groove_2": 1.5 * math.pi, "supply_pressure": 5e4},
               Geometry(grooves=(math.pi / 2, 1.5 * math.pi), supply_pressure=5e4)),
@@ -167,7 +167,7 @@ def test_build_with_a_bearing_makes_its_bore_and_oil_the_defaults(tmp_path, code
     from fmpy.validation import validate_fmu
 
     from bearing_fmu.cli import main
-    from bearing_fmu.physics.reynolds import Reynolds
+    from bearing_fmu.physics.solver.reynolds import Reynolds
 
     models = Path(__file__).resolve().parents[1] / "rotor_host" / "bundled"
     grooved = tmp_path / "grooved.fmu"

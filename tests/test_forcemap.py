@@ -21,7 +21,7 @@ from bearing_fmu.internals.map.tablefile import load_map, save_map
 from bearing_fmu.internals.map.tables import reduced, scale, state_for, tabulate
 from bearing_fmu.internals.registry import BearingStateError
 from bearing_fmu.physics.params import PAPER_BEARING, BearingParams
-from bearing_fmu.physics.reynolds import Reynolds
+from bearing_fmu.physics.solver.reynolds import Reynolds
 
 P = PAPER_BEARING
 OMEGA = 2 * math.pi * 22.0
@@ -211,7 +211,7 @@ def test_linear_from_the_map_needs_no_reynolds(table, tmp_path):
     assert np.abs(lin_map.C - lin_rey.C).max() < 5e-3 * np.abs(lin_rey.C).max()
     code = ("import sys; from bearing_fmu import internals as r; from bearing_fmu.physics.params import PAPER_BEARING as P; "
             f"r.create('linear', P, {{'linear_from': 'map', 'map': {str(path)!r}, 'load_z': -16.7, "
-            f"'omega_lin': {OMEGA!r}}}); print('bearing_fmu.physics.reynolds' in sys.modules)")
+            f"'omega_lin': {OMEGA!r}}}); print('bearing_fmu.physics.solver.reynolds' in sys.modules)")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "False"
 

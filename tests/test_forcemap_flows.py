@@ -1,7 +1,7 @@
 """The force map's flow tables: the reduction of the film's side flow and inflow, checked on the
 Reynolds solver itself, and the map's film report against the solver's.
 
-Independent references: (1) the Reynolds solver's own film report (``physics.film.field_report``,
+Independent references: (1) the Reynolds solver's own film report (``physics.solver.film.field_report``,
 validated against Raimondi & Boyd in tests/test_film.py) at states related by the reduction (same
 eps and beta, attitudes turned by whole grid cells so the discrete problems are the same one,
 speeds of both signs, r from 0.01 to 2500 1/s): the reduced flows J_s, J_i equal to round-off;
@@ -19,9 +19,9 @@ from bearing_fmu.internals import registry
 from bearing_fmu.internals.map.forcemap import ForceMap
 from bearing_fmu.internals.map.tablefile import load_map, save_map
 from bearing_fmu.internals.map.tables import state_for, tabulate
-from bearing_fmu.physics.film import flow_scale, reduced_flows
+from bearing_fmu.physics.solver.film import flow_scale, reduced_flows
 from bearing_fmu.physics.params import PAPER_BEARING
-from bearing_fmu.physics.reynolds import Reynolds
+from bearing_fmu.physics.solver.reynolds import Reynolds
 from conftest import damaged_map_refused
 
 P = PAPER_BEARING

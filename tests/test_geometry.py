@@ -1,4 +1,4 @@
-"""The bore of a bearing (bearing_fmu.physics.geometry): the [geometry] table of a bearing file,
+"""The bore of a bearing (bearing_fmu.physics.bore.geometry): the [geometry] table of a bearing file,
 what is refused by name, the film of a lobed bore against the exact geometry of its circles,
 and the solver's circumferential grid (faces on every edge)."""
 
@@ -9,7 +9,7 @@ import math
 import numpy as np
 import pytest
 
-from bearing_fmu.physics.geometry import FULL_BORE, Geometry
+from bearing_fmu.physics.bore.geometry import FULL_BORE, Geometry
 from bearing_fmu.physics.params import PAPER_BEARING, BearingFileError, BearingParams
 
 HEAD = "[bearing]\nD_mm = 31.0\nL_mm = 20.0\nCR_um = 90.0\nmu_Pa_s = 0.05\n"

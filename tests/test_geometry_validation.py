@@ -17,9 +17,9 @@ import math
 import numpy as np
 import pytest
 
-from bearing_fmu.physics.geometry import Geometry
+from bearing_fmu.physics.bore.geometry import Geometry
 from bearing_fmu.physics.params import BearingParams
-from bearing_fmu.physics.reynolds import Reynolds
+from bearing_fmu.physics.solver.reynolds import Reynolds
 from bearing_fmu.physics.statics import equilibrium, linearize
 
 D90, D270 = math.radians(90.0), math.radians(270.0)
@@ -257,7 +257,7 @@ def test_lobed_bores_grid_convergence(offset):
 # coefficients at eps 0.9, so the tolerances below are what that precision allows, not tighter.
 # Lund & Thomsen's frame and scaling, as above. Friction is not compared: ROSS scales the shear
 # past the thinnest film by the film's fraction (ross/bearings/fluid_film/hydrodynamics.py,
-# scale_dissip), this solver shears the whole film as Raimondi & Boyd do (physics/film.py), so
+# scale_dissip), this solver shears the whole film as Raimondi & Boyd do (physics/solver/film.py), so
 # the two agree (0.2 %) only while nothing cavitates (docs/geometry.md).
 #
 # Partial arcs centred on the downward load (Raimondi & Boyd's "centrally loaded" bearings), C_p = C:

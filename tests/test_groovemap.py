@@ -21,9 +21,9 @@ from bearing_fmu.internals.map.tables import scale, state_for
 from bearing_fmu.internals.map.groovemap import (GroovedForceMap, grooved_row, map_geometry_problem, save_grooved_map,
                                              symmetry_period, tabulate_grooved)
 from bearing_fmu.internals.map.mapfile import load_any_map, open_map
-from bearing_fmu.physics.geometry import Geometry
+from bearing_fmu.physics.bore.geometry import Geometry
 from bearing_fmu.physics.params import PAPER_BEARING, BearingParams
-from bearing_fmu.physics.reynolds import Reynolds
+from bearing_fmu.physics.solver.reynolds import Reynolds
 
 MODELS = Path(__file__).resolve().parents[1] / "rotor_host" / "bundled"
 GROOVED = BearingParams.from_toml(MODELS / "bearing_paper_2groove.toml")

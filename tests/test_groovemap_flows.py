@@ -3,7 +3,7 @@ flows"): the reduction of the side flow and of each supply edge's inflow checked
 solver itself, the map's film report against the solver's, the closed-form Couette integral, and
 the files with and without the tables.
 
-Independent references: (1) the Reynolds solver's own film report (``physics.film.field_report``,
+Independent references: (1) the Reynolds solver's own film report (``physics.solver.film.field_report``,
 validated against Raimondi & Boyd in tests/test_film.py) at states with equal (eps, phi, beta) and
 other r (0.01 .. 2500 1/s) and speeds of both signs; (2) numerical quadrature (scipy.integrate.quad)
 for the film's Couette integral, and 2 pi / sqrt(1 - eps^2) for the full circle; (3) the bore's
@@ -24,10 +24,10 @@ from bearing_fmu.internals import registry
 from bearing_fmu.internals.map.tables import state_for
 from bearing_fmu.internals.map.groovemap import GroovedForceMap, save_grooved_map, tabulate_grooved
 from bearing_fmu.internals.map.mapfile import load_any_map, open_map
-from bearing_fmu.physics.film import film_couette_integral, flow_scale
-from bearing_fmu.physics.geometry import Geometry
+from bearing_fmu.physics.solver.film import film_couette_integral, flow_scale
+from bearing_fmu.physics.bore.geometry import Geometry
 from bearing_fmu.physics.params import PAPER_BEARING, BearingParams
-from bearing_fmu.physics.reynolds import Reynolds
+from bearing_fmu.physics.solver.reynolds import Reynolds
 from conftest import damaged_map_refused
 
 MODELS = Path(__file__).resolve().parents[1] / "rotor_host" / "bundled"

@@ -11,7 +11,7 @@ import pytest
 
 from bearing_fmu.physics.oil import KELVIN, Oil
 from bearing_fmu.physics.params import BearingParams
-from bearing_fmu.physics.reynolds import Reynolds
+from bearing_fmu.physics.solver.reynolds import Reynolds
 from bearing_fmu.physics.thermal import effective_temperature, film_temperature, temperature_rise
 
 from test_thermal import OMEGA_1440, jindal_bearing

@@ -235,7 +235,7 @@ def test_unknown_internal_and_option_name_the_allowed_ones():
 def test_options_of_used_internals_reach_the_builder():
     # linear builds Reynolds with the reynolds options: its coefficients differ between grids
     # exactly as Reynolds' own derivatives do (Lund's K = -dF/dq at the equilibrium)
-    from bearing_fmu.physics.reynolds import Reynolds
+    from bearing_fmu.physics.solver.reynolds import Reynolds
     from bearing_fmu.physics.statics import equilibrium
 
     lin = registry.create("linear", P, {"n_theta": 32, "n_x": 4}, Context(load=(0.0, -16.7), omega=OMEGA))

@@ -117,7 +117,7 @@ def test_map_interrupted_mid_table_says_how_far_it_got(tmp_path, workers):
     it ends them at once, and no row had come."""
     marker = tmp_path / "paused"
     proc = start_command("bearing-fmu", *MAP, "--workers", workers, "-o", tmp_path / "m.json",
-                         pause="bearing_fmu.physics.reynolds:Reynolds.force",
+                         pause="bearing_fmu.physics.solver.reynolds:Reynolds.force",
                          env={"PAUSE_MARKER": str(marker), "PAUSE_CALL": "17" if workers == 1 else "1"})
     took, _, err = _interrupt(proc, marker, signal.SIGTERM)
     assert proc.returncode == 143 and took < 2.0, err

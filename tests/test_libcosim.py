@@ -95,7 +95,7 @@ def map_internal():
 
 @pytest.fixture(scope="module")
 def reynolds():
-    from bearing_fmu.physics.reynolds import Reynolds
+    from bearing_fmu.physics.solver.reynolds import Reynolds
 
     return Reynolds(P)
 

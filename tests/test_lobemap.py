@@ -21,9 +21,9 @@ from bearing_fmu.internals.base import BearingStateError
 from bearing_fmu.internals.map.lobemap import LobedForceMap, lobe_arc, lobe_cells, lobed_problem, map_params
 from bearing_fmu.internals.map.mapfile import load_any_map, open_map
 from bearing_fmu.internals.map.tables import scale
-from bearing_fmu.physics.geometry import Geometry
+from bearing_fmu.physics.bore.geometry import Geometry
 from bearing_fmu.physics.params import BearingParams
-from bearing_fmu.physics.reynolds import Reynolds
+from bearing_fmu.physics.solver.reynolds import Reynolds
 
 BUNDLED = Path(__file__).resolve().parents[1] / "rotor_host" / "bundled"
 LEMON = BearingParams.from_toml(BUNDLED / "bearing_paper_lemon.toml")

@@ -17,7 +17,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from bearing_fmu.physics.geometry import Geometry
+from bearing_fmu.physics.bore.geometry import Geometry
 from bearing_fmu.physics.params import BearingParams
 from rotor_host.scenes.scene import SceneError, load_scene
 from conftest import run_cli

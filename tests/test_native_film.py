@@ -1,5 +1,5 @@
 """The native FMU's film report (bearing_fmu/fmu/native/c/reynolds_film.c) against the Python
-one (physics/film.py field_report through ``Reynolds.film_report``), state by state.
+one (physics/solver/film.py field_report through ``Reynolds.film_report``), state by state.
 
 The expected values are Python's own at the same state, grid, cavitation model and bore: the
 Couette and pressure torque, the friction power, the inflow and the side flow within 1e-12

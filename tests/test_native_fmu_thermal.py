@@ -247,14 +247,14 @@ def test_t_eff_is_part_of_the_fmu_state(native3):
 
 
 def reynolds_on_grid(params):
-    from bearing_fmu.physics.reynolds import Reynolds
+    from bearing_fmu.physics.solver.reynolds import Reynolds
 
     return Reynolds(params, GRID["n_theta"], GRID["n_x"])
 
 
 def python_rate(md, state, T, internal=reynolds_on_grid):
     """(der(T_eff) [K/s], mu(T) [Pa s], the force at T [N]) by Python: the film report of
-    ``internal(params)`` (the Reynolds solver on GRID, or the map) at the FMU's mu (physics/film.py),
+    ``internal(params)`` (the Reynolds solver on GRID, or the map) at the FMU's mu (physics/solver/film.py),
     the oil of the FMU's parameters (fmu/ports.oil_of), the lag's rate dT/dt = (T*(T) - T) / t_res
     (physics/thermal.py, "At a fixed journal state")."""
     from types import SimpleNamespace

@@ -229,7 +229,7 @@ def test_a_partial_arc_map_equals_the_python_fmu(tmp_path, native_build_cache):
     from bearing_fmu.fmu.build import build_fmu
     from bearing_fmu.fmu.native.build import build_native_fmu
     from bearing_fmu.internals.map.groovemap import save_grooved_map, tabulate_grooved
-    from bearing_fmu.physics.geometry import Geometry
+    from bearing_fmu.physics.bore.geometry import Geometry
 
     vg46 = BearingParams.from_toml(MODELS / "bearing_paper_vg46.toml")
     arc = dataclasses.replace(vg46, geometry=Geometry(arc=(math.radians(90.0), math.radians(270.0))))

@@ -1,5 +1,5 @@
 """The native FMU's Reynolds solver (bearing_fmu/fmu/native/c/reynolds_solver.c) against the
-Python internal (bearing_fmu/physics/reynolds.py, the numba kernels it ports line by line).
+Python internal (bearing_fmu/physics/solver/reynolds.py, the numba kernels it ports line by line).
 
 The expected values are the Python solver's own at the same state, grid, cavitation model and
 bore: force and Jacobian within 1e-10 relative (issue 24) at random states (eccentricity, or
@@ -14,9 +14,9 @@ import numpy as np
 import pytest
 
 from bearing_fmu.fmu.native.solver_lib import NativeReynolds, solver_library
-from bearing_fmu.physics.geometry import Geometry
+from bearing_fmu.physics.bore.geometry import Geometry
 from bearing_fmu.physics.params import BearingParams
-from bearing_fmu.physics.reynolds import Reynolds
+from bearing_fmu.physics.solver.reynolds import Reynolds
 
 RTOL = 1e-10  # issue 24: force and Jacobian within 1e-10 relative
 PAPER = dict(D=0.031, L=0.02, CR=90e-6, mu=0.05)  # paper Table 2

@@ -20,7 +20,7 @@ from bearing_fmu.fmu import ports
 from bearing_fmu.fmu.native.solver_lib import NativeOil
 from bearing_fmu.physics.oil import KELVIN, Oil
 from bearing_fmu.physics.params import BearingParams
-from bearing_fmu.physics.reynolds import Reynolds
+from bearing_fmu.physics.solver.reynolds import Reynolds
 from bearing_fmu.physics.thermal import film_temperature
 from tests.test_native_reynolds import PAPER, lib  # noqa: F401  (lib: the fixture)
 

@@ -182,7 +182,7 @@ def test_the_lagged_temperature_hands_the_step_to_the_pads():
     """``LaggedThermal`` around an internal with states of its own (the pads' stepper) passes the host's
     step hooks on: without them the pads would be quasi-static under a film temperature."""
     from bearing_fmu.internals.scaled import LaggedThermal
-    from bearing_fmu.physics.film import FilmReport
+    from bearing_fmu.physics.solver.film import FilmReport
     from bearing_fmu.physics.params import PAPER_BEARING
 
     class Stepped:

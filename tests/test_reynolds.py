@@ -14,8 +14,8 @@ import pytest
 
 from bearing_fmu.internals.registry import BearingStateError, DifferentiableInternal, Internal
 from bearing_fmu.physics.params import PAPER_BEARING, BearingParams
-from bearing_fmu.physics.reynolds import DEFAULT_N_THETA, DEFAULT_N_X, Reynolds
-from bearing_fmu.physics.shortbearing import short_bearing_coefficients, short_bearing_force
+from bearing_fmu.physics.solver.reynolds import DEFAULT_N_THETA, DEFAULT_N_X, Reynolds
+from bearing_fmu.physics.solver.shortbearing import short_bearing_coefficients, short_bearing_force
 
 P = PAPER_BEARING  # D = 31 mm, L = 20 mm, CR = 90 um, mu = 0.05 Pa s (paper Table 2)
 OMEGA = 2 * math.pi * 50.0
@@ -128,7 +128,7 @@ SHORT = BearingParams(D=0.1, L=0.01, CR=1e-4, mu=0.05)  # L/D = 0.1
 @pytest.mark.parametrize("angle", [0.3, 2.5, 4.4])
 def test_short_bearing_limit_forces(eps, angle):
     """Gumbel solution at L/D = 0.1 vs the closed-form Ocvirk (half-Sommerfeld) force with
-    velocities (bearing_fmu.physics.shortbearing, itself checked against quadrature in
+    velocities (bearing_fmu.physics.solver.shortbearing, itself checked against quadrature in
     test_shortbearing.py): within 3 %. The finite-length deviation grows with eps (about
     0.6 % at 0.2, 2 % at 0.6) and vanishes as L/D -> 0."""
     r = Reynolds(SHORT, n_theta=128, n_x=8, cavitation="gumbel")
@@ -480,7 +480,7 @@ def test_cold_start_after_a_jump():
     one expected (the last call's, extrapolated along the motion of the last calls) or
     |ln(1 - eps)| changed by more than 1 since the last call (limits measured in the study),
     after a state without source, after forget(), and for gumbel (no LCP); same results."""
-    from bearing_fmu.physics.reynolds import WARM_MAX_DLOG, WARM_MAX_TURN_CELLS
+    from bearing_fmu.physics.solver.reynolds import WARM_MAX_DLOG, WARM_MAX_TURN_CELLS
 
     assert (WARM_MAX_TURN_CELLS, WARM_MAX_DLOG) == (2.0, 1.0)  # the limits this test probes
     n = 64

@@ -1,4 +1,4 @@
-"""The Reynolds solver on bores with grooves, a partial arc or lobes (physics.geometry,
+"""The Reynolds solver on bores with grooves, a partial arc or lobes (physics.bore.geometry,
 geometry_kernels): derivatives against central differences, the warm start, symmetries,
 limits (preload -> 0, no source, supply pressure at rest), and the full bore untouched.
 The published tables are in tests/test_geometry_validation.py."""
@@ -10,9 +10,9 @@ import math
 import numpy as np
 import pytest
 
-from bearing_fmu.physics.geometry import FULL_BORE, Geometry
+from bearing_fmu.physics.bore.geometry import FULL_BORE, Geometry
 from bearing_fmu.physics.params import PAPER_BEARING, BearingParams
-from bearing_fmu.physics.reynolds import Reynolds
+from bearing_fmu.physics.solver.reynolds import Reynolds
 
 P = PAPER_BEARING
 OMEGA = 2 * math.pi * 50.0

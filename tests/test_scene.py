@@ -82,7 +82,7 @@ def test_bearing_loads_are_the_static_reactions():
 
 
 def test_initial_state_puts_each_journal_at_its_own_equilibrium(paper_scene):
-    from bearing_fmu.physics.reynolds import Reynolds
+    from bearing_fmu.physics.solver.reynolds import Reynolds
     from bearing_fmu.physics.statics import equilibrium
 
     run = run_scene(load_scene(paper_scene(t_end=2e-4, grid=(48, 8), unbalance_g=None)))
@@ -121,7 +121,7 @@ def test_taylor_scene_does_not_import_reynolds(paper_scene):
     p = paper_scene(internal="taylor", surrogate=surrogates[0], t_end=1e-3, unbalance_g=None)
     code = (f"import sys; from rotor_host.scenes.scene import load_scene; from rotor_host.scenes.run import run_scene; "
             f"r = run_scene(load_scene({str(p)!r})); assert r.ok, r.meta['message']; "
-            f"print('bearing_fmu.physics.reynolds' in sys.modules)")
+            f"print('bearing_fmu.physics.solver.reynolds' in sys.modules)")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT)
     assert out.returncode == 0, out.stderr
     assert out.stdout.strip() == "False"

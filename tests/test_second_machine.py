@@ -14,7 +14,7 @@ import pytest
 from conftest import MODELS, ROOT
 
 from bearing_fmu.physics.params import BearingParams
-from bearing_fmu.physics.reynolds import Reynolds
+from bearing_fmu.physics.solver.reynolds import Reynolds
 from bearing_fmu.physics.statics import equilibrium, linearize
 
 SCENE = MODELS / "scenes" / "friswell_25hz.toml"

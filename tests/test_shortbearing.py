@@ -12,7 +12,7 @@ from scipy.integrate import quad
 
 from bearing_fmu.internals.registry import BearingStateError
 from bearing_fmu.physics.params import BearingParams
-from bearing_fmu.physics.shortbearing import (short_bearing_coefficients, short_bearing_eccentricity,
+from bearing_fmu.physics.solver.shortbearing import (short_bearing_coefficients, short_bearing_eccentricity,
                                               short_bearing_force, short_bearing_force_and_jacobian,
                                               short_bearing_load)
 
@@ -174,7 +174,7 @@ def test_eccentricity_round_trip_and_sign():
 
 
 def test_module_imports_neither_numba_nor_reynolds():
-    code = ("import sys, bearing_fmu.physics.shortbearing; "
-            "bad = [m for m in ('numba', 'bearing_fmu.physics.reynolds') if m in sys.modules]; "
+    code = ("import sys, bearing_fmu.physics.solver.shortbearing; "
+            "bad = [m for m in ('numba', 'bearing_fmu.physics.solver.reynolds') if m in sys.modules]; "
             "assert not bad, bad")
     subprocess.run([sys.executable, "-c", code], check=True)

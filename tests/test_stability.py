@@ -23,7 +23,7 @@ import pytest
 from scipy.optimize import brentq
 
 from bearing_fmu.internals import registry
-from bearing_fmu.physics.shortbearing import (short_bearing_coefficients, short_bearing_force,
+from bearing_fmu.physics.solver.shortbearing import (short_bearing_coefficients, short_bearing_force,
                                               short_bearing_force_and_jacobian, short_bearing_load)
 from bearing_fmu.physics.statics import journal_at_eccentricity
 from rotor_host.analyses.linear.modal import AF_CRITICALLY_DAMPED

@@ -2,7 +2,7 @@
 
 Independent references:
 * the closed-form short-bearing (Ocvirk) load-eccentricity relation and attitude angle
-  (bearing_fmu.physics.shortbearing, derived from Ocvirk & DuBois 1953 / Hamrock ch. 11), for the
+  (bearing_fmu.physics.solver.shortbearing, derived from Ocvirk & DuBois 1953 / Hamrock ch. 11), for the
   equilibrium solver run on the short-bearing force as an internal;
 * the closed-form short-bearing K and C (Childs 1993, eqs. 3.46-3.47) for linearize's central
   differences on the same internal;
@@ -19,7 +19,7 @@ import pytest
 
 from bearing_fmu.internals.linear import Linear
 from bearing_fmu.physics.params import PAPER_BEARING, BearingParams
-from bearing_fmu.physics.shortbearing import (short_bearing_coefficients, short_bearing_eccentricity,
+from bearing_fmu.physics.solver.shortbearing import (short_bearing_coefficients, short_bearing_eccentricity,
                                               short_bearing_force, short_bearing_load)
 from bearing_fmu.physics.statics import EquilibriumError, equilibrium, linearize, load_capacity
 
@@ -38,7 +38,7 @@ class ShortBearing:
 
 @pytest.fixture(scope="module")
 def reynolds():
-    from bearing_fmu.physics.reynolds import Reynolds
+    from bearing_fmu.physics.solver.reynolds import Reynolds
 
     return Reynolds(PAPER_BEARING)
 
@@ -147,7 +147,7 @@ def newtons_in(message: str, after: str) -> float:
 @pytest.mark.parametrize("W, L, mu", [(1e9, 0.020, 0.05), (1e6, 0.0031, 0.05), (100.0, 0.020, 1e-5)])
 def test_overloaded_bearing_names_its_load_and_capacity(W, L, mu):
     p = BearingParams(D=0.031, L=L, CR=90e-6, mu=mu)
-    from bearing_fmu.physics.reynolds import Reynolds
+    from bearing_fmu.physics.solver.reynolds import Reynolds
 
     rey = Reynolds(p)
     with pytest.raises(EquilibriumError) as ei:
@@ -187,7 +187,7 @@ def test_demo_on_a_users_bearing(tmp_path, capsys):
 
     from bearing_fmu.cli import main
     from bearing_fmu.physics.params import BearingParams
-    from bearing_fmu.physics.reynolds import Reynolds
+    from bearing_fmu.physics.solver.reynolds import Reynolds
     from bearing_fmu.physics.statics import equilibrium
 
     f = tmp_path / "b.toml"

@@ -253,7 +253,7 @@ def test_reynolds_trained_fit_22hz_coarse_grid():
     # 32 x 8 grid; domain: a disc of 0.1 CR about the equilibrium, |v| <= 0.1 omega CR.
     # Bound: 3 % held-out NRMSE at order 5 (the default-grid benchmark gives about 1.1 % on
     # this domain, docs/taylor.md); the order-1 fit must be much worse (> 10 %).
-    from bearing_fmu.physics.reynolds import Reynolds
+    from bearing_fmu.physics.solver.reynolds import Reynolds
 
     rey = Reynolds(P, n_theta=32, n_x=8)
     res = F.fit_condition(FitRecipe(load_y=0.0, load_z=-16.7, speed_hz=22.0, order=5, ecc_max=0.95, v_max=0.1,

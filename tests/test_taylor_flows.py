@@ -22,7 +22,7 @@ from bearing_fmu.internals.cases import OMEGA_22HZ, surrogate_file
 from bearing_fmu.internals.taylor.guard import DomainGuard
 from bearing_fmu.internals.registry import BearingStateError
 from bearing_fmu.internals.taylor import Taylor
-from bearing_fmu.physics.film import flow_scale, full_bore_friction
+from bearing_fmu.physics.solver.film import flow_scale, full_bore_friction
 from bearing_fmu.physics.params import PAPER_BEARING, BearingParams
 from bearing_fmu.surrogates.film import FilmFit, n_features
 from bearing_fmu.surrogates.surrogate import load_surrogate, save_surrogate
@@ -101,7 +101,7 @@ def test_a_damaged_film_fit_is_refused_by_key(tmp_path, damage, expected):
 def test_the_guard_does_for_the_film_report_what_it_does_for_the_force(tmp_path):
     # outside the fitted domain: discard refuses, warn gives the surrogate's value (warned), fallback
     # the Reynolds report (beyond the blending band); inside: the surrogate's report
-    from bearing_fmu.physics.reynolds import Reynolds
+    from bearing_fmu.physics.solver.reynolds import Reynolds
 
     sur, _path = made_up(tmp_path)
     P, om = PAPER_BEARING, OMEGA_22HZ
@@ -149,7 +149,7 @@ def fitted(tmp_path_factory):
 def held_out_errors_vs_reynolds(params: BearingParams, guard, n: int, seed: int = 2026) -> np.ndarray:
     """(n, 3): |Taylor / Reynolds - 1| of the inflow, side flow and friction power at n random states
     inside the fitted domain (uniform over the training discs, kept where the guard says inside)."""
-    from bearing_fmu.physics.reynolds import Reynolds
+    from bearing_fmu.physics.solver.reynolds import Reynolds
 
     s, om, rey, P = guard.taylor.surrogate, guard.omega, Reynolds(params), params
     rng = np.random.default_rng(seed)

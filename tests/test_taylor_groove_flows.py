@@ -1,7 +1,7 @@
 """The Taylor surrogate's film fit for a grooved or partial-arc bore (bearing_fmu/surrogates/film.py
 GroovedFilmFit, bearing_fmu/fitting/flows.py fit_grooved_film): the side flow J_s and every supply
 edge's pressure part P_e of (eps, phi, beta), assembled as the grooved force map's
-(physics/film.py grooved_report), and the native Taylor FMU's refusal of such a fit by name.
+(physics/solver/film.py grooved_report), and the native Taylor FMU's refusal of such a fit by name.
 
 Independent reference: the Reynolds solver's own film report (``Reynolds.film_report``: cell-face
 fluxes of the converged field, validated against Raimondi & Boyd in tests/test_film.py) at held-out
@@ -23,7 +23,7 @@ import pytest
 from bearing_fmu.internals import registry
 from bearing_fmu.internals.cases import OMEGA_22HZ, surrogate_file
 from bearing_fmu.internals.taylor import Taylor
-from bearing_fmu.physics.film import flow_scale, film_couette_integral
+from bearing_fmu.physics.solver.film import flow_scale, film_couette_integral
 from bearing_fmu.physics.params import BearingParams
 from bearing_fmu.surrogates.film import GroovedFilmFit, n_features
 from bearing_fmu.surrogates.surrogate import load_surrogate, save_surrogate
@@ -118,7 +118,7 @@ def test_a_film_fit_of_the_other_bore_is_refused(tmp_path):
 def test_a_grooved_bore_with_a_supply_pressure_gets_no_film_fit():
     """The grooved map's reason (groovemap.SUPPLY_WHY): the field is then not proportional to r."""
     from bearing_fmu.fitting.flows import fit_film
-    from bearing_fmu.physics.reynolds import Reynolds
+    from bearing_fmu.physics.solver.reynolds import Reynolds
 
     P = BearingParams.from_toml(GROOVED)
     fed = dataclasses.replace(P, geometry=dataclasses.replace(P.geometry, supply_pressure=1e5))

@@ -199,7 +199,7 @@ def test_wall_factor_undefined_at_the_wall():
 
 def test_shape_columns_value_by_hand():
     # by hand: the polynomial part through the wall factor plus M_l(u) S_k from the closed form
-    from bearing_fmu.physics.shortbearing import short_bearing_force
+    from bearing_fmu.physics.solver.shortbearing import short_bearing_force
 
     s = shape_surrogate(3, 2)
     states = random_states(30, 40, r=0.5, v=0.5)

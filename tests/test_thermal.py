@@ -8,10 +8,10 @@ import math
 import numpy as np
 import pytest
 
-from bearing_fmu.physics.geometry import Geometry
+from bearing_fmu.physics.bore.geometry import Geometry
 from bearing_fmu.physics.oil import KELVIN, Oil
 from bearing_fmu.physics.params import PAPER_BEARING, BearingParams
-from bearing_fmu.physics.reynolds import Reynolds
+from bearing_fmu.physics.solver.reynolds import Reynolds
 from bearing_fmu.physics.statics import equilibrium
 from bearing_fmu.physics.thermal import ThermalError, effective_temperature, residence_time_s, temperature_rise
 

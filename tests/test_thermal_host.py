@@ -12,7 +12,7 @@ import pytest
 
 from bearing_fmu.internals.scaled import ViscosityScaled
 from bearing_fmu.physics.params import PAPER_BEARING, BearingParams
-from bearing_fmu.physics.reynolds import Reynolds
+from bearing_fmu.physics.solver.reynolds import Reynolds
 from bearing_fmu.physics.statics import linearize
 from bearing_fmu.physics.thermal import effective_temperature
 from rotor_host.analyses.linear.stability import Stability, stability

@@ -1,9 +1,9 @@
-"""The tilting-pad bearing (bearing_fmu/physics/pads.py, bearing_fmu/internals/tilting_pad): the
+"""The tilting-pad bearing (bearing_fmu/physics/bore/pads.py, bearing_fmu/internals/tilting_pad): the
 bore's keys and refusals, the film's derivation against its closed form, the moment against the
 pressure field, and the properties any tilting-pad bearing has whatever its solver (symmetry, no
 circulatory stiffness with massless pads, the pads' moments zero), on coarse grids.
 
-Where the expected values come from: the film of physics/pads.py's docstring written out in the
+Where the expected values come from: the film of physics/bore/pads.py's docstring written out in the
 bearing's frame (independent of the pad frame and the lobe construction the code uses); the moment
 as the pressure field's integral about the pivot (independent of the force identity the code uses);
 mirror symmetry of a symmetric bearing; for massless pads, a journal motion along a pad's tangent is
@@ -23,8 +23,8 @@ import pytest
 from bearing_fmu.internals import registry
 from bearing_fmu.internals.tilting_pad.assembly import PadAssembly
 from bearing_fmu.internals.tilting_pad.tilting_pad import TiltingPad
-from bearing_fmu.physics.geometry import Geometry
-from bearing_fmu.physics.pads import PadGeometry
+from bearing_fmu.physics.bore.geometry import Geometry
+from bearing_fmu.physics.bore.pads import PadGeometry
 from bearing_fmu.physics.params import BearingFileError, BearingParams
 
 GRID = dict(n_theta=24, n_x=4)
@@ -101,7 +101,7 @@ def test_other_internals_refuse_a_tilting_pad_bore_by_name():
     for name in ("reynolds", "linear"):
         with pytest.raises(ValueError, match=f"the {name} internal does not take a tilting-pad bore.*tilting_pad"):
             registry.create(name, p, {})
-    from bearing_fmu.physics.reynolds import Reynolds
+    from bearing_fmu.physics.solver.reynolds import Reynolds
 
     with pytest.raises(ValueError, match="Reynolds: the bore is tilting pads"):
         Reynolds(p)
@@ -110,7 +110,7 @@ def test_other_internals_refuse_a_tilting_pad_bore_by_name():
 # ------------------------------------------------------------------ the film and the moment
 
 def test_the_pad_frame_film_is_the_derived_film_in_the_bearing_frame():
-    # physics/pads.py: h = C_pad - d cos(t - tp) + y sin t - z cos t - delta (R + C_pad) sin(t - tp),
+    # physics/bore/pads.py: h = C_pad - d cos(t - tp) + y sin t - z cos t - delta (R + C_pad) sin(t - tp),
     # written out here in the bearing's frame, against the pad frame's lobe film at the equivalent state
     p = bearing(pivots=(10.0, 100.0, 190.0, 280.0), offset=0.6, preload=0.4)
     A = PadAssembly(p, **GRID)

@@ -14,7 +14,7 @@ and on a pad (LOP), pivots centred, and one 5-pad LBP bearing with offset 0.6. R
 project's frame and scaling: eps = e / C_bearing, K = k C_bearing / W, C = c C_bearing omega / W,
 (Kyy, Kzz), (Cyy, Czz) (the cross terms are zero by symmetry, tests/test_tilting_pad.py), and
 ROSS's pad tilts [mrad]. ROSS turns a pad about a pivot at the pad's back (radius R + C_pad + t,
-t = 20 mm its pad_thickness), this project about the pad's surface (R + C_pad, physics/pads.py):
+t = 20 mm its pad_thickness), this project about the pad's surface (R + C_pad, physics/bore/pads.py):
 the same film needs delta_here (R + C_pad) = delta_ROSS (R + C_pad + t).
 """
 
@@ -26,8 +26,8 @@ import numpy as np
 import pytest
 
 from bearing_fmu.internals.tilting_pad.operating import operating_point
-from bearing_fmu.physics.geometry import Geometry
-from bearing_fmu.physics.pads import PadGeometry
+from bearing_fmu.physics.bore.geometry import Geometry
+from bearing_fmu.physics.bore.pads import PadGeometry
 from bearing_fmu.physics.params import BearingParams
 
 SPEED_HZ = 50.0

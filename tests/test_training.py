@@ -220,7 +220,7 @@ def test_series_forces_are_the_bearings_own(tmp_path, training_scene):
     # unbalance near one end, so the two bearings carry different forces: the series must pair
     # each state with the force of the same bearing -- the truth evaluated at the series states
     # gives the series forces back (the forces are recorded per bearing, the states per node)
-    from bearing_fmu.physics.reynolds import Reynolds
+    from bearing_fmu.physics.solver.reynolds import Reynolds
     from rotor_host.analyses.training import _bearing_params
 
     p = training_scene(tmp_path, "asym", 8.5, unbalance_node=1, record={"nodes": [1, 3, 6, 9]}, t_end=0.01)

@@ -25,7 +25,7 @@ import math
 
 import numpy as np
 
-from ..physics.film import flow_scale, grooved_report, reduced_flows, supply_functions
+from ..physics.solver.film import flow_scale, grooved_report, reduced_flows, supply_functions
 from ..surrogates.film import TARGETS, FilmFit, GroovedFilmFit, features, grooved_features, n_features
 from .ridge import CrossValidation, RidgeSVD, fold_indices, select_lambda
 

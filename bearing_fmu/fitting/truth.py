@@ -73,7 +73,7 @@ class Truth:
 def make_reynolds(params: BearingParams, grid: tuple[int, int] | None = None, cavitation: str = "reynolds"):
     """The truth (imported lazily: the surrogate never needs it) on ``grid`` (n_theta, n_x;
     None: the solver's default)."""
-    from ..physics.reynolds import Reynolds
+    from ..physics.solver.reynolds import Reynolds
 
     if grid is None:
         return Reynolds(params, cavitation=cavitation)
@@ -149,7 +149,7 @@ def _check_grid(table, path, grid, cavitation: str, hint: str) -> None:
     """The statics' Reynolds grid (None: the solver's default) and cavitation model are the map's."""
     if table is None:
         return
-    from ..physics.reynolds import DEFAULT_N_THETA, DEFAULT_N_X
+    from ..physics.solver.reynolds import DEFAULT_N_THETA, DEFAULT_N_X
 
     n_theta, n_x = grid if grid is not None else (DEFAULT_N_THETA, DEFAULT_N_X)
     if (n_theta, n_x, cavitation) != (table.n_theta, table.n_x, table.cavitation):

@@ -30,7 +30,7 @@ from __future__ import annotations
 import math
 
 from ..internals import registry
-from ..physics.geometry import FULL_BORE, MAX_LOBES, MAX_SUPPLY_KPA, Geometry
+from ..physics.bore.geometry import FULL_BORE, MAX_LOBES, MAX_SUPPLY_KPA, Geometry
 from ..physics.oil import DEFAULT_DENSITY, DEFAULT_HEAT_CAPACITY, DEFAULT_RANGE_C, KELVIN, Oil
 
 MAX_GROOVES = 8  # groove_1 .. groove_8: FMI parameters are scalars

@@ -36,7 +36,7 @@ map/            the force map: its table (full bore), its file, its internal, th
 
 A new family (a tilting-pad bearing) is a new folder beside these, its spec one entry in
 ``catalogue`` (checklist: ``registry``). The Reynolds solver, the truth, is an internal too; it
-lives with the physics (``bearing_fmu.physics.reynolds``): the solver is the internal, and the
+lives with the physics (``bearing_fmu.physics.solver.reynolds``): the solver is the internal, and the
 maps, the fitting and the statics use it as physics. Only the chosen internal's module is
 imported.
 """

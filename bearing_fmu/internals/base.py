@@ -262,9 +262,9 @@ class Capabilities:
     truth         : a reference the others are measured against (the Reynolds solver).
     validity      : one paragraph for the FMU's documentation: where its force holds ({actions}
                     and {made}, if present, are filled per FMU kind by ``bearing_fmu.fmu.docs``).
-    any_geometry  : takes a bore that is not the full circle (grooves, arc, lobes; physics.geometry);
+    any_geometry  : takes a bore that is not the full circle (grooves, arc, lobes; physics.bore.geometry);
                     False: ``create`` refuses such a bearing by name, ``geometry_why`` says why.
-    film_flow     : has ``film_report(y, z, vy, vz, omega)`` (``physics.film.FilmReport``: friction power,
+    film_flow     : has ``film_report(y, z, vy, vz, omega)`` (``physics.solver.film.FilmReport``: friction power,
                     inflow, side flow at any state, its own bore included): what the FMU's thermal ports
                     need (``thermal = true``); False: the FMU refuses them, ``film_flow_why`` says why.
                     An internal whose data file may lack them (a map file without flow tables) has
@@ -273,7 +273,7 @@ class Capabilities:
                     data (``internals.compiled``), which a host's compiled loop calls with no
                     Python per evaluation (the rotor host's Newmark chunks); an instance may
                     still answer None, and the caller then uses ``force_and_jacobian``.
-    pads          : takes a tilting-pad bore (``physics.pads``); False: ``create`` refuses a bearing
+    pads          : takes a tilting-pad bore (``physics.bore.pads``); False: ``create`` refuses a bearing
                     with pads by name, naming the internals that take one.
     fmu           : the Python FMU can carry it; False: the FMU refuses it, ``fmu_why`` says why.
     whirl_reduced : its K, C depend on the whirl frequency (states of its own condensed, a tilting
@@ -283,7 +283,7 @@ class Capabilities:
                     of the journal and its N own coordinates and their inertias (0: massless), which an
                     eigenproblem takes whole (``rotor_host.analyses.linear.pad_modes``).
     film_field    : has a film pressure field: ``peak_pressure(y, z, vy, vz, omega) -> (p [Pa], theta [rad])``,
-                    its largest pressure and where (``physics.film.peak_pressure``), which the FMU's outputs
+                    its largest pressure and where (``physics.solver.film.peak_pressure``), which the FMU's outputs
                     peak_pressure and peak_pressure_angle report (0 for an internal without it).
     memoryless    : its answer follows the journal state and its parameters alone (no time, no earlier
                     call): its FMUs (thermal off) declare it (``fmu.meta.memoryless_annotation``), may
@@ -322,7 +322,7 @@ class InternalSpec:
     uses    : other internals whose options it also reads (it builds one of them inside:
               linear and taylor's fallback build Reynolds), so one grid setting serves all
     can     : its ``Capabilities``
-    kernels : modules inside bearing_fmu ("physics.reynolds_kernels") holding the numba kernels its
+    kernels : modules inside bearing_fmu ("physics.solver.reynolds_kernels") holding the numba kernels its
               evaluation calls, loaded from their disk cache before a run's clock starts
               (``internals.warmup.warm_internal``); () for a pure-Python internal
     case    : its contract case for tests/test_internals.py: "module:function" or a callable

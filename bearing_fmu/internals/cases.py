@@ -111,8 +111,8 @@ def tilting_pad_case(data_dir: Path) -> ContractCase:
     # preload 0.3: asymmetric enough that no derivative vanishes by symmetry; 24 cells a pad
     from dataclasses import replace
 
-    from ..physics.geometry import Geometry
-    from ..physics.pads import PadGeometry
+    from ..physics.bore.geometry import Geometry
+    from ..physics.bore.pads import PadGeometry
     from ..physics.params import PAPER_BEARING
 
     pads = PadGeometry(pivots=tuple(math.radians(a) for a in (45.0, 135.0, 225.0, 315.0)), arc=math.radians(80.0),

@@ -26,7 +26,7 @@ def _lund(name: str, unit: str, what: str) -> Option:
 
 
 register(InternalSpec(
-    "reynolds", "physics.reynolds:Reynolds.from_options", "finite-volume Reynolds solver, Swift-Stieber cavitation (the truth)",
+    "reynolds", "physics.solver.reynolds:Reynolds.from_options", "finite-volume Reynolds solver, Swift-Stieber cavitation (the truth)",
     options=(
         Option("n_theta", int, 0, "reynolds: circumferential grid cells", minimum=8, maximum=100_000,
                special=_GRID_DEFAULT),
@@ -42,7 +42,7 @@ register(InternalSpec(
                  "accuracy is set by the grid n_theta x n_x (0: the default 128 x 16, docs/reynolds.md). The journal "
                  "at or beyond the wall is refused (fmi2Discard)."),
     case="internals.cases:reynolds_case",
-    kernels=("physics.reynolds_kernels", "physics.geometry_kernels"),
+    kernels=("physics.solver.reynolds_kernels", "physics.solver.geometry_kernels"),
 ))
 
 register(InternalSpec(
@@ -135,5 +135,5 @@ register(InternalSpec(
                  "(and rates, with pad inertia) are states carried from step to step; rotor-host stability puts "
                  "the pads' coordinates into its eigenproblem."),
     case="internals.cases:tilting_pad_case",
-    kernels=("physics.reynolds_kernels", "physics.geometry_kernels"),
+    kernels=("physics.solver.reynolds_kernels", "physics.solver.geometry_kernels"),
 ))

@@ -12,7 +12,7 @@ here, so any import of the registry has them), each internal's code in its famil
 ===========  =========================================================  ====================================
 name         factory                                                    what it is
 ===========  =========================================================  ====================================
-reynolds     physics.reynolds:Reynolds.from_options                     finite-volume Reynolds solver (the
+reynolds     physics.solver.reynolds:Reynolds.from_options                     finite-volume Reynolds solver (the
                                                                         truth)
 linear       internals.linear.linear:Linear.from_options                8 Lund coefficients about an
                                                                         equilibrium

@@ -92,7 +92,7 @@ PRESETS = (
 GRADES = {p.name: p for p in PRESETS}
 
 OUTFLOW_RISES = ("half", "full")  # the side flow's share of the rise: 1/2 or 1 (``Oil.outflow_share``)
-CAVITATED_SHEARS = ("full", "striated")  # or a fraction in [0, 1] (``physics.film.cavitated_relief``)
+CAVITATED_SHEARS = ("full", "striated")  # or a fraction in [0, 1] (``physics.solver.film.cavitated_relief``)
 
 
 @dataclass(frozen=True)

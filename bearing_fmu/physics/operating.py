@@ -14,10 +14,10 @@ import math
 import numpy as np
 
 from .oil import DEFAULT_DENSITY, DEFAULT_HEAT_CAPACITY, KELVIN
-from .feed import place_feed
-from .film import at_viscosity
+from .bore.feed import place_feed
+from .solver.film import at_viscosity
 from .params import BearingParams
-from .reynolds import Reynolds
+from .solver.reynolds import Reynolds
 from .statics import dimensionless_coefficients, equilibrium, linearize, sommerfeld_number
 from .thermal import effective_temperature, heat_balance_rise
 

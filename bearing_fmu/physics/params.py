@@ -7,7 +7,7 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 from ..io.schema import Key, Number, Table, Text, check_keys, check_table, read_toml, show
-from .geometry import FULL_BORE, GEOMETRY_KEYS, Geometry
+from .bore.geometry import FULL_BORE, GEOMETRY_KEYS, Geometry
 from .oil import OIL_KEYS, Oil, oil_from_table
 
 # ----------------------------------------------------------------------------- physical ranges
@@ -141,7 +141,7 @@ class BearingParams:
     CR : radial clearance [m] (of a lobed bore: the assembled clearance C_bearing)
     mu : dynamic viscosity of the oil [Pa s] (with an ``oil``: its viscosity at the supply
          temperature, or the effective one a thermal model set with ``with_viscosity``)
-    geometry : the bore (``physics.geometry.Geometry``: grooves, arc, lobes); default the full bore
+    geometry : the bore (``physics.bore.geometry.Geometry``: grooves, arc, lobes); default the full bore
     oil : the oil's viscosity law and properties (``physics.oil.Oil``); None: isoviscous at mu
     """
 
@@ -179,7 +179,7 @@ class BearingParams:
         return f"BearingParams(D={self.D!r}, L={self.L!r}, CR={self.CR!r}, mu={self.mu!r}{tail})"
 
     def with_geometry(self, geometry: Geometry) -> "BearingParams":
-        """The same bearing with another bore (a placed feed line: ``physics.feed``)."""
+        """The same bearing with another bore (a placed feed line: ``physics.bore.feed``)."""
         return replace(self, geometry=geometry)
 
     def with_viscosity(self, mu: float) -> "BearingParams":

@@ -12,7 +12,7 @@ import numpy as np
 
 from ..internals.registry import Internal, check_state
 from .params import BearingParams
-from .shortbearing import short_bearing_eccentricity
+from .solver.shortbearing import short_bearing_eccentricity
 
 # Where "load capacity" is measured: near the wall, where the thinnest film is 5 % of the
 # clearance (a few um) and a real bearing is at its practical limit. The film force still grows

@@ -9,7 +9,7 @@ power P goes into the oil (adiabatic: none conducted into journal or bush):
     T_eff = T_supply + k dT,   k = 1/2 (the mean of inlet and outlet: Shigley's T_av = T_1 + dT / 2)
     mu_eff = mu(T_eff)
 
-With P and Q from the film at its static equilibrium under the load (``physics.film``), at the
+With P and Q from the film at its static equilibrium under the load (``physics.solver.film``), at the
 viscosity mu_eff itself: T = T_supply + k dT(mu(T)) is solved for T by bracketing (Brent). The
 residual r(T) = T_supply + k dT(mu(T)) - T is >= 0 at T_supply (dT >= 0); a hotter, thinner oil
 dissipates less, so r(T_supply + k dT(T_supply)) <= 0 and that brackets the root (else the bracket
@@ -46,10 +46,10 @@ from dataclasses import dataclass
 
 from scipy.optimize import brentq
 
-from .film import FilmReport, at_viscosity
+from .solver.film import FilmReport, at_viscosity
 from .oil import KELVIN, Oil
 from .params import BearingParams
-from .reynolds import Reynolds
+from .solver.reynolds import Reynolds
 from .statics import EquilibriumError, equilibrium
 
 __all__ = ["ThermalError", "ThermalState", "heat_balance_rise", "temperature_rise", "effective_temperature", "residence_time_s",
@@ -68,7 +68,7 @@ class ThermalState:
     dT_K        : the film's temperature rise, outlet over inlet [K]
     mu_eff_Pa_s : the viscosity at T_eff [Pa s]
     y_m, z_m    : the journal's static equilibrium at mu_eff [m]
-    report      : friction and flow there (``physics.film.FilmReport``)
+    report      : friction and flow there (``physics.solver.film.FilmReport``)
     evaluations : film solutions the root search took
     """
 

@@ -2,7 +2,7 @@
 their two functions of (eps, beta) fitted beside the force (``bearing_fmu.fitting.flows``) and
 stored in the surrogate file (key ``film``, format version 2).
 
-The reduction (``physics.film``, docs/forcemap.md "The flows"; exact for the full bore at any
+The reduction (``physics.solver.film``, docs/forcemap.md "The flows"; exact for the full bore at any
 speed): with eps the eccentricity ratio, a = eps (omega - 2 phidot), c = 2 epsdot, r = |(a, c)|,
 beta = atan2(c, a) (``internals.map.tables.reduced``) and Q0 = R L CR,
 

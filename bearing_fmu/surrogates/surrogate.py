@@ -13,7 +13,7 @@ approaches the wall where F grows without bound. With p > 0 the force is undefin
 eps >= 1 (the Taylor internal raises BearingStateError there, as the domain guard does for any p).
 
 Shape columns (``shape_order`` r, optional): F_i += sum_j (a_ij^y S_y + a_ij^z S_z) m_j(u),
-S the closed-form short-bearing force (:mod:`bearing_fmu.physics.shortbearing`), m_j the monomials of
+S the closed-form short-bearing force (:mod:`bearing_fmu.physics.solver.shortbearing`), m_j the monomials of
 order <= r (docs/taylor.md).
 
 Training states (``neighbours``, optional): a compact subset of the states the surrogate was
@@ -240,7 +240,7 @@ class Surrogate:
             **({} if self.shape_order is None else {"shape": {
                 "order": self.shape_order,
                 "model": "F_i += sum_j (a_ij^y S_y + a_ij^z S_z) m_j(u): S = short-bearing (Ocvirk, pi-film) "
-                         "force [N] at (y, z, vy, vz, omega) (bearing_fmu.physics.shortbearing), m_j(u) = prod_v u_v^e_jv",
+                         "force [N] at (y, z, vy, vz, omega) (bearing_fmu.physics.solver.shortbearing), m_j(u) = prod_v u_v^e_jv",
                 "exponents": self.shape_exponents.tolist(),
                 "coef": {k: self.shape_coef[i].tolist() for i, k in enumerate(SHAPE_ROWS)},
             }}),

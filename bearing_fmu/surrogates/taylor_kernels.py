@@ -14,7 +14,7 @@ import numpy as np
 from numba import njit
 
 from ..physics.params import BearingParams
-from ..physics.shortbearing import short_bearing_constant, short_bearing_kernel
+from ..physics.solver.shortbearing import short_bearing_constant, short_bearing_kernel
 
 # Error codes of the kernels, turned into BearingStateError by the Python wrappers.
 _OK, _BAD_Y, _BAD_Z, _BAD_VY, _BAD_VZ, _BAD_OMEGA, WRONG_OMEGA, _AT_WALL = 0, 1, 2, 3, 4, 5, 6, 7

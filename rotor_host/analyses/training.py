@@ -113,7 +113,7 @@ def fit_scene(recipe: FitRecipe, *, cache_dir=None, log=print):
     map is checked before any scene runs."""
     from bearing_fmu import fitting as F
     from bearing_fmu.fitting.truth import fit_truth
-    from bearing_fmu.physics.reynolds import Reynolds
+    from bearing_fmu.physics.solver.reynolds import Reynolds
 
     if recipe.kind != "scene":
         raise ValueError("fit_scene: the recipe names no training scene (scenes)")

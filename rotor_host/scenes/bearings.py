@@ -166,7 +166,7 @@ def place_feeds_at_speed(scene: Scene, rotor: Rotor, loads) -> None:
     """Feed lines at the thickest film placed at the scene's speed, where they stay for the run."""
     if not any(p.geometry.feed_unplaced for p in rotor.bearings):
         return  # (its module loads the Reynolds solver: a Taylor scene never does)
-    from bearing_fmu.physics.feed import place_feeds
+    from bearing_fmu.physics.bore.feed import place_feeds
 
     rotor.bearings = place_feeds(rotor.bearings, loads, scene.omega, f"{scene.source}: ")
 

@@ -24,7 +24,7 @@ from typing import Callable
 
 from bearing_fmu.internals import registry
 from bearing_fmu.io.schema import markdown_table, option_keys
-from bearing_fmu.physics.geometry import GEOMETRY_KEYS
+from bearing_fmu.physics.bore.geometry import GEOMETRY_KEYS
 from bearing_fmu.physics.oil import KELVIN, OIL_KEYS, PRESETS, Oil
 from bearing_fmu.physics.params import BEARING_KEYS
 

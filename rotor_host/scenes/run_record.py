@@ -40,7 +40,7 @@ def peak_pressures(bearings, arrays: dict, any_state: bool = True) -> dict:
         out["peak_pressure_note"] = ("not computed: this run's internal answers about one operating point and "
                                      "loads no Reynolds solver; `bearing-fmu demo` gives the peak at a state")
         return out
-    from bearing_fmu.physics.reynolds import Reynolds
+    from bearing_fmu.physics.solver.reynolds import Reynolds
 
     cols = {int(n): i for i, n in enumerate(arrays["nodes"])}
     notes = []

@@ -1,8 +1,8 @@
 """The native FMU's Reynolds solver (c/reynolds_solver.c, with its film report c/reynolds_film.c)
 and its oil law and film temperature (c/oil_thermal.c) alone: compiled into a small shared
 library with zig (the compiler and flags of the FMU builds, ``compile``) and called through
-ctypes, so that they can be compared with the Python internal (``physics.reynolds.Reynolds``,
-``physics.film``, ``physics.oil``, ``physics.thermal``) state by state (tests/test_native_reynolds.py,
+ctypes, so that they can be compared with the Python internal (``physics.solver.reynolds.Reynolds``,
+``physics.solver.film``, ``physics.oil``, ``physics.thermal``) state by state (tests/test_native_reynolds.py,
 tests/test_native_film.py, tests/test_native_thermal.py, benchmarks/bench_native_reynolds.py).
 
     lib = solver_library(tmp_dir)
@@ -20,7 +20,7 @@ from pathlib import Path
 import numpy as np
 
 from ...physics.params import BearingParams
-from ...physics.reynolds import DEFAULT_N_THETA, DEFAULT_N_X
+from ...physics.solver.reynolds import DEFAULT_N_THETA, DEFAULT_N_X
 from .compile import C_FLAGS, run_compiler, zig_cc
 
 C_DIR = Path(__file__).resolve().parent / "c"

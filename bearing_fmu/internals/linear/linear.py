@@ -65,7 +65,7 @@ class Linear:
             from ..map.mapfile import from_options as open_map
 
             return cls.at_load(open_map(params, o, context), (o["load_y"], o["load_z"]), o["omega_lin"])
-        from ...physics.reynolds import Reynolds
+        from ...physics.solver.reynolds import Reynolds
 
         return cls.at_load(Reynolds.from_options(params, o), (o["load_y"], o["load_z"]), o["omega_lin"])
 

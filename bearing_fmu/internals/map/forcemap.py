@@ -10,7 +10,7 @@ import math
 
 import numpy as np
 
-from ...physics.film import FilmReport, reduced_report
+from ...physics.solver.film import FilmReport, reduced_report
 from ...physics.params import BearingParams
 from ..base import BearingStateError, check_finite, overflow_error
 from .tablefile import load_map

@@ -42,8 +42,8 @@ from pathlib import Path
 import numpy as np
 
 from ...io.schema import find_non_finite
-from ...physics.film import FilmReport, grooved_report, supply_functions
-from ...physics.geometry import Geometry
+from ...physics.solver.film import FilmReport, grooved_report, supply_functions
+from ...physics.bore.geometry import Geometry
 from ...physics.params import BearingParams
 from .forcemap import ForceMap
 from .tablefile import array_key, bspline_matrix, number_key
@@ -319,7 +319,7 @@ def tabulate_grooved(params: BearingParams, *, n_eps: int = DEFAULT_N_EPS, n_phi
     from functools import partial as bind
 
     from ...parallel.rows import solve_rows
-    from ...physics.reynolds import Reynolds
+    from ...physics.solver.reynolds import Reynolds
 
     why = map_geometry_problem(params.geometry)
     if why:
@@ -352,7 +352,7 @@ def grooved_row(params, n_theta, n_x, cavitation, eps, phis, betas, n_phase, rey
     to O(cell^2). Q from the same solve's field (``Reynolds.supply_flows``, r = 1): J_s = Q_s / Q0,
     P_e = -(the pressure part of edge e's flux into the film) / Q0."""
     if rey is None:
-        from ...physics.reynolds import Reynolds
+        from ...physics.solver.reynolds import Reynolds
 
         rey = Reynolds(params, n_theta, n_x, cavitation)
     S = scale(params)

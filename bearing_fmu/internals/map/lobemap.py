@@ -1,7 +1,7 @@
 """The force map of a lobed bore whose lobes are separated by ambient grooves: the sum over its lobes
 of one partial-arc map, exact (docs/forcemap.md, "Lobed bores").
 
-The lobes (``physics.geometry``'s derivation)
+The lobes (``physics.bore.geometry``'s derivation)
 ---------------------------------------------
 Lobe k of N spans 360/N deg from its leading edge theta_lead,k = lobe_angle + (k - 1/2) 360/N; its
 film is h = C_pad - (e - O_k) . u(theta), u(theta) = (-sin theta, cos theta), the film of a
@@ -49,8 +49,8 @@ from dataclasses import replace
 
 import numpy as np
 
-from ...physics.film import FilmReport, assemble_report
-from ...physics.geometry import Geometry
+from ...physics.solver.film import FilmReport, assemble_report
+from ...physics.bore.geometry import Geometry
 from ...physics.params import BearingParams
 from ..base import BearingStateError, check_finite
 
@@ -137,7 +137,7 @@ def map_params(params: BearingParams, grid=None) -> tuple[BearingParams, tuple]:
     bearing as given."""
     if params.geometry.lobes < 2:
         return params, grid
-    from ...physics.reynolds import DEFAULT_N_THETA, DEFAULT_N_X
+    from ...physics.solver.reynolds import DEFAULT_N_THETA, DEFAULT_N_X
 
     n_theta, n_x = grid or (None, None)
     arc = lobe_arc(params)

@@ -48,7 +48,7 @@ def settings_for(params: BearingParams, *, resolution=None, n_phi=None, grid=Non
                  eps_max: float | None = None, phases: int | None = None) -> MapSettings:
     """The settings of a map of ``params``' bore: the given ones, the rest the bore's defaults
     (the full bore's 2-D map or the grooved bore's 3-D map; the Reynolds solver's grid)."""
-    from ...physics.reynolds import Reynolds
+    from ...physics.solver.reynolds import Reynolds
 
     full = params.geometry.is_full_bore
     rey = Reynolds(params, *(grid or (None, None)), cavitation)  # the solver's own defaults and checks

@@ -28,7 +28,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ...physics.film import reduced_flows
+from ...physics.solver.film import reduced_flows
 from ...physics.params import L_OVER_D_RANGE, BearingParams
 
 FORMAT = "bearing-fmu-force-map"
@@ -225,7 +225,7 @@ def tabulate(params: BearingParams, *, n_eps: int = DEFAULT_N_EPS, n_beta: int =
     from functools import partial as bind
 
     from ...parallel.rows import solve_rows
-    from ...physics.reynolds import Reynolds
+    from ...physics.solver.reynolds import Reynolds
 
     params.require_full_bore("a force map", REDUCTION_WHY)
     rey = Reynolds(params, n_theta, n_x, cavitation)
@@ -268,7 +268,7 @@ def table_row(params, n_theta, n_x, cavitation, eps, betas, wall_exponent, n_pha
     solver's film reports at omega = 1 and 2 rad/s (``film.reduced_flows``; at the centre at
     EPS_MIN, where the line of thickest film has the journal's direction)."""
     if rey is None:
-        from ...physics.reynolds import Reynolds
+        from ...physics.solver.reynolds import Reynolds
 
         rey = Reynolds(params, n_theta, n_x, cavitation)
     S = scale(params)

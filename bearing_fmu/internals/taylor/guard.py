@@ -268,7 +268,7 @@ class DomainGuard:
         return self.taylor.film_flow_why
 
     def film_report(self, y: float, z: float, vy: float, vz: float, omega: float):
-        """The film's friction and flows (``physics.film.FilmReport``) as the force is guarded: inside
+        """The film's friction and flows (``physics.solver.film.FilmReport``) as the force is guarded: inside
         the fitted domain the surrogate's film fit (``Taylor.film_report``), with no bookkeeping (the
         force call at the state has done it); outside it what ``force`` does (warn: the surrogate's
         value, once warned; fallback: the Reynolds report, blended over the same band; discard or
@@ -288,7 +288,7 @@ class DomainGuard:
 
 
 def _reynolds(params, options):
-    from ...physics.reynolds import Reynolds
+    from ...physics.solver.reynolds import Reynolds
 
     return Reynolds.from_options(params, options)
 

@@ -15,9 +15,9 @@ from pathlib import Path
 
 import numpy as np
 
-from ...physics.film import FilmReport, grooved_report, reduced_report
+from ...physics.solver.film import FilmReport, grooved_report, reduced_report
 from ...physics.params import BearingParams
-from ...physics.shortbearing import short_bearing_constant
+from ...physics.solver.shortbearing import short_bearing_constant
 from ...surrogates.film import GROOVED
 from ...surrogates.surrogate import NO_FLOWS_WHY, Surrogate, check_params, load_surrogate
 from ...surrogates.taylor_kernels import (NOT_FINITE, WRONG_OMEGA, domain_distance_nb, force_jac_shape_si_nb,

@@ -4,7 +4,7 @@ coefficients and their reduction to the journal at a whirl frequency.
 
 The film of pad k with tilt delta_k is the fixed pad's film with the journal at the equivalent
 state e + a delta_k t_k, v + a ddelta_k/dt t_k (a = R + C_pad the pivot's radius, t_k the tangent at
-the pivot; ``physics.pads``' derivation), and the pad's moment about its pivot is
+the pivot; ``physics.bore.pads``' derivation), and the pad's moment about its pivot is
 M_k = a F_k . t_k. In pad k's own frame (pivot at the bottom, t = (1, 0)) that is the partial-arc
 Reynolds solver of ``pad_frame_geometry`` (below) at (y' + a delta, z', vy' + a ddelta/dt, vz'),
 with M_k = a F'_y: no new film term in any kernel. The solver's adjoint Jacobian gives every
@@ -36,8 +36,8 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from ...physics.geometry import Geometry
-from ...physics.pads import PAD_FRAME_PIVOT, PadGeometry, rotation
+from ...physics.bore.geometry import Geometry
+from ...physics.bore.pads import PAD_FRAME_PIVOT, PadGeometry, rotation
 from ...physics.params import BearingParams
 from ..base import BearingStateError, check_finite, overflow_error
 
@@ -69,7 +69,7 @@ class PadSolution:
 
 
 def pad_frame_geometry(pads: PadGeometry) -> Geometry:
-    """The bore every pad is in its own frame (``physics.pads``, *The pad frame*): the partial arc
+    """The bore every pad is in its own frame (``physics.bore.pads``, *The pad frame*): the partial arc
     [pi - o beta, pi + (1 - o) beta], preload m about the pivot at pi. The preloaded film is the
     lobed bore's: two lobes (each 180 deg, wider than any pad) with lobe_offset = o and the first
     lobe placed so its preload point is the pivot, lobe_angle = 3 pi / 2 - o pi; the lobes'
@@ -87,7 +87,7 @@ class PadAssembly:
 
     def __init__(self, params: BearingParams, n_theta: int | None = None, n_x: int | None = None,
                  cavitation: str = "reynolds"):
-        from ...physics.reynolds import Reynolds
+        from ...physics.solver.reynolds import Reynolds
 
         pg = params.geometry.pads
         if pg is None:
@@ -114,7 +114,7 @@ class PadAssembly:
     @staticmethod
     def default_cells(pads: PadGeometry) -> int:
         """Cells along a pad's arc by default: the full bore's resolution (128 a turn), at least MIN_PAD_CELLS."""
-        from ...physics.reynolds import DEFAULT_N_THETA
+        from ...physics.solver.reynolds import DEFAULT_N_THETA
 
         return max(MIN_PAD_CELLS, round(DEFAULT_N_THETA * pads.arc / (2.0 * math.pi)))
 

@@ -1,6 +1,6 @@
 """Every pad of a tilting-pad bearing from one 3-D partial-arc force map (the pad model "map").
 
-A pad's film in its own frame (``physics.pads``, *The pad frame*) is
+A pad's film in its own frame (``physics.bore.pads``, *The pad frame*) is
 
     h = C_pad - d cos(theta - pi) - e' . u(theta) = C_pad - (e' + d u(pi)) . u(theta),   u(pi) = (0, -1),
 
@@ -20,8 +20,8 @@ import math
 from dataclasses import replace
 from pathlib import Path
 
-from ...physics.geometry import Geometry
-from ...physics.pads import PAD_FRAME_PIVOT
+from ...physics.bore.geometry import Geometry
+from ...physics.bore.pads import PAD_FRAME_PIVOT
 from ...physics.params import BearingParams
 
 

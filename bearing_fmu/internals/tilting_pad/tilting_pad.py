@@ -22,7 +22,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ...physics.film import FilmReport, assemble_report
+from ...physics.solver.film import FilmReport, assemble_report
 from ...physics.params import BearingParams
 from .assembly import PadAssembly, PadSolution
 from .journal import journal_equilibrium

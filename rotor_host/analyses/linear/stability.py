@@ -42,7 +42,7 @@ import numpy as np
 
 from bearing_fmu.internals import registry
 from bearing_fmu.internals.registry import Context
-from bearing_fmu.physics.geometry import Geometry
+from bearing_fmu.physics.bore.geometry import Geometry
 from bearing_fmu.io.exits import note_kept
 from bearing_fmu.io.outputs import ensure_writable, write_json, write_text
 
@@ -182,7 +182,7 @@ class Stability:
 
     def _place_feeds(self, omega: float) -> None:
         """The bores fed along their line of thickest film: the line at this speed's equilibrium."""
-        from bearing_fmu.physics.feed import place_feed
+        from bearing_fmu.physics.bore.feed import place_feed
 
         for k in self.unplaced:
             params = place_feed(self.rotor.bearings[k], self.loads[k], omega, name=f"{self.where}: {self.names[k]}")

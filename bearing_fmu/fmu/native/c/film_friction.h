@@ -1,5 +1,5 @@
 /* The film's friction in closed form for the full 360 deg bore, and its friction power (ports of
- * bearing_fmu/physics/film.py full_bore_friction and _report, whose docstrings give the
+ * bearing_fmu/physics/solver/film.py full_bore_friction and _report, whose docstrings give the
  * definitions, in their order of operations: pow(R, 3) is Python's R ** 3), and the state in the
  * map's reduced coordinates (forcemap.reduced). Included by reynolds_film.c (the Reynolds film
  * report of the full bore), by internal_map.c (the map's force; map_flows.c its film report,

@@ -1,4 +1,4 @@
-/* The Reynolds internal (bearing_fmu/physics/reynolds.py): the finite-volume solver in C
+/* The Reynolds internal (bearing_fmu/physics/solver/reynolds.py): the finite-volume solver in C
  * (reynolds_solver.c, included here so every one of its functions stays static), on the grid
  * n_theta x n_x and with the cavitation model the parameters set, for the bore compiled in
  * (model_data.h: its segments, from geometry.Geometry.segments, and the angles its wall is

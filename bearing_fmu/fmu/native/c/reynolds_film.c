@@ -1,5 +1,5 @@
 /* The film report in C: friction and flows of the converged field (a port of
- * bearing_fmu/physics/film.py field_report, whose docstring gives the definitions: Couette and
+ * bearing_fmu/physics/solver/film.py field_report, whose docstring gives the definitions: Couette and
  * pressure torque, friction power, inflow, side flow), over reynolds_solver.c's field (compiled
  * beside it when the FMU has the thermal model, BN_FLOWS_REYNOLDS); equal to Python's to about 1e-14 relative
  * (tests/test_native_reynolds.py: 1e-12 the tolerance; the sums' order differs). */

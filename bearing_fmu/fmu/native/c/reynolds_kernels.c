@@ -1,5 +1,5 @@
 /* The Reynolds solver's kernels (reynolds_solver.h: RS_INTERNAL the ones reynolds_solver.c calls): a
- * line-by-line port of bearing_fmu/physics/reynolds_kernels.py and geometry_kernels.py (their
+ * line-by-line port of bearing_fmu/physics/solver/reynolds_kernels.py and geometry_kernels.py (their
  * docstrings explain each step), the full bore and the other bores in one path (fixed cells,
  * the centred film H0 and non-uniform cells; the full bore has none, unit film, uniform cells).
  * Arrays: Lb[k (m + 1) + d] = L[k, k - d]; Y[k m + c]; S[a m + c]; db[q N + i]; wring[slot n + k]. */

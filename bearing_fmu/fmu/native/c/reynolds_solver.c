@@ -1,4 +1,4 @@
-/* The Reynolds solver in C: its grid (bearing_fmu/physics/reynolds.py Reynolds.__init__ and
+/* The Reynolds solver in C: its grid (bearing_fmu/physics/solver/reynolds.py Reynolds.__init__ and
  * _bore, geometry.py theta_grid and ThetaGrid), one call (reynolds_kernels.py reynolds_kernel,
  * geometry_kernels.py geometry_kernel) and the memory layout. The kernels are
  * reynolds_kernels.c, the film report reynolds_film.c; reynolds_solver.h says how the memory is

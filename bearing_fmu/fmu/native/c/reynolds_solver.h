@@ -1,4 +1,4 @@
-/* The finite-volume Reynolds solver in C (a port of bearing_fmu/physics/reynolds.py,
+/* The finite-volume Reynolds solver in C (a port of bearing_fmu/physics/solver/reynolds.py,
  * reynolds_kernels.py and geometry_kernels.py, whose docstrings explain the discretisation,
  * the cavitation problem, the active-set method with its warm start and the adjoint Jacobian).
  * One code path serves every bore: the full bore is the bore without fixed cells, with unit

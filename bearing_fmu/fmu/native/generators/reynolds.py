@@ -16,7 +16,7 @@ from __future__ import annotations
 
 from ....internals import registry
 from ....physics.params import BearingParams
-from ....physics.reynolds import DEFAULT_N_THETA, DEFAULT_N_X
+from ....physics.solver.reynolds import DEFAULT_N_THETA, DEFAULT_N_X
 from ..codegen import NativeModel, c_double, c_string, model_config, native_variables, registry_option
 from ..solver_lib import bore_arrays
 

@@ -29,7 +29,7 @@ class ThetaGrid:
                   Couette source of the lobes); 0 for fixed cells
     """
 
-    geometry: object  # the physics.geometry.Geometry that made the grid (not imported: it imports this module)
+    geometry: object  # the physics.bore.geometry.Geometry that made the grid (not imported: it imports this module)
     left: np.ndarray
     width: np.ndarray
     fixed: np.ndarray

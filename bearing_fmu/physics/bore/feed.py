@@ -20,9 +20,9 @@ from __future__ import annotations
 import math
 
 from .geometry import FEED_WIDTH_DEG, Geometry
-from .params import BearingParams
-from .reynolds import Reynolds
-from .statics import equilibrium
+from ..params import BearingParams
+from ..solver.reynolds import Reynolds
+from ..statics import equilibrium
 
 __all__ = ["place_feed", "place_feeds", "thickest_line"]
 

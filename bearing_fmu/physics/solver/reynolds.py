@@ -78,7 +78,7 @@ first-order film response, which is what central differences converge to.
 
 Bores other than the full circle
 --------------------------------
-With ``params.geometry`` not the full bore (grooves, a partial arc, lobes: ``physics.geometry``),
+With ``params.geometry`` not the full bore (grooves, a partial arc, lobes: ``physics.bore.geometry``),
 the circumferential cells have a face on every groove edge, arc edge and lobe boundary
 (``Geometry.theta_grid``: one cell per groove and per stretch outside the arc, the rest spread
 over the film), the film is h / CR = H0(theta) + (y sin - z cos) / CR with the lobes' centred
@@ -97,9 +97,9 @@ import math
 
 import numpy as np
 
-from ..internals.registry import check_state, overflow_error
+from ...internals.registry import check_state, overflow_error
 from .film import FilmReport, edge_flows, field_report, flow_field, peak_pressure
-from .params import BearingParams
+from ..params import BearingParams
 from .geometry_kernels import geometry_kernel
 from .lands import axial_stencil, has_lands, land_cells
 from .reynolds_kernels import reynolds_kernel
@@ -174,7 +174,7 @@ class Reynolds:
         N, m = self.n_theta, self.n_x // 2
         self._m = m
         self._dth = 2.0 * math.pi / N
-        # the axial cells: the half length, or one land of a circumferential groove (physics.lands)
+        # the axial cells: the half length, or one land of a circumferential groove (physics.solver.lands)
         self._dx, self._x = land_cells(params, self.n_x)
         self._p_in = params.geometry.supply_pressure if has_lands(params) else 0.0
         th = np.arange(N) * self._dth
@@ -223,7 +223,7 @@ class Reynolds:
         self.reset_counts()
 
     def _bore(self, params: BearingParams, N: int) -> dict:
-        """Grid and film of a bore that is not the full circle (``physics.geometry``): cells with
+        """Grid and film of a bore that is not the full circle (``physics.bore.geometry``): cells with
         faces on its edges replace the uniform ones (theta, sin, cos at centres and faces), and
         the arrays of ``geometry_kernels.geometry_kernel``."""
         try:
@@ -363,7 +363,7 @@ class Reynolds:
 
     def film_report(self, y: float, z: float, vy: float, vz: float, omega: float) -> FilmReport:
         """Friction (torque, force, power, coefficient) and flow (inflow, side flow) of the film at a
-        state, from its converged pressure field (``physics.film``: the definitions, Raimondi &
+        state, from its converged pressure field (``physics.solver.film``: the definitions, Raimondi &
         Boyd's assumptions); not part of the force call, so it costs the hot loop nothing. Right
         after a force call at the same state it reads that call's field (no second solve)."""
         state = (float(y), float(z), float(vy), float(vz), float(omega))

@@ -2,7 +2,7 @@
 pivot (the ``[geometry]`` keys ``pads``, ``pad_arc_deg``, ``pivots_deg``, ``pivot_offset``,
 ``preload``; optional ``pad_inertia_kg_m2``, ``pivot_stiffness_N_m``).
 
-Angles are the theta of the film h = CR + y sin(theta) - z cos(theta) (``physics.geometry``):
+Angles are the theta of the film h = CR + y sin(theta) - z cos(theta) (``physics.bore.geometry``):
 0 at the top (+z), 90 deg at -y, 180 deg at the bottom, 270 deg at +y, increasing with the
 rotation. A pad's pivot is at theta_p (``pivots_deg``); the pad spans
 [theta_p - o beta, theta_p + (1 - o) beta] with beta = ``pad_arc_deg`` and o = ``pivot_offset``
@@ -20,7 +20,7 @@ the pivot pointing toward increasing theta (x = y x z is the shaft axis; x x (y,
 Preload: the pad's surface is a circle of radius R + C_pad whose centre lies on the line from
 the bearing centre through the pivot, d = C_pad - CR = m C_pad beyond the bearing centre away from
 the pad (m = ``preload`` = 1 - C_bearing / C_pad, C_bearing = ``CR_um``), so that the centred
-journal has the clearance CR at the pivot. As for a lobe (``physics.geometry``'s derivation), to
+journal has the clearance CR at the pivot. As for a lobe (``physics.bore.geometry``'s derivation), to
 first order in the displacements over R:
 
     h0 = C_pad - d cos(theta - theta_p),      h0(theta_p) = C_pad - d = CR,
@@ -68,7 +68,7 @@ function of theta' = theta + alpha, and its force comes back as F = Rot(-alpha) 
 t_p' = (1, 0), the equivalent journal is (y' + (R + C_pad) delta, z'), and M = (R + C_pad) F'y.
 Every pad of one arc, offset and preload is thus one partial-arc bore (built by
 ``internals.tilting_pad.assembly.pad_frame_geometry``: this module does not import the fixed
-bores' ``physics.geometry``, which reads these keys) solved at N states: one solver (and later one
+bores' ``physics.bore.geometry``, which reads these keys) solved at N states: one solver (and later one
 per-pad force map) serves all pads.
 """
 
@@ -79,14 +79,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..io.schema import Key, List, Number
+from ...io.schema import Key, List, Number
 
 TWO_PI = 2.0 * math.pi
 MIN_PADS, MAX_PADS = 3, 12
 PAD_FRAME_PIVOT = math.pi  # the pivot's theta in a pad's own frame: the bottom
 _GAP_TOL = 1e-9  # [rad]: pads may touch (zero gap), not overlap
 
-# the [geometry] keys of a tilting-pad bore (``preload`` is the lobes' key, shared: physics.geometry)
+# the [geometry] keys of a tilting-pad bore (``preload`` is the lobes' key, shared: physics.bore.geometry)
 PAD_KEYS = (
     Key("pads", "tilting-pad bearing: number of pads (absent: a fixed bore)", None, f"{MIN_PADS} .. {MAX_PADS}",
         kind=Number(MIN_PADS, MAX_PADS, integer=True)),

@@ -22,7 +22,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .params import BearingParams
+from ..params import BearingParams
 
 __all__ = ["axial_stencil", "film_length", "groove_inflow", "has_lands", "land_cells"]
 

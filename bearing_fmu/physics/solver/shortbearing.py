@@ -65,8 +65,8 @@ import math
 
 import numpy as np
 
-from ..internals.registry import check_state
-from .params import BearingParams
+from ...internals.registry import check_state
+from ..params import BearingParams
 
 __all__ = ["short_bearing_force", "short_bearing_force_and_jacobian", "short_bearing_kernel",
            "short_bearing_constant", "short_bearing_coefficients", "short_bearing_eccentricity",

@@ -1,5 +1,5 @@
 """numba kernels of the Reynolds solver for a bore with grooves, a partial arc or lobes
-(``reynolds.py`` with a non-circular ``physics.geometry.Geometry``; the full bore keeps
+(``reynolds.py`` with a non-circular ``physics.bore.geometry.Geometry``; the full bore keeps
 ``reynolds_kernels.reynolds_kernel`` untouched).
 
 What differs from the full bore, and why it is a separate kernel rather than a branch in the

@@ -56,7 +56,7 @@ from functools import cached_property
 
 import numpy as np
 
-from ..io.schema import Choice, Key, List, Number
+from ...io.schema import Choice, Key, List, Number
 from .pads import PAD_KEYS, PadGeometry, pads_from_mapping
 from .thetagrid import ThetaGrid
 
@@ -101,7 +101,7 @@ GEOMETRY_KEYS = (
         "or 'thickest' (along the line of thickest film at the static equilibrium, as Raimondi & Boyd's full "
         f"bearing: an ambient feed line {FEED_WIDTH_DEG:.4g} deg wide, placed by iteration with the load)", "film",
         "film or thickest; thickest on the plain full bore only", kind=Choice(FEEDS)),
-    *PAD_KEYS,  # a tilting-pad bore (physics.pads)
+    *PAD_KEYS,  # a tilting-pad bore (physics.bore.pads)
 )
 
 
@@ -131,9 +131,9 @@ class Geometry:
     preload         : m = 1 - C_bearing / C_pad, in [0, 1)
     lobe_offset     : preload point as a fraction of the lobe from its leading edge, in [0, 1]
     lobe_angle      : theta of the middle of the first lobe [rad]
-    pads            : a tilting-pad bore (``physics.pads.PadGeometry``; its preload its own), or None
+    pads            : a tilting-pad bore (``physics.bore.pads.PadGeometry``; its preload its own), or None
     feed            : "film", or "thickest": the plain bore fed along its line of thickest film at the
-                      static equilibrium; placed (``physics.feed.place_feed``) it is one groove of
+                      static equilibrium; placed (``physics.bore.feed.place_feed``) it is one groove of
                       FEED_WIDTH_DEG there, unplaced (no groove yet) no solver takes it
     """
 
@@ -172,7 +172,7 @@ class Geometry:
 
     @property
     def feed_unplaced(self) -> bool:
-        """feed = "thickest" not yet placed at a static equilibrium (``physics.feed.place_feed``)."""
+        """feed = "thickest" not yet placed at a static equilibrium (``physics.bore.feed.place_feed``)."""
         return self.feed == "thickest" and not self.grooves
 
     def require_placed(self, what: str) -> None:
@@ -497,7 +497,7 @@ class Geometry:
     def from_mapping(cls, d: dict, given: set, error) -> "Geometry":
         """From the schema-checked [geometry] values ``d`` (degrees, kPa); ``given`` the keys the
         file wrote; ``error(text)`` makes the exception (naming the file)."""
-        pads = pads_from_mapping(d, given, error)  # a tilting-pad bore: its own keys (physics.pads)
+        pads = pads_from_mapping(d, given, error)  # a tilting-pad bore: its own keys (physics.bore.pads)
         if pads is not None:
             return cls(pads=pads)
         if d["feed"] == "thickest" and len(d["grooves_deg"]) > 1:

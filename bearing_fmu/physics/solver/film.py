@@ -54,7 +54,7 @@ from dataclasses import asdict, dataclass
 import numpy as np
 
 from .lands import axial_stencil, film_length, groove_inflow, has_lands
-from .params import BearingParams
+from ..params import BearingParams
 
 __all__ = ["FilmReport", "FlowError", "assemble_report", "cavitated_relief", "require_full_shear", "shear_option", "check_flows", "at_viscosity", "edge_flows", "face_fluxes", "field_report",
            "film_couette_integral", "flow_field", "flow_scale", "full_bore_friction", "grooved_report", "lobe_feed_faces", "reduced_flows",
@@ -201,7 +201,7 @@ def field_report(params: BearingParams, y: float, z: float, vy: float, vz: float
     p, hf, dp = _faces(params, y, z, p_half, cells)
     # axial weights of the half length (both halves: x 2): the solver's quadrature for p, plain
     # cell lengths for the fluxes through the faces
-    lands = has_lands(params)  # a circumferential groove: p_half is one land (physics.lands)
+    lands = has_lands(params)  # a circumferential groove: p_half is one land (physics.solver.lands)
     qw = axial_stencil(m, dx, lands)[2]
     film_face = ~(fixed & fixed[nxt])                    # faces with film on at least one side
     # --- friction: Couette over the film (as a full film), pressure part summed over the faces
