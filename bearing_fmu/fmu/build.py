@@ -231,7 +231,7 @@ def _postprocess(xml_bytes: bytes, pkg: str, bearing: dict | None = None, record
     from ..physics.params import BearingParams
     from . import meta as fmu_meta
     from .slave import ENUMERATIONS, VARIABLES, BearingFMU
-    from .variables import MEMORYLESS
+    from .variables import MEMORYLESS, STEPPED
 
     table = {v[0]: v for v in VARIABLES}
     for k, v in (bearing or {}).items():
@@ -285,8 +285,9 @@ def _postprocess(xml_bytes: bytes, pkg: str, bearing: dict | None = None, record
     fmu_meta.place(root, fmu_meta.type_definitions(
         [(string, list(enumerate(items, start=1))) for string, items in ENUMERATIONS.values()]))
 
-    # map and linear (thermal off) are memoryless: a master may iterate them without FMU states
-    fmu_meta.place(root, fmu_meta.memoryless_annotation(MEMORYLESS))
+    # map and linear (thermal off) are memoryless: a master may iterate them without FMU states;
+    # tilting pads have states of their own: a static equilibrium is found in Initialization Mode
+    fmu_meta.place(root, fmu_meta.memoryless_annotation(MEMORYLESS, stepped=STEPPED))
 
     structure = root.find("ModelStructure")
     for child in list(structure):

@@ -29,9 +29,11 @@ _BUNDLED_FORMATS: dict[str, dict[str, str]] = {}  # resources folder -> {file na
 
 
 def default_file(resources, option) -> str:
-    """The default of a file option: the one bundled file of its format (surrogate, force map),
-    else "" (none, or several to choose from)."""
-    if not resources:
+    """The default of a file option the internal needs (``Option.required``): the one bundled file of
+    its format (surrogate, force map), else "" (none, or several to choose from). An optional one
+    (the tilting pads' ``pad_map``: empty, the Reynolds pads) defaults to "": a force map bundled
+    for the map internal must not switch the pads to it."""
+    if not resources or not option.required:
         return ""
     folder = Path(resources) / SURROGATE_DIR
     key = str(folder)

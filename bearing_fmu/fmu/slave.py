@@ -89,6 +89,8 @@ class BearingFMU(VariableAccess, Stepping, StateSaving, CallRules, Fmi2Slave):
         self._choices_built = {}  # the String choices the internal was built with (_choices)
         self._jacobian = None
         self._kernel = None  # the internal's compiled kernel, when a step may call it (stepping._kernel_of)
+        self._stepped = None  # the internal when it has states of its own over a step (Capabilities.step_states)
+        self._pad_report = None  # the internal's pad_report (tilts, loads) when it takes tilting pads
         self._params = None
         self._oil = None  # the oil law of the thermal model, when thermal is true (ports.py)
         self._enter(INSTANTIATED)

@@ -76,11 +76,16 @@ VARIABLES = (
       for name, (string, items) in ENUMERATIONS.items()),
     # the bore, the oil and the thermal ports (ports.py; after the rest: the value references stay)
     *ports.ROWS,
+    # a tilting-pad bore's parameters and the pads' outputs (ports.PAD_ROWS; after the rest: the value references stay)
+    *ports.PAD_ROWS,
 )
 
 INPUTS = tuple(v[0] for v in VARIABLES if v[2] == INPUT)
 # the internals whose outputs follow the inputs and parameters alone when thermal is false
 # (``Capabilities.memoryless``); the FMUs declare them (meta.memoryless_annotation)
 MEMORYLESS = registry.having(memoryless=True)
+# the internals with states of their own over a step (``Capabilities.step_states``: tilting pads), saved
+# with the FMU state; the FMUs declare them too (meta.memoryless_annotation's StepStates)
+STEPPED = registry.having(step_states=True)
 OUTPUTS = tuple(v[0] for v in VARIABLES if v[2] == OUTPUT)
 PARAMETERS = tuple(v[0] for v in VARIABLES if v[2] == PARAMETER)

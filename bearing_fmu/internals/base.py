@@ -304,6 +304,7 @@ class Capabilities:
     fmu_why: str = ""
     whirl_reduced: bool = False
     memoryless: bool = False
+    step_states: bool = False
 
 
 @dataclass(frozen=True)

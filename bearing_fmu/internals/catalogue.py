@@ -127,14 +127,15 @@ register(InternalSpec(
     ),
     uses=("reynolds",),
     can=Capabilities(
-        pads=True, compare=False, any_state=True, whirl_reduced=True,
+        pads=True, compare=False, any_state=True, whirl_reduced=True, step_states=True,
         film_flow_why="the pads' friction and flows are not summed into a film report yet",
-        fmu=False, fmu_why="the FMUs do not carry the pads' states yet (a later step of the tilting-pad work)",
         validity="The tilting-pad internal evaluates any journal state that leaves every pad's film open at any "
                  "speed, the pads massless and quasi-static (each in moment equilibrium, its own rate 0); the "
-                 "journal may pass C_bearing between pads. In a transient with the host's step hooks the pads' tilts "
-                 "(and rates, with pad inertia) are states carried from step to step; rotor-host stability puts "
-                 "the pads' coordinates into its eigenproblem."),
+                 "journal may pass C_bearing between pads. In a transient with the host's step hooks (in the FMU: over "
+                 "each doStep) the pads' tilts (and rates, with pad inertia) are states carried from step to step, "
+                 "in moment equilibrium at the inputs of Initialization Mode; rotor-host stability puts the pads' "
+                 "coordinates into its eigenproblem. A journal state that closes a pad's film is refused "
+                 "(fmi2Discard)."),
     case="internals.cases:tilting_pad_case",
     kernels=("physics.reynolds_kernels", "physics.geometry_kernels"),
 ))

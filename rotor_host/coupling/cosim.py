@@ -26,6 +26,13 @@ loop makes those calls too, in the same order (the kernels hand each step's save
 Python driver and back between chunks: ``compiled``); the Python FMU of another internal (it
 needs an execution tool: Python) is iterated from Python.
 
+An FMU that declares states of its own over a step for the internal chosen (a tilting pad's tilts and
+rates: the model description's StepStates, ``bearing_fmu.fmu.meta``) is left in Initialization Mode
+until the first time step: there its outputs are the quasi-static answer at the inputs set (the pads
+in moment equilibrium), which is what a static evaluation (the rotor's static equilibrium) asks, and a
+static probe by a short doStep would move the pads instead; exitInitializationMode at the first time
+step starts the states at the last static evaluation's inputs (``_in_init``).
+
 A pythonfmu FMU runs its slave in this interpreter: a Ctrl-C raised inside it would come back
 as an FMI error, so signals are held while an FMU call runs (``bearing_fmu.io.exits.deferred``)
 and raised as ``Interrupted`` right after it.
@@ -132,6 +139,7 @@ class FMUBearings(BearingSet):
         self._saved = None  # (n, 2): each stateful kernel's FMU state and the step it saved it for
         self.stateful_compiled = False  # set below: the compiled loop may save and restore its states
         self._initialised = set()  # instances past exitInitializationMode: only those are terminated (FMI 2.0)
+        self._in_init = False  # the instances wait in Initialization Mode (states of their own: module docstring)
         try:
             md = read_model_description(str(self.fmu_path))
             self._vars = {v.name: v for v in md.modelVariables}
@@ -175,8 +183,11 @@ class FMUBearings(BearingSet):
                         for n, v in parameters[k].items():
                             if n not in params:
                                 fmu.setReal([self._vars[n].valueReference], [float(v)])
-                        fmu.exitInitializationMode()
-                        self._initialised.add(k)
+                        if k == 0:
+                            self._in_init = self._declared_stepped(md, parameters)
+                        if not self._in_init:
+                            fmu.exitInitializationMode()
+                            self._initialised.add(k)
                     except FMUError:
                         raise
                     except Exception as exc:  # noqa: BLE001 - fmpy raises on an error status; say why
@@ -206,6 +217,30 @@ class FMUBearings(BearingSet):
         except BaseException:
             self.close()
             raise
+
+    def _declared_stepped(self, md, parameters) -> bool:
+        """Whether every instance's internal, as ``parameters`` choose it, has states of its own over a
+        step (the model description's StepStates): the instances then wait in Initialization Mode
+        (module docstring)."""
+        from bearing_fmu.fmu.meta import step_states_declaration
+
+        declared = step_states_declaration((Path(self._unzip) / "modelDescription.xml").read_bytes())
+        if not declared or md.coSimulation is None:
+            return False
+        return all(self._internal_chosen(k, p) in declared for k, p in enumerate(parameters))
+
+    def _leave_init(self) -> None:
+        """exitInitializationMode of every instance: the states of its own start at the inputs set last."""
+        self._in_init = False
+        with deferred():
+            for k, fmu in enumerate(self.instances):
+                n_msg = len(self.messages[k])
+                status = fmu.dll.fmi2ExitInitializationMode(fmu.component)
+                if status > 1:
+                    new = self.messages[k][n_msg:] or [""]
+                    raise FMUError(f"{self.names[k]}: fmi2ExitInitializationMode returned "
+                                   f"{self._status_name(status)}: {new[-1]}".rstrip())
+                self._initialised.add(k)
 
     def _declared_memoryless(self, parameters) -> bool:
         """Whether every instance, as set up by ``parameters``, has no state worth restoring: the
@@ -283,6 +318,10 @@ class FMUBearings(BearingSet):
         # positive step, so probe with a tiny one and never commit it (accept restores t)
         self._static = dt == 0.0
         self._h = _STATIC_PROBE_S if self._static else self.dt
+        if self._in_init:
+            if self._static:  # evaluated in Initialization Mode: nothing to save or restore
+                return
+            self._leave_init()
         if self.memoryless:  # nothing to save: every iterate is setReal, doStep, getReal
             return
         with deferred():
@@ -303,6 +342,8 @@ class FMUBearings(BearingSet):
         c, dll = fmu.component, fmu.dll
         enter_deferred()  # a signal waits until the FMU has returned (module docstring)
         try:
+            if self._in_init:  # a static evaluation (begin_step leaves Initialization Mode for a time step)
+                return self._init_bearing(k, y, z, vy, vz)
             if self._fresh[k] or self.memoryless:  # the instance is in the state saved, or has none
                 self._fresh[k] = False
             else:
@@ -328,6 +369,27 @@ class FMUBearings(BearingSet):
             return self._f_view, None, None
         return self._f_view, self._dq_view, self._dv_view
 
+    def _init_bearing(self, k, y, z, vy, vz):
+        """A static evaluation in Initialization Mode: setReal, then getReal computes the outputs at the
+        inputs (quasi-static); a state the FMU refuses (an error status there: no doStep to discard) cuts
+        the step as a discard does, with the FMU's words."""
+        fmu = self.instances[k]
+        c, dll = fmu.component, fmu.dll
+        b = self._buf_in
+        b[0], b[1], b[2], b[3], b[4] = y, z, vy, vz, self.omega
+        self._check(k, "fmi2SetReal", dll.fmi2SetReal(c, self._vr_in, len(_IN), b))
+        n_msg = len(self.messages[k])
+        status = dll.fmi2GetReal(c, self._vr_out, len(_OUT), self._buf_out)
+        if status > 1:
+            new = self.messages[k][n_msg:]
+            raise self._reject(k, new[-1] if new else f"fmi2GetReal returned {self._status_name(status)}")
+        o = self._out
+        if o[10] > self.max_eccentricity[k]:
+            self.max_eccentricity[k] = o[10]
+        if not self.with_jacobian:
+            return self._f_view, None, None
+        return self._f_view, self._dq_view, self._dv_view
+
     def compiled(self):
         """(forces, omega, clock, handover) for the integrator's compiled loop: each instance's
         setReal, doStep, getReal (and, for an FMU that is not memoryless, its state saved and
@@ -338,6 +400,8 @@ class FMUBearings(BearingSet):
         if (not (self.memoryless or self.stateful_compiled) or self.speed is not None or self.tangent != "bearing"
                 or not self.with_jacobian):
             return None
+        if self._in_init:  # the kernels step: the instances leave Initialization Mode first
+            self._leave_init()
         if self._kernels is None:
             vr_in = [self._vars[n].valueReference for n in _IN]
             vr_out = [self._vars[n].valueReference for n in _OUT]
@@ -423,6 +487,8 @@ class FMUBearings(BearingSet):
             self._free_states()
 
     def reject_step(self) -> None:
+        if self._in_init:  # nothing saved: each evaluation there stands alone
+            return
         with deferred():
             for k, fmu in enumerate(self.instances):
                 if self._states[k] is not None:

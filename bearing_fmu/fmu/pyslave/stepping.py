@@ -75,6 +75,9 @@ class Stepping:
         self._jacobian = getattr(internal, "force_and_jacobian", None)
         self._guard = internal if hasattr(internal, "outside") else None  # a domain guard: its excursion flag
         self._kernel = self._kernel_of(internal, spec)
+        # states of its own over each doStep (a tilting pad's tilts and rates): stepped, saved with the FMU state
+        self._stepped = internal if spec.can.step_states else None
+        self._pad_report = getattr(internal, "pad_report", None) if spec.can.pads else None
 
     def _kernel_of(self, internal, spec):
         """(call, address, data, out, compiled force) of the internal's compiled kernel
@@ -183,6 +186,9 @@ class Stepping:
         internal = self._internal
         if self._guard is not None:  # an excursion begins where the committed state (an FMU state's) was inside
             self._guard.outside = self.out_of_domain
+        stepped = self._stepped
+        if stepped is not None:  # from the committed states over the step; dt None: at rest (they become the state)
+            stepped.begin_step(0.0 if dt is None else dt)
         self._pending = []
         try:
             kernel = self._kernel
@@ -236,6 +242,12 @@ class Stepping:
         self.T_eff, self.mu_eff, self.P_loss, self.Q_side = heat
         if tangent is not None:
             (self.Kyy, self.Kyz, self.Kzy, self.Kzz, self.Cyy, self.Cyz, self.Czy, self.Czz) = tangent
+        if stepped is not None and dt is not None:
+            stepped.accept_step()
+        if self._pad_report is not None:
+            tilts, loads = self._pad_report()
+            self.__dict__.update(zip(ports.PAD_TILTS, tilts.tolist()))
+            self.__dict__.update(zip(ports.PAD_LOADS, loads.tolist()))
         if pending:
             self._excursion(pending[-1])
 
