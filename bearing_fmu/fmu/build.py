@@ -420,7 +420,8 @@ def build_fmu(output, surrogate=None, bearing=None, bearing_source: str = "") ->
 
     ``surrogate``: one path or a list of paths of surrogate JSON files to bundle in
     ``resources/surrogates/``; with exactly one, the parameter ``surrogate`` defaults to it.
-    The default internal stays ``reynolds`` (at the solver's default grid).
+    The default internal stays ``reynolds`` (at the solver's default grid); for a bearing with tilting
+    pads, the internal that takes them (``Capabilities.pads``).
     ``bearing``: a BearingParams whose D, L, CR, mu, bore and oil (``ports.port_defaults``) become
     the FMU's defaults (the paper bearing's without), recorded with ``bearing_source`` (e.g. the
     bearing file) in the FMU.
@@ -439,6 +440,8 @@ def build_fmu(output, surrogate=None, bearing=None, bearing_source: str = "") ->
         from .ports import port_defaults, supply_starts
 
         bore_and_oil = port_defaults(bearing)  # refuses what the parameters cannot hold, before building
+        if bearing.geometry is not None and bearing.geometry.pads is not None:  # the internal that takes pads
+            bore_and_oil["internal"] = registry.having(pads=True, fmu=True)[0]
     if surrogate is None:
         surrogates = []
     elif isinstance(surrogate, (str, os.PathLike)):
@@ -470,7 +473,8 @@ def build_fmu(output, surrogate=None, bearing=None, bearing_source: str = "") ->
             if bearing is not None:
                 defaults = {**bearing.as_dict(), "source": str(bearing_source) or "given to build_fmu", **bore_and_oil,
                             **supply_starts(bearing)}
-            record = fmu_meta.build_record("python", registry.names(), "reynolds", bearing or PAPER_BEARING,
+            first = bore_and_oil.get("internal", "reynolds") if bearing is not None else "reynolds"
+            record = fmu_meta.build_record("python", registry.names(), first, bearing or PAPER_BEARING,
                                            bearing_source, surrogates)
             _rewrite_zip(tmp_fmu, pkg, defaults, record)
             # atomic: a parallel reader sees one whole FMU; a folder that refuses it (a full disk) has it

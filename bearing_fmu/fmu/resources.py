@@ -131,6 +131,9 @@ def port_defaults(resources) -> dict:
         if not isinstance(data, dict):
             raise ValueError("not a JSON object")
         for name, value in data.items():
+            if name == "internal":  # a tilting-pad bearing's: the internal that takes pads (build_fmu)
+                registry.get(value)
+                continue
             if name in ports.START_NAMES:  # a thermal port's start (ports.supply_starts)
                 if isinstance(value, (str, bool)) or value is None or not 0.0 < value < math.inf:
                     raise ValueError(f"{name} = {value!r} must be a finite number > 0")
