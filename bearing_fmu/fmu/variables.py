@@ -85,7 +85,7 @@ INPUTS = tuple(v[0] for v in VARIABLES if v[2] == INPUT)
 # (``Capabilities.memoryless``); the FMUs declare them (meta.memoryless_annotation)
 MEMORYLESS = registry.having(memoryless=True)
 # the internals with states of their own over a step (``Capabilities.step_states``: tilting pads), saved
-# with the FMU state; the FMUs declare them too (meta.memoryless_annotation's StepStates)
+# with the FMU state; the FMUs declare them too (meta.memoryless_annotation's stepStates)
 STEPPED = registry.having(step_states=True)
 OUTPUTS = tuple(v[0] for v in VARIABLES if v[2] == OUTPUT)
 PARAMETERS = tuple(v[0] for v in VARIABLES if v[2] == PARAMETER)

@@ -121,8 +121,9 @@ register(InternalSpec(
     "tilting_pad", "internals.tilting_pad.tilting_pad:TiltingPad.from_options", "tilting-pad journal bearing: every "
     "pad the partial-arc Reynolds solver at its tilt, massless pads in moment equilibrium (docs/geometry.md)",
     options=(
-        Option("pad_map", str, "", "tilting pads: every pad from this partial-arc force map of the pads' arc "
-               "(internals.tilting_pad.padmap.build_pad_map) instead of the Reynolds solver; empty: Reynolds",
+        Option("pad_map", str, "", "tilting pads: every pad from this partial-arc force map of the pads' arc, built "
+               "by `bearing-fmu map --bearing FILE` (in the FMU: a file name in its resources folder surrogates/) "
+               "instead of the Reynolds solver; empty: Reynolds",
                file=True, file_format="bearing-fmu-force-map"),
     ),
     uses=("reynolds",),

@@ -27,11 +27,7 @@ Python driver and back between chunks: ``compiled``); the Python FMU of another 
 needs an execution tool: Python) is iterated from Python.
 
 An FMU that declares states of its own over a step for the internal chosen (a tilting pad's tilts and
-rates: the model description's StepStates, ``bearing_fmu.fmu.meta``) is left in Initialization Mode
-until the first time step: there its outputs are the quasi-static answer at the inputs set (the pads
-in moment equilibrium), which is what a static evaluation (the rotor's static equilibrium) asks, and a
-static probe by a short doStep would move the pads instead; exitInitializationMode at the first time
-step starts the states at the last static evaluation's inputs (``_in_init``).
+rates) waits in Initialization Mode through the static equilibrium (``init_statics``).
 
 A pythonfmu FMU runs its slave in this interpreter: a Ctrl-C raised inside it would come back
 as an FMI error, so signals are held while an FMU call runs (``bearing_fmu.io.exits.deferred``)
@@ -52,6 +48,7 @@ from bearing_fmu.io.exits import deferred, enter_deferred, leave_deferred
 
 from .bearings import THERMAL_FIELDS, BearingSet
 from .fmu_kernel import free_saved, fmu_force, restore_saved
+from .init_statics import InitStatics
 
 # what the host reads from every bearing FMU, in this order
 _OUT = ("Fy", "Fz", "Kyy", "Kyz", "Kzy", "Kzz", "Cyy", "Cyz", "Czy", "Czz", "eccentricity")
@@ -96,7 +93,7 @@ class FMUError(RuntimeError):
     """A bearing FMU could not be loaded, set up or initialised."""
 
 
-class FMUBearings(BearingSet):
+class FMUBearings(InitStatics, BearingSet):
     """Bearings as FMU instances (fmpy ``FMU2Slave``), conformant iteration per step.
 
     fmu_path      : the bearing .fmu (extracted once, shared by all instances)
@@ -139,7 +136,7 @@ class FMUBearings(BearingSet):
         self._saved = None  # (n, 2): each stateful kernel's FMU state and the step it saved it for
         self.stateful_compiled = False  # set below: the compiled loop may save and restore its states
         self._initialised = set()  # instances past exitInitializationMode: only those are terminated (FMI 2.0)
-        self._in_init = False  # the instances wait in Initialization Mode (states of their own: module docstring)
+        self._in_init = False  # the instances wait in Initialization Mode (init_statics)
         try:
             md = read_model_description(str(self.fmu_path))
             self._vars = {v.name: v for v in md.modelVariables}
@@ -217,30 +214,6 @@ class FMUBearings(BearingSet):
         except BaseException:
             self.close()
             raise
-
-    def _declared_stepped(self, md, parameters) -> bool:
-        """Whether every instance's internal, as ``parameters`` choose it, has states of its own over a
-        step (the model description's StepStates): the instances then wait in Initialization Mode
-        (module docstring)."""
-        from bearing_fmu.fmu.meta import step_states_declaration
-
-        declared = step_states_declaration((Path(self._unzip) / "modelDescription.xml").read_bytes())
-        if not declared or md.coSimulation is None:
-            return False
-        return all(self._internal_chosen(k, p) in declared for k, p in enumerate(parameters))
-
-    def _leave_init(self) -> None:
-        """exitInitializationMode of every instance: the states of its own start at the inputs set last."""
-        self._in_init = False
-        with deferred():
-            for k, fmu in enumerate(self.instances):
-                n_msg = len(self.messages[k])
-                status = fmu.dll.fmi2ExitInitializationMode(fmu.component)
-                if status > 1:
-                    new = self.messages[k][n_msg:] or [""]
-                    raise FMUError(f"{self.names[k]}: fmi2ExitInitializationMode returned "
-                                   f"{self._status_name(status)}: {new[-1]}".rstrip())
-                self._initialised.add(k)
 
     def _declared_memoryless(self, parameters) -> bool:
         """Whether every instance, as set up by ``parameters``, has no state worth restoring: the
@@ -365,27 +338,6 @@ class FMUBearings(BearingSet):
             self.max_eccentricity[k] = o[10]
         # Views of the output buffer, copied by the caller (BearingSet.evaluate) before the
         # next call; K, C in Lund's sign as the FMU gives them (lund_sign: evaluate negates).
-        if not self.with_jacobian:
-            return self._f_view, None, None
-        return self._f_view, self._dq_view, self._dv_view
-
-    def _init_bearing(self, k, y, z, vy, vz):
-        """A static evaluation in Initialization Mode: setReal, then getReal computes the outputs at the
-        inputs (quasi-static); a state the FMU refuses (an error status there: no doStep to discard) cuts
-        the step as a discard does, with the FMU's words."""
-        fmu = self.instances[k]
-        c, dll = fmu.component, fmu.dll
-        b = self._buf_in
-        b[0], b[1], b[2], b[3], b[4] = y, z, vy, vz, self.omega
-        self._check(k, "fmi2SetReal", dll.fmi2SetReal(c, self._vr_in, len(_IN), b))
-        n_msg = len(self.messages[k])
-        status = dll.fmi2GetReal(c, self._vr_out, len(_OUT), self._buf_out)
-        if status > 1:
-            new = self.messages[k][n_msg:]
-            raise self._reject(k, new[-1] if new else f"fmi2GetReal returned {self._status_name(status)}")
-        o = self._out
-        if o[10] > self.max_eccentricity[k]:
-            self.max_eccentricity[k] = o[10]
         if not self.with_jacobian:
             return self._f_view, None, None
         return self._f_view, self._dq_view, self._dv_view
