@@ -343,7 +343,7 @@ def _compile_bundle_once(fmu: Path, code_cache: Path, data_dir: Path) -> None:
                 from bearing_fmu.fmu.ports import port_defaults
 
                 p = case.params
-                options = {"D": p.D, "L": p.L, "CR": p.CR, "mu": p.mu, **port_defaults(p), **options}
+                options = {"D": p.D, "L": p.L, "CR": p.CR, "mu": p.mu, **port_defaults(p, pads=True), **options}
             inst = drive.BearingInstance(fmu, {"internal": spec.name, **options})
             try:
                 inst.step(1e-4, *case.state, case.omega)

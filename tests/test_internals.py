@@ -158,7 +158,7 @@ def check_fmu_equals_the_direct_call(b: Built):
         from bearing_fmu.fmu.ports import port_defaults
 
         p = b.case.params
-        options = {"D": p.D, "L": p.L, "CR": p.CR, "mu": p.mu, **port_defaults(p), **options}
+        options = {"D": p.D, "L": p.L, "CR": p.CR, "mu": p.mu, **port_defaults(p, pads=True), **options}
     inst = b.fmu_instance(internal=b.spec.name, **options)
     try:
         out = inst.step(1e-4, *b.case.state, b.case.omega)

@@ -44,7 +44,7 @@ def orbit(k: int) -> tuple:
 
 def fmu_parameters(params: BearingParams) -> dict:
     return {"internal": "tilting_pad", "D": params.D, "L": params.L, "CR": params.CR, "mu": params.mu,
-            **port_defaults(params), **GRID}
+            **port_defaults(params, pads=True), **GRID}
 
 
 def started(raw, params: BearingParams):

@@ -319,11 +319,13 @@ def test_the_bearing_fmus_parameters_hold_the_pads_and_refuse_a_flexible_pivot_b
 
     b = bearing()
     values = {r[0]: r[4] for r in GEOMETRY_ROWS + PAD_ROWS}
-    values.update(port_defaults(b))
+    values.update(port_defaults(b, pads=True))
     assert values["pads"] == b.geometry.pads.n and geometry_of(SimpleNamespace(**values)) == b.geometry
     flexible = replace(b, geometry=Geometry(pads=replace(b.geometry.pads, pivot_stiffness=1e8)))
     with pytest.raises(ValueError, match="pivot_stiffness_N_m = 1e[+]08: a flexible pivot is not modelled"):
-        port_defaults(flexible)
+        port_defaults(flexible, pads=True)
+    with pytest.raises(ValueError, match="the native bearing FMU does not carry tilting pads yet"):
+        port_defaults(b)  # the native FMU's call
 
 
 def test_the_paper_rotor_on_five_tilting_pads_has_no_threshold_where_the_plain_bore_whirls():

@@ -439,7 +439,7 @@ def build_fmu(output, surrogate=None, bearing=None, bearing_source: str = "") ->
     if bearing is not None:
         from .ports import port_defaults, supply_starts
 
-        bore_and_oil = port_defaults(bearing)  # refuses what the parameters cannot hold, before building
+        bore_and_oil = port_defaults(bearing, pads=True)  # refuses what the parameters cannot hold, before building
         if bearing.geometry is not None and bearing.geometry.pads is not None:  # the internal that takes pads
             bore_and_oil["internal"] = registry.having(pads=True, fmu=True)[0]
     if surrogate is None:

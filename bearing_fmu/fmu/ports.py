@@ -207,10 +207,15 @@ def oil_of(v, law: str) -> Oil | None:
                          f"{str(exc).removeprefix('Oil oil of the FMU parameters: ')}") from None
 
 
-def port_defaults(params) -> dict:
+def port_defaults(params, pads: bool = False) -> dict:
     """The FMU parameter values of a bearing's bore and oil (``BearingParams``: ``geometry``,
-    ``oil``): what ``bearing-fmu build --bearing FILE`` makes the defaults."""
+    ``oil``): what ``bearing-fmu build --bearing FILE`` makes the defaults. ``pads``: the FMU carries
+    tilting pads (the Python FMU: their parameters, ``PAD_ROWS``); False refuses a tilting-pad bore by
+    name (the native FMU does not carry the pads yet)."""
     g = params.geometry if params.geometry is not None else FULL_BORE
+    if g.pads is not None and not pads:
+        raise ValueError(f"the native bearing FMU does not carry tilting pads yet ({g.describe()}): use the Python "
+                         "FMU (bearing-fmu build without --native; a scene's fmu_kind = 'python') or via = 'direct'")
     if g.pads is not None:
         return {**_pad_defaults(g.pads), **_oil_defaults(params)}
     out = {"groove_count": len(g.grooves), "groove_width": g.groove_width, "supply_pressure": g.supply_pressure,
