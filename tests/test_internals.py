@@ -121,6 +121,19 @@ def check_capabilities_hold(b: Built):
         assert internal.omega == pytest.approx(omega)
         with pytest.raises(BearingStateError):
             internal.force(y, z, vy, vz, 2.0 * omega)
+    if can.step_states:  # states of its own over a step: the host's hooks, and what an FMU state carries
+        assert not can.memoryless
+        internal.begin_step(0.0)
+        internal.force(y, z, vy, vz, omega)  # at rest: the state
+        saved = internal.step_state()
+        internal.begin_step(1e-4)
+        f1 = internal.force(y + 1e-7, z, vy, vz, omega)
+        internal.accept_step()
+        internal.set_step_state(saved)  # back: the same step gives the same force
+        internal.begin_step(1e-4)
+        assert internal.force(y + 1e-7, z, vy, vz, omega) == f1
+        with pytest.raises(ValueError):
+            internal.set_step_state(saved[:-1])
     if can.fitted_domain:
         assert math.isfinite(internal.domain_distance(y, z, vy, vz))
         internal.force(y, z, vy, vz, omega)
