@@ -297,6 +297,37 @@ def test_the_bundled_pads_map_is_what_the_map_command_builds_for_the_five_pads()
     assert np.all(np.isfinite(pads.force_and_jacobian(*START)[0]))
 
 
+def test_the_fmu_steps_the_pads_from_their_bundled_map_as_the_internal_does(tmp_path):
+    """An FMU with the bundled pads' map (`pad_map` names it; bundled files do not switch the pads to a map
+    by themselves): each doStep equals the tilting_pad internal with that map stepped in-process, to 1e-12."""
+    import fmpy
+
+    from bearing_fmu.fmu.build import build_fmu
+    from tests.test_fmi_status import Raw
+
+    fmu = build_fmu(tmp_path / "pads_map.fmu", surrogate=[PAD_MAP], bearing=FIVE)
+    r = Raw(fmu, fmpy.extract(str(fmu)))
+    try:
+        r.setup_and_enter()
+        status, value = r.get("pad_map")
+        assert status == OK and not value  # the Reynolds pads unless set
+        assert r.set("pad_map", PAD_MAP.name) == OK
+        for name, value in zip(("y", "z", "vy", "vz", "omega"), START):
+            assert r.set(name, value) == OK
+        assert r.call("fmi2ExitInitializationMode") == OK, r.messages
+        pads = registry.create("tilting_pad", FIVE, {"pad_map": str(PAD_MAP)})
+        pads.begin_step(0.0)
+        pads.force_and_jacobian(*START)
+        for k in range(1, 4):
+            assert r.step((k - 1) * H, H, orbit(k)) == OK, r.messages
+            pads.begin_step(H)
+            want = direct(pads, orbit(k))
+            pads.accept_step()
+            np.testing.assert_allclose(outputs(r), want, rtol=1e-12, atol=1e-12 * np.abs(want[:2]).max())
+    finally:
+        r.close()
+
+
 @pytest.mark.slow
 def test_the_map_scene_through_the_fmu_follows_the_reynolds_pads(tmp_path):
     """scenes/paper_5pad_lbp_44hz_map.toml (the pads from the bundled map, through the Python FMU) against
