@@ -156,6 +156,16 @@ def test_a_saved_state_carries_the_pads_and_a_damaged_one_is_refused(raw):
         assert r.call("fmi2FreeFMUstate", ctypes.byref(s)) == OK
 
 
+def test_pads_with_inertia_at_a_film_temperature_are_refused_by_name(raw):
+    # the FMU scales the force by mu_eff / mu, which the pads' inertia does not follow (as in-process)
+    r = raw()
+    params = {**fmu_parameters(HEAVY), "thermal": True, "oil_law": "walther"}
+    st = r.initialise(**params)
+    assert st["exit"] == ERROR
+    assert any("thermal = true with pad_inertia = 2e-06 kg.m2: the pads' motion at the film's temperature is not "
+               "modelled yet" in m for m in r.errors()), r.messages
+
+
 def test_a_refused_step_is_a_discard_that_keeps_the_pads(raw):
     """The journal at the top pad's film (pivot at 0 deg: no tilt opens it at its pivot) is refused
     with fmi2Discard naming that pad; the next step from the same committed pads equals a step of the

@@ -276,6 +276,17 @@ def supply_starts(params) -> dict:
     return {"T_supply": float(oil.T_supply), "T_eff": float(oil.T_supply), "mu_eff": float(oil.mu(oil.T_supply))}
 
 
+def check_pad_thermal(thermal: bool, geometry: Geometry) -> None:
+    """ValueError naming ``thermal`` and ``pad_inertia`` for tilting pads with inertia at a film
+    temperature: their force at mu_eff is not the force at mu times mu_eff / mu (the pads' inertia
+    does not scale), which is how the FMU applies the temperature; massless pads' is (their tilts
+    do not depend on mu)."""
+    pads = geometry.pads
+    if thermal and pads is not None and pads.inertia > 0.0:
+        raise ValueError(f"thermal = true with pad_inertia = {pads.inertia:g} kg.m2: the pads' motion at the film's "
+                         "temperature is not modelled yet; massless pads (pad_inertia = 0) or thermal = false")
+
+
 def check_thermal(thermal: bool, oil: Oil | None, spec, internal=None) -> None:
     """ValueError naming ``thermal`` when the thermal model cannot run: no oil law, or an internal
     without the film's flows (``Capabilities.film_flow``; with the built ``internal``, its own

@@ -59,6 +59,7 @@ class Stepping:
         spec = registry.get(choices["internal"])
         geometry = ports.geometry_of(self)
         ports.check_geometry(geometry, spec)
+        ports.check_pad_thermal(self.thermal, geometry)
         oil = ports.oil_of(self, choices["oil_law"])
         ports.check_thermal(self.thermal, oil, spec)
         params = BearingParams(D=self.D, L=self.L, CR=self.CR, mu=self.mu, geometry=geometry, oil=oil)
