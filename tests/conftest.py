@@ -339,6 +339,11 @@ def _compile_bundle_once(fmu: Path, code_cache: Path, data_dir: Path) -> None:
                 continue
             case = spec.contract_case(data_dir)
             options = {**case.options, **{key: Path(p).name for key, p in case.files.items()}}
+            if case.params is not None:  # the case's own bearing (a bore the paper bearing lacks: tilting pads)
+                from bearing_fmu.fmu.ports import port_defaults
+
+                p = case.params
+                options = {"D": p.D, "L": p.L, "CR": p.CR, "mu": p.mu, **port_defaults(p, pads=True), **options}
             inst = drive.BearingInstance(fmu, {"internal": spec.name, **options})
             try:
                 inst.step(1e-4, *case.state, case.omega)

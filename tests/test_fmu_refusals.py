@@ -73,8 +73,9 @@ def test_a_restored_state_is_checked_and_a_damaged_one_refused(raw):
     assert r.call("fmi2SerializeFMUstate", saved, out, size) == OK
     good = bytes(out)
     *payload, checksum = json.loads(good)
-    tag, t, values = payload
-    assert tag == "bearing_fmu.fmu.slave/3" and t == 1e-4
+    tag, t, values, own = payload
+    assert own == []  # no states of its own (a tilting pad's: tests/test_pad_fmu.py)
+    assert tag == "bearing_fmu.fmu.slave/4" and t == 1e-4
     y = values.index(STATE[0])  # the input y among the values
     ecc = len(STATE) + 1 + 2  # inputs (y z vy vz omega T_supply), then Fy, Fz, eccentricity
     assert values[ecc] == pytest.approx(math.hypot(*STATE[:2]) / CR, rel=1e-12)
@@ -82,19 +83,19 @@ def test_a_restored_state_is_checked_and_a_damaged_one_refused(raw):
         "a flipped bit": good.replace(b"0.0001", b"0.0003", 1),  # the time changed, the checksum not
         "a flipped bit in the checksum": good[:-3] + (b"0" if good[-3:-2] != b"0" else b"1") + good[-2:],
         "not JSON": good[:-5],
-        "NaN, checksum right": _blob([tag, t, values[:y] + [math.nan] + values[y + 1:]]),
-        "negative eccentricity, checksum right": _blob([tag, t, values[:ecc] + [-0.5] + values[ecc + 1:]]),
-        "a time of inf": _blob([tag, math.inf, values]),
-        "another tag": _blob(["something else", t, values]),
-        "a value short": _blob([tag, t, values[:-1]]),
+        "NaN, checksum right": _blob([tag, t, values[:y] + [math.nan] + values[y + 1:], own]),
+        "negative eccentricity, checksum right": _blob([tag, t, values[:ecc] + [-0.5] + values[ecc + 1:], own]),
+        "a time of inf": _blob([tag, math.inf, values, own]),
+        "another tag": _blob(["something else", t, values, own]),
+        "a value short": _blob([tag, t, values[:-1], own]),
     }
     why = {"a flipped bit": "its checksum does not match its contents", "a flipped bit in the checksum":
-           "its checksum does not match its contents", "not JSON": "not a serialised bearing_fmu.fmu.slave/3 state",
+           "its checksum does not match its contents", "not JSON": "not a serialised bearing_fmu.fmu.slave/4 state",
            "NaN, checksum right": "y = nan is not a finite number",
            "negative eccentricity, checksum right": "eccentricity = -0.5 is out of its range (>= 0)",
            "a time of inf": "its time inf s is not a finite number",
-           "another tag": "not a bearing_fmu.fmu.slave/3 state of this FMU",
-           "a value short": "not a bearing_fmu.fmu.slave/3 state of this FMU"}
+           "another tag": "not a bearing_fmu.fmu.slave/4 state of this FMU",
+           "a value short": "not a bearing_fmu.fmu.slave/4 state of this FMU"}
     assert r.step(1e-4, 1e-4, (2 * STATE[0], *STATE[1:])) == OK  # the instance moves on from the saved state
     fy = r.get("Fy")
     for case, blob in damaged.items():

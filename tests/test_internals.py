@@ -121,6 +121,19 @@ def check_capabilities_hold(b: Built):
         assert internal.omega == pytest.approx(omega)
         with pytest.raises(BearingStateError):
             internal.force(y, z, vy, vz, 2.0 * omega)
+    if can.step_states:  # states of its own over a step: the host's hooks, and what an FMU state carries
+        assert not can.memoryless
+        internal.begin_step(0.0)
+        internal.force(y, z, vy, vz, omega)  # at rest: the state
+        saved = internal.step_state()
+        internal.begin_step(1e-4)
+        f1 = internal.force(y + 1e-7, z, vy, vz, omega)
+        internal.accept_step()
+        internal.set_step_state(saved)  # back: the same step gives the same force
+        internal.begin_step(1e-4)
+        assert internal.force(y + 1e-7, z, vy, vz, omega) == f1
+        with pytest.raises(ValueError):
+            internal.set_step_state(saved[:-1])
     if can.fitted_domain:
         assert math.isfinite(internal.domain_distance(y, z, vy, vz))
         internal.force(y, z, vy, vz, omega)
@@ -154,9 +167,18 @@ def check_fmu_equals_the_direct_call(b: Built):
         with pytest.raises(Exception):
             b.fmu_instance(internal=b.spec.name)
         return
+    if b.case.params is not None:  # the case's own bearing (a bore the paper bearing lacks: tilting pads)
+        from bearing_fmu.fmu.ports import port_defaults
+
+        p = b.case.params
+        options = {"D": p.D, "L": p.L, "CR": p.CR, "mu": p.mu, **port_defaults(p, pads=True), **options}
     inst = b.fmu_instance(internal=b.spec.name, **options)
     try:
         out = inst.step(1e-4, *b.case.state, b.case.omega)
+        if b.spec.can.step_states:  # the FMU's states start at rest at its inputs of Initialization Mode (all 0)
+            b.internal.begin_step(0.0)
+            b.internal.force_and_jacobian(0.0, 0.0, 0.0, 0.0, 0.0)
+            b.internal.begin_step(1e-4)  # then one doStep of 1e-4 s
         if hasattr(b.internal, "force_and_jacobian"):
             F, dq, dv = b.internal.force_and_jacobian(*b.case.state, b.case.omega)
         else:

@@ -309,11 +309,24 @@ def test_demo_json_of_a_tilting_pad_bearing(tmp_path):
 
 # ------------------------------------------------------------------ the rotor on tilting pads
 
-def test_the_bearing_fmu_refuses_tilting_pads_by_name():
-    from bearing_fmu.fmu.ports import port_defaults
+def test_the_bearing_fmus_parameters_hold_the_pads_and_refuse_a_flexible_pivot_by_name():
+    # the Python FMU carries the pads (tests/test_pad_fmu.py): its parameters are the bore's, back to the same
+    # PadGeometry; a flexible pivot (not modelled) is refused naming the key
+    from dataclasses import replace
+    from types import SimpleNamespace
 
-    with pytest.raises(ValueError, match="the bearing FMU does not carry tilting pads yet"):
-        port_defaults(bearing())
+    from bearing_fmu.fmu.ports import GEOMETRY_ROWS, PAD_ROWS, geometry_of, port_defaults
+    from bearing_fmu.physics.bore.geometry import Geometry
+
+    b = bearing()
+    values = {r[0]: r[4] for r in GEOMETRY_ROWS + PAD_ROWS}
+    values.update(port_defaults(b, pads=True))
+    assert values["pads"] == b.geometry.pads.n and geometry_of(SimpleNamespace(**values)) == b.geometry
+    flexible = replace(b, geometry=Geometry(pads=replace(b.geometry.pads, pivot_stiffness=1e8)))
+    with pytest.raises(ValueError, match="pivot_stiffness_N_m = 1e[+]08: a flexible pivot is not modelled"):
+        port_defaults(flexible, pads=True)
+    with pytest.raises(ValueError, match="the native bearing FMU does not carry tilting pads yet"):
+        port_defaults(b)  # the native FMU's call
 
 
 def test_the_paper_rotor_on_five_tilting_pads_has_no_threshold_where_the_plain_bore_whirls():

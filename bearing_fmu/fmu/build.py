@@ -231,7 +231,7 @@ def _postprocess(xml_bytes: bytes, pkg: str, bearing: dict | None = None, record
     from ..physics.params import BearingParams
     from . import meta as fmu_meta
     from .slave import ENUMERATIONS, VARIABLES, BearingFMU
-    from .variables import MEMORYLESS
+    from .variables import MEMORYLESS, STEPPED
 
     table = {v[0]: v for v in VARIABLES}
     for k, v in (bearing or {}).items():
@@ -285,8 +285,9 @@ def _postprocess(xml_bytes: bytes, pkg: str, bearing: dict | None = None, record
     fmu_meta.place(root, fmu_meta.type_definitions(
         [(string, list(enumerate(items, start=1))) for string, items in ENUMERATIONS.values()]))
 
-    # map and linear (thermal off) are memoryless: a master may iterate them without FMU states
-    fmu_meta.place(root, fmu_meta.memoryless_annotation(MEMORYLESS))
+    # map and linear (thermal off) are memoryless: a master may iterate them without FMU states;
+    # tilting pads have states of their own: a static equilibrium is found in Initialization Mode
+    fmu_meta.place(root, fmu_meta.memoryless_annotation(MEMORYLESS, stepped=STEPPED))
 
     structure = root.find("ModelStructure")
     for child in list(structure):
@@ -419,7 +420,8 @@ def build_fmu(output, surrogate=None, bearing=None, bearing_source: str = "") ->
 
     ``surrogate``: one path or a list of paths of surrogate JSON files to bundle in
     ``resources/surrogates/``; with exactly one, the parameter ``surrogate`` defaults to it.
-    The default internal stays ``reynolds`` (at the solver's default grid).
+    The default internal stays ``reynolds`` (at the solver's default grid); for a bearing with tilting
+    pads, the internal that takes them (``Capabilities.pads``).
     ``bearing``: a BearingParams whose D, L, CR, mu, bore and oil (``ports.port_defaults``) become
     the FMU's defaults (the paper bearing's without), recorded with ``bearing_source`` (e.g. the
     bearing file) in the FMU.
@@ -437,7 +439,9 @@ def build_fmu(output, surrogate=None, bearing=None, bearing_source: str = "") ->
     if bearing is not None:
         from .ports import port_defaults, supply_starts
 
-        bore_and_oil = port_defaults(bearing)  # refuses what the parameters cannot hold, before building
+        bore_and_oil = port_defaults(bearing, pads=True)  # refuses what the parameters cannot hold, before building
+        if bearing.geometry is not None and bearing.geometry.pads is not None:  # the internal that takes pads
+            bore_and_oil["internal"] = registry.having(pads=True, fmu=True)[0]
     if surrogate is None:
         surrogates = []
     elif isinstance(surrogate, (str, os.PathLike)):
@@ -469,7 +473,8 @@ def build_fmu(output, surrogate=None, bearing=None, bearing_source: str = "") ->
             if bearing is not None:
                 defaults = {**bearing.as_dict(), "source": str(bearing_source) or "given to build_fmu", **bore_and_oil,
                             **supply_starts(bearing)}
-            record = fmu_meta.build_record("python", registry.names(), "reynolds", bearing or PAPER_BEARING,
+            first = bore_and_oil.get("internal", "reynolds") if bearing is not None else "reynolds"
+            record = fmu_meta.build_record("python", registry.names(), first, bearing or PAPER_BEARING,
                                            bearing_source, surrogates)
             _rewrite_zip(tmp_fmu, pkg, defaults, record)
             # atomic: a parallel reader sees one whole FMU; a folder that refuses it (a full disk) has it

@@ -48,6 +48,7 @@ UNITS = {
     "m2/s": {"m": 2, "s": -1},
     "kg/m3": {"kg": 1, "m": -3},
     "J/(kg.K)": {"m": 2, "s": -2, "K": -1},
+    "kg.m2": {"kg": 1, "m": 2},  # a tilting pad's moment of inertia (ports.PAD_ROWS)
 }
 # display units (FMI 2.0 DisplayUnit: shown value = factor * value in the unit)
 DISPLAY_UNITS = {"m": {"um": 1e6, "mm": 1e3}, "m/s": {"mm/s": 1e3}, "rad/s": {"rpm": 60.0 / (2.0 * math.pi)},
@@ -58,6 +59,7 @@ DISPLAY_OFFSETS = {"degC": -273.15}  # shown value = factor * value + offset
 DISPLAY = {"y": "um", "z": "um", "h_min": "um", "CR": "um", "lin_y0": "um", "lin_z0": "um", "D": "mm", "L": "mm",
            "vy": "mm/s", "vz": "mm/s", "omega": "rpm", "omega_lin": "rpm", "mu": "mPa.s",
            **{n: "deg" for n in ports.ROW_UNITS if ports.ROW_UNITS[n] == "rad"}, "supply_pressure": "kPa",
+           **{r[0]: "deg" for r in ports.PAD_ROWS if r[3] == "rad"},
            **{n: "degC" for n in ports.ROW_UNITS if ports.ROW_UNITS[n] == "K"}, "Q_side": "l/min",
            "oil_nu_1": "cSt", "oil_nu_2": "cSt", "mu_eff": "mPa.s", "oil_vogel_a": "mPa.s",
            "peak_pressure": "kPa", "peak_pressure_angle": "deg"}
@@ -361,15 +363,37 @@ def strip_whitespace(root: ET.Element) -> None:
 # A master may then iterate a step with setReal / doStep / getReal and no fmi2GetFMUstate /
 # fmi2SetFMUstate around it: the outputs are those of the conformant iteration. An FMU without
 # the annotation (a foreign one, the Python FMU) keeps the save and restore.
+#
+# Beside it, the internals with states of their own over a step (``Capabilities.step_states``: a
+# tilting pad's tilts and rates), an attribute of the same element (FMI 2.0's Tool holds one element):
+#   <Memoryless internals="map linear" unless="thermal" stepStates="tilting_pad"/>. With one of them chosen,
+# the outputs read in Initialization Mode are the quasi-static answer at the inputs set (the pads in
+# moment equilibrium), exitInitializationMode starts the states there, and each doStep advances them
+# from the committed ones: a master finds a static equilibrium through the FMU in Initialization
+# Mode (a short doStep would move the states, not settle them; rotor_host.coupling.cosim does so).
 MEMORYLESS_TOOL = "bearing_fmu"
 
 
-def memoryless_annotation(internals, unless=("thermal",)) -> ET.Element:
-    """The VendorAnnotations element declaring ``internals`` memoryless (see above)."""
+def memoryless_annotation(internals, unless=("thermal",), stepped=()) -> ET.Element:
+    """The VendorAnnotations element declaring ``internals`` memoryless and ``stepped`` with states
+    of their own over a step (see above)."""
     va = ET.Element("VendorAnnotations")
     tool = ET.SubElement(va, "Tool", name=MEMORYLESS_TOOL)
-    ET.SubElement(tool, "Memoryless", internals=" ".join(internals), unless=" ".join(unless))
+    el = ET.SubElement(tool, "Memoryless", internals=" ".join(internals), unless=" ".join(unless))
+    if stepped:
+        el.set("stepStates", " ".join(stepped))
     return va
+
+
+def step_states_declaration(model_description_xml: bytes | str) -> set:
+    """The internals a model description declares with states of their own over a step (empty: none)."""
+    root = ET.fromstring(model_description_xml)
+    for tool in root.iterfind("VendorAnnotations/Tool"):
+        if tool.get("name") == MEMORYLESS_TOOL:
+            el = tool.find("Memoryless")
+            if el is not None:
+                return set(el.get("stepStates", "").split())
+    return set()
 
 
 def memoryless_declaration(model_description_xml: bytes | str):

@@ -32,6 +32,7 @@ import math
 from ..internals import registry
 from ..physics.bore.geometry import FULL_BORE, MAX_LOBES, MAX_SUPPLY_KPA, Geometry
 from ..physics.oil import DEFAULT_DENSITY, DEFAULT_HEAT_CAPACITY, DEFAULT_RANGE_C, KELVIN, Oil
+from ..physics.bore.pads import MAX_PADS, MIN_PADS, PadGeometry
 
 MAX_GROOVES = 8  # groove_1 .. groove_8: FMI parameters are scalars
 OIL_LAWS = ("none", "walther", "vogel")
@@ -88,16 +89,37 @@ THERMAL_ROWS = (
     ("mu_eff", "Real", OUT, "Pa.s", 0.05, "the viscosity the force is computed at: the oil's at T_eff (mu with "
      "thermal = false)"),
 )
+# a tilting-pad bore (``physics.bore.pads``; its preload is ``preload`` above): the pads' parameters and,
+# per pad, its tilt and load after each step (0 for the pads a bore does not have; FMI variables are scalars)
+PAD_ROWS = (
+    ("pads", "Integer", P, None, 0, f"number of tilting pads (0: a fixed bore; {MIN_PADS} .. {MAX_PADS}); their "
+     "pivots are pivot_1 .. pivot_<pads>, with the internal tilting_pad"),
+    *((f"pivot_{k}", "Real", P, "rad", 0.0, f"pivot angle of tilting pad {k} (used when pads >= {k}), in the film's "
+       "theta as groove_1 (0 top, increasing with the rotation)") for k in range(1, MAX_PADS + 1)),
+    ("pad_arc", "Real", P, "rad", math.radians(60.0), "every tilting pad's arc (> 0; the pads may not overlap)"),
+    ("pivot_offset", "Real", P, "1", 0.5, "the pivot's place on its pad as a fraction of the arc from the leading "
+     "edge (0.5 centred; > 0 and < 1)"),
+    ("pad_inertia", "Real", P, "kg.m2", 0.0, "each pad's moment of inertia about its pivot (0: massless pads, in "
+     "moment equilibrium through their squeeze)"),
+    *((f"pad_tilt_{k}", "Real", OUT, "rad", 0.0, f"tilt of pad {k} about its pivot at the end of the step (positive "
+       f"about +x; 0 when pads < {k})") for k in range(1, MAX_PADS + 1)),
+    *((f"pad_load_{k}", "Real", OUT, "N", 0.0, f"magnitude of pad {k}'s film force on the journal at the end of the "
+       f"step (0 when pads < {k})") for k in range(1, MAX_PADS + 1)),
+)
+PAD_TILTS = tuple(f"pad_tilt_{k}" for k in range(1, MAX_PADS + 1))
+PAD_LOADS = tuple(f"pad_load_{k}" for k in range(1, MAX_PADS + 1))
 ROWS = GEOMETRY_ROWS + OIL_ROWS + THERMAL_ROWS
-PARAMETER_NAMES = tuple(r[0] for r in GEOMETRY_ROWS + OIL_ROWS)
+PARAMETER_NAMES = tuple(r[0] for r in GEOMETRY_ROWS + OIL_ROWS + PAD_ROWS if r[2] == P)
 ROW_UNITS = {r[0]: r[3] for r in ROWS}
 # (min, max) of the Integer and Real parameters above, for the model description and the setters
 BOUNDS = {"groove_count": (0, MAX_GROOVES), "lobes": (1, MAX_LOBES), "groove_width": (0.0, math.pi),
           "supply_pressure": (0.0, MAX_SUPPLY_KPA * 1e3), "preload": (0.0, 1.0), "lobe_offset": (0.0, 1.0),
-          "oil_rise_factor": (0.0, 1.0), "oil_density": (500.0, 2000.0), "oil_heat_capacity": (500.0, 5000.0),
+          "oil_rise_factor": (0.0, 1.0), "pads": (0, MAX_PADS), "pad_arc": (0.0, 2.0 * math.pi / MIN_PADS),
+          "pivot_offset": (0.0, 1.0), "pad_inertia": (0.0, None), "oil_density": (500.0, 2000.0), "oil_heat_capacity": (500.0, 5000.0),
           **{n: (0.0, None) for n in ("oil_nu_1", "oil_nu_2", "oil_vogel_a", "oil_vogel_b", "oil_vogel_c",
                                       "oil_T_1", "oil_T_2", "oil_T_min", "oil_T_max")}}
-_ANGLES = tuple(f"groove_{k}" for k in range(1, MAX_GROOVES + 1)) + ("arc_start", "arc_end", "lobe_angle")
+_ANGLES = (tuple(f"groove_{k}" for k in range(1, MAX_GROOVES + 1)) + ("arc_start", "arc_end", "lobe_angle")
+           + tuple(f"pivot_{k}" for k in range(1, MAX_PADS + 1)))
 
 
 def check_value(name: str, value):
@@ -116,6 +138,8 @@ def geometry_of(v) -> Geometry:
     """The bore the parameters of ``v`` (an object with them as attributes) describe; ValueError
     naming the parameters when they do not fit together."""
     n = int(v.groove_count)
+    if int(v.pads):
+        return _pads_of(v)
     try:
         return Geometry(grooves=tuple(float(getattr(v, f"groove_{k}")) for k in range(1, n + 1)),
                         groove_width=float(v.groove_width), supply_pressure=float(v.supply_pressure),
@@ -125,6 +149,28 @@ def geometry_of(v) -> Geometry:
     except ValueError as exc:
         raise ValueError(f"the geometry parameters do not fit together (in the bearing file's words, degrees and "
                          f"kPa): {str(exc).removeprefix('Geometry: ')}") from None
+
+
+def _pads_of(v) -> Geometry:
+    """The tilting-pad bore of the parameters ``pads`` > 0 (``geometry_of``)."""
+    n = int(v.pads)
+    fixed = ([f"groove_count = {int(v.groove_count)}"] if int(v.groove_count) else []) + (
+        ["partial_arc = true"] if v.partial_arc else []) + ([f"lobes = {int(v.lobes)}"] if int(v.lobes) > 1 else [])
+    if fixed:
+        raise ValueError(f"pads = {n}: a tilting-pad bore has no {', '.join(fixed)} (the pads are its arcs): set them "
+                         "back to the full bore's (groove_count = 0, partial_arc = false, lobes = 1)")
+    if n < MIN_PADS:
+        raise ValueError(f"pads = {n} must be 0 (a fixed bore) or in {MIN_PADS} .. {MAX_PADS}")
+    try:
+        pads = PadGeometry(pivots=tuple(float(getattr(v, f"pivot_{k}")) for k in range(1, n + 1)),
+                           arc=float(v.pad_arc), offset=float(v.pivot_offset), preload=float(v.preload),
+                           inertia=float(v.pad_inertia))
+    except ValueError as exc:  # in the bearing file's words: name the parameters
+        words = str(exc).replace("pad_arc_deg", "pad_arc (in deg)").replace("pivots_deg", "pivot_1 .. pivot_N (in "
+                                                                            "deg)").replace("pad_inertia_kg_m2",
+                                                                                            "pad_inertia")
+        raise ValueError(f"the tilting-pad parameters do not fit together: {words}") from None
+    return Geometry(pads=pads)
 
 
 def check_geometry(geometry: Geometry, spec) -> None:
@@ -161,17 +207,21 @@ def oil_of(v, law: str) -> Oil | None:
                          f"{str(exc).removeprefix('Oil oil of the FMU parameters: ')}") from None
 
 
-def port_defaults(params) -> dict:
+def port_defaults(params, pads: bool = False) -> dict:
     """The FMU parameter values of a bearing's bore and oil (``BearingParams``: ``geometry``,
-    ``oil``): what ``bearing-fmu build --bearing FILE`` makes the defaults."""
+    ``oil``): what ``bearing-fmu build --bearing FILE`` makes the defaults. ``pads``: the FMU carries
+    tilting pads (the Python FMU: their parameters, ``PAD_ROWS``); False refuses a tilting-pad bore by
+    name (the native FMU does not carry the pads yet)."""
     g = params.geometry if params.geometry is not None else FULL_BORE
-    if g.pads is not None:  # their states and parameters are a later step (docs/geometry.md, Tilting pads)
-        raise ValueError(f"the bearing FMU does not carry tilting pads yet ({g.describe()}): compute this bearing "
-                         "with via = 'direct' (the tilting_pad internal) or bearing-fmu demo")
+    if g.pads is not None and not pads:
+        raise ValueError(f"the native bearing FMU does not carry tilting pads yet ({g.describe()}): use the Python "
+                         "FMU (bearing-fmu build without --native; a scene's fmu_kind = 'python') or via = 'direct'")
     if g.circumferential_groove:  # the bore's parameters are the axial grooves, arc and lobes only
         raise ValueError(f"the bearing FMUs do not carry a circumferential groove yet (circumferential_groove_mm = "
                          f"{g.circumferential_groove * 1e3:g}): compute this bearing with via = 'direct' (the "
                          "Reynolds internal) or bearing-fmu demo")
+    if g.pads is not None:
+        return {**_pad_defaults(g.pads), **_oil_defaults(params)}
     out = {"groove_count": len(g.grooves), "groove_width": g.groove_width, "supply_pressure": g.supply_pressure,
            "partial_arc": g.arc is not None, "lobes": g.lobes, "preload": g.preload, "lobe_offset": g.lobe_offset,
            "lobe_angle": g.lobe_angle}
@@ -182,6 +232,23 @@ def port_defaults(params) -> dict:
         out[f"groove_{k}"] = angle
     if g.arc is not None:
         out["arc_start"], out["arc_end"] = g.arc
+    return {**out, **_oil_defaults(params)}
+
+
+def _pad_defaults(pads: PadGeometry) -> dict:
+    """The parameters of a tilting-pad bore (the fixed bores' at their defaults: the full bore's)."""
+    if pads.pivot_stiffness is not None:
+        raise ValueError(f"pivot_stiffness_N_m = {pads.pivot_stiffness:g}: a flexible pivot is not modelled yet (the "
+                         "bearing FMUs neither); leave the key out (rigid pivots)")
+    out = {"pads": pads.n, "pad_arc": pads.arc, "pivot_offset": pads.offset, "preload": pads.preload,
+           "pad_inertia": pads.inertia}
+    out.update((f"pivot_{k}", p) for k, p in enumerate(pads.pivots, start=1))
+    return out
+
+
+def _oil_defaults(params) -> dict:
+    """The oil parameters of a bearing's [oil] ({} without one)."""
+    out = {}
     oil = params.oil
     if oil is not None and oil.cavitated_shear != "full":
         raise ValueError(f"[oil] cavitated_shear = {oil.cavitated_shear!r}: the bearing FMUs shear the cavitated film "
@@ -214,6 +281,17 @@ def supply_starts(params) -> dict:
     if oil is None:
         return {}
     return {"T_supply": float(oil.T_supply), "T_eff": float(oil.T_supply), "mu_eff": float(oil.mu(oil.T_supply))}
+
+
+def check_pad_thermal(thermal: bool, geometry: Geometry) -> None:
+    """ValueError naming ``thermal`` and ``pad_inertia`` for tilting pads with inertia at a film
+    temperature: their force at mu_eff is not the force at mu times mu_eff / mu (the pads' inertia
+    does not scale), which is how the FMU applies the temperature; massless pads' is (their tilts
+    do not depend on mu)."""
+    pads = geometry.pads
+    if thermal and pads is not None and pads.inertia > 0.0:
+        raise ValueError(f"thermal = true with pad_inertia = {pads.inertia:g} kg.m2: the pads' motion at the film's "
+                         "temperature is not modelled yet; massless pads (pad_inertia = 0) or thermal = false")
 
 
 def check_thermal(thermal: bool, oil: Oil | None, spec, internal=None) -> None:

@@ -29,9 +29,11 @@ _BUNDLED_FORMATS: dict[str, dict[str, str]] = {}  # resources folder -> {file na
 
 
 def default_file(resources, option) -> str:
-    """The default of a file option: the one bundled file of its format (surrogate, force map),
-    else "" (none, or several to choose from)."""
-    if not resources:
+    """The default of a file option the internal needs (``Option.required``): the one bundled file of
+    its format (surrogate, force map), else "" (none, or several to choose from). An optional one
+    (the tilting pads' ``pad_map``: empty, the Reynolds pads) defaults to "": a force map bundled
+    for the map internal must not switch the pads to it."""
+    if not resources or not option.required:
         return ""
     folder = Path(resources) / SURROGATE_DIR
     key = str(folder)
@@ -129,6 +131,9 @@ def port_defaults(resources) -> dict:
         if not isinstance(data, dict):
             raise ValueError("not a JSON object")
         for name, value in data.items():
+            if name == "internal":  # a tilting-pad bearing's: the internal that takes pads (build_fmu)
+                registry.get(value)
+                continue
             if name in ports.START_NAMES:  # a thermal port's start (ports.supply_starts)
                 if isinstance(value, (str, bool)) or value is None or not 0.0 < value < math.inf:
                     raise ValueError(f"{name} = {value!r} must be a finite number > 0")

@@ -33,10 +33,13 @@ binary is pythonfmu's as is) nothing raises: a refused call is logged with statu
 returns fmi2OK, as pythonfmu allows. When the master has logging off, the first warning, the
 first discard and the first error of an instance are also printed to stderr (``LoggingFlag``).
 
-The FMU state (fmi2GetFMUstate) is a small list (tag, time, inputs and outputs;
-``fmi_order.FMUState``: recognised once freed); the internal is not part of it (it is fixed
+The FMU state (fmi2GetFMUstate) is a small list (tag, time, inputs and outputs, and the internal's
+states of its own over a step: a tilting pad's tilts and rates, ``Capabilities.step_states``;
+``fmi_order.FMUState``: recognised once freed); the internal itself is not part of it (it is fixed
 after initialisation), so saving and restoring costs a few microseconds; serialised, it carries a
-checksum, and a state read back is checked (``pyslave/state.py``). A memoryless internal with a
+checksum, and a state read back is checked (``pyslave/state.py``). Such an internal's states start
+at rest at the inputs of Initialization Mode (its outputs there are the quasi-static answer) and each
+doStep advances them from the committed ones (docs/fmu.md, *Tilting pads*). A memoryless internal with a
 compiled kernel (``internals.compiled``) is evaluated through it in a step: the same numbers as
 ``force_and_jacobian`` at a third of its cost (``benchmarks/python_fmu_step.py``). A Taylor internal's
 domain warning comes once per excursion and the count at terminate (``_excursion``).
@@ -73,9 +76,9 @@ _INF = math.inf
 class BearingFMU(VariableAccess, Stepping, StateSaving, CallRules, Fmi2Slave):
     """Hydrodynamic journal bearing: film force from the journal state (see module docstring)."""
 
-    description = ("Hydrodynamic journal bearing (plain cylindrical): film force on the journal from its "
-                   "position, velocity and speed; internal: Reynolds solver, linear model, Taylor surrogate or "
-                   "force map")
+    description = ("Hydrodynamic journal bearing (plain cylindrical, grooved, partial arc, lobed or tilting pads): "
+                   "film force on the journal from its position, velocity and speed; internal: Reynolds solver, "
+                   "linear model, Taylor surrogate, force map or tilting pads (their tilts states of the FMU)")
     version = __version__
     default_experiment = DefaultExperiment(start_time=0.0, stop_time=0.1, step_size=1e-4)
 
@@ -90,6 +93,8 @@ class BearingFMU(VariableAccess, Stepping, StateSaving, CallRules, Fmi2Slave):
         self._jacobian = None
         self._kernel = None  # the internal's compiled kernel, when a step may call it (stepping._kernel_of)
         self._peak = None  # the internal's peak_pressure (Capabilities.film_field), set with the internal
+        self._stepped = None  # the internal when it has states of its own over a step (Capabilities.step_states)
+        self._pad_report = None  # the internal's pad_report (tilts, loads) when it takes tilting pads
         self._params = None
         self._oil = None  # the oil law of the thermal model, when thermal is true (ports.py)
         self._enter(INSTANTIATED)

@@ -81,11 +81,16 @@ VARIABLES = (
      "metal's limit; internals with a pressure field: reynolds; 0 for the others)"),
     ("peak_pressure_angle", "Real", OUTPUT, "rad", 0.0, "theta of the peak pressure (0 top, increasing with the "
      "rotation; 0 for internals without a pressure field)"),
+    # a tilting-pad bore's parameters and the pads' outputs (ports.PAD_ROWS; after the rest: the value references stay)
+    *ports.PAD_ROWS,
 )
 
 INPUTS = tuple(v[0] for v in VARIABLES if v[2] == INPUT)
 # the internals whose outputs follow the inputs and parameters alone when thermal is false
 # (``Capabilities.memoryless``); the FMUs declare them (meta.memoryless_annotation)
 MEMORYLESS = registry.having(memoryless=True)
+# the internals with states of their own over a step (``Capabilities.step_states``: tilting pads), saved
+# with the FMU state; the FMUs declare them too (meta.memoryless_annotation's stepStates)
+STEPPED = registry.having(step_states=True)
 OUTPUTS = tuple(v[0] for v in VARIABLES if v[2] == OUTPUT)
 PARAMETERS = tuple(v[0] for v in VARIABLES if v[2] == PARAMETER)

@@ -308,6 +308,7 @@ class Capabilities:
     whirl_reduced: bool = False
     memoryless: bool = False
     film_field: bool = False
+    step_states: bool = False
 
 
 @dataclass(frozen=True)

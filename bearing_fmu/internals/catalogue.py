@@ -121,19 +121,21 @@ register(InternalSpec(
     "tilting_pad", "internals.tilting_pad.tilting_pad:TiltingPad.from_options", "tilting-pad journal bearing: every "
     "pad the partial-arc Reynolds solver at its tilt, massless pads in moment equilibrium (docs/geometry.md)",
     options=(
-        Option("pad_map", str, "", "tilting pads: every pad from this partial-arc force map of the pads' arc "
-               "(internals.tilting_pad.padmap.build_pad_map) instead of the Reynolds solver; empty: Reynolds",
+        Option("pad_map", str, "", "tilting pads: every pad from this partial-arc force map of the pads' arc, built "
+               "by `bearing-fmu map --bearing FILE` (in the FMU: a file name in its resources folder surrogates/) "
+               "instead of the Reynolds solver; empty: Reynolds",
                file=True, file_format="bearing-fmu-force-map"),
     ),
     uses=("reynolds",),
     can=Capabilities(
-        pads=True, compare=False, any_state=True, whirl_reduced=True, film_flow=True,
-        fmu=False, fmu_why="the FMUs do not carry the pads' states yet (a later step of the tilting-pad work)",
+        pads=True, compare=False, any_state=True, whirl_reduced=True, film_flow=True, step_states=True,
         validity="The tilting-pad internal evaluates any journal state that leaves every pad's film open at any "
                  "speed, the pads massless and quasi-static (each in moment equilibrium, its own rate 0); the "
-                 "journal may pass C_bearing between pads. In a transient with the host's step hooks the pads' tilts "
-                 "(and rates, with pad inertia) are states carried from step to step; rotor-host stability puts "
-                 "the pads' coordinates into its eigenproblem."),
+                 "journal may pass C_bearing between pads. In a transient with the host's step hooks (in the FMU: over "
+                 "each doStep) the pads' tilts (and rates, with pad inertia) are states carried from step to step, "
+                 "in moment equilibrium at the inputs of Initialization Mode; rotor-host stability puts the pads' "
+                 "coordinates into its eigenproblem. A journal state that closes a pad's film is refused "
+                 "(fmi2Discard)."),
     case="internals.cases:tilting_pad_case",
     kernels=("physics.solver.reynolds_kernels", "physics.solver.geometry_kernels"),
 ))

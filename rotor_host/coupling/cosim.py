@@ -26,6 +26,9 @@ loop makes those calls too, in the same order (the kernels hand each step's save
 Python driver and back between chunks: ``compiled``); the Python FMU of another internal (it
 needs an execution tool: Python) is iterated from Python.
 
+An FMU that declares states of its own over a step for the internal chosen (a tilting pad's tilts and
+rates) waits in Initialization Mode through the static equilibrium (``init_statics``).
+
 A pythonfmu FMU runs its slave in this interpreter: a Ctrl-C raised inside it would come back
 as an FMI error, so signals are held while an FMU call runs (``bearing_fmu.io.exits.deferred``)
 and raised as ``Interrupted`` right after it.
@@ -45,6 +48,7 @@ from bearing_fmu.io.exits import deferred, enter_deferred, leave_deferred
 
 from .bearings import THERMAL_FIELDS, BearingSet
 from .fmu_kernel import free_saved, fmu_force, restore_saved
+from .init_statics import InitStatics
 
 # what the host reads from every bearing FMU, in this order
 _OUT = ("Fy", "Fz", "Kyy", "Kyz", "Kzy", "Kzz", "Cyy", "Cyz", "Czy", "Czz", "eccentricity")
@@ -89,7 +93,7 @@ class FMUError(RuntimeError):
     """A bearing FMU could not be loaded, set up or initialised."""
 
 
-class FMUBearings(BearingSet):
+class FMUBearings(InitStatics, BearingSet):
     """Bearings as FMU instances (fmpy ``FMU2Slave``), conformant iteration per step.
 
     fmu_path      : the bearing .fmu (extracted once, shared by all instances)
@@ -132,6 +136,7 @@ class FMUBearings(BearingSet):
         self._saved = None  # (n, 2): each stateful kernel's FMU state and the step it saved it for
         self.stateful_compiled = False  # set below: the compiled loop may save and restore its states
         self._initialised = set()  # instances past exitInitializationMode: only those are terminated (FMI 2.0)
+        self._in_init = False  # the instances wait in Initialization Mode (init_statics)
         try:
             md = read_model_description(str(self.fmu_path))
             self._vars = {v.name: v for v in md.modelVariables}
@@ -175,8 +180,11 @@ class FMUBearings(BearingSet):
                         for n, v in parameters[k].items():
                             if n not in params:
                                 fmu.setReal([self._vars[n].valueReference], [float(v)])
-                        fmu.exitInitializationMode()
-                        self._initialised.add(k)
+                        if k == 0:
+                            self._in_init = self._declared_stepped(md, parameters)
+                        if not self._in_init:
+                            fmu.exitInitializationMode()
+                            self._initialised.add(k)
                     except FMUError:
                         raise
                     except Exception as exc:  # noqa: BLE001 - fmpy raises on an error status; say why
@@ -283,6 +291,10 @@ class FMUBearings(BearingSet):
         # positive step, so probe with a tiny one and never commit it (accept restores t)
         self._static = dt == 0.0
         self._h = _STATIC_PROBE_S if self._static else self.dt
+        if self._in_init:
+            if self._static:  # evaluated in Initialization Mode: nothing to save or restore
+                return
+            self._leave_init()
         if self.memoryless:  # nothing to save: every iterate is setReal, doStep, getReal
             return
         with deferred():
@@ -303,6 +315,8 @@ class FMUBearings(BearingSet):
         c, dll = fmu.component, fmu.dll
         enter_deferred()  # a signal waits until the FMU has returned (module docstring)
         try:
+            if self._in_init:  # a static evaluation (begin_step leaves Initialization Mode for a time step)
+                return self._init_bearing(k, y, z, vy, vz)
             if self._fresh[k] or self.memoryless:  # the instance is in the state saved, or has none
                 self._fresh[k] = False
             else:
@@ -338,6 +352,8 @@ class FMUBearings(BearingSet):
         if (not (self.memoryless or self.stateful_compiled) or self.speed is not None or self.tangent != "bearing"
                 or not self.with_jacobian):
             return None
+        if self._in_init:  # the kernels step: the instances leave Initialization Mode first
+            self._leave_init()
         if self._kernels is None:
             vr_in = [self._vars[n].valueReference for n in _IN]
             vr_out = [self._vars[n].valueReference for n in _OUT]
@@ -423,6 +439,8 @@ class FMUBearings(BearingSet):
             self._free_states()
 
     def reject_step(self) -> None:
+        if self._in_init:  # nothing saved: each evaluation there stands alone
+            return
         with deferred():
             for k, fmu in enumerate(self.instances):
                 if self._states[k] is not None:

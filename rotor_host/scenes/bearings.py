@@ -75,7 +75,7 @@ def fmu_parameters(scene: Scene, params, load, thermal=None) -> dict:
     from bearing_fmu.fmu.ports import port_defaults
 
     out = {"D": params.D, "L": params.L, "CR": params.CR, "mu": params.mu, "internal": spec.name, **opts,
-           **port_defaults(params)}
+           **port_defaults(params, pads=True)}
     if thermal is not None:
         out.update(thermal=True, T_supply=thermal.T_supply_K, y=thermal.y_m, z=thermal.z_m, omega=scene.omega)
     return out

@@ -1,13 +1,16 @@
-"""The slave's FMU state (fmi2GetFMUstate and the rest): the time and every input and output as
-one tuple (``order.FMUState``: recognised once freed); the internal is not part of it (it is
-fixed after initialisation), so saving and restoring costs a few microseconds.
+"""The slave's FMU state (fmi2GetFMUstate and the rest): the time, every input and output, and the
+internal's states of its own over a step (``Capabilities.step_states``: a tilting pad's tilts and
+rates, its ``step_state()``; empty for every other internal) as one tuple (``order.FMUState``:
+recognised once freed); the internal itself is not part of it (it is fixed after initialisation),
+so saving and restoring costs a few microseconds.
 
 A serialised state carries a checksum (SHA-256 of its JSON) and is checked when it is read back
 (``sound``): its tag and length, the time and every value finite, each in its range
-(out_of_domain a Boolean, eccentricity >= 0, mu_eff > 0); fmi2SetFMUstate checks the tag, the
-length and that it was not freed (a state object is the FMU's own, made by fmi2GetFMUstate or
-read back checked). A state that fails is refused with fmi2Error and the instance (or the state
-given to fmi2DeSerializeFMUstate) keeps what it had."""
+(out_of_domain a Boolean, eccentricity >= 0, mu_eff > 0), the internal's states finite numbers;
+fmi2SetFMUstate checks the tag, the length, that it was not freed and that the internal takes its
+states (``set_step_state``: their count for this bearing's pads). A state object is the FMU's own,
+made by fmi2GetFMUstate or read back checked. A state that fails is refused with fmi2Error and the
+instance (or the state given to fmi2DeSerializeFMUstate) keeps what it had."""
 
 import hashlib
 import json
@@ -18,7 +21,7 @@ from ..order import FMUState, is_freed
 from ..variables import INPUTS, OUTPUTS
 from .calls import FMIError
 
-STATE_TAG = "bearing_fmu.fmu.slave/3"  # /3: checked values, a checksum when serialised
+STATE_TAG = "bearing_fmu.fmu.slave/4"  # /3: checked values, a checksum when serialised; /4: the internal's states
 STATE_NAMES = INPUTS + OUTPUTS
 STATE_VALUES = operator.attrgetter(*STATE_NAMES)
 _POSITIVE = ("mu_eff",)  # > 0 (T_supply and T_eff, its copy with thermal off, may be any number then)
@@ -30,11 +33,13 @@ def sound(state) -> str:
     if is_freed(state):
         return "this FMU state was freed (fmi2FreeFMUstate)"
     try:
-        tag, t, values = state
+        tag, t, values, own = state
         if tag != STATE_TAG or len(values) != len(STATE_NAMES):
             return f"not a {STATE_TAG} state of this FMU"
     except (TypeError, ValueError):
         return f"not a {STATE_TAG} state of this FMU"
+    if not all(isinstance(x, float) and math.isfinite(x) for x in own):
+        return "the internal's states (a tilting pad's tilts and rates) are not all finite numbers"
     if not isinstance(t, float) or not math.isfinite(t):
         return f"its time {t!r} s is not a finite number"
     for name, value in zip(STATE_NAMES, values):
@@ -62,14 +67,20 @@ class StateSaving:
     def _get_fmu_state(self):
         # a new FMUState each time: pythonfmu hands this very object back on fmi2SetFMUstate, and
         # once the master frees it, it stays recognisable (fmi_order.FMUState)
-        return FMUState((STATE_TAG, self._t, STATE_VALUES(self)))
+        return FMUState((STATE_TAG, self._t, STATE_VALUES(self),
+                         () if self._stepped is None else self._stepped.step_state()))
 
     def _set_fmu_state(self, state):
         try:
             if is_freed(state):
                 raise ValueError("this FMU state was freed (fmi2FreeFMUstate)")
-            if len(state) != 3 or state[0] != STATE_TAG or len(state[2]) != len(STATE_NAMES):
+            if len(state) != 4 or state[0] != STATE_TAG or len(state[2]) != len(STATE_NAMES):
                 raise ValueError(f"not a {STATE_TAG} state of this FMU")
+            if self._stepped is not None:  # checked whole before anything is set
+                self._stepped.set_step_state(state[3])
+            elif state[3]:
+                raise ValueError(f"it carries {len(state[3])} states of an internal (tilting pads), and this "
+                                 f"instance's internal ({self._internal_name or 'none built'}) has none")
         except Exception as exc:  # noqa: BLE001
             return self._fail(f"setFMUstate: {exc}; the instance keeps its state")
         self._t = state[1]
@@ -82,7 +93,7 @@ class StateSaving:
     def _fmu_state_to_bytes(state) -> bytes:
         if is_freed(state):
             raise FMIError("serializing an FMU state: this FMU state was freed (fmi2FreeFMUstate)")
-        payload = [state[0], state[1], list(state[2])]
+        payload = [state[0], state[1], list(state[2]), list(state[3])]
         return json.dumps(payload + [_checksum(payload)]).encode("utf-8")
 
     @staticmethod
@@ -92,10 +103,11 @@ class StateSaving:
         except (ValueError, TypeError, UnicodeDecodeError):
             raise FMIError(f"deserializing an FMU state: not a serialised {STATE_TAG} state (unreadable); the FMU "
                            "state given keeps its contents") from None
-        if len(payload) != 3 or not isinstance(payload[2], list) or checksum != _checksum(payload):
+        if (len(payload) != 4 or not isinstance(payload[2], list) or not isinstance(payload[3], list)
+                or checksum != _checksum(payload)):
             raise FMIError(f"deserializing an FMU state: its checksum does not match its contents (damaged or not a "
                            f"{STATE_TAG} state); the FMU state given keeps its contents")
-        state = FMUState((payload[0], payload[1], tuple(payload[2])))
+        state = FMUState((payload[0], payload[1], tuple(payload[2]), tuple(payload[3])))
         why = sound(state)
         if why:
             raise FMIError(f"deserializing an FMU state: {why}; the FMU state given keeps its contents")

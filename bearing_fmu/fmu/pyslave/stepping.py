@@ -59,6 +59,7 @@ class Stepping:
         spec = registry.get(choices["internal"])
         geometry = ports.geometry_of(self)
         ports.check_geometry(geometry, spec)
+        ports.check_pad_thermal(self.thermal, geometry)
         oil = ports.oil_of(self, choices["oil_law"])
         ports.check_thermal(self.thermal, oil, spec)
         params = BearingParams(D=self.D, L=self.L, CR=self.CR, mu=self.mu, geometry=geometry, oil=oil)
@@ -76,6 +77,9 @@ class Stepping:
         self._guard = internal if hasattr(internal, "outside") else None  # a domain guard: its excursion flag
         self._kernel = self._kernel_of(internal, spec)
         self._peak = internal.peak_pressure if spec.can.film_field else None  # Capabilities.film_field
+        # states of its own over each doStep (a tilting pad's tilts and rates): stepped, saved with the FMU state
+        self._stepped = internal if spec.can.step_states else None
+        self._pad_report = getattr(internal, "pad_report", None) if spec.can.pads else None
 
     def _kernel_of(self, internal, spec):
         """(call, address, data, out, compiled force) of the internal's compiled kernel
@@ -184,6 +188,9 @@ class Stepping:
         internal = self._internal
         if self._guard is not None:  # an excursion begins where the committed state (an FMU state's) was inside
             self._guard.outside = self.out_of_domain
+        stepped = self._stepped
+        if stepped is not None:  # from the committed states over the step; dt None: at rest (they become the state)
+            stepped.begin_step(0.0 if dt is None else dt)
         self._pending = []
         try:
             kernel = self._kernel
@@ -242,6 +249,12 @@ class Stepping:
         self.peak_pressure, self.peak_pressure_angle = float(peak[0]), float(peak[1])
         if tangent is not None:
             (self.Kyy, self.Kyz, self.Kzy, self.Kzz, self.Cyy, self.Cyz, self.Czy, self.Czz) = tangent
+        if stepped is not None and dt is not None:
+            stepped.accept_step()
+        if self._pad_report is not None:
+            tilts, loads = self._pad_report()
+            self.__dict__.update(zip(ports.PAD_TILTS, tilts.tolist()))
+            self.__dict__.update(zip(ports.PAD_LOADS, loads.tolist()))
         if pending:
             self._excursion(pending[-1])
 

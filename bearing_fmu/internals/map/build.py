@@ -22,7 +22,7 @@ from pathlib import Path
 from ...io.exits import note_kept, note_lost
 from ...physics.params import PAPER_BEARING, BearingParams
 from . import groovemap as gm
-from .store import MapSettings, describe, map_key, settings_for, store_path
+from .store import MapSettings, describe, map_bearing, map_key, settings_for, store_path
 from .tablefile import save_map
 from .tables import tabulate
 
@@ -111,6 +111,9 @@ def command(*, bearing=None, output=None, resolution=None, n_phi=None, grid=None
                          "is 2-D)")
     settings = settings_for(params, resolution=resolution, n_phi=n_phi, grid=grid, cavitation=cavitation,
                             eps_max=eps_max, phases=phases)
+    pads = params.geometry.pads
+    if pads is not None:  # the pads' partial-arc map: one arc serves every pad and tilt (tilting_pad.padmap)
+        params = map_bearing(params)
     cache_dir(store=True)
     stored = store_path(params, settings)
     if stored.is_file() and not rebuild:
@@ -139,6 +142,10 @@ def command(*, bearing=None, output=None, resolution=None, n_phi=None, grid=None
             table = build_map(params, settings, partial, workers=workers, scheduler=scheduler,
                               progress=None if quiet else progress, log=lambda line: print(line, file=sys.stderr),
                               bearing_file=str(bearing or ""))
+            if pads is not None:
+                table.provenance["pads"] = (f"the pads' map of {pads.describe()}: each pad in its frame is this arc "
+                                            f"(clearance C_pad = {params.CR:.6g} m) with the journal shifted by the "
+                                            "preload; tilting_pad's option pad_map")
         finally:
             for bar in bars:
                 bar.close()
@@ -165,7 +172,8 @@ def command(*, bearing=None, output=None, resolution=None, n_phi=None, grid=None
             f"{math.degrees(table.period):g} deg x beta)")
     resumed = table.provenance["resumed_rows"]
     print(f"force map for L/D = {table.L_over_D:.6g}{'' if settings.n_phi is None else ', ' + params.geometry.describe()}"
-          f": {axes}, eps <= {table.eps_max:g}, Reynolds {table.n_theta} x {table.n_x} ({table.cavitation}), "
+          + ("" if pads is None else f" (every pad of the {pads.n} tilting pads: tilting_pad's option pad_map)")
+          + f": {axes}, eps <= {table.eps_max:g}, Reynolds {table.n_theta} x {table.n_x} ({table.cavitation}), "
           f"{table.provenance['solves']} solves{f' ({resumed} rows resumed)' if resumed else ''} in "
           f"{table.provenance['built_s']:.1f} s on {how}; wrote {path} ({path.stat().st_size / 1e3:.0f} kB)"
           + (f" and the map store's {stored}" if target != stored else " (the map store)"))

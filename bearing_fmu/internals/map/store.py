@@ -26,6 +26,11 @@ from . import tables as tb
 from .lobemap import map_params, map_problem
 
 SOLVER_PARTS = ("physics", "internals/map/tables.py", "internals/map/groovemap.py")
+# the pads' map by default: 48 x 64 x 48 (eps x phi x beta), 2.8 MB; the five-pad scene's orbit within
+# 0.0023 % CR RMS of the Reynolds pads over 20 ms (64^3: 0.0006 %, 5 MB; 64 x 32 x 64: 0.094 %: phi counts
+# most; docs/geometry.md, Tilting pads)
+PAD_MAP_N_EPS, PAD_MAP_N_BETA = 48, 48
+# a tilting-pad bearing's map is its pads' partial-arc map (``map_bearing``): one per arc, pivot offset and L/D
 STORED_FORMATS = (tb.FORMAT,)  # the kinds of data file the store keeps (a file option's ``file_format``)
 
 
@@ -44,19 +49,38 @@ class MapSettings:
     flows: bool = True
 
 
+def map_bearing(params: BearingParams) -> BearingParams:
+    """The bearing whose bore a map of ``params`` tabulates: ``params`` itself, or for a tilting-pad bore
+    the circular partial arc every pad is in its own frame (clearance C_pad; ``tilting_pad.padmap``: one
+    map serves every pad and tilt, the preload a shift of the journal)."""
+    if params.geometry.pads is None:
+        return params
+    from ..tilting_pad.padmap import pad_arc_params
+
+    return pad_arc_params(params)
+
+
 def settings_for(params: BearingParams, *, resolution=None, n_phi=None, grid=None, cavitation: str = "reynolds",
                  eps_max: float | None = None, phases: int | None = None) -> MapSettings:
     """The settings of a map of ``params``' bore: the given ones, the rest the bore's defaults
-    (the full bore's 2-D map or the grooved bore's 3-D map; the Reynolds solver's grid)."""
+    (the full bore's 2-D map or the grooved bore's 3-D map; the Reynolds solver's grid). Tilting pads:
+    the pads' arc map (``map_bearing``), ``grid``'s n_theta the cells on each pad's arc as the
+    tilting_pad internal's option (default its own), the force only (the pads have no film report)."""
     from ...physics.solver.reynolds import Reynolds
 
+    pads = params.geometry.pads is not None
+    if pads:
+        from ..tilting_pad.padmap import pad_map_cells
+
+        grid = (pad_map_cells(params, grid[0] if grid else None), grid[1] if grid else None)
+        params = map_bearing(params)
     full = params.geometry.is_full_bore
     rey = Reynolds(params, *(grid or (None, None)), cavitation)  # the solver's own defaults and checks
-    n_eps, n_beta = resolution or ((tb.DEFAULT_N_EPS, tb.DEFAULT_N_BETA) if full else (gm.DEFAULT_N_EPS,
-                                                                                       gm.DEFAULT_N_BETA))
+    n_eps, n_beta = resolution or ((tb.DEFAULT_N_EPS, tb.DEFAULT_N_BETA) if full else (
+        (PAD_MAP_N_EPS, PAD_MAP_N_BETA) if pads else (gm.DEFAULT_N_EPS, gm.DEFAULT_N_BETA)))
     return MapSettings(n_eps, n_beta, None if full else (n_phi or gm.default_n_phi(params.geometry)),
                        tb.DEFAULT_EPS_MAX if eps_max is None else float(eps_max), rey.n_theta, rey.n_x, rey.cavitation,
-                       phases or (tb.DEFAULT_N_PHASE if full else gm.DEFAULT_N_PHASE))
+                       phases or (tb.DEFAULT_N_PHASE if full else gm.DEFAULT_N_PHASE), flows=not pads)
 
 
 def map_key(params: BearingParams, settings: MapSettings) -> str:
@@ -74,8 +98,9 @@ def store_path(params: BearingParams, settings: MapSettings) -> Path:
 
 
 def stored_map(params: BearingParams, settings: MapSettings | None = None) -> Path | None:
-    """The store's map of ``params``' L/D and bore (default settings unless given), or None."""
-    path = store_path(params, settings or settings_for(params))
+    """The store's map of ``params``' L/D and bore (default settings unless given; tilting pads: the
+    pads' arc map, ``map_bearing``), or None."""
+    path = store_path(map_bearing(params), settings or settings_for(params))
     return path if path.is_file() else None
 
 

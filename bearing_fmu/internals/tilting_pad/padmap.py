@@ -33,18 +33,26 @@ def pad_arc_params(params: BearingParams) -> BearingParams:
                    geometry=Geometry(arc=(PAD_FRAME_PIVOT - o * b, PAD_FRAME_PIVOT + (1.0 - o) * b)))
 
 
+def pad_map_cells(params: BearingParams, n_theta: int | None = None) -> int:
+    """The Reynolds cells around the pads' arc bore of a pads' map: ``n_theta`` on each pad's arc (None:
+    the tilting-pad internal's default, ``PadAssembly.default_cells``), plus the cell outside the arc,
+    so the map's pads are the Reynolds pads of the internal at that grid."""
+    from .assembly import PadAssembly
+
+    cells = PadAssembly.default_cells(params.geometry.pads) if n_theta is None else n_theta
+    return cells + len(pad_arc_params(params).geometry.segments()[0]) - 1
+
+
 def build_pad_map(params: BearingParams, *, n_theta: int | None = None, n_x: int | None = None, workers: int = 1,
                   **sizes):
     """The pads' 3-D map (a ``GroovedMapTable``, force only) of ``params``' tilting pads from the Reynolds
     solver, ``n_theta`` cells on each pad's arc (None: the tilting-pad internal's default) x ``n_x``;
-    ``sizes``: n_eps, n_phi, n_beta, eps_max, n_phase of ``tabulate_grooved``."""
+    ``sizes``: n_eps, n_phi, n_beta, eps_max, n_phase of ``tabulate_grooved``. (``bearing-fmu map --bearing
+    FILE`` builds the same table as row tasks into the map store: ``internals.map.build``.)"""
     from ..map.groovemap import tabulate_grooved
-    from .assembly import PadAssembly
 
-    arc = pad_arc_params(params)
-    cells = PadAssembly.default_cells(params.geometry.pads) if n_theta is None else n_theta
-    n_total = cells + len(arc.geometry.segments()[0]) - 1  # plus the one cell outside the arc
-    return tabulate_grooved(arc, n_theta=n_total, n_x=n_x, workers=workers, flows=False, **sizes)
+    return tabulate_grooved(pad_arc_params(params), n_theta=pad_map_cells(params, n_theta), n_x=n_x,
+                            workers=workers, flows=False, **sizes)
 
 
 class PadMapSolver:
@@ -85,4 +93,4 @@ class PadMapSolver:
         return self.map.force(y, z - self.shift, vy, vz, omega)
 
 
-__all__ = ["pad_arc_params", "build_pad_map", "PadMapSolver"]
+__all__ = ["pad_arc_params", "pad_map_cells", "build_pad_map", "PadMapSolver"]

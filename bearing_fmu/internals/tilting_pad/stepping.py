@@ -68,6 +68,35 @@ class PadStepper:
         self.delta, self.rate = sol.delta.copy(), np.zeros(self.A.n)
         self.prev, self.dt_committed = None, 0.0
 
+    def state(self) -> tuple[float, ...]:
+        """The committed state as floats (what an FMU state carries): (dt_committed [s], dt of the step
+        before it [s] (0: no history), tilts [rad], rates [rad/s], and that step's tilts and rates (0s
+        without history)), 2 + 4 N floats."""
+        n = self.A.n
+        d1, w1, h1 = self.prev if self.prev is not None else (np.zeros(n), np.zeros(n), 0.0)
+        return (float(self.dt_committed), float(h1), *map(float, self.delta), *map(float, self.rate),
+                *map(float, d1), *map(float, w1))
+
+    def restore(self, values) -> None:
+        """The committed state from ``state()``'s floats (the step being tried dropped); ValueError
+        naming what does not fit (the count, a non-finite or negative value)."""
+        n = self.A.n
+        try:
+            v = [float(x) for x in values]
+        except (TypeError, ValueError):
+            raise ValueError(f"the pads' state must be {2 + 4 * n} numbers, got {values!r:.60}") from None
+        if len(v) != 2 + 4 * n:
+            raise ValueError(f"the pads' state has {len(v)} numbers, {n} pads need {2 + 4 * n}")
+        if not all(map(math.isfinite, v)):
+            raise ValueError("the pads' state has a non-finite number")
+        if v[0] < 0.0 or v[1] < 0.0:
+            raise ValueError(f"the pads' state has a negative step ({v[0]!r}, {v[1]!r} s)")
+        a = np.array(v[2:])
+        self.dt_committed = v[0]
+        self.delta, self.rate = a[:n].copy(), a[n:2 * n].copy()
+        self.prev = (a[2 * n:3 * n].copy(), a[3 * n:].copy(), v[1]) if v[1] > 0.0 and v[0] > 0.0 else None
+        self.trial, self.dt = None, 0.0
+
     def coefficients(self):
         """(b, h_delta, h_rate) of the step (module docstring)."""
         h = self.dt

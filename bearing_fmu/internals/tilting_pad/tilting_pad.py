@@ -15,7 +15,8 @@ is in the film); its Jacobian is that model's exact one (``PadAssembly.quasi_sta
 zero-frequency reduction of the stiffness). In a transient the host's step hooks (``begin_step(dt)``,
 ``accept_step``: ``rotor_host.coupling.bearings.DirectBearings`` calls them) make the pads' tilts (and
 with inertia their rates) states carried from step to step (``stepping``: BDF2, Newton per pad,
-warm-started), the force's derivatives total. The FMUs do not carry them yet.
+warm-started), the force's derivatives total. The Python FMU carries them the same way over each
+doStep (``Capabilities.step_states``: ``step_state``, ``set_step_state`` with its FMU state).
 """
 
 from __future__ import annotations
@@ -72,6 +73,21 @@ class TiltingPad:
     def accept_step(self) -> None:
         """The last evaluation's pads become the state."""
         self.stepper.accept()
+
+    def step_state(self) -> tuple[float, ...]:
+        """The pads' committed state as floats (``stepping.PadStepper.state``): what an FMU state carries."""
+        return self.stepper.state()
+
+    def set_step_state(self, values) -> None:
+        """The pads' committed state from ``step_state``'s floats (ValueError naming what does not fit)."""
+        self.stepper.restore(values)
+
+    def pad_report(self) -> tuple[np.ndarray, np.ndarray]:
+        """(tilts [rad], loads [N]) of the pads at the last evaluation: each pad's tilt and the magnitude
+        of its film force on the journal (zeros before any)."""
+        if self.last is None:
+            return np.zeros(self.pads.n), np.zeros(self.pads.n)
+        return self.last.delta.copy(), np.hypot(self.last.pad_F[:, 0], self.last.pad_F[:, 1])
 
     def force(self, y: float, z: float, vy: float, vz: float, omega: float) -> tuple[float, float]:
         """Film force (Fy, Fz) [N] on the journal: the pads in moment equilibrium, or at the end of
