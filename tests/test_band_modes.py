@@ -12,6 +12,7 @@ modes, 1e-12 for Friswell's), so 1e-7 relative.
 """
 
 import math
+import os
 from pathlib import Path
 
 import numpy as np
@@ -103,3 +104,38 @@ def test_a_big_rotor_is_not_solved_densely(monkeypatch):
     monkeypatch.setattr(banded, "from_band", no_dense)
     f, ld, shapes = bm.band_modes(rotor, 2 * math.pi * 22.0, np.eye(2) * 1e7, np.eye(2) * 1e3, 44.0)
     assert f.size and shapes.shape == (rotor.n_dof, f.size) and np.all(np.isfinite(ld))
+
+
+@pytest.mark.parametrize("band_hz", [44.0, 500.0])
+def test_the_first_count_is_the_undamped_disk_s_by_sylvester(band_hz):
+    # ARPACK's first count (band_modes._undamped_count, the negative pivots of K_s - w^2 M) against
+    # the dense generalised eigenvalues w_j^2 of (K_s, M): +i w_j in the disk for w_j <= Im(sigma) + R,
+    # -i w_j for w_j <= R - Im(sigma); the paper rotor on stiff, cross-coupled bearings
+    import scipy.linalg
+
+    rotor = Rotor.from_toml(MODELS / "rotor_paper.toml")
+    K = np.array([[2e7, 5e6], [-3e6, 1e7]])
+    M, Kt, _ = bm._system(rotor, 0.0, K, np.zeros((2, 2)))
+    wb = 2 * math.pi * band_hz
+    sigma, radius = 0.5j * wb, bm.DISK_RADIUS * wb
+    Ks = 0.5 * (Kt + Kt.T).toarray()
+    w = np.sqrt(scipy.linalg.eigh(Ks, M.toarray(), eigvals_only=True))
+    expected = int(np.sum(w <= sigma.imag + radius) + np.sum(w <= radius - sigma.imag))
+    assert 0 < expected < 2 * rotor.n_dof  # the disk neither empty nor everything
+    assert bm._undamped_count(M, Kt, sigma, radius) == expected
+
+
+def test_arpack_runs_on_one_blas_thread_and_the_count_is_restored():
+    calls = bm._openblas_threads()
+    if calls is None:
+        pytest.skip("scipy's BLAS here is not an OpenBLAS with thread functions: one_blas_thread changes nothing")
+    get, put = calls
+    before = get()
+    many = min(2, os.cpu_count() or 1)
+    put(many)
+    try:
+        with bm.one_blas_thread():
+            assert get() == 1
+        assert get() == many
+    finally:
+        put(before)

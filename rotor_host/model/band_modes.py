@@ -13,9 +13,11 @@ interest with ARPACK in shift-invert mode on the sparse matrices:
 
 where applying (A - sigma B)^-1 B takes one solve with the n x n sparse complex matrix
 D(sigma) = K + sigma C + sigma^2 M (x = -D^-1 (M w2 + (C + sigma M) w1), y = w1 + sigma x),
-factorised once (scipy's SuperLU). ARPACK's largest |1 / (lambda - sigma)| are the eigenvalues
-nearest sigma; the number asked for doubles until one found lies beyond the disk
-|lambda - sigma| <= R, so every eigenvalue inside the disk is found. The disk: sigma = i w_b / 2,
+factorised once (LAPACK's banded LU: a shaft's D is banded, half-bandwidth 7; SuperLU for a wide
+band). ARPACK's largest |1 / (lambda - sigma)| are the eigenvalues nearest sigma; the number
+asked for starts from the disk's count without damping (Sylvester's inertia, ``_undamped_count``)
+and doubles until one found lies beyond the disk |lambda - sigma| <= R, so every eigenvalue
+inside the disk is found. ARPACK runs with one BLAS thread (``one_blas_thread``). The disk: sigma = i w_b / 2,
 R = 8 w_b for the band's top w_b = 2 pi up_to_hz: every mode with damped frequency in (0, w_b]
 and |Re(lambda)| up to 7.98 w_b, so every mode of the band whose log decrement is below
 2 pi 7.98 = 50 (amplification factor 0.06) and most heavier ones, the modes a stability analysis
@@ -26,19 +28,27 @@ not returned.
 The same filters as ``Rotor.modes`` follow (oscillatory: Im(lambda) > 1e-3 |lambda|; rigid-body
 zeros dropped) and the same normalisation (each shape's largest entry 1), so in the band the
 two paths give the same modes to round-off (tests/test_band_modes.py).
+
+Cost per speed of a 2000-element shaft (8004 DOFs, band 48 Hz; 2 cores at load 8, side by side,
+benchmarks/bench_band_modes.py): 0.4-0.6 s; with SuperLU, OpenBLAS's default threads and a first
+count of 16 doubled to 32, 9-11 s (one thread: 1.0-1.3 s, and the banded LU: 0.8-0.95 s).
 """
 
 from __future__ import annotations
 
+import contextlib
+import functools
 import math
+from pathlib import Path
 
 import numpy as np
 
 from .rotor import DENSE_MAX_DOF, OSCILLATORY, Rotor, modal_table
 
-FIRST_K = 16  # eigenvalues asked of ARPACK at first; doubled until the disk is covered
+FIRST_K = 16  # eigenvalues asked of ARPACK at first when _undamped_count cannot count them; doubled until the disk is covered
 DISK_RADIUS = 8.0  # R / w_b
 ZERO_REL = 1e-6  # |lambda| below this times the highest element frequency: a rigid-body zero
+BAND_MAX = 64  # D(sigma) of a half-bandwidth up to this: banded LU (LAPACK), else SuperLU
 
 __all__ = ["band_modes", "DISK_RADIUS"]
 
@@ -92,28 +102,128 @@ def _nearest(M, K, C, sigma: complex, radius: float):
     import scipy.sparse.linalg as sla
 
     n = K.shape[0]
-    lu = sla.splu((K + sigma * C + sigma ** 2 * M).astype(complex).tocsc())
-    CsM = (C + sigma * M).astype(complex)
+    solve = _factorised((K + sigma * C + sigma ** 2 * M).astype(complex), f"K + s C + s^2 M at the shift s = {sigma:g}")
+    CsM = (C + sigma * M).astype(complex).tocsr()
+    Mr = M.tocsr()
 
     def op(w):
         w = np.asarray(w).reshape(-1)
-        x = -lu.solve(M @ w[n:] + CsM @ w[:n])
+        x = -solve(Mr @ w[n:] + CsM @ w[:n])
         return np.concatenate([x, w[:n] + sigma * x])
 
     A = sla.LinearOperator((2 * n, 2 * n), matvec=op, dtype=complex)
     v0 = np.ones(2 * n, dtype=complex)  # a fixed start: the same modes every run
-    k = min(FIRST_K, 2 * n - 2)
-    while True:
-        mu, z = sla.eigs(A, k=k, which="LM", v0=v0, tol=0.0)
-        lam = sigma + 1.0 / mu
-        if np.max(np.abs(lam - sigma)) > radius or k >= 2 * n - 2:
-            return lam, z
-        k = min(2 * k, 2 * n - 2)
+    count = _undamped_count(M, K, sigma, radius)
+    k = min(FIRST_K if count is None else count + 4 + count // 4, 2 * n - 2)  # a margin for damping's moves
+    with one_blas_thread():
+        while True:
+            mu, z = sla.eigs(A, k=k, which="LM", v0=v0, tol=0.0)
+            lam = sigma + 1.0 / mu
+            if np.max(np.abs(lam - sigma)) > radius or k >= 2 * n - 2:
+                return lam, z
+            k = min(2 * k, 2 * n - 2)
 
 
+def _undamped_count(M, K, sigma: complex, radius: float) -> int | None:
+    """How many eigenvalues the disk holds without damping and gyroscopics (ARPACK's first count).
+
+    Undamped, the eigenvalues are +-i w_j, w_j^2 those of (K_s, M) with K_s = (K + K^T) / 2; +i w_j
+    lies in the disk for w_j <= Im(sigma) + R, -i w_j for w_j <= R - Im(sigma). How many w_j lie
+    below a w is Sylvester's count of negative pivots of K_s - w^2 M (M positive definite),
+    eliminated in the natural order (``integrate.banded.band_lu``: banded, O(n w^2)). Damping and
+    the gyroscopic term move the modes a little; the doubling in ``_nearest`` covers what the
+    count misses. None when a pivot vanishes or the band is wide."""
+    from ..integrate.banded import band_lu, bandwidth, to_band
+
+    Ks = 0.5 * (K + K.T)
+    w = bandwidth(Ks, M)
+    if w > BAND_MAX:
+        return None
+    count = 0
+    for reach in (sigma.imag + radius, radius - sigma.imag):
+        if reach > 0.0:
+            B = to_band(Ks - reach ** 2 * M, w)
+            if band_lu(B) >= 0:
+                return None
+            count += int(np.count_nonzero(B[:, w] < 0.0))
+    return count
+
+
+def _factorised(D, what: str):
+    """x = D^-1 b for the sparse complex D: LAPACK's banded LU with partial pivoting (zgbtrf) when
+    D is banded (a shaft's matrices: half-bandwidth 7 whatever its length; a solve O(n w)), else
+    SuperLU (its fill-reducing order makes a wide or irregular pattern's solve ~20x dearer)."""
+    from scipy.linalg import lapack
+
+    from ..integrate.banded import bandwidth
+
+    n = D.shape[0]
+    w = bandwidth(D)
+    if w > BAND_MAX:
+        import scipy.sparse.linalg as sla
+
+        return sla.splu(D.tocsc()).solve
+    c = D.tocoo()
+    ab = np.zeros((3 * w + 1, n), dtype=complex)  # zgbtrf's storage: A[i, j] at ab[2 w + i - j, j]
+    np.add.at(ab, (2 * w + c.row - c.col, c.col), c.data)
+    lu, piv, info = lapack.zgbtrf(ab, w, w, overwrite_ab=True)
+    if info != 0:
+        raise ValueError(f"band_modes: {what} is singular (pivot {info} of {n} vanishes)")
+
+    def solve(b):
+        return lapack.zgbtrs(lu, w, w, b, piv)[0]
+
+    return solve
 def _highest_frequency(M, K) -> float:
     """An estimate [rad/s] of the highest natural frequency: max over DOFs of sqrt(K_ii / M_ii),
     the stiffest single element's (within a small factor of the true one); only the scale below
     which an eigenvalue counts as a rigid-body zero."""
     d = np.abs(M.diagonal())
     return float(math.sqrt(np.max(np.abs(K.diagonal())[d > 0] / d[d > 0])))
+
+
+@contextlib.contextmanager
+def one_blas_thread():
+    """One OpenBLAS thread inside the block (the one scipy's ARPACK calls), restored after.
+
+    ARPACK's steps are BLAS-2 products with the Krylov basis (2n x ~2k): OpenBLAS spreads each
+    over every core and its threads spin between them, so on a loaded machine a speed of a
+    2000-element shaft took 7-10 s with two threads and 1.1 s with one (2 cores, load 8,
+    benchmarks/bench_band_modes.py). Without OpenBLAS (Accelerate, MKL) or its thread functions,
+    nothing changes."""
+    calls = _openblas_threads()
+    if calls is None:
+        yield
+        return
+    get, put = calls
+    before = get()
+    put(1)
+    try:
+        yield
+    finally:
+        put(before)
+
+
+@functools.lru_cache(maxsize=1)
+def _openblas_threads():
+    """(get, set) of the thread count of scipy's OpenBLAS (its wheels' scipy.libs or .dylibs, as
+    loaded: the same library, not a second copy), or None."""
+    import ctypes
+
+    import scipy
+
+    root = Path(scipy.__file__).resolve().parent
+    for lib in sorted([*root.parent.glob("scipy.libs/*openblas*"), *root.glob(".dylibs/*openblas*")]):
+        try:
+            dll = ctypes.CDLL(str(lib))
+        except OSError:
+            continue
+        for prefix in ("scipy_openblas", "openblas"):
+            for suffix in ("", "64_"):
+                get = getattr(dll, f"{prefix}_get_num_threads{suffix}", None)
+                put = getattr(dll, f"{prefix}_set_num_threads{suffix}", None)
+                if get is not None and put is not None:
+                    get.restype, get.argtypes = ctypes.c_int, []
+                    put.restype, put.argtypes = None, [ctypes.c_int]
+                    return get, put
+    return None
