@@ -50,7 +50,7 @@ DISK_RADIUS = 8.0  # R / w_b
 ZERO_REL = 1e-6  # |lambda| below this times the highest element frequency: a rigid-body zero
 BAND_MAX = 64  # D(sigma) of a half-bandwidth up to this: banded LU (LAPACK), else SuperLU
 
-__all__ = ["band_modes", "DISK_RADIUS"]
+__all__ = ["band_modes", "band_modes_with_pads", "DISK_RADIUS"]
 
 
 def band_modes(rotor: Rotor, speed: float, bearing_K=None, bearing_C=None, up_to_hz: float = math.inf, *,
@@ -69,11 +69,106 @@ def band_modes(rotor: Rotor, speed: float, bearing_K=None, bearing_C=None, up_to
     wb = 2.0 * math.pi * up_to_hz
     sigma, radius = 0.5j * wb, DISK_RADIUS * wb
     lam, z = _nearest(M, K, C, sigma, radius)
-    n = rotor.n_dof
-    zero = ZERO_REL * _highest_frequency(M, K)
+    return _table(lam, z[:rotor.n_dof], sigma, radius, ZERO_REL * _highest_frequency(M, K))
+
+
+def _table(lam, x, sigma: complex, radius: float, zero: float):
+    """``modal_table`` of the disk's modes that ``Rotor.modes`` keeps (oscillatory, not a rigid-body
+    zero: |lambda| >= ``zero``), x their shapes (n x k)."""
     keep = (np.abs(lam - sigma) <= radius) & (lam.imag > OSCILLATORY * np.abs(lam)) & (np.abs(lam) >= zero)
-    lam, vec = lam[keep], z[:n, keep]
-    return modal_table(lam, vec)
+    return modal_table(lam[keep], x[:, keep])
+
+
+def band_modes_with_pads(rotor: Rotor, speed: float, blocks, up_to_hz: float):
+    """``band_modes`` for bearings with coordinates of their own (tilting pads): what
+    ``analyses.linear.pad_modes.modes`` gives densely, for the disk about the band up to
+    ``up_to_hz`` [Hz] (module docstring). ``blocks``: one per bearing, each with ``dofs`` (its
+    journal's y, z DOF indices), ``K``, ``C`` ((2 + N) x (2 + N), Lund's signs), ``inertia`` (N,)
+    and ``live()`` (``pad_modes.PadBlock``).
+
+    The equations of ``pad_modes.state_matrix`` in descriptor form B X' = A X, nothing inverted,
+    X = (q, v = q', p), p = (massless tilts, tilts with inertia, their rates):
+      q' = v;   M v' + B_vp p' = -Kt q - Ct v + A_vp p;   B_pp p' = A_pq q + A_pv v + A_pp p
+    (a massless pad: C_pp delta' = -(K_pj q_j + C_pj v_j + K_pp delta), its C_jp delta' in the
+    journal's row; a pad with inertia: delta' = rate, I rate' = -(... + C_pp rate)). Shift-invert,
+    (A - sigma B) X = B w, with v = w_q + sigma q eliminated: the (n + N_p) square
+      [[-D(sigma), A_vp - sigma B_vp], [A_pq + sigma A_pv, A_pp - sigma B_pp]] (q, p)
+        = (M w_v + B_vp w_p + (Ct + sigma M) w_q, B_pp w_p - A_pv w_q)
+    factorised once by SuperLU (the rotor's rows scaled as D(sigma) is, not as the 1 of q' = v).
+    The same filters and normalisation follow."""
+    import scipy.sparse as sp
+    import scipy.sparse.linalg as sla
+
+    if not (math.isfinite(up_to_hz) and up_to_hz > 0.0):
+        raise ValueError(f"band_modes_with_pads: up_to_hz = {up_to_hz!r} must be a finite frequency > 0 Hz")
+    M, K, G, C = rotor.sparse()
+    n = rotor.n_dof
+    Kt, Ct = _journal_blocks(K, blocks, "K"), _journal_blocks(C + speed * G, blocks, "C")
+    pads = [(blk, int(k)) for blk in blocks for k in blk.live() if blk.inertia[k] <= 0.0]  # massless first
+    pads += [(blk, int(k)) for blk in blocks for k in blk.live() if blk.inertia[k] > 0.0]
+    nm = sum(blk.inertia[k] <= 0.0 for blk, k in pads)
+    ni = len(pads) - nm
+    npad = nm + 2 * ni
+    parts = {name: ([], [], []) for name in ("Avp", "Bvp", "Apq", "Apv", "App", "Bpp")}
+
+    def put(name, i, j, v):
+        parts[name][0].append(i)
+        parts[name][1].append(j)
+        parts[name][2].append(v)
+
+    for r, (blk, k) in enumerate(pads):
+        c, j = 2 + k, blk.dofs
+        tilt, rate = r, (r + ni if r >= nm else None)  # a pad with inertia: its rate ni rows after its tilt
+        for a in range(2):
+            put("Avp", j[a], tilt, -blk.K[a, c])
+            put("Apq", rate if rate is not None else tilt, j[a], -blk.K[c, a])
+            put("Apv", rate if rate is not None else tilt, j[a], -blk.C[c, a])
+            if rate is None:
+                put("Bvp", j[a], tilt, blk.C[a, c])
+            else:
+                put("Avp", j[a], rate, -blk.C[a, c])
+        if rate is None:
+            put("Bpp", tilt, tilt, blk.C[c, c])
+            put("App", tilt, tilt, -blk.K[c, c])
+        else:
+            put("Bpp", tilt, tilt, 1.0)
+            put("App", tilt, rate, 1.0)
+            put("Bpp", rate, rate, blk.inertia[k])
+            put("App", rate, tilt, -blk.K[c, c])
+            put("App", rate, rate, -blk.C[c, c])
+    shapes = {"Avp": (n, npad), "Bvp": (n, npad), "Apq": (npad, n), "Apv": (npad, n), "App": (npad, npad),
+              "Bpp": (npad, npad)}
+    P = {name: sp.csr_matrix((np.array(x, float), (np.array(i, int), np.array(j, int))), shape=shapes[name])
+         for name, (i, j, x) in parts.items()}
+    wb = 2.0 * math.pi * up_to_hz
+    sigma, radius = 0.5j * wb, DISK_RADIUS * wb
+    S = sp.bmat([[-(Kt + sigma * Ct + sigma ** 2 * M), P["Avp"] - sigma * P["Bvp"]],
+                 [P["Apq"] + sigma * P["Apv"], P["App"] - sigma * P["Bpp"]]], format="csc").astype(complex)
+    solve = sla.splu(S).solve
+    CsM, Bvp, Bpp, Apv = (Ct + sigma * M).astype(complex), P["Bvp"], P["Bpp"], P["Apv"]
+
+    def op(w):
+        w = np.asarray(w).reshape(-1)
+        wq, wv, wp = w[:n], w[n:2 * n], w[2 * n:]
+        qp = solve(np.concatenate([M @ wv + Bvp @ wp + CsM @ wq, Bpp @ wp - Apv @ wq]))
+        return np.concatenate([qp[:n], wq + sigma * qp[:n], qp[n:]])
+
+    lam, z = _arpack(op, 2 * n + npad, sigma, radius, _undamped_count(M, Kt, sigma, radius))
+    return _table(lam, z[:n], sigma, radius, ZERO_REL * _highest_frequency(M, Kt))
+
+
+def _journal_blocks(A, blocks, which: str):
+    """A (the shaft's K, or its C + speed G) with each bearing's journal 2 x 2 of ``which`` added."""
+    import scipy.sparse as sp
+
+    rows, cols, vals = [], [], []
+    for blk in blocks:
+        for a in range(2):
+            for b in range(2):
+                rows.append(blk.dofs[a])
+                cols.append(blk.dofs[b])
+                vals.append(getattr(blk, which)[a, b])
+    return (A + sp.csr_matrix((vals, (rows, cols)), shape=A.shape)).tocsr()
 
 
 def _system(rotor: Rotor, speed: float, bearing_K, bearing_C):
@@ -99,8 +194,6 @@ def _system(rotor: Rotor, speed: float, bearing_K, bearing_C):
 def _nearest(M, K, C, sigma: complex, radius: float):
     """Eigenvalues lambda and state vectors z (2n x k) nearest ``sigma``, every one within
     ``radius`` of it (fewer only when ARPACK's limit of 2n - 2 is reached)."""
-    import scipy.sparse.linalg as sla
-
     n = K.shape[0]
     solve = _factorised((K + sigma * C + sigma ** 2 * M).astype(complex), f"K + s C + s^2 M at the shift s = {sigma:g}")
     CsM = (C + sigma * M).astype(complex).tocsr()
@@ -111,17 +204,25 @@ def _nearest(M, K, C, sigma: complex, radius: float):
         x = -solve(Mr @ w[n:] + CsM @ w[:n])
         return np.concatenate([x, w[:n] + sigma * x])
 
-    A = sla.LinearOperator((2 * n, 2 * n), matvec=op, dtype=complex)
-    v0 = np.ones(2 * n, dtype=complex)  # a fixed start: the same modes every run
-    count = _undamped_count(M, K, sigma, radius)
-    k = min(FIRST_K if count is None else count + 4 + count // 4, 2 * n - 2)  # a margin for damping's moves
+    return _arpack(op, 2 * n, sigma, radius, _undamped_count(M, K, sigma, radius))
+
+
+def _arpack(op, size: int, sigma: complex, radius: float, count: int | None):
+    """ARPACK's eigenvalues 1 / (lambda - sigma) of the shift-invert operator ``op`` (size x size),
+    as (lambda, vectors): its first count ``count`` plus a margin for damping's moves (FIRST_K
+    without a count), doubled until one lies beyond the disk (or ARPACK's limit size - 2)."""
+    import scipy.sparse.linalg as sla
+
+    A = sla.LinearOperator((size, size), matvec=op, dtype=complex)
+    v0 = np.ones(size, dtype=complex)  # a fixed start: the same modes every run
+    k = min(FIRST_K if count is None else count + 4 + count // 4, size - 2)
     with one_blas_thread():
         while True:
             mu, z = sla.eigs(A, k=k, which="LM", v0=v0, tol=0.0)
             lam = sigma + 1.0 / mu
-            if np.max(np.abs(lam - sigma)) > radius or k >= 2 * n - 2:
+            if np.max(np.abs(lam - sigma)) > radius or k >= size - 2:
                 return lam, z
-            k = min(2 * k, 2 * n - 2)
+            k = min(2 * k, size - 2)
 
 
 def _undamped_count(M, K, sigma: complex, radius: float) -> int | None:
