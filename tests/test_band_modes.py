@@ -154,9 +154,9 @@ def test_tilting_pads_in_the_band_are_the_dense_pad_modes(inertia):
     from dataclasses import replace
 
     from rotor_host.analyses.linear import pad_modes as pm
-    from rotor_host.analyses.linear.stability import Stability, read_rotor
+    from rotor_host.analyses.linear.stability import Stability
 
-    rotor, _ = read_rotor(MODELS / "rotor_paper_5pad_lbp.toml")
+    rotor = Rotor.from_toml(MODELS / "rotor_paper_5pad_lbp.toml")
     st = Stability(rotor, "tilting_pad", {"n_theta": 24, "n_x": 4})
     for speed_hz in (20.0, 60.0):
         omega, band = 2 * math.pi * speed_hz, 2.0 * speed_hz
