@@ -96,7 +96,8 @@ pass costs about LONG_CALL_WORK (n_theta (n_x / 2)^3, the banded factorization's
 runs its kernel in a worker thread with the GIL released (``_released``), while the calling
 thread waits in short timed joins: Ctrl-C's KeyboardInterrupt (or the command line's
 ``Interrupted``) is raised in the caller at once, the abandoned call runs to its end in the
-background (it dies with the process; the same instance's next call waits for it). The same
+background at the lowest priority (it dies with the process; the same instance's next call
+waits for it). The same
 compiled kernel runs either way, so the results are the same bit for bit; below that grid size
 the kernel is called directly (a thread costs ~0.1 ms, a call at the default grid ~0.3 ms).
 """
@@ -104,6 +105,7 @@ the kernel is called directly (a thread costs ~0.1 ms, a call at the default gri
 from __future__ import annotations
 
 import math
+import os
 import threading
 
 import numpy as np
@@ -147,6 +149,16 @@ def _geometry_released(*args):
 
 
 _RELEASED = {reynolds_kernel: _reynolds_released, geometry_kernel: _geometry_released}
+
+
+def _lowest_priority(thread) -> None:
+    """Nice 19 for ``thread`` alone (Linux: a thread id is a process id to setpriority); elsewhere
+    nothing. An interrupted long call keeps its core until its kernel returns: at normal priority
+    it slowed the interpreter's exit by ~1 s on a loaded 2-core machine."""
+    try:
+        os.setpriority(os.PRIO_PROCESS, thread.native_id, 19)
+    except (AttributeError, OSError):
+        pass
 
 
 # ----------------------------------------------------------------------------------------
@@ -351,8 +363,12 @@ class Reynolds:
         """Until the long call's thread has ended (an interrupted call's, too: it still writes the
         work arrays), in timed joins that a signal's handler can end."""
         worker = self._worker
-        while worker is not None and worker.is_alive():
-            worker.join(JOIN_POLL_S)
+        try:
+            while worker is not None and worker.is_alive():
+                worker.join(JOIN_POLL_S)
+        except BaseException:
+            _lowest_priority(worker)  # abandoned: what the caller does next (its exit, too) runs first
+            raise
         self._worker = None
 
     def __getstate__(self):
