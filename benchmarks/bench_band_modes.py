@@ -14,6 +14,12 @@ speeds interleaved round by round (medians):
 and the largest relative difference of each variant's eigenvalues from the first's.
 
     python benchmarks/bench_band_modes.py [--elements 2000] [--rounds 3]
+    python benchmarks/bench_band_modes.py --pads [--dense-elements 300]
+
+``--pads``: the same shaft on the bundled five-pad bearings (bearing_paper_5pad_lbp.toml, the
+tilting_pad internal), ``band_modes_with_pads`` against the dense ``pad_modes.modes`` side by side
+on a shorter shaft (``--dense-elements``: the dense path grows as n^3), then the sparse path alone
+at ``--elements``; the largest relative difference of the disk's eigenvalues.
 
 Run without OPENBLAS_NUM_THREADS set (the tests set it to 1); say the machine's load.
 """
@@ -62,13 +68,47 @@ VARIANTS = {
 }
 
 
+def pads(n_dense: int, n_sparse: int) -> None:
+    from rotor_host.analyses.linear import pad_modes as pm
+
+    print("\n| elements | DOFs | speed | sparse | dense | modes | max rel. diff. of lambda |\n|---|---|---|---|---|---|---|")
+    for n_el in (n_dense, n_sparse):
+        with tempfile.TemporaryDirectory() as tmp:
+            path = shaft(Path(tmp), n_el)
+            path.write_text(path.read_text().replace("bearing_paper.toml", "bearing_paper_5pad_lbp.toml"))
+            rotor = Rotor.from_toml(path)
+        st = Stability(rotor, "tilting_pad", {})
+        for hz in SPEEDS_HZ:
+            omega = 2 * math.pi * hz
+            blocks = pm.pad_blocks(st.internals, st.pairs, st.equilibrium(omega), omega)
+            t0 = time.perf_counter()
+            fs, ls, _ = bm.band_modes_with_pads(rotor, omega, blocks, BAND_HZ)
+            ts = time.perf_counter() - t0
+            dense, diff = "-", "-"
+            if n_el == n_dense:
+                t0 = time.perf_counter()
+                fd, ld, _ = pm.modes(rotor, omega, blocks)
+                dense = f"{time.perf_counter() - t0:.2f} s"
+                lam_d, lam_s = -ld * fd + 2j * math.pi * fd, -ls * fs + 2j * math.pi * fs
+                wb = 2 * math.pi * BAND_HZ
+                inside = np.abs(lam_d - 0.5j * wb) <= bm.DISK_RADIUS * wb
+                diff = (f"{np.max(np.abs(lam_s - lam_d[inside]) / np.abs(lam_d[inside])):.1e}"
+                        if inside.sum() == lam_s.size else "not the same modes")
+            print(f"| {n_el} | {rotor.n_dof} | {hz:g} Hz | {ts:.2f} s | {dense} | {fs.size} | {diff} |")
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--elements", type=int, default=2000)
     ap.add_argument("--rounds", type=int, default=3)
+    ap.add_argument("--pads", action="store_true")
+    ap.add_argument("--dense-elements", type=int, default=300)
     a = ap.parse_args()
     print(f"load average {os.getloadavg()[0]:.2f}, {os.cpu_count()} cores, "
           f"OPENBLAS_NUM_THREADS={os.environ.get('OPENBLAS_NUM_THREADS', 'unset')}")
+    if a.pads:
+        pads(a.dense_elements, a.elements)
+        return
     with tempfile.TemporaryDirectory() as tmp:
         rotor = Rotor.from_toml(shaft(Path(tmp), a.elements))
     st = Stability(rotor, "map", {"map": str(MODELS / "maps" / "paper_bearing.json")})

@@ -96,8 +96,9 @@ def band_modes_with_pads(rotor: Rotor, speed: float, blocks, up_to_hz: float):
         = (M w_v + B_vp w_p + (Ct + sigma M) w_q, B_pp w_p - A_pv w_q)
     factorised once by SuperLU (the rotor's rows scaled as D(sigma) is, not as the 1 of q' = v).
     The same filters and normalisation follow. A 2000-element shaft on the bundled five-pad
-    bearings: 0.6-0.7 s a speed (2 cores, load 8); the dense path took 38-44 s a speed at 300
-    elements already (it grows as n^3: hours and GBs at 2000)."""
+    bearings: 0.4-0.7 s a speed (2 cores, load 7-8); at 300 elements 0.12-0.18 s, where the dense
+    path took 54-165 s (38-44 s with one BLAS thread), growing as n^3: hours and GBs at 2000
+    (benchmarks/bench_band_modes.py --pads)."""
     import scipy.sparse as sp
     import scipy.sparse.linalg as sla
 
