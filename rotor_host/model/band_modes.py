@@ -2,9 +2,11 @@
 
 ``Rotor.modes`` solves the whole state-space eigenproblem densely: 2n x 2n, every mode. That is
 right for the bundled rotors (44 DOFs: milliseconds) and impossible for a 2000-element shaft
-(n = 8004: a 16 008 x 16 008 dense matrix, 2 GB, hours). Above ``DENSE_MAX_DOF`` DOFs (where
-``Rotor.matrices`` turns sparse too), ``band_modes`` finds only the modes around the band of
-interest with ARPACK in shift-invert mode on the sparse matrices:
+(n = 8004: a 16 008 x 16 008 dense matrix, 2 GB, hours); it is also one LAPACK call, which Python
+cannot interrupt: 0.6 s at 300 DOFs, 1.7 s at 400, 10 s at 1000 (one BLAS thread, a loaded
+2-core machine; with OpenBLAS's default threads 5-31 s at 300-1000). Above
+``DENSE_MODES_MAX_DOF`` DOFs ``band_modes`` finds only the modes around the band of interest
+with ARPACK in shift-invert mode on the sparse matrices (0.02-0.07 s at 300-1000 DOFs):
 
   lambda^2 M x + lambda C x + K x = 0,  z = (x, lambda x):  A z = lambda B z,
   A = [[0, I], [-K, -C]], B = [[I, 0], [0, M]],
@@ -43,25 +45,27 @@ from pathlib import Path
 
 import numpy as np
 
-from .rotor import DENSE_MAX_DOF, OSCILLATORY, Rotor, modal_table
+from .rotor import OSCILLATORY, Rotor, modal_table
 
 FIRST_K = 16  # eigenvalues asked of ARPACK at first when _undamped_count cannot count them; doubled until the disk is covered
 DISK_RADIUS = 8.0  # R / w_b
 ZERO_REL = 1e-6  # |lambda| below this times the highest element frequency: a rigid-body zero
 BAND_MAX = 64  # D(sigma) of a half-bandwidth up to this: banded LU (LAPACK), else SuperLU
+DENSE_MODES_MAX_DOF = 300  # every mode, densely, up to this (module docstring: within about a second)
 
-__all__ = ["band_modes", "band_modes_with_pads", "DISK_RADIUS"]
+__all__ = ["band_modes", "band_modes_with_pads", "DISK_RADIUS", "DENSE_MODES_MAX_DOF"]
 
 
 def band_modes(rotor: Rotor, speed: float, bearing_K=None, bearing_C=None, up_to_hz: float = math.inf, *,
                sparse: bool | None = None):
     """(freq_hz, log_dec, shapes) of the damped modes as ``Rotor.modes`` returns them, at
     ``speed`` [rad/s] with the bearings' Lund ``bearing_K`` [N/m] and ``bearing_C`` [N s/m] (one
-    2x2, or one per bearing). Up to DENSE_MAX_DOF DOFs (``sparse`` None or False): every mode,
-    ``Rotor.modes`` itself; above (or ``sparse=True``): the modes in the disk about the band up to
-    ``up_to_hz`` [Hz] (module docstring), which must then be finite and > 0."""
-    if not (sparse if sparse is not None else rotor.n_dof > DENSE_MAX_DOF):
-        return rotor.modes(speed, bearing_K, bearing_C)
+    2x2, or one per bearing). Up to DENSE_MODES_MAX_DOF DOFs (``sparse`` None or False): every mode,
+    ``Rotor.modes`` itself (on one BLAS thread); above (or ``sparse=True``): the modes in the disk
+    about the band up to ``up_to_hz`` [Hz] (module docstring), which must then be finite and > 0."""
+    if not (sparse if sparse is not None else rotor.n_dof > DENSE_MODES_MAX_DOF):
+        with one_blas_thread():
+            return rotor.modes(speed, bearing_K, bearing_C)
     if not (math.isfinite(up_to_hz) and up_to_hz > 0.0):
         raise ValueError(f"band_modes: a rotor of {rotor.n_dof} DOFs is solved in a band; up_to_hz = {up_to_hz!r} "
                          "must be a finite frequency > 0 Hz")
