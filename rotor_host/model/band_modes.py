@@ -41,6 +41,7 @@ from __future__ import annotations
 import contextlib
 import functools
 import math
+import threading
 from pathlib import Path
 
 import numpy as np
@@ -299,9 +300,11 @@ def one_blas_thread():
     over every core and its threads spin between them, so on a loaded machine a speed of a
     2000-element shaft took 7-10 s with two threads and 1.1 s with one (2 cores, load 8,
     benchmarks/bench_band_modes.py). Without OpenBLAS (Accelerate, MKL) or its thread functions,
-    nothing changes."""
+    nothing changes; nor outside the main thread (the count is the process's, and OpenBLAS must
+    not have it changed under a call running in another thread; Dask's nanny starts its worker
+    processes with OPENBLAS_NUM_THREADS=1 anyway)."""
     calls = _openblas_threads()
-    if calls is None:
+    if calls is None or threading.current_thread() is not threading.main_thread():
         yield
         return
     get, put = calls
