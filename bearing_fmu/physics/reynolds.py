@@ -97,9 +97,9 @@ runs its kernel in a worker thread with the GIL released (``_released``), while 
 thread waits in short timed joins: Ctrl-C's KeyboardInterrupt (or the command line's
 ``Interrupted``) is raised in the caller at once, the abandoned call runs to its end in the
 background at the lowest priority (it dies with the process; the same instance's next call
-waits for it). The same
-compiled kernel runs either way, so the results are the same bit for bit; below that grid size
-the kernel is called directly (a thread costs ~0.1 ms, a call at the default grid ~0.3 ms).
+waits for it). The same compiled kernel runs either way, so the results are the same bit for
+bit; below that grid size the kernel is called directly, as before, through two checks of
+0.7 us in all (a call at the default grid: ~0.3 ms; benchmarks/bench_long_calls.py).
 """
 
 from __future__ import annotations
