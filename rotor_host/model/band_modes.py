@@ -46,13 +46,15 @@ from pathlib import Path
 
 import numpy as np
 
-from .rotor import OSCILLATORY, Rotor, modal_table
+from .rotor import DENSE_MAX_DOF, OSCILLATORY, Rotor, modal_table
 
 FIRST_K = 16  # eigenvalues asked of ARPACK at first when _undamped_count cannot count them; doubled until the disk is covered
 DISK_RADIUS = 8.0  # R / w_b
 ZERO_REL = 1e-6  # |lambda| below this times the highest element frequency: a rigid-body zero
 BAND_MAX = 64  # D(sigma) of a half-bandwidth up to this: banded LU (LAPACK), else SuperLU
-DENSE_MODES_MAX_DOF = 300  # every mode, densely, up to this (module docstring: within about a second)
+# every mode, densely, up to this (module docstring: within about a second); never above the
+# size where the matrices themselves turn sparse
+DENSE_MODES_MAX_DOF = min(300, DENSE_MAX_DOF)
 
 __all__ = ["band_modes", "band_modes_with_pads", "DISK_RADIUS", "DENSE_MODES_MAX_DOF"]
 
