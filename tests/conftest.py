@@ -411,6 +411,38 @@ def write_scene_fixture(tmp_path):
     return lambda body, name="s.toml", **kw: write_scene(tmp_path, body, name, **kw)
 
 
+# ------------------------------------------------------------ FMI 2.0 states, serialised
+
+def serialised_state(raw) -> bytes:
+    """The FMU's current state serialised (fmi2GetFMUstate, fmi2SerializedFMUstateSize,
+    fmi2SerializeFMUstate, fmi2FreeFMUstate, each asserted OK), through ``raw.call(name, *args)``
+    (the Python FMU's ``tests.test_fmi_status.Raw`` or the native FMU's ``test_native_fmu.Raw``)."""
+    import ctypes
+
+    state = ctypes.c_void_p()
+    assert raw.call("fmi2GetFMUstate", ctypes.byref(state)) == 0
+    size = ctypes.c_size_t()
+    assert raw.call("fmi2SerializedFMUstateSize", state, ctypes.byref(size)) == 0
+    buf = (ctypes.c_char * size.value)()
+    assert raw.call("fmi2SerializeFMUstate", state, buf, size) == 0
+    assert raw.call("fmi2FreeFMUstate", ctypes.byref(state)) == 0
+    return bytes(buf)
+
+
+def restore_state(raw, blob: bytes) -> int:
+    """fmi2DeSerializeFMUstate of ``blob`` and, if that is OK, fmi2SetFMUstate of it (the copy freed
+    after, asserted OK): the status of the first call that is not OK, or of the last."""
+    import ctypes
+
+    state = ctypes.c_void_p()
+    status = raw.call("fmi2DeSerializeFMUstate", ctypes.create_string_buffer(blob, len(blob)), len(blob),
+                      ctypes.byref(state))
+    if status == 0:
+        status = raw.call("fmi2SetFMUstate", state)
+        assert raw.call("fmi2FreeFMUstate", ctypes.byref(state)) == 0
+    return status
+
+
 # ------------------------------------------------------------ commands as subprocesses
 
 def start_command(prog, *argv, pause=None, env=None, code_cache=None, new_session=False):

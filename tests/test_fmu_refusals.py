@@ -18,6 +18,7 @@ import sys
 import textwrap
 
 import pytest
+from conftest import restore_state, serialised_state
 
 from tests.test_fmi_status import DISCARD, ERROR, LINEAR, OK, OMEGA, STATE, linear_force, raw  # noqa: F401 (raw)
 
@@ -55,23 +56,11 @@ def _blob(payload: list, checksum: str | None = None) -> bytes:
     return json.dumps(payload + [checksum or hashlib.sha256(json.dumps(payload).encode()).hexdigest()]).encode()
 
 
-def _deserialize(r, blob: bytes) -> tuple[int, ctypes.c_void_p]:
-    state = ctypes.c_void_p()
-    buf = (ctypes.c_char * len(blob)).from_buffer_copy(blob)
-    return r.call("fmi2DeSerializeFMUstate", buf, len(blob), ctypes.byref(state)), state
-
-
 def test_a_restored_state_is_checked_and_a_damaged_one_refused(raw):
     r = raw()
     assert set(r.initialise(**LINEAR).values()) == {OK}
     assert r.step(0.0, 1e-4, STATE) == OK
-    saved = ctypes.c_void_p()
-    assert r.call("fmi2GetFMUstate", ctypes.byref(saved)) == OK
-    size = ctypes.c_size_t()
-    assert r.call("fmi2SerializedFMUstateSize", saved, ctypes.byref(size)) == OK
-    out = (ctypes.c_char * size.value)()
-    assert r.call("fmi2SerializeFMUstate", saved, out, size) == OK
-    good = bytes(out)
+    good = serialised_state(r)
     *payload, checksum = json.loads(good)
     tag, t, values, own = payload
     assert own == []  # no states of its own (a tilting pad's: tests/test_pad_fmu.py)
@@ -100,15 +89,11 @@ def test_a_restored_state_is_checked_and_a_damaged_one_refused(raw):
     fy = r.get("Fy")
     for case, blob in damaged.items():
         n = len(r.messages)
-        status, _state = _deserialize(r, blob)
-        assert status == ERROR, case
+        assert restore_state(r, blob) == ERROR, case
         assert any(why[case] in m for m in r.errors(n)), (case, r.messages[n:])
         assert r.get("Fy") == fy  # the instance keeps its state
-    status, state = _deserialize(r, good)  # the good one still reads back and restores
-    assert status == OK and r.call("fmi2SetFMUstate", state) == OK
+    assert restore_state(r, good) == OK  # the good one still reads back and restores
     assert r.get("y") == (OK, STATE[0])
-    for s in (saved, state):
-        assert r.call("fmi2FreeFMUstate", ctypes.byref(s)) == OK
 
 
 _RETRY = textwrap.dedent("""

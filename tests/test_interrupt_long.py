@@ -1,5 +1,6 @@
 """Ctrl-C ends a long solve within about a second (the README's promise), with the kept-files
-note: a big rotor's static equilibrium and a cold native FMU build (issue 38: 5-22 s and 6-11 s).
+note: a big rotor's static equilibrium, one Reynolds call on a very fine grid (one compiled
+call of minutes) and a cold native FMU build (issue 38: 5-22 s, 106 s and 6-11 s).
 
 Each command runs in a subprocess; tests/pause_at.py marks the moment the solve is under way
 (without holding it: $PAUSE_GO exists), so SIGINT lands inside it, not by timing luck.
@@ -60,6 +61,23 @@ def test_ctrl_c_ends_a_big_rotor_s_equilibrium_within_a_second(tmp_path, code_ca
     assert "interrupted by SIGINT; kept:" in stderr and "(status interrupted, t = 0 s)" in stderr
     meta = json.loads((out / "big_reynolds.json").read_text())
     assert meta["status"] == "interrupted" and meta["t_reached_s"] == 0.0
+
+
+@pytest.mark.slow
+def test_ctrl_c_ends_one_reynolds_call_on_a_very_fine_grid_within_a_second(tmp_path, paper_scene, code_cache):
+    # the paper rotor with Reynolds on 2048 x 256: the equilibrium's first force and Jacobian is one
+    # compiled call of 1-2 min (~2 s per active-set pass); interrupted once its kernel runs (the
+    # driver's second wait of the call: its worker thread has started)
+    scene = paper_scene(grid=(2048, 256))
+    out = tmp_path / "out"
+    proc = start_command("rotor-host", "run", scene, "--out", out, "--quiet", "--no-plots",
+                         pause="bearing_fmu.physics.reynolds:Reynolds._wait", env=_pause_env(tmp_path, 2),
+                         code_cache=code_cache)
+    took, _, stderr = _interrupt_inside(proc, tmp_path / "marker", settle=1.0)
+    assert proc.returncode == 130, stderr
+    assert took < STOP_S, f"stopped {took:.2f} s after SIGINT"
+    assert "Traceback" not in stderr
+    assert "interrupted by SIGINT; kept:" in stderr and "(status interrupted, t = 0 s)" in stderr
 
 
 @pytest.mark.slow

@@ -29,6 +29,7 @@ import pytest
 
 fmpy = pytest.importorskip("fmpy")
 
+from conftest import restore_state, serialised_state  # noqa: E402
 from test_native_fmi3 import Raw3  # noqa: E402
 from test_native_fmu import Raw  # noqa: E402
 
@@ -180,27 +181,6 @@ def test_fmpy_simulate_fmu_ends_after_a_discard_with_its_inputs_set_again(built,
 
 # ----------------------------------------------------------------------------- restored states
 
-def _serialised(raw: Raw) -> bytes:
-    state = ctypes.c_void_p()
-    assert raw.call("fmi2GetFMUstate", ctypes.byref(state)) == OK
-    size = ctypes.c_size_t()
-    assert raw.call("fmi2SerializedFMUstateSize", state, ctypes.byref(size)) == OK
-    buf = (ctypes.c_char * size.value)()
-    assert raw.call("fmi2SerializeFMUstate", state, buf, size) == OK
-    raw.call("fmi2FreeFMUstate", ctypes.byref(state))
-    return bytes(buf)
-
-
-def _restore(raw: Raw, blob: bytes) -> int:
-    state = ctypes.c_void_p()
-    status = raw.call("fmi2DeSerializeFMUstate", ctypes.create_string_buffer(blob, len(blob)), len(blob),
-                      ctypes.byref(state))
-    if status == OK:
-        status = raw.call("fmi2SetFMUstate", state)
-        raw.call("fmi2FreeFMUstate", ctypes.byref(state))
-    return status
-
-
 def _fnv1a(data: bytes) -> int:
     """FNV-1a, 32 bits (the state's checksum, bearing_model.c)."""
     h = 2166136261
@@ -214,8 +194,8 @@ def test_a_damaged_state_is_refused_and_the_instance_keeps_its_own(built):
     try:
         assert raw.init() == OK  # at the start inputs: the surrogate's equilibrium
         assert raw.step() == OK
-        blob = _serialised(raw)
-        assert _restore(raw, blob) == OK  # intact: taken
+        blob = serialised_state(raw)
+        assert restore_state(raw, blob) == OK  # intact: taken
         assert raw.step() == OK
         before, t_before = raw.outputs()[1], raw.now()
         n_bits = 8 * len(blob)
@@ -223,19 +203,19 @@ def test_a_damaged_state_is_refused_and_the_instance_keeps_its_own(built):
         for bit in range(n_bits):  # every single-bit flip (FNV-1a: a one-byte change always changes the sum)
             flipped = bytearray(blob)
             flipped[bit // 8] ^= 1 << (bit % 8)
-            refused += _restore(raw, bytes(flipped)) == ERROR
+            refused += restore_state(raw, bytes(flipped)) == ERROR
         assert refused == n_bits
         assert "checksum does not match" in raw.last(ERROR) or "not a serialised" in raw.last(ERROR)
         # NaN written over Fz (found by its bits), the checksum made right: refused by the range check
         fz = raw.outputs(("Fz",))[1][0]
         _, at_save = raw.outputs()
-        blob2 = _serialised(raw)
+        blob2 = serialised_state(raw)
         where = blob2.find(struct.pack("<d", fz))
         assert where > 0
         bad = bytearray(blob2)
         bad[where:where + 8] = struct.pack("<d", math.nan)
         bad[-4:] = struct.pack("<I", _fnv1a(bytes(bad[:-4])))  # the checksum is the last field
-        assert _restore(raw, bytes(bad)) == ERROR
+        assert restore_state(raw, bytes(bad)) == ERROR
         assert "holding Fz = nan (not finite or out of range)" in raw.last(ERROR), raw.last(ERROR)
         assert np.array_equal(raw.outputs()[1], before) and raw.now() == t_before  # kept
         assert raw.step() == OK

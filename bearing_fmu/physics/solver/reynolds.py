@@ -89,13 +89,27 @@ above (``geometry_kernels``); the full bore keeps its own kernel, bit for bit.
 
 Work arrays and the remembered calls live in the object: one Reynolds instance is not
 re-entrant (use one per thread); copying or pickling it copies them too.
+
+Long calls. A fine grid's call is one compiled call of minutes (2048 x 256: ~2 s per active-set
+pass, 30-50 passes), and Python runs a signal's handler only between bytecodes. A grid whose
+pass costs about LONG_CALL_WORK (n_theta (n_x / 2)^3, the banded factorization's work) or more
+runs its kernel in a worker thread with the GIL released (``_released``), while the calling
+thread waits in short timed joins: Ctrl-C's KeyboardInterrupt (or the command line's
+``Interrupted``) is raised in the caller at once, the abandoned call runs to its end in the
+background at the lowest priority (it dies with the process; the same instance's next call
+waits for it). The same compiled kernel runs either way, so the results are the same bit for
+bit; below that grid size the kernel is called directly, as before, through two checks of
+0.7 us in all (a call at the default grid: ~0.3 ms; benchmarks/bench_long_calls.py).
 """
 
 from __future__ import annotations
 
 import math
+import os
+import threading
 
 import numpy as np
+from numba import njit
 
 from ...internals.registry import check_state, overflow_error
 from .film import FilmReport, edge_flows, field_report, flow_field, peak_pressure
@@ -118,6 +132,34 @@ _MODE = {"gumbel": 0, "reynolds": 1}
 WARM_HISTORY = 4
 WARM_MAX_TURN_CELLS = 2.0
 WARM_MAX_DLOG = 1.0
+# n_theta (n_x / 2)^3 from which a call runs in a worker thread (module docstring, "Long calls"):
+# 512 x 64 (~50 ms a warm call, seconds cold); the default 128 x 16 is 128 times below it
+LONG_CALL_WORK = 2**23
+JOIN_POLL_S = 0.1  # the caller's timed joins: a signal's handler runs between them (also on Windows)
+
+
+# the kernels with the GIL released, for a worker thread; they forward to the same compiled code
+@njit(nogil=True, cache=True)
+def _reynolds_released(*args):
+    reynolds_kernel(*args)
+
+
+@njit(nogil=True, cache=True)
+def _geometry_released(*args):
+    geometry_kernel(*args)
+
+
+_RELEASED = {reynolds_kernel: _reynolds_released, geometry_kernel: _geometry_released}
+
+
+def _lowest_priority(thread) -> None:
+    """Nice 19 for ``thread`` alone (Linux: a thread id is a process id to setpriority); elsewhere
+    nothing. An interrupted long call keeps its core until its kernel returns: at normal priority
+    it slowed the interpreter's exit by ~1 s on a loaded 2-core machine."""
+    try:
+        os.setpriority(os.PRIO_PROCESS, thread.native_id, 19)
+    except (AttributeError, OSError):
+        pass
 
 
 # ----------------------------------------------------------------------------------------
@@ -220,6 +262,8 @@ class Reynolds:
         self._max_turn = min(WARM_MAX_TURN_CELLS * self._dth, math.pi)
         self._warm_cap = self._grow + 4
         self._solved = None  # the state of the last converged solve (film_report reads its field)
+        self._long = self.n_theta * m ** 3 >= LONG_CALL_WORK
+        self._worker = None  # a long call's thread while it runs (see _released)
         self.reset_counts()
 
     def _bore(self, params: BearingParams, N: int) -> dict:
@@ -280,15 +324,56 @@ class Reynolds:
         self._n_warm += bool(self._info[4])
         self._n_fallback += bool(self._info[5])
 
+    def _released(self, kernel):
+        """``kernel`` for this grid: itself, or for a long call (``LONG_CALL_WORK``) a function that
+        runs it in a worker thread with the GIL released and waits for it in timed joins, so a
+        signal's handler runs in the caller within JOIN_POLL_S (module docstring, "Long calls")."""
+        if not self._long:
+            return kernel
+        raised = []
+
+        def work(*args):
+            try:
+                _RELEASED[kernel](*args)
+            except BaseException as exc:  # noqa: BLE001 - handed to the caller, as a direct call would raise it
+                raised.append(exc)
+
+        def call(*args):
+            self._worker = threading.Thread(target=work, args=args, daemon=True, name="reynolds-long-call")
+            self._worker.start()
+            self._wait()
+            if raised:
+                raise raised[0]
+
+        return call
+
+    def _wait(self) -> None:
+        """Until the long call's thread has ended (an interrupted call's, too: it still writes the
+        work arrays), in timed joins that a signal's handler can end."""
+        worker = self._worker
+        try:
+            while worker is not None and worker.is_alive():
+                worker.join(JOIN_POLL_S)
+        except BaseException:
+            _lowest_priority(worker)  # abandoned: what the caller does next (its exit, too) runs first
+            raise
+        self._worker = None
+
+    def __getstate__(self):
+        self._wait()  # a copy takes the finished arrays, not the thread
+        return self.__dict__
+
     def _run(self, y, z, vy, vz, omega, want_jac):
         y, z, vy, vz, omega = float(y), float(z), float(vy), float(vz), float(omega)
         check_state(self.params, y, z, vy, vz, omega)
         pr = self.params
+        self._wait()
+        self._solved = None  # the state whose field _p holds, once it is known to be finite
         self._info[:] = 0.0
         if self._geo is not None:
             self._run_bore(y, z, vy, vz, omega, want_jac)
         else:
-            reynolds_kernel(
+            self._released(reynolds_kernel)(
                 self._mode, want_jac, y, z, vy, vz, omega, pr.CR, pr.mu, pr.R, self._dth, self._dx, self._m,
                 self._sin_c, self._cos_c, self._sin_f, self._cos_f, self._ds, self._dc, self._tdiag,
                 self._rs, self._qw,
@@ -300,7 +385,6 @@ class Reynolds:
                 self._hs, self._order, self._nvalid, self._wring,
             )
         self._count()
-        self._solved = None  # the state whose field _p holds, once it is known to be finite
         if self._info[0] < 0:  # pragma: no cover - not observed; guards against cycling
             raise RuntimeError(
                 f"Reynolds: active-set iteration did not converge in {self._max_iter} steps at "
@@ -315,7 +399,7 @@ class Reynolds:
 
     def _run_bore(self, y, z, vy, vz, omega, want_jac):
         pr, g = self.params, self._geo
-        geometry_kernel(
+        self._released(geometry_kernel)(
             self._mode, want_jac, y, z, vy, vz, omega, pr.CR, pr.mu, pr.R, self._dx, self._m,
             self._sin_c, self._cos_c, self._sin_f, self._cos_f, self._ds, self._dc, g["H0f"], g["H0c"], g["dH0"],
             g["ct"], g["cx"], g["gy"], g["gz"], g["fixed"], g["psup"], self._p_in, g["F0"], self._tdiag, self._rs, self._qw,
