@@ -1,4 +1,4 @@
-"""What the interruptible long call costs (bearing_fmu.physics.reynolds, "Long calls").
+"""What the interruptible long call costs (bearing_fmu.physics.solver.reynolds, "Long calls").
 
 A Reynolds call on a grid of n_theta (n_x / 2)^3 >= LONG_CALL_WORK runs its kernel in a worker
 thread with the GIL released, so Ctrl-C is handled at once; smaller grids call the kernel
@@ -31,7 +31,7 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from bearing_fmu.physics.params import PAPER_BEARING as P  # noqa: E402
-from bearing_fmu.physics.reynolds import Reynolds, reynolds_kernel  # noqa: E402
+from bearing_fmu.physics.solver.reynolds import Reynolds, reynolds_kernel  # noqa: E402
 
 OMEGA = 2 * math.pi * 22.0
 

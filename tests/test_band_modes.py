@@ -206,3 +206,19 @@ def test_a_mid_size_rotor_takes_the_band_not_one_long_dense_call(monkeypatch):
     assert 0 < in_band.sum() < in_band.size  # modes in the band and beyond it
     np.testing.assert_allclose(lam_s[in_band], lam_d[inside][in_band], rtol=1e-7)
     np.testing.assert_allclose(lam_s, lam_d[inside], rtol=1e-6)
+
+
+def test_a_stability_point_on_pads_takes_the_band_above_the_dense_size(monkeypatch):
+    # Stability.at on tilting pads: up to DENSE_MODES_MAX_DOF DOFs the dense pad modes (modes_at),
+    # above them band_modes_with_pads (checked against the dense solution above); with every rotor sent
+    # to the band, the same least stable mode (to 1e-7, the band's accuracy in its disk)
+    import rotor_host.analyses.linear.stability as stab
+    from rotor_host.analyses.linear import pad_modes as pm
+
+    rotor = Rotor.from_toml(MODELS / "rotor_paper_5pad_lbp.toml")
+    dense, _ = stab.Stability(rotor, "tilting_pad", {"n_theta": 24, "n_x": 4}).at(44.0)
+    monkeypatch.setattr(stab, "DENSE_MODES_MAX_DOF", 0)
+    monkeypatch.setattr(stab, "modes_at", lambda *a, **k: pytest.fail("the dense pad modes were solved"))
+    banded_point, _ = stab.Stability(rotor, "tilting_pad", {"n_theta": 24, "n_x": 4}).at(44.0)
+    assert banded_point.freq_hz[banded_point.least] == pytest.approx(dense.freq_hz[dense.least], rel=1e-7)
+    assert banded_point.least_log_dec == pytest.approx(dense.least_log_dec, rel=1e-6, abs=1e-9)

@@ -71,7 +71,7 @@ def test_ctrl_c_ends_one_reynolds_call_on_a_very_fine_grid_within_a_second(tmp_p
     scene = paper_scene(grid=(2048, 256))
     out = tmp_path / "out"
     proc = start_command("rotor-host", "run", scene, "--out", out, "--quiet", "--no-plots",
-                         pause="bearing_fmu.physics.reynolds:Reynolds._wait", env=_pause_env(tmp_path, 2),
+                         pause="bearing_fmu.physics.solver.reynolds:Reynolds._wait", env=_pause_env(tmp_path, 2),
                          code_cache=code_cache)
     took, _, stderr = _interrupt_inside(proc, tmp_path / "marker", settle=1.0)
     assert proc.returncode == 130, stderr

@@ -47,11 +47,11 @@ from bearing_fmu.io.exits import note_kept
 from bearing_fmu.io.outputs import ensure_writable, write_json, write_text
 
 from ..computed_for import title_line
-from ...model.band_modes import band_modes
+from ...model.band_modes import DENSE_MODES_MAX_DOF, band_modes, band_modes_with_pads
 from ...model.rotor import Rotor
 from .inputs import (check_speeds, check_supply, check_top_speed, internal_options, read_rotor,
                      refuse_unsupported)
-from .pad_modes import modes_at
+from .pad_modes import modes_at, pad_blocks
 from .stability_report import markdown, to_json
 from .stability_result import DEFAULT_MODES, SpeedPoint, StabilityResult, Threshold, direction
 from .modal import RANK_UP_TO, band_hz, critical_speeds, split_crossings
@@ -217,10 +217,15 @@ class Stability:
         q = self.equilibrium(omega, q0)
         t0 = time.perf_counter()
         K, C = self.linearise(q, omega)
-        # every mode up to DENSE_MAX_DOF DOFs; a big rotor's around its ranking band (sparse)
+        # every mode up to DENSE_MODES_MAX_DOF DOFs; a bigger rotor's around its ranking band (sparse)
         band = self.band_hz if math.isfinite(self.band_hz) else band_hz(speed_hz)
-        freq, ld, shapes = (modes_at(self.rotor, self.internals, self.pairs, q, omega) if self.own_dofs
-                            else band_modes(self.rotor, omega, K, C, band))
+        if not self.own_dofs:
+            freq, ld, shapes = band_modes(self.rotor, omega, K, C, band)
+        elif self.rotor.n_dof <= DENSE_MODES_MAX_DOF:
+            freq, ld, shapes = modes_at(self.rotor, self.internals, self.pairs, q, omega)
+        else:  # the pads' coordinates in a big rotor's eigenproblem: sparse, around the band
+            freq, ld, shapes = band_modes_with_pads(self.rotor, omega, pad_blocks(self.internals, self.pairs, q, omega),
+                                                    band)
         if freq.size == 0 or not (np.all(np.isfinite(freq)) and np.all(np.isfinite(ld))):
             raise RuntimeError(f"{speed_hz:g} Hz: the eigenvalue problem gave "
                                f"{'no oscillatory mode' if freq.size == 0 else 'non-finite eigenvalues'}")
