@@ -304,9 +304,19 @@ def _build_native(args: argparse.Namespace) -> int:
                          + ", ".join(f"{owners[f]} with --{f} FILE" for f in given if f in owners) + ")")
     specs = [registry.get(p) for p in internal.split(",")]
     readable = {o.name for spec in specs for o in spec.all_options() if o.file}
+    bearing = BearingParams.from_toml(args.bearing) if args.bearing else None
     for o in (o for spec in specs for o in spec.file_options()):
         if o.required and not given.get(o.name):
-            raise ValueError(f"--native --internal {internal} needs --{o.name} FILE")
+            # a file the store keeps (a force map): the one built for this bearing, as run and stability take it
+            from .internals.map.store import stored_file
+            from .physics.params import PAPER_BEARING
+
+            found, line = stored_file(o.file_format, [bearing or PAPER_BEARING])
+            if found is None:
+                raise ValueError(f"--native --internal {internal} needs --{o.name} FILE"
+                                 + (f": {line}" if line else ""))
+            print(f"--{o.name} not given: {line}")
+            given[o.name] = [str(found)]
     for name, files in given.items():
         if len(files) > 1:
             raise ValueError("--native compiles one data file in: give --surrogate or --map once")
@@ -315,7 +325,6 @@ def _build_native(args: argparse.Namespace) -> int:
                              f"{', '.join('--' + r for r in sorted(readable)) or 'no data file'})")
     surrogates, maps = given["surrogate"], given["map"]
     ensure_output_file(args.output, "-o/--output")
-    bearing = BearingParams.from_toml(args.bearing) if args.bearing else None
     path = build_native_fmu(args.output, internal, surrogate=surrogates[0] if surrogates else None,
                             map=maps[0] if maps else None, bearing=bearing, bearing_source=args.bearing or "",
                             compiler=args.compiler or ("cmake" if args.cmake else None),

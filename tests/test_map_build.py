@@ -161,6 +161,33 @@ def test_a_scene_that_names_no_map_takes_the_stores(tmp_path, capsys):
         path.unlink()
 
 
+@pytest.mark.native
+def test_a_native_map_fmu_without_map_takes_the_stores(tmp_path, capsys):
+    """`bearing-fmu build --native --internal map --bearing FILE` with no --map: the store's map of that
+    bearing (as run and stability take it), said in one line; none there: the error says how to build it."""
+    out = tmp_path / "m.fmu"
+    cmd = ["build", "--native", "--internal", "map", "--bearing", str(MODELS / "bearing_paper.toml"), "-o", str(out),
+           "--compiler", "cc"]
+    path = store_path(P, settings_for(P))
+    path.unlink(missing_ok=True)
+    code, _, err = run_cli("bearing-fmu", cmd, capsys)
+    assert code == 2 and "--native --internal map needs --map FILE: the map store" in err
+    assert "build it once with `bearing-fmu map --bearing FILE`" in err and not out.exists()
+    # the finding, not the building: the bundled map of the paper bearing stands in for a build
+    path.parent.mkdir(parents=True, exist_ok=True)
+    shutil.copyfile(MODELS / "maps" / "paper_bearing.json", path)
+    try:
+        code, text, err = run_cli("bearing-fmu", cmd, capsys)
+        assert code == 0, err
+        assert f"--map not given: the map store's map for L/D 0.6452, full 360 deg circular bore: {path}" in text
+        import zipfile
+
+        names = zipfile.ZipFile(out).namelist()
+        assert any(n.startswith("binaries/linux64/") for n in names)
+    finally:
+        path.unlink()
+
+
 # ------------------------------------------------------------------ --scheduler
 
 
