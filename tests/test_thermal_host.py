@@ -137,10 +137,10 @@ def test_a_run_held_at_mu_eff_stays_at_its_equilibrium(tmp_path):
     (lambda t: t.replace('via = "direct"', 'via = "fmu"\nfmu_kind = "native"').replace('internal = "reynolds"',
                                                                                      'internal = "linear"'),
      r"supply_temperature_C = 40 through an FMU's thermal ports needs an internal with the film's friction and "
-     r"flows \(reynolds, taylor, map\); internal = 'linear'"),
+     r"flows \(reynolds, taylor, map, tilting_pad\); internal = 'linear'"),
     (lambda t: t.replace('via = "direct"', 'via = "fmu"').replace('internal = "reynolds"', 'internal = "linear"'),
      r"supply_temperature_C = 40 through an FMU's thermal ports needs an internal with the film's friction and "
-     r"flows \(reynolds, taylor, map\); internal = 'linear': a linear model holds the force about one point"),
+     r"flows \(reynolds, taylor, map, tilting_pad\); internal = 'linear': a linear model holds the force about one point"),
     (lambda t: t.replace("speed_hz = 44.0", "[speed_profile]\ntimes_s = [0.0, 0.1]\nspeeds_hz = [40.0, 44.0]\n")
      .replace('internal = "reynolds"', 'internal = "linear"'),
      r"supply_temperature_C = 40 with a \[speed_profile\] needs an internal with the film's friction and flows"),
