@@ -202,7 +202,7 @@ def _restore(raw: Raw, blob: bytes) -> int:
 
 
 def _fnv1a(data: bytes) -> int:
-    """FNV-1a, 32 bits (the state's checksum, bearing_model.c)."""
+    """FNV-1a, 32 bits (the state's checksum, bearing_state.c)."""
     h = 2166136261
     for b in data:
         h = ((h ^ b) * 16777619) & 0xFFFFFFFF

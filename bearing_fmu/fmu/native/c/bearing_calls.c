@@ -10,13 +10,9 @@
 
 #if BN_FMI3
 #include "fmi3_config.h"
-#define STATE_TAG "bearing-native3/1"
-#define BUILD_ID BN3_TOKEN
 #define SEED_NAME "seed"
 #define EXIT_PREFIX "fmi3ExitInitializationMode: "
 #else
-#define STATE_TAG "bearing-native/1"
-#define BUILD_ID BN_GUID
 #define SEED_NAME "dvKnown"
 #define EXIT_PREFIX "" /* the Python FMU's words: "bearing FMU initialisation failed: ..." */
 #endif
@@ -504,69 +500,5 @@ bn_status bn_get_state_derivatives(Instance *m, const char *call, double dx[], s
 bn_status bn_get_nominals(Instance *m, const char *call, double x[], size_t n) {
     if (states_refused(m, call, n, x)) return BN_ERROR;
     if (n) x[0] = 1.0; /* the model description gives T_eff no nominal */
-    return BN_OK;
-}
-
-/* ------------------------------------------------------------------------------ FMU states */
-/* the model layer's BnState (the time, the inputs and outputs, out_of_domain, a few hundred bytes),
- * tagged with this build's GUID (FMI 3.0: instantiation token) so that a state of another build is
- * refused; serialised as it is (same platform, same build). The FMU has no state of its own
- * besides: the internals keep only caches and counts. */
-
-bn_status bn_fmu_state_get(Instance *m, const char *call, void **state) {
-    if (!state) return bn_fail(m, "%s: FMUState is NULL", call);
-    BnState *s = *state;
-    if (!s) {
-        s = m->allocate(1, sizeof(BnState));
-        if (!s) return bn_fail(m, "%s: out of memory", call);
-        *state = s;
-    }
-    bn_state_save(m, s, STATE_TAG, BUILD_ID);
-    return BN_OK;
-}
-
-bn_status bn_fmu_state_set(Instance *m, const char *call, const void *state) {
-    char why[200];
-    if (bn_state_sound(state, STATE_TAG, BUILD_ID, why, sizeof why))
-        return bn_fail(m, "%s: %s; the instance keeps its state", call, why);
-    bn_state_restore(m, state);
-    return BN_OK;
-}
-
-bn_status bn_fmu_state_free(Instance *m, const char *call, void **state) {
-    if (!state) return bn_fail(m, "%s: FMUState is NULL", call);
-    if (*state) {
-        /* no tag left: a stale copy of the pointer used soon after is likely refused, not restored
-         * (not a guarantee: the memory is freed; the master's own pointer is set to NULL) */
-        memset(((BnState *)*state)->tag, 0, sizeof((BnState *)*state)->tag);
-        m->release(*state);
-    }
-    *state = NULL;
-    return BN_OK;
-}
-
-bn_status bn_fmu_state_size(Instance *m, const char *call, const void *state, size_t *size) {
-    if (!size) return bn_fail(m, "%s: size is NULL", call);
-    if (!bn_state_valid(state, STATE_TAG, BUILD_ID)) return bn_fail(m, "%s: not a %s state of this FMU", call, STATE_TAG);
-    *size = sizeof(BnState);
-    return BN_OK;
-}
-
-bn_status bn_fmu_state_serialize(Instance *m, const char *call, const void *state, unsigned char *bytes, size_t size) {
-    char why[200];
-    if (bn_state_serialize(state, bytes, size, STATE_TAG, BUILD_ID, why, sizeof why))
-        return bn_fail(m, "%s: %s", call, why);
-    return BN_OK;
-}
-
-bn_status bn_fmu_state_deserialize(Instance *m, const char *call, const unsigned char *bytes, size_t size,
-                                   void **state) {
-    BnState s;
-    char why[200];
-    if (!state) return bn_fail(m, "%s: FMUState is NULL", call);
-    if (bn_state_deserialize(bytes, size, &s, STATE_TAG, BUILD_ID, why, sizeof why))
-        return bn_fail(m, "%s: %s; the FMU state given keeps its contents", call, why);
-    if (!*state && !(*state = m->allocate(1, sizeof(BnState)))) return bn_fail(m, "%s: out of memory", call);
-    *(BnState *)*state = s;
     return BN_OK;
 }

@@ -4,10 +4,11 @@
  *                      together, the internal prepared (bn_setup);
  *   bearing_model.c    the evaluation into the outputs (out_of_domain a discrete output, the
  *                      warning at omega = 0), the outputs for a get (a refused state logged once),
- *                      FMU states, the live instances;
+ *                      the live instances;
  *   bearing_derivatives.c   the outputs' derivatives along the inputs and the Real parameters;
  *   bearing_thermal.c  the thermal model (the oil of the parameters, the film's temperature);
- *   bearing_calls.c, bearing_log.c  the side of every FMI call (bearing_calls.h), logging.
+ *   bearing_calls.c, bearing_log.c  the side of every FMI call (bearing_calls.h), logging;
+ *   bearing_state.c    FMU states (BnState: saved, restored, checked, serialised).
  * Each check answers 0, or 1 with the reason in words; statuses are bn_status (FMI 2.0's and
  * 3.0's have the same values), logged through the FMI layer's bn_log. */
 #ifndef BEARING_VALUES_H
