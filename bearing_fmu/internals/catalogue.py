@@ -127,7 +127,7 @@ register(InternalSpec(
     ),
     uses=("reynolds",),
     can=Capabilities(
-        pads=True, compare=False, any_state=True, whirl_reduced=True,
+        pads=True, compare=False, any_state=True, whirl_reduced=True, native=True,
         film_flow_why="the pads' friction and flows are not summed into a film report yet",
         fmu=False, fmu_why="the FMUs do not carry the pads' states yet (a later step of the tilting-pad work)",
         validity="The tilting-pad internal evaluates any journal state that leaves every pad's film open at any "

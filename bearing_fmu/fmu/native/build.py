@@ -224,8 +224,8 @@ def model_description(model: NativeModel, record: dict) -> bytes:
             attrs["initial"] = "calculated"
         sv = ET.SubElement(mvars, "ScalarVariable", attrs)
         typed = {"declaredType": v.declared_type} if v.declared_type else {}
-        if v.name.startswith("der("):  # Model Exchange's state derivative (portgen.has_state)
-            typed["derivative"] = str(index[v.name[4:-1]])
+        if v.state:  # Model Exchange's state derivative (portgen.has_state; the pads' tilts and rates)
+            typed["derivative"] = str(index[v.state])
         if v.causality not in ("output", "local"):
             typed["start"] = (repr(float(v.start)) if v.type == "Real" else
                               ("true" if v.start else "false") if v.type == "Boolean" else str(v.start))
@@ -239,23 +239,23 @@ def model_description(model: NativeModel, record: dict) -> bytes:
     params = [index[v.name] for v in model.variables if v.causality == "parameter"]
     structure = ET.SubElement(root, "ModelStructure")
     node = ET.SubElement(structure, "Outputs")
-    from .fmi3 import output_dependencies  # noqa: PLC0415 - one table of what depends on what, both versions
+    from .fmi3 import derivative_dependencies, output_dependencies  # noqa: PLC0415 - one table, both versions
 
     depends = output_dependencies(model)
     for i, v in zip(outputs, [v for v in model.variables if v.causality == "output"]):
         own = [index[n] for n in depends[v.name]] if v.name in depends else inputs
         ET.SubElement(node, "Unknown", index=str(i), dependencies=" ".join(map(str, own)),
                       dependenciesKind=" ".join(["dependent"] * len(own)))
-    derivatives = [index[v.name] for v in model.variables if v.name.startswith("der(")]
-    if derivatives:  # der(T_eff): the state and every input
+    derivatives = derivative_dependencies(model)
+    if derivatives:  # der(T_eff): the state and every input; the pads': the journal and the pads' states
         node = ET.SubElement(structure, "Derivatives")
-        for i in derivatives:
-            own = sorted(inputs + [index["T_eff"]])
-            ET.SubElement(node, "Unknown", index=str(i), dependencies=" ".join(map(str, own)),
+        for name, names in derivatives.items():
+            own = sorted(index[n] for n in names)
+            ET.SubElement(node, "Unknown", index=str(index[name]), dependencies=" ".join(map(str, own)),
                           dependenciesKind=" ".join(["dependent"] * len(own)))
     node = ET.SubElement(structure, "InitialUnknowns")
     deps = sorted(inputs + params)
-    for i in sorted(outputs + derivatives):
+    for i in sorted(set(outputs) | {index[n] for n in derivatives}):
         ET.SubElement(node, "Unknown", index=str(i), dependencies=" ".join(map(str, deps)),
                       dependenciesKind=" ".join(["dependent"] * len(deps)))
     return parseString(ET.tostring(root, encoding="UTF-8")).toprettyxml(indent="  ", encoding="UTF-8")

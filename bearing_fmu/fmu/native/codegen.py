@@ -86,6 +86,12 @@ class Variable:
     unit: str | None
     description: str
     declared_type: str | None = None  # an Enumeration's TypeDefinition
+    derivative_of: str | None = None  # Model Exchange: the state this variable is the derivative of
+
+    @property
+    def state(self) -> str | None:
+        """The continuous state this variable is the derivative of (``derivative_of``, or X of der(X)), or None."""
+        return self.derivative_of or (self.name[4:-1] if self.name.startswith("der(") else None)
 
     @property
     def variability(self) -> str:

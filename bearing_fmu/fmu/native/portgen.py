@@ -41,8 +41,15 @@ OIL_REALS = ("oil_nu_1", "oil_T_1", "oil_nu_2", "oil_T_2", "oil_vogel_a", "oil_v
 def bore_starts(params: BearingParams) -> dict:
     """The geometry parameters' values for the bore ``params`` has (every one: the ports' defaults
     where the bore sets none)."""
-    from ..ports import GEOMETRY_ROWS, OIL_ROWS, port_defaults
+    from dataclasses import replace
 
+    from ..ports import GEOMETRY_ROWS, OIL_ROWS, port_defaults
+    from ...physics.geometry import FULL_BORE
+
+    if params.geometry is not None and params.geometry.pads is not None:
+        # tilting pads (generators/tilting_pad.py): compiled in as pads, none of the fixed bores'
+        # parameters describes them; they keep the full bore's values (another is refused)
+        params = replace(params, geometry=FULL_BORE)
     return {**{r[0]: r[4] for r in GEOMETRY_ROWS + OIL_ROWS}, **port_defaults(params)}
 
 

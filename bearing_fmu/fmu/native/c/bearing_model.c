@@ -52,6 +52,10 @@ int bn_evaluate(Instance *m) {
     m->r[VR_P_LOSS] = heat[3];
     m->r[VR_Q_SIDE] = heat[4];
     m->r[VR_DER_T_EFF] = heat[5];
+    if (BN_N_PADS) { /* the pads' Reals (internal_pads.c); a static evaluation's tilts become their state */
+        memcpy(m->r + VR_PAD0, m->work.pad_out, BN_N_PAD_REALS * sizeof(double));
+        if (m->mode == MODE_INIT && !m->mute) bn_pads_static(m);
+    }
     if (jac) { /* Lund's sign: K = -dF/dq, C = -dF/dv */
         m->r[VR_KYY] = -J[0]; m->r[VR_KYZ] = -J[1]; m->r[VR_CYY] = -J[2]; m->r[VR_CYZ] = -J[3];
         m->r[VR_KZY] = -J[4]; m->r[VR_KZZ] = -J[5]; m->r[VR_CZY] = -J[6]; m->r[VR_CZZ] = -J[7];

@@ -33,7 +33,32 @@ static unsigned checksum(const BnState *s) {
     h = fnv(h, &s->t, sizeof s->t);
     h = fnv(h, s->values, sizeof s->values);
     h = fnv(h, s->thermal, sizeof s->thermal);
-    return fnv(h, &s->out_of_domain, sizeof s->out_of_domain);
+    h = fnv(h, &s->out_of_domain, sizeof s->out_of_domain);
+    h = fnv(h, s->pad_values, sizeof s->pad_values);
+    return fnv(h, s->pads, sizeof s->pads);
+}
+
+/* ------------------------------------------------------------------------------ the pads' state */
+
+void bn_pads_static(Instance *m) {
+    for (int k = 0; k < BN_N_PADS; k++) {
+        m->pads[PS_DELTA + k] = m->work.pad_out[k];
+        m->pads[PS_RATE + k] = 0.0;
+    }
+    m->pads[PS_PREV_DT] = 0.0;
+    m->pads[PS_DT] = 0.0;
+}
+
+void bn_pads_accept(Instance *m, double h) {
+    double dt = m->pads[PS_DT];
+    for (int k = 0; k < BN_N_PADS; k++) {
+        m->pads[PS_PREV_DELTA + k] = m->pads[PS_DELTA + k];
+        m->pads[PS_PREV_RATE + k] = m->pads[PS_RATE + k];
+        m->pads[PS_DELTA + k] = m->work.pad_trial[k];
+        m->pads[PS_RATE + k] = m->work.pad_trial[BN_MAX_PADS + k];
+    }
+    m->pads[PS_PREV_DT] = dt > 0.0 ? dt : 0.0; /* after a static state: no history (backward Euler next) */
+    m->pads[PS_DT] = h;
 }
 
 void bn_state_save(const Instance *m, BnState *s, const char *tag, const char *id) {
@@ -44,6 +69,8 @@ void bn_state_save(const Instance *m, BnState *s, const char *tag, const char *i
     memcpy(s->values, m->r, sizeof s->values);
     memcpy(s->thermal, m->r + VR_T_SUPPLY, sizeof s->thermal);
     s->out_of_domain = m->b[B_OUT_OF_DOMAIN];
+    memcpy(s->pad_values, m->r + VR_PAD0, BN_N_PAD_REALS * sizeof(double));
+    memcpy(s->pads, m->pads, sizeof s->pads);
     s->check = checksum(s);
 }
 
@@ -52,6 +79,8 @@ void bn_state_restore(Instance *m, const BnState *s) {
     memcpy(m->r, s->values, sizeof s->values);
     memcpy(m->r + VR_T_SUPPLY, s->thermal, sizeof s->thermal);
     m->b[B_OUT_OF_DOMAIN] = s->out_of_domain;
+    memcpy(m->r + VR_PAD0, s->pad_values, BN_N_PAD_REALS * sizeof(double));
+    memcpy(m->pads, s->pads, sizeof m->pads);
     m->terminated = 0;
     m->refused_state = 0;
     m->step_refused = 0;
@@ -84,6 +113,10 @@ int bn_state_sound(const BnState *s, const char *tag, const char *id, char *why,
             bad = bn_real_name(VR_T_SUPPLY + i), v = s->thermal[i];
     if (!bad && !(s->values[VR_ECC] >= 0.0)) bad = "eccentricity", v = s->values[VR_ECC];
     if (!bad && s->out_of_domain != 0 && s->out_of_domain != 1) bad = "out_of_domain", v = s->out_of_domain;
+    for (int i = 0; !bad && i < BN_N_PAD_REALS; i++)
+        if (!isfinite(s->pad_values[i])) bad = bn_real_name(VR_PAD0 + i), v = s->pad_values[i];
+    for (int i = 0; !bad && i < BN_PAD_STATE_LEN; i++) /* the steps' sizes are >= 0 */
+        if (!isfinite(s->pads[i]) || (i >= PS_PREV_DT && s->pads[i] < 0.0)) bad = "the pads' state", v = s->pads[i];
     if (bad) {
         snprintf(why, n, "a %s state holding %s = %s (not finite or out of range)", tag, bad, bn_num(a, 32, v, 17));
         return 1;

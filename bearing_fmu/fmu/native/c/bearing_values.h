@@ -104,8 +104,15 @@ typedef struct {
     double values[VR_D];
     double thermal[VR_GEOMETRY0 - VR_T_SUPPLY]; /* T_supply and the thermal outputs */
     int out_of_domain;
+    double pad_values[3 * BN_MAX_PADS]; /* tilting pads: their Reals (VR_PAD0 ..: Model Exchange's states) */
+    double pads[BN_PAD_STATE_LEN];      /* and their committed state (Instance.pads) */
     unsigned check;
 } BnState;
+/* tilting pads (bearing_state.c): a static evaluation's tilts (pad_out) become the state, rates 0,
+ * no history; a Co-Simulation step of h accepted: its end (pad_trial) the state, the one before BDF2's
+ * history (stepping.PadStepper.static, accept) */
+BN_HIDDEN void bn_pads_static(Instance *m);
+BN_HIDDEN void bn_pads_accept(Instance *m, double h);
 BN_HIDDEN void bn_state_save(const Instance *m, BnState *s, const char *tag, const char *id);
 BN_HIDDEN void bn_state_restore(Instance *m, const BnState *s);
 BN_HIDDEN int bn_state_valid(const BnState *s, const char *tag, const char *id);
