@@ -231,6 +231,8 @@ def model_description(model: NativeModel, record: dict) -> bytes:
                               ("true" if v.start else "false") if v.type == "Boolean" else str(v.start))
         if v.type == "Real":
             typed.update(fmu_meta.real_attributes(v.name, v.unit, model.params, omega_ref))
+            if v.nominal:
+                typed["nominal"] = repr(float(v.nominal))
         elif v.type == "Integer":
             typed.update(fmu_meta.integer_attributes(v.name))
         ET.SubElement(sv, v.type, typed)

@@ -87,6 +87,7 @@ class Variable:
     description: str
     declared_type: str | None = None  # an Enumeration's TypeDefinition
     derivative_of: str | None = None  # Model Exchange: the state this variable is the derivative of
+    nominal: float | None = None  # a continuous state's scale (the integrator's absolute tolerance), if not 1
 
     @property
     def state(self) -> str | None:

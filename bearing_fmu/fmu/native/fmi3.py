@@ -126,6 +126,8 @@ def _attrs(v, model: NativeModel, omega_ref: float) -> dict:
         attrs["declaredType"] = v.declared_type
     if v.type == "Real":
         attrs.update(fmu_meta.real_attributes(v.name, v.unit, model.params, omega_ref))
+        if v.nominal:
+            attrs["nominal"] = repr(float(v.nominal))
     elif v.type == "Integer":
         attrs.update(fmu_meta.integer_attributes(v.name))
     if v.causality not in ("output", "local") and v.type != "String":

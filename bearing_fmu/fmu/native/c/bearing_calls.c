@@ -508,6 +508,10 @@ bn_status bn_get_state_derivatives(Instance *m, const char *call, double dx[], s
 
 bn_status bn_get_nominals(Instance *m, const char *call, double x[], size_t n) {
     if (states_refused(m, call, n, x)) return BN_ERROR;
-    for (size_t i = 0; i < n; i++) x[i] = 1.0; /* the model description gives the states no nominal */
+    if (BN_N_STATES) x[0] = 1.0; /* the model description gives T_eff no nominal */
+#if BN_N_PAD_STATES
+    static const double pad_nominal[BN_N_PAD_STATES] = BN_PAD_NOMINALS; /* the pads' (model description) */
+    for (int i = 0; i < BN_N_PAD_STATES; i++) x[BN_N_STATES + i] = pad_nominal[i];
+#endif
     return BN_OK;
 }

@@ -5,7 +5,8 @@
  * M = a F'y. The same equations and Newton iterations as the Python internal, line by line:
  *   Initialization Mode   the pads massless and in moment equilibrium, M_k(delta_k) = 0
  *                         (PadAssembly._moment_root), the Jacobian quasi-static
- *                         (quasi_static_jacobian); the tilts become the pads' state (rates 0)
+ *                         (quasi_static_jacobian); the tilts become the pads' state (rates 0);
+ *                         Model Exchange: the outputs then at that state as below
  *   Co-Simulation step    BDF2 from the committed pads to the step's end (PadStepper.solve: backward
  *                         Euler after a static state), the Jacobian total (the pads following)
  *   Model Exchange        the pads at their states (Instance.r, set by fmi2SetContinuousStates):
@@ -283,7 +284,7 @@ static int equilibrium(Instance *m, const double x[5], double F[2], double J[8],
     for (int k = 0; k < TP_N; k++) {
         Frame f;
         Pad p;
-        double d, c = PAD_COS[k], s = PAD_SIN[k];
+        double d = 0.0, c = PAD_COS[k], s = PAD_SIN[k];
         if (moment_root(m, k, x, m->work.pad_warm[k], &d, &f)) return 1;
         to_bearing(m, k, &f, &p);
         add_pad(&p, F, J, dw);
@@ -430,6 +431,13 @@ int bn_eval(Instance *m, const double x[5], int want_jac, double F[2], double J[
     F[0] = F[1] = 0.0;
     if (m->mode == MODE_INIT) {
         refused = equilibrium(m, x, F, Jl, dwl);
+        if (!refused && m->model_exchange) { /* the equilibrium is the states' start: the outputs at it as later */
+            for (int k = 0; k < TP_N; k++) tilts[k] = m->work.pad_out[k], rates[k] = 0.0;
+            F[0] = F[1] = 0.0;
+            memset(Jl, 0, sizeof Jl);
+            dwl[0] = dwl[1] = 0.0;
+            refused = at_state(m, x, tilts, rates, F, Jl, dwl);
+        }
     } else if (m->step_h > 0.0) {
         refused = step(m, x, m->step_h, F, Jl, dwl);
     } else {

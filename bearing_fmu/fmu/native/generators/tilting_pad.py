@@ -29,20 +29,23 @@ from .reynolds import reynolds_data_h
 __all__ = ["tilting_pad_model", "pad_variables"]
 
 
-def pad_variables(params: BearingParams, first_vr: int) -> list[Variable]:
-    """The pads' variables (module docstring) from value reference ``first_vr`` (VR_PAD0)."""
+def pad_variables(params: BearingParams, first_vr: int, omega: float) -> list[Variable]:
+    """The pads' variables (module docstring) from value reference ``first_vr`` (VR_PAD0); the states'
+    nominals CR / a [rad] and omega CR / a [rad/s] (a = R + C_pad; ``omega`` the start speed): a tilt
+    of CR / a moves a pad's film by about CR, so an integrator's tolerance scales with the film."""
     pg = params.geometry.pads
     n = pg.n
+    tilt = params.CR / (params.R + pg.pad_clearance(params.CR))
     out = []
     for k in range(n):
         out.append(Variable(f"pad_tilt_{k + 1}", first_vr + k, "Real", "output", 0.0, "rad",
                             f"tilt of the pad pivoted at {math.degrees(pg.pivots[k]):.6g} deg about its pivot (positive "
-                            "about +x, the sense of positive omega; Model Exchange: a continuous state)"))
+                            "about +x, the sense of positive omega; Model Exchange: a continuous state)", nominal=tilt))
     if pg.inertia > 0.0:
         for k in range(n):
             out.append(Variable(f"pad_rate_{k + 1}", first_vr + n + k, "Real", "output", 0.0, "rad/s",
                                 f"tilt rate of pad {k + 1} (Model Exchange: a continuous state, der(pad_tilt_{k + 1}))",
-                                derivative_of=f"pad_tilt_{k + 1}"))
+                                derivative_of=f"pad_tilt_{k + 1}", nominal=abs(omega) * tilt or tilt))
         for k in range(n):
             out.append(Variable(f"der(pad_rate_{k + 1})", first_vr + 2 * n + k, "Real", "local", 0.0, "rad/s2",
                                 f"tilt acceleration of pad {k + 1}: its film's moment about the pivot over "
@@ -76,7 +79,7 @@ def tilting_pad_model(params: BearingParams, surrogate, map_path, options: dict)
     # VR_PAD0 = VR_DER_T_EFF + 1 whether der(T_eff) is declared or not (pads have no film report)
     oil_last = max(v.vr for v in variables if v.name.startswith("oil_"))
     first = max(first, oil_last + 2)
-    pads = pad_variables(params, first)
+    pads = pad_variables(params, first, inputs[4])
     n_states = pg.n * (2 if pg.inertia > 0.0 else 1)
     config = model_config("tilting_pad", params, starts, inputs).replace(
         "#endif\n", "\n".join([
@@ -86,6 +89,7 @@ def tilting_pad_model(params: BearingParams, surrogate, map_path, options: dict)
             f"#define BN_N_PAD_OUTPUTS {n_states}",
             "#define BN_PAD_NAMES {" + ", ".join(c_string(v.name) for v in pads) + "}",
             "#define BN_PAD_UNITS {" + ", ".join(c_string(v.unit) for v in pads) + "}",
+            "#define BN_PAD_NOMINALS {" + ", ".join(c_double(v.nominal) for v in pads[:n_states]) + "}",
             "#endif\n"]))
     grid = f"{starts['n_theta'] or 'default'} x {starts['n_x'] or 'default'}"
     info = {"bore": params.geometry.describe(), "grid": grid, "cavitation": starts["cavitation"]}

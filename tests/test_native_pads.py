@@ -1,0 +1,342 @@
+"""The native tilting-pad FMU (c/internal_pads.c over the C Reynolds solver) against the Python
+``tilting_pad`` internal, which it ports (each pad the partial-arc solver in its frame, the same
+Newton iterations): the force, tangent and tilts of the massless pads in equilibrium
+(Initialization Mode), Co-Simulation steps against ``PadStepper`` (BDF2, variable steps), Model
+Exchange's state derivatives against ``PadAssembly.derivatives``, massless and with pad inertia,
+FMI 2.0 and 3.0; FMU states; refusals; the Compliance Checker. The Python internal is the
+reference (its own checks: tests/test_tilting_pad*.py); the C solver equals the Python one to
+round-off (tests/test_native_reynolds.py), so agreement to ~1e-12 relative is expected."""
+
+from __future__ import annotations
+
+import ctypes
+import math
+import subprocess
+from dataclasses import replace
+from pathlib import Path
+
+import fmpy
+import numpy as np
+import pytest
+from fmpy.fmi1 import FMICallException
+from fmpy.fmi2 import FMU2Model, FMU2Slave
+from fmpy.fmi3 import FMU3Model, FMU3Slave
+
+from bearing_fmu.internals.tilting_pad.tilting_pad import TiltingPad
+from bearing_fmu.physics.params import BearingParams
+from tests.conftest import compliance_checker
+
+ROOT = Path(__file__).resolve().parents[1]
+BEARING = ROOT / "rotor_host" / "bundled" / "bearing_paper_5pad_lbp.toml"
+INERTIA = 1e-3  # [kg m^2]: a pad whose own motion an explicit integrator at 1e-4 s still follows
+OMEGA = 2.0 * math.pi * 50.0
+REL = 1e-11  # relative agreement expected (the same arithmetic, summed in another order)
+INPUTS = ("y", "z", "vy", "vz", "omega")
+DISCARD, ERROR = 2, 3  # FMI statuses
+
+
+def params(inertia: float = 0.0) -> BearingParams:
+    p = BearingParams.from_toml(BEARING)
+    if inertia:
+        g = p.geometry
+        p = replace(p, geometry=replace(g, pads=replace(g.pads, inertia=inertia)))
+    return p
+
+
+@pytest.fixture(scope="module")
+def built(tmp_path_factory, native_build_cache):
+    """(massless | inertia, FMI version) -> (fmu, extracted folder)."""
+    from bearing_fmu.fmu.native.build import build_native_fmu
+
+    folder = tmp_path_factory.mktemp("pads")
+    out = {}
+    for kind, inertia in (("massless", 0.0), ("inertia", INERTIA)):
+        for version in (2, 3):
+            def build(t, inertia=inertia, version=version):
+                return build_native_fmu(t, "tilting_pad", bearing=params(inertia), platforms=["linux64"],
+                                        fmi_version=version, speed_hz=50.0)
+            fmu = native_build_cache(folder / f"{kind}{version}.fmu", build, [BEARING], ("pads", kind, version))
+            out[kind, version] = (fmu, Path(fmpy.extract(str(fmu))))
+    return out
+
+
+class Driver:
+    """One instance of a built FMU (FMI 2 or 3, ME or CS) through fmpy's low-level classes."""
+
+    def __init__(self, fmu, unzip, version: int, kind: str):
+        md = fmpy.read_model_description(str(fmu))
+        self.vr = {v.name: v.valueReference for v in md.modelVariables}
+        self.nx = md.numberOfContinuousStates
+        self.version, self.kind = version, kind
+        ident = (md.coSimulation if kind == "CS" else md.modelExchange).modelIdentifier
+        cls = {(2, "CS"): FMU2Slave, (2, "ME"): FMU2Model, (3, "CS"): FMU3Slave, (3, "ME"): FMU3Model}[version, kind]
+        token = md.guid if version == 2 else md.instantiationToken
+        self.f = cls(guid=token, unzipDirectory=str(unzip), modelIdentifier=ident, instanceName="pads")
+        self.f.instantiate()
+        if version == 2:
+            self.f.setupExperiment(startTime=0.0)
+        self.f.enterInitializationMode()
+
+    def set(self, x) -> None:
+        vrs = [self.vr[n] for n in INPUTS]
+        (self.f.setReal if self.version == 2 else self.f.setFloat64)(vrs, list(map(float, x)))
+
+    def get(self, names) -> np.ndarray:
+        vrs = [self.vr[n] for n in names]
+        return np.array((self.f.getReal if self.version == 2 else self.f.getFloat64)(vrs))
+
+    def exit(self) -> None:
+        self.f.exitInitializationMode()
+        if self.kind == "ME":
+            self.f.enterContinuousTimeMode()
+
+    def step(self, t, h) -> int:
+        """doStep's status (0 OK, 2 Discard, 3 Error)."""
+        try:
+            self.f.doStep(currentCommunicationPoint=t, communicationStepSize=h)
+        except FMICallException as exc:
+            return exc.status
+        return 0
+
+    def states(self) -> np.ndarray:
+        x = (ctypes.c_double * self.nx)()
+        self.f.getContinuousStates(x, self.nx)
+        return np.array(x)
+
+    def set_states(self, x) -> None:
+        self.f.setContinuousStates((ctypes.c_double * self.nx)(*x), self.nx)
+
+    def derivatives(self) -> np.ndarray:
+        dx = (ctypes.c_double * self.nx)()
+        (self.f.getDerivatives if self.version == 2 else self.f.getContinuousStateDerivatives)(dx, self.nx)
+        return np.array(dx)
+
+    def close(self) -> None:
+        self.f.terminate()
+        self.f.freeInstance()
+
+
+def tilts(n=5):
+    return [f"pad_tilt_{k}" for k in range(1, n + 1)]
+
+
+OUT = ["Fy", "Fz", "Kyy", "Kyz", "Kzy", "Kzz", "Cyy", "Cyz", "Czy", "Czz"]
+
+
+def reference(F, dq, dv):
+    """The FMU's outputs Fy .. Czz of a (F, dF/dq, dF/dv) (Lund's signs: K = -dF/dq)."""
+    return np.concatenate([F, -dq.ravel(), -dv.ravel()])
+
+
+def close(got, want, scale):
+    """Relative agreement of arrays whose natural scale is ``scale``."""
+    return float(np.max(np.abs(np.asarray(got) - np.asarray(want)))) / scale
+
+
+STATE = (0.1, -0.5, 0.01, -0.02)  # y, z [CR], vy, vz [CR omega]
+
+
+def journal(p, y, z, vy, vz):
+    return (y * p.CR, z * p.CR, vy * p.CR * OMEGA, vz * p.CR * OMEGA, OMEGA)
+
+
+@pytest.mark.parametrize("kind", ["massless", "inertia"])
+@pytest.mark.parametrize("version", [2, 3])
+def test_cosimulation_equals_the_python_internal_and_its_steps(built, kind, version):
+    """Initialization Mode: the massless pads in equilibrium (PadAssembly.equilibrate) and the
+    quasi-static tangent; then doSteps of 1e-4 s and a changed step of 2e-4 s along a moving journal,
+    each against TiltingPad's begin_step / force_and_jacobian / accept_step (stepping.PadStepper:
+    backward Euler, then BDF2 with variable steps), force, K, C and the tilts."""
+    p = params(INERTIA if kind == "inertia" else 0.0)
+    d = Driver(*built[kind, version], version, "CS")
+    tp = TiltingPad(p)
+    try:
+        x = journal(p, *STATE)
+        d.set(x)
+        d.exit()
+        F, dq, dv = tp.force_and_jacobian(*x)
+        scale = float(np.max(np.abs(reference(F, dq, dv)[2:])))
+        assert close(d.get(OUT)[:2], F, abs(F).max()) < REL
+        assert close(d.get(OUT)[2:], reference(F, dq, dv)[2:], scale) < REL
+        assert close(d.get(tilts()), tp.last.delta, p.CR / tp.pads.arm) < REL
+        t = 0.0
+        for k, h in enumerate((1e-4, 1e-4, 1e-4, 2e-4, 2e-4, 1e-4)):
+            x = journal(p, STATE[0] + 0.03 * (k + 1), STATE[1] - 0.02 * (k + 1), 0.05, -0.03)
+            d.set(x)
+            assert d.step(t, h) == 0
+            t += h
+            tp.begin_step(h)
+            F, dq, dv = tp.force_and_jacobian(*x)
+            tp.accept_step()
+            got = d.get(OUT)
+            assert close(got[:2], F, abs(F).max()) < REL, (k, got[:2], F)
+            assert close(got[2:], reference(F, dq, dv)[2:], scale) < REL, k
+            assert close(d.get(tilts()), tp.last.delta, p.CR / tp.pads.arm) < REL, k
+    finally:
+        d.close()
+
+
+@pytest.mark.parametrize("kind", ["massless", "inertia"])
+@pytest.mark.parametrize("version", [2, 3])
+def test_model_exchange_states_and_derivatives_equal_the_python_equations(built, kind, version):
+    """Model Exchange: the states start at the pads' equilibrium; at other tilts (and rates) the
+    derivatives are PadAssembly.derivatives' (massless: the rate whose squeeze balances the moment;
+    with inertia: the rates and M / I), the force at them too."""
+    inertia = INERTIA if kind == "inertia" else 0.0
+    p = params(inertia)
+    d = Driver(*built[kind, version], version, "ME")
+    tp = TiltingPad(p)
+    try:
+        x = journal(p, *STATE)
+        d.set(x)
+        d.exit()
+        assert d.nx == (10 if inertia else 5)
+        eq = tp.pads.equilibrate(*x)
+        x0 = d.states()
+        assert close(x0[:5], eq.delta, p.CR / tp.pads.arm) < REL
+        if inertia:
+            assert np.all(x0[5:] == 0.0)
+        state = x0.copy()
+        state[:5] += 1e-4 * np.array([1.0, -2.0, 0.5, 1.0, -1.0])
+        if inertia:
+            state[5:] = 0.3 * np.array([1.0, -1.0, 2.0, 0.5, -0.2])
+        d.set_states(state)
+        F, want, _sol = tp.pads.derivatives(state, *x)
+        got = d.derivatives()
+        assert close(got, want, float(np.max(np.abs(want)))) < REL
+        assert close(d.get(["Fy", "Fz"]), F, abs(F).max()) < REL
+        assert close(d.get(tilts()), state[:5], 1e-3) < 1e-15  # the tilt outputs are the states
+    finally:
+        d.close()
+
+
+def test_model_exchange_tangent_is_the_total_derivative_with_the_rates_following(built):
+    """Massless pads in Model Exchange: the rate solves M(delta, rate) = 0 at each journal state,
+    so K and C are the force's total derivatives with the rates following: against central
+    differences of the force over the journal position and velocity (steps 1e-6 CR, 1e-6 CR omega)."""
+    p = params()
+    d = Driver(*built["massless", 2], 2, "ME")
+    try:
+        x = np.array(journal(p, *STATE))
+        d.set(x)
+        d.exit()
+        K = d.get(OUT)[2:]  # at the states' start, the equilibrium: Model Exchange's tangent already
+        num = []
+        for i, h in ((0, 1e-6 * p.CR), (1, 1e-6 * p.CR), (2, 1e-6 * p.CR * OMEGA), (3, 1e-6 * p.CR * OMEGA)):
+            up, down = x.copy(), x.copy()
+            up[i] += h
+            down[i] -= h
+            d.set(up)
+            Fu = d.get(["Fy", "Fz"])
+            d.set(down)
+            Fd = d.get(["Fy", "Fz"])
+            num.append(-(Fu - Fd) / (2 * h))
+        num = np.array(num).T  # rows Fy, Fz; columns y, z, vy, vz
+        want = np.concatenate([num[:, :2].ravel(), num[:, 2:].ravel()])
+        assert close(K[:4], want[:4], float(np.max(np.abs(want[:4])))) < 1e-6
+        assert close(K[4:], want[4:], float(np.max(np.abs(want[4:])))) < 1e-6
+    finally:
+        d.close()
+
+
+@pytest.mark.parametrize("version", [2, 3])
+def test_an_fmu_state_restores_the_pads_history(built, version):
+    """The pads' committed state and BDF2's history are part of the FMU state: a step redone from a
+    restored (and a serialised and deserialised) state gives the same bits."""
+    p = params(INERTIA)
+    d = Driver(*built["inertia", version], version, "CS")
+    f = d.f
+    try:
+        d.set(journal(p, *STATE))
+        d.exit()
+        for k in range(2):
+            d.set(journal(p, STATE[0] + 0.03 * (k + 1), STATE[1], 0.05, 0.0))
+            assert d.step(1e-4 * k, 1e-4) == 0
+        get, put = (f.getFMUstate, f.setFMUstate) if version == 2 else (f.getFMUState, f.setFMUState)
+        ser, deser = ((f.serializeFMUstate, f.deSerializeFMUstate) if version == 2 else
+                      (f.serializeFMUState, f.deserializeFMUState))
+        saved = get()
+        blob = ser(saved)
+        x = journal(p, STATE[0] + 0.1, STATE[1] - 0.05, 0.05, -0.02)
+        d.set(x)
+        assert d.step(2e-4, 1e-4) == 0
+        first = d.get(OUT + tilts())
+        put(saved)
+        d.set(x)
+        assert d.step(2e-4, 1e-4) == 0
+        assert np.array_equal(d.get(OUT + tilts()), first)
+        put(deser(blob))
+        d.set(x)
+        assert d.step(2e-4, 1e-4) == 0
+        assert np.array_equal(d.get(OUT + tilts()), first)
+    finally:
+        d.close()
+
+
+@pytest.mark.parametrize("version", [2, 3])
+def test_a_journal_beyond_a_pads_wall_is_discarded_then_an_error_if_retried(built, version):
+    """A journal that closes a pad's film: doStep Discard (the instance as before: a step with
+    other inputs goes on), the same inputs again Error; Model Exchange: the derivatives Discard."""
+    p = params()
+    d = Driver(*built["massless", version], version, "CS")
+    try:
+        d.set(journal(p, *STATE))
+        d.exit()
+        before = d.get(tilts())
+        d.set(journal(p, 0.0, -3.0, 0.0, 0.0))
+        assert d.step(0.0, 1e-4) == DISCARD
+        assert np.array_equal(d.get(tilts()), before)
+        assert d.step(0.0, 1e-4) == ERROR
+        d.set(journal(p, *STATE))
+        assert d.step(0.0, 1e-4) == 0
+    finally:
+        d.close()
+    d = Driver(*built["massless", version], version, "ME")
+    try:
+        d.set(journal(p, *STATE))
+        d.exit()
+        d.set(journal(p, 0.0, -3.0, 0.0, 0.0))
+        with pytest.raises(FMICallException) as exc:
+            d.derivatives()
+        assert exc.value.status == DISCARD
+    finally:
+        d.close()
+
+
+def _orbit(path: Path, cr: float) -> Path:
+    """The checker's input: the journal circling 0.3 CR about (0, -0.3 CR) at 50 Hz."""
+    rows = ["time,y,z,vy,vz,omega"]
+    for k in range(11):
+        t, r = 1e-3 * k, 0.3 * cr
+        rows.append(f"{t!r},{r * math.cos(OMEGA * t)!r},{-r * math.sin(OMEGA * t) - 0.3 * cr!r},"
+                    f"{-r * OMEGA * math.sin(OMEGA * t)!r},{-r * OMEGA * math.cos(OMEGA * t)!r},{OMEGA!r}")
+    path.write_text("\n".join(rows) + "\n")
+    return path
+
+
+@pytest.mark.parametrize("kind", ["massless", "inertia"])
+@pytest.mark.parametrize("interface", ["me", "cs"])
+def test_compliance_checker_reports_nothing(built, kind, interface, tmp_path):
+    """The FMU Compliance Checker (FMI 2.0), empty environment, the journal circling: 0 warnings and
+    0 errors from the FMU and from the checker, the tilts among its outputs."""
+    fmu, _unzip = built[kind, 2]
+    log = tmp_path / "check.log"
+    done = subprocess.run(["env", "-i", str(compliance_checker()), "-h", "1e-4", "-s", "0.01", "-k", interface, "-i",
+                           str(_orbit(tmp_path / "in.csv", params().CR)), "-o", str(tmp_path / "out.csv"), "-e",
+                           str(log), str(fmu)], capture_output=True, text=True, timeout=300)
+    text = log.read_text()
+    summary = text[text.index("FMU check summary:"):]
+    assert done.returncode == 0, summary
+    assert "FMU reported:\n\t0 warning(s) and error(s)" in summary, summary
+    assert "0 Warning(s)" in summary and "0 Error(s)" in summary, summary
+    head = (tmp_path / "out.csv").read_text().splitlines()[0]
+    assert '"pad_tilt_1"' in head and '"pad_tilt_5"' in head
+
+
+@pytest.mark.parametrize("version", [2, 3])
+def test_fmpy_validates_the_model_description(built, version):
+    """fmpy's validation (the model structure: the tilts as states, their derivatives)."""
+    from fmpy.validation import validate_fmu
+
+    for kind in ("massless", "inertia"):
+        assert validate_fmu(str(built[kind, version][0])) == [], (kind, version)
