@@ -1,4 +1,4 @@
-"""The native tilting-pad FMU (c/internal_pads.c over the C Reynolds solver) against the Python
+"""The native tilting-pad FMU (c/internal_tilting_pad.c over the C Reynolds solver) against the Python
 ``tilting_pad`` internal, which it ports (each pad the partial-arc solver in its frame, the same
 Newton iterations): the force, tangent and tilts of the massless pads in equilibrium
 (Initialization Mode), Co-Simulation steps against ``PadStepper`` (BDF2, variable steps), Model

@@ -393,7 +393,7 @@ bn_status bn_do_step(Instance *m, const char *call, unsigned allowed, double t0,
                        "an FMU state", call, bn_num(a, 32, t, 10), bn_num(b, 32, m->refused_t, 10));
     m->thermal_lagged = 1; /* T_eff lags over the step (thermal = true) */
     m->thermal_dt = h;
-    m->step_h = h; /* the pads' states are advanced over it (internal_pads.c) */
+    m->step_h = h; /* the pads' states are advanced over it (internal_tilting_pad.c) */
     int refused = bn_evaluate(m);
     m->thermal_lagged = 0;
     m->step_h = 0.0;

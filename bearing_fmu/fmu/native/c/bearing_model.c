@@ -52,7 +52,7 @@ int bn_evaluate(Instance *m) {
     m->r[VR_P_LOSS] = heat[3];
     m->r[VR_Q_SIDE] = heat[4];
     m->r[VR_DER_T_EFF] = heat[5];
-    if (BN_N_PADS) { /* the pads' Reals (internal_pads.c); a static evaluation's tilts become their state */
+    if (BN_N_PADS) { /* the pads' Reals (internal_tilting_pad.c); a static evaluation's tilts become their state */
         memcpy(m->r + VR_PAD0, m->work.pad_out, BN_N_PAD_REALS * sizeof(double));
         if (m->mode == MODE_INIT && !m->mute) bn_pads_static(m);
     }

@@ -122,7 +122,7 @@ enum {
 /* der(T_eff), a local: in Model Exchange T_eff is the one continuous state of a build whose
  * internal has the film's flows and whose bearing an oil law (BN_N_STATES 1), this its derivative */
 #define VR_DER_T_EFF (VR_OIL0 + N_OIL_REALS)
-/* tilting pads (internal_pads.c; generators/tilting_pad.py): N pads' Reals after der(T_eff), the
+/* tilting pads (internal_tilting_pad.c; generators/tilting_pad.py): N pads' Reals after der(T_eff), the
  * tilts pad_tilt_k (outputs), then massless der(pad_tilt_k) (locals), with inertia pad_rate_k
  * (outputs) and der(pad_rate_k) (locals); Model Exchange's continuous states are the first
  * BN_N_PAD_STATES of them (after T_eff's, if any), their derivatives the next BN_N_PAD_STATES */

@@ -1,4 +1,4 @@
-"""The native tilting-pad model (c/internal_pads.c over the C Reynolds solver): the pads of the
+"""The native tilting-pad model (c/internal_tilting_pad.c over the C Reynolds solver): the pads of the
 build's bearing compiled in, every pad the partial-arc solver in its own frame
 (``internals.tilting_pad.assembly``: the same frame bore, grid, equations and Newton iterations
 as the Python ``tilting_pad`` internal), the grid and cavitation parameters.
