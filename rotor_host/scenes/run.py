@@ -187,6 +187,7 @@ def _native_fmu(scene: Scene, work_dir: Path, bearing=None) -> Path:
     bearing's coefficients."""
     from bearing_fmu.fmu.native.host import fmu_internals, host_build_options
     from bearing_fmu.fmu.native.build import build_native_fmu
+    from bearing_fmu.fmu.native.catalogue import native_spec
     from bearing_fmu.fmu.native.compile import host_platform
 
     spec = registry.get(scene.internal)
@@ -194,8 +195,13 @@ def _native_fmu(scene: Scene, work_dir: Path, bearing=None) -> Path:
         native = registry.having(native=True)
         raise SceneError(f"{scene.source}: fmu_kind = 'native' computes one of {', '.join(native)}, not internal = "
                          f"{scene.internal!r} (registered from outside the package): use fmu_kind = 'python'")
+    if spec.can.pads:  # measured: the rotor's start 0.11 CR from the direct run's (docs/fmu.md, Native FMU)
+        raise SceneError(f"{scene.source}: fmu_kind = 'native' with the {spec.name} internal: the host's static "
+                         "equilibrium probes each FMU with a 1e-9 s doStep, which holds a pad FMU's tilts at their "
+                         "initialisation instead of balancing them; run via = 'direct' (the pads' states in-process)")
     work_dir.mkdir(parents=True, exist_ok=True)
-    files = {o.name: required_file(scene, spec.name, o.name) for o in spec.file_options()}
+    kept = native_spec(spec.name).options  # the data files its C model compiles in (not tilting_pad's pad_map)
+    files = {o.name: required_file(scene, spec.name, o.name) for o in spec.file_options() if o.name in kept}
     path = next(iter(files.values()), None)  # a native FMU compiles at most one data file in
     taylor = spec.name == "taylor"  # its bearing and speed are the surrogate's
     speed_hz = None if taylor or not scene.omega else scene.omega / (2.0 * math.pi)
