@@ -103,9 +103,9 @@ typedef struct {
     double t;
     double values[VR_D];
     double thermal[VR_GEOMETRY0 - VR_T_SUPPLY]; /* T_supply and the thermal outputs */
-    int out_of_domain;
     double pad_values[3 * BN_MAX_PADS]; /* tilting pads: their Reals (VR_PAD0 ..: Model Exchange's states) */
     double pads[BN_PAD_STATE_LEN];      /* and their committed state (Instance.pads) */
+    int out_of_domain;                  /* the two ints last: no padding (every byte is checked) */
     unsigned check;
 } BnState;
 /* tilting pads (bearing_state.c): a static evaluation's tilts (pad_out) become the state, rates 0,
