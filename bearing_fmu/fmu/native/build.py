@@ -52,12 +52,13 @@ def build_native_fmu(output, internal: str, *, surrogate=None, map=None, bearing
                      options: dict | None = None, cmake: bool = False, bearing_source="", platforms=None,
                      compiler: str | None = None, speed_hz: float | None = None, fmi_version: int = 2,
                      thermal: bool = False) -> Path:
-    """Write the native FMU of ``internal`` (reynolds | taylor | map | linear) to ``output`` (.fmu).
+    """Write the native FMU of ``internal`` (reynolds | taylor | map | linear | tilting_pad) to ``output`` (.fmu).
 
     surrogate : taylor: the surrogate JSON file compiled in (the bearing defaults to its own)
     map       : map: the force map JSON file; linear: linearise on this map (no Reynolds)
     bearing   : the bearing (default: the surrogate's for taylor, else the paper bearing); reynolds: any
-                bore (its geometry compiled in), the others the full bore
+                bore (its geometry compiled in); tilting_pad: a bearing with pads (compiled in); the
+                others the full bore
     bearing_source : where ``bearing`` came from (its file: recorded with its SHA-256)
     options   : registry options: taylor's domain_action / domain_limit start values, linear's
                 linear_from, load_y, load_z, omega_lin, lin_* (the coefficients' start values),
