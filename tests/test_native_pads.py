@@ -12,6 +12,7 @@ from __future__ import annotations
 import ctypes
 import math
 import subprocess
+import sys
 from dataclasses import replace
 from pathlib import Path
 
@@ -340,3 +341,41 @@ def test_fmpy_validates_the_model_description(built, version):
 
     for kind in ("massless", "inertia"):
         assert validate_fmu(str(built[kind, version][0])) == [], (kind, version)
+
+
+@pytest.mark.parametrize("kind", ["massless", "inertia"])
+def test_fmi3_dependencies_of_the_binary_are_the_model_descriptions(built, kind):
+    """fmi3GetVariableDependencies (fmi3_modes.c) gives each output's and state derivative's
+    dependencies as the model structure lists them (fmi3.output_dependencies, derivative_dependencies):
+    the force, K, C and the pads' variables on the journal state and every pad state."""
+    fmu, unzip = built[kind, 3]
+    md = fmpy.read_model_description(str(fmu))
+    by_vr = {v.valueReference: v.name for v in md.modelVariables}
+    listed = {u.variable.name: sorted(d.name for d in u.dependencies) for u in md.outputs + md.derivatives}
+    states = sorted(v.name for v in md.modelVariables if v.name.startswith(("pad_tilt_", "pad_rate_")))
+    assert len(states) == md.numberOfContinuousStates == (10 if kind == "inertia" else 5)
+    last = md.derivatives[-1].variable.name  # der(pad_tilt_N), or with inertia der(pad_rate_N)
+    assert listed["Fy"] == listed["pad_tilt_3"] == listed[last] == sorted(list(INPUTS) + states)
+    d = Driver(fmu, unzip, 3, "ME")
+    try:
+        for name, deps in listed.items():
+            vr = next(v.valueReference for v in md.modelVariables if v.name == name)
+            n = ctypes.c_size_t()
+            assert d.f.dll.fmi3GetNumberOfVariableDependencies(d.f.component, vr, ctypes.byref(n)) == 0
+            ind = (ctypes.c_uint * n.value)()
+            assert d.f.dll.fmi3GetVariableDependencies(d.f.component, vr, (ctypes.c_size_t * n.value)(), ind,
+                                                        (ctypes.c_size_t * n.value)(), (ctypes.c_int * n.value)(),
+                                                        n.value) == 0
+            assert sorted(by_vr[r] for r in ind) == deps, name
+    finally:
+        d.f.freeInstance()
+
+
+def test_the_rotor_host_refuses_a_native_pad_fmu_by_name(tmp_path):
+    """rotor-host run --native on a pad scene: refused naming why (its static equilibrium would hold
+    the pads' tilts: docs/fmu.md), before anything is built."""
+    done = subprocess.run([sys.executable, "-m", "rotor_host.cli", "run",
+                           str(ROOT / "rotor_host" / "bundled" / "scenes" / "paper_5pad_lbp_44hz.toml"), "--native",
+                           "--via", "fmu", "--t-end", "1e-3", "--out", str(tmp_path), "--no-plots"],
+                          capture_output=True, text=True, cwd=ROOT, timeout=120)
+    assert done.returncode == 2 and "static equilibrium" in done.stderr and "tilting_pad" in done.stderr, done.stderr
