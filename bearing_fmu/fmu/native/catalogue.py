@@ -124,8 +124,9 @@ NATIVE: dict[str, NativeSpec] = {s.name: s for s in (
                ("internal_reynolds.c", "reynolds_solver.c", "reynolds_kernels.c"),
                ("py_mod.h", "reynolds_solver.h", "film_friction.h"), ("reynolds_film.c",), force_depends=(2, 1),
                bore="compiled"),
-    NativeSpec("tilting_pad", f"{_MODELS}.tilting_pad:tilting_pad_model", ("n_theta", "n_x", "cavitation"),
-               ("internal_tilting_pad.c", "reynolds_solver.c", "reynolds_kernels.c"), ("py_mod.h", "reynolds_solver.h"),
+    NativeSpec("tilting_pad", f"{_MODELS}.tilting_pad:tilting_pad_model", ("n_theta", "n_x", "cavitation", "pad_map"),
+               ("internal_tilting_pad.c", "reynolds_solver.c", "reynolds_kernels.c"),
+               ("py_mod.h", "reynolds_solver.h", "film_friction.h", "map_spline.h"),
                force_depends=(2, 1), bore="compiled",
                alone_why="its pads' variables and continuous states are its own: build a native FMU of it alone"),
 )}

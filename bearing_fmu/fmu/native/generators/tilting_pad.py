@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import replace
+from pathlib import Path
 
 from ....internals import registry
 from ....internals.tilting_pad.assembly import PadAssembly, pad_frame_geometry
@@ -66,11 +67,9 @@ def tilting_pad_model(params: BearingParams, surrogate, map_path, options: dict)
     if pg.pivot_stiffness is not None:
         raise ValueError(f"[geometry] pivot_stiffness_N_m = {pg.pivot_stiffness:g}: a flexible pivot is not modelled "
                          "yet; leave the key out (rigid pivots)")
-    if options.get("pad_map"):
-        raise ValueError("the native tilting_pad FMU solves every pad with the Reynolds solver; pad_map (the pads' "
-                         "force map) is the Python internal's only: use the Python FMU or leave pad_map out")
-    starts = {"n_theta": 0, "n_x": 0, "cavitation": "reynolds"}
-    for name in starts:
+    pad_map = Path(options["pad_map"]) if options.get("pad_map") else None
+    starts = {"n_theta": 0, "n_x": 0, "cavitation": "reynolds", "pad_map": pad_map.name if pad_map else ""}
+    for name in ("n_theta", "n_x", "cavitation"):
         if name in options:
             starts[name] = registry_option(name).check(options[name], "native FMU option")
     inputs = (0.0, 0.0, 0.0, 0.0, float(options.get("_omega", registry.DEFAULT_OMEGA_LIN)))
@@ -93,13 +92,20 @@ def tilting_pad_model(params: BearingParams, surrogate, map_path, options: dict)
             "#endif\n"]))
     grid = f"{starts['n_theta'] or 'default'} x {starts['n_x'] or 'default'}"
     info = {"bore": params.geometry.describe(), "grid": grid, "cavitation": starts["cavitation"]}
-    return NativeModel("tilting_pad", params, variables + pads, config, pads_data_h(params), None,
-                       f"tilting-pad journal bearing ({pg.describe()}), every pad the finite-volume Reynolds solver "
-                       "in its own frame, the pads' tilts (and rates) states; compiled (no Python)", info)
+    if pad_map:
+        info["pad_map"] = pad_map.name
+    how = (f"every pad from the pads' force map {pad_map.name}" if pad_map else
+           "every pad the finite-volume Reynolds solver")
+    return NativeModel("tilting_pad", params, variables + pads, config, pads_data_h(params, pad_map), pad_map,
+                       f"tilting-pad journal bearing ({pg.describe()}), {how} in its own frame, the pads' tilts (and "
+                       "rates) states; compiled (no Python)", info)
 
 
-def pads_data_h(params: BearingParams) -> str:
-    """model_data.h: the pad frame's bore (as the Reynolds model's) and the pads."""
+def pads_data_h(params: BearingParams, pad_map: Path | None = None) -> str:
+    """model_data.h: the pad frame's bore (as the Reynolds model's) and the pads; with ``pad_map``
+    (the pads' 3-D partial-arc map, ``padmap.build_pad_map``) its spline too (``map_data_h``, no
+    flows), every pad then from it (``padmap.PadMapSolver``: the arc of clearance C_pad, the journal
+    shifted by the preload d = C_pad - C_bearing)."""
     pg = params.geometry.pads
     frame = pad_frame_geometry(pg)
     bore = reynolds_data_h(replace(params, geometry=frame), c_double, c_string)
@@ -115,6 +121,28 @@ def pads_data_h(params: BearingParams) -> str:
         "#define TP_SIN {" + ", ".join(c_double(s) for _c, s in rot) + "}",
         "#define TP_PIVOT_DEG {" + ", ".join(c_double(math.degrees(p)) for p in pg.pivots) + "}",
         f"#define TP_PADS_TEXT {c_string(pg.describe())}",
-        "#endif\n",
+        f"#define TP_MAP {int(pad_map is not None)}",
     ]
-    return bore.replace("#endif\n", "\n".join(lines))
+    if pad_map is not None:
+        lines += _pad_map_lines(params, pad_map)
+    return bore.replace("#endif\n", "\n".join([*lines, "#endif\n"]))
+
+
+def _pad_map_lines(params: BearingParams, path: Path) -> list[str]:
+    """The pads' map file compiled in: checked as the Python internal takes it (``PadMapSolver``:
+    a 3-D map of the pads' arc and L/D), its spline's lines."""
+    from ....internals.mapfile import load_any_map
+    from ....internals.tilting_pad.padmap import PadMapSolver
+    from ..codegen import c_array
+    from .map import map_data_h
+
+    table = load_any_map(path)
+    try:
+        PadMapSolver(params, table)
+    except ValueError as exc:
+        raise ValueError(f"pad_map {path.name}: {exc}") from None
+    if table.H.ndim != 4:
+        raise ValueError(f"pad_map {path.name}: not a partial-arc (3-D) map of the pads (padmap.build_pad_map)")
+    text = map_data_h(path, table, c_double, c_string, c_array, None, with_flows=False)
+    body = [ln for ln in text.splitlines() if ln not in ("#ifndef MODEL_DATA_H", "#define MODEL_DATA_H", "#endif")]
+    return body
