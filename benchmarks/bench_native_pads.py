@@ -10,7 +10,9 @@ agreement and time per call, side by side in one run.
 2. Model Exchange: fmi2SetContinuousStates + fmi2GetDerivatives at the same journal states and
    tilts, against ``PadAssembly.derivatives``; time per call.
 
-    .venv/bin/python benchmarks/bench_native_pads.py [--steps 200] [--inertia 0]
+    .venv/bin/python benchmarks/bench_native_pads.py [--steps 200] [--inertia 0] [--pad-map FILE]
+
+(--pad-map: every pad from the pads' map, ``padmap.build_pad_map``, in both.)
 """
 
 from __future__ import annotations
@@ -42,6 +44,7 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--steps", type=int, default=200)
     ap.add_argument("--inertia", type=float, default=0.0, help="pad inertia [kg m^2] (0: massless)")
+    ap.add_argument("--pad-map", default="", help="the pads' map file (padmap.build_pad_map); default: Reynolds pads")
     a = ap.parse_args()
     import fmpy
     from fmpy.fmi2 import FMU2Model, FMU2Slave
@@ -54,7 +57,9 @@ def main() -> None:
     path = [(0.4 * p.CR * math.cos(w * h * k), -0.4 * p.CR + 0.4 * p.CR * math.sin(w * h * k),
              -0.4 * p.CR * w * math.sin(w * h * k), 0.4 * p.CR * w * math.cos(w * h * k), w) for k in range(a.steps + 1)]
     with tempfile.TemporaryDirectory() as tmp:
-        fmu = build_native_fmu(Path(tmp) / "pads.fmu", "tilting_pad", bearing=p, platforms=["linux64"], speed_hz=50.0)
+        options = {"pad_map": a.pad_map} if a.pad_map else {}
+        fmu = build_native_fmu(Path(tmp) / "pads.fmu", "tilting_pad", bearing=p, platforms=["linux64"], speed_hz=50.0,
+                               options=options)
         md = fmpy.read_model_description(str(fmu))
         vr = {v.name: v.valueReference for v in md.modelVariables}
         unzip = fmpy.extract(str(fmu))
@@ -66,7 +71,7 @@ def main() -> None:
         ins, outs = [vr[n] for n in INPUTS], [vr[n] for n in OUT + TILTS]
         s.setReal(ins, list(path[0]))
         s.exitInitializationMode()
-        tp = TiltingPad(p)
+        tp = TiltingPad(p, pad_map=a.pad_map or None)
         tp.force_and_jacobian(*path[0])
         arm = tp.pads.arm
         native, python, t_native, t_python = [], [], 0.0, 0.0
@@ -89,7 +94,8 @@ def main() -> None:
         dK = np.max(np.abs(nat[:, 2:6] - py[:, 2:6])) / np.max(np.abs(py[:, 2:6]))
         dC = np.max(np.abs(nat[:, 6:10] - py[:, 6:10])) / np.max(np.abs(py[:, 6:10]))
         dT = np.max(np.abs(nat[:, 10:] - py[:, 10:])) / (p.CR / arm)
-        print(f"Co-Simulation, {a.steps} steps of {h:g} s (pad inertia {a.inertia:g} kg m^2): largest relative "
+        print(f"Co-Simulation, {a.steps} steps of {h:g} s (pad inertia {a.inertia:g} kg m^2, pads from "
+              f"{a.pad_map or 'the Reynolds solver'}): largest relative "
               f"difference force {dF:.2e}, K {dK:.2e}, C {dC:.2e}, tilts {dT:.2e} (of CR / a)")
         print(f"  time per step: native FMU (fmpy setReal, doStep, getReal) {1e6 * t_native / a.steps:.0f} us, "
               f"Python internal {1e6 * t_python / a.steps:.0f} us, ratio {t_python / t_native:.1f}")
