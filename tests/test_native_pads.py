@@ -255,6 +255,27 @@ def test_model_exchange_tangent_is_the_total_derivative_with_the_rates_following
         d.close()
 
 
+def test_cosimulation_directional_derivatives_are_the_steps(built):
+    """After a doStep, fmi2GetDirectionalDerivative of Fy, Fz along y, z, vy, vz is the step's own
+    tangent (the step taken again from its start), the K and C outputs to the bit; also after the
+    FMU state is restored."""
+    p = params(INERTIA)
+    d = Driver(*built["inertia", 2], 2, "CS")
+    try:
+        d.set(journal(p, *STATE))
+        d.exit()
+        for k in range(3):
+            d.set(journal(p, STATE[0] + 0.03 * (k + 1), STATE[1], 0.05, -0.02))
+            assert d.step(1e-4 * k, 1e-4) == 0
+        K = d.get(OUT)[2:]
+        for j, name in enumerate(INPUTS[:4]):
+            dd = d.f.getDirectionalDerivative([d.vr["Fy"], d.vr["Fz"]], [d.vr[name]], [1.0])
+            want = -K[[j, 2 + j]] if j < 2 else -K[[4 + j - 2, 6 + j - 2]]
+            assert np.array_equal(np.array(dd), want), name
+    finally:
+        d.close()
+
+
 @pytest.mark.parametrize("version", [2, 3])
 def test_an_fmu_state_restores_the_pads_history(built, version):
     """The pads' committed state and BDF2's history are part of the FMU state: a step redone from a

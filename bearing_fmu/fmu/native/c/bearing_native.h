@@ -223,7 +223,8 @@ typedef struct Instance {
 #endif
     Work work;
     double step_h;              /* Co-Simulation: the step an evaluation ends [s] (0: none; bn_do_step) */
-    double pads[BN_PAD_STATE_LEN]; /* tilting pads: the committed state (PS_*), saved in the FMU state */
+    double pads[2 * BN_PAD_STATE_LEN]; /* tilting pads: the committed state (PS_*), then the one the last
+                                   Co-Simulation step started from (its derivatives); saved in the FMU state */
     ot_oil oil;                 /* thermal = true: the oil of the parameters (bn_thermal_setup) */
     int thermal_lagged;         /* the next evaluation lags T_eff from its value over thermal_dt (a step), */
     double thermal_dt;          /* else (Initialization Mode) it is quasi-static */

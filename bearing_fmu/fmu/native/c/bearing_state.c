@@ -51,6 +51,7 @@ void bn_pads_static(Instance *m) {
 
 void bn_pads_accept(Instance *m, double h) {
     double dt = m->pads[PS_DT];
+    memcpy(m->pads + BN_PAD_STATE_LEN, m->pads, BN_PAD_STATE_LEN * sizeof(double)); /* the step's start */
     for (int k = 0; k < BN_N_PADS; k++) {
         m->pads[PS_PREV_DELTA + k] = m->pads[PS_DELTA + k];
         m->pads[PS_PREV_RATE + k] = m->pads[PS_RATE + k];
@@ -115,8 +116,9 @@ int bn_state_sound(const BnState *s, const char *tag, const char *id, char *why,
     if (!bad && s->out_of_domain != 0 && s->out_of_domain != 1) bad = "out_of_domain", v = s->out_of_domain;
     for (int i = 0; !bad && i < BN_N_PAD_REALS; i++)
         if (!isfinite(s->pad_values[i])) bad = bn_real_name(VR_PAD0 + i), v = s->pad_values[i];
-    for (int i = 0; !bad && i < BN_PAD_STATE_LEN; i++) /* the steps' sizes are >= 0 */
-        if (!isfinite(s->pads[i]) || (i >= PS_PREV_DT && s->pads[i] < 0.0)) bad = "the pads' state", v = s->pads[i];
+    for (int i = 0; !bad && i < 2 * BN_PAD_STATE_LEN; i++) /* the steps' sizes are >= 0 */
+        if (!isfinite(s->pads[i]) || (i % BN_PAD_STATE_LEN >= PS_PREV_DT && s->pads[i] < 0.0))
+            bad = "the pads' state", v = s->pads[i];
     if (bad) {
         snprintf(why, n, "a %s state holding %s = %s (not finite or out of range)", tag, bad, bn_num(a, 32, v, 17));
         return 1;

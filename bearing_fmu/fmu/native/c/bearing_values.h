@@ -104,7 +104,7 @@ typedef struct {
     double values[VR_D];
     double thermal[VR_GEOMETRY0 - VR_T_SUPPLY]; /* T_supply and the thermal outputs */
     double pad_values[3 * BN_MAX_PADS]; /* tilting pads: their Reals (VR_PAD0 ..: Model Exchange's states) */
-    double pads[BN_PAD_STATE_LEN];      /* and their committed state (Instance.pads) */
+    double pads[2 * BN_PAD_STATE_LEN];  /* and their committed state, the last step's start (Instance.pads) */
     int out_of_domain;                  /* the two ints last: no padding (every byte is checked) */
     unsigned check;
 } BnState;

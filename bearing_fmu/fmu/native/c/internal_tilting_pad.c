@@ -12,8 +12,9 @@
  *   Model Exchange        the pads at their states (Instance.r, set by fmi2SetContinuousStates):
  *                         massless, the rate whose squeeze balances the moment (PadAssembly.derivatives,
  *                         the Jacobian with that rate following); with inertia d rate/dt = M / I
- * (and a Co-Simulation evaluation outside a step, a directional derivative: the pads at the
- * committed state as Model Exchange's). Each pad has a solver of its own (its own warm start),
+ * (a Co-Simulation evaluation after a step, a directional derivative: that step again from its
+ * start, kept in Instance.pads; before the first step: the pads at the committed state as Model
+ * Exchange's). Each pad has a solver of its own (its own warm start),
  * one memory block for all, allocated when the parameters are fixed, freed with the instance. */
 #include <math.h>
 #include <stdio.h>
@@ -370,8 +371,7 @@ static int at_state(Instance *m, const double x[5], const double *delta, const d
 }
 
 /* Co-Simulation: the pads at the end of a step of h from the committed state (PadStepper.solve) */
-static int step(Instance *m, const double x[5], double h, double F[2], double J[8], double dw[2]) {
-    const double *P = m->pads;
+static int step(Instance *m, const double *P, const double x[5], double h, double F[2], double J[8], double dw[2]) {
     double a = arm(m), I = TP_INERTIA, b = h, hd[TP_N], hw[TP_N];
     char b1[32], b2[32], b3[32];
     for (int k = 0; k < TP_N; k++) {
@@ -458,7 +458,11 @@ int bn_eval(Instance *m, const double x[5], int want_jac, double F[2], double J[
             refused = at_state(m, x, tilts, rates, F, Jl, dwl);
         }
     } else if (m->step_h > 0.0) {
-        refused = step(m, x, m->step_h, F, Jl, dwl);
+        refused = step(m, m->pads, x, m->step_h, F, Jl, dwl);
+    } else if (!m->model_exchange && m->pads[PS_DT] > 0.0) {
+        /* Co-Simulation after a step (a directional derivative): that step again from its start, so
+         * the derivatives are its own, as K and C are */
+        refused = step(m, m->pads + BN_PAD_STATE_LEN, x, m->pads[PS_DT], F, Jl, dwl);
     } else {
         for (int k = 0; k < TP_N; k++) { /* Model Exchange's states; Co-Simulation's committed ones */
             tilts[k] = m->model_exchange ? m->r[VR_PAD0 + k] : m->pads[PS_DELTA + k];
