@@ -187,7 +187,6 @@ def _native_fmu(scene: Scene, work_dir: Path, bearing=None) -> Path:
     bearing's coefficients."""
     from bearing_fmu.fmu.native.host import fmu_internals, host_build_options
     from bearing_fmu.fmu.native.build import build_native_fmu
-    from bearing_fmu.fmu.native.catalogue import native_spec
     from bearing_fmu.fmu.native.compile import host_platform
 
     spec = registry.get(scene.internal)
@@ -200,8 +199,7 @@ def _native_fmu(scene: Scene, work_dir: Path, bearing=None) -> Path:
                          "equilibrium probes each FMU with a 1e-9 s doStep, which holds a pad FMU's tilts at their "
                          "initialisation instead of balancing them; run via = 'direct' (the pads' states in-process)")
     work_dir.mkdir(parents=True, exist_ok=True)
-    kept = native_spec(spec.name).options  # the data files its C model compiles in (not tilting_pad's pad_map)
-    files = {o.name: required_file(scene, spec.name, o.name) for o in spec.file_options() if o.name in kept}
+    files = {o.name: required_file(scene, spec.name, o.name) for o in spec.file_options()}
     path = next(iter(files.values()), None)  # a native FMU compiles at most one data file in
     taylor = spec.name == "taylor"  # its bearing and speed are the surrogate's
     speed_hz = None if taylor or not scene.omega else scene.omega / (2.0 * math.pi)
