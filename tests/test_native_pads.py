@@ -44,28 +44,46 @@ def params(inertia: float = 0.0) -> BearingParams:
     return p
 
 
-@pytest.fixture(scope="module")
-def built(tmp_path_factory, native_build_cache):
-    """(massless | inertia, FMI version) -> (fmu, extracted folder)."""
-    from bearing_fmu.fmu.native.build import build_native_fmu
+class Builds:
+    """(massless | inertia | map, FMI version) -> (fmu, extracted folder), each built when first asked
+    (the quick tests build the massless ones only); ``pad_map``: the small pads' map the map FMUs
+    hold (6.7 s on a busy machine; the map's own accuracy: tests/test_pad_map.py)."""
 
-    from bearing_fmu.internals.map.groovemap import save_grooved_map
-    from bearing_fmu.internals.tilting_pad.padmap import build_pad_map
+    def __init__(self, folder: Path, cached):
+        self.folder, self.cached, self.done, self._map = folder, cached, {}, None
 
-    folder = tmp_path_factory.mktemp("pads")
-    # a small pads' map (1.7 s; the map's own accuracy: tests/test_pad_map.py)
-    out = {"pad_map": save_grooved_map(build_pad_map(params(), n_theta=24, n_x=4, n_eps=12, n_phi=10, n_beta=10),
-                                       folder / "pads_map.json")}
-    for kind, inertia in (("massless", 0.0), ("inertia", INERTIA), ("map", 0.0)):
-        options = {"pad_map": str(out["pad_map"])} if kind == "map" else {}
-        for version in (2, 3):
-            def build(t, inertia=inertia, version=version, options=options):
+    @property
+    def pad_map(self) -> Path:
+        if self._map is None:
+            from bearing_fmu.internals.map.groovemap import save_grooved_map
+            from bearing_fmu.internals.tilting_pad.padmap import build_pad_map
+
+            self._map = save_grooved_map(build_pad_map(params(), n_theta=24, n_x=4, n_eps=12, n_phi=10, n_beta=10),
+                                         self.folder / "pads_map.json")
+        return self._map
+
+    def __getitem__(self, key):
+        if key == "pad_map":
+            return self.pad_map
+        if key not in self.done:
+            from bearing_fmu.fmu.native.build import build_native_fmu
+
+            kind, version = key
+            options = {"pad_map": str(self.pad_map)} if kind == "map" else {}
+            inertia = INERTIA if kind == "inertia" else 0.0
+
+            def build(t):
                 return build_native_fmu(t, "tilting_pad", bearing=params(inertia), platforms=["linux64"],
                                         fmi_version=version, speed_hz=50.0, options=options)
-            inputs = [BEARING] + ([out["pad_map"]] if options else [])
-            fmu = native_build_cache(folder / f"{kind}{version}.fmu", build, inputs, ("pads", kind, version))
-            out[kind, version] = (fmu, Path(fmpy.extract(str(fmu))))
-    return out
+            inputs = [BEARING] + ([self.pad_map] if options else [])
+            fmu = self.cached(self.folder / f"{kind}{version}.fmu", build, inputs, ("pads", kind, version))
+            self.done[key] = (fmu, Path(fmpy.extract(str(fmu))))
+        return self.done[key]
+
+
+@pytest.fixture(scope="module")
+def built(tmp_path_factory, native_build_cache):
+    return Builds(tmp_path_factory.mktemp("pads"), native_build_cache)
 
 
 def python_internal(built, kind: str) -> TiltingPad:
@@ -147,6 +165,8 @@ def close(got, want, scale):
     return float(np.max(np.abs(np.asarray(got) - np.asarray(want)))) / scale
 
 
+# the quick loop builds and checks the massless pads; pad inertia and the pads' map are slow tests
+KINDS = ["massless", pytest.param("inertia", marks=pytest.mark.slow), pytest.param("map", marks=pytest.mark.slow)]
 STATE = (0.1, -0.5, 0.01, -0.02)  # y, z [CR], vy, vz [CR omega]
 
 
@@ -154,7 +174,7 @@ def journal(p, y, z, vy, vz):
     return (y * p.CR, z * p.CR, vy * p.CR * OMEGA, vz * p.CR * OMEGA, OMEGA)
 
 
-@pytest.mark.parametrize("kind", ["massless", "inertia", "map"])
+@pytest.mark.parametrize("kind", KINDS)
 @pytest.mark.parametrize("version", [2, 3])
 def test_cosimulation_equals_the_python_internal_and_its_steps(built, kind, version):
     """Initialization Mode: the massless pads in equilibrium (PadAssembly.equilibrate) and the
@@ -192,7 +212,7 @@ def test_cosimulation_equals_the_python_internal_and_its_steps(built, kind, vers
         d.close()
 
 
-@pytest.mark.parametrize("kind", ["massless", "inertia", "map"])
+@pytest.mark.parametrize("kind", KINDS)
 @pytest.mark.parametrize("version", [2, 3])
 def test_model_exchange_states_and_derivatives_equal_the_python_equations(built, kind, version):
     """Model Exchange: the states start at the pads' equilibrium; at other tilts (and rates) the
@@ -259,8 +279,8 @@ def test_cosimulation_directional_derivatives_are_the_steps(built):
     """After a doStep, fmi2GetDirectionalDerivative of Fy, Fz along y, z, vy, vz is the step's own
     tangent (the step taken again from its start), the K and C outputs to the bit; also after the
     FMU state is restored."""
-    p = params(INERTIA)
-    d = Driver(*built["inertia", 2], 2, "CS")
+    p = params()
+    d = Driver(*built["massless", 2], 2, "CS")
     try:
         d.set(journal(p, *STATE))
         d.exit()
@@ -280,8 +300,8 @@ def test_cosimulation_directional_derivatives_are_the_steps(built):
 def test_an_fmu_state_restores_the_pads_history(built, version):
     """The pads' committed state and BDF2's history are part of the FMU state: a step redone from a
     restored (and a serialised and deserialised) state gives the same bits."""
-    p = params(INERTIA)
-    d = Driver(*built["inertia", version], version, "CS")
+    p = params()
+    d = Driver(*built["massless", version], version, "CS")
     f = d.f
     try:
         d.set(journal(p, *STATE))
@@ -351,7 +371,7 @@ def _orbit(path: Path, cr: float, size: float) -> Path:
     return path
 
 
-@pytest.mark.parametrize("kind", ["massless", "inertia", "map"])
+@pytest.mark.parametrize("kind", KINDS)
 @pytest.mark.parametrize("interface", ["me", "cs"])
 def test_compliance_checker_reports_nothing(built, kind, interface, tmp_path):
     """The FMU Compliance Checker (FMI 2.0), empty environment, the journal circling (0.3 CR; the small
@@ -373,6 +393,7 @@ def test_compliance_checker_reports_nothing(built, kind, interface, tmp_path):
     assert '"pad_tilt_1"' in head and '"pad_tilt_5"' in head
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("version", [2, 3])
 def test_fmpy_validates_the_model_description(built, version):
     """fmpy's validation (the model structure: the tilts as states, their derivatives)."""
@@ -382,7 +403,7 @@ def test_fmpy_validates_the_model_description(built, version):
         assert validate_fmu(str(built[kind, version][0])) == [], (kind, version)
 
 
-@pytest.mark.parametrize("kind", ["massless", "inertia"])
+@pytest.mark.parametrize("kind", KINDS[:2])
 def test_fmi3_dependencies_of_the_binary_are_the_model_descriptions(built, kind):
     """fmi3GetVariableDependencies (fmi3_modes.c) gives each output's and state derivative's
     dependencies as the model structure lists them (fmi3.output_dependencies, derivative_dependencies):
@@ -410,6 +431,7 @@ def test_fmi3_dependencies_of_the_binary_are_the_model_descriptions(built, kind)
         d.f.freeInstance()
 
 
+@pytest.mark.slow  # the rotor host's command line in a process of its own (8-13 s)
 def test_the_rotor_host_refuses_a_native_pad_fmu_by_name(tmp_path):
     """rotor-host run --native on a pad scene: refused naming why (its static equilibrium would hold
     the pads' tilts: docs/fmu.md), before anything is built."""
