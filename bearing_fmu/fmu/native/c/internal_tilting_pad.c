@@ -53,6 +53,8 @@ static double arm(const Instance *m) { return 0.5 * m->r[VR_D] + m->r[VR_CR] / (
 
 #if TP_MAP
 #include "pad_map.h" /* every pad from the pads' map: map_pad, pad_clearance */
+#elif BN_FLOWS_TILTING_PAD
+#include "film_friction.h" /* ff_power */
 #endif
 
 void bn_release(Instance *m) {
@@ -477,6 +479,37 @@ int bn_eval(Instance *m, const double x[5], int want_jac, double F[2], double J[
     }
     return 0;
 }
+
+#if BN_FLOWS_TILTING_PAD
+/* The film's report at x (TiltingPad.film_report): the massless pads in moment equilibrium
+ * (quasi-static, as the Python internal's report also in a step), each pad's partial-arc report
+ * (reynolds_film.c) summed, the power the journal's T omega - F . v. */
+int bn_film(Instance *m, const double x[5], double out[5]) {
+    double F[2] = {0.0, 0.0}, sum[5] = {0.0, 0.0, 0.0, 0.0, 0.0}, a = arm(m);
+    for (int k = 0; k < TP_N; k++) {
+        Frame f;
+        Pad p;
+        double d = 0.0, rep[5], c = PAD_COS[k], s = PAD_SIN[k];
+        if (moment_root(m, k, x, m->work.pad_warm[k], &d, &f)) return 1;
+        m->work.pad_warm[k] = d;
+        to_bearing(m, k, &f, &p); /* the last call was at d: its field is the report's */
+        rs_film_report((rs_solver *)m->work.pad_solver[k], c * x[0] - s * x[1] + a * d, s * x[0] + c * x[1],
+                       c * x[2] - s * x[3], s * x[2] + c * x[3], x[4], rep);
+        F[0] += p.F[0];
+        F[1] += p.F[1];
+        sum[0] += rep[0];
+        sum[1] += rep[1];
+        sum[3] += rep[3];
+        sum[4] += rep[4];
+    }
+    out[0] = sum[0];
+    out[1] = sum[1];
+    out[2] = ff_power(sum[0], sum[1], x[4], F, x[2], x[3]);
+    out[3] = sum[3];
+    out[4] = sum[4];
+    return 0;
+}
+#endif
 
 /* n_theta, n_x and cavitation are no Real options: nothing to differentiate */
 void bn_option_derivative(Instance *m, const double x[5], int k, double dF[2], double dJ[8]) {

@@ -73,14 +73,15 @@ def tilting_pad_model(params: BearingParams, surrogate, map_path, options: dict)
         if name in options:
             starts[name] = registry_option(name).check(options[name], "native FMU option")
     inputs = (0.0, 0.0, 0.0, 0.0, float(options.get("_omega", registry.DEFAULT_OMEGA_LIN)))
-    variables = native_variables("tilting_pad", params, starts, inputs)
+    flows_why = film_why(pg, pad_map)
+    variables = native_variables("tilting_pad", params, starts, inputs, flows_why)
     first = max(v.vr for v in variables if v.type == "Real" and v.vr < 1000) + 1
     # VR_PAD0 = VR_DER_T_EFF + 1 whether der(T_eff) is declared or not (pads have no film report)
     oil_last = max(v.vr for v in variables if v.name.startswith("oil_"))
     first = max(first, oil_last + 2)
     pads = pad_variables(params, first, inputs[4])
     n_states = pg.n * (2 if pg.inertia > 0.0 else 1)
-    config = model_config("tilting_pad", params, starts, inputs).replace(
+    config = model_config("tilting_pad", params, starts, inputs, flows_why).replace(
         "#endif\n", "\n".join([
             f"#define BN_N_PADS {pg.n}",
             f"#define BN_N_PAD_REALS {len(pads)}",
@@ -98,7 +99,21 @@ def tilting_pad_model(params: BearingParams, surrogate, map_path, options: dict)
            "every pad the finite-volume Reynolds solver")
     return NativeModel("tilting_pad", params, variables + pads, config, pads_data_h(params, pad_map), pad_map,
                        f"tilting-pad journal bearing ({pg.describe()}), {how} in its own frame, the pads' tilts (and "
-                       "rates) states; compiled (no Python)", info)
+                       "rates) states; compiled (no Python)", info, flows_why=flows_why)
+
+
+def film_why(pads, pad_map: Path | None) -> str:
+    """Why the pads' film report (the thermal model) is not in this build, '' when it is: the
+    Reynolds pads sum each pad's report (TiltingPad.film_report); the pads' map has no friction or
+    flows (the Python internal's words); pads with inertia would move at the isoviscous moments
+    while the force is scaled to the film's viscosity (massless pads' tilts do not depend on it)."""
+    if pad_map is not None:
+        return (f"the pads' force map ({pad_map.name}) tabulates forces only, no friction or flows: the film "
+                "temperature needs the Reynolds pads (no pad_map)")
+    if pads.inertia > 0.0:
+        return (f"pad_inertia_kg_m2 = {pads.inertia:g}: pads with inertia at the film's effective viscosity are not "
+                "modelled (massless pads' tilts do not depend on it)")
+    return ""
 
 
 def pads_data_h(params: BearingParams, pad_map: Path | None = None) -> str:
