@@ -127,7 +127,10 @@ NATIVE: dict[str, NativeSpec] = {s.name: s for s in (
     NativeSpec("tilting_pad", f"{_MODELS}.tilting_pad:tilting_pad_model", ("n_theta", "n_x", "cavitation", "pad_map"),
                ("internal_tilting_pad.c", "reynolds_solver.c", "reynolds_kernels.c"),
                ("py_mod.h", "reynolds_solver.h", "film_friction.h", "map_spline.h", "pad_map.h"),
-               ("reynolds_film.c",), force_depends=(2, 1), bore="compiled",
+               # its film report (bn_film: each pad's reynolds_film.c report summed) where the Python
+               # internal has one (TiltingPad.film_report, Capabilities.film_flow)
+               ("reynolds_film.c",) if registry.get("tilting_pad").can.film_flow else (),
+               force_depends=(2, 1), bore="compiled",
                alone_why="its pads' variables and continuous states are its own: build a native FMU of it alone"),
 )}
 

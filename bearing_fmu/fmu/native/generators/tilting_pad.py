@@ -25,6 +25,7 @@ from ....internals import registry
 from ....internals.tilting_pad.assembly import PadAssembly, pad_frame_geometry
 from ....physics.params import BearingParams
 from ..codegen import NativeModel, Variable, c_double, c_string, model_config, native_variables, registry_option
+from ..portgen import part_flows
 from .reynolds import reynolds_data_h
 
 __all__ = ["tilting_pad_model", "pad_variables"]
@@ -73,7 +74,7 @@ def tilting_pad_model(params: BearingParams, surrogate, map_path, options: dict)
         if name in options:
             starts[name] = registry_option(name).check(options[name], "native FMU option")
     inputs = (0.0, 0.0, 0.0, 0.0, float(options.get("_omega", registry.DEFAULT_OMEGA_LIN)))
-    flows_why = film_why(pg, pad_map)
+    flows_why = part_flows("tilting_pad", film_why(pg, pad_map))["tilting_pad"]  # the registry's, then this build's
     variables = native_variables("tilting_pad", params, starts, inputs, flows_why)
     first = max(v.vr for v in variables if v.type == "Real" and v.vr < 1000) + 1
     # VR_PAD0 = VR_DER_T_EFF + 1 whether der(T_eff) is declared or not (pads have no film report)
