@@ -23,6 +23,7 @@ from fmpy.fmi1 import FMICallException
 from fmpy.fmi2 import FMU2Model, FMU2Slave
 from fmpy.fmi3 import FMU3Model, FMU3Slave
 
+from bearing_fmu.internals import registry
 from bearing_fmu.internals.tilting_pad.tilting_pad import TiltingPad
 from bearing_fmu.physics.params import BearingParams
 from tests.conftest import compliance_checker
@@ -440,3 +441,34 @@ def test_the_rotor_host_refuses_a_native_pad_fmu_by_name(tmp_path):
                            "--via", "fmu", "--t-end", "1e-3", "--out", str(tmp_path), "--no-plots"],
                           capture_output=True, text=True, cwd=ROOT, timeout=120)
     assert done.returncode == 2 and "static equilibrium" in done.stderr and "tilting_pad" in done.stderr, done.stderr
+
+
+@pytest.mark.skipif(not registry.get("tilting_pad").can.film_flow,
+                    reason="the Python tilting_pad internal has no film report here (Capabilities.film_flow)")
+def test_thermal_model_reports_the_pads_film_as_the_python_internal(tmp_path, native_build_cache):
+    """thermal = true on the five pads with an ISO VG 46 oil law (Initialization Mode: T_eff the
+    quasi-static root): P_loss, Q_side and the force are the Python internal's film report and force
+    at the FMU's mu_eff (TiltingPad.film_report: each pad's report summed), to round-off."""
+    from bearing_fmu.fmu.native.build import build_native_fmu
+
+    text = "\n".join(line for line in BEARING.read_text().splitlines() if not line.startswith("mu_Pa_s"))
+    oily = tmp_path / "bearing_paper_5pad_oil.toml"
+    oily.write_text(text + '\n[oil]\ngrade = "ISO VG 46"\nsupply_C = 40.0\n')
+    p = BearingParams.from_toml(oily)
+    fmu = native_build_cache(tmp_path / "thermal.fmu", lambda t: build_native_fmu(
+        t, "tilting_pad", bearing=p, platforms=["linux64"], speed_hz=50.0), [oily], ("pads", "thermal"))
+    d = Driver(fmu, Path(fmpy.extract(str(fmu))), 2, "CS")
+    try:
+        x = (0.1 * p.CR, -0.5 * p.CR, 0.0, 0.0, OMEGA)
+        d.set(x)
+        d.f.setBoolean([d.vr["thermal"]], [True])
+        d.exit()
+        P, Q, T, mu = d.get(["P_loss", "Q_side", "T_eff", "mu_eff"])
+        assert T > p.oil.T_supply and 0.0 < mu < p.mu
+        hot = TiltingPad(replace(p, mu=mu))
+        rep, F = hot.film_report(*x), hot.force(*x)
+        assert P == pytest.approx(rep.friction_power_W, rel=1e-12)
+        assert Q == pytest.approx(rep.side_flow_m3_s, rel=1e-12)
+        assert close(d.get(["Fy", "Fz"]), F, float(np.max(np.abs(F)))) < 1e-12
+    finally:
+        d.close()
