@@ -34,8 +34,8 @@ FMI2 = set(re.findall(r"#define (fmi2\w+)\s+fmi2FullName\(\1\)", (FH / "fmi2Func
 
 @pytest.fixture(scope="session")
 def every_platform(tmp_path_factory):
-    """kind -> (fmu, extracted dir): map, taylor, linear, reynolds and several (taylor and reynolds in one)
-    native FMUs with every platform's binary."""
+    """kind -> (fmu, extracted dir): map, taylor, linear, reynolds, several (taylor and reynolds in one)
+    and tilting_pad native FMUs with every platform's binary."""
     from bearing_fmu.fmu.native.build import build_native_fmu
     from bearing_fmu.physics.params import BearingParams
 
@@ -50,7 +50,11 @@ def every_platform(tmp_path_factory):
            # several internals in one binary (bn_parts.c), Taylor falling back to Reynolds; its surrogate
            # with a (made-up) film fit: the Taylor film report and its fallback compiled too (taylor_film.c)
            "several": build_native_fmu(folder / "several.fmu", "taylor,reynolds", surrogate=_with_film(folder),
-                                       options={"domain_action": "fallback", "n_theta": 64, "n_x": 8})}
+                                       options={"domain_action": "fallback", "n_theta": 64, "n_x": 8}),
+           # five tilting pads (c/internal_tilting_pad.c over the Reynolds solver; tests/test_native_pads.py)
+           "tilting_pad": build_native_fmu(folder / "tilting_pad.fmu", "tilting_pad",
+                                           bearing=BearingParams.from_toml(ROOT / "rotor_host" / "bundled" /
+                                                                           "bearing_paper_5pad_lbp.toml"))}
     return {k: (fmu, Path(fmpy.extract(str(fmu)))) for k, fmu in out.items()}
 
 
@@ -147,7 +151,7 @@ def _sources(unzip: Path) -> list[Path]:
     return [unzip / "sources" / f for f in md.buildConfigurations[0].sourceFileSets[0].sourceFiles]
 
 
-@pytest.mark.parametrize("kind", ["map", "taylor", "linear", "reynolds", "several"])
+@pytest.mark.parametrize("kind", ["map", "taylor", "linear", "reynolds", "several", "tilting_pad"])
 def test_sources_compile_without_a_warning(every_platform, kind, tmp_path):
     """gcc and clang (zig's, for Windows and arm64 macOS) with -Wall -Wextra -Wpedantic -Werror:
     what `fmpy compile --all-warnings --warning-as-error` asks, in ISO C99."""
@@ -228,7 +232,7 @@ def _input_file(fmu: Path, path: Path) -> Path:
     return path
 
 
-@pytest.mark.parametrize("kind", ["map", "taylor", "linear", "reynolds", "several"])
+@pytest.mark.parametrize("kind", ["map", "taylor", "linear", "reynolds", "several", "tilting_pad"])
 @pytest.mark.parametrize("interface", ["me", "cs"])
 def test_compliance_checker_reports_nothing(every_platform, kind, interface, tmp_path):
     """The Modelica Association's FMU Compliance Checker, started with an empty environment (no
@@ -272,7 +276,7 @@ def _wine() -> str:
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("kind", ["map", "taylor", "linear", "reynolds", "several"])
+@pytest.mark.parametrize("kind", ["map", "taylor", "linear", "reynolds", "several", "tilting_pad"])
 def test_windows_binary_under_wine_gives_the_linux_binarys_forces(every_platform, kind, tmp_path_factory):
     """example_host.c cross-compiled for Windows with zig runs the win64 binary under wine; the
     same host compiled for Linux runs the linux64 binary: the outputs agree to 1e-13 relative (the

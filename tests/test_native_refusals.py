@@ -182,7 +182,7 @@ def test_fmpy_simulate_fmu_ends_after_a_discard_with_its_inputs_set_again(built,
 # ----------------------------------------------------------------------------- restored states
 
 def _fnv1a(data: bytes) -> int:
-    """FNV-1a, 32 bits (the state's checksum, bearing_model.c)."""
+    """FNV-1a, 32 bits (the state's checksum, bearing_state.c)."""
     h = 2166136261
     for b in data:
         h = ((h ^ b) * 16777619) & 0xFFFFFFFF

@@ -104,6 +104,32 @@ def test_the_variable_step_bdf2_is_exact_for_a_quadratic_motion():
         np.testing.assert_allclose(hw + b * (-10.0), xdot(t0 + h), rtol=1e-13)
 
 
+def test_accepted_steps_keep_the_gap_to_their_history():
+    # the stepper's own sequence: steps of 1e-4 then 0.37e-4 accepted, the next of 2.5e-4 is BDF2 over
+    # the last two committed states, 0.37e-4 apart (not the step before them): exact for a quadratic
+    from bearing_fmu.internals.tilting_pad.stepping import PadStepper
+
+    def x(t):
+        return 3.0 + 2.0 * t - 5.0 * t * t
+
+    def xdot(t):
+        return 2.0 - 10.0 * t
+
+    st = PadStepper(TiltingPad(_bearing(), **GRID).pads)
+    t = 1e-3
+    st.delta, st.rate, st.dt_committed = np.full(5, x(t)), np.full(5, xdot(t)), 1e-4  # a state after a step
+    for h in (1e-4, 0.37e-4):
+        st.begin_step(h)
+        t += h
+        st.trial = (np.full(5, x(t)), np.full(5, xdot(t)))
+        st.accept()
+    assert st.prev[2] == 0.37e-4
+    st.begin_step(2.5e-4)
+    b, hd, hw = st.coefficients()
+    np.testing.assert_allclose(hd + b * xdot(t + 2.5e-4), x(t + 2.5e-4), rtol=1e-13)
+    np.testing.assert_allclose(hw + b * (-10.0), xdot(t + 2.5e-4), rtol=1e-13)
+
+
 def _run(tmp_path, inertia, t_end):
     from rotor_host.scenes.run import run_scene
     from rotor_host.scenes.scene import load_scene

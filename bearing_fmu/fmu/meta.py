@@ -49,6 +49,7 @@ UNITS = {
     "kg/m3": {"kg": 1, "m": -3},
     "J/(kg.K)": {"m": 2, "s": -2, "K": -1},
     "kg.m2": {"kg": 1, "m": 2},  # a tilting pad's moment of inertia (ports.PAD_ROWS)
+    "rad/s2": {"rad": 1, "s": -2},  # the native FMU's tilting pads: der(pad_rate_k)
 }
 # display units (FMI 2.0 DisplayUnit: shown value = factor * value in the unit)
 DISPLAY_UNITS = {"m": {"um": 1e6, "mm": 1e3}, "m/s": {"mm/s": 1e3}, "rad/s": {"rpm": 60.0 / (2.0 * math.pi)},

@@ -128,7 +128,7 @@ register(InternalSpec(
     ),
     uses=("reynolds",),
     can=Capabilities(
-        pads=True, compare=False, any_state=True, whirl_reduced=True, film_flow=True, step_states=True,
+        pads=True, compare=False, any_state=True, whirl_reduced=True, film_flow=True, step_states=True, native=True,
         validity="The tilting-pad internal evaluates any journal state that leaves every pad's film open at any "
                  "speed, the pads massless and quasi-static (each in moment equilibrium, its own rate 0); the "
                  "journal may pass C_bearing between pads. In a transient with the host's step hooks (in the FMU: over "

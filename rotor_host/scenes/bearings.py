@@ -144,8 +144,13 @@ def _native_fmu(scene: Scene, work_dir: Path, bearing=None) -> Path:
         raise SceneError(f"{scene.source}: fmu_kind = 'native' computes one of {', '.join(native)}, not internal = "
                          f"{scene.internal!r} (registered from outside the package): use fmu_kind = 'python'")
     work_dir.mkdir(parents=True, exist_ok=True)
-    files = {o.name: required_file(scene, spec.name, o.name) for o in spec.file_options()}
+    given = scene.internal_options()
+    files = {o.name: required_file(scene, spec.name, o.name) for o in spec.file_options()
+             if o.required or given.get(o.name)}  # an optional file (the pads' map) only when the scene names it
     path = next(iter(files.values()), None)  # a native FMU compiles at most one data file in
+    options = host_build_options(scene.internal)
+    if "pad_map" in files:  # the native pads' generator reads its map from the options
+        options = {**(options or {}), "pad_map": str(files.pop("pad_map"))}
     taylor = spec.name == "taylor"  # its bearing and speed are the surrogate's
     speed_hz = None if taylor or not scene.omega else scene.omega / (2.0 * math.pi)
     # taylor: the surrogate's bearing, with the bearing file's oil law when it has one (its thermal model's)
@@ -158,8 +163,8 @@ def _native_fmu(scene: Scene, work_dir: Path, bearing=None) -> Path:
     if out.is_file():
         return out
     # this machine's binary only: the run loads it here (bearing-fmu build --native makes every platform's)
-    return Path(build_native_fmu(out, internals, options=host_build_options(scene.internal),
-                                 platforms=[host_platform()], bearing=bearing, speed_hz=speed_hz, **files))
+    return Path(build_native_fmu(out, internals, options=options, platforms=[host_platform()], bearing=bearing,
+                                 speed_hz=speed_hz, **files))
 
 
 def place_feeds_at_speed(scene: Scene, rotor: Rotor, loads) -> None:

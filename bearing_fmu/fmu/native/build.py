@@ -37,6 +37,7 @@ from xml.etree import ElementTree as ET
 
 from ... import __version__
 from ...physics.params import PAPER_BEARING, BearingParams
+from ...internals import registry
 from .catalogue import NATIVE
 from .codegen import MODEL_HEADERS, MODEL_SOURCES, NativeModel, assign_identity, internal_sources
 from .compile import (C_FLAGS, NativeBuildError, compile_binaries, find_compiler, fmi_headers,  # noqa: F401
@@ -52,12 +53,13 @@ def build_native_fmu(output, internal: str, *, surrogate=None, map=None, bearing
                      options: dict | None = None, cmake: bool = False, bearing_source="", platforms=None,
                      compiler: str | None = None, speed_hz: float | None = None, fmi_version: int = 2,
                      thermal: bool = False) -> Path:
-    """Write the native FMU of ``internal`` (reynolds | taylor | map | linear) to ``output`` (.fmu).
+    """Write the native FMU of ``internal`` (reynolds | taylor | map | linear | tilting_pad) to ``output`` (.fmu).
 
     surrogate : taylor: the surrogate JSON file compiled in (the bearing defaults to its own)
     map       : map: the force map JSON file; linear: linearise on this map (no Reynolds)
     bearing   : the bearing (default: the surrogate's for taylor, else the paper bearing); reynolds: any
-                bore (its geometry compiled in), the others the full bore
+                bore (its geometry compiled in); tilting_pad: a bearing with pads (compiled in); the
+                others the full bore
     bearing_source : where ``bearing`` came from (its file: recorded with its SHA-256)
     options   : registry options: taylor's domain_action / domain_limit start values, linear's
                 linear_from, load_y, load_z, omega_lin, lin_* (the coefficients' start values),
@@ -211,8 +213,11 @@ def model_description(model: NativeModel, record: dict) -> bytes:
     # from the previous call's film) nor the Taylor surrogate (its warnings count excursions from the
     # previous call's state, out_of_domain in the FMU state)
     memoryless = [p for p in model.all_parts if NATIVE[p].memoryless]
-    if memoryless:
-        root.append(fmu_meta.memoryless_annotation(memoryless))
+    # the internals with states of their own over a step (tilting pads): a host keeps the FMU in
+    # Initialization Mode for its static equilibrium, where the pads answer in moment equilibrium
+    stepped = [p for p in model.all_parts if registry.get(p).can.step_states]
+    if memoryless or stepped:
+        root.append(fmu_meta.memoryless_annotation(memoryless, stepped=stepped))
     mvars = ET.SubElement(root, "ModelVariables")
     omega_ref = fmu_meta.reference_speed(next(v.start for v in model.variables if v.name == "omega"))
     index = {}
@@ -224,13 +229,15 @@ def model_description(model: NativeModel, record: dict) -> bytes:
             attrs["initial"] = "calculated"
         sv = ET.SubElement(mvars, "ScalarVariable", attrs)
         typed = {"declaredType": v.declared_type} if v.declared_type else {}
-        if v.name.startswith("der("):  # Model Exchange's state derivative (portgen.has_state)
-            typed["derivative"] = str(index[v.name[4:-1]])
+        if v.state:  # Model Exchange's state derivative (portgen.has_state; the pads' tilts and rates)
+            typed["derivative"] = str(index[v.state])
         if v.causality not in ("output", "local"):
             typed["start"] = (repr(float(v.start)) if v.type == "Real" else
                               ("true" if v.start else "false") if v.type == "Boolean" else str(v.start))
         if v.type == "Real":
             typed.update(fmu_meta.real_attributes(v.name, v.unit, model.params, omega_ref))
+            if v.nominal:
+                typed["nominal"] = repr(float(v.nominal))
         elif v.type == "Integer":
             typed.update(fmu_meta.integer_attributes(v.name))
         ET.SubElement(sv, v.type, typed)
@@ -239,23 +246,23 @@ def model_description(model: NativeModel, record: dict) -> bytes:
     params = [index[v.name] for v in model.variables if v.causality == "parameter"]
     structure = ET.SubElement(root, "ModelStructure")
     node = ET.SubElement(structure, "Outputs")
-    from .fmi3 import output_dependencies  # noqa: PLC0415 - one table of what depends on what, both versions
+    from .fmi3 import derivative_dependencies, output_dependencies  # noqa: PLC0415 - one table, both versions
 
     depends = output_dependencies(model)
     for i, v in zip(outputs, [v for v in model.variables if v.causality == "output"]):
         own = [index[n] for n in depends[v.name]] if v.name in depends else inputs
         ET.SubElement(node, "Unknown", index=str(i), dependencies=" ".join(map(str, own)),
                       dependenciesKind=" ".join(["dependent"] * len(own)))
-    derivatives = [index[v.name] for v in model.variables if v.name.startswith("der(")]
-    if derivatives:  # der(T_eff): the state and every input
+    derivatives = derivative_dependencies(model)
+    if derivatives:  # der(T_eff): the state and every input; the pads': the journal and the pads' states
         node = ET.SubElement(structure, "Derivatives")
-        for i in derivatives:
-            own = sorted(inputs + [index["T_eff"]])
-            ET.SubElement(node, "Unknown", index=str(i), dependencies=" ".join(map(str, own)),
+        for name, names in derivatives.items():
+            own = sorted(index[n] for n in names)
+            ET.SubElement(node, "Unknown", index=str(index[name]), dependencies=" ".join(map(str, own)),
                           dependenciesKind=" ".join(["dependent"] * len(own)))
     node = ET.SubElement(structure, "InitialUnknowns")
     deps = sorted(inputs + params)
-    for i in sorted(outputs + derivatives):
+    for i in sorted(set(outputs) | {index[n] for n in derivatives}):
         ET.SubElement(node, "Unknown", index=str(i), dependencies=" ".join(map(str, deps)),
                       dependenciesKind=" ".join(["dependent"] * len(deps)))
     return parseString(ET.tostring(root, encoding="UTF-8")).toprettyxml(indent="  ", encoding="UTF-8")

@@ -53,6 +53,7 @@ class NativeSpec:
     companions    : (option, choice, internal, why): with that choice the FMU holds that internal
                     too (Taylor's domain_action = fallback: the Reynolds internal); without it the
                     choice is refused, ``why`` saying so
+    alone_why     : why an FMU of several internals cannot hold it ("" when it can)
     host_build    : the build options of the FMU a host builds once for every bearing
     host_values   : "module:function" (params, options, context) -> its FMU parameters per bearing,
                     when they are not its checked options as they are (linear: the coefficients)
@@ -70,6 +71,7 @@ class NativeSpec:
     speed_start: str = "_omega"
     speed_why: str = ""
     companions: tuple[tuple[str, str, str, str], ...] = ()
+    alone_why: str = ""
 
     @property
     def memoryless(self) -> bool:
@@ -122,6 +124,14 @@ NATIVE: dict[str, NativeSpec] = {s.name: s for s in (
                ("internal_reynolds.c", "reynolds_solver.c", "reynolds_kernels.c"),
                ("py_mod.h", "reynolds_solver.h", "film_friction.h"), ("reynolds_film.c",), force_depends=(2, 1),
                bore="compiled"),
+    NativeSpec("tilting_pad", f"{_MODELS}.tilting_pad:tilting_pad_model", ("n_theta", "n_x", "cavitation", "pad_map"),
+               ("internal_tilting_pad.c", "reynolds_solver.c", "reynolds_kernels.c"),
+               ("py_mod.h", "reynolds_solver.h", "film_friction.h", "map_spline.h", "pad_map.h"),
+               # its film report (bn_film: each pad's reynolds_film.c report summed) where the Python
+               # internal has one (TiltingPad.film_report, Capabilities.film_flow)
+               ("reynolds_film.c",) if registry.get("tilting_pad").can.film_flow else (),
+               force_depends=(2, 1), bore="compiled",
+               alone_why="its pads' variables and continuous states are its own: build a native FMU of it alone"),
 )}
 
 

@@ -33,8 +33,8 @@ from ...physics.params import BearingParams
 ID_TOKEN, GUID_TOKEN = "BN_MODEL_IDENTIFIER", "{BN-GUID}"  # in model_config.h until assign_identity
 # the model layer (c/bearing_values.h), the same C files under the FMI 2.0 and the FMI 3.0 layer
 MODEL_HEADERS = ("bearing_native.h", "bearing_values.h", "bearing_calls.h", "oil_thermal.h")
-MODEL_SOURCES = ("bearing_calls.c", "bearing_log.c", "bearing_values.c", "bearing_model.c", "bearing_derivatives.c",
-                 "bearing_thermal.c", "oil_thermal.c")
+MODEL_SOURCES = ("bearing_calls.c", "bearing_state.c", "bearing_log.c", "bearing_values.c", "bearing_model.c",
+                 "bearing_derivatives.c", "bearing_thermal.c", "oil_thermal.c")
 # an FMU of several internals: the dispatch among them, Taylor's fallback to Reynolds
 SEVERAL_SOURCES = ("bn_parts.c", "bn_fallback.c")
 REAL_BASE, BOOL_BASE, STRING_BASE, ENUM_BASE = 0, 1000, 2000, 3000  # value references by type (bearing_native.h)
@@ -86,6 +86,13 @@ class Variable:
     unit: str | None
     description: str
     declared_type: str | None = None  # an Enumeration's TypeDefinition
+    derivative_of: str | None = None  # Model Exchange: the state this variable is the derivative of
+    nominal: float | None = None  # a continuous state's scale (the integrator's absolute tolerance), if not 1
+
+    @property
+    def state(self) -> str | None:
+        """The continuous state this variable is the derivative of (``derivative_of``, or X of der(X)), or None."""
+        return self.derivative_of or (self.name[4:-1] if self.name.startswith("der(") else None)
 
     @property
     def variability(self) -> str:

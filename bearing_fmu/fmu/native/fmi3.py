@@ -120,12 +120,14 @@ def _attrs(v, model: NativeModel, omega_ref: float) -> dict:
              "causality": v.causality, "variability": v.variability}
     if v.causality in ("output", "local"):
         attrs["initial"] = "calculated"
-    if v.name.startswith("der("):  # Model Exchange's state derivative (portgen.has_state)
-        attrs["derivative"] = str(next(w.vr for w in model.variables if w.name == v.name[4:-1]))
+    if v.state:  # Model Exchange's state derivative (portgen.has_state; the pads' tilts and rates)
+        attrs["derivative"] = str(next(w.vr for w in model.variables if w.name == v.state))
     if v.declared_type:
         attrs["declaredType"] = v.declared_type
     if v.type == "Real":
         attrs.update(fmu_meta.real_attributes(v.name, v.unit, model.params, omega_ref))
+        if v.nominal:
+            attrs["nominal"] = repr(float(v.nominal))
     elif v.type == "Integer":
         attrs.update(fmu_meta.integer_attributes(v.name))
     if v.causality not in ("output", "local") and v.type != "String":
@@ -161,6 +163,7 @@ def output_dependencies(model: NativeModel) -> dict[str, list[str]]:
     fitted = any(registry.get(p).can.fitted_domain for p in model.all_parts)
     thermal = has_state(model.all_parts, model.params, model.flows_why)  # thermal = true can be set (T_eff: ME's state)
     journal = ["y", "z", "vy", "vz", "omega"]
+    pads = pad_states(model)  # the force and the pads' outputs at the pads' states too
     ports = ({"T_eff": ["T_supply", "T_eff"], "P_loss": journal + ["T_eff"], "Q_side": journal, "mu_eff": ["T_eff"]}
              if thermal else {"T_eff": ["T_supply"], "P_loss": [], "Q_side": [], "mu_eff": []})  # off: Ts, 0, 0, mu
     out = {}
@@ -174,8 +177,22 @@ def output_dependencies(model: NativeModel) -> dict[str, list[str]]:
         elif v.name in ports:
             out[v.name] = ports[v.name]
         else:  # with the thermal model the force is at the viscosity of T_eff (Model Exchange: the state)
-            out[v.name] = journal + (["T_eff"] if thermal else [])
+            out[v.name] = journal + (["T_eff"] if thermal else []) + pads
     return out
+
+
+def pad_states(model: NativeModel) -> list[str]:
+    """The pads' continuous states (generators/tilting_pad.py: the tilts, with inertia the rates)."""
+    return [v.state for v in model.variables if v.state and v.state.startswith("pad_")]
+
+
+def derivative_dependencies(model: NativeModel) -> dict[str, list[str]]:
+    """Model Exchange's state derivative -> what it depends on: der(T_eff) on its state and every
+    input; the pads' on the journal state and every pad state (the pads are coupled through it)."""
+    inputs = [v.name for v in model.variables if v.causality == "input"]
+    pads = pad_states(model)
+    return {v.name: inputs + [v.state] if v.state == "T_eff" else ["y", "z", "vy", "vz", "omega"] + pads
+            for v in model.variables if v.state}
 
 
 def model_description3(model: NativeModel, record: dict, token: str, generated: str = "") -> bytes:
@@ -220,15 +237,14 @@ def model_description3(model: NativeModel, record: dict, token: str, generated: 
         ET.SubElement(structure, "Output", valueReference=str(vr[name]),
                       dependencies=" ".join(str(vr[d]) for d in deps),
                       dependenciesKind=" ".join(["dependent"] * len(deps)))
-    for v in model.variables:
-        if v.name.startswith("der("):  # der(T_eff): the state and every input
-            deps = sorted([w.vr for w in model.variables if w.causality == "input"] + [vr[v.name[4:-1]]])
-            ET.SubElement(structure, "ContinuousStateDerivative", valueReference=str(v.vr),
-                          dependencies=" ".join(map(str, deps)), dependenciesKind=" ".join(["dependent"] * len(deps)))
+    for name, names in derivative_dependencies(model).items():
+        deps = sorted(vr[d] for d in names)
+        ET.SubElement(structure, "ContinuousStateDerivative", valueReference=str(vr[name]),
+                      dependencies=" ".join(map(str, deps)), dependenciesKind=" ".join(["dependent"] * len(deps)))
     # in Initialization Mode the knowns are the inputs and every parameter (initial = exact)
     knowns = sorted(v.vr for v in model.variables if v.causality in ("input", "parameter"))
     for v in model.variables:
-        if v.causality == "output" or v.name.startswith("der("):
+        if v.causality == "output" or v.state:
             ET.SubElement(structure, "InitialUnknown", valueReference=str(v.vr),
                           dependencies=" ".join(map(str, knowns)),
                           dependenciesKind=" ".join(["dependent"] * len(knowns)))
@@ -307,5 +323,5 @@ def stage3(model: NativeModel, root: Path, record: dict) -> None:
     (root / "resources" / "build_info.json").write_text(json.dumps(record, indent=1, default=str) + "\n")
 
 
-__all__ = ["ALLOWED3", "VR_TIME", "build_description3", "c_defines3", "instantiation_token", "model_description3",
-           "output_dependencies", "source_files3", "stage3"]
+__all__ = ["ALLOWED3", "VR_TIME", "build_description3", "c_defines3", "derivative_dependencies", "instantiation_token",
+           "model_description3", "output_dependencies", "pad_states", "source_files3", "stage3"]

@@ -38,11 +38,22 @@ OIL_REALS = ("oil_nu_1", "oil_T_1", "oil_nu_2", "oil_T_2", "oil_vogel_a", "oil_v
              "oil_T_max", "oil_density", "oil_heat_capacity", "oil_rise_factor")
 
 
-def bore_starts(params: BearingParams) -> dict:
+def bore_starts(params: BearingParams, internal=()) -> dict:
     """The geometry parameters' values for the bore ``params`` has (every one: the ports' defaults
-    where the bore sets none)."""
+    where the bore sets none). Tilting pads (an ``internal`` whose registry capability is ``pads``,
+    generators/tilting_pad.py) are compiled in as pads, none of the fixed bores' parameters
+    describes them: those keep the full bore's values (another is refused); any other internal
+    refuses pads (``ports.port_defaults``)."""
+    from dataclasses import replace
+
+    from ...internals import registry
+    from ...physics.bore.geometry import FULL_BORE
     from ..ports import GEOMETRY_ROWS, OIL_ROWS, port_defaults
 
+    parts = parts_of(internal) if internal else ()
+    if params.geometry is not None and params.geometry.pads is not None and parts and all(
+            registry.get(p).can.pads for p in parts):
+        params = replace(params, geometry=FULL_BORE)
     return {**{r[0]: r[4] for r in GEOMETRY_ROWS + OIL_ROWS}, **port_defaults(params)}
 
 
@@ -124,7 +135,7 @@ def port_variables(internal, params: BearingParams, first_real: int, first_int: 
                 "reads T_supply, mu_eff mu, P_loss and Q_side 0")
     out.append(("thermal", bool_base + 2, "Boolean", "parameter", False, None,
                 "thermal model on (T_supply connected, the film at the viscosity of its effective temperature)" + note))
-    bore = bore_starts(params)
+    bore = bore_starts(params, internal)
     fixed = f"; this FMU's data hold one bore ({params.geometry.describe()}): another is refused"
     for k, name in enumerate(GEOMETRY_INTS):
         out.append((name, first_int + k, "Integer", "parameter", int(bore[name]), None, table[name][5] + fixed))
@@ -167,7 +178,7 @@ def port_config(internal, params: BearingParams, c_double, c_string, data_why=""
     ``film_flow``'s."""
     from ..ports import OIL_LAWS
 
-    bore = bore_starts(params)
+    bore = bore_starts(params, internal)
     flows, why = film_flow(internal, data_why)
     law = params.oil.law if params.oil is not None else "none"
     return [

@@ -34,6 +34,9 @@ def parse_internals(internal) -> tuple[str, ...]:
         native_spec(n, f"internals {internal!r}" if len(names) > 1 else "")
     if len(set(names)) != len(names):
         raise ValueError(f"internals {internal!r}: each internal once")
+    for n in names if len(names) > 1 else ():
+        if NATIVE[n].alone_why:
+            raise ValueError(f"internals {internal!r}: the {n} internal: {NATIVE[n].alone_why}")
     return tuple(names)
 
 

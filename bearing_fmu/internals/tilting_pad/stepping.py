@@ -59,7 +59,8 @@ class PadStepper:
     def accept(self) -> None:
         if self.trial is None or self.dt <= 0.0:
             return
-        self.prev = (self.delta, self.rate, self.dt_committed) if self.dt_committed > 0.0 else None
+        # the history is the old committed state, this step (dt) before the new one (after a static state: none)
+        self.prev = (self.delta, self.rate, self.dt) if self.dt_committed > 0.0 else None
         self.delta, self.rate = self.trial
         self.dt_committed, self.trial = self.dt, None
 
@@ -69,8 +70,8 @@ class PadStepper:
         self.prev, self.dt_committed = None, 0.0
 
     def state(self) -> tuple[float, ...]:
-        """The committed state as floats (what an FMU state carries): (dt_committed [s], dt of the step
-        before it [s] (0: no history), tilts [rad], rates [rad/s], and that step's tilts and rates (0s
+        """The committed state as floats (what an FMU state carries): (dt_committed [s], the gap from
+        the history state to the committed one [s] (0: no history), tilts [rad], rates [rad/s], and that step's tilts and rates (0s
         without history)), 2 + 4 N floats."""
         n = self.A.n
         d1, w1, h1 = self.prev if self.prev is not None else (np.zeros(n), np.zeros(n), 0.0)

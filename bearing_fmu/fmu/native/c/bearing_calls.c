@@ -10,13 +10,9 @@
 
 #if BN_FMI3
 #include "fmi3_config.h"
-#define STATE_TAG "bearing-native3/1"
-#define BUILD_ID BN3_TOKEN
 #define SEED_NAME "seed"
 #define EXIT_PREFIX "fmi3ExitInitializationMode: "
 #else
-#define STATE_TAG "bearing-native/1"
-#define BUILD_ID BN_GUID
 #define SEED_NAME "dvKnown"
 #define EXIT_PREFIX "" /* the Python FMU's words: "bearing FMU initialisation failed: ..." */
 #endif
@@ -309,6 +305,9 @@ bn_status bn_derivatives(Instance *m, const char *call, int adjoint, const unsig
         if (bn_check_known(m, knowns[j], why, sizeof why)) return bn_fail(m, "%s: %s", call, why);
     }
     for (size_t i = 0; i < n_unknowns; i++) {
+        if (unknowns[i] < (unsigned)N_REAL && BN_IS_PAD_REAL((int)unknowns[i]))
+            return bn_fail(m, "%s: unknown %s: the pads' derivatives along the inputs are not provided (the force's, "
+                           "K's and C's are)", call, bn_real_name((int)unknowns[i]));
         if (unknowns[i] >= (unsigned)N_REAL || !bn_is_output_real((int)unknowns[i]))
             return bn_fail(m, "%s: unknown %s (value reference %u) is not a " BN_REAL_TYPE " output of this FMU", call,
                            unknowns[i] < (unsigned)N_REAL ? bn_real_name((int)unknowns[i]) : "?", unknowns[i]);
@@ -394,8 +393,10 @@ bn_status bn_do_step(Instance *m, const char *call, unsigned allowed, double t0,
                        "an FMU state", call, bn_num(a, 32, t, 10), bn_num(b, 32, m->refused_t, 10));
     m->thermal_lagged = 1; /* T_eff lags over the step (thermal = true) */
     m->thermal_dt = h;
+    m->step_h = h; /* the pads' states are advanced over it (internal_tilting_pad.c) */
     int refused = bn_evaluate(m);
     m->thermal_lagged = 0;
+    m->step_h = 0.0;
     if (refused) {
         /* the instance as before the call, not terminated: the same step from a restored state,
          * or with other inputs, can succeed */
@@ -406,6 +407,7 @@ bn_status bn_do_step(Instance *m, const char *call, unsigned allowed, double t0,
         return BN_DISCARD;
     }
     m->step_refused = 0;
+    if (BN_N_PADS) bn_pads_accept(m, h); /* the step's end is the pads' state */
     m->t = t;
     *t_done = t;
     return bn_warned(m);
@@ -465,8 +467,8 @@ bn_status bn_no_states(Instance *m, const char *call, size_t n, const char *what
 
 /* the continuous states' array: n the FMU's number of states (BN_N_STATES), not NULL */
 static int states_refused(Instance *m, const char *call, size_t n, const void *p) {
-    if (n != BN_N_STATES) {
-        bn_fail(m, "%s: this FMU has %d continuous state(s), got %lu", call, BN_N_STATES, (unsigned long)n);
+    if (n != BN_NX) {
+        bn_fail(m, "%s: this FMU has %d continuous state(s), got %lu", call, BN_NX, (unsigned long)n);
         return 1;
     }
     if (n && !p) {
@@ -476,97 +478,40 @@ static int states_refused(Instance *m, const char *call, size_t n, const void *p
     return 0;
 }
 
+/* T_eff (BN_N_STATES), then the pads' tilts (and rates): VR_PAD0 .., their derivatives the next
+ * BN_N_PAD_STATES pad Reals (bearing_native.h) */
 bn_status bn_set_states(Instance *m, const char *call, const double x[], size_t n) {
     if (states_refused(m, call, n, x)) return BN_ERROR;
-    if (n) {
-        m->r[VR_T_EFF] = x[0];
-        m->dirty = 1;
-    }
+    if (BN_N_STATES) m->r[VR_T_EFF] = x[0];
+    for (int i = 0; i < BN_N_PAD_STATES; i++) m->r[VR_PAD0 + i] = x[BN_N_STATES + i];
+    if (n) m->dirty = 1;
     return BN_OK;
 }
 
 bn_status bn_get_states(Instance *m, const char *call, double x[], size_t n) {
     if (states_refused(m, call, n, x)) return BN_ERROR;
     if (!n) return BN_OK;
-    bn_status s = m->mode == MODE_INIT ? bn_outputs(m, call, "T_eff") : BN_OK; /* its start */
-    x[0] = m->r[VR_T_EFF];
+    bn_status s = m->mode == MODE_INIT ? bn_outputs(m, call, BN_N_STATES ? "T_eff" : "pad_tilt_1") : BN_OK; /* its start */
+    if (BN_N_STATES) x[0] = m->r[VR_T_EFF];
+    for (int i = 0; i < BN_N_PAD_STATES; i++) x[BN_N_STATES + i] = m->r[VR_PAD0 + i];
     return s;
 }
 
 bn_status bn_get_state_derivatives(Instance *m, const char *call, double dx[], size_t n) {
     if (states_refused(m, call, n, dx)) return BN_ERROR;
     if (!n) return BN_OK;
-    bn_status s = bn_outputs(m, call, "der(T_eff)");
-    dx[0] = m->r[VR_DER_T_EFF];
+    bn_status s = bn_outputs(m, call, BN_N_STATES ? "der(T_eff)" : "der(pad_tilt_1)");
+    if (BN_N_STATES) dx[0] = m->r[VR_DER_T_EFF];
+    for (int i = 0; i < BN_N_PAD_STATES; i++) dx[BN_N_STATES + i] = m->r[VR_PAD0 + BN_N_PADS + i];
     return s;
 }
 
 bn_status bn_get_nominals(Instance *m, const char *call, double x[], size_t n) {
     if (states_refused(m, call, n, x)) return BN_ERROR;
-    if (n) x[0] = 1.0; /* the model description gives T_eff no nominal */
-    return BN_OK;
-}
-
-/* ------------------------------------------------------------------------------ FMU states */
-/* the model layer's BnState (the time, the inputs and outputs, out_of_domain, a few hundred bytes),
- * tagged with this build's GUID (FMI 3.0: instantiation token) so that a state of another build is
- * refused; serialised as it is (same platform, same build). The FMU has no state of its own
- * besides: the internals keep only caches and counts. */
-
-bn_status bn_fmu_state_get(Instance *m, const char *call, void **state) {
-    if (!state) return bn_fail(m, "%s: FMUState is NULL", call);
-    BnState *s = *state;
-    if (!s) {
-        s = m->allocate(1, sizeof(BnState));
-        if (!s) return bn_fail(m, "%s: out of memory", call);
-        *state = s;
-    }
-    bn_state_save(m, s, STATE_TAG, BUILD_ID);
-    return BN_OK;
-}
-
-bn_status bn_fmu_state_set(Instance *m, const char *call, const void *state) {
-    char why[200];
-    if (bn_state_sound(state, STATE_TAG, BUILD_ID, why, sizeof why))
-        return bn_fail(m, "%s: %s; the instance keeps its state", call, why);
-    bn_state_restore(m, state);
-    return BN_OK;
-}
-
-bn_status bn_fmu_state_free(Instance *m, const char *call, void **state) {
-    if (!state) return bn_fail(m, "%s: FMUState is NULL", call);
-    if (*state) {
-        /* no tag left: a stale copy of the pointer used soon after is likely refused, not restored
-         * (not a guarantee: the memory is freed; the master's own pointer is set to NULL) */
-        memset(((BnState *)*state)->tag, 0, sizeof((BnState *)*state)->tag);
-        m->release(*state);
-    }
-    *state = NULL;
-    return BN_OK;
-}
-
-bn_status bn_fmu_state_size(Instance *m, const char *call, const void *state, size_t *size) {
-    if (!size) return bn_fail(m, "%s: size is NULL", call);
-    if (!bn_state_valid(state, STATE_TAG, BUILD_ID)) return bn_fail(m, "%s: not a %s state of this FMU", call, STATE_TAG);
-    *size = sizeof(BnState);
-    return BN_OK;
-}
-
-bn_status bn_fmu_state_serialize(Instance *m, const char *call, const void *state, unsigned char *bytes, size_t size) {
-    char why[200];
-    if (bn_state_serialize(state, bytes, size, STATE_TAG, BUILD_ID, why, sizeof why))
-        return bn_fail(m, "%s: %s", call, why);
-    return BN_OK;
-}
-
-bn_status bn_fmu_state_deserialize(Instance *m, const char *call, const unsigned char *bytes, size_t size,
-                                   void **state) {
-    BnState s;
-    char why[200];
-    if (!state) return bn_fail(m, "%s: FMUState is NULL", call);
-    if (bn_state_deserialize(bytes, size, &s, STATE_TAG, BUILD_ID, why, sizeof why))
-        return bn_fail(m, "%s: %s; the FMU state given keeps its contents", call, why);
-    if (!*state && !(*state = m->allocate(1, sizeof(BnState)))) return bn_fail(m, "%s: out of memory", call);
-    *(BnState *)*state = s;
+    if (BN_N_STATES) x[0] = 1.0; /* the model description gives T_eff no nominal */
+#if BN_N_PAD_STATES
+    static const double pad_nominal[BN_N_PAD_STATES] = BN_PAD_NOMINALS; /* the pads' (model description) */
+    for (int i = 0; i < BN_N_PAD_STATES; i++) x[BN_N_STATES + i] = pad_nominal[i];
+#endif
     return BN_OK;
 }

@@ -1,6 +1,6 @@
 /* The native bearing FMU's model at the inputs, whatever its FMI version (the model layer:
- * bearing_values.h): the evaluation into the outputs, the outputs for a get, FMU states and the
- * list of live instances. The FMI layers (fmi2_*.c, fmi3_*.c) turn what it answers into their
+ * bearing_values.h): the evaluation into the outputs, the outputs for a get and the list of live
+ * instances (FMU states: bearing_state.c). The FMI layers (fmi2_*.c, fmi3_*.c) turn what it answers into their
  * calls' statuses (bearing_calls.c); the thermal model is bearing_thermal.c's. */
 #include <math.h>
 #include <stdio.h>
@@ -52,6 +52,10 @@ int bn_evaluate(Instance *m) {
     m->r[VR_P_LOSS] = heat[3];
     m->r[VR_Q_SIDE] = heat[4];
     m->r[VR_DER_T_EFF] = heat[5];
+    if (BN_N_PADS) { /* the pads' Reals (internal_tilting_pad.c); a static evaluation's tilts become their state */
+        memcpy(m->r + VR_PAD0, m->work.pad_out, BN_N_PAD_REALS * sizeof(double));
+        if (m->mode == MODE_INIT && !m->mute) bn_pads_static(m);
+    }
     if (jac) { /* Lund's sign: K = -dF/dq, C = -dF/dv */
         m->r[VR_KYY] = -J[0]; m->r[VR_KYZ] = -J[1]; m->r[VR_CYY] = -J[2]; m->r[VR_CYZ] = -J[3];
         m->r[VR_KZY] = -J[4]; m->r[VR_KZZ] = -J[5]; m->r[VR_CZY] = -J[6]; m->r[VR_CZZ] = -J[7];
@@ -110,113 +114,6 @@ bn_status bn_outputs(Instance *m, const char *call, const char *name) {
     }
     if (me && m->refused_state) return BN_DISCARD;
     return bn_warned(m);
-}
-
-/* ------------------------------------------------------------------------------ FMU states */
-
-/* FNV-1a (32 bits) over the state's fields, not its padding */
-static unsigned fnv(unsigned h, const void *p, size_t n) {
-    const unsigned char *b = p;
-    for (size_t i = 0; i < n; i++) h = (h ^ b[i]) * 16777619u;
-    return h;
-}
-
-static unsigned checksum(const BnState *s) {
-    unsigned h = 2166136261u;
-    h = fnv(h, s->tag, sizeof s->tag);
-    h = fnv(h, s->id, sizeof s->id);
-    h = fnv(h, &s->t, sizeof s->t);
-    h = fnv(h, s->values, sizeof s->values);
-    h = fnv(h, s->thermal, sizeof s->thermal);
-    return fnv(h, &s->out_of_domain, sizeof s->out_of_domain);
-}
-
-void bn_state_save(const Instance *m, BnState *s, const char *tag, const char *id) {
-    memset(s, 0, sizeof *s);
-    snprintf(s->tag, sizeof s->tag, "%s", tag);
-    snprintf(s->id, sizeof s->id, "%s", id);
-    s->t = m->t;
-    memcpy(s->values, m->r, sizeof s->values);
-    memcpy(s->thermal, m->r + VR_T_SUPPLY, sizeof s->thermal);
-    s->out_of_domain = m->b[B_OUT_OF_DOMAIN];
-    s->check = checksum(s);
-}
-
-void bn_state_restore(Instance *m, const BnState *s) {
-    m->t = s->t;
-    memcpy(m->r, s->values, sizeof s->values);
-    memcpy(m->r + VR_T_SUPPLY, s->thermal, sizeof s->thermal);
-    m->b[B_OUT_OF_DOMAIN] = s->out_of_domain;
-    m->terminated = 0;
-    m->refused_state = 0;
-    m->step_refused = 0;
-    m->dirty = 1; /* the outputs follow the inputs restored at the next get */
-}
-
-int bn_state_valid(const BnState *s, const char *tag, const char *id) {
-    return s && strncmp(s->tag, tag, sizeof s->tag) == 0 && strncmp(s->id, id, sizeof s->id) == 0;
-}
-
-int bn_state_sound(const BnState *s, const char *tag, const char *id, char *why, size_t n) {
-    char a[32];
-    if (!bn_state_valid(s, tag, id)) {
-        snprintf(why, n, "not a %s state of this FMU", tag);
-        return 1;
-    }
-    if (s->check != checksum(s)) {
-        snprintf(why, n, "a damaged %s state: its checksum does not match its contents", tag);
-        return 1;
-    }
-    /* what the instance itself can hold: finite values (inputs are refused otherwise, outputs
-     * computed finite), a distance, a temperature and a viscosity that are not negative */
-    const char *bad = NULL;
-    double v = 0.0;
-    if (!isfinite(s->t)) bad = "time", v = s->t;
-    for (int i = 0; !bad && i < VR_D; i++)
-        if (!isfinite(s->values[i])) bad = bn_real_name(i), v = s->values[i];
-    for (int i = 0; !bad && i < VR_GEOMETRY0 - VR_T_SUPPLY; i++)
-        if (!isfinite(s->thermal[i]) || (i != VR_P_LOSS - VR_T_SUPPLY && s->thermal[i] < 0.0))
-            bad = bn_real_name(VR_T_SUPPLY + i), v = s->thermal[i];
-    if (!bad && !(s->values[VR_ECC] >= 0.0)) bad = "eccentricity", v = s->values[VR_ECC];
-    if (!bad && s->out_of_domain != 0 && s->out_of_domain != 1) bad = "out_of_domain", v = s->out_of_domain;
-    if (bad) {
-        snprintf(why, n, "a %s state holding %s = %s (not finite or out of range)", tag, bad, bn_num(a, 32, v, 17));
-        return 1;
-    }
-    return 0;
-}
-
-/* serialised as it is (the same platform, the same build: the tag and id say so) */
-int bn_state_serialize(const BnState *s, unsigned char *bytes, size_t size, const char *tag, const char *id,
-                       char *why, size_t n) {
-    if (!bn_state_valid(s, tag, id)) {
-        snprintf(why, n, "not a %s state of this FMU", tag);
-        return 1;
-    }
-    if (size < sizeof *s) {
-        snprintf(why, n, "a buffer of %lu bytes is smaller than the state (%lu bytes)", (unsigned long)size,
-                 (unsigned long)sizeof *s);
-        return 1;
-    }
-    memcpy(bytes, s, sizeof *s);
-    return 0;
-}
-
-int bn_state_deserialize(const unsigned char *bytes, size_t size, BnState *out, const char *tag, const char *id,
-                         char *why, size_t n) {
-    BnState s;
-    if (size == sizeof s) memcpy(&s, bytes, sizeof s); /* a copy: the bytes need not be aligned */
-    if (size != sizeof s || !bn_state_valid(&s, tag, id)) {
-        snprintf(why, n, "%lu bytes are not a serialised %s state of this FMU", (unsigned long)size, tag);
-        return 1;
-    }
-    char reason[160];
-    if (bn_state_sound(&s, tag, id, reason, sizeof reason)) {
-        snprintf(why, n, "%s", reason);
-        return 1;
-    }
-    *out = s;
-    return 0;
 }
 
 /* ------------------------------------------------------------------------------ live instances */

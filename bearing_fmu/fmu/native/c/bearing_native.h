@@ -122,7 +122,26 @@ enum {
 /* der(T_eff), a local: in Model Exchange T_eff is the one continuous state of a build whose
  * internal has the film's flows and whose bearing an oil law (BN_N_STATES 1), this its derivative */
 #define VR_DER_T_EFF (VR_OIL0 + N_OIL_REALS)
-#define N_REAL (VR_DER_T_EFF + 1)
+/* tilting pads (internal_tilting_pad.c; generators/tilting_pad.py): N pads' Reals after der(T_eff), the
+ * tilts pad_tilt_k (outputs), then massless der(pad_tilt_k) (locals), with inertia pad_rate_k
+ * (outputs) and der(pad_rate_k) (locals); Model Exchange's continuous states are the first
+ * BN_N_PAD_STATES of them (after T_eff's, if any), their derivatives the next BN_N_PAD_STATES */
+#ifndef BN_N_PADS
+#define BN_N_PADS 0
+#define BN_N_PAD_REALS 0
+#define BN_N_PAD_STATES 0
+#define BN_N_PAD_OUTPUTS 0
+#endif
+#define BN_MAX_PADS 12
+#define VR_PAD0 (VR_DER_T_EFF + 1)
+#define N_REAL (VR_PAD0 + BN_N_PAD_REALS)
+#define BN_IS_PAD_REAL(vr) ((vr) >= VR_PAD0 && (vr) < N_REAL)
+/* Model Exchange's continuous states: T_eff (BN_N_STATES), then the pads' */
+#define BN_NX (BN_N_STATES + BN_N_PAD_STATES)
+/* the pads' committed state (Instance.pads, part of the FMU state): tilts, rates, the step before
+ * (BDF2's history) and its size (0: none), the size of the step that led to it (0: a static one) */
+enum { PS_DELTA = 0, PS_RATE = BN_MAX_PADS, PS_PREV_DELTA = 2 * BN_MAX_PADS, PS_PREV_RATE = 3 * BN_MAX_PADS,
+       PS_PREV_DT = 4 * BN_MAX_PADS, PS_DT, BN_PAD_STATE_LEN };
 #define BN_IS_INPUT(vr) ((vr) < N_INPUTS || (vr) == VR_T_SUPPLY)
 #define BN_IS_THERMAL_OUTPUT(vr) (((vr) >= VR_P_LOSS && (vr) <= VR_MU_EFF) || (vr) == VR_DER_T_EFF)
 #define VR_BOOL0 1000
@@ -155,6 +174,10 @@ typedef struct {
     void *block;      /* reynolds: the solver's memory (the FMI callbacks'), block_bytes long; freed by bn_release */
     void *solver;     /* reynolds: the solver inside it */
     size_t block_bytes;
+    void *pad_solver[BN_MAX_PADS]; /* tilting pads: each pad's solver (one warm start each), in block */
+    double pad_warm[BN_MAX_PADS];  /* tilting pads: the last equilibrium's tilts (the Newton's start) */
+    double pad_out[3 * BN_MAX_PADS]; /* tilting pads: the last evaluation's pad Reals (VR_PAD0 ..) */
+    double pad_trial[2 * BN_MAX_PADS]; /* tilting pads: the tilts and rates at the end of the step evaluated */
 } Work;
 
 typedef struct Instance {
@@ -199,6 +222,9 @@ typedef struct Instance {
     fmi2CallbackFunctions cb;
 #endif
     Work work;
+    double step_h;              /* Co-Simulation: the step an evaluation ends [s] (0: none; bn_do_step) */
+    double pads[2 * BN_PAD_STATE_LEN]; /* tilting pads: the committed state (PS_*), then the one the last
+                                   Co-Simulation step started from (its derivatives); saved in the FMU state */
     ot_oil oil;                 /* thermal = true: the oil of the parameters (bn_thermal_setup) */
     int thermal_lagged;         /* the next evaluation lags T_eff from its value over thermal_dt (a step), */
     double thermal_dt;          /* else (Initialization Mode) it is quasi-static */
@@ -262,6 +288,8 @@ typedef struct Instance {
 #define bn_state_sound BN_NAME(BN_ID, bn_state_sound)
 #define bn_state_serialize BN_NAME(BN_ID, bn_state_serialize)
 #define bn_state_deserialize BN_NAME(BN_ID, bn_state_deserialize)
+#define bn_pads_static BN_NAME(BN_ID, bn_pads_static)
+#define bn_pads_accept BN_NAME(BN_ID, bn_pads_accept)
 
 /* Shared between this FMU's files, never exported: only the FMI functions are (a binary built
  * by any CMake project too; Windows exports only what fmi2Functions.h marks dllexport). */

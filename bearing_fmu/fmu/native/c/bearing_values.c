@@ -98,7 +98,16 @@ static const int INT_LOW[N_INT] = {0, 1}, INT_HIGH[N_INT] = {8, 8};
 
 /* ------------------------------------------------------------------------------ names */
 
+#if BN_N_PADS
+static const char *const PAD_NAMES[BN_N_PAD_REALS] = BN_PAD_NAMES;
+static const char *const PAD_UNITS[BN_N_PAD_REALS] = BN_PAD_UNITS;
+#endif
+
 const char *bn_real_name(int vr) {
+#if BN_N_PADS
+    if (vr >= VR_PAD0) return PAD_NAMES[vr - VR_PAD0];
+#endif
+    if (vr == VR_DER_T_EFF) return "der(T_eff)";
     if (vr >= VR_OIL0) return OIL_NAMES[vr - VR_OIL0];
     if (vr >= VR_GEOMETRY0) return GEOMETRY_NAMES[vr - VR_GEOMETRY0];
     if (vr >= VR_T_SUPPLY) return THERMAL_NAMES[vr - VR_T_SUPPLY];
@@ -111,6 +120,10 @@ const char *bn_string_name(int k) {
 
 const char *bn_real_unit(int vr) {
     if (vr < VR_REAL_OPTIONS) return CORE_UNITS[vr];
+#if BN_N_PADS
+    if (vr >= VR_PAD0) return PAD_UNITS[vr - VR_PAD0];
+#endif
+    if (vr == VR_DER_T_EFF) return "K/s";
     if (vr >= VR_OIL0) return OIL_UNITS[vr - VR_OIL0];
     if (vr >= VR_GEOMETRY0) return GEOMETRY_UNITS[vr - VR_GEOMETRY0];
     if (vr >= VR_T_SUPPLY) return THERMAL_UNITS[vr - VR_T_SUPPLY];
@@ -133,7 +146,7 @@ int bn_set_int(Instance *m, int k, long long v, char *why, size_t n) {
     return 0;
 }
 
-int bn_is_output_real(int vr) { return (vr >= VR_FY && vr < VR_D) || BN_IS_THERMAL_OUTPUT(vr); }
+int bn_is_output_real(int vr) { return (vr >= VR_FY && vr < VR_D) || BN_IS_THERMAL_OUTPUT(vr) || BN_IS_PAD_REAL(vr); }
 
 static void lower_strip(const char *in, char *out, size_t n) {
     while (*in && isspace((unsigned char)*in)) in++;
@@ -180,6 +193,8 @@ void bn_set_starts(Instance *m) {
     for (int i = 0; i < N_OIL_REALS; i++) m->r[VR_OIL0 + i] = OIL_START[i];
     m->thermal_lagged = 0;
     m->thermal_dt = 0.0;
+    m->step_h = 0.0;
+    memset(m->pads, 0, sizeof m->pads);
     for (int i = 0; i < N_INT; i++) m->n[i] = INT_START[i];
     m->b[B_PARTIAL_ARC] = BN_GEOMETRY_ARC_START;
     m->b[B_OUT_OF_DOMAIN] = 0;

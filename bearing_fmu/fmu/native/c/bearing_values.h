@@ -4,10 +4,11 @@
  *                      together, the internal prepared (bn_setup);
  *   bearing_model.c    the evaluation into the outputs (out_of_domain a discrete output, the
  *                      warning at omega = 0), the outputs for a get (a refused state logged once),
- *                      FMU states, the live instances;
+ *                      the live instances;
  *   bearing_derivatives.c   the outputs' derivatives along the inputs and the Real parameters;
  *   bearing_thermal.c  the thermal model (the oil of the parameters, the film's temperature);
- *   bearing_calls.c, bearing_log.c  the side of every FMI call (bearing_calls.h), logging.
+ *   bearing_calls.c, bearing_log.c  the side of every FMI call (bearing_calls.h), logging;
+ *   bearing_state.c    FMU states (BnState: saved, restored, checked, serialised).
  * Each check answers 0, or 1 with the reason in words; statuses are bn_status (FMI 2.0's and
  * 3.0's have the same values), logged through the FMI layer's bn_log. */
 #ifndef BEARING_VALUES_H
@@ -102,9 +103,16 @@ typedef struct {
     double t;
     double values[VR_D];
     double thermal[VR_GEOMETRY0 - VR_T_SUPPLY]; /* T_supply and the thermal outputs */
-    int out_of_domain;
+    double pad_values[3 * BN_MAX_PADS]; /* tilting pads: their Reals (VR_PAD0 ..: Model Exchange's states) */
+    double pads[2 * BN_PAD_STATE_LEN];  /* and their committed state, the last step's start (Instance.pads) */
+    int out_of_domain;                  /* the two ints last: no padding (every byte is checked) */
     unsigned check;
 } BnState;
+/* tilting pads (bearing_state.c): a static evaluation's tilts (pad_out) become the state, rates 0,
+ * no history; a Co-Simulation step of h accepted: its end (pad_trial) the state, the one before BDF2's
+ * history (stepping.PadStepper.static, accept) */
+BN_HIDDEN void bn_pads_static(Instance *m);
+BN_HIDDEN void bn_pads_accept(Instance *m, double h);
 BN_HIDDEN void bn_state_save(const Instance *m, BnState *s, const char *tag, const char *id);
 BN_HIDDEN void bn_state_restore(Instance *m, const BnState *s);
 BN_HIDDEN int bn_state_valid(const BnState *s, const char *tag, const char *id);

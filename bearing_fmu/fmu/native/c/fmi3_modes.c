@@ -18,8 +18,14 @@ static const char *const MODE_NAMES[] = BN_MODE_NAMES;
  * A build with the state T_eff (BN_N_STATES): the force, K, C and P_loss on the journal state and
  * T_eff, Q_side on the journal state, mu_eff on T_eff, T_eff on T_supply and itself, der(T_eff) on
  * the journal state, T_supply and T_eff; else T_eff on T_supply, P_loss, Q_side, mu_eff on nothing. */
-static int dependencies(fmi3ValueReference v, fmi3ValueReference deps[8]) {
+#define MAX_DEPENDENCIES (8 + BN_N_PAD_STATES)
+static int dependencies(fmi3ValueReference v, fmi3ValueReference deps[MAX_DEPENDENCIES]) {
     int n = 0, k, force = v >= VR_FY && v < VR_D && v != VR_ECC && v != VR_HMIN;
+    if (BN_N_PADS && (force || BN_IS_PAD_REAL((int)v))) { /* tilting pads: the journal state and the pads' states */
+        for (k = 0; k < 5; k++) deps[n++] = (fmi3ValueReference)k;
+        for (k = 0; k < BN_N_PAD_STATES; k++) deps[n++] = (fmi3ValueReference)(VR_PAD0 + k);
+        return n;
+    }
     if (v == VR_ECC || v == VR_HMIN) n = 2;                                  /* y, z */
     else if (v == VR_BOOL0 + B_OUT_OF_DOMAIN) n = BN3_FITTED_DOMAIN ? 4 : 0; /* y, z, vy, vz */
     else if (force || (BN_N_STATES && (v == VR_P_LOSS || v == VR_Q_SIDE || v == VR_DER_T_EFF))) n = 5;
@@ -43,7 +49,7 @@ fmi3Status fmi3GetNumberOfVariableDependencies(fmi3Instance instance, fmi3ValueR
     if (!known_variable(valueReference) || !nDependencies)
         return bn_fail(m, "fmi3GetNumberOfVariableDependencies: value reference %u is not a variable of this FMU%s",
                         valueReference, nDependencies ? "" : " (or nDependencies is NULL)");
-    fmi3ValueReference deps[8];
+    fmi3ValueReference deps[MAX_DEPENDENCIES];
     *nDependencies = (size_t)dependencies(valueReference, deps);
     return fmi3OK;
 }
@@ -57,7 +63,7 @@ fmi3Status fmi3GetVariableDependencies(fmi3Instance instance, fmi3ValueReference
     ORDER3(GetVariableDependencies, BN_ANY_TYPE);
     if (!known_variable(dependent))
         return bn_fail(m, "fmi3GetVariableDependencies: value reference %u is not a variable of this FMU", dependent);
-    fmi3ValueReference deps[8];
+    fmi3ValueReference deps[MAX_DEPENDENCIES];
     int n = dependencies(dependent, deps);
     if (nDependencies != (size_t)n)
         return bn_fail(m, "fmi3GetVariableDependencies: nDependencies = %lu, but %s has %d (ask "
@@ -171,7 +177,7 @@ fmi3Status fmi3GetNominalsOfContinuousStates(fmi3Instance instance, fmi3Float64 
 fmi3Status fmi3GetNumberOfContinuousStates(fmi3Instance instance, size_t *nContinuousStates) {
     INSTANCE;
     ORDER3(GetNumberOfContinuousStates, BN_ME_ONLY);
-    if (nContinuousStates) *nContinuousStates = BN_N_STATES;
+    if (nContinuousStates) *nContinuousStates = BN_NX;
     return fmi3OK;
 }
 

@@ -9,8 +9,8 @@
 #include "py_mod.h"
 #include "reynolds_solver.h"
 
-#if !defined(RS_EXPORT) && !BN_FLOWS_REYNOLDS
-#error "the Reynolds film report is compiled alone (RS_EXPORT) or in an FMU with the thermal model (BN_FLOWS_REYNOLDS)"
+#if !defined(RS_EXPORT) && !BN_FLOWS_REYNOLDS && !BN_FLOWS_TILTING_PAD
+#error "the Reynolds film report is compiled alone (RS_EXPORT) or in an FMU with the thermal model (BN_FLOWS_REYNOLDS, the tilting pads' BN_FLOWS_TILTING_PAD)"
 #endif
 /* numpy's argmax/argmin: the first of equal values */
 static int rf_first_max(const double *x, int n) {
