@@ -11,12 +11,24 @@ worker) and ``line`` prints them beside the work:
 ``as_dict`` gives the same figures [s] for a command's JSON. Parts measured at the same time
 (a build in a thread while the workers start) are each their own wall time, so the total is
 an upper bound of what they cost together; the line says so when told (``overlapping``).
+
+A command line's own costs: ``watch_command()`` starts, once per process, the clock of a command
+and one process-wide ``FixedCosts`` that the parts are added to wherever they happen: every
+module import (``imports``: its outermost exec, in the main thread) and every numba kernel load
+or compilation (``kernels``: the time numba holds its compiler lock, whichever kernel), timed
+from then on; what the command's code adds by name (FMU builds and extraction: ``command_costs``).
+``command_line()`` is the one line a command prints at its end: the parts beside the work (the
+command's wall time less the parts). A kernel loaded while a module is imported (a cfunc at
+import) counts as kernels, not imports.
 """
 
 from __future__ import annotations
 
+import sys
+import threading
 import time
 from contextlib import contextmanager
+from importlib.abc import MetaPathFinder
 
 
 class FixedCosts:
@@ -62,4 +74,123 @@ class FixedCosts:
         return text
 
 
-__all__ = ["FixedCosts"]
+class _Watch(MetaPathFinder):
+    """Times imports (a meta-path finder that wraps the found loader's exec_module, as
+    ``internals.warmup``'s does) and numba's compiler lock (an event listener), into ``costs``."""
+
+    def __init__(self, costs: FixedCosts):
+        self.costs = costs
+        self.t0 = time.perf_counter()
+        self.finding = False
+        self.depth = {"imports": 0, "kernels": 0}
+        self.inner = 0.0  # kernel seconds inside the current outermost import (not counted twice)
+        self.numba_listening = False
+
+    # imports
+    def find_spec(self, fullname, path=None, target=None):
+        if self.finding or threading.current_thread() is not threading.main_thread():
+            return None
+        self.finding = True
+        try:
+            spec = None
+            for finder in sys.meta_path:
+                find = getattr(finder, "find_spec", None)
+                if finder is self or find is None:
+                    continue
+                spec = find(fullname, path, target)
+                if spec is not None:
+                    break
+        finally:
+            self.finding = False
+        loader = getattr(spec, "loader", None)
+        if loader is None or not hasattr(loader, "exec_module"):
+            return spec
+        load = loader.exec_module
+
+        def exec_module(module):
+            with self._part("imports"):
+                load(module)
+            if fullname == "numba" and not self.numba_listening:
+                self._listen()
+
+        try:
+            loader.exec_module = exec_module
+        except (AttributeError, TypeError):  # a loader that takes no attribute: not timed
+            pass
+        return spec
+
+    @contextmanager
+    def _part(self, name: str):
+        outer = self.depth[name] == 0 and (name == "kernels" or self.depth["kernels"] == 0)
+        self.depth[name] += 1
+        if outer and name == "imports":
+            self.inner = 0.0
+        t0 = time.perf_counter()
+        try:
+            yield
+        finally:
+            self.depth[name] -= 1
+            if outer:
+                spent = time.perf_counter() - t0
+                if name == "kernels":
+                    self.costs.add("kernels", spent)
+                    if self.depth["imports"]:
+                        self.inner += spent
+                else:
+                    self.costs.add("imports", spent - self.inner)
+
+    # numba's kernels
+    def _listen(self) -> None:
+        from numba.core import event
+
+        watch = self
+        self.numba_listening = True
+
+        class Lock(event.Listener):
+            def on_start(self, ev):
+                if threading.current_thread() is threading.main_thread():
+                    ev_part = watch._part("kernels")
+                    watch.open.append(ev_part)
+                    ev_part.__enter__()
+
+            def on_end(self, ev):
+                if threading.current_thread() is threading.main_thread() and watch.open:
+                    watch.open.pop().__exit__(None, None, None)
+
+        self.open = []
+        event.register("numba:compiler_lock", Lock())
+
+
+_WATCH: list[_Watch] = []
+
+
+def watch_command() -> FixedCosts:
+    """Start timing a command in this process: its clock and fresh costs, to which its imports
+    and kernel loads from now on are added, and the parts code adds to ``command_costs()`` (the
+    watcher is installed once per process; a later command starts afresh)."""
+    if not _WATCH:
+        watch = _Watch(FixedCosts())
+        _WATCH.append(watch)
+        sys.meta_path.insert(0, watch)
+        if hasattr(sys.modules.get("numba"), "njit"):
+            watch._listen()
+    watch = _WATCH[0]
+    watch.costs, watch.t0 = FixedCosts(), time.perf_counter()
+    return watch.costs
+
+
+def command_costs() -> FixedCosts | None:
+    """The process's command costs (``watch_command``), or None when no command is timed (a
+    library call, a test): code that pays a fixed cost adds its part here when there is one."""
+    return _WATCH[0].costs if _WATCH else None
+
+
+def command_line() -> str:
+    """The command's fixed costs beside its work: ``fixed costs T s (imports .., kernels .., ...);
+    work W s``, W the wall time since ``watch_command`` less T."""
+    watch = _WATCH[0] if _WATCH else _Watch(FixedCosts())
+    total = time.perf_counter() - watch.t0
+    return watch.costs.line(max(total - watch.costs.total_s, 0.0))
+
+
+__all__ = ["FixedCosts", "watch_command", "command_costs", "command_line"]
