@@ -132,13 +132,13 @@ def kernels_time(scene, states: np.ndarray, repeats: int) -> float:
     return best
 
 
-def _check_direct(names, t_end: float) -> None:
+def _check_direct(names, t_end: float, rows=None) -> None:
     """Each row's direct run by the compiled loop against the Python driver: the largest
     difference of their states [m, m/s] and forces [N] (0: the same to the bit), and their
     force evaluations."""
     for name in names:
         scene = load_scene(SCENES / f"{name}.toml")
-        for internal in ("reynolds", "map", "taylor", "linear"):
+        for internal in rows or ("reynolds", "map", "taylor", "linear"):
             s = scene.with_internal(internal, via="direct", t_end_s=t_end)
             a, b = _integrate(s)[3], _integrate(s, compiled=False)[3]
             d = [float(np.max(np.abs(x - y))) for x, y in ((a.q, b.q), (a.v, b.v), (a.f_nl, b.f_nl))]
@@ -157,6 +157,7 @@ def main() -> None:
                     help="the times: this thread's CPU time (default) or the wall time")
     ap.add_argument("--check", action="store_true",
                     help="also: each direct row's forces, compiled loop against the Python driver (to the bit)")
+    ap.add_argument("--check-scenes", nargs="+", default=None, help="the scenes --check runs (default: --scenes)")
     args = ap.parse_args()
     CLOCK[0] = CLOCKS[args.clock]
     load = os.getloadavg()
@@ -197,7 +198,7 @@ def main() -> None:
                   f"| {times['direct'] / tkd:.2f} | {times['driver'] / times['direct']:.2f} "
                   f"| {times['native'] / times['direct']:.2f} | {py / times['native']:.1f} |", flush=True)
     if args.check:
-        _check_direct(args.scenes, args.t_end or 0.05)
+        _check_direct(args.check_scenes or args.scenes, args.t_end or 0.05, args.rows)
     load = os.getloadavg()
     print(f"\nload at end {load[0]:.2f} {load[1]:.2f} {load[2]:.2f}")
 

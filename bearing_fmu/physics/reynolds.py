@@ -340,11 +340,9 @@ class Reynolds:
         )
 
     def compiled_force(self):
-        """Its force and Jacobian as a compiled kernel (``internals.compiled``; the full bore:
-        ``internals.reynolds.force``, the same kernel on this instance's arrays, its warm start
-        shared), or None for another bore (called from Python)."""
-        if self._geo is not None:
-            return None
+        """Its force and Jacobian as a compiled kernel (``internals.compiled``;
+        ``internals.reynolds.force``: the same kernel on this instance's arrays, its warm start
+        shared)."""
         from ..internals.reynolds.force import ARRAYS, reynolds_force
 
         pr = self.params
@@ -352,7 +350,11 @@ class Reynolds:
                    "max_turn": self._max_turn, "max_dlog": WARM_MAX_DLOG, "mode": self._mode, "m": self._m,
                    "N": self.n_theta, "max_iter": self._max_iter, "grow": self._grow, "warm": self.warm_start,
                    "warm_cap": self._warm_cap}
-        return reynolds_force(scalars, {name: getattr(self, f"_{name}") for name in ARRAYS}, self._compiled_kept)
+        geo = None
+        if self._geo is not None:  # the bore's film arrays and its wall (Geometry.closure's weights)
+            geo = dict(self._geo)
+            geo["wall_a"], geo["wall_b"] = pr.geometry.closure_weights()
+        return reynolds_force(scalars, {name: getattr(self, f"_{name}") for name in ARRAYS}, self._compiled_kept, geo)
 
     def _compiled_kept(self, counts) -> None:
         """The compiled kernel's calls since the last: counted (``counts``), and the field no

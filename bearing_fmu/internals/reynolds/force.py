@@ -12,8 +12,9 @@ or a non-finite result (status 2, 3); the host then asks ``force_and_jacobian`` 
 The calls, passes, warm starts and cold fallbacks are counted in the data and handed to the
 instance's counters by ``sync``.
 
-Only the full bore (the plain circle): a bore with grooves, an arc or lobes runs its own kernel
-(``physics.geometry_kernels``) from Python (``Reynolds.compiled_force`` answers None).
+The full bore calls ``reynolds_kernel``; a bore with grooves, an arc or lobes its own
+(``physics.geometry_kernels.geometry_kernel``) on its film arrays (GEO_ARRAYS), its wall the
+film closure of ``Geometry.closure`` (the largest y a + z b over its sample angles, / CR).
 """
 
 from __future__ import annotations
@@ -24,10 +25,11 @@ import numpy as np
 from numba import carray, cfunc, njit, types
 from numba.extending import intrinsic
 
+from ...physics.geometry_kernels import geometry_kernel
 from ...physics.reynolds_kernels import reynolds_kernel
 from ..compiled import KERNEL_SIG, CompiledForce, as_int64
 
-__all__ = ["ARRAYS", "reynolds_force", "COUNTS"]
+__all__ = ["ARRAYS", "GEO_ARRAYS", "reynolds_force", "COUNTS"]
 
 # the solver's arrays in the order reynolds_kernel takes them (Reynolds.kernel_arguments names them so)
 ARRAYS = ("sin_c", "cos_c", "sin_f", "cos_f", "ds", "dc", "tdiag", "rs", "qw",
@@ -40,8 +42,15 @@ _MODE, _M, _N, _MAX_ITER, _GROW, _WARM, _WARM_CAP, _WH = range(7, 15)
 _A = 15  # the address of ARRAYS[i] is in slot _A + i
 COUNTS = ("calls", "passes", "warm_starts", "cold_fallbacks")
 _C = _A + len(ARRAYS)
-DATA_SIZE = _C + len(COUNTS)
-_IDX = {name: _A + i for i, name in enumerate(ARRAYS)}
+# a bore other than the full circle: its film arrays (Reynolds._geo) and the closure weights (wall_a,
+# wall_b: Geometry.closure_weights), whose number is in slot _K
+GEO_ARRAYS = ("H0f", "H0c", "dH0", "ct", "cx", "gy", "gz", "fixed", "psup", "F0", "rhs0", "wall_a", "wall_b")
+_G = _C + len(COUNTS)
+_K = _G + len(GEO_ARRAYS)
+DATA_SIZE = _K + 1
+_IDX = {name: _A + i for i, name in enumerate(ARRAYS)} | {name: _G + j for j, name in enumerate(GEO_ARRAYS)}
+_BOOL = ("act", "fixed")
+_INT = ("order", "nvalid")
 
 
 @intrinsic
@@ -71,33 +80,22 @@ def _i(ip, i, shape):
     return carray(_void(ip[_A + i]), shape, np.int64)
 
 
-def _kernel(dp, y, z, vy, vz, omega, op):
-    ip = as_int64(dp)
-    # check_state of the full bore (internals.base): finite, and |e| / CR < 1
-    if not (math.isfinite(y) and math.isfinite(z) and math.isfinite(vy) and math.isfinite(vz)
-            and math.isfinite(omega)):
-        return 1
-    CR = dp[_CR]
-    if math.hypot(y, z) / CR >= 1.0:
-        return 1
-    N, m, wh = ip[_N], ip[_M], ip[_WH]
-    n = N * m
-    nb = (N - 1) * m
-    F, dFq, dFv, info = _f(ip, 30, 2), _f(ip, 31, (2, 2)), _f(ip, 32, (2, 2)), _f(ip, 34, 6)
-    info[:] = 0.0  # as Reynolds._run: the kernel adds its passes to info[3]
-    reynolds_kernel(
-        ip[_MODE], True, y, z, vy, vz, omega, CR, dp[_MU], dp[_R], dp[_DTH], dp[_DX], ip[_M],
-        _f(ip, 0, N), _f(ip, 1, N), _f(ip, 2, N), _f(ip, 3, N), _f(ip, 4, N), _f(ip, 5, N),
-        _f(ip, 6, m), _f(ip, 7, m), _f(ip, 8, m),
-        _f(ip, 9, N), _f(ip, 10, N), _f(ip, 11, N), _f(ip, 12, (4, N)), _f(ip, 13, N), _f(ip, 14, N),
-        _f(ip, 15, n), _f(ip, 16, n), _f(ip, 17, n), _b(ip, 18, n), _f(ip, 19, (nb, m + 1)),
-        _f(ip, 20, (nb, m)), _f(ip, 21, (m, m)), _f(ip, 22, nb), _f(ip, 23, m),
-        _f(ip, 24, n), _f(ip, 25, n), _f(ip, 26, n), _f(ip, 27, n), _f(ip, 28, n), _f(ip, 29, n),
-        F, dFq, dFv, _f(ip, 33, 2), info,
-        ip[_MAX_ITER], ip[_GROW], ip[_WARM] != 0, ip[_WARM_CAP], dp[_MAX_TURN], dp[_MAX_DLOG],
-        _f(ip, 35, (wh, 4)), _i(ip, 36, wh), _i(ip, 37, 1), _f(ip, 38, (wh, n)),
-    )
-    # Reynolds._count
+@njit(inline="always")
+def _g(ip, j, shape):
+    """GEO_ARRAYS[j] (float64) of the shape."""
+    return carray(_void(ip[_G + j]), shape, np.float64)
+
+
+@njit(inline="always")
+def _finite(y, z, vy, vz, omega):
+    return (math.isfinite(y) and math.isfinite(z) and math.isfinite(vy) and math.isfinite(vz)
+            and math.isfinite(omega))
+
+
+@njit(inline="always")
+def _finish(dp, F, dFq, dFv, info, op):
+    """After the solver's call: its counts (Reynolds._count), its refusals (Reynolds._run's
+    checks after the call), the output."""
     dp[_C] += 1.0
     dp[_C + 1] += info[3]
     dp[_C + 2] += 1.0 if info[4] != 0.0 else 0.0
@@ -119,22 +117,89 @@ def _kernel(dp, y, z, vy, vz, omega, op):
     return 0
 
 
-_KERNEL = []
+def _kernel(dp, y, z, vy, vz, omega, op):
+    """The full bore."""
+    ip = as_int64(dp)
+    # check_state of the full bore (internals.base): finite, and |e| / CR < 1
+    if not _finite(y, z, vy, vz, omega):
+        return 1
+    CR = dp[_CR]
+    if math.hypot(y, z) / CR >= 1.0:
+        return 1
+    N, m, wh = ip[_N], ip[_M], ip[_WH]
+    n = N * m
+    nb = (N - 1) * m
+    F, dFq, dFv, info = _f(ip, 30, 2), _f(ip, 31, (2, 2)), _f(ip, 32, (2, 2)), _f(ip, 34, 6)
+    info[:] = 0.0  # as Reynolds._run: the kernel adds its passes to info[3]
+    reynolds_kernel(
+        ip[_MODE], True, y, z, vy, vz, omega, CR, dp[_MU], dp[_R], dp[_DTH], dp[_DX], ip[_M],
+        _f(ip, 0, N), _f(ip, 1, N), _f(ip, 2, N), _f(ip, 3, N), _f(ip, 4, N), _f(ip, 5, N),
+        _f(ip, 6, m), _f(ip, 7, m), _f(ip, 8, m),
+        _f(ip, 9, N), _f(ip, 10, N), _f(ip, 11, N), _f(ip, 12, (4, N)), _f(ip, 13, N), _f(ip, 14, N),
+        _f(ip, 15, n), _f(ip, 16, n), _f(ip, 17, n), _b(ip, 18, n), _f(ip, 19, (nb, m + 1)),
+        _f(ip, 20, (nb, m)), _f(ip, 21, (m, m)), _f(ip, 22, nb), _f(ip, 23, m),
+        _f(ip, 24, n), _f(ip, 25, n), _f(ip, 26, n), _f(ip, 27, n), _f(ip, 28, n), _f(ip, 29, n),
+        F, dFq, dFv, _f(ip, 33, 2), info,
+        ip[_MAX_ITER], ip[_GROW], ip[_WARM] != 0, ip[_WARM_CAP], dp[_MAX_TURN], dp[_MAX_DLOG],
+        _f(ip, 35, (wh, 4)), _i(ip, 36, wh), _i(ip, 37, 1), _f(ip, 38, (wh, n)),
+    )
+    return _finish(dp, F, dFq, dFv, info, op)
 
 
-def _cfunc():
-    """The cfunc, compiled (or loaded from numba's cache) at the first call, not at import."""
-    if not _KERNEL:
-        _KERNEL.append(cfunc(KERNEL_SIG, cache=True)(_kernel))
-    return _KERNEL[0]
+def _geo_kernel(dp, y, z, vy, vz, omega, op):
+    """A bore with grooves, an arc or lobes."""
+    ip = as_int64(dp)
+    if not _finite(y, z, vy, vz, omega):
+        return 1
+    CR = dp[_CR]
+    k = ip[_K]
+    wa, wb = _g(ip, 11, k), _g(ip, 12, k)
+    closure = y * wa[0] + z * wb[0]  # Geometry.closure: float(np.max(y * a + z * b)) / CR
+    for i in range(1, k):
+        c = y * wa[i] + z * wb[i]
+        if c > closure:
+            closure = c
+    if closure / CR >= 1.0:
+        return 1
+    N, m, wh = ip[_N], ip[_M], ip[_WH]
+    n = N * m
+    nb = (N - 1) * m
+    F, dFq, dFv, info = _f(ip, 30, 2), _f(ip, 31, (2, 2)), _f(ip, 32, (2, 2)), _f(ip, 34, 6)
+    info[:] = 0.0
+    geometry_kernel(
+        ip[_MODE], True, y, z, vy, vz, omega, CR, dp[_MU], dp[_R], dp[_DX], ip[_M],
+        _f(ip, 0, N), _f(ip, 1, N), _f(ip, 2, N), _f(ip, 3, N), _f(ip, 4, N), _f(ip, 5, N),
+        _g(ip, 0, N), _g(ip, 1, N), _g(ip, 2, N), _g(ip, 3, N), _g(ip, 4, N), _g(ip, 5, N), _g(ip, 6, N),
+        carray(_void(ip[_G + 7]), N, np.bool_), _g(ip, 8, N), _g(ip, 9, 2),
+        _f(ip, 6, m), _f(ip, 7, m), _f(ip, 8, m),
+        _f(ip, 9, N), _f(ip, 10, N), _f(ip, 11, N), _f(ip, 12, (4, N)), _f(ip, 13, N), _f(ip, 14, N),
+        _f(ip, 15, n), _f(ip, 16, n), _f(ip, 17, n), _b(ip, 18, n), _f(ip, 19, (nb, m + 1)),
+        _f(ip, 20, (nb, m)), _f(ip, 21, (m, m)), _f(ip, 22, nb), _f(ip, 23, m),
+        _f(ip, 24, n), _f(ip, 25, n), _g(ip, 10, n), _f(ip, 26, n), _f(ip, 27, n), _f(ip, 28, n), _f(ip, 29, n),
+        F, dFq, dFv, _f(ip, 33, 2), info,
+        ip[_MAX_ITER], ip[_GROW], ip[_WARM] != 0, ip[_WARM_CAP], dp[_MAX_TURN], dp[_MAX_DLOG],
+        _f(ip, 35, (wh, 4)), _i(ip, 36, wh), _i(ip, 37, 1), _f(ip, 38, (wh, n)),
+    )
+    return _finish(dp, F, dFq, dFv, info, op)
 
 
-def reynolds_force(scalars: dict, arrays: dict, sync) -> CompiledForce:
-    """The compiled force of one full-bore Reynolds instance: ``scalars`` (CR, mu, R, dth, dx,
-    max_turn, max_dlog floats; mode, m, N, max_iter, grow, warm, warm_cap integers), ``arrays``
-    (every name of ARRAYS: the instance's own, used in place; the caller keeps them alive and
-    unmoved while the kernel is used), ``sync(counts)`` called with the COUNTS the kernel made
-    since the last sync (a float64 (4,) view, zeroed after the call)."""
+_KERNELS: dict = {}
+
+
+def _cfunc(geo: bool):
+    """The cfunc of a bore, compiled (or loaded from numba's cache) at its first use, not at import."""
+    if geo not in _KERNELS:
+        _KERNELS[geo] = cfunc(KERNEL_SIG, cache=True)(_geo_kernel if geo else _kernel)
+    return _KERNELS[geo]
+
+
+def reynolds_force(scalars: dict, arrays: dict, sync, geo: dict | None = None) -> CompiledForce:
+    """The compiled force of one Reynolds instance: ``scalars`` (CR, mu, R, dth, dx, max_turn,
+    max_dlog floats; mode, m, N, max_iter, grow, warm, warm_cap integers), ``arrays`` (every name
+    of ARRAYS: the instance's own, used in place; the caller keeps them alive and unmoved while
+    the kernel is used), ``sync(counts)`` called with the COUNTS the kernel made since the last
+    sync (a float64 (4,) view, zeroed after the call); ``geo``: every name of GEO_ARRAYS for a
+    bore other than the full circle (read only: kept here, copied where not contiguous)."""
     data = np.zeros(DATA_SIZE)
     for i, key in enumerate(("CR", "mu", "R", "dth", "dx", "max_turn", "max_dlog")):
         data[i] = float(scalars[key])
@@ -142,15 +207,22 @@ def reynolds_force(scalars: dict, arrays: dict, sync) -> CompiledForce:
     for i, key in enumerate(("mode", "m", "N", "max_iter", "grow", "warm", "warm_cap")):
         ints[_MODE + i] = int(scalars[key])
     ints[_WH] = arrays["hs"].shape[0]
-    types_ = {"act": np.bool_, "order": np.int64, "nvalid": np.int64}
     for name in ARRAYS:
         arr = arrays[name]
-        if arr.dtype != types_.get(name, np.float64) or not arr.flags.c_contiguous:
-            raise ValueError(f"reynolds_force: array {name} must be contiguous {types_.get(name, np.float64)}")
+        want = np.bool_ if name in _BOOL else np.int64 if name in _INT else np.float64
+        if arr.dtype != want or not arr.flags.c_contiguous:
+            raise ValueError(f"reynolds_force: array {name} must be contiguous {np.dtype(want)}")
         ints[_IDX[name]] = arr.ctypes.data
+    held = []  # the bore's arrays as the kernel reads them, alive as long as the force
+    if geo is not None:
+        for name in GEO_ARRAYS:
+            arr = np.ascontiguousarray(geo[name], dtype=np.bool_ if name in _BOOL else np.float64)
+            held.append(arr)
+            ints[_IDX[name]] = arr.ctypes.data
+        ints[_K] = held[-1].size
 
-    def kept(_n: int) -> None:
-        sync(data[_C:])
-        data[_C:] = 0.0
+    def kept(_n: int, held=held) -> None:
+        sync(data[_C:_C + len(COUNTS)])
+        data[_C:_C + len(COUNTS)] = 0.0
 
-    return CompiledForce(_cfunc(), data, sync=kept)
+    return CompiledForce(_cfunc(geo is not None), data, sync=kept)
