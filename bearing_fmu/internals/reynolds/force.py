@@ -9,8 +9,8 @@ the calls from Python and those from compiled code, which keep it on the compile
 evaluations and steps. The refusals are the Python call's: a non-finite input or a journal at or
 beyond the wall (status 1, before the solver runs), an active-set iteration that did not settle
 or a non-finite result (status 2, 3); the host then asks ``force_and_jacobian`` for the error.
-The calls, passes, warm starts and cold fallbacks are counted in the data and handed to the
-instance's counters by ``sync``.
+The calls, passes, warm starts and cold fallbacks are counted in an array of the force's own (its
+address in the data: a host may run a copy of the data) and handed to the instance by ``sync``.
 
 The full bore calls ``reynolds_kernel``; a bore with grooves, an arc or lobes its own
 (``physics.geometry_kernels.geometry_kernel``) on its film arrays (GEO_ARRAYS), its wall the
@@ -36,7 +36,7 @@ ARRAYS = ("sin_c", "cos_c", "sin_f", "cos_f", "ds", "dc", "tdiag", "rs", "qw",
           "at", "ax", "b", "db", "dat", "dax", "diag", "cxo", "cto", "act", "Lb", "Y", "S", "zb", "z2",
           "p", "pf", "rhs", "tmp", "mu_y", "mu_z", "F", "dFq", "dFv", "Ft", "info",
           "hs", "order", "nvalid", "wring")
-# the data: floats, integers (by their bits), then the arrays' addresses, then the counts
+# the data: floats, integers (by their bits), then the addresses of the arrays and of the counts
 _CR, _MU, _R, _DTH, _DX, _MAX_TURN, _MAX_DLOG = range(7)
 _MODE, _M, _N, _MAX_ITER, _GROW, _WARM, _WARM_CAP, _WH = range(7, 15)
 _A = 15  # the address of ARRAYS[i] is in slot _A + i
@@ -45,7 +45,7 @@ _C = _A + len(ARRAYS)
 # a bore other than the full circle: its film arrays (Reynolds._geo) and the closure weights (wall_a,
 # wall_b: Geometry.closure_weights), whose number is in slot _K
 GEO_ARRAYS = ("H0f", "H0c", "dH0", "ct", "cx", "gy", "gz", "fixed", "psup", "F0", "rhs0", "wall_a", "wall_b")
-_G = _C + len(COUNTS)
+_G = _C + 1  # _C: the address of the counts (a host may run a copy of the data)
 _K = _G + len(GEO_ARRAYS)
 DATA_SIZE = _K + 1
 _IDX = {name: _A + i for i, name in enumerate(ARRAYS)} | {name: _G + j for j, name in enumerate(GEO_ARRAYS)}
@@ -96,10 +96,11 @@ def _finite(y, z, vy, vz, omega):
 def _finish(dp, F, dFq, dFv, info, op):
     """After the solver's call: its counts (Reynolds._count), its refusals (Reynolds._run's
     checks after the call), the output."""
-    dp[_C] += 1.0
-    dp[_C + 1] += info[3]
-    dp[_C + 2] += 1.0 if info[4] != 0.0 else 0.0
-    dp[_C + 3] += 1.0 if info[5] != 0.0 else 0.0
+    counts = carray(_void(as_int64(dp)[_C]), 4, np.float64)
+    counts[0] += 1.0
+    counts[1] += info[3]
+    counts[2] += 1.0 if info[4] != 0.0 else 0.0
+    counts[3] += 1.0 if info[5] != 0.0 else 0.0
     if info[0] < 0:
         return 2  # not settled: the Python call raises
     ok = math.isfinite(F[0]) and math.isfinite(F[1])
@@ -221,8 +222,11 @@ def reynolds_force(scalars: dict, arrays: dict, sync, geo: dict | None = None) -
             ints[_IDX[name]] = arr.ctypes.data
         ints[_K] = held[-1].size
 
+    counts = np.zeros(len(COUNTS))
+    ints[_C] = counts.ctypes.data
+
     def kept(_n: int, held=held) -> None:
-        sync(data[_C:_C + len(COUNTS)])
-        data[_C:_C + len(COUNTS)] = 0.0
+        sync(counts)
+        counts[:] = 0.0
 
     return CompiledForce(_cfunc(geo is not None), data, sync=kept)
