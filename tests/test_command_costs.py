@@ -17,6 +17,9 @@ def test_the_watch_times_imports_and_kernels_apart(tmp_path, monkeypatch):
     monkeypatch.setattr(fixed_costs, "_WATCH", [])
     monkeypatch.syspath_prepend(str(tmp_path))
     (tmp_path / "slow_to_import_37.py").write_text("import time\ntime.sleep(0.2)\n")
+    # a module that compiles a kernel while it is imported: kernels, not imports too
+    (tmp_path / "compiles_at_import_37.py").write_text("from numba import njit\nassert njit(lambda x: x + 1)(1) == 2\n")
+    t0 = time.perf_counter()
     costs = fixed_costs.watch_command()
     assert fixed_costs.command_costs() is costs
     import slow_to_import_37  # noqa: F401  (0.2 s of import, by construction)
@@ -28,11 +31,15 @@ def test_the_watch_times_imports_and_kernels_apart(tmp_path, monkeypatch):
         return 2.0 * x
 
     assert twice(1.5) == 3.0
+    kernels = costs.parts["kernels"]
+    import compiles_at_import_37  # noqa: F401
+    assert costs.parts["kernels"] > kernels
     with costs.timed("bearings"):  # what a command adds by name (its FMUs built and loaded)
         time.sleep(0.05)
     time.sleep(0.1)  # work
     assert 0.2 <= costs.parts["imports"] < 5.0
     assert costs.parts["kernels"] > 0.0
+    assert costs.total_s <= time.perf_counter() - t0  # nothing counted twice
     line = fixed_costs.command_line()
     assert line.startswith(f"fixed costs {costs.total_s:.2f} s (imports ") and "bearings 0.0" in line
     work = float(line.rpartition("; work ")[2].split()[0])

@@ -16,7 +16,8 @@ A command line's own costs: ``watch_command()`` starts, once per process, the cl
 and one process-wide ``FixedCosts`` that the parts are added to wherever they happen: every
 module import (``imports``: its outermost exec, in the main thread) and every numba kernel load
 or compilation (``kernels``: the time numba holds its compiler lock, whichever kernel), timed
-from then on; what the command's code adds by name (FMU builds and extraction: ``command_costs``).
+from then on; what the command's code adds by name (FMU builds and extraction: ``command_mark``,
+``command_add_since``: the parts timed inside left out).
 ``command_line()`` is the one line a command prints at its end: the parts beside the work (the
 command's wall time less the parts). A kernel loaded while a module is imported (a cfunc at
 import) counts as kernels, not imports.
@@ -82,8 +83,9 @@ class _Watch(MetaPathFinder):
         self.costs = costs
         self.t0 = time.perf_counter()
         self.finding = False
-        self.depth = {"imports": 0, "kernels": 0}
-        self.inner = 0.0  # kernel seconds inside the current outermost import (not counted twice)
+        # the parts open now, innermost last: [name, start, seconds of the parts closed inside it]
+        self.stack: list[list] = []
+        self.recorded = 0.0  # seconds of all outermost parts closed so far (``since``)
         self.numba_listening = False
 
     # imports
@@ -121,23 +123,22 @@ class _Watch(MetaPathFinder):
 
     @contextmanager
     def _part(self, name: str):
-        outer = self.depth[name] == 0 and (name == "kernels" or self.depth["kernels"] == 0)
-        self.depth[name] += 1
-        if outer and name == "imports":
-            self.inner = 0.0
-        t0 = time.perf_counter()
+        """Time the block as part ``name``, less the parts inside it (a kernel loaded while a
+        module is imported counts as kernels, not imports: nothing is counted twice)."""
+        self.stack.append([name, time.perf_counter(), 0.0])
         try:
             yield
         finally:
-            self.depth[name] -= 1
-            if outer:
-                spent = time.perf_counter() - t0
-                if name == "kernels":
-                    self.costs.add("kernels", spent)
-                    if self.depth["imports"]:
-                        self.inner += spent
-                else:
-                    self.costs.add("imports", spent - self.inner)
+            self._close()
+
+    def _close(self) -> None:
+        name, t0, inner = self.stack.pop()
+        spent = time.perf_counter() - t0
+        self.costs.add(name, spent - inner)
+        if self.stack:
+            self.stack[-1][2] += spent
+        else:
+            self.recorded += spent
 
     # numba's kernels
     def _listen(self) -> None:
@@ -146,18 +147,21 @@ class _Watch(MetaPathFinder):
         watch = self
         self.numba_listening = True
 
-        class Lock(event.Listener):
+        class Lock(event.Listener):  # the lock is re-entrant: only the outermost hold is a part
+            depth = 0
+
             def on_start(self, ev):
                 if threading.current_thread() is threading.main_thread():
-                    ev_part = watch._part("kernels")
-                    watch.open.append(ev_part)
-                    ev_part.__enter__()
+                    self.depth += 1
+                    if self.depth == 1:
+                        watch.stack.append(["kernels", time.perf_counter(), 0.0])
 
             def on_end(self, ev):
-                if threading.current_thread() is threading.main_thread() and watch.open:
-                    watch.open.pop().__exit__(None, None, None)
+                if threading.current_thread() is threading.main_thread() and self.depth > 0:
+                    self.depth -= 1
+                    if self.depth == 0 and watch.stack and watch.stack[-1][0] == "kernels":
+                        watch._close()
 
-        self.open = []
         event.register("numba:compiler_lock", Lock())
 
 
@@ -185,6 +189,20 @@ def command_costs() -> FixedCosts | None:
     return _WATCH[0].costs if _WATCH else None
 
 
+def command_mark():
+    """A mark for ``command_add_since`` (None when no command is timed)."""
+    return (time.perf_counter(), _WATCH[0].recorded, _WATCH[0].costs) if _WATCH else None
+
+
+def command_add_since(name: str, mark) -> None:
+    """Add the wall time since ``mark`` to the command's part ``name``, less the imports and
+    kernel loads timed meanwhile (each counted once, under its own name)."""
+    if mark is None or not _WATCH or _WATCH[0].costs is not mark[2]:
+        return
+    t0, recorded, costs = mark
+    costs.add(name, time.perf_counter() - t0 - (_WATCH[0].recorded - recorded))
+
+
 def command_line() -> str:
     """The command's fixed costs beside its work: ``fixed costs T s (imports .., kernels .., ...);
     work W s``, W the wall time since ``watch_command`` less T."""
@@ -193,4 +211,4 @@ def command_line() -> str:
     return watch.costs.line(max(total - watch.costs.total_s, 0.0))
 
 
-__all__ = ["FixedCosts", "watch_command", "command_costs", "command_line"]
+__all__ = ["FixedCosts", "watch_command", "command_costs", "command_mark", "command_add_since", "command_line"]

@@ -23,7 +23,7 @@ import numpy as np
 
 from bearing_fmu.internals import registry
 from bearing_fmu.io.exits import as_interrupted, handled, note_kept
-from bearing_fmu.io.fixed_costs import command_costs
+from bearing_fmu.io.fixed_costs import command_add_since, command_mark
 from bearing_fmu.io.outputs import claim, ensure_writable, savez, write_json
 
 from ..integrate.banded import is_sparse
@@ -286,11 +286,9 @@ def _run(scene: Scene, holder, work: Path, progress: bool) -> SceneRun:
             return out.run(None, "failed", str(exc))
         if thermal is not None:
             out.meta["thermal"] = thermal_meta(thermal)
-        t_bearings = time.perf_counter()
+        mark = command_mark()
         with build_bearings(scene, rotor, loads, work, warn=out.warnings, thermal=thermal) as bearings:
-            costs = command_costs()
-            if costs is not None:  # a command's fixed costs: its FMUs built or extracted, loaded
-                costs.add("bearings", time.perf_counter() - t_bearings)
+            command_add_since("bearings", mark)  # a command's fixed costs: its FMUs built or extracted, loaded
             out.thermal_fields = bearings.thermal_fields
             out.times["kernels_time_s"] = load_kernels(scene, bearings)
             t_setup = time.perf_counter()
