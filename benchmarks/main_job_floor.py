@@ -124,6 +124,7 @@ def kernels_time(scene, states: np.ndarray, repeats: int) -> float:
             data = np.ascontiguousarray(np.concatenate([cf.data for cf in forces]))
             doff = np.cumsum([0] + [cf.data.size for cf in forces])[:-1].astype(np.int64)
             out = np.zeros(OUT_SIZE)
+            _replay(kaddr, data, doff, states[:0], clock, out)  # loaded before the clock
             t0 = CLOCK[0]()
             bad = _replay(kaddr, data, doff, states, clock, out)
             best = min(best, CLOCK[0]() - t0)
