@@ -199,8 +199,9 @@ def reynolds_force(scalars: dict, arrays: dict, sync, geo: dict | None = None) -
     max_dlog floats; mode, m, N, max_iter, grow, warm, warm_cap integers), ``arrays`` (every name
     of ARRAYS: the instance's own, used in place; the caller keeps them alive and unmoved while
     the kernel is used), ``sync(counts)`` called with the COUNTS the kernel made since the last
-    sync (a float64 (4,) view, zeroed after the call); ``geo``: every name of GEO_ARRAYS for a
-    bore other than the full circle (read only: kept here, copied where not contiguous)."""
+    sync (a float64 (4,) array, zeroed after the call); ``geo``: every name of GEO_ARRAYS for a
+    bore other than the full circle (the work array rhs0 used in place as ARRAYS are; the others,
+    which the kernel only reads, kept here, copied where not contiguous)."""
     data = np.zeros(DATA_SIZE)
     for i, key in enumerate(("CR", "mu", "R", "dth", "dx", "max_turn", "max_dlog")):
         data[i] = float(scalars[key])
@@ -218,6 +219,8 @@ def reynolds_force(scalars: dict, arrays: dict, sync, geo: dict | None = None) -
     if geo is not None:
         for name in GEO_ARRAYS:
             arr = np.ascontiguousarray(geo[name], dtype=np.bool_ if name in _BOOL else np.float64)
+            if name == "rhs0" and arr is not geo[name]:
+                raise ValueError("reynolds_force: the work array rhs0 must be contiguous float64 (used in place)")
             held.append(arr)
             ints[_IDX[name]] = arr.ctypes.data
         ints[_K] = held[-1].size
