@@ -190,3 +190,18 @@ def test_short_lands_reach_the_ocvirk_limit(eps):
         assert attitude == pytest.approx(math.degrees(math.atan(math.pi * math.sqrt(1 - eps ** 2) / (4 * eps))), abs=0.6)
     assert -0.01 < err[1] < 0.0
     assert 3.0 < err[0] / err[1] < 4.5
+
+
+def test_the_compiled_route_takes_the_groove_pressure():
+    # the host's compiled loop calls the solver's kernel through internals.reynolds.force, which hands
+    # it the lands' supply pressure: the same force and Jacobian as the Python driver, to the bit
+    from bearing_fmu.internals.compiled import evaluate
+
+    p, om = grooved(), 2 * math.pi * 2800 / 60
+    py, compiled = Reynolds(p), Reynolds(p)
+    cf = compiled.compiled_force()
+    for st in ((5e-6, -15e-6, 1e-4, -2e-4), (-8e-6, -25e-6, 0.0, 0.0)):
+        F, dq, dv = py.force_and_jacobian(*st, om)
+        status, Fc, dqc, dvc = evaluate(cf, *st, om)
+        assert status == 0
+        assert np.array_equal(Fc, F) and np.array_equal(dqc, dq) and np.array_equal(dvc, dv)

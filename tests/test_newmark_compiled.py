@@ -136,6 +136,29 @@ def test_newton_failures_go_back_to_python_and_are_cut_the_same(rotor):
     _assert_same(a, b)
 
 
+@pytest.mark.parametrize("rotor_file", ["rotor_paper.toml", "rotor_paper_lemon.toml"])
+def test_compiled_reynolds_run_equals_the_python_driver(rotor_file):
+    # the solver's own kernel on its instance's arrays (internals/reynolds/force.py), its warm start
+    # carried between the compiled and the Python calls: released 0.3 CR below the centre with two
+    # corrections allowed, so steps fail, go back to Python and are cut (the plain and the lemon bore)
+    from bearing_fmu.physics.solver.reynolds import Reynolds
+
+    rot = Rotor.from_toml(ROOT / "rotor_host" / "bundled" / rotor_file)
+    q0 = np.zeros(rot.n_dof)
+    q0[[d for p in _pairs(rot) for d in p]] = [0.0, -0.3 * rot.bearings[0].CR] * len(rot.bearing_nodes)
+    runs = []
+    for compiled in (True, False):
+        b = DirectBearings([Reynolds(p) for p in rot.bearings], _pairs(rot), OMEGA)
+        runs.append((_run(rot, b, q0, compiled, t_end=0.004, max_iter=2), [i.counts() for i in b.internals]))
+    (a, ca), (b, cb) = runs
+    assert a.n_cuts > 0
+    _assert_same(a, b)
+    # every solve counted on the instance, the compiled ones too (a step handed back to Python is
+    # solved again there: more calls, the same results)
+    assert all(c["calls"] == b.n_evaluations for c in cb)
+    assert all(c["calls"] >= a.n_evaluations and c["passes"] >= c["calls"] for c in ca)
+
+
 YLIM = 2e-6  # m: the test spring refuses y beyond it
 
 

@@ -37,6 +37,7 @@ register(InternalSpec(
     ),
     can=Capabilities(
         any_state=True, truth=True, film_flow=True, native=True, film_field=True,
+        compiled=True,  # internals.reynolds.force
         validity="The finite-volume Reynolds solver evaluates any journal state inside the clearance circle at any "
                  "speed, load and velocity; it is the reference the other internals are measured against. Its "
                  "accuracy is set by the grid n_theta x n_x (0: the default 128 x 16, docs/reynolds.md). The journal "

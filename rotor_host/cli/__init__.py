@@ -14,6 +14,7 @@ import argparse
 from bearing_fmu.cli import Parser, add_debug_flag
 from bearing_fmu.internals.warmup import announce_compiling
 from bearing_fmu.io.exits import EXIT_CODES, run_command
+from bearing_fmu.io.fixed_costs import command_line, watch_command
 
 from . import linear, transient
 from .common import bearing_swap, internal_choices, scene_from_args
@@ -38,6 +39,10 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv: list[str] | None = None) -> int:
+    watch_command()  # the command's fixed costs (imports, kernels, FMUs) timed apart from its work
     args = build_parser().parse_args(argv)
     announce_compiling()  # an installation's first compilation of a kernel: one line on stderr
-    return run_command("rotor-host", args)  # exit codes, interrupts, --debug: bearing_fmu.io.exits
+    code = run_command("rotor-host", args)  # exit codes, interrupts, --debug: bearing_fmu.io.exits
+    if code == 0 and not getattr(args, "own_fixed_costs", False):  # (sweep prints its own, with its workers')
+        print(command_line(), flush=True)
+    return code

@@ -228,4 +228,4 @@ def add_sweep(sub) -> None:
                         "started for the sweep, or --scheduler's)")
     p.add_argument("--out", type=output_dir, default="out/sweep", help="output folder (default: out/sweep)")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
-    p.set_defaults(func=_sweep)
+    p.set_defaults(func=_sweep, own_fixed_costs=True)  # its fixed-cost line names its workers' and cluster's

@@ -8,6 +8,7 @@ loads             external forces the compiled loop evaluates itself (``Rotating
 banded            band storage, banded LU and products (the FE matrices are banded)
 newmark,          implicit Newmark / HHT-alpha with Newton and step cutting; its
 newmark_kernels   compiled kernels
+newmark_step      one step in Python: predictor, Newton iterations, accept or abandon
 newmark_loop      the compiled driver: chunks of whole steps in one numba call
 newmark_data      its settings, result and error (NewmarkConfig, NewmarkResult,
                   IntegrationError)

@@ -23,6 +23,7 @@ import numpy as np
 
 from bearing_fmu.internals import registry
 from bearing_fmu.io.exits import as_interrupted, handled, note_kept
+from bearing_fmu.io.fixed_costs import command_add_since, command_mark
 from bearing_fmu.io.outputs import claim, ensure_writable, savez, write_json
 
 from ..integrate.banded import is_sparse
@@ -285,9 +286,11 @@ def _run(scene: Scene, holder, work: Path, progress: bool) -> SceneRun:
             return out.run(None, "failed", str(exc))
         if thermal is not None:
             out.meta["thermal"] = thermal_meta(thermal)
+        mark = command_mark()
         with build_bearings(scene, rotor, loads, work, warn=out.warnings, thermal=thermal) as bearings:
+            command_add_since("bearings", mark)  # a command's fixed costs: its FMUs built or extracted, loaded
             out.thermal_fields = bearings.thermal_fields
-            out.times["kernels_time_s"] = load_kernels(scene)
+            out.times["kernels_time_s"] = load_kernels(scene, bearings)
             t_setup = time.perf_counter()
             out.times["setup_time_s"] = t_setup - t_wall0
             try:
@@ -344,10 +347,11 @@ def _run(scene: Scene, holder, work: Path, progress: bool) -> SceneRun:
     return out.run(res, status, message)
 
 
-def load_kernels(scene: Scene) -> float:
+def load_kernels(scene: Scene, bearings=None) -> float:
     """Load the compiled kernels this run calls in this process before any clock starts, so the
     equilibrium and integration times count work, not their loading: the integrator's, and the
-    internal's when it is called in-process (an FMU loads its own when it is instantiated).
+    internal's when it is called in-process (an FMU loads its own when it is instantiated), its
+    compiled force too (``bearings.compiled()``: a cfunc made or loaded at its first use).
     Returns the seconds taken (part of the setup time; ~0 for a process's later runs)."""
     from bearing_fmu.internals.warmup import load_loaded_under, warm_internal
 
@@ -355,6 +359,8 @@ def load_kernels(scene: Scene) -> float:
     load_loaded_under(Newmark.__module__.rpartition(".")[0])  # rotor_host.integrate, whatever its modules
     if scene.via == "direct":
         warm_internal(scene.internal)
+        if bearings is not None:
+            bearings.compiled()
     return time.perf_counter() - t0
 
 

@@ -411,6 +411,32 @@ class Reynolds:
             self._hs, self._order, self._nvalid, self._wring,
         )
 
+    def compiled_force(self):
+        """Its force and Jacobian as a compiled kernel (``internals.compiled``;
+        ``internals.reynolds.force``: the same kernel on this instance's arrays, its warm start
+        shared)."""
+        from ...internals.reynolds.force import ARRAYS, reynolds_force
+
+        pr = self.params
+        scalars = {"CR": pr.CR, "mu": pr.mu, "R": pr.R, "dth": self._dth, "dx": self._dx,
+                   "max_turn": self._max_turn, "max_dlog": WARM_MAX_DLOG, "mode": self._mode, "m": self._m,
+                   "N": self.n_theta, "max_iter": self._max_iter, "grow": self._grow, "warm": self.warm_start,
+                   "warm_cap": self._warm_cap, "p_in": self._p_in}
+        geo = None
+        if self._geo is not None:  # the bore's film arrays and its wall (Geometry.closure's weights)
+            geo = dict(self._geo)
+            geo["wall_a"], geo["wall_b"] = pr.geometry.closure_weights()
+        return reynolds_force(scalars, {name: getattr(self, f"_{name}") for name in ARRAYS}, self._compiled_kept, geo)
+
+    def _compiled_kept(self, counts) -> None:
+        """The compiled kernel's calls since the last: counted (``counts``), and the field no
+        longer the one ``_solved`` names."""
+        self._n_calls += int(counts[0])
+        self._n_passes += int(counts[1])
+        self._n_warm += int(counts[2])
+        self._n_fallback += int(counts[3])
+        self._solved = None
+
     def force(self, y: float, z: float, vy: float, vz: float, omega: float) -> tuple[float, float]:
         """Film force (Fy, Fz) [N] on the journal."""
         self._run(y, z, vy, vz, omega, False)
