@@ -104,8 +104,12 @@ def check_native_bores(scene, rotor, names) -> None:
             continue
         # this internal's native FMU has the full bore only; the native Reynolds FMU (its bore
         # compiled in) and the Python FMU take any bore
-        compiled_in = " or ".join(repr(k) for k, spec in NATIVE.items() if spec.bore == "compiled")
-        from_data = " or ".join(repr(k) for k, spec in NATIVE.items() if spec.bore == "data")
+        from bearing_fmu.internals import registry
+
+        # of those, the ones that take this kind of bore (tilting pads: the pads' internal alone)
+        takes = {k for k in NATIVE if registry.get(k).can.pads == (p.geometry.pads is not None)}
+        compiled_in = " or ".join(repr(k) for k, spec in NATIVE.items() if spec.bore == "compiled" and k in takes)
+        from_data = " or ".join(repr(k) for k, spec in NATIVE.items() if spec.bore == "data" and k in takes)
         what = f"the native {scene.internal} FMU" if scene.fmu is None else f"the native FMU {scene.fmu}"
         raise SceneError(f"{scene.source}: fmu_kind = 'native': {what} models only the full 360 deg circular bore "
                          f"(its parameters are D, L, CR and mu), not {name}'s {p.geometry.describe()}: with --native "
