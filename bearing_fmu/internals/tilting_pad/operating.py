@@ -38,6 +38,11 @@ def operating_point(params: BearingParams, load, speed_hz: float, n_theta: int |
     omega = 2.0 * math.pi * speed_hz
     W = math.hypot(*load)
     oil, thermal = params.oil, None
+    kp = params.geometry.pads.pivot_stiffness
+    if oil is not None and kp is not None:  # the film's force scales with mu, the pivot's spring does not
+        raise ValueError(f"[geometry] pivot_stiffness_N_m = {kp:g} with an [oil] table: the film's temperature with "
+                         "a flexible pivot is not modelled (its pads' force is not mu times one function of the "
+                         "state); leave out the [oil] table (isoviscous) or the key (rigid pivots)")
     if oil is not None:
         thermal = effective_temperature(params, load, omega, T_supply_K, internal=TiltingPad(params, n_theta, n_x),
                                         name="the tilting pads")
@@ -76,9 +81,13 @@ def operating_point(params: BearingParams, load, speed_hz: float, n_theta: int |
             "moment_N_m": sol.M.tolist(),
             "pad_clearance_m": pads.pads.pad_clearance(params.CR),
             "K_full": co["K_full"].tolist(), "C_full": co["C_full"].tolist(),
-            "full_coordinates": ["y [m]", "z [m]"] + [f"delta_{k + 1} [rad]" for k in range(pads.n)],
+            "full_coordinates": pads.coordinate_names(),
         },
     }
+    if sol.u is not None:  # flexible pivots: each pad's radial displacement, its pivot's load = k_p u
+        rec["pads"]["pivot_stiffness_N_m"] = pads.kp
+        rec["pads"]["pivot_deflection_m"] = sol.u.tolist()
+        rec["pads"]["pivot_load_N"] = sol.pivot_loads(pads.s).tolist()
     if W > 0.0:
         Kd, Cd = dimensionless_coefficients(params, W, omega, co["K"], co["C"])
         rec["K_dimensionless"], rec["C_dimensionless"] = np.asarray(Kd).tolist(), np.asarray(Cd).tolist()

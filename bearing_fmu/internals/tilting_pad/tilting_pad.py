@@ -153,9 +153,11 @@ class TiltingPad:
     def full_coefficients(self, y: float, z: float, omega: float) -> tuple:
         """(K, C, inertia): the full (2 + N) x (2 + N) K, C at (y, z), still, the pads in equilibrium
         (coordinates y, z, delta_1..N; Lund's signs) and each pad's moment of inertia [kg m^2] (N,),
-        0 for massless pads (``Capabilities.whirl_reduced``: the pads' coordinates in an eigenproblem)."""
+        0 for massless pads (``Capabilities.whirl_reduced``: the pads' coordinates in an eigenproblem).
+        Flexible pivots: (2 + 2N) x (2 + 2N), the pads' radial displacements u_1..N after the tilts,
+        their inertia 0 (``PadAssembly.coordinate_inertia``)."""
         co = self.coefficients(y, z, omega)
-        return co["K_full"], co["C_full"], np.full(self.pads.n, self.pads.pads.inertia)
+        return co["K_full"], co["C_full"], self.pads.coordinate_inertia()
 
 
 __all__ = ["TiltingPad"]
