@@ -130,3 +130,91 @@ def test_demo_json_has_the_pivot_deflections(tmp_path):
     np.testing.assert_allclose(pads["pivot_load_N"], 3e8 * np.array(pads["pivot_deflection_m"]), rtol=0,
                                atol=1e-9 * max(pads["pivot_load_N"]))
     assert pads["full_coordinates"][-1] == "u_4 [m]" and np.array(pads["K_full"]).shape == (10, 10)
+
+
+# ------------------------------------------------------------------ the pads' radial coordinates in the eigenproblem
+
+def _rotor_on_flexible_pivots(tmp_path, kp):
+    from pathlib import Path
+
+    from rotor_host.analyses.linear.inputs import read_rotor
+    from rotor_host.analyses.linear.stability import Stability
+
+    bundled = Path(__file__).resolve().parents[1] / "rotor_host" / "bundled"
+    text = (bundled / "bearing_paper_5pad_lbp.toml").read_text()
+    if kp is not None:
+        text = text.replace("preload = 0.3", f"preload = 0.3\npivot_stiffness_N_m = {kp!r}")
+    (tmp_path / "bearing_paper_5pad_lbp.toml").write_text(text)
+    (tmp_path / "rotor.toml").write_text((bundled / "rotor_paper_5pad_lbp.toml").read_text())
+    rotor, _ = read_rotor(tmp_path / "rotor.toml")
+    return Stability(rotor, "tilting_pad", GRID)
+
+
+@pytest.mark.parametrize("tilt_inertia", [0.0, 2e-6])
+def test_every_mode_on_flexible_pivots_is_the_fixed_point_of_its_own_reduction(tmp_path, tilt_inertia):
+    # the (2 + 2N) coordinates per bearing in the eigenproblem (tilt and radial of a pad coupled: the
+    # descriptor form) against the independent route of tests/test_pad_modes.py: the bearing's impedance
+    # reduced at a mode's own complex eigenvalue, iterated with the rotor solved alone; massless pads
+    # (first-order tilts and radial), and tilts with inertia (second order) beside massless radial rows
+    from rotor_host.analyses.linear import pad_modes as pm
+
+    analysis = _rotor_on_flexible_pivots(tmp_path, 1e6)
+    om = 2 * math.pi * 60.0
+    q = analysis.equilibrium(om)
+    blocks = pm.pad_blocks(analysis.internals, analysis.pairs, q, om)
+    assert blocks[0].K.shape == (12, 12) and blocks[0].coupled()
+    blocks = [replace(b, inertia=np.concatenate([np.full(5, tilt_inertia), np.zeros(5)])) for b in blocks]
+    lam, _ = pm.eigenvalues(analysis.rotor, om, blocks)
+    K, C = pm.reduced_coefficients(blocks, complex(0.0, om))
+    freq, ld, _ = analysis.rotor.modes(om, K, C)
+    starts = [complex(-d * f, 2 * math.pi * f) for f, d in zip(freq, ld) if d < 1.0][:3]
+    assert len(starts) == 3
+    for s0 in starts:
+        s, its = pm.iterate_mode(analysis.rotor, om, blocks, s0)
+        assert np.min(np.abs(lam - s)) <= 1e-9 * abs(s), (s0, s)
+
+
+def test_stiff_pivots_give_the_rigid_pivots_modes(tmp_path):
+    # the descriptor form with k_p -> infinity against the rigid pads' first-order rows (state_matrix's
+    # other path): the lightly damped modes agree to O(1/k_p)
+    from rotor_host.analyses.linear import pad_modes as pm
+
+    om = 2 * math.pi * 60.0
+    out = []
+    for kp in (None, 1e11):
+        analysis = _rotor_on_flexible_pivots(tmp_path / str(kp), kp) if (tmp_path / str(kp)).mkdir() is None else None
+        q = analysis.equilibrium(om)
+        f, ld, _ = pm.modes(analysis.rotor, om, pm.pad_blocks(analysis.internals, analysis.pairs, q, om))
+        out.append((f[ld < 1.0][:3], ld[ld < 1.0][:3]))
+    np.testing.assert_allclose(out[1][0], out[0][0], rtol=1e-5)
+    np.testing.assert_allclose(out[1][1], out[0][1], rtol=1e-4)
+
+
+@pytest.mark.parametrize("tilt_inertia", [0.0, 2e-6])
+def test_flexible_pivots_in_the_band_are_the_dense_pad_modes(tmp_path, tilt_inertia):
+    # band_modes_with_pads (the sparse descriptor pencil, the tilt-radial couplings in App, Bpp) against the
+    # dense pad_modes.modes (checked above against the per-mode reduction): every dense mode in the disk
+    from rotor_host.analyses.linear import pad_modes as pm
+    from rotor_host.model import band_modes as bm
+
+    analysis = _rotor_on_flexible_pivots(tmp_path, 1e6)
+    omega = 2 * math.pi * 60.0
+    band = 120.0
+    blocks = pm.pad_blocks(analysis.internals, analysis.pairs, analysis.equilibrium(omega), omega)
+    blocks = [replace(b, inertia=np.concatenate([np.full(5, tilt_inertia), np.zeros(5)])) for b in blocks]
+    fd, ld, _ = pm.modes(analysis.rotor, omega, blocks)
+    fs, ls, _ = bm.band_modes_with_pads(analysis.rotor, omega, blocks, band)
+    lam_d, lam_s = -ld * fd + 2j * math.pi * fd, -ls * fs + 2j * math.pi * fs
+    sigma, radius = 0.5j * 2 * math.pi * band, bm.DISK_RADIUS * 2 * math.pi * band
+    inside = np.abs(lam_d - sigma) <= radius
+    assert 0 < inside.sum() and lam_s.size == inside.sum(), (fd, fs)
+    np.testing.assert_allclose(lam_s, lam_d[inside], rtol=1e-7)
+
+
+def test_both_bearing_fmus_refuse_a_flexible_pivot_by_name():
+    # the FMUs carry rigid pivots only (the pads' Model Exchange states above); the Python FMU's parameters
+    # (tests/test_tilting_pad.py) and the native generator refuse before anything is built
+    from bearing_fmu.fmu.native.generators.tilting_pad import tilting_pad_model
+
+    with pytest.raises(ValueError, match="pivot_stiffness_N_m = 1e[+]09: a flexible pivot is not carried by the"):
+        tilting_pad_model(bearing(1e9), None, None, {})
