@@ -44,6 +44,47 @@ def point(kp, load=(0.0, -2000.0), **kw):
     return tp, (y, z), tp.coefficients(y, z, OMEGA)
 
 
+def test_the_pad_frame_film_is_the_derived_film_with_the_pads_radial_displacement():
+    # physics/bore/pads.py: h = C_pad - d cos(t - tp) + y sin t - z cos t - delta a sin(t - tp) + u cos(t - tp),
+    # the outward pad's film written out in the bearing's frame, against the pad frame's at the equivalent state
+    from bearing_fmu.internals.tilting_pad.assembly import PadAssembly
+
+    p = bearing(1e9, pivots=(10.0, 100.0, 190.0, 280.0), preload=0.4)
+    A = PadAssembly(p, **GRID)
+    pg, CR, R = p.geometry.pads, p.CR, p.R
+    Cp = pg.pad_clearance(CR)
+    frame = A.pad_params.geometry
+    y, z, delta, u = 12e-6, -30e-6, 2e-4, 7e-6
+    for k in range(pg.n):
+        lead, trail = pg.span(k)
+        th = np.linspace(lead, trail, 41)
+        tp = pg.pivots[k]
+        want = (Cp - (Cp - CR) * np.cos(th - tp) + y * np.sin(th) - z * np.cos(th)
+                - delta * (R + Cp) * np.sin(th - tp) + u * np.cos(th - tp))
+        yp, zp, _, _ = A.frame_state(k, (y, z), (0.0, 0.0), delta, 0.0, u)
+        thp = th + pg.frame_angle(k)
+        got = CR * frame.base_film(thp, np.zeros(th.shape, int)) + yp * np.sin(thp) - zp * np.cos(thp)
+        np.testing.assert_allclose(got, want, rtol=0, atol=1e-12 * CR)
+
+
+def test_the_demo_minimum_film_is_the_closed_form_film_of_its_pads():
+    # the record's h_min against the film above evaluated on each pad at the record's tilts and displacements
+    from bearing_fmu.internals.tilting_pad.operating import operating_point
+
+    p = bearing(3e8)
+    rec = operating_point(p, (0.0, -2000.0), 50.0, **GRID)
+    pg, CR, R = p.geometry.pads, p.CR, p.R
+    Cp = pg.pad_clearance(CR)
+    y, z, pads = rec["y0_m"], rec["z0_m"], rec["pads"]
+    h = []
+    for k in range(pg.n):
+        th = np.linspace(*pg.span(k), 20001)
+        tp, delta, u = pg.pivots[k], pads["rotation_rad"][k], pads["pivot_deflection_m"][k]
+        h.append(np.min(Cp - (Cp - CR) * np.cos(th - tp) + y * np.sin(th) - z * np.cos(th)
+                        - delta * (R + Cp) * np.sin(th - tp) + u * np.cos(th - tp)))
+    assert rec["h_min_m"] == pytest.approx(min(h), rel=1e-6)
+
+
 def test_a_stiff_pivot_tends_to_the_rigid_pivot_as_one_over_k_p():
     _, (y0, z0), rigid = point(None)
     errs = []

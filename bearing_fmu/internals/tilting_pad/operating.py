@@ -57,8 +57,10 @@ def operating_point(params: BearingParams, load, speed_hz: float, n_theta: int |
     rep = bearing.film_report(y0, z0, 0.0, 0.0, omega)
     power, torque, inflow, side = rep.friction_power_W, rep.friction_torque_Nm, rep.inflow_m3_s, rep.side_flow_m3_s
     rise = thermal.dT_K if thermal is not None else heat_balance_rise(rep, DEFAULT_DENSITY * DEFAULT_HEAT_CAPACITY)
+    radial = sol.u if sol.u is not None else np.zeros(pads.n)  # flexible pivots: each pad's own displacement
     h_min = min(pads.solvers[k].params.geometry.min_film(*pads.frame_state(k, (y0, z0), (0.0, 0.0), sol.delta[k],
-                                                                          0.0)[:2], params.CR) for k in range(pads.n))
+                                                                          0.0, radial[k])[:2], params.CR)
+                for k in range(pads.n))
     rec = {
         "speed_hz": speed_hz, "load_N": list(load), "y0_m": y0, "z0_m": z0,
         "eccentricity": math.hypot(y0, z0) / params.CR,

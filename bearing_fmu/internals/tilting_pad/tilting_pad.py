@@ -117,8 +117,9 @@ class TiltingPad:
         if self.film_flow_why:
             raise ValueError(f"tilting pads: {self.film_flow_why}")
         sol = self.pads.equilibrate(y, z, vy, vz, omega)  # not ``last``: a step's pads stay what they are
-        reps = [self.pads.solvers[k].film_report(*self.pads.frame_state(k, (y, z), (vy, vz), sol.delta[k], 0.0),
-                                                  omega) for k in range(self.pads.n)]
+        radial = sol.u if sol.u is not None else np.zeros(self.pads.n)  # flexible pivots: the pads' displacements
+        reps = [self.pads.solvers[k].film_report(*self.pads.frame_state(k, (y, z), (vy, vz), sol.delta[k], 0.0,
+                                                                        radial[k]), omega) for k in range(self.pads.n)]
         return assemble_report(self.params, sum(r.couette_torque_Nm for r in reps),
                                sum(r.pressure_torque_Nm for r in reps), sol.F, (vy, vz), omega,
                                sum(r.inflow_m3_s for r in reps), sum(r.side_flow_m3_s for r in reps))
