@@ -259,3 +259,20 @@ def test_both_bearing_fmus_refuse_a_flexible_pivot_by_name():
 
     with pytest.raises(ValueError, match="pivot_stiffness_N_m = 1e[+]09: a flexible pivot is not carried by the"):
         tilting_pad_model(bearing(1e9), None, None, {})
+
+
+def test_the_films_temperature_with_a_flexible_pivot_is_refused_by_name(tmp_path):
+    # the pivots' springs do not scale with mu: the viscosity-scaled internal (stability, a run's film
+    # temperature) and the demo's thermal point refuse, naming the key
+    from bearing_fmu.internals.scaled import ViscosityScaled
+    from bearing_fmu.internals.tilting_pad.operating import operating_point
+
+    with pytest.raises(ValueError, match="pivot_stiffness_N_m = 1e[+]09: the film's temperature"):
+        ViscosityScaled(TiltingPad(bearing(1e9), **GRID))
+    ViscosityScaled(TiltingPad(bearing(None), **GRID))  # rigid pivots: scaled exactly
+    path = tmp_path / "b.toml"
+    path.write_text("[bearing]\nD_mm = 100.0\nL_mm = 50.0\nCR_um = 75.0\n[geometry]\npads = 4\npad_arc_deg = 80.0\n"
+                    "pivots_deg = [0, 90, 180, 270]\npreload = 0.3\npivot_stiffness_N_m = 1e9\n"
+                    "[oil]\ngrade = \"ISO VG 32\"\nsupply_C = 45.0\n")
+    with pytest.raises(ValueError, match="pivot_stiffness_N_m = 1e[+]09: the film's temperature"):
+        operating_point(BearingParams.from_toml(path), (0.0, -2000.0), 50.0, **GRID)

@@ -24,7 +24,7 @@ from ...physics.oil import DEFAULT_DENSITY, DEFAULT_HEAT_CAPACITY, KELVIN
 from ...physics.params import BearingParams
 from ...physics.statics import dimensionless_coefficients, sommerfeld_number
 from ...physics.thermal import effective_temperature, heat_balance_rise
-from .tilting_pad import TiltingPad
+from .tilting_pad import TiltingPad, viscosity_scaling_why
 
 def operating_point(params: BearingParams, load, speed_hz: float, n_theta: int | None = None,
                     n_x: int | None = None, T_supply_K: float | None = None) -> dict:
@@ -38,11 +38,8 @@ def operating_point(params: BearingParams, load, speed_hz: float, n_theta: int |
     omega = 2.0 * math.pi * speed_hz
     W = math.hypot(*load)
     oil, thermal = params.oil, None
-    kp = params.geometry.pads.pivot_stiffness
-    if oil is not None and kp is not None:  # the film's force scales with mu, the pivot's spring does not
-        raise ValueError(f"[geometry] pivot_stiffness_N_m = {kp:g} with an [oil] table: the film's temperature with "
-                         "a flexible pivot is not modelled (its pads' force is not mu times one function of the "
-                         "state); leave out the [oil] table (isoviscous) or the key (rigid pivots)")
+    if oil is not None and viscosity_scaling_why(params.geometry.pads):
+        raise ValueError(viscosity_scaling_why(params.geometry.pads))
     if oil is not None:
         thermal = effective_temperature(params, load, omega, T_supply_K, internal=TiltingPad(params, n_theta, n_x),
                                         name="the tilting pads")

@@ -30,6 +30,17 @@ from .journal import journal_equilibrium
 from .stepping import PadStepper
 
 
+def viscosity_scaling_why(pads) -> str:
+    """Why the film's temperature is refused for these pads ("" when it is not): a flexible pivot's spring
+    does not scale with mu, so the pads' force at another viscosity is not the force times the ratio."""
+    kp = pads.pivot_stiffness
+    if kp is None:
+        return ""
+    return (f"[geometry] pivot_stiffness_N_m = {kp:g}: the film's temperature (a supply temperature, an [oil] "
+            "table's mu_eff) with a flexible pivot is not modelled: the pads' force at another viscosity is not the "
+            "force times the viscosity ratio; an isoviscous bearing (no [oil] table) or rigid pivots")
+
+
 class TiltingPad:
     """The journal force of ``params``' tilting pads (``params.geometry.pads``), every pad the
     partial-arc Reynolds solver (grid ``n_theta`` cells on each pad's arc, ``n_x`` along the
@@ -50,6 +61,8 @@ class TiltingPad:
         # the film's flows (a temperature) need each pad's film report: the Reynolds pads have it, a force map not
         self.film_flow_why = (f"the pads' force map ({pad_map}) tabulates forces only, no friction or flows: the "
                               "film temperature needs the Reynolds pads (no pad_map)") if pad_map else ""
+        # read by ViscosityScaled: with flexible pivots the force is not mu times one function of the state
+        self.viscosity_scaling_why = viscosity_scaling_why(params.geometry.pads)
 
     @classmethod
     def from_options(cls, params: BearingParams, options, context=None) -> "TiltingPad":
@@ -161,5 +174,5 @@ class TiltingPad:
         return co["K_full"], co["C_full"], self.pads.coordinate_inertia()
 
 
-__all__ = ["TiltingPad"]
+__all__ = ["TiltingPad", "viscosity_scaling_why"]
 
