@@ -292,14 +292,17 @@ class PadAssembly:
         return self._assemble(frames, delta, np.zeros(self.n), its, u)
 
     def pivot_root(self, k, e, v, omega):
-        """Pad k on its flexible pivot in equilibrium: (delta, u, F', Jq', Jv', solver calls). The 2 x 2
-        Newton on (delta, u) condensed onto u: for each u the tilt's own safeguarded root
+        """Pad k on its flexible pivot in equilibrium: (delta, u, F', Jq', Jv', solver calls). First the plain
+        2 x 2 Newton from the last call's (``_pivot_newton``); where it fails, the 2 x 2 Newton condensed onto u: for each u the tilt's own safeguarded root
         (``_moment_root``, warm), and the u step the 2 x 2 Newton's at that root,
         -g / g', g(u) = F'_z - k_p u, g' = Jq'_zz - k_p - a Jq'_zy a Jq'_yz / (a^2 Jq'_yy) (the pad's
         radial stiffness with its tilt following, a Schur complement). g falls with u (an outward pad
         opens its film), so a sign change brackets the root and a step outside the bracket bisects; a
         u that closes the film (inward, toward the journal) counts as g > 0 (the film's load grows
         without bound there)."""
+        fast = self._pivot_newton(k, e, v, omega)
+        if fast is not None:
+            return fast
         a, kp, CR = self.arm, self.kp, self.params.CR
         u, lo, hi, its = float(self._warm_u[k]), -math.inf, math.inf, 0
         d = float(self._warm[k])
@@ -330,6 +333,30 @@ class PadAssembly:
         raise BearingStateError(f"tilting pads: the pad pivoted at {math.degrees(self.pads.pivots[k]):.4g} deg found "
                                 f"no balance of its pivot (pivot_stiffness_N_m = {kp:g}) in {NEWTON_MAX} Newton steps "
                                 f"(y = {e[0]:.4g} m, z = {e[1]:.4g} m)")
+
+    def _pivot_newton(self, k, e, v, omega, max_steps: int = 8):
+        """``pivot_root``'s fast path: the plain 2 x 2 Newton on (delta, u) from the last call's, one solve a
+        step; None (the safeguarded route then) when a step leaves the open film, the pad carries nothing
+        or it has not converged in ``max_steps``."""
+        a, kp, CR = self.arm, self.kp, self.params.CR
+        d, u = float(self._warm[k]), float(self._warm_u[k])
+        tol_d = 1e-13 * CR / a
+        for it in range(1, max_steps + 1):
+            lo, hi = self.tilt_range(k, e[0], e[1], u)
+            if not lo < d < hi:
+                return None
+            F, Jq, Jv = self._pad(k, e, v, d, 0.0, omega, u)
+            if F[0] == 0.0 and F[1] == 0.0:
+                return None
+            R = np.array([[a * a * Jq[0, 0], a * Jq[0, 1]], [a * Jq[1, 0], Jq[1, 1] - kp]])
+            try:
+                step = -np.linalg.solve(R, np.array([a * F[0], F[1] - kp * u]))
+            except np.linalg.LinAlgError:
+                return None
+            if abs(step[0]) <= tol_d and abs(step[1]) <= 1e-13 * abs(u) + 1e-15 * CR:
+                return d, u, F, Jq, Jv, it
+            d, u = d + float(step[0]), u + float(step[1])
+        return None
 
     def at_tilts(self, y, z, vy, vz, omega, delta, ddelta, u=None, du=None) -> PadSolution:
         """The pads at given tilts and rates (the pads' own states: ``derivatives``), and with flexible
