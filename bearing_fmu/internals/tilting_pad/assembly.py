@@ -120,6 +120,7 @@ class PadAssembly:
         self._wa, self._wb = a, b
         self._warm = np.zeros(self.n)
         self._warm_u = np.zeros(self.n)
+        self._warm_set = False  # flexible pivots: a solution to start the plain 2 x 2 Newton from
 
     @staticmethod
     def default_cells(pads: PadGeometry) -> int:
@@ -289,7 +290,7 @@ class PadAssembly:
             frames.append((F, Jq, Jv))
             delta[k], u[k] = d, uk
             its += it
-        self._warm[:], self._warm_u[:] = delta, u
+        self._warm[:], self._warm_u[:], self._warm_set = delta, u, True
         return self._assemble(frames, delta, np.zeros(self.n), its, u)
 
     def pivot_root(self, k, e, v, omega):
@@ -301,7 +302,7 @@ class PadAssembly:
         opens its film), so a sign change brackets the root and a step outside the bracket bisects; a
         u that closes the film (inward, toward the journal) counts as g > 0 (the film's load grows
         without bound there)."""
-        fast = self._pivot_newton(k, e, v, omega)
+        fast = self._pivot_newton(k, e, v, omega) if self._warm_set else None
         if fast is not None:
             return fast
         a, kp, CR = self.arm, self.kp, self.params.CR
@@ -338,7 +339,9 @@ class PadAssembly:
     def _pivot_newton(self, k, e, v, omega, max_steps: int = 8):
         """``pivot_root``'s fast path: the plain 2 x 2 Newton on (delta, u) from the last call's, one solve a
         step; None (the safeguarded route then) when a step leaves the open film, the pad carries nothing
-        or it has not converged in ``max_steps``."""
+        or it has not converged in ``max_steps``. Only from a previous solution: a first call takes the
+        safeguarded route, whose first tilt is the rigid pivot's bracketed root (a pad's moment need not be
+        monotone far from its loaded root: a force map's interpolation near the film's no-pressure tilts)."""
         a, kp, CR = self.arm, self.kp, self.params.CR
         d, u = float(self._warm[k]), float(self._warm_u[k])
         tol_d = 1e-13 * CR / a
