@@ -26,7 +26,14 @@ pads with inertia); its eigenvalues and the rotor's part of the eigenvectors are
 ``Rotor.modes`` keeps them (oscillatory, not numerically zero), so a pad's own overdamped
 motion (real eigenvalues) is not listed as a mode.
 
-The check (tests/test_pad_modes.py): for each mode, the journal's impedance reduced at the
+Flexible pivots add each pad's radial displacement u_k (massless: first order through its
+squeeze, like a massless tilt), coupled to the pad's own tilt through its film (K, C entries
+between delta_k and u_k), so a pad's coordinates no longer have one row each: ``state_matrix``
+then builds the descriptor form B X' = A X (``_descriptor``: the massless coordinates' rates on
+the left through their C block, a tilt with inertia second order beside a massless radial row) and
+solves it; blocks without such couplings (rigid pivots) keep the one-coordinate rows as they were.
+
+The check (tests/test_pad_modes.py; flexible pivots: tests/test_tilting_pad_pivot.py): for each mode, the journal's impedance reduced at the
 mode's own complex eigenvalue s, Z_red(s) = Z_jj - Z_jp Z_pp^-1 Z_pj with Z = K + s C + s^2 I,
 put into the rotor as real K, C (C = Im Z_red / Im s, K = Re Z_red - Re s C: the same impedance
 at s) gives s back as an eigenvalue of the rotor alone; iterated from the synchronous reduction
