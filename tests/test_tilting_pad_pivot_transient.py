@@ -107,6 +107,7 @@ def _run(tmp_path, kp, t_end):
     return np.asarray(res.arrays["y"]), np.asarray(res.arrays["z"])
 
 
+@pytest.mark.slow
 def test_stiff_pivots_converge_to_rigid_pivots_in_a_run(tmp_path):
     # the paper rotor on five pads at 44 Hz with its unbalance, 5 ms: the orbit's RMS distance from the
     # rigid pivots' falls as 1 / k_p (measured 1.42e-3 and 1.42e-4 CR at 1e8 and 1e9 N/m)
