@@ -200,7 +200,8 @@ def _demo_pads(args: argparse.Namespace, params, load) -> int:
           f"{rec['eccentricity']:.4f}, attitude angle {att:.2f} deg, minimum film {rec['h_min_m'] * 1e6:.3f} um")
     for k, piv in enumerate(pads["pivots_deg"]):
         print(f"  pad at {piv:7.2f} deg: rotation {pads['rotation_rad'][k] * 1e3:+.5f} mrad, load "
-              f"{pads['load_N'][k]:.4g} N")
+              f"{pads['load_N'][k]:.4g} N" + (f", pivot deflection {pads['pivot_deflection_m'][k] * 1e6:.4g} um"
+                                             if "pivot_deflection_m" in pads else ""))
     print("stiffness K [N/m] and damping C [N s/m], reduced at the running speed (synchronous):")
     print(np.array(rec["K_N_m"]))
     print(np.array(rec["C_N_s_m"]))

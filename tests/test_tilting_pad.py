@@ -90,10 +90,11 @@ def test_impossible_pads_are_refused_by_name(tmp_path, change, message):
     assert str(path) in str(exc.value) and "[geometry]" in str(exc.value)
 
 
-def test_a_flexible_pivot_is_refused_until_it_is_modelled(tmp_path):
+def test_a_flexible_pivot_adds_each_pads_radial_coordinate(tmp_path):
+    # read from the file; the model and its checks: tests/test_tilting_pad_pivot.py
     p = BearingParams.from_toml(write(tmp_path, TOML + "pivot_stiffness_N_m = 1e9\n"))
-    with pytest.raises(ValueError, match="pivot_stiffness_N_m = 1e.09: a flexible pivot is not modelled yet"):
-        TiltingPad(p, **GRID)
+    assert p.geometry.pads.pivot_stiffness == 1e9
+    assert TiltingPad(p, **GRID).pads.coordinate_count() == 2 + 2 * 4
 
 
 def test_other_internals_refuse_a_tilting_pad_bore_by_name():
@@ -311,7 +312,7 @@ def test_demo_json_of_a_tilting_pad_bearing(tmp_path):
 
 def test_the_bearing_fmus_parameters_hold_the_pads_and_refuse_a_flexible_pivot_by_name():
     # the Python FMU carries the pads (tests/test_pad_fmu.py): its parameters are the bore's, back to the same
-    # PadGeometry; a flexible pivot (not modelled) is refused naming the key
+    # PadGeometry; a flexible pivot (not carried by the FMUs) is refused naming the key
     from dataclasses import replace
     from types import SimpleNamespace
 
@@ -323,7 +324,7 @@ def test_the_bearing_fmus_parameters_hold_the_pads_and_refuse_a_flexible_pivot_b
     values.update(port_defaults(b, pads=True))
     assert values["pads"] == b.geometry.pads.n and geometry_of(SimpleNamespace(**values)) == b.geometry
     flexible = replace(b, geometry=Geometry(pads=replace(b.geometry.pads, pivot_stiffness=1e8)))
-    with pytest.raises(ValueError, match="pivot_stiffness_N_m = 1e[+]08: a flexible pivot is not modelled"):
+    with pytest.raises(ValueError, match="pivot_stiffness_N_m = 1e[+]08: a flexible pivot is not carried by the bear"):
         port_defaults(flexible, pads=True)
     with pytest.raises(ValueError, match="the native bearing FMU does not carry tilting pads yet"):
         port_defaults(b)  # the native FMU's call

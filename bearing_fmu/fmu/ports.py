@@ -238,8 +238,9 @@ def port_defaults(params, pads: bool = False) -> dict:
 def _pad_defaults(pads: PadGeometry) -> dict:
     """The parameters of a tilting-pad bore (the fixed bores' at their defaults: the full bore's)."""
     if pads.pivot_stiffness is not None:
-        raise ValueError(f"pivot_stiffness_N_m = {pads.pivot_stiffness:g}: a flexible pivot is not modelled yet (the "
-                         "bearing FMUs neither); leave the key out (rigid pivots)")
+        raise ValueError(f"pivot_stiffness_N_m = {pads.pivot_stiffness:g}: a flexible pivot is not carried by the "
+                         "bearing FMUs (the tilting_pad internal models it in run, stability and demo); leave the key "
+                         "out (rigid pivots)")
     out = {"pads": pads.n, "pad_arc": pads.arc, "pivot_offset": pads.offset, "preload": pads.preload,
            "pad_inertia": pads.inertia}
     out.update((f"pivot_{k}", p) for k, p in enumerate(pads.pivots, start=1))

@@ -23,6 +23,9 @@ class ViscosityScaled:
     when the inner internal has it; ``domain_distance`` and other attributes are the inner's."""
 
     def __init__(self, inner, mu_eff: float | None = None):
+        why = getattr(inner, "viscosity_scaling_why", "")  # an internal whose force is not mu times one function
+        if why:
+            raise ValueError(why)
         self.inner = inner
         self.mu_ref = float(inner.params.mu)
         self.set_viscosity(self.mu_ref if mu_eff is None else mu_eff)

@@ -99,7 +99,9 @@ def band_modes_with_pads(rotor: Rotor, speed: float, blocks, up_to_hz: float):
     X = (q, v = q', p), p = (massless tilts, tilts with inertia, their rates):
       q' = v;   M v' + B_vp p' = -Kt q - Ct v + A_vp p;   B_pp p' = A_pq q + A_pv v + A_pp p
     (a massless pad: C_pp delta' = -(K_pj q_j + C_pj v_j + K_pp delta), its C_jp delta' in the
-    journal's row; a pad with inertia: delta' = rate, I rate' = -(... + C_pp rate)). Shift-invert,
+    journal's row; a pad with inertia: delta' = rate, I rate' = -(... + C_pp rate); a bearing's own
+    coordinates coupled among themselves, a flexible pivot's tilt and radial displacement: their
+    K_pd, C_pd in App and Bpp as pad_modes._descriptor has them). Shift-invert,
     (A - sigma B) X = B w, with v = w_q + sigma q eliminated: the (n + N_p) square
       [[-D(sigma), A_vp - sigma B_vp], [A_pq + sigma A_pv, A_pp - sigma B_pp]] (q, p)
         = (M w_v + B_vp w_p + (Ct + sigma M) w_q, B_pp w_p - A_pv w_q)
@@ -128,9 +130,20 @@ def band_modes_with_pads(rotor: Rotor, speed: float, blocks, up_to_hz: float):
         parts[name][1].append(j)
         parts[name][2].append(v)
 
+    index = {(id(blk), k): r for r, (blk, k) in enumerate(pads)}
     for r, (blk, k) in enumerate(pads):
         c, j = 2 + k, blk.dofs
         tilt, rate = r, (r + ni if r >= nm else None)  # a pad with inertia: its rate ni rows after its tilt
+        for d in blk.live():  # coordinates of one bearing coupled among themselves (a flexible pivot)
+            r2 = index[(id(blk), int(d))]
+            if int(d) == k or (blk.K[c, 2 + d] == 0.0 and blk.C[c, 2 + d] == 0.0):
+                continue
+            row, rate2 = (rate if rate is not None else tilt), (r2 + ni if r2 >= nm else None)
+            put("App", row, r2, -blk.K[c, 2 + d])
+            if rate2 is None:
+                put("Bpp", row, r2, blk.C[c, 2 + d])
+            else:
+                put("App", row, rate2, -blk.C[c, 2 + d])
         for a in range(2):
             put("Avp", j[a], tilt, -blk.K[a, c])
             put("Apq", rate if rate is not None else tilt, j[a], -blk.K[c, a])

@@ -40,6 +40,7 @@ from ...physics.bore.geometry import Geometry
 from ...physics.bore.pads import PAD_FRAME_PIVOT, PadGeometry, rotation
 from ...physics.params import BearingParams
 from ..base import BearingStateError, check_finite, overflow_error
+from .linear import full_coefficients, quasi_static_jacobian, reduce
 
 NEWTON_MAX = 120  # bisection from a wide bracket to 1e-13 CR / a takes ~50; Newton's steps far fewer
 MIN_PAD_CELLS = 16  # default cells along a pad's arc, at least (0.3 % in K at 24, docs/geometry.md)
@@ -56,6 +57,8 @@ class PadSolution:
     M             : each pad's moment about its pivot (about +x) [N m], (N,)
     Jq, Jv        : each pad's dF/de, dF/dv at its equivalent state, (N, 2, 2), bearing frame
     newton        : Newton iterations of the equilibrium (0 when the tilts were given)
+    u, du         : flexible pivots: each pad's radial displacement [m] (outward) and its rate [m/s],
+                    (N,); None with rigid pivots
     """
 
     delta: np.ndarray
@@ -66,6 +69,13 @@ class PadSolution:
     Jq: np.ndarray
     Jv: np.ndarray
     newton: int = 0
+    u: np.ndarray | None = None
+    du: np.ndarray | None = None
+
+    def pivot_loads(self, s: np.ndarray) -> np.ndarray:
+        """Each pad's film load on its pivot [N], outward positive: -F_k . n_k = F_k . s_k (``s`` the
+        assembly's (N, 2) directions -n_k)."""
+        return np.einsum("ki,ki->k", self.pad_F, s)
 
 
 def pad_frame_geometry(pads: PadGeometry) -> Geometry:
@@ -93,11 +103,9 @@ class PadAssembly:
         if pg is None:
             raise ValueError(f"tilting pads: the bearing has no pads ([geometry] pads), its bore is the "
                              f"{params.geometry.describe()}")
-        if pg.pivot_stiffness is not None:
-            raise ValueError(f"[geometry] pivot_stiffness_N_m = {pg.pivot_stiffness:g}: a flexible pivot is not "
-                             "modelled yet; leave the key out (rigid pivots)")
         self.params, self.pads = params, pg
         self.n = pg.n
+        self.kp = pg.pivot_stiffness  # [N/m]; None: rigid pivots (no radial coordinates)
         self.arm = params.R + pg.pad_clearance(params.CR)  # a = R + C_pad [m]
         frame = pad_frame_geometry(pg)
         self.pad_params = replace(params, geometry=frame)
@@ -107,9 +115,12 @@ class PadAssembly:
         self.solvers = [Reynolds(self.pad_params, n_theta, n_x, cavitation) for _ in range(self.n)]
         self.rot = [rotation(pg.frame_angle(k)) for k in range(self.n)]
         self.t = np.array([r.T @ np.array([1.0, 0.0]) for r in self.rot])  # tangents at the pivots
+        self.s = np.array([r.T @ np.array([0.0, 1.0]) for r in self.rot])  # -n_k: a pad's u as a journal shift
         a, b = frame.closure_weights()
         self._wa, self._wb = a, b
         self._warm = np.zeros(self.n)
+        self._warm_u = np.zeros(self.n)
+        self._warm_set = False  # flexible pivots: a solution to start the plain 2 x 2 Newton from
 
     @staticmethod
     def default_cells(pads: PadGeometry) -> int:
@@ -124,19 +135,22 @@ class PadAssembly:
         self.solvers = [solver] * self.n
 
     # ------------------------------------------------------------------ one pad
-    def frame_state(self, k, e, v, delta, ddelta) -> tuple[float, float, float, float]:
+    def frame_state(self, k, e, v, delta, ddelta, u=0.0, du=0.0) -> tuple[float, float, float, float]:
         """Pad k's equivalent journal state (y', z', vy', vz') in its frame for the bearing's journal
-        position e, velocity v and the pad's tilt and rate."""
+        position e, velocity v, the pad's tilt and rate and (flexible pivot) its radial displacement
+        u [m] (outward) and rate du [m/s]: the journal shifted by +u along z' (``physics.bore.pads``)."""
         r, a = self.rot[k], self.arm
         ep, vp = r @ np.asarray(e, float), r @ np.asarray(v, float)
         with np.errstate(over="ignore", invalid="ignore"):
-            return float(ep[0] + a * delta), float(ep[1]), float(vp[0] + a * ddelta), float(vp[1])
+            zp = ep[1] + u if u else ep[1]  # (rigid: z' itself, not z' + 0.0)
+            vzp = vp[1] + du if du else vp[1]
+            return float(ep[0] + a * delta), float(zp), float(vp[0] + a * ddelta), float(vzp)
 
-    def _pad(self, k, e, v, delta, ddelta, omega):
+    def _pad(self, k, e, v, delta, ddelta, omega, u=0.0, du=0.0):
         """Pad k in its frame: (F', Jq', Jv') at the equivalent state; a film beyond the float range
         is refused naming the bearing's own inputs (not the frame's)."""
         try:
-            state = self.frame_state(k, e, v, delta, ddelta)
+            state = self.frame_state(k, e, v, delta, ddelta, u, du)
             if not all(map(math.isfinite, state)):
                 raise BearingStateError("too large")
             return self.solvers[k].force_and_jacobian(*state, omega)
@@ -145,18 +159,23 @@ class PadAssembly:
                 raise
             raise overflow_error(self.params, *(float(x) for x in (e[0], e[1], v[0], v[1], omega))) from None
 
-    def pad(self, k, e, v, delta, ddelta, omega):
-        """Pad k at its tilt and rate with the journal at e, v: (F', Jq', Jv') in the pad's frame."""
-        return self._pad(k, e, v, delta, ddelta, omega)
+    def pad(self, k, e, v, delta, ddelta, omega, u=0.0, du=0.0):
+        """Pad k at its tilt and rate (and radial displacement and rate, flexible pivot) with the journal
+        at e, v: (F', Jq', Jv') in the pad's frame."""
+        return self._pad(k, e, v, delta, ddelta, omega, u, du)
 
-    def assemble(self, frames, delta, ddelta) -> PadSolution:
-        """The PadSolution of every pad's (F', Jq', Jv') at the given tilts and rates."""
-        return self._assemble(frames, delta, ddelta, 0)
+    def assemble(self, frames, delta, ddelta, u=None, du=None) -> PadSolution:
+        """The PadSolution of every pad's (F', Jq', Jv') at the given tilts and rates (and radial
+        displacements and rates: flexible pivots)."""
+        return self._assemble(frames, delta, ddelta, 0, u, du)
 
-    def tilt_range(self, k: int, y: float, z: float) -> tuple[float, float]:
-        """The tilts [rad] that leave pad k's film open with the journal at (y, z) (open interval;
-        empty, lo >= hi, when the journal closes the film at the pivot, which no tilt moves)."""
+    def tilt_range(self, k: int, y: float, z: float, u: float = 0.0) -> tuple[float, float]:
+        """The tilts [rad] that leave pad k's film open with the journal at (y, z) and the pad at its
+        radial displacement u [m] (open interval; empty, lo >= hi, when the journal closes the film
+        at the pivot, which no tilt moves)."""
         ep = self.rot[k] @ np.array([y, z])
+        if u:
+            ep[1] += u
         cr, a = self.params.CR * (1.0 - WALL_MARGIN), self.arm
         wa = self._wa
         with np.errstate(over="ignore", invalid="ignore"):  # a huge journal position: no room, refused below
@@ -185,9 +204,10 @@ class PadAssembly:
             f"the film of the pad pivoted at {pivot:.4g} deg {how} (it is at or beyond that pad's wall; "
             f"CR = {p.CR:.4g} m, {self.pads.describe()})")
 
-    def _moment_root(self, k, e, v, omega, start):
-        """delta_k with M_k = 0 (ddelta = 0): safeguarded Newton; returns (delta, F', Jq', Jv', iterations)."""
-        lo, hi = self.tilt_range(k, e[0], e[1])
+    def _moment_root(self, k, e, v, omega, start, u=0.0):
+        """delta_k with M_k = 0 (ddelta = 0) at the pad's radial displacement u [m]: safeguarded Newton;
+        returns (delta, F', Jq', Jv', iterations)."""
+        lo, hi = self.tilt_range(k, e[0], e[1], u)
         if not lo < hi:
             raise self.wall_error(k, e[0], e[1])
         span = hi - lo if math.isfinite(hi - lo) else 1.0
@@ -198,7 +218,7 @@ class PadAssembly:
         m_scale = a * p.mu * (abs(omega) + 2.0 * math.hypot(*v) / p.CR) * p.L * p.R * (p.R / p.CR) ** 2
         m_tol = 1e-13 * m_scale
         for it in range(1, NEWTON_MAX + 1):
-            F, Jq, Jv = self._pad(k, e, v, d, 0.0, omega)
+            F, Jq, Jv = self._pad(k, e, v, d, 0.0, omega, u)
             M, dM = a * F[0], a * a * Jq[0, 0]
             if M != 0.0 and abs(M) <= m_tol:  # (M = 0 exactly may be a no-pressure plateau: below)
                 return d, F, Jq, Jv, it
@@ -218,7 +238,7 @@ class PadAssembly:
             if not (lo < nxt < hi):
                 nxt = 0.5 * (lo + hi)
             if abs(nxt - d) <= tol or hi - lo <= tol:
-                F, Jq, Jv = self._pad(k, e, v, nxt, 0.0, omega)
+                F, Jq, Jv = self._pad(k, e, v, nxt, 0.0, omega, u)
                 if abs(a * F[0]) > 1e-8 * m_scale:  # squeezed to a wall with a moment left: no balance
                     raise BearingStateError(
                         f"tilting pads: the pad pivoted at {math.degrees(self.pads.pivots[k]):.4g} deg finds no tilt "
@@ -230,7 +250,7 @@ class PadAssembly:
                                 f"deg did not settle in {NEWTON_MAX} Newton steps (y = {e[0]:.4g} m, z = {e[1]:.4g} m)")
 
     # ------------------------------------------------------------------ all pads
-    def _assemble(self, frames, delta, ddelta, newton) -> PadSolution:
+    def _assemble(self, frames, delta, ddelta, newton, u=None, du=None) -> PadSolution:
         a = self.arm
         pad_F = np.empty((self.n, 2))
         Jq = np.empty((self.n, 2, 2))
@@ -243,13 +263,16 @@ class PadAssembly:
             Jv[k] = r.T @ Jvp @ r
             M[k] = a * Fp[0]
         return PadSolution(np.array(delta, float), np.array(ddelta, float), pad_F.sum(axis=0), pad_F, M, Jq, Jv,
-                           newton)
+                           newton, None if u is None else np.array(u, float),
+                           None if u is None else (np.zeros(self.n) if du is None else np.array(du, float)))
 
     def equilibrate(self, y, z, vy, vz, omega) -> PadSolution:
         """The massless pads in moment equilibrium (ddelta = 0) with the journal at (y, z, vy, vz),
         warm-started from the last call's tilts."""
         check_finite(y, z, vy, vz, omega)
         e, v = np.array([y, z], float), np.array([vy, vz], float)
+        if self.kp is not None:
+            return self._equilibrate_flexible(e, v, omega)
         frames, delta, its = [], np.empty(self.n), 0
         for k in range(self.n):
             d, F, Jq, Jv, it = self._moment_root(k, e, v, omega, float(self._warm[k]))
@@ -259,64 +282,129 @@ class PadAssembly:
         self._warm[:] = delta
         return self._assemble(frames, delta, np.zeros(self.n), its)
 
-    def at_tilts(self, y, z, vy, vz, omega, delta, ddelta) -> PadSolution:
-        """The pads at given tilts and rates (the pads' own states: ``derivatives``)."""
+    def _equilibrate_flexible(self, e, v, omega) -> PadSolution:
+        """Massless pads on flexible pivots: per pad M_k = 0 and Q_k = P_k - k_p u_k = 0 (``pivot_root``)."""
+        frames, delta, u, its = [], np.empty(self.n), np.empty(self.n), 0
+        for k in range(self.n):
+            d, uk, F, Jq, Jv, it = self.pivot_root(k, e, v, omega)
+            frames.append((F, Jq, Jv))
+            delta[k], u[k] = d, uk
+            its += it
+        self._warm[:], self._warm_u[:], self._warm_set = delta, u, True
+        return self._assemble(frames, delta, np.zeros(self.n), its, u)
+
+    def pivot_root(self, k, e, v, omega):
+        """Pad k on its flexible pivot in equilibrium: (delta, u, F', Jq', Jv', solver calls). First the plain
+        2 x 2 Newton from the last call's (``_pivot_newton``); where it fails, the 2 x 2 Newton condensed onto u: for each u the tilt's own safeguarded root
+        (``_moment_root``, warm), and the u step the 2 x 2 Newton's at that root,
+        -g / g', g(u) = F'_z - k_p u, g' = Jq'_zz - k_p - a Jq'_zy a Jq'_yz / (a^2 Jq'_yy) (the pad's
+        radial stiffness with its tilt following, a Schur complement). g falls with u (an outward pad
+        opens its film), so a sign change brackets the root and a step outside the bracket bisects; a
+        u that closes the film (inward, toward the journal) counts as g > 0 (the film's load grows
+        without bound there)."""
+        fast = self._pivot_newton(k, e, v, omega) if self._warm_set else None
+        if fast is not None:
+            return fast
+        a, kp, CR = self.arm, self.kp, self.params.CR
+        u, lo, hi, its = float(self._warm_u[k]), -math.inf, math.inf, 0
+        d = float(self._warm[k])
+        for _ in range(NEWTON_MAX):
+            try:
+                d, F, Jq, Jv, it = self._moment_root(k, e, v, omega, d, u)
+            except BearingStateError:
+                if not math.isfinite(hi):
+                    raise
+                lo, u = u, 0.5 * (u + hi)  # a film closed inward: the root lies outward
+                continue
+            its += it
+            g = F[1] - kp * u
+            dg = Jq[1, 1] - kp - (Jq[1, 0] * Jq[0, 1] / Jq[0, 0] if Jq[0, 0] != 0.0 else 0.0)
+            if g > 0.0:
+                lo = u
+            elif g < 0.0:
+                hi = u
+            else:
+                return d, u, F, Jq, Jv, its
+            step = -g / dg if dg < 0.0 else (CR if g > 0.0 else -CR)
+            if abs(step) <= 1e-13 * abs(u) + 1e-15 * CR:
+                return d, u, F, Jq, Jv, its
+            nxt = u + step
+            if not lo < nxt < hi:
+                nxt = 0.5 * (lo + hi) if math.isfinite(lo) and math.isfinite(hi) else nxt
+            u = nxt
+        raise BearingStateError(f"tilting pads: the pad pivoted at {math.degrees(self.pads.pivots[k]):.4g} deg found "
+                                f"no balance of its pivot (pivot_stiffness_N_m = {kp:g}) in {NEWTON_MAX} Newton steps "
+                                f"(y = {e[0]:.4g} m, z = {e[1]:.4g} m)")
+
+    def _pivot_newton(self, k, e, v, omega, max_steps: int = 8):
+        """``pivot_root``'s fast path: the plain 2 x 2 Newton on (delta, u) from the last call's, one solve a
+        step; None (the safeguarded route then) when a step leaves the open film, the pad carries nothing
+        or it has not converged in ``max_steps``. Only from a previous solution: a first call takes the
+        safeguarded route, whose first tilt is the rigid pivot's bracketed root (a pad's moment need not be
+        monotone far from its loaded root: a force map's interpolation near the film's no-pressure tilts)."""
+        a, kp, CR = self.arm, self.kp, self.params.CR
+        d, u = float(self._warm[k]), float(self._warm_u[k])
+        tol_d = 1e-13 * CR / a
+        for it in range(1, max_steps + 1):
+            lo, hi = self.tilt_range(k, e[0], e[1], u)
+            if not lo < d < hi:
+                return None
+            F, Jq, Jv = self._pad(k, e, v, d, 0.0, omega, u)
+            if F[0] == 0.0 and F[1] == 0.0:
+                return None
+            R = np.array([[a * a * Jq[0, 0], a * Jq[0, 1]], [a * Jq[1, 0], Jq[1, 1] - kp]])
+            try:
+                step = -np.linalg.solve(R, np.array([a * F[0], F[1] - kp * u]))
+            except np.linalg.LinAlgError:
+                return None
+            if abs(step[0]) <= tol_d and abs(step[1]) <= 1e-13 * abs(u) + 1e-15 * CR:
+                return d, u, F, Jq, Jv, it
+            d, u = d + float(step[0]), u + float(step[1])
+        return None
+
+    def at_tilts(self, y, z, vy, vz, omega, delta, ddelta, u=None, du=None) -> PadSolution:
+        """The pads at given tilts and rates (the pads' own states: ``derivatives``), and with flexible
+        pivots at the given radial displacements and rates."""
         check_finite(y, z, vy, vz, omega)
         e, v = np.array([y, z], float), np.array([vy, vz], float)
         frames = []
         for k in range(self.n):
-            lo, hi = self.tilt_range(k, y, z)
+            uk, duk = (0.0, 0.0) if u is None else (float(u[k]), float(du[k]))
+            lo, hi = self.tilt_range(k, y, z, uk)
             if not lo < delta[k] < hi:
                 raise self.wall_error(k, y, z, None if not lo < hi else float(delta[k]))
-            frames.append(self._pad(k, e, v, float(delta[k]), float(ddelta[k]), omega))
-        return self._assemble(frames, delta, ddelta, 0)
+            frames.append(self._pad(k, e, v, float(delta[k]), float(ddelta[k]), omega, uk, duk))
+        return self._assemble(frames, delta, ddelta, 0, u, du)
 
     # ------------------------------------------------------------------ coefficients
     def coefficients(self, sol: PadSolution) -> tuple[np.ndarray, np.ndarray]:
-        """The full (2 + N) x (2 + N) K [N/m, N, N m/m, N m] and C (the same per second) at a
-        solution, coordinates (y, z, delta_1 .. delta_N); Lund's signs (-df/dx)."""
-        n, a = self.n, self.arm
-        out = []
-        for J in (sol.Jq, sol.Jv):
-            D = np.zeros((2 + n, 2 + n))
-            D[:2, :2] = J.sum(axis=0)
-            for k in range(n):
-                t = self.t[k]
-                D[:2, 2 + k] = a * J[k] @ t
-                D[2 + k, :2] = a * t @ J[k]
-                D[2 + k, 2 + k] = a * a * t @ J[k] @ t
-            out.append(-D)
-        return out[0], out[1]
+        """The full K and C at a solution (``linear.full_coefficients``): (2 + N) x (2 + N), or with flexible
+        pivots (2 + 2N) x (2 + 2N); Lund's signs."""
+        return full_coefficients(self, sol)
+
+    def coordinate_count(self) -> int:
+        """2 + N (rigid pivots) or 2 + 2N (flexible: each pad's radial displacement too)."""
+        return 2 + (2 * self.n if self.kp is not None else self.n)
+
+    def coordinate_names(self) -> list[str]:
+        """The full coefficients' coordinates, with units."""
+        names = ["y [m]", "z [m]"] + [f"delta_{k + 1} [rad]" for k in range(self.n)]
+        return names + ([f"u_{k + 1} [m]" for k in range(self.n)] if self.kp is not None else [])
+
+    def coordinate_inertia(self) -> np.ndarray:
+        """Each internal coordinate's inertia: the pads' moment of inertia [kg m^2] on the tilts, 0 on
+        the radial displacements (the pad's mass is not modelled: massless on its pivot spring)."""
+        tilts = np.full(self.n, self.pads.inertia)
+        return tilts if self.kp is None else np.concatenate([tilts, np.zeros(self.n)])
 
     def reduce(self, K: np.ndarray, C: np.ndarray, whirl: float) -> tuple[np.ndarray, np.ndarray]:
-        """The journal's 2 x 2 K [N/m] and C [N s/m] at whirl frequency ``whirl`` [rad/s] > 0 with the
-        pads' coordinates eliminated (their inertia ``PadGeometry.inertia``)."""
-        if not (math.isfinite(whirl) and whirl > 0.0):
-            raise ValueError(f"reduce: the whirl frequency {whirl!r} must be a finite number > 0 rad/s")
-        Z = K + 1j * whirl * C
-        n = self.n
-        Z[2:, 2:] -= whirl * whirl * self.pads.inertia * np.eye(n)
-        live = [2 + k for k in range(n) if Z[2 + k, 2 + k] != 0.0]
-        Zr = Z[:2, :2]
-        if live:
-            Zr = Zr - Z[:2][:, live] @ np.linalg.solve(Z[np.ix_(live, live)], Z[live][:, :2])
-        return Zr.real.copy(), Zr.imag / whirl
+        """The journal's 2 x 2 K [N/m] and C [N s/m] at whirl frequency ``whirl`` [rad/s] > 0, the pads'
+        coordinates condensed (``linear.reduce``)."""
+        return reduce(self, K, C, whirl)
 
     def quasi_static_jacobian(self, sol: PadSolution) -> tuple[np.ndarray, np.ndarray]:
-        """dF/dq, dF/dv [N/m, N s/m] of the journal force with the massless pads re-equilibrated
-        (M_k = 0 at ddelta = 0) as the journal moves: F_q + F_delta d delta / dq, d delta_k / dq =
-        -(dM_k / dq) / (dM_k / d delta_k), the same with v."""
-        a = self.arm
-        dq, dv = sol.Jq.sum(axis=0).copy(), sol.Jv.sum(axis=0).copy()
-        for k in range(self.n):
-            t, Jq, Jv = self.t[k], sol.Jq[k], sol.Jv[k]
-            Mdd = a * a * t @ Jq @ t
-            if Mdd == 0.0:
-                continue
-            Fd = a * Jq @ t
-            dq -= np.outer(Fd, a * t @ Jq) / Mdd
-            dv -= np.outer(Fd, a * t @ Jv) / Mdd
-        return dq, dv
+        """dF/dq, dF/dv [N/m, N s/m] with the massless pads re-equilibrated (``linear.quasi_static_jacobian``)."""
+        return quasi_static_jacobian(self, sol)
 
     # ------------------------------------------------------------------ pad dynamics
     def state_size(self) -> int:
@@ -329,7 +417,13 @@ class PadAssembly:
 
         With inertia I: state = (delta_1..N, ddelta_1..N), d/dt = (ddelta, M / I).
         Massless: state = delta, and ddelta solves M_k(delta_k, ddelta_k) = 0 per pad (the pad's
-        squeeze balances the moment): Newton on ddelta, dM/d ddelta = a^2 Jv'[0, 0] < 0."""
+        squeeze balances the moment): Newton on ddelta, dM/d ddelta = a^2 Jv'[0, 0] < 0.
+        Rigid pivots only (the FMUs' Model Exchange states; a flexible pivot's radial states are carried
+        in the host's steps, ``stepping``)."""
+        if self.kp is not None:
+            raise ValueError(f"[geometry] pivot_stiffness_N_m = {self.kp:g}: the pads' Model Exchange states "
+                             "(derivatives) are for rigid pivots; a flexible pivot is carried by the host's "
+                             "steps (run) and the linear analyses, not by the FMUs")
         state = np.asarray(state, float)
         n, a = self.n, self.arm
         if self.pads.inertia > 0.0:

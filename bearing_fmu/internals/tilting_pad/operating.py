@@ -24,7 +24,7 @@ from ...physics.oil import DEFAULT_DENSITY, DEFAULT_HEAT_CAPACITY, KELVIN
 from ...physics.params import BearingParams
 from ...physics.statics import dimensionless_coefficients, sommerfeld_number
 from ...physics.thermal import effective_temperature, heat_balance_rise
-from .tilting_pad import TiltingPad
+from .tilting_pad import TiltingPad, viscosity_scaling_why
 
 def operating_point(params: BearingParams, load, speed_hz: float, n_theta: int | None = None,
                     n_x: int | None = None, T_supply_K: float | None = None) -> dict:
@@ -38,6 +38,8 @@ def operating_point(params: BearingParams, load, speed_hz: float, n_theta: int |
     omega = 2.0 * math.pi * speed_hz
     W = math.hypot(*load)
     oil, thermal = params.oil, None
+    if oil is not None and viscosity_scaling_why(params.geometry.pads):
+        raise ValueError(viscosity_scaling_why(params.geometry.pads))
     if oil is not None:
         thermal = effective_temperature(params, load, omega, T_supply_K, internal=TiltingPad(params, n_theta, n_x),
                                         name="the tilting pads")
@@ -52,8 +54,10 @@ def operating_point(params: BearingParams, load, speed_hz: float, n_theta: int |
     rep = bearing.film_report(y0, z0, 0.0, 0.0, omega)
     power, torque, inflow, side = rep.friction_power_W, rep.friction_torque_Nm, rep.inflow_m3_s, rep.side_flow_m3_s
     rise = thermal.dT_K if thermal is not None else heat_balance_rise(rep, DEFAULT_DENSITY * DEFAULT_HEAT_CAPACITY)
+    radial = sol.u if sol.u is not None else np.zeros(pads.n)  # flexible pivots: each pad's own displacement
     h_min = min(pads.solvers[k].params.geometry.min_film(*pads.frame_state(k, (y0, z0), (0.0, 0.0), sol.delta[k],
-                                                                          0.0)[:2], params.CR) for k in range(pads.n))
+                                                                          0.0, radial[k])[:2], params.CR)
+                for k in range(pads.n))
     rec = {
         "speed_hz": speed_hz, "load_N": list(load), "y0_m": y0, "z0_m": z0,
         "eccentricity": math.hypot(y0, z0) / params.CR,
@@ -76,9 +80,13 @@ def operating_point(params: BearingParams, load, speed_hz: float, n_theta: int |
             "moment_N_m": sol.M.tolist(),
             "pad_clearance_m": pads.pads.pad_clearance(params.CR),
             "K_full": co["K_full"].tolist(), "C_full": co["C_full"].tolist(),
-            "full_coordinates": ["y [m]", "z [m]"] + [f"delta_{k + 1} [rad]" for k in range(pads.n)],
+            "full_coordinates": pads.coordinate_names(),
         },
     }
+    if sol.u is not None:  # flexible pivots: each pad's radial displacement, its pivot's load = k_p u
+        rec["pads"]["pivot_stiffness_N_m"] = pads.kp
+        rec["pads"]["pivot_deflection_m"] = sol.u.tolist()
+        rec["pads"]["pivot_load_N"] = sol.pivot_loads(pads.s).tolist()
     if W > 0.0:
         Kd, Cd = dimensionless_coefficients(params, W, omega, co["K"], co["C"])
         rec["K_dimensionless"], rec["C_dimensionless"] = np.asarray(Kd).tolist(), np.asarray(Cd).tolist()

@@ -25,6 +25,16 @@ squeeze), warm-started from delta_0 + h w_0 and kept inside the tilts that leave
 (bisection where a step would leave them). The journal force's derivatives for the host's Newton are
 total, the pads following: d delta_1 / dq = b M_q / r', dF/dq = F_q + (F_delta + F_w / b) d delta_1 / dq
 (the same with v).
+
+A flexible pivot (``pivot_stiffness_N_m``) adds each pad's radial displacement u (massless: the film's
+load on the pivot balances k_p u at every instant, its squeeze through du/dt), stepped by the same BDF2,
+u_1 = h_u + b du_1 (h_u from u_0 and u_-1 as h_delta): per pad a 2 x 2 Newton on (delta_1, u_1),
+
+    r_1 = I (w_1 - h_w) - b M,     r_2 = -b Q = -b (P - k_p u_1),     P = F' . s the pivot's load,
+
+with the Jacobian's columns d/d delta_1 = d/d delta + (1 / b) d/dw and d/du_1 = d/du + (1 / b) d/d(du/dt),
+a step halved until the pad's film stays open; the journal force's total derivatives follow from the
+same 2 x 2 (d(delta_1, u_1)/dq = -R^-1 dr/dq).
 """
 
 from __future__ import annotations
@@ -52,6 +62,10 @@ class PadStepper:
         self.dt = 0.0
         self.trial = None
         self.inertia = assembly.pads.inertia
+        self.flexible = assembly.kp is not None
+        self.u, self.du = np.zeros(n), np.zeros(n)  # flexible pivots: radial displacements [m], rates [m/s]
+        self.prev_u = None  # the radial displacement of BDF2's history state
+        self.trial_u = None
 
     def begin_step(self, dt: float) -> None:
         self.dt, self.trial = float(dt), None
@@ -62,17 +76,25 @@ class PadStepper:
         # the history is the old committed state, this step (dt) before the new one (after a static state: none)
         self.prev = (self.delta, self.rate, self.dt) if self.dt_committed > 0.0 else None
         self.delta, self.rate = self.trial
+        if self.flexible:
+            self.prev_u = self.u if self.prev is not None else None
+            self.u, self.du = self.trial_u
         self.dt_committed, self.trial = self.dt, None
 
     def static(self, sol: PadSolution) -> None:
         """A static evaluation: its equilibrium is the state (rates 0), history dropped."""
         self.delta, self.rate = sol.delta.copy(), np.zeros(self.A.n)
         self.prev, self.dt_committed = None, 0.0
+        if self.flexible:
+            self.u, self.du, self.prev_u = sol.u.copy(), np.zeros(self.A.n), None
 
     def state(self) -> tuple[float, ...]:
         """The committed state as floats (what an FMU state carries): (dt_committed [s], the gap from
         the history state to the committed one [s] (0: no history), tilts [rad], rates [rad/s], and that step's tilts and rates (0s
-        without history)), 2 + 4 N floats."""
+        without history)), 2 + 4 N floats. Rigid pivots (the FMUs refuse a flexible one)."""
+        if self.flexible:
+            raise ValueError(f"the pads' step state: pivot_stiffness_N_m = {self.A.kp:g}, a flexible pivot is not "
+                             "carried by the bearing FMUs")
         n = self.A.n
         d1, w1, h1 = self.prev if self.prev is not None else (np.zeros(n), np.zeros(n), 0.0)
         return (float(self.dt_committed), float(h1), *map(float, self.delta), *map(float, self.rate),
@@ -113,6 +135,8 @@ class PadStepper:
         """The pads at the end of the step with the journal there: (solution, dF/dq, dF/dv), the
         derivatives total (the pads following the journal)."""
         check_finite(y, z, vy, vz, omega)
+        if self.flexible:
+            return self._solve_flexible(y, z, vy, vz, omega)
         A, I = self.A, self.inertia
         a, n = A.arm, A.n
         b, hd, hw = self.coefficients()
@@ -165,6 +189,70 @@ class PadStepper:
         sol = A.assemble(frames, delta, rate)
         self.trial = (delta.copy(), rate.copy())
         return sol, sol.Jq.sum(axis=0) + dq, sol.Jv.sum(axis=0) + dv
+
+
+    def _solve_flexible(self, y, z, vy, vz, omega):
+        """``solve`` with each pad's radial displacement: the 2 x 2 Newton of the module docstring."""
+        A, I = self.A, self.inertia
+        a, n, kp = A.arm, A.n, A.kp
+        b, hd, hw = self.coefficients()
+        hu = self.u if self.prev is None else self._history_u()
+        e, v = np.array([y, z], float), np.array([vy, vz], float)
+        frames, delta, rate, u, du = [], np.empty(n), np.empty(n), np.empty(n), np.empty(n)
+        dq, dv = np.zeros((2, 2)), np.zeros((2, 2))
+        tol_d, tol_u = 1e-13 * A.params.CR / a, 1e-13 * A.params.CR
+        for k in range(n):
+            x = np.array([self.delta[k] + self.dt * self.rate[k], self.u[k] + self.dt * self.du[k]])
+            lo, hi = A.tilt_range(k, y, z, float(x[1]))
+            if not lo < x[0] < hi:
+                x = np.array([self.delta[k], self.u[k]])
+            for _ in range(NEWTON_MAX):
+                F, Jq, Jv = self._pad_at(k, e, v, x, b, hd[k], hu[k], omega)
+                w, vu = (x[0] - hd[k]) / b, (x[1] - hu[k]) / b
+                r = np.array([I * (w - hw[k]) - b * a * F[0], -b * (F[1] - kp * x[1])])
+                # d/d delta_1 = d/d delta + d/dw / b, d/du_1 = d/du + d/dvu / b; M = a F'_y, Q = F'_z - k_p u
+                R = np.array([[I / b - b * a * a * Jq[0, 0] - a * a * Jv[0, 0], -b * a * Jq[0, 1] - a * Jv[0, 1]],
+                              [-b * a * Jq[1, 0] - a * Jv[1, 0], -b * (Jq[1, 1] - kp) - Jv[1, 1]]])
+                step = -np.linalg.solve(R, r)
+                if abs(step[0]) <= tol_d and abs(step[1]) <= tol_u:
+                    break
+                alpha = 1.0
+                while alpha > 1e-6:  # halved until the pad's film stays open at the new (delta, u)
+                    lo, hi = A.tilt_range(k, y, z, float(x[1] + alpha * step[1]))
+                    if lo < x[0] + alpha * step[0] < hi:
+                        break
+                    alpha *= 0.5
+                else:
+                    raise A.wall_error(k, y, z, float(x[0]))
+                x = x + alpha * step
+            else:
+                raise BearingStateError(f"tilting pads: the pad pivoted at {math.degrees(A.pads.pivots[k]):.4g} deg "
+                                        f"on its flexible pivot found no tilt and displacement for the step in "
+                                        f"{NEWTON_MAX} Newton steps (y = {y:.4g} m, z = {z:.4g} m)")
+            delta[k], u[k] = x
+            rate[k], du[k] = (x[0] - hd[k]) / b, (x[1] - hu[k]) / b
+            frames.append((F, Jq, Jv))
+            # the pad follows the journal: d x / dq = -R^-1 dr/dq, dr/dq = -b (a M_q; Q_q) in the frame, turned back
+            r0 = A.rot[k]
+            dr_q = -b * np.array([a * Jq[0], Jq[1]]) @ r0
+            dr_v = -b * np.array([a * Jv[0], Jv[1]]) @ r0
+            dx_q, dx_v = -np.linalg.solve(R, dr_q), -np.linalg.solve(R, dr_v)
+            # the pad's force on the journal at (delta_1, u_1) and their rates (1 / b of each)
+            Fx = r0.T @ np.array([[a * Jq[0, 0] + a * Jv[0, 0] / b, Jq[0, 1] + Jv[0, 1] / b],
+                                  [a * Jq[1, 0] + a * Jv[1, 0] / b, Jq[1, 1] + Jv[1, 1] / b]])
+            dq += Fx @ dx_q
+            dv += Fx @ dx_v
+        sol = A.assemble(frames, delta, rate, u, du)
+        self.trial, self.trial_u = (delta.copy(), rate.copy()), (u.copy(), du.copy())
+        return sol, sol.Jq.sum(axis=0) + dq, sol.Jv.sum(axis=0) + dv
+
+    def _pad_at(self, k, e, v, x, b, hd, hu, omega):
+        return self.A.pad(k, e, v, float(x[0]), float((x[0] - hd) / b), omega, float(x[1]), float((x[1] - hu) / b))
+
+    def _history_u(self):
+        """BDF2's h_u: ((1 + rho)^2 u_0 - rho^2 u_-1) / (1 + 2 rho)."""
+        rho = self.dt / self.prev[2]
+        return ((1.0 + rho) ** 2 * self.u - rho * rho * self.prev_u) / (1.0 + 2.0 * rho)
 
 
 __all__ = ["PadStepper"]

@@ -30,6 +30,17 @@ from .journal import journal_equilibrium
 from .stepping import PadStepper
 
 
+def viscosity_scaling_why(pads) -> str:
+    """Why the film's temperature is refused for these pads ("" when it is not): a flexible pivot's spring
+    does not scale with mu, so the pads' force at another viscosity is not the force times the ratio."""
+    kp = pads.pivot_stiffness
+    if kp is None:
+        return ""
+    return (f"[geometry] pivot_stiffness_N_m = {kp:g}: the film's temperature (a supply temperature, an [oil] "
+            "table's mu_eff) with a flexible pivot is not modelled: the pads' force at another viscosity is not the "
+            "force times the viscosity ratio; an isoviscous bearing (no [oil] table) or rigid pivots")
+
+
 class TiltingPad:
     """The journal force of ``params``' tilting pads (``params.geometry.pads``), every pad the
     partial-arc Reynolds solver (grid ``n_theta`` cells on each pad's arc, ``n_x`` along the
@@ -50,6 +61,8 @@ class TiltingPad:
         # the film's flows (a temperature) need each pad's film report: the Reynolds pads have it, a force map not
         self.film_flow_why = (f"the pads' force map ({pad_map}) tabulates forces only, no friction or flows: the "
                               "film temperature needs the Reynolds pads (no pad_map)") if pad_map else ""
+        # read by ViscosityScaled: with flexible pivots the force is not mu times one function of the state
+        self.viscosity_scaling_why = viscosity_scaling_why(params.geometry.pads)
 
     @classmethod
     def from_options(cls, params: BearingParams, options, context=None) -> "TiltingPad":
@@ -117,8 +130,9 @@ class TiltingPad:
         if self.film_flow_why:
             raise ValueError(f"tilting pads: {self.film_flow_why}")
         sol = self.pads.equilibrate(y, z, vy, vz, omega)  # not ``last``: a step's pads stay what they are
-        reps = [self.pads.solvers[k].film_report(*self.pads.frame_state(k, (y, z), (vy, vz), sol.delta[k], 0.0),
-                                                  omega) for k in range(self.pads.n)]
+        radial = sol.u if sol.u is not None else np.zeros(self.pads.n)  # flexible pivots: the pads' displacements
+        reps = [self.pads.solvers[k].film_report(*self.pads.frame_state(k, (y, z), (vy, vz), sol.delta[k], 0.0,
+                                                                        radial[k]), omega) for k in range(self.pads.n)]
         return assemble_report(self.params, sum(r.couette_torque_Nm for r in reps),
                                sum(r.pressure_torque_Nm for r in reps), sol.F, (vy, vz), omega,
                                sum(r.inflow_m3_s for r in reps), sum(r.side_flow_m3_s for r in reps))
@@ -153,10 +167,12 @@ class TiltingPad:
     def full_coefficients(self, y: float, z: float, omega: float) -> tuple:
         """(K, C, inertia): the full (2 + N) x (2 + N) K, C at (y, z), still, the pads in equilibrium
         (coordinates y, z, delta_1..N; Lund's signs) and each pad's moment of inertia [kg m^2] (N,),
-        0 for massless pads (``Capabilities.whirl_reduced``: the pads' coordinates in an eigenproblem)."""
+        0 for massless pads (``Capabilities.whirl_reduced``: the pads' coordinates in an eigenproblem).
+        Flexible pivots: (2 + 2N) x (2 + 2N), the pads' radial displacements u_1..N after the tilts,
+        their inertia 0 (``PadAssembly.coordinate_inertia``)."""
         co = self.coefficients(y, z, omega)
-        return co["K_full"], co["C_full"], np.full(self.pads.n, self.pads.pads.inertia)
+        return co["K_full"], co["C_full"], self.pads.coordinate_inertia()
 
 
-__all__ = ["TiltingPad"]
+__all__ = ["TiltingPad", "viscosity_scaling_why"]
 

@@ -59,6 +59,34 @@ the moment is the tangential part of the pad's journal force at the pivot, times
 Virtual work checks it: a tilt d delta moves the equivalent journal by (R + C_pad) t_p d delta, and
 the film does the work F . de on the journal and the same int p dh dA on the pad.
 
+A flexible pivot
+----------------
+With ``pivot_stiffness_N_m`` = k_p the pad also translates along its pivot line, by u (outward, away
+from the journal, positive) against the pivot's spring. Every point of the pad's surface moves by
+u n_p, n_p = u(theta_p) the outward unit vector at the pivot; the radial part of that motion at theta,
+which opens the film, is u u(theta) . u(theta_p) = u cos(theta - theta_p), so
+
+    h = C_pad - d cos(theta - theta_p) + y sin(theta) - z cos(theta) - delta (R + C_pad) sin(theta - theta_p)
+        + u cos(theta - theta_p),
+
+and u cos(theta - theta_p) = -(-u n_p) . u(theta): the pad's film with the journal at e - u n_p, velocity
+v - (du/dt) n_p. In the pad frame n_p' = u(pi) = (0, -1), so the equivalent journal is
+(y' + (R + C_pad) delta, z' + u) and its velocity (vy' + (R + C_pad) ddelta/dt, vz' + du/dt): again the
+partial-arc solver unchanged. Virtual work gives the pad's radial generalised force: a du moves the
+equivalent journal by -n_p du, so the film's load on the pad along its outward normal is
+P = -F . n_p = F'z (F the pad's force on the journal; F'z > 0 for a loaded pad, whose film pushes the
+journal up, away from the pivot at the bottom), and the pivot's spring adds -k_p u:
+
+    Q = P - k_p u = F'z - k_p u.
+
+The pad's mass is not modelled (its inertia about the pivot is ``pad_inertia_kg_m2``; radially it is
+massless), so Q = 0 at every instant: statically P = k_p u, and in motion the film's squeeze through
+du/dt balances the spring. Coordinates per pad (delta, u): the tilt's moment M and the radial force Q
+couple through the pad's own film (dM/du = (R + C_pad) dF'y/dz', dQ/d delta = (R + C_pad) dF'z/dy'), not
+through another pad. Along the pivot line the film and the pivot act in series: with the pad's film
+stiffness k_f = s . K_film s (s = -n_p, the tilt condensed) the pad's stiffness there is
+k_f k_p / (k_f + k_p), 1/k = 1/k_f + 1/k_p, at the same film state.
+
 The pad frame
 -------------
 Rotating the bearing's frame by alpha = pi - theta_p about x takes the pivot to the bottom
@@ -100,8 +128,9 @@ PAD_KEYS = (
                                                                exclusive_maximum=True)),
     Key("pad_inertia_kg_m2", "tilting pads: each pad's moment of inertia about its pivot [kg m^2] (0: massless "
         "pads, in moment equilibrium at every instant)", 0.0, ">= 0", kind=Number(0.0)),
-    Key("pivot_stiffness_N_m", "tilting pads: the pivot's radial stiffness [N/m] (absent: rigid; a flexible pivot "
-        "is not modelled yet and is refused)", None, "> 0", kind=Number(0.0, exclusive_minimum=True)),
+    Key("pivot_stiffness_N_m", "tilting pads: the pivot's radial stiffness [N/m] (absent: rigid; each pad then "
+        "also moves along its pivot line, massless, its film's load = k_p u; not in the bearing FMUs)", None, "> 0",
+        kind=Number(0.0, exclusive_minimum=True)),
 )
 PAD_KEY_NAMES = tuple(k.name for k in PAD_KEYS)
 
@@ -126,7 +155,7 @@ class PadGeometry:
     offset        : the pivot's place from the leading edge, a fraction of the arc, in (0, 1)
     preload       : m = 1 - C_bearing / C_pad, in [0, 1)
     inertia       : each pad's moment of inertia about its pivot [kg m^2] (0: massless)
-    pivot_stiffness : radial pivot stiffness [N/m], None = rigid (the only one modelled yet)
+    pivot_stiffness : radial pivot stiffness k_p [N/m], None = rigid (*A flexible pivot*)
     """
 
     pivots: tuple[float, ...]

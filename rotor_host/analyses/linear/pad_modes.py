@@ -26,7 +26,14 @@ pads with inertia); its eigenvalues and the rotor's part of the eigenvectors are
 ``Rotor.modes`` keeps them (oscillatory, not numerically zero), so a pad's own overdamped
 motion (real eigenvalues) is not listed as a mode.
 
-The check (tests/test_pad_modes.py): for each mode, the journal's impedance reduced at the
+Flexible pivots add each pad's radial displacement u_k (massless: first order through its
+squeeze, like a massless tilt), coupled to the pad's own tilt through its film (K, C entries
+between delta_k and u_k), so a pad's coordinates no longer have one row each: ``state_matrix``
+then builds the descriptor form B X' = A X (``_descriptor``: the massless coordinates' rates on
+the left through their C block, a tilt with inertia second order beside a massless radial row) and
+solves it; blocks without such couplings (rigid pivots) keep the one-coordinate rows as they were.
+
+The check (tests/test_pad_modes.py; flexible pivots: tests/test_tilting_pad_pivot.py): for each mode, the journal's impedance reduced at the
 mode's own complex eigenvalue s, Z_red(s) = Z_jj - Z_jp Z_pp^-1 Z_pj with Z = K + s C + s^2 I,
 put into the rotor as real K, C (C = Im Z_red / Im s, K = Re Z_red - Re s C: the same impedance
 at s) gives s back as an eigenvalue of the rotor alone; iterated from the synchronous reduction
@@ -63,6 +70,13 @@ class PadBlock:
         return np.array([k for k in range(n) if np.any(self.K[2 + k] != 0.0) or np.any(self.C[2 + k] != 0.0)],
                         dtype=int)
 
+    def coupled(self) -> bool:
+        """Do its internal coordinates couple among themselves (a flexible pivot: each pad's tilt and radial
+        displacement), not only through the journal?"""
+        live = 2 + self.live()
+        off = ~np.eye(live.size, dtype=bool)
+        return bool(np.any(self.K[np.ix_(live, live)][off] != 0.0) or np.any(self.C[np.ix_(live, live)][off] != 0.0))
+
     def reduced(self, s: complex) -> np.ndarray:
         """The journal's 2 x 2 impedance at the complex frequency s [1/s], its own coordinates
         eliminated: Z_jj - Z_jp Z_pp^-1 Z_pj, Z = K + s C + s^2 I."""
@@ -88,7 +102,11 @@ def pad_blocks(internals, pairs, q, omega: float) -> list[PadBlock]:
 
 def state_matrix(rotor: Rotor, speed: float, blocks: list[PadBlock]) -> np.ndarray:
     """The first-order system X' = A X, X = (q, qd, massless tilts, tilts with inertia, their rates),
-    of the rotor at ``speed`` [rad/s] with every bearing's block (module docstring)."""
+    of the rotor at ``speed`` [rad/s] with every bearing's block (module docstring). Blocks whose own
+    coordinates couple (``PadBlock.coupled``: flexible pivots) take ``_descriptor``'s general form."""
+    if any(blk.coupled() for blk in blocks):
+        B, A = _descriptor(rotor, speed, blocks)
+        return np.linalg.solve(B, A)
     n = rotor.n_dof
     Kt = rotor.K.copy()
     Ct = rotor.C + speed * rotor.G
@@ -135,6 +153,58 @@ def state_matrix(rotor: Rotor, speed: float, blocks: list[PadBlock]) -> np.ndarr
     A[:n, n:2 * n] = np.eye(n)
     A[n:2 * n] = np.linalg.solve(rotor.M, Fq)
     return A
+
+
+def _descriptor(rotor: Rotor, speed: float, blocks: list[PadBlock]) -> tuple[np.ndarray, np.ndarray]:
+    """(B, A) of B X' = A X, X ordered as ``state_matrix``'s, for internal coordinates that couple among
+    themselves: every live coordinate c of a block, massless (m) or with inertia (i, its rate w a state
+    of its own), obeys  I_c w_c' + sum_d C_cd p_d' + K_cd p_d + K_cj x_j + C_cj xd_j = 0  with p_d' = w_d
+    for d with inertia, so the massless coordinates' rates stay on the left (B holds C_cm) and B is
+    invertible when each block's C_mm is (a film's squeeze): ``state_matrix`` solves it. The journal's
+    row holds -K_jp p - C_jp p' in the same way."""
+    n = rotor.n_dof
+    Kt = rotor.K.copy()
+    Ct = rotor.C + speed * rotor.G
+    for b, blk in enumerate(blocks):
+        j = list(blk.dofs)
+        Kt[np.ix_(j, j)] += blk.K[:2, :2]
+        Ct[np.ix_(j, j)] += blk.C[:2, :2]
+    coords = [(b, int(k)) for b, blk in enumerate(blocks) for k in blk.live() if blk.inertia[k] <= 0.0]
+    nm = len(coords)
+    coords += [(b, int(k)) for b, blk in enumerate(blocks) for k in blk.live() if blk.inertia[k] > 0.0]
+    ni = len(coords) - nm
+    size = 2 * n + nm + 2 * ni
+    col = {c: 2 * n + r for r, c in enumerate(coords)}  # each coordinate's value column
+    rate = {c: 2 * n + nm + ni + (r - nm) for r, c in enumerate(coords) if r >= nm}  # with inertia: its rate
+    B, A = np.eye(size), np.zeros((size, size))
+    B[n:2 * n, n:2 * n] = rotor.M
+    A[:n, n:2 * n] = np.eye(n)
+    A[n:2 * n, :n], A[n:2 * n, n:2 * n] = -Kt, -Ct
+    iq, iv = np.arange(n), n + np.arange(n)
+    for b, k in coords:
+        blk, c = blocks[b], 2 + k
+        j = list(blk.dofs)
+        row = rate.get((b, k), col[(b, k)])  # the equation of coordinate c: its rate's row (inertia) or its own
+        if (b, k) in rate:
+            A[col[(b, k)], rate[(b, k)]] = 1.0  # p' = w
+            B[row, row] = blk.inertia[k]
+        else:
+            B[row, row] = 0.0
+        A[row, iq[j]] -= blk.K[c, :2]
+        A[row, iv[j]] -= blk.C[c, :2]
+        A[iv[j], col[(b, k)]] -= blk.K[:2, c]
+        for d in blk.live():
+            other, dd = (b, int(d)), 2 + int(d)
+            A[row, col[other]] -= blk.K[c, dd]
+            if other in rate:  # C_cd p_d' = C_cd w_d: a state
+                A[row, rate[other]] -= blk.C[c, dd]
+            else:
+                B[row, col[other]] += blk.C[c, dd]
+        if (b, k) in rate:
+            A[iv[j], rate[(b, k)]] -= blk.C[:2, c]
+        else:
+            B[iv[j], col[(b, k)]] += blk.C[:2, c]
+    return B, A
 
 
 def _kept(rotor: Rotor, lam: np.ndarray, Kt: np.ndarray) -> np.ndarray:

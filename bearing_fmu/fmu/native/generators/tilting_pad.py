@@ -66,8 +66,9 @@ def tilting_pad_model(params: BearingParams, surrogate, map_path, options: dict)
         raise ValueError("the native tilting_pad FMU needs a bearing with tilting pads ([geometry] pads, "
                          "pad_arc_deg, pivots_deg): build with --bearing FILE")
     if pg.pivot_stiffness is not None:
-        raise ValueError(f"[geometry] pivot_stiffness_N_m = {pg.pivot_stiffness:g}: a flexible pivot is not modelled "
-                         "yet; leave the key out (rigid pivots)")
+        raise ValueError(f"[geometry] pivot_stiffness_N_m = {pg.pivot_stiffness:g}: a flexible pivot is not carried "
+                         "by the bearing FMUs (the tilting_pad internal models it in run, stability and demo); leave "
+                         "the key out (rigid pivots)")
     pad_map = Path(options["pad_map"]) if options.get("pad_map") else None
     starts = {"n_theta": 0, "n_x": 0, "cavitation": "reynolds", "pad_map": pad_map.name if pad_map else ""}
     for name in ("n_theta", "n_x", "cavitation"):
