@@ -305,7 +305,7 @@ class PadAssembly:
         fast = self._pivot_newton(k, e, v, omega) if self._warm_set else None
         if fast is not None:
             return fast
-        a, kp, CR = self.arm, self.kp, self.params.CR
+        kp, CR = self.kp, self.params.CR
         u, lo, hi, its = float(self._warm_u[k]), -math.inf, math.inf, 0
         d = float(self._warm[k])
         for _ in range(NEWTON_MAX):

@@ -208,7 +208,7 @@ class PadStepper:
                 x = np.array([self.delta[k], self.u[k]])
             for _ in range(NEWTON_MAX):
                 F, Jq, Jv = self._pad_at(k, e, v, x, b, hd[k], hu[k], omega)
-                w, vu = (x[0] - hd[k]) / b, (x[1] - hu[k]) / b
+                w = (x[0] - hd[k]) / b
                 r = np.array([I * (w - hw[k]) - b * a * F[0], -b * (F[1] - kp * x[1])])
                 # d/d delta_1 = d/d delta + d/dw / b, d/du_1 = d/du + d/dvu / b; M = a F'_y, Q = F'_z - k_p u
                 R = np.array([[I / b - b * a * a * Jq[0, 0] - a * a * Jv[0, 0], -b * a * Jq[0, 1] - a * Jv[0, 1]],
