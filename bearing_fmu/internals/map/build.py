@@ -180,8 +180,8 @@ def command(*, bearing=None, output=None, resolution=None, n_phi=None, grid=None
             f"{settings.n_eps} x {settings.n_phi} x {settings.n_beta} points (eps x phi over "
             f"{math.degrees(table.period):g} deg x beta)" if settings.n_sup is None else
             f"{settings.n_eps} x {settings.n_phi} x {settings.n_beta} x {settings.n_sup} points (eps x phi over "
-            f"{math.degrees(table.period):g} deg x beta x u = p_s / (p_s + mu (R/CR)^2 r): the fed grooves' 4-D map, "
-            "any supply pressure)")
+            f"{math.degrees(table.period):g} deg x beta x u = p_s / (p_s + mu (R/CR)^2 r): the fed grooves' 4-D "
+            "map, any supply pressure)")
     resumed = table.provenance["resumed_rows"]
     print(f"force map for L/D = {table.L_over_D:.6g}{'' if settings.n_phi is None else ', ' + params.geometry.describe()}"
           + ("" if pads is None else f" (every pad of the {pads.n} tilting pads: tilting_pad's option pad_map)")

@@ -12,7 +12,8 @@ from numba import njit
 from .kernels import bspline_basis, bspline_span, force_jacobian
 
 # below 1 - u = S r / W = T_MIN (a journal at rest, r = 0, among them) the derivatives in (a, c) are
-# those at r = 0 (``_odd_part``, the first harmonic of the directional derivatives): the general ones carry G_beta / (1 - u), whose spline value is
+# those at r = 0 (``_odd_part``, the first harmonic of the directional derivatives): the general ones carry
+# G_beta / (1 - u), whose spline value is
 # round-off over (1 - u) there; the force itself is taken where it is (at r = 0 any beta's)
 T_MIN = 1e-8
 N_HARMONIC = 8  # directions of ``_odd_part``'s first harmonic

@@ -25,7 +25,8 @@ the kernel's (a, c) derivatives (``supplykernels``: G_beta / (1 - u)) stay finit
 enter only through W and u: the table serves every bearing of its L/D and bore at any p_s > 0.
 
 The table: G on the 3-D map's axes (s = -ln(1 - eps), phi over the bore's symmetry period, beta)
-times u_l = l / (n_sup - 1); the rows are (eps, u) pairs, each the n_phi x n_beta solves at the r
+times u_l = 1 - (1 - l / (n_sup - 1))^3 (crowded toward rest, where G turns fastest: ``U_GRADING``);
+the rows are (eps, u) pairs, each the n_phi x n_beta solves at the r
 that gives u with the bearing's own p_s (r = R L p_s (1 - u) / (S u); u = 0: p_s = 0 and r = 1);
 the spline is cubic, not-a-knot in s and u, periodic in phi and beta; at the nodes the map is the
 solver's answer. The flows reduce the same way with W / S in place of r: side flow (W / S) Q0 J_s,
@@ -56,7 +57,15 @@ from .tables import EPS_MIN, LD_RTOL, finite_problem, header_problem, reduced, s
 
 VERSION, FLOW_VERSION = 6, 7  # (5 is left unread: an old test names it as the unknown version)
 DEFAULT_N_SUP = 9  # points in u = sigma / (1 + sigma) on [0, 1] (docs/forcemap.md, "Fed grooves": the error)
+# near rest G changes fast in u once the motion's suction first cavitates the supply field (steepest close to
+# the wall: at eps = 0.7 G_r moves by 0.3 between 1 - u = 0.04 and 0.001), so the nodes crowd there
+U_GRADING = 3.0
 KEYS = tuple(k for k in gm.GROOVED_KEYS) + ("n_sup", "supply_pressure_kPa")
+
+
+def u_nodes(n: int) -> np.ndarray:
+    """The table's u: 1 - (1 - l / (n - 1))^U_GRADING, l = 0 .. n - 1, clustered toward u = 1 (rest)."""
+    return 1.0 - (1.0 - np.arange(n) / (n - 1)) ** U_GRADING
 
 
 def supply_problem(geometry: Geometry) -> str | None:
@@ -78,7 +87,7 @@ def supply_force(params: BearingParams) -> float:
 
 @dataclass
 class SupplyMapTable(gm.GroovedMapTable):
-    """G on (s, phi, beta) as ``GroovedMapTable`` times u_l = l / (n_sup - 1); H (n_eps, n_phi, n_beta,
+    """G on (s, phi, beta) as ``GroovedMapTable`` times u (``u_nodes``); H (n_eps, n_phi, n_beta,
     n_sup, 2), Q None or (n_eps, n_phi, n_beta, n_sup, 1 + E); F = (S r + R L p_s) (G_r u_ + G_t w_)."""
 
     def problem(self) -> str | None:
@@ -99,7 +108,7 @@ class SupplyMapTable(gm.GroovedMapTable):
 
     @property
     def u(self) -> np.ndarray:
-        return np.linspace(0.0, 1.0, self.n_sup)
+        return u_nodes(self.n_sup)
 
     def fit_spline(self, values, turns: int = 1):
         """(ts, tp, tb, tu, C): the 3-D map's fit along (s, phi, beta), then not-a-knot along u."""
@@ -120,7 +129,7 @@ class SupplyMapTable(gm.GroovedMapTable):
         d = gm.GroovedMapTable.to_dict(self)  # its H and Q flattened the same way (C order), its keys
         d.update(version=VERSION if self.Q is None else FLOW_VERSION, n_sup=self.n_sup,
                  supply_pressure_kPa=self.geometry.supply_pressure / 1e3,
-                 grid=d["grid"] + "; u = l / (n_sup - 1) on [0, 1], u = R L p_s / (S r + R L p_s)",
+                 grid=d["grid"] + "; u_l = 1 - (1 - l / (n_sup - 1))^3 on [0, 1], u = R L p_s / (S r + R L p_s)",
                  meaning=("H[i][j][k][l] = (G_r, G_t); F = (S r + R L p_s) (G_r u + G_t w), S = mu R L (R/CR)^2, "
                           "u = R L p_s / (S r + R L p_s), phi the journal's attitude atan2(z, y); the table serves any "
                           "p_s > 0 (supply_pressure_kPa: the one it was built at); spline: cubic, not-a-knot in s "
@@ -149,7 +158,8 @@ def supply_from_data(path: Path, data: dict) -> SupplyMapTable:
             raise ValueError(f"key 'n_sup' = {n_sup!r:.40} must be an integer >= 4")
         p_s = number_key(data, "supply_pressure_kPa") * 1e3
         if not p_s > 0.0:
-            raise ValueError(f"key 'supply_pressure_kPa' = {p_s / 1e3!r} must be > 0 (ambient grooves have the 3-D map)")
+            raise ValueError(f"key 'supply_pressure_kPa' = {p_s / 1e3!r} must be > 0 (ambient grooves have the "
+                             "3-D map)")
         # the 3-D reader on the same keys with the u axis folded into beta's: its checks of every key
         d3 = {k: v for k, v in data.items() if k not in ("n_sup", "supply_pressure_kPa")}
         d3.update(version=gm.FLOW_VERSION if flows else gm.VERSION, n_beta=data["n_beta"] * n_sup)
@@ -297,8 +307,9 @@ class SupplyForceMap(gm.GroovedForceMap):
         self._kernel = map4_force
         self._args = (ts, tp, tb, tu, C, EPS_MIN, scale(params), float(params.CR), supply_force(params))
         self._eps_max = float(table.eps_max)
-        self.film_flow_why = "" if table.Q is not None else (f"the fed-groove map {source or '(in memory)'} has no "
-                                                              "flow tables (format version 6): rebuild it with `bearing-fmu map --bearing FILE -o MAP`")
+        self.film_flow_why = "" if table.Q is not None else (
+            f"the fed-groove map {source or '(in memory)'} has no flow tables (format version 6): rebuild it with "
+            "`bearing-fmu map --bearing FILE -o MAP`")
         self._edges = params.geometry.supply_edges()
         self._Jq = None if table.Q is None else np.zeros((table.Q.shape[4], 5))
         self._images = None if table.Q is None else table.flow_images()
