@@ -176,7 +176,7 @@ def test_bearing_fmu_map_builds_a_pressurised_bearings_map(tmp_path, capsys):
                                                    "--resolution", "4x8", "--phi-points", "4", "--grid", "16x4",
                                                    "--quiet", "--workers", "1"], capsys)
     assert code == 0, stderr
-    assert "4 x 4 x 8 x 9 points" in stdout and "the fed grooves' 4-D" in stdout
+    assert "4 x 4 x 8 x 13 points" in stdout and "the fed grooves' 4-D" in stdout
     assert isinstance(load_any_map(out), SupplyMapTable)
 
 
