@@ -73,6 +73,24 @@ def test_at_the_nodes_the_map_is_the_solver(tiny, tmp_path):
         np.testing.assert_allclose(m.force(*state, 1.0), Fr, rtol=0, atol=1e-7 * np.abs(Fr).max())
 
 
+def test_the_file_is_checked(tiny, tmp_path):
+    data = json.loads(save_supply_map(tiny, tmp_path / "fed.json").read_text())
+    assert data["n_sup"] == 5 and data["u_grading"] == 2.0 and data["supply_pressure_kPa"] == 100.0
+    for change, words in (({"n_sup": 3}, "key 'n_sup' = 3 must be an integer >= 4"),
+                          ({"u_grading": 9}, "key 'u_grading' = 9.0 must be a number in 1 .. 4"),
+                          ({"supply_pressure_kPa": 0}, "key 'supply_pressure_kPa' = 0.0 must be > 0"),
+                          ({"H": data["H"][:-1]}, "key 'H' has 2879 numbers, n_eps x n_phi x n_beta x n_sup x 2 = 2880"),
+                          ({"extra": 1}, "unknown key.*extra")):
+        p = tmp_path / "bad.json"
+        p.write_text(json.dumps({**data, **change}))
+        with pytest.raises(ValueError, match=f"force map file .*bad.json: .*{words}"):
+            load_any_map(p)
+    del data["u_grading"]
+    (tmp_path / "bad.json").write_text(json.dumps(data))
+    with pytest.raises(ValueError, match="missing key 'u_grading'"):
+        load_any_map(tmp_path / "bad.json")
+
+
 def test_the_u0_end_is_the_ambient_3d_map(tiny):
     t3 = tabulate_grooved(AMBIENT, **{k: v for k, v in TINY.items() if k != "n_sup"})
     assert np.array_equal(tiny.H[:, :, :, 0], t3.H) and np.array_equal(tiny.Q[:, :, :, 0], t3.Q)

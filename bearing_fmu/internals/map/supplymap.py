@@ -63,12 +63,12 @@ DEFAULT_N_SUP = 13
 # over the whole axis and is steepest near rest (eps = 0.7: G_r moves by 0.3 between 1 - u = 0.04 and 0.001),
 # so the nodes crowd toward u = 1; grading 2 did a little better than 3 at 13 points (the study)
 U_GRADING = 2.0
-KEYS = tuple(k for k in gm.GROOVED_KEYS) + ("n_sup", "supply_pressure_kPa")
+KEYS = tuple(k for k in gm.GROOVED_KEYS) + ("n_sup", "u_grading", "supply_pressure_kPa")
 
 
-def u_nodes(n: int) -> np.ndarray:
-    """The table's u: 1 - (1 - l / (n - 1))^U_GRADING, l = 0 .. n - 1, clustered toward u = 1 (rest)."""
-    return 1.0 - (1.0 - np.arange(n) / (n - 1)) ** U_GRADING
+def u_nodes(n: int, grading: float = U_GRADING) -> np.ndarray:
+    """The table's u: 1 - (1 - l / (n - 1))^grading, l = 0 .. n - 1, clustered toward u = 1 (rest)."""
+    return 1.0 - (1.0 - np.arange(n) / (n - 1)) ** grading
 
 
 def supply_problem(geometry: Geometry) -> str | None:
@@ -90,8 +90,11 @@ def supply_force(params: BearingParams) -> float:
 
 @dataclass
 class SupplyMapTable(gm.GroovedMapTable):
-    """G on (s, phi, beta) as ``GroovedMapTable`` times u (``u_nodes``); H (n_eps, n_phi, n_beta,
-    n_sup, 2), Q None or (n_eps, n_phi, n_beta, n_sup, 1 + E); F = (S r + R L p_s) (G_r u_ + G_t w_)."""
+    """G on (s, phi, beta) as ``GroovedMapTable`` times u (``u_nodes`` of ``u_grading``, kept in the file);
+    H (n_eps, n_phi, n_beta, n_sup, 2), Q None or (n_eps, n_phi, n_beta, n_sup, 1 + E); F = (S r + R L p_s)
+    (G_r u_ + G_t w_)."""
+
+    u_grading: float = U_GRADING
 
     def problem(self) -> str | None:
         problem = header_problem(self)
@@ -100,6 +103,8 @@ class SupplyMapTable(gm.GroovedMapTable):
         why = supply_problem(self.geometry)
         if why:
             return f"key 'geometry': {why}"
+        if not (isinstance(self.u_grading, (int, float)) and 1.0 <= self.u_grading <= 4.0):
+            return f"key 'u_grading' = {self.u_grading!r:.40} must be a number in 1 .. 4"
         if self.H.ndim != 5 or self.H.shape[4] != 2 or min(self.H.shape[:4]) < 4:
             return f"key 'H' has shape {self.H.shape}, expected (n_eps, n_phi, n_beta, n_sup, 2), each n >= 4"
         want = (*self.H.shape[:4], 1 + len(self.edges))
@@ -111,7 +116,7 @@ class SupplyMapTable(gm.GroovedMapTable):
 
     @property
     def u(self) -> np.ndarray:
-        return u_nodes(self.n_sup)
+        return u_nodes(self.n_sup, self.u_grading)
 
     def fit_spline(self, values, turns: int = 1):
         """(ts, tp, tb, tu, C): the 3-D map's fit along (s, phi, beta), then not-a-knot along u."""
@@ -130,9 +135,10 @@ class SupplyMapTable(gm.GroovedMapTable):
 
     def to_dict(self) -> dict:
         d = gm.GroovedMapTable.to_dict(self)  # its H and Q flattened the same way (C order), its keys
-        d.update(version=VERSION if self.Q is None else FLOW_VERSION, n_sup=self.n_sup,
+        d.update(version=VERSION if self.Q is None else FLOW_VERSION, n_sup=self.n_sup, u_grading=self.u_grading,
                  supply_pressure_kPa=self.geometry.supply_pressure / 1e3,
-                 grid=d["grid"] + "; u_l = 1 - (1 - l / (n_sup - 1))^2 on [0, 1], u = R L p_s / (S r + R L p_s)",
+                 grid=d["grid"] + ("; u_l = 1 - (1 - l / (n_sup - 1))^u_grading on [0, 1], u = R L p_s / (S r + "
+                                   "R L p_s)"),
                  meaning=("H[i][j][k][l] = (G_r, G_t); F = (S r + R L p_s) (G_r u + G_t w), S = mu R L (R/CR)^2, "
                           "u = R L p_s / (S r + R L p_s), phi the journal's attitude atan2(z, y); the table serves any "
                           "p_s > 0 (supply_pressure_kPa: the one it was built at); spline: cubic, not-a-knot in s "
@@ -160,11 +166,17 @@ def supply_from_data(path: Path, data: dict) -> SupplyMapTable:
         if isinstance(n_sup, bool) or not isinstance(n_sup, int) or n_sup < 4:
             raise ValueError(f"key 'n_sup' = {n_sup!r:.40} must be an integer >= 4")
         p_s = number_key(data, "supply_pressure_kPa") * 1e3
+        grading = number_key(data, "u_grading")
+        dims = [data[k] for k in ("n_eps", "n_phi", "n_beta")]
+        if all(isinstance(v, int) and not isinstance(v, bool) for v in dims) and isinstance(data["H"], list) \
+                and len(data["H"]) != math.prod(dims) * n_sup * 2:
+            raise ValueError(f"key 'H' has {len(data['H'])} numbers, n_eps x n_phi x n_beta x n_sup x 2 = "
+                             f"{math.prod(dims) * n_sup * 2}")
         if not p_s > 0.0:
             raise ValueError(f"key 'supply_pressure_kPa' = {p_s / 1e3!r} must be > 0 (ambient grooves have the "
                              "3-D map)")
         # the 3-D reader on the same keys with the u axis folded into beta's: its checks of every key
-        d3 = {k: v for k, v in data.items() if k not in ("n_sup", "supply_pressure_kPa")}
+        d3 = {k: v for k, v in data.items() if k not in ("n_sup", "u_grading", "supply_pressure_kPa")}
         d3.update(version=gm.FLOW_VERSION if flows else gm.VERSION, n_beta=data["n_beta"] * n_sup)
     except KeyError as exc:
         raise ValueError(f"force map file {path}: missing key {exc.args[0]!r}") from None
@@ -175,7 +187,7 @@ def supply_from_data(path: Path, data: dict) -> SupplyMapTable:
     try:
         return SupplyMapTable(t3.L_over_D, t3.n_theta, t3.n_x, t3.cavitation, t3.eps_max,
                               dataclasses.replace(t3.geometry, supply_pressure=p_s), t3.H.reshape(*shape, 2),
-                              t3.provenance, Q=None if t3.Q is None else t3.Q.reshape(*shape, -1))
+                              t3.provenance, Q=None if t3.Q is None else t3.Q.reshape(*shape, -1), u_grading=grading)
     except ValueError as exc:
         raise ValueError(f"force map file {path}: {str(exc).removeprefix('force map table: ')}") from None
 
@@ -183,7 +195,8 @@ def supply_from_data(path: Path, data: dict) -> SupplyMapTable:
 # ------------------------------------------------------------------------------ building
 
 def tabulate_supplied(params: BearingParams, *, n_eps: int = gm.DEFAULT_N_EPS, n_phi: int | None = None,
-                      n_beta: int = gm.DEFAULT_N_BETA, n_sup: int = DEFAULT_N_SUP, eps_max: float = gm.DEFAULT_EPS_MAX,
+                      n_beta: int = gm.DEFAULT_N_BETA, n_sup: int = DEFAULT_N_SUP, u_grading: float = U_GRADING,
+                      eps_max: float = gm.DEFAULT_EPS_MAX,
                       n_theta: int | None = None, n_x: int | None = None, cavitation: str = "reynolds",
                       n_phase: int = gm.DEFAULT_N_PHASE, workers: int = 1, progress=None, flows: bool = True,
                       client=None, partial=None, done: dict | None = None) -> SupplyMapTable:
@@ -203,7 +216,7 @@ def tabulate_supplied(params: BearingParams, *, n_eps: int = gm.DEFAULT_N_EPS, n
     n_q = 1 + len(params.geometry.supply_edges())
     table = SupplyMapTable(params.L / params.D, rey.n_theta, rey.n_x, rey.cavitation, eps_max, params.geometry,
                            np.zeros((n_eps, n_phi, n_beta, n_sup, 2)),
-                           Q=np.zeros((n_eps, n_phi, n_beta, n_sup, n_q)) if flows else None)
+                           Q=np.zeros((n_eps, n_phi, n_beta, n_sup, n_q)) if flows else None, u_grading=u_grading)
     task = bind(supplied_row, params, rey.n_theta, rey.n_x, rey.cavitation, phis=table.phi, betas=table.beta,
                 n_phase=n_phase, flows=flows)
     rows = [(e, u) for e in table.eps for u in table.u]
