@@ -1,7 +1,8 @@
 """The map store: force maps kept under a hash of what determines them, found again by every command.
 
-A map is determined by the bore (its grooves, their width, the arc, whether they are fed), L/D, the table's axes (the
-resolution, the attitudes per period, eps_max, the phases averaged), the Reynolds grid and
+A map is determined by the bore (its grooves, their width, the arc, whether they are fed: not the
+supply pressure, any p_s > 0 has the same map, ``supplymap``), L/D, the table's axes (the
+resolution, the attitudes per period, eps_max, the phases averaged, fed grooves' u points), the Reynolds grid and
 cavitation model of its truth, whether it has the flow tables, and the solver's code (a digest of
 ``physics/`` and the tabulating modules, ``cache.source_digest``). D, CR and mu are not: the map
 serves every bearing of its L/D and bore (docs/forcemap.md). ``map_key`` hashes these; the store
