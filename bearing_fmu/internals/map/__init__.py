@@ -8,6 +8,8 @@ tables      the full bore's reduction (eccentricity and one angle), ``MapTable``
 tablefile   the full bore's map file: ``save_map``, ``load_map`` (every key checked)
 forcemap    ``ForceMap``: the internal evaluating a full-bore table
 groovemap   the grooved or partial-arc bore's 3-D map: table, file and internal
+supplymap   grooves fed at a supply pressure: the 4-D map (u = p_s / (p_s + k r)),
+            exact by the joint homogeneity in (r, p_s); supplykernels its spline
 lobemap     a lobed bore with ambient grooves over its lobe boundaries: the sum of
             its lobes' partial-arc maps (one 3-D map of the lobe's arc), exact
 mapfile     either map file (``load_any_map``) and the map internal's factory

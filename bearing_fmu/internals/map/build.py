@@ -22,11 +22,17 @@ from pathlib import Path
 from ...io.exits import note_kept, note_lost
 from ...physics.params import PAPER_BEARING, BearingParams
 from . import groovemap as gm
+from . import supplymap as sm
 from .store import MapSettings, describe, map_bearing, map_key, settings_for, store_path
 from .tablefile import save_map
 from .tables import tabulate
 
 LOCAL = "local"  # --scheduler local: a LocalCluster on this machine
+
+
+def n_rows(settings: MapSettings) -> int:
+    """The build's row tasks: one per eps, or per (eps, u) for fed grooves' 4-D map."""
+    return settings.n_eps * (settings.n_sup or 1)
 
 
 def partial_path(target: Path) -> Path:
@@ -57,10 +63,10 @@ def build_map(params: BearingParams, settings: MapSettings, partial: Path, *, wo
             client = stack.enter_context(dask_client(None if scheduler == LOCAL else scheduler, workers,
                                                      CONNECT_TIMEOUT_S))
         key = hashlib.sha256(f"{map_key(params, settings)} {params!r}".encode()).hexdigest()  # the rows' own inputs
-        part = Partial(partial, key, settings.n_eps)
+        part = Partial(partial, key, n_rows(settings))
         done = part.load()
         if done and log is not None:
-            log(f"resuming: {len(done)} of {settings.n_eps} rows already solved in {partial}")
+            log(f"resuming: {len(done)} of {n_rows(settings)} rows already solved in {partial}")
         part.start(resumed=bool(done))
         kw = dict(n_eps=settings.n_eps, n_beta=settings.n_beta, eps_max=settings.eps_max, n_theta=settings.n_theta,
                   n_x=settings.n_x, cavitation=settings.cavitation, n_phase=settings.n_phase, flows=settings.flows,
@@ -68,6 +74,8 @@ def build_map(params: BearingParams, settings: MapSettings, partial: Path, *, wo
                   done=done, client=client)
         if settings.n_phi is None:
             table = tabulate(params, **kw)
+        elif settings.n_sup is not None:
+            table = sm.tabulate_supplied(params, n_phi=settings.n_phi, n_sup=settings.n_sup, **kw)
         else:
             table = gm.tabulate_grooved(params, n_phi=settings.n_phi, **kw)
     table.provenance.update(bearing_file=bearing_file or "paper bearing (Table 2)", resumed_rows=len(done),
@@ -125,14 +133,15 @@ def command(*, bearing=None, output=None, resolution=None, n_phi=None, grid=None
         return 0
     target = Path(output) if output is not None else stored
     partial = partial_path(target)
-    workers = workers if workers is not None else min(os.cpu_count() or 1, max(1, settings.n_eps // 8))
+    rows = n_rows(settings)
+    workers = workers if workers is not None else min(os.cpu_count() or 1, max(1, rows // 8))
     bars = []
 
     def progress(resumed: int):  # the bar starts at the rows resumed: its rate and time left count this run's
         from tqdm import tqdm
 
         bore = "" if settings.n_phi is None else ", grooved"
-        bars.append(tqdm(total=settings.n_eps, initial=resumed, unit="row",
+        bars.append(tqdm(total=rows, initial=resumed, unit="row",
                          desc=f"force map L/D {params.L / params.D:.4g}{bore}"))
         return lambda k: bars[0].update(k - bars[0].n)
 
@@ -156,20 +165,23 @@ def command(*, bearing=None, output=None, resolution=None, n_phi=None, grid=None
         if table is not None:
             note_kept(exc, f"{save_any(table, target)} (the map was complete)")
         elif getattr(exc, "map_rows_done", 0) and partial.is_file():
-            note_kept(exc, f"{exc.map_rows_done} of {settings.n_eps} rows of the map in {partial} (run the same "
+            note_kept(exc, f"{exc.map_rows_done} of {rows} rows of the map in {partial} (run the same "
                            "command again to resume)")
         else:
             partial.unlink(missing_ok=True)
-            note_lost(exc, f"0 of {settings.n_eps} rows of the map had been computed")
+            note_lost(exc, f"0 of {rows} rows of the map had been computed")
         raise
     except RuntimeError as exc:  # a worker died, a row failed on the cluster
-        raise RuntimeError(f"map: {exc}; {getattr(exc, 'map_rows_done', 0)} of {settings.n_eps} rows kept in "
+        raise RuntimeError(f"map: {exc}; {getattr(exc, 'map_rows_done', 0)} of {rows} rows kept in "
                            f"{partial}: run the same command again to resume") from None
     where = f"{scheduler if scheduler not in (None, LOCAL) else 'this machine'}"
     how = f"{workers} process(es)" if scheduler is None else f"Dask ({'a local cluster' if scheduler == LOCAL else where})"
     axes = (f"{settings.n_eps} x {settings.n_beta} points" if settings.n_phi is None else
             f"{settings.n_eps} x {settings.n_phi} x {settings.n_beta} points (eps x phi over "
-            f"{math.degrees(table.period):g} deg x beta)")
+            f"{math.degrees(table.period):g} deg x beta)" if settings.n_sup is None else
+            f"{settings.n_eps} x {settings.n_phi} x {settings.n_beta} x {settings.n_sup} points (eps x phi over "
+            f"{math.degrees(table.period):g} deg x beta x u = p_s / (p_s + mu (R/CR)^2 r): the fed grooves' 4-D "
+            "map, any supply pressure)")
     resumed = table.provenance["resumed_rows"]
     print(f"force map for L/D = {table.L_over_D:.6g}{'' if settings.n_phi is None else ', ' + params.geometry.describe()}"
           + ("" if pads is None else f" (every pad of the {pads.n} tilting pads: tilting_pad's option pad_map)")

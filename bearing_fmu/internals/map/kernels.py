@@ -440,3 +440,8 @@ def lobes_kernel():
     if not _LOBES_KERNEL:
         _LOBES_KERNEL.append(cfunc(KERNEL_SIG, cache=True)(_lobes_kernel))
     return _LOBES_KERNEL[0]
+
+
+# the spline's pieces and the force's chain rule, by public names for the fed-groove map's kernel
+# (``supplykernels``: a 4-D spline and the supply pressure's force)
+bspline_span, bspline_basis, force_jacobian = _span, _basis, _jacobian

@@ -95,11 +95,15 @@ def lobed_problem(geometry: Geometry) -> str | None:
 
 
 def map_problem(geometry: Geometry) -> str | None:
-    """Why no force map serves this bore (a phrase), or None: a lobed bore's ``lobed_problem``, any
-    other bore's ``groovemap.map_geometry_problem``."""
+    """Why no force map serves this bore (a phrase), or None: a lobed bore's ``lobed_problem``, fed
+    grooves' ``supplymap.supply_problem`` (their 4-D map), any other bore's
+    ``groovemap.map_geometry_problem``."""
     from .groovemap import map_geometry_problem
+    from .supplymap import supply_problem
 
-    return lobed_problem(geometry) if geometry.lobes > 1 else map_geometry_problem(geometry)
+    if geometry.lobes > 1:
+        return lobed_problem(geometry)
+    return supply_problem(geometry) if geometry.supply_pressure > 0.0 else map_geometry_problem(geometry)
 
 
 def lobe_arc(params: BearingParams) -> BearingParams:

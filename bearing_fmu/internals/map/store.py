@@ -1,7 +1,8 @@
 """The map store: force maps kept under a hash of what determines them, found again by every command.
 
-A map is determined by the bore (its grooves, their width, the arc), L/D, the table's axes (the
-resolution, the attitudes per period, eps_max, the phases averaged), the Reynolds grid and
+A map is determined by the bore (its grooves, their width, the arc, whether they are fed: not the
+supply pressure, any p_s > 0 has the same map, ``supplymap``), L/D, the table's axes (the
+resolution, the attitudes per period, eps_max, the phases averaged, fed grooves' u points), the Reynolds grid and
 cavitation model of its truth, whether it has the flow tables, and the solver's code (a digest of
 ``physics/`` and the tabulating modules, ``cache.source_digest``). D, CR and mu are not: the map
 serves every bearing of its L/D and bore (docs/forcemap.md). ``map_key`` hashes these; the store
@@ -24,8 +25,10 @@ from ...physics.params import BearingParams
 from . import groovemap as gm
 from . import tables as tb
 from .lobemap import map_params, map_problem
+from .supplymap import DEFAULT_N_SUP
 
 SOLVER_PARTS = ("physics", "internals/map/tables.py", "internals/map/groovemap.py")
+SUPPLY_PART = "internals/map/supplymap.py"  # and this for the fed grooves' 4-D map
 # the pads' map by default: 48 x 64 x 48 (eps x phi x beta), 2.8 MB; the five-pad scene's orbit within
 # 0.0023 % CR RMS of the Reynolds pads over 20 ms (64^3: 0.0006 %, 5 MB; 64 x 32 x 64: 0.094 %: phi counts
 # most; docs/geometry.md, Tilting pads)
@@ -47,6 +50,7 @@ class MapSettings:
     cavitation: str
     n_phase: int
     flows: bool = True
+    n_sup: int | None = None  # fed grooves only: points in u of the 4-D map (supplymap)
 
 
 def map_bearing(params: BearingParams) -> BearingParams:
@@ -61,9 +65,10 @@ def map_bearing(params: BearingParams) -> BearingParams:
 
 
 def settings_for(params: BearingParams, *, resolution=None, n_phi=None, grid=None, cavitation: str = "reynolds",
-                 eps_max: float | None = None, phases: int | None = None) -> MapSettings:
+                 eps_max: float | None = None, phases: int | None = None, n_sup: int | None = None) -> MapSettings:
     """The settings of a map of ``params``' bore: the given ones, the rest the bore's defaults
-    (the full bore's 2-D map or the grooved bore's 3-D map; the Reynolds solver's grid). Tilting pads:
+    (the full bore's 2-D map, the grooved bore's 3-D map or, fed grooves, its 4-D map with ``n_sup``
+    points in u; the Reynolds solver's grid). Tilting pads:
     the pads' arc map (``map_bearing``), ``grid``'s n_theta the cells on each pad's arc as the
     tilting_pad internal's option (default its own), the force only (the pads have no film report)."""
     from ...physics.solver.reynolds import Reynolds
@@ -80,7 +85,8 @@ def settings_for(params: BearingParams, *, resolution=None, n_phi=None, grid=Non
         (PAD_MAP_N_EPS, PAD_MAP_N_BETA) if pads else (gm.DEFAULT_N_EPS, gm.DEFAULT_N_BETA)))
     return MapSettings(n_eps, n_beta, None if full else (n_phi or gm.default_n_phi(params.geometry)),
                        tb.DEFAULT_EPS_MAX if eps_max is None else float(eps_max), rey.n_theta, rey.n_x, rey.cavitation,
-                       phases or (tb.DEFAULT_N_PHASE if full else gm.DEFAULT_N_PHASE), flows=not pads)
+                       phases or (tb.DEFAULT_N_PHASE if full else gm.DEFAULT_N_PHASE), flows=not pads,
+                       n_sup=(n_sup or DEFAULT_N_SUP) if params.geometry.supply_pressure > 0.0 else None)
 
 
 def map_key(params: BearingParams, settings: MapSettings) -> str:
@@ -88,12 +94,17 @@ def map_key(params: BearingParams, settings: MapSettings) -> str:
     full = params.geometry.is_full_bore
     rec = {"L_over_D": f"{params.L / params.D:.10g}", "bore": None if full else gm.geometry_record(params.geometry),
            **asdict(settings), "solver": source_digest(*SOLVER_PARTS)}
+    if settings.n_sup is None:  # every map but the fed grooves' keeps the key it had before they had one
+        del rec["n_sup"]
+    else:  # fed grooves: the 4-D map serves any p_s > 0 (supplymap), the key says the grooves are fed
+        rec["supply"] = {"fed": params.geometry.supply_pressure > 0.0, "code": source_digest(SUPPLY_PART)}
     return hashlib.sha256(json.dumps(rec, sort_keys=True).encode()).hexdigest()
 
 
 def store_path(params: BearingParams, settings: MapSettings) -> Path:
     """Where the store keeps this map (whether it is there or not)."""
     bore = "full" if params.geometry.is_full_bore else ("arc" if params.geometry.arc is not None else "grooved")
+    bore += "_fed" if settings.n_sup is not None else ""
     return map_store() / f"map_LD{params.L / params.D:.4g}_{bore}_{map_key(params, settings)[:20]}.json"
 
 

@@ -47,12 +47,16 @@ GROOVED_NO_OIL_WHY = ("the bearing has no [oil] viscosity law, so a grooved map'
 
 def map_model(params: BearingParams, surrogate, map_path, options: dict) -> NativeModel:
     """The native model of the force map file ``map_path`` (the catalogue's generator)."""
+    from ....internals.map.supplymap import SupplyMapTable
     from ....internals.mapfile import load_any_map, map_internal
 
     if not map_path:
         raise ValueError("a native map FMU needs a force map file (--map FILE)")
     path = Path(map_path)
     table = load_any_map(path)
+    if isinstance(table, SupplyMapTable):
+        raise ValueError(f"--map {path}: a fed-groove map (4-D, supply_pressure_kPa > 0) has no native C map yet; "
+                         "build the Python FMU with it (without --native) or the native FMU with --internal reynolds")
     # refuses another L/D or bore, as the FMU will (a grooved map's bore comes from --bearing)
     internal = map_internal(params, table, str(path), hint="for the native map FMU give the bearing file with --bearing")
     flows_why = registry.film_flow_of(registry.get("map"), internal)  # the file's: '' with its flow tables
