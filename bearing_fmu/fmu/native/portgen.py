@@ -16,6 +16,10 @@ their variables and their lines of model_config.h, for ``codegen``.
   bore is; its Real parameters (``fmu.ports.OIL_ROWS``: oil_nu_1 .. oil_rise_factor) after the
   bore's, their starts the file's (``ports.port_defaults``) and settable. No ``oil_law``
   parameter: another law is another build.
+* The film's peak pressure: the outputs ``peak_pressure`` [Pa] and ``peak_pressure_angle`` [rad]
+  after der(T_eff)'s value reference, the Reynolds internal's field (c/reynolds_solver.c
+  rs_peak_pressure, a port of ``Reynolds.peak_pressure``), 0 for an internal without one (as the
+  Python FMU: ``Capabilities.film_field``).
 * The bore: the Reals ``groove_1`` .. ``lobe_angle`` after the thermal ports, the Integers
   ``groove_count``, ``lobes`` after the enumerations, the Boolean ``partial_arc`` (3). The data hold
   one bore, so their starts are its values (``BN_GEOMETRY_*``) and another is refused at
@@ -32,6 +36,7 @@ THERMAL_REALS = ("T_supply", "P_loss", "Q_side", "T_eff", "mu_eff")
 GEOMETRY_REALS = tuple([f"groove_{k}" for k in range(1, 9)] + ["groove_width", "supply_pressure", "arc_start",
                                                                 "arc_end", "preload", "lobe_offset", "lobe_angle"])
 GEOMETRY_INTS = ("groove_count", "lobes")
+PEAK_OUTPUTS = ("peak_pressure", "peak_pressure_angle")  # the film's (the Reynolds internal's field; else 0)
 
 
 OIL_REALS = ("oil_nu_1", "oil_T_1", "oil_nu_2", "oil_T_2", "oil_vogel_a", "oil_vogel_b", "oil_vogel_c", "oil_T_min",
@@ -153,6 +158,14 @@ def port_variables(internal, params: BearingParams, first_real: int, first_int: 
         desc = ("the film temperature's rate (Model Exchange: T_eff's derivative, T_eff the continuous state): the "
                 "heat balance's (T*(T_eff) - T_eff) / t_res with thermal = true, 0 (T_eff holds) with thermal = false")
         out.append(("der(T_eff)", first_oil + len(OIL_REALS), "Real", "local", 0.0, "K/s", desc))
+    # the film's peak pressure and its angle (C's VR_PEAK: after der(T_eff)'s value reference, declared or not)
+    from ...internals import registry
+
+    field = any(registry.get(p).can.film_field for p in parts_of(internal))  # Capabilities.film_field
+    for k, name in enumerate(PEAK_OUTPUTS):
+        _n, typ, causality, unit, _start, desc = table[name]
+        note = "" if field else "; this FMU's internal has no pressure field: always 0"
+        out.append((name, first_oil + len(OIL_REALS) + 1 + k, typ, causality, 0.0, unit, desc + note))
     return out
 
 

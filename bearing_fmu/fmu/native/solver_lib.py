@@ -63,6 +63,8 @@ def solver_library(folder: Path) -> ctypes.CDLL:
     lib.rs_forget.argtypes = [p]
     lib.rs_film_report.restype = None
     lib.rs_film_report.argtypes = [p, d, d, d, d, d, p]
+    lib.rs_peak_pressure.restype = None
+    lib.rs_peak_pressure.argtypes = [p, p]
     lib.ot_oil_of.restype = i
     lib.ot_oil_of.argtypes = [p, i, *[d] * 12, ctypes.c_char_p, ctypes.c_size_t]
     lib.ot_mu.restype = d
@@ -136,6 +138,14 @@ class NativeReynolds:
         out = np.zeros(5)
         self.lib.rs_film_report(self._s, float(y), float(z), float(vy), float(vz), float(omega), out.ctypes.data)
         return out
+
+    def peak_pressure(self, y, z, vy, vz, omega) -> tuple[float, float]:
+        """(p_peak [Pa], theta_peak [rad]) of the film at a state (c/reynolds_solver.c rs_peak_pressure;
+        ``Reynolds.peak_pressure``'s), after a force call there."""
+        self._call(y, z, vy, vz, omega, False)
+        out = np.zeros(2)
+        self.lib.rs_peak_pressure(self._s, out.ctypes.data)
+        return float(out[0]), float(out[1])
 
     def counts(self) -> dict:
         """As ``Reynolds.counts``: calls, factorizations, warm starts, cold fallbacks."""

@@ -107,6 +107,8 @@ const char *bn_real_name(int vr) {
 #if BN_N_PADS
     if (vr >= VR_PAD0) return PAD_NAMES[vr - VR_PAD0];
 #endif
+    if (vr == VR_PEAK) return "peak_pressure";
+    if (vr == VR_PEAK_ANGLE) return "peak_pressure_angle";
     if (vr == VR_DER_T_EFF) return "der(T_eff)";
     if (vr >= VR_OIL0) return OIL_NAMES[vr - VR_OIL0];
     if (vr >= VR_GEOMETRY0) return GEOMETRY_NAMES[vr - VR_GEOMETRY0];
@@ -123,6 +125,8 @@ const char *bn_real_unit(int vr) {
 #if BN_N_PADS
     if (vr >= VR_PAD0) return PAD_UNITS[vr - VR_PAD0];
 #endif
+    if (vr == VR_PEAK) return "Pa";
+    if (vr == VR_PEAK_ANGLE) return "rad";
     if (vr == VR_DER_T_EFF) return "K/s";
     if (vr >= VR_OIL0) return OIL_UNITS[vr - VR_OIL0];
     if (vr >= VR_GEOMETRY0) return GEOMETRY_UNITS[vr - VR_GEOMETRY0];
@@ -146,7 +150,9 @@ int bn_set_int(Instance *m, int k, long long v, char *why, size_t n) {
     return 0;
 }
 
-int bn_is_output_real(int vr) { return (vr >= VR_FY && vr < VR_D) || BN_IS_THERMAL_OUTPUT(vr) || BN_IS_PAD_REAL(vr); }
+int bn_is_output_real(int vr) {
+    return (vr >= VR_FY && vr < VR_D) || BN_IS_THERMAL_OUTPUT(vr) || BN_IS_PEAK(vr) || BN_IS_PAD_REAL(vr);
+}
 
 static void lower_strip(const char *in, char *out, size_t n) {
     while (*in && isspace((unsigned char)*in)) in++;

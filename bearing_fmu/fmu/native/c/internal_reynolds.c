@@ -149,6 +149,9 @@ int bn_film(Instance *m, const double x[5], double out[5]) {
 }
 #endif
 
+/* the film's peak pressure and its angle (p [Pa], theta [rad]) of the field bn_eval just solved */
+void bn_peak(Instance *m, double out[2]) { rs_peak_pressure((rs_solver *)m->work.solver, out); }
+
 /* n_theta, n_x and cavitation are no Real options: nothing to differentiate */
 void bn_option_derivative(Instance *m, const double x[5], int k, double dF[2], double dJ[8]) {
     int i;

@@ -34,6 +34,7 @@
 #define rs_create RS_NAME(BN_ID, rs_create)
 #define rs_call RS_NAME(BN_ID, rs_call)
 #define rs_film_report RS_NAME(BN_ID, rs_film_report)
+#define rs_peak_pressure RS_NAME(BN_ID, rs_peak_pressure)
 #define rs_np_sum RS_NAME(BN_ID, rs_np_sum)
 #define rs_assemble RS_NAME(BN_ID, rs_assemble)
 #define rs_apply RS_NAME(BN_ID, rs_apply)
@@ -82,6 +83,8 @@ typedef struct rs_solver {
     double *wd, *cen, *rt, *lf, *dst, *hl0;
     int lobes;
     double preload, lobe_angle; /* lobe_angle [rad]: the film report's lobe of a cell */
+    int lands;   /* a circumferential groove: the axial cells are one land (physics/solver/lands.py) */
+    double p_in; /* its supply pressure on the land's inner edge [Pa] (0: none) */
     int p_stale; /* the last call's Jacobian without a source overwrote p (its field: 0) */
     unsigned char *fixed;
     double F0[2];
@@ -111,6 +114,8 @@ RS_API rs_solver *rs_create(void *mem, int n_theta, int n_x, int mode, int warm,
                             int lobes, double preload, double offset, double lobe_angle, char *why, size_t n);
 /* one call at the state: RS_OK, RS_NOT_CONVERGED or RS_OVERFLOW; the results in s */
 RS_API int rs_call(rs_solver *s, double y, double z, double vy, double vz, double omega, int want_jac);
+/* the peak pressure (p [Pa], theta [rad]) of the field rs_call just solved (Reynolds.peak_pressure) */
+RS_API void rs_peak_pressure(rs_solver *s, double out[2]);
 /* numpy's sum of x (pairwise, as np.sum) */
 RS_INTERNAL double rs_np_sum(const double *x, int n);
 

@@ -1,0 +1,144 @@
+"""The native Reynolds FMU's peak pressure and its angle (c/reynolds_solver.c rs_peak_pressure, a port
+of ``Reynolds.peak_pressure`` and ``film.peak_pressure``): the outputs ``peak_pressure`` [Pa] and
+``peak_pressure_angle`` [rad], as the Python FMU's.
+
+Expected values: the Python Reynolds internal's ``peak_pressure`` at the same state, grid and bore
+(the C solver's field is the Python one's bit for bit, so the peak is too: compared to 1e-12); with
+the thermal model on, the Python internal's at the effective viscosity the FMU reports (the field
+is linear in mu at a fixed state); 0 for an internal without a pressure field (the Python FMU's).
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from bearing_fmu.fmu.native.solver_lib import NativeReynolds, solver_library
+from bearing_fmu.physics.params import BearingParams
+from bearing_fmu.physics.solver.reynolds import Reynolds
+from test_native_reynolds import BORES, PAPER, random_states
+
+fmpy = pytest.importorskip("fmpy")
+
+ROOT = Path(__file__).resolve().parents[1]
+VG46 = ROOT / "rotor_host" / "bundled" / "bearing_paper_vg46.toml"
+GRID = {"n_theta": 32, "n_x": 6}
+IN = ("y", "z", "vy", "vz", "omega")
+PEAK = ("peak_pressure", "peak_pressure_angle")
+RTOL = 1e-12
+
+
+@pytest.fixture(scope="module")
+def lib(tmp_path_factory):
+    return solver_library(tmp_path_factory.mktemp("native_peak_lib"))
+
+
+@pytest.mark.parametrize("grid", [(32, 2), (48, 6), (40, 10)])
+@pytest.mark.parametrize("bore", list(BORES))
+def test_solver_peak_equals_python(lib, bore, grid):
+    """Every bore, n_x = 2 (one cell per half: the cell's row), 6 and 10 (the even parabola through the two
+    rows nearest the mid-plane): the C solver's peak and angle are the Python solver's at random states."""
+    params = BearingParams(**PAPER, geometry=BORES[bore])
+    py, c = Reynolds(params, *grid), NativeReynolds(lib, params, *grid)
+    pressurised = 0
+    for state in random_states(params, 12, 5):
+        want, got = py.peak_pressure(*state), c.peak_pressure(*state)
+        pressurised += want[0] > 0.0  # a film drawn apart everywhere (a partial arc opening): 0 at the angle
+        assert abs(got[0] - want[0]) <= RTOL * want[0] and abs(got[1] - want[1]) <= RTOL, (state, got, want)
+    assert pressurised >= 8  # the comparison is not 0 == 0
+
+
+def _fmus(folder, native_build_cache, params):
+    from bearing_fmu.fmu.native.build import build_native_fmu
+
+    out = {}
+    for version in (2, 3):
+        def build(target, version=version):
+            return build_native_fmu(target, "reynolds", bearing=params, fmi_version=version, compiler="cc",
+                                    options=GRID)
+        path = native_build_cache(folder / f"reynolds_peak_fmi{version}.fmu", build, [VG46],
+                                  ("peak", "reynolds", version, tuple(GRID.items())))
+        out[version] = (path, fmpy.read_model_description(str(path)))
+    return out
+
+
+@pytest.fixture(scope="module")
+def fmus(tmp_path_factory, native_build_cache):
+    """FMI version -> (the native Reynolds FMU of the VG 46 bearing, its model description)."""
+    return _fmus(tmp_path_factory.mktemp("native_peak"), native_build_cache, BearingParams.from_toml(VG46))
+
+
+def _states(params, n=5, seed=3):
+    rng = np.random.default_rng(seed)
+    out = []
+    for _ in range(n):
+        e, a, w = rng.uniform(0.1, 0.9), rng.uniform(-math.pi, math.pi), rng.uniform(50.0, 400.0)
+        v = rng.normal(0.0, 0.2, 2) * w * params.CR
+        out.append((e * params.CR * math.cos(a), e * params.CR * math.sin(a), v[0], v[1], w))
+    return out
+
+
+@pytest.mark.parametrize("thermal", [False, True])
+@pytest.mark.parametrize("version", [2, 3])
+def test_fmu_peak_equals_python(fmus, version, thermal):
+    """Co-Simulation steps at a few states: the outputs peak_pressure [Pa] and peak_pressure_angle [rad] are
+    the Python Reynolds internal's at the state (thermal on: at the viscosity mu_eff the FMU reports); the
+    declared units are the Python FMU's, and the dependencies the force's."""
+    from fmpy.fmi2 import FMU2Slave
+    from fmpy.fmi3 import FMU3Slave
+
+    params = BearingParams.from_toml(VG46)
+    path, md = fmus[version]
+    var = {v.name: v for v in md.modelVariables}
+    assert [(var[n].causality, var[n].unit) for n in PEAK] == [("output", "Pa"), ("output", "rad")]
+    deps = {u.variable.name: sorted(d.name for d in u.dependencies) for u in md.outputs}
+    assert deps["peak_pressure"] == deps["Fy"] and deps["peak_pressure_angle"] == deps["Fy"]
+    vr = {n: v.valueReference for n, v in var.items()}
+    cls = FMU3Slave if version == 3 else FMU2Slave
+    f = cls(guid=md.guid, unzipDirectory=fmpy.extract(str(path)), modelIdentifier=md.coSimulation.modelIdentifier,
+            instanceName="peak")
+    f.instantiate()
+    get, put = (f.getFloat64, f.setFloat64) if version == 3 else (f.getReal, f.setReal)
+    if version == 3:
+        f.enterInitializationMode(startTime=0.0)
+    else:
+        f.setupExperiment(startTime=0.0)
+        f.enterInitializationMode()
+    f.setBoolean([vr["thermal"]], [thermal])
+    f.exitInitializationMode()
+    try:
+        t = 0.0
+        for state in _states(params):
+            put([vr[n] for n in IN], list(state))
+            f.doStep(t, 1e-4)
+            t += 1e-4
+            peak, angle, mu_eff, fy = get([vr[n] for n in (*PEAK, "mu_eff", "Fy")])
+            at = params if not thermal else BearingParams(D=params.D, L=params.L, CR=params.CR, mu=mu_eff,
+                                                          geometry=params.geometry)
+            want = Reynolds(at, GRID["n_theta"], GRID["n_x"]).peak_pressure(*state)
+            assert (mu_eff != params.mu) == thermal
+            assert abs(peak - want[0]) <= 1e-10 * want[0] and abs(angle - want[1]) <= 1e-10, (state, peak, want)
+            assert fy != 0.0
+    finally:
+        f.terminate()
+        f.freeInstance()
+
+
+def test_map_fmu_has_no_field(tmp_path, native_build_cache):
+    """A native FMU whose internal has no pressure field (the map) declares the peak outputs, always 0,
+    with no dependencies (as the Python FMU's outputs for such an internal)."""
+    from bearing_fmu.fmu.native.build import build_native_fmu
+
+    paper_map = ROOT / "rotor_host" / "bundled" / "maps" / "paper_bearing.json"
+    path = native_build_cache(tmp_path / "map_peak.fmu",
+                              lambda target: build_native_fmu(target, "map", map=paper_map, compiler="cc"),
+                              [paper_map], ("peak", "map"))
+    md = fmpy.read_model_description(str(path))
+    deps = {u.variable.name: [d.name for d in u.dependencies] for u in md.outputs}
+    assert deps["peak_pressure"] == [] and deps["peak_pressure_angle"] == []
+    out = fmpy.simulate_fmu(str(path), stop_time=2e-3, output_interval=1e-3,
+                            start_values={"y": 2e-5, "z": -4e-5, "omega": 138.0}, output=["Fy", *PEAK])
+    assert np.all(out["Fy"] != 0.0) and np.all(out["peak_pressure"] == 0.0) and np.all(out["peak_pressure_angle"] == 0.0)
