@@ -142,3 +142,138 @@ def test_map_fmu_has_no_field(tmp_path, native_build_cache):
     out = fmpy.simulate_fmu(str(path), stop_time=2e-3, output_interval=1e-3,
                             start_values={"y": 2e-5, "z": -4e-5, "omega": 138.0}, output=["Fy", *PEAK])
     assert np.all(out["Fy"] != 0.0) and np.all(out["peak_pressure"] == 0.0) and np.all(out["peak_pressure_angle"] == 0.0)
+
+
+# ----------------------------------------------------------------------------- the circumferential groove
+
+GROOVE_D, GROOVE_L, GROOVE_CR, GROOVE_MU, WIDTH, PS = 0.040, 0.045, 42e-6, 0.02, 0.005, 200e3
+
+
+def grooved(ps=PS) -> BearingParams:
+    from bearing_fmu.physics.bore.geometry import Geometry
+
+    return BearingParams(D=GROOVE_D, L=GROOVE_L, CR=GROOVE_CR, mu=GROOVE_MU,
+                         geometry=Geometry(circumferential_groove=WIDTH, supply_pressure=ps))
+
+
+def grooved_states(n=15, seed=4):
+    rng = np.random.default_rng(seed)
+    out = []
+    for _ in range(n):
+        e, a, w = rng.uniform(0.05, 0.95), rng.uniform(0.0, 2.0 * math.pi), rng.uniform(20.0, 600.0)
+        v = rng.uniform(-1.0, 1.0, 2) * w * GROOVE_CR
+        out.append((e * GROOVE_CR * math.cos(a), e * GROOVE_CR * math.sin(a), v[0], v[1], w))
+    return out
+
+
+@pytest.mark.parametrize("grid", [(32, 4), (40, 10)])
+@pytest.mark.parametrize("ps", [0.0, 50e3, PS])
+def test_solver_lands_equal_python(lib, ps, grid):
+    """The C solver on a bore fed by a circumferential groove (rs_set_lands: one land, p_s on its inner
+    row, in the right-hand side and the adjoint) against the Python Reynolds internal (its geometry
+    kernel on the lands): force, Jacobian, film report (the lands' length, inflow = side flow) and peak
+    to round-off (1e-12 relative; the full-circle cells are computed in another order, so not bit for bit)."""
+    params = grooved(ps)
+    py, c = Reynolds(params, *grid), NativeReynolds(lib, params, *grid)
+    for state in grooved_states():
+        for a, b in zip(py.force_and_jacobian(*state), c.force_and_jacobian(*state)):
+            np.testing.assert_allclose(b, a, rtol=0.0, atol=1e-12 * np.max(np.abs(a)))
+        r = py.film_report(*state)
+        want = [r.couette_torque_Nm, r.pressure_torque_Nm, r.friction_power_W, r.inflow_m3_s, r.side_flow_m3_s]
+        np.testing.assert_allclose(c.film_report(*state), want, rtol=1e-12)
+        assert r.inflow_m3_s == r.side_flow_m3_s  # the groove delivers what leaves by the ends (film.py)
+        (pa, ta), (pb, tb) = py.peak_pressure(*state), c.peak_pressure(*state)
+        assert abs(pb - pa) <= 1e-12 * pa and abs(tb - ta) <= 1e-12 and pa >= ps
+
+
+def test_solver_lands_need_two_cells_per_land(lib):
+    with pytest.raises(ValueError, match="n_x >= 4"):
+        NativeReynolds(lib, grooved(), 32, 2)
+
+
+@pytest.fixture(scope="module")
+def grooved_fmus(tmp_path_factory, native_build_cache):
+    """FMI version -> (the native Reynolds FMU of the grooved bearing, its model description)."""
+    from bearing_fmu.fmu.native.build import build_native_fmu
+
+    folder, out = tmp_path_factory.mktemp("native_groove"), {}
+    for version in (2, 3):
+        def build(target, version=version):
+            return build_native_fmu(target, "reynolds", bearing=grooved(), fmi_version=version, compiler="cc",
+                                    options=GRID)
+        path = native_build_cache(folder / f"reynolds_groove_fmi{version}.fmu", build, [],
+                                  ("groove", "reynolds", version, tuple(GRID.items()), WIDTH, PS))
+        out[version] = (path, fmpy.read_model_description(str(path)))
+    return out
+
+
+@pytest.mark.parametrize("version", [2, 3])
+def test_grooved_fmu_equals_python(grooved_fmus, version):
+    """The native FMU of the grooved bearing: its parameters circumferential_groove [m] and supply_pressure
+    [Pa] start at the bearing's; force, K, C and the peak pressure equal the Python Reynolds internal's on
+    the same bore (1e-12); thermal = true is refused at initialisation naming the groove."""
+    from fmpy.fmi2 import FMU2Slave
+    from fmpy.fmi3 import FMU3Slave
+
+    path, md = grooved_fmus[version]
+    var = {v.name: v for v in md.modelVariables}
+    assert float(var["circumferential_groove"].start) == WIDTH and float(var["supply_pressure"].start) == PS
+    assert var["circumferential_groove"].unit == "m" and "full rise" in var["thermal"].description
+    vr = {n: v.valueReference for n, v in var.items()}
+    direct = Reynolds(grooved(), GRID["n_theta"], GRID["n_x"])
+    cls = FMU3Slave if version == 3 else FMU2Slave
+    f = cls(guid=md.guid, unzipDirectory=fmpy.extract(str(path)), modelIdentifier=md.coSimulation.modelIdentifier,
+            instanceName="groove")
+    f.instantiate()
+    get, put = (f.getFloat64, f.setFloat64) if version == 3 else (f.getReal, f.setReal)
+    if version == 3:
+        f.enterInitializationMode(startTime=0.0)
+    else:
+        f.setupExperiment(startTime=0.0)
+        f.enterInitializationMode()
+    f.exitInitializationMode()
+    names = ("Fy", "Fz", "Kyy", "Kyz", "Kzy", "Kzz", "Cyy", "Cyz", "Czy", "Czz", *PEAK)
+    try:
+        t = 0.0
+        for state in grooved_states(5, 9):
+            put([vr[n] for n in IN], list(state))
+            f.doStep(t, 1e-4)
+            t += 1e-4
+            got = np.array(get([vr[n] for n in names]))
+            F, dq, dv = direct.force_and_jacobian(*state)
+            K, C = -dq, -dv
+            want = np.array([F[0], F[1], *K.ravel(), *C.ravel()])
+            np.testing.assert_allclose(got[:10], want, rtol=0.0, atol=1e-12 * np.max(np.abs(want)))
+            pk = direct.peak_pressure(*state)
+            assert abs(got[10] - pk[0]) <= 1e-12 * pk[0] and abs(got[11] - pk[1]) <= 1e-12
+    finally:
+        f.terminate()
+        f.freeInstance()
+
+
+def test_grooved_fmu_compliance_checker(grooved_fmus, tmp_path):
+    """The FMU Compliance Checker simulates the grooved native FMU (FMI 2.0, CS and ME) with the journal
+    circling: 0 warnings and 0 errors."""
+    import subprocess
+
+    from conftest import compliance_checker
+
+    checker = compliance_checker()
+    path, md = grooved_fmus[2]
+    rows = ["time,y,z,vy,vz,omega"]
+    w, r = 300.0, 0.3 * GROOVE_CR
+    for k in range(11):
+        t = 1e-3 * k
+        rows.append(f"{t!r},{r * math.cos(w * t)!r},{-r * math.sin(w * t) - r!r},{-r * w * math.sin(w * t)!r},"
+                    f"{-r * w * math.cos(w * t)!r},{w!r}")
+    (tmp_path / "in.csv").write_text("\n".join(rows) + "\n")
+    for interface in ("cs", "me"):
+        log = tmp_path / f"check_{interface}.log"
+        done = subprocess.run(["env", "-i", str(checker), "-h", "1e-4", "-s", "0.01", "-k", interface, "-i",
+                               str(tmp_path / "in.csv"), "-o", str(tmp_path / "out.csv"), "-e", str(log), str(path)],
+                              capture_output=True, text=True, timeout=300, check=False)
+        text = log.read_text()
+        summary = text[text.index("FMU check summary:"):]
+        assert done.returncode == 0, summary
+        assert "FMU reported:\n\t0 warning(s) and error(s)" in summary, summary
+        assert "0 Warning(s)" in summary and "0 Error(s)" in summary, summary

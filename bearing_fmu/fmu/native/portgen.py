@@ -20,7 +20,7 @@ their variables and their lines of model_config.h, for ``codegen``.
   after der(T_eff)'s value reference, the Reynolds internal's field (c/reynolds_solver.c
   rs_peak_pressure, a port of ``Reynolds.peak_pressure``), 0 for an internal without one (as the
   Python FMU: ``Capabilities.film_field``).
-* The bore: the Reals ``groove_1`` .. ``lobe_angle`` after the thermal ports, the Integers
+* The bore: the Reals ``groove_1`` .. ``lobe_angle``, ``circumferential_groove`` after the thermal ports, the Integers
   ``groove_count``, ``lobes`` after the enumerations, the Boolean ``partial_arc`` (3). The data hold
   one bore, so their starts are its values (``BN_GEOMETRY_*``) and another is refused at
   initialisation, naming each parameter set away from it (bearing_values.c, ``check_bore``).
@@ -34,7 +34,8 @@ from .catalogue import NATIVE
 
 THERMAL_REALS = ("T_supply", "P_loss", "Q_side", "T_eff", "mu_eff")
 GEOMETRY_REALS = tuple([f"groove_{k}" for k in range(1, 9)] + ["groove_width", "supply_pressure", "arc_start",
-                                                                "arc_end", "preload", "lobe_offset", "lobe_angle"])
+                                                                "arc_end", "preload", "lobe_offset", "lobe_angle",
+                                                                "circumferential_groove"])
 GEOMETRY_INTS = ("groove_count", "lobes")
 PEAK_OUTPUTS = ("peak_pressure", "peak_pressure_angle")  # the film's (the Reynolds internal's field; else 0)
 
@@ -53,13 +54,13 @@ def bore_starts(params: BearingParams, internal=()) -> dict:
 
     from ...internals import registry
     from ...physics.bore.geometry import FULL_BORE
-    from ..ports import GEOMETRY_ROWS, OIL_ROWS, port_defaults
+    from ..ports import GEOMETRY_ROWS, GROOVE_ROWS, OIL_ROWS, port_defaults
 
     parts = parts_of(internal) if internal else ()
     if params.geometry is not None and params.geometry.pads is not None and parts and all(
             registry.get(p).can.pads for p in parts):
         params = replace(params, geometry=FULL_BORE)
-    return {**{r[0]: r[4] for r in GEOMETRY_ROWS + OIL_ROWS}, **port_defaults(params)}
+    return {**{r[0]: r[4] for r in GEOMETRY_ROWS + GROOVE_ROWS + OIL_ROWS}, **port_defaults(params)}
 
 
 def parts_of(internal) -> tuple[str, ...]:

@@ -111,10 +111,10 @@ enum {
 /* the bore (ports.py's geometry parameters): this FMU's data hold one; its values are the starts
  * and another is refused at initialisation (bn_prepare), naming the parameters. The Reals
  * groove_1 .. groove_8, groove_width, supply_pressure, arc_start, arc_end, preload, lobe_offset,
- * lobe_angle follow the thermal ports; the Integers groove_count, lobes the enumerations; the
+ * lobe_angle, circumferential_groove follow the thermal ports; the Integers groove_count, lobes the enumerations; the
  * Boolean partial_arc the others */
 #define VR_GEOMETRY0 (VR_T_SUPPLY + 5)
-#define N_GEOMETRY_REALS 15
+#define N_GEOMETRY_REALS 16
 /* the oil's Reals (ports.OIL_ROWS: oil_nu_1 .. oil_rise_factor) after the bore's; its law is
  * the build's (BN_OIL_LAW) */
 #define VR_OIL0 (VR_GEOMETRY0 + N_GEOMETRY_REALS)

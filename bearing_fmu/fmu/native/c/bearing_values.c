@@ -77,9 +77,9 @@ static const char *const THERMAL_NAMES[VR_GEOMETRY0 - VR_T_SUPPLY] = {"T_supply"
 static const char *const THERMAL_UNITS[VR_GEOMETRY0 - VR_T_SUPPLY] = {"K", "W", "m3/s", "K", "Pa.s"};
 static const char *const GEOMETRY_NAMES[N_GEOMETRY_REALS] = {
     "groove_1", "groove_2", "groove_3", "groove_4", "groove_5", "groove_6", "groove_7", "groove_8", "groove_width",
-    "supply_pressure", "arc_start", "arc_end", "preload", "lobe_offset", "lobe_angle"};
+    "supply_pressure", "arc_start", "arc_end", "preload", "lobe_offset", "lobe_angle", "circumferential_groove"};
 static const char *const GEOMETRY_UNITS[N_GEOMETRY_REALS] = {
-    "rad", "rad", "rad", "rad", "rad", "rad", "rad", "rad", "rad", "Pa", "rad", "rad", "1", "1", "rad"};
+    "rad", "rad", "rad", "rad", "rad", "rad", "rad", "rad", "rad", "Pa", "rad", "rad", "1", "1", "rad", "m"};
 /* the bore this FMU's data were made for (codegen: the build's bearing): the geometry parameters' starts */
 static const double GEOMETRY_START[N_GEOMETRY_REALS] = BN_GEOMETRY_REAL_START;
 /* the oil (ports.OIL_ROWS, ports.BOUNDS): names, units, starts (the build's bearing's), bounds */
