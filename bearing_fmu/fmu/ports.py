@@ -165,9 +165,10 @@ def geometry_of(v) -> Geometry:
 def _pads_of(v) -> Geometry:
     """The tilting-pad bore of the parameters ``pads`` > 0 (``geometry_of``)."""
     n = int(v.pads)
+    groove = float(getattr(v, "circumferential_groove", 0.0))  # the FMU has it; a bore's parameters without it: none
     fixed = ([f"groove_count = {int(v.groove_count)}"] if int(v.groove_count) else []) + (
         ["partial_arc = true"] if v.partial_arc else []) + ([f"lobes = {int(v.lobes)}"] if int(v.lobes) > 1 else []) + (
-        [f"circumferential_groove = {float(v.circumferential_groove):g}"] if float(v.circumferential_groove) else [])
+        [f"circumferential_groove = {groove:g}"] if groove else [])
     if fixed:
         raise ValueError(f"pads = {n}: a tilting-pad bore has no {', '.join(fixed)} (the pads are its arcs): set them "
                          "back to the full bore's (groove_count = 0, partial_arc = false, lobes = 1, "
@@ -203,15 +204,15 @@ def check_geometry(geometry: Geometry, spec) -> None:
                      "circumferential_groove = 0) or choose internal = 'reynolds'")
 
 
-def oil_of(v, law: str) -> Oil | None:
+def oil_of(v, law: str, grooved: bool = False) -> Oil | None:
     """The oil the parameters of ``v`` describe (``law`` the checked oil_law), None for none;
-    ValueError naming the parameters. With a circumferential groove all the oil leaves by the lands'
-    ends at the full rise (``params.groove_problem``: outflow_rise "full"), else the side flow at half."""
+    ValueError naming the parameters. ``grooved`` (a circumferential groove): all the oil leaves by the
+    lands' ends at the full rise (``params.groove_problem``: outflow_rise "full"), else the side flow at half."""
     if law == "none":
         return None
     kw = dict(T_min=float(v.oil_T_min), T_max=float(v.oil_T_max), density=float(v.oil_density),
               heat_capacity=float(v.oil_heat_capacity), rise_factor=float(v.oil_rise_factor),
-              outflow_rise="full" if float(v.circumferential_groove) else "half", name="oil of the FMU parameters")
+              outflow_rise="full" if grooved else "half", name="oil of the FMU parameters")
     kw["T_supply"] = min(max(40.0 + KELVIN, kw["T_min"]), kw["T_max"])  # not used: T_supply is an input
     try:
         if law == "walther":
