@@ -277,3 +277,16 @@ def test_grooved_fmu_compliance_checker(grooved_fmus, tmp_path):
         assert done.returncode == 0, summary
         assert "FMU reported:\n\t0 warning(s) and error(s)" in summary, summary
         assert "0 Warning(s)" in summary and "0 Error(s)" in summary, summary
+
+
+def test_grooved_fmu_refuses_thermal_by_name(grooved_fmus):
+    """thermal = true on the grooved native FMU: initialisation fails naming the groove and the half rise
+    (its heat balance), and it does not send the user to the internal it already is."""
+    path, _md = grooved_fmus[2]
+    lines = []
+    with pytest.raises(Exception):
+        fmpy.simulate_fmu(str(path), stop_time=1e-3, step_size=1e-3, start_values={"thermal": True},
+                          debug_logging=True, logger=lambda *args: lines.append(args[-1].decode()))
+    text = " ".join(lines)
+    assert "circumferential groove (5 mm)" in text and "half the rise" in text, text
+    assert "or internal = 'reynolds'" not in text, text

@@ -441,8 +441,9 @@ int bn_prepare(Instance *m) {
     if (!why[0] && resolve_choices(m, why, sizeof why) == 0) { /* the internal as it counts: m->eff */
         if (m->b[B_THERMAL] && bn_film_why(m)[0])
             snprintf(why, sizeof why, "thermal = true needs the film's friction and flows, which internal = '%s' "
-                     "does not have (%.1500s): use thermal = false, or internal = 'reynolds' (bearing-fmu build "
-                     "--native --internal reynolds)", m->eff[S_INTERNAL], bn_film_why(m));
+                     "does not have (%.1500s): use thermal = false%s", m->eff[S_INTERNAL], bn_film_why(m),
+                     strcmp(m->eff[S_INTERNAL], "reynolds") == 0 ? "" : ", or internal = 'reynolds' (bearing-fmu "
+                     "build --native --internal reynolds)");
         if (!why[0] && m->b[B_THERMAL]) bn_thermal_setup(m, why, sizeof why);
     }
     if (!why[0] && check_bearing(m, why, sizeof why) == 0 && check_bore(m, why, sizeof why) == 0) {
