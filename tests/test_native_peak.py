@@ -1,4 +1,4 @@
-"""The native Reynolds FMU's peak pressure and its angle (c/reynolds_solver.c rs_peak_pressure, a port
+"""The native Reynolds FMU's peak pressure and its angle (c/reynolds_peak.c rs_peak_pressure, a port
 of ``Reynolds.peak_pressure`` and ``film.peak_pressure``): the outputs ``peak_pressure`` [Pa] and
 ``peak_pressure_angle`` [rad], as the Python FMU's.
 

@@ -17,7 +17,7 @@ their variables and their lines of model_config.h, for ``codegen``.
   bore's, their starts the file's (``ports.port_defaults``) and settable. No ``oil_law``
   parameter: another law is another build.
 * The film's peak pressure: the outputs ``peak_pressure`` [Pa] and ``peak_pressure_angle`` [rad]
-  after der(T_eff)'s value reference, the Reynolds internal's field (c/reynolds_solver.c
+  after der(T_eff)'s value reference, the Reynolds internal's field (c/reynolds_peak.c
   rs_peak_pressure, a port of ``Reynolds.peak_pressure``), 0 for an internal without one (as the
   Python FMU: ``Capabilities.film_field``).
 * The bore: the Reals ``groove_1`` .. ``lobe_angle``, ``circumferential_groove`` after the thermal ports, the Integers

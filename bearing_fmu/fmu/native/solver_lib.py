@@ -26,7 +26,7 @@ from .compile import C_FLAGS, run_compiler, zig_cc
 C_DIR = Path(__file__).resolve().parent / "c"
 HOST_TARGET = "native"  # zig cc -target native: this machine
 SOURCES = ("py_mod.h", "reynolds_solver.h", "reynolds_kernels.c", "film_friction.h", "reynolds_film.c",
-           "reynolds_solver.c", "oil_thermal.h", "oil_thermal.c")
+           "reynolds_solver.c", "reynolds_peak.c", "oil_thermal.h", "oil_thermal.c")
 
 __all__ = ["NativeOil", "NativeReynolds", "bore_arrays", "lands_of", "solver_library"]
 
@@ -150,7 +150,7 @@ class NativeReynolds:
         return out
 
     def peak_pressure(self, y, z, vy, vz, omega) -> tuple[float, float]:
-        """(p_peak [Pa], theta_peak [rad]) of the film at a state (c/reynolds_solver.c rs_peak_pressure;
+        """(p_peak [Pa], theta_peak [rad]) of the film at a state (c/reynolds_peak.c rs_peak_pressure;
         ``Reynolds.peak_pressure``'s), after a force call there."""
         self._call(y, z, vy, vz, omega, False)
         out = np.zeros(2)

@@ -3,7 +3,7 @@
  * pressure torque, friction power, inflow, side flow), over reynolds_solver.c's field (compiled
  * beside it when the FMU has the thermal model, BN_FLOWS_REYNOLDS); equal to Python's to about 1e-14 relative
  * (tests/test_native_reynolds.py: 1e-12 the tolerance; the sums' order differs). The field's peak
- * pressure (film.py peak_pressure, Reynolds.peak_pressure) is rs_peak_pressure, in reynolds_solver.c:
+ * pressure (film.py peak_pressure, Reynolds.peak_pressure) is rs_peak_pressure, in reynolds_peak.c:
  * every Reynolds FMU has it, with or without the thermal model. */
 #include <math.h>
 

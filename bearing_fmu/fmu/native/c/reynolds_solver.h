@@ -5,8 +5,8 @@
  * centred film and uniform cells (its results equal the full-bore numba kernel's to rounding).
  *
  * Memory: rs_bytes(n_theta, n_x) bytes, handed to rs_create once; nothing is allocated after.
- * Three units: reynolds_solver.c (the grid, one call), reynolds_kernels.c (the kernels it calls:
- * RS_INTERNAL), reynolds_film.c (the film report). In an FMU their shared names carry the FMU's
+ * Four units: reynolds_solver.c (the grid, one call), reynolds_kernels.c (the kernels it calls:
+ * RS_INTERNAL), reynolds_film.c (the film report), reynolds_peak.c (the peak pressure). In an FMU their shared names carry the FMU's
  * model identifier (model_config.h BN_ID, as bearing_native.h's) and are hidden; compiled alone
  * with RS_EXPORT, RS_API (what internal_reynolds.c calls) is exported for the ctypes comparison
  * with the Python solver (tests/test_native_reynolds.py, fmu/native/solver_lib.py). */
