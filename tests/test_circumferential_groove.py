@@ -145,11 +145,11 @@ def test_too_few_axial_cells_refused():
         Reynolds(grooved(), n_theta=32, n_x=2)
 
 
-def test_fmu_ports_refuse_it_by_name():
+def test_fmu_ports_carry_it():
+    # the FMUs' parameters (tests/test_fmu_groove.py: the Python FMU computes it)
     from bearing_fmu.fmu.ports import port_defaults
 
-    with pytest.raises(ValueError, match="circumferential groove"):
-        port_defaults(grooved())
+    assert port_defaults(grooved())["circumferential_groove"] == WIDTH
 
 
 def test_operating_point_heat_balance(tmp_path):

@@ -272,6 +272,9 @@ def test_same_variables_as_the_fmi2_fmu(fmus):
         assert set(outputs) == {n for n, v in v2.items() if v.causality == "output"}
         assert outputs["Fy"] == sorted(IN) and outputs["h_min"] == ["y", "z"]
         assert outputs["out_of_domain"] == (["vy", "vz", "y", "z"] if internal == "taylor" else [])
+        # the peak pressure: the Reynolds internal's field, as its force; none (always 0) without a field
+        assert outputs["peak_pressure"] == outputs["peak_pressure_angle"] == (sorted(IN) if internal == "reynolds"
+                                                                              else [])
         raw = Raw3(f["fmu3"])
         try:
             for name, deps in outputs.items():

@@ -126,6 +126,26 @@ def test_the_parameter_internal_chooses(several, how):
             inst.close()
 
 
+def test_the_peak_pressure_is_the_reynolds_internals_field(several):
+    """peak_pressure, peak_pressure_angle: with internal = reynolds the Python Reynolds internal's
+    (``Reynolds.peak_pressure``, to round-off); with taylor 0 (no pressure field, as the Python FMU), also
+    when its fallback evaluates the Reynolds internal of the FMU beyond the fitted domain."""
+    params = load_surrogate(SURROGATE).params
+    py = registry.create("reynolds", params, GRID)
+    names = ("peak_pressure", "peak_pressure_angle")
+    for internal, extra in (("reynolds", {}), ("taylor", {"domain_action": "fallback", "domain_limit": 100.0})):
+        inst = Instance(several, internal=internal, **extra, **GRID)
+        try:
+            for k, st in enumerate(states(6, seed=2)):
+                inst.outputs(st, k)
+                got = inst.f.getReal([inst.vr[n] for n in names])
+                want = py.peak_pressure(*st) if internal == "reynolds" else (0.0, 0.0)
+                assert abs(got[0] - want[0]) <= 1e-12 * abs(want[0]) and abs(got[1] - want[1]) <= 1e-12, (internal, st)
+            assert internal == "taylor" or got[0] > 0.0
+        finally:
+            inst.close()
+
+
 def test_taylor_falls_back_to_the_reynolds_internal(several):
     """domain_action = fallback: inside the fitted domain the surrogate, beyond it Reynolds, blended
     over the band (guard.FALLBACK_BAND) with the weight's gradient in the tangent, as the Python

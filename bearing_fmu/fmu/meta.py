@@ -63,7 +63,7 @@ DISPLAY = {"y": "um", "z": "um", "h_min": "um", "CR": "um", "lin_y0": "um", "lin
            **{r[0]: "deg" for r in ports.PAD_ROWS if r[3] == "rad"},
            **{n: "degC" for n in ports.ROW_UNITS if ports.ROW_UNITS[n] == "K"}, "Q_side": "l/min",
            "oil_nu_1": "cSt", "oil_nu_2": "cSt", "mu_eff": "mPa.s", "oil_vogel_a": "mPa.s",
-           "peak_pressure": "kPa", "peak_pressure_angle": "deg"}
+           "peak_pressure": "kPa", "peak_pressure_angle": "deg", "circumferential_groove": "mm"}
 
 PAPER_LABEL = "paper bearing (Table 2)"
 FALLBACK_AUTHOR = "bearing_fmu maintainers"  # when the project's metadata names no author

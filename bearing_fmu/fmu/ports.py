@@ -3,7 +3,9 @@
 * Geometry (issue 25): the bearing file's ``[geometry]`` as FMU parameters, in SI (angles in rad,
   pressure in Pa): ``groove_count`` and ``groove_1`` .. ``groove_8``, ``groove_width``,
   ``supply_pressure``, ``partial_arc`` with ``arc_start``, ``arc_end``, ``lobes``, ``preload``,
-  ``lobe_offset``, ``lobe_angle`` (``geometry_of``). An internal that takes any bore (Reynolds,
+  ``lobe_offset``, ``lobe_angle``, ``circumferential_groove`` [m] (a 360 deg feed groove at mid-length,
+  fed at the same ``supply_pressure``: one supply for the bore's grooves, as the bearing file's
+  ``supply_pressure_kPa``) (``geometry_of``). An internal that takes any bore (Reynolds,
   linear from its load) computes that bore; one whose data were made for the full circle (a
   force map, a Taylor surrogate: ``Capabilities.any_geometry`` False) refuses any other by naming
   the parameters set away from it (``check_geometry``).
@@ -48,7 +50,8 @@ GEOMETRY_ROWS = (
        "film's theta: 0 top, pi/2 and 3 pi/2 the horizontal split, increasing with the rotation")
       for k in range(1, MAX_GROOVES + 1)),
     ("groove_width", "Real", P, "rad", math.radians(20.0), "width of every axial groove (> 0 and < pi)"),
-    ("supply_pressure", "Real", P, "Pa", 0.0, "oil pressure in the grooves above ambient (> 0 needs grooves)"),
+    ("supply_pressure", "Real", P, "Pa", 0.0, "oil pressure in the grooves above ambient: the axial grooves' or the "
+     "circumferential groove's (> 0 needs groove_count >= 1 or circumferential_groove > 0)"),
     ("partial_arc", "Boolean", P, None, False, "the film only from arc_start to arc_end (increasing theta), "
      "ambient outside"),
     ("arc_start", "Real", P, "rad", 0.0, "start of the partial arc (with partial_arc)"),
@@ -106,16 +109,24 @@ PAD_ROWS = (
     *((f"pad_load_{k}", "Real", OUT, "N", 0.0, f"magnitude of pad {k}'s film force on the journal at the end of the "
        f"step (0 when pads < {k})") for k in range(1, MAX_PADS + 1)),
 )
+# the circumferential (360 deg) feed groove at mid-length (``Geometry.circumferential_groove``; after the
+# rest in the FMU's variables: the value references stay)
+GROOVE_ROWS = (
+    ("circumferential_groove", "Real", P, "m", 0.0, "width of a 360 deg feed groove at mid-length (0: none): the "
+     "film is two lands of (L - width) / 2 fed along it at supply_pressure (the plain circular bore only: no axial "
+     "grooves, partial arc, lobes or pads; < L); with the thermal model all the lands' oil leaves by their ends at "
+     "the full rise"),
+)
 PAD_TILTS = tuple(f"pad_tilt_{k}" for k in range(1, MAX_PADS + 1))
 PAD_LOADS = tuple(f"pad_load_{k}" for k in range(1, MAX_PADS + 1))
 ROWS = GEOMETRY_ROWS + OIL_ROWS + THERMAL_ROWS
-PARAMETER_NAMES = tuple(r[0] for r in GEOMETRY_ROWS + OIL_ROWS + PAD_ROWS if r[2] == P)
+PARAMETER_NAMES = tuple(r[0] for r in GEOMETRY_ROWS + OIL_ROWS + PAD_ROWS + GROOVE_ROWS if r[2] == P)
 ROW_UNITS = {r[0]: r[3] for r in ROWS}
 # (min, max) of the Integer and Real parameters above, for the model description and the setters
 BOUNDS = {"groove_count": (0, MAX_GROOVES), "lobes": (1, MAX_LOBES), "groove_width": (0.0, math.pi),
           "supply_pressure": (0.0, MAX_SUPPLY_KPA * 1e3), "preload": (0.0, 1.0), "lobe_offset": (0.0, 1.0),
           "oil_rise_factor": (0.0, 1.0), "pads": (0, MAX_PADS), "pad_arc": (0.0, 2.0 * math.pi / MIN_PADS),
-          "pivot_offset": (0.0, 1.0), "pad_inertia": (0.0, None), "oil_density": (500.0, 2000.0), "oil_heat_capacity": (500.0, 5000.0),
+          "pivot_offset": (0.0, 1.0), "pad_inertia": (0.0, None), "circumferential_groove": (0.0, None), "oil_density": (500.0, 2000.0), "oil_heat_capacity": (500.0, 5000.0),
           **{n: (0.0, None) for n in ("oil_nu_1", "oil_nu_2", "oil_vogel_a", "oil_vogel_b", "oil_vogel_c",
                                       "oil_T_1", "oil_T_2", "oil_T_min", "oil_T_max")}}
 _ANGLES = (tuple(f"groove_{k}" for k in range(1, MAX_GROOVES + 1)) + ("arc_start", "arc_end", "lobe_angle")
@@ -145,7 +156,7 @@ def geometry_of(v) -> Geometry:
                         groove_width=float(v.groove_width), supply_pressure=float(v.supply_pressure),
                         arc=(float(v.arc_start), float(v.arc_end)) if v.partial_arc else None,
                         lobes=int(v.lobes), preload=float(v.preload), lobe_offset=float(v.lobe_offset),
-                        lobe_angle=float(v.lobe_angle))
+                        lobe_angle=float(v.lobe_angle), circumferential_groove=float(v.circumferential_groove))
     except ValueError as exc:
         raise ValueError(f"the geometry parameters do not fit together (in the bearing file's words, degrees and "
                          f"kPa): {str(exc).removeprefix('Geometry: ')}") from None
@@ -154,11 +165,14 @@ def geometry_of(v) -> Geometry:
 def _pads_of(v) -> Geometry:
     """The tilting-pad bore of the parameters ``pads`` > 0 (``geometry_of``)."""
     n = int(v.pads)
+    groove = float(getattr(v, "circumferential_groove", 0.0))  # the FMU has it; a bore's parameters without it: none
     fixed = ([f"groove_count = {int(v.groove_count)}"] if int(v.groove_count) else []) + (
-        ["partial_arc = true"] if v.partial_arc else []) + ([f"lobes = {int(v.lobes)}"] if int(v.lobes) > 1 else [])
+        ["partial_arc = true"] if v.partial_arc else []) + ([f"lobes = {int(v.lobes)}"] if int(v.lobes) > 1 else []) + (
+        [f"circumferential_groove = {groove:g}"] if groove else [])
     if fixed:
         raise ValueError(f"pads = {n}: a tilting-pad bore has no {', '.join(fixed)} (the pads are its arcs): set them "
-                         "back to the full bore's (groove_count = 0, partial_arc = false, lobes = 1)")
+                         "back to the full bore's (groove_count = 0, partial_arc = false, lobes = 1, "
+                         "circumferential_groove = 0)")
     if n < MIN_PADS:
         raise ValueError(f"pads = {n} must be 0 (a fixed bore) or in {MIN_PADS} .. {MAX_PADS}")
     try:
@@ -182,20 +196,23 @@ def check_geometry(geometry: Geometry, spec) -> None:
     set_away = [f"groove_count = {len(geometry.grooves)}"] if geometry.grooves else []
     set_away += ["partial_arc = true"] if geometry.arc is not None else []
     set_away += [f"lobes = {geometry.lobes}"] if geometry.lobes > 1 else []
+    c = geometry.circumferential_groove
+    set_away += [f"circumferential_groove = {c:g}"] if c else []
     raise ValueError(f"internal = {spec.name!r} computes the full 360 deg bore only ({spec.can.geometry_why}); "
                      f"the geometry parameters describe another bore ({geometry.describe()}): set "
-                     f"{', '.join(set_away)} back to the full bore's (groove_count = 0, partial_arc = false, lobes = 1) "
-                     "or choose internal = 'reynolds'")
+                     f"{', '.join(set_away)} back to the full bore's (groove_count = 0, partial_arc = false, lobes = 1, "
+                     "circumferential_groove = 0) or choose internal = 'reynolds'")
 
 
-def oil_of(v, law: str) -> Oil | None:
+def oil_of(v, law: str, grooved: bool = False) -> Oil | None:
     """The oil the parameters of ``v`` describe (``law`` the checked oil_law), None for none;
-    ValueError naming the parameters."""
+    ValueError naming the parameters. ``grooved`` (a circumferential groove): all the oil leaves by the
+    lands' ends at the full rise (``params.groove_problem``: outflow_rise "full"), else the side flow at half."""
     if law == "none":
         return None
     kw = dict(T_min=float(v.oil_T_min), T_max=float(v.oil_T_max), density=float(v.oil_density),
               heat_capacity=float(v.oil_heat_capacity), rise_factor=float(v.oil_rise_factor),
-              name="oil of the FMU parameters")
+              outflow_rise="full" if grooved else "half", name="oil of the FMU parameters")
     kw["T_supply"] = min(max(40.0 + KELVIN, kw["T_min"]), kw["T_max"])  # not used: T_supply is an input
     try:
         if law == "walther":
@@ -211,20 +228,17 @@ def port_defaults(params, pads: bool = False) -> dict:
     """The FMU parameter values of a bearing's bore and oil (``BearingParams``: ``geometry``,
     ``oil``): what ``bearing-fmu build --bearing FILE`` makes the defaults. ``pads``: the FMU carries
     tilting pads (the Python FMU: their parameters, ``PAD_ROWS``); False refuses a tilting-pad bore by
-    name (the native FMU does not carry the pads yet)."""
+    name (the native FMU does not carry the pads yet). A circumferential groove is its width
+    ``circumferential_groove`` [m] with ``supply_pressure``."""
     g = params.geometry if params.geometry is not None else FULL_BORE
     if g.pads is not None and not pads:
         raise ValueError(f"the native bearing FMU does not carry tilting pads yet ({g.describe()}): use the Python "
                          "FMU (bearing-fmu build without --native; a scene's fmu_kind = 'python') or via = 'direct'")
-    if g.circumferential_groove:  # the bore's parameters are the axial grooves, arc and lobes only
-        raise ValueError(f"the bearing FMUs do not carry a circumferential groove yet (circumferential_groove_mm = "
-                         f"{g.circumferential_groove * 1e3:g}): compute this bearing with via = 'direct' (the "
-                         "Reynolds internal) or bearing-fmu demo")
     if g.pads is not None:
         return {**_pad_defaults(g.pads), **_oil_defaults(params)}
     out = {"groove_count": len(g.grooves), "groove_width": g.groove_width, "supply_pressure": g.supply_pressure,
            "partial_arc": g.arc is not None, "lobes": g.lobes, "preload": g.preload, "lobe_offset": g.lobe_offset,
-           "lobe_angle": g.lobe_angle}
+           "lobe_angle": g.lobe_angle, "circumferential_groove": g.circumferential_groove}
     if len(g.grooves) > MAX_GROOVES:
         raise ValueError(f"the bearing FMU takes at most {MAX_GROOVES} grooves (groove_1 .. groove_{MAX_GROOVES}), "
                          f"this bore has {len(g.grooves)}")
@@ -251,13 +265,16 @@ def _oil_defaults(params) -> dict:
     """The oil parameters of a bearing's [oil] ({} without one)."""
     out = {}
     oil = params.oil
+    g = params.geometry if params.geometry is not None else FULL_BORE
+    # a circumferential groove's balance is the full rise (params.groove_problem): the FMUs make it so (oil_of)
+    grooved = bool(g.circumferential_groove) and oil is not None and oil.outflow_rise == "full"
     if oil is not None and oil.cavitated_shear != "full":
         raise ValueError(f"[oil] cavitated_shear = {oil.cavitated_shear!r}: the bearing FMUs shear the cavitated film "
                          "as a full film only; demo, stability and run with via = 'direct' take the others")
-    if oil is not None and not oil.default_balance:
+    if oil is not None and not oil.default_balance and not (grooved and oil.ambient_W_K == 0.0):
         raise ValueError(f"[oil] outflow_rise = {oil.outflow_rise!r}, ambient_W_K = {oil.ambient_W_K:g}: the bearing "
                          "FMUs compute the adiabatic balance with the side flow at half the rise only (outflow_rise = "
-                         "'half', ambient_W_K = 0); demo, stability and run with via = 'direct' take the others")
+                         "'half', ambient_W_K = 0; with a circumferential groove 'full'); demo, stability and run with via = 'direct' take the others")
     if oil is not None:
         out.update(oil_law=oil.law, oil_T_min=oil.T_min, oil_T_max=oil.T_max, oil_density=oil.density,
                    oil_heat_capacity=oil.heat_capacity, oil_rise_factor=oil.rise_factor)

@@ -83,6 +83,8 @@ VARIABLES = (
      "rotation; 0 for internals without a pressure field)"),
     # a tilting-pad bore's parameters and the pads' outputs (ports.PAD_ROWS; after the rest: the value references stay)
     *ports.PAD_ROWS,
+    # the circumferential feed groove's width (ports.GROOVE_ROWS; after the rest: the value references stay)
+    *ports.GROOVE_ROWS,
 )
 
 INPUTS = tuple(v[0] for v in VARIABLES if v[2] == INPUT)

@@ -121,7 +121,7 @@ NATIVE: dict[str, NativeSpec] = {s.name: s for s in (
                          "no speed",
                companions=(("domain_action", "fallback", "reynolds", _FALLBACK_WHY),)),
     NativeSpec("reynolds", f"{_MODELS}.reynolds:reynolds_model", ("n_theta", "n_x", "cavitation"),
-               ("internal_reynolds.c", "reynolds_solver.c", "reynolds_kernels.c"),
+               ("internal_reynolds.c", "reynolds_solver.c", "reynolds_kernels.c", "reynolds_peak.c"),
                ("py_mod.h", "reynolds_solver.h", "film_friction.h"), ("reynolds_film.c",), force_depends=(2, 1),
                bore="compiled"),
     NativeSpec("tilting_pad", f"{_MODELS}.tilting_pad:tilting_pad_model", ("n_theta", "n_x", "cavitation", "pad_map"),

@@ -35,7 +35,7 @@ from .. import meta as fmu_meta
 from ..order import MODES
 from .codegen import (MODEL_HEADERS, MODEL_SOURCES, NativeModel, assign_identity, internal_sources,
                       native_enumerations)
-from .portgen import has_state
+from .portgen import PEAK_OUTPUTS, has_state
 
 C_DIR = Path(__file__).resolve().parent / "c"
 VR_TIME = 4000  # the independent variable (FMI 3.0 only; the others keep the FMI 2.0 FMU's references)
@@ -176,6 +176,8 @@ def output_dependencies(model: NativeModel) -> dict[str, list[str]]:
             out[v.name] = ["y", "z", "vy", "vz"] if fitted else []
         elif v.name in ports:
             out[v.name] = ports[v.name]
+        elif v.name in PEAK_OUTPUTS and not any(registry.get(p).can.film_field for p in model.all_parts):  # always 0
+            out[v.name] = []
         else:  # with the thermal model the force is at the viscosity of T_eff (Model Exchange: the state)
             out[v.name] = journal + (["T_eff"] if thermal else []) + pads
     return out

@@ -16,7 +16,11 @@ their variables and their lines of model_config.h, for ``codegen``.
   bore is; its Real parameters (``fmu.ports.OIL_ROWS``: oil_nu_1 .. oil_rise_factor) after the
   bore's, their starts the file's (``ports.port_defaults``) and settable. No ``oil_law``
   parameter: another law is another build.
-* The bore: the Reals ``groove_1`` .. ``lobe_angle`` after the thermal ports, the Integers
+* The film's peak pressure: the outputs ``peak_pressure`` [Pa] and ``peak_pressure_angle`` [rad]
+  after der(T_eff)'s value reference, the Reynolds internal's field (c/reynolds_peak.c
+  rs_peak_pressure, a port of ``Reynolds.peak_pressure``), 0 for an internal without one (as the
+  Python FMU: ``Capabilities.film_field``).
+* The bore: the Reals ``groove_1`` .. ``lobe_angle``, ``circumferential_groove`` after the thermal ports, the Integers
   ``groove_count``, ``lobes`` after the enumerations, the Boolean ``partial_arc`` (3). The data hold
   one bore, so their starts are its values (``BN_GEOMETRY_*``) and another is refused at
   initialisation, naming each parameter set away from it (bearing_values.c, ``check_bore``).
@@ -30,8 +34,10 @@ from .catalogue import NATIVE
 
 THERMAL_REALS = ("T_supply", "P_loss", "Q_side", "T_eff", "mu_eff")
 GEOMETRY_REALS = tuple([f"groove_{k}" for k in range(1, 9)] + ["groove_width", "supply_pressure", "arc_start",
-                                                                "arc_end", "preload", "lobe_offset", "lobe_angle"])
+                                                                "arc_end", "preload", "lobe_offset", "lobe_angle",
+                                                                "circumferential_groove"])
 GEOMETRY_INTS = ("groove_count", "lobes")
+PEAK_OUTPUTS = ("peak_pressure", "peak_pressure_angle")  # the film's (the Reynolds internal's field; else 0)
 
 
 OIL_REALS = ("oil_nu_1", "oil_T_1", "oil_nu_2", "oil_T_2", "oil_vogel_a", "oil_vogel_b", "oil_vogel_c", "oil_T_min",
@@ -48,13 +54,13 @@ def bore_starts(params: BearingParams, internal=()) -> dict:
 
     from ...internals import registry
     from ...physics.bore.geometry import FULL_BORE
-    from ..ports import GEOMETRY_ROWS, OIL_ROWS, port_defaults
+    from ..ports import GEOMETRY_ROWS, GROOVE_ROWS, OIL_ROWS, port_defaults
 
     parts = parts_of(internal) if internal else ()
     if params.geometry is not None and params.geometry.pads is not None and parts and all(
             registry.get(p).can.pads for p in parts):
         params = replace(params, geometry=FULL_BORE)
-    return {**{r[0]: r[4] for r in GEOMETRY_ROWS + OIL_ROWS}, **port_defaults(params)}
+    return {**{r[0]: r[4] for r in GEOMETRY_ROWS + GROOVE_ROWS + OIL_ROWS}, **port_defaults(params)}
 
 
 def parts_of(internal) -> tuple[str, ...]:
@@ -153,6 +159,14 @@ def port_variables(internal, params: BearingParams, first_real: int, first_int: 
         desc = ("the film temperature's rate (Model Exchange: T_eff's derivative, T_eff the continuous state): the "
                 "heat balance's (T*(T_eff) - T_eff) / t_res with thermal = true, 0 (T_eff holds) with thermal = false")
         out.append(("der(T_eff)", first_oil + len(OIL_REALS), "Real", "local", 0.0, "K/s", desc))
+    # the film's peak pressure and its angle (C's VR_PEAK: after der(T_eff)'s value reference, declared or not)
+    from ...internals import registry
+
+    field = any(registry.get(p).can.film_field for p in parts_of(internal))  # Capabilities.film_field
+    for k, name in enumerate(PEAK_OUTPUTS):
+        _n, typ, causality, unit, _start, desc = table[name]
+        note = "" if field else "; this FMU's internal has no pressure field: always 0"
+        out.append((name, first_oil + len(OIL_REALS) + 1 + k, typ, causality, 0.0, unit, desc + note))
     return out
 
 

@@ -26,9 +26,9 @@ from .compile import C_FLAGS, run_compiler, zig_cc
 C_DIR = Path(__file__).resolve().parent / "c"
 HOST_TARGET = "native"  # zig cc -target native: this machine
 SOURCES = ("py_mod.h", "reynolds_solver.h", "reynolds_kernels.c", "film_friction.h", "reynolds_film.c",
-           "reynolds_solver.c", "oil_thermal.h", "oil_thermal.c")
+           "reynolds_solver.c", "reynolds_peak.c", "oil_thermal.h", "oil_thermal.c")
 
-__all__ = ["NativeOil", "NativeReynolds", "bore_arrays", "solver_library"]
+__all__ = ["NativeOil", "NativeReynolds", "bore_arrays", "lands_of", "solver_library"]
 
 
 def solver_library(folder: Path) -> ctypes.CDLL:
@@ -63,6 +63,10 @@ def solver_library(folder: Path) -> ctypes.CDLL:
     lib.rs_forget.argtypes = [p]
     lib.rs_film_report.restype = None
     lib.rs_film_report.argtypes = [p, d, d, d, d, d, p]
+    lib.rs_set_lands.restype = i
+    lib.rs_set_lands.argtypes = [p, d, d, ctypes.c_char_p, ctypes.c_size_t]
+    lib.rs_peak_pressure.restype = None
+    lib.rs_peak_pressure.argtypes = [p, p]
     lib.ot_oil_of.restype = i
     lib.ot_oil_of.argtypes = [p, i, *[d] * 12, ctypes.c_char_p, ctypes.c_size_t]
     lib.ot_mu.restype = d
@@ -76,16 +80,21 @@ def solver_library(folder: Path) -> ctypes.CDLL:
 
 def bore_arrays(params: BearingParams) -> tuple:
     """(nseg, edges [rad], fixed (int32), supply [Pa], lobes, preload, lobe_offset, lobe_angle [rad]) of
-    the bore, as the C solver takes them (nseg = 0: the full bore); from ``Geometry.segments``."""
+    the bore, as the C solver takes them (nseg = 0: the full bore, also with a circumferential groove:
+    ``lands_of``); from ``Geometry.segments``."""
     g = params.geometry
-    if g.circumferential_groove:
-        raise ValueError(f"the native C solver does not take a circumferential groove (circumferential_groove_mm = "
-                         f"{g.circumferential_groove * 1e3:g}) yet: the Python Reynolds internal does")
-    if g.is_full_bore:
+    if g.is_full_bore or g.circumferential_groove:
         return 0, np.zeros(1), np.zeros(1, np.int32), np.zeros(1), 1, 0.0, 0.5, 0.0
     segs, fixed, supply = g.segments()
     return (len(segs), np.array([a for a, _b in segs]), np.array(fixed, np.int32), np.array(supply, float),
             g.lobes, g.preload, g.lobe_offset, g.lobe_angle)
+
+
+def lands_of(params: BearingParams) -> tuple[float, float]:
+    """(width [m], supply pressure [Pa]) of the bore's circumferential groove, (0, 0) without one: the C
+    solver's rs_set_lands (physics/solver/lands.py)."""
+    g = params.geometry
+    return (float(g.circumferential_groove), float(g.supply_pressure)) if g.circumferential_groove else (0.0, 0.0)
 
 
 class NativeReynolds:
@@ -107,6 +116,9 @@ class NativeReynolds:
                                 params.D, params.L, params.CR, params.mu, nseg, edges.ctypes.data,
                                 fixed.ctypes.data, supply.ctypes.data, lobes, preload, offset, angle, msg, 512)
         if not self._s:
+            raise ValueError(f"native Reynolds: {msg.value.decode()}")
+        width, p_in = lands_of(params)
+        if width and lib.rs_set_lands(self._s, width, p_in, msg, 512):
             raise ValueError(f"native Reynolds: {msg.value.decode()}")
         self._out = np.zeros(22)
 
@@ -136,6 +148,14 @@ class NativeReynolds:
         out = np.zeros(5)
         self.lib.rs_film_report(self._s, float(y), float(z), float(vy), float(vz), float(omega), out.ctypes.data)
         return out
+
+    def peak_pressure(self, y, z, vy, vz, omega) -> tuple[float, float]:
+        """(p_peak [Pa], theta_peak [rad]) of the film at a state (c/reynolds_peak.c rs_peak_pressure;
+        ``Reynolds.peak_pressure``'s), after a force call there."""
+        self._call(y, z, vy, vz, omega, False)
+        out = np.zeros(2)
+        self.lib.rs_peak_pressure(self._s, out.ctypes.data)
+        return float(out[0]), float(out[1])
 
     def counts(self) -> dict:
         """As ``Reynolds.counts``: calls, factorizations, warm starts, cold fallbacks."""

@@ -60,7 +60,7 @@ class Stepping:
         geometry = ports.geometry_of(self)
         ports.check_geometry(geometry, spec)
         ports.check_pad_thermal(self.thermal, geometry)
-        oil = ports.oil_of(self, choices["oil_law"])
+        oil = ports.oil_of(self, choices["oil_law"], grooved=bool(geometry.circumferential_groove))
         ports.check_thermal(self.thermal, oil, spec)
         params = BearingParams(D=self.D, L=self.L, CR=self.CR, mu=self.mu, geometry=geometry, oil=oil)
         self._params = params

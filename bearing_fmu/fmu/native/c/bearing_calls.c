@@ -308,6 +308,9 @@ bn_status bn_derivatives(Instance *m, const char *call, int adjoint, const unsig
         if (unknowns[i] < (unsigned)N_REAL && BN_IS_PAD_REAL((int)unknowns[i]))
             return bn_fail(m, "%s: unknown %s: the pads' derivatives along the inputs are not provided (the force's, "
                            "K's and C's are)", call, bn_real_name((int)unknowns[i]));
+        if (unknowns[i] < (unsigned)N_REAL && BN_IS_PEAK((int)unknowns[i]))
+            return bn_fail(m, "%s: unknown %s: the peak pressure's derivatives are not provided (the force's, K's and "
+                           "C's are)", call, bn_real_name((int)unknowns[i]));
         if (unknowns[i] >= (unsigned)N_REAL || !bn_is_output_real((int)unknowns[i]))
             return bn_fail(m, "%s: unknown %s (value reference %u) is not a " BN_REAL_TYPE " output of this FMU", call,
                            unknowns[i] < (unsigned)N_REAL ? bn_real_name((int)unknowns[i]) : "?", unknowns[i]);

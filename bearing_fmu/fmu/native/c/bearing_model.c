@@ -52,6 +52,12 @@ int bn_evaluate(Instance *m) {
     m->r[VR_P_LOSS] = heat[3];
     m->r[VR_Q_SIDE] = heat[4];
     m->r[VR_DER_T_EFF] = heat[5];
+    double peak[2] = {0.0, 0.0}; /* an internal without a pressure field: 0, as the Python FMU's */
+#if BN_HOLDS_REYNOLDS
+    bn_peak(m, peak);
+#endif
+    m->r[VR_PEAK] = peak[0] * heat[0]; /* at the effective viscosity the field scales as the force does */
+    m->r[VR_PEAK_ANGLE] = peak[1];
     if (BN_N_PADS) { /* the pads' Reals (internal_tilting_pad.c); a static evaluation's tilts become their state */
         memcpy(m->r + VR_PAD0, m->work.pad_out, BN_N_PAD_REALS * sizeof(double));
         if (m->mode == MODE_INIT && !m->mute) bn_pads_static(m);

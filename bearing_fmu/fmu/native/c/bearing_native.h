@@ -111,10 +111,10 @@ enum {
 /* the bore (ports.py's geometry parameters): this FMU's data hold one; its values are the starts
  * and another is refused at initialisation (bn_prepare), naming the parameters. The Reals
  * groove_1 .. groove_8, groove_width, supply_pressure, arc_start, arc_end, preload, lobe_offset,
- * lobe_angle follow the thermal ports; the Integers groove_count, lobes the enumerations; the
+ * lobe_angle, circumferential_groove follow the thermal ports; the Integers groove_count, lobes the enumerations; the
  * Boolean partial_arc the others */
 #define VR_GEOMETRY0 (VR_T_SUPPLY + 5)
-#define N_GEOMETRY_REALS 15
+#define N_GEOMETRY_REALS 16
 /* the oil's Reals (ports.OIL_ROWS: oil_nu_1 .. oil_rise_factor) after the bore's; its law is
  * the build's (BN_OIL_LAW) */
 #define VR_OIL0 (VR_GEOMETRY0 + N_GEOMETRY_REALS)
@@ -122,7 +122,7 @@ enum {
 /* der(T_eff), a local: in Model Exchange T_eff is the one continuous state of a build whose
  * internal has the film's flows and whose bearing an oil law (BN_N_STATES 1), this its derivative */
 #define VR_DER_T_EFF (VR_OIL0 + N_OIL_REALS)
-/* tilting pads (internal_tilting_pad.c; generators/tilting_pad.py): N pads' Reals after der(T_eff), the
+/* tilting pads (internal_tilting_pad.c; generators/tilting_pad.py): N pads' Reals after the peak pressure's, the
  * tilts pad_tilt_k (outputs), then massless der(pad_tilt_k) (locals), with inertia pad_rate_k
  * (outputs) and der(pad_rate_k) (locals); Model Exchange's continuous states are the first
  * BN_N_PAD_STATES of them (after T_eff's, if any), their derivatives the next BN_N_PAD_STATES */
@@ -133,7 +133,11 @@ enum {
 #define BN_N_PAD_OUTPUTS 0
 #endif
 #define BN_MAX_PADS 12
-#define VR_PAD0 (VR_DER_T_EFF + 1)
+/* the film's peak pressure and its angle (outputs; the Reynolds internal's field, else 0) after der(T_eff) */
+#define VR_PEAK (VR_DER_T_EFF + 1)
+#define VR_PEAK_ANGLE (VR_PEAK + 1)
+#define BN_IS_PEAK(vr) ((vr) == VR_PEAK || (vr) == VR_PEAK_ANGLE)
+#define VR_PAD0 (VR_PEAK + 2)
 #define N_REAL (VR_PAD0 + BN_N_PAD_REALS)
 #define BN_IS_PAD_REAL(vr) ((vr) >= VR_PAD0 && (vr) < N_REAL)
 /* Model Exchange's continuous states: T_eff (BN_N_STATES), then the pads' */
@@ -250,6 +254,7 @@ typedef struct Instance {
 #define bn_release BN_FN(bn_release)
 #define bn_shape_derivative BN_FN(bn_shape_derivative)
 #define bn_film BN_FN(bn_film)
+#define bn_peak BN_FN(bn_peak)
 #define bn_fallback_eval BN_NAME(BN_ID, bn_fallback_eval)
 #define bn_fallback_film BN_NAME(BN_ID, bn_fallback_film)
 #define bn_fallback_set BN_NAME(BN_ID, bn_fallback_set)
@@ -319,6 +324,11 @@ BN_HIDDEN int bn_shape_derivative(Instance *m, const double x[5], int want_jac, 
  * BN_FLOWS_<NAME>, its registry capability film_flow and its data's): Couette and pressure torque
  * [N m], friction power [W], inflow, side flow [m^3/s]. 0, or 1 with the reason in m->msg. */
 BN_HIDDEN int bn_film(Instance *m, const double x[5], double out[5]);
+#endif
+#if BN_HOLDS_REYNOLDS
+/* The film's peak pressure [Pa] and its angle [rad] at the state bn_eval just solved (the Reynolds
+ * internal's field; in an FMU of several, 0 and 0 for an internal set without one: bn_parts.c). */
+BN_HIDDEN void bn_peak(Instance *m, double out[2]);
 #endif
 /* Why the internal as set has no film report ("" when it has one: thermal = true can run). One
  * internal: BN_FILM_FLOW_WHY; several: the one set's (bn_parts.c, model_config.h BN_FLOW_WHY_<name>). */

@@ -34,6 +34,7 @@ static unsigned checksum(const BnState *s) {
     h = fnv(h, s->values, sizeof s->values);
     h = fnv(h, s->thermal, sizeof s->thermal);
     h = fnv(h, &s->out_of_domain, sizeof s->out_of_domain);
+    h = fnv(h, s->peak, sizeof s->peak);
     h = fnv(h, s->pad_values, sizeof s->pad_values);
     return fnv(h, s->pads, sizeof s->pads);
 }
@@ -71,6 +72,7 @@ void bn_state_save(const Instance *m, BnState *s, const char *tag, const char *i
     memcpy(s->values, m->r, sizeof s->values);
     memcpy(s->thermal, m->r + VR_T_SUPPLY, sizeof s->thermal);
     s->out_of_domain = m->b[B_OUT_OF_DOMAIN];
+    memcpy(s->peak, m->r + VR_PEAK, sizeof s->peak);
     memcpy(s->pad_values, m->r + VR_PAD0, BN_N_PAD_REALS * sizeof(double));
     memcpy(s->pads, m->pads, sizeof s->pads);
     s->check = checksum(s);
@@ -81,6 +83,7 @@ void bn_state_restore(Instance *m, const BnState *s) {
     memcpy(m->r, s->values, sizeof s->values);
     memcpy(m->r + VR_T_SUPPLY, s->thermal, sizeof s->thermal);
     m->b[B_OUT_OF_DOMAIN] = s->out_of_domain;
+    memcpy(m->r + VR_PEAK, s->peak, sizeof s->peak);
     memcpy(m->r + VR_PAD0, s->pad_values, BN_N_PAD_REALS * sizeof(double));
     memcpy(m->pads, s->pads, sizeof m->pads);
     m->terminated = 0;
@@ -115,6 +118,8 @@ int bn_state_sound(const BnState *s, const char *tag, const char *id, char *why,
             bad = bn_real_name(VR_T_SUPPLY + i), v = s->thermal[i];
     if (!bad && !(s->values[VR_ECC] >= 0.0)) bad = "eccentricity", v = s->values[VR_ECC];
     if (!bad && s->out_of_domain != 0 && s->out_of_domain != 1) bad = "out_of_domain", v = s->out_of_domain;
+    for (int i = 0; !bad && i < 2; i++) /* a pressure is not negative */
+        if (!isfinite(s->peak[i]) || (i == 0 && s->peak[i] < 0.0)) bad = bn_real_name(VR_PEAK + i), v = s->peak[i];
     for (int i = 0; !bad && i < BN_N_PAD_REALS; i++)
         if (!isfinite(s->pad_values[i])) bad = bn_real_name(VR_PAD0 + i), v = s->pad_values[i];
     for (int i = 0; !bad && i < 2 * BN_PAD_STATE_LEN; i++) /* the steps' sizes are >= 0 */

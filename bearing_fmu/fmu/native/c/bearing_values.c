@@ -77,9 +77,9 @@ static const char *const THERMAL_NAMES[VR_GEOMETRY0 - VR_T_SUPPLY] = {"T_supply"
 static const char *const THERMAL_UNITS[VR_GEOMETRY0 - VR_T_SUPPLY] = {"K", "W", "m3/s", "K", "Pa.s"};
 static const char *const GEOMETRY_NAMES[N_GEOMETRY_REALS] = {
     "groove_1", "groove_2", "groove_3", "groove_4", "groove_5", "groove_6", "groove_7", "groove_8", "groove_width",
-    "supply_pressure", "arc_start", "arc_end", "preload", "lobe_offset", "lobe_angle"};
+    "supply_pressure", "arc_start", "arc_end", "preload", "lobe_offset", "lobe_angle", "circumferential_groove"};
 static const char *const GEOMETRY_UNITS[N_GEOMETRY_REALS] = {
-    "rad", "rad", "rad", "rad", "rad", "rad", "rad", "rad", "rad", "Pa", "rad", "rad", "1", "1", "rad"};
+    "rad", "rad", "rad", "rad", "rad", "rad", "rad", "rad", "rad", "Pa", "rad", "rad", "1", "1", "rad", "m"};
 /* the bore this FMU's data were made for (codegen: the build's bearing): the geometry parameters' starts */
 static const double GEOMETRY_START[N_GEOMETRY_REALS] = BN_GEOMETRY_REAL_START;
 /* the oil (ports.OIL_ROWS, ports.BOUNDS): names, units, starts (the build's bearing's), bounds */
@@ -107,6 +107,8 @@ const char *bn_real_name(int vr) {
 #if BN_N_PADS
     if (vr >= VR_PAD0) return PAD_NAMES[vr - VR_PAD0];
 #endif
+    if (vr == VR_PEAK) return "peak_pressure";
+    if (vr == VR_PEAK_ANGLE) return "peak_pressure_angle";
     if (vr == VR_DER_T_EFF) return "der(T_eff)";
     if (vr >= VR_OIL0) return OIL_NAMES[vr - VR_OIL0];
     if (vr >= VR_GEOMETRY0) return GEOMETRY_NAMES[vr - VR_GEOMETRY0];
@@ -123,6 +125,8 @@ const char *bn_real_unit(int vr) {
 #if BN_N_PADS
     if (vr >= VR_PAD0) return PAD_UNITS[vr - VR_PAD0];
 #endif
+    if (vr == VR_PEAK) return "Pa";
+    if (vr == VR_PEAK_ANGLE) return "rad";
     if (vr == VR_DER_T_EFF) return "K/s";
     if (vr >= VR_OIL0) return OIL_UNITS[vr - VR_OIL0];
     if (vr >= VR_GEOMETRY0) return GEOMETRY_UNITS[vr - VR_GEOMETRY0];
@@ -146,7 +150,9 @@ int bn_set_int(Instance *m, int k, long long v, char *why, size_t n) {
     return 0;
 }
 
-int bn_is_output_real(int vr) { return (vr >= VR_FY && vr < VR_D) || BN_IS_THERMAL_OUTPUT(vr) || BN_IS_PAD_REAL(vr); }
+int bn_is_output_real(int vr) {
+    return (vr >= VR_FY && vr < VR_D) || BN_IS_THERMAL_OUTPUT(vr) || BN_IS_PEAK(vr) || BN_IS_PAD_REAL(vr);
+}
 
 static void lower_strip(const char *in, char *out, size_t n) {
     while (*in && isspace((unsigned char)*in)) in++;
@@ -435,8 +441,9 @@ int bn_prepare(Instance *m) {
     if (!why[0] && resolve_choices(m, why, sizeof why) == 0) { /* the internal as it counts: m->eff */
         if (m->b[B_THERMAL] && bn_film_why(m)[0])
             snprintf(why, sizeof why, "thermal = true needs the film's friction and flows, which internal = '%s' "
-                     "does not have (%.1500s): use thermal = false, or internal = 'reynolds' (bearing-fmu build "
-                     "--native --internal reynolds)", m->eff[S_INTERNAL], bn_film_why(m));
+                     "does not have (%.1500s): use thermal = false%s", m->eff[S_INTERNAL], bn_film_why(m),
+                     strcmp(m->eff[S_INTERNAL], "reynolds") == 0 ? "" : ", or internal = 'reynolds' (bearing-fmu "
+                     "build --native --internal reynolds)");
         if (!why[0] && m->b[B_THERMAL]) bn_thermal_setup(m, why, sizeof why);
     }
     if (!why[0] && check_bearing(m, why, sizeof why) == 0 && check_bore(m, why, sizeof why) == 0) {

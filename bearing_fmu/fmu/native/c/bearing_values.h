@@ -103,6 +103,7 @@ typedef struct {
     double t;
     double values[VR_D];
     double thermal[VR_GEOMETRY0 - VR_T_SUPPLY]; /* T_supply and the thermal outputs */
+    double peak[2];                     /* peak_pressure, peak_pressure_angle */
     double pad_values[3 * BN_MAX_PADS]; /* tilting pads: their Reals (VR_PAD0 ..: Model Exchange's states) */
     double pads[2 * BN_PAD_STATE_LEN];  /* and their committed state, the last step's start (Instance.pads) */
     int out_of_domain;                  /* the two ints last: no padding (every byte is checked) */

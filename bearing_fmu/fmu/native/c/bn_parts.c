@@ -15,6 +15,7 @@
 #undef bn_release
 #undef bn_shape_derivative
 #undef bn_film
+#undef bn_peak
 #define PART_FN(p, name) BN_NAME(BN_ID, BN_NAME(p, name))
 
 #define DECLARE(p, bearing, speed)                                                                              \
@@ -26,6 +27,7 @@
     BN_HIDDEN void PART_FN(p, bn_release)(Instance * m);
 BN_PART_LIST(DECLARE)
 #if BN_HOLDS_REYNOLDS
+BN_HIDDEN void PART_FN(reynolds, bn_peak)(Instance *m, double out[2]);
 BN_HIDDEN int PART_FN(reynolds, bn_shape_derivative)(Instance *m, const double x[5], int want_jac, double dF[2],
                                                      double dJ[8]);
 #endif
@@ -102,6 +104,17 @@ int BN_NAME(BN_ID, bn_eval)(Instance *m, const double x[5], int want_jac, double
 void BN_NAME(BN_ID, bn_option_derivative)(Instance *m, const double x[5], int k, double dF[2], double dJ[8]) {
     active(m)->option_derivative(m, x, k, dF, dJ);
 }
+
+#if BN_HOLDS_REYNOLDS
+/* the peak pressure of the Reynolds internal's field; the others have none (0, as the Python FMU's) */
+void BN_NAME(BN_ID, bn_peak)(Instance *m, double out[2]) {
+    if (strcmp(active(m)->name, "reynolds") == 0) {
+        PART_FN(reynolds, bn_peak)(m, out);
+        return;
+    }
+    out[0] = out[1] = 0.0;
+}
+#endif
 
 const char *bn_film_why(const Instance *m) {
     return active(m)->film ? "" : active(m)->film_why;

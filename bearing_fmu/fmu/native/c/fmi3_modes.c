@@ -20,7 +20,8 @@ static const char *const MODE_NAMES[] = BN_MODE_NAMES;
  * the journal state, T_supply and T_eff; else T_eff on T_supply, P_loss, Q_side, mu_eff on nothing. */
 #define MAX_DEPENDENCIES (8 + BN_N_PAD_STATES)
 static int dependencies(fmi3ValueReference v, fmi3ValueReference deps[MAX_DEPENDENCIES]) {
-    int n = 0, k, force = v >= VR_FY && v < VR_D && v != VR_ECC && v != VR_HMIN;
+    /* the peak pressure: as the force (the Reynolds internal's field), none without a field (always 0) */
+    int n = 0, k, force = (v >= VR_FY && v < VR_D && v != VR_ECC && v != VR_HMIN) || (BN_HOLDS_REYNOLDS && BN_IS_PEAK((int)v));
     if (BN_N_PADS && (force || BN_IS_PAD_REAL((int)v))) { /* tilting pads: the journal state and the pads' states */
         for (k = 0; k < 5; k++) deps[n++] = (fmi3ValueReference)k;
         for (k = 0; k < BN_N_PAD_STATES; k++) deps[n++] = (fmi3ValueReference)(VR_PAD0 + k);

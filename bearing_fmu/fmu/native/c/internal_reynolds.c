@@ -73,7 +73,9 @@ static int rs_build(Instance *m, int n_theta, int n_x) {
     m->work.solver = rs_create(mem, n_theta, n_x, mode, 1, m->r[VR_D], m->r[VR_L], m->r[VR_CR], m->r[VR_MU],
                                RS_NSEG, RS_EDGE_DATA, RS_FIXED_DATA, RS_SUPPLY_DATA, RS_LOBES, RS_PRELOAD,
                                RS_LOBE_OFFSET, RS_LOBE_ANGLE, why, sizeof why);
-    if (!m->work.solver) {
+    if (!m->work.solver || (RS_GROOVE_WIDTH > 0.0 && rs_set_lands((rs_solver *)m->work.solver, RS_GROOVE_WIDTH,
+                                                                   RS_GROOVE_SUPPLY, why, sizeof why))) {
+        m->work.solver = NULL;
         snprintf(m->msg, sizeof m->msg, "Reynolds: %s (%s)", why, RS_BORE_TEXT);
         return 1;
     }
@@ -148,6 +150,9 @@ int bn_film(Instance *m, const double x[5], double out[5]) {
     return 0;
 }
 #endif
+
+/* the film's peak pressure and its angle (p [Pa], theta [rad]) of the field bn_eval just solved */
+void bn_peak(Instance *m, double out[2]) { rs_peak_pressure((rs_solver *)m->work.solver, out); }
 
 /* n_theta, n_x and cavitation are no Real options: nothing to differentiate */
 void bn_option_derivative(Instance *m, const double x[5], int k, double dF[2], double dJ[8]) {

@@ -2,7 +2,9 @@
  * bearing_fmu/physics/solver/film.py field_report, whose docstring gives the definitions: Couette and
  * pressure torque, friction power, inflow, side flow), over reynolds_solver.c's field (compiled
  * beside it when the FMU has the thermal model, BN_FLOWS_REYNOLDS); equal to Python's to about 1e-14 relative
- * (tests/test_native_reynolds.py: 1e-12 the tolerance; the sums' order differs). */
+ * (tests/test_native_reynolds.py: 1e-12 the tolerance; the sums' order differs). The field's peak
+ * pressure (film.py peak_pressure, Reynolds.peak_pressure) is rs_peak_pressure, in reynolds_peak.c:
+ * every Reynolds FMU has it, with or without the thermal model. */
 #include <math.h>
 
 #include "film_friction.h" /* the full bore's friction in closed form, the friction power */
@@ -25,7 +27,8 @@ static int rf_first_max(const double *x, int n) {
  * flow [m^3/s]. Uses the solver's work arrays rhs, tmp, mu_y, mu_z as scratch (free between calls). */
 RS_API void rs_film_report(rs_solver *s, double y, double z, double vy, double vz, double omega, double out[5]) {
     int N = s->N, m = s->m, i, j, any_fixed = 0;
-    double mu = s->mu, R = s->R, CR = s->CR, L = s->L, dx = s->dx, tc, tp;
+    /* the film's length: L, less a circumferential groove's width (lands.film_length: the groove shears none) */
+    double mu = s->mu, R = s->R, CR = s->CR, L = s->L - s->groove, dx = s->dx, tc, tp;
     double *a1 = s->rhs, *a2 = s->tmp, *flux = s->mu_y, *hf = s->mu_z;
     /* the face fluxes and film thickness (the shared part) */
     for (i = 0; i < N; i++) {
@@ -91,7 +94,9 @@ RS_API void rs_film_report(rs_solver *s, double y, double z, double vy, double v
             }
         }
     }
-    if (!any_fixed && !feeds) { /* across the line of thickest film, between the two faces around it */
+    if (s->lands) { /* the groove is the lands' only supply: in a steady state it delivers what leaves by the ends */
+        q_in = q_side;
+    } else if (!any_fixed && !feeds) { /* across the line of thickest film, between the two faces around it */
         int k = rf_first_max(hf, N), a = -1;
         double t_max = (y != 0.0 || z != 0.0) ? atan2(y, -z) : s->rt[k];
         for (i = 0; i < N; i++) {

@@ -216,7 +216,8 @@ static int rs_pick_start(const rs_solver *s) {
     return 0;
 }
 
-/* rhs0 = rs (b + the fixed neighbours' pressure over the shared face) on film cells, 0 on fixed */
+/* rhs0 = rs (b + the fixed neighbours' pressure over the shared face) on film cells, 0 on fixed; plus
+ * 2 ax p_in on the inner row of a land fed by a circumferential groove at p_in (geometry_kernels._rhs) */
 static void rs_rhs0(rs_solver *s, const double *b) {
     int N = s->N, m = s->m, i, j;
     const unsigned char *fixed = s->fixed;
@@ -228,7 +229,13 @@ static void rs_rhs0(rs_solver *s, const double *b) {
             if (fixed[im]) extra += s->at[im] * s->psup[im];
         }
         for (j = 0; j < m; j++) s->rhs0[i * m + j] = fixed[i] ? 0.0 : s->rs[j] * (b[i] + extra);
+        if (s->p_in != 0.0 && !fixed[i]) s->rhs0[i * m + m - 1] += 2.0 * s->ax[i] * s->p_in;
     }
+}
+
+/* the groove's Dirichlet term on row j of column i (moved to the right-hand side: rs_rhs0) */
+static double rs_inner(const rs_solver *s, int i, int j) {
+    return j == s->m - 1 ? 2.0 * s->ax[i] * s->p_in : 0.0;
 }
 
 /* Pressure p (fixed cells at their value) for the column source b with the cavitation model.
@@ -242,7 +249,7 @@ int rs_film(rs_solver *s, const double *b, int max_iter, int warm, int *s0_out, 
     double *p = s->p, *pf = s->pf, *tmp = s->tmp, *rhs = s->rhs, *rhs0 = s->rhs0;
     rs_rhs0(s, b);
     double bmax = 0.0;
-    if (s->bore) {
+    if (s->bore || s->lands) { /* the geometry kernel's (a land's film is one) */
         for (k = 0; k < n; k++)
             if (fabs(rhs0[k]) > bmax) bmax = fabs(rhs0[k]);
     } else {
@@ -273,7 +280,7 @@ int rs_film(rs_solver *s, const double *b, int max_iter, int warm, int *s0_out, 
             int free_ = 0;
             for (d = -s->grow; d <= s->grow; d++) {
                 int ii = ((i + d) % N + N) % N;
-                if (b[ii] > 0.0 || s->psup[ii] > 0.0) {
+                if (b[ii] > 0.0 || s->psup[ii] > 0.0 || s->p_in > 0.0) {
                     free_ = 1;
                     break;
                 }
@@ -320,7 +327,7 @@ int rs_film(rs_solver *s, const double *b, int max_iter, int warm, int *s0_out, 
             for (j = 0; j < m; j++) {
                 k = i * m + j;
                 if (act[k]) {
-                    if (tmp[k] - s->rs[j] * b[i] < -tol) {
+                    if (tmp[k] - s->rs[j] * b[i] - rs_inner(s, i, j) < -tol) {
                         act[k] = 0;
                         changed = 1;
                     }
@@ -338,7 +345,7 @@ int rs_film(rs_solver *s, const double *b, int max_iter, int warm, int *s0_out, 
         if (fixed[i]) continue;
         for (j = 0; j < m; j++) {
             k = i * m + j;
-            double lam = tmp[k] - s->rs[j] * b[i];
+            double lam = tmp[k] - s->rs[j] * b[i] - rs_inner(s, i, j);
             double v = p[k] < lam ? p[k] : lam;
             if (fabs(v) > res) res = fabs(v);
         }

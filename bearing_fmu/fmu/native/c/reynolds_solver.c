@@ -351,6 +351,8 @@ static void rs_jacobian(rs_solver *s, double y, double z, int s0, int hb) {
             for (j = 0; j < m; j++) {
                 k = i * m + j;
                 double g = s->rs[j] * s->db[q * N + i] - s->tmp[k];
+                if (j == m - 1 && s->p_in != 0.0 && !s->fixed[i])
+                    g += 2.0 * s->dax[i] * s->p_in; /* the groove's Dirichlet term on the inner row */
                 sy += s->mu_y[k] * g;
                 sz += s->mu_z[k] * g;
             }
@@ -427,7 +429,7 @@ RS_API int rs_call(rs_solver *s, double y, double z, double vy, double vz, doubl
                                                           : y * s->ds[i] - z * s->dc[i]);
         }
         int quiet = 1;
-        if (s->bore) {
+        if (s->bore || s->lands) {
             for (k = 0; k < n && quiet; k++)
                 if (s->rhs0[k] != 0.0) quiet = 0;
         } else {
@@ -491,3 +493,49 @@ RS_API int rs_call_many(rs_solver *s, const double *states, int n, int want_jac,
     return bad;
 }
 #endif
+
+/* The full bore's film as two lands fed by a circumferential groove of the width [m] at mid-length at
+ * the supply pressure p_in [Pa] (physics/solver/lands.py: one land of (L - width) / 2, p = 0 at its
+ * outer end, p_in on its inner edge; the axial cells and stencil of lands.land_cells and
+ * axial_stencil), set after rs_create: 0, or 1 with the reason in msg. */
+RS_API int rs_set_lands(rs_solver *s, double width, double p_in, char *msg, size_t msglen) {
+    int N = s->N, m = s->m, i;
+    if (s->bore) {
+        snprintf(msg, msglen, "a circumferential groove is the plain circular bore's feed (no axial grooves, arc or "
+                 "lobes)");
+        return 1;
+    }
+    if (m < 2) {
+        snprintf(msg, msglen, "n_x = %d: a bore with a circumferential groove needs n_x >= 4 (at least 2 cells per "
+                 "land: the land has a Dirichlet face at both ends)", s->n_x);
+        return 1;
+    }
+    if (!(width > 0.0 && width < s->L) || !(p_in >= 0.0 && isfinite(p_in))) {
+        snprintf(msg, msglen, "the circumferential groove's width %g m must be > 0 and < L = %g m, its supply "
+                 "pressure %g Pa finite and >= 0", width, s->L, p_in);
+        return 1;
+    }
+    s->lands = 1;
+    s->p_in = p_in;
+    s->groove = width;
+    s->dx = 0.5 * (s->L - width) / m;
+    for (i = 0; i < N; i++) { /* the cells' coefficients over the land's dx */
+        s->ct[i] = s->dx / (s->R * s->R * s->dth);
+        s->cx[i] = s->dth / s->dx;
+    }
+    for (i = 0; i < m; i++) { /* lands.axial_stencil(m, dx, land=True) */
+        s->tdiag[i] = 2.0;
+        s->rs[i] = 1.0;
+        s->qw[i] = s->dx;
+    }
+    s->tdiag[0] = 3.0;
+    s->tdiag[m - 1] = 3.0;
+    s->rs[0] = 0.75;
+    s->qw[0] -= s->dx / 8.0;
+    s->qw[1] += s->dx / 72.0;
+    s->rs[m - 1] = 0.75;
+    s->qw[m - 1] -= s->dx / 8.0;
+    s->qw[m - 2] += s->dx / 72.0;
+    s->nvalid = 0;
+    return 0;
+}

@@ -5,8 +5,8 @@
  * centred film and uniform cells (its results equal the full-bore numba kernel's to rounding).
  *
  * Memory: rs_bytes(n_theta, n_x) bytes, handed to rs_create once; nothing is allocated after.
- * Three units: reynolds_solver.c (the grid, one call), reynolds_kernels.c (the kernels it calls:
- * RS_INTERNAL), reynolds_film.c (the film report). In an FMU their shared names carry the FMU's
+ * Four units: reynolds_solver.c (the grid, one call), reynolds_kernels.c (the kernels it calls:
+ * RS_INTERNAL), reynolds_film.c (the film report), reynolds_peak.c (the peak pressure). In an FMU their shared names carry the FMU's
  * model identifier (model_config.h BN_ID, as bearing_native.h's) and are hidden; compiled alone
  * with RS_EXPORT, RS_API (what internal_reynolds.c calls) is exported for the ctypes comparison
  * with the Python solver (tests/test_native_reynolds.py, fmu/native/solver_lib.py). */
@@ -34,6 +34,8 @@
 #define rs_create RS_NAME(BN_ID, rs_create)
 #define rs_call RS_NAME(BN_ID, rs_call)
 #define rs_film_report RS_NAME(BN_ID, rs_film_report)
+#define rs_peak_pressure RS_NAME(BN_ID, rs_peak_pressure)
+#define rs_set_lands RS_NAME(BN_ID, rs_set_lands)
 #define rs_np_sum RS_NAME(BN_ID, rs_np_sum)
 #define rs_assemble RS_NAME(BN_ID, rs_assemble)
 #define rs_apply RS_NAME(BN_ID, rs_apply)
@@ -82,6 +84,9 @@ typedef struct rs_solver {
     double *wd, *cen, *rt, *lf, *dst, *hl0;
     int lobes;
     double preload, lobe_angle; /* lobe_angle [rad]: the film report's lobe of a cell */
+    int lands;   /* a circumferential groove: the axial cells are one land (physics/solver/lands.py) */
+    double p_in; /* its supply pressure on the land's inner edge [Pa] (0: none) */
+    double groove; /* its width [m] (0: none) */
     int p_stale; /* the last call's Jacobian without a source overwrote p (its field: 0) */
     unsigned char *fixed;
     double F0[2];
@@ -109,8 +114,13 @@ RS_API size_t rs_bytes(int n_theta, int n_x);
 RS_API rs_solver *rs_create(void *mem, int n_theta, int n_x, int mode, int warm, double D, double L, double CR,
                             double mu, int nseg, const double *edge, const int *seg_fixed, const double *seg_supply,
                             int lobes, double preload, double offset, double lobe_angle, char *why, size_t n);
+/* a circumferential groove (width [m], supply pressure [Pa]): the film two lands, after rs_create (0, or 1
+ * with the reason in msg) */
+RS_API int rs_set_lands(rs_solver *s, double width, double p_in, char *msg, size_t msglen);
 /* one call at the state: RS_OK, RS_NOT_CONVERGED or RS_OVERFLOW; the results in s */
 RS_API int rs_call(rs_solver *s, double y, double z, double vy, double vz, double omega, int want_jac);
+/* the peak pressure (p [Pa], theta [rad]) of the field rs_call just solved (Reynolds.peak_pressure) */
+RS_API void rs_peak_pressure(rs_solver *s, double out[2]);
 /* numpy's sum of x (pairwise, as np.sum) */
 RS_INTERNAL double rs_np_sum(const double *x, int n);
 

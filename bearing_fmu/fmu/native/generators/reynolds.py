@@ -18,7 +18,7 @@ from ....internals import registry
 from ....physics.params import BearingParams
 from ....physics.solver.reynolds import DEFAULT_N_THETA, DEFAULT_N_X
 from ..codegen import NativeModel, c_double, c_string, model_config, native_variables, registry_option
-from ..solver_lib import bore_arrays
+from ..solver_lib import bore_arrays, lands_of
 
 __all__ = ["reynolds_model", "reynolds_data_h"]
 
@@ -33,11 +33,24 @@ def reynolds_model(params: BearingParams, surrogate, map_path, options: dict) ->
     inputs = (0.0, 0.0, 0.0, 0.0, float(options.get("_omega", registry.DEFAULT_OMEGA_LIN)))
     grid = f"{starts['n_theta'] or 'default'} x {starts['n_x'] or 'default'}"
     info = {"bore": params.geometry.describe(), "grid": grid, "cavitation": starts["cavitation"]}
-    return NativeModel("reynolds", params, native_variables("reynolds", params, starts, inputs),
-                       model_config("reynolds", params, starts, inputs), reynolds_data_h(params, c_double, c_string),
+    why = groove_flows_why(params)
+    return NativeModel("reynolds", params, native_variables("reynolds", params, starts, inputs, why),
+                       model_config("reynolds", params, starts, inputs, why), reynolds_data_h(params, c_double, c_string),
                        None,
                        f"hydrodynamic journal bearing, finite-volume Reynolds solver ({params.geometry.describe()}; "
-                       "any speed, load and velocity), compiled (no Python)", info)
+                       "any speed, load and velocity), compiled (no Python)", info, flows_why=why)
+
+
+def groove_flows_why(params: BearingParams) -> str:
+    """Why the native thermal model does not take this bore ('' when it does): a circumferential
+    groove's oil all leaves by the lands' ends at the full rise (``params.groove_problem``), and the
+    native heat balance (c/oil_thermal.c) is the side flow's at half the rise only."""
+    c = params.geometry.circumferential_groove
+    if not c:
+        return ""
+    return (f"the circumferential groove ({c * 1e3:g} mm): its oil all leaves by the lands' ends at the full rise, and "
+            "the native heat balance computes the side flow at half the rise only (use the Python FMU, whose thermal "
+            "model takes the groove)")
 
 
 def _list(values, fmt) -> str:
@@ -70,6 +83,9 @@ def reynolds_data_h(params: BearingParams, c_double, c_string) -> str:
         f"#define RS_PRELOAD {c_double(preload)}",
         f"#define RS_LOBE_OFFSET {c_double(offset)}",
         f"#define RS_LOBE_ANGLE {c_double(angle)}",
+        # a circumferential groove (physics/solver/lands.py): its width [m] and supply pressure [Pa] (0, 0: none)
+        f"#define RS_GROOVE_WIDTH {c_double(lands_of(params)[0])}",
+        f"#define RS_GROOVE_SUPPLY {c_double(lands_of(params)[1])}",
         f"#define RS_NWALL {len(wall_a)}",
         f"#define RS_WALL_A {_list(wall_a, c_double)}",
         f"#define RS_WALL_B {_list(wall_b, c_double)}",

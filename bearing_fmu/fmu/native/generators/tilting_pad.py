@@ -78,9 +78,9 @@ def tilting_pad_model(params: BearingParams, surrogate, map_path, options: dict)
     flows_why = part_flows("tilting_pad", film_why(pg, pad_map))["tilting_pad"]  # the registry's, then this build's
     variables = native_variables("tilting_pad", params, starts, inputs, flows_why)
     first = max(v.vr for v in variables if v.type == "Real" and v.vr < 1000) + 1
-    # VR_PAD0 = VR_DER_T_EFF + 1 whether der(T_eff) is declared or not (pads have no film report)
+    # VR_PAD0 = VR_DER_T_EFF + 3 (after the peak pressure's two) whether der(T_eff) is declared or not
     oil_last = max(v.vr for v in variables if v.name.startswith("oil_"))
-    first = max(first, oil_last + 2)
+    first = max(first, oil_last + 4)
     pads = pad_variables(params, first, inputs[4])
     n_states = pg.n * (2 if pg.inertia > 0.0 else 1)
     config = model_config("tilting_pad", params, starts, inputs, flows_why).replace(
