@@ -22,7 +22,7 @@ from pathlib import Path
 import numpy as np
 
 from bearing_fmu.internals import registry
-from bearing_fmu.io.exits import as_interrupted, handled, note_kept
+from bearing_fmu.io.exits import as_interrupted, deferred, handled, note_kept
 from bearing_fmu.io.fixed_costs import command_add_since, command_mark
 from bearing_fmu.io.outputs import claim, ensure_writable, savez, write_json
 
@@ -158,7 +158,8 @@ def run_scene(scene: Scene, out_dir=None, *, progress: bool = False, stem: str |
             return _run(scene, holder, work, progress)
         finally:
             if holder is not None:
-                holder.release()
+                with deferred():  # a signal now waits until the name is freed (no lock left behind)
+                    holder.release()
 
 
 class _Writer:
