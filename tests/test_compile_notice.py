@@ -14,6 +14,8 @@ import sys
 import textwrap
 from pathlib import Path
 
+import pytest
+
 from bearing_fmu.internals.warmup import NOTICE, CompileNotice
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -48,6 +50,7 @@ def _run(folder: Path) -> subprocess.CompletedProcess:
                           cwd=folder)
 
 
+@pytest.mark.slow  # a run or a build end to end (1-4 s): the full suite's, out of the quick loop
 def test_announced_once_when_compiling_and_never_when_cached(tmp_path):
     (tmp_path / "tinykernels.py").write_text(KERNELS)
     cold = _run(tmp_path)

@@ -304,6 +304,7 @@ def native_lemon(tmp_path_factory, native_build_cache):
     return fmu, path, params
 
 
+@pytest.mark.slow  # a run or a build end to end (1-4 s): the full suite's, out of the quick loop
 @pytest.mark.native
 def test_native_lobe_sum_equals_the_python_internal_and_compiles_clean(native_lemon, tmp_path):
     """Forces and Jacobians of the native map FMU (c/internal_map.c summing the lobes in kernels.lobes_force's

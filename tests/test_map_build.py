@@ -161,6 +161,7 @@ def test_a_scene_that_names_no_map_takes_the_stores(tmp_path, capsys):
         path.unlink()
 
 
+@pytest.mark.slow  # a run or a build end to end (1-4 s): the full suite's, out of the quick loop
 @pytest.mark.native
 def test_a_native_map_fmu_without_map_takes_the_stores(tmp_path, capsys):
     """`bearing-fmu build --native --internal map --bearing FILE` with no --map: the store's map of that

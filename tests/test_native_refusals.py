@@ -261,6 +261,7 @@ def test_the_linear_fmu_beyond_the_wall_is_flagged_not_discarded(built):
 
 # ----------------------------------------------------------------------------- start values
 
+@pytest.mark.slow  # a run or a build end to end (1-4 s): the full suite's, out of the quick loop
 def test_start_values_agree_with_the_bearing_file_and_with_demo(tmp_path, native_build_cache):
     """A bearing file supplying its oil at 50 C: T_supply starts at 323.15 K, mu at the oil's
     viscosity there (the file's), and the outputs before a step agree (thermal off: T_eff =

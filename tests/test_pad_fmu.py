@@ -199,6 +199,7 @@ def test_the_model_description_declares_the_pads_states_not_memoryless(fmu):
     assert "tilting_pad" not in memoryless_declaration(xml)[0]
 
 
+@pytest.mark.slow  # a run or a build end to end (1-4 s): the full suite's, out of the quick loop
 def test_the_host_cosimulates_the_five_pad_scene_through_the_fmu_as_in_process(tmp_path):
     """The paper rotor on five massless pads at 44 Hz (rotor_host/bundled/scenes/paper_5pad_lbp_44hz),
     3 ms, coarse pads: through the Python FMU (the static equilibrium in Initialization Mode, the pads'
@@ -307,6 +308,7 @@ def test_the_bundled_pads_map_is_what_the_map_command_builds_for_the_five_pads()
     assert np.all(np.isfinite(pads.force_and_jacobian(*START)[0]))
 
 
+@pytest.mark.slow  # a run or a build end to end (1-4 s): the full suite's, out of the quick loop
 def test_the_fmu_steps_the_pads_from_their_bundled_map_as_the_internal_does(tmp_path):
     """An FMU with the bundled pads' map (`pad_map` names it; bundled files do not switch the pads to a map
     by themselves): each doStep equals the tilting_pad internal with that map stepped in-process, to 1e-12."""

@@ -70,6 +70,7 @@ def test_light_pads_tend_to_massless_pads(analysis):
     np.testing.assert_allclose(l1[: f0.size][light], l0[light], rtol=1e-5)
 
 
+@pytest.mark.slow  # a fit, a figure or a process end to end (about 1 s): the full suite's, out of the quick loop
 def test_the_synchronous_analysis_is_lunds_fixed_point_where_the_mode_whirls_at_1x(analysis):
     # Lund's reduction at the real whirl frequency, iterated per mode: at the speed where the first
     # mode whirls at the shaft speed, its fixed point is the synchronously reduced analysis's mode

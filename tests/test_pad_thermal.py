@@ -164,6 +164,7 @@ def test_stability_on_pads_at_their_film_temperature(tmp_path):
     assert np.allclose(point.K[0], K, rtol=1e-4, atol=1e-6 * np.abs(K).max())
 
 
+@pytest.mark.slow  # a run or a build end to end (1-4 s): the full suite's, out of the quick loop
 def test_a_run_on_pads_carries_the_film_temperature_and_the_pads_states(tmp_path):
     from rotor_host.scenes.run import run_scene
     from rotor_host.scenes.scene import load_scene

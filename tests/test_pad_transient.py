@@ -147,6 +147,7 @@ def _run(tmp_path, inertia, t_end):
     return np.asarray(res.arrays["y"]), np.asarray(res.arrays["z"])
 
 
+@pytest.mark.slow  # a run or a build end to end (1-4 s): the full suite's, out of the quick loop
 def test_light_pads_converge_to_massless_pads_in_a_run(tmp_path):
     # the paper rotor on five pads at 44 Hz with its unbalance, 5 ms: the orbit's RMS distance from
     # the massless pads' falls as the inertia (first order in I: the pad's inertial moment I ddot

@@ -76,6 +76,7 @@ def test_bundled_names_resolve_on_the_bearing_side_without_the_host():
     assert bearing_find("paper_22hz", "scene") == find("paper_22hz", "scene")
 
 
+@pytest.mark.slow  # a run or a build end to end (1-4 s): the full suite's, out of the quick loop
 def test_a_thermal_runs_figure_has_temperature_and_power_panels(tmp_path):
     from rotor_host.analyses.plotting import pyplot
     from rotor_host.analyses.report import plot_runs

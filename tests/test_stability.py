@@ -340,6 +340,7 @@ def test_no_critical_speed_in_the_range_is_said(tmp_path, capsys):
     assert data["critical_speeds"] == [] and line in data["ranking"]["notes"]
 
 
+@pytest.mark.slow  # a fit, a figure or a process end to end (about 1 s): the full suite's, out of the quick loop
 def test_figures_mode_shape_from_zero_and_heavily_damped_modes_explained(monkeypatch):
     """The mode-shape amplitude axis starts at 0 (a rigid-body mode is a flat line, not a bend
     starting at 0.86); the Campbell legend explains the hollow markers (log dec > pi / 2.5: the

@@ -136,6 +136,7 @@ def http_server(request):
     srv.server_close()
 
 
+@pytest.mark.slow  # a fit, a figure or a process end to end (about 1 s): the full suite's, out of the quick loop
 def test_an_http_server_at_scheduler_is_named(tmp_path, http_server, monkeypatch, capsys):
     from bearing_fmu.parallel import cluster as dask_cluster
 

@@ -248,6 +248,7 @@ def test_npz_source(tmp_path):
 
 # ----------------------------------------------------------------------------- the real truth
 
+@pytest.mark.slow  # a fit, a figure or a process end to end (about 1 s): the full suite's, out of the quick loop
 def test_reynolds_trained_fit_22hz_coarse_grid():
     # the paper bearing at 22 Hz under half the rotor weight (16.7 N), Reynolds on a coarse
     # 32 x 8 grid; domain: a disc of 0.1 CR about the equilibrium, |v| <= 0.1 omega CR.
@@ -300,6 +301,7 @@ def test_fit_command_writes_file_plots_and_report(tmp_path, capsys):
     assert (tmp_path / "plots" / "s_bias_variance.png").stat().st_size > 0
 
 
+@pytest.mark.slow  # a fit, a figure or a process end to end (about 1 s): the full suite's, out of the quick loop
 def test_designed_refit_repeats_the_fit_from_its_recipe(tmp_path):
     # the file's recipe is the whole fit: a refit at its own order gives the same numbers, and so
     # does a file of the older form (its settings in provenance["fit_call"], read into a recipe)

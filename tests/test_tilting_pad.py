@@ -286,6 +286,7 @@ def test_a_journal_closing_a_pad_at_its_pivot_is_refused_by_name():
 
 # ------------------------------------------------------------------ the demo
 
+@pytest.mark.slow  # a run or a build end to end (1-4 s): the full suite's, out of the quick loop
 def test_demo_json_of_a_tilting_pad_bearing(tmp_path):
     path = write(tmp_path, TOML)
     out = subprocess.run([sys.executable, "-m", "bearing_fmu.cli", "demo", "--bearing", str(path), "--speed-hz", "50",
@@ -412,6 +413,7 @@ def _forced_response(inertia: float, n_per: int, periods: int):
     return got, -(Kr + 1j * W * Cr) @ np.array([amp, 0.0])
 
 
+@pytest.mark.slow  # a run or a build end to end (1-4 s): the full suite's, out of the quick loop
 def test_the_massless_pads_in_time_give_the_reduced_impedance_at_half_speed_whirl():
     # time domain (the pads' first-order states, their squeeze balancing the moment) against the
     # frequency domain (the (2 + N) coefficients condensed at W): two independent routes

@@ -61,6 +61,7 @@ def test_a_still_journal_keeps_its_pads_on_their_pivots_still():
                                atol=1e-9 * np.abs(KP * u).max())
 
 
+@pytest.mark.slow  # a run or a build end to end (1-4 s): the full suite's, out of the quick loop
 @pytest.mark.parametrize("inertia", [0.0, 2e-5])
 def test_the_pads_on_flexible_pivots_stepped_in_time_give_the_reduced_impedance(inertia):
     # as tests/test_pad_transient.py for rigid pivots: the journal driven along y at 0.4 x speed, the force's

@@ -52,6 +52,7 @@ def test_holdout_blocks_are_every_fifth():
     assert abs(held.mean() - 0.2) < 0.01 and held[(t > 0.161) & (t < 0.199)].all() and not held[t < 0.159].any()
 
 
+@pytest.mark.slow  # a fit, a figure or a process end to end (about 1 s): the full suite's, out of the quick loop
 def test_scene_fit_holds_out_and_refits_elsewhere(tmp_path, training_scene):
     scenes = tmp_path / "scenes"
     scenes.mkdir()
@@ -103,6 +104,7 @@ def test_shipped_fit_calls_point_at_bundled_scenes(name):
         assert not Path(p).is_absolute() and (path.parent / p).is_file()
 
 
+@pytest.mark.slow  # a fit, a figure or a process end to end (about 1 s): the full suite's, out of the quick loop
 def test_several_training_scenes(tmp_path, training_scene):
     # two unbalances at the same speed and load trained together: both series' held-out blocks
     # are scored, the fit recipe names both scenes, the CLI takes --scene twice and a refit
