@@ -341,7 +341,7 @@ def model_exchange_check(path, md, version, internal, state=None):
 @pytest.mark.slow
 @pytest.mark.parametrize("interface", ["me", "cs"])
 def test_compliance_checker_with_thermal_on(thermal_on, interface, tmp_path):
-    """The FMU Compliance Checker (../shared/tools/fmu-compliance-checker, an empty environment)
+    """The FMU Compliance Checker (conftest.compliance_checker(), an empty environment)
     simulates the thermal FMU with an input signal that ramps T_supply 40 -> 60 C while the journal
     circles: 0 warnings and 0 errors from the FMU and the checker; T_eff moves (ME: the state)."""
     compliance_check(thermal_on, interface, tmp_path)
