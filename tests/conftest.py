@@ -98,15 +98,19 @@ def pytest_runtest_makereport(item, call):
 
 
 @pytest.fixture(scope="session")
-def code_cache(request, tmp_path_factory):
-    """The FMU's code cache (BEARING_FMU_CACHE_DIR, where numba's cache lives too), kept between
-    sessions in pytest's cache folder (.pytest_cache/d/fmu-code): numba's cache of the bundled
-    kernels is then warm from the second run on, as it is for the installed package (before, a
-    session temp dir: every run compiled the Reynolds and Taylor kernels of the bundle afresh,
-    ~20 s). Safe to keep: each bundle's folder is named by a hash of its sources, so changed code
-    gets a new folder. A session temp dir when the cache plugin is off (-p no:cacheprovider)."""
-    cache = getattr(request.config, "cache", None)
-    path = cache.mkdir("fmu-code") if cache is not None else tmp_path_factory.mktemp("fmu_code_cache")
+def code_cache(tmp_path_factory):
+    """The FMU's code cache (BEARING_FMU_CACHE_DIR, where numba's cache of the bundled kernels
+    lives): the user's own, as for any FMU run on this machine (``bearing_fmu.io.cache.fmu_code_cache``),
+    so the kernels the main job compiled for this code's bundle (README's first command) are warm
+    here too (a session folder of their own compiled them afresh in every fresh clone: 28-45 s, with
+    the other workers waiting on its lock). Safe to share: each bundle's folder is named by a hash
+    of its sources (changed code gets a new folder) and installed by rename. A session temp dir
+    when the variable says "off"."""
+    from bearing_fmu.io.cache import fmu_code_cache
+
+    off = os.environ.get("BEARING_FMU_CACHE_DIR", "x").strip().lower() in ("", "0", "off", "no", "none", "false")
+    path = tmp_path_factory.mktemp("fmu_code_cache") if off else fmu_code_cache()
+    path.mkdir(parents=True, exist_ok=True)
     with pytest.MonkeyPatch.context() as mp:  # the session's: restored at its end
         mp.setenv("BEARING_FMU_CACHE_DIR", str(path))
         yield path

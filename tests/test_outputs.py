@@ -33,6 +33,23 @@ def test_a_dead_process_does_not_hold_its_name(tmp_path):
         assert (tmp_path / "run.lock").read_text() == str(os.getpid())
 
 
+def test_a_command_ended_by_a_signal_frees_the_names_it_still_held(tmp_path):
+    """A signal landing between a run's last write and its own release (the window a fresh-clone
+    CI hit in the sweep's Ctrl-C test) left ``<stem>.lock``: the command's end frees it."""
+    from types import SimpleNamespace
+
+    from bearing_fmu.io.exits import run_command
+
+    def interrupted_before_its_release(args):
+        outputs.claim(tmp_path, "run")  # held, never released by the "run"
+        raise KeyboardInterrupt
+
+    code = run_command("test", SimpleNamespace(func=interrupted_before_its_release, command="run"))
+    assert code == 130 and not list(tmp_path.glob("*.lock"))
+    with outputs.claim(tmp_path, "run") as c:  # the name is free again
+        assert c.stem == "run"
+
+
 def test_atomic_writes_leave_the_old_file_or_the_new_one(tmp_path):
     path = tmp_path / "a.json"
     outputs.write_json(path, {"x": 1})

@@ -33,6 +33,12 @@ def build_cache() -> Path:
     return _user_folder(ENV, "fmus")
 
 
+def fmu_code_cache() -> Path:
+    """The Python FMU's code cache (not created; ``$BEARING_FMU_CACHE_DIR`` when set: the rule of
+    the FMU's own bootstrap in bearing_fmu/fmu/build.py, where "off" disables it)."""
+    return _user_folder("BEARING_FMU_CACHE_DIR", "fmu-code")
+
+
 def map_store() -> Path:
     """The folder of the map store (not created)."""
     return _user_folder(MAP_ENV, "maps")

@@ -25,7 +25,7 @@ import sys
 import threading
 from pathlib import Path
 
-from .outputs import take_rescued, take_written
+from .outputs import release_held, take_rescued, take_written
 
 SIGNALS = (signal.SIGINT, signal.SIGTERM)
 
@@ -157,7 +157,10 @@ def run_command(prog: str, args) -> int:
     that went well exit 1, with one line naming the path, why and where the files are."""
     name = f"{prog} {getattr(args, 'command', '')}".strip()
     take_rescued(), take_written()  # a command's files are its own (several commands may run in one process)
-    code = _run(name, args)
+    try:
+        code = _run(name, args)
+    finally:  # a signal between a run's last write and its own release: its name is freed here
+        release_held()
     take_written()
     rescued = take_rescued()
     if rescued:

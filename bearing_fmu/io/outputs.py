@@ -9,7 +9,9 @@
 * ``claim(folder, stem)``: a result name no running process holds. A run holds its name
   through a ``<stem>.lock`` file with its process id; a second run started meanwhile gets
   ``<stem>-2`` (then ``-3``, ...), a run started after the first finished (or died: its pid is
-  gone) takes the name over and overwrites its files.
+  gone) takes the name over and overwrites its files. ``release_held()`` frees every name this
+  process still holds: the command's end (``exits.run_command``) calls it, so a signal landing
+  between a run's last write and its own release leaves no lock behind.
 * Rescue: a result that cannot be written where asked (a full disk, a folder made read-only
   during the run, its name taken by a folder) is written to ``<folder>.rescued/`` beside its
   folder, else to ``<system temp>/<folder>.rescued/``, with one line on stderr naming the path,
@@ -218,6 +220,8 @@ class Claim:
 
     def __init__(self, folder: Path, stem: str, lock: Path | None):
         self.folder, self.stem, self._lock = folder, stem, lock
+        if lock is not None:
+            _HELD.add(self)
 
     def path(self, suffix: str) -> Path:
         return self.folder / f"{self.stem}{suffix}"
@@ -229,12 +233,22 @@ class Claim:
             except OSError:
                 pass
             self._lock = None
+        _HELD.discard(self)
 
     def __enter__(self):
         return self
 
     def __exit__(self, *exc):
         self.release()
+
+
+_HELD: set[Claim] = set()  # the names this process holds now
+
+
+def release_held() -> None:
+    """Free every name this process still holds (a command's end: nothing of it runs any more)."""
+    for held in list(_HELD):
+        held.release()
 
 
 def claim(folder, stem: str, limit: int = 1000) -> Claim:
