@@ -113,6 +113,26 @@ def _g(ts, tb, C, ns, nb, kwall, eps, beta, g):
 
 
 @njit(cache=True)
+def journal_polar(y, z, vy, vz, omega, CR, eps_min):
+    """The journal state in the maps' polar terms: (eps, cos phi, sin phi, eps_eval, a, c, r) with
+    eps = e / CR, phi the attitude (+y at the centre), eps_eval = max(eps, eps_min), the film's
+    source a = eps_eval omega - 2 v_t / CR, c = 2 v_r / CR and r = |(a, c)|. Every map's force
+    (2-D, grooved 3-D, fed-groove 4-D) starts here; eps not finite or >= 1 is the caller's to refuse."""
+    e = math.hypot(y, z)
+    if e > 0.0:
+        cp, sp = y / e, z / e
+    else:
+        cp, sp = 1.0, 0.0
+    eps = e / CR
+    eps_eval = max(eps, eps_min)
+    vr = vy * cp + vz * sp
+    vt = -vy * sp + vz * cp
+    a = eps_eval * omega - 2.0 * vt / CR
+    c = 2.0 * vr / CR
+    return eps, cp, sp, eps_eval, a, c, math.hypot(a, c)
+
+
+@njit(cache=True)
 def map_force(ts, tb, C, ns, nb, kwall, eps_min, scale, CR, y, z, vy, vz, omega, want_jac, F, J):
     """Film force F (2,) [N] and, with want_jac, J (2, 4) = dF/d(y, z, vy, vz); returns eps
     (NaN when F or J is not finite: finite inputs whose force overflows the float range).
@@ -120,20 +140,9 @@ def map_force(ts, tb, C, ns, nb, kwall, eps_min, scale, CR, y, z, vy, vz, omega,
     eps below eps_min is evaluated at eps_min along the same direction (+y at the centre):
     the frame (u, w) turns with phi, whose derivatives carry 1/e; the force is continuous
     there, and the shift moves it by less than its stiffness times eps_min CR."""
-    e = math.hypot(y, z)
-    if e > 0.0:
-        cp, sp = y / e, z / e
-    else:
-        cp, sp = 1.0, 0.0
-    eps = e / CR
+    eps, cp, sp, eps_eval, a, c, r = journal_polar(y, z, vy, vz, omega, CR, eps_min)
     if not eps < 1.0:  # at or beyond the wall, or not finite: the caller refuses it
         return eps
-    eps_eval = max(eps, eps_min)
-    vr = vy * cp + vz * sp
-    vt = -vy * sp + vz * cp
-    a = eps_eval * omega - 2.0 * vt / CR
-    c = 2.0 * vr / CR
-    r = math.hypot(a, c)
     g = np.empty((2, 3))
     if r > 0.0:
         beta = math.atan2(c, a)
@@ -270,21 +279,10 @@ def map3_force(ts, tp, tb, C, eps_min, scale, CR, y, z, vy, vz, omega, want_jac,
     """map_force for a grooved bore: F = S r (G_r u + G_t w) with G also a function of the
     attitude phi; the Jacobian gains r dG/dphi in the attitude terms. Returns eps (NaN when F
     or J is not finite); eps below eps_min is evaluated at eps_min along the same direction."""
-    e = math.hypot(y, z)
-    if e > 0.0:
-        cp, sp = y / e, z / e
-    else:
-        cp, sp = 1.0, 0.0
-    eps = e / CR
+    eps, cp, sp, eps_eval, a, c, r = journal_polar(y, z, vy, vz, omega, CR, eps_min)
     if not eps < 1.0:
         return eps
     phi = math.atan2(sp, cp)
-    eps_eval = max(eps, eps_min)
-    vr = vy * cp + vz * sp
-    vt = -vy * sp + vz * cp
-    a = eps_eval * omega - 2.0 * vt / CR
-    c = 2.0 * vr / CR
-    r = math.hypot(a, c)
     g = np.empty((2, 4))
     if r > 0.0:
         _g3(ts, tp, tb, C, eps_eval, phi, math.atan2(c, a), g)

@@ -9,7 +9,7 @@ import math
 import numpy as np
 from numba import njit
 
-from .kernels import bspline_basis, bspline_span, force_jacobian
+from .kernels import bspline_basis, bspline_span, force_jacobian, journal_polar
 
 # below 1 - u = S r / W = T_MIN (a journal at rest, r = 0, among them) the derivatives in (a, c) are
 # those at r = 0 (``_odd_part``, the first harmonic of the directional derivatives): the general ones carry
@@ -104,21 +104,10 @@ def map4_force(ts, tp, tb, tu, C, eps_min, scale, CR, supply, y, z, vy, vz, omeg
     dP/dr = G - u G_u, dP/dbeta = (W / S) G_beta = r G_beta / (1 - u), so
     dP/da = cos(beta) (G - u G_u) - sin(beta) G_beta / (1 - u) and dP/dc likewise: finite at r -> 0,
     where G_beta vanishes with 1 - u (below ``T_MIN``: ``_odd_part``). Returns eps (NaN when F or J is not finite)."""
-    e = math.hypot(y, z)
-    if e > 0.0:
-        cp, sp = y / e, z / e
-    else:
-        cp, sp = 1.0, 0.0
-    eps = e / CR
+    eps, cp, sp, eps_eval, a, c, r = journal_polar(y, z, vy, vz, omega, CR, eps_min)
     if not eps < 1.0:
         return eps
     phi = math.atan2(sp, cp)
-    eps_eval = max(eps, eps_min)
-    vr = vy * cp + vz * sp
-    vt = -vy * sp + vz * cp
-    a = eps_eval * omega - 2.0 * vt / CR
-    c = 2.0 * vr / CR
-    r = math.hypot(a, c)
     W = scale * r + supply
     u = supply / W
     t = scale * r / W  # 1 - u without the cancellation
