@@ -230,6 +230,11 @@ def _build_native(args: argparse.Namespace) -> int:
                          + ", ".join(f"{owners[f]} with --{f} FILE" for f in given if f in owners) + ")")
     specs = [registry.get(p) for p in internal.split(",")]
     readable = {o.name for spec in specs for o in spec.all_options() if o.file}
+    # a flag's file read by an option of another name (the tilting pads' pad_map takes a --map file): by its format
+    formats = {o.name: o.file_format for spec in registry.REGISTRY.values() for o in spec.file_options()}
+    renamed = {flag: o.name for flag in given for spec in specs for o in spec.file_options()
+               if flag not in readable and o.name != flag and o.file_format == formats.get(flag)}
+    readable |= set(renamed)
     bearing = BearingParams.from_toml(args.bearing) if args.bearing else None
     for o in (o for spec in specs for o in spec.file_options()):
         if o.required and not given.get(o.name):
@@ -248,11 +253,13 @@ def _build_native(args: argparse.Namespace) -> int:
             raise ValueError("--native compiles one data file in: give --surrogate or --map once")
         if files and name not in readable:
             raise ValueError(f"--native --internal {internal} takes no --{name} (it reads "
-                             f"{', '.join('--' + r for r in sorted(readable)) or 'no data file'})")
-    surrogates, maps = given["surrogate"], given["map"]
+                             f"{', '.join('--' + r for r in sorted(readable & set(given))) or 'no data file'})")
+    options = {renamed.pop(flag): given.pop(flag)[0] for flag in list(renamed) if given[flag]}
+    surrogates, maps = given.get("surrogate"), given.get("map")
     ensure_output_file(args.output, "-o/--output")
     path = build_native_fmu(args.output, internal, surrogate=surrogates[0] if surrogates else None,
-                            map=maps[0] if maps else None, bearing=bearing, bearing_source=args.bearing or "",
+                            map=maps[0] if maps else None, options=options or None, bearing=bearing,
+                            bearing_source=args.bearing or "",
                             compiler=args.compiler or ("cmake" if args.cmake else None),
                             platforms=args.platforms.split(",") if args.platforms else None,
                             speed_hz=args.speed_hz, fmi_version=args.fmi)

@@ -480,3 +480,30 @@ def test_thermal_model_reports_the_pads_film_as_the_python_internal(tmp_path, na
         assert close(d.get(["Fy", "Fz"]), F, float(np.max(np.abs(F)))) < 1e-12
     finally:
         d.close()
+
+
+@pytest.mark.slow
+def test_the_command_line_builds_the_pads_map_fmu(built, tmp_path):
+    """`bearing-fmu build --native --internal tilting_pad --bearing PADS --map MAP`: the command's
+    --map goes to the internal's own file option (pad_map, by its file format), so every pad comes
+    from the map: the force after Initialization Mode is the Python internal's on the same map
+    (to the other map tests' REL), not the Reynolds pads'."""
+    from bearing_fmu.cli import main
+
+    out = tmp_path / "cli_pads_map.fmu"
+    assert main(["build", "--native", "--internal", "tilting_pad", "--bearing", str(BEARING), "--map",
+                 str(built["pad_map"]), "--platforms", "linux64", "--speed-hz", "50", "-o", str(out)]) == 0
+    d = Driver(out, Path(fmpy.extract(str(out))), 2, "CS")
+    p = params()
+    x = journal(p, *STATE)
+    try:
+        d.set(x)
+        d.exit()
+        got = d.get(OUT)
+    finally:
+        d.close()
+    want = reference(*python_internal(built, "map").force_and_jacobian(*x))
+    reynolds = reference(*python_internal(built, "massless").force_and_jacobian(*x))
+    scale = float(np.max(np.abs(want[:2])))
+    assert close(got[:2], want[:2], scale) < REL, (got, want)
+    assert close(reynolds[:2], want[:2], scale) > 1e-4  # the coarse map is not the Reynolds pads: the check can tell
