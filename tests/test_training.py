@@ -235,3 +235,14 @@ def test_series_forces_are_the_bearings_own(tmp_path, training_scene):
     t1, _, f1, _ = scene_series(sc, 1, cache=tmp_path / "b1.npz")
     t2, _, f2, _ = scene_series(sc, 2, cache=tmp_path / "b2.npz")
     assert np.max(np.abs(f1 - f2)) > 1e-3 * np.max(np.abs(f1))  # the bearings differ, so the check has teeth
+
+
+def test_a_tilting_pad_scene_is_refused_by_name_before_any_run(tmp_path, capsys):
+    """The Taylor surrogate maps the journal's state to the force; a tilting-pad force depends on
+    the pads' tilts too: `rotor-host fit` on the five-pad scene says so and exits 2, before any
+    Reynolds series is computed (no series folder)."""
+    scene = ROOT / "rotor_host" / "bundled" / "scenes" / "paper_5pad_lbp_44hz.toml"
+    assert rotor_host(["fit", "--scene", str(scene), "-o", str(tmp_path / "fit.json")]) == 2
+    err = capsys.readouterr().err
+    assert "has tilting pads" in err and "tilting_pad internal" in err and "Traceback" not in err
+    assert not (tmp_path / "series").exists()

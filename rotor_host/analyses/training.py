@@ -122,6 +122,11 @@ def fit_scene(recipe: FitRecipe, *, cache_dir=None, log=print):
     scenes = [load_scene(p) for p in r.scenes]
     scene = scenes[0]
     params = _bearing_params(scene, bearing)  # before any run: a bearing number the rotor lacks is named now
+    if params.geometry.pads is not None:
+        raise ValueError(f"{scene.source}: bearing {bearing} has tilting pads: a Taylor surrogate's inputs are the "
+                         "journal's (y, z, vy, vz), and the pads' force also depends on the pads' own tilts and "
+                         "their history; run it with the tilting_pad internal or the pads' force map (`bearing-fmu "
+                         "map --bearing FILE`; docs/geometry.md, Tilting pads)")
     truth = Reynolds.from_options(params, registry.get("reynolds").check_options(scene.internal_options("reynolds")))
     # before any run too: a map that does not serve this bearing or grid is named now
     samples_truth = fit_truth(r, params, truth, grid_hint="build a map on the scenes' Reynolds grid "
