@@ -105,6 +105,31 @@ def test_the_native_fed_map_is_the_python_internal(fed_map):
         raw.close()
 
 
+def test_the_fmi3_fmu_is_the_python_internal_too(fed_map, native_build_cache):
+    """FMI 3.0 Co-Simulation (``--fmi 3``): every output the Python internal's, as the FMI 2.0 FMU's."""
+    from test_native_fmi3 import Raw3
+    from test_native_fmu import IN, OK, OUT, WARNING, assert_close, python_outputs
+
+    from bearing_fmu.fmu.native.build import build_native_fmu
+
+    fmu2, _, path, bearing = fed_map
+    params = BearingParams.from_toml(bearing)
+    fmu = native_build_cache(fmu2.with_name("map_fed3.fmu"), lambda target: build_native_fmu(
+        target, "map", map=path, bearing=params, fmi_version=3, compiler="cc"), [path, bearing], ("fed map", "fmi 3"))
+    py = python_internal(fmu, path)
+    raw = Raw3((fmu, fmpy.extract(str(fmu))))
+    try:
+        assert raw.init() == OK
+        for st in states(8, seed=11)[-10:]:
+            assert raw.set(IN, st) == OK
+            assert raw.step()[0] in (OK, WARNING), raw.last()
+            status, got = raw.get(OUT)
+            assert status == OK
+            assert_close(np.array(got), python_outputs(py, st), f"FMI 3 fed map at {st}")
+    finally:
+        raw.close()
+
+
 def test_model_exchange_outputs_and_directional_derivatives(fed_map):
     """ME: the outputs the Python internal's; the directional derivatives the tangent's bits, and in omega
     (the speed enters through a = eps omega - 2 v_t / CR, so through W and u too) central differences of
