@@ -67,8 +67,14 @@ def map_model(params: BearingParams, surrogate, map_path, options: dict) -> Nati
     table = load_any_map(path)
     # refuses another L/D or bore, as the FMU will (a grooved map's bore comes from --bearing; a fed-groove map's
     # bearing must have fed grooves: its supply pressure is the FMU's)
-    internal = map_internal(params, table, str(path), hint="for the native map FMU give the bearing file with --bearing")
     fed = isinstance(table, SupplyMapTable)
+    try:
+        internal = map_internal(params, table, str(path), hint="for the native map FMU give the bearing file with --bearing")
+    except ValueError as exc:
+        if fed:  # map_internal's hint is a grooved map's
+            raise ValueError(f"{exc}; for the native map FMU give the file of the bearing whose grooves are fed "
+                             "(supply_pressure_kPa > 0) with --bearing") from None
+        raise
     flows_why = FED_NO_FLOWS_WHY if fed else registry.film_flow_of(registry.get("map"), internal)  # '': flow tables
     if not flows_why and table.H.ndim == 4 and params.oil is None:  # no run could use them: not compiled in
         flows_why = GROOVED_NO_OIL_WHY
