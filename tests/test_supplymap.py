@@ -198,14 +198,6 @@ def test_bearing_fmu_map_builds_a_pressurised_bearings_map(tmp_path, capsys):
     assert isinstance(load_any_map(out), SupplyMapTable)
 
 
-def test_the_native_map_refuses_it_by_name(tiny, tmp_path):
-    from bearing_fmu.fmu.native.generators.map import map_model
-
-    path = save_supply_map(tiny, tmp_path / "fed.json")
-    with pytest.raises(ValueError, match="a fed-groove map .* has no native C map yet"):
-        map_model(FED, None, path, {})
-
-
 @pytest.mark.slow
 def test_between_the_nodes_the_error_is_the_splines():
     """At 150 random states (eps 0.05-0.85, speeds 0.4-22 Hz, velocities 0.2 omega CR: u from 0.1 to 1) a

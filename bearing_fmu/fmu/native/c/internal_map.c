@@ -10,7 +10,11 @@
  * The film report (bn_film, BN_FLOWS_MAP: a map with its flow table, MAP_FLOWS) is map_flows.c,
  * a port of ForceMap.film_report and GroovedForceMap.film_report; the spline's evaluation, the
  * same for both, map_spline.h. A lobed bore with ambient grooves over its lobe boundaries (MAP_LOBES > 1,
- * internals/map/lobemap.py) sums the lobe arc's map over its lobes, each in its own frame (bn_eval). */
+ * internals/map/lobemap.py) sums the lobe arc's map over its lobes, each in its own frame (bn_eval).
+ * A bore whose grooves are fed at a supply pressure p_s (MAP_DIMS 4, internals/map/supplymap.py) has
+ * F = W (G_r u + G_t w), W = S r + R L p_s, G(eps, phi, beta, u) with u = R L p_s / W the fourth axis
+ * (MAP_TU, MAP_NU): supply_arc_force, a port of supplykernels.map4_force; p_s is the FMU's parameter
+ * supply_pressure (MAP_SUPPLY_VR), which initialisation holds at the bearing's (check_bore). */
 #include <math.h>
 #include <stdio.h>
 
@@ -22,6 +26,28 @@
 #include "film_friction.h" /* ff_reduce */
 #include "map_spline.h"
 
+static void arc_jacobian(double scale, double CR, double cp, double sp, double eps_eval, double omega, double a,
+                         double c, const double P[10], double J[8], double dw[2]);
+
+int bn_setup(Instance *m) {
+    double D = m->r[VR_D], L = m->r[VR_L], CR = m->r[VR_CR], mu = m->r[VR_MU];
+    double ld = L / D;
+    if (fabs(ld - MAP_L_OVER_D) > MAP_LD_RTOL * MAP_L_OVER_D) {
+        char a[32], b[32], c[32], d[32];
+        snprintf(m->msg, sizeof m->msg, "force map %s is for L/D = %s, the bearing has L/D = %s (L = %s m, D = %s m): "
+                 "build a map for it with `bearing-fmu map --bearing FILE -o MAP`", MAP_SOURCE,
+                 bn_num(a, 32, MAP_L_OVER_D, 6), bn_num(b, 32, ld, 6), bn_num(c, 32, L, 6), bn_num(d, 32, D, 6));
+        return 1;
+    }
+    double R = 0.5 * D;
+#if MAP_LOBES > 1
+    CR = map_lobe_clearance(CR); /* the lobe arc's clearance C_pad: its map's scale */
+#endif
+    m->work.scale = mu * R * L * pow(R / CR, 2.0); /* forcemap.scale, in its order of operations */
+    return 0;
+}
+
+#if MAP_DIMS != 4
 /* g[k] = (G, dG/deps, dG/dbeta, dG/dphi) of the radial (k = 0) and tangential parts: a full-bore
  * map's G = H / (1 - eps)^k does not depend on phi; a grooved bore's has no wall factor */
 static void gfun(double eps, double phi, double beta, double g[2][4]) {
@@ -48,24 +74,6 @@ static void gfun(double eps, double phi, double beta, double g[2][4]) {
         g[k][3] = 0.0;
     }
 #endif
-}
-
-int bn_setup(Instance *m) {
-    double D = m->r[VR_D], L = m->r[VR_L], CR = m->r[VR_CR], mu = m->r[VR_MU];
-    double ld = L / D;
-    if (fabs(ld - MAP_L_OVER_D) > MAP_LD_RTOL * MAP_L_OVER_D) {
-        char a[32], b[32], c[32], d[32];
-        snprintf(m->msg, sizeof m->msg, "force map %s is for L/D = %s, the bearing has L/D = %s (L = %s m, D = %s m): "
-                 "build a map for it with `bearing-fmu map --bearing FILE -o MAP`", MAP_SOURCE,
-                 bn_num(a, 32, MAP_L_OVER_D, 6), bn_num(b, 32, ld, 6), bn_num(c, 32, L, 6), bn_num(d, 32, D, 6));
-        return 1;
-    }
-    double R = 0.5 * D;
-#if MAP_LOBES > 1
-    CR = map_lobe_clearance(CR); /* the lobe arc's clearance C_pad: its map's scale */
-#endif
-    m->work.scale = mu * R * L * pow(R / CR, 2.0); /* forcemap.scale, in its order of operations */
-    return 0;
 }
 
 /* The map's force at x with clearance CR and scale S (the lobe arc's for a lobed bore): returns eps, and
@@ -114,6 +122,18 @@ static double map_arc_force(const double x[5], double CR, double scale, int want
     F[0] = scale * (Pr * cp - Pt * sp);
     F[1] = scale * (Pr * sp + Pt * cp);
     if (!want_jac) return eps;
+    const double P[10] = {Pr, Pt, Pr_a, Pr_c, Pt_a, Pt_c, Pr_e, Pt_e, Pr_p, Pt_p};
+    arc_jacobian(scale, CR, cp, sp, eps_eval, omega, a, c, P, J, dw);
+    return eps;
+}
+#endif /* MAP_DIMS != 4 */
+
+/* J and dw (dF/domega) of F = S (Pr u + Pt w) from P = (Pr, Pt, Pr_a, Pr_c, Pt_a, Pt_c, Pr_e, Pt_e, Pr_p, Pt_p),
+ * the partial derivatives of its components in (a, c, eps, phi): kernels.force_jacobian, every map's */
+static void arc_jacobian(double scale, double CR, double cp, double sp, double eps_eval, double omega, double a,
+                         double c, const double P[10], double J[8], double dw[2]) {
+    const double Pr = P[0], Pt = P[1], Pr_a = P[2], Pr_c = P[3], Pt_a = P[4], Pt_c = P[5], Pr_e = P[6], Pt_e = P[7],
+                 Pr_p = P[8], Pt_p = P[9];
     double da_dphi = c, dc_dphi = eps_eval * omega - a;
     double dPr_dphi = Pr_a * da_dphi + Pr_c * dc_dphi + Pr_p; /* + the table's own attitude dependence */
     double dPt_dphi = Pt_a * da_dphi + Pt_c * dc_dphi + Pt_p;
@@ -138,8 +158,81 @@ static double map_arc_force(const double x[5], double CR, double scale, int want
     double dPr_w = Pr_a * eps_eval, dPt_w = Pt_a * eps_eval;
     dw[0] = scale * (dPr_w * cp - dPt_w * sp);
     dw[1] = scale * (dPr_w * sp + dPt_w * cp);
+}
+
+#if MAP_DIMS == 4
+/* g[k] = (G_k, dG_k/deps, dG_k/dphi, dG_k/dbeta, dG_k/du) of a fed-groove map: supplykernels._g4 */
+static void g4(double eps, double phi, double beta, double u, double g[2][5]) {
+    double s = -log1p(-eps);
+    spline4(MAP_TS, MAP_TP, MAP_TB, MAP_TU, MAP_C, 2, s, phi, beta, u, g);
+    double dsde = exp(s);
+    for (int k = 0; k < 2; k++) g[k][1] *= dsde;
+}
+
+/* at rest (1 - u < MAP_T_MIN): out[k] = (dP_k/da, dP_k/dc), the first harmonic of the directional derivatives
+ * G - G_u at u = 1 by the MAP_N_HARMONIC-point rule (supplykernels._odd_part) */
+static void odd_part(double eps, double phi, double out[2][2]) {
+    double g[2][5];
+    for (int k = 0; k < 2; k++) out[k][0] = out[k][1] = 0.0;
+    for (int j = 0; j < MAP_N_HARMONIC; j++) {
+        double b = 2.0 * M_PI * j / MAP_N_HARMONIC;
+        g4(eps, phi, b, 1.0, g);
+        for (int k = 0; k < 2; k++) {
+            double d = g[k][0] - g[k][4];
+            out[k][0] += 2.0 / MAP_N_HARMONIC * cos(b) * d;
+            out[k][1] += 2.0 / MAP_N_HARMONIC * sin(b) * d;
+        }
+    }
+}
+
+/* The fed-groove map's force at x (supplykernels.map4_force, in its order of operations): F = W (G_r u + G_t w),
+ * W = S r + supply (supply = R L p_s [N]), u = supply / W; P = (W / S) G with dP/dr = G - u G_u and
+ * (1 / r) dP/dbeta = G_beta / (1 - u) in (a, c), the odd part at rest. Returns eps, evaluated when < MAP_EPS_MAX. */
+static double supply_arc_force(const double x[5], double CR, double scale, double supply, int want_jac, double F[2],
+                               double J[8], double dw[2]) {
+    const double omega = x[4];
+    double cp, sp, a, c;
+    double eps = ff_reduce(x, CR, MAP_EPS_MIN, &cp, &sp, &a, &c);
+    if (!(eps < MAP_EPS_MAX)) return eps;
+    double eps_eval = fmax(eps, MAP_EPS_MIN), r = hypot(a, c), phi = atan2(sp, cp);
+    double W = scale * r + supply, u = supply / W, t = scale * r / W; /* t = 1 - u without the cancellation */
+    double beta = 0.0, cb = 1.0, sb = 0.0; /* the still journal: the u = 1 row is one value for every beta */
+    if (r > 0.0) {
+        beta = atan2(c, a);
+        cb = a / r;
+        sb = c / r;
+    }
+    double g[2][5], P[10];
+    g4(eps_eval, phi, beta, u, g);
+    double ws = W / scale;
+    P[0] = ws * g[0][0];
+    P[1] = ws * g[1][0];
+    F[0] = scale * (P[0] * cp - P[1] * sp);
+    F[1] = scale * (P[0] * sp + P[1] * cp);
+    if (!want_jac) return eps;
+    P[6] = ws * g[0][1];
+    P[7] = ws * g[1][1];
+    P[8] = ws * g[0][2];
+    P[9] = ws * g[1][2];
+    if (t < MAP_T_MIN) {
+        double o[2][2];
+        odd_part(eps_eval, phi, o);
+        P[2] = o[0][0];
+        P[4] = o[1][0];
+        P[3] = o[0][1];
+        P[5] = o[1][1];
+    } else {
+        double dr_r = g[0][0] - u * g[0][4], db_r = g[0][3] / t;
+        double dr_t = g[1][0] - u * g[1][4], db_t = g[1][3] / t;
+        P[2] = cb * dr_r - sb * db_r;
+        P[3] = sb * dr_r + cb * db_r;
+        P[4] = cb * dr_t - sb * db_t;
+        P[5] = sb * dr_t + cb * db_t;
+    }
+    arc_jacobian(scale, CR, cp, sp, eps_eval, omega, a, c, P, J, dw);
     return eps;
 }
+#endif
 
 /* A lobed bore's force (internals/map/lobemap.py, kernels.lobes_force, in its order of operations): lobe k is
  * the lobe arc turned by alpha_k, the journal in its frame (map_lobe_state, map_spline.h), its force and
@@ -184,7 +277,12 @@ int bn_eval(Instance *m, const double x[5], int want_jac, double F[2], double J[
     }
     return 0;
 #else
+#if MAP_DIMS == 4
+    double eps = supply_arc_force(x, CR, scale, 0.5 * m->r[VR_D] * m->r[VR_L] * m->r[MAP_SUPPLY_VR], want_jac, F, J,
+                                  dw); /* supplymap.supply_force: R L p_s */
+#else
     double eps = map_arc_force(x, CR, scale, want_jac, F, J, dw);
+#endif
     if (!(eps < MAP_EPS_MAX)) {
         char a[32], b[32], c[32], d[32], f[32];
         int wall = eps >= 1.0;

@@ -1,7 +1,7 @@
 /* The force map's tensor cubic B-spline evaluated (ports of _map_kernels.py), for the force
- * (internal_map.c: MAP_TS, MAP_TB, MAP_C, a grooved bore's MAP_TP) and the flow table (map_flows.c:
- * MAP_QTS ..., on the same axes): static inline functions, included after model_data.h (MAP_NS,
- * MAP_NB, MAP_DIMS). */
+ * (internal_map.c: MAP_TS, MAP_TB, MAP_C, a grooved bore's MAP_TP, a fed-groove map's MAP_TU too) and
+ * the flow table (map_flows.c: MAP_QTS ..., on the same axes): static inline functions, included after
+ * model_data.h (MAP_NS, MAP_NB, MAP_DIMS; MAP_NU with MAP_DIMS 4). */
 #ifndef MAP_SPLINE_H
 #define MAP_SPLINE_H
 
@@ -75,7 +75,7 @@ static inline void basis(const double *t, int i, double x, double N[4], double d
     }
 }
 
-#if MAP_DIMS != 3
+#if MAP_DIMS == 2
 /* out[k] = (value, d/ds, d/dbeta) of the two components of the spline (ts, tb, C): the force's
  * (MAP_TS, MAP_TB, MAP_C) or the flow table's, on the same axes */
 static inline void spline2(const double *ts, const double *tb, const double *C, double s, double beta, double out[2][3]) {
@@ -144,6 +144,59 @@ static inline void spline3(const double *ts, const double *tp, const double *tb,
         out[k][1] = vs;
         out[k][2] = vp;
         out[k][3] = vb;
+    }
+}
+#endif
+
+#if MAP_DIMS == 4
+/* out[k] = (value, d/ds, d/dphi, d/dbeta, d/du) of the nk components of the fed-groove map's tensor spline
+ * (ts, tp, tb, tu, C) in (s, phi, beta, u), phi and beta periodic, C (MAP_NS, MAP_NP, MAP_NB, MAP_NU, nk):
+ * supplykernels.spline4, in its order of operations */
+static inline void spline4(const double *ts, const double *tp, const double *tb, const double *tu, const double *C,
+                           int nk, double s, double phi, double beta, double u, double out[][5]) {
+    int ns = MAP_NS, np = MAP_NP, nb = MAP_NB, nu = MAP_NU;
+    double p = tp[3] + py_mod(phi - tp[3], tp[np] - tp[3]);
+    double b = tb[3] + py_mod(beta - tb[3], tb[nb] - tb[3]);
+    int i = span(ts, ns, s), j = span(tp, np, p), m = span(tb, nb, b), n = span(tu, nu, u);
+    double N[4][4], dN[4][4];
+    basis(ts, i, s, N[0], dN[0]);
+    basis(tp, j, p, N[1], dN[1]);
+    basis(tb, m, b, N[2], dN[2]);
+    basis(tu, n, u, N[3], dN[3]);
+    for (int k = 0; k < nk; k++) {
+        double v = 0.0, vs = 0.0, vp = 0.0, vb = 0.0, vu = 0.0;
+        for (int a = 0; a < 4; a++) {
+            double pv = 0.0, pp = 0.0, pb = 0.0, pu = 0.0;
+            for (int q = 0; q < 4; q++) {
+                double bv = 0.0, bb = 0.0, bu = 0.0;
+                for (int r = 0; r < 4; r++) {
+                    double uv = 0.0, uu = 0.0;
+                    const double *c = C + ((((size_t)(i - 3 + a) * np + (size_t)(j - 3 + q)) * nb
+                                            + (size_t)(m - 3 + r)) * nu + (size_t)(n - 3)) * nk + k;
+                    for (int w = 0; w < 4; w++) {
+                        uv += N[3][w] * c[w * nk];
+                        uu += dN[3][w] * c[w * nk];
+                    }
+                    bv += N[2][r] * uv;
+                    bb += dN[2][r] * uv;
+                    bu += N[2][r] * uu;
+                }
+                pv += N[1][q] * bv;
+                pp += dN[1][q] * bv;
+                pb += N[1][q] * bb;
+                pu += N[1][q] * bu;
+            }
+            v += N[0][a] * pv;
+            vs += dN[0][a] * pv;
+            vp += N[0][a] * pp;
+            vb += N[0][a] * pb;
+            vu += N[0][a] * pu;
+        }
+        out[k][0] = v;
+        out[k][1] = vs;
+        out[k][2] = vp;
+        out[k][3] = vb;
+        out[k][4] = vu;
     }
 }
 #endif
