@@ -80,3 +80,184 @@ def test_c_outflow_share_other_than_half_or_none_refused(lib):  # noqa: F811
         NativeOil(lib, {**values, "oil_outflow_share": 0.25})
     with pytest.raises(ValueError, match="oil_ambient_loss = -1"):
         NativeOil(lib, {**values, "oil_ambient_loss": -1.0})
+
+
+# ----------------------------------------------------------------------------- the native FMUs
+
+fmpy = pytest.importorskip("fmpy")
+from test_native_fmu_thermal import GRID, IN, Run, by_version, central, parameters, trajectory  # noqa: E402
+
+STATE = trajectory()[3]
+BALANCE_NAMES = ("oil_outflow_share", "oil_ambient_loss", "oil_T_ambient")
+
+
+def balance_values(name) -> dict:
+    """The native FMU's balance parameters for ``BALANCES[name]`` (ports.port_defaults)."""
+    values = oil_values(replace(VG46, **BALANCES[name]))
+    return {**{n: values[n] for n in BALANCE_NAMES}, "oil_rise_factor": values["oil_rise_factor"]}
+
+
+@pytest.fixture(scope="module")
+def native2(tmp_path_factory, native_build_cache):
+    """(the native Reynolds FMU (FMI 2.0) of the VG 46 bearing, its model description)."""
+    return by_version(tmp_path_factory.mktemp("native_balance"), native_build_cache, "reynolds", [], options=GRID)[2]
+
+
+def python_balance(md, reals, state=STATE, T_s=T_S, params_extra=None):
+    """(the Python oil of the FMU's parameters ``reals``, the bearing, its film report at ``state`` on GRID)."""
+    p = {**parameters(md), **reals}
+    oil = ports.oil_of(SimpleNamespace(**p), "walther", grooved=bool((params_extra or {}).get("geometry")))
+    params = BearingParams(D=p["D"], L=p["L"], CR=p["CR"], mu=p["mu"], **(params_extra or {}))
+    return oil, params, Reynolds(params, GRID["n_theta"], GRID["n_x"]).film_report(*state)
+
+
+def energy_residual(out, oil, inflow, T_s=T_S) -> float:
+    """P_loss - rho c_p (Q - s Q_side) dT - h A (T_eff - T_amb) over P_loss at the FMU's outputs ``out``
+    (T_eff, mu_eff, P_loss, Q_side): the balance written from the oil's keys, not the code's."""
+    s = {"half": 0.5, "full": 0.0}[oil.outflow_rise]
+    T_amb = T_s if oil.T_ambient is None else oil.T_ambient
+    T, P, Qs = out[0], out[2], out[3]
+    dT = (T - T_s) / oil.rise_factor
+    return (P - oil.density * oil.heat_capacity * (inflow - s * Qs) * dT - oil.ambient_W_K * (T - T_amb)) / P
+
+
+@pytest.mark.parametrize("name", list(BALANCES))
+def test_native_fmu_film_temperature_is_pythons(native2, name):
+    """Co-Simulation, thermal = true, the balance's parameters set: the quasi-static T_eff and mu_eff at
+    Initialization Mode's inputs equal film_temperature's (1e-10), the energy balance closes at the
+    outputs (1e-9), and a lagged step equals film_temperature's lag from there (1e-10)."""
+    path, md = native2
+    reals = balance_values(name)
+    r = Run(path, md, {**reals, "T_supply": T_S, **dict(zip(IN, STATE))})
+    try:
+        r.f.exitInitializationMode()
+        out = r.get(("T_eff", "mu_eff", "P_loss", "Q_side"))
+        oil, params, report = python_balance(md, reals)
+        T, mu_eff, _tau = film_temperature(params, report, oil, T_S)
+        assert out[0] == pytest.approx(T, rel=1e-10) and out[1] == pytest.approx(mu_eff, rel=1e-10)
+        assert abs(energy_residual(out, oil, report.inflow_m3_s)) <= 1e-9
+        nxt = trajectory()[4]
+        r.step(nxt, 2e-3)
+        want = film_temperature(params, Reynolds(params, GRID["n_theta"], GRID["n_x"]).film_report(*nxt), oil, T_S,
+                                float(out[0]), 2e-3)
+        assert r.get(("T_eff", "mu_eff")) == pytest.approx(want[:2], rel=1e-10) and want[0] != out[0]
+    finally:
+        r.close()
+
+
+@pytest.mark.parametrize("name", ["full with ambient", "ambient at supply"])
+def test_native_fmu_equals_the_python_fmu(native2, fmu, name):
+    """The same run (the journal on a spiral, the supply rising by 0.5 K a step) through both FMUs with
+    the balance's parameters: T_eff, mu_eff, P_loss, Q_side and the force within 1e-12 of each output's
+    largest value."""
+    path, md = native2
+    reals = balance_values(name)
+    outs = ("Fy", "Fz", "T_eff", "mu_eff", "P_loss", "Q_side")
+    rows = {}
+    for which, (f, m) in {"native": native2, "python": (fmu, fmpy.read_model_description(str(fmu)))}.items():
+        states = trajectory(6)
+        strings = {"internal": "reynolds", "oil_law": "walther"} if which == "python" else None
+        r = Run(f, m, {**parameters(md), **reals, "T_supply": T_S, **dict(zip(IN, states[0]))}, strings)
+        try:
+            if which == "python":
+                r.f.setInteger([r.vr["n_theta"], r.vr["n_x"]], [GRID["n_theta"], GRID["n_x"]])
+            r.f.exitInitializationMode()
+            got = [r.get(outs)]
+            for k, s in enumerate(states[1:], 1):
+                r.set({"T_supply": T_S + 0.5 * k})
+                r.step(s, 1e-3)
+                got.append(r.get(outs))
+            rows[which] = np.array(got)
+        finally:
+            r.close()
+    scale = np.max(np.abs(rows["python"]), axis=0)
+    assert np.max(np.abs(rows["native"] - rows["python"]) / scale) <= 1e-12
+
+
+def python_rate(md, reals, T) -> float:
+    """der(T_eff) [K/s] at the film temperature T by Python: (T_supply + k dT(mu(T)) - T) / t_res, dT the
+    heat balance at the film report scaled to mu(T) (physics.thermal.temperature_rise, film.at_viscosity)."""
+    from bearing_fmu.physics.solver.film import at_viscosity
+    from bearing_fmu.physics.thermal import residence_time_s, temperature_rise
+
+    oil, params, report = python_balance(md, reals)
+    rise = temperature_rise(at_viscosity(report, oil.mu(T) / params.mu), oil, T_S)
+    return (T_S + oil.rise_factor * rise - T) / residence_time_s(params, report)
+
+
+@pytest.mark.parametrize("name", ["full", "ambient"])
+def test_native_model_exchange_rate_is_pythons(native2, name):
+    """Model Exchange: T_eff the state; der(T_eff) at the states set is the heat balance's rate by Python
+    (1e-10 of the rate's scale, 1 K over the residence time); at the quasi-static start it is ~0."""
+    import ctypes
+
+    path, md = native2
+    reals = balance_values(name)
+    r = Run(path, md, {**reals, "T_supply": T_S, **dict(zip(IN, STATE))}, kind="ME")
+    try:
+        r.f.exitInitializationMode()
+        T0 = float(r.get(["T_eff"])[0])
+        r.f.enterContinuousTimeMode()
+        buf = np.zeros(1)
+        _oil, params, report = python_balance(md, reals)
+        from bearing_fmu.physics.thermal import residence_time_s
+
+        scale = 1.0 / residence_time_s(params, report)
+        for T in (T0, T0 + 5.0, T0 - 3.0):
+            r.set_state(T)
+            r.f.getDerivatives(buf.ctypes.data_as(ctypes.POINTER(ctypes.c_double)), 1)
+            assert abs(buf[0] - python_rate(md, reals, T)) <= 1e-10 * scale, T
+        assert abs(python_rate(md, reals, T0)) <= 1e-8 * scale
+    finally:
+        r.close()
+
+
+@pytest.mark.parametrize("name", ["ambient", "ambient at supply"])
+def test_native_derivatives_along_the_supply_and_the_state(native2, name):
+    """The directional derivatives (analytic: bearing_derivatives.c, the loss's shift in them) against
+    central differences of the outputs (steps 1e-5 K, 1e-5 CR as tests/test_native_fmu_thermal.py's), within
+    1e-6 (its DD_RTOL): in Initialization Mode
+    (quasi-static) of T_eff, mu_eff, P_loss along T_supply and y; in Model Exchange's continuous-time mode,
+    T_eff the state 4 K off the balance, of der(T_eff) along T_supply, y and T_eff. The ambient at the
+    supply (oil_T_ambient 0) moves with T_supply, a fixed one does not."""
+    import ctypes
+
+    path, md = native2
+    reals = balance_values(name)
+    r = Run(path, md, {**reals, "T_supply": T_S, **dict(zip(IN, STATE))}, kind="ME")
+    steps = (("T_supply", T_S, 1e-5), ("y", STATE[0], 1e-5 * 90e-6))
+    try:
+        outs = ("T_eff", "mu_eff", "P_loss")
+        for known, x, h in steps:
+            got = r.dd(outs, [known], [1.0])
+            want = central(r, outs, known, x, h, lambda: r.get(outs))
+            assert np.all(np.abs(got - want) <= 1e-6 * np.abs(want)), (known, got, want)
+        r.f.exitInitializationMode()
+        r.f.enterContinuousTimeMode()
+        T = float(r.get(["T_eff"])[0]) + 4.0
+        r.set_state(T)
+        buf = np.zeros(1)
+        ptr = buf.ctypes.data_as(ctypes.POINTER(ctypes.c_double))
+
+        def rate():
+            r.f.getDerivatives(ptr, 1)
+            return np.array([buf[0]])
+
+        for known, x, h in (*steps, ("T_eff", T, 1e-3)):
+            got = r.dd(["der(T_eff)"], [known], [1.0])
+            want = central(r, ["der(T_eff)"], known, x, h, rate)
+            assert abs(got[0] - want[0]) <= 1e-6 * abs(want[0]), (known, got, want)
+    finally:
+        r.close()
+
+
+def test_native_fmu_refuses_another_outflow_share(native2):
+    from fmpy.fmi1 import FMICallException
+
+    path, md = native2
+    r = Run(path, md, {"T_supply": T_S})
+    try:
+        with pytest.raises(FMICallException):
+            r.set({"oil_outflow_share": 0.25})
+    finally:
+        r.f.freeInstance()
