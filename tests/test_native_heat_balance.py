@@ -151,13 +151,20 @@ def test_native_fmu_equals_the_python_fmu(native2, fmu, name):
     the balance's parameters: T_eff, mu_eff, P_loss, Q_side and the force within 1e-12 of each output's
     largest value."""
     path, md = native2
-    reals = balance_values(name)
+    rows = both_runs(native2, fmu, {**parameters(md), **balance_values(name)}, trajectory(6))
+    scale = np.max(np.abs(rows["python"]), axis=0)
+    assert np.max(np.abs(rows["native"] - rows["python"]) / scale) <= 1e-12
+
+
+def both_runs(native, fmu, reals: dict, states) -> dict:
+    """{"native", "python"}: the outputs Fy, Fz, T_eff, mu_eff, P_loss, Q_side over ``states`` (Co-Simulation,
+    steps of 1 ms, the supply rising 0.5 K a step from T_S) through the native FMU ``native`` (path, model
+    description) and the Python FMU ``fmu`` (the Reynolds internal on GRID), both with the Real ``reals``."""
     outs = ("Fy", "Fz", "T_eff", "mu_eff", "P_loss", "Q_side")
     rows = {}
-    for which, (f, m) in {"native": native2, "python": (fmu, fmpy.read_model_description(str(fmu)))}.items():
-        states = trajectory(6)
+    for which, (f, m) in {"native": native, "python": (fmu, fmpy.read_model_description(str(fmu)))}.items():
         strings = {"internal": "reynolds", "oil_law": "walther"} if which == "python" else None
-        r = Run(f, m, {**parameters(md), **reals, "T_supply": T_S, **dict(zip(IN, states[0]))}, strings)
+        r = Run(f, m, {**reals, "T_supply": T_S, **dict(zip(IN, states[0]))}, strings)
         try:
             if which == "python":
                 r.f.setInteger([r.vr["n_theta"], r.vr["n_x"]], [GRID["n_theta"], GRID["n_x"]])
@@ -170,8 +177,7 @@ def test_native_fmu_equals_the_python_fmu(native2, fmu, name):
             rows[which] = np.array(got)
         finally:
             r.close()
-    scale = np.max(np.abs(rows["python"]), axis=0)
-    assert np.max(np.abs(rows["native"] - rows["python"]) / scale) <= 1e-12
+    return rows
 
 
 def python_rate(md, reals, T) -> float:
@@ -261,3 +267,80 @@ def test_native_fmu_refuses_another_outflow_share(native2):
             r.set({"oil_outflow_share": 0.25})
     finally:
         r.f.freeInstance()
+
+
+# ----------------------------------------------------------------------------- a circumferential groove
+
+GROOVE = dict(D=0.040, L=0.045, CR=42e-6, width=0.005, ps=200e3)  # tests/test_native_peak.py's grooved bearing
+
+
+def grooved_bearing() -> BearingParams:
+    """The grooved bearing with the VG 46 oil, its balance the full rise (as params.groove_problem demands)."""
+    from bearing_fmu.physics.bore.geometry import Geometry
+
+    oil = replace(VG46, outflow_rise="full")
+    return BearingParams(D=GROOVE["D"], L=GROOVE["L"], CR=GROOVE["CR"], mu=oil.mu(oil.T_supply), oil=oil,
+                         geometry=Geometry(circumferential_groove=GROOVE["width"], supply_pressure=GROOVE["ps"]))
+
+
+def grooved_spiral(n=6):
+    CR, out = GROOVE["CR"], []
+    for k in range(n):
+        a, e, w = 0.3 * k, 0.4 + 0.03 * k, 280.0 + 15.0 * k
+        out.append((e * CR * math.sin(a), -e * CR * math.cos(a), 0.01 * w * CR * math.cos(a),
+                    0.01 * w * CR * math.sin(a), w))
+    return out
+
+
+@pytest.fixture(scope="module")
+def grooved2(tmp_path_factory, native_build_cache):
+    """(the native Reynolds FMU (FMI 2.0) of the grooved bearing with its oil, its model description)."""
+    from bearing_fmu.fmu.native.build import build_native_fmu
+
+    target = tmp_path_factory.mktemp("native_groove_balance") / "reynolds_groove_vg46.fmu"
+    path = native_build_cache(target, lambda t: build_native_fmu(t, "reynolds", bearing=grooved_bearing(),
+                                                                 options=GRID, compiler="cc"),
+                              [], ("groove balance", "reynolds", tuple(GRID.items()), tuple(GROOVE.items())))
+    return path, fmpy.read_model_description(str(path))
+
+
+def test_grooved_native_fmu_thermal_is_the_full_rise(grooved2):
+    """thermal = true on the grooved native Reynolds FMU (refused before: its balance was the half rise's):
+    oil_outflow_share starts at 0 (the file's 'full'); the quasi-static T_eff, mu_eff equal
+    film_temperature's on the lands (1e-10), and the full-rise balance P = rho c_p Q dT with Q = Q_side (the
+    groove delivers what leaves by the ends) closes at the outputs alone (1e-9)."""
+    path, md = grooved2
+    var = {v.name: v for v in md.modelVariables}
+    assert float(var["oil_outflow_share"].start) == 0.0 and float(var["circumferential_groove"].start) == 0.005
+    params = grooved_bearing()
+    state = grooved_spiral()[2]
+    r = Run(path, md, {"T_supply": T_S, **dict(zip(IN, state))})
+    try:
+        r.f.exitInitializationMode()
+        out = r.get(("T_eff", "mu_eff", "P_loss", "Q_side"))
+        report = Reynolds(params, GRID["n_theta"], GRID["n_x"]).film_report(*state)
+        T, mu_eff, _tau = film_temperature(params, report, params.oil, T_S)
+        assert out[0] == pytest.approx(T, rel=1e-10) and out[1] == pytest.approx(mu_eff, rel=1e-10)
+        assert out[0] - T_S > 0.5  # the film runs hot
+        oil = params.oil
+        rise = (out[0] - T_S) / oil.rise_factor
+        assert abs(out[2] - oil.density * oil.heat_capacity * out[3] * rise) <= 1e-9 * out[2]
+    finally:
+        r.close()
+
+
+@pytest.mark.parametrize("share", [0.0, 0.5])
+def test_grooved_native_fmu_equals_the_python_fmu(grooved2, fmu, share):
+    """The same grooved run (a spiral, the supply rising 0.5 K a step) through the native and the Python FMU:
+    T_eff, mu_eff, P_loss, Q_side and the force within 1e-10 of each output's largest value (the lands' C
+    solver equals Python's to 1e-12, tests/test_native_peak.py). oil_outflow_share = 0.5 set on both: the
+    groove's balance is the full rise still (both FMUs), the same rows as with 0."""
+    path, md = grooved2
+    params = grooved_bearing()
+    reals = {**parameters(md), "circumferential_groove": GROOVE["width"], "supply_pressure": GROOVE["ps"],
+             "oil_outflow_share": share}
+    rows = both_runs(grooved2, fmu, reals, grooved_spiral())
+    scale = np.max(np.abs(rows["python"]), axis=0)
+    assert np.max(np.abs(rows["native"] - rows["python"]) / scale) <= 1e-10
+    report = Reynolds(params, GRID["n_theta"], GRID["n_x"]).film_report(*grooved_spiral()[0])
+    assert rows["native"][0, 2] == pytest.approx(film_temperature(params, report, params.oil, T_S)[0], rel=1e-10)
