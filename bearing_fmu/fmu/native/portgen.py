@@ -42,8 +42,8 @@ PEAK_OUTPUTS = ("peak_pressure", "peak_pressure_angle")  # the film's (the Reyno
 
 
 OIL_REALS = ("oil_nu_1", "oil_T_1", "oil_nu_2", "oil_T_2", "oil_vogel_a", "oil_vogel_b", "oil_vogel_c", "oil_T_min",
-             "oil_T_max", "oil_density", "oil_heat_capacity", "oil_rise_factor", "oil_outflow_share", "oil_ambient_loss",
-             "oil_T_ambient")
+             "oil_T_max", "oil_density", "oil_heat_capacity", "oil_rise_factor", "oil_outflow_share",
+             "oil_ambient_loss", "oil_T_ambient")
 
 
 def bore_starts(params: BearingParams, internal=()) -> dict:

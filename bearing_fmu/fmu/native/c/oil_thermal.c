@@ -125,11 +125,6 @@ OT_API void ot_balance_terms(const ot_oil *oil, double per_mu, double carried, d
     out[2] = den;
 }
 
-/* the heat balance's gain [K/(Pa s)] (ot_balance_terms) */
-OT_API double ot_gain(const ot_oil *oil, double per_mu, double carried) {
-    return oil->rise_factor * per_mu / (oil->density * oil->heat_capacity * carried + oil->rise_factor * oil->ambient_W_K);
-}
-
 /* the heat balance's residual at T (thermal.film_temperature's g) */
 typedef struct {
     const ot_oil *oil;

@@ -22,7 +22,6 @@
 #define ot_mu OT_NAME(BN_ID, ot_mu)
 #define ot_oil_of OT_NAME(BN_ID, ot_oil_of)
 #define ot_dmu_dT OT_NAME(BN_ID, ot_dmu_dT)
-#define ot_gain OT_NAME(BN_ID, ot_gain)
 #define ot_balance_terms OT_NAME(BN_ID, ot_balance_terms)
 #define ot_film_rate OT_NAME(BN_ID, ot_film_rate)
 #define ot_film_temperature OT_NAME(BN_ID, ot_film_temperature)
@@ -55,9 +54,8 @@ OT_API int ot_oil_of(ot_oil *oil, int law, double nu1, double T1, double nu2, do
                      double outflow_share, double ambient_W_K, double T_ambient, char *why, size_t n);
 /* dmu/dT [Pa s/K] at T [K] */
 OT_API double ot_dmu_dT(const ot_oil *oil, double T);
-/* the gain g [K/(Pa s)] of T* = T_supply + shift + g mu(T) */
-OT_API double ot_gain(const ot_oil *oil, double per_mu, double carried);
-/* the heat balance's terms: out = gain [K/(Pa s)], shift [K], its denominator rho c_p carried + k h A [W/K] */
+/* the heat balance's terms of T* = T_supply + shift + gain mu(T): out = gain [K/(Pa s)], shift [K], its
+ * denominator rho c_p carried + k h A [W/K] */
 OT_API void ot_balance_terms(const ot_oil *oil, double per_mu, double carried, double T_supply, double out[3]);
 /* the heat balance's rate at the film temperature T (oil_thermal.c says what out holds): 0, or 1 with why */
 OT_API int ot_film_rate(const ot_oil *oil, double mu_ref, double R, double CR, double L, double power, double inflow,
