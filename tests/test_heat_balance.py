@@ -1,6 +1,7 @@
 """The [oil] table's heat-balance options (``outflow_rise``, ``ambient_W_K``, ``ambient_C``) in
 ``physics.thermal``: a textbook case, the balance itself, its limits, the two paths (static and at a
-fixed state) agreeing, and the FMUs refusing what they do not compute."""
+fixed state) agreeing, and the FMUs' parameters carrying every balance (the FMUs' own checks:
+tests/test_fmu_heat_balance.py, tests/test_native_heat_balance.py)."""
 
 from __future__ import annotations
 
@@ -71,17 +72,17 @@ def test_limits_of_the_ambient_loss():
     assert same.T_eff_K - KELVIN == pytest.approx(40.0, abs=1e-3)
 
 
-def test_file_keys_and_fmu_refusal(tmp_path):
-    """The keys read from a bearing file; the FMUs' parameters refuse a balance they do not compute,
-    naming the keys."""
+def test_file_keys_and_fmu_parameters(tmp_path):
+    """The keys read from a bearing file; the FMUs' parameters carry them (s = 0 for 'full', h A [W/K], the
+    ambient [K])."""
     from bearing_fmu.fmu.ports import port_defaults
 
     (tmp_path / "b.toml").write_text("[bearing]\nD_mm = 31\nL_mm = 20\nCR_um = 90\n[oil]\ngrade = \"SAE 30\"\n"
                                      "outflow_rise = \"full\"\nambient_W_K = 2.5\nambient_C = 25\n")
     prm = BearingParams.from_toml(tmp_path / "b.toml")
     assert (prm.oil.outflow_rise, prm.oil.ambient_W_K, prm.oil.T_ambient) == ("full", 2.5, 25.0 + KELVIN)
-    with pytest.raises(ValueError, match="outflow_rise = 'full', ambient_W_K = 2.5"):
-        port_defaults(prm)
+    got = port_defaults(prm)
+    assert (got["oil_outflow_share"], got["oil_ambient_loss"], got["oil_T_ambient"]) == (0.0, 2.5, 25.0 + KELVIN)
     (tmp_path / "c.toml").write_text("[bearing]\nD_mm = 31\nL_mm = 20\nCR_um = 90\n[oil]\ngrade = \"SAE 30\"\n"
                                      "outflow_rise = \"most\"\n")
     with pytest.raises(ValueError, match="outflow_rise"):

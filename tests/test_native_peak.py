@@ -211,14 +211,14 @@ def grooved_fmus(tmp_path_factory, native_build_cache):
 def test_grooved_fmu_equals_python(grooved_fmus, version):
     """The native FMU of the grooved bearing: its parameters circumferential_groove [m] and supply_pressure
     [Pa] start at the bearing's; force, K, C and the peak pressure equal the Python Reynolds internal's on
-    the same bore (1e-12); thermal = true is refused at initialisation naming the groove."""
+    the same bore (1e-12). (Its thermal model with an oil law: tests/test_native_heat_balance.py.)"""
     from fmpy.fmi2 import FMU2Slave
     from fmpy.fmi3 import FMU3Slave
 
     path, md = grooved_fmus[version]
     var = {v.name: v for v in md.modelVariables}
     assert float(var["circumferential_groove"].start) == WIDTH and float(var["supply_pressure"].start) == PS
-    assert var["circumferential_groove"].unit == "m" and "full rise" in var["thermal"].description
+    assert var["circumferential_groove"].unit == "m" and "no [oil] law" in var["thermal"].description
     vr = {n: v.valueReference for n, v in var.items()}
     direct = Reynolds(grooved(), GRID["n_theta"], GRID["n_x"])
     cls = FMU3Slave if version == 3 else FMU2Slave
@@ -280,13 +280,14 @@ def test_grooved_fmu_compliance_checker(grooved_fmus, tmp_path):
 
 
 def test_grooved_fmu_refuses_thermal_by_name(grooved_fmus):
-    """thermal = true on the grooved native FMU: initialisation fails naming the groove and the half rise
-    (its heat balance), and it does not send the user to the internal it already is."""
+    """thermal = true on the grooved native FMU of a bearing without an oil law: initialisation fails naming
+    the law (not the groove, whose thermal model the native FMU has: tests/test_native_heat_balance.py), and it
+    does not send the user to the internal it already is."""
     path, _md = grooved_fmus[2]
     lines = []
     with pytest.raises(Exception):
         fmpy.simulate_fmu(str(path), stop_time=1e-3, step_size=1e-3, start_values={"thermal": True},
                           debug_logging=True, logger=lambda *args: lines.append(args[-1].decode()))
     text = " ".join(lines)
-    assert "circumferential groove (5 mm)" in text and "half the rise" in text, text
+    assert "needs the oil's viscosity law" in text and "half the rise" not in text, text
     assert "or internal = 'reynolds'" not in text, text

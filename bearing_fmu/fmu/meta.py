@@ -48,6 +48,7 @@ UNITS = {
     "m2/s": {"m": 2, "s": -1},
     "kg/m3": {"kg": 1, "m": -3},
     "J/(kg.K)": {"m": 2, "s": -2, "K": -1},
+    "W/K": {"kg": 1, "m": 2, "s": -3, "K": -1},  # the housing's heat loss h A (ports.BALANCE_ROWS)
     "kg.m2": {"kg": 1, "m": 2},  # a tilting pad's moment of inertia (ports.PAD_ROWS)
     "rad/s2": {"rad": 1, "s": -2},  # the native FMU's tilting pads: der(pad_rate_k)
 }

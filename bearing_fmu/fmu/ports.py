@@ -12,8 +12,9 @@
 * Oil: the ``[oil]`` viscosity law as parameters (``oil_law`` none | walther | vogel; Walther
   through two points ``oil_nu_1`` at ``oil_T_1`` and ``oil_nu_2`` at ``oil_T_2`` [m^2/s, K]; Vogel
   ``oil_vogel_a`` [Pa s], ``oil_vogel_b``, ``oil_vogel_c`` [K]; ``oil_T_min``, ``oil_T_max``,
-  ``oil_density``, ``oil_heat_capacity``, ``oil_rise_factor``), their defaults the bearing file's
-  (``bearing-fmu build --bearing FILE``: ``port_defaults``).
+  ``oil_density``, ``oil_heat_capacity``, ``oil_rise_factor``; the heat balance's
+  ``oil_outflow_share`` s, ``oil_ambient_loss`` h A [W/K], ``oil_T_ambient`` [K]: ``BALANCE_ROWS``),
+  their defaults the bearing file's (``bearing-fmu build --bearing FILE``: ``port_defaults``).
 * Thermal ports: the input ``T_supply`` [K] and the outputs ``P_loss`` [W], ``Q_side`` [m^3/s],
   ``T_eff`` [K], ``mu_eff`` [Pa s]. An FMI 2.0 FMU cannot tell whether a master connected an
   input, so the parameter ``thermal`` says it: false (the default) leaves the FMU isoviscous at
@@ -109,6 +110,19 @@ PAD_ROWS = (
     *((f"pad_load_{k}", "Real", OUT, "N", 0.0, f"magnitude of pad {k}'s film force on the journal at the end of the "
        f"step (0 when pads < {k})") for k in range(1, MAX_PADS + 1)),
 )
+# the [oil] table's heat balance (``physics.thermal.heat_balance_rise``: P = rho c_p (Q - s Q_side) dT + h A (T_eff -
+# T_ambient); after the rest in the FMU's variables: the value references stay)
+OUTFLOW_SHARES = {0.5: "half", 0.0: "full"}  # s -> the bearing file's outflow_rise (``Oil.outflow_share``)
+BALANCE_ROWS = (
+    ("oil_outflow_share", "Real", P, "1", 0.5, "s in the heat the oil carries away, rho c_p (Q - s Q_side) dT: 0.5 the "
+     "side flow leaves at half the rise (Raimondi & Boyd; the bearing file's [oil] outflow_rise = 'half'), 0 all the "
+     "inflow at the full rise ('full'); no other value. With circumferential_groove > 0 the balance is the full rise "
+     "whatever this says (all the lands' oil leaves by their ends)"),
+    ("oil_ambient_loss", "Real", P, "W/K", 0.0, "h A: heat the bearing loses to the ambient per kelvin of T_eff above "
+     "oil_T_ambient (the bearing file's [oil] ambient_W_K; 0: adiabatic, all the friction power into the oil)"),
+    ("oil_T_ambient", "Real", P, "K", 0.0, "the ambient's temperature for oil_ambient_loss (the bearing file's [oil] "
+     "ambient_C); 0: the supply temperature T_supply (a file without ambient_C)"),
+)
 # the circumferential (360 deg) feed groove at mid-length (``Geometry.circumferential_groove``; after the
 # rest in the FMU's variables: the value references stay)
 GROOVE_ROWS = (
@@ -120,15 +134,17 @@ GROOVE_ROWS = (
 PAD_TILTS = tuple(f"pad_tilt_{k}" for k in range(1, MAX_PADS + 1))
 PAD_LOADS = tuple(f"pad_load_{k}" for k in range(1, MAX_PADS + 1))
 ROWS = GEOMETRY_ROWS + OIL_ROWS + THERMAL_ROWS
-PARAMETER_NAMES = tuple(r[0] for r in GEOMETRY_ROWS + OIL_ROWS + PAD_ROWS + GROOVE_ROWS if r[2] == P)
-ROW_UNITS = {r[0]: r[3] for r in ROWS}
+PARAMETER_NAMES = tuple(r[0] for r in GEOMETRY_ROWS + OIL_ROWS + PAD_ROWS + GROOVE_ROWS + BALANCE_ROWS if r[2] == P)
+ROW_UNITS = {r[0]: r[3] for r in ROWS + BALANCE_ROWS}
 # (min, max) of the Integer and Real parameters above, for the model description and the setters
 BOUNDS = {"groove_count": (0, MAX_GROOVES), "lobes": (1, MAX_LOBES), "groove_width": (0.0, math.pi),
           "supply_pressure": (0.0, MAX_SUPPLY_KPA * 1e3), "preload": (0.0, 1.0), "lobe_offset": (0.0, 1.0),
           "oil_rise_factor": (0.0, 1.0), "pads": (0, MAX_PADS), "pad_arc": (0.0, 2.0 * math.pi / MIN_PADS),
           "pivot_offset": (0.0, 1.0), "pad_inertia": (0.0, None), "circumferential_groove": (0.0, None), "oil_density": (500.0, 2000.0), "oil_heat_capacity": (500.0, 5000.0),
+          "oil_outflow_share": (0.0, 0.5),
           **{n: (0.0, None) for n in ("oil_nu_1", "oil_nu_2", "oil_vogel_a", "oil_vogel_b", "oil_vogel_c",
-                                      "oil_T_1", "oil_T_2", "oil_T_min", "oil_T_max")}}
+                                      "oil_T_1", "oil_T_2", "oil_T_min", "oil_T_max", "oil_ambient_loss",
+                                      "oil_T_ambient")}}
 _ANGLES = (tuple(f"groove_{k}" for k in range(1, MAX_GROOVES + 1)) + ("arc_start", "arc_end", "lobe_angle")
            + tuple(f"pivot_{k}" for k in range(1, MAX_PADS + 1)))
 
@@ -140,6 +156,9 @@ def check_value(name: str, value):
         lo, hi = BOUNDS[name]
         if not (math.isfinite(value) and lo <= value and (hi is None or value <= hi)):
             raise ValueError(f"{name} = {value!r} must be finite and in {lo:g} .. {'inf' if hi is None else f'{hi:g}'}")
+        if name == "oil_outflow_share" and value not in OUTFLOW_SHARES:
+            raise ValueError(f"oil_outflow_share = {value!r} must be 0.5 (the side flow leaves at half the rise: "
+                             "outflow_rise 'half') or 0 (all the oil at the full rise: 'full')")
     elif name in _ANGLES and not math.isfinite(value):
         raise ValueError(f"{name} = {value!r} rad must be finite")
     return value
@@ -206,13 +225,19 @@ def check_geometry(geometry: Geometry, spec) -> None:
 
 def oil_of(v, law: str, grooved: bool = False) -> Oil | None:
     """The oil the parameters of ``v`` describe (``law`` the checked oil_law), None for none;
-    ValueError naming the parameters. ``grooved`` (a circumferential groove): all the oil leaves by the
-    lands' ends at the full rise (``params.groove_problem``: outflow_rise "full"), else the side flow at half."""
+    ValueError naming the parameters. The heat balance: ``oil_outflow_share``, ``oil_ambient_loss``,
+    ``oil_T_ambient`` (0: None, the supply temperature); ``grooved`` (a circumferential groove): all the
+    oil leaves by the lands' ends at the full rise (``params.groove_problem``: outflow_rise "full")."""
     if law == "none":
         return None
+    share = float(v.oil_outflow_share)
+    if share not in OUTFLOW_SHARES:
+        check_value("oil_outflow_share", share)  # its error names the parameter and the two values
+    T_amb = float(v.oil_T_ambient)
     kw = dict(T_min=float(v.oil_T_min), T_max=float(v.oil_T_max), density=float(v.oil_density),
               heat_capacity=float(v.oil_heat_capacity), rise_factor=float(v.oil_rise_factor),
-              outflow_rise="full" if grooved else "half", name="oil of the FMU parameters")
+              outflow_rise="full" if grooved else OUTFLOW_SHARES[share], ambient_W_K=float(v.oil_ambient_loss),
+              T_ambient=T_amb if T_amb != 0.0 else None, name="oil of the FMU parameters")
     kw["T_supply"] = min(max(40.0 + KELVIN, kw["T_min"]), kw["T_max"])  # not used: T_supply is an input
     try:
         if law == "walther":
@@ -265,19 +290,14 @@ def _oil_defaults(params) -> dict:
     """The oil parameters of a bearing's [oil] ({} without one)."""
     out = {}
     oil = params.oil
-    g = params.geometry if params.geometry is not None else FULL_BORE
-    # a circumferential groove's balance is the full rise (params.groove_problem): the FMUs make it so (oil_of)
-    grooved = bool(g.circumferential_groove) and oil is not None and oil.outflow_rise == "full"
     if oil is not None and oil.cavitated_shear != "full":
         raise ValueError(f"[oil] cavitated_shear = {oil.cavitated_shear!r}: the bearing FMUs shear the cavitated film "
                          "as a full film only; demo, stability and run with via = 'direct' take the others")
-    if oil is not None and not oil.default_balance and not (grooved and oil.ambient_W_K == 0.0):
-        raise ValueError(f"[oil] outflow_rise = {oil.outflow_rise!r}, ambient_W_K = {oil.ambient_W_K:g}: the bearing "
-                         "FMUs compute the adiabatic balance with the side flow at half the rise only (outflow_rise = "
-                         "'half', ambient_W_K = 0; with a circumferential groove 'full'); demo, stability and run with via = 'direct' take the others")
-    if oil is not None:
+    if oil is not None:  # every heat balance (BALANCE_ROWS); a grooved bearing's file says 'full' (groove_problem)
         out.update(oil_law=oil.law, oil_T_min=oil.T_min, oil_T_max=oil.T_max, oil_density=oil.density,
-                   oil_heat_capacity=oil.heat_capacity, oil_rise_factor=oil.rise_factor)
+                   oil_heat_capacity=oil.heat_capacity, oil_rise_factor=oil.rise_factor,
+                   oil_outflow_share=oil.outflow_share, oil_ambient_loss=oil.ambient_W_K,
+                   oil_T_ambient=0.0 if oil.T_ambient is None else oil.T_ambient)
         if oil.law == "walther":  # two points of the law: 40 and 100 C where the range holds them, else its ends
             t1, t2 = ((40.0 + KELVIN, 100.0 + KELVIN) if oil.T_min <= 40.0 + KELVIN and 100.0 + KELVIN <= oil.T_max
                       else (oil.T_min, oil.T_max))

@@ -85,6 +85,8 @@ VARIABLES = (
     *ports.PAD_ROWS,
     # the circumferential feed groove's width (ports.GROOVE_ROWS; after the rest: the value references stay)
     *ports.GROOVE_ROWS,
+    # the oil's heat balance: outflow share, ambient loss (ports.BALANCE_ROWS; after the rest: the value references stay)
+    *ports.BALANCE_ROWS,
 )
 
 INPUTS = tuple(v[0] for v in VARIABLES if v[2] == INPUT)

@@ -13,7 +13,8 @@ their variables and their lines of model_config.h, for ``codegen``.
   bn_film, bn_parts.c dispatching); initialisation refuses thermal = true with the internal set
   to one without them, naming it and why (``BN_FLOW_WHY_<name>``).
 * The oil: the bearing file's law (``BN_OIL_LAW``: none, walther, vogel) compiled in, as the
-  bore is; its Real parameters (``fmu.ports.OIL_ROWS``: oil_nu_1 .. oil_rise_factor) after the
+  bore is; its Real parameters (``fmu.ports.OIL_ROWS``: oil_nu_1 .. oil_rise_factor, and the heat
+  balance's ``ports.BALANCE_ROWS``: oil_outflow_share, oil_ambient_loss, oil_T_ambient) after the
   bore's, their starts the file's (``ports.port_defaults``) and settable. No ``oil_law``
   parameter: another law is another build.
 * The film's peak pressure: the outputs ``peak_pressure`` [Pa] and ``peak_pressure_angle`` [rad]
@@ -41,7 +42,8 @@ PEAK_OUTPUTS = ("peak_pressure", "peak_pressure_angle")  # the film's (the Reyno
 
 
 OIL_REALS = ("oil_nu_1", "oil_T_1", "oil_nu_2", "oil_T_2", "oil_vogel_a", "oil_vogel_b", "oil_vogel_c", "oil_T_min",
-             "oil_T_max", "oil_density", "oil_heat_capacity", "oil_rise_factor")
+             "oil_T_max", "oil_density", "oil_heat_capacity", "oil_rise_factor", "oil_outflow_share",
+             "oil_ambient_loss", "oil_T_ambient")
 
 
 def bore_starts(params: BearingParams, internal=()) -> dict:
@@ -54,13 +56,13 @@ def bore_starts(params: BearingParams, internal=()) -> dict:
 
     from ...internals import registry
     from ...physics.bore.geometry import FULL_BORE
-    from ..ports import GEOMETRY_ROWS, GROOVE_ROWS, OIL_ROWS, port_defaults
+    from ..ports import BALANCE_ROWS, GEOMETRY_ROWS, GROOVE_ROWS, OIL_ROWS, port_defaults
 
     parts = parts_of(internal) if internal else ()
     if params.geometry is not None and params.geometry.pads is not None and parts and all(
             registry.get(p).can.pads for p in parts):
         params = replace(params, geometry=FULL_BORE)
-    return {**{r[0]: r[4] for r in GEOMETRY_ROWS + GROOVE_ROWS + OIL_ROWS}, **port_defaults(params)}
+    return {**{r[0]: r[4] for r in GEOMETRY_ROWS + GROOVE_ROWS + OIL_ROWS + BALANCE_ROWS}, **port_defaults(params)}
 
 
 def parts_of(internal) -> tuple[str, ...]:

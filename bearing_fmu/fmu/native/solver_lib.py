@@ -68,7 +68,7 @@ def solver_library(folder: Path) -> ctypes.CDLL:
     lib.rs_peak_pressure.restype = None
     lib.rs_peak_pressure.argtypes = [p, p]
     lib.ot_oil_of.restype = i
-    lib.ot_oil_of.argtypes = [p, i, *[d] * 12, ctypes.c_char_p, ctypes.c_size_t]
+    lib.ot_oil_of.argtypes = [p, i, *[d] * 15, ctypes.c_char_p, ctypes.c_size_t]
     lib.ot_mu.restype = d
     lib.ot_mu.argtypes = [p, d]
     lib.ot_film_temperature.restype = i
@@ -179,12 +179,14 @@ class NativeReynolds:
 class _OtOil(ctypes.Structure):  # c/oil_thermal.h ot_oil
     _fields_ = [("law", ctypes.c_int), ("c", ctypes.c_double * 3), ("T_min", ctypes.c_double),
                 ("T_max", ctypes.c_double), ("density", ctypes.c_double), ("heat_capacity", ctypes.c_double),
-                ("rise_factor", ctypes.c_double)]
+                ("rise_factor", ctypes.c_double), ("outflow_share", ctypes.c_double),
+                ("ambient_W_K", ctypes.c_double), ("T_ambient", ctypes.c_double)]
 
 
 class NativeOil:
     """The oil law and the film temperature in C (c/oil_thermal.c) from the FMU's oil parameters
-    ``values`` (a dict of ``fmu.ports`` names: oil_law, oil_nu_1 .. oil_rise_factor)."""
+    ``values`` (a dict of ``fmu.ports`` names: oil_law, oil_nu_1 .. oil_rise_factor, oil_outflow_share,
+    oil_ambient_loss, oil_T_ambient)."""
 
     LAWS = ("none", "walther", "vogel")
 
@@ -193,7 +195,8 @@ class NativeOil:
         self._oil = _OtOil()
         why = ctypes.create_string_buffer(512)
         names = ("oil_nu_1", "oil_T_1", "oil_nu_2", "oil_T_2", "oil_vogel_a", "oil_vogel_b", "oil_vogel_c",
-                 "oil_T_min", "oil_T_max", "oil_density", "oil_heat_capacity", "oil_rise_factor")
+                 "oil_T_min", "oil_T_max", "oil_density", "oil_heat_capacity", "oil_rise_factor", "oil_outflow_share",
+                 "oil_ambient_loss", "oil_T_ambient")
         if lib.ot_oil_of(ctypes.byref(self._oil), self.LAWS.index(values["oil_law"]),
                          *[float(values[n]) for n in names], why, 512):
             raise ValueError(why.value.decode())

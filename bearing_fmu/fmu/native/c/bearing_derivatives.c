@@ -231,20 +231,25 @@ static int parameter_differences(Instance *m, const double d[N_REAL], double out
 /* thermal = true (see above) */
 static int thermal_derivative(Instance *m, const double x[5], const double d[N_REAL], int with_kc,
                               double out[N_DERIVATIVES]) {
-    double F[2], J[8], dw[2], dJ[8], rep[5], drep[5], hb[7], dx[5];
+    double F[2], J[8], dw[2], dJ[8], rep[5], drep[5], hb[8], dx[5];
     int tangent = with_kc && m->b[B_COMPUTE_TANGENT], held = m->mode != MODE_INIT, bearing_in_force, speed_in_force;
     if (eval_quiet(m, x, 1, F, J, dw) || bn_film(m, x, rep) || bn_heat_balance(m, rep, !held, hb)) return 1;
     bn_force_depends(m, &bearing_in_force, &speed_in_force);
     for (int i = 0; i < 5; i++) dx[i] = d[i];
     if (!speed_in_force) dx[4] = 0.0;
     if (state_differences(m, x, J, tangent ? dJ : NULL, rep, drep, dx)) return tangent ? kc_refused(m) : 1;
-    double mu_ref = m->r[VR_MU], mu = hb[1], dmu_dT = hb[2], g = hb[3], carried = hb[4], tau = hb[5];
-    double per_mu = rep[2] / mu_ref, dper_mu = drep[2] / mu_ref, dcarried = drep[3] - 0.5 * drep[4];
-    double dTs = d[VR_T_SUPPLY];
-    double dg = g > 0.0 ? g * (dper_mu / per_mu - dcarried / carried) : 0.0; /* g = k per_mu / (rho c_p carried) */
+    double mu_ref = m->r[VR_MU], mu = hb[1], dmu_dT = hb[2], g = hb[3], den = hb[4], tau = hb[5], shift = hb[7];
+    const ot_oil *oil = &m->oil;
+    double per_mu = rep[2] / mu_ref, dper_mu = drep[2] / mu_ref, dTs = d[VR_T_SUPPLY];
+    /* ot_balance_terms: g = k per_mu / den, shift = -k h A (T_supply - T_amb) / den, den = rho c_p carried + k h A */
+    double dden = oil->density * oil->heat_capacity * (drep[3] - oil->outflow_share * drep[4]);
+    double dg = den > 0.0 ? g * (dper_mu / per_mu - dden / den) : 0.0;
+    double dexcess = oil->T_ambient > 0.0 ? dTs : 0.0; /* T_amb 0: the supply's, no excess */
+    double dshift = den > 0.0 ? -(oil->rise_factor * oil->ambient_W_K * dexcess + shift * dden) / den : 0.0;
+    double dstar = dTs + dshift + dg * mu;                             /* T*'s at a fixed T */
     double dT = STATE_T_EFF(m) ? d[VR_T_EFF]                           /* Model Exchange: the state, a known */
                 : held ? 0.0                                           /* Co-Simulation: the step's, held */
-                : (dTs + dg * mu) / (1.0 - g * dmu_dT);                /* the root of T = T_supply + g mu(T) */
+                : dstar / (1.0 - g * dmu_dT);                          /* the root of T = T*(T) */
     double s = mu / mu_ref, dmu = dmu_dT * dT, ds = dmu / mu_ref;
     for (int r = 0; r < 2; r++) {
         const double *row = J + 4 * r;
@@ -261,8 +266,8 @@ static int thermal_derivative(Instance *m, const double x[5], const double d[N_R
     out[D_Q_SIDE] = drep[4];
     out[D_T_EFF] = dT;
     out[D_MU_EFF] = dmu;
-    if (g > 0.0 && tau < INFINITY) /* der(T_eff) = (T* - T) / t_res, t_res ~ 1 / inflow; else 0 (T holds) */
-        out[D_DER_T_EFF] = (dTs + dg * mu + g * dmu - dT) / tau + hb[6] * drep[3] / rep[3];
+    if (den > 0.0 && tau < INFINITY) /* der(T_eff) = (T* - T) / t_res, t_res ~ 1 / inflow; else 0 (T holds) */
+        out[D_DER_T_EFF] = (dstar + g * dmu - dT) / tau + hb[6] * drep[3] / rep[3];
     for (int k = 0; k < N_REAL; k++)
         if (real_parameter(k) && d[k] != 0.0) return parameter_differences(m, d, out);
     return 0;

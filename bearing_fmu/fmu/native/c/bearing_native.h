@@ -115,10 +115,10 @@ enum {
  * Boolean partial_arc the others */
 #define VR_GEOMETRY0 (VR_T_SUPPLY + 5)
 #define N_GEOMETRY_REALS 16
-/* the oil's Reals (ports.OIL_ROWS: oil_nu_1 .. oil_rise_factor) after the bore's; its law is
- * the build's (BN_OIL_LAW) */
+/* the oil's Reals (ports.OIL_ROWS: oil_nu_1 .. oil_rise_factor; ports.BALANCE_ROWS: oil_outflow_share,
+ * oil_ambient_loss, oil_T_ambient) after the bore's; its law is the build's (BN_OIL_LAW) */
 #define VR_OIL0 (VR_GEOMETRY0 + N_GEOMETRY_REALS)
-#define N_OIL_REALS 12
+#define N_OIL_REALS 15
 /* der(T_eff), a local: in Model Exchange T_eff is the one continuous state of a build whose
  * internal has the film's flows and whose bearing an oil law (BN_N_STATES 1), this its derivative */
 #define VR_DER_T_EFF (VR_OIL0 + N_OIL_REALS)

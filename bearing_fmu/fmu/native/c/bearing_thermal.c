@@ -19,8 +19,11 @@ int bn_thermal_setup(Instance *m, char *why, size_t n) {
                  "does not have: use Co-Simulation, or thermal = false");
         return 1;
     }
+    /* a circumferential groove (the bore's last Real, circumferential_groove): all the lands' oil leaves by their
+     * ends at the full rise whatever oil_outflow_share says (ports.oil_of's grooved; params.groove_problem) */
+    double share = m->r[VR_GEOMETRY0 + N_GEOMETRY_REALS - 1] > 0.0 ? 0.0 : o[12];
     if (ot_oil_of(&m->oil, BN_OIL_LAW, o[0], o[1], o[2], o[3], o[4], o[5], o[6], o[7], o[8], o[9], o[10], o[11],
-                  reason, sizeof reason)) {
+                  share, o[13], o[14], reason, sizeof reason)) {
         snprintf(why, n, "the oil parameters (the law %s, oil_...) do not fit together: %s",
                  BN_OIL_LAW == OT_WALTHER ? "walther" : "vogel", reason);
         return 1;
@@ -66,9 +69,10 @@ int bn_thermal_state(Instance *m, const double x[5], double out[6]) {
 }
 
 #if BN_FILM_FLOW
-int bn_heat_balance(Instance *m, const double rep[5], int quasi, double out[7]) {
+int bn_heat_balance(Instance *m, const double rep[5], int quasi, double out[8]) {
     double mu = m->r[VR_MU], R = 0.5 * m->r[VR_D], CR = m->r[VR_CR], L = m->r[VR_L], Ts = m->r[VR_T_SUPPLY];
-    double t[3] = {m->r[VR_T_EFF], 0.0, 0.0}, rate[3], per_mu = rep[2] / mu, carried = rep[3] - 0.5 * rep[4];
+    double t[3] = {m->r[VR_T_EFF], 0.0, 0.0}, rate[3], per_mu = rep[2] / mu;
+    double carried = rep[3] - m->oil.outflow_share * rep[4], terms[3] = {0.0, 0.0, 0.0}; /* 0: T* = T_supply */
     char why[700];
     if ((quasi && ot_film_temperature(&m->oil, mu, R, CR, L, rep[2], rep[3], rep[4], Ts, 0, Ts, 0.0, t, why,
                                       sizeof why))
@@ -79,10 +83,12 @@ int bn_heat_balance(Instance *m, const double rep[5], int quasi, double out[7]) 
     out[0] = t[0];
     out[1] = rate[0];
     out[2] = ot_dmu_dT(&m->oil, t[0]);
-    out[3] = per_mu > 0.0 && carried > 0.0 ? ot_gain(&m->oil, per_mu, carried) : 0.0; /* 0: T* = T_supply */
-    out[4] = carried;
+    if (per_mu > 0.0 && carried > 0.0) ot_balance_terms(&m->oil, per_mu, carried, Ts, terms);
+    out[3] = terms[0];
+    out[4] = terms[2];
     out[5] = rate[1];
     out[6] = rate[2];
+    out[7] = terms[1];
     return 0;
 }
 #endif

@@ -85,13 +85,15 @@ static const double GEOMETRY_START[N_GEOMETRY_REALS] = BN_GEOMETRY_REAL_START;
 /* the oil (ports.OIL_ROWS, ports.BOUNDS): names, units, starts (the build's bearing's), bounds */
 static const char *const OIL_NAMES[N_OIL_REALS] = {
     "oil_nu_1", "oil_T_1", "oil_nu_2", "oil_T_2", "oil_vogel_a", "oil_vogel_b", "oil_vogel_c", "oil_T_min",
-    "oil_T_max", "oil_density", "oil_heat_capacity", "oil_rise_factor"};
+    "oil_T_max", "oil_density", "oil_heat_capacity", "oil_rise_factor", "oil_outflow_share", "oil_ambient_loss",
+    "oil_T_ambient"};
 static const char *const OIL_UNITS[N_OIL_REALS] = {"m2/s", "K", "m2/s", "K", "Pa.s", "K", "K", "K", "K", "kg/m3",
-                                                   "J/(kg.K)", "1"};
+                                                   "J/(kg.K)", "1", "1", "W/K", "K"};
 static const double OIL_START[N_OIL_REALS] = BN_OIL_START;
-static const double OIL_LOW[N_OIL_REALS] = {0, 0, 0, 0, 0, 0, 0, 0, 0, 500.0, 500.0, 0.0};
+static const double OIL_LOW[N_OIL_REALS] = {0, 0, 0, 0, 0, 0, 0, 0, 0, 500.0, 500.0, 0.0, 0.0, 0.0, 0.0};
 static const double OIL_HIGH[N_OIL_REALS] = {INFINITY, INFINITY, INFINITY, INFINITY, INFINITY, INFINITY, INFINITY,
-                                             INFINITY, INFINITY, 2000.0, 5000.0, 1.0};
+                                             INFINITY, INFINITY, 2000.0, 5000.0, 1.0, 0.5, INFINITY, INFINITY};
+#define OIL_SHARE (N_OIL_REALS - 3) /* oil_outflow_share: 0.5 or 0 only (ports.OUTFLOW_SHARES) */
 static const int INT_START[N_INT] = BN_GEOMETRY_INT_START;
 static const char *const INT_NAMES[N_INT] = {"groove_count", "lobes"};
 static const int INT_LOW[N_INT] = {0, 1}, INT_HIGH[N_INT] = {8, 8};
@@ -241,6 +243,11 @@ int bn_check_real(int vr, double v, char *why, size_t n) {
             char lo[32], hi[32];
             snprintf(why, n, "%s = %s must be finite and in %s .. %s", OIL_NAMES[k], bn_num(a, sizeof a, v, 17),
                      bn_num(lo, sizeof lo, OIL_LOW[k], 6), bn_num(hi, sizeof hi, OIL_HIGH[k], 6));
+            return 1;
+        }
+        if (k == OIL_SHARE && v != 0.5 && v != 0.0) {
+            snprintf(why, n, "oil_outflow_share = %s must be 0.5 (the side flow leaves at half the rise: outflow_rise "
+                     "'half') or 0 (all the oil at the full rise: 'full')", bn_num(a, sizeof a, v, 17));
             return 1;
         }
         return 0;

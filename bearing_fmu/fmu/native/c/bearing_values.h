@@ -83,10 +83,11 @@ BN_HIDDEN int bn_thermal_state(Instance *m, const double x[5], double out[6]);
 /* thermal = true, for the derivatives: the heat balance at the film report rep (bn_film's, at the
  * parameter mu) and the film temperature T: quasi-static (quasi 1: Initialization Mode) or the one
  * held (m->r[VR_T_EFF]: Model Exchange's state, Co-Simulation's of the last step). out = T [K],
- * mu(T) [Pa s], dmu/dT [Pa s/K], the gain g [K/(Pa s)] of T* = T_supply + g mu(T) (0 when the film
- * dissipates nothing), the oil carried away inflow - side flow / 2 [m^3/s], the residence time
- * t_res [s], der(T_eff) = (T* - T) / t_res [K/s]. 0, or 1 with the reason in m->msg. */
-BN_HIDDEN int bn_heat_balance(Instance *m, const double rep[5], int quasi, double out[7]);
+ * mu(T) [Pa s], dmu/dT [Pa s/K], the gain g [K/(Pa s)] of T* = T_supply + shift + g mu(T) (0 when
+ * the film dissipates nothing), the balance's denominator rho c_p (inflow - s side flow) + k h A
+ * [W/K] (0 then too), the residence time t_res [s], der(T_eff) = (T* - T) / t_res [K/s], the shift
+ * [K] (ot_balance_terms). 0, or 1 with the reason in m->msg. */
+BN_HIDDEN int bn_heat_balance(Instance *m, const double rep[5], int quasi, double out[8]);
 #endif
 
 /* Model Exchange: the continuous states (BN_N_STATES: T_eff, thermal = true), into x (get) or from

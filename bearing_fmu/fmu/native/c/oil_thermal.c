@@ -18,17 +18,31 @@ OT_API double ot_mu(const ot_oil *oil, double T) {
 }
 
 /* The oil of the FMU parameters (ports.oil_of): law (OT_*), Walther's two points nu [m^2/s] at
- * T [K], Vogel's a [Pa s], b, c [K], the range, density, heat capacity, rise factor. 0, or 1 with
- * the reason (Oil's checks, in the parameters' names) in why. */
+ * T [K], Vogel's a [Pa s], b, c [K], the range, density, heat capacity, rise factor, and the heat
+ * balance's outflow share s (0.5 or 0), ambient loss h A [W/K] and ambient temperature [K] (0: the
+ * supply's). 0, or 1 with the reason (Oil's checks, in the parameters' names) in why. */
 OT_API int ot_oil_of(ot_oil *oil, int law, double nu1, double T1, double nu2, double T2, double va, double vb,
                      double vc, double T_min, double T_max, double density, double heat_capacity, double rise_factor,
-                     char *why, size_t n) {
+                     double outflow_share, double ambient_W_K, double T_ambient, char *why, size_t n) {
     oil->law = law;
     oil->T_min = T_min;
     oil->T_max = T_max;
     oil->density = density;
     oil->heat_capacity = heat_capacity;
     oil->rise_factor = rise_factor;
+    oil->outflow_share = outflow_share;
+    oil->ambient_W_K = ambient_W_K;
+    oil->T_ambient = T_ambient;
+    if (!(outflow_share == 0.5 || outflow_share == 0.0)) {
+        snprintf(why, n, "oil_outflow_share = %.17g must be 0.5 (the side flow leaves at half the rise: outflow_rise "
+                 "'half') or 0 (all the oil at the full rise: 'full')", outflow_share);
+        return 1;
+    }
+    if (!(isfinite(ambient_W_K) && ambient_W_K >= 0.0 && isfinite(T_ambient) && T_ambient >= 0.0)) {
+        snprintf(why, n, "oil_ambient_loss = %g W/K and oil_T_ambient = %g K must be finite and >= 0 (oil_T_ambient 0: "
+                 "the supply temperature)", ambient_W_K, T_ambient);
+        return 1;
+    }
     if (!(isfinite(T_min) && isfinite(T_max) && 0.0 < T_min && T_min < T_max)) {
         snprintf(why, n, "the range oil_T_min .. oil_T_max = %.6g .. %.6g K must have 0 K < low < high", T_min, T_max);
         return 1;
@@ -98,20 +112,27 @@ OT_API double ot_dmu_dT(const ot_oil *oil, double T) {
     return -ot_mu(oil, T) * oil->c[1] / ((T - oil->c[2]) * (T - oil->c[2]));
 }
 
-/* the heat balance's gain [K/(Pa s)]: T* = T_supply + gain mu(T), from the friction power per
- * viscosity per_mu [W/(Pa s)] and the oil carried away, inflow - side flow / 2 [m^3/s] (> 0) */
-OT_API double ot_gain(const ot_oil *oil, double per_mu, double carried) {
-    return oil->rise_factor * per_mu / (oil->density * oil->heat_capacity * carried);
+/* The heat balance (thermal.heat_balance_rise): P = rho c_p (Q - s Qs) dT + h A (T_eff - T_amb),
+ * T_eff = T_supply + k dT, P = per_mu mu(T), so the target T* = T_supply + shift + gain mu(T) with
+ * den = rho c_p carried + k h A [W/K], gain = k per_mu / den [K/(Pa s)] and shift = -k h A (T_supply
+ * - T_amb) / den [K] (the loss at the supply temperature); carried = inflow - s side flow [m^3/s] (> 0),
+ * per_mu the friction power per viscosity [W/(Pa s)]. out = gain, shift, den. */
+OT_API void ot_balance_terms(const ot_oil *oil, double per_mu, double carried, double T_supply, double out[3]) {
+    double hA = oil->ambient_W_K, T_amb = oil->T_ambient > 0.0 ? oil->T_ambient : T_supply;
+    double den = oil->density * oil->heat_capacity * carried + oil->rise_factor * hA;
+    out[0] = oil->rise_factor * per_mu / den;
+    out[1] = -oil->rise_factor * hA * (T_supply - T_amb) / den;
+    out[2] = den;
 }
 
 /* the heat balance's residual at T (thermal.film_temperature's g) */
 typedef struct {
     const ot_oil *oil;
-    double a, T_s, gain, T_old;
+    double a, T_s, shift, gain, T_old;
 } ot_balance;
 
 static double ot_g(const ot_balance *b, double T) {
-    return (1.0 - b->a) * (b->T_s + b->gain * ot_mu(b->oil, T)) + b->a * b->T_old - T;
+    return (1.0 - b->a) * (b->T_s + b->shift + b->gain * ot_mu(b->oil, T)) + b->a * b->T_old - T;
 }
 
 /* scipy.optimize.brentq (scipy/optimize/Zeros/brentq.c, Brent 1973), maxiter 100: the same
@@ -173,7 +194,7 @@ static int ot_range(const ot_oil *oil, double T, const char *what, char *why, si
 
 /* Model Exchange's form of the lag (thermal.py, "At a fixed journal state"): at the film temperature
  * T [K] (a state), out = mu(T) [Pa s], the residence time [s] and dT/dt = (T*(T) - T) / t_res [K/s],
- * T* = T_supply + k dT(mu(T)) the heat balance's target (0 when the film dissipates nothing or takes
+ * T* = T_supply + k dT(mu(T)) the heat balance's target (ot_balance_terms) (0 when the film dissipates nothing or takes
  * in no oil: its temperature holds). 0, or 1 with the reason in why. */
 OT_API int ot_film_rate(const ot_oil *oil, double mu_ref, double R, double CR, double L, double power, double inflow,
                         double side_flow, double T_supply, double T, double out[3], char *why, size_t n) {
@@ -184,13 +205,14 @@ OT_API int ot_film_rate(const ot_oil *oil, double mu_ref, double R, double CR, d
     out[1] = tau;
     out[2] = 0.0;
     if (per_mu <= 0.0 || !(tau < INFINITY)) return 0;
-    double carried = inflow - 0.5 * side_flow;
+    double carried = inflow - oil->outflow_share * side_flow, terms[3];
     if (!(carried > 0.0)) {
         snprintf(why, n, "film temperature: the film carries no oil away (inflow %.4g m^3/s, side flow %.4g m^3/s) "
                  "while it dissipates %.4g W", inflow, side_flow, power);
         return 1;
     }
-    out[2] = (T_supply + ot_gain(oil, per_mu, carried) * out[0] - T) / tau;
+    ot_balance_terms(oil, per_mu, carried, T_supply, terms);
+    out[2] = (T_supply + terms[1] + terms[0] * out[0] - T) / tau;
     return 0;
 }
 
@@ -217,17 +239,26 @@ OT_API int ot_film_temperature(const ot_oil *oil, double mu_ref, double R, doubl
         out[1] = ot_mu(oil, T);
         return 0;
     }
-    double carried = inflow - 0.5 * side_flow;
+    double carried = inflow - oil->outflow_share * side_flow, terms[3];
     if (!(carried > 0.0)) {
         snprintf(why, n, "film temperature: the film carries no oil away (inflow %.4g m^3/s, side flow %.4g m^3/s) "
                  "while it dissipates %.4g W", inflow, side_flow, power);
         return 1;
     }
-    ot_balance bal = {oil, a, T_supply, ot_gain(oil, per_mu, carried), T_old};
-    double lo = T_old < T_supply ? T_old : T_supply;
-    double hi = T_supply + bal.gain * ot_mu(oil, lo);
+    ot_balance_terms(oil, per_mu, carried, T_supply, terms);
+    ot_balance bal = {oil, a, T_supply, terms[1], terms[0], T_old};
+    /* thermal.film_temperature's bracket: a loss (shift < 0) may put the root below the supply */
+    double lo = T_supply + (bal.shift < 0.0 ? bal.shift : 0.0);
+    if (T_old < lo) lo = T_old;
+    if (lo < oil->T_min) lo = oil->T_min;
+    double hi = T_supply + (bal.shift > 0.0 ? bal.shift : 0.0) + bal.gain * ot_mu(oil, lo);
     if (T_old > hi) hi = T_old;
     if (hi > oil->T_max) hi = oil->T_max;
+    if (ot_g(&bal, lo) < 0.0) {
+        snprintf(why, n, "film temperature: below the oil's range (from %.4g C): the heat lost to the ambient "
+                 "(oil_ambient_loss, oil_T_ambient) cools the film further", oil->T_min - OT_KELVIN);
+        return 1;
+    }
     if (ot_g(&bal, hi) > 0.0) {
         snprintf(why, n, "film temperature: above the oil's range (up to %.4g C): the heat balance at %.4g C still "
                  "heats the film (dissipation %.4g W); cool the supply or widen the oil's range",

@@ -22,7 +22,7 @@
 #define ot_mu OT_NAME(BN_ID, ot_mu)
 #define ot_oil_of OT_NAME(BN_ID, ot_oil_of)
 #define ot_dmu_dT OT_NAME(BN_ID, ot_dmu_dT)
-#define ot_gain OT_NAME(BN_ID, ot_gain)
+#define ot_balance_terms OT_NAME(BN_ID, ot_balance_terms)
 #define ot_film_rate OT_NAME(BN_ID, ot_film_rate)
 #define ot_film_temperature OT_NAME(BN_ID, ot_film_temperature)
 #if (defined(__GNUC__) || defined(__clang__)) && !defined(_WIN32)
@@ -41,6 +41,9 @@ typedef struct {
     double density;         /* [kg/m^3] */
     double heat_capacity;   /* [J/(kg K)] */
     double rise_factor;     /* k of T_eff = T_supply + k dT */
+    double outflow_share;   /* s of the heat carried away, rho c_p (Q - s Qs) dT: 0.5 (outflow_rise half) or 0 (full) */
+    double ambient_W_K;     /* h A: heat lost to the ambient per kelvin of T_eff above T_ambient [W/K] */
+    double T_ambient;       /* the ambient's temperature [K]; 0: the supply temperature */
 } ot_oil;
 
 /* mu [Pa s] at T [K] (no range check) */
@@ -48,11 +51,12 @@ OT_API double ot_mu(const ot_oil *oil, double T);
 /* the oil of the FMU parameters: 0, or 1 with the reason in why */
 OT_API int ot_oil_of(ot_oil *oil, int law, double nu1, double T1, double nu2, double T2, double va, double vb,
                      double vc, double T_min, double T_max, double density, double heat_capacity, double rise_factor,
-                     char *why, size_t n);
+                     double outflow_share, double ambient_W_K, double T_ambient, char *why, size_t n);
 /* dmu/dT [Pa s/K] at T [K] */
 OT_API double ot_dmu_dT(const ot_oil *oil, double T);
-/* the gain g [K/(Pa s)] of T* = T_supply + g mu(T) */
-OT_API double ot_gain(const ot_oil *oil, double per_mu, double carried);
+/* the heat balance's terms of T* = T_supply + shift + gain mu(T): out = gain [K/(Pa s)], shift [K], its
+ * denominator rho c_p carried + k h A [W/K] */
+OT_API void ot_balance_terms(const ot_oil *oil, double per_mu, double carried, double T_supply, double out[3]);
 /* the heat balance's rate at the film temperature T (oil_thermal.c says what out holds): 0, or 1 with why */
 OT_API int ot_film_rate(const ot_oil *oil, double mu_ref, double R, double CR, double L, double power, double inflow,
                         double side_flow, double T_supply, double T, double out[3], char *why, size_t n);

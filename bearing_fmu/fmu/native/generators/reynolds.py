@@ -33,24 +33,13 @@ def reynolds_model(params: BearingParams, surrogate, map_path, options: dict) ->
     inputs = (0.0, 0.0, 0.0, 0.0, float(options.get("_omega", registry.DEFAULT_OMEGA_LIN)))
     grid = f"{starts['n_theta'] or 'default'} x {starts['n_x'] or 'default'}"
     info = {"bore": params.geometry.describe(), "grid": grid, "cavitation": starts["cavitation"]}
-    why = groove_flows_why(params)
-    return NativeModel("reynolds", params, native_variables("reynolds", params, starts, inputs, why),
-                       model_config("reynolds", params, starts, inputs, why), reynolds_data_h(params, c_double, c_string),
+    # every bore has the film's flows (c/reynolds_film.c; a circumferential groove's oil leaves at the full rise:
+    # its bearing file says outflow_rise 'full', ports.port_defaults makes it oil_outflow_share 0)
+    return NativeModel("reynolds", params, native_variables("reynolds", params, starts, inputs),
+                       model_config("reynolds", params, starts, inputs), reynolds_data_h(params, c_double, c_string),
                        None,
                        f"hydrodynamic journal bearing, finite-volume Reynolds solver ({params.geometry.describe()}; "
-                       "any speed, load and velocity), compiled (no Python)", info, flows_why=why)
-
-
-def groove_flows_why(params: BearingParams) -> str:
-    """Why the native thermal model does not take this bore ('' when it does): a circumferential
-    groove's oil all leaves by the lands' ends at the full rise (``params.groove_problem``), and the
-    native heat balance (c/oil_thermal.c) is the side flow's at half the rise only."""
-    c = params.geometry.circumferential_groove
-    if not c:
-        return ""
-    return (f"the circumferential groove ({c * 1e3:g} mm): its oil all leaves by the lands' ends at the full rise, and "
-            "the native heat balance computes the side flow at half the rise only (use the Python FMU, whose thermal "
-            "model takes the groove)")
+                       "any speed, load and velocity), compiled (no Python)", info)
 
 
 def _list(values, fmt) -> str:
