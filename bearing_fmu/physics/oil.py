@@ -322,11 +322,6 @@ class Oil:
         the rise, 0 when all the inflow leaves at the full rise."""
         return 0.5 if self.outflow_rise == "half" else 0.0
 
-    @property
-    def default_balance(self) -> bool:
-        """The adiabatic balance with the side flow at half the rise (what the FMUs compute)."""
-        return self.outflow_rise == "half" and self.ambient_W_K == 0.0
-
     def describe(self) -> str:
         """The law in a few words (for the demo and messages)."""
         law = ("Walther (ASTM D341)" if self.law == "walther" else "Vogel")
