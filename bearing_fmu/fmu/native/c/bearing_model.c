@@ -66,8 +66,9 @@ int bn_evaluate(Instance *m) {
         m->r[VR_KYY] = -J[0]; m->r[VR_KYZ] = -J[1]; m->r[VR_CYY] = -J[2]; m->r[VR_CYZ] = -J[3];
         m->r[VR_KZY] = -J[4]; m->r[VR_KZZ] = -J[5]; m->r[VR_CZY] = -J[6]; m->r[VR_CZZ] = -J[7];
     }
-    /* a shaft at rest with no squeeze carries no load: most likely omega is not connected */
-    int still = x[4] == 0.0 && x[2] == 0.0 && x[3] == 0.0;
+    /* a shaft at rest with no squeeze carries no load: most likely omega is not connected (a film fed
+     * at a supply pressure carries load at rest: its force is not zero, nothing to warn) */
+    int still = x[4] == 0.0 && x[2] == 0.0 && x[3] == 0.0 && F[0] == 0.0 && F[1] == 0.0;
     if (still && !m->still) {
         bn_log(m, BN_WARNING, "the force was asked at omega = 0 rad/s with no squeeze velocity (vy = vz = 0): the "
                "film carries no load, the force is zero; is the input omega connected? (warned once, until the "
