@@ -113,7 +113,8 @@ NATIVE: dict[str, NativeSpec] = {s.name: s for s in (
                ("internal_linear.c",), force_depends=(0, 0), speed_start="omega_lin",
                host_build={"linear_from": "coefficients"}, host_values=f"{_MODELS}.linear:linear_starts"),
     NativeSpec("map", f"{_MODELS}.map:map_model", ("map",), ("internal_map.c",),
-               ("py_mod.h", "film_friction.h", "map_spline.h"), ("map_flows.c",), force_depends=(1, 1), bore="data"),
+               ("py_mod.h", "film_friction.h", "map_spline.h", "map_arc.h"), ("map_flows.c",), force_depends=(1, 1),
+               bore="data"),
     NativeSpec("taylor", f"{_MODELS}.taylor:taylor_model", ("surrogate", "domain_action", "domain_limit"),
                ("internal_taylor.c",), ("film_friction.h", "taylor_internal.h"), ("taylor_film.c",),
                force_depends=(0, 0), own_bearing=True, speed_start="",
@@ -126,7 +127,7 @@ NATIVE: dict[str, NativeSpec] = {s.name: s for s in (
                bore="compiled"),
     NativeSpec("tilting_pad", f"{_MODELS}.tilting_pad:tilting_pad_model", ("n_theta", "n_x", "cavitation", "pad_map"),
                ("internal_tilting_pad.c", "reynolds_solver.c", "reynolds_kernels.c"),
-               ("py_mod.h", "reynolds_solver.h", "film_friction.h", "map_spline.h", "pad_map.h"),
+               ("py_mod.h", "reynolds_solver.h", "film_friction.h", "map_spline.h", "map_arc.h", "pad_map.h"),
                # its film report (bn_film: each pad's reynolds_film.c report summed) where the Python
                # internal has one (TiltingPad.film_report, Capabilities.film_flow)
                ("reynolds_film.c",) if registry.get("tilting_pad").can.film_flow else (),
