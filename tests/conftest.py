@@ -447,6 +447,25 @@ def restore_state(raw, blob: bytes) -> int:
     return status
 
 
+def logging_slave(fmu, unzip, name: str = "refused"):
+    """(an instantiated FMI 2 Co-Simulation instance of ``fmu`` with logging on, the list its logger
+    appends every message to, its variables by name): for the tests that read what an FMU says."""
+    from fmpy import calloc, free, read_model_description
+    from fmpy.fmi2 import (FMU2Slave, fmi2CallbackAllocateMemoryTYPE, fmi2CallbackFreeMemoryTYPE,
+                           fmi2CallbackFunctions, fmi2CallbackLoggerTYPE)
+
+    md = read_model_description(str(fmu))
+    log = []
+    inst = FMU2Slave(guid=md.guid, unzipDirectory=str(unzip), modelIdentifier=md.coSimulation.modelIdentifier,
+                     instanceName=name)
+    cb = fmi2CallbackFunctions()
+    cb.logger = fmi2CallbackLoggerTYPE(lambda *a: log.append(a[-1].decode()))
+    cb.allocateMemory = fmi2CallbackAllocateMemoryTYPE(calloc)
+    cb.freeMemory = fmi2CallbackFreeMemoryTYPE(free)
+    inst.instantiate(callbacks=cb, loggingOn=True)  # (fmpy keeps cb alive with the instance)
+    return inst, log, {v.name: v for v in md.modelVariables}
+
+
 # ------------------------------------------------------------ commands as subprocesses
 
 def start_command(prog, *argv, pause=None, env=None, code_cache=None, new_session=False):

@@ -115,21 +115,12 @@ def test_ambient_at_the_supply_follows_the_input(fmu_instance):
 
 def test_fmu_refuses_another_outflow_share_by_name(fmu, unzip):
     """oil_outflow_share = 0.3 (neither balance): the FMU's setter refuses it (fmi2Error), naming the two values."""
-    from fmpy import calloc, free, read_model_description
     from fmpy.fmi1 import FMICallException
-    from fmpy.fmi2 import (FMU2Slave, fmi2CallbackAllocateMemoryTYPE, fmi2CallbackFreeMemoryTYPE,
-                           fmi2CallbackFunctions, fmi2CallbackLoggerTYPE)
 
-    md = read_model_description(str(fmu))
-    vr = {v.name: v.valueReference for v in md.modelVariables}
-    log = []
-    inst = FMU2Slave(guid=md.guid, unzipDirectory=unzip, modelIdentifier=md.coSimulation.modelIdentifier,
-                     instanceName="refused")
-    cb = fmi2CallbackFunctions()
-    cb.logger = fmi2CallbackLoggerTYPE(lambda *a: log.append(a[-1].decode()))
-    cb.allocateMemory = fmi2CallbackAllocateMemoryTYPE(calloc)
-    cb.freeMemory = fmi2CallbackFreeMemoryTYPE(free)
-    inst.instantiate(callbacks=cb, loggingOn=True)
+    from tests.conftest import logging_slave
+
+    inst, log, names = logging_slave(fmu, unzip)
+    vr = {n: v.valueReference for n, v in names.items()}
     try:
         with pytest.raises(FMICallException):
             inst.setReal([vr["oil_outflow_share"]], [0.3])

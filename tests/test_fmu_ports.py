@@ -26,20 +26,9 @@ BEARING = BearingParams(D=PAPER_BEARING.D, L=PAPER_BEARING.L, CR=PAPER_BEARING.C
 
 def _refusal(fmu, unzip, **params) -> str:
     """The log of an initialisation with ``params``, which must be refused (fmi2Error)."""
-    from fmpy import calloc, free, read_model_description
-    from fmpy.fmi2 import (FMU2Slave, fmi2CallbackAllocateMemoryTYPE, fmi2CallbackFreeMemoryTYPE,
-                           fmi2CallbackFunctions, fmi2CallbackLoggerTYPE)
+    from tests.conftest import logging_slave
 
-    md = read_model_description(str(fmu))
-    names = {v.name: v for v in md.modelVariables}
-    log = []
-    inst = FMU2Slave(guid=md.guid, unzipDirectory=unzip, modelIdentifier=md.coSimulation.modelIdentifier,
-                     instanceName="refused")
-    cb = fmi2CallbackFunctions()
-    cb.logger = fmi2CallbackLoggerTYPE(lambda *a: log.append(a[-1].decode()))
-    cb.allocateMemory = fmi2CallbackAllocateMemoryTYPE(calloc)
-    cb.freeMemory = fmi2CallbackFreeMemoryTYPE(free)
-    inst.instantiate(callbacks=cb, loggingOn=True)
+    inst, log, names = logging_slave(fmu, unzip)
     try:
         for k, v in params.items():
             {"Real": inst.setReal, "Integer": inst.setInteger, "Boolean": inst.setBoolean,
