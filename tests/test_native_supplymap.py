@@ -181,6 +181,7 @@ def test_what_the_native_fed_map_refuses_by_name(fed_map, tmp_path):
         map_model(AMBIENT, None, path, {})
 
 
+@pytest.mark.slow  # three compilers over the sources: 3.4 s, the quick loop's largest
 def test_the_sources_compile_without_a_warning(fed_map, tmp_path):
     """gcc and zig (Windows, macOS) with -Wall -Wextra -Wpedantic -Werror on the FMU's sources."""
     from test_native_platforms import sources_compile_without_a_warning
