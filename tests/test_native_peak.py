@@ -81,25 +81,15 @@ def _states(params, n=5, seed=3):
     return out
 
 
-@pytest.mark.parametrize("thermal", [False, True])
-@pytest.mark.parametrize("version", [2, 3])
-def test_fmu_peak_equals_python(fmus, version, thermal):
-    """Co-Simulation steps at a few states: the outputs peak_pressure [Pa] and peak_pressure_angle [rad] are
-    the Python Reynolds internal's at the state (thermal on: at the viscosity mu_eff the FMU reports); the
-    declared units are the Python FMU's, and the dependencies the force's."""
+def _initialising(path, md, version: int, name: str):
+    """(a Co-Simulation instance of the FMU at ``path`` in Initialization Mode, its Real getter, its
+    Real setter), FMI 2 or 3."""
     from fmpy.fmi2 import FMU2Slave
     from fmpy.fmi3 import FMU3Slave
 
-    params = BearingParams.from_toml(VG46)
-    path, md = fmus[version]
-    var = {v.name: v for v in md.modelVariables}
-    assert [(var[n].causality, var[n].unit) for n in PEAK] == [("output", "Pa"), ("output", "rad")]
-    deps = {u.variable.name: sorted(d.name for d in u.dependencies) for u in md.outputs}
-    assert deps["peak_pressure"] == deps["Fy"] and deps["peak_pressure_angle"] == deps["Fy"]
-    vr = {n: v.valueReference for n, v in var.items()}
     cls = FMU3Slave if version == 3 else FMU2Slave
     f = cls(guid=md.guid, unzipDirectory=fmpy.extract(str(path)), modelIdentifier=md.coSimulation.modelIdentifier,
-            instanceName="peak")
+            instanceName=name)
     f.instantiate()
     get, put = (f.getFloat64, f.setFloat64) if version == 3 else (f.getReal, f.setReal)
     if version == 3:
@@ -107,6 +97,23 @@ def test_fmu_peak_equals_python(fmus, version, thermal):
     else:
         f.setupExperiment(startTime=0.0)
         f.enterInitializationMode()
+    return f, get, put
+
+
+@pytest.mark.parametrize("thermal", [False, True])
+@pytest.mark.parametrize("version", [2, 3])
+def test_fmu_peak_equals_python(fmus, version, thermal):
+    """Co-Simulation steps at a few states: the outputs peak_pressure [Pa] and peak_pressure_angle [rad] are
+    the Python Reynolds internal's at the state (thermal on: at the viscosity mu_eff the FMU reports); the
+    declared units are the Python FMU's, and the dependencies the force's."""
+    params = BearingParams.from_toml(VG46)
+    path, md = fmus[version]
+    var = {v.name: v for v in md.modelVariables}
+    assert [(var[n].causality, var[n].unit) for n in PEAK] == [("output", "Pa"), ("output", "rad")]
+    deps = {u.variable.name: sorted(d.name for d in u.dependencies) for u in md.outputs}
+    assert deps["peak_pressure"] == deps["Fy"] and deps["peak_pressure_angle"] == deps["Fy"]
+    vr = {n: v.valueReference for n, v in var.items()}
+    f, get, put = _initialising(path, md, version, "peak")
     f.setBoolean([vr["thermal"]], [thermal])
     f.exitInitializationMode()
     try:
@@ -212,25 +219,13 @@ def test_grooved_fmu_equals_python(grooved_fmus, version):
     """The native FMU of the grooved bearing: its parameters circumferential_groove [m] and supply_pressure
     [Pa] start at the bearing's; force, K, C and the peak pressure equal the Python Reynolds internal's on
     the same bore (1e-12). (Its thermal model with an oil law: tests/test_native_heat_balance.py.)"""
-    from fmpy.fmi2 import FMU2Slave
-    from fmpy.fmi3 import FMU3Slave
-
     path, md = grooved_fmus[version]
     var = {v.name: v for v in md.modelVariables}
     assert float(var["circumferential_groove"].start) == WIDTH and float(var["supply_pressure"].start) == PS
     assert var["circumferential_groove"].unit == "m" and "no [oil] law" in var["thermal"].description
     vr = {n: v.valueReference for n, v in var.items()}
     direct = Reynolds(grooved(), GRID["n_theta"], GRID["n_x"])
-    cls = FMU3Slave if version == 3 else FMU2Slave
-    f = cls(guid=md.guid, unzipDirectory=fmpy.extract(str(path)), modelIdentifier=md.coSimulation.modelIdentifier,
-            instanceName="groove")
-    f.instantiate()
-    get, put = (f.getFloat64, f.setFloat64) if version == 3 else (f.getReal, f.setReal)
-    if version == 3:
-        f.enterInitializationMode(startTime=0.0)
-    else:
-        f.setupExperiment(startTime=0.0)
-        f.enterInitializationMode()
+    f, get, put = _initialising(path, md, version, "groove")
     f.exitInitializationMode()
     names = ("Fy", "Fz", "Kyy", "Kyz", "Kzy", "Kzz", "Cyy", "Cyz", "Czy", "Czz", *PEAK)
     try:

@@ -345,17 +345,21 @@ def tabulate_grooved(params: BearingParams, *, n_eps: int = DEFAULT_N_EPS, n_phi
     return table
 
 
-def grooved_row(params, n_theta, n_x, cavitation, eps, phis, betas, n_phase, rey=None, flows=True):
+def grooved_row(params, n_theta, n_x, cavitation, eps, phis, betas, n_phase, rey=None, flows=True, *, r=1.0,
+                per=None):
     """(G, Q) at one eps for every (phi, beta) (a row's task when ``rey`` is None; Q None
     without ``flows``). Each point averages n_phase attitudes spread symmetrically over one nominal
     cell about phi: the solver's cell-scale scatter partly cancels, the grooves' own effect is kept
     to O(cell^2). Q from the same solve's field (``Reynolds.supply_flows``, r = 1): J_s = Q_s / Q0,
-    P_e = -(the pressure part of edge e's flux into the film) / Q0."""
+    P_e = -(the pressure part of edge e's flux into the film) / Q0. ``r`` [1/s] the states' velocity scale
+    and ``per`` [N] what the force is divided by (default S; the fed map's row: W at its r,
+    ``supplymap.supplied_row``), the flows then by (per / S) Q0."""
     if rey is None:
         from ...physics.solver.reynolds import Reynolds
 
         rey = Reynolds(params, n_theta, n_x, cavitation)
     S = scale(params)
+    per = S if per is None else per
     cell = 2.0 * math.pi / rey.n_theta
     offsets = ((np.arange(n_phase) + 0.5) / n_phase - 0.5) * cell
     out = np.zeros((len(phis), len(betas), 2))
@@ -365,11 +369,11 @@ def grooved_row(params, n_theta, n_x, cavitation, eps, phis, betas, n_phase, rey
             u = np.array([math.cos(phi), math.sin(phi)])
             w = np.array([-math.sin(phi), math.cos(phi)])
             for k, b in enumerate(betas):
-                state = state_for(eps, b, params, phi)
+                state = state_for(eps, b, params, phi, 1.0, r)
                 F = np.array(rey.force(*state, 1.0))
-                out[i, k] += (F @ u / S, F @ w / S)
+                out[i, k] += (F @ u / per, F @ w / per)
                 if flows:
-                    j_s, p_e = supply_functions(params, rey.supply_flows(*state, 1.0), 1.0)  # the force's field
+                    j_s, p_e = supply_functions(params, rey.supply_flows(*state, 1.0), per / S)  # the force's field
                     Q[i, k, 0] += j_s
                     Q[i, k, 1:] += p_e
     return out / n_phase, (None if Q is None else Q / n_phase)

@@ -50,10 +50,10 @@ import numpy as np
 
 from ...physics.bore.geometry import Geometry
 from ...physics.params import BearingParams
-from ...physics.solver.film import FilmReport, assemble_report, grooved_report, supply_functions
+from ...physics.solver.film import FilmReport, assemble_report, grooved_report
 from . import groovemap as gm
-from .tablefile import array_key, number_key
-from .tables import EPS_MIN, LD_RTOL, finite_problem, header_problem, reduced, scale, state_for
+from .tablefile import number_key
+from .tables import EPS_MIN, LD_RTOL, finite_problem, header_problem, reduced, scale
 
 VERSION, FLOW_VERSION = 6, 7  # (5 is left unread: an old test names it as the unknown version)
 # points in u = sigma / (1 + sigma) on [0, 1]: the error against Reynolds falls from 9 to 13 and stays from 13
@@ -243,30 +243,11 @@ def row_state(params: BearingParams, u: float) -> tuple[BearingParams, float, fl
 
 
 def supplied_row(params, n_theta, n_x, cavitation, x, phis, betas, n_phase, flows=True):
-    """(G, Q) at one (eps, u) = ``x`` for every (phi, beta), as ``groovemap.grooved_row`` at r = 1 but at
-    ``row_state``'s r and divided by W (the flows by (W / S) Q0: ``supply_functions`` with r = W / S)."""
-    from ...physics.solver.reynolds import Reynolds
-
+    """(G, Q) at one (eps, u) = ``x`` for every (phi, beta): ``groovemap.grooved_row`` of the row's
+    bearing at ``row_state``'s r, divided by W (the flows by (W / S) Q0)."""
     eps, u = x
     bearing, r, W = row_state(params, u)
-    rey = Reynolds(bearing, n_theta, n_x, cavitation)
-    cell = 2.0 * math.pi / rey.n_theta
-    offsets = ((np.arange(n_phase) + 0.5) / n_phase - 0.5) * cell
-    out = np.zeros((len(phis), len(betas), 2))
-    Q = np.zeros((len(phis), len(betas), 1 + len(params.geometry.supply_edges()))) if flows else None
-    for i, phi0 in enumerate(phis):
-        for phi in phi0 + offsets:
-            uv = np.array([math.cos(phi), math.sin(phi)])
-            wv = np.array([-math.sin(phi), math.cos(phi)])
-            for k, b in enumerate(betas):
-                state = state_for(eps, b, bearing, phi, 1.0, r)
-                F = np.array(rey.force(*state, 1.0))
-                out[i, k] += (F @ uv / W, F @ wv / W)
-                if flows:
-                    j_s, p_e = supply_functions(bearing, rey.supply_flows(*state, 1.0), W / scale(params))
-                    Q[i, k, 0] += j_s
-                    Q[i, k, 1:] += p_e
-    return out / n_phase, (None if Q is None else Q / n_phase)
+    return gm.grooved_row(bearing, n_theta, n_x, cavitation, eps, phis, betas, n_phase, flows=flows, r=r, per=W)
 
 
 # ---------------------------------------------------------------------------- internal
