@@ -230,18 +230,14 @@ def row_of(fut, point: Point) -> dict:
 
 def drop_stale_locks(out: Path, pts: list[Point]) -> None:
     """Remove the name locks (``outputs.claim``) that stopped workers left behind: their
-    process is gone, so they hold nothing (a later run would take them over anyway), and this
-    process's own (a run interrupted here between its last write and its release: called after
-    the runs unwound, none of them is running)."""
-    import os
-
+    process is gone, so they hold nothing (a later run would take them over anyway). This
+    process's own are freed at the command's end (``outputs.release_held``)."""
     from bearing_fmu.io.outputs import pid_alive
 
     for p in pts:
         lock = out / f"{p.stem}.lock"
         try:
-            pid = int(lock.read_text().strip())
-            if pid == os.getpid() or not pid_alive(pid):
+            if not pid_alive(int(lock.read_text().strip())):
                 lock.unlink()
         except (OSError, ValueError):
             pass
