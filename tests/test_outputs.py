@@ -50,6 +50,29 @@ def test_a_command_ended_by_a_signal_frees_the_names_it_still_held(tmp_path):
         assert c.stem == "run"
 
 
+
+def test_a_signal_while_a_name_is_being_claimed_leaves_no_lock(tmp_path, monkeypatch):
+    """The second window a fresh-clone CI hit (the sweep's Ctrl-C test, a run's lock left): a
+    SIGINT landing after the lock file was created but before its Claim was registered. It is
+    held until the Claim exists, then raised, and the name freed: no lock, whoever calls claim."""
+    import signal
+
+    from bearing_fmu.io.interrupts import Interrupted, handled
+
+    real_fdopen = os.fdopen
+
+    def fdopen_then_ctrl_c(fd, *a, **kw):  # the signal lands in the window (the lock exists, not yet its pid)
+        os.kill(os.getpid(), signal.SIGINT)
+        return real_fdopen(fd, *a, **kw)
+
+    monkeypatch.setattr(outputs.os, "fdopen", fdopen_then_ctrl_c)
+    with handled(), pytest.raises(Interrupted):
+        outputs.claim(tmp_path, "run")
+    monkeypatch.undo()
+    assert not list(tmp_path.glob("*.lock")) and not outputs._HELD
+    with outputs.claim(tmp_path, "run") as c:
+        assert c.stem == "run"
+
 def test_atomic_writes_leave_the_old_file_or_the_new_one(tmp_path):
     path = tmp_path / "a.json"
     outputs.write_json(path, {"x": 1})

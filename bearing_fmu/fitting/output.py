@@ -8,7 +8,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from ..io.exits import note_kept
+from ..io.interrupts import note_kept
 from ..io.outputs import ensure_output_file, ensure_writable, savez
 from .fit import FitResult, fit_condition, save_fit
 from .recipe import FitRecipe

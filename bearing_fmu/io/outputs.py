@@ -33,6 +33,8 @@ import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 
+from .interrupts import deferred
+
 
 def ensure_writable(folder, option: str = "--out", probe: bool = True) -> Path:
     """Create ``folder`` (with parents) and (``probe``) check a file can be written there. A
@@ -251,6 +253,35 @@ def release_held() -> None:
         held.release()
 
 
+def _take(folder: Path, name: str, lock: Path) -> Claim | None:
+    """``name`` held through a new ``lock`` (None: a lock is there already). A signal between the
+    lock's creation and its registration in ``_HELD`` would leave it behind (a fresh-clone CI hit
+    this window), so it is held until the Claim exists; raised then, the name is freed first."""
+    held = None
+    try:
+        with deferred():
+            try:
+                fd = os.open(lock, os.O_CREAT | os.O_EXCL | os.O_WRONLY, 0o644)
+            except FileExistsError:
+                return None
+            except OSError:  # the folder refuses files now: its results go to the rescue, under this name
+                held = Claim(folder, name, None)
+                return held
+            try:
+                with os.fdopen(fd, "w") as f:
+                    f.write(str(os.getpid()))
+            except OSError:  # a full disk: an empty lock would look held forever
+                lock.unlink(missing_ok=True)
+                held = Claim(folder, name, None)
+                return held
+            held = Claim(folder, name, lock)
+            return held
+    except BaseException:  # the interrupt held meanwhile: nothing of this run started
+        if held is not None:
+            held.release()
+        raise
+
+
 def claim(folder, stem: str, limit: int = 1000) -> Claim:
     """Hold ``<folder>/<stem>`` (or the first free ``<stem>-N``) for this process."""
     folder = Path(folder)
@@ -258,27 +289,17 @@ def claim(folder, stem: str, limit: int = 1000) -> Claim:
         name = stem if n == 1 else f"{stem}-{n}"
         lock = folder / f"{name}.lock"
         for _ in range(2):  # a stale lock is removed once, then the name is tried again
+            held = _take(folder, name, lock)
+            if held is not None:
+                return held
             try:
-                fd = os.open(lock, os.O_CREAT | os.O_EXCL | os.O_WRONLY, 0o644)
-            except FileExistsError:
-                try:
-                    pid = int(lock.read_text().strip())
-                except (OSError, ValueError):  # being written this instant: held
-                    break
-                if pid_alive(pid):
-                    break
-                try:
-                    lock.unlink()
-                except FileNotFoundError:
-                    pass
-                continue
-            except OSError:  # the folder refuses files now: its results go to the rescue, under this name
-                return Claim(folder, name, None)
+                pid = int(lock.read_text().strip())
+            except (OSError, ValueError):  # being written this instant: held
+                break
+            if pid_alive(pid):
+                break
             try:
-                with os.fdopen(fd, "w") as f:
-                    f.write(str(os.getpid()))
-            except OSError:  # a full disk: an empty lock would look held forever
-                lock.unlink(missing_ok=True)
-                return Claim(folder, name, None)
-            return Claim(folder, name, lock)
+                lock.unlink()
+            except FileNotFoundError:
+                pass
     raise RuntimeError(f"{folder}: {limit} runs named {stem} are running at once")

@@ -16,7 +16,7 @@ from pathlib import Path
 import numpy as np
 
 from bearing_fmu.internals import registry
-from bearing_fmu.io.exits import as_interrupted, note_kept
+from bearing_fmu.io.interrupts import as_interrupted, note_kept
 from bearing_fmu.io.outputs import ensure_writable, write_json, write_text
 
 from ..scenes.run import run_scene

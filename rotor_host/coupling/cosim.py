@@ -30,7 +30,7 @@ An FMU that declares states of its own over a step for the internal chosen (a ti
 rates) waits in Initialization Mode through the static equilibrium (``init_statics``).
 
 A pythonfmu FMU runs its slave in this interpreter: a Ctrl-C raised inside it would come back
-as an FMI error, so signals are held while an FMU call runs (``bearing_fmu.io.exits.deferred``)
+as an FMI error, so signals are held while an FMU call runs (``bearing_fmu.io.interrupts.deferred``)
 and raised as ``Interrupted`` right after it.
 """
 
@@ -44,7 +44,7 @@ from pathlib import Path
 
 import numpy as np
 
-from bearing_fmu.io.exits import deferred, enter_deferred, leave_deferred
+from bearing_fmu.io.interrupts import deferred, enter_deferred, leave_deferred
 
 from .bearings import THERMAL_FIELDS, BearingSet
 from .fmu_kernel import free_saved, fmu_force, restore_saved

@@ -15,7 +15,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from bearing_fmu.io.exits import deferred
+from bearing_fmu.io.interrupts import deferred
 
 
 class InitStatics:

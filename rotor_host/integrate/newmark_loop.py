@@ -20,7 +20,7 @@ import numpy as np
 from numba import njit
 
 from bearing_fmu.internals.compiled import OUT_SIZE, address, advance, kernel_at
-from bearing_fmu.io.exits import enter_deferred, leave_deferred
+from bearing_fmu.io.interrupts import enter_deferred, leave_deferred
 
 from .loads import rotating_loads
 from .newmark_kernels import Q0, Q1, k_accept, k_begin, k_iter
@@ -163,7 +163,7 @@ class ChunkDriver:
     (enter, leave)) from ``NodalForce.compiled`` (clock: the float64 (2,) array the forces read
     the step's (t, h) from; such forces call foreign code, FMUs, so signals are held while a
     chunk runs, as the Python driver holds them around each FMU call:
-    ``bearing_fmu.io.exits.deferred``; enter() before every chunk and leave(gave_back) after it,
+    ``bearing_fmu.io.interrupts.deferred``; enter() before every chunk and leave(gave_back) after it,
     gave_back True when the chunk stopped at a step Python redoes: forces with a state over the
     step hand it between the two drivers there); ``rec`` the recorded DOFs."""
 

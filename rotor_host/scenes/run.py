@@ -22,7 +22,7 @@ from pathlib import Path
 import numpy as np
 
 from bearing_fmu.internals import registry
-from bearing_fmu.io.exits import as_interrupted, deferred, handled, note_kept
+from bearing_fmu.io.interrupts import as_interrupted, deferred, handled, note_kept
 from bearing_fmu.io.fixed_costs import command_add_since, command_mark
 from bearing_fmu.io.outputs import claim, ensure_writable, savez, write_json
 

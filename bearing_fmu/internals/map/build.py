@@ -19,7 +19,7 @@ import math
 import sys
 from pathlib import Path
 
-from ...io.exits import note_kept, note_lost
+from ...io.interrupts import note_kept, note_lost
 from ...physics.params import PAPER_BEARING, BearingParams
 from . import groovemap as gm
 from . import supplymap as sm

@@ -43,7 +43,7 @@ import numpy as np
 from bearing_fmu.internals import registry
 from bearing_fmu.internals.registry import Context
 from bearing_fmu.physics.bore.geometry import Geometry
-from bearing_fmu.io.exits import note_kept
+from bearing_fmu.io.interrupts import note_kept
 from bearing_fmu.io.outputs import ensure_writable, write_json, write_text
 
 from ..computed_for import title_line

@@ -8,7 +8,7 @@ import time
 from dataclasses import replace
 from pathlib import Path
 
-from bearing_fmu.io.exits import as_interrupted, note_kept
+from bearing_fmu.io.interrupts import as_interrupted, note_kept
 from bearing_fmu.io.fixed_costs import FixedCosts
 from bearing_fmu.io.outputs import claim, ensure_writable
 
