@@ -73,6 +73,28 @@ def test_a_signal_while_a_name_is_being_claimed_leaves_no_lock(tmp_path, monkeyp
     with outputs.claim(tmp_path, "run") as c:
         assert c.stem == "run"
 
+
+def test_a_signal_while_a_temporary_is_made_leaves_no_temporary(tmp_path, monkeypatch):
+    """A SIGINT landing inside mkstemp (the temporary made, its name not yet returned) is held
+    until the name is known, then raised, and the temporary removed: the folder stays empty."""
+    import signal
+    import tempfile
+
+    from bearing_fmu.io.interrupts import Interrupted, handled
+
+    real_mkstemp = tempfile.mkstemp
+
+    def mkstemp_then_ctrl_c(*a, **kw):
+        made = real_mkstemp(*a, **kw)
+        os.kill(os.getpid(), signal.SIGINT)
+        return made
+
+    monkeypatch.setattr(outputs.tempfile, "mkstemp", mkstemp_then_ctrl_c)
+    with handled(), pytest.raises(Interrupted):
+        outputs.write_json(tmp_path / "a.json", {"x": 1})
+    assert not list(tmp_path.iterdir())
+
+
 def test_atomic_writes_leave_the_old_file_or_the_new_one(tmp_path):
     path = tmp_path / "a.json"
     outputs.write_json(path, {"x": 1})

@@ -25,6 +25,7 @@
 
 from __future__ import annotations
 
+import contextlib
 import errno
 import json
 import os
@@ -125,17 +126,22 @@ def rescue_folders(folder) -> list[Path]:
 
 
 def _write_at(path: Path, write) -> Path:
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    fd = tmp = None
     try:
+        with deferred():  # a signal inside mkstemp would leave a temporary no one knows the name of
+            fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
         with os.fdopen(fd, "wb") as f:
+            fd = None  # the file object closes it
             write(f)
         os.chmod(tmp, 0o644)
         os.replace(tmp, path)
     except BaseException:
-        try:
-            os.unlink(tmp)
-        except OSError:
-            pass
+        with contextlib.suppress(OSError):
+            if fd is not None:
+                os.close(fd)
+        with contextlib.suppress(OSError):
+            if tmp is not None:
+                os.unlink(tmp)
         raise
     return path
 
