@@ -183,27 +183,6 @@ def zig_command(target: str, src: Path, sources: list[str], out: Path, defines: 
             "-I", str(fmi_headers()), *(str(src / f) for f in sources), "-o", str(out), *name, *libm]
 
 
-def prepare_zig_runtimes(targets: tuple[str, ...] | None = None) -> list[str]:
-    """Have zig build the C runtimes of ``targets`` (default: every platform's, FMI 2.0 and 3.0)
-    into its cache (``~/.cache/zig``) now, by linking a one-function library for each with the
-    build's flags: once per machine and zig version, the first Windows build compiles MinGW's
-    runtime (~1.5-2 min of one core), each other target 5-15 s; every later build finds them.
-    For a build machine's (or CI's) set-up step. Returns the targets."""
-    targets = targets or tuple(dict.fromkeys(
-        [t for p in PLATFORMS.values() for t in p.targets] + [t for f in FMI3_FOLDERS.values() for _, t in f]))
-    with tempfile.TemporaryDirectory(prefix="bearing_zig_") as tmp:
-        # one exported function: zig's Mach-O linker crashes (SIGSEGV) on a dylib that exports none
-        (Path(tmp) / "one.c").write_text('__attribute__((visibility("default"))) int bearing_zig_runtime(void) '
-                                         '{ return 0; }\n')
-        run_compilers([(zig_command(t, Path(tmp), ["one.c"], Path(tmp) / f"{k}{_ext(t)}"), f"zig cc -target {t}")
-                       for k, t in enumerate(targets)])
-    return list(targets)
-
-
-def _ext(target: str) -> str:
-    return ".dll" if "windows" in target else ".dylib" if "macos" in target else ".so"
-
-
 def mac_flags(identifier: str) -> tuple[str, ...]:
     """The system compiler's flags on macOS: the deployment target and the install name zig gets."""
     if sys.platform != "darwin":
