@@ -283,16 +283,16 @@ def test_windows_binary_under_wine_gives_the_linux_binarys_forces(every_platform
     arithmetic is the same, no fused multiply-add; the C runtimes' atan2, exp, log1p may differ in
     the last bit)."""
     from bearing_fmu.fmu.native.build import C_DIR
-    from bearing_fmu.fmu.native.compile import zig_cc
+    from bearing_fmu.fmu.native.compile import run_compiler, zig_cc
 
     work = tmp_path_factory.mktemp(f"wine_{kind}")
     hosts = {}
     for name, target, exe in (("win64", "x86_64-windows-gnu", "host.exe"), ("linux64", "x86_64-linux-gnu.2.17", "host")):
         hosts[name] = work / exe
-        # -s as the binaries' builds: zig keys its C runtime on it, and without it MinGW's was built again
-        # for the host (2 min of one core in a fresh CI, the other worker's zig builds waiting meanwhile)
-        subprocess.run([*zig_cc(), "-target", target, "-O2", "-ffp-contract=off", "-s", str(C_DIR / "example_host.c"),
-                        "-I", str(FH), "-o", str(hosts[name])], check=True, capture_output=True)
+        # -s as the binaries' builds and run where they run (run_compiler): zig keys its C runtime on both,
+        # and MinGW's was built again for the host (2 min of one core in a fresh CI, the other worker waiting)
+        run_compiler([*zig_cc(), "-target", target, "-O2", "-ffp-contract=off", "-s", str(C_DIR / "example_host.c"),
+                      "-I", str(FH), "-o", str(hosts[name])], f"zig cc -target {target} (the test host)")
     fmu, unzip = every_platform[kind]
     md = fmpy.read_model_description(str(fmu))
     start = {v.name: float(v.start) for v in md.modelVariables if v.name in ("y", "z", "omega", "CR")}

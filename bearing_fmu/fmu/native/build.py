@@ -280,10 +280,9 @@ def prepare_zig_runtimes() -> list[str]:
     by building the smallest native FMU (the linear internal of the paper bearing) for every
     platform, FMI 2.0 and 3.0, in a temporary folder: once per machine and zig version, the first
     Windows build compiles MinGW's runtime (~2 min of one core), each other target 5-15 s; every
-    later build finds them. For a build machine's (or CI's) set-up step. A real FMU, not a
-    one-function library: zig builds the runtime a real FMU links (measured on a fresh cache: the
-    map FMU's build after a one-function library for every target still took 118-132 s, after this
-    3.3 s). Returns the binaries' folders built (FMI 2.0's and 3.0's)."""
+    later build finds them (the compilers run in one folder whoever starts them:
+    ``compile.run_compiler``). For a build machine's (or CI's) set-up step. Returns the binaries'
+    folders built (FMI 2.0's and 3.0's)."""
     folders: set[str] = set()
     with tempfile.TemporaryDirectory(prefix="bearing_zig_prepare_") as tmp:
         for v in (2, 3):

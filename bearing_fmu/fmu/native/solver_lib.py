@@ -36,7 +36,7 @@ def solver_library(folder: Path) -> ctypes.CDLL:
     API exported (RS_EXPORT) into ``folder`` and load it;
     the library is named by a hash of the sources and flags, so a folder kept between runs
     compiles again only when they change."""
-    folder = Path(folder)
+    folder = Path(folder).resolve()  # the compiler runs elsewhere (compile.run_compiler)
     folder.mkdir(parents=True, exist_ok=True)
     cmd = [*C_FLAGS, "-fPIC", "-shared", "-DRS_EXPORT"]
     h = hashlib.sha256(" ".join(cmd).encode())
