@@ -10,6 +10,7 @@ import json
 import math
 import os
 import subprocess
+import sys
 import textwrap
 import time
 from pathlib import Path
@@ -19,6 +20,12 @@ from pathlib import Path
 # shared 2-core machine OpenBLAS's spinning threads collapse under load (the Taylor fit tests,
 # then tests/test_taylor.py: 18-20 s with one thread, 46-79 s with the default two, side by side).
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+# Bytecode caches written whatever PYTHONDONTWRITEBYTECODE says (set on this project's machines): without
+# them every test process compiles the package's sources again, each CLI test's subprocess too, and
+# pytest rewrites every test module's asserts in every run (the quick loop 42-47 s without, 34-38 s
+# with, 2 cores, 2026-12-07). The caches go to __pycache__ folders (.gitignore) and change no result.
+sys.dont_write_bytecode = False
+os.environ.pop("PYTHONDONTWRITEBYTECODE", None)
 
 import numpy as np  # noqa: E402
 import pytest
