@@ -266,26 +266,28 @@ def _take(folder: Path, name: str, lock: Path) -> Claim | None:
     held = None
     try:
         with deferred():
-            try:
-                fd = os.open(lock, os.O_CREAT | os.O_EXCL | os.O_WRONLY, 0o644)
-            except FileExistsError:
-                return None
-            except OSError:  # the folder refuses files now: its results go to the rescue, under this name
-                held = Claim(folder, name, None)
-                return held
-            try:
-                with os.fdopen(fd, "w") as f:
-                    f.write(str(os.getpid()))
-            except OSError:  # a full disk: an empty lock would look held forever
-                lock.unlink(missing_ok=True)
-                held = Claim(folder, name, None)
-                return held
-            held = Claim(folder, name, lock)
-            return held
+            held = _new_lock(folder, name, lock)
     except BaseException:  # the interrupt held meanwhile: nothing of this run started
         if held is not None:
             held.release()
         raise
+    return held
+
+
+def _new_lock(folder: Path, name: str, lock: Path) -> Claim | None:
+    try:
+        fd = os.open(lock, os.O_CREAT | os.O_EXCL | os.O_WRONLY, 0o644)
+    except FileExistsError:
+        return None
+    except OSError:  # the folder refuses files now: its results go to the rescue, under this name
+        return Claim(folder, name, None)
+    try:
+        with os.fdopen(fd, "w") as f:
+            f.write(str(os.getpid()))
+    except OSError:  # a full disk: an empty lock would look held forever
+        lock.unlink(missing_ok=True)
+        return Claim(folder, name, None)
+    return Claim(folder, name, lock)
 
 
 def claim(folder, stem: str, limit: int = 1000) -> Claim:
